@@ -1,1 +1,483 @@
-//! placeholder
+//! Static condensation of one subdomain on its interface (seed §8.2).
+//!
+//! The subdomain's DOFs are split into interior DOFs I and interface DOFs B
+//! (every DOF on a contact surface, or shared with another subdomain). With
+//!
+//! ```text
+//! [K_II K_IB] [u_I]   [F_I]
+//! [K_BI K_BB] [u_B] = [F_B + r_B]
+//! ```
+//!
+//! eliminating u_I = K_II⁻¹ (F_I − K_IB u_B) leaves the condensed problem
+//! S u_B = F'_B + r_B with the Schur complement S = K_BB − K_BI K_II⁻¹ K_IB and
+//! the condensed load F' = F_B − K_BI K_II⁻¹ F_I.
+//!
+//! [`Condensed::new`] computes S by a partial factorisation (notes §1.4,
+//! "method C"): the whole subdomain matrix is factorised once by a supernodal
+//! Cholesky with the interior ordered first (AMD on K_II) and the interface last,
+//! after shifting K_BB by c·I; then L_BB L_BBᵀ = S + c·I exactly, so S is read
+//! from the trailing dense block. The shift keeps the factorisation valid for a
+//! floating subdomain (singular S). The same factor gives F' and the interior
+//! recovery. [`schur_complement_reference`] is the plain multi-RHS formula,
+//! kept as the reference in tests.
+
+use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
+use faer::linalg::cholesky::llt::factor::LltRegularization;
+use faer::perm::PermRef;
+use faer::sparse::linalg::amd;
+use faer::sparse::linalg::cholesky::supernodal::SupernodalLltRef;
+use faer::sparse::linalg::cholesky::{
+    factorize_symbolic_cholesky, CholeskySymbolicParams, SymbolicCholesky, SymbolicCholeskyRaw,
+    SymmetricOrdering,
+};
+use faer::sparse::linalg::SupernodalThreshold;
+use faer::sparse::{SparseColMat, SparseColMatRef, Triplet};
+use faer::{Accum, Conj, Mat, Par, Side};
+
+#[derive(Debug, thiserror::Error)]
+pub enum CondenseError {
+    #[error("the interior stiffness K_II is not positive definite ({0}): the subdomain has a free rigid-body motion that its interface does not hold, or a degenerate element")]
+    NotPositiveDefinite(String),
+    #[error("sparse factorisation failed: {0}")]
+    Factorisation(String),
+    #[error("interface DOF {0} out of range or repeated")]
+    BadInterface(usize),
+}
+
+/// Rows `rows` and columns `cols` of a sparse matrix, as a new sparse matrix
+/// (row i of the result is row `rows[i]`).
+pub fn submatrix(
+    k: SparseColMatRef<'_, usize, f64>,
+    rows: &[usize],
+    cols: &[usize],
+) -> SparseColMat<usize, f64> {
+    let mut row_map = vec![usize::MAX; k.nrows()];
+    for (i, &r) in rows.iter().enumerate() {
+        row_map[r] = i;
+    }
+    let mut t = Vec::new();
+    for (j, &c) in cols.iter().enumerate() {
+        let idx = k.row_idx_of_col_raw(c);
+        let val = k.val_of_col(c);
+        for (&r, &v) in idx.iter().zip(val) {
+            if row_map[r] != usize::MAX {
+                t.push(Triplet::new(row_map[r], j, v));
+            }
+        }
+    }
+    SparseColMat::try_new_from_triplets(rows.len(), cols.len(), &t)
+        .expect("indices are in range by construction")
+}
+
+/// Sparse matrix times vector, y = K x.
+pub fn spmv(k: SparseColMatRef<'_, usize, f64>, x: &[f64]) -> Vec<f64> {
+    let mut y = vec![0.0; k.nrows()];
+    for (j, &xj) in x.iter().enumerate().take(k.ncols()) {
+        if xj == 0.0 {
+            continue;
+        }
+        for (&r, &v) in k.row_idx_of_col_raw(j).iter().zip(k.val_of_col(j)) {
+            y[r] += v * xj;
+        }
+    }
+    y
+}
+
+/// A condensed subdomain: the factor of its stiffness with the interface last,
+/// its Schur complement S, and what is needed to condense loads and recover the
+/// interior.
+pub struct Condensed {
+    n: usize,
+    interior: Vec<usize>,
+    interface: Vec<usize>,
+    symbolic: SymbolicCholesky<usize>,
+    /// Fill-reducing permutation of the renumbered DOFs (interior first):
+    /// factor row i is renumbered DOF `perm_fwd[i]`.
+    perm_fwd: Vec<usize>,
+    perm_inv: Vec<usize>,
+    l_values: Vec<f64>,
+    /// Schur complement on the interface (dense, symmetric), in `interface` order.
+    pub schur: Mat<f64>,
+    /// The trailing block L_BB of the factor (lower triangular).
+    l_bb: Mat<f64>,
+    par: Par,
+}
+
+impl Condensed {
+    /// Factorises K (the subdomain stiffness on its free DOFs, both triangles
+    /// stored) with the DOFs `interface` ordered last and forms
+    /// S = K_BB − K_BI K_II⁻¹ K_IB (notes §1.4, method C).
+    pub fn new(
+        k: SparseColMatRef<'_, usize, f64>,
+        interface: &[usize],
+        par: Par,
+    ) -> Result<Self, CondenseError> {
+        let n = k.nrows();
+        let mut is_b = vec![false; n];
+        for &b in interface {
+            if b >= n || is_b[b] {
+                return Err(CondenseError::BadInterface(b));
+            }
+            is_b[b] = true;
+        }
+        let interior: Vec<usize> = (0..n).filter(|&i| !is_b[i]).collect();
+        let ni = interior.len();
+        let nb = interface.len();
+
+        // Shift c on the interface diagonal: c ~ max diag(K_BB).
+        let mut c = 0.0f64;
+        for &b in interface {
+            for (&r, &v) in k.row_idx_of_col_raw(b).iter().zip(k.val_of_col(b)) {
+                if r == b {
+                    c = c.max(v.abs());
+                }
+            }
+        }
+        if c == 0.0 {
+            c = 1.0;
+        }
+        // Shifted matrix, renumbered: interior first (natural), interface last.
+        let mut new_index = vec![0usize; n];
+        for (i, &d) in interior.iter().enumerate() {
+            new_index[d] = i;
+        }
+        for (j, &d) in interface.iter().enumerate() {
+            new_index[d] = ni + j;
+        }
+        let mut t = Vec::with_capacity(k.compute_nnz() + nb);
+        for col in 0..n {
+            for (&r, &v) in k.row_idx_of_col_raw(col).iter().zip(k.val_of_col(col)) {
+                t.push(Triplet::new(new_index[r], new_index[col], v));
+            }
+        }
+        for j in 0..nb {
+            t.push(Triplet::new(ni + j, ni + j, c));
+        }
+        let ks = SparseColMat::<usize, f64>::try_new_from_triplets(n, n, &t)
+            .map_err(|e| CondenseError::Factorisation(format!("{e:?}")))?;
+
+        // Ordering: AMD on K_II, interface appended in natural order.
+        let mut fwd = vec![0usize; n];
+        let mut inv = vec![0usize; n];
+        if ni > 0 {
+            let kii = submatrix(ks.as_ref(), &(0..ni).collect::<Vec<_>>(), &(0..ni).collect::<Vec<_>>());
+            let mut mem = MemBuffer::new(amd::order_maybe_unsorted_scratch::<usize>(
+                ni,
+                kii.compute_nnz(),
+            ));
+            amd::order_maybe_unsorted(
+                &mut fwd[..ni],
+                &mut inv[..ni],
+                kii.symbolic(),
+                amd::Control::default(),
+                MemStack::new(&mut mem),
+            )
+            .map_err(|e| CondenseError::Factorisation(format!("AMD: {e:?}")))?;
+        }
+        for i in ni..n {
+            fwd[i] = i;
+            inv[i] = i;
+        }
+        let perm = PermRef::new_checked(&fwd, &inv, n);
+        let symbolic = factorize_symbolic_cholesky(
+            ks.symbolic(),
+            Side::Lower,
+            SymmetricOrdering::Custom(perm),
+            CholeskySymbolicParams {
+                supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SUPERNODAL,
+                ..Default::default()
+            },
+        )
+        .map_err(|e| CondenseError::Factorisation(format!("{e:?}")))?;
+        let mut l_values = vec![0.0f64; symbolic.len_val()];
+        {
+            let mut mem = MemBuffer::new(
+                symbolic.factorize_numeric_llt_scratch::<f64>(par, Default::default()),
+            );
+            symbolic
+                .factorize_numeric_llt::<f64>(
+                    &mut l_values,
+                    ks.as_ref(),
+                    Side::Lower,
+                    LltRegularization::default(),
+                    par,
+                    MemStack::new(&mut mem),
+                    Default::default(),
+                )
+                .map_err(|e| CondenseError::NotPositiveDefinite(format!("{e:?}")))?;
+        }
+        // The final permutation must keep the interface last.
+        if let Some(p) = symbolic.perm() {
+            let (f, _) = p.arrays();
+            if (ni..n).any(|i| f[i] != i) {
+                return Err(CondenseError::Factorisation(
+                    "the ordering did not keep the interface last".into(),
+                ));
+            }
+        }
+        let mut l_bb = Mat::<f64>::zeros(nb, nb);
+        {
+            let SymbolicCholeskyRaw::Supernodal(sn) = symbolic.raw() else {
+                return Err(CondenseError::Factorisation("expected a supernodal factor".into()));
+            };
+            let l = SupernodalLltRef::<usize, f64>::new(sn, &l_values);
+            for s in 0..sn.n_supernodes() {
+                let snode = l.supernode(s);
+                let (start, ncols) = (snode.start(), snode.val().ncols());
+                if start + ncols <= ni {
+                    continue;
+                }
+                let rows: Vec<usize> = (start..start + ncols)
+                    .chain(snode.pattern().iter().copied())
+                    .collect();
+                for jj in 0..ncols {
+                    let j = start + jj;
+                    if j < ni {
+                        continue;
+                    }
+                    for (ii, &i) in rows.iter().enumerate() {
+                        if i >= ni && i >= j {
+                            l_bb[(i - ni, j - ni)] = snode.val()[(ii, jj)];
+                        }
+                    }
+                }
+            }
+        }
+        let mut schur = Mat::<f64>::from_fn(nb, nb, |i, j| if i == j { -c } else { 0.0 });
+        faer::linalg::matmul::matmul(schur.as_mut(), Accum::Add, l_bb.as_ref(), l_bb.transpose(), 1.0, par);
+        // Symmetrise exactly (rounding leaves |S - Sᵀ| ~ ε c).
+        for j in 0..nb {
+            for i in j + 1..nb {
+                let v = 0.5 * (schur[(i, j)] + schur[(j, i)]);
+                schur[(i, j)] = v;
+                schur[(j, i)] = v;
+            }
+        }
+        Ok(Self {
+            n,
+            interior,
+            interface: interface.to_vec(),
+            symbolic,
+            perm_fwd: fwd,
+            perm_inv: inv,
+            l_values,
+            schur,
+            l_bb,
+            par,
+        })
+    }
+
+    pub fn n_interior(&self) -> usize {
+        self.interior.len()
+    }
+    pub fn n_interface(&self) -> usize {
+        self.interface.len()
+    }
+    pub fn interface(&self) -> &[usize] {
+        &self.interface
+    }
+
+    fn lref(&self) -> SupernodalLltRef<'_, usize, f64> {
+        let SymbolicCholeskyRaw::Supernodal(sn) = self.symbolic.raw() else {
+            unreachable!("checked in new()")
+        };
+        SupernodalLltRef::new(sn, &self.l_values)
+    }
+
+    fn scratch(&self) -> MemBuffer {
+        MemBuffer::new(StackReq::any_of(&[
+            self.symbolic.solve_in_place_scratch::<f64>(1, self.par),
+            StackReq::new::<f64>(self.n * 2),
+        ]))
+    }
+
+    /// Condensed load F' = F_B − K_BI K_II⁻¹ F_I for a load F on all DOFs of
+    /// the subdomain (in the subdomain's numbering). Computed as
+    /// F' = L_BB (L⁻¹ P F)_B, since L_BI = K_BI L_IIᵀ⁻¹.
+    pub fn condensed_load(&self, f: &[f64]) -> Vec<f64> {
+        let ni = self.interior.len();
+        let nb = self.interface.len();
+        let renumbered: Vec<usize> = self.interior.iter().chain(&self.interface).copied().collect();
+        let y_at = |i: usize| f[renumbered[self.perm_fwd[i]]];
+        let mut y = Mat::<f64>::from_fn(self.n, 1, |i, _| y_at(i));
+        let mut mem = self.scratch();
+        self.lref()
+            .l_solve_with_conj(Conj::No, y.as_mut(), self.par, MemStack::new(&mut mem));
+        let mut out = vec![0.0; nb];
+        for j in 0..nb {
+            let yj = y[(ni + j, 0)];
+            if yj == 0.0 {
+                continue;
+            }
+            for (i, o) in out.iter_mut().enumerate().skip(j) {
+                *o += self.l_bb[(i, j)] * yj;
+            }
+        }
+        out
+    }
+
+    /// Interior recovery: given the load F on all DOFs and the interface
+    /// displacement u_B, returns the whole displacement of the subdomain
+    /// (u_I = K_II⁻¹ (F_I − K_IB u_B)).
+    pub fn recover(&self, k: SparseColMatRef<'_, usize, f64>, f: &[f64], u_b: &[f64]) -> Vec<f64> {
+        let ni = self.interior.len();
+        let mut u = vec![0.0; self.n];
+        for (j, &d) in self.interface.iter().enumerate() {
+            u[d] = u_b[j];
+        }
+        // r = F − K u_B (restricted to the interior)
+        let ku = spmv(k, &u);
+        let mut z = Mat::<f64>::zeros(self.n, 1);
+        for i in 0..ni {
+            let d = self.interior[self.perm_fwd[i]];
+            z[(i, 0)] = f[d] - ku[d];
+        }
+        let mut mem = self.scratch();
+        let l = self.lref();
+        l.l_solve_with_conj(Conj::No, z.as_mut(), self.par, MemStack::new(&mut mem));
+        for i in ni..self.n {
+            z[(i, 0)] = 0.0;
+        }
+        l.l_transpose_solve_with_conj(Conj::No, z.as_mut(), self.par, MemStack::new(&mut mem));
+        for (i, &d) in self.interior.iter().enumerate() {
+            u[d] = z[(self.perm_inv[i], 0)];
+        }
+        u
+    }
+
+    /// Bytes held by the factor and the dense blocks.
+    pub fn memory_bytes(&self) -> usize {
+        8 * (self.l_values.len() + 2 * self.interface.len().pow(2))
+    }
+}
+
+/// The plain formula S = K_BB − K_BI K_II⁻¹ K_IB and F' = F_B − K_BI K_II⁻¹ F_I
+/// by a sparse Cholesky of K_II and multi-right-hand-side solves (notes §1.4,
+/// "method A"): the reference against which [`Condensed`] is tested.
+pub fn schur_complement_reference(
+    k: SparseColMatRef<'_, usize, f64>,
+    interface: &[usize],
+    f: &[f64],
+) -> Result<(Mat<f64>, Vec<f64>), CondenseError> {
+    use faer::prelude::Solve;
+    let n = k.nrows();
+    let mut is_b = vec![false; n];
+    for &b in interface {
+        is_b[b] = true;
+    }
+    let interior: Vec<usize> = (0..n).filter(|&i| !is_b[i]).collect();
+    let kii = submatrix(k, &interior, &interior);
+    let kib = submatrix(k, &interior, interface);
+    let kbb = submatrix(k, interface, interface).to_dense();
+    let llt = kii
+        .sp_cholesky(Side::Lower)
+        .map_err(|e| CondenseError::NotPositiveDefinite(format!("{e:?}")))?;
+    let mut x = kib.to_dense();
+    llt.solve_in_place(x.as_mut());
+    let s = &kbb - kib.transpose().to_col_major().map_err(|e| CondenseError::Factorisation(format!("{e:?}")))? * &x;
+    let mut fi = Mat::<f64>::from_fn(interior.len(), 1, |i, _| f[interior[i]]);
+    llt.solve_in_place(fi.as_mut());
+    let kfi = kib.transpose().to_col_major().map_err(|e| CondenseError::Factorisation(format!("{e:?}")))? * &fi;
+    let fp = interface.iter().enumerate().map(|(j, &b)| f[b] - kfi[(j, 0)]).collect();
+    Ok((s, fp))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// 2D grid Laplacian-like SPD matrix (5-point stencil) with an optional
+    /// Dirichlet shift on the first row: floating when `shift` is 0.
+    fn grid(nx: usize, ny: usize, shift: f64) -> SparseColMat<usize, f64> {
+        let id = |i: usize, j: usize| i + nx * j;
+        let mut t = Vec::new();
+        for j in 0..ny {
+            for i in 0..nx {
+                let mut push = |a: usize, b: usize, w: f64| {
+                    t.push(Triplet::new(a, a, w));
+                    t.push(Triplet::new(b, b, w));
+                    t.push(Triplet::new(a, b, -w));
+                    t.push(Triplet::new(b, a, -w));
+                };
+                if i + 1 < nx {
+                    push(id(i, j), id(i + 1, j), 1.0 + 0.1 * (i as f64));
+                }
+                if j + 1 < ny {
+                    push(id(i, j), id(i, j + 1), 2.0 + 0.05 * (j as f64));
+                }
+            }
+        }
+        if shift > 0.0 {
+            for i in 0..nx {
+                t.push(Triplet::new(id(i, 0), id(i, 0), shift));
+            }
+        }
+        SparseColMat::try_new_from_triplets(nx * ny, nx * ny, &t).unwrap()
+    }
+
+    fn max_abs_diff(a: &Mat<f64>, b: &Mat<f64>) -> f64 {
+        let mut m = 0.0f64;
+        for j in 0..a.ncols() {
+            for i in 0..a.nrows() {
+                m = m.max((a[(i, j)] - b[(i, j)]).abs());
+            }
+        }
+        m
+    }
+
+    #[test]
+    fn partial_factorisation_equals_multi_rhs_schur_complement() {
+        let (nx, ny) = (12, 9);
+        let k = grid(nx, ny, 3.0);
+        let n = nx * ny;
+        let interface: Vec<usize> = (0..nx).map(|i| i + nx * (ny - 1)).chain([5, 40]).collect();
+        let f: Vec<f64> = (0..n).map(|i| ((i * 7) % 11) as f64 - 5.0).collect();
+        let c = Condensed::new(k.as_ref(), &interface, Par::Seq).unwrap();
+        let (s_ref, fp_ref) = schur_complement_reference(k.as_ref(), &interface, &f).unwrap();
+        let scale = s_ref.norm_max();
+        assert!(max_abs_diff(&c.schur, &s_ref) <= 1e-12 * scale);
+        let fp = c.condensed_load(&f);
+        let fscale = fp_ref.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        for (a, b) in fp.iter().zip(&fp_ref) {
+            assert!((a - b).abs() <= 1e-12 * fscale, "{a} vs {b}");
+        }
+    }
+
+    #[test]
+    fn recovery_solves_the_whole_system() {
+        use faer::prelude::Solve;
+        let (nx, ny) = (10, 7);
+        let k = grid(nx, ny, 2.0);
+        let n = nx * ny;
+        let interface: Vec<usize> = (0..nx).collect();
+        let f: Vec<f64> = (0..n).map(|i| (i as f64 * 0.37).sin()).collect();
+        // Solve the whole system directly, then check that condensation + recovery agree.
+        let llt = k.sp_cholesky(Side::Lower).unwrap();
+        let mut u = Mat::<f64>::from_fn(n, 1, |i, _| f[i]);
+        llt.solve_in_place(u.as_mut());
+        let c = Condensed::new(k.as_ref(), &interface, Par::Seq).unwrap();
+        let fp = c.condensed_load(&f);
+        let s_llt = c.schur.llt(Side::Lower).unwrap();
+        let mut ub = Mat::<f64>::from_fn(interface.len(), 1, |i, _| fp[i]);
+        s_llt.solve_in_place(ub.as_mut());
+        let ub: Vec<f64> = (0..interface.len()).map(|i| ub[(i, 0)]).collect();
+        let full = c.recover(k.as_ref(), &f, &ub);
+        let scale = (0..n).fold(0.0f64, |m, i| m.max(u[(i, 0)].abs()));
+        for i in 0..n {
+            assert!((full[i] - u[(i, 0)]).abs() <= 1e-11 * scale, "dof {i}");
+        }
+    }
+
+    #[test]
+    fn floating_subdomain_gives_singular_schur_complement_with_constant_kernel() {
+        let (nx, ny) = (8, 6);
+        let k = grid(nx, ny, 0.0);
+        let interface: Vec<usize> = (0..nx).collect();
+        let c = Condensed::new(k.as_ref(), &interface, Par::Seq).unwrap();
+        let scale = c.schur.norm_max();
+        for i in 0..nx {
+            let row: f64 = (0..nx).map(|j| c.schur[(i, j)]).sum();
+            assert!(row.abs() <= 1e-12 * scale, "S·1 = {row}");
+        }
+    }
+}
