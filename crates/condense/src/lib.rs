@@ -160,7 +160,11 @@ impl Condensed {
         let mut fwd = vec![0usize; n];
         let mut inv = vec![0usize; n];
         if ni > 0 {
-            let kii = submatrix(ks.as_ref(), &(0..ni).collect::<Vec<_>>(), &(0..ni).collect::<Vec<_>>());
+            let kii = submatrix(
+                ks.as_ref(),
+                &(0..ni).collect::<Vec<_>>(),
+                &(0..ni).collect::<Vec<_>>(),
+            );
             let mut mem = MemBuffer::new(amd::order_maybe_unsorted_scratch::<usize>(
                 ni,
                 kii.compute_nnz(),
@@ -218,7 +222,9 @@ impl Condensed {
         let mut l_bb = Mat::<f64>::zeros(nb, nb);
         {
             let SymbolicCholeskyRaw::Supernodal(sn) = symbolic.raw() else {
-                return Err(CondenseError::Factorisation("expected a supernodal factor".into()));
+                return Err(CondenseError::Factorisation(
+                    "expected a supernodal factor".into(),
+                ));
             };
             let l = SupernodalLltRef::<usize, f64>::new(sn, &l_values);
             for s in 0..sn.n_supernodes() {
@@ -244,7 +250,14 @@ impl Condensed {
             }
         }
         let mut schur = Mat::<f64>::from_fn(nb, nb, |i, j| if i == j { -c } else { 0.0 });
-        faer::linalg::matmul::matmul(schur.as_mut(), Accum::Add, l_bb.as_ref(), l_bb.transpose(), 1.0, par);
+        faer::linalg::matmul::matmul(
+            schur.as_mut(),
+            Accum::Add,
+            l_bb.as_ref(),
+            l_bb.transpose(),
+            1.0,
+            par,
+        );
         // Symmetrise exactly (rounding leaves |S - Sᵀ| ~ ε c).
         for j in 0..nb {
             for i in j + 1..nb {
@@ -297,7 +310,12 @@ impl Condensed {
     pub fn condensed_load(&self, f: &[f64]) -> Vec<f64> {
         let ni = self.interior.len();
         let nb = self.interface.len();
-        let renumbered: Vec<usize> = self.interior.iter().chain(&self.interface).copied().collect();
+        let renumbered: Vec<usize> = self
+            .interior
+            .iter()
+            .chain(&self.interface)
+            .copied()
+            .collect();
         let y_at = |i: usize| f[renumbered[self.perm_fwd[i]]];
         let mut y = Mat::<f64>::from_fn(self.n, 1, |i, _| y_at(i));
         let mut mem = self.scratch();
@@ -374,11 +392,24 @@ pub fn schur_complement_reference(
         .map_err(|e| CondenseError::NotPositiveDefinite(format!("{e:?}")))?;
     let mut x = kib.to_dense();
     llt.solve_in_place(x.as_mut());
-    let s = &kbb - kib.transpose().to_col_major().map_err(|e| CondenseError::Factorisation(format!("{e:?}")))? * &x;
+    let s = &kbb
+        - kib
+            .transpose()
+            .to_col_major()
+            .map_err(|e| CondenseError::Factorisation(format!("{e:?}")))?
+            * &x;
     let mut fi = Mat::<f64>::from_fn(interior.len(), 1, |i, _| f[interior[i]]);
     llt.solve_in_place(fi.as_mut());
-    let kfi = kib.transpose().to_col_major().map_err(|e| CondenseError::Factorisation(format!("{e:?}")))? * &fi;
-    let fp = interface.iter().enumerate().map(|(j, &b)| f[b] - kfi[(j, 0)]).collect();
+    let kfi = kib
+        .transpose()
+        .to_col_major()
+        .map_err(|e| CondenseError::Factorisation(format!("{e:?}")))?
+        * &fi;
+    let fp = interface
+        .iter()
+        .enumerate()
+        .map(|(j, &b)| f[b] - kfi[(j, 0)])
+        .collect();
     Ok((s, fp))
 }
 

@@ -1,1 +1,29 @@
-//! placeholder
+//! Contact: geometry (contact points, normals, gaps, the rows of B) and the
+//! algorithms that solve the contact problem, on the condensed problem
+//! (Delassus operator) or on the whole sparse stiffness (direct path).
+//!
+//! Conventions (DESIGN.md §3): the normal n points from master to slave; the
+//! gap is g = g0 + B u with B the row operator n·(u_slave − u_master
+//! interpolated); non-penetration g ≥ 0; the contact force λ ≥ 0 is the
+//! compressive normal force on the slave (the seed's F_n = −λ ≤ 0, §2.1);
+//! complementarity λ g = 0.
+
+pub mod delassus;
+pub mod direct;
+pub mod equilibrium;
+pub mod geometry;
+pub mod status;
+
+pub use delassus::DelassusProblem;
+pub use geometry::{ContactPoint, MasterGeometry, NormalRule, Term, TermSide};
+pub use status::{status_method, ActiveSetSolve, StatusOptions, StatusOutcome, StatusVariant};
+
+#[derive(Debug, thiserror::Error)]
+pub enum ContactError {
+    #[error("{0}")]
+    Geometry(String),
+    #[error("the contact problem is singular: {0}")]
+    Singular(String),
+    #[error("linear solve failed: {0}")]
+    Solve(String),
+}

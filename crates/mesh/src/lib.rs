@@ -104,8 +104,8 @@ impl Mesh {
         let cell = &self.cells[c];
         let mut x = [0.0; 3];
         for &n in &cell.nodes {
-            for k in 0..3 {
-                x[k] += self.coords[n][k];
+            for (xk, ck) in x.iter_mut().zip(self.coords[n]) {
+                *xk += ck;
             }
         }
         let m = cell.nodes.len() as f64;
@@ -134,8 +134,8 @@ impl Mesh {
             .iter()
             .enumerate()
             .map(|(i, x)| {
-                let d = ((x[0] - p[0]).powi(2) + (x[1] - p[1]).powi(2) + (x[2] - p[2]).powi(2))
-                    .sqrt();
+                let d =
+                    ((x[0] - p[0]).powi(2) + (x[1] - p[1]).powi(2) + (x[2] - p[2]).powi(2)).sqrt();
                 (i, d)
             })
             .min_by(|a, b| a.1.total_cmp(&b.1))

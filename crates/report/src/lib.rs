@@ -1,1 +1,224 @@
-//! placeholder
+//! The run report (SCENE.md, "The report"): report.json, contact.csv, and the
+//! analytic references a run is compared with (VALIDATION.md).
+
+pub mod reference;
+
+use std::collections::BTreeMap;
+use std::io::Write;
+use std::path::Path;
+
+use serde::Serialize;
+
+/// One load step of the run.
+#[derive(Debug, Clone, Serialize)]
+pub struct StepReport {
+    pub scale: BTreeMap<String, f64>,
+    pub iterations: usize,
+    pub active: usize,
+    pub sticking: usize,
+    pub slipping: usize,
+    pub converged: bool,
+    pub stopping_reason: String,
+    /// Active-set size at each status iteration.
+    pub active_history: Vec<usize>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub cycle_detected_at: Option<usize>,
+}
+
+/// Wall-clock time per phase, in seconds.
+#[derive(Debug, Clone, Default, Serialize)]
+pub struct Timings {
+    pub setup: f64,
+    pub assemble: f64,
+    pub condense: f64,
+    pub contact: f64,
+    pub recover: f64,
+    pub output: f64,
+    pub total: f64,
+}
+
+#[derive(Debug, Clone, Default, Serialize)]
+pub struct Memory {
+    /// Peak resident set size of the process (VmHWM), 0 where unknown.
+    pub peak_rss_bytes: u64,
+    /// Bytes of the dense interface problem: S (n_Γ²) and W (m²) in f64.
+    pub dense_interface_bytes: u64,
+    /// Bytes of the subdomains' sparse factors and dense Schur blocks.
+    pub factor_bytes: u64,
+}
+
+/// The contact conditions checked on the final solution, each relative to
+/// the scale of the problem (see the README): equilibrium residual over the
+/// load, penetration and complementarity over the displacement scale,
+/// tension over the force scale, cone violation over μλ_n.
+#[derive(Debug, Clone, Default, Serialize)]
+pub struct Certificate {
+    pub equilibrium: f64,
+    pub penetration: f64,
+    pub tension: f64,
+    pub complementarity: f64,
+    pub cone: f64,
+    /// The tolerance these were checked against.
+    pub tolerance: f64,
+    /// Force and length scales used to make the residuals relative.
+    pub force_scale: f64,
+    pub length_scale: f64,
+}
+
+impl Certificate {
+    pub fn max(&self) -> f64 {
+        [
+            self.equilibrium,
+            self.penetration,
+            self.tension,
+            self.complementarity,
+            self.cone,
+        ]
+        .into_iter()
+        .fold(0.0, f64::max)
+    }
+}
+
+#[derive(Debug, Clone, Serialize)]
+pub struct Probe {
+    pub point: Vec<f64>,
+    pub body: String,
+    pub node: usize,
+    pub distance: f64,
+    pub displacement: Vec<f64>,
+}
+
+#[derive(Debug, Clone, Serialize)]
+pub struct Quantity {
+    pub computed: f64,
+    pub exact: f64,
+    pub relative_error: f64,
+}
+
+impl Quantity {
+    pub fn new(computed: f64, exact: f64) -> Self {
+        let relative_error = if exact != 0.0 {
+            ((computed - exact) / exact).abs()
+        } else {
+            computed.abs()
+        };
+        Self {
+            computed,
+            exact,
+            relative_error,
+        }
+    }
+}
+
+#[derive(Debug, Clone, Serialize)]
+pub struct ReferenceReport {
+    pub kind: String,
+    pub quantities: BTreeMap<String, Quantity>,
+    /// What the comparison assumes (e.g. Hertz's half-space).
+    pub notes: Vec<String>,
+}
+
+/// Per-pair contact summary.
+#[derive(Debug, Clone, Serialize)]
+pub struct ContactSummary {
+    pub name: String,
+    pub points: usize,
+    pub active: usize,
+    pub force: Vec<f64>,
+}
+
+/// report.json.
+#[derive(Debug, Clone, Serialize)]
+pub struct Report {
+    pub scene: String,
+    pub title: String,
+    pub version: String,
+    pub ranks: usize,
+    pub subdomains: usize,
+    pub dofs: usize,
+    pub interface_dofs: usize,
+    pub contact_points: usize,
+    pub converged: bool,
+    pub method: String,
+    pub path: String,
+    /// Which stages ran (DESIGN.md §5).
+    pub stages: Vec<String>,
+    pub steps: Vec<StepReport>,
+    pub timings_s: Timings,
+    pub memory: Memory,
+    pub certificate: Certificate,
+    pub contact_force: Vec<f64>,
+    pub contacts: Vec<ContactSummary>,
+    pub probes: Vec<Probe>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub reference: Option<ReferenceReport>,
+    /// Warnings and notes for the user.
+    pub messages: Vec<String>,
+    /// Why the run is not converged, when it is not.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub failure: Option<String>,
+}
+
+/// One row of contact.csv.
+#[derive(Debug, Clone)]
+pub struct ContactRow {
+    pub step: usize,
+    pub contact: String,
+    pub body: String,
+    pub point: usize,
+    pub x: [f64; 3],
+    pub gap: f64,
+    pub normal_force: f64,
+    pub tangential_force: f64,
+    pub slip: f64,
+    pub pressure: f64,
+    pub status: &'static str,
+}
+
+/// The header of contact.csv in 2D (SCENE.md).
+pub const CONTACT_CSV_HEADER_2D: &str =
+    "step,contact,body,point,x,y,gap,normal_force,tangential_force,slip,pressure,status";
+
+pub fn write_contact_csv(path: &Path, rows: &[ContactRow]) -> std::io::Result<()> {
+    let mut w = std::io::BufWriter::new(std::fs::File::create(path)?);
+    writeln!(w, "{CONTACT_CSV_HEADER_2D}")?;
+    for r in rows {
+        writeln!(
+            w,
+            "{},{},{},{},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{}",
+            r.step,
+            r.contact,
+            r.body,
+            r.point,
+            r.x[0],
+            r.x[1],
+            r.gap,
+            r.normal_force,
+            r.tangential_force,
+            r.slip,
+            r.pressure,
+            r.status
+        )?;
+    }
+    w.flush()
+}
+
+pub fn write_report(path: &Path, report: &Report) -> std::io::Result<()> {
+    let text = serde_json::to_string_pretty(report).map_err(std::io::Error::other)?;
+    std::fs::write(path, text + "\n")
+}
+
+/// Peak resident set size of this process (Linux VmHWM), 0 elsewhere.
+pub fn peak_rss_bytes() -> u64 {
+    std::fs::read_to_string("/proc/self/status")
+        .ok()
+        .and_then(|s| {
+            s.lines().find(|l| l.starts_with("VmHWM:")).and_then(|l| {
+                l.split_whitespace()
+                    .nth(1)
+                    .and_then(|v| v.parse::<u64>().ok())
+            })
+        })
+        .map(|kb| kb * 1024)
+        .unwrap_or(0)
+}

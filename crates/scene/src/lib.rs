@@ -1,1 +1,115 @@
-//! placeholder
+//! The scene format of `SCENE.md` (version 1): serde schema, parsing and validation.
+//!
+//! A scene is one TOML file (JSON with the same structure is accepted). It is the
+//! user's contract: unknown keys are an error that names the key and its line, and
+//! every validation error names the entry (`bodies[1].mesh.radius`,
+//! `contact "cyl-ground".slave.surface`, `materials[0].poisson`) and says what would
+//! be valid.
+//!
+//! ```
+//! let scene = signorini_scene::parse_toml(r#"
+//!     dimension = 2
+//!     [[materials]]
+//!     name = "steel"
+//!     young = 1.0
+//!     poisson = 0.3
+//!     [[bodies]]
+//!     name = "plate"
+//!     material = "steel"
+//!     mesh = { generator = "rectangle", origin = [0.0, 0.0], size = [1.0, 1.0], divisions = [4, 4] }
+//! "#).unwrap();
+//! assert_eq!(scene.model, signorini_scene::Model::PlaneStrain);
+//! ```
+
+use std::path::Path;
+
+mod serde_impls;
+mod types;
+mod validate;
+
+pub use types::*;
+
+/// Everything that can go wrong while reading a scene.
+#[derive(Debug, thiserror::Error)]
+pub enum SceneError {
+    /// The scene file could not be read.
+    #[error("cannot read scene file {path}: {message}")]
+    Io { path: String, message: String },
+    /// TOML/JSON syntax error, a wrong type, an unknown key or a missing key. The
+    /// message is the one of the `toml` / `serde_json` crate, which gives the line
+    /// and column (when read by [`load`], it is prefixed by the file path).
+    #[error("{message}")]
+    Parse { message: String },
+    /// The scene parsed but is not valid. `entry` names the offending entry, e.g.
+    /// `bodies[1].mesh.radius`, `contact "cyl-ground"`, `materials[0].poisson`;
+    /// `message` says what would be valid.
+    #[error("{entry}: {message}")]
+    Invalid { entry: String, message: String },
+}
+
+/// Reads, parses and validates a scene file: `*.json` is read as JSON, anything else
+/// as TOML.
+///
+/// Relative `mesh = { file = ... }` paths are resolved against the directory of the
+/// scene file (after validation), so the returned scene can be used from any working
+/// directory. `output.directory` is left as written (relative to the working
+/// directory; see [`Output::directory_for`] for its default).
+pub fn load(path: &Path) -> Result<Scene, SceneError> {
+    let text = std::fs::read_to_string(path).map_err(|e| SceneError::Io {
+        path: path.display().to_string(),
+        message: e.to_string(),
+    })?;
+    let is_json = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .is_some_and(|e| e.eq_ignore_ascii_case("json"));
+    let parsed = if is_json {
+        from_json(&text)
+    } else {
+        from_toml(&text)
+    };
+    let mut scene = parsed.map_err(|e| match e {
+        SceneError::Parse { message } => SceneError::Parse {
+            message: format!("{}: {}", path.display(), message),
+        },
+        other => other,
+    })?;
+    scene.validate()?;
+    if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+        for body in &mut scene.bodies {
+            if let Some(MeshSpec::File { file }) = &mut body.mesh {
+                if file.is_relative() {
+                    *file = dir.join(&*file);
+                }
+            }
+        }
+    }
+    Ok(scene)
+}
+
+/// Parses a scene written in TOML, then [`Scene::validate`]s it.
+pub fn parse_toml(text: &str) -> Result<Scene, SceneError> {
+    let scene = from_toml(text)?;
+    scene.validate()?;
+    Ok(scene)
+}
+
+/// Parses a scene written in JSON (same structure as the TOML form), then
+/// [`Scene::validate`]s it.
+pub fn parse_json(text: &str) -> Result<Scene, SceneError> {
+    let scene = from_json(text)?;
+    scene.validate()?;
+    Ok(scene)
+}
+
+fn from_toml(text: &str) -> Result<Scene, SceneError> {
+    toml::from_str(text).map_err(|e| SceneError::Parse {
+        message: e.to_string().trim_end().to_string(),
+    })
+}
+
+fn from_json(text: &str) -> Result<Scene, SceneError> {
+    serde_json::from_str(text).map_err(|e| SceneError::Parse {
+        message: format!("JSON parse error: {e}"),
+    })
+}

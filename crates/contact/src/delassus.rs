@@ -1,0 +1,255 @@
+//! The condensed contact problem in the forces alone (DESIGN.md §3).
+//!
+//! On the interface Γ: S u = F' + Bᵀ λ, g = g0 + B u. With S factorised once,
+//! the Delassus operator W = B S⁻¹ Bᵀ and q = g0 + B S⁻¹ F' give g = W λ + q,
+//! and the frictionless problem is LCP(W, q): λ ≥ 0, g ≥ 0, λ·g = 0.
+//!
+//! Floating bodies (no Dirichlet condition on some rigid motion) make S
+//! singular with a known kernel R (the rigid modes of the body, restricted to
+//! Γ). As in FETI, u = S⁺(F' + Bᵀλ) + R α and the equilibrium of the rigid
+//! modes Rᵀ(F' + Bᵀλ) = 0 becomes the equality constraint Gᵀ λ = e with
+//! G = B R and e = −Rᵀ F'; then g = W λ + q + G α. S⁺ is the inverse of
+//! S + ρ R Rᵀ (R orthonormal), a generalised inverse of S on its range: no
+//! artificial spring enters the answer.
+
+use faer::prelude::Solve;
+use faer::{Mat, Side};
+
+use crate::status::ActiveSetSolve;
+use crate::ContactError;
+
+/// A sparse row over the interface DOFs: (index, coefficient).
+pub type SparseRow = Vec<(usize, f64)>;
+
+pub struct DelassusProblem {
+    n: usize,
+    /// X = S⁺ Bᵀ (n × m).
+    x: Mat<f64>,
+    /// u0 = S⁺ F'.
+    u0: Vec<f64>,
+    /// Orthonormal kernel basis (n × k).
+    r: Mat<f64>,
+    pub w: Mat<f64>,
+    pub q: Vec<f64>,
+    /// G = B R (m × k).
+    pub g_mat: Mat<f64>,
+    /// e = −Rᵀ F'.
+    pub e: Vec<f64>,
+    last_alpha: Vec<f64>,
+    /// Number of linear solves with W blocks (for the report).
+    pub solves: usize,
+}
+
+fn orthonormalize(r: &Mat<f64>) -> Result<Mat<f64>, ContactError> {
+    let (n, k) = (r.nrows(), r.ncols());
+    let mut q = r.clone();
+    for j in 0..k {
+        for _pass in 0..2 {
+            for i in 0..j {
+                let d: f64 = (0..n).map(|t| q[(t, i)] * q[(t, j)]).sum();
+                for t in 0..n {
+                    q[(t, j)] -= d * q[(t, i)];
+                }
+            }
+        }
+        let nn: f64 = (0..n).map(|t| q[(t, j)].powi(2)).sum::<f64>().sqrt();
+        let orig: f64 = (0..n).map(|t| r[(t, j)].powi(2)).sum::<f64>().sqrt();
+        if nn <= 1e-10 * orig.max(f64::MIN_POSITIVE) {
+            return Err(ContactError::Singular(
+                "the rigid modes of the floating bodies are linearly dependent on the interface"
+                    .into(),
+            ));
+        }
+        for t in 0..n {
+            q[(t, j)] /= nn;
+        }
+    }
+    Ok(q)
+}
+
+impl DelassusProblem {
+    /// Builds W, q (and G, e for floating bodies) from the dense interface
+    /// stiffness `s`, the contact rows `b` (over interface DOFs), the initial
+    /// gaps `gap0`, the condensed load `f` and the kernel `kernel` (n × k,
+    /// k = 0 without floating bodies).
+    pub fn new(
+        s: &Mat<f64>,
+        b: &[SparseRow],
+        gap0: &[f64],
+        f: &[f64],
+        kernel: &Mat<f64>,
+    ) -> Result<Self, ContactError> {
+        let n = s.nrows();
+        let m = b.len();
+        let k = kernel.ncols();
+        let r = if k > 0 {
+            orthonormalize(kernel)?
+        } else {
+            Mat::zeros(n, 0)
+        };
+        let mut s_reg = s.clone();
+        if k > 0 {
+            let rho = (0..n).map(|i| s[(i, i)].abs()).sum::<f64>() / n.max(1) as f64;
+            faer::linalg::matmul::matmul(
+                s_reg.as_mut(),
+                faer::Accum::Add,
+                r.as_ref(),
+                r.transpose(),
+                rho,
+                faer::Par::Seq,
+            );
+        }
+        let llt = s_reg.llt(Side::Lower).map_err(|_| {
+            ContactError::Singular(
+                "the interface stiffness S is not positive definite beyond the rigid modes of the floating bodies: a body is free to move in a way its supports do not prevent".into(),
+            )
+        })?;
+        let mut x = Mat::<f64>::zeros(n, m);
+        for (p, row) in b.iter().enumerate() {
+            for &(i, c) in row {
+                x[(i, p)] += c;
+            }
+        }
+        llt.solve_in_place(x.as_mut());
+        let mut w = Mat::<f64>::zeros(m, m);
+        for (p, row) in b.iter().enumerate() {
+            for j in 0..m {
+                w[(p, j)] = row.iter().map(|&(i, c)| c * x[(i, j)]).sum();
+            }
+        }
+        for j in 0..m {
+            for i in j + 1..m {
+                let v = 0.5 * (w[(i, j)] + w[(j, i)]);
+                w[(i, j)] = v;
+                w[(j, i)] = v;
+            }
+        }
+        let mut u0m = Mat::<f64>::from_fn(n, 1, |i, _| f[i]);
+        llt.solve_in_place(u0m.as_mut());
+        let u0: Vec<f64> = (0..n).map(|i| u0m[(i, 0)]).collect();
+        let q: Vec<f64> = b
+            .iter()
+            .zip(gap0)
+            .map(|(row, g0)| g0 + row.iter().map(|&(i, c)| c * u0[i]).sum::<f64>())
+            .collect();
+        let g_mat =
+            Mat::<f64>::from_fn(m, k, |p, j| b[p].iter().map(|&(i, c)| c * r[(i, j)]).sum());
+        let e: Vec<f64> = (0..k)
+            .map(|j| -(0..n).map(|i| r[(i, j)] * f[i]).sum::<f64>())
+            .collect();
+        Ok(Self {
+            n,
+            x,
+            u0,
+            r,
+            w,
+            q,
+            g_mat,
+            e,
+            last_alpha: vec![0.0; k],
+            solves: 0,
+        })
+    }
+
+    pub fn n_kernel(&self) -> usize {
+        self.r.ncols()
+    }
+
+    /// Interface displacement u = S⁺(F' + Bᵀλ) + R α for forces λ (and the α
+    /// of the last solve).
+    pub fn displacement(&self, lambda: &[f64]) -> Vec<f64> {
+        let mut u = self.u0.clone();
+        for (p, &l) in lambda.iter().enumerate() {
+            if l != 0.0 {
+                for (i, ui) in u.iter_mut().enumerate() {
+                    *ui += self.x[(i, p)] * l;
+                }
+            }
+        }
+        for (j, &a) in self.last_alpha.iter().enumerate() {
+            for (i, ui) in u.iter_mut().enumerate().take(self.n) {
+                *ui += self.r[(i, j)] * a;
+            }
+        }
+        u
+    }
+
+    /// The rigid-mode amplitudes α of the last solve.
+    pub fn alpha(&self) -> &[f64] {
+        &self.last_alpha
+    }
+}
+
+impl ActiveSetSolve for DelassusProblem {
+    fn n_points(&self) -> usize {
+        self.q.len()
+    }
+
+    /// Solves W_AA λ_A = −q_A (no floating body) or the saddle-point system
+    /// [W_AA G_A; G_Aᵀ 0][λ_A; α] = [−q_A; e].
+    fn solve_active(&mut self, active: &[usize]) -> Result<(Vec<f64>, Vec<f64>), ContactError> {
+        self.solves += 1;
+        let m = self.q.len();
+        let k = self.r.ncols();
+        let na = active.len();
+        let mut lambda = vec![0.0; m];
+        let mut alpha = vec![0.0; k];
+        if na + k > 0 {
+            let dim = na + k;
+            let mut a = Mat::<f64>::zeros(dim, dim);
+            let mut rhs = Mat::<f64>::zeros(dim, 1);
+            for (ii, &p) in active.iter().enumerate() {
+                for (jj, &r) in active.iter().enumerate() {
+                    a[(ii, jj)] = self.w[(p, r)];
+                }
+                for j in 0..k {
+                    a[(ii, na + j)] = self.g_mat[(p, j)];
+                    a[(na + j, ii)] = self.g_mat[(p, j)];
+                }
+                rhs[(ii, 0)] = -self.q[p];
+            }
+            for j in 0..k {
+                rhs[(na + j, 0)] = self.e[j];
+            }
+            let sol = if k == 0 {
+                match a.llt(Side::Lower) {
+                    Ok(llt) => llt.solve(&rhs),
+                    Err(_) => solve_checked(&a, &rhs, "W_AA (redundant contact constraints?)")?,
+                }
+            } else {
+                solve_checked(&a, &rhs, "the active contacts do not hold a floating body")?
+            };
+            for (ii, &p) in active.iter().enumerate() {
+                lambda[p] = sol[(ii, 0)];
+            }
+            for j in 0..k {
+                alpha[j] = sol[(na + j, 0)];
+            }
+        }
+        let mut g = self.q.clone();
+        for (p, gp) in g.iter_mut().enumerate() {
+            for &r in active {
+                *gp += self.w[(p, r)] * lambda[r];
+            }
+            for j in 0..k {
+                *gp += self.g_mat[(p, j)] * alpha[j];
+            }
+        }
+        self.last_alpha = alpha;
+        Ok((lambda, g))
+    }
+}
+
+/// Dense solve by full-pivoting LU, rejecting a (numerically) singular matrix.
+fn solve_checked(a: &Mat<f64>, rhs: &Mat<f64>, what: &str) -> Result<Mat<f64>, ContactError> {
+    let lu = a.full_piv_lu();
+    let x = lu.solve(rhs);
+    let amax = a.norm_max();
+    // Singular: non-finite answer or a residual far above round-off.
+    let res = a * &x - rhs;
+    let scale = amax * x.norm_max() + rhs.norm_max();
+    if !x.norm_max().is_finite() || res.norm_max() > 1e-8 * scale.max(f64::MIN_POSITIVE) {
+        return Err(ContactError::Singular(what.to_string()));
+    }
+    Ok(x)
+}

@@ -1,0 +1,840 @@
+//! The schema: one Rust type per table of the scene file.
+
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+use std::fmt;
+use std::path::{Path, PathBuf};
+use std::str::FromStr;
+
+/// A whole scene file.
+///
+/// Deserialization goes through a private raw struct (with `deny_unknown_fields`) so
+/// that a missing `model` can default according to `dimension`.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[serde(from = "SceneRaw")]
+pub struct Scene {
+    /// Free text, echoed in the report.
+    pub title: String,
+    /// Space dimension: 2 or 3.
+    pub dimension: u8,
+    /// The mechanical model. Defaults to `plane_strain` when `dimension = 2` and
+    /// `solid` when `dimension = 3`.
+    pub model: Model,
+    /// `[[materials]]`: named linear elastic materials.
+    pub materials: Vec<Material>,
+    /// `[[bodies]]`: deformable (meshed) bodies and rigid obstacles.
+    pub bodies: Vec<Body>,
+    /// `[[boundary]]`: Dirichlet and Neumann conditions.
+    pub boundary: Vec<Boundary>,
+    /// `[[contact]]`: contact pairs.
+    pub contact: Vec<Contact>,
+    /// `[[steps]]`: load steps; empty means one step with every load at scale 1.
+    pub steps: Vec<Step>,
+    /// `[solver]`.
+    pub solver: Solver,
+    /// `[reference]`: an optional analytic solution to report the error against.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub reference: Option<Reference>,
+    /// `[output]`.
+    pub output: Output,
+}
+
+/// The file form of [`Scene`]: `model` is optional there.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct SceneRaw {
+    #[serde(default)]
+    title: String,
+    dimension: u8,
+    #[serde(default)]
+    model: Option<Model>,
+    #[serde(default)]
+    materials: Vec<Material>,
+    #[serde(default)]
+    bodies: Vec<Body>,
+    #[serde(default)]
+    boundary: Vec<Boundary>,
+    #[serde(default)]
+    contact: Vec<Contact>,
+    #[serde(default)]
+    steps: Vec<Step>,
+    #[serde(default)]
+    solver: Solver,
+    #[serde(default)]
+    reference: Option<Reference>,
+    #[serde(default)]
+    output: Output,
+}
+
+impl From<SceneRaw> for Scene {
+    fn from(raw: SceneRaw) -> Self {
+        let model = raw.model.unwrap_or(if raw.dimension == 3 {
+            Model::Solid
+        } else {
+            Model::PlaneStrain
+        });
+        Scene {
+            title: raw.title,
+            dimension: raw.dimension,
+            model,
+            materials: raw.materials,
+            bodies: raw.bodies,
+            boundary: raw.boundary,
+            contact: raw.contact,
+            steps: raw.steps,
+            solver: raw.solver,
+            reference: raw.reference,
+            output: raw.output,
+        }
+    }
+}
+
+impl Scene {
+    /// The `[[materials]]` entry of that name.
+    pub fn material(&self, name: &str) -> Option<&Material> {
+        self.materials.iter().find(|m| m.name == name)
+    }
+
+    /// The `[[bodies]]` entry of that name.
+    pub fn body(&self, name: &str) -> Option<&Body> {
+        self.bodies.iter().find(|b| b.name == name)
+    }
+
+    /// Index in `bodies` of the body of that name.
+    pub fn body_index(&self, name: &str) -> Option<usize> {
+        self.bodies.iter().position(|b| b.name == name)
+    }
+
+    /// The `[[boundary]]` entry of that name.
+    pub fn boundary_entry(&self, name: &str) -> Option<&Boundary> {
+        self.boundary
+            .iter()
+            .find(|b| b.name.as_deref() == Some(name))
+    }
+
+    /// The scale of every *named* boundary entry at every load step, after applying
+    /// the rule of `SCENE.md`: loads not named in a step keep their previous scale
+    /// (first step: 1). With no `[[steps]]`, one step with every scale 1. Unnamed
+    /// boundary entries are always at scale 1.
+    pub fn step_scales(&self) -> Vec<BTreeMap<String, f64>> {
+        let mut current: BTreeMap<String, f64> = self
+            .boundary
+            .iter()
+            .filter_map(|b| b.name.clone())
+            .map(|n| (n, 1.0))
+            .collect();
+        if self.steps.is_empty() {
+            return vec![current];
+        }
+        self.steps
+            .iter()
+            .map(|step| {
+                for (name, scale) in &step.scale {
+                    current.insert(name.clone(), *scale);
+                }
+                current.clone()
+            })
+            .collect()
+    }
+}
+
+/// `model`: how a 2D scene is interpreted, or `solid` in 3D.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Model {
+    /// 2D, ε_zz = 0.
+    PlaneStrain,
+    /// 2D, σ_zz = 0, thickness 1.
+    PlaneStress,
+    /// 2D, x = r, y = z.
+    Axisymmetric,
+    /// 3D.
+    Solid,
+}
+
+impl Model {
+    /// The scene-file spelling.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Model::PlaneStrain => "plane_strain",
+            Model::PlaneStress => "plane_stress",
+            Model::Axisymmetric => "axisymmetric",
+            Model::Solid => "solid",
+        }
+    }
+
+    /// The space dimension this model lives in.
+    pub fn dimension(self) -> usize {
+        match self {
+            Model::Solid => 3,
+            _ => 2,
+        }
+    }
+}
+
+/// `[[materials]]`: an isotropic linear elastic material.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct Material {
+    /// Unique name, referenced by `bodies.material`.
+    pub name: String,
+    /// Young's modulus E > 0.
+    pub young: f64,
+    /// Poisson's ratio, -1 < ν < 0.5.
+    pub poisson: f64,
+}
+
+/// `bodies.subdomains`: METIS parts of this body, an integer ≥ 1 or `"auto"` (spread
+/// the MPI ranks). Default 1.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Subdomains {
+    Count(usize),
+    Auto,
+}
+
+impl Default for Subdomains {
+    fn default() -> Self {
+        Subdomains::Count(1)
+    }
+}
+
+/// `[[bodies]]`: a deformable body (`mesh` and `material`) or a rigid obstacle
+/// (`rigid`).
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct Body {
+    /// Unique name, referenced by boundary conditions and contact pairs.
+    pub name: String,
+    /// Name of a `[[materials]]` entry; required for a deformable body, forbidden for
+    /// a rigid one.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub material: Option<String>,
+    /// METIS parts of this body; `"auto"` spreads the ranks.
+    #[serde(default)]
+    pub subdomains: Subdomains,
+    /// The mesh of a deformable body: a generator or a Gmsh file.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub mesh: Option<MeshSpec>,
+    /// The shape of a rigid obstacle. Exactly one of `mesh` / `rigid`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rigid: Option<RigidShape>,
+}
+
+impl Body {
+    /// A body with a `mesh`.
+    pub fn is_deformable(&self) -> bool {
+        self.mesh.is_some()
+    }
+
+    /// A body with a `rigid` shape (and no mesh).
+    pub fn is_rigid(&self) -> bool {
+        self.rigid.is_some() && self.mesh.is_none()
+    }
+}
+
+/// `bodies.mesh`: `{ generator = "...", ... }` or `{ file = "part.msh" }`.
+#[derive(Debug, Clone, Serialize, PartialEq)]
+#[serde(untagged)]
+pub enum MeshSpec {
+    /// A built-in mesh generator.
+    Generator(Generator),
+    /// A Gmsh 2.2 or 4.1 file; physical groups of dimension d−1 name the surfaces,
+    /// of dimension d the regions. [`crate::load`] makes a relative path relative to
+    /// the scene file's directory.
+    File { file: PathBuf },
+}
+
+/// A mesh generator, tagged by the key `generator`. Every generator names its
+/// boundary parts; those names are the surfaces of the body. `grading` is the ratio
+/// of the largest to the smallest element size along the graded direction (1 =
+/// uniform); sizes vary geometrically.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[serde(tag = "generator", rename_all = "snake_case", deny_unknown_fields)]
+pub enum Generator {
+    /// 2D. Surfaces: left, right, bottom, top.
+    Rectangle {
+        /// Lower-left corner [x, y].
+        origin: [f64; 2],
+        /// [width, height] > 0.
+        size: [f64; 2],
+        /// [nx, ny] ≥ 1.
+        divisions: [usize; 2],
+        /// `quad4` (default) or `tri3`.
+        #[serde(default = "Element::quad4")]
+        element: Element,
+        /// Grading towards `bottom` | `top` | `left` | `right`.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        grading: Option<Grading>,
+    },
+    /// 2D. Surfaces: flat, arc.
+    HalfDisk {
+        /// Centre of the circle, on the flat side.
+        center: [f64; 2],
+        radius: f64,
+        /// Elements along the arc (≥ 4).
+        divisions: usize,
+        /// Unit vector from the centre to the middle of the arc (default [0, -1]).
+        #[serde(default = "default_pole2")]
+        pole: [f64; 2],
+        /// Smallest elements at the pole (default 1 = uniform).
+        #[serde(default = "one")]
+        grading: f64,
+        /// `quad4` (default) or `tri3`.
+        #[serde(default = "Element::quad4")]
+        element: Element,
+    },
+    /// 3D. Surfaces: xmin, xmax, ymin, ymax, zmin, zmax.
+    Box {
+        origin: [f64; 3],
+        size: [f64; 3],
+        divisions: [usize; 3],
+        /// `hex8` (default) or `tet4`.
+        #[serde(default = "Element::hex8")]
+        element: Element,
+        /// Grading towards `xmin` .. `zmax`.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        grading: Option<Grading>,
+    },
+    /// 3D. Surfaces: flat, dome.
+    Hemisphere {
+        center: [f64; 3],
+        radius: f64,
+        divisions: usize,
+        /// Default [0, 0, -1].
+        #[serde(default = "default_pole3")]
+        pole: [f64; 3],
+        #[serde(default = "one")]
+        grading: f64,
+    },
+    /// Axisymmetric only. Surfaces: axis, flat, arc. Grading towards the pole on the
+    /// axis.
+    QuarterDisk {
+        center: [f64; 2],
+        radius: f64,
+        divisions: usize,
+        #[serde(default = "one")]
+        grading: f64,
+        #[serde(default = "Element::quad4")]
+        element: Element,
+    },
+}
+
+impl Generator {
+    /// The scene-file spelling of the generator.
+    pub fn name(&self) -> &'static str {
+        match self {
+            Generator::Rectangle { .. } => "rectangle",
+            Generator::HalfDisk { .. } => "half_disk",
+            Generator::Box { .. } => "box",
+            Generator::Hemisphere { .. } => "hemisphere",
+            Generator::QuarterDisk { .. } => "quarter_disk",
+        }
+    }
+
+    /// The space dimension of the generated mesh.
+    pub fn dimension(&self) -> usize {
+        match self {
+            Generator::Box { .. } | Generator::Hemisphere { .. } => 3,
+            _ => 2,
+        }
+    }
+
+    /// The names of the surfaces this generator creates.
+    pub fn surfaces(&self) -> &'static [&'static str] {
+        match self {
+            Generator::Rectangle { .. } => &["left", "right", "bottom", "top"],
+            Generator::HalfDisk { .. } => &["flat", "arc"],
+            Generator::Box { .. } => &["xmin", "xmax", "ymin", "ymax", "zmin", "zmax"],
+            Generator::Hemisphere { .. } => &["flat", "dome"],
+            Generator::QuarterDisk { .. } => &["axis", "flat", "arc"],
+        }
+    }
+}
+
+fn default_pole2() -> [f64; 2] {
+    [0.0, -1.0]
+}
+fn default_pole3() -> [f64; 3] {
+    [0.0, 0.0, -1.0]
+}
+fn one() -> f64 {
+    1.0
+}
+
+/// Element type: `quad4` | `tri3` (2D), `hex8` | `tet4` (3D).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Element {
+    Quad4,
+    Tri3,
+    Hex8,
+    Tet4,
+}
+
+impl Element {
+    fn quad4() -> Self {
+        Element::Quad4
+    }
+    fn hex8() -> Self {
+        Element::Hex8
+    }
+
+    /// The scene-file spelling.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Element::Quad4 => "quad4",
+            Element::Tri3 => "tri3",
+            Element::Hex8 => "hex8",
+            Element::Tet4 => "tet4",
+        }
+    }
+}
+
+/// `grading = { towards, ratio }` of the rectangle and box generators.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct Grading {
+    /// Where the smallest elements are: rectangle `bottom`|`top`|`left`|`right`, box
+    /// `xmin`|`xmax`|`ymin`|`ymax`|`zmin`|`zmax`.
+    pub towards: String,
+    /// Largest over smallest element size, ≥ 1.
+    pub ratio: f64,
+}
+
+/// `bodies.rigid`: a rigid obstacle, tagged by the key `shape`.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[serde(tag = "shape", rename_all = "snake_case", deny_unknown_fields)]
+pub enum RigidShape {
+    /// A line (2D) or plane (3D) through `point` with outward `normal` (towards the
+    /// deformable bodies); both have `dimension` components.
+    Plane { point: Vec<f64>, normal: Vec<f64> },
+    /// 2D only.
+    Circle { center: Vec<f64>, radius: f64 },
+    /// 3D only.
+    Sphere { center: Vec<f64>, radius: f64 },
+}
+
+/// `[[boundary]]`: a condition on a surface (or a single node) of a deformable body.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct Boundary {
+    /// Optional unique name; load steps scale a condition by its name.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub name: Option<String>,
+    /// A deformable body.
+    pub body: String,
+    /// A surface of the body (checked by the solver, once meshes exist).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub surface: Option<String>,
+    /// Instead of `surface`: the body's node at that point (error if none within 1e-6
+    /// of the body size); for pinning a corner.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub point: Option<Vec<f64>>,
+    /// Imposed displacement components (others free).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub displacement: Option<Displacement>,
+    /// Force per unit length (2D) / area (3D), at the current scale.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub traction: Option<Vec<f64>>,
+    /// Resultant force, spread uniformly over the surface.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub force: Option<Vec<f64>>,
+}
+
+/// `displacement = { x, y, z }`: components given are imposed, others free.
+#[derive(Debug, Clone, Copy, Default, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct Displacement {
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub x: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub y: Option<f64>,
+    /// 3D only.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub z: Option<f64>,
+}
+
+impl Displacement {
+    /// The imposed value of each component (length 3; z is `None` in 2D).
+    pub fn components(&self) -> [Option<f64>; 3] {
+        [self.x, self.y, self.z]
+    }
+}
+
+/// `[[contact]]`: a contact pair.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct Contact {
+    /// Unique name.
+    pub name: String,
+    /// A deformable body and its (required) surface.
+    pub slave: ContactSide,
+    /// A rigid body (no surface), or a deformable body and its surface.
+    pub master: ContactSide,
+    /// `node_to_node` (matching meshes) | `node_to_segment` (default) | `mortar`.
+    #[serde(default)]
+    pub discretization: Discretization,
+    /// Normal rule: `master` (default) | `slave` | `average` | `points`.
+    #[serde(default)]
+    pub normal: NormalRule,
+    /// `"unilateral"` (default) or `{ penalty = <stiffness> }`.
+    #[serde(default)]
+    pub law: Law,
+    /// `"none"` (default), `{ tresca = g }`, `{ coulomb = mu }`,
+    /// `{ coulomb = mu, slip_stiffness = k }`, `{ coulomb = [mu1, mu2] }`,
+    /// `{ norton_hoff = mu, rho = r }`.
+    #[serde(default)]
+    pub friction: Friction,
+    /// `"geometric"` (default, from coordinates) or a number (uniform initial gap).
+    #[serde(default)]
+    pub gap: Gap,
+}
+
+/// `slave` / `master` of a contact pair: `{ body, surface }`.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct ContactSide {
+    pub body: String,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub surface: Option<String>,
+}
+
+/// `contact.discretization`.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Discretization {
+    /// Matching meshes.
+    NodeToNode,
+    #[default]
+    NodeToSegment,
+    Mortar,
+}
+
+impl Discretization {
+    /// The scene-file spelling.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Discretization::NodeToNode => "node_to_node",
+            Discretization::NodeToSegment => "node_to_segment",
+            Discretization::Mortar => "mortar",
+        }
+    }
+}
+
+/// `contact.normal`: which normal the gap is measured along.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum NormalRule {
+    #[default]
+    Master,
+    Slave,
+    Average,
+    Points,
+}
+
+impl NormalRule {
+    /// The scene-file spelling.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            NormalRule::Master => "master",
+            NormalRule::Slave => "slave",
+            NormalRule::Average => "average",
+            NormalRule::Points => "points",
+        }
+    }
+}
+
+/// `contact.law`: `"unilateral"` (Signorini) or `{ penalty = <stiffness> }`
+/// (regularised).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub enum Law {
+    #[default]
+    Unilateral,
+    Penalty {
+        penalty: f64,
+    },
+}
+
+/// `contact.friction`.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub enum Friction {
+    /// `"none"`: frictionless.
+    #[default]
+    None,
+    /// `{ tresca = g }`: given slip threshold g ≥ 0.
+    Tresca(f64),
+    /// `{ coulomb = mu }`, `{ coulomb = [mu1, mu2] }` (3D anisotropic, elliptic
+    /// cone), optionally `slip_stiffness = k` (regularised).
+    Coulomb {
+        coefficient: Vec<f64>,
+        slip_stiffness: Option<f64>,
+    },
+    /// `{ norton_hoff = mu, rho = r }`, 0 < r < 1.
+    NortonHoff { coefficient: f64, rho: f64 },
+}
+
+/// `contact.gap`: `"geometric"` (from coordinates) or a number (uniform initial gap).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub enum Gap {
+    #[default]
+    Geometric,
+    Uniform(f64),
+}
+
+/// `[[steps]]`: `scale = { <boundary name> = <factor> }`. Loads not named keep
+/// their previous scale (first step: 1). See [`Scene::step_scales`].
+#[derive(Debug, Clone, Default, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct Step {
+    #[serde(default)]
+    pub scale: BTreeMap<String, f64>,
+}
+
+/// `[solver]`.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[serde(default, deny_unknown_fields)]
+pub struct Solver {
+    /// The contact algorithm (default `status`).
+    pub method: Method,
+    /// `condensed` (default; static condensation onto the interface) or `direct`.
+    pub path: SolvePath,
+    /// Convergence tolerance, 0 < tol < 1 (default 1e-10).
+    pub tolerance: f64,
+    /// ≥ 1 (default 500).
+    pub max_iterations: usize,
+    /// Friction outer loop: `fixed_point` (default) or `status`.
+    pub friction: FrictionSolver,
+}
+
+impl Default for Solver {
+    fn default() -> Self {
+        Solver {
+            method: Method::Status,
+            path: SolvePath::Condensed,
+            tolerance: 1e-10,
+            max_iterations: 500,
+            friction: FrictionSolver::FixedPoint,
+        }
+    }
+}
+
+/// `solver.method`.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Method {
+    #[default]
+    Status,
+    Lemke,
+    ProjectedGradient,
+    Mprgp,
+    Uzawa,
+    AugmentedLagrangian,
+    Penalty,
+}
+
+impl Method {
+    /// Every method, in the order of `SCENE.md`.
+    pub const ALL: [Method; 7] = [
+        Method::Status,
+        Method::Lemke,
+        Method::ProjectedGradient,
+        Method::Mprgp,
+        Method::Uzawa,
+        Method::AugmentedLagrangian,
+        Method::Penalty,
+    ];
+
+    /// The scene-file / CLI spelling.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Method::Status => "status",
+            Method::Lemke => "lemke",
+            Method::ProjectedGradient => "projected_gradient",
+            Method::Mprgp => "mprgp",
+            Method::Uzawa => "uzawa",
+            Method::AugmentedLagrangian => "augmented_lagrangian",
+            Method::Penalty => "penalty",
+        }
+    }
+}
+
+impl fmt::Display for Method {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.as_str())
+    }
+}
+
+impl FromStr for Method {
+    type Err = String;
+    /// Accepts the scene spelling; `-` may replace `_` (`projected-gradient`).
+    fn from_str(s: &str) -> Result<Self, String> {
+        let key = s.trim().replace('-', "_");
+        Method::ALL
+            .into_iter()
+            .find(|m| m.as_str() == key)
+            .ok_or_else(|| {
+                format!(
+                    "unknown method \"{s}\"; valid methods: {}",
+                    Method::ALL.map(Method::as_str).join(", ")
+                )
+            })
+    }
+}
+
+/// `solver.path`.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum SolvePath {
+    /// Static condensation onto the contact interface.
+    #[default]
+    Condensed,
+    /// The full system.
+    Direct,
+}
+
+impl SolvePath {
+    pub const ALL: [SolvePath; 2] = [SolvePath::Condensed, SolvePath::Direct];
+
+    /// The scene-file / CLI spelling.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            SolvePath::Condensed => "condensed",
+            SolvePath::Direct => "direct",
+        }
+    }
+}
+
+impl fmt::Display for SolvePath {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.as_str())
+    }
+}
+
+impl FromStr for SolvePath {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        let key = s.trim();
+        SolvePath::ALL
+            .into_iter()
+            .find(|m| m.as_str() == key)
+            .ok_or_else(|| format!("unknown path \"{s}\"; valid paths: condensed, direct"))
+    }
+}
+
+/// `solver.friction`: the outer loop for friction.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum FrictionSolver {
+    #[default]
+    FixedPoint,
+    Status,
+}
+
+impl FrictionSolver {
+    /// The scene-file spelling.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            FrictionSolver::FixedPoint => "fixed_point",
+            FrictionSolver::Status => "status",
+        }
+    }
+}
+
+/// `[reference]`: an analytic solution to report the error against; the load is the
+/// computed one.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct Reference {
+    pub kind: ReferenceKind,
+    /// Radius of the cylinder / sphere (required by `hertz_cylinder` and
+    /// `hertz_sphere`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub radius: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub pressure: Option<f64>,
+    /// Half width of a flat punch.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub half_width: Option<f64>,
+    /// Friction coefficient (cattaneo_mindlin, sliding_block).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub friction: Option<f64>,
+}
+
+/// `reference.kind`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ReferenceKind {
+    HertzCylinder,
+    HertzSphere,
+    FlatPunch,
+    UniformPressure,
+    CattaneoMindlin,
+    SlidingBlock,
+}
+
+impl ReferenceKind {
+    /// The scene-file / report spelling.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            ReferenceKind::HertzCylinder => "hertz_cylinder",
+            ReferenceKind::HertzSphere => "hertz_sphere",
+            ReferenceKind::FlatPunch => "flat_punch",
+            ReferenceKind::UniformPressure => "uniform_pressure",
+            ReferenceKind::CattaneoMindlin => "cattaneo_mindlin",
+            ReferenceKind::SlidingBlock => "sliding_block",
+        }
+    }
+}
+
+/// `[output]`.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[serde(default, deny_unknown_fields)]
+pub struct Output {
+    /// Output directory; default `out/<scene file stem>` (see
+    /// [`Output::directory_for`]).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub directory: Option<PathBuf>,
+    /// VTU content: any of `displacement`, `stress`, `contact` (default all three);
+    /// `[]` writes none.
+    pub fields: Vec<String>,
+    /// Points whose displacement goes in the report (nearest node of any body).
+    pub probes: Vec<Vec<f64>>,
+}
+
+impl Default for Output {
+    fn default() -> Self {
+        Output {
+            directory: None,
+            fields: vec![
+                "displacement".to_string(),
+                "stress".to_string(),
+                "contact".to_string(),
+            ],
+            probes: Vec::new(),
+        }
+    }
+}
+
+impl Output {
+    /// The valid `fields` names.
+    pub const FIELDS: [&'static str; 3] = ["displacement", "stress", "contact"];
+
+    /// `directory`, or `out/<stem of scene_path>` when not given.
+    pub fn directory_for(&self, scene_path: &Path) -> PathBuf {
+        match &self.directory {
+            Some(d) => d.clone(),
+            None => {
+                let stem = scene_path
+                    .file_stem()
+                    .map(|s| s.to_string_lossy().into_owned())
+                    .unwrap_or_else(|| "scene".to_string());
+                Path::new("out").join(stem)
+            }
+        }
+    }
+
+    /// Whether `fields` asks for that field.
+    pub fn wants(&self, field: &str) -> bool {
+        self.fields.iter().any(|f| f == field)
+    }
+}

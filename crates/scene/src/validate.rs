@@ -1,0 +1,786 @@
+//! `Scene::validate`: the semantic checks of `SCENE.md`. Every error names the entry
+//! and says what would be valid. Surface names cannot be checked here (meshes do not
+//! exist yet); the solver does that.
+
+use crate::types::*;
+use crate::SceneError;
+use std::collections::BTreeSet;
+
+type Result<T = ()> = std::result::Result<T, SceneError>;
+
+fn invalid(entry: impl Into<String>, message: impl Into<String>) -> SceneError {
+    SceneError::Invalid {
+        entry: entry.into(),
+        message: message.into(),
+    }
+}
+
+/// `"a", "b"` or a note that there is none.
+fn known(names: &[&str], what: &str, table: &str) -> String {
+    if names.is_empty() {
+        format!("no {table} entry is defined")
+    } else {
+        let list: Vec<String> = names.iter().map(|n| format!("\"{n}\"")).collect();
+        format!("known {what}: {}", list.join(", "))
+    }
+}
+
+fn positive(entry: &str, v: f64) -> Result {
+    if v.is_finite() && v > 0.0 {
+        Ok(())
+    } else {
+        Err(invalid(entry, format!("must be > 0, got {v}")))
+    }
+}
+
+fn non_negative(entry: &str, v: f64) -> Result {
+    if v.is_finite() && v >= 0.0 {
+        Ok(())
+    } else {
+        Err(invalid(entry, format!("must be >= 0, got {v}")))
+    }
+}
+
+fn finite(entry: &str, v: f64) -> Result {
+    if v.is_finite() {
+        Ok(())
+    } else {
+        Err(invalid(entry, format!("must be a finite number, got {v}")))
+    }
+}
+
+fn finite_all(entry: &str, v: &[f64]) -> Result {
+    match v.iter().position(|x| !x.is_finite()) {
+        None => Ok(()),
+        Some(i) => Err(invalid(
+            entry,
+            format!("component {i} must be a finite number, got {}", v[i]),
+        )),
+    }
+}
+
+/// `dim` finite components.
+fn vector(entry: &str, v: &[f64], dim: usize) -> Result {
+    if v.len() != dim {
+        return Err(invalid(
+            entry,
+            format!(
+                "needs {dim} components (dimension = {dim}), got {}: {v:?}",
+                v.len()
+            ),
+        ));
+    }
+    finite_all(entry, v)
+}
+
+fn non_zero(entry: &str, v: &[f64]) -> Result {
+    finite_all(entry, v)?;
+    if v.iter().all(|x| *x == 0.0) {
+        Err(invalid(entry, "must be a non-zero vector"))
+    } else {
+        Ok(())
+    }
+}
+
+fn grading_ratio(entry: &str, v: f64) -> Result {
+    if v.is_finite() && v >= 1.0 {
+        Ok(())
+    } else {
+        Err(invalid(
+            entry,
+            format!("must be >= 1 (largest over smallest element size; 1 = uniform), got {v}"),
+        ))
+    }
+}
+
+impl Scene {
+    /// Checks everything that can be checked before the meshes exist; the first
+    /// problem found is returned as [`SceneError::Invalid`].
+    pub fn validate(&self) -> Result {
+        let dim = self.dimension as usize;
+        if dim != 2 && dim != 3 {
+            return Err(invalid(
+                "dimension",
+                format!("must be 2 or 3, got {}", self.dimension),
+            ));
+        }
+        match (dim, self.model) {
+            (2, Model::Solid) => {
+                return Err(invalid(
+                    "model",
+                    "\"solid\" needs dimension = 3; with dimension = 2 use \"plane_strain\", \"plane_stress\" or \"axisymmetric\"",
+                ))
+            }
+            (3, m) if m != Model::Solid => {
+                return Err(invalid(
+                    "model",
+                    format!(
+                        "\"{}\" needs dimension = 2; with dimension = 3 use \"solid\"",
+                        m.as_str()
+                    ),
+                ))
+            }
+            _ => {}
+        }
+        self.validate_materials()?;
+        self.validate_bodies()?;
+        if !self.bodies.iter().any(|b| b.is_deformable()) {
+            return Err(invalid(
+                "bodies",
+                "the scene has no deformable body; add a [[bodies]] entry with a mesh",
+            ));
+        }
+        self.validate_boundary()?;
+        self.validate_contact()?;
+        self.validate_steps()?;
+        self.validate_solver()?;
+        self.validate_reference()?;
+        self.validate_output()
+    }
+
+    fn validate_materials(&self) -> Result {
+        let mut seen = BTreeSet::new();
+        for (i, m) in self.materials.iter().enumerate() {
+            let e = format!("materials[{i}]");
+            if m.name.trim().is_empty() {
+                return Err(invalid(format!("{e}.name"), "must not be empty"));
+            }
+            if !seen.insert(m.name.as_str()) {
+                return Err(invalid(
+                    format!("{e}.name"),
+                    format!(
+                        "\"{}\" is already the name of another material; names must be unique",
+                        m.name
+                    ),
+                ));
+            }
+            positive(&format!("{e}.young"), m.young)?;
+            if !(m.poisson.is_finite() && m.poisson > -1.0 && m.poisson < 0.5) {
+                return Err(invalid(
+                    format!("{e}.poisson"),
+                    format!("must satisfy -1 < poisson < 0.5, got {}", m.poisson),
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    fn validate_bodies(&self) -> Result {
+        let dim = self.dimension as usize;
+        let materials: Vec<&str> = self.materials.iter().map(|m| m.name.as_str()).collect();
+        let mut seen = BTreeSet::new();
+        for (i, b) in self.bodies.iter().enumerate() {
+            let e = format!("bodies[{i}]");
+            if b.name.trim().is_empty() {
+                return Err(invalid(format!("{e}.name"), "must not be empty"));
+            }
+            if !seen.insert(b.name.as_str()) {
+                return Err(invalid(
+                    format!("{e}.name"),
+                    format!(
+                        "\"{}\" is already the name of another body; names must be unique",
+                        b.name
+                    ),
+                ));
+            }
+            if let Subdomains::Count(0) = b.subdomains {
+                return Err(invalid(
+                    format!("{e}.subdomains"),
+                    "must be an integer >= 1 or \"auto\", got 0",
+                ));
+            }
+            match (&b.mesh, &b.rigid) {
+                (Some(_), Some(_)) => {
+                    return Err(invalid(
+                        &e,
+                        format!("body \"{}\" has both `mesh` and `rigid`; give `mesh` for a deformable body or `rigid` for a rigid obstacle, not both", b.name),
+                    ))
+                }
+                (None, None) => {
+                    return Err(invalid(
+                        &e,
+                        format!("body \"{}\" has neither `mesh` nor `rigid`; give `mesh` (and `material`) for a deformable body or `rigid` for a rigid obstacle", b.name),
+                    ))
+                }
+                (Some(mesh), None) => {
+                    match &b.material {
+                        None => {
+                            return Err(invalid(
+                                format!("{e}.material"),
+                                format!(
+                                    "a deformable body needs `material`, the name of a [[materials]] entry ({})",
+                                    known(&materials, "materials", "[[materials]]")
+                                ),
+                            ))
+                        }
+                        Some(name) if !materials.contains(&name.as_str()) => {
+                            return Err(invalid(
+                                format!("{e}.material"),
+                                format!(
+                                    "unknown material \"{name}\"; {}",
+                                    known(&materials, "materials", "[[materials]]")
+                                ),
+                            ))
+                        }
+                        Some(_) => {}
+                    }
+                    self.validate_mesh(&format!("{e}.mesh"), mesh)?;
+                }
+                (None, Some(shape)) => {
+                    if b.material.is_some() {
+                        return Err(invalid(
+                            format!("{e}.material"),
+                            "a rigid body has no material; remove `material` (or give a `mesh` instead of `rigid` for a deformable body)",
+                        ));
+                    }
+                    validate_rigid(&format!("{e}.rigid"), shape, dim)?;
+                }
+            }
+        }
+        Ok(())
+    }
+
+    fn validate_mesh(&self, e: &str, mesh: &MeshSpec) -> Result {
+        let dim = self.dimension as usize;
+        let g = match mesh {
+            MeshSpec::File { file } => {
+                if file.as_os_str().is_empty() {
+                    return Err(invalid(
+                        format!("{e}.file"),
+                        "must be the path of a Gmsh 2.2 or 4.1 file",
+                    ));
+                }
+                return Ok(());
+            }
+            MeshSpec::Generator(g) => g,
+        };
+        if g.dimension() != dim {
+            let valid = if dim == 2 {
+                "rectangle, half_disk, quarter_disk (axisymmetric only)"
+            } else {
+                "box, hemisphere"
+            };
+            return Err(invalid(
+                format!("{e}.generator"),
+                format!(
+                    "\"{}\" is a {}D generator but dimension = {dim}; {dim}D generators: {valid}",
+                    g.name(),
+                    g.dimension()
+                ),
+            ));
+        }
+        let element = |el: Element, valid: &[Element]| -> Result {
+            if valid.contains(&el) {
+                Ok(())
+            } else {
+                let names: Vec<&str> = valid.iter().map(|x| x.as_str()).collect();
+                Err(invalid(
+                    format!("{e}.element"),
+                    format!(
+                        "\"{}\" is not available for the {} generator; use {}",
+                        el.as_str(),
+                        g.name(),
+                        names.join(" or ")
+                    ),
+                ))
+            }
+        };
+        let sizes = |s: &[f64]| -> Result {
+            finite_all(&format!("{e}.size"), s)?;
+            if s.iter().any(|x| *x <= 0.0) {
+                Err(invalid(
+                    format!("{e}.size"),
+                    format!("every component must be > 0, got {s:?}"),
+                ))
+            } else {
+                Ok(())
+            }
+        };
+        let divisions = |d: &[usize]| -> Result {
+            if d.contains(&0) {
+                Err(invalid(
+                    format!("{e}.divisions"),
+                    format!("every component must be >= 1, got {d:?}"),
+                ))
+            } else {
+                Ok(())
+            }
+        };
+        let grading = |gr: &Option<Grading>, valid: &[&str]| -> Result {
+            if let Some(gr) = gr {
+                if !valid.contains(&gr.towards.as_str()) {
+                    return Err(invalid(
+                        format!("{e}.grading.towards"),
+                        format!(
+                            "unknown side \"{}\"; valid: {}",
+                            gr.towards,
+                            valid.join(", ")
+                        ),
+                    ));
+                }
+                grading_ratio(&format!("{e}.grading.ratio"), gr.ratio)?;
+            }
+            Ok(())
+        };
+        match g {
+            Generator::Rectangle {
+                origin,
+                size,
+                divisions: d,
+                element: el,
+                grading: gr,
+            } => {
+                finite_all(&format!("{e}.origin"), origin)?;
+                sizes(size)?;
+                divisions(d)?;
+                element(*el, &[Element::Quad4, Element::Tri3])?;
+                grading(gr, &["bottom", "top", "left", "right"])?;
+            }
+            Generator::Box {
+                origin,
+                size,
+                divisions: d,
+                element: el,
+                grading: gr,
+            } => {
+                finite_all(&format!("{e}.origin"), origin)?;
+                sizes(size)?;
+                divisions(d)?;
+                element(*el, &[Element::Hex8, Element::Tet4])?;
+                grading(gr, &["xmin", "xmax", "ymin", "ymax", "zmin", "zmax"])?;
+            }
+            Generator::HalfDisk {
+                center,
+                radius,
+                divisions: d,
+                pole,
+                grading: gr,
+                element: el,
+            } => {
+                finite_all(&format!("{e}.center"), center)?;
+                positive(&format!("{e}.radius"), *radius)?;
+                if *d < 4 {
+                    return Err(invalid(
+                        format!("{e}.divisions"),
+                        format!("must be >= 4 (elements along the arc), got {d}"),
+                    ));
+                }
+                non_zero(&format!("{e}.pole"), pole)?;
+                grading_ratio(&format!("{e}.grading"), *gr)?;
+                element(*el, &[Element::Quad4, Element::Tri3])?;
+            }
+            Generator::Hemisphere {
+                center,
+                radius,
+                divisions: d,
+                pole,
+                grading: gr,
+            } => {
+                finite_all(&format!("{e}.center"), center)?;
+                positive(&format!("{e}.radius"), *radius)?;
+                divisions(&[*d])?;
+                non_zero(&format!("{e}.pole"), pole)?;
+                grading_ratio(&format!("{e}.grading"), *gr)?;
+            }
+            Generator::QuarterDisk {
+                center,
+                radius,
+                divisions: d,
+                grading: gr,
+                element: el,
+            } => {
+                if self.model != Model::Axisymmetric {
+                    return Err(invalid(
+                        format!("{e}.generator"),
+                        format!(
+                            "\"quarter_disk\" needs model = \"axisymmetric\" (model is \"{}\"); use half_disk otherwise",
+                            self.model.as_str()
+                        ),
+                    ));
+                }
+                finite_all(&format!("{e}.center"), center)?;
+                positive(&format!("{e}.radius"), *radius)?;
+                divisions(&[*d])?;
+                grading_ratio(&format!("{e}.grading"), *gr)?;
+                element(*el, &[Element::Quad4, Element::Tri3])?;
+            }
+        }
+        Ok(())
+    }
+
+    fn validate_boundary(&self) -> Result {
+        let dim = self.dimension as usize;
+        let mut names = BTreeSet::new();
+        for (i, bc) in self.boundary.iter().enumerate() {
+            let e = format!("boundary[{i}]");
+            if let Some(name) = &bc.name {
+                if name.trim().is_empty() {
+                    return Err(invalid(format!("{e}.name"), "must not be empty when given"));
+                }
+                if !names.insert(name.as_str()) {
+                    return Err(invalid(
+                        format!("{e}.name"),
+                        format!("\"{name}\" is already the name of another [[boundary]] entry; names must be unique"),
+                    ));
+                }
+            }
+            self.deformable_body(&format!("{e}.body"), &bc.body, "boundary conditions")?;
+            match (&bc.surface, &bc.point) {
+                (Some(_), Some(_)) => {
+                    return Err(invalid(
+                        &e,
+                        "give either `surface` or `point`, not both",
+                    ))
+                }
+                (None, None) => {
+                    return Err(invalid(
+                        &e,
+                        "give `surface` (a surface of the body) or `point` (the body's node at that point)",
+                    ))
+                }
+                (Some(s), None) => {
+                    if s.trim().is_empty() {
+                        return Err(invalid(format!("{e}.surface"), "must not be empty"));
+                    }
+                }
+                (None, Some(p)) => vector(&format!("{e}.point"), p, dim)?,
+            }
+            let given = [
+                bc.displacement.is_some(),
+                bc.traction.is_some(),
+                bc.force.is_some(),
+            ]
+            .iter()
+            .filter(|x| **x)
+            .count();
+            if given != 1 {
+                return Err(invalid(
+                    &e,
+                    format!(
+                        "give exactly one of `displacement`, `traction` or `force` (got {given})"
+                    ),
+                ));
+            }
+            if let Some(t) = &bc.traction {
+                vector(&format!("{e}.traction"), t, dim)?;
+            }
+            if let Some(f) = &bc.force {
+                vector(&format!("{e}.force"), f, dim)?;
+            }
+            if let Some(d) = &bc.displacement {
+                let de = format!("{e}.displacement");
+                if d.x.is_none() && d.y.is_none() && d.z.is_none() {
+                    let comps = if dim == 3 { "x, y, z" } else { "x, y" };
+                    return Err(invalid(
+                        de,
+                        format!("give at least one component ({comps}); components given are imposed, others free"),
+                    ));
+                }
+                if dim == 2 && d.z.is_some() {
+                    return Err(invalid(
+                        format!("{de}.z"),
+                        "a 2D scene has only x and y components",
+                    ));
+                }
+                for (c, v) in [("x", d.x), ("y", d.y), ("z", d.z)] {
+                    if let Some(v) = v {
+                        finite(&format!("{de}.{c}"), v)?;
+                    }
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// The body named `name` must exist and be deformable.
+    fn deformable_body(&self, entry: &str, name: &str, what: &str) -> Result<&Body> {
+        let body = self.body_exists(entry, name)?;
+        if !body.is_deformable() {
+            return Err(invalid(
+                entry,
+                format!(
+                    "body \"{name}\" is rigid; {what} apply to deformable bodies ({})",
+                    self.known_bodies(true)
+                ),
+            ));
+        }
+        Ok(body)
+    }
+
+    fn body_exists(&self, entry: &str, name: &str) -> Result<&Body> {
+        self.body(name).ok_or_else(|| {
+            invalid(
+                entry,
+                format!("unknown body \"{name}\"; {}", self.known_bodies(false)),
+            )
+        })
+    }
+
+    fn known_bodies(&self, deformable_only: bool) -> String {
+        let names: Vec<&str> = self
+            .bodies
+            .iter()
+            .filter(|b| !deformable_only || b.is_deformable())
+            .map(|b| b.name.as_str())
+            .collect();
+        if deformable_only {
+            known(&names, "deformable bodies", "deformable [[bodies]]")
+        } else {
+            known(&names, "bodies", "[[bodies]]")
+        }
+    }
+
+    fn validate_contact(&self) -> Result {
+        let dim = self.dimension as usize;
+        let mut names = BTreeSet::new();
+        for (i, c) in self.contact.iter().enumerate() {
+            if c.name.trim().is_empty() {
+                return Err(invalid(format!("contact[{i}].name"), "must not be empty"));
+            }
+            let e = format!("contact \"{}\"", c.name);
+            if !names.insert(c.name.as_str()) {
+                return Err(invalid(
+                    format!("{e}.name"),
+                    "is already the name of another [[contact]] entry; names must be unique",
+                ));
+            }
+            // slave
+            self.deformable_body(&format!("{e}.slave.body"), &c.slave.body, "the slave side")?;
+            match &c.slave.surface {
+                None => {
+                    return Err(invalid(
+                        format!("{e}.slave.surface"),
+                        format!(
+                            "the slave side needs `surface`, the surface of body \"{}\" that may touch: slave = {{ body = \"{}\", surface = \"...\" }}",
+                            c.slave.body, c.slave.body
+                        ),
+                    ))
+                }
+                Some(s) if s.trim().is_empty() => {
+                    return Err(invalid(format!("{e}.slave.surface"), "must not be empty"))
+                }
+                Some(_) => {}
+            }
+            // master
+            let master = self.body_exists(&format!("{e}.master.body"), &c.master.body)?;
+            if master.is_deformable() {
+                match &c.master.surface {
+                    None => {
+                        return Err(invalid(
+                            format!("{e}.master.surface"),
+                            format!(
+                                "body \"{}\" is deformable, so the master side needs `surface`: master = {{ body = \"{}\", surface = \"...\" }}",
+                                c.master.body, c.master.body
+                            ),
+                        ))
+                    }
+                    Some(s) if s.trim().is_empty() => {
+                        return Err(invalid(format!("{e}.master.surface"), "must not be empty"))
+                    }
+                    Some(_) => {}
+                }
+            } else if c.master.surface.is_some() {
+                return Err(invalid(
+                    format!("{e}.master.surface"),
+                    format!(
+                        "body \"{}\" is rigid and has no surfaces; write master = {{ body = \"{}\" }}",
+                        c.master.body, c.master.body
+                    ),
+                ));
+            }
+            if c.slave.body == c.master.body {
+                return Err(invalid(
+                    &e,
+                    format!(
+                        "self-contact (slave and master both body \"{}\") is not supported; the master must be another body",
+                        c.slave.body
+                    ),
+                ));
+            }
+            if let Law::Penalty { penalty } = c.law {
+                positive(&format!("{e}.law.penalty"), penalty)?;
+            }
+            match &c.friction {
+                Friction::None => {}
+                Friction::Tresca(g) => non_negative(&format!("{e}.friction.tresca"), *g)?,
+                Friction::Coulomb {
+                    coefficient,
+                    slip_stiffness,
+                } => {
+                    let fe = format!("{e}.friction.coulomb");
+                    match (coefficient.len(), dim) {
+                        (1, _) | (2, 3) => {}
+                        (2, _) => {
+                            return Err(invalid(
+                                fe,
+                                "two coefficients (anisotropic, elliptic cone) need dimension = 3; give one number",
+                            ))
+                        }
+                        (n, _) => {
+                            return Err(invalid(
+                                fe,
+                                format!("give one coefficient (or two in 3D: [mu1, mu2]), got {n}"),
+                            ))
+                        }
+                    }
+                    for mu in coefficient {
+                        non_negative(&fe, *mu)?;
+                    }
+                    if let Some(k) = slip_stiffness {
+                        positive(&format!("{e}.friction.slip_stiffness"), *k)?;
+                    }
+                }
+                Friction::NortonHoff { coefficient, rho } => {
+                    non_negative(&format!("{e}.friction.norton_hoff"), *coefficient)?;
+                    if !(rho.is_finite() && *rho > 0.0 && *rho < 1.0) {
+                        return Err(invalid(
+                            format!("{e}.friction.rho"),
+                            format!("must satisfy 0 < rho < 1, got {rho}"),
+                        ));
+                    }
+                }
+            }
+            if let Gap::Uniform(g) = c.gap {
+                finite(&format!("{e}.gap"), g)?;
+            }
+        }
+        Ok(())
+    }
+
+    fn validate_steps(&self) -> Result {
+        let names: Vec<&str> = self
+            .boundary
+            .iter()
+            .filter_map(|b| b.name.as_deref())
+            .collect();
+        for (i, step) in self.steps.iter().enumerate() {
+            for (name, v) in &step.scale {
+                let e = format!("steps[{i}].scale.{name}");
+                if !names.contains(&name.as_str()) {
+                    return Err(invalid(
+                        e,
+                        format!(
+                            "\"{name}\" is not the name of a [[boundary]] entry; {}",
+                            known(&names, "boundary names", "named [[boundary]]")
+                        ),
+                    ));
+                }
+                finite(&e, *v)?;
+            }
+        }
+        Ok(())
+    }
+
+    fn validate_solver(&self) -> Result {
+        let t = self.solver.tolerance;
+        if !(t.is_finite() && t > 0.0 && t < 1.0) {
+            return Err(invalid(
+                "solver.tolerance",
+                format!("must satisfy 0 < tolerance < 1, got {t}"),
+            ));
+        }
+        if self.solver.max_iterations == 0 {
+            return Err(invalid("solver.max_iterations", "must be >= 1, got 0"));
+        }
+        Ok(())
+    }
+
+    fn validate_reference(&self) -> Result {
+        let Some(r) = &self.reference else {
+            return Ok(());
+        };
+        if let Some(v) = r.radius {
+            positive("reference.radius", v)?;
+        }
+        if let Some(v) = r.half_width {
+            positive("reference.half_width", v)?;
+        }
+        if let Some(v) = r.pressure {
+            finite("reference.pressure", v)?;
+        }
+        if let Some(v) = r.friction {
+            non_negative("reference.friction", v)?;
+        }
+        if matches!(
+            r.kind,
+            ReferenceKind::HertzCylinder | ReferenceKind::HertzSphere
+        ) && r.radius.is_none()
+        {
+            return Err(invalid(
+                "reference.radius",
+                format!(
+                    "kind = \"{}\" needs `radius`, the radius of the {}",
+                    r.kind.as_str(),
+                    if r.kind == ReferenceKind::HertzCylinder {
+                        "cylinder"
+                    } else {
+                        "sphere"
+                    }
+                ),
+            ));
+        }
+        Ok(())
+    }
+
+    fn validate_output(&self) -> Result {
+        let dim = self.dimension as usize;
+        let mut seen = BTreeSet::new();
+        for (i, f) in self.output.fields.iter().enumerate() {
+            if !Output::FIELDS.contains(&f.as_str()) {
+                return Err(invalid(
+                    format!("output.fields[{i}]"),
+                    format!("unknown field \"{f}\"; valid: displacement, stress, contact"),
+                ));
+            }
+            if !seen.insert(f.as_str()) {
+                return Err(invalid(
+                    format!("output.fields[{i}]"),
+                    format!("\"{f}\" is listed twice"),
+                ));
+            }
+        }
+        for (i, p) in self.output.probes.iter().enumerate() {
+            vector(&format!("output.probes[{i}]"), p, dim)?;
+        }
+        if let Some(d) = &self.output.directory {
+            if d.as_os_str().is_empty() {
+                return Err(invalid(
+                    "output.directory",
+                    "must not be empty (omit it for out/<scene file stem>)",
+                ));
+            }
+        }
+        Ok(())
+    }
+}
+
+fn validate_rigid(e: &str, shape: &RigidShape, dim: usize) -> Result {
+    match shape {
+        RigidShape::Plane { point, normal } => {
+            vector(&format!("{e}.point"), point, dim)?;
+            vector(&format!("{e}.normal"), normal, dim)?;
+            non_zero(&format!("{e}.normal"), normal)?;
+        }
+        RigidShape::Circle { center, radius } => {
+            if dim != 2 {
+                return Err(invalid(
+                    format!("{e}.shape"),
+                    "\"circle\" is a 2D shape; with dimension = 3 use \"sphere\" or \"plane\"",
+                ));
+            }
+            vector(&format!("{e}.center"), center, dim)?;
+            positive(&format!("{e}.radius"), *radius)?;
+        }
+        RigidShape::Sphere { center, radius } => {
+            if dim != 3 {
+                return Err(invalid(
+                    format!("{e}.shape"),
+                    "\"sphere\" is a 3D shape; with dimension = 2 use \"circle\" or \"plane\"",
+                ));
+            }
+            vector(&format!("{e}.center"), center, dim)?;
+            positive(&format!("{e}.radius"), *radius)?;
+        }
+    }
+    Ok(())
+}
