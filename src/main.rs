@@ -1,1 +1,213 @@
-fn main() {}
+//! The `signorini` command line: `run` and `check` (SCENE.md, "Commands").
+//! No numerics here: the pipeline is `signorini_solver::run`.
+//!
+//! Exit codes: 0 solved within tolerance; 1 bad input (nothing is written);
+//! 2 solved but a tolerance or iteration limit was not met (the report says
+//! which); 3 internal error.
+
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+use std::time::Instant;
+
+use clap::{Parser, Subcommand};
+use signorini_scene::{Method, SolvePath};
+use signorini_solver::{RunOptions, RunOutput, SolveError};
+
+#[derive(Parser)]
+#[command(
+    name = "signorini",
+    version,
+    about = "Unilateral contact between linear elastic solids by static condensation"
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Solve a scene and write DIR/report.json, DIR/contact.csv and the fields.
+    Run {
+        /// The scene file (TOML, or JSON with a .json extension).
+        scene: PathBuf,
+        /// Contact algorithm, overriding [solver] method.
+        #[arg(long)]
+        method: Option<Method>,
+        /// condensed | direct, overriding [solver] path.
+        #[arg(long)]
+        path: Option<SolvePath>,
+        /// Output directory, overriding [output] directory (default out/<scene stem>).
+        #[arg(long)]
+        out: Option<PathBuf>,
+    },
+    /// Parse and validate a scene (and build its meshes), writing nothing.
+    Check { scene: PathBuf },
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    match cli.command {
+        Command::Check { scene } => check(&scene),
+        Command::Run {
+            scene,
+            method,
+            path,
+            out,
+        } => run(&scene, RunOptions { method, path }, out),
+    }
+}
+
+fn fail(code: u8, msg: &str) -> ExitCode {
+    eprintln!("error: {msg}");
+    ExitCode::from(code)
+}
+
+fn check(path: &Path) -> ExitCode {
+    match signorini_scene::load(path) {
+        Ok(sc) => {
+            println!(
+                "{}: valid scene \"{}\" ({} bodies, {} boundary conditions, {} contacts, {} steps)",
+                path.display(),
+                sc.title,
+                sc.bodies.len(),
+                sc.boundary.len(),
+                sc.contact.len(),
+                sc.step_scales().len()
+            );
+            ExitCode::SUCCESS
+        }
+        Err(e) => fail(1, &e.to_string()),
+    }
+}
+
+fn run(path: &Path, opts: RunOptions, out: Option<PathBuf>) -> ExitCode {
+    let t0 = Instant::now();
+    let sc = match signorini_scene::load(path) {
+        Ok(sc) => sc,
+        Err(e) => return fail(1, &e.to_string()),
+    };
+    let setup = t0.elapsed().as_secs_f64();
+    let name = path
+        .file_name()
+        .map(|s| s.to_string_lossy().to_string())
+        .unwrap_or_default();
+    let mut output = match signorini_solver::run(&sc, &name, &opts) {
+        Ok(o) => o,
+        Err(SolveError::Input(m)) => return fail(1, &m),
+        Err(e @ SolveError::Internal(_)) => return fail(3, &e.to_string()),
+    };
+    let dir = out.unwrap_or_else(|| sc.output.directory_for(path));
+    let t = Instant::now();
+    output.report.timings_s.setup = setup;
+    if let Err(e) = write_outputs(&dir, &sc, &mut output, t) {
+        return fail(
+            3,
+            &format!("cannot write the output in {}: {e}", dir.display()),
+        );
+    }
+    summarise(&dir, &output);
+    if output.report.converged {
+        ExitCode::SUCCESS
+    } else {
+        eprintln!(
+            "not converged: {}",
+            output.report.failure.as_deref().unwrap_or("see the report")
+        );
+        ExitCode::from(2)
+    }
+}
+
+fn write_outputs(
+    dir: &Path,
+    sc: &signorini_scene::Scene,
+    output: &mut RunOutput,
+    t: Instant,
+) -> std::io::Result<()> {
+    std::fs::create_dir_all(dir)?;
+    signorini_report::write_contact_csv(&dir.join("contact.csv"), &output.contact_rows)?;
+    if sc.output.wants("displacement") {
+        let mut w = std::io::BufWriter::new(std::fs::File::create(dir.join("displacement.csv"))?);
+        writeln!(w, "body,node,x,y,ux,uy")?;
+        for b in &output.bodies {
+            for (n, x) in b.coords.iter().enumerate() {
+                writeln!(
+                    w,
+                    "{},{},{:e},{:e},{:e},{:e}",
+                    b.name,
+                    n,
+                    x[0],
+                    x[1],
+                    b.displacement[2 * n],
+                    b.displacement[2 * n + 1]
+                )?;
+            }
+        }
+    }
+    if sc.output.wants("stress") {
+        let mut w = std::io::BufWriter::new(std::fs::File::create(dir.join("stress.csv"))?);
+        writeln!(w, "body,cell,sxx,syy,sxy,szz,von_mises")?;
+        for b in &output.bodies {
+            for (c, s) in b.stress.iter().enumerate() {
+                writeln!(
+                    w,
+                    "{},{},{:e},{:e},{:e},{:e},{:e}",
+                    b.name, c, s[0], s[1], s[2], s[3], b.von_mises[c]
+                )?;
+            }
+        }
+    }
+    let tim = &mut output.report.timings_s;
+    tim.output = t.elapsed().as_secs_f64();
+    tim.total += tim.setup + tim.output;
+    signorini_report::write_report(&dir.join("report.json"), &output.report)
+}
+
+fn summarise(dir: &Path, o: &RunOutput) {
+    let r = &o.report;
+    println!(
+        "{}: {} DOFs, {} interface DOFs, {} contact points, method {} ({} path): {}",
+        r.scene,
+        r.dofs,
+        r.interface_dofs,
+        r.contact_points,
+        r.method,
+        r.path,
+        if r.converged {
+            "converged"
+        } else {
+            "NOT converged"
+        }
+    );
+    for (i, s) in r.steps.iter().enumerate() {
+        println!(
+            "  step {}: {} iterations, {} active",
+            i + 1,
+            s.iterations,
+            s.active
+        );
+    }
+    println!(
+        "  contact force ({:.6e}, {:.6e}); certificate max {:.2e} (equilibrium {:.1e}, penetration {:.1e}, tension {:.1e}, complementarity {:.1e})",
+        r.contact_force[0],
+        r.contact_force[1],
+        r.certificate.max(),
+        r.certificate.equilibrium,
+        r.certificate.penetration,
+        r.certificate.tension,
+        r.certificate.complementarity
+    );
+    if let Some(refr) = &r.reference {
+        for (k, q) in &refr.quantities {
+            println!(
+                "  {} {k}: computed {:.6e}, exact {:.6e}, relative error {:.3e}",
+                refr.kind, q.computed, q.exact, q.relative_error
+            );
+        }
+    }
+    println!(
+        "  total {:.3} s; report in {}",
+        r.timings_s.total,
+        dir.join("report.json").display()
+    );
+}

@@ -1,0 +1,551 @@
+//! From a scene to the discrete model: one [`BodyModel`] per deformable body
+//! (mesh, stiffness, DOF classes, loads per boundary entry, rigid-body kernel)
+//! and the contact points with their rows over the bodies' DOFs.
+
+use faer::sparse::SparseColMat;
+use faer::{Mat, Side};
+use signorini_condense::{spmv, submatrix};
+use signorini_contact::geometry::{node_to_node, node_to_segment};
+use signorini_contact::{ContactPoint, MasterGeometry, NormalRule, TermSide};
+use signorini_fem::{Elasticity, Model as FemModel};
+use signorini_mesh::generators::{half_disk, rectangle, RectSide};
+use signorini_mesh::{CellKind, Mesh};
+use signorini_scene as scene;
+
+use crate::SolveError;
+
+fn input(msg: impl Into<String>) -> SolveError {
+    SolveError::Input(msg.into())
+}
+
+/// A load entry acting on one body, linear in its scale.
+pub struct BodyLoad {
+    /// Index in `scene.boundary`.
+    pub boundary: usize,
+    /// External force at scale 1 on every DOF (zero for displacement entries).
+    pub force: Vec<f64>,
+    /// Prescribed displacement at scale 1 on every DOF (zero elsewhere).
+    pub displacement: Vec<f64>,
+    /// Load on the free DOFs at scale 1: force_f − K_fp u_p.
+    pub free_load: Vec<f64>,
+}
+
+pub struct BodyModel {
+    pub scene_index: usize,
+    pub name: String,
+    pub mesh: Mesh,
+    pub material: Elasticity,
+    pub n_dof: usize,
+    pub prescribed: Vec<bool>,
+    /// Free DOFs (full indices), in order.
+    pub free: Vec<usize>,
+    /// Full DOF → position in `free` (usize::MAX for a prescribed DOF).
+    pub free_index: Vec<usize>,
+    pub k_full: SparseColMat<usize, f64>,
+    pub k_ff: SparseColMat<usize, f64>,
+    pub loads: Vec<BodyLoad>,
+    /// Rigid motions that the supports leave free, on the free DOFs (each
+    /// column of length `free.len()`); empty for a supported body.
+    pub kernel: Vec<Vec<f64>>,
+    /// Interface DOFs (positions in `free`), sorted.
+    pub interface: Vec<usize>,
+}
+
+impl BodyModel {
+    /// Scale of every load entry at a step.
+    pub fn scales(
+        &self,
+        scene: &scene::Scene,
+        step: &std::collections::BTreeMap<String, f64>,
+    ) -> Vec<f64> {
+        self.loads
+            .iter()
+            .map(|l| {
+                scene.boundary[l.boundary]
+                    .name
+                    .as_ref()
+                    .and_then(|n| step.get(n).copied())
+                    .unwrap_or(1.0)
+            })
+            .collect()
+    }
+
+    /// Σ s_b v_b for the chosen vector of each load.
+    pub fn combine(&self, scales: &[f64], pick: impl Fn(&BodyLoad) -> &Vec<f64>) -> Vec<f64> {
+        let n = self.loads.first().map(|l| pick(l).len()).unwrap_or(0);
+        let mut out = vec![0.0; n];
+        for (l, &s) in self.loads.iter().zip(scales) {
+            if s != 0.0 {
+                for (o, v) in out.iter_mut().zip(pick(l)) {
+                    *o += s * v;
+                }
+            }
+        }
+        out
+    }
+}
+
+/// A contact point with its row over the bodies' full DOFs.
+pub struct PointModel {
+    pub contact: usize,
+    pub point: ContactPoint,
+    /// (body model index, full DOF, coefficient): g = g0 + Σ coef u.
+    pub row: Vec<(usize, usize, f64)>,
+    pub gap0: f64,
+    pub slave_body: usize,
+    pub tributary: f64,
+}
+
+pub fn fem_model(model: scene::Model) -> Result<FemModel, SolveError> {
+    match model {
+        scene::Model::PlaneStrain => Ok(FemModel::PlaneStrain),
+        scene::Model::PlaneStress => Ok(FemModel::PlaneStress),
+        other => Err(input(format!(
+            "model: \"{}\" is not supported yet (supported: plane_strain, plane_stress)",
+            other.as_str()
+        ))),
+    }
+}
+
+fn cell_kind(e: scene::Element, entry: &str) -> Result<CellKind, SolveError> {
+    match e {
+        scene::Element::Quad4 => Ok(CellKind::Quad4),
+        scene::Element::Tri3 => Ok(CellKind::Tri3),
+        other => Err(input(format!(
+            "{entry}.element: \"{}\" is a 3D element; 2D generators take quad4 or tri3",
+            other.as_str()
+        ))),
+    }
+}
+
+pub fn build_mesh(body: &scene::Body, entry: &str) -> Result<Mesh, SolveError> {
+    let Some(spec) = &body.mesh else {
+        return Err(input(format!("{entry}.mesh: missing")));
+    };
+    let mesh = match spec {
+        scene::MeshSpec::Generator(scene::Generator::Rectangle { origin, size, divisions, element, grading }) => {
+            let g = match grading {
+                None => None,
+                Some(g) => Some((
+                    RectSide::from_name(&g.towards).ok_or_else(|| {
+                        input(format!(
+                            "{entry}.mesh.grading.towards: \"{}\" is not one of bottom, top, left, right",
+                            g.towards
+                        ))
+                    })?,
+                    g.ratio,
+                )),
+            };
+            rectangle(*origin, *size, *divisions, cell_kind(*element, &format!("{entry}.mesh"))?, g)
+        }
+        scene::MeshSpec::Generator(scene::Generator::HalfDisk { center, radius, divisions, pole, grading, element }) => {
+            half_disk(*center, *radius, *divisions, *pole, *grading, cell_kind(*element, &format!("{entry}.mesh"))?)
+        }
+        scene::MeshSpec::Generator(g) => {
+            return Err(input(format!(
+                "{entry}.mesh.generator: \"{}\" is not supported yet (supported: rectangle, half_disk)",
+                g.name()
+            )))
+        }
+        scene::MeshSpec::File { file } => {
+            return Err(input(format!(
+                "{entry}.mesh.file: reading mesh files ({}) is not supported yet; use a generator (rectangle, half_disk)",
+                file.display()
+            )))
+        }
+    };
+    mesh.map_err(|e| input(format!("{entry}.mesh: {e}")))
+}
+
+/// Nodes a boundary entry acts on.
+fn boundary_nodes(
+    b: &scene::Boundary,
+    entry: &str,
+    mesh: &Mesh,
+    body: &str,
+) -> Result<Vec<usize>, SolveError> {
+    if let Some(s) = &b.surface {
+        let surf = mesh
+            .surface(s)
+            .map_err(|e| input(format!("{entry}.surface: body \"{body}\": {e}")))?;
+        let nodes = surf.nodes();
+        if nodes.is_empty() {
+            return Err(input(format!(
+                "{entry}.surface: surface \"{s}\" of body \"{body}\" has no nodes"
+            )));
+        }
+        Ok(nodes)
+    } else if let Some(p) = &b.point {
+        let x = [
+            p[0],
+            p.get(1).copied().unwrap_or(0.0),
+            p.get(2).copied().unwrap_or(0.0),
+        ];
+        let (n, d) = mesh
+            .nearest_node(x)
+            .ok_or_else(|| input(format!("{entry}.point: body \"{body}\" has no nodes")))?;
+        if d > 1e-6 * mesh.size() {
+            let c = mesh.coords[n];
+            return Err(input(format!(
+                "{entry}.point: body \"{body}\" has no node at ({}, {}); the nearest is ({}, {}), {d:e} away",
+                x[0], x[1], c[0], c[1]
+            )));
+        }
+        Ok(vec![n])
+    } else {
+        Err(input(format!("{entry}: give a surface or a point")))
+    }
+}
+
+/// Builds every deformable body with its DOF classes and loads.
+pub fn build_bodies(sc: &scene::Scene) -> Result<Vec<BodyModel>, SolveError> {
+    let model = fem_model(sc.model)?;
+    if sc.dimension != 2 {
+        return Err(input(
+            "dimension: 3D is not supported yet (supported: dimension = 2)",
+        ));
+    }
+    let mut out = Vec::new();
+    for (bi, body) in sc.bodies.iter().enumerate() {
+        if !body.is_deformable() {
+            continue;
+        }
+        let entry = format!("bodies[{bi}]");
+        if let scene::Subdomains::Count(n) = body.subdomains {
+            if n != 1 {
+                return Err(input(format!(
+                    "{entry}.subdomains: splitting a body into {n} subdomains is not supported yet (use 1)"
+                )));
+            }
+        }
+        let mesh = build_mesh(body, &entry)?;
+        let mat_name = body.material.as_deref().unwrap_or_default();
+        let mat = sc.material(mat_name).ok_or_else(|| {
+            input(format!(
+                "{entry}.material: no material named \"{mat_name}\""
+            ))
+        })?;
+        let material = Elasticity {
+            young: mat.young,
+            poisson: mat.poisson,
+            model,
+        };
+        material
+            .check()
+            .map_err(|e| input(format!("{entry}.material \"{mat_name}\": {e}")))?;
+        let k_full = signorini_fem::try_assemble_stiffness(&mesh, &material)
+            .map_err(|e| input(format!("{entry}.mesh: {e}")))?;
+        let dim = mesh.dim;
+        let n_dof = mesh.n_nodes() * dim;
+        // Prescribed DOFs and their values per entry.
+        let mut prescribed = vec![false; n_dof];
+        let mut set_by: Vec<Option<(usize, f64)>> = vec![None; n_dof];
+        let mut raw_loads: Vec<(usize, Vec<f64>, Vec<f64>)> = Vec::new();
+        for (li, b) in sc.boundary.iter().enumerate() {
+            if b.body != body.name {
+                continue;
+            }
+            let lentry = format!("boundary[{li}]");
+            let nodes = boundary_nodes(b, &lentry, &mesh, &body.name)?;
+            let mut force = vec![0.0; n_dof];
+            let mut disp = vec![0.0; n_dof];
+            if let Some(d) = &b.displacement {
+                for (c, v) in d.components().iter().enumerate().take(dim) {
+                    let Some(v) = v else { continue };
+                    for &n in &nodes {
+                        let dof = n * dim + c;
+                        if let Some((other, ov)) = set_by[dof] {
+                            if ov != *v || sc.boundary[other].name != b.name {
+                                let x = mesh.coords[n];
+                                if !(ov == 0.0 && *v == 0.0) {
+                                    return Err(input(format!(
+                                        "{lentry}.displacement: boundary[{other}] already imposes component {} at node ({}, {}) of body \"{}\" with another value or scale",
+                                        ["x", "y", "z"][c], x[0], x[1], body.name
+                                    )));
+                                }
+                            }
+                        }
+                        set_by[dof] = Some((li, *v));
+                        prescribed[dof] = true;
+                        disp[dof] = *v;
+                    }
+                }
+            } else if let Some(t) = &b.traction {
+                let surf_name = b.surface.as_deref().ok_or_else(|| {
+                    input(format!("{lentry}.traction: a traction acts on a surface; give `surface` (or use `force` on a point)"))
+                })?;
+                let surf = mesh
+                    .surface(surf_name)
+                    .map_err(|e| input(format!("{lentry}.surface: {e}")))?;
+                force = signorini_fem::traction_load(&mesh, surf, t);
+            } else if let Some(f) = &b.force {
+                if let Some(surf_name) = &b.surface {
+                    let surf = mesh
+                        .surface(surf_name)
+                        .map_err(|e| input(format!("{lentry}.surface: {e}")))?;
+                    let len = signorini_fem::surface_measure(&mesh, surf);
+                    let t: Vec<f64> = f.iter().map(|v| v / len).collect();
+                    force = signorini_fem::traction_load(&mesh, surf, &t);
+                } else {
+                    for (c, v) in f.iter().enumerate().take(dim) {
+                        force[nodes[0] * dim + c] += v;
+                    }
+                }
+            }
+            raw_loads.push((li, force, disp));
+        }
+        let free: Vec<usize> = (0..n_dof).filter(|&d| !prescribed[d]).collect();
+        let mut free_index = vec![usize::MAX; n_dof];
+        for (i, &d) in free.iter().enumerate() {
+            free_index[d] = i;
+        }
+        let k_ff = submatrix(k_full.as_ref(), &free, &free);
+        let loads = raw_loads
+            .into_iter()
+            .map(|(li, force, disp)| {
+                let ku = spmv(k_full.as_ref(), &disp);
+                let free_load = free.iter().map(|&d| force[d] - ku[d]).collect();
+                BodyLoad {
+                    boundary: li,
+                    force,
+                    displacement: disp,
+                    free_load,
+                }
+            })
+            .collect();
+        let kernel = free_rigid_modes(&mesh, &prescribed, &free);
+        out.push(BodyModel {
+            scene_index: bi,
+            name: body.name.clone(),
+            mesh,
+            material,
+            n_dof,
+            prescribed,
+            free,
+            free_index,
+            k_full,
+            k_ff,
+            loads,
+            kernel,
+            interface: Vec::new(),
+        });
+    }
+    if out.is_empty() {
+        return Err(input("bodies: the scene has no deformable body"));
+    }
+    Ok(out)
+}
+
+/// The rigid motions r with r = 0 on every prescribed DOF: the null space of
+/// the prescribed rows of the (normalised) rigid-body modes, by a symmetric
+/// eigen decomposition of CᵀC, a rank test scaled by the number of DOFs.
+fn free_rigid_modes(mesh: &Mesh, prescribed: &[bool], free: &[usize]) -> Vec<Vec<f64>> {
+    let mut modes = signorini_fem::rigid_body_modes(mesh);
+    for m in modes.iter_mut() {
+        let n = m.iter().map(|v| v * v).sum::<f64>().sqrt();
+        m.iter_mut().for_each(|v| *v /= n);
+    }
+    let k = modes.len();
+    let n_dof = prescribed.len();
+    let mut ctc = Mat::<f64>::zeros(k, k);
+    for d in (0..n_dof).filter(|&d| prescribed[d]) {
+        for i in 0..k {
+            for j in 0..k {
+                ctc[(i, j)] += modes[i][d] * modes[j][d];
+            }
+        }
+    }
+    let Ok(eig) = ctc.self_adjoint_eigen(Side::Lower) else {
+        return Vec::new();
+    };
+    let threshold = 1e-8 / n_dof as f64;
+    let mut kernel = Vec::new();
+    for j in 0..k {
+        if eig.S()[j] <= threshold {
+            let v: Vec<f64> = (0..k).map(|i| eig.U()[(i, j)]).collect();
+            let r: Vec<f64> = free
+                .iter()
+                .map(|&d| (0..k).map(|i| v[i] * modes[i][d]).sum())
+                .collect();
+            kernel.push(r);
+        }
+    }
+    kernel
+}
+
+/// Builds the contact points of every pair, and marks the DOFs of contact
+/// surfaces as interface DOFs of their bodies.
+pub fn build_contacts(
+    sc: &scene::Scene,
+    bodies: &mut [BodyModel],
+) -> Result<(Vec<PointModel>, Vec<FixedPoint>), SolveError> {
+    let body_model = |name: &str| bodies.iter().position(|b| b.name == name);
+    let mut points = Vec::new();
+    let mut fixed = Vec::new();
+    let mut interface_nodes: Vec<Vec<usize>> = vec![Vec::new(); bodies.len()];
+    for (ci, c) in sc.contact.iter().enumerate() {
+        let entry = format!("contact \"{}\"", c.name);
+        match c.discretization {
+            scene::Discretization::NodeToNode | scene::Discretization::NodeToSegment => {}
+            other => {
+                return Err(input(format!(
+                    "{entry}.discretization: \"{}\" is not supported yet (supported: node_to_node, node_to_segment)",
+                    other.as_str()
+                )))
+            }
+        }
+        if c.law != scene::Law::Unilateral {
+            return Err(input(format!(
+                "{entry}.law: the penalty law is not supported yet (supported: \"unilateral\")"
+            )));
+        }
+        if c.friction != scene::Friction::None {
+            return Err(input(format!(
+                "{entry}.friction: friction is not supported yet (supported: \"none\")"
+            )));
+        }
+        let si = body_model(&c.slave.body).ok_or_else(|| {
+            input(format!(
+                "{entry}.slave.body: \"{}\" is not a deformable body",
+                c.slave.body
+            ))
+        })?;
+        let s_surf_name = c.slave.surface.as_deref().unwrap_or_default();
+        let s_mesh = &bodies[si].mesh;
+        let s_surf = s_mesh.surface(s_surf_name).map_err(|e| {
+            input(format!(
+                "{entry}.slave.surface: body \"{}\": {e}",
+                c.slave.body
+            ))
+        })?;
+        if s_surf.facets.is_empty() {
+            return Err(input(format!(
+                "{entry}.slave.surface: surface \"{s_surf_name}\" has no nodes"
+            )));
+        }
+        let rule = match c.normal {
+            scene::NormalRule::Master => NormalRule::Master,
+            scene::NormalRule::Slave => NormalRule::Slave,
+            scene::NormalRule::Average => NormalRule::Average,
+            scene::NormalRule::Points => NormalRule::Points,
+        };
+        let master_scene = sc.body(&c.master.body).ok_or_else(|| {
+            input(format!(
+                "{entry}.master.body: no body named \"{}\"",
+                c.master.body
+            ))
+        })?;
+        let mi = body_model(&c.master.body);
+        let master = if let Some(mi) = mi {
+            let m_name = c.master.surface.as_deref().unwrap_or_default();
+            let m_surf = bodies[mi].mesh.surface(m_name).map_err(|e| {
+                input(format!(
+                    "{entry}.master.surface: body \"{}\": {e}",
+                    c.master.body
+                ))
+            })?;
+            if m_surf.facets.is_empty() {
+                return Err(input(format!(
+                    "{entry}.master.surface: surface \"{m_name}\" has no nodes"
+                )));
+            }
+            MasterGeometry::Surface {
+                mesh: &bodies[mi].mesh,
+                surface: m_surf,
+            }
+        } else {
+            match &master_scene.rigid {
+                Some(scene::RigidShape::Plane { point, normal }) => {
+                    let nn = (normal[0] * normal[0] + normal[1] * normal[1]).sqrt();
+                    MasterGeometry::Plane {
+                        point: [point[0], point[1], 0.0],
+                        normal: [normal[0] / nn, normal[1] / nn, 0.0],
+                    }
+                }
+                _ => {
+                    return Err(input(format!(
+                        "{entry}.master: rigid body \"{}\" has a shape that is not supported yet (supported: plane)",
+                        c.master.body
+                    )))
+                }
+            }
+        };
+        let pts = match c.discretization {
+            scene::Discretization::NodeToNode => node_to_node(s_mesh, s_surf, &master, rule),
+            _ => node_to_segment(s_mesh, s_surf, &master, rule),
+        }
+        .map_err(|e| input(format!("{entry}: {e}")))?;
+        if pts.is_empty() {
+            return Err(input(format!(
+                "{entry}: no node of slave surface \"{s_surf_name}\" faces the master; check the geometry"
+            )));
+        }
+        let trib: std::collections::BTreeMap<usize, f64> =
+            signorini_fem::tributary_measure(s_mesh, s_surf)
+                .into_iter()
+                .collect();
+        interface_nodes[si].extend(s_surf.nodes());
+        if let (Some(mi), MasterGeometry::Surface { surface, .. }) = (mi, &master) {
+            interface_nodes[mi].extend(surface.nodes());
+        }
+        for p in pts {
+            let mut row = Vec::new();
+            for t in &p.terms {
+                let b = match t.side {
+                    TermSide::Slave => si,
+                    TermSide::Master => mi.expect("a master term needs a deformable master"),
+                };
+                for k in 0..2 {
+                    let coef = t.weight * p.normal[k];
+                    if coef != 0.0 {
+                        row.push((b, t.node * 2 + k, coef));
+                    }
+                }
+            }
+            // A point whose normal DOFs are all prescribed has a known gap:
+            // it is not an unknown of the contact problem.
+            if row.iter().all(|&(b, d, _)| bodies[b].prescribed[d]) {
+                fixed.push(FixedPoint {
+                    contact: ci,
+                    node: p.slave_node,
+                    row,
+                    gap0: p.gap0,
+                });
+                continue;
+            }
+            let gap0 = match c.gap {
+                scene::Gap::Geometric => p.gap0,
+                scene::Gap::Uniform(j) => j,
+            };
+            points.push(PointModel {
+                contact: ci,
+                tributary: trib.get(&p.slave_node).copied().unwrap_or(0.0),
+                point: p,
+                row,
+                gap0,
+                slave_body: si,
+            });
+        }
+    }
+    for (b, nodes) in interface_nodes.into_iter().enumerate() {
+        let body = &mut bodies[b];
+        let mut dofs: Vec<usize> = nodes
+            .iter()
+            .flat_map(|&n| (0..2).map(move |k| n * 2 + k))
+            .filter_map(|d| (body.free_index[d] != usize::MAX).then_some(body.free_index[d]))
+            .collect();
+        dofs.sort_unstable();
+        dofs.dedup();
+        body.interface = dofs;
+    }
+    Ok((points, fixed))
+}
+
+/// A slave node whose normal motion is fully prescribed: its gap follows
+/// from the prescribed displacements and must not be negative.
+pub struct FixedPoint {
+    pub contact: usize,
+    pub node: usize,
+    pub row: Vec<(usize, usize, f64)>,
+    pub gap0: f64,
+}
