@@ -89,7 +89,9 @@ impl DelassusProblem {
         };
         let mut s_reg = s.clone();
         if k > 0 {
-            let rho = (0..n).map(|i| s[(i, i)].abs()).sum::<f64>() / n.max(1) as f64;
+            let mean = (0..n).map(|i| s[(i, i)].abs()).sum::<f64>() / n.max(1) as f64;
+            // Any ρ > 0 gives the same answer; the mean diagonal keeps S + ρRRᵀ well scaled.
+            let rho = if mean > 0.0 { mean } else { 1.0 };
             faer::linalg::matmul::matmul(
                 s_reg.as_mut(),
                 faer::Accum::Add,
@@ -231,8 +233,8 @@ impl ActiveSetSolve for DelassusProblem {
             for &r in active {
                 *gp += self.w[(p, r)] * lambda[r];
             }
-            for j in 0..k {
-                *gp += self.g_mat[(p, j)] * alpha[j];
+            for (j, a) in alpha.iter().enumerate() {
+                *gp += self.g_mat[(p, j)] * a;
             }
         }
         self.last_alpha = alpha;

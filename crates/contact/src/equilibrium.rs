@@ -63,7 +63,7 @@ pub fn nnls(a: &Mat<f64>, b: &[f64]) -> (Vec<f64>, f64) {
             }
             let mut alpha = 1.0f64;
             for (ii, &p) in set.iter().enumerate() {
-                if !(z[ii] > 0.0) {
+                if z[ii].is_nan() || z[ii] <= 0.0 {
                     let d = x[p] - z[ii];
                     if d > 0.0 {
                         alpha = alpha.min(x[p] / d);

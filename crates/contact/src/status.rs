@@ -185,3 +185,85 @@ pub fn status_method(
         variant_used: variant,
     })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::DelassusProblem;
+    use faer::Mat;
+
+    fn opts(variant: StatusVariant) -> StatusOptions {
+        StatusOptions {
+            variant,
+            max_iterations: 50,
+            tolerance: 1e-12,
+            force_scale: 1.0,
+            gap_scale: 1.0,
+            initial_active: None,
+        }
+    }
+
+    /// Exhaustive LCP solution over all 2^m active sets (small m).
+    fn brute_force(w: &Mat<f64>, q: &[f64]) -> Vec<f64> {
+        let m = q.len();
+        for mask in 0..(1usize << m) {
+            let act: Vec<usize> = (0..m).filter(|&i| mask >> i & 1 == 1).collect();
+            let mut p = DelassusProblem::new(
+                &Mat::<f64>::identity(m, m),
+                &(0..m).map(|i| vec![(i, 1.0)]).collect::<Vec<_>>(),
+                &vec![0.0; m],
+                &vec![0.0; m],
+                &Mat::zeros(m, 0),
+            )
+            .unwrap();
+            p.w = w.clone();
+            p.q = q.to_vec();
+            let (l, g) = p.solve_active(&act).unwrap();
+            if l.iter().all(|&v| v >= -1e-12) && g.iter().all(|&v| v >= -1e-12) {
+                return l;
+            }
+        }
+        panic!("no solution")
+    }
+
+    #[test]
+    fn status_method_solves_small_lcps_like_enumeration() {
+        // Delassus operator of three springs coupled through S, with mixed gaps.
+        let s = Mat::<f64>::from_fn(3, 3, |i, j| if i == j { 4.0 } else { -1.0 });
+        let rows: Vec<Vec<(usize, f64)>> = (0..3).map(|i| vec![(i, 1.0)]).collect();
+        for (gap0, f) in [
+            ([0.0, 0.1, -0.2], [-1.0, -1.0, -1.0]),
+            ([0.5, 0.5, 0.5], [-1.0, 0.2, -3.0]),
+            ([0.0, 0.0, 0.0], [1.0, 1.0, 1.0]),
+        ] {
+            for variant in [StatusVariant::All, StatusVariant::Single] {
+                let mut p = DelassusProblem::new(&s, &rows, &gap0, &f, &Mat::zeros(3, 0)).unwrap();
+                let out = status_method(&mut p, &opts(variant)).unwrap();
+                assert!(out.converged, "{}", out.stopping_reason);
+                let exact = brute_force(&p.w, &p.q);
+                for (a, b) in out.lambda.iter().zip(&exact) {
+                    assert!(
+                        (a - b).abs() <= 1e-12 * (1.0 + b.abs()),
+                        "{variant:?}: {a} vs {b}"
+                    );
+                }
+                for (l, g) in out.lambda.iter().zip(&out.gap) {
+                    assert!(*l >= 0.0 && *g >= -1e-12 && (l * g).abs() <= 1e-12);
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn a_floating_point_mass_is_held_by_the_equilibrium_of_its_rigid_mode() {
+        // One DOF, S = 0 (free translation), pushed down by f = -2 onto a
+        // contact row g = u: the contact force must balance it exactly.
+        let s = Mat::<f64>::zeros(1, 1);
+        let kernel = Mat::<f64>::from_fn(1, 1, |_, _| 1.0);
+        let mut p = DelassusProblem::new(&s, &[vec![(0, 1.0)]], &[0.0], &[-2.0], &kernel).unwrap();
+        let out = status_method(&mut p, &opts(StatusVariant::All)).unwrap();
+        assert!(out.converged);
+        assert!((out.lambda[0] - 2.0).abs() <= 1e-12);
+        assert!(p.displacement(&out.lambda)[0].abs() <= 1e-12);
+    }
+}

@@ -502,9 +502,9 @@ pub fn run(
         if lambda[pi] != 0.0 {
             s.active += 1;
         }
-        for k in 0..2 {
-            s.force[k] += lambda[pi] * p.point.normal[k];
-            contact_force[k] += lambda[pi] * p.point.normal[k];
+        for (k, n) in p.point.normal.iter().take(2).enumerate() {
+            s.force[k] += lambda[pi] * n;
+            contact_force[k] += lambda[pi] * n;
         }
     }
 
