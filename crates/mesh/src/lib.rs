@@ -7,6 +7,7 @@
 //! are oriented away from that cell whatever the facet's node order.
 
 pub mod generators;
+pub mod partition;
 
 use std::collections::BTreeMap;
 

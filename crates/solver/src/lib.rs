@@ -698,19 +698,31 @@ fn check_floating_equilibrium(
                     .sum::<f64>()
             })
             .collect();
+        // Rigid motions that no contact can hold: the null space of Gᵀ (rank
+        // test of G Gᵀ, scaled by its largest eigenvalue).
+        let ggt = &gt * gt.transpose();
+        let eig = ggt
+            .self_adjoint_eigen(faer::Side::Lower)
+            .map_err(|e| SolveError::Internal(format!("eigen decomposition of G Gᵀ: {e:?}")))?;
+        let emax = (0..k).fold(0.0f64, |a, j| a.max(eig.S()[j]));
+        let unheld = (0..k)
+            .filter(|&j| eig.S()[j] <= 1e-12 * emax || emax == 0.0)
+            .count();
         let (_, res) = nnls(&gt, &e);
         let fmax = inf_norm(&loads.free_load[bi]).max(inf_norm(&e));
-        let col_max = gt.norm_max();
-        let held = (0..k).all(|j| {
-            (0..points.len()).any(|p| gt[(j, p)].abs() > 1e-10 * col_max.max(f64::MIN_POSITIVE))
-        });
-        if res > 1e-8 * fmax.max(f64::MIN_POSITIVE) || col_max == 0.0 || (!held && fmax == 0.0) {
-            let mut fx = 0.0;
-            let mut fy = 0.0;
-            for n in 0..b.mesh.n_nodes() {
-                fx += loads.force[bi][2 * n];
-                fy += loads.force[bi][2 * n + 1];
-            }
+        let mut fx = 0.0;
+        let mut fy = 0.0;
+        for n in 0..b.mesh.n_nodes() {
+            fx += loads.force[bi][2 * n];
+            fy += loads.force[bi][2 * n + 1];
+        }
+        if unheld > 0 {
+            return Err(SolveError::Input(format!(
+                "bodies[{}]: body \"{}\" is free to move: {unheld} of its rigid motions are prevented neither by a support nor by its contacts (frictionless contact only holds along the normals); add a [[boundary]] displacement that pins it (e.g. a point with x = 0)",
+                b.scene_index, b.name
+            )));
+        }
+        if res > 1e-8 * fmax.max(f64::MIN_POSITIVE) {
             return Err(SolveError::Input(format!(
                 "bodies[{}]: body \"{}\" cannot be in equilibrium at step {}: it has no support against {} rigid motion(s), and its external load (resultant ({fx:e}, {fy:e})) cannot be balanced by its contacts, which can only push along their normals; add a [[boundary]] displacement that holds it, or change the load",
                 b.scene_index,

@@ -1,0 +1,359 @@
+//! Domain decomposition of a mesh: splitting its cells into connected parts of
+//! balanced size with METIS (k-way partitioning of the element dual graph), and
+//! the interface nodes shared between parts.
+//!
+//! The dual graph is built here, not by `metis::mesh_to_dual`: two cells are
+//! neighbours when they share a facet (an edge in 2D), found by keying every
+//! facet of every cell by its sorted node list. The graph is symmetric and has
+//! no self loops, as METIS requires.
+
+use std::collections::{HashMap, VecDeque};
+
+use metis::{option, Graph, Idx};
+
+use crate::{CellKind, Mesh, MeshError};
+
+/// Seed of METIS's random number generator (fixed for reproducible partitions).
+const SEED: Idx = 42;
+/// Allowed load imbalance of METIS in thousandths: 30 → parts at most 3 % above
+/// the average size (before the contiguity constraint is enforced).
+const UFACTOR: Idx = 30;
+
+/// Splits the cells of a mesh into `nparts` connected parts of balanced size by
+/// METIS (k-way on the element dual graph where two cells are neighbours when
+/// they share a facet: an edge in 2D; options `Contig(true)`, `Seed(42)` for
+/// reproducibility, `UFactor(30)`). Returns the part of every cell.
+/// `nparts == 1` → all zeros without calling METIS.
+///
+/// Errors (`MeshError::Invalid`): `nparts == 0`, `nparts` greater than the
+/// number of cells, a cell with the wrong number of nodes, a mesh whose cells do
+/// not form one connected piece (no contiguous partition exists), a METIS
+/// failure, or a part that comes out empty or not connected. k-way partitioning
+/// is tried first; if it fails or its result is unusable, recursive bisection
+/// is tried before giving up.
+pub fn partition_cells(mesh: &Mesh, nparts: usize) -> Result<Vec<usize>, MeshError> {
+    let ncells = mesh.cells.len();
+    if nparts == 0 {
+        return Err(MeshError::Invalid(
+            "partition: the number of parts must be at least 1, got 0".into(),
+        ));
+    }
+    if nparts > ncells {
+        return Err(MeshError::Invalid(format!(
+            "partition: cannot split {ncells} cells into {nparts} non-empty parts"
+        )));
+    }
+    if nparts == 1 {
+        return Ok(vec![0; ncells]);
+    }
+    let nparts_idx = Idx::try_from(nparts).map_err(|_| {
+        MeshError::Invalid(format!("partition: {nparts} parts do not fit METIS's i32"))
+    })?;
+
+    let (xadj, adjncy) = dual_graph(mesh)?;
+    let all: Vec<usize> = (0..ncells).collect();
+    if !is_connected(&xadj, &adjncy, &all) {
+        return Err(MeshError::Invalid(format!(
+            "partition: the {ncells} cells do not form one connected piece \
+             (through shared facets), so they cannot be split into {nparts} connected parts"
+        )));
+    }
+
+    let graph = || -> Result<Graph<'_>, MeshError> {
+        Ok(Graph::new(1, nparts_idx, &xadj, &adjncy)
+            .map_err(|e| {
+                MeshError::Invalid(format!("partition: METIS rejected the dual graph: {e}"))
+            })?
+            .set_option(option::Seed(SEED))
+            .set_option(option::Contig(true))
+            .set_option(option::UFactor(UFACTOR)))
+    };
+
+    let mut part = vec![0 as Idx; ncells];
+    let kway = graph()?
+        .part_kway(&mut part)
+        .map_err(|e| format!("k-way partitioning failed: {e}"))
+        .and_then(|_| check_parts(&xadj, &adjncy, &part, nparts));
+    let kway_err = match kway {
+        Ok(parts) => return Ok(parts),
+        Err(e) => e,
+    };
+    let recursive = graph()?
+        .part_recursive(&mut part)
+        .map_err(|e| format!("recursive bisection failed: {e}"))
+        .and_then(|_| check_parts(&xadj, &adjncy, &part, nparts));
+    recursive.map_err(|rec_err| {
+        MeshError::Invalid(format!(
+            "partition: METIS could not split {ncells} cells into {nparts} connected parts \
+             ({kway_err}; {rec_err})"
+        ))
+    })
+}
+
+/// Nodes shared by cells of two or more different parts, sorted.
+///
+/// # Panics
+/// If `parts.len()` differs from the number of cells.
+pub fn shared_nodes(mesh: &Mesh, parts: &[usize]) -> Vec<usize> {
+    assert_eq!(
+        parts.len(),
+        mesh.cells.len(),
+        "shared_nodes: one part per cell expected"
+    );
+    // First part seen at each node, and whether a second one was seen.
+    let mut first: Vec<Option<usize>> = vec![None; mesh.n_nodes()];
+    let mut shared = vec![false; mesh.n_nodes()];
+    for (cell, &p) in mesh.cells.iter().zip(parts) {
+        for &n in &cell.nodes {
+            match first[n] {
+                None => first[n] = Some(p),
+                Some(q) if q != p => shared[n] = true,
+                Some(_) => {}
+            }
+        }
+    }
+    (0..mesh.n_nodes()).filter(|&n| shared[n]).collect()
+}
+
+/// Facets of a cell as node lists (edges in 2D, in the cell's node order).
+fn cell_facets(kind: CellKind, nodes: &[usize]) -> Vec<[usize; 2]> {
+    match kind {
+        CellKind::Tri3 | CellKind::Quad4 => {
+            let m = nodes.len();
+            (0..m).map(|i| [nodes[i], nodes[(i + 1) % m]]).collect()
+        }
+    }
+}
+
+/// Element dual graph in CSR form (`xadj`, `adjncy`) for METIS: cells `a` and
+/// `b` are adjacent when they share a facet. Symmetric, sorted rows, no self
+/// loops, no duplicates.
+fn dual_graph(mesh: &Mesh) -> Result<(Vec<Idx>, Vec<Idx>), MeshError> {
+    let ncells = mesh.cells.len();
+    let mut by_facet: HashMap<[usize; 2], Vec<usize>> = HashMap::new();
+    for (c, cell) in mesh.cells.iter().enumerate() {
+        if cell.nodes.len() != cell.kind.nodes() {
+            return Err(MeshError::Invalid(format!(
+                "partition: cell {c} ({}) has {} nodes, expected {}",
+                cell.kind.name(),
+                cell.nodes.len(),
+                cell.kind.nodes()
+            )));
+        }
+        for mut f in cell_facets(cell.kind, &cell.nodes) {
+            f.sort_unstable();
+            by_facet.entry(f).or_default().push(c);
+        }
+    }
+    let mut nbrs: Vec<Vec<usize>> = vec![Vec::new(); ncells];
+    for cells in by_facet.values() {
+        for (i, &a) in cells.iter().enumerate() {
+            for &b in &cells[i + 1..] {
+                if a != b {
+                    nbrs[a].push(b);
+                    nbrs[b].push(a);
+                }
+            }
+        }
+    }
+    let too_big = || MeshError::Invalid("partition: dual graph too large for METIS's i32".into());
+    let mut xadj: Vec<Idx> = Vec::with_capacity(ncells + 1);
+    let mut adjncy: Vec<Idx> = Vec::new();
+    xadj.push(0);
+    for row in &mut nbrs {
+        row.sort_unstable();
+        row.dedup();
+        for &b in row.iter() {
+            adjncy.push(Idx::try_from(b).map_err(|_| too_big())?);
+        }
+        xadj.push(Idx::try_from(adjncy.len()).map_err(|_| too_big())?);
+    }
+    Ok((xadj, adjncy))
+}
+
+/// Whether the vertices `set` (non-empty) induce a connected subgraph.
+fn is_connected(xadj: &[Idx], adjncy: &[Idx], set: &[usize]) -> bool {
+    let n = xadj.len() - 1;
+    let mut inside = vec![false; n];
+    for &v in set {
+        inside[v] = true;
+    }
+    let mut seen = vec![false; n];
+    let mut queue = VecDeque::from([set[0]]);
+    seen[set[0]] = true;
+    let mut reached = 1;
+    while let Some(v) = queue.pop_front() {
+        for &w in &adjncy[xadj[v] as usize..xadj[v + 1] as usize] {
+            let w = w as usize;
+            if inside[w] && !seen[w] {
+                seen[w] = true;
+                reached += 1;
+                queue.push_back(w);
+            }
+        }
+    }
+    reached == set.len()
+}
+
+/// Converts METIS's part array and checks every part is non-empty and
+/// connected.
+fn check_parts(
+    xadj: &[Idx],
+    adjncy: &[Idx],
+    part: &[Idx],
+    nparts: usize,
+) -> Result<Vec<usize>, String> {
+    let mut members: Vec<Vec<usize>> = vec![Vec::new(); nparts];
+    let mut parts = Vec::with_capacity(part.len());
+    for (c, &p) in part.iter().enumerate() {
+        let p = usize::try_from(p)
+            .ok()
+            .filter(|&p| p < nparts)
+            .ok_or_else(|| format!("cell {c} was put in part {p}, outside 0..{nparts}"))?;
+        members[p].push(c);
+        parts.push(p);
+    }
+    for (p, cells) in members.iter().enumerate() {
+        if cells.is_empty() {
+            return Err(format!("part {p} is empty"));
+        }
+        if !is_connected(xadj, adjncy, cells) {
+            return Err(format!("part {p} ({} cells) is not connected", cells.len()));
+        }
+    }
+    Ok(parts)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::generators::{half_disk, rectangle};
+    use crate::Cell;
+
+    /// Checks non-empty, connected and balanced (within 30 % of n / nparts) parts.
+    fn check_partition(mesh: &Mesh, parts: &[usize], nparts: usize) {
+        assert_eq!(parts.len(), mesh.cells.len());
+        let (xadj, adjncy) = dual_graph(mesh).unwrap();
+        let ideal = mesh.cells.len() as f64 / nparts as f64;
+        for p in 0..nparts {
+            let cells: Vec<usize> = (0..parts.len()).filter(|&c| parts[c] == p).collect();
+            assert!(!cells.is_empty(), "part {p} is empty");
+            assert!(
+                is_connected(&xadj, &adjncy, &cells),
+                "part {p} is not connected"
+            );
+            let dev = (cells.len() as f64 - ideal).abs() / ideal;
+            assert!(
+                dev <= 0.3,
+                "part {p} has {} cells, ideal {ideal}",
+                cells.len()
+            );
+        }
+        assert!(parts.iter().all(|&p| p < nparts));
+    }
+
+    /// Every shared node touches cells of >= 2 parts, every other node of 1.
+    fn check_shared(mesh: &Mesh, parts: &[usize], shared: &[usize]) {
+        let mut node_parts: Vec<Vec<usize>> = vec![Vec::new(); mesh.n_nodes()];
+        for (cell, &p) in mesh.cells.iter().zip(parts) {
+            for &n in &cell.nodes {
+                node_parts[n].push(p);
+            }
+        }
+        for ps in &mut node_parts {
+            ps.sort_unstable();
+            ps.dedup();
+        }
+        assert!(shared.windows(2).all(|w| w[0] < w[1]), "not sorted");
+        let expected: Vec<usize> = (0..mesh.n_nodes())
+            .filter(|&n| node_parts[n].len() >= 2)
+            .collect();
+        assert_eq!(shared, expected.as_slice());
+    }
+
+    #[test]
+    fn dual_graph_of_quads_is_symmetric() {
+        let mesh = rectangle([0., 0.], [2., 1.], [3, 2], CellKind::Quad4, None).unwrap();
+        let (xadj, adjncy) = dual_graph(&mesh).unwrap();
+        assert_eq!(xadj.len(), 7);
+        // 3 x 2 grid: 3 vertical-neighbour pairs + 4 horizontal ones = 7 edges.
+        assert_eq!(adjncy.len(), 14);
+        for v in 0..6 {
+            for &w in &adjncy[xadj[v] as usize..xadj[v + 1] as usize] {
+                let w = w as usize;
+                assert_ne!(v, w);
+                let back = &adjncy[xadj[w] as usize..xadj[w + 1] as usize];
+                assert!(back.contains(&(v as Idx)));
+            }
+        }
+    }
+
+    #[test]
+    fn rectangle_quad_and_tri_into_2_and_4_parts() {
+        for kind in [CellKind::Quad4, CellKind::Tri3] {
+            let mesh = rectangle([0., 0.], [2., 1.], [16, 8], kind, None).unwrap();
+            for nparts in [2, 4] {
+                let parts = partition_cells(&mesh, nparts).unwrap();
+                check_partition(&mesh, &parts, nparts);
+                let again = partition_cells(&mesh, nparts).unwrap();
+                assert_eq!(parts, again, "{kind:?} into {nparts}: not deterministic");
+                let shared = shared_nodes(&mesh, &parts);
+                assert!(!shared.is_empty());
+                check_shared(&mesh, &parts, &shared);
+            }
+        }
+    }
+
+    #[test]
+    fn half_disk_into_2_parts() {
+        let mesh = half_disk([0., 1.], 1.0, 64, [0., -1.], 8.0, CellKind::Quad4).unwrap();
+        let parts = partition_cells(&mesh, 2).unwrap();
+        check_partition(&mesh, &parts, 2);
+        let shared = shared_nodes(&mesh, &parts);
+        assert!(!shared.is_empty());
+        check_shared(&mesh, &parts, &shared);
+    }
+
+    #[test]
+    fn one_part_is_all_zeros() {
+        let mesh = rectangle([0., 0.], [1., 1.], [4, 4], CellKind::Tri3, None).unwrap();
+        let parts = partition_cells(&mesh, 1).unwrap();
+        assert_eq!(parts, vec![0; mesh.cells.len()]);
+        assert!(shared_nodes(&mesh, &parts).is_empty());
+    }
+
+    #[test]
+    fn as_many_parts_as_cells() {
+        let mesh = rectangle([0., 0.], [1., 1.], [2, 2], CellKind::Quad4, None).unwrap();
+        let parts = partition_cells(&mesh, 4).unwrap();
+        let mut sorted = parts.clone();
+        sorted.sort_unstable();
+        assert_eq!(sorted, vec![0, 1, 2, 3]);
+    }
+
+    #[test]
+    fn bad_part_counts_are_errors() {
+        let mesh = rectangle([0., 0.], [2., 1.], [4, 2], CellKind::Quad4, None).unwrap();
+        let err = partition_cells(&mesh, 0).unwrap_err().to_string();
+        assert!(err.contains("at least 1"), "{err}");
+        let err = partition_cells(&mesh, 9).unwrap_err().to_string();
+        assert!(err.contains("8 cells into 9"), "{err}");
+        let empty = Mesh::default();
+        assert!(partition_cells(&empty, 1).is_err());
+    }
+
+    #[test]
+    fn disconnected_mesh_is_an_error() {
+        let mut mesh = rectangle([0., 0.], [1., 1.], [2, 1], CellKind::Quad4, None).unwrap();
+        // A second, separate quad.
+        let base = mesh.n_nodes();
+        mesh.coords
+            .extend([[5., 0., 0.], [6., 0., 0.], [6., 1., 0.], [5., 1., 0.]]);
+        mesh.cells.push(Cell {
+            kind: CellKind::Quad4,
+            nodes: (base..base + 4).collect(),
+        });
+        let err = partition_cells(&mesh, 2).unwrap_err().to_string();
+        assert!(err.contains("connected"), "{err}");
+    }
+}
