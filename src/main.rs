@@ -1,6 +1,11 @@
 //! The `signorini` command line: `run` and `check` (SCENE.md, "Commands").
 //! No numerics here: the pipeline is `signorini_solver::run`.
 //!
+//! Under `mpirun` (built with the cargo feature `mpi`) every rank runs the
+//! same command: rank k owns its subdomains, rank 0 is the root and writes
+//! the output; errors are printed once, by rank 0, and every rank exits with
+//! the same code.
+//!
 //! Exit codes: 0 solved within tolerance; 1 bad input (nothing is written);
 //! 2 solved but a tolerance or iteration limit was not met (the report says
 //! which); 3 internal error.
@@ -11,6 +16,7 @@ use std::process::ExitCode;
 use std::time::Instant;
 
 use clap::{Parser, Subcommand};
+use signorini_comm::{Local, Transport};
 use signorini_scene::{Method, SolvePath};
 use signorini_solver::{RunOptions, RunOutput, SolveError};
 
@@ -54,8 +60,30 @@ fn main() -> ExitCode {
             method,
             path,
             out,
-        } => run(&scene, RunOptions { method, path }, out),
+        } => {
+            let comm = transport();
+            run(&scene, RunOptions { method, path }, out, comm.as_ref())
+        }
     }
+}
+
+/// MPI when launched by an MPI launcher (and built with `--features mpi`),
+/// else every subdomain in this process. Under MPI each rank gets
+/// cores/ranks threads for faer; Open MPI binds a rank to one core unless
+/// told `--bind-to none`, and then each rank has one thread.
+fn transport() -> Box<dyn Transport> {
+    #[cfg(feature = "mpi")]
+    if signorini_comm::Mpi::launched() {
+        if let Some(m) = signorini_comm::Mpi::init() {
+            let cores = std::thread::available_parallelism()
+                .map(|n| n.get())
+                .unwrap_or(1);
+            let threads = (cores / m.size()).max(1);
+            faer::set_global_parallelism(faer::Par::rayon(threads));
+            return Box::new(m);
+        }
+    }
+    Box::new(Local)
 }
 
 fn fail(code: u8, msg: &str) -> ExitCode {
@@ -81,8 +109,17 @@ fn check(path: &Path) -> ExitCode {
     }
 }
 
-fn run(path: &Path, opts: RunOptions, out: Option<PathBuf>) -> ExitCode {
+fn run(path: &Path, opts: RunOptions, out: Option<PathBuf>, comm: &dyn Transport) -> ExitCode {
     let t0 = Instant::now();
+    // Every rank meets the same error; rank 0 alone prints it.
+    let root = comm.is_root();
+    let fail = |code: u8, msg: &str| {
+        if root {
+            fail(code, msg)
+        } else {
+            ExitCode::from(code)
+        }
+    };
     let sc = match signorini_scene::load(path) {
         Ok(sc) => sc,
         Err(e) => return fail(1, &e.to_string()),
@@ -92,14 +129,15 @@ fn run(path: &Path, opts: RunOptions, out: Option<PathBuf>) -> ExitCode {
         .file_name()
         .map(|s| s.to_string_lossy().to_string())
         .unwrap_or_default();
-    let mut output = match signorini_solver::run(&sc, &name, &opts) {
-        Ok(o) => o,
+    let mut output = match signorini_solver::run(&sc, &name, &opts, comm) {
+        Ok(Some(o)) => o,
+        Ok(None) => return ExitCode::SUCCESS,
         Err(SolveError::Input(m)) => return fail(1, &m),
         Err(e @ SolveError::Internal(_)) => return fail(3, &e.to_string()),
     };
     let dir = out.unwrap_or_else(|| sc.output.directory_for(path));
     let t = Instant::now();
-    output.report.timings_s.setup = setup;
+    output.report.timings_s.setup += setup;
     if let Err(e) = write_outputs(&dir, &sc, &mut output, t) {
         return fail(
             3,

@@ -1,6 +1,7 @@
 //! End-to-end 2D frictionless contact against closed-form answers
 //! (VALIDATION.md §1, §3, §7), through the same pipeline as `signorini run`.
 
+use signorini_comm::Local;
 use signorini_scene::{parse_toml, SolvePath};
 use signorini_solver::{run, RunOptions, RunOutput};
 
@@ -13,8 +14,10 @@ fn solve(text: &str, path: SolvePath) -> RunOutput {
             method: None,
             path: Some(path),
         },
+        &Local,
     )
-    .unwrap_or_else(|e| panic!("run: {e}"));
+    .unwrap_or_else(|e| panic!("run: {e}"))
+    .expect("the root has the output");
     let c = &out.report.certificate;
     assert!(
         out.report.converged,

@@ -134,6 +134,8 @@ pub struct Report {
     pub title: String,
     pub version: String,
     pub ranks: usize,
+    /// "local" (every subdomain in one process) or "mpi".
+    pub transport: String,
     pub subdomains: usize,
     pub dofs: usize,
     pub interface_dofs: usize,
@@ -146,6 +148,11 @@ pub struct Report {
     pub steps: Vec<StepReport>,
     pub timings_s: Timings,
     pub memory: Memory,
+    /// Bytes sent between ranks (0 in one process).
+    pub communication_bytes: u64,
+    /// Per rank: subdomains, condensation and recovery time, peak memory,
+    /// bytes sent (condensed path).
+    pub rank_stats: Vec<RankStats>,
     pub certificate: Certificate,
     pub contact_force: Vec<f64>,
     pub contacts: Vec<ContactSummary>,
@@ -157,6 +164,17 @@ pub struct Report {
     /// Why the run is not converged, when it is not.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub failure: Option<String>,
+}
+
+/// What one rank did.
+#[derive(Debug, Clone, Serialize)]
+pub struct RankStats {
+    pub rank: usize,
+    pub subdomains: usize,
+    pub condense_s: f64,
+    pub recover_s: f64,
+    pub peak_rss_bytes: u64,
+    pub bytes_sent: u64,
 }
 
 /// One row of contact.csv.

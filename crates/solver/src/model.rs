@@ -2,9 +2,7 @@
 //! (mesh, stiffness, DOF classes, loads per boundary entry, rigid-body kernel)
 //! and the contact points with their rows over the bodies' DOFs.
 
-use faer::sparse::SparseColMat;
 use faer::{Mat, Side};
-use signorini_condense::{spmv, submatrix};
 use signorini_contact::geometry::{node_to_node, node_to_segment};
 use signorini_contact::{ContactPoint, MasterGeometry, NormalRule, TermSide};
 use signorini_fem::{Elasticity, Model as FemModel};
@@ -26,8 +24,6 @@ pub struct BodyLoad {
     pub force: Vec<f64>,
     /// Prescribed displacement at scale 1 on every DOF (zero elsewhere).
     pub displacement: Vec<f64>,
-    /// Load on the free DOFs at scale 1: force_f − K_fp u_p.
-    pub free_load: Vec<f64>,
 }
 
 pub struct BodyModel {
@@ -41,14 +37,15 @@ pub struct BodyModel {
     pub free: Vec<usize>,
     /// Full DOF → position in `free` (usize::MAX for a prescribed DOF).
     pub free_index: Vec<usize>,
-    pub k_full: SparseColMat<usize, f64>,
-    pub k_ff: SparseColMat<usize, f64>,
     pub loads: Vec<BodyLoad>,
-    /// Rigid motions that the supports leave free, on the free DOFs (each
-    /// column of length `free.len()`); empty for a supported body.
+    /// Rigid motions that the supports leave free (each of length `n_dof`,
+    /// zero on prescribed DOFs); empty for a supported body.
     pub kernel: Vec<Vec<f64>>,
-    /// Interface DOFs (positions in `free`), sorted.
-    pub interface: Vec<usize>,
+    /// Nodes on a contact surface of this body.
+    pub contact_node: Vec<bool>,
+    /// METIS part of every cell (all zero for one subdomain).
+    pub parts: Vec<usize>,
+    pub n_parts: usize,
 }
 
 impl BodyModel {
@@ -70,10 +67,9 @@ impl BodyModel {
             .collect()
     }
 
-    /// Σ s_b v_b for the chosen vector of each load.
+    /// Σ s_b v_b for the chosen vector of each load (length `n_dof`).
     pub fn combine(&self, scales: &[f64], pick: impl Fn(&BodyLoad) -> &Vec<f64>) -> Vec<f64> {
-        let n = self.loads.first().map(|l| pick(l).len()).unwrap_or(0);
-        let mut out = vec![0.0; n];
+        let mut out = vec![0.0; self.n_dof];
         for (l, &s) in self.loads.iter().zip(scales) {
             if s != 0.0 {
                 for (o, v) in out.iter_mut().zip(pick(l)) {
@@ -211,13 +207,6 @@ pub fn build_bodies(sc: &scene::Scene) -> Result<Vec<BodyModel>, SolveError> {
             continue;
         }
         let entry = format!("bodies[{bi}]");
-        if let scene::Subdomains::Count(n) = body.subdomains {
-            if n != 1 {
-                return Err(input(format!(
-                    "{entry}.subdomains: splitting a body into {n} subdomains is not supported yet (use 1)"
-                )));
-            }
-        }
         let mesh = build_mesh(body, &entry)?;
         let mat_name = body.material.as_deref().unwrap_or_default();
         let mat = sc.material(mat_name).ok_or_else(|| {
@@ -233,8 +222,7 @@ pub fn build_bodies(sc: &scene::Scene) -> Result<Vec<BodyModel>, SolveError> {
         material
             .check()
             .map_err(|e| input(format!("{entry}.material \"{mat_name}\": {e}")))?;
-        let k_full = signorini_fem::try_assemble_stiffness(&mesh, &material)
-            .map_err(|e| input(format!("{entry}.mesh: {e}")))?;
+        signorini_fem::check_mesh(&mesh).map_err(|e| input(format!("{entry}.mesh: {e}")))?;
         let dim = mesh.dim;
         let n_dof = mesh.n_nodes() * dim;
         // Prescribed DOFs and their values per entry.
@@ -299,21 +287,17 @@ pub fn build_bodies(sc: &scene::Scene) -> Result<Vec<BodyModel>, SolveError> {
         for (i, &d) in free.iter().enumerate() {
             free_index[d] = i;
         }
-        let k_ff = submatrix(k_full.as_ref(), &free, &free);
         let loads = raw_loads
             .into_iter()
-            .map(|(li, force, disp)| {
-                let ku = spmv(k_full.as_ref(), &disp);
-                let free_load = free.iter().map(|&d| force[d] - ku[d]).collect();
-                BodyLoad {
-                    boundary: li,
-                    force,
-                    displacement: disp,
-                    free_load,
-                }
+            .map(|(li, force, disp)| BodyLoad {
+                boundary: li,
+                force,
+                displacement: disp,
             })
             .collect();
-        let kernel = free_rigid_modes(&mesh, &prescribed, &free);
+        let kernel = free_rigid_modes(&mesh, &prescribed);
+        let n_cells = mesh.cells.len();
+        let n_nodes = mesh.n_nodes();
         out.push(BodyModel {
             scene_index: bi,
             name: body.name.clone(),
@@ -323,11 +307,11 @@ pub fn build_bodies(sc: &scene::Scene) -> Result<Vec<BodyModel>, SolveError> {
             prescribed,
             free,
             free_index,
-            k_full,
-            k_ff,
             loads,
             kernel,
-            interface: Vec::new(),
+            contact_node: vec![false; n_nodes],
+            parts: vec![0; n_cells],
+            n_parts: 1,
         });
     }
     if out.is_empty() {
@@ -339,7 +323,7 @@ pub fn build_bodies(sc: &scene::Scene) -> Result<Vec<BodyModel>, SolveError> {
 /// The rigid motions r with r = 0 on every prescribed DOF: the null space of
 /// the prescribed rows of the (normalised) rigid-body modes, by a symmetric
 /// eigen decomposition of CᵀC, a rank test scaled by the number of DOFs.
-fn free_rigid_modes(mesh: &Mesh, prescribed: &[bool], free: &[usize]) -> Vec<Vec<f64>> {
+fn free_rigid_modes(mesh: &Mesh, prescribed: &[bool]) -> Vec<Vec<f64>> {
     let mut modes = signorini_fem::rigid_body_modes(mesh);
     for m in modes.iter_mut() {
         let n = m.iter().map(|v| v * v).sum::<f64>().sqrt();
@@ -363,9 +347,14 @@ fn free_rigid_modes(mesh: &Mesh, prescribed: &[bool], free: &[usize]) -> Vec<Vec
     for j in 0..k {
         if eig.S()[j] <= threshold {
             let v: Vec<f64> = (0..k).map(|i| eig.U()[(i, j)]).collect();
-            let r: Vec<f64> = free
-                .iter()
-                .map(|&d| (0..k).map(|i| v[i] * modes[i][d]).sum())
+            let r: Vec<f64> = (0..n_dof)
+                .map(|d| {
+                    if prescribed[d] {
+                        0.0
+                    } else {
+                        (0..k).map(|i| v[i] * modes[i][d]).sum()
+                    }
+                })
                 .collect();
             kernel.push(r);
         }
@@ -528,15 +517,9 @@ pub fn build_contacts(
         }
     }
     for (b, nodes) in interface_nodes.into_iter().enumerate() {
-        let body = &mut bodies[b];
-        let mut dofs: Vec<usize> = nodes
-            .iter()
-            .flat_map(|&n| (0..2).map(move |k| n * 2 + k))
-            .filter_map(|d| (body.free_index[d] != usize::MAX).then_some(body.free_index[d]))
-            .collect();
-        dofs.sort_unstable();
-        dofs.dedup();
-        body.interface = dofs;
+        for n in nodes {
+            bodies[b].contact_node[n] = true;
+        }
     }
     Ok((points, fixed))
 }

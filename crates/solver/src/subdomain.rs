@@ -1,0 +1,274 @@
+//! One subdomain (a body, or a METIS part of one), owned by one rank: it
+//! assembles its stiffness K_i from its own cells, factorises it once with its
+//! interface last, sends S_i and F'_i to the root (seed §8.2–8.3), and later
+//! recovers its interior from the interface displacement.
+//!
+//! The interface of a subdomain holds its free DOFs on the nodes it shares
+//! with other parts of its body (glued: the assembled S makes them equal) and
+//! on contact surfaces. A nodal force on a shared node is counted by the
+//! lowest-numbered part that holds the node, so that the assembled load is the
+//! body's.
+
+use faer::sparse::SparseColMat;
+use faer::Par;
+use serde::{Deserialize, Serialize};
+use signorini_condense::{spmv, submatrix, Condensed};
+use signorini_mesh::Mesh;
+
+use crate::model::BodyModel;
+
+/// Which cells and nodes of which body a subdomain holds (computed the same
+/// way on every rank).
+#[derive(Debug, Clone)]
+pub struct SubdomainSpec {
+    pub body: usize,
+    pub part: usize,
+    pub cells: Vec<usize>,
+    /// Body node indices, sorted.
+    pub nodes: Vec<usize>,
+}
+
+impl SubdomainSpec {
+    /// Estimated cost of the factorisation, to deal subdomains to ranks.
+    pub fn cost(&self) -> f64 {
+        (self.nodes.len() as f64).powf(1.5)
+    }
+}
+
+/// Splits every body into its parts.
+pub fn subdomain_specs(bodies: &[BodyModel]) -> Vec<SubdomainSpec> {
+    let mut out = Vec::new();
+    for (bi, b) in bodies.iter().enumerate() {
+        for part in 0..b.n_parts {
+            let cells: Vec<usize> = (0..b.mesh.cells.len())
+                .filter(|&c| b.parts[c] == part)
+                .collect();
+            let mut nodes: Vec<usize> = cells
+                .iter()
+                .flat_map(|&c| b.mesh.cells[c].nodes.iter().copied())
+                .collect();
+            nodes.sort_unstable();
+            nodes.dedup();
+            out.push(SubdomainSpec {
+                body: bi,
+                part,
+                cells,
+                nodes,
+            });
+        }
+    }
+    out
+}
+
+/// What a subdomain sends to the root after condensation.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct CondensedData {
+    pub id: usize,
+    /// Γ index of each interface DOF.
+    pub gamma: Vec<usize>,
+    /// S_i, column-major n_b × n_b.
+    pub schur: Vec<f64>,
+    /// F'_i of each load entry of the body, at scale 1.
+    pub fprime: Vec<Vec<f64>>,
+    pub dofs: usize,
+    pub factor_bytes: usize,
+}
+
+/// What a subdomain sends back after the recovery of every step.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct RecoveredData {
+    pub id: usize,
+    /// Per step: the largest residual of K_i u_i − f_i on interior DOFs.
+    pub interior_residual: Vec<f64>,
+    /// Per step: the largest |K_i u_i| or |f_i| entry (scale).
+    pub force_scale: Vec<f64>,
+    /// Per step: K_i u_i − f_i on the interface DOFs, as (Γ index, value).
+    pub gamma_residual: Vec<Vec<(usize, f64)>>,
+    /// Body nodes and the displacement (2 per node) at the last step.
+    pub nodes: Vec<usize>,
+    pub displacement: Vec<f64>,
+}
+
+/// A condensed subdomain kept by its rank for the recovery.
+pub struct Subdomain {
+    pub id: usize,
+    spec: SubdomainSpec,
+    k_local: SparseColMat<usize, f64>,
+    k_ff: SparseColMat<usize, f64>,
+    free: Vec<usize>,
+    gamma: Vec<usize>,
+    condensed: Condensed,
+    /// Per load entry: external force on the local DOFs (owned nodes only).
+    force: Vec<Vec<f64>>,
+    /// Per load entry: prescribed displacement on the local DOFs.
+    displacement: Vec<Vec<f64>>,
+    /// Per load entry: force_f − K_fp u_p on the free local DOFs.
+    free_load: Vec<Vec<f64>>,
+}
+
+impl Subdomain {
+    /// Assembles and condenses the subdomain. `gamma_of` maps a body DOF to
+    /// its Γ index (usize::MAX if not on Γ); `owner_part` gives the part that
+    /// counts the nodal forces of each body node.
+    pub fn condense(
+        id: usize,
+        spec: &SubdomainSpec,
+        body: &BodyModel,
+        gamma_of: &[usize],
+        owner_part: &[usize],
+        par: Par,
+    ) -> Result<(Self, CondensedData), String> {
+        let mut local_of = vec![usize::MAX; body.mesh.n_nodes()];
+        for (l, &n) in spec.nodes.iter().enumerate() {
+            local_of[n] = l;
+        }
+        let mesh = Mesh {
+            dim: 2,
+            coords: spec.nodes.iter().map(|&n| body.mesh.coords[n]).collect(),
+            cells: spec
+                .cells
+                .iter()
+                .map(|&c| {
+                    let cell = &body.mesh.cells[c];
+                    signorini_mesh::Cell {
+                        kind: cell.kind,
+                        nodes: cell.nodes.iter().map(|&n| local_of[n]).collect(),
+                    }
+                })
+                .collect(),
+            surfaces: Default::default(),
+        };
+        let k_local = signorini_fem::try_assemble_stiffness(&mesh, &body.material)
+            .map_err(|e| e.to_string())?;
+        let n_local = 2 * spec.nodes.len();
+        let body_dof = |l: usize| 2 * spec.nodes[l / 2] + l % 2;
+        let free: Vec<usize> = (0..n_local)
+            .filter(|&l| !body.prescribed[body_dof(l)])
+            .collect();
+        let k_ff = submatrix(k_local.as_ref(), &free, &free);
+        let mut interface = Vec::new();
+        let mut gamma = Vec::new();
+        for (i, &l) in free.iter().enumerate() {
+            let g = gamma_of[body_dof(l)];
+            if g != usize::MAX {
+                interface.push(i);
+                gamma.push(g);
+            }
+        }
+        let mut force = Vec::new();
+        let mut displacement = Vec::new();
+        let mut free_load = Vec::new();
+        for load in &body.loads {
+            let f: Vec<f64> = (0..n_local)
+                .map(|l| {
+                    let d = body_dof(l);
+                    if owner_part[d / 2] == spec.part {
+                        load.force[d]
+                    } else {
+                        0.0
+                    }
+                })
+                .collect();
+            let u: Vec<f64> = (0..n_local)
+                .map(|l| load.displacement[body_dof(l)])
+                .collect();
+            let ku = spmv(k_local.as_ref(), &u);
+            free_load.push(free.iter().map(|&l| f[l] - ku[l]).collect::<Vec<f64>>());
+            force.push(f);
+            displacement.push(u);
+        }
+        let condensed =
+            Condensed::new(k_ff.as_ref(), &interface, par).map_err(|e| e.to_string())?;
+        let nb = interface.len();
+        let mut schur = Vec::with_capacity(nb * nb);
+        for j in 0..nb {
+            for i in 0..nb {
+                schur.push(condensed.schur[(i, j)]);
+            }
+        }
+        let fprime = free_load
+            .iter()
+            .map(|f| condensed.condensed_load(f))
+            .collect();
+        let data = CondensedData {
+            id,
+            gamma: gamma.clone(),
+            schur,
+            fprime,
+            dofs: free.len(),
+            factor_bytes: condensed.memory_bytes(),
+        };
+        Ok((
+            Self {
+                id,
+                spec: spec.clone(),
+                k_local,
+                k_ff,
+                free,
+                gamma,
+                condensed,
+                force,
+                displacement,
+                free_load,
+            },
+            data,
+        ))
+    }
+
+    /// Recovers every step from its interface displacement and reports the
+    /// residuals the root needs for the certificate.
+    pub fn recover(&self, scales: &[Vec<f64>], u_gamma: &[Vec<f64>]) -> RecoveredData {
+        let n_local = 2 * self.spec.nodes.len();
+        let mut out = RecoveredData {
+            id: self.id,
+            interior_residual: Vec::new(),
+            force_scale: Vec::new(),
+            gamma_residual: Vec::new(),
+            nodes: self.spec.nodes.clone(),
+            displacement: Vec::new(),
+        };
+        let mut is_interface = vec![false; n_local];
+        for &i in self.condensed.interface() {
+            is_interface[self.free[i]] = true;
+        }
+        for (s, ug) in scales.iter().zip(u_gamma) {
+            let combine = |v: &[Vec<f64>], n: usize| {
+                let mut o = vec![0.0; n];
+                for (vb, &sb) in v.iter().zip(s) {
+                    for (oi, x) in o.iter_mut().zip(vb) {
+                        *oi += sb * x;
+                    }
+                }
+                o
+            };
+            let fl = combine(&self.free_load, self.free.len());
+            let f = combine(&self.force, n_local);
+            let mut u = combine(&self.displacement, n_local);
+            let ub: Vec<f64> = self.gamma.iter().map(|&g| ug[g]).collect();
+            let uf = self.condensed.recover(self.k_ff.as_ref(), &fl, &ub);
+            for (i, &l) in self.free.iter().enumerate() {
+                u[l] = uf[i];
+            }
+            let ku = spmv(self.k_local.as_ref(), &u);
+            let mut interior = 0.0f64;
+            let mut scale = 0.0f64;
+            let mut gamma_res = Vec::new();
+            let mut gi = 0;
+            for &l in &self.free {
+                let r = ku[l] - f[l];
+                scale = scale.max(ku[l].abs()).max(f[l].abs());
+                if is_interface[l] {
+                    gamma_res.push((self.gamma[gi], r));
+                    gi += 1;
+                } else {
+                    interior = interior.max(r.abs());
+                }
+            }
+            out.interior_residual.push(interior);
+            out.force_scale.push(scale);
+            out.gamma_residual.push(gamma_res);
+            out.displacement = u;
+        }
+        out
+    }
+}
