@@ -18,8 +18,8 @@ if ! command -v cargo >/dev/null 2>&1 && [ -f "$HOME/.cargo/env" ]; then
     . "$HOME/.cargo/env"
 fi
 
-echo "==> [2/4] build: cargo build --release --features mpi --all-targets"
-cargo build --release --features mpi --all-targets
+echo "==> [2/4] build: cargo build --release --features mpi --workspace --all-targets"
+cargo build --release --features mpi --workspace --all-targets
 
 echo "==> [3/4] test: cargo test --release --features mpi --workspace"
 cargo test --release --features mpi --workspace

@@ -49,6 +49,8 @@ pub struct StatusOptions {
     /// Length scale: penetrations below tolerance × max(gap_scale, ‖g‖∞) are zero.
     pub gap_scale: f64,
     /// Initial active set (sorted); `None` starts with every point active.
+    /// If the initial set cannot hold a floating body (singular system), the
+    /// method restarts from every point active.
     pub initial_active: Option<Vec<usize>>,
 }
 
@@ -89,11 +91,38 @@ pub fn status_method(
     let mut gap = vec![0.0; m];
     let mut reason = String::new();
     let mut converged = false;
+    // The last active set that gave a regular system, and the penetrating
+    // points it left out: the fallback when a release makes the system
+    // singular (a floating body no longer held).
+    let mut last_regular: Option<(Vec<usize>, Vec<usize>)> = None;
     while iterations < opts.max_iterations {
         iterations += 1;
         history.push(active.len());
         seen.insert(active.clone());
-        let (l, g) = problem.solve_active(&active)?;
+        let (l, g) = match problem.solve_active(&active) {
+            Ok(v) => v,
+            Err(ContactError::Singular(msg)) => {
+                match last_regular.take() {
+                    // First solve: start again from every point active.
+                    None if active.len() < m && iterations == 1 => {
+                        active = (0..m).collect();
+                        continue;
+                    }
+                    // Keep the last regular set and only impose the penetrating points.
+                    Some((prev, penetrating)) if !penetrating.is_empty() => {
+                        let mut next = prev;
+                        next.extend(penetrating);
+                        next.sort_unstable();
+                        next.dedup();
+                        variant = StatusVariant::Single;
+                        active = next;
+                        continue;
+                    }
+                    _ => return Err(ContactError::Singular(msg)),
+                }
+            }
+            Err(e) => return Err(e),
+        };
         lambda = l;
         gap = g;
         if lambda.iter().chain(&gap).any(|v| !v.is_finite()) {
@@ -119,6 +148,14 @@ pub fn status_method(
                 changes.push((p, -gap[p] / tol_g.max(f64::MIN_POSITIVE)));
             }
         }
+        last_regular = Some((
+            active.clone(),
+            changes
+                .iter()
+                .map(|c| c.0)
+                .filter(|&p| !is_active[p])
+                .collect(),
+        ));
         if changes.is_empty() {
             converged = true;
             reason = format!("statuses repeated after {iterations} iterations");

@@ -530,14 +530,22 @@ fn step_gaps(
         .collect())
 }
 
-fn status_options(sc: &scene::Scene, f_scale: f64, length_scale: f64) -> StatusOptions {
+/// Status method options; the initial active set is every point whose gap
+/// is closed at the start of the step (within tolerance).
+fn status_options(
+    sc: &scene::Scene,
+    f_scale: f64,
+    length_scale: f64,
+    gap0: &[f64],
+) -> StatusOptions {
+    let closed = sc.solver.tolerance * length_scale;
     StatusOptions {
         variant: StatusVariant::All,
         max_iterations: sc.solver.max_iterations,
         tolerance: sc.solver.tolerance,
         force_scale: f_scale,
         gap_scale: length_scale,
-        initial_active: None,
+        initial_active: Some((0..gap0.len()).filter(|&p| gap0[p] <= closed).collect()),
     }
 }
 
@@ -655,8 +663,11 @@ fn solve_root(
                 variant_used: StatusVariant::All,
             }
         } else {
-            status_method(&mut problem, &status_options(sc, f_scale, length_scale))
-                .map_err(contact_error)?
+            status_method(
+                &mut problem,
+                &status_options(sc, f_scale, length_scale, &gap0),
+            )
+            .map_err(contact_error)?
         };
         u_gamma.push(problem.displacement(&outcome.lambda));
         steps.push(StepSolution {
@@ -974,8 +985,11 @@ fn run_direct(
         let res: Vec<[f64; 2]> = forces.iter().map(|f| resultant(f)).collect();
         check_floating_equilibrium(bodies, points, &e_of, &res, si)?;
         let mut problem = DirectProblem::new(&k_global, &f, &rows, &gap0);
-        let outcome = status_method(&mut problem, &status_options(sc, f_scale, length_scale))
-            .map_err(contact_error)?;
+        let outcome = status_method(
+            &mut problem,
+            &status_options(sc, f_scale, length_scale, &gap0),
+        )
+        .map_err(contact_error)?;
         // Re-solve with the final active set so that `problem.u` is the answer.
         let _ = problem
             .solve_active(&outcome.active)
