@@ -1,0 +1,236 @@
+//! `mpirun -n 2` (and 3) against the in-process run: one subdomain per rank,
+//! the same answer (VALIDATION.md §7), errors printed once, no hang.
+//! Built only with the cargo feature `mpi` (ci/test.sh builds with it).
+#![cfg(feature = "mpi")]
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output, Stdio};
+use std::time::{Duration, Instant};
+
+const BIN: &str = env!("CARGO_BIN_EXE_signorini");
+
+fn have_mpirun() -> bool {
+    let ok = Command::new("mpirun")
+        .arg("--version")
+        .output()
+        .is_ok_and(|o| o.status.success());
+    if !ok && std::env::var_os("CI").is_some() {
+        panic!("mpirun is missing on CI: ci/setup.sh must install openmpi-bin");
+    }
+    ok
+}
+
+/// Runs a command with a time limit; a hang is a failure.
+fn run_limited(mut cmd: Command, limit: Duration) -> Output {
+    let mut child = cmd
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("spawn");
+    let start = Instant::now();
+    loop {
+        if child.try_wait().expect("wait").is_some() {
+            return child.wait_with_output().expect("output");
+        }
+        if start.elapsed() > limit {
+            let _ = child.kill();
+            panic!("no answer within {limit:?}: a rank hangs");
+        }
+        std::thread::sleep(Duration::from_millis(50));
+    }
+}
+
+fn mpirun(np: usize, args: &[&str], env: &[(&str, &str)]) -> Output {
+    let mut c = Command::new("mpirun");
+    c.arg("-n").arg(np.to_string()).arg(BIN).args(args);
+    c.env("OMPI_ALLOW_RUN_AS_ROOT", "1")
+        .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
+        .env("OMPI_MCA_rmaps_base_oversubscribe", "1")
+        .env("PRTE_MCA_rmaps_default_mapping_policy", ":oversubscribe")
+        .env("OMPI_MCA_hwloc_base_binding_policy", "none");
+    for (k, v) in env {
+        c.env(k, v);
+    }
+    run_limited(c, Duration::from_secs(120))
+}
+
+fn local(args: &[&str]) -> Output {
+    let mut c = Command::new(BIN);
+    c.args(args);
+    run_limited(c, Duration::from_secs(120))
+}
+
+fn dir(name: &str) -> PathBuf {
+    let d = Path::new(env!("CARGO_TARGET_TMPDIR"))
+        .join("mpi")
+        .join(name);
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+fn example(name: &str) -> String {
+    format!("{}/examples/{name}", env!("CARGO_MANIFEST_DIR"))
+}
+
+/// Numeric columns of a CSV file (header skipped, non-numbers dropped).
+fn numbers(path: &Path, columns: &[&str]) -> Vec<f64> {
+    let text = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let idx: Vec<usize> = columns
+        .iter()
+        .map(|c| header.iter().position(|h| h == c).unwrap())
+        .collect();
+    lines
+        .flat_map(|l| {
+            let f: Vec<&str> = l.split(',').collect();
+            idx.iter()
+                .map(|&i| f[i].parse::<f64>().unwrap())
+                .collect::<Vec<_>>()
+        })
+        .collect()
+}
+
+fn max_rel(a: &[f64], b: &[f64]) -> f64 {
+    assert_eq!(a.len(), b.len());
+    let s = a
+        .iter()
+        .chain(b)
+        .fold(0.0f64, |m, v| m.max(v.abs()))
+        .max(f64::MIN_POSITIVE);
+    a.iter()
+        .zip(b)
+        .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()))
+        / s
+}
+
+fn report(d: &Path) -> serde_json::Value {
+    serde_json::from_str(&std::fs::read_to_string(d.join("report.json")).unwrap()).unwrap()
+}
+
+/// Runs a scene in process and under `mpirun -n np`; both must agree to 1e-10.
+fn compare(scene: &str, np: usize, tag: &str) {
+    let d = dir(tag);
+    let (a, b) = (d.join("local"), d.join("mpi"));
+    let out = local(&["run", scene, "--out", a.to_str().unwrap()]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let out = mpirun(np, &["run", scene, "--out", b.to_str().unwrap()], &[]);
+    assert!(
+        out.status.success(),
+        "{}\n{}",
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let (ra, rb) = (report(&a), report(&b));
+    assert_eq!(rb["ranks"], np);
+    assert_eq!(rb["transport"], "mpi");
+    assert_eq!(ra["transport"], "local");
+    assert_eq!(rb["rank_stats"].as_array().unwrap().len(), np);
+    assert!(rb["communication_bytes"].as_u64().unwrap() > 0);
+    let fa = numbers(&a.join("contact.csv"), &["normal_force", "gap"]);
+    let fb = numbers(&b.join("contact.csv"), &["normal_force", "gap"]);
+    assert!(
+        max_rel(&fa, &fb) <= 1e-10,
+        "{tag}: contact differs by {:e}",
+        max_rel(&fa, &fb)
+    );
+    let ua = numbers(&a.join("displacement.csv"), &["ux", "uy"]);
+    let ub = numbers(&b.join("displacement.csv"), &["ux", "uy"]);
+    assert!(
+        max_rel(&ua, &ub) <= 1e-10,
+        "{tag}: displacements differ by {:e}",
+        max_rel(&ua, &ub)
+    );
+}
+
+#[test]
+fn hertz_split_in_two_under_mpirun_2_equals_the_in_process_run() {
+    if !have_mpirun() {
+        return;
+    }
+    let d = dir("hertz_scene");
+    let text = std::fs::read_to_string(example("hertz2d.toml"))
+        .unwrap()
+        .replace(
+            "material = \"steel\"\nmesh",
+            "material = \"steel\"\nsubdomains = 2\nmesh",
+        );
+    let scene = d.join("hertz_split.toml");
+    std::fs::write(&scene, text).unwrap();
+    compare(scene.to_str().unwrap(), 2, "hertz");
+}
+
+#[test]
+fn stack_under_mpirun_2_and_3_equals_the_in_process_run() {
+    if !have_mpirun() {
+        return;
+    }
+    compare(&example("stack.toml"), 2, "stack2");
+    compare(&example("stack.toml"), 3, "stack3");
+}
+
+#[test]
+fn a_failing_rank_ends_every_rank_with_one_message() {
+    if !have_mpirun() {
+        return;
+    }
+    let d = dir("fail");
+    let out = mpirun(
+        2,
+        &[
+            "run",
+            &example("stack.toml"),
+            "--out",
+            d.join("out").to_str().unwrap(),
+        ],
+        &[("SIGNORINI_FAIL_RANK", "1")],
+    );
+    assert!(!out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(
+        err.matches("failure injected on rank 1").count(),
+        1,
+        "{err}"
+    );
+    assert!(!d.join("out").exists(), "nothing is written");
+}
+
+#[test]
+fn bad_input_under_mpirun_is_reported_once_with_exit_1() {
+    if !have_mpirun() {
+        return;
+    }
+    let d = dir("bad");
+    let scene = d.join("bad.toml");
+    std::fs::write(
+        &scene,
+        std::fs::read_to_string(example("stack.toml"))
+            .unwrap()
+            .replace("young = 70.0", "young = -70.0"),
+    )
+    .unwrap();
+    let out = mpirun(
+        2,
+        &[
+            "run",
+            scene.to_str().unwrap(),
+            "--out",
+            d.join("out").to_str().unwrap(),
+        ],
+        &[],
+    );
+    assert_eq!(
+        out.status.code(),
+        Some(1),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(err.matches("materials[1].young").count(), 1, "{err}");
+    assert!(!d.join("out").exists());
+}

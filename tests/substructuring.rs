@@ -1,0 +1,153 @@
+//! Substructuring in one process (seed §8.3): bodies split into METIS parts
+//! glue exactly and reproduce the unsplit solution (VALIDATION.md §7).
+
+use signorini_comm::Local;
+use signorini_scene::{parse_toml, SolvePath};
+use signorini_solver::{run, RunOptions, RunOutput};
+
+fn solve(text: &str, path: SolvePath) -> RunOutput {
+    let sc = parse_toml(text).unwrap_or_else(|e| panic!("scene: {e}"));
+    let out = run(
+        &sc,
+        "test",
+        &RunOptions {
+            method: None,
+            path: Some(path),
+        },
+        &Local,
+    )
+    .unwrap_or_else(|e| panic!("run: {e}"))
+    .expect("the root has the output");
+    assert!(out.report.converged, "{:?}", out.report.failure);
+    assert!(
+        out.report.certificate.max() <= 1e-9,
+        "{:?}",
+        out.report.certificate
+    );
+    out
+}
+
+fn example(name: &str) -> String {
+    std::fs::read_to_string(format!("{}/examples/{name}", env!("CARGO_MANIFEST_DIR"))).unwrap()
+}
+
+fn max_rel(a: &[f64], b: &[f64]) -> f64 {
+    assert_eq!(a.len(), b.len());
+    let scale = a
+        .iter()
+        .chain(b)
+        .fold(0.0f64, |m, v| m.max(v.abs()))
+        .max(f64::MIN_POSITIVE);
+    a.iter()
+        .zip(b)
+        .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()))
+        / scale
+}
+
+/// Displacements of every body and contact forces agree to `tol`.
+fn assert_same(a: &RunOutput, b: &RunOutput, tol: f64) {
+    let fa: Vec<f64> = a.contact_rows.iter().map(|r| r.normal_force).collect();
+    let fb: Vec<f64> = b.contact_rows.iter().map(|r| r.normal_force).collect();
+    assert!(
+        max_rel(&fa, &fb) <= tol,
+        "contact forces differ by {:e}",
+        max_rel(&fa, &fb)
+    );
+    for (x, y) in a.bodies.iter().zip(&b.bodies) {
+        let r = max_rel(&x.displacement, &y.displacement);
+        assert!(r <= tol, "body {}: displacements differ by {r:e}", x.name);
+    }
+}
+
+#[test]
+fn hertz_half_disk_split_in_two_equals_the_unsplit_body() {
+    let one = example("hertz2d.toml").replace("divisions = 160", "divisions = 96");
+    let two = one.replace(
+        "material = \"steel\"\nmesh",
+        "material = \"steel\"\nsubdomains = 2\nmesh",
+    );
+    assert_ne!(one, two);
+    let a = solve(&one, SolvePath::Condensed);
+    let b = solve(&two, SolvePath::Condensed);
+    assert_eq!(b.report.subdomains, 2);
+    assert!(
+        b.report.interface_dofs > a.report.interface_dofs,
+        "the cut adds glued DOFs to Γ"
+    );
+    assert_same(&a, &b, 1e-8);
+}
+
+/// A block on a frictionless support under a uniform traction is a linear
+/// patch: split into 4 METIS parts, the glued interfaces transmit it exactly.
+#[test]
+fn glued_interfaces_of_four_parts_transmit_a_linear_patch_exactly() {
+    let block = |parts: usize| {
+        format!(
+            r#"
+dimension = 2
+[[materials]]
+name = "m"
+young = 1000.0
+poisson = 0.25
+[[bodies]]
+name = "block"
+material = "m"
+subdomains = {parts}
+mesh = {{ generator = "rectangle", origin = [0.0, 0.0], size = [2.0, 1.0], divisions = [16, 9], element = "tri3" }}
+[[boundary]]
+body = "block"
+surface = "bottom"
+displacement = {{ y = 0.0 }}
+[[boundary]]
+body = "block"
+point = [0.0, 0.0]
+displacement = {{ x = 0.0 }}
+[[boundary]]
+body = "block"
+surface = "top"
+traction = [0.0, -3.0]
+"#
+        )
+    };
+    let a = solve(&block(1), SolvePath::Condensed);
+    let b = solve(&block(4), SolvePath::Condensed);
+    assert_eq!(b.report.subdomains, 4);
+    assert!(b.report.interface_dofs > 0);
+    let r = max_rel(&a.bodies[0].displacement, &b.bodies[0].displacement);
+    assert!(r <= 1e-10, "split vs unsplit: {r:e}");
+    // And both are the exact patch: u_y = −p y (1 − ν²)/E in plane strain.
+    let body = &b.bodies[0];
+    for (n, x) in body.coords.iter().enumerate() {
+        let exact = -3.0 * x[1] * (1.0 - 0.0625) / 1000.0;
+        assert!(
+            (body.displacement[2 * n + 1] - exact).abs() <= 1e-10 * 3.0 / 1000.0,
+            "node {n}"
+        );
+    }
+}
+
+#[test]
+fn stack_of_split_blocks_equals_the_unsplit_stack_and_the_direct_path() {
+    let split = example("stack.toml");
+    let whole = split.replace("subdomains = 2\n", "");
+    assert_ne!(split, whole);
+    let a = solve(&whole, SolvePath::Condensed);
+    let b = solve(&split, SolvePath::Condensed);
+    let c = solve(&split, SolvePath::Direct);
+    assert_eq!(b.report.subdomains, 5);
+    assert_same(&a, &b, 1e-8);
+    assert_same(&b, &c, 1e-9);
+    // Equilibrium of the stack: what the roller pushes, the floor carries.
+    let force = |o: &RunOutput, name: &str| {
+        o.report
+            .contacts
+            .iter()
+            .find(|c| c.name == name)
+            .unwrap()
+            .force[1]
+    };
+    let roller = force(&b, "roller-plate");
+    for pair in ["plate-base", "base-floor"] {
+        assert!((force(&b, pair) - roller).abs() <= 1e-9 * roller, "{pair}");
+    }
+}
