@@ -47,14 +47,40 @@ enum Command {
         #[arg(long)]
         out: Option<PathBuf>,
     },
-    /// Parse and validate a scene (and build its meshes), writing nothing.
+    /// Parse and validate a scene, writing nothing.
     Check { scene: PathBuf },
+    /// Time scenes over refinement levels, subdomain counts and paths; writes
+    /// DIR/bench.csv and prints a table.
+    Bench {
+        /// Scene files.
+        #[arg(required = true)]
+        scenes: Vec<PathBuf>,
+        /// Refinement factors applied to the generators' divisions.
+        #[arg(long, value_delimiter = ',', default_value = "1")]
+        levels: Vec<f64>,
+        /// Subdomains per deformable body.
+        #[arg(long, value_delimiter = ',', default_value = "1")]
+        subdomains: Vec<usize>,
+        /// Paths to run.
+        #[arg(long, value_delimiter = ',', default_value = "condensed,direct")]
+        paths: Vec<SolvePath>,
+        /// Output directory.
+        #[arg(long, default_value = "out/bench")]
+        out: PathBuf,
+    },
 }
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
     match cli.command {
         Command::Check { scene } => check(&scene),
+        Command::Bench {
+            scenes,
+            levels,
+            subdomains,
+            paths,
+            out,
+        } => bench(&scenes, &levels, &subdomains, &paths, &out),
         Command::Run {
             scene,
             method,
@@ -89,6 +115,74 @@ fn transport() -> Box<dyn Transport> {
 fn fail(code: u8, msg: &str) -> ExitCode {
     eprintln!("error: {msg}");
     ExitCode::from(code)
+}
+
+fn bench(
+    scenes: &[PathBuf],
+    levels: &[f64],
+    subdomains: &[usize],
+    paths: &[SolvePath],
+    out: &Path,
+) -> ExitCode {
+    if levels.iter().any(|l| !(*l > 0.0 && l.is_finite())) {
+        return fail(1, "--levels: refinement factors must be positive numbers");
+    }
+    if subdomains.contains(&0) {
+        return fail(1, "--subdomains: counts must be at least 1");
+    }
+    let mut cases = Vec::new();
+    for p in scenes {
+        match signorini_scene::load(p) {
+            Ok(scene) => cases.push(signorini_solver::bench::BenchCase {
+                name: p
+                    .file_name()
+                    .map(|s| s.to_string_lossy().to_string())
+                    .unwrap_or_default(),
+                scene,
+            }),
+            Err(e) => return fail(1, &e.to_string()),
+        }
+    }
+    let rows =
+        signorini_solver::bench::bench(&cases, levels, subdomains, paths, |done, total, label| {
+            eprintln!("[{done}/{total}] {label}");
+        });
+    let rows = match rows {
+        Ok(r) => r,
+        Err(SolveError::Input(m)) => return fail(1, &m),
+        Err(e) => return fail(3, &e.to_string()),
+    };
+    if let Err(e) = std::fs::create_dir_all(out)
+        .and_then(|_| signorini_solver::bench::write_csv(&out.join("bench.csv"), &rows))
+    {
+        return fail(3, &format!("cannot write {}: {e}", out.display()));
+    }
+    println!("| scene | level | subdomains | path | DOFs | Γ DOFs | contact pts | iterations | condense s | contact (root) s | recover s | total s | errors |");
+    println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|");
+    for r in &rows {
+        println!(
+            "| {} | {} | {} | {} | {} | {} | {} | {} | {:.4} | {:.4} | {:.4} | {:.4} | {} |",
+            r.scene,
+            r.level,
+            r.subdomains,
+            r.path,
+            r.dofs,
+            r.interface_dofs,
+            r.contact_points,
+            r.iterations,
+            r.condense_s,
+            r.contact_s,
+            r.recover_s,
+            r.total_s,
+            r.errors.replace(';', ", ")
+        );
+    }
+    println!("bench.csv in {}", out.display());
+    if rows.iter().all(|r| r.converged) {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::from(2)
+    }
 }
 
 fn check(path: &Path) -> ExitCode {

@@ -90,6 +90,41 @@ impl From<SceneRaw> for Scene {
 }
 
 impl Scene {
+    /// The same scene with every generated mesh refined: `divisions`
+    /// multiplied by `factor` (rounded, at least 1; half-disk arcs stay even
+    /// so that the pole is a node). For refinement studies (`signorini bench`).
+    pub fn refined(&self, factor: f64) -> Scene {
+        let mut sc = self.clone();
+        let scale = |n: usize| ((n as f64 * factor).round() as usize).max(1);
+        for b in &mut sc.bodies {
+            if let Some(MeshSpec::Generator(g)) = &mut b.mesh {
+                match g {
+                    Generator::Rectangle { divisions, .. } => *divisions = divisions.map(scale),
+                    Generator::Box { divisions, .. } => *divisions = divisions.map(scale),
+                    Generator::HalfDisk { divisions, .. }
+                    | Generator::QuarterDisk { divisions, .. } => {
+                        *divisions = (scale(*divisions) / 2 * 2).max(4)
+                    }
+                    Generator::Hemisphere { divisions, .. } => {
+                        *divisions = scale(*divisions).max(4)
+                    }
+                }
+            }
+        }
+        sc
+    }
+
+    /// The same scene with every deformable body split into `n` subdomains.
+    pub fn with_subdomains(&self, n: usize) -> Scene {
+        let mut sc = self.clone();
+        for b in &mut sc.bodies {
+            if b.mesh.is_some() {
+                b.subdomains = Subdomains::Count(n.max(1));
+            }
+        }
+        sc
+    }
+
     /// The `[[materials]]` entry of that name.
     pub fn material(&self, name: &str) -> Option<&Material> {
         self.materials.iter().find(|m| m.name == name)

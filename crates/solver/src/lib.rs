@@ -11,6 +11,7 @@
 //! whole sparse stiffness on the root, refactorised at each status iteration
 //! (seed §3.3), for checking and benchmarking the condensed path.
 
+pub mod bench;
 pub mod model;
 pub mod subdomain;
 
@@ -144,7 +145,7 @@ fn interface_numbering(
     sc: &scene::Scene,
     bodies: &mut [BodyModel],
     ranks: usize,
-) -> Result<(Vec<Vec<usize>>, usize, Vec<Vec<usize>>), SolveError> {
+) -> Result<InterfaceNumbering, SolveError> {
     let counts = parts_per_body(sc, bodies, ranks);
     let mut gamma_of = Vec::new();
     let mut owner = Vec::new();
@@ -178,6 +179,9 @@ fn interface_numbering(
     }
     Ok((gamma_of, n, owner))
 }
+
+/// Γ index of every body DOF, size of Γ, owner part of every body node.
+type InterfaceNumbering = (Vec<Vec<usize>>, usize, Vec<Vec<usize>>);
 
 /// The root's answer to every rank after the contact solve.
 #[derive(Serialize, Deserialize)]
