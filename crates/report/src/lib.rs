@@ -153,6 +153,8 @@ pub struct Report {
     /// Per rank: subdomains, condensation and recovery time, peak memory,
     /// bytes sent (condensed path).
     pub rank_stats: Vec<RankStats>,
+    /// Min and max over ranks of the condensation and recovery times.
+    pub rank_timings_s: RankTimings,
     pub certificate: Certificate,
     pub contact_force: Vec<f64>,
     pub contacts: Vec<ContactSummary>,
@@ -175,6 +177,39 @@ pub struct RankStats {
     pub recover_s: f64,
     pub peak_rss_bytes: u64,
     pub bytes_sent: u64,
+}
+
+/// Min and max over ranks.
+#[derive(Debug, Clone, Default, Serialize)]
+pub struct RankTimings {
+    pub condense_min: f64,
+    pub condense_max: f64,
+    pub recover_min: f64,
+    pub recover_max: f64,
+}
+
+impl RankTimings {
+    pub fn of(stats: &[RankStats]) -> Self {
+        let mm = |f: &dyn Fn(&RankStats) -> f64| {
+            stats
+                .iter()
+                .map(f)
+                .fold((f64::INFINITY, 0.0f64), |(lo, hi), v| {
+                    (lo.min(v), hi.max(v))
+                })
+        };
+        let (cmin, cmax) = mm(&|s| s.condense_s);
+        let (rmin, rmax) = mm(&|s| s.recover_s);
+        if stats.is_empty() {
+            return Self::default();
+        }
+        Self {
+            condense_min: cmin,
+            condense_max: cmax,
+            recover_min: rmin,
+            recover_max: rmax,
+        }
+    }
 }
 
 /// One row of contact.csv.

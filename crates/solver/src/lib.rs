@@ -1162,6 +1162,7 @@ fn finish_report(
             factor_bytes: partial.factor_bytes,
         },
         communication_bytes,
+        rank_timings_s: signorini_report::RankTimings::of(&rank_stats),
         rank_stats,
         certificate: partial.certificate,
         contact_force,
