@@ -12,6 +12,7 @@ pub mod delassus;
 pub mod direct;
 pub mod equilibrium;
 pub mod geometry;
+pub mod lcp;
 pub mod status;
 
 pub use delassus::DelassusProblem;
@@ -27,3 +28,4 @@ pub enum ContactError {
     #[error("linear solve failed: {0}")]
     Solve(String),
 }
+pub use lcp::{lcp_residual, LcpOptions, LcpSolution, SolverReport};
