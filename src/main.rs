@@ -61,6 +61,9 @@ enum Command {
         /// Subdomains per deformable body.
         #[arg(long, value_delimiter = ',', default_value = "1")]
         subdomains: Vec<usize>,
+        /// Contact algorithms to run (the direct path runs the status method only).
+        #[arg(long, value_delimiter = ',', default_value = "status")]
+        methods: Vec<Method>,
         /// Paths to run.
         #[arg(long, value_delimiter = ',', default_value = "condensed,direct")]
         paths: Vec<SolvePath>,
@@ -78,9 +81,10 @@ fn main() -> ExitCode {
             scenes,
             levels,
             subdomains,
+            methods,
             paths,
             out,
-        } => bench(&scenes, &levels, &subdomains, &paths, &out),
+        } => bench(&scenes, &levels, &subdomains, &methods, &paths, &out),
         Command::Run {
             scene,
             method,
@@ -121,6 +125,7 @@ fn bench(
     scenes: &[PathBuf],
     levels: &[f64],
     subdomains: &[usize],
+    methods: &[Method],
     paths: &[SolvePath],
     out: &Path,
 ) -> ExitCode {
@@ -143,10 +148,30 @@ fn bench(
             Err(e) => return fail(1, &e.to_string()),
         }
     }
-    let rows =
-        signorini_solver::bench::bench(&cases, levels, subdomains, paths, |done, total, label| {
-            eprintln!("[{done}/{total}] {label}");
-        });
+    // A progress bar on a terminal; nothing when stderr is not one.
+    let bar = if std::io::IsTerminal::is_terminal(&std::io::stderr()) {
+        indicatif::ProgressBar::new(0)
+    } else {
+        indicatif::ProgressBar::hidden()
+    };
+    if let Ok(style) =
+        indicatif::ProgressStyle::with_template("{bar:40} {pos}/{len} {elapsed_precise} {msg}")
+    {
+        bar.set_style(style);
+    }
+    let rows = signorini_solver::bench::bench(
+        &cases,
+        levels,
+        subdomains,
+        methods,
+        paths,
+        |done, total, label| {
+            bar.set_length(total as u64);
+            bar.set_position(done as u64);
+            bar.set_message(label.to_string());
+        },
+    );
+    bar.finish_and_clear();
     let rows = match rows {
         Ok(r) => r,
         Err(SolveError::Input(m)) => return fail(1, &m),
@@ -157,14 +182,18 @@ fn bench(
     {
         return fail(3, &format!("cannot write {}: {e}", out.display()));
     }
-    println!("| scene | level | subdomains | path | DOFs | Γ DOFs | contact pts | iterations | condense s | contact (root) s | recover s | total s | errors |");
-    println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|");
+    let plots = signorini_solver::bench::write_plots(out, &rows);
+    println!(
+        "| scene | level | subdomains | method | path | DOFs | Γ DOFs | contact pts | iterations | condense s | root s | recover s | total s | error | vs finest |"
+    );
+    println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
     for r in &rows {
         println!(
-            "| {} | {} | {} | {} | {} | {} | {} | {} | {:.4} | {:.4} | {:.4} | {:.4} | {} |",
+            "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {:.4} | {:.4} | {:.4} | {:.4} | {:.2e} | {:.2e} |",
             r.scene,
             r.level,
             r.subdomains,
+            r.method,
             r.path,
             r.dofs,
             r.interface_dofs,
@@ -174,10 +203,14 @@ fn bench(
             r.contact_s,
             r.recover_s,
             r.total_s,
-            r.errors.replace(';', ", ")
+            r.error,
+            r.error_vs_finest
         );
     }
-    println!("bench.csv in {}", out.display());
+    match plots {
+        Ok(p) => println!("bench.csv and {} plot(s) in {}", p.len(), out.display()),
+        Err(e) => println!("bench.csv in {} (no plot: {e})", out.display()),
+    }
     if rows.iter().all(|r| r.converged) {
         ExitCode::SUCCESS
     } else {

@@ -266,7 +266,6 @@ pub fn run(
             &mut timings,
             &mut messages,
         )?;
-        let specs: Vec<SubdomainSpec> = Vec::new();
         return finish_report(
             partial,
             sc,

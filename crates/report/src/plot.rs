@@ -1,0 +1,126 @@
+//! Log-log line plots as SVG (plotters' SVG backend: pure Rust, no system
+//! fonts or libraries needed), for `signorini bench`.
+
+use plotters::prelude::*;
+
+/// One line of a plot: a label and its (x, y) points (positive values).
+pub struct Series {
+    pub label: String,
+    pub points: Vec<(f64, f64)>,
+}
+
+/// Writes a log-log plot of the series to `path` (SVG).
+pub fn loglog_svg(
+    path: &std::path::Path,
+    title: &str,
+    x_label: &str,
+    y_label: &str,
+    series: &[Series],
+) -> Result<(), String> {
+    let pts: Vec<(f64, f64)> = series
+        .iter()
+        .flat_map(|s| s.points.iter().copied())
+        .filter(|(x, y)| *x > 0.0 && *y > 0.0 && x.is_finite() && y.is_finite())
+        .collect();
+    if pts.is_empty() {
+        return Err(format!("{title}: nothing positive to plot"));
+    }
+    let (mut x0, mut x1, mut y0, mut y1) = (f64::INFINITY, 0.0f64, f64::INFINITY, 0.0f64);
+    for (x, y) in &pts {
+        x0 = x0.min(*x);
+        x1 = x1.max(*x);
+        y0 = y0.min(*y);
+        y1 = y1.max(*y);
+    }
+    let pad = |lo: f64, hi: f64| {
+        if hi > lo * 1.01 {
+            (lo / 1.5, hi * 1.5)
+        } else {
+            (lo / 2.0, hi * 2.0)
+        }
+    };
+    let (x0, x1) = pad(x0, x1);
+    let (y0, y1) = pad(y0, y1);
+    let root = SVGBackend::new(path, (800, 560)).into_drawing_area();
+    let e = |err: &dyn std::fmt::Display| err.to_string();
+    root.fill(&WHITE).map_err(|x| e(&x))?;
+    let mut chart = ChartBuilder::on(&root)
+        .caption(title, ("sans-serif", 22))
+        .margin(15)
+        .x_label_area_size(45)
+        .y_label_area_size(70)
+        .build_cartesian_2d((x0..x1).log_scale(), (y0..y1).log_scale())
+        .map_err(|x| e(&x))?;
+    chart
+        .configure_mesh()
+        .x_desc(x_label)
+        .y_desc(y_label)
+        .x_label_formatter(&|v| format!("{v:.1e}"))
+        .y_label_formatter(&|v| format!("{v:.1e}"))
+        .draw()
+        .map_err(|x| e(&x))?;
+    for (i, s) in series.iter().enumerate() {
+        let color = Palette99::pick(i).to_rgba();
+        let line: Vec<(f64, f64)> = s
+            .points
+            .iter()
+            .copied()
+            .filter(|(x, y)| *x > 0.0 && *y > 0.0)
+            .collect();
+        chart
+            .draw_series(LineSeries::new(line.clone(), color.stroke_width(2)))
+            .map_err(|x| e(&x))?
+            .label(s.label.clone())
+            .legend(move |(x, y)| {
+                PathElement::new(vec![(x, y), (x + 18, y)], color.stroke_width(2))
+            });
+        chart
+            .draw_series(line.into_iter().map(|p| Circle::new(p, 3, color.filled())))
+            .map_err(|x| e(&x))?;
+    }
+    chart
+        .configure_series_labels()
+        .background_style(WHITE.mix(0.85))
+        .border_style(BLACK)
+        .position(SeriesLabelPosition::UpperRight)
+        .draw()
+        .map_err(|x| e(&x))?;
+    root.present().map_err(|x| e(&x))?;
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn writes_an_svg_with_every_series_label() {
+        let dir = std::env::temp_dir().join(format!("signorini-plot-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("p.svg");
+        let series = vec![
+            Series {
+                label: "condensed".into(),
+                points: vec![(1e3, 1e-2), (4e3, 2.5e-3)],
+            },
+            Series {
+                label: "direct".into(),
+                points: vec![(1e3, 1e-1), (4e3, 9e-2)],
+            },
+        ];
+        loglog_svg(&path, "t", "x", "y", &series).unwrap();
+        let svg = std::fs::read_to_string(&path).unwrap();
+        assert!(svg.starts_with("<svg") && svg.contains("condensed") && svg.contains("direct"));
+        assert!(loglog_svg(
+            &path,
+            "t",
+            "x",
+            "y",
+            &[Series {
+                label: "z".into(),
+                points: vec![(0.0, 1.0)]
+            }]
+        )
+        .is_err());
+    }
+}
