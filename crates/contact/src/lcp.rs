@@ -25,7 +25,13 @@ pub struct LcpOptions {
 
 impl Default for LcpOptions {
     fn default() -> Self {
-        Self { tolerance: 1e-10, max_iterations: 500, force_scale: 1.0, gap_scale: 1.0, stiffness: None }
+        Self {
+            tolerance: 1e-10,
+            max_iterations: 500,
+            force_scale: 1.0,
+            gap_scale: 1.0,
+            stiffness: None,
+        }
     }
 }
 
@@ -52,7 +58,9 @@ pub struct LcpSolution {
 /// w = W λ + q.
 pub fn gaps(w: &Mat<f64>, q: &[f64], lambda: &[f64]) -> Vec<f64> {
     let m = q.len();
-    (0..m).map(|i| q[i] + (0..m).map(|j| w[(i, j)] * lambda[j]).sum::<f64>()).collect()
+    (0..m)
+        .map(|i| q[i] + (0..m).map(|j| w[(i, j)] * lambda[j]).sum::<f64>())
+        .collect()
 }
 
 /// The scaled natural residual of the LCP, max over points of
@@ -61,7 +69,10 @@ pub fn gaps(w: &Mat<f64>, q: &[f64], lambda: &[f64]) -> Vec<f64> {
 /// at a solution, and comparable with the tolerance whatever the units.
 pub fn lcp_residual(w: &Mat<f64>, q: &[f64], lambda: &[f64], opts: &LcpOptions) -> f64 {
     let g = gaps(w, q, lambda);
-    let f = opts.force_scale.max(lambda.iter().fold(0.0f64, |a, v| a.max(v.abs()))).max(f64::MIN_POSITIVE);
+    let f = opts
+        .force_scale
+        .max(lambda.iter().fold(0.0f64, |a, v| a.max(v.abs())))
+        .max(f64::MIN_POSITIVE);
     let l = opts.gap_scale.max(f64::MIN_POSITIVE);
     lambda
         .iter()

@@ -8,12 +8,18 @@
 //! compressive normal force on the slave (the seed's F_n = −λ ≤ 0, §2.1);
 //! complementarity λ g = 0.
 
+pub mod augmented_lagrangian;
 pub mod delassus;
 pub mod direct;
 pub mod equilibrium;
 pub mod geometry;
 pub mod lcp;
+pub mod lemke;
+pub mod mprgp;
+pub mod penalty;
+pub mod projected_gradient;
 pub mod status;
+pub mod uzawa;
 
 pub use delassus::DelassusProblem;
 pub use geometry::{ContactPoint, MasterGeometry, NormalRule, Term, TermSide};

@@ -639,6 +639,34 @@ pub struct Solver {
     pub max_iterations: usize,
     /// Friction outer loop: `fixed_point` (default) or `status`.
     pub friction: FrictionSolver,
+    /// Status method: `all` statuses changed at each iteration (default) or a
+    /// `single` one (the variant with the convergence proof, seed §3.3).
+    pub status_changes: StatusChanges,
+    /// Status method: impose the active constraints by `multipliers`
+    /// (default) or by `penalty` (seed §3.3, step 1).
+    pub constraints: Constraints,
+    /// Penalty stiffness of `method = "penalty"` and of the penalty-imposed
+    /// status method, as a multiple of the contact stiffness 1/mean diag(W)
+    /// (default 1e8). A `law = { penalty = k }` contact uses its own k.
+    pub penalty: f64,
+}
+
+/// `solver.status_changes`.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum StatusChanges {
+    #[default]
+    All,
+    Single,
+}
+
+/// `solver.constraints`.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Constraints {
+    #[default]
+    Multipliers,
+    Penalty,
 }
 
 impl Default for Solver {
@@ -649,6 +677,9 @@ impl Default for Solver {
             tolerance: 1e-10,
             max_iterations: 500,
             friction: FrictionSolver::FixedPoint,
+            status_changes: StatusChanges::All,
+            constraints: Constraints::Multipliers,
+            penalty: 1e8,
         }
     }
 }
@@ -665,11 +696,13 @@ pub enum Method {
     Uzawa,
     AugmentedLagrangian,
     Penalty,
+    /// Projected conjugate gradient (an addition to SCENE.md's list).
+    ProjectedConjugateGradient,
 }
 
 impl Method {
-    /// Every method, in the order of `SCENE.md`.
-    pub const ALL: [Method; 7] = [
+    /// Every method, in the order of `SCENE.md`, then the additions.
+    pub const ALL: [Method; 8] = [
         Method::Status,
         Method::Lemke,
         Method::ProjectedGradient,
@@ -677,6 +710,7 @@ impl Method {
         Method::Uzawa,
         Method::AugmentedLagrangian,
         Method::Penalty,
+        Method::ProjectedConjugateGradient,
     ];
 
     /// The scene-file / CLI spelling.
@@ -689,6 +723,7 @@ impl Method {
             Method::Uzawa => "uzawa",
             Method::AugmentedLagrangian => "augmented_lagrangian",
             Method::Penalty => "penalty",
+            Method::ProjectedConjugateGradient => "projected_conjugate_gradient",
         }
     }
 }

@@ -679,6 +679,15 @@ impl Scene {
                 format!("must satisfy 0 < tolerance < 1, got {t}"),
             ));
         }
+        if !(self.solver.penalty > 0.0 && self.solver.penalty.is_finite()) {
+            return Err(invalid(
+                "solver.penalty",
+                &format!(
+                    "must be a positive multiple of the contact stiffness, got {}",
+                    self.solver.penalty
+                ),
+            ));
+        }
         if self.solver.max_iterations == 0 {
             return Err(invalid("solver.max_iterations", "must be >= 1, got 0"));
         }

@@ -1,0 +1,560 @@
+//! Uzawa's algorithm on the dual problem: the method of Lagrange multipliers
+//! of seed §3.4 ("le problème unilatéral est reporté sur les efforts par
+//! dualisation").
+//!
+//! Eliminating the displacements (S u = F' + Bᵀλ, DESIGN.md §3) leaves the
+//! dual problem in the contact forces alone,
+//!
+//! ```text
+//!   min_{λ ≥ 0}  J(λ) = ½ λᵀ W λ + qᵀ λ,     ∇J(λ) = W λ + q = g(λ),
+//! ```
+//!
+//! whose optimality conditions are LCP(W, q): λ ≥ 0, g = Wλ + q ≥ 0, λ·g = 0.
+//! Uzawa's iteration is the projected gradient ascent on the multipliers of
+//! the Lagrangian (descent on J):
+//!
+//! ```text
+//!   λ ← max(0, λ − ρ (W λ + q)),
+//! ```
+//!
+//! i.e. a point that penetrates (g_p < 0) gains force, a point that opens
+//! (g_p > 0) loses it, down to zero. It converges for 0 < ρ < 2/λ_max(W)
+//! (J decreases at every step), linearly with a rate 1 − ρ λ_min(W) on the
+//! contact zone: robust and cheap per iteration (one product with W), but
+//! slow when W is ill-conditioned (fine meshes).
+//!
+//! Step: ρ = 1.9/‖W‖₂ with ‖W‖₂ = λ_max(W) estimated by power iteration,
+//! unless `opts.stiffness = Some(s)` gives ρ = s / mean diag(W) (a multiple of
+//! the contact stiffness 1/W_pp; ρ ≥ 2/λ_max diverges). Safeguard: if J
+//! increases, which proves ρ ≥ 2/λ_max(W), ρ is halved and the step is
+//! repeated from the last iterate.
+
+use faer::Mat;
+
+use crate::lcp::{LcpOptions, LcpSolution, SolverReport};
+use crate::ContactError;
+
+/// Solves LCP(W, q) by Uzawa's iteration λ ← max(0, λ − ρ(Wλ + q)) from
+/// λ = 0 (see the module documentation).
+///
+/// `report.iterations` counts the Uzawa steps, `report.operator_applications`
+/// every product with W (power iteration included), `report.residual_history`
+/// the natural residual ([`crate::lcp_residual`]) after each step.
+pub fn uzawa(w: &Mat<f64>, q: &[f64], opts: &LcpOptions) -> Result<LcpSolution, ContactError> {
+    check_lcp_input(w, q)?;
+    let m = q.len();
+    let mut report = SolverReport {
+        method: "uzawa".into(),
+        ..Default::default()
+    };
+    if m == 0 {
+        report.converged = true;
+        report.stopping_reason = "no contact point".into();
+        return Ok(LcpSolution {
+            lambda: Vec::new(),
+            report,
+        });
+    }
+    let mut lambda = vec![0.0; m];
+    let mut g = q.to_vec();
+    let r0 = natural_residual(&lambda, &g, opts);
+    if r0 <= opts.tolerance {
+        report.converged = true;
+        report.stopping_reason = format!(
+            "λ = 0 already satisfies the tolerance (natural residual {r0:.3e}): no point in contact"
+        );
+        return Ok(LcpSolution { lambda, report });
+    }
+    let d = mean_diag(w);
+    let (mut rho, rho_origin) = match opts.stiffness {
+        Some(s) if s.is_finite() && s > 0.0 && d > 0.0 => (s / d, format!("{s} / mean diag W")),
+        Some(s) if !(s.is_finite() && s > 0.0) => {
+            return Err(ContactError::Solve(format!(
+                "Uzawa: the step factor (stiffness option) must be finite and positive, got {s}"
+            )))
+        }
+        _ => {
+            let (lmax, products) = power_iteration(w);
+            report.operator_applications += products;
+            if lmax > 0.0 {
+                (
+                    1.9 / lmax,
+                    format!("1.9 / ‖W‖₂ (power iteration: ‖W‖₂ ≈ {lmax:.6e})"),
+                )
+            } else {
+                (1.0, "1 (W = 0)".to_string())
+            }
+        }
+    };
+    let mut energy = 0.0; // J(0)
+    let mut halvings = 0usize;
+    let mut next = vec![0.0; m];
+    while report.iterations < opts.max_iterations {
+        report.iterations += 1;
+        for p in 0..m {
+            next[p] = (lambda[p] - rho * g[p]).max(0.0);
+        }
+        let g_next = gaps_of(w, q, &next);
+        report.operator_applications += 1;
+        if next.iter().chain(&g_next).any(|v| !v.is_finite()) {
+            return Err(ContactError::Solve(format!(
+                "Uzawa: non-finite iterate at step {} (ρ = {rho:.3e})",
+                report.iterations
+            )));
+        }
+        let e_next = dual_energy(q, &next, &g_next);
+        if e_next - energy > 1e-12 * (energy.abs() + e_next.abs()) && halvings < 60 {
+            // J increased: ρ ≥ 2/λ_max(W). Halve and redo the step.
+            rho *= 0.5;
+            halvings += 1;
+            report
+                .residual_history
+                .push(natural_residual(&lambda, &g, opts));
+            continue;
+        }
+        std::mem::swap(&mut lambda, &mut next);
+        g = g_next;
+        energy = e_next;
+        let r = natural_residual(&lambda, &g, opts);
+        report.residual_history.push(r);
+        if r <= opts.tolerance {
+            report.converged = true;
+            report.stopping_reason = format!(
+                "natural residual {r:.3e} ≤ tolerance {:.1e} after {} iterations (ρ = {rho_origin}{})",
+                opts.tolerance,
+                report.iterations,
+                halved(halvings)
+            );
+            break;
+        }
+    }
+    if !report.converged {
+        report.stopping_reason = format!(
+            "iteration limit {} reached: natural residual {:.3e} > tolerance {:.1e} (ρ = {rho_origin}{}); Uzawa converges slowly when W is ill-conditioned",
+            opts.max_iterations,
+            report.residual_history.last().copied().unwrap_or(r0),
+            opts.tolerance,
+            halved(halvings)
+        );
+    }
+    Ok(LcpSolution { lambda, report })
+}
+
+fn halved(n: usize) -> String {
+    if n == 0 {
+        String::new()
+    } else {
+        format!(", halved {n} times because the dual energy increased")
+    }
+}
+
+/// J(λ) = ½ λᵀWλ + qᵀλ = ½ λ·(g + q) with g = Wλ + q.
+fn dual_energy(q: &[f64], lambda: &[f64], g: &[f64]) -> f64 {
+    0.5 * lambda
+        .iter()
+        .zip(g.iter().zip(q))
+        .map(|(l, (g, q))| l * (g + q))
+        .sum::<f64>()
+}
+
+/// Largest eigenvalue of the symmetric positive semi-definite W by power
+/// iteration (Rayleigh quotient), and the number of products used.
+pub(crate) fn power_iteration(w: &Mat<f64>) -> (f64, usize) {
+    let m = w.nrows();
+    // Deterministic start with every component non-zero and no symmetry.
+    let mut v: Vec<f64> = (0..m)
+        .map(|i| 1.0 + 0.1 * ((i * 7 + 3) % 11) as f64)
+        .collect();
+    let zero = vec![0.0; m];
+    let mut mu = 0.0;
+    let mut products = 0;
+    for _ in 0..200 {
+        let nv = v.iter().map(|x| x * x).sum::<f64>().sqrt();
+        if nv == 0.0 || !nv.is_finite() {
+            return (0.0, products);
+        }
+        v.iter_mut().for_each(|x| *x /= nv);
+        let wv = gaps_of(w, &zero, &v);
+        products += 1;
+        let mu_new: f64 = v.iter().zip(&wv).map(|(a, b)| a * b).sum();
+        v = wv;
+        if (mu_new - mu).abs() <= 1e-8 * mu_new.abs() {
+            return (mu_new, products);
+        }
+        mu = mu_new;
+    }
+    (mu, products)
+}
+
+/// Mean of the diagonal of W (the mean compliance of a contact point).
+pub(crate) fn mean_diag(w: &Mat<f64>) -> f64 {
+    let m = w.nrows();
+    if m == 0 {
+        return 0.0;
+    }
+    (0..m).map(|i| w[(i, i)]).sum::<f64>() / m as f64
+}
+
+/// g = Wλ + q, skipping the zero forces (few points are in contact).
+pub(crate) fn gaps_of(w: &Mat<f64>, q: &[f64], lambda: &[f64]) -> Vec<f64> {
+    let mut g = q.to_vec();
+    for (j, &l) in lambda.iter().enumerate() {
+        if l != 0.0 {
+            for (gi, wij) in g.iter_mut().zip(w.col_as_slice(j)) {
+                *gi += wij * l;
+            }
+        }
+    }
+    g
+}
+
+/// The natural residual of [`crate::lcp_residual`] from λ and g = Wλ + q
+/// already computed (no product with W).
+pub(crate) fn natural_residual(lambda: &[f64], g: &[f64], opts: &LcpOptions) -> f64 {
+    let f = opts
+        .force_scale
+        .max(lambda.iter().fold(0.0f64, |a, v| a.max(v.abs())))
+        .max(f64::MIN_POSITIVE);
+    let l = opts.gap_scale.max(f64::MIN_POSITIVE);
+    lambda
+        .iter()
+        .zip(g)
+        .map(|(&lp, &gp)| (lp / f).min(gp / l).abs())
+        .fold(0.0, f64::max)
+}
+
+/// W square of the size of q, every entry finite.
+pub(crate) fn check_lcp_input(w: &Mat<f64>, q: &[f64]) -> Result<(), ContactError> {
+    let m = q.len();
+    if w.nrows() != m || w.ncols() != m {
+        return Err(ContactError::Solve(format!(
+            "LCP: W is {}×{} but q has {m} entries",
+            w.nrows(),
+            w.ncols()
+        )));
+    }
+    if let Some(p) = q.iter().position(|v| !v.is_finite()) {
+        return Err(ContactError::Solve(format!(
+            "LCP: non-finite gap q[{p}] = {}",
+            q[p]
+        )));
+    }
+    for j in 0..m {
+        if let Some(i) = w.col_as_slice(j).iter().position(|v| !v.is_finite()) {
+            return Err(ContactError::Solve(format!(
+                "LCP: non-finite Delassus entry W[{i},{j}] = {}",
+                w[(i, j)]
+            )));
+        }
+    }
+    Ok(())
+}
+
+/// Deterministic test problems shared by the tests of the dual and
+/// regularised methods, and the reference solution by the status method.
+#[cfg(test)]
+pub(crate) mod test_problems {
+    use faer::Mat;
+
+    use crate::status::{status_method, StatusOptions, StatusVariant};
+    use crate::DelassusProblem;
+
+    pub struct XorShift(pub u64);
+
+    impl XorShift {
+        pub fn next_f64(&mut self) -> f64 {
+            let mut x = self.0;
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            self.0 = x;
+            (x >> 11) as f64 / (1u64 << 53) as f64
+        }
+        /// Uniform in [a, b).
+        pub fn uniform(&mut self, a: f64, b: f64) -> f64 {
+            a + (b - a) * self.next_f64()
+        }
+    }
+
+    /// W = AᵀA + εI with A (3m × m) uniform in [−1, 1): SPD, condition ~ 15.
+    pub fn random_spd(m: usize, rng: &mut XorShift) -> Mat<f64> {
+        let a = Mat::<f64>::from_fn(3 * m, m, |_, _| rng.uniform(-1.0, 1.0));
+        let mut w = a.transpose() * &a;
+        for i in 0..m {
+            w[(i, i)] += 1e-3;
+        }
+        for j in 0..m {
+            for i in j + 1..m {
+                let v = 0.5 * (w[(i, j)] + w[(j, i)]);
+                w[(i, j)] = v;
+                w[(j, i)] = v;
+            }
+        }
+        w
+    }
+
+    /// q = g* − W λ* for a prescribed complementary pair (λ*, g*).
+    pub fn q_from_solution(w: &Mat<f64>, lambda: &[f64], g: &[f64]) -> Vec<f64> {
+        let m = lambda.len();
+        (0..m)
+            .map(|i| g[i] - (0..m).map(|j| w[(i, j)] * lambda[j]).sum::<f64>())
+            .collect()
+    }
+
+    /// The exact solution by the status method (seed §3.3).
+    pub fn exact_solution(w: &Mat<f64>, q: &[f64]) -> Vec<f64> {
+        let m = q.len();
+        let mut p = DelassusProblem::new(
+            &Mat::<f64>::identity(m, m),
+            &(0..m).map(|i| vec![(i, 1.0)]).collect::<Vec<_>>(),
+            &vec![0.0; m],
+            &vec![0.0; m],
+            &Mat::zeros(m, 0),
+        )
+        .unwrap();
+        p.w = w.clone();
+        p.q = q.to_vec();
+        let out = status_method(
+            &mut p,
+            &StatusOptions {
+                variant: StatusVariant::All,
+                max_iterations: 10 * m + 10,
+                tolerance: 1e-13,
+                force_scale: 1.0,
+                gap_scale: 1.0,
+                initial_active: None,
+            },
+        )
+        .unwrap();
+        assert!(out.converged, "{}", out.stopping_reason);
+        out.lambda.iter().map(|v| v.max(0.0)).collect()
+    }
+
+    pub fn norm_inf(v: &[f64]) -> f64 {
+        v.iter().fold(0.0, |a, x| a.max(x.abs()))
+    }
+
+    /// ‖a − b‖∞ / ‖b‖∞ (absolute when b = 0).
+    pub fn rel_err(a: &[f64], b: &[f64]) -> f64 {
+        let d = a
+            .iter()
+            .zip(b)
+            .fold(0.0f64, |acc, (x, y)| acc.max((x - y).abs()));
+        d / norm_inf(b).max(1e-300)
+    }
+
+    /// A named LCP and its exact solution.
+    pub struct Case {
+        pub name: String,
+        pub w: Mat<f64>,
+        pub q: Vec<f64>,
+        pub exact: Vec<f64>,
+    }
+
+    /// Random mixed-sign problems (m = 5, 20, 60), all active, none active,
+    /// and a weakly active point (q_p = 0 … zero force and zero gap).
+    pub fn cases() -> Vec<Case> {
+        let mut rng = XorShift(0x9E37_79B9_7F4A_7C15);
+        let mut out = Vec::new();
+        for m in [5usize, 20, 60] {
+            let w = random_spd(m, &mut rng);
+            let scale = super::mean_diag(&w);
+            let q: Vec<f64> = (0..m).map(|_| rng.uniform(-1.0, 1.0) * scale).collect();
+            let exact = exact_solution(&w, &q);
+            out.push(Case {
+                name: format!("random mixed m = {m}"),
+                w,
+                q,
+                exact,
+            });
+        }
+        let m = 20;
+        let w = random_spd(m, &mut rng);
+        let l: Vec<f64> = (0..m).map(|_| rng.uniform(0.5, 1.5)).collect();
+        let q = q_from_solution(&w, &l, &vec![0.0; m]);
+        let exact = exact_solution(&w, &q);
+        out.push(Case {
+            name: "all active".into(),
+            w,
+            q,
+            exact,
+        });
+        let w = random_spd(m, &mut rng);
+        let q: Vec<f64> = (0..m).map(|_| rng.uniform(0.1, 1.0)).collect();
+        out.push(Case {
+            name: "none active".into(),
+            w,
+            q,
+            exact: vec![0.0; m],
+        });
+        // Points 0..8 active, 8..18 open, 18 and 19 weakly active (λ = g = 0).
+        let w = random_spd(m, &mut rng);
+        let l: Vec<f64> = (0..m)
+            .map(|p| if p < 8 { rng.uniform(0.5, 1.5) } else { 0.0 })
+            .collect();
+        let g: Vec<f64> = (0..m)
+            .map(|p| {
+                if (8..18).contains(&p) {
+                    rng.uniform(0.1, 1.0)
+                } else {
+                    0.0
+                }
+            })
+            .collect();
+        let q = q_from_solution(&w, &l, &g);
+        let ex = exact_solution(&w, &q);
+        assert!(rel_err(&ex, &l) < 1e-12);
+        out.push(Case {
+            name: "weakly active".into(),
+            w,
+            q,
+            exact: l,
+        });
+        out
+    }
+
+    /// A redundant problem: point 0 of a regular problem (m0 = 8) doubled
+    /// (two identical rows, W singular), point 0 active. Returns (W, q) of
+    /// the doubled problem and (λ, g) of the regular one.
+    pub fn redundant() -> (Mat<f64>, Vec<f64>, Vec<f64>, Vec<f64>) {
+        let mut rng = XorShift(0x2545_F491_4F6C_DD1D);
+        let m0 = 8;
+        let w0 = random_spd(m0, &mut rng);
+        let l: Vec<f64> = (0..m0)
+            .map(|p| if p < 4 { rng.uniform(0.5, 1.5) } else { 0.0 })
+            .collect();
+        let g: Vec<f64> = (0..m0)
+            .map(|p| if p < 4 { 0.0 } else { rng.uniform(0.1, 1.0) })
+            .collect();
+        let q0 = q_from_solution(&w0, &l, &g);
+        let map = |i: usize| if i == 0 { 0 } else { i - 1 };
+        let m = m0 + 1;
+        let w = Mat::<f64>::from_fn(m, m, |i, j| w0[(map(i), map(j))]);
+        let q: Vec<f64> = (0..m).map(|i| q0[map(i)]).collect();
+        (w, q, l, g)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::test_problems::*;
+    use super::*;
+    use crate::lcp::gaps;
+    use crate::lcp_residual;
+
+    fn opts() -> LcpOptions {
+        LcpOptions {
+            tolerance: 1e-13,
+            max_iterations: 100_000,
+            ..Default::default()
+        }
+    }
+
+    #[test]
+    fn uzawa_agrees_with_the_status_method() {
+        for c in cases() {
+            let sol = uzawa(&c.w, &c.q, &opts()).unwrap();
+            assert!(
+                sol.report.converged,
+                "{}: {}",
+                c.name, sol.report.stopping_reason
+            );
+            assert!(sol.lambda.iter().all(|v| *v >= 0.0 && v.is_finite()));
+            let e = rel_err(&sol.lambda, &c.exact);
+            if norm_inf(&c.exact) == 0.0 {
+                assert_eq!(e, 0.0, "{}", c.name);
+            } else {
+                assert!(e <= 1e-8, "{}: relative error {e:e}", c.name);
+            }
+            assert_eq!(sol.report.residual_history.len(), sol.report.iterations);
+            println!(
+                "uzawa {}: {} iterations, {} products",
+                c.name, sol.report.iterations, sol.report.operator_applications
+            );
+        }
+    }
+
+    #[test]
+    fn the_residual_without_a_product_is_lcp_residual() {
+        let c = &cases()[1];
+        let o = opts();
+        let g = gaps(&c.w, &c.q, &c.exact);
+        let lam: Vec<f64> = c.exact.iter().map(|v| v * 1.1).collect();
+        let g2 = gaps(&c.w, &c.q, &lam);
+        assert_eq!(
+            natural_residual(&c.exact, &g, &o),
+            lcp_residual(&c.w, &c.q, &c.exact, &o)
+        );
+        assert_eq!(
+            natural_residual(&lam, &g2, &o),
+            lcp_residual(&c.w, &c.q, &lam, &o)
+        );
+    }
+
+    #[test]
+    fn uzawa_on_redundant_constraints_gives_the_gaps_and_the_total_force() {
+        let (w, q, l0, g0) = redundant();
+        let sol = uzawa(&w, &q, &opts()).unwrap();
+        assert!(sol.report.converged, "{}", sol.report.stopping_reason);
+        let l = &sol.lambda;
+        assert!(l.iter().all(|v| v.is_finite() && *v >= 0.0));
+        let g = gaps(&w, &q, l);
+        let scale = norm_inf(&l0);
+        assert!(((l[0] + l[1]) - l0[0]).abs() <= 1e-8 * scale);
+        for i in 1..l0.len() {
+            assert!((l[i + 1] - l0[i]).abs() <= 1e-8 * scale);
+        }
+        let gs = norm_inf(&g0);
+        assert!(g[0].abs() <= 1e-8 * gs && g[1].abs() <= 1e-8 * gs);
+        for i in 1..g0.len() {
+            assert!(
+                (g[i + 1] - g0[i]).abs() <= 1e-8 * gs,
+                "{} vs {}",
+                g[i + 1],
+                g0[i]
+            );
+        }
+    }
+
+    #[test]
+    fn uzawa_reports_the_iteration_limit_and_rejects_non_finite_input() {
+        let c = &cases()[2];
+        let o = LcpOptions {
+            max_iterations: 5,
+            ..opts()
+        };
+        let sol = uzawa(&c.w, &c.q, &o).unwrap();
+        assert!(!sol.report.converged);
+        assert!(sol.report.stopping_reason.contains("iteration limit 5"));
+        assert_eq!(sol.report.iterations, 5);
+        assert!(sol.lambda.iter().all(|v| v.is_finite() && *v >= 0.0));
+        let mut q = c.q.clone();
+        q[3] = f64::NAN;
+        assert!(matches!(uzawa(&c.w, &q, &o), Err(ContactError::Solve(_))));
+        let mut w = c.w.clone();
+        w[(1, 2)] = f64::INFINITY;
+        assert!(matches!(uzawa(&w, &c.q, &o), Err(ContactError::Solve(_))));
+        let e = uzawa(&Mat::zeros(0, 0), &[], &o).unwrap();
+        assert!(e.report.converged && e.lambda.is_empty());
+    }
+
+    #[test]
+    fn a_too_large_step_is_halved_instead_of_diverging() {
+        let c = &cases()[1];
+        let o = LcpOptions {
+            stiffness: Some(50.0),
+            ..opts()
+        };
+        let sol = uzawa(&c.w, &c.q, &o).unwrap();
+        assert!(sol.report.converged, "{}", sol.report.stopping_reason);
+        assert!(sol.report.stopping_reason.contains("halved"));
+        assert!(rel_err(&sol.lambda, &c.exact) <= 1e-8);
+    }
+
+    #[test]
+    fn power_iteration_finds_the_largest_eigenvalue() {
+        let w = Mat::<f64>::from_fn(3, 3, |i, j| if i == j { [1.0, 5.0, 2.0][i] } else { 0.0 });
+        let (l, _) = power_iteration(&w);
+        assert!((l - 5.0).abs() <= 1e-6 * 5.0);
+    }
+}
