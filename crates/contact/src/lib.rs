@@ -15,6 +15,7 @@ pub mod equilibrium;
 pub mod geometry;
 pub mod lcp;
 pub mod lemke;
+pub mod methods;
 pub mod mprgp;
 pub mod penalty;
 pub mod projected_gradient;

@@ -24,6 +24,27 @@ pub struct StepReport {
     pub active_history: Vec<usize>,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub cycle_detected_at: Option<usize>,
+    /// What the contact algorithm did at this step.
+    pub solver: serde_json::Value,
+    /// Penalty methods: deviation from the exact unilateral solution.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub regularisation: Option<Regularisation>,
+}
+
+/// How far a penalty (regularised) solution is from the exact unilateral one.
+#[derive(Debug, Clone, Serialize)]
+pub struct Regularisation {
+    /// Penalty stiffness as a multiple of the contact stiffness 1/mean diag(W).
+    pub stiffness_factor: f64,
+    /// max |λ − λ_exact| / max |λ_exact|.
+    pub force_deviation: f64,
+    /// Largest penetration max(−g).
+    pub max_penetration: f64,
+    /// Largest penetration over the local element size (tributary length).
+    pub penetration_over_element_size: f64,
+    /// Set when the penetration exceeds the stated fraction of the element size.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub warning: Option<String>,
 }
 
 /// Wall-clock time per phase, in seconds.
@@ -59,6 +80,9 @@ pub struct Certificate {
     pub tension: f64,
     pub complementarity: f64,
     pub cone: f64,
+    /// Regularised (penalty) law residual max |λ − k max(0, −g)| over the force
+    /// scale, on the points of a `law = { penalty = k }` contact.
+    pub law: f64,
     /// The tolerance these were checked against.
     pub tolerance: f64,
     /// Force and length scales used to make the residuals relative.
@@ -144,6 +168,9 @@ pub struct Report {
     pub converged: bool,
     pub method: String,
     pub path: String,
+    /// The contact algorithm's account of the last step (iterations, operator
+    /// applications, residual history, stopping reason).
+    pub solver: serde_json::Value,
     /// Which stages ran (DESIGN.md §5).
     pub stages: Vec<String>,
     pub steps: Vec<StepReport>,

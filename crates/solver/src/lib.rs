@@ -24,13 +24,14 @@ use signorini_comm::{broadcast, deal, gather, Transport};
 use signorini_condense::{spmv, submatrix};
 use signorini_contact::direct::DirectProblem;
 use signorini_contact::equilibrium::nnls;
+use signorini_contact::methods::{solve_lcp, Algorithm};
 use signorini_contact::{
-    status_method, ActiveSetSolve, ContactError, DelassusProblem, StatusOptions, StatusOutcome,
-    StatusVariant,
+    status_method, ActiveSetSolve, ContactError, DelassusProblem, LcpOptions, SolverReport,
+    StatusOptions, StatusOutcome, StatusVariant,
 };
 use signorini_report::{
-    reference, Certificate, ContactRow, ContactSummary, Memory, Probe, RankStats, Report,
-    StepReport, Timings,
+    reference, Certificate, ContactRow, ContactSummary, Memory, Probe, RankStats, Regularisation,
+    Report, StepReport, Timings,
 };
 use signorini_scene as scene;
 
@@ -212,11 +213,26 @@ pub fn run(
     let mut timings = Timings::default();
     let method = opts.method.unwrap_or(sc.solver.method);
     let path = opts.path.unwrap_or(sc.solver.path);
-    if method != scene::Method::Status {
+    let algorithm = algorithm_of(sc, method);
+    if path == scene::SolvePath::Direct
+        && algorithm != Algorithm::Status(StatusVariant::All)
+        && algorithm != Algorithm::Status(StatusVariant::Single)
+    {
         return Err(SolveError::Input(format!(
-            "solver.method: \"{}\" is not supported yet (supported: status)",
-            method.as_str()
+            "solver.method: the direct path runs the status method with multipliers; \"{}\" runs on path = \"condensed\"",
+            algorithm.name()
         )));
+    }
+    for c in &sc.contact {
+        if let scene::Law::Penalty { .. } = c.law {
+            if method != scene::Method::Penalty {
+                return Err(SolveError::Input(format!(
+                    "contact \"{}\".law: a regularised (penalty) law is solved by solver.method = \"penalty\", not \"{}\"",
+                    c.name,
+                    method.as_str()
+                )));
+            }
+        }
     }
     let mut messages = Vec::new();
     let mut stages = vec!["mesh".to_string(), "assemble".to_string()];
@@ -365,6 +381,7 @@ pub fn run(
                 data.sort_by_key(|d| d.id);
                 solve_root(
                     sc,
+                    algorithm,
                     &bodies,
                     &points,
                     &fixed_points,
@@ -462,6 +479,124 @@ struct StepSolution {
     gap0: Vec<f64>,
     f_scale: f64,
     length_scale: f64,
+    solver: SolverReport,
+    regularisation: Option<Regularisation>,
+    /// Penalty stiffness of each point whose contact has a regularised law (0: unilateral).
+    law_k: Vec<f64>,
+}
+
+/// The algorithm of a scene's `[solver]` (and `--method`).
+fn algorithm_of(sc: &scene::Scene, method: scene::Method) -> Algorithm {
+    let variant = match sc.solver.status_changes {
+        scene::StatusChanges::All => StatusVariant::All,
+        scene::StatusChanges::Single => StatusVariant::Single,
+    };
+    match method {
+        scene::Method::Status => match sc.solver.constraints {
+            scene::Constraints::Multipliers => Algorithm::Status(variant),
+            scene::Constraints::Penalty => Algorithm::StatusPenalty(variant),
+        },
+        scene::Method::Lemke => Algorithm::Lemke,
+        scene::Method::ProjectedGradient => Algorithm::ProjectedGradient,
+        scene::Method::ProjectedConjugateGradient => Algorithm::ProjectedConjugateGradient,
+        scene::Method::Mprgp => Algorithm::Mprgp,
+        scene::Method::Uzawa => Algorithm::Uzawa,
+        scene::Method::AugmentedLagrangian => Algorithm::AugmentedLagrangian,
+        scene::Method::Penalty => Algorithm::Penalty,
+    }
+}
+
+/// The fraction of the local element size (tributary length) beyond which a
+/// penalty penetration is warned about.
+pub const PENETRATION_WARNING_FRACTION: f64 = 0.01;
+
+/// Solves one step's condensed problem with a method other than the status
+/// method with multipliers; for the penalty methods, also the exact solution,
+/// to report their deviation.
+#[allow(clippy::too_many_arguments)]
+fn solve_with_algorithm(
+    sc: &scene::Scene,
+    algorithm: Algorithm,
+    problem: &DelassusProblem,
+    points: &[PointModel],
+    law_k: &[f64],
+    f_scale: f64,
+    length_scale: f64,
+) -> Result<(StatusOutcome, SolverReport, Option<Regularisation>), SolveError> {
+    if problem.n_kernel() > 0 {
+        return Err(SolveError::Input(format!(
+            "solver.method: \"{}\" cannot yet solve bodies held by contact alone (their rigid modes need the equilibrium constraint); use method = \"status\"",
+            algorithm.name()
+        )));
+    }
+    let opts = LcpOptions {
+        tolerance: sc.solver.tolerance,
+        max_iterations: sc.solver.max_iterations,
+        force_scale: f_scale,
+        gap_scale: length_scale,
+        stiffness: Some(sc.solver.penalty),
+    };
+    let uniform = signorini_contact::penalty::uniform_stiffness(&problem.w, sc.solver.penalty);
+    let k: Vec<f64> = law_k
+        .iter()
+        .zip(&uniform)
+        .map(|(&kl, &ku)| if kl > 0.0 { kl } else { ku })
+        .collect();
+    let sol =
+        solve_lcp(algorithm, &problem.w, &problem.q, Some(&k), &opts).map_err(contact_error)?;
+    let gap = signorini_contact::lcp::gaps(&problem.w, &problem.q, &sol.lambda);
+    let regularisation = if algorithm.is_exact() {
+        None
+    } else {
+        let exact = solve_lcp(
+            Algorithm::Status(StatusVariant::All),
+            &problem.w,
+            &problem.q,
+            None,
+            &opts,
+        )
+        .map_err(contact_error)?;
+        let lmax = inf_norm(&exact.lambda).max(f64::MIN_POSITIVE);
+        let dev = sol
+            .lambda
+            .iter()
+            .zip(&exact.lambda)
+            .fold(0.0f64, |a, (x, y)| a.max((x - y).abs()))
+            / lmax;
+        let sizes: Vec<f64> = points.iter().map(|p| p.tributary).collect();
+        let pen = gap.iter().fold(0.0f64, |a, &g| a.max(-g));
+        let rel = gap.iter().zip(&sizes).fold(
+            0.0f64,
+            |a, (&g, &h)| if h > 0.0 { a.max(-g / h) } else { a },
+        );
+        Some(Regularisation {
+            stiffness_factor: sc.solver.penalty,
+            force_deviation: dev,
+            max_penetration: pen,
+            penetration_over_element_size: rel,
+            warning: signorini_contact::penalty::penetration_warning(
+                &gap,
+                &sizes,
+                PENETRATION_WARNING_FRACTION,
+            ),
+        })
+    };
+    let active: Vec<usize> = (0..sol.lambda.len())
+        .filter(|&p| sol.lambda[p] > 0.0)
+        .collect();
+    let outcome = StatusOutcome {
+        converged: sol.report.converged,
+        iterations: sol.report.iterations,
+        solves: sol.report.operator_applications,
+        active,
+        lambda: sol.lambda,
+        gap,
+        stopping_reason: sol.report.stopping_reason.clone(),
+        active_history: vec![],
+        cycle_detected_at: None,
+        variant_used: StatusVariant::All,
+    };
+    Ok((outcome, sol.report, regularisation))
 }
 
 /// What both paths hand to the report.
@@ -478,6 +613,7 @@ struct Partial {
     factor_bytes: u64,
     n_gamma: usize,
     dofs: usize,
+    solver: serde_json::Value,
 }
 
 /// Prescribed displacement and external force of a body at a step.
@@ -560,6 +696,7 @@ fn e_max(bodies: &[BodyModel]) -> f64 {
 #[allow(clippy::too_many_arguments)]
 fn solve_root(
     sc: &scene::Scene,
+    algorithm: Algorithm,
     bodies: &[BodyModel],
     points: &[PointModel],
     fixed: &[FixedPoint],
@@ -651,7 +788,29 @@ fn solve_root(
         check_floating_equilibrium(bodies, points, &e_of, &res, si)?;
         let mut problem =
             DelassusProblem::new(&s, &rows, &gap0, &fp, &kernel).map_err(contact_error)?;
-        let outcome = if points.is_empty() {
+        let law_k: Vec<f64> = points
+            .iter()
+            .map(|p| match sc.contact[p.contact].law {
+                scene::Law::Penalty { penalty } => penalty * p.tributary,
+                scene::Law::Unilateral => 0.0,
+            })
+            .collect();
+        let mut solver_report = None;
+        let mut regularisation = None;
+        let outcome = if !points.is_empty() && !matches!(algorithm, Algorithm::Status(_)) {
+            let (o, r, reg) = solve_with_algorithm(
+                sc,
+                algorithm,
+                &problem,
+                points,
+                &law_k,
+                f_scale,
+                length_scale,
+            )?;
+            solver_report = Some(r);
+            regularisation = reg;
+            o
+        } else if points.is_empty() {
             let (lambda, gap) = problem.solve_active(&[]).map_err(contact_error)?;
             StatusOutcome {
                 converged: true,
@@ -666,18 +825,36 @@ fn solve_root(
                 variant_used: StatusVariant::All,
             }
         } else {
+            let variant = match algorithm {
+                Algorithm::Status(v) => v,
+                _ => StatusVariant::All,
+            };
             status_method(
                 &mut problem,
-                &status_options(sc, f_scale, length_scale, &gap0),
+                &StatusOptions {
+                    variant,
+                    ..status_options(sc, f_scale, length_scale, &gap0)
+                },
             )
             .map_err(contact_error)?
         };
+        let solver = solver_report.unwrap_or_else(|| SolverReport {
+            method: algorithm.name().into(),
+            converged: outcome.converged,
+            iterations: outcome.iterations,
+            operator_applications: problem.solves,
+            residual_history: vec![],
+            stopping_reason: outcome.stopping_reason.clone(),
+        });
         u_gamma.push(problem.displacement(&outcome.lambda));
         steps.push(StepSolution {
             outcome,
             gap0,
             f_scale,
             length_scale,
+            solver,
+            regularisation,
+            law_k,
         });
     }
     Ok((RootAnswer { u_gamma }, steps))
@@ -704,16 +881,27 @@ fn certificate_of(
     let lmax = inf_norm(lambda);
     let lscale = sol.length_scale.max(umax).max(f64::MIN_POSITIVE);
     let fscale = sol.f_scale.max(lmax).max(f64::MIN_POSITIVE);
+    // Points of a regularised law obey λ = k max(0, −g) instead of g ≥ 0, λ g = 0.
+    let unilateral = |p: &usize| sol.law_k.get(*p).is_none_or(|k| *k == 0.0);
+    let law = (0..lambda.len())
+        .filter(|p| !unilateral(p))
+        .fold(0.0f64, |a, p| {
+            a.max((lambda[p] - sol.law_k[p] * (-gaps[p]).max(0.0)).abs())
+        })
+        / fscale;
     Certificate {
         equilibrium: res.equilibrium / res.force_scale.max(fscale),
-        penetration: gaps.iter().fold(0.0f64, |a, &g| a.max(-g)) / lscale,
+        penetration: (0..gaps.len())
+            .filter(unilateral)
+            .fold(0.0f64, |a, p| a.max(-gaps[p]))
+            / lscale,
         tension: lambda.iter().fold(0.0f64, |a, &l| a.max(-l)) / fscale,
-        complementarity: gaps
-            .iter()
-            .zip(lambda)
-            .fold(0.0f64, |a, (&g, &l)| a.max((g * l).abs()))
+        complementarity: (0..gaps.len())
+            .filter(unilateral)
+            .fold(0.0f64, |a, p| a.max((gaps[p] * lambda[p]).abs()))
             / (lscale * fscale),
         cone: 0.0,
+        law,
         tolerance: tolerance.max(1e-9),
         force_scale: fscale,
         length_scale: lscale,
@@ -794,7 +982,13 @@ fn conclude_step(
         stopping_reason: outcome.stopping_reason.clone(),
         active_history: outcome.active_history.clone(),
         cycle_detected_at: outcome.cycle_detected_at,
+        solver: serde_json::to_value(&sol.solver).unwrap_or_default(),
+        regularisation: sol.regularisation.clone(),
     });
+    if let Some(w) = sol.regularisation.as_ref().and_then(|r| r.warning.clone()) {
+        messages.push(format!("step {}: {w}", si + 1));
+    }
+    partial.solver = serde_json::to_value(&sol.solver).unwrap_or_default();
     partial.certificate = cert;
     partial.lambda = lambda.clone();
 }
@@ -812,6 +1006,7 @@ fn empty_partial() -> Partial {
         factor_bytes: 0,
         n_gamma: 0,
         dofs: 0,
+        solver: serde_json::Value::Null,
     }
 }
 
@@ -1008,11 +1203,23 @@ fn run_direct(
                 u
             })
             .collect();
+        let solver = SolverReport {
+            method: "status".into(),
+            converged: outcome.converged,
+            iterations: outcome.iterations,
+            operator_applications: problem.factorisations,
+            residual_history: vec![],
+            stopping_reason: outcome.stopping_reason.clone(),
+        };
+        let law_k = vec![0.0; points.len()];
         let sol = StepSolution {
             outcome,
             gap0,
             f_scale,
             length_scale,
+            solver,
+            regularisation: None,
+            law_k,
         };
         let res = direct_residuals(
             bodies,
@@ -1149,6 +1356,7 @@ fn finish_report(
         converged: partial.converged,
         method: method.as_str().to_string(),
         path: path.as_str().to_string(),
+        solver: partial.solver,
         stages,
         steps: partial.steps,
         timings_s: Timings {

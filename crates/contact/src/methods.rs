@@ -1,0 +1,159 @@
+//! One entry point for every algorithm on LCP(W, q) (DESIGN.md §4), so that
+//! the pipeline, `signorini local` and the benchmarks select them by name.
+//! Each algorithm lives in its own file: [`crate::status`],
+//! [`crate::lemke`], [`crate::projected_gradient`], [`crate::mprgp`],
+//! [`crate::uzawa`], [`crate::augmented_lagrangian`], [`crate::penalty`].
+
+use faer::Mat;
+
+use crate::lcp::{gaps, lcp_residual, LcpOptions, LcpSolution, SolverReport};
+use crate::status::{status_method, ActiveSetSolve, StatusOptions, StatusVariant};
+use crate::ContactError;
+
+/// The algorithms on the condensed problem in the forces.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Algorithm {
+    /// Status method (seed §3.3), constraints by Lagrange multipliers.
+    Status(StatusVariant),
+    /// Status method with the active constraints imposed by penalty (seed §3.3).
+    StatusPenalty(StatusVariant),
+    Lemke,
+    ProjectedGradient,
+    ProjectedConjugateGradient,
+    Mprgp,
+    Uzawa,
+    AugmentedLagrangian,
+    /// The penalty method / regularised law (seed §3.6).
+    Penalty,
+}
+
+impl Algorithm {
+    pub fn name(self) -> &'static str {
+        match self {
+            Algorithm::Status(_) => "status",
+            Algorithm::StatusPenalty(_) => "status_penalty",
+            Algorithm::Lemke => "lemke",
+            Algorithm::ProjectedGradient => "projected_gradient",
+            Algorithm::ProjectedConjugateGradient => "projected_conjugate_gradient",
+            Algorithm::Mprgp => "mprgp",
+            Algorithm::Uzawa => "uzawa",
+            Algorithm::AugmentedLagrangian => "augmented_lagrangian",
+            Algorithm::Penalty => "penalty",
+        }
+    }
+
+    /// Whether the answer is the exact solution of the LCP (not a regularised one).
+    pub fn is_exact(self) -> bool {
+        !matches!(self, Algorithm::Penalty | Algorithm::StatusPenalty(_))
+    }
+}
+
+/// LCP(W, q) as an [`ActiveSetSolve`]: W_AA λ_A = −q_A.
+pub struct DenseLcp<'a> {
+    pub w: &'a Mat<f64>,
+    pub q: &'a [f64],
+    pub solves: usize,
+}
+
+impl ActiveSetSolve for DenseLcp<'_> {
+    fn n_points(&self) -> usize {
+        self.q.len()
+    }
+    fn solve_active(&mut self, active: &[usize]) -> Result<(Vec<f64>, Vec<f64>), ContactError> {
+        use faer::prelude::Solve;
+        self.solves += 1;
+        let m = self.q.len();
+        let na = active.len();
+        let mut lambda = vec![0.0; m];
+        if na > 0 {
+            let a = Mat::<f64>::from_fn(na, na, |i, j| self.w[(active[i], active[j])]);
+            let rhs = Mat::<f64>::from_fn(na, 1, |i, _| -self.q[active[i]]);
+            let x = match a.llt(faer::Side::Lower) {
+                Ok(l) => l.solve(&rhs),
+                Err(_) => {
+                    let x = a.full_piv_lu().solve(&rhs);
+                    let r = &a * &x - &rhs;
+                    if !x.norm_max().is_finite()
+                        || r.norm_max() > 1e-8 * (a.norm_max() * x.norm_max() + rhs.norm_max())
+                    {
+                        return Err(ContactError::Singular(
+                            "W_AA (redundant contact constraints?)".into(),
+                        ));
+                    }
+                    x
+                }
+            };
+            for (i, &p) in active.iter().enumerate() {
+                lambda[p] = x[(i, 0)];
+            }
+        }
+        let g = gaps(self.w, self.q, &lambda);
+        Ok((lambda, g))
+    }
+}
+
+/// Solves LCP(W, q) with `algorithm`. `stiffness` gives the penalty
+/// stiffness per point for the penalty algorithms (force per unit gap);
+/// `None` uses `opts.stiffness` (default 1e8) / mean diag W.
+pub fn solve_lcp(
+    algorithm: Algorithm,
+    w: &Mat<f64>,
+    q: &[f64],
+    stiffness: Option<&[f64]>,
+    opts: &LcpOptions,
+) -> Result<LcpSolution, ContactError> {
+    let k = || -> Vec<f64> {
+        stiffness
+            .map(|k| k.to_vec())
+            .unwrap_or_else(|| crate::penalty::uniform_stiffness(w, opts.stiffness.unwrap_or(1e8)))
+    };
+    let mut sol = match algorithm {
+        Algorithm::Status(variant) => {
+            let mut p = DenseLcp { w, q, solves: 0 };
+            let closed = opts.tolerance * opts.gap_scale;
+            let out = status_method(
+                &mut p,
+                &StatusOptions {
+                    variant,
+                    max_iterations: opts.max_iterations,
+                    tolerance: opts.tolerance,
+                    force_scale: opts.force_scale,
+                    gap_scale: opts.gap_scale,
+                    initial_active: Some((0..q.len()).filter(|&i| q[i] <= closed).collect()),
+                },
+            )?;
+            LcpSolution {
+                report: SolverReport {
+                    method: "status".into(),
+                    converged: out.converged,
+                    iterations: out.iterations,
+                    operator_applications: p.solves,
+                    residual_history: vec![],
+                    stopping_reason: out.stopping_reason,
+                },
+                lambda: out.lambda,
+            }
+        }
+        Algorithm::StatusPenalty(variant) => {
+            crate::penalty::status_with_penalty(w, q, &k(), variant, opts)?
+        }
+        Algorithm::Lemke => crate::lemke::lemke(w, q, opts)?,
+        Algorithm::ProjectedGradient => crate::projected_gradient::projected_gradient(w, q, opts)?,
+        Algorithm::ProjectedConjugateGradient => {
+            crate::projected_gradient::projected_conjugate_gradient(w, q, opts)?
+        }
+        Algorithm::Mprgp => crate::mprgp::mprgp(w, q, opts)?,
+        Algorithm::Uzawa => crate::uzawa::uzawa(w, q, opts)?,
+        Algorithm::AugmentedLagrangian => {
+            crate::augmented_lagrangian::augmented_lagrangian(w, q, opts)?
+        }
+        Algorithm::Penalty => crate::penalty::penalty(w, q, &k(), opts)?,
+    };
+    sol.report.method = algorithm.name().into();
+    if sol.report.residual_history.is_empty() {
+        sol.report
+            .residual_history
+            .push(lcp_residual(w, q, &sol.lambda, opts));
+    }
+    Ok(sol)
+}
