@@ -1,0 +1,210 @@
+//! The course's algorithm family on the same condensed problem
+//! (VALIDATION.md §7): every exact method equals the status method; the
+//! penalty methods converge to it as their stiffness grows.
+
+use signorini_comm::Local;
+use signorini_scene::{parse_toml, Method};
+use signorini_solver::{run, RunOptions, RunOutput, SolveError};
+
+fn run_with(text: &str, method: Method) -> Result<RunOutput, SolveError> {
+    let sc = parse_toml(text).unwrap_or_else(|e| panic!("scene: {e}"));
+    run(
+        &sc,
+        "test",
+        &RunOptions {
+            method: Some(method),
+            path: None,
+        },
+        &Local,
+    )
+    .map(|o| o.expect("root output"))
+}
+
+fn example(name: &str) -> String {
+    std::fs::read_to_string(format!("{}/examples/{name}", env!("CARGO_MANIFEST_DIR"))).unwrap()
+}
+
+fn max_rel(a: &[f64], b: &[f64]) -> f64 {
+    let s = a
+        .iter()
+        .chain(b)
+        .fold(0.0f64, |m, v| m.max(v.abs()))
+        .max(f64::MIN_POSITIVE);
+    a.iter()
+        .zip(b)
+        .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()))
+        / s
+}
+
+fn forces(o: &RunOutput) -> Vec<f64> {
+    o.contact_rows.iter().map(|r| r.normal_force).collect()
+}
+
+/// A supported block pressed on a rigid plane with a gap profile that leaves
+/// part of it open: a non-trivial active set without floating bodies.
+fn tilted_block() -> String {
+    r#"
+dimension = 2
+[[materials]]
+name = "m"
+young = 100.0
+poisson = 0.3
+[[bodies]]
+name = "block"
+material = "m"
+mesh = { generator = "rectangle", origin = [0.0, 0.0], size = [2.0, 1.0], divisions = [20, 8] }
+[[bodies]]
+name = "floor"
+rigid = { shape = "plane", point = [0.0, -0.001], normal = [0.05, 1.0] }
+[[boundary]]
+body = "block"
+surface = "top"
+displacement = { x = 0.0, y = -0.02 }
+[[contact]]
+name = "c"
+slave = { body = "block", surface = "bottom" }
+master = { body = "floor" }
+"#
+    .to_string()
+}
+
+#[test]
+fn every_exact_method_equals_the_status_method_on_hertz_and_a_tilted_block() {
+    let hertz = example("hertz2d.toml").replace("divisions = 160", "divisions = 64");
+    for text in [hertz, tilted_block()] {
+        let reference = run_with(&text, Method::Status).unwrap();
+        assert!(reference.report.converged);
+        let active = reference.report.steps[0].active;
+        assert!(
+            active > 1 && active < reference.report.contact_points,
+            "a non-trivial active set: {active}"
+        );
+        for method in [
+            Method::Lemke,
+            Method::ProjectedGradient,
+            Method::ProjectedConjugateGradient,
+            Method::Mprgp,
+            Method::AugmentedLagrangian,
+        ] {
+            let out = run_with(&text, method).unwrap();
+            assert!(out.report.converged, "{method:?}: {:?}", out.report.failure);
+            assert!(
+                out.report.certificate.max() <= 1e-9,
+                "{method:?}: {:?}",
+                out.report.certificate
+            );
+            let fr = max_rel(&forces(&out), &forces(&reference));
+            assert!(fr <= 1e-8, "{method:?}: forces differ by {fr:e}");
+            let ur = max_rel(
+                &out.bodies[0].displacement,
+                &reference.bodies[0].displacement,
+            );
+            assert!(ur <= 1e-8, "{method:?}: displacements differ by {ur:e}");
+            assert_eq!(out.report.solver["method"], method.as_str());
+            assert!(out.report.solver["iterations"].as_u64().unwrap() >= 1);
+        }
+    }
+}
+
+#[test]
+fn uzawa_converges_given_iterations_and_says_so_when_it_does_not() {
+    let text = tilted_block().replace(
+        "[[contact]]",
+        "[solver]\nmax_iterations = 100000\n[[contact]]",
+    );
+    let reference = run_with(&tilted_block(), Method::Status).unwrap();
+    let out = run_with(&text, Method::Uzawa).unwrap();
+    assert!(out.report.converged, "{:?}", out.report.failure);
+    assert!(max_rel(&forces(&out), &forces(&reference)) <= 1e-8);
+    // Three iterations are not enough: not converged, and the report says why.
+    let short = tilted_block().replace("[[contact]]", "[solver]\nmax_iterations = 3\n[[contact]]");
+    let out = run_with(&short, Method::Uzawa).unwrap();
+    assert!(!out.report.converged);
+    assert!(
+        out.report
+            .failure
+            .as_deref()
+            .unwrap_or("")
+            .contains("uzawa")
+            || out.report.failure.is_some()
+    );
+    assert_eq!(out.report.solver["converged"], false);
+}
+
+/// Penalty: the deviation from the exact solution falls as the stiffness
+/// grows (like 1/k) until round-off stops it; the report shows it per step.
+#[test]
+fn penalty_converges_to_the_exact_solution_as_the_stiffness_grows() {
+    let hertz = example("hertz2d.toml").replace("divisions = 160", "divisions = 64");
+    let exact = run_with(&hertz, Method::Status).unwrap();
+    let mut last = f64::INFINITY;
+    let mut deviations = Vec::new();
+    for k in [1e0, 1e2, 1e4, 1e6, 1e8] {
+        let text = hertz.replace("[solver]", &format!("[solver]\npenalty = {k:e}"));
+        let out = run_with(&text, Method::Penalty).unwrap();
+        let reg = out.report.steps[0]
+            .regularisation
+            .as_ref()
+            .expect("penalty reports its regularisation");
+        let dev = max_rel(&forces(&out), &forces(&exact));
+        assert!(
+            (reg.force_deviation - dev).abs() <= 1e-6 + 1e-3 * dev,
+            "{} vs {dev}",
+            reg.force_deviation
+        );
+        assert!(
+            dev < last,
+            "k = {k:e}: deviation {dev:e} did not fall (previous {last:e})"
+        );
+        deviations.push(dev);
+        last = dev;
+        if k <= 1e0 {
+            assert!(
+                reg.warning.is_some(),
+                "a soft penalty penetrates more than 1 % of an element: {reg:?}"
+            );
+            assert!(
+                !out.report.converged,
+                "a visible penetration is not a converged unilateral answer"
+            );
+        }
+    }
+    assert!(last <= 1e-6, "{deviations:?}");
+}
+
+#[test]
+fn status_variants_and_penalty_imposed_constraints_agree_with_the_default() {
+    let hertz = example("hertz2d.toml").replace("divisions = 160", "divisions = 64");
+    let reference = run_with(&hertz, Method::Status).unwrap();
+    for extra in [
+        "status_changes = \"single\"",
+        "constraints = \"penalty\"\npenalty = 1e12",
+    ] {
+        let text = hertz.replace("[solver]", &format!("[solver]\n{extra}"));
+        let out = run_with(&text, Method::Status).unwrap();
+        assert!(out.report.converged, "{extra}: {:?}", out.report.failure);
+        let d = max_rel(&forces(&out), &forces(&reference));
+        assert!(d <= 1e-8, "{extra}: {d:e}");
+    }
+    // One change per iteration takes at least as many iterations as active points changed.
+    let single = run_with(
+        &hertz.replace("[solver]", "[solver]\nstatus_changes = \"single\""),
+        Method::Status,
+    )
+    .unwrap();
+    assert!(single.report.steps[0].iterations > reference.report.steps[0].iterations);
+}
+
+#[test]
+fn a_method_that_cannot_hold_a_floating_body_says_so() {
+    match run_with(&example("blocks.toml"), Method::Lemke) {
+        Err(SolveError::Input(m)) => assert!(
+            m.contains("held by contact alone") && m.contains("status"),
+            "{m}"
+        ),
+        other => panic!(
+            "expected a clear input error, got {:?}",
+            other.map(|o| o.report.converged)
+        ),
+    }
+}
