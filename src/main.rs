@@ -49,6 +49,21 @@ enum Command {
     },
     /// Parse and validate a scene, writing nothing.
     Check { scene: PathBuf },
+    /// Solve a stand-alone condensed problem LCP(W, q) given as JSON
+    /// {"W": [[...]], "q": [...]} or NumPy .npz (arrays W, q); prints one JSON
+    /// line of timings and residuals.
+    Local {
+        problem: PathBuf,
+        #[arg(long, default_value = "status")]
+        method: Method,
+        #[arg(long, default_value_t = 1e-10)]
+        tolerance: f64,
+        #[arg(long, default_value_t = 10_000)]
+        max_iterations: usize,
+        /// Include the contact forces λ in the JSON line.
+        #[arg(long)]
+        lambda: bool,
+    },
     /// Time scenes over refinement levels, subdomain counts and paths; writes
     /// DIR/bench.csv and prints a table.
     Bench {
@@ -77,6 +92,13 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     match cli.command {
         Command::Check { scene } => check(&scene),
+        Command::Local {
+            problem,
+            method,
+            tolerance,
+            max_iterations,
+            lambda,
+        } => local(&problem, method, tolerance, max_iterations, lambda),
         Command::Bench {
             scenes,
             levels,
@@ -215,6 +237,46 @@ fn bench(
         ExitCode::SUCCESS
     } else {
         ExitCode::from(2)
+    }
+}
+
+fn local(
+    path: &Path,
+    method: Method,
+    tolerance: f64,
+    max_iterations: usize,
+    with_lambda: bool,
+) -> ExitCode {
+    if !(tolerance > 0.0 && tolerance < 1.0) {
+        return fail(
+            1,
+            &format!("--tolerance: must be in (0, 1), got {tolerance}"),
+        );
+    }
+    let problem = match signorini_solver::local::load(path) {
+        Ok(p) => p,
+        Err(e) => return fail(1, &e),
+    };
+    // The scene's defaults for the status variant and the constraints.
+    let algorithm = signorini_solver::algorithm_of(&signorini_scene::Solver::default(), method);
+    let name = path.display().to_string();
+    match signorini_solver::local::solve(
+        &name,
+        &problem,
+        algorithm,
+        tolerance,
+        max_iterations,
+        with_lambda,
+    ) {
+        Ok(r) => {
+            println!("{}", serde_json::to_string(&r).unwrap_or_default());
+            if r.converged {
+                ExitCode::SUCCESS
+            } else {
+                ExitCode::from(2)
+            }
+        }
+        Err(e) => fail(2, &e),
     }
 }
 

@@ -12,6 +12,7 @@
 //! (seed §3.3), for checking and benchmarking the condensed path.
 
 pub mod bench;
+pub mod local;
 pub mod model;
 pub mod subdomain;
 
@@ -213,7 +214,7 @@ pub fn run(
     let mut timings = Timings::default();
     let method = opts.method.unwrap_or(sc.solver.method);
     let path = opts.path.unwrap_or(sc.solver.path);
-    let algorithm = algorithm_of(sc, method);
+    let algorithm = algorithm_of(&sc.solver, method);
     if path == scene::SolvePath::Direct
         && algorithm != Algorithm::Status(StatusVariant::All)
         && algorithm != Algorithm::Status(StatusVariant::Single)
@@ -486,13 +487,13 @@ struct StepSolution {
 }
 
 /// The algorithm of a scene's `[solver]` (and `--method`).
-fn algorithm_of(sc: &scene::Scene, method: scene::Method) -> Algorithm {
-    let variant = match sc.solver.status_changes {
+pub fn algorithm_of(solver: &scene::Solver, method: scene::Method) -> Algorithm {
+    let variant = match solver.status_changes {
         scene::StatusChanges::All => StatusVariant::All,
         scene::StatusChanges::Single => StatusVariant::Single,
     };
     match method {
-        scene::Method::Status => match sc.solver.constraints {
+        scene::Method::Status => match solver.constraints {
             scene::Constraints::Multipliers => Algorithm::Status(variant),
             scene::Constraints::Penalty => Algorithm::StatusPenalty(variant),
         },
