@@ -206,12 +206,12 @@ fn bench(
     }
     let plots = signorini_solver::bench::write_plots(out, &rows);
     println!(
-        "| scene | level | subdomains | method | path | DOFs | Γ DOFs | contact pts | iterations | condense s | root s | recover s | total s | error | vs finest |"
+        "| scene | level | subdomains | method | path | DOFs | Γ DOFs | contact pts | iterations | converged | condense s | root s | recover s | total s | error | vs finest |"
     );
-    println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
+    println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
     for r in &rows {
         println!(
-            "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {:.4} | {:.4} | {:.4} | {:.4} | {:.2e} | {:.2e} |",
+            "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {:.4} | {:.4} | {:.4} | {:.4} | {:.2e} | {:.2e} |",
             r.scene,
             r.level,
             r.subdomains,
@@ -221,6 +221,7 @@ fn bench(
             r.interface_dofs,
             r.contact_points,
             r.iterations,
+            if r.converged { "yes" } else { "**no**" },
             r.condense_s,
             r.contact_s,
             r.recover_s,

@@ -208,3 +208,109 @@ fn a_method_that_cannot_hold_a_floating_body_says_so() {
         ),
     }
 }
+
+/// The regularised law of seed §3.6, pressure = k × penetration: a block of
+/// height H whose top is pushed down by d onto a rigid plane through that law
+/// is a spring E'/H in series with k: the penetration is
+/// δ = (E'/H) d / (k + E'/H) and the pressure k δ, exactly (uniform state).
+/// The certificate checks the law instead of g ≥ 0.
+#[test]
+fn regularised_law_gives_the_closed_form_penetration() {
+    let (e, nu, h, d, k) = (100.0f64, 0.3f64, 1.0f64, 0.01f64, 5.0e3f64);
+    let text = format!(
+        r#"
+dimension = 2
+[[materials]]
+name = "m"
+young = {e}
+poisson = {nu}
+[[bodies]]
+name = "block"
+material = "m"
+mesh = {{ generator = "rectangle", origin = [0.0, 0.0], size = [2.0, {h}], divisions = [8, 4] }}
+[[bodies]]
+name = "floor"
+rigid = {{ shape = "plane", point = [0.0, 0.0], normal = [0.0, 1.0] }}
+[[boundary]]
+body = "block"
+surface = "top"
+displacement = {{ y = -{d} }}
+[[boundary]]
+body = "block"
+point = [0.0, 0.0]
+displacement = {{ x = 0.0 }}
+[[contact]]
+name = "c"
+slave = {{ body = "block", surface = "bottom" }}
+master = {{ body = "floor" }}
+law = {{ penalty = {k} }}
+"#
+    );
+    let out = run_with(&text, Method::Penalty).unwrap();
+    assert!(out.report.converged, "{:?}", out.report.failure);
+    assert!(
+        out.report.certificate.law <= 1e-12,
+        "{:?}",
+        out.report.certificate
+    );
+    let stiff = e / (1.0 - nu * nu) / h;
+    let delta = stiff * d / (k + stiff);
+    for r in &out.contact_rows {
+        assert!(
+            (r.gap + delta).abs() <= 1e-10 * delta,
+            "gap {} vs {}",
+            r.gap,
+            -delta
+        );
+        assert!(
+            (r.pressure - k * delta).abs() <= 1e-10 * k * delta,
+            "pressure {}",
+            r.pressure
+        );
+    }
+    // The exact (status) method refuses a penalty law rather than ignore it.
+    assert!(
+        matches!(run_with(&text, Method::Status), Err(SolveError::Input(m)) if m.contains("penalty"))
+    );
+}
+
+#[test]
+fn a_method_stopped_by_its_iteration_limit_exits_2_with_its_residuals() {
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_signorini"))
+        .args([
+            "run",
+            &format!("{}/examples/hertz2d.toml", env!("CARGO_MANIFEST_DIR")),
+            "--method",
+            "uzawa",
+            "--out",
+        ])
+        .arg(std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("uzawa-limit"))
+        .output()
+        .unwrap();
+    assert_eq!(
+        out.status.code(),
+        Some(2),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("not converged") && err.contains("iteration"),
+        "{err}"
+    );
+    let report: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(
+            std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("uzawa-limit/report.json"),
+        )
+        .unwrap(),
+    )
+    .unwrap();
+    assert_eq!(report["converged"], false);
+    assert!(
+        report["solver"]["residual_history"]
+            .as_array()
+            .unwrap()
+            .len()
+            >= 100
+    );
+}

@@ -111,7 +111,7 @@ pub fn bench(
         let diff = rows[i]
             .computed
             .iter()
-            .filter(|(k, _)| k != "load" && k != "profile_l2")
+            .filter(|(k, _)| k != "load" && k != "profile_l2" && !k.contains("last"))
             .filter_map(|(k, v)| {
                 f.computed
                     .iter()

@@ -383,11 +383,6 @@ pub fn build_contacts(
                 )))
             }
         }
-        if c.law != scene::Law::Unilateral {
-            return Err(input(format!(
-                "{entry}.law: the penalty law is not supported yet (supported: \"unilateral\")"
-            )));
-        }
         if c.friction != scene::Friction::None {
             return Err(input(format!(
                 "{entry}.friction: friction is not supported yet (supported: \"none\")"
