@@ -682,7 +682,7 @@ impl Scene {
         if !(self.solver.penalty > 0.0 && self.solver.penalty.is_finite()) {
             return Err(invalid(
                 "solver.penalty",
-                &format!(
+                format!(
                     "must be a positive multiple of the contact stiffness, got {}",
                     self.solver.penalty
                 ),

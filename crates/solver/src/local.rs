@@ -34,10 +34,13 @@ struct JsonProblem {
     mu: Option<serde_json::Value>,
 }
 
+/// Shape, Fortran order, data (float64).
+type NpyArray = (Vec<u64>, bool, Vec<f64>);
+
 fn read_npy(
     archive: &mut zip::ZipArchive<std::fs::File>,
     name: &str,
-) -> Result<Option<(Vec<u64>, bool, Vec<f64>)>, String> {
+) -> Result<Option<NpyArray>, String> {
     let mut file = match archive.by_name(&format!("{name}.npy")) {
         Ok(f) => f,
         Err(zip::result::ZipError::FileNotFound) => return Ok(None),
