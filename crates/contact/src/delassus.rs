@@ -21,6 +21,18 @@ use crate::ContactError;
 /// A sparse row over the interface DOFs: (index, coefficient).
 pub type SparseRow = Vec<(usize, f64)>;
 
+/// The equation that determines one contact force in
+/// [`DelassusProblem::solve_equations`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum VarEquation {
+    /// Its gap (normal) or slip increment (tangential) is zero: contact, stick.
+    Gap,
+    /// It has a given value: 0 when open, ±g when slipping under Tresca.
+    Value(f64),
+    /// It is `factor` times force `of`: ±μ λ_n when slipping under Coulomb.
+    Ratio { of: usize, factor: f64 },
+}
+
 pub struct DelassusProblem {
     n: usize,
     /// X = S⁺ Bᵀ (n × m).
@@ -174,6 +186,70 @@ impl DelassusProblem {
             }
         }
         u
+    }
+
+    /// Adds a compliance to the diagonal of W (per row): the elastic slip of
+    /// a regularised friction law (seed §4.1.3), 1/k_e on tangential rows.
+    pub fn add_compliance(&mut self, diag: &[f64]) {
+        for (i, &c) in diag.iter().enumerate() {
+            self.w[(i, i)] += c;
+        }
+    }
+
+    /// Solves for the forces r with one equation per force (a zero gap, a
+    /// given value, or a multiple of another force: a slipping point's
+    /// tangential force ±μ λ_n) and, for floating bodies, the equilibrium of
+    /// their rigid modes Gᵀ r = e. Returns (r, W r + q + G α).
+    pub fn solve_equations(&mut self, eqs: &[VarEquation]) -> Result<(Vec<f64>, Vec<f64>), ContactError> {
+        self.solves += 1;
+        let m = self.q.len();
+        let k = self.r.ncols();
+        let dim = m + k;
+        let mut a = Mat::<f64>::zeros(dim, dim);
+        let mut rhs = Mat::<f64>::zeros(dim, 1);
+        for (i, eq) in eqs.iter().enumerate() {
+            match *eq {
+                VarEquation::Gap => {
+                    for j in 0..m {
+                        a[(i, j)] = self.w[(i, j)];
+                    }
+                    for j in 0..k {
+                        a[(i, m + j)] = self.g_mat[(i, j)];
+                    }
+                    rhs[(i, 0)] = -self.q[i];
+                }
+                VarEquation::Value(c) => {
+                    a[(i, i)] = 1.0;
+                    rhs[(i, 0)] = c;
+                }
+                VarEquation::Ratio { of, factor } => {
+                    a[(i, i)] = 1.0;
+                    a[(i, of)] = -factor;
+                }
+            }
+        }
+        for j in 0..k {
+            for i in 0..m {
+                a[(m + j, i)] = self.g_mat[(i, j)];
+            }
+            rhs[(m + j, 0)] = self.e[j];
+        }
+        let sol = solve_checked(&a, &rhs, "the contact and friction statuses do not hold a floating body, or the constraints are redundant")?;
+        let r: Vec<f64> = (0..m).map(|i| sol[(i, 0)]).collect();
+        let alpha: Vec<f64> = (0..k).map(|j| sol[(m + j, 0)]).collect();
+        let mut g = self.q.clone();
+        for (i, gi) in g.iter_mut().enumerate() {
+            for (j, rj) in r.iter().enumerate() {
+                if *rj != 0.0 {
+                    *gi += self.w[(i, j)] * rj;
+                }
+            }
+            for (j, aj) in alpha.iter().enumerate() {
+                *gi += self.g_mat[(i, j)] * aj;
+            }
+        }
+        self.last_alpha = alpha;
+        Ok((r, g))
     }
 
     /// The rigid-mode amplitudes α of the last solve.

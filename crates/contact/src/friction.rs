@@ -1,0 +1,438 @@
+//! Friction on the condensed problem (seed §4), 2D: each frictional contact
+//! point has a normal force λ_n (row of B) and a tangential force λ_t (row of
+//! T); the "gap" of a tangential row is the slip increment Δs of the slave
+//! relative to the master along t since the previous load step (seed §4.4:
+//! the conditions hold on the totals, the slip on the increments).
+//!
+//! Laws, with the threshold g (Tresca, §4.1.1) or μ λ_n (Coulomb, §4.1.2):
+//! stick |λ_t| < g and Δs = 0; slip |λ_t| = g and the slip opposes the
+//! force, λ_t Δs ≤ 0. With g fixed this is the box-constrained problem
+//! min ½ rᵀ W r + qᵀ r over λ_n ≥ 0, −g ≤ λ_t ≤ g (Tresca's energy theorem).
+//!
+//! - [`tresca_status`]: the status method on that box problem (statuses open,
+//!   stick, slip+, slip−), with the rigid modes of floating bodies.
+//! - [`coulomb_fixed_point`]: the fixed point g ← μ λ_n (§4.3), each inner
+//!   problem a Tresca problem; started from the previous step, or from the
+//!   solution with every contact point stuck (so that a body held by friction
+//!   alone can start: §4.3 notes that g = 0 cannot).
+//! - [`coulomb_status`]: the status method applied to friction (§4.5), slip
+//!   statuses imposing λ_t = ±μ λ_n directly; the seed warns that it
+//!   converges badly, and the report counts its iterations.
+//!
+//! Regularised Coulomb (§4.1.3, elastic slip k_e) is the same problem with
+//! the compliance 1/k_e added to the tangential diagonal of W
+//! ([`crate::DelassusProblem::add_compliance`]).
+
+use serde::Serialize;
+
+use crate::delassus::{DelassusProblem, VarEquation};
+use crate::ContactError;
+
+/// Status of a contact point.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum PointStatus {
+    Open,
+    /// In contact; sticking if the point has friction.
+    Stick,
+    /// Slipping with λ_t = +threshold (the slip increment is negative).
+    SlipPlus,
+    /// Slipping with λ_t = −threshold.
+    SlipMinus,
+}
+
+impl PointStatus {
+    pub fn is_slip(self) -> bool {
+        matches!(self, PointStatus::SlipPlus | PointStatus::SlipMinus)
+    }
+}
+
+/// How each contact point's tangential force is bounded.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Threshold {
+    /// Frictionless: no tangential row.
+    None,
+    /// Tresca: a given threshold (force).
+    Tresca(f64),
+    /// Coulomb: μ λ_n.
+    Coulomb(f64),
+}
+
+/// The layout of the forces: normal rows 0..m, then one tangential row per
+/// frictional point.
+#[derive(Debug, Clone)]
+pub struct FrictionLayout {
+    /// Tangential row of each point, if it has friction.
+    pub tangent_row: Vec<Option<usize>>,
+    pub threshold: Vec<Threshold>,
+}
+
+#[derive(Debug, Clone)]
+pub struct FrictionOptions {
+    pub max_iterations: usize,
+    pub max_fixed_point: usize,
+    pub tolerance: f64,
+    pub force_scale: f64,
+    pub gap_scale: f64,
+}
+
+#[derive(Debug, Clone, Serialize)]
+pub struct FrictionOutcome {
+    pub converged: bool,
+    /// Status solves in all.
+    pub iterations: usize,
+    /// Outer fixed-point iterations (0 for Tresca and the friction status method).
+    pub fixed_point_iterations: usize,
+    /// max |Δλ_n| / F after each fixed-point iteration.
+    pub fixed_point_residuals: Vec<f64>,
+    pub statuses: Vec<PointStatus>,
+    /// All forces (normal rows, then tangential rows).
+    pub forces: Vec<f64>,
+    /// All gaps (normal) and slip increments (tangential).
+    pub gaps: Vec<f64>,
+    pub stopping_reason: String,
+    pub cycle_detected: bool,
+}
+
+fn equations(layout: &FrictionLayout, statuses: &[PointStatus], threshold: &[f64], coulomb_ratio: bool) -> Vec<VarEquation> {
+    let m = statuses.len();
+    let n_rows = m + layout.tangent_row.iter().flatten().count();
+    let mut eqs = vec![VarEquation::Gap; n_rows];
+    for (p, &st) in statuses.iter().enumerate() {
+        eqs[p] = if st == PointStatus::Open { VarEquation::Value(0.0) } else { VarEquation::Gap };
+        if let Some(t) = layout.tangent_row[p] {
+            eqs[t] = match st {
+                PointStatus::Open => VarEquation::Value(0.0),
+                PointStatus::Stick => VarEquation::Gap,
+                PointStatus::SlipPlus | PointStatus::SlipMinus => {
+                    let sign = if st == PointStatus::SlipPlus { 1.0 } else { -1.0 };
+                    match (coulomb_ratio, layout.threshold[p]) {
+                        (true, Threshold::Coulomb(mu)) => VarEquation::Ratio { of: p, factor: sign * mu },
+                        _ => VarEquation::Value(sign * threshold[p]),
+                    }
+                }
+            };
+        }
+    }
+    eqs
+}
+
+/// One status update; returns the changes as (point, new status, violation).
+fn updates(
+    layout: &FrictionLayout,
+    statuses: &[PointStatus],
+    r: &[f64],
+    g: &[f64],
+    threshold: &[f64],
+    tol_f: f64,
+    tol_g: f64,
+) -> Vec<(usize, PointStatus, f64)> {
+    let mut out = Vec::new();
+    for (p, &st) in statuses.iter().enumerate() {
+        let (ln, gn) = (r[p], g[p]);
+        match st {
+            PointStatus::Open => {
+                if gn < -tol_g {
+                    out.push((p, PointStatus::Stick, -gn / tol_g));
+                }
+                continue;
+            }
+            _ if ln < -tol_f => {
+                out.push((p, PointStatus::Open, -ln / tol_f));
+                continue;
+            }
+            _ => {}
+        }
+        let Some(t) = layout.tangent_row[p] else { continue };
+        let (lt, s) = (r[t], g[t]);
+        let bound = threshold[p].max(0.0);
+        match st {
+            PointStatus::Stick if lt > bound + tol_f => out.push((p, PointStatus::SlipPlus, (lt - bound) / tol_f)),
+            PointStatus::Stick if lt < -bound - tol_f => out.push((p, PointStatus::SlipMinus, (-bound - lt) / tol_f)),
+            // A slip in the direction of the force is not a slip: stick.
+            PointStatus::SlipPlus if s > tol_g => out.push((p, PointStatus::Stick, s / tol_g)),
+            PointStatus::SlipMinus if s < -tol_g => out.push((p, PointStatus::Stick, -s / tol_g)),
+            _ => {}
+        }
+    }
+    out
+}
+
+/// Status iterations with the thresholds `threshold` (Tresca values, or
+/// μ λ_n of the previous fixed-point iterate); with `coulomb_ratio`, slipping
+/// Coulomb points use λ_t = ±μ λ_n instead (§4.5).
+#[allow(clippy::too_many_arguments)]
+fn status_loop(
+    problem: &mut DelassusProblem,
+    layout: &FrictionLayout,
+    statuses: &mut Vec<PointStatus>,
+    threshold: &dyn Fn(&[f64]) -> Vec<f64>,
+    coulomb_ratio: bool,
+    opts: &FrictionOptions,
+    iterations: &mut usize,
+    cycle: &mut bool,
+) -> Result<(bool, Vec<f64>, Vec<f64>, String), ContactError> {
+    let mut seen = std::collections::HashSet::new();
+    let mut single = false;
+    let mut thr = threshold(&vec![0.0; statuses.len()]);
+    let mut last = None;
+    for _ in 0..opts.max_iterations {
+        *iterations += 1;
+        seen.insert(statuses.clone());
+        let eqs = equations(layout, statuses, &thr, coulomb_ratio);
+        let (r, g) = problem.solve_equations(&eqs)?;
+        if coulomb_ratio {
+            thr = threshold(&r);
+        }
+        let lmax = r.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+        let gmax = g.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+        let tol_f = opts.tolerance * opts.force_scale.max(lmax);
+        let tol_g = opts.tolerance * opts.gap_scale.max(gmax);
+        let mut ch = updates(layout, statuses, &r, &g, &thr, tol_f, tol_g);
+        if ch.is_empty() {
+            return Ok((true, r, g, format!("statuses repeated after {} status solves", iterations)));
+        }
+        if single {
+            ch.sort_by(|a, b| b.2.total_cmp(&a.2));
+            ch.truncate(1);
+        }
+        let mut next = statuses.clone();
+        for &(p, st, _) in &ch {
+            next[p] = st;
+        }
+        if seen.contains(&next) {
+            *cycle = true;
+            if single {
+                return Ok((false, r, g, "cycling even with one status change per iteration".into()));
+            }
+            single = true;
+            seen.clear();
+            ch.sort_by(|a, b| b.2.total_cmp(&a.2));
+            next = statuses.clone();
+            next[ch[0].0] = ch[0].1;
+        }
+        *statuses = next;
+        last = Some((r, g));
+    }
+    let (r, g) = last.unwrap_or_default();
+    Ok((false, r, g, format!("iteration limit {} reached with statuses still changing", opts.max_iterations)))
+}
+
+fn thresholds_from(layout: &FrictionLayout, r: &[f64]) -> Vec<f64> {
+    layout
+        .threshold
+        .iter()
+        .enumerate()
+        .map(|(p, t)| match *t {
+            Threshold::None => 0.0,
+            Threshold::Tresca(g) => g,
+            Threshold::Coulomb(mu) => mu * r[p].max(0.0),
+        })
+        .collect()
+}
+
+/// The Tresca problem (fixed thresholds) by the status method.
+pub fn tresca_status(
+    problem: &mut DelassusProblem,
+    layout: &FrictionLayout,
+    initial: Vec<PointStatus>,
+    opts: &FrictionOptions,
+) -> Result<FrictionOutcome, ContactError> {
+    let mut statuses = initial;
+    let mut iterations = 0;
+    let mut cycle = false;
+    let fixed: Vec<f64> = thresholds_from(layout, &vec![0.0; problem.q.len()]);
+    let (converged, forces, gaps, reason) =
+        status_loop(problem, layout, &mut statuses, &|_| fixed.clone(), false, opts, &mut iterations, &mut cycle)?;
+    Ok(FrictionOutcome {
+        converged,
+        iterations,
+        fixed_point_iterations: 0,
+        fixed_point_residuals: vec![],
+        statuses,
+        forces,
+        gaps,
+        stopping_reason: reason,
+        cycle_detected: cycle,
+    })
+}
+
+/// Coulomb by fixed point on the threshold (seed §4.3). Without `start`
+/// (the previous step's statuses and forces), the first threshold comes from
+/// the solution in which every point initially closed sticks.
+pub fn coulomb_fixed_point(
+    problem: &mut DelassusProblem,
+    layout: &FrictionLayout,
+    initial: Vec<PointStatus>,
+    start: Option<&[f64]>,
+    opts: &FrictionOptions,
+) -> Result<FrictionOutcome, ContactError> {
+    let m = initial.len();
+    let mut statuses = initial;
+    let mut iterations = 0;
+    let mut cycle = false;
+    let mut residuals = Vec::new();
+    // Start: the previous forces, or the all-stick solution (infinite threshold).
+    let mut forces = match start {
+        Some(f) => f.to_vec(),
+        None => {
+            let inf = vec![f64::INFINITY; m];
+            let (_, r, _, _) =
+                status_loop(problem, layout, &mut statuses, &|_| inf.clone(), false, opts, &mut iterations, &mut cycle)?;
+            r
+        }
+    };
+    for outer in 0..opts.max_fixed_point {
+        let thr = thresholds_from(layout, &forces);
+        let (conv, r, g, reason) =
+            status_loop(problem, layout, &mut statuses, &|_| thr.clone(), false, opts, &mut iterations, &mut cycle)?;
+        let fscale = opts.force_scale.max(r.iter().fold(0.0f64, |a, v| a.max(v.abs()))).max(f64::MIN_POSITIVE);
+        let change = (0..m).fold(0.0f64, |a, p| a.max((r[p] - forces[p]).abs())) / fscale;
+        residuals.push(change);
+        forces = r;
+        if !conv {
+            return Ok(FrictionOutcome {
+                converged: false,
+                iterations,
+                fixed_point_iterations: outer + 1,
+                fixed_point_residuals: residuals,
+                statuses,
+                forces,
+                gaps: g,
+                stopping_reason: format!("inner Tresca problem: {reason}"),
+                cycle_detected: cycle,
+            });
+        }
+        if change <= opts.tolerance {
+            // The thresholds match the normal forces they produced: a Coulomb solution.
+            return Ok(FrictionOutcome {
+                converged: true,
+                iterations,
+                fixed_point_iterations: outer + 1,
+                fixed_point_residuals: residuals,
+                statuses,
+                forces,
+                gaps: g,
+                stopping_reason: format!("fixed point on the threshold reached after {} iterations", outer + 1),
+                cycle_detected: cycle,
+            });
+        }
+    }
+    let g = vec![0.0; forces.len()];
+    Ok(FrictionOutcome {
+        converged: false,
+        iterations,
+        fixed_point_iterations: opts.max_fixed_point,
+        fixed_point_residuals: residuals,
+        statuses,
+        forces,
+        gaps: g,
+        stopping_reason: format!("fixed point on the threshold not reached in {} iterations", opts.max_fixed_point),
+        cycle_detected: cycle,
+    })
+}
+
+/// The status method applied to friction (seed §4.5): slipping Coulomb
+/// points impose λ_t = ±μ λ_n in the same linear system as the contact
+/// conditions; statuses change until they repeat.
+pub fn coulomb_status(
+    problem: &mut DelassusProblem,
+    layout: &FrictionLayout,
+    initial: Vec<PointStatus>,
+    opts: &FrictionOptions,
+) -> Result<FrictionOutcome, ContactError> {
+    let mut statuses = initial;
+    let mut iterations = 0;
+    let mut cycle = false;
+    let (converged, forces, gaps, reason) = status_loop(
+        problem,
+        layout,
+        &mut statuses,
+        &|r| thresholds_from(layout, r),
+        true,
+        opts,
+        &mut iterations,
+        &mut cycle,
+    )?;
+    Ok(FrictionOutcome {
+        converged,
+        iterations,
+        fixed_point_iterations: 0,
+        fixed_point_residuals: vec![],
+        statuses,
+        forces,
+        gaps,
+        stopping_reason: reason,
+        cycle_detected: cycle,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use faer::Mat;
+
+    /// One elastic point pressed on a plane (normal stiffness kn) and pulled
+    /// tangentially (stiffness kt): the forces follow by hand.
+    fn one_point(fn_: f64, ft: f64) -> DelassusProblem {
+        // DOFs (x, y) with S = diag(kt, kn); rows: normal = u_y, tangent = u_x.
+        let s = Mat::<f64>::from_fn(2, 2, |i, j| if i != j { 0.0 } else if i == 0 { 2.0 } else { 5.0 });
+        let rows = vec![vec![(1, 1.0)], vec![(0, 1.0)]];
+        DelassusProblem::new(&s, &rows, &[0.0, 0.0], &[ft, -fn_], &Mat::zeros(2, 0)).unwrap()
+    }
+
+    fn layout(t: Threshold) -> FrictionLayout {
+        FrictionLayout { tangent_row: vec![Some(1)], threshold: vec![t] }
+    }
+
+    fn opts() -> FrictionOptions {
+        FrictionOptions { max_iterations: 50, max_fixed_point: 50, tolerance: 1e-12, force_scale: 1.0, gap_scale: 1.0 }
+    }
+
+    #[test]
+    fn a_point_sticks_below_the_threshold_and_slips_at_it() {
+        // Pressed by N = 3, pulled by Q = 1: μ = 0.5 → μN = 1.5 > Q: sticks, λ_t = −Q.
+        for solve in [0, 1, 2] {
+            let mut p = one_point(3.0, 1.0);
+            let l = layout(Threshold::Coulomb(0.5));
+            let out = match solve {
+                0 => coulomb_fixed_point(&mut p, &l, vec![PointStatus::Stick], None, &opts()).unwrap(),
+                1 => coulomb_status(&mut p, &l, vec![PointStatus::Stick], &opts()).unwrap(),
+                _ => tresca_status(&mut p, &layout(Threshold::Tresca(1.5)), vec![PointStatus::Stick], &opts()).unwrap(),
+            };
+            assert!(out.converged, "{}", out.stopping_reason);
+            assert_eq!(out.statuses, vec![PointStatus::Stick]);
+            assert!((out.forces[0] - 3.0).abs() < 1e-12 && (out.forces[1] + 1.0).abs() < 1e-12, "{:?}", out.forces);
+            // Pulled by Q = 2 > μN = 1.5: slips, λ_t = −1.5, slip Q − μN over kt = 0.25 in +x.
+            let mut p = one_point(3.0, 2.0);
+            let out = match solve {
+                0 => coulomb_fixed_point(&mut p, &l, vec![PointStatus::Stick], None, &opts()).unwrap(),
+                1 => coulomb_status(&mut p, &l, vec![PointStatus::Stick], &opts()).unwrap(),
+                _ => tresca_status(&mut p, &layout(Threshold::Tresca(1.5)), vec![PointStatus::Stick], &opts()).unwrap(),
+            };
+            assert!(out.converged);
+            assert_eq!(out.statuses, vec![PointStatus::SlipMinus]);
+            assert!((out.forces[1] + 1.5).abs() < 1e-12, "{:?}", out.forces);
+            assert!((out.gaps[1] - 0.25).abs() < 1e-12, "slip {}", out.gaps[1]);
+            // The friction force opposes the slip.
+            assert!(out.forces[1] * out.gaps[1] < 0.0);
+        }
+    }
+
+    #[test]
+    fn zero_friction_equals_the_frictionless_answer() {
+        let mut p = one_point(3.0, 0.0);
+        let out = coulomb_fixed_point(&mut p, &layout(Threshold::Coulomb(0.0)), vec![PointStatus::Stick], None, &opts()).unwrap();
+        assert!(out.converged);
+        assert!((out.forces[0] - 3.0).abs() < 1e-12 && out.forces[1].abs() < 1e-12);
+    }
+
+    #[test]
+    fn a_point_pulled_away_opens() {
+        let mut p = one_point(-3.0, 1.0);
+        let out = coulomb_fixed_point(&mut p, &layout(Threshold::Coulomb(0.5)), vec![PointStatus::Stick], None, &opts()).unwrap();
+        assert!(out.converged);
+        assert_eq!(out.statuses, vec![PointStatus::Open]);
+        assert_eq!(out.forces, vec![0.0, 0.0]);
+    }
+}
