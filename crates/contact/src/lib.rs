@@ -12,6 +12,7 @@ pub mod augmented_lagrangian;
 pub mod delassus;
 pub mod direct;
 pub mod equilibrium;
+pub mod friction;
 pub mod geometry;
 pub mod lcp;
 pub mod lemke;
