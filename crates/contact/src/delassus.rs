@@ -200,7 +200,10 @@ impl DelassusProblem {
     /// given value, or a multiple of another force: a slipping point's
     /// tangential force ±μ λ_n) and, for floating bodies, the equilibrium of
     /// their rigid modes Gᵀ r = e. Returns (r, W r + q + G α).
-    pub fn solve_equations(&mut self, eqs: &[VarEquation]) -> Result<(Vec<f64>, Vec<f64>), ContactError> {
+    pub fn solve_equations(
+        &mut self,
+        eqs: &[VarEquation],
+    ) -> Result<(Vec<f64>, Vec<f64>), ContactError> {
         self.solves += 1;
         let m = self.q.len();
         let k = self.r.ncols();

@@ -94,20 +94,36 @@ pub struct FrictionOutcome {
     pub cycle_detected: bool,
 }
 
-fn equations(layout: &FrictionLayout, statuses: &[PointStatus], threshold: &[f64], coulomb_ratio: bool) -> Vec<VarEquation> {
+fn equations(
+    layout: &FrictionLayout,
+    statuses: &[PointStatus],
+    threshold: &[f64],
+    coulomb_ratio: bool,
+) -> Vec<VarEquation> {
     let m = statuses.len();
     let n_rows = m + layout.tangent_row.iter().flatten().count();
     let mut eqs = vec![VarEquation::Gap; n_rows];
     for (p, &st) in statuses.iter().enumerate() {
-        eqs[p] = if st == PointStatus::Open { VarEquation::Value(0.0) } else { VarEquation::Gap };
+        eqs[p] = if st == PointStatus::Open {
+            VarEquation::Value(0.0)
+        } else {
+            VarEquation::Gap
+        };
         if let Some(t) = layout.tangent_row[p] {
             eqs[t] = match st {
                 PointStatus::Open => VarEquation::Value(0.0),
                 PointStatus::Stick => VarEquation::Gap,
                 PointStatus::SlipPlus | PointStatus::SlipMinus => {
-                    let sign = if st == PointStatus::SlipPlus { 1.0 } else { -1.0 };
+                    let sign = if st == PointStatus::SlipPlus {
+                        1.0
+                    } else {
+                        -1.0
+                    };
                     match (coulomb_ratio, layout.threshold[p]) {
-                        (true, Threshold::Coulomb(mu)) => VarEquation::Ratio { of: p, factor: sign * mu },
+                        (true, Threshold::Coulomb(mu)) => VarEquation::Ratio {
+                            of: p,
+                            factor: sign * mu,
+                        },
                         _ => VarEquation::Value(sign * threshold[p]),
                     }
                 }
@@ -133,7 +149,14 @@ fn updates(
         match st {
             PointStatus::Open => {
                 if gn < -tol_g {
-                    out.push((p, PointStatus::Stick, -gn / tol_g));
+                    // Closing: it slips on in the direction it was moving while
+                    // open (the force opposing it), or sticks if it was not moving.
+                    let next = match layout.tangent_row[p].map(|t| g[t]) {
+                        Some(s) if s > tol_g => PointStatus::SlipMinus,
+                        Some(s) if s < -tol_g => PointStatus::SlipPlus,
+                        _ => PointStatus::Stick,
+                    };
+                    out.push((p, next, -gn / tol_g));
                 }
                 continue;
             }
@@ -143,15 +166,27 @@ fn updates(
             }
             _ => {}
         }
-        let Some(t) = layout.tangent_row[p] else { continue };
+        let Some(t) = layout.tangent_row[p] else {
+            continue;
+        };
         let (lt, s) = (r[t], g[t]);
         let bound = threshold[p].max(0.0);
         match st {
-            PointStatus::Stick if lt > bound + tol_f => out.push((p, PointStatus::SlipPlus, (lt - bound) / tol_f)),
-            PointStatus::Stick if lt < -bound - tol_f => out.push((p, PointStatus::SlipMinus, (-bound - lt) / tol_f)),
-            // A slip in the direction of the force is not a slip: stick.
-            PointStatus::SlipPlus if s > tol_g => out.push((p, PointStatus::Stick, s / tol_g)),
-            PointStatus::SlipMinus if s < -tol_g => out.push((p, PointStatus::Stick, -s / tol_g)),
+            PointStatus::Stick if lt > bound + tol_f => {
+                out.push((p, PointStatus::SlipPlus, (lt - bound) / tol_f))
+            }
+            PointStatus::Stick if lt < -bound - tol_f => {
+                out.push((p, PointStatus::SlipMinus, (-bound - lt) / tol_f))
+            }
+            // A slip in the direction of the force is not a slip: stick. With a
+            // zero threshold the force is zero and any slip direction dissipates
+            // nothing: the point keeps slipping.
+            PointStatus::SlipPlus if s > tol_g && bound > tol_f => {
+                out.push((p, PointStatus::Stick, s / tol_g))
+            }
+            PointStatus::SlipMinus if s < -tol_g && bound > tol_f => {
+                out.push((p, PointStatus::Stick, -s / tol_g))
+            }
             _ => {}
         }
     }
@@ -190,7 +225,12 @@ fn status_loop(
         let tol_g = opts.tolerance * opts.gap_scale.max(gmax);
         let mut ch = updates(layout, statuses, &r, &g, &thr, tol_f, tol_g);
         if ch.is_empty() {
-            return Ok((true, r, g, format!("statuses repeated after {} status solves", iterations)));
+            return Ok((
+                true,
+                r,
+                g,
+                format!("statuses repeated after {} status solves", iterations),
+            ));
         }
         if single {
             ch.sort_by(|a, b| b.2.total_cmp(&a.2));
@@ -203,7 +243,12 @@ fn status_loop(
         if seen.contains(&next) {
             *cycle = true;
             if single {
-                return Ok((false, r, g, "cycling even with one status change per iteration".into()));
+                return Ok((
+                    false,
+                    r,
+                    g,
+                    "cycling even with one status change per iteration".into(),
+                ));
             }
             single = true;
             seen.clear();
@@ -215,7 +260,15 @@ fn status_loop(
         last = Some((r, g));
     }
     let (r, g) = last.unwrap_or_default();
-    Ok((false, r, g, format!("iteration limit {} reached with statuses still changing", opts.max_iterations)))
+    Ok((
+        false,
+        r,
+        g,
+        format!(
+            "iteration limit {} reached with statuses still changing",
+            opts.max_iterations
+        ),
+    ))
 }
 
 fn thresholds_from(layout: &FrictionLayout, r: &[f64]) -> Vec<f64> {
@@ -242,8 +295,16 @@ pub fn tresca_status(
     let mut iterations = 0;
     let mut cycle = false;
     let fixed: Vec<f64> = thresholds_from(layout, &vec![0.0; problem.q.len()]);
-    let (converged, forces, gaps, reason) =
-        status_loop(problem, layout, &mut statuses, &|_| fixed.clone(), false, opts, &mut iterations, &mut cycle)?;
+    let (converged, forces, gaps, reason) = status_loop(
+        problem,
+        layout,
+        &mut statuses,
+        &|_| fixed.clone(),
+        false,
+        opts,
+        &mut iterations,
+        &mut cycle,
+    )?;
     Ok(FrictionOutcome {
         converged,
         iterations,
@@ -277,16 +338,35 @@ pub fn coulomb_fixed_point(
         Some(f) => f.to_vec(),
         None => {
             let inf = vec![f64::INFINITY; m];
-            let (_, r, _, _) =
-                status_loop(problem, layout, &mut statuses, &|_| inf.clone(), false, opts, &mut iterations, &mut cycle)?;
+            let (_, r, _, _) = status_loop(
+                problem,
+                layout,
+                &mut statuses,
+                &|_| inf.clone(),
+                false,
+                opts,
+                &mut iterations,
+                &mut cycle,
+            )?;
             r
         }
     };
     for outer in 0..opts.max_fixed_point {
         let thr = thresholds_from(layout, &forces);
-        let (conv, r, g, reason) =
-            status_loop(problem, layout, &mut statuses, &|_| thr.clone(), false, opts, &mut iterations, &mut cycle)?;
-        let fscale = opts.force_scale.max(r.iter().fold(0.0f64, |a, v| a.max(v.abs()))).max(f64::MIN_POSITIVE);
+        let (conv, r, g, reason) = status_loop(
+            problem,
+            layout,
+            &mut statuses,
+            &|_| thr.clone(),
+            false,
+            opts,
+            &mut iterations,
+            &mut cycle,
+        )?;
+        let fscale = opts
+            .force_scale
+            .max(r.iter().fold(0.0f64, |a, v| a.max(v.abs())))
+            .max(f64::MIN_POSITIVE);
         let change = (0..m).fold(0.0f64, |a, p| a.max((r[p] - forces[p]).abs())) / fscale;
         residuals.push(change);
         forces = r;
@@ -313,7 +393,10 @@ pub fn coulomb_fixed_point(
                 statuses,
                 forces,
                 gaps: g,
-                stopping_reason: format!("fixed point on the threshold reached after {} iterations", outer + 1),
+                stopping_reason: format!(
+                    "fixed point on the threshold reached after {} iterations",
+                    outer + 1
+                ),
                 cycle_detected: cycle,
             });
         }
@@ -327,7 +410,10 @@ pub fn coulomb_fixed_point(
         statuses,
         forces,
         gaps: g,
-        stopping_reason: format!("fixed point on the threshold not reached in {} iterations", opts.max_fixed_point),
+        stopping_reason: format!(
+            "fixed point on the threshold not reached in {} iterations",
+            opts.max_fixed_point
+        ),
         cycle_detected: cycle,
     })
 }
@@ -376,17 +462,34 @@ mod tests {
     /// tangentially (stiffness kt): the forces follow by hand.
     fn one_point(fn_: f64, ft: f64) -> DelassusProblem {
         // DOFs (x, y) with S = diag(kt, kn); rows: normal = u_y, tangent = u_x.
-        let s = Mat::<f64>::from_fn(2, 2, |i, j| if i != j { 0.0 } else if i == 0 { 2.0 } else { 5.0 });
+        let s = Mat::<f64>::from_fn(2, 2, |i, j| {
+            if i != j {
+                0.0
+            } else if i == 0 {
+                2.0
+            } else {
+                5.0
+            }
+        });
         let rows = vec![vec![(1, 1.0)], vec![(0, 1.0)]];
         DelassusProblem::new(&s, &rows, &[0.0, 0.0], &[ft, -fn_], &Mat::zeros(2, 0)).unwrap()
     }
 
     fn layout(t: Threshold) -> FrictionLayout {
-        FrictionLayout { tangent_row: vec![Some(1)], threshold: vec![t] }
+        FrictionLayout {
+            tangent_row: vec![Some(1)],
+            threshold: vec![t],
+        }
     }
 
     fn opts() -> FrictionOptions {
-        FrictionOptions { max_iterations: 50, max_fixed_point: 50, tolerance: 1e-12, force_scale: 1.0, gap_scale: 1.0 }
+        FrictionOptions {
+            max_iterations: 50,
+            max_fixed_point: 50,
+            tolerance: 1e-12,
+            force_scale: 1.0,
+            gap_scale: 1.0,
+        }
     }
 
     #[test]
@@ -396,19 +499,37 @@ mod tests {
             let mut p = one_point(3.0, 1.0);
             let l = layout(Threshold::Coulomb(0.5));
             let out = match solve {
-                0 => coulomb_fixed_point(&mut p, &l, vec![PointStatus::Stick], None, &opts()).unwrap(),
+                0 => coulomb_fixed_point(&mut p, &l, vec![PointStatus::Stick], None, &opts())
+                    .unwrap(),
                 1 => coulomb_status(&mut p, &l, vec![PointStatus::Stick], &opts()).unwrap(),
-                _ => tresca_status(&mut p, &layout(Threshold::Tresca(1.5)), vec![PointStatus::Stick], &opts()).unwrap(),
+                _ => tresca_status(
+                    &mut p,
+                    &layout(Threshold::Tresca(1.5)),
+                    vec![PointStatus::Stick],
+                    &opts(),
+                )
+                .unwrap(),
             };
             assert!(out.converged, "{}", out.stopping_reason);
             assert_eq!(out.statuses, vec![PointStatus::Stick]);
-            assert!((out.forces[0] - 3.0).abs() < 1e-12 && (out.forces[1] + 1.0).abs() < 1e-12, "{:?}", out.forces);
+            assert!(
+                (out.forces[0] - 3.0).abs() < 1e-12 && (out.forces[1] + 1.0).abs() < 1e-12,
+                "{:?}",
+                out.forces
+            );
             // Pulled by Q = 2 > μN = 1.5: slips, λ_t = −1.5, slip Q − μN over kt = 0.25 in +x.
             let mut p = one_point(3.0, 2.0);
             let out = match solve {
-                0 => coulomb_fixed_point(&mut p, &l, vec![PointStatus::Stick], None, &opts()).unwrap(),
+                0 => coulomb_fixed_point(&mut p, &l, vec![PointStatus::Stick], None, &opts())
+                    .unwrap(),
                 1 => coulomb_status(&mut p, &l, vec![PointStatus::Stick], &opts()).unwrap(),
-                _ => tresca_status(&mut p, &layout(Threshold::Tresca(1.5)), vec![PointStatus::Stick], &opts()).unwrap(),
+                _ => tresca_status(
+                    &mut p,
+                    &layout(Threshold::Tresca(1.5)),
+                    vec![PointStatus::Stick],
+                    &opts(),
+                )
+                .unwrap(),
             };
             assert!(out.converged);
             assert_eq!(out.statuses, vec![PointStatus::SlipMinus]);
@@ -422,7 +543,14 @@ mod tests {
     #[test]
     fn zero_friction_equals_the_frictionless_answer() {
         let mut p = one_point(3.0, 0.0);
-        let out = coulomb_fixed_point(&mut p, &layout(Threshold::Coulomb(0.0)), vec![PointStatus::Stick], None, &opts()).unwrap();
+        let out = coulomb_fixed_point(
+            &mut p,
+            &layout(Threshold::Coulomb(0.0)),
+            vec![PointStatus::Stick],
+            None,
+            &opts(),
+        )
+        .unwrap();
         assert!(out.converged);
         assert!((out.forces[0] - 3.0).abs() < 1e-12 && out.forces[1].abs() < 1e-12);
     }
@@ -430,7 +558,14 @@ mod tests {
     #[test]
     fn a_point_pulled_away_opens() {
         let mut p = one_point(-3.0, 1.0);
-        let out = coulomb_fixed_point(&mut p, &layout(Threshold::Coulomb(0.5)), vec![PointStatus::Stick], None, &opts()).unwrap();
+        let out = coulomb_fixed_point(
+            &mut p,
+            &layout(Threshold::Coulomb(0.5)),
+            vec![PointStatus::Stick],
+            None,
+            &opts(),
+        )
+        .unwrap();
         assert!(out.converged);
         assert_eq!(out.statuses, vec![PointStatus::Open]);
         assert_eq!(out.forces, vec![0.0, 0.0]);

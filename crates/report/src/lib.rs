@@ -80,6 +80,9 @@ pub struct Certificate {
     pub tension: f64,
     pub complementarity: f64,
     pub cone: f64,
+    /// Dissipation sign: max over slipping points of λ_t Δs (the friction force
+    /// must oppose the slip, λ_t Δs ≤ 0), over force × length scales.
+    pub dissipation: f64,
     /// Regularised (penalty) law residual max |λ − k max(0, −g)| over the force
     /// scale, on the points of a `law = { penalty = k }` contact.
     pub law: f64,

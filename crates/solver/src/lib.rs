@@ -25,6 +25,10 @@ use signorini_comm::{broadcast, deal, gather, Transport};
 use signorini_condense::{spmv, submatrix};
 use signorini_contact::direct::DirectProblem;
 use signorini_contact::equilibrium::nnls;
+use signorini_contact::friction::{
+    coulomb_fixed_point, coulomb_status, tresca_status, FrictionLayout, FrictionOptions,
+    PointStatus, Threshold,
+};
 use signorini_contact::methods::{solve_lcp, Algorithm};
 use signorini_contact::{
     status_method, ActiveSetSolve, ContactError, DelassusProblem, LcpOptions, SolverReport,
@@ -36,7 +40,7 @@ use signorini_report::{
 };
 use signorini_scene as scene;
 
-use model::{BodyModel, FixedPoint, PointModel};
+use model::{BodyModel, FixedPoint, PointFriction, PointModel};
 use subdomain::{CondensedData, RecoveredData, Subdomain, SubdomainSpec};
 
 /// What went wrong, with the exit code it maps to.
@@ -225,6 +229,16 @@ pub fn run(
         )));
     }
     for c in &sc.contact {
+        if c.friction != scene::Friction::None
+            && (path == scene::SolvePath::Direct || !matches!(algorithm, Algorithm::Status(_)))
+        {
+            return Err(SolveError::Input(format!(
+                "contact \"{}\".friction: friction is solved on path = \"condensed\" by method = \"status\" (with solver.friction = \"fixed_point\" or \"status\"), not by \"{}\" on the {} path",
+                c.name,
+                algorithm.name(),
+                path.as_str()
+            )));
+        }
         if let scene::Law::Penalty { .. } = c.law {
             if method != scene::Method::Penalty {
                 return Err(SolveError::Input(format!(
@@ -484,6 +498,19 @@ struct StepSolution {
     regularisation: Option<Regularisation>,
     /// Penalty stiffness of each point whose contact has a regularised law (0: unilateral).
     law_k: Vec<f64>,
+    /// Friction state at the end of the step, when a contact has friction.
+    friction: Option<FrictionStep>,
+}
+
+/// Friction at one step, per contact point (zeros for frictionless points).
+#[derive(Clone)]
+struct FrictionStep {
+    statuses: Vec<PointStatus>,
+    tangential: Vec<f64>,
+    slip_increment: Vec<f64>,
+    slip_total: Vec<f64>,
+    /// The threshold in force at the solution (Tresca g or μ λ_n), for the cone check.
+    threshold: Vec<f64>,
 }
 
 /// The algorithm of a scene's `[solver]` (and `--method`).
@@ -615,6 +642,8 @@ struct Partial {
     n_gamma: usize,
     dofs: usize,
     solver: serde_json::Value,
+    /// Tangential forces at the last step (zero without friction).
+    lambda_t: Vec<f64>,
 }
 
 /// Prescribed displacement and external force of a body at a step.
@@ -740,16 +769,36 @@ fn solve_root(
             col += 1;
         }
     }
-    let rows: Vec<Vec<(usize, f64)>> = points
-        .iter()
-        .map(|p| {
-            p.row
-                .iter()
-                .filter(|&&(b, d, _)| !bodies[b].prescribed[d])
-                .map(|&(b, d, c)| (gamma_of[b][d], c))
-                .collect()
-        })
-        .collect();
+    let to_gamma = |row: &[(usize, usize, f64)]| -> Vec<(usize, f64)> {
+        row.iter()
+            .filter(|&&(b, d, _)| !bodies[b].prescribed[d])
+            .map(|&(b, d, c)| (gamma_of[b][d], c))
+            .collect()
+    };
+    let mut rows: Vec<Vec<(usize, f64)>> = points.iter().map(|p| to_gamma(&p.row)).collect();
+    // Tangential rows after the normal ones (seed eq. 16: the slip [u_t]).
+    let m = points.len();
+    let mut tangent_row = vec![None; m];
+    for (pi, p) in points.iter().enumerate() {
+        if let Some(t) = &p.trow {
+            tangent_row[pi] = Some(rows.len());
+            rows.push(to_gamma(t));
+        }
+    }
+    let has_friction = tangent_row.iter().any(|t| t.is_some());
+    let layout = FrictionLayout {
+        tangent_row: tangent_row.clone(),
+        threshold: points
+            .iter()
+            .map(|p| match p.friction {
+                PointFriction::None => Threshold::None,
+                PointFriction::Tresca(g) => Threshold::Tresca(g),
+                PointFriction::Coulomb { mu, .. } => Threshold::Coulomb(mu),
+            })
+            .collect(),
+    };
+    let mut slip_total = vec![0.0; m];
+    let mut previous: Option<(Vec<PointStatus>, Vec<f64>)> = None;
     let mut steps = Vec::new();
     let mut u_gamma = Vec::new();
     for (si, st) in scales.iter().enumerate() {
@@ -787,6 +836,135 @@ fn solve_root(
             e_of.push(e);
         }
         check_floating_equilibrium(bodies, points, &e_of, &res, si)?;
+        if has_friction {
+            // Tangential "gaps": the prescribed part of the slip minus the slip
+            // at the end of the previous step, so that the tangential rows give
+            // slip increments (seed §4.4).
+            let mut gap0_all = gap0.clone();
+            for (pi, p) in points.iter().enumerate() {
+                if let Some(t) = &p.trow {
+                    let prescribed: f64 = t
+                        .iter()
+                        .filter(|&&(b, d, _)| bodies[b].prescribed[d])
+                        .map(|&(b, d, c)| c * u_p[b][d])
+                        .sum();
+                    gap0_all.push(prescribed - slip_total[pi]);
+                }
+            }
+            let mut problem =
+                DelassusProblem::new(&s, &rows, &gap0_all, &fp, &kernel).map_err(contact_error)?;
+            let mut compliance = vec![0.0; rows.len()];
+            for (pi, p) in points.iter().enumerate() {
+                if let (
+                    PointFriction::Coulomb {
+                        slip_stiffness: Some(k),
+                        ..
+                    },
+                    Some(t),
+                ) = (p.friction, tangent_row[pi])
+                {
+                    compliance[t] = 1.0 / k;
+                }
+            }
+            problem.add_compliance(&compliance);
+            let closed = sc.solver.tolerance * length_scale;
+            let initial = previous.as_ref().map(|p| p.0.clone()).unwrap_or_else(|| {
+                gap0.iter()
+                    .map(|&g| {
+                        if g <= closed {
+                            PointStatus::Stick
+                        } else {
+                            PointStatus::Open
+                        }
+                    })
+                    .collect()
+            });
+            let fopts = FrictionOptions {
+                max_iterations: sc.solver.max_iterations,
+                max_fixed_point: sc.solver.max_iterations,
+                tolerance: sc.solver.tolerance,
+                force_scale: f_scale,
+                gap_scale: length_scale,
+            };
+            let all_tresca = layout
+                .threshold
+                .iter()
+                .all(|t| !matches!(t, Threshold::Coulomb(_)));
+            let (out, name) = if all_tresca {
+                (
+                    tresca_status(&mut problem, &layout, initial, &fopts),
+                    "tresca_status",
+                )
+            } else if sc.solver.friction == scene::FrictionSolver::Status {
+                (
+                    coulomb_status(&mut problem, &layout, initial, &fopts),
+                    "friction_status",
+                )
+            } else {
+                let start = previous.as_ref().map(|p| p.1.clone());
+                (
+                    coulomb_fixed_point(&mut problem, &layout, initial, start.as_deref(), &fopts),
+                    "coulomb_fixed_point",
+                )
+            };
+            let out = out.map_err(contact_error)?;
+            let lambda: Vec<f64> = out.forces[..m].to_vec();
+            let mut fr = FrictionStep {
+                statuses: out.statuses.clone(),
+                tangential: vec![0.0; m],
+                slip_increment: vec![0.0; m],
+                slip_total: vec![0.0; m],
+                threshold: vec![0.0; m],
+            };
+            for pi in 0..m {
+                if let Some(t) = tangent_row[pi] {
+                    fr.tangential[pi] = out.forces[t];
+                    fr.slip_increment[pi] = out.gaps[t];
+                    slip_total[pi] += out.gaps[t];
+                    fr.threshold[pi] = match layout.threshold[pi] {
+                        Threshold::Tresca(g) => g,
+                        Threshold::Coulomb(mu) => mu * lambda[pi].max(0.0),
+                        Threshold::None => 0.0,
+                    };
+                }
+                fr.slip_total[pi] = slip_total[pi];
+            }
+            let outcome = StatusOutcome {
+                converged: out.converged,
+                iterations: out.iterations,
+                solves: problem.solves,
+                active: (0..m)
+                    .filter(|&p| out.statuses[p] != PointStatus::Open)
+                    .collect(),
+                lambda,
+                gap: out.gaps[..m].to_vec(),
+                stopping_reason: out.stopping_reason.clone(),
+                active_history: vec![],
+                cycle_detected_at: out.cycle_detected.then_some(out.iterations),
+                variant_used: StatusVariant::All,
+            };
+            let solver = SolverReport {
+                method: name.into(),
+                converged: out.converged,
+                iterations: out.iterations,
+                operator_applications: problem.solves,
+                residual_history: out.fixed_point_residuals.clone(),
+                stopping_reason: out.stopping_reason.clone(),
+            };
+            u_gamma.push(problem.displacement(&out.forces));
+            previous = Some((out.statuses.clone(), out.forces.clone()));
+            steps.push(StepSolution {
+                outcome,
+                gap0,
+                f_scale,
+                length_scale,
+                solver,
+                regularisation: None,
+                law_k: vec![0.0; m],
+                friction: Some(fr),
+            });
+            continue;
+        }
         let mut problem =
             DelassusProblem::new(&s, &rows, &gap0, &fp, &kernel).map_err(contact_error)?;
         let law_k: Vec<f64> = points
@@ -856,6 +1034,7 @@ fn solve_root(
             solver,
             regularisation,
             law_k,
+            friction: None,
         });
     }
     Ok((RootAnswer { u_gamma }, steps))
@@ -901,7 +1080,14 @@ fn certificate_of(
             .filter(unilateral)
             .fold(0.0f64, |a, p| a.max((gaps[p] * lambda[p]).abs()))
             / (lscale * fscale),
-        cone: 0.0,
+        cone: sol.friction.as_ref().map_or(0.0, |f| {
+            (0..lambda.len()).fold(0.0f64, |a, p| a.max(f.tangential[p].abs() - f.threshold[p]))
+                / fscale
+        }),
+        dissipation: sol.friction.as_ref().map_or(0.0, |f| {
+            (0..lambda.len()).fold(0.0f64, |a, p| a.max(f.tangential[p] * f.slip_increment[p]))
+                / (fscale * lscale)
+        }),
         law,
         tolerance: tolerance.max(1e-9),
         force_scale: fscale,
@@ -959,26 +1145,42 @@ fn conclude_step(
             x: p.point.x,
             gap: gaps[pi],
             normal_force: l,
-            tangential_force: 0.0,
-            slip: 0.0,
+            tangential_force: sol.friction.as_ref().map_or(0.0, |f| f.tangential[pi]),
+            slip: sol.friction.as_ref().map_or(0.0, |f| f.slip_total[pi]),
             pressure: if p.tributary > 0.0 {
                 l / p.tributary
             } else {
                 0.0
             },
-            status: if outcome.active.binary_search(&pi).is_ok() {
-                "contact"
-            } else {
-                "open"
+            status: match (
+                outcome.active.binary_search(&pi).is_ok(),
+                &sol.friction,
+                p.trow.is_some(),
+            ) {
+                (false, _, _) => "open",
+                (true, Some(f), true) if f.statuses[pi].is_slip() => "slip",
+                (true, Some(_), true) => "stick",
+                _ => "contact",
             },
         });
     }
+    let (sticking, slipping) = match &sol.friction {
+        Some(f) => (
+            (0..points.len())
+                .filter(|&p| points[p].trow.is_some() && f.statuses[p] == PointStatus::Stick)
+                .count(),
+            (0..points.len())
+                .filter(|&p| points[p].trow.is_some() && f.statuses[p].is_slip())
+                .count(),
+        ),
+        None => (0, 0),
+    };
     partial.steps.push(StepReport {
         scale: sc.step_scales()[si].clone(),
         iterations: outcome.iterations,
         active: outcome.active.len(),
-        sticking: 0,
-        slipping: 0,
+        sticking,
+        slipping,
         converged: outcome.converged && cert.max() <= cert.tolerance,
         stopping_reason: outcome.stopping_reason.clone(),
         active_history: outcome.active_history.clone(),
@@ -992,6 +1194,11 @@ fn conclude_step(
     partial.solver = serde_json::to_value(&sol.solver).unwrap_or_default();
     partial.certificate = cert;
     partial.lambda = lambda.clone();
+    partial.lambda_t = sol
+        .friction
+        .as_ref()
+        .map(|f| f.tangential.clone())
+        .unwrap_or_else(|| vec![0.0; lambda.len()]);
 }
 
 fn empty_partial() -> Partial {
@@ -1008,6 +1215,7 @@ fn empty_partial() -> Partial {
         n_gamma: 0,
         dofs: 0,
         solver: serde_json::Value::Null,
+        lambda_t: vec![],
     }
 }
 
@@ -1057,6 +1265,13 @@ fn finish_condensed(
                     let g = gamma_of[b][d];
                     r_gamma[g] -= c * lambda[pi];
                     gaps[pi] += c * u_gamma[si][g];
+                }
+            }
+            if let (Some(t), Some(fr)) = (&p.trow, &sol.friction) {
+                for &(b, d, c) in t {
+                    if !bodies[b].prescribed[d] {
+                        r_gamma[gamma_of[b][d]] -= c * fr.tangential[pi];
+                    }
                 }
             }
         }
@@ -1221,6 +1436,7 @@ fn run_direct(
             solver,
             regularisation: None,
             law_k,
+            friction: None,
         };
         let res = direct_residuals(
             bodies,
@@ -1293,9 +1509,11 @@ fn finish_report(
         if lambda[pi] != 0.0 {
             s.active += 1;
         }
-        for (k, n) in p.point.normal.iter().take(2).enumerate() {
-            s.force[k] += lambda[pi] * n;
-            contact_force[k] += lambda[pi] * n;
+        let lt = partial.lambda_t.get(pi).copied().unwrap_or(0.0);
+        for k in 0..2 {
+            let f = lambda[pi] * p.point.normal[k] + lt * p.point.tangent[k];
+            s.force[k] += f;
+            contact_force[k] += f;
         }
     }
     let mut probes = Vec::new();
@@ -1447,12 +1665,21 @@ fn check_floating_equilibrium(
             continue;
         }
         let k = b.kernel.len();
-        let mut gt = Mat::<f64>::zeros(k, points.len());
+        let friction = points.iter().any(|p| p.trow.is_some());
+        let mut gt = Mat::<f64>::zeros(k, points.len() * if friction { 2 } else { 1 });
         for (pi, p) in points.iter().enumerate() {
             for &(pb, d, c) in &p.row {
                 if pb == bi {
                     for (j, r) in b.kernel.iter().enumerate() {
                         gt[(j, pi)] += c * r[d];
+                    }
+                }
+            }
+            // Tangential forces hold rigid motions too (bounded by friction).
+            for &(pb, d, c) in p.trow.iter().flatten() {
+                if pb == bi {
+                    for (j, r) in b.kernel.iter().enumerate() {
+                        gt[(j, points.len() + pi)] += c * r[d];
                     }
                 }
             }
@@ -1470,7 +1697,9 @@ fn check_floating_equilibrium(
         let unheld = (0..k)
             .filter(|&j| eig.S()[j] <= 1e-12 * emax || emax == 0.0)
             .count();
-        let (_, res) = nnls(&gt, e);
+        // Compressive normal forces alone must balance the load unless
+        // friction can help (then the friction solve itself decides).
+        let res = if friction { 0.0 } else { nnls(&gt, e).1 };
         if unheld > 0 {
             return Err(SolveError::Input(format!(
                 "bodies[{}]: body \"{}\" is free to move: {unheld} of its rigid motions are prevented neither by a support nor by its contacts (frictionless contact only holds along the normals); add a [[boundary]] displacement that pins it (e.g. a point with x = 0)",

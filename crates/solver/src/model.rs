@@ -90,6 +90,26 @@ pub struct PointModel {
     pub gap0: f64,
     pub slave_body: usize,
     pub tributary: f64,
+    /// The tangential row (slip of the slave relative to the master along
+    /// the tangent t), for points of a contact with friction.
+    pub trow: Option<Vec<(usize, usize, f64)>>,
+    /// The friction law of the point's contact, per point: the Tresca
+    /// threshold as a force (g × tributary length), or μ.
+    pub friction: PointFriction,
+}
+
+/// The friction law at one contact point.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum PointFriction {
+    None,
+    /// Threshold force.
+    Tresca(f64),
+    /// Coefficient, and the elastic slip stiffness (force per unit slip) of a
+    /// regularised law (seed §4.1.3).
+    Coulomb {
+        mu: f64,
+        slip_stiffness: Option<f64>,
+    },
 }
 
 pub fn fem_model(model: scene::Model) -> Result<FemModel, SolveError> {
@@ -383,9 +403,9 @@ pub fn build_contacts(
                 )))
             }
         }
-        if c.friction != scene::Friction::None {
+        if let scene::Friction::NortonHoff { .. } = c.friction {
             return Err(input(format!(
-                "{entry}.friction: friction is not supported yet (supported: \"none\")"
+                "{entry}.friction: the Norton-Hoff law is not supported yet (supported: none, tresca, coulomb, coulomb with slip_stiffness)"
             )));
         }
         let si = body_model(&c.slave.body).ok_or_else(|| {
@@ -501,9 +521,39 @@ pub fn build_contacts(
                 scene::Gap::Geometric => p.gap0,
                 scene::Gap::Uniform(j) => j,
             };
+            let tributary = trib.get(&p.slave_node).copied().unwrap_or(0.0);
+            let friction = match &c.friction {
+                scene::Friction::None | scene::Friction::NortonHoff { .. } => PointFriction::None,
+                scene::Friction::Tresca(g) => PointFriction::Tresca(g * tributary),
+                scene::Friction::Coulomb {
+                    coefficient,
+                    slip_stiffness,
+                } => PointFriction::Coulomb {
+                    mu: coefficient.first().copied().unwrap_or(0.0),
+                    slip_stiffness: slip_stiffness.map(|k| k * tributary),
+                },
+            };
+            let trow = (friction != PointFriction::None).then(|| {
+                let mut t = Vec::new();
+                for term in &p.terms {
+                    let b = match term.side {
+                        TermSide::Slave => si,
+                        TermSide::Master => mi.expect("a master term needs a deformable master"),
+                    };
+                    for k in 0..2 {
+                        let coef = term.weight * p.tangent[k];
+                        if coef != 0.0 {
+                            t.push((b, term.node * 2 + k, coef));
+                        }
+                    }
+                }
+                t
+            });
             points.push(PointModel {
+                trow,
+                friction,
                 contact: ci,
-                tributary: trib.get(&p.slave_node).copied().unwrap_or(0.0),
+                tributary,
                 point: p,
                 row,
                 gap0,
