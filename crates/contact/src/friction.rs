@@ -151,9 +151,10 @@ fn updates(
                 if gn < -tol_g {
                     // Closing: it slips on in the direction it was moving while
                     // open (the force opposing it), or sticks if it was not moving.
+                    let finite = threshold[p].is_finite();
                     let next = match layout.tangent_row[p].map(|t| g[t]) {
-                        Some(s) if s > tol_g => PointStatus::SlipMinus,
-                        Some(s) if s < -tol_g => PointStatus::SlipPlus,
+                        Some(s) if finite && s > tol_g => PointStatus::SlipMinus,
+                        Some(s) if finite && s < -tol_g => PointStatus::SlipPlus,
                         _ => PointStatus::Stick,
                     };
                     out.push((p, next, -gn / tol_g));
@@ -211,11 +212,33 @@ fn status_loop(
     let mut single = false;
     let mut thr = threshold(&vec![0.0; statuses.len()]);
     let mut last = None;
+    // The last statuses that gave a regular system and the changes they
+    // called for, most violated first: when a change leaves a floating body
+    // unheld (a singular system), the method goes back and tries the other
+    // changes one at a time.
+    let mut fallback: Option<(Vec<PointStatus>, Vec<(usize, PointStatus, f64)>)> = None;
     for _ in 0..opts.max_iterations {
         *iterations += 1;
         seen.insert(statuses.clone());
         let eqs = equations(layout, statuses, &thr, coulomb_ratio);
-        let (r, g) = problem.solve_equations(&eqs)?;
+        let (r, g) = match problem.solve_equations(&eqs) {
+            Ok(v) => v,
+            Err(ContactError::Singular(msg)) => {
+                let Some((prev, pending)) = fallback.as_mut() else {
+                    return Err(ContactError::Singular(msg));
+                };
+                if pending.is_empty() {
+                    return Err(ContactError::Singular(msg));
+                }
+                let (p, st, _) = pending.remove(0);
+                let mut next = prev.clone();
+                next[p] = st;
+                single = true;
+                *statuses = next;
+                continue;
+            }
+            Err(e) => return Err(e),
+        };
         if coulomb_ratio {
             thr = threshold(&r);
         }
@@ -225,16 +248,22 @@ fn status_loop(
         let tol_g = opts.tolerance * opts.gap_scale.max(gmax);
         let mut ch = updates(layout, statuses, &r, &g, &thr, tol_f, tol_g);
         if ch.is_empty() {
-            return Ok((
-                true,
-                r,
-                g,
-                format!("statuses repeated after {} status solves", iterations),
-            ));
+            return Ok((true, r, g, format!("statuses repeated after {} status solves", iterations)));
         }
+        ch.sort_by(|a, b| b.2.total_cmp(&a.2));
+        fallback = Some((statuses.clone(), ch[1.min(ch.len())..].to_vec()));
         if single {
-            ch.sort_by(|a, b| b.2.total_cmp(&a.2));
             ch.truncate(1);
+            if let Some(f) = fallback.as_mut() {
+                f.1 = Vec::new();
+                let all = updates(layout, statuses, &r, &g, &thr, tol_f, tol_g);
+                let mut all = all;
+                all.sort_by(|a, b| b.2.total_cmp(&a.2));
+                f.1 = all.into_iter().skip(1).collect();
+            }
+        } else if let Some(f) = fallback.as_mut() {
+            // After an all-changes step fails, try the changes one by one.
+            f.1 = ch.clone();
         }
         let mut next = statuses.clone();
         for &(p, st, _) in &ch {
@@ -243,16 +272,10 @@ fn status_loop(
         if seen.contains(&next) {
             *cycle = true;
             if single {
-                return Ok((
-                    false,
-                    r,
-                    g,
-                    "cycling even with one status change per iteration".into(),
-                ));
+                return Ok((false, r, g, "cycling even with one status change per iteration".into()));
             }
             single = true;
             seen.clear();
-            ch.sort_by(|a, b| b.2.total_cmp(&a.2));
             next = statuses.clone();
             next[ch[0].0] = ch[0].1;
         }
