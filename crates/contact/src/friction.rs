@@ -216,7 +216,7 @@ fn status_loop(
     // called for, most violated first: when a change leaves a floating body
     // unheld (a singular system), the method goes back and tries the other
     // changes one at a time.
-    let mut fallback: Option<(Vec<PointStatus>, Vec<(usize, PointStatus, f64)>)> = None;
+    let mut fallback: Option<(Vec<PointStatus>, Vec<f64>, Vec<usize>)> = None;
     for _ in 0..opts.max_iterations {
         *iterations += 1;
         seen.insert(statuses.clone());
@@ -224,15 +224,25 @@ fn status_loop(
         let (r, g) = match problem.solve_equations(&eqs) {
             Ok(v) => v,
             Err(ContactError::Singular(msg)) => {
-                let Some((prev, pending)) = fallback.as_mut() else {
+                // Nothing holds a friction-held body: go back to the last
+                // regular statuses and make their most loaded contact point
+                // stick (one stick point holds the tangential motion).
+                let Some((prev, prev_r, tried)) = fallback.as_mut() else {
                     return Err(ContactError::Singular(msg));
                 };
-                if pending.is_empty() {
+                let candidate = (0..prev.len())
+                    .filter(|&p| {
+                        prev[p] != PointStatus::Open
+                            && layout.tangent_row[p].is_some()
+                            && !tried.contains(&p)
+                    })
+                    .max_by(|&a, &b| prev_r[a].total_cmp(&prev_r[b]));
+                let Some(p) = candidate else {
                     return Err(ContactError::Singular(msg));
-                }
-                let (p, st, _) = pending.remove(0);
+                };
+                tried.push(p);
                 let mut next = prev.clone();
-                next[p] = st;
+                next[p] = PointStatus::Stick;
                 single = true;
                 *statuses = next;
                 continue;
@@ -256,19 +266,9 @@ fn status_loop(
             ));
         }
         ch.sort_by(|a, b| b.2.total_cmp(&a.2));
-        fallback = Some((statuses.clone(), ch[1.min(ch.len())..].to_vec()));
+        fallback = Some((statuses.clone(), r.clone(), Vec::new()));
         if single {
             ch.truncate(1);
-            if let Some(f) = fallback.as_mut() {
-                f.1 = Vec::new();
-                let all = updates(layout, statuses, &r, &g, &thr, tol_f, tol_g);
-                let mut all = all;
-                all.sort_by(|a, b| b.2.total_cmp(&a.2));
-                f.1 = all.into_iter().skip(1).collect();
-            }
-        } else if let Some(f) = fallback.as_mut() {
-            // After an all-changes step fails, try the changes one by one.
-            f.1 = ch.clone();
         }
         let mut next = statuses.clone();
         for &(p, st, _) in &ch {

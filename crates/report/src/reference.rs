@@ -11,6 +11,10 @@ pub struct NodalPressure {
     pub s: f64,
     pub force: f64,
     pub tributary: f64,
+    /// Tangential force (0 without friction).
+    pub tangential: f64,
+    /// Whether the point sticks (friction).
+    pub stick: bool,
 }
 
 /// Hertz, cylinder on a plane (VALIDATION.md §1): with P the load per unit
@@ -144,5 +148,114 @@ mod tests {
         assert!(rep.quantities["p0"].relative_error < 1e-3);
         assert!(rep.quantities["a"].relative_error < 1e-3);
         assert!(rep.quantities["profile_l2"].relative_error < 1e-2);
+    }
+}
+
+/// Cattaneo–Mindlin partial slip (VALIDATION.md §6): two elastically similar
+/// cylinders (or a cylinder on a half-space of the same material) under a
+/// normal load P, then a tangential load Q < μP: stick zone half-width
+/// c = a sqrt(1 − Q/(μP)); shear traction
+/// q(x) = μ p0 sqrt(1 − x²/a²) − μ p0 (c/a) sqrt(1 − x²/c²) for |x| < c and
+/// μ p(x) for c ≤ |x| ≤ a. P and Q are the computed resultants.
+pub fn cattaneo_mindlin(nodes: &[NodalPressure], e_star: f64, r: f64, mu: f64) -> ReferenceReport {
+    let p_total: f64 = nodes.iter().map(|n| n.force).sum();
+    let q_total: f64 = nodes.iter().map(|n| n.tangential).sum::<f64>().abs();
+    let (a, p0) = hertz_cylinder_exact(p_total, e_star, r);
+    let centre = if p_total > 0.0 {
+        nodes.iter().map(|n| n.force * n.s).sum::<f64>() / p_total
+    } else {
+        0.0
+    };
+    let ratio = if mu * p_total > 0.0 {
+        q_total / (mu * p_total)
+    } else {
+        f64::NAN
+    };
+    let c_exact = a * (1.0 - ratio).max(0.0).sqrt();
+    // The stick zone of the computation: from the outermost sticking point to
+    // the next point out (half a spacing beyond), on each side.
+    let mut sorted: Vec<&NodalPressure> = nodes.iter().filter(|n| n.force > 0.0).collect();
+    sorted.sort_by(|x, y| x.s.total_cmp(&y.s));
+    let mut c_computed = 0.0f64;
+    for (i, n) in sorted.iter().enumerate() {
+        if !n.stick {
+            continue;
+        }
+        for j in [i.wrapping_sub(1), i + 1] {
+            if let Some(m) = sorted.get(j) {
+                if !m.stick {
+                    c_computed = c_computed.max(((n.s + m.s) / 2.0 - centre).abs());
+                }
+            }
+        }
+    }
+    let (mut num, mut den) = (0.0, 0.0);
+    for n in nodes.iter().filter(|n| n.tributary > 0.0) {
+        let x = n.s - centre;
+        if x.abs() > a {
+            continue;
+        }
+        let mut q = mu * p0 * (1.0 - (x / a).powi(2)).max(0.0).sqrt();
+        if x.abs() < c_exact {
+            q -= mu * p0 * (c_exact / a) * (1.0 - (x / c_exact).powi(2)).max(0.0).sqrt();
+        }
+        let qc = n.tangential.abs() / n.tributary;
+        num += (qc - q).powi(2) * n.tributary;
+        den += q * q * n.tributary;
+    }
+    let l2 = if den > 0.0 { (num / den).sqrt() } else { 0.0 };
+    let mut qs = BTreeMap::new();
+    qs.insert("load".to_string(), Quantity::new(p_total, p_total));
+    qs.insert(
+        "tangential_load_ratio".to_string(),
+        Quantity::new(ratio, ratio),
+    );
+    qs.insert(
+        "stick_half_width".to_string(),
+        Quantity::new(c_computed, c_exact),
+    );
+    qs.insert(
+        "shear_profile_l2".to_string(),
+        Quantity {
+            computed: l2,
+            exact: 0.0,
+            relative_error: l2,
+        },
+    );
+    ReferenceReport {
+        kind: "cattaneo_mindlin".into(),
+        quantities: qs,
+        notes: vec![
+            format!("E* = {e_star:e}, R = {r:e}, μ = {mu}; P and Q are the computed resultants, a = sqrt(4PR/(πE*))"),
+            "needs elastically similar bodies (same E and ν): for an elastic body on a rigid plane the normal and tangential problems couple and the stick zone is off-centre and narrower".into(),
+            "stick_half_width is measured half a node spacing beyond the outermost sticking node".into(),
+        ],
+    }
+}
+
+/// Block on a plane with Coulomb friction (VALIDATION.md §5): when every
+/// contact point slips the tangential reaction is μN; when it sticks, the
+/// applied tangential load `applied` (if known).
+pub fn sliding_block(nodes: &[NodalPressure], mu: f64, applied: Option<f64>) -> ReferenceReport {
+    let n: f64 = nodes.iter().map(|p| p.force).sum();
+    let t: f64 = nodes.iter().map(|p| p.tangential).sum::<f64>().abs();
+    let sliding = nodes.iter().filter(|p| p.force > 0.0).all(|p| !p.stick);
+    let exact = if sliding {
+        mu * n
+    } else {
+        applied.unwrap_or(t)
+    };
+    let mut qs = BTreeMap::new();
+    qs.insert("normal_load".to_string(), Quantity::new(n, n));
+    qs.insert("tangential_reaction".to_string(), Quantity::new(t, exact));
+    ReferenceReport {
+        kind: "sliding_block".into(),
+        quantities: qs,
+        notes: vec![if sliding {
+            format!("every contact point slips: the tangential reaction is μN with μ = {mu}")
+        } else {
+            "some contact points stick: the tangential reaction is the applied tangential load"
+                .to_string()
+        }],
     }
 }

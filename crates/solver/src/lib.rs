@@ -644,6 +644,8 @@ struct Partial {
     solver: serde_json::Value,
     /// Tangential forces at the last step (zero without friction).
     lambda_t: Vec<f64>,
+    /// Friction at the last step.
+    friction: Option<FrictionStep>,
 }
 
 /// Prescribed displacement and external force of a body at a step.
@@ -1194,6 +1196,7 @@ fn conclude_step(
     partial.solver = serde_json::to_value(&sol.solver).unwrap_or_default();
     partial.certificate = cert;
     partial.lambda = lambda.clone();
+    partial.friction = sol.friction.clone();
     partial.lambda_t = sol
         .friction
         .as_ref()
@@ -1216,6 +1219,7 @@ fn empty_partial() -> Partial {
         dofs: 0,
         solver: serde_json::Value::Null,
         lambda_t: vec![],
+        friction: None,
     }
 }
 
@@ -1536,7 +1540,13 @@ fn finish_report(
     }
     let reference = match &sc.reference {
         None => None,
-        Some(r) => Some(compare_reference(sc, r, points, lambda)?),
+        Some(r) => Some(compare_reference(
+            sc,
+            r,
+            points,
+            lambda,
+            partial.friction.as_ref(),
+        )?),
     };
     let want_stress = sc.output.wants("stress");
     if want_stress {
@@ -1736,6 +1746,7 @@ fn compare_reference(
     r: &scene::Reference,
     points: &[PointModel],
     lambda: &[f64],
+    friction: Option<&FrictionStep>,
 ) -> Result<signorini_report::ReferenceReport, SolveError> {
     let Some(pmax) = (0..points.len()).max_by(|&a, &b| lambda[a].total_cmp(&lambda[b])) else {
         return Err(SolveError::Input(
@@ -1746,22 +1757,49 @@ fn compare_reference(
     let nodes: Vec<reference::NodalPressure> = points
         .iter()
         .zip(lambda)
-        .map(|(p, &l)| reference::NodalPressure {
+        .enumerate()
+        .map(|(pi, (p, &l))| reference::NodalPressure {
             s: p.point.x[0] * t[0] + p.point.x[1] * t[1],
             force: l.max(0.0),
             tributary: p.tributary,
+            tangential: friction.map_or(0.0, |f| f.tangential[pi]),
+            stick: friction.is_some_and(|f| f.statuses[pi] == PointStatus::Stick),
         })
         .collect();
+    let first = sc
+        .contact
+        .first()
+        .ok_or_else(|| SolveError::Input("reference: needs a [[contact]]".into()))?;
+    let e_star =
+        || 1.0 / (contact_modulus(sc, &first.slave.body) + contact_modulus(sc, &first.master.body));
+    let radius = || {
+        r.radius.ok_or_else(|| {
+            SolveError::Input(format!(
+                "reference.radius: {} needs the radius",
+                r.kind.as_str()
+            ))
+        })
+    };
+    let mu = || -> Result<f64, SolveError> {
+        r.friction
+            .or(match &first.friction {
+                scene::Friction::Coulomb { coefficient, .. } => coefficient.first().copied(),
+                _ => None,
+            })
+            .ok_or_else(|| {
+                SolveError::Input(format!(
+                    "reference.friction: {} needs μ (or a Coulomb contact)",
+                    r.kind.as_str()
+                ))
+            })
+    };
     match r.kind {
-        scene::ReferenceKind::HertzCylinder => {
-            let c = sc.contact.first().ok_or_else(|| SolveError::Input("reference: hertz_cylinder needs a [[contact]]".into()))?;
-            let inv = contact_modulus(sc, &c.slave.body) + contact_modulus(sc, &c.master.body);
-            let radius = r.radius.ok_or_else(|| SolveError::Input("reference.radius: hertz_cylinder needs the radius".into()))?;
-            Ok(reference::hertz_cylinder(&nodes, 1.0 / inv, radius))
-        }
+        scene::ReferenceKind::HertzCylinder => Ok(reference::hertz_cylinder(&nodes, e_star(), radius()?)),
         scene::ReferenceKind::UniformPressure => Ok(reference::uniform_pressure(&nodes, r.pressure, None)),
+        scene::ReferenceKind::CattaneoMindlin => Ok(reference::cattaneo_mindlin(&nodes, e_star(), radius()?, mu()?)),
+        scene::ReferenceKind::SlidingBlock => Ok(reference::sliding_block(&nodes, mu()?, None)),
         other => Err(SolveError::Input(format!(
-            "reference.kind: \"{}\" is not supported yet (supported: hertz_cylinder, uniform_pressure)",
+            "reference.kind: \"{}\" is not supported yet (supported: hertz_cylinder, uniform_pressure, cattaneo_mindlin, sliding_block)",
             other.as_str()
         ))),
     }
