@@ -354,6 +354,42 @@ fn write_outputs(
 ) -> std::io::Result<()> {
     std::fs::create_dir_all(dir)?;
     signorini_report::write_contact_csv(&dir.join("contact.csv"), &output.contact_rows)?;
+    signorini_report::write_steps_csv(&dir.join("steps.csv"), &output.report.steps)?;
+    // With friction and several steps: the tangential force against the slip
+    // (a hysteresis loop under cyclic loading).
+    let friction = output
+        .report
+        .steps
+        .iter()
+        .any(|s| s.sticking + s.slipping > 0);
+    if friction && output.report.steps.len() >= 3 {
+        use signorini_report::plot::{linear_svg, Series};
+        let points = std::iter::once((0.0, 0.0))
+            .chain(
+                output
+                    .report
+                    .steps
+                    .iter()
+                    .map(|s| (s.mean_slip, s.tangential_force)),
+            )
+            .collect();
+        let series = [Series {
+            label: "tangential contact force".into(),
+            points,
+        }];
+        if let Err(e) = linear_svg(
+            &dir.join("friction.svg"),
+            "Tangential force against slip",
+            "mean slip",
+            "tangential contact force",
+            &series,
+        ) {
+            output
+                .report
+                .messages
+                .push(format!("no friction plot: {e}"));
+        }
+    }
     if sc.output.wants("displacement") {
         let mut w = std::io::BufWriter::new(std::fs::File::create(dir.join("displacement.csv"))?);
         writeln!(w, "body,node,x,y,ux,uy")?;

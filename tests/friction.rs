@@ -268,3 +268,82 @@ fn a_tangential_force_above_mu_n_has_no_equilibrium_and_says_so() {
         Err(e) => panic!("{e}"),
     }
 }
+
+fn example(name: &str) -> String {
+    std::fs::read_to_string(format!("{}/examples/{name}", env!("CARGO_MANIFEST_DIR"))).unwrap()
+}
+
+/// VALIDATION.md §6 on the shipped example: the stick zone of two elastically
+/// similar bodies is a·sqrt(1 − Q/(μP)) within 5 %.
+#[test]
+fn cattaneo_mindlin_stick_zone_matches_the_analytic_half_width() {
+    let out = converged(&example("cattaneo.toml"));
+    let q = &out.report.reference.as_ref().unwrap().quantities;
+    let c = &q["stick_half_width"];
+    assert!(
+        c.relative_error <= 0.05,
+        "stick half-width {} vs {}",
+        c.computed,
+        c.exact
+    );
+    let ratio = q["tangential_load_ratio"].computed;
+    assert!(
+        ratio > 0.2 && ratio < 0.8,
+        "a partial-slip case: Q/μP = {ratio}"
+    );
+    let last = out.report.steps.last().unwrap();
+    assert!(last.sticking > 0 && last.slipping > 0);
+    // The slip zones are at the edges: every slipping point lies outside the stick zone.
+    let rows: Vec<_> = out
+        .contact_rows
+        .iter()
+        .filter(|r| r.step == 2 && r.status != "open")
+        .collect();
+    let centre = rows.iter().map(|r| r.normal_force * r.x[0]).sum::<f64>()
+        / rows.iter().map(|r| r.normal_force).sum::<f64>();
+    let stick_max = rows
+        .iter()
+        .filter(|r| r.status == "stick")
+        .map(|r| (r.x[0] - centre).abs())
+        .fold(0.0, f64::max);
+    assert!(rows
+        .iter()
+        .filter(|r| r.status == "slip")
+        .all(|r| (r.x[0] - centre).abs() > stick_max * 0.9));
+}
+
+/// Cyclic tangential loading +Q → −Q → +Q: the force–slip curve is a loop
+/// that returns to its +Q tip, and the contact unloaded to Q = 0 keeps a slip
+/// that the first loading did not have (the state depends on the history).
+#[test]
+fn cyclic_tangential_loading_traces_a_closed_hysteresis_loop() {
+    let out = converged(&example("cyclic.toml"));
+    let s = &out.report.steps;
+    assert_eq!(s.len(), 11);
+    let q = s[2].tangential_force;
+    assert!(
+        (s[10].tangential_force - q).abs() <= 1e-9 * q.abs(),
+        "the +Q tips: {} vs {q}",
+        s[10].tangential_force
+    );
+    assert!(
+        (s[6].tangential_force + q).abs() <= 1e-9 * q.abs(),
+        "the −Q tip"
+    );
+    // The loop closes at +Q (within the discrete stick/slip transition of one node).
+    let (a, b) = (s[2].mean_slip, s[10].mean_slip);
+    assert!(
+        (a - b).abs() <= 0.05 * a.abs(),
+        "slip at the +Q tips: {a:e} vs {b:e}"
+    );
+    // Unloaded to 0 after +Q and after −Q: opposite locked-in slips, not the virgin state.
+    assert!(s[0].mean_slip.abs() <= 1e-6 * a.abs());
+    assert!(
+        s[4].mean_slip > 0.3 * a && s[8].mean_slip < -0.3 * a,
+        "{} {}",
+        s[4].mean_slip,
+        s[8].mean_slip
+    );
+    // Going up and coming down at the same load differ: hysteresis.
+    assert!((s[1].mean_slip - s[3].mean_slip).abs() > 0.5 * s[1].mean_slip.abs());
+}

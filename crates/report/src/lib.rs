@@ -14,6 +14,13 @@ use serde::Serialize;
 #[derive(Debug, Clone, Serialize)]
 pub struct StepReport {
     pub scale: BTreeMap<String, f64>,
+    /// Resultant contact force on the slaves at this step (normal and friction).
+    pub contact_force: Vec<f64>,
+    /// Sum of the normal and of the tangential contact forces.
+    pub normal_force: f64,
+    pub tangential_force: f64,
+    /// Mean total slip of the frictional contact points in contact.
+    pub mean_slip: f64,
     pub iterations: usize,
     pub active: usize,
     pub sticking: usize,
@@ -241,6 +248,38 @@ impl RankTimings {
             recover_max: rmax,
         }
     }
+}
+
+/// steps.csv: one row per load step (scales, resultants, slip, statuses).
+pub fn write_steps_csv(path: &Path, steps: &[StepReport]) -> std::io::Result<()> {
+    let mut w = std::io::BufWriter::new(std::fs::File::create(path)?);
+    let names: Vec<&String> = steps
+        .first()
+        .map(|s| s.scale.keys().collect())
+        .unwrap_or_default();
+    let scale_cols: String = names.iter().map(|n| format!(",scale_{n}")).collect();
+    writeln!(w, "step{scale_cols},force_x,force_y,normal_force,tangential_force,mean_slip,active,sticking,slipping,iterations")?;
+    for (i, s) in steps.iter().enumerate() {
+        let sc: String = names
+            .iter()
+            .map(|n| format!(",{}", s.scale.get(*n).copied().unwrap_or(0.0)))
+            .collect();
+        writeln!(
+            w,
+            "{}{sc},{:e},{:e},{:e},{:e},{:e},{},{},{},{}",
+            i + 1,
+            s.contact_force.first().copied().unwrap_or(0.0),
+            s.contact_force.get(1).copied().unwrap_or(0.0),
+            s.normal_force,
+            s.tangential_force,
+            s.mean_slip,
+            s.active,
+            s.sticking,
+            s.slipping,
+            s.iterations
+        )?;
+    }
+    w.flush()
 }
 
 /// One row of contact.csv.

@@ -1177,8 +1177,33 @@ fn conclude_step(
         ),
         None => (0, 0),
     };
+    let mut step_force = [0.0f64; 2];
+    let (mut sum_n, mut sum_t, mut slip_sum, mut slip_count) = (0.0f64, 0.0f64, 0.0f64, 0usize);
+    for (pi, p) in points.iter().enumerate() {
+        let lt = sol.friction.as_ref().map_or(0.0, |f| f.tangential[pi]);
+        for (k, f) in step_force.iter_mut().enumerate() {
+            *f += lambda[pi] * p.point.normal[k] + lt * p.point.tangent[k];
+        }
+        sum_n += lambda[pi];
+        sum_t += lt;
+        if let (Some(f), true) = (
+            &sol.friction,
+            p.trow.is_some() && outcome.active.binary_search(&pi).is_ok(),
+        ) {
+            slip_sum += f.slip_total[pi];
+            slip_count += 1;
+        }
+    }
     partial.steps.push(StepReport {
         scale: sc.step_scales()[si].clone(),
+        contact_force: step_force.to_vec(),
+        normal_force: sum_n,
+        tangential_force: sum_t,
+        mean_slip: if slip_count > 0 {
+            slip_sum / slip_count as f64
+        } else {
+            0.0
+        },
         iterations: outcome.iterations,
         active: outcome.active.len(),
         sticking,
