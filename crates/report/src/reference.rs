@@ -122,35 +122,6 @@ pub fn uniform_pressure(
     }
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn hertz_profile_sampled_finely_recovers_p0_and_a() {
-        let (e_star, r, p) = (1.1, 1.0, 0.02);
-        let (a, p0) = hertz_cylinder_exact(p, e_star, r);
-        assert!((p0 - (p * e_star / (std::f64::consts::PI * r)).sqrt()).abs() <= 1e-14 * p0);
-        let n = 2001;
-        let h = 2.0 * a / (n - 1) as f64;
-        let nodes: Vec<NodalPressure> = (0..n)
-            .map(|i| {
-                let s = -a + i as f64 * h;
-                let w = if i == 0 || i == n - 1 { h / 2.0 } else { h };
-                NodalPressure {
-                    s,
-                    force: p0 * (1.0 - (s / a).powi(2)).max(0.0).sqrt() * w,
-                    tributary: w,
-                }
-            })
-            .collect();
-        let rep = hertz_cylinder(&nodes, e_star, r);
-        assert!(rep.quantities["p0"].relative_error < 1e-3);
-        assert!(rep.quantities["a"].relative_error < 1e-3);
-        assert!(rep.quantities["profile_l2"].relative_error < 1e-2);
-    }
-}
-
 /// Cattaneo–Mindlin partial slip (VALIDATION.md §6): two elastically similar
 /// cylinders (or a cylinder on a half-space of the same material) under a
 /// normal load P, then a tangential load Q < μP: stick zone half-width
@@ -257,5 +228,73 @@ pub fn sliding_block(nodes: &[NodalPressure], mu: f64, applied: Option<f64>) -> 
             "some contact points stick: the tangential reaction is the applied tangential load"
                 .to_string()
         }],
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The analytic Cattaneo–Mindlin traction, sampled finely, gives back c.
+    #[test]
+    fn cattaneo_mindlin_profile_sampled_finely_recovers_the_stick_zone() {
+        let (e_star, r, p, mu, ratio) = (0.55, 1.0, 0.004, 0.3, 0.5);
+        let (a, p0) = hertz_cylinder_exact(p, e_star, r);
+        let c = a * (1.0f64 - ratio).sqrt();
+        let n = 4001;
+        let h = 2.0 * a / (n - 1) as f64;
+        let nodes: Vec<NodalPressure> = (0..n)
+            .map(|i| {
+                let x = -a + i as f64 * h;
+                let w = if i == 0 || i == n - 1 { h / 2.0 } else { h };
+                let pe = p0 * (1.0 - (x / a).powi(2)).max(0.0).sqrt();
+                let mut q = mu * pe;
+                if x.abs() < c {
+                    q -= mu * p0 * (c / a) * (1.0 - (x / c).powi(2)).max(0.0).sqrt();
+                }
+                NodalPressure {
+                    s: x,
+                    force: pe * w,
+                    tributary: w,
+                    tangential: -q * w,
+                    stick: x.abs() < c,
+                }
+            })
+            .collect();
+        let rep = cattaneo_mindlin(&nodes, e_star, r, mu);
+        let q = &rep.quantities;
+        assert!(
+            (q["tangential_load_ratio"].computed - ratio).abs() < 1e-3,
+            "{}",
+            q["tangential_load_ratio"].computed
+        );
+        assert!(q["stick_half_width"].relative_error < 1e-3);
+        assert!(q["shear_profile_l2"].relative_error < 1e-2);
+    }
+
+    #[test]
+    fn hertz_profile_sampled_finely_recovers_p0_and_a() {
+        let (e_star, r, p) = (1.1, 1.0, 0.02);
+        let (a, p0) = hertz_cylinder_exact(p, e_star, r);
+        assert!((p0 - (p * e_star / (std::f64::consts::PI * r)).sqrt()).abs() <= 1e-14 * p0);
+        let n = 2001;
+        let h = 2.0 * a / (n - 1) as f64;
+        let nodes: Vec<NodalPressure> = (0..n)
+            .map(|i| {
+                let s = -a + i as f64 * h;
+                let w = if i == 0 || i == n - 1 { h / 2.0 } else { h };
+                NodalPressure {
+                    s,
+                    force: p0 * (1.0 - (s / a).powi(2)).max(0.0).sqrt() * w,
+                    tributary: w,
+                    tangential: 0.0,
+                    stick: false,
+                }
+            })
+            .collect();
+        let rep = hertz_cylinder(&nodes, e_star, r);
+        assert!(rep.quantities["p0"].relative_error < 1e-3);
+        assert!(rep.quantities["a"].relative_error < 1e-3);
+        assert!(rep.quantities["profile_l2"].relative_error < 1e-2);
     }
 }

@@ -1539,10 +1539,10 @@ fn finish_report(
             s.active += 1;
         }
         let lt = partial.lambda_t.get(pi).copied().unwrap_or(0.0);
-        for k in 0..2 {
+        for (k, total) in contact_force.iter_mut().enumerate() {
             let f = lambda[pi] * p.point.normal[k] + lt * p.point.tangent[k];
             s.force[k] += f;
-            contact_force[k] += f;
+            *total += f;
         }
     }
     let mut probes = Vec::new();
