@@ -347,3 +347,48 @@ fn cyclic_tangential_loading_traces_a_closed_hysteresis_loop() {
     // Going up and coming down at the same load differ: hysteresis.
     assert!((s[1].mean_slip - s[3].mean_slip).abs() > 0.5 * s[1].mean_slip.abs());
 }
+
+/// Tresca (seed §4.1.1) by the projection method (box-constrained MPRGP on
+/// the forces) and by the status method: the same answer where the contact
+/// is closed everywhere, partly sticking and partly slipping.
+#[test]
+fn tresca_by_projection_equals_tresca_by_statuses() {
+    // Pinned in x at the top so that the projection method (no rigid modes) applies.
+    let base = block("{ tresca = 0.12 }", "{ x = 0.003, y = -0.01 }", 0.0, "");
+    let a = converged(&base);
+    let b = converged(&base.replace(
+        "friction = { tresca = 0.12 }",
+        "friction = { tresca = 0.12 }\n[solver]\nmethod = \"mprgp\"",
+    ));
+    assert!(
+        a.report.steps[0].sticking > 0 && a.report.steps[0].slipping > 0,
+        "partial slip"
+    );
+    assert!(a.contact_rows.iter().all(|r| r.status != "open"));
+    assert_eq!(b.report.steps[0].solver["method"], "tresca_mprgp_box");
+    for (x, y) in a.contact_rows.iter().zip(&b.contact_rows) {
+        assert_eq!(x.status, y.status);
+        assert!(
+            (x.tangential_force - y.tangential_force).abs() <= 1e-8 * 0.12,
+            "{} vs {}",
+            x.tangential_force,
+            y.tangential_force
+        );
+        assert!(
+            (x.normal_force - y.normal_force).abs() <= 1e-8,
+            "{} vs {}",
+            x.normal_force,
+            y.normal_force
+        );
+        // Slipping points carry exactly the threshold: g times the tributary
+        // length (normal force / pressure).
+        if x.status == "slip" {
+            let tributary = x.normal_force / x.pressure;
+            assert!(
+                (x.tangential_force.abs() - 0.12 * tributary).abs() <= 1e-9,
+                "{}",
+                x.tangential_force
+            );
+        }
+    }
+}
