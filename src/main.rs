@@ -124,6 +124,26 @@ fn main() -> ExitCode {
 /// cores/ranks threads for faer; Open MPI binds a rank to one core unless
 /// told `--bind-to none`, and then each rank has one thread.
 fn transport() -> Box<dyn Transport> {
+    // A build without MPI started by an MPI launcher would run the whole
+    // problem once per rank, every copy writing the same output: refuse.
+    #[cfg(not(feature = "mpi"))]
+    {
+        let ranks = ["OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "MPI_LOCALNRANKS"]
+            .iter()
+            .find_map(|v| std::env::var(v).ok().and_then(|s| s.parse::<usize>().ok()));
+        if let Some(n) = ranks.filter(|&n| n > 1) {
+            let rank = ["OMPI_COMM_WORLD_RANK", "PMI_RANK"]
+                .iter()
+                .find_map(|v| std::env::var(v).ok().and_then(|s| s.parse::<usize>().ok()))
+                .unwrap_or(0);
+            if rank == 0 {
+                eprintln!(
+                    "error: started on {n} MPI ranks, but this signorini was built without MPI; rebuild with `cargo build --release --features mpi`"
+                );
+            }
+            std::process::exit(1);
+        }
+    }
     #[cfg(feature = "mpi")]
     if signorini_comm::Mpi::launched() {
         if let Some(m) = signorini_comm::Mpi::init() {

@@ -132,8 +132,14 @@ fn compare(scene: &str, np: usize, tag: &str) {
     assert_eq!(ra["transport"], "local");
     assert_eq!(rb["rank_stats"].as_array().unwrap().len(), np);
     assert!(rb["communication_bytes"].as_u64().unwrap() > 0);
-    let fa = numbers(&a.join("contact.csv"), &["normal_force", "gap"]);
-    let fb = numbers(&b.join("contact.csv"), &["normal_force", "gap"]);
+    let fa = numbers(
+        &a.join("contact.csv"),
+        &["normal_force", "gap", "tangential_force", "slip"],
+    );
+    let fb = numbers(
+        &b.join("contact.csv"),
+        &["normal_force", "gap", "tangential_force", "slip"],
+    );
     assert!(
         max_rel(&fa, &fb) <= 1e-10,
         "{tag}: contact differs by {:e}",
@@ -233,4 +239,22 @@ fn bad_input_under_mpirun_is_reported_once_with_exit_1() {
     let err = String::from_utf8_lossy(&out.stderr);
     assert_eq!(err.matches("materials[1].young").count(), 1, "{err}");
     assert!(!d.join("out").exists());
+}
+
+#[test]
+fn friction_with_a_split_block_under_mpirun_2_equals_the_in_process_run() {
+    if !have_mpirun() {
+        return;
+    }
+    let d = dir("cattaneo_scene");
+    let text = std::fs::read_to_string(example("cattaneo.toml"))
+        .unwrap()
+        .replace(
+            "name = \"block\"\nmaterial = \"steel\"\n",
+            "name = \"block\"\nmaterial = \"steel\"\nsubdomains = 2\n",
+        );
+    assert!(text.contains("subdomains = 2"));
+    let scene = d.join("cattaneo_split.toml");
+    std::fs::write(&scene, text).unwrap();
+    compare(scene.to_str().unwrap(), 2, "cattaneo");
 }
