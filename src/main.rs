@@ -63,6 +63,9 @@ enum Command {
         /// Include the contact forces λ in the JSON line.
         #[arg(long)]
         lambda: bool,
+        /// Frictional problems (with mu): `fixed_point` (default) or `status`.
+        #[arg(long, default_value = "fixed_point")]
+        friction: String,
     },
     /// Time scenes over refinement levels, subdomain counts and paths; writes
     /// DIR/bench.csv and prints a table.
@@ -98,7 +101,15 @@ fn main() -> ExitCode {
             tolerance,
             max_iterations,
             lambda,
-        } => local(&problem, method, tolerance, max_iterations, lambda),
+            friction,
+        } => local(
+            &problem,
+            method,
+            tolerance,
+            max_iterations,
+            lambda,
+            &friction,
+        ),
         Command::Bench {
             scenes,
             levels,
@@ -267,6 +278,7 @@ fn local(
     tolerance: f64,
     max_iterations: usize,
     with_lambda: bool,
+    friction: &str,
 ) -> ExitCode {
     if !(tolerance > 0.0 && tolerance < 1.0) {
         return fail(
@@ -281,14 +293,42 @@ fn local(
     // The scene's defaults for the status variant and the constraints.
     let algorithm = signorini_solver::algorithm_of(&signorini_scene::Solver::default(), method);
     let name = path.display().to_string();
-    match signorini_solver::local::solve(
-        &name,
-        &problem,
-        algorithm,
-        tolerance,
-        max_iterations,
-        with_lambda,
-    ) {
+    let result = if problem.mu.is_some() {
+        let status = match friction {
+            "fixed_point" => false,
+            "status" => true,
+            other => {
+                return fail(
+                    1,
+                    &format!("--friction: \"{other}\" is not one of fixed_point, status"),
+                )
+            }
+        };
+        if method != Method::Status {
+            return fail(
+                1,
+                "--method: frictional local problems are solved by the status method (with --friction fixed_point or status)",
+            );
+        }
+        signorini_solver::local::solve_friction(
+            &name,
+            &problem,
+            status,
+            tolerance,
+            max_iterations,
+            with_lambda,
+        )
+    } else {
+        signorini_solver::local::solve(
+            &name,
+            &problem,
+            algorithm,
+            tolerance,
+            max_iterations,
+            with_lambda,
+        )
+    };
+    match result {
         Ok(r) => {
             println!("{}", serde_json::to_string(&r).unwrap_or_default());
             if r.converged {

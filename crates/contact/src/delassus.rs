@@ -165,6 +165,24 @@ impl DelassusProblem {
         })
     }
 
+    /// A problem given directly by its Delassus operator W and gaps q (for
+    /// stand-alone local problems): no interface displacement behind it.
+    pub fn from_operator(w: Mat<f64>, q: Vec<f64>) -> Self {
+        let m = q.len();
+        Self {
+            n: 0,
+            x: Mat::zeros(0, m),
+            u0: Vec::new(),
+            r: Mat::zeros(0, 0),
+            g_mat: Mat::zeros(m, 0),
+            e: Vec::new(),
+            w,
+            q,
+            last_alpha: Vec::new(),
+            solves: 0,
+        }
+    }
+
     pub fn n_kernel(&self) -> usize {
         self.r.ncols()
     }

@@ -17,11 +17,14 @@ use serde::{Deserialize, Serialize};
 use signorini_contact::lcp::{lcp_residual, LcpOptions};
 use signorini_contact::methods::{solve_lcp, Algorithm};
 
-/// A stand-alone problem LCP(W, q).
+/// A stand-alone problem LCP(W, q), or with `mu` a frictional one: then W
+/// and q have 2m rows, the m normal rows first and the m tangential rows
+/// after them (point p's tangential row is m + p), and `mu` has m entries.
 #[derive(Debug)]
 pub struct LocalProblem {
     pub w: Mat<f64>,
     pub q: Vec<f64>,
+    pub mu: Option<Vec<f64>>,
 }
 
 #[derive(Deserialize)]
@@ -61,7 +64,7 @@ fn read_npy(
 /// Reads a problem; errors name the file and what is wrong.
 pub fn load(path: &Path) -> Result<LocalProblem, String> {
     let shown = path.display();
-    let (w, q) = if path.extension().is_some_and(|e| e == "npz") {
+    let (w, q, mu) = if path.extension().is_some_and(|e| e == "npz") {
         let file = std::fs::File::open(path).map_err(|e| format!("cannot read {shown}: {e}"))?;
         let mut archive =
             zip::ZipArchive::new(file).map_err(|e| format!("{shown}: not a .npz archive ({e})"))?;
@@ -69,11 +72,7 @@ pub fn load(path: &Path) -> Result<LocalProblem, String> {
             read_npy(&mut archive, "W")?.ok_or(format!("{shown}: no array named W"))?;
         let (qs, _, qd) =
             read_npy(&mut archive, "q")?.ok_or(format!("{shown}: no array named q"))?;
-        if read_npy(&mut archive, "mu")?.is_some() {
-            return Err(format!(
-                "{shown}: mu (friction) is not supported yet by signorini local"
-            ));
-        }
+        let mu_npz = read_npy(&mut archive, "mu")?.map(|(_, _, d)| d);
         if ws.len() != 2 || ws[0] != ws[1] {
             return Err(format!("{shown}: W must be square, has shape {ws:?}"));
         }
@@ -82,21 +81,23 @@ pub fn load(path: &Path) -> Result<LocalProblem, String> {
             return Err(format!("{shown}: q has shape {qs:?}, W is {m} × {m}"));
         }
         let w = Mat::<f64>::from_fn(m, m, |i, j| if wf { wd[i + m * j] } else { wd[i * m + j] });
-        (w, qd)
+        (w, qd, mu_npz)
     } else {
         let text =
             std::fs::read_to_string(path).map_err(|e| format!("cannot read {shown}: {e}"))?;
         let p: JsonProblem = serde_json::from_str(&text).map_err(|e| format!("{shown}: {e}"))?;
-        if p.mu.is_some() {
-            return Err(format!(
-                "{shown}: mu (friction) is not supported yet by signorini local"
-            ));
-        }
+        let mu = match p.mu {
+            None => None,
+            Some(v) => Some(
+                serde_json::from_value::<Vec<f64>>(v)
+                    .map_err(|e| format!("{shown}: mu must be a list of numbers ({e})"))?,
+            ),
+        };
         let m = p.q.len();
         if p.w.len() != m || p.w.iter().any(|r| r.len() != m) {
             return Err(format!("{shown}: W must be {m} × {m} to match q"));
         }
-        (Mat::<f64>::from_fn(m, m, |i, j| p.w[i][j]), p.q)
+        (Mat::<f64>::from_fn(m, m, |i, j| p.w[i][j]), p.q, mu)
     };
     let m = q.len();
     let wmax = w.norm_max();
@@ -117,7 +118,18 @@ pub fn load(path: &Path) -> Result<LocalProblem, String> {
     if let Some(i) = q.iter().position(|v| !v.is_finite()) {
         return Err(format!("{shown}: q[{i}] is not finite"));
     }
-    Ok(LocalProblem { w, q })
+    if let Some(mu) = &mu {
+        if 2 * mu.len() != m {
+            return Err(format!(
+                "{shown}: with mu, W and q have 2m rows (m normal rows, then m tangential rows): q has {m} rows, mu has {} entries",
+                mu.len()
+            ));
+        }
+        if let Some(i) = mu.iter().position(|v| !(v.is_finite() && *v >= 0.0)) {
+            return Err(format!("{shown}: mu[{i}] must be a finite number >= 0"));
+        }
+    }
+    Ok(LocalProblem { w, q, mu })
 }
 
 /// The JSON line `signorini local` prints.
@@ -136,6 +148,92 @@ pub struct LocalResult {
     pub stopping_reason: String,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub lambda: Option<Vec<f64>>,
+}
+
+/// Solves a frictional local problem by the Coulomb fixed point (seed §4.3)
+/// or, with `status`, the friction status method (§4.5).
+pub fn solve_friction(
+    name: &str,
+    p: &LocalProblem,
+    status: bool,
+    tolerance: f64,
+    max_iterations: usize,
+    with_lambda: bool,
+) -> Result<LocalResult, String> {
+    use signorini_contact::friction::{
+        coulomb_fixed_point, coulomb_status, FrictionLayout, FrictionOptions, PointStatus,
+        Threshold,
+    };
+    let mu = p.mu.as_ref().ok_or("no mu")?;
+    let m = mu.len();
+    let qmax =
+        p.q.iter()
+            .fold(0.0f64, |a, v| a.max(v.abs()))
+            .max(f64::MIN_POSITIVE);
+    let dmax = (0..2 * m)
+        .fold(0.0f64, |a, i| a.max(p.w[(i, i)].abs()))
+        .max(f64::MIN_POSITIVE);
+    let layout = FrictionLayout {
+        tangent_row: (0..m).map(|i| Some(m + i)).collect(),
+        threshold: mu.iter().map(|&u| Threshold::Coulomb(u)).collect(),
+    };
+    let opts = FrictionOptions {
+        max_iterations,
+        max_fixed_point: max_iterations,
+        tolerance,
+        force_scale: qmax / dmax,
+        gap_scale: qmax,
+    };
+    let initial = (0..m)
+        .map(|i| {
+            if p.q[i] <= 0.0 {
+                PointStatus::Stick
+            } else {
+                PointStatus::Open
+            }
+        })
+        .collect();
+    let mut problem = signorini_contact::DelassusProblem::from_operator(p.w.clone(), p.q.clone());
+    let t = Instant::now();
+    let out = if status {
+        coulomb_status(&mut problem, &layout, initial, &opts)
+    } else {
+        coulomb_fixed_point(&mut problem, &layout, initial, None, &opts)
+    }
+    .map_err(|e| e.to_string())?;
+    let time_s = t.elapsed().as_secs_f64();
+    // Residual: the LCP of the normal part plus the cone violation, scaled.
+    let f = opts
+        .force_scale
+        .max(out.forces.iter().fold(0.0f64, |a, v| a.max(v.abs())));
+    let normal = (0..m)
+        .map(|i| (out.forces[i] / f).min(out.gaps[i] / qmax).abs())
+        .fold(0.0, f64::max);
+    let cone = (0..m)
+        .map(|i| (out.forces[m + i].abs() - mu[i] * out.forces[i].max(0.0)).max(0.0) / f)
+        .fold(0.0, f64::max);
+    Ok(LocalResult {
+        problem: name.to_string(),
+        method: if status {
+            "friction_status"
+        } else {
+            "coulomb_fixed_point"
+        }
+        .to_string(),
+        m,
+        converged: out.converged,
+        iterations: out.iterations,
+        operator_applications: problem.solves,
+        time_s,
+        residual: normal.max(cone),
+        active: out
+            .statuses
+            .iter()
+            .filter(|s| **s != PointStatus::Open)
+            .count(),
+        stopping_reason: out.stopping_reason,
+        lambda: with_lambda.then_some(out.forces),
+    })
 }
 
 /// Solves a problem; the scales are those of the data: gaps relative to
@@ -207,6 +305,36 @@ mod tests {
         assert!(load(&path).unwrap_err().contains("not symmetric"));
         std::fs::write(&path, r#"{"W": [[2]], "q": [-1, 1]}"#).unwrap();
         assert!(load(&path).unwrap_err().contains("2 × 2"));
+    }
+
+    #[test]
+    fn frictional_json_problem_sticks_or_slips_like_the_hand_solution() {
+        let dir = std::env::temp_dir().join(format!("signorini-localmu-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("p.json");
+        // One point: W = diag(1/5, 1/2) (normal, tangential compliances); pressed
+        // by N = 3 (q_n = −3/5) and pulled by Q = 2 (q_t = 2/2): μN = 1.5 < 2, it slips.
+        std::fs::write(
+            &path,
+            r#"{"W": [[0.2, 0], [0, 0.5]], "q": [-0.6, 1.0], "mu": [0.5]}"#,
+        )
+        .unwrap();
+        let p = load(&path).unwrap();
+        for status in [false, true] {
+            let r = solve_friction("p", &p, status, 1e-12, 100, true).unwrap();
+            assert!(r.converged, "{}", r.stopping_reason);
+            let l = r.lambda.unwrap();
+            assert!(
+                (l[0] - 3.0).abs() < 1e-10 && (l[1] + 1.5).abs() < 1e-10,
+                "{l:?}"
+            );
+        }
+        std::fs::write(
+            &path,
+            r#"{"W": [[0.2, 0], [0, 0.5]], "q": [-0.6, 1.0], "mu": [0.5, 0.2]}"#,
+        )
+        .unwrap();
+        assert!(load(&path).unwrap_err().contains("2m rows"));
     }
 
     /// A .npy v1.0 file of little-endian float64 (the format NumPy writes).
