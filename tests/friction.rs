@@ -392,3 +392,44 @@ fn tresca_by_projection_equals_tresca_by_statuses() {
         }
     }
 }
+
+/// Norton–Hoff (seed §4.1.4) tends to Coulomb as ρ → 0: on a block driven
+/// past μN the tangential reaction μN·|Δs|^ρ rises monotonically to μN.
+#[test]
+fn norton_hoff_tends_to_coulomb_as_rho_goes_to_zero() {
+    let coulomb = converged(&block(
+        "{ coulomb = 0.3 }",
+        "{ x = 0.2, y = -0.01 }",
+        0.0,
+        "",
+    ));
+    let (n, t) = resultants(&coulomb, 1);
+    assert!((t.abs() - 0.3 * n).abs() <= 1e-9 * n);
+    let mut last = 0.0;
+    for rho in [0.2, 0.05, 0.01, 0.001] {
+        let out = converged(&block(
+            &format!("{{ norton_hoff = 0.3, rho = {rho} }}"),
+            "{ x = 0.2, y = -0.01 }",
+            0.0,
+            "",
+        ));
+        assert_eq!(out.report.steps[0].solver["method"], "norton_hoff");
+        let (n, t) = resultants(&out, 1);
+        let ratio = t.abs() / n;
+        assert!(
+            ratio > last && ratio < 0.3,
+            "ρ = {rho}: T/N = {ratio} (previous {last})"
+        );
+        last = ratio;
+        // Point by point: |λ_t| = μ λ_n |Δs|^ρ.
+        for r in out.contact_rows.iter().filter(|r| r.normal_force > 0.0) {
+            let slip = r.slip.abs();
+            assert!(
+                (r.tangential_force.abs() - 0.3 * r.normal_force * slip.powf(rho)).abs()
+                    <= 1e-8 * n,
+                "ρ = {rho}"
+            );
+        }
+    }
+    assert!((last - 0.3).abs() <= 0.003, "ρ = 0.001: T/N = {last}");
+}

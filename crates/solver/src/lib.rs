@@ -866,9 +866,31 @@ fn solve_root(
                 PointFriction::None => Threshold::None,
                 PointFriction::Tresca(g) => Threshold::Tresca(g),
                 PointFriction::Coulomb { mu, .. } => Threshold::Coulomb(mu),
+                // No threshold: the law is single-valued (checked by its own residual).
+                PointFriction::NortonHoff { .. } => Threshold::Tresca(f64::INFINITY),
             })
             .collect(),
     };
+    let norton_hoff: Vec<Option<(f64, f64)>> = points
+        .iter()
+        .map(|p| match p.friction {
+            PointFriction::NortonHoff { mu, rho } => Some((mu, rho)),
+            _ => None,
+        })
+        .collect();
+    let any_nh = norton_hoff.iter().any(|x| x.is_some());
+    if any_nh
+        && points.iter().any(|p| {
+            matches!(
+                p.friction,
+                PointFriction::Tresca(_) | PointFriction::Coulomb { .. }
+            )
+        })
+    {
+        return Err(SolveError::Input(
+            "contact.friction: Norton-Hoff cannot be mixed with Tresca or Coulomb contacts in one scene yet".into(),
+        ));
+    }
     let mut slip_total = vec![0.0; m];
     let mut previous: Option<(Vec<PointStatus>, Vec<f64>)> = None;
     let mut steps = Vec::new();
@@ -962,7 +984,18 @@ fn solve_root(
                 .threshold
                 .iter()
                 .all(|t| !matches!(t, Threshold::Coulomb(_)));
-            let (out, name) = if all_tresca && algorithm == Algorithm::Mprgp {
+            let (out, name) = if any_nh {
+                (
+                    signorini_contact::friction::norton_hoff(
+                        &mut problem,
+                        &layout,
+                        &norton_hoff,
+                        initial,
+                        &fopts,
+                    ),
+                    "norton_hoff",
+                )
+            } else if all_tresca && algorithm == Algorithm::Mprgp {
                 (
                     tresca_by_projection(&problem, &layout, sc, f_scale, length_scale),
                     "tresca_mprgp_box",

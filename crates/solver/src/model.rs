@@ -110,6 +110,11 @@ pub enum PointFriction {
         mu: f64,
         slip_stiffness: Option<f64>,
     },
+    /// Norton–Hoff (seed §4.1.4): λ_t = −μ λ_n |Δs|^(ρ−1) Δs.
+    NortonHoff {
+        mu: f64,
+        rho: f64,
+    },
 }
 
 pub fn fem_model(model: scene::Model) -> Result<FemModel, SolveError> {
@@ -403,11 +408,7 @@ pub fn build_contacts(
                 )))
             }
         }
-        if let scene::Friction::NortonHoff { .. } = c.friction {
-            return Err(input(format!(
-                "{entry}.friction: the Norton-Hoff law is not supported yet (supported: none, tresca, coulomb, coulomb with slip_stiffness)"
-            )));
-        }
+
         let si = body_model(&c.slave.body).ok_or_else(|| {
             input(format!(
                 "{entry}.slave.body: \"{}\" is not a deformable body",
@@ -523,7 +524,11 @@ pub fn build_contacts(
             };
             let tributary = trib.get(&p.slave_node).copied().unwrap_or(0.0);
             let friction = match &c.friction {
-                scene::Friction::None | scene::Friction::NortonHoff { .. } => PointFriction::None,
+                scene::Friction::None => PointFriction::None,
+                scene::Friction::NortonHoff { coefficient, rho } => PointFriction::NortonHoff {
+                    mu: *coefficient,
+                    rho: *rho,
+                },
                 scene::Friction::Tresca(g) => PointFriction::Tresca(g * tributary),
                 scene::Friction::Coulomb {
                     coefficient,
