@@ -433,3 +433,22 @@ fn norton_hoff_tends_to_coulomb_as_rho_goes_to_zero() {
     }
     assert!((last - 0.3).abs() <= 0.003, "ρ = 0.001: T/N = {last}");
 }
+
+/// Tiny loads (1e-12 of the others): the same answer, scaled — every
+/// tolerance is relative to the problem's own force and length scales.
+#[test]
+fn tiny_loads_give_the_scaled_answer() {
+    let big = converged(&block("{ coulomb = 0.3 }", "{ y = -0.01 }", 0.5, ""));
+    let tiny = converged(&block("{ coulomb = 0.3 }", "{ y = -1e-14 }", 5e-13, ""));
+    for (a, b) in big.contact_rows.iter().zip(&tiny.contact_rows) {
+        assert_eq!(a.status, b.status);
+        assert!(
+            (a.normal_force * 1e-12 - b.normal_force).abs()
+                <= 1e-9 * 1e-12 * big.report.contact_force[1]
+        );
+        assert!(
+            (a.tangential_force * 1e-12 - b.tangential_force).abs()
+                <= 1e-9 * 1e-12 * big.report.contact_force[1]
+        );
+    }
+}

@@ -491,6 +491,119 @@ pub fn coulomb_status(
     })
 }
 
+/// Norton–Hoff friction (seed §4.1.4, eq. 19) at the points where
+/// `mu_rho` is given: λ_t = −μ λ_n |Δs|^(ρ−1) Δs, 0 < ρ < 1, i.e. a slip
+/// with the tangential force of magnitude g = μ λ_n |Δs|^ρ opposing it (the
+/// slip measured in the scene's length unit; Coulomb as ρ → 0). Solved as a
+/// fixed point on that slip-dependent threshold, each inner problem a Tresca
+/// problem (as §4.3 does for Coulomb); the map g → μ λ_n |Δs(g)|^ρ contracts
+/// at a rate of order ρ. Started from the all-stick solution.
+pub fn norton_hoff(
+    problem: &mut DelassusProblem,
+    layout: &FrictionLayout,
+    mu_rho: &[Option<(f64, f64)>],
+    initial: Vec<PointStatus>,
+    opts: &FrictionOptions,
+) -> Result<FrictionOutcome, ContactError> {
+    let m = initial.len();
+    let mut statuses = initial;
+    let mut iterations = 0;
+    let mut cycle = false;
+    let mut residuals = Vec::new();
+    let inf = vec![f64::INFINITY; m];
+    let (_, mut r, mut g, _) = status_loop(
+        problem,
+        layout,
+        &mut statuses,
+        &|_| inf.clone(),
+        false,
+        opts,
+        &mut iterations,
+        &mut cycle,
+    )?;
+    let s_min = 1e-14 * opts.gap_scale.max(f64::MIN_POSITIVE);
+    let law = |r: &[f64], g: &[f64], p: usize| -> Option<f64> {
+        let (t, (mu, rho)) = (layout.tangent_row[p]?, mu_rho[p]?);
+        Some(mu * r[p].max(0.0) * g[t].abs().max(s_min).powf(rho))
+    };
+    for outer in 0..opts.max_fixed_point {
+        let thr: Vec<f64> = (0..m)
+            .map(|p| law(&r, &g, p).unwrap_or(f64::INFINITY))
+            .collect();
+        let (conv, r_new, g_new, reason) = status_loop(
+            problem,
+            layout,
+            &mut statuses,
+            &|_| thr.clone(),
+            false,
+            opts,
+            &mut iterations,
+            &mut cycle,
+        )?;
+        r = r_new;
+        g = g_new;
+        let fscale = opts
+            .force_scale
+            .max(r.iter().fold(0.0f64, |a, v| a.max(v.abs())))
+            .max(f64::MIN_POSITIVE);
+        // The law's residual: λ_t + g(Δs) sign(Δs) at every point in contact.
+        let mut worst = 0.0f64;
+        for (p, st) in statuses.iter().enumerate() {
+            let (Some(t), Some(gp)) = (layout.tangent_row[p], law(&r, &g, p)) else {
+                continue;
+            };
+            if *st == PointStatus::Open {
+                continue;
+            }
+            worst = worst.max((r[t] + gp * g[t].signum()).abs());
+        }
+        residuals.push(worst / fscale);
+        if conv && worst <= opts.tolerance * fscale {
+            return Ok(FrictionOutcome {
+                converged: true,
+                iterations,
+                fixed_point_iterations: outer + 1,
+                fixed_point_residuals: residuals,
+                statuses,
+                forces: r,
+                gaps: g,
+                stopping_reason: format!(
+                    "Norton-Hoff law met after {} fixed-point iterations",
+                    outer + 1
+                ),
+                cycle_detected: cycle,
+            });
+        }
+        if !conv && outer + 1 == opts.max_fixed_point {
+            return Ok(FrictionOutcome {
+                converged: false,
+                iterations,
+                fixed_point_iterations: outer + 1,
+                fixed_point_residuals: residuals,
+                statuses,
+                forces: r,
+                gaps: g,
+                stopping_reason: format!("inner Tresca problem: {reason}"),
+                cycle_detected: cycle,
+            });
+        }
+    }
+    Ok(FrictionOutcome {
+        converged: false,
+        iterations,
+        fixed_point_iterations: opts.max_fixed_point,
+        fixed_point_residuals: residuals,
+        statuses,
+        forces: r,
+        gaps: g,
+        stopping_reason: format!(
+            "Norton-Hoff fixed point not reached in {} iterations",
+            opts.max_fixed_point
+        ),
+        cycle_detected: cycle,
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -608,117 +721,4 @@ mod tests {
         assert_eq!(out.statuses, vec![PointStatus::Open]);
         assert_eq!(out.forces, vec![0.0, 0.0]);
     }
-}
-
-/// Norton–Hoff friction (seed §4.1.4, eq. 19) at the points where
-/// `mu_rho` is given: λ_t = −μ λ_n |Δs|^(ρ−1) Δs, 0 < ρ < 1, i.e. a slip
-/// with the tangential force of magnitude g = μ λ_n |Δs|^ρ opposing it (the
-/// slip measured in the scene's length unit; Coulomb as ρ → 0). Solved as a
-/// fixed point on that slip-dependent threshold, each inner problem a Tresca
-/// problem (as §4.3 does for Coulomb); the map g → μ λ_n |Δs(g)|^ρ contracts
-/// at a rate of order ρ. Started from the all-stick solution.
-pub fn norton_hoff(
-    problem: &mut DelassusProblem,
-    layout: &FrictionLayout,
-    mu_rho: &[Option<(f64, f64)>],
-    initial: Vec<PointStatus>,
-    opts: &FrictionOptions,
-) -> Result<FrictionOutcome, ContactError> {
-    let m = initial.len();
-    let mut statuses = initial;
-    let mut iterations = 0;
-    let mut cycle = false;
-    let mut residuals = Vec::new();
-    let inf = vec![f64::INFINITY; m];
-    let (_, mut r, mut g, _) = status_loop(
-        problem,
-        layout,
-        &mut statuses,
-        &|_| inf.clone(),
-        false,
-        opts,
-        &mut iterations,
-        &mut cycle,
-    )?;
-    let s_min = 1e-14 * opts.gap_scale.max(f64::MIN_POSITIVE);
-    let law = |r: &[f64], g: &[f64], p: usize| -> Option<f64> {
-        let (t, (mu, rho)) = (layout.tangent_row[p]?, mu_rho[p]?);
-        Some(mu * r[p].max(0.0) * g[t].abs().max(s_min).powf(rho))
-    };
-    for outer in 0..opts.max_fixed_point {
-        let thr: Vec<f64> = (0..m)
-            .map(|p| law(&r, &g, p).unwrap_or(f64::INFINITY))
-            .collect();
-        let (conv, r_new, g_new, reason) = status_loop(
-            problem,
-            layout,
-            &mut statuses,
-            &|_| thr.clone(),
-            false,
-            opts,
-            &mut iterations,
-            &mut cycle,
-        )?;
-        r = r_new;
-        g = g_new;
-        let fscale = opts
-            .force_scale
-            .max(r.iter().fold(0.0f64, |a, v| a.max(v.abs())))
-            .max(f64::MIN_POSITIVE);
-        // The law's residual: λ_t + g(Δs) sign(Δs) at every point in contact.
-        let mut worst = 0.0f64;
-        for p in 0..m {
-            let (Some(t), Some(gp)) = (layout.tangent_row[p], law(&r, &g, p)) else {
-                continue;
-            };
-            if statuses[p] == PointStatus::Open {
-                continue;
-            }
-            worst = worst.max((r[t] + gp * g[t].signum()).abs());
-        }
-        residuals.push(worst / fscale);
-        if conv && worst <= opts.tolerance * fscale {
-            return Ok(FrictionOutcome {
-                converged: true,
-                iterations,
-                fixed_point_iterations: outer + 1,
-                fixed_point_residuals: residuals,
-                statuses,
-                forces: r,
-                gaps: g,
-                stopping_reason: format!(
-                    "Norton-Hoff law met after {} fixed-point iterations",
-                    outer + 1
-                ),
-                cycle_detected: cycle,
-            });
-        }
-        if !conv && outer + 1 == opts.max_fixed_point {
-            return Ok(FrictionOutcome {
-                converged: false,
-                iterations,
-                fixed_point_iterations: outer + 1,
-                fixed_point_residuals: residuals,
-                statuses,
-                forces: r,
-                gaps: g,
-                stopping_reason: format!("inner Tresca problem: {reason}"),
-                cycle_detected: cycle,
-            });
-        }
-    }
-    Ok(FrictionOutcome {
-        converged: false,
-        iterations,
-        fixed_point_iterations: opts.max_fixed_point,
-        fixed_point_residuals: residuals,
-        statuses,
-        forces: r,
-        gaps: g,
-        stopping_reason: format!(
-            "Norton-Hoff fixed point not reached in {} iterations",
-            opts.max_fixed_point
-        ),
-        cycle_detected: cycle,
-    })
 }
