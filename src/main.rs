@@ -450,6 +450,7 @@ fn write_outputs(
                 .push(format!("no friction plot: {e}"));
         }
     }
+    write_vtu_fields(dir, sc, output).map_err(std::io::Error::other)?;
     if sc.output.wants("displacement") {
         let mut w = std::io::BufWriter::new(std::fs::File::create(dir.join("displacement.csv"))?);
         writeln!(w, "body,node,x,y,ux,uy")?;
@@ -485,6 +486,93 @@ fn write_outputs(
     tim.output = t.elapsed().as_secs_f64();
     tim.total += tim.setup + tim.output;
     signorini_report::write_report(&dir.join("report.json"), &output.report)
+}
+
+/// DIR/<body>.vtu for every body and DIR/fields.pvd, with the fields that
+/// `[output] fields` asks for (last step): displacement; contact pressure,
+/// status (−1 no contact point, 0 open, 1 contact, 2 stick, 3 slip) and
+/// tangential force at the slave nodes; stress [sxx, syy, sxy, szz] and von
+/// Mises per cell; the METIS subdomain of each cell.
+fn write_vtu_fields(
+    dir: &Path,
+    sc: &signorini_scene::Scene,
+    output: &RunOutput,
+) -> Result<(), String> {
+    use signorini_report::vtu::{write_pvd, write_vtu, VtuPiece};
+    if sc.output.fields.is_empty() {
+        return Ok(());
+    }
+    let last = output.report.steps.len();
+    let mut files = Vec::new();
+    for (bi, b) in output.bodies.iter().enumerate() {
+        let n = b.coords.len();
+        let mut point_data = Vec::new();
+        if sc.output.wants("displacement") {
+            let u: Vec<f64> = (0..n)
+                .flat_map(|i| [b.displacement[2 * i], b.displacement[2 * i + 1], 0.0])
+                .collect();
+            point_data.push(("displacement".to_string(), 3, u));
+        }
+        if sc.output.wants("contact") {
+            let mut pressure = vec![0.0; n];
+            let mut status = vec![-1.0; n];
+            let mut tangential = vec![0.0; n];
+            for r in output
+                .contact_rows
+                .iter()
+                .filter(|r| r.step == last && r.body == b.name)
+            {
+                pressure[r.point] = r.pressure;
+                tangential[r.point] = r.tangential_force;
+                status[r.point] = match r.status {
+                    "open" => 0.0,
+                    "contact" => 1.0,
+                    "stick" => 2.0,
+                    _ => 3.0,
+                };
+            }
+            point_data.push(("contact_pressure".to_string(), 1, pressure));
+            point_data.push(("contact_status".to_string(), 1, status));
+            point_data.push(("tangential_force".to_string(), 1, tangential));
+        }
+        let mut cell_data = vec![(
+            "subdomain".to_string(),
+            1,
+            b.parts.iter().map(|&p| p as f64).collect(),
+        )];
+        if sc.output.wants("stress") && !b.stress.is_empty() {
+            cell_data.push((
+                "stress".to_string(),
+                4,
+                b.stress.iter().flat_map(|s| s.iter().copied()).collect(),
+            ));
+            cell_data.push(("von_mises".to_string(), 1, b.von_mises.clone()));
+        }
+        let safe: String = b
+            .name
+            .chars()
+            .map(|c| {
+                if c.is_ascii_alphanumeric() || c == '-' || c == '_' {
+                    c
+                } else {
+                    '_'
+                }
+            })
+            .collect();
+        let file = format!("{safe}.vtu");
+        write_vtu(
+            &dir.join(&file),
+            &VtuPiece {
+                title: b.name.clone(),
+                coords: &b.coords,
+                cells: &b.cells,
+                point_data,
+                cell_data,
+            },
+        )?;
+        files.push((bi, file));
+    }
+    write_pvd(&dir.join("fields.pvd"), &files).map_err(|e| e.to_string())
 }
 
 fn summarise(dir: &Path, o: &RunOutput) {

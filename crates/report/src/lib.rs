@@ -3,6 +3,7 @@
 
 pub mod plot;
 pub mod reference;
+pub mod vtu;
 
 use std::collections::BTreeMap;
 use std::io::Write;

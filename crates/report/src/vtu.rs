@@ -1,0 +1,163 @@
+//! VTU output for ParaView, through vtkio (notes §4.2): one unstructured
+//! grid per body with point data (displacement, contact pressure, status,
+//! tangential force) and cell data (stress, von Mises, subdomain), and a
+//! `.pvd` index naming them.
+
+use std::path::Path;
+
+use vtkio::model::{
+    Attribute, Attributes, ByteOrder, CellType, Cells, DataSet, UnstructuredGridPiece, Version,
+    VertexNumbers,
+};
+use vtkio::Vtk;
+
+/// One body's fields.
+pub struct VtuPiece<'a> {
+    pub title: String,
+    pub coords: &'a [[f64; 3]],
+    /// Cells as node lists (3 nodes: triangle, 4: quadrilateral).
+    pub cells: &'a [Vec<usize>],
+    /// (name, components, values) at the points.
+    pub point_data: Vec<(String, u32, Vec<f64>)>,
+    /// (name, components, values) on the cells.
+    pub cell_data: Vec<(String, u32, Vec<f64>)>,
+}
+
+fn cell_type(n: usize) -> Result<CellType, String> {
+    match n {
+        3 => Ok(CellType::Triangle),
+        4 => Ok(CellType::Quad),
+        other => Err(format!("no VTK cell type for a {other}-node cell here")),
+    }
+}
+
+/// Writes one `.vtu` file (XML, ASCII-free binary is left to vtkio's defaults).
+pub fn write_vtu(path: &Path, piece: &VtuPiece<'_>) -> Result<(), String> {
+    let mut connectivity = Vec::new();
+    let mut offsets = Vec::new();
+    let mut types = Vec::new();
+    for c in piece.cells {
+        connectivity.extend(c.iter().map(|&n| n as u64));
+        offsets.push(connectivity.len() as u64);
+        types.push(cell_type(c.len())?);
+    }
+    let points: Vec<f64> = piece
+        .coords
+        .iter()
+        .flat_map(|p| p.iter().copied())
+        .collect();
+    let attr = |(name, comps, values): &(String, u32, Vec<f64>)| {
+        if *comps == 3 {
+            Attribute::vectors(name.clone()).with_data(values.clone())
+        } else {
+            Attribute::scalars(name.clone(), *comps).with_data(values.clone())
+        }
+    };
+    let vtk = Vtk {
+        version: Version::new((1, 0)),
+        title: piece.title.clone(),
+        byte_order: ByteOrder::LittleEndian,
+        file_path: None,
+        data: DataSet::inline(UnstructuredGridPiece {
+            points: points.into(),
+            cells: Cells {
+                cell_verts: VertexNumbers::XML {
+                    connectivity,
+                    offsets,
+                },
+                types,
+            },
+            data: Attributes {
+                point: piece.point_data.iter().map(attr).collect(),
+                cell: piece.cell_data.iter().map(attr).collect(),
+            },
+        }),
+    };
+    vtk.export(path)
+        .map_err(|e| format!("{}: {e}", path.display()))
+}
+
+/// A `.pvd` collection naming `.vtu` files (relative paths), one per part.
+pub fn write_pvd(path: &Path, files: &[(usize, String)]) -> std::io::Result<()> {
+    let mut s = String::from(
+        "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\">\n  <Collection>\n",
+    );
+    for (part, f) in files {
+        s.push_str(&format!(
+            "    <DataSet timestep=\"0\" part=\"{part}\" file=\"{f}\"/>\n"
+        ));
+    }
+    s.push_str("  </Collection>\n</VTKFile>\n");
+    std::fs::write(path, s)
+}
+
+/// Reads a `.vtu` back: (points, cells, point data names, cell data names).
+pub fn read_summary(path: &Path) -> Result<(usize, usize, Vec<String>, Vec<String>), String> {
+    let vtk = Vtk::import(path).map_err(|e| format!("{}: {e}", path.display()))?;
+    let DataSet::UnstructuredGrid { pieces, .. } = vtk.data else {
+        return Err("not an unstructured grid".into());
+    };
+    let piece = pieces
+        .into_iter()
+        .next()
+        .and_then(|p| p.into_loaded_piece_data(None).ok())
+        .ok_or("no piece")?;
+    let names = |a: &[Attribute]| {
+        a.iter()
+            .filter_map(|x| match x {
+                Attribute::DataArray(d) => Some(d.name.clone()),
+                _ => None,
+            })
+            .collect()
+    };
+    Ok((
+        piece.num_points(),
+        piece.cells.types.len(),
+        names(&piece.data.point),
+        names(&piece.data.cell),
+    ))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_two_cell_mesh_reads_back_with_its_counts_and_fields() {
+        let dir = std::env::temp_dir().join(format!("signorini-vtu-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let coords = [
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [1.0, 1.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [2.0, 0.0, 0.0],
+        ];
+        let cells = vec![vec![0, 1, 2, 3], vec![1, 4, 2]];
+        let piece = VtuPiece {
+            title: "t".into(),
+            coords: &coords,
+            cells: &cells,
+            point_data: vec![
+                ("displacement".into(), 3, vec![0.5; 15]),
+                ("contact_pressure".into(), 1, vec![1.0; 5]),
+            ],
+            cell_data: vec![("von_mises".into(), 1, vec![2.0, 3.0])],
+        };
+        let path = dir.join("b.vtu");
+        write_vtu(&path, &piece).unwrap();
+        let (np, nc, pd, cd) = read_summary(&path).unwrap();
+        assert_eq!((np, nc), (5, 2));
+        assert_eq!(pd, vec!["displacement", "contact_pressure"]);
+        assert_eq!(cd, vec!["von_mises"]);
+        let bad = vec![vec![0, 1]];
+        assert!(write_vtu(
+            &path,
+            &VtuPiece {
+                cells: &bad,
+                ..piece
+            }
+        )
+        .is_err());
+    }
+}
