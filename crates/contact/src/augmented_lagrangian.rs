@@ -34,9 +34,10 @@
 
 use faer::Mat;
 
-use crate::lcp::{LcpOptions, LcpSolution, SolverReport};
+use crate::lcp::{
+    check_input, mean_diag, residual_from_gaps, LcpOptions, LcpSolution, SolverReport,
+};
 use crate::penalty::regularised_newton;
-use crate::uzawa::{check_lcp_input, mean_diag, natural_residual};
 use crate::ContactError;
 
 /// The augmentation factor used when `opts.stiffness` is `None`.
@@ -55,7 +56,7 @@ pub fn augmented_lagrangian(
     q: &[f64],
     opts: &LcpOptions,
 ) -> Result<LcpSolution, ContactError> {
-    check_lcp_input(w, q)?;
+    check_input(w, q, "augmented_lagrangian")?;
     let m = q.len();
     let mut report = SolverReport {
         method: "augmented_lagrangian".into(),
@@ -70,7 +71,7 @@ pub fn augmented_lagrangian(
         });
     }
     let mut lambda = vec![0.0; m];
-    let r0 = natural_residual(&lambda, q, opts);
+    let r0 = residual_from_gaps(&lambda, q, opts);
     if r0 <= opts.tolerance {
         report.converged = true;
         report.stopping_reason = format!(
@@ -124,7 +125,7 @@ pub fn augmented_lagrangian(
         let g: Vec<f64> = (0..m).map(|p| inner.g[p] + lambda[p] / r).collect();
         lambda = inner.lambda;
         active = inner.active;
-        let res = natural_residual(&lambda, &g, opts);
+        let res = residual_from_gaps(&lambda, &g, opts);
         report.residual_history.push(res);
         if !res.is_finite() {
             return Err(ContactError::Solve(format!(

@@ -45,8 +45,9 @@
 
 use faer::Mat;
 
-use crate::lcp::{gaps, LcpOptions, LcpSolution, SolverReport};
-use crate::projected_gradient::{dot, matvec};
+use crate::lcp::{
+    dot, gaps, matvec, spectral_norm_estimate, LcpOptions, LcpSolution, SolverReport,
+};
 use crate::ContactError;
 
 const METHOD: &str = "mprgp_box";
@@ -530,50 +531,6 @@ fn check_box_input(
         }
     }
     Ok(())
-}
-
-/// ‖A‖₂ by power iterations (A symmetric positive semi-definite): the
-/// Rayleigh quotient after at most 50 products, stopping when it changes by
-/// less than 10⁻³ relatively, enlarged by 1 % against the under-estimate and
-/// capped by the upper bound ‖A‖∞ (which is also the fallback). Returns
-/// (estimate, products used); the estimate is > 0 for A ≠ 0.
-fn spectral_norm_estimate(a: &Mat<f64>) -> (f64, usize) {
-    let n = a.nrows();
-    let inf_norm = (0..n)
-        .map(|i| (0..n).map(|j| a[(i, j)].abs()).sum::<f64>())
-        .fold(0.0, f64::max);
-    if inf_norm == 0.0 {
-        return (0.0, 0);
-    }
-    let mut x: Vec<f64> = (0..n)
-        .map(|i| 1.0 + 0.5 * ((i as f64) * 0.618_034).fract())
-        .collect();
-    let nx = dot(&x, &x).sqrt();
-    x.iter_mut().for_each(|v| *v /= nx);
-    let mut y = vec![0.0; n];
-    let mut rq = 0.0;
-    let mut products = 0;
-    for _ in 0..50 {
-        matvec(a, &x, &mut y);
-        products += 1;
-        let new_rq = dot(&x, &y);
-        let ny = dot(&y, &y).sqrt();
-        if ny == 0.0 {
-            break;
-        }
-        let done = (new_rq - rq).abs() <= 1e-3 * new_rq.abs();
-        rq = new_rq;
-        if done {
-            break;
-        }
-        for (xi, yi) in x.iter_mut().zip(&y) {
-            *xi = yi / ny;
-        }
-    }
-    if rq <= 0.0 {
-        return (inf_norm, products);
-    }
-    ((1.01 * rq).min(inf_norm), products)
 }
 
 #[cfg(test)]

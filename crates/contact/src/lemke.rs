@@ -36,8 +36,8 @@
 use faer::prelude::Solve;
 use faer::{Mat, Side};
 
-use crate::lcp::{lcp_residual, LcpOptions, LcpSolution, SolverReport};
-use crate::projected_gradient::{check_input, clamp, empty_solution};
+use crate::lcp::{check_input, lcp_residual, LcpOptions, LcpSolution, SolverReport};
+use crate::projected_gradient::{clamp, empty_solution};
 use crate::ContactError;
 
 /// Relative pivot tolerance: column entries below `PIVOT_TOL` × the largest

@@ -36,10 +36,12 @@
 
 use faer::Mat;
 
-use crate::lcp::{LcpOptions, LcpSolution, SolverReport};
+use crate::lcp::{
+    check_input, dot, gaps_into, matvec, residual_from_gaps, spectral_norm_estimate, LcpOptions,
+    LcpSolution, SolverReport,
+};
 use crate::projected_gradient::{
-    check_input, clamp, dot, empty_solution, gaps_into, iteration_limit, matvec,
-    residual_from_gaps, stagnated, unbounded, verify,
+    clamp, empty_solution, iteration_limit, stagnated, unbounded, verify,
 };
 use crate::ContactError;
 
@@ -232,50 +234,6 @@ fn blocking(lambda: &[f64], p: &[f64]) -> Option<usize> {
     (0..p.len())
         .filter(|&i| p[i] > 0.0)
         .min_by(|&a, &b| lambda[a].total_cmp(&lambda[b]).then(a.cmp(&b)))
-}
-
-/// ‖W‖₂ by power iterations (W symmetric positive semi-definite): the
-/// Rayleigh quotient after at most 50 products, stopping when it changes by
-/// less than 10⁻³ relatively, enlarged by 1 % against the under-estimate and
-/// capped by the upper bound ‖W‖∞. Returns (estimate, products used).
-fn spectral_norm_estimate(w: &Mat<f64>) -> (f64, usize) {
-    let m = w.nrows();
-    let inf_norm = (0..m)
-        .map(|i| (0..m).map(|j| w[(i, j)].abs()).sum::<f64>())
-        .fold(0.0, f64::max);
-    if inf_norm == 0.0 {
-        return (0.0, 0);
-    }
-    // A start with components along every direction (deterministic).
-    let mut x: Vec<f64> = (0..m)
-        .map(|i| 1.0 + 0.5 * ((i as f64) * 0.618_034).fract())
-        .collect();
-    let nx = dot(&x, &x).sqrt();
-    x.iter_mut().for_each(|v| *v /= nx);
-    let mut y = vec![0.0; m];
-    let mut rq = 0.0;
-    let mut products = 0;
-    for _ in 0..50 {
-        matvec(w, &x, &mut y);
-        products += 1;
-        let new_rq = dot(&x, &y);
-        let ny = dot(&y, &y).sqrt();
-        if ny == 0.0 {
-            break;
-        }
-        let done = (new_rq - rq).abs() <= 1e-3 * new_rq.abs();
-        rq = new_rq;
-        if done {
-            break;
-        }
-        for (xi, yi) in x.iter_mut().zip(&y) {
-            *xi = yi / ny;
-        }
-    }
-    if rq <= 0.0 {
-        return (inf_norm, products);
-    }
-    ((1.01 * rq).min(inf_norm), products)
 }
 
 #[cfg(test)]

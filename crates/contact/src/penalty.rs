@@ -56,9 +56,10 @@ use std::collections::HashSet;
 use faer::prelude::Solve;
 use faer::{Mat, Side};
 
-use crate::lcp::{LcpOptions, LcpSolution, SolverReport};
+use crate::lcp::{
+    check_input, gaps, mean_diag, residual_from_gaps, LcpOptions, LcpSolution, SolverReport,
+};
 use crate::status::{status_method, ActiveSetSolve, StatusOptions, StatusVariant};
-use crate::uzawa::{check_lcp_input, gaps_of, mean_diag, natural_residual};
 use crate::ContactError;
 
 /// A uniform stiffness k_p = factor / mean diag(W): `factor` times the mean
@@ -101,7 +102,7 @@ pub fn penalty(
     let active: Vec<bool> = q.iter().map(|&v| v < 0.0).collect();
     let mut history = Vec::new();
     let out = regularised_newton(w, q, &c, active, opts, opts.max_iterations, &mut |l, g| {
-        history.push(natural_residual(l, g, opts))
+        history.push(residual_from_gaps(l, g, opts))
     })?;
     report.iterations = out.iterations;
     report.operator_applications = out.solves + out.products;
@@ -189,7 +190,7 @@ pub fn status_with_penalty(
             "status method with penalty: non-finite forces".into(),
         ));
     }
-    let g = gaps_of(w, q, &lambda);
+    let g = gaps(w, q, &lambda);
     report.iterations = out.iterations;
     report.operator_applications = solver.solves + solver.products;
     report.residual_history = solver.history;
@@ -253,7 +254,7 @@ fn cycle_note(at: Option<usize>) -> String {
 
 /// Checks the input and returns the compliances 1/k_p.
 fn compliance(w: &Mat<f64>, q: &[f64], k: &[f64]) -> Result<Vec<f64>, ContactError> {
-    check_lcp_input(w, q)?;
+    check_input(w, q, "penalty")?;
     if k.len() != q.len() {
         return Err(ContactError::Solve(format!(
             "penalty: {} stiffnesses for {} contact points",
@@ -290,12 +291,12 @@ impl ActiveSetSolve for PenalisedActiveSet<'_> {
     fn solve_active(&mut self, active: &[usize]) -> Result<(Vec<f64>, Vec<f64>), ContactError> {
         let lambda = solve_block(self.w, self.q, self.c, active)?;
         self.solves += 1;
-        let g = gaps_of(self.w, self.q, &lambda);
+        let g = gaps(self.w, self.q, &lambda);
         self.products += 1;
         let clamped: Vec<f64> = lambda.iter().map(|v| v.max(0.0)).collect();
-        let gc = gaps_of(self.w, self.q, &clamped);
+        let gc = gaps(self.w, self.q, &clamped);
         self.history
-            .push(natural_residual(&clamped, &gc, self.opts));
+            .push(residual_from_gaps(&clamped, &gc, self.opts));
         Ok((lambda, g))
     }
 }
@@ -383,7 +384,7 @@ pub(crate) fn regularised_newton(
         let set: Vec<usize> = (0..m).filter(|&p| active[p]).collect();
         let lambda = solve_block(w, q, c, &set)?;
         out.solves += 1;
-        let g = gaps_of(w, q, &lambda);
+        let g = gaps(w, q, &lambda);
         out.products += 1;
         let lmax = lambda.iter().fold(0.0f64, |a, v| a.max(v.abs()));
         let h: Vec<f64> = (0..m).map(|p| g[p] + c[p] * lambda[p]).collect();
@@ -403,7 +404,7 @@ pub(crate) fn regularised_newton(
         out.g = if violating.is_empty() && lambda.iter().all(|&v| v >= 0.0) {
             g
         } else {
-            gaps_of(w, q, &out.lambda)
+            gaps(w, q, &out.lambda)
         };
         out.active = active.clone();
         observe(&out.lambda, &out.g);

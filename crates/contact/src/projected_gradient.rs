@@ -28,7 +28,10 @@
 
 use faer::Mat;
 
-use crate::lcp::{lcp_residual, LcpOptions, LcpSolution, SolverReport};
+use crate::lcp::{
+    check_input, dot, energy_of, gaps_into, lcp_residual, matvec, residual_from_gaps, LcpOptions,
+    LcpSolution, SolverReport,
+};
 use crate::ContactError;
 
 /// Armijo constant of the sufficient-decrease test on the projection arc.
@@ -325,33 +328,6 @@ pub fn projected_conjugate_gradient(
 // Helpers shared by the LCP methods (lemke, projected_gradient, mprgp).
 // ---------------------------------------------------------------------------
 
-/// Rejects a non-square W, a size mismatch with q, and any non-finite entry.
-pub(crate) fn check_input(w: &Mat<f64>, q: &[f64], method: &str) -> Result<(), ContactError> {
-    let m = q.len();
-    if w.nrows() != m || w.ncols() != m {
-        return Err(ContactError::Solve(format!(
-            "{method}: W is {}×{} but q has {m} entries",
-            w.nrows(),
-            w.ncols()
-        )));
-    }
-    if let Some(p) = q.iter().position(|v| !v.is_finite()) {
-        return Err(ContactError::Solve(format!(
-            "{method}: q[{p}] = {} is not finite",
-            q[p]
-        )));
-    }
-    for j in 0..m {
-        if let Some(i) = w.col_as_slice(j).iter().position(|v| !v.is_finite()) {
-            return Err(ContactError::Solve(format!(
-                "{method}: W[({i}, {j})] = {} is not finite",
-                w[(i, j)]
-            )));
-        }
-    }
-    Ok(())
-}
-
 /// The solution of the empty problem (m = 0).
 pub(crate) fn empty_solution(method: &str) -> LcpSolution {
     LcpSolution {
@@ -363,54 +339,6 @@ pub(crate) fn empty_solution(method: &str) -> LcpSolution {
             ..Default::default()
         },
     }
-}
-
-/// y = W x (W column-major, m × m).
-pub(crate) fn matvec(w: &Mat<f64>, x: &[f64], y: &mut [f64]) {
-    y.iter_mut().for_each(|v| *v = 0.0);
-    for (j, &xj) in x.iter().enumerate() {
-        if xj != 0.0 {
-            for (yi, wij) in y.iter_mut().zip(w.col_as_slice(j)) {
-                *yi += wij * xj;
-            }
-        }
-    }
-}
-
-/// g = W λ + q.
-pub(crate) fn gaps_into(w: &Mat<f64>, q: &[f64], lambda: &[f64], g: &mut [f64]) {
-    matvec(w, lambda, g);
-    for (gi, qi) in g.iter_mut().zip(q) {
-        *gi += qi;
-    }
-}
-
-pub(crate) fn dot(a: &[f64], b: &[f64]) -> f64 {
-    a.iter().zip(b).map(|(x, y)| x * y).sum()
-}
-
-/// The natural residual of [`lcp_residual`] from known gaps g = W λ + q
-/// (same formula, no product with W).
-pub(crate) fn residual_from_gaps(lambda: &[f64], g: &[f64], opts: &LcpOptions) -> f64 {
-    let f = opts
-        .force_scale
-        .max(lambda.iter().fold(0.0f64, |a, v| a.max(v.abs())))
-        .max(f64::MIN_POSITIVE);
-    let l = opts.gap_scale.max(f64::MIN_POSITIVE);
-    lambda
-        .iter()
-        .zip(g)
-        .map(|(&lp, &gp)| (lp / f).min(gp / l).abs())
-        .fold(0.0, f64::max)
-}
-
-/// f(λ) = ½ λᵀ W λ + qᵀ λ = ½ λᵀ (g + q) with g = W λ + q.
-pub(crate) fn energy_of(lambda: &[f64], g: &[f64], q: &[f64]) -> f64 {
-    0.5 * lambda
-        .iter()
-        .zip(g.iter().zip(q))
-        .map(|(l, (g, q))| l * (g + q))
-        .sum::<f64>()
 }
 
 /// Largest α with λ + α d ≥ 0 (∞ when no component decreases).

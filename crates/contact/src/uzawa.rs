@@ -31,7 +31,10 @@
 
 use faer::Mat;
 
-use crate::lcp::{LcpOptions, LcpSolution, SolverReport};
+use crate::lcp::{
+    check_input, energy_of, gaps, mean_diag, power_iteration, residual_from_gaps, LcpOptions,
+    LcpSolution, SolverReport,
+};
 use crate::ContactError;
 
 /// Solves LCP(W, q) by Uzawa's iteration λ ← max(0, λ − ρ(Wλ + q)) from
@@ -41,7 +44,7 @@ use crate::ContactError;
 /// every product with W (power iteration included), `report.residual_history`
 /// the natural residual ([`crate::lcp_residual`]) after each step.
 pub fn uzawa(w: &Mat<f64>, q: &[f64], opts: &LcpOptions) -> Result<LcpSolution, ContactError> {
-    check_lcp_input(w, q)?;
+    check_input(w, q, "uzawa")?;
     let m = q.len();
     let mut report = SolverReport {
         method: "uzawa".into(),
@@ -57,7 +60,7 @@ pub fn uzawa(w: &Mat<f64>, q: &[f64], opts: &LcpOptions) -> Result<LcpSolution, 
     }
     let mut lambda = vec![0.0; m];
     let mut g = q.to_vec();
-    let r0 = natural_residual(&lambda, &g, opts);
+    let r0 = residual_from_gaps(&lambda, &g, opts);
     if r0 <= opts.tolerance {
         report.converged = true;
         report.stopping_reason = format!(
@@ -74,7 +77,7 @@ pub fn uzawa(w: &Mat<f64>, q: &[f64], opts: &LcpOptions) -> Result<LcpSolution, 
             )))
         }
         _ => {
-            let (lmax, products) = power_iteration(w);
+            let (lmax, products) = power_iteration(w, 200, 1e-8);
             report.operator_applications += products;
             if lmax > 0.0 {
                 (
@@ -94,7 +97,7 @@ pub fn uzawa(w: &Mat<f64>, q: &[f64], opts: &LcpOptions) -> Result<LcpSolution, 
         for p in 0..m {
             next[p] = (lambda[p] - rho * g[p]).max(0.0);
         }
-        let g_next = gaps_of(w, q, &next);
+        let g_next = gaps(w, q, &next);
         report.operator_applications += 1;
         if next.iter().chain(&g_next).any(|v| !v.is_finite()) {
             return Err(ContactError::Solve(format!(
@@ -102,20 +105,20 @@ pub fn uzawa(w: &Mat<f64>, q: &[f64], opts: &LcpOptions) -> Result<LcpSolution, 
                 report.iterations
             )));
         }
-        let e_next = dual_energy(q, &next, &g_next);
+        let e_next = energy_of(&next, &g_next, q);
         if e_next - energy > 1e-12 * (energy.abs() + e_next.abs()) && halvings < 60 {
             // J increased: ρ ≥ 2/λ_max(W). Halve and redo the step.
             rho *= 0.5;
             halvings += 1;
             report
                 .residual_history
-                .push(natural_residual(&lambda, &g, opts));
+                .push(residual_from_gaps(&lambda, &g, opts));
             continue;
         }
         std::mem::swap(&mut lambda, &mut next);
         g = g_next;
         energy = e_next;
-        let r = natural_residual(&lambda, &g, opts);
+        let r = residual_from_gaps(&lambda, &g, opts);
         report.residual_history.push(r);
         if r <= opts.tolerance {
             report.converged = true;
@@ -146,108 +149,6 @@ fn halved(n: usize) -> String {
     } else {
         format!(", halved {n} times because the dual energy increased")
     }
-}
-
-/// J(λ) = ½ λᵀWλ + qᵀλ = ½ λ·(g + q) with g = Wλ + q.
-fn dual_energy(q: &[f64], lambda: &[f64], g: &[f64]) -> f64 {
-    0.5 * lambda
-        .iter()
-        .zip(g.iter().zip(q))
-        .map(|(l, (g, q))| l * (g + q))
-        .sum::<f64>()
-}
-
-/// Largest eigenvalue of the symmetric positive semi-definite W by power
-/// iteration (Rayleigh quotient), and the number of products used.
-pub(crate) fn power_iteration(w: &Mat<f64>) -> (f64, usize) {
-    let m = w.nrows();
-    // Deterministic start with every component non-zero and no symmetry.
-    let mut v: Vec<f64> = (0..m)
-        .map(|i| 1.0 + 0.1 * ((i * 7 + 3) % 11) as f64)
-        .collect();
-    let zero = vec![0.0; m];
-    let mut mu = 0.0;
-    let mut products = 0;
-    for _ in 0..200 {
-        let nv = v.iter().map(|x| x * x).sum::<f64>().sqrt();
-        if nv == 0.0 || !nv.is_finite() {
-            return (0.0, products);
-        }
-        v.iter_mut().for_each(|x| *x /= nv);
-        let wv = gaps_of(w, &zero, &v);
-        products += 1;
-        let mu_new: f64 = v.iter().zip(&wv).map(|(a, b)| a * b).sum();
-        v = wv;
-        if (mu_new - mu).abs() <= 1e-8 * mu_new.abs() {
-            return (mu_new, products);
-        }
-        mu = mu_new;
-    }
-    (mu, products)
-}
-
-/// Mean of the diagonal of W (the mean compliance of a contact point).
-pub(crate) fn mean_diag(w: &Mat<f64>) -> f64 {
-    let m = w.nrows();
-    if m == 0 {
-        return 0.0;
-    }
-    (0..m).map(|i| w[(i, i)]).sum::<f64>() / m as f64
-}
-
-/// g = Wλ + q, skipping the zero forces (few points are in contact).
-pub(crate) fn gaps_of(w: &Mat<f64>, q: &[f64], lambda: &[f64]) -> Vec<f64> {
-    let mut g = q.to_vec();
-    for (j, &l) in lambda.iter().enumerate() {
-        if l != 0.0 {
-            for (gi, wij) in g.iter_mut().zip(w.col_as_slice(j)) {
-                *gi += wij * l;
-            }
-        }
-    }
-    g
-}
-
-/// The natural residual of [`crate::lcp_residual`] from λ and g = Wλ + q
-/// already computed (no product with W).
-pub(crate) fn natural_residual(lambda: &[f64], g: &[f64], opts: &LcpOptions) -> f64 {
-    let f = opts
-        .force_scale
-        .max(lambda.iter().fold(0.0f64, |a, v| a.max(v.abs())))
-        .max(f64::MIN_POSITIVE);
-    let l = opts.gap_scale.max(f64::MIN_POSITIVE);
-    lambda
-        .iter()
-        .zip(g)
-        .map(|(&lp, &gp)| (lp / f).min(gp / l).abs())
-        .fold(0.0, f64::max)
-}
-
-/// W square of the size of q, every entry finite.
-pub(crate) fn check_lcp_input(w: &Mat<f64>, q: &[f64]) -> Result<(), ContactError> {
-    let m = q.len();
-    if w.nrows() != m || w.ncols() != m {
-        return Err(ContactError::Solve(format!(
-            "LCP: W is {}×{} but q has {m} entries",
-            w.nrows(),
-            w.ncols()
-        )));
-    }
-    if let Some(p) = q.iter().position(|v| !v.is_finite()) {
-        return Err(ContactError::Solve(format!(
-            "LCP: non-finite gap q[{p}] = {}",
-            q[p]
-        )));
-    }
-    for j in 0..m {
-        if let Some(i) = w.col_as_slice(j).iter().position(|v| !v.is_finite()) {
-            return Err(ContactError::Solve(format!(
-                "LCP: non-finite Delassus entry W[{i},{j}] = {}",
-                w[(i, j)]
-            )));
-        }
-    }
-    Ok(())
 }
 
 /// Deterministic test problems shared by the tests of the dual and
@@ -358,7 +259,7 @@ pub(crate) mod test_problems {
         let mut out = Vec::new();
         for m in [5usize, 20, 60] {
             let w = random_spd(m, &mut rng);
-            let scale = super::mean_diag(&w);
+            let scale = crate::lcp::mean_diag(&w);
             let q: Vec<f64> = (0..m).map(|_| rng.uniform(-1.0, 1.0) * scale).collect();
             let exact = exact_solution(&w, &q);
             out.push(Case {
@@ -482,11 +383,11 @@ mod tests {
         let lam: Vec<f64> = c.exact.iter().map(|v| v * 1.1).collect();
         let g2 = gaps(&c.w, &c.q, &lam);
         assert_eq!(
-            natural_residual(&c.exact, &g, &o),
+            residual_from_gaps(&c.exact, &g, &o),
             lcp_residual(&c.w, &c.q, &c.exact, &o)
         );
         assert_eq!(
-            natural_residual(&lam, &g2, &o),
+            residual_from_gaps(&lam, &g2, &o),
             lcp_residual(&c.w, &c.q, &lam, &o)
         );
     }
@@ -554,7 +455,7 @@ mod tests {
     #[test]
     fn power_iteration_finds_the_largest_eigenvalue() {
         let w = Mat::<f64>::from_fn(3, 3, |i, j| if i == j { [1.0, 5.0, 2.0][i] } else { 0.0 });
-        let (l, _) = power_iteration(&w);
+        let (l, _) = power_iteration(&w, 200, 1e-8);
         assert!((l - 5.0).abs() <= 1e-6 * 5.0);
     }
 }
