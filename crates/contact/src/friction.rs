@@ -197,17 +197,20 @@ fn updates(
 /// Status iterations with the thresholds `threshold` (Tresca values, or
 /// μ λ_n of the previous fixed-point iterate); with `coulomb_ratio`, slipping
 /// Coulomb points use λ_t = ±μ λ_n instead (§4.5).
-#[allow(clippy::too_many_arguments)]
 fn status_loop(
     problem: &mut DelassusProblem,
     layout: &FrictionLayout,
-    statuses: &mut Vec<PointStatus>,
+    run: &mut Run,
     threshold: &dyn Fn(&[f64]) -> Vec<f64>,
     coulomb_ratio: bool,
     opts: &FrictionOptions,
-    iterations: &mut usize,
-    cycle: &mut bool,
 ) -> Result<(bool, Vec<f64>, Vec<f64>, String), ContactError> {
+    let Run {
+        statuses,
+        iterations,
+        cycle,
+        ..
+    } = run;
     let mut seen = std::collections::HashSet::new();
     let mut single = false;
     let mut thr = threshold(&vec![0.0; statuses.len()]);
@@ -317,6 +320,69 @@ fn thresholds_from(layout: &FrictionLayout, r: &[f64]) -> Vec<f64> {
         .collect()
 }
 
+/// What a friction solve carries from status loop to status loop.
+struct Run {
+    statuses: Vec<PointStatus>,
+    /// Status solves so far.
+    iterations: usize,
+    cycle: bool,
+    /// Fixed-point residual after each outer iteration.
+    residuals: Vec<f64>,
+}
+
+impl Run {
+    fn new(statuses: Vec<PointStatus>) -> Self {
+        Self {
+            statuses,
+            iterations: 0,
+            cycle: false,
+            residuals: Vec::new(),
+        }
+    }
+
+    fn finish(
+        self,
+        converged: bool,
+        forces: Vec<f64>,
+        gaps: Vec<f64>,
+        reason: String,
+    ) -> FrictionOutcome {
+        FrictionOutcome {
+            converged,
+            iterations: self.iterations,
+            fixed_point_iterations: self.residuals.len(),
+            fixed_point_residuals: self.residuals,
+            statuses: self.statuses,
+            forces,
+            gaps,
+            stopping_reason: reason,
+            cycle_detected: self.cycle,
+        }
+    }
+}
+
+/// One status loop with thresholds that do not depend on the forces.
+fn fixed_thresholds(
+    problem: &mut DelassusProblem,
+    layout: &FrictionLayout,
+    initial: Vec<PointStatus>,
+    thresholds: Vec<f64>,
+    coulomb_ratio: bool,
+    opts: &FrictionOptions,
+) -> Result<FrictionOutcome, ContactError> {
+    let mut run = Run::new(initial);
+    let threshold = |r: &[f64]| {
+        if coulomb_ratio {
+            thresholds_from(layout, r)
+        } else {
+            thresholds.clone()
+        }
+    };
+    let (converged, forces, gaps, reason) =
+        status_loop(problem, layout, &mut run, &threshold, coulomb_ratio, opts)?;
+    Ok(run.finish(converged, forces, gaps, reason))
+}
+
 /// The Tresca problem (fixed thresholds) by the status method.
 pub fn tresca_status(
     problem: &mut DelassusProblem,
@@ -324,136 +390,8 @@ pub fn tresca_status(
     initial: Vec<PointStatus>,
     opts: &FrictionOptions,
 ) -> Result<FrictionOutcome, ContactError> {
-    let mut statuses = initial;
-    let mut iterations = 0;
-    let mut cycle = false;
-    let fixed: Vec<f64> = thresholds_from(layout, &vec![0.0; problem.q.len()]);
-    let (converged, forces, gaps, reason) = status_loop(
-        problem,
-        layout,
-        &mut statuses,
-        &|_| fixed.clone(),
-        false,
-        opts,
-        &mut iterations,
-        &mut cycle,
-    )?;
-    Ok(FrictionOutcome {
-        converged,
-        iterations,
-        fixed_point_iterations: 0,
-        fixed_point_residuals: vec![],
-        statuses,
-        forces,
-        gaps,
-        stopping_reason: reason,
-        cycle_detected: cycle,
-    })
-}
-
-/// Coulomb by fixed point on the threshold (seed §4.3). Without `start`
-/// (the previous step's statuses and forces), the first threshold comes from
-/// the solution in which every point initially closed sticks.
-pub fn coulomb_fixed_point(
-    problem: &mut DelassusProblem,
-    layout: &FrictionLayout,
-    initial: Vec<PointStatus>,
-    start: Option<&[f64]>,
-    opts: &FrictionOptions,
-) -> Result<FrictionOutcome, ContactError> {
-    let m = initial.len();
-    let mut statuses = initial;
-    let mut iterations = 0;
-    let mut cycle = false;
-    let mut residuals = Vec::new();
-    // Start: the previous forces, or the all-stick solution (infinite threshold).
-    let mut forces = match start {
-        Some(f) => f.to_vec(),
-        None => {
-            let inf = vec![f64::INFINITY; m];
-            let (_, r, _, _) = status_loop(
-                problem,
-                layout,
-                &mut statuses,
-                &|_| inf.clone(),
-                false,
-                opts,
-                &mut iterations,
-                &mut cycle,
-            )?;
-            r
-        }
-    };
-    for outer in 0..opts.max_fixed_point {
-        let thr = thresholds_from(layout, &forces);
-        let (conv, r, g, reason) = status_loop(
-            problem,
-            layout,
-            &mut statuses,
-            &|_| thr.clone(),
-            false,
-            opts,
-            &mut iterations,
-            &mut cycle,
-        )?;
-        let fscale = opts
-            .force_scale
-            .max(r.iter().fold(0.0f64, |a, v| a.max(v.abs())))
-            .max(f64::MIN_POSITIVE);
-        let change = (0..m).fold(0.0f64, |a, p| a.max((r[p] - forces[p]).abs())) / fscale;
-        residuals.push(change);
-        forces = r;
-        // An inner problem that cycles under stale thresholds usually settles
-        // once they are updated: go on, unless it is the last chance.
-        if !conv && outer + 1 < opts.max_fixed_point && change > opts.tolerance {
-            continue;
-        }
-        if !conv {
-            return Ok(FrictionOutcome {
-                converged: false,
-                iterations,
-                fixed_point_iterations: outer + 1,
-                fixed_point_residuals: residuals,
-                statuses,
-                forces,
-                gaps: g,
-                stopping_reason: format!("inner Tresca problem: {reason}"),
-                cycle_detected: cycle,
-            });
-        }
-        if change <= opts.tolerance {
-            // The thresholds match the normal forces they produced: a Coulomb solution.
-            return Ok(FrictionOutcome {
-                converged: true,
-                iterations,
-                fixed_point_iterations: outer + 1,
-                fixed_point_residuals: residuals,
-                statuses,
-                forces,
-                gaps: g,
-                stopping_reason: format!(
-                    "fixed point on the threshold reached after {} iterations",
-                    outer + 1
-                ),
-                cycle_detected: cycle,
-            });
-        }
-    }
-    let g = vec![0.0; forces.len()];
-    Ok(FrictionOutcome {
-        converged: false,
-        iterations,
-        fixed_point_iterations: opts.max_fixed_point,
-        fixed_point_residuals: residuals,
-        statuses,
-        forces,
-        gaps: g,
-        stopping_reason: format!(
-            "fixed point on the threshold not reached in {} iterations",
-            opts.max_fixed_point
-        ),
-        cycle_detected: cycle,
-    })
+    let thresholds = thresholds_from(layout, &vec![0.0; problem.q.len()]);
+    fixed_thresholds(problem, layout, initial, thresholds, false, opts)
 }
 
 /// The status method applied to friction (seed §4.5): slipping Coulomb
@@ -465,30 +403,105 @@ pub fn coulomb_status(
     initial: Vec<PointStatus>,
     opts: &FrictionOptions,
 ) -> Result<FrictionOutcome, ContactError> {
-    let mut statuses = initial;
-    let mut iterations = 0;
-    let mut cycle = false;
-    let (converged, forces, gaps, reason) = status_loop(
-        problem,
-        layout,
-        &mut statuses,
-        &|r| thresholds_from(layout, r),
-        true,
-        opts,
-        &mut iterations,
-        &mut cycle,
-    )?;
-    Ok(FrictionOutcome {
-        converged,
-        iterations,
-        fixed_point_iterations: 0,
-        fixed_point_residuals: vec![],
-        statuses,
-        forces,
-        gaps,
-        stopping_reason: reason,
-        cycle_detected: cycle,
-    })
+    fixed_thresholds(problem, layout, initial, Vec::new(), true, opts)
+}
+
+/// The threshold of each point from the forces r and gaps g.
+type ThresholdFn<'a> = &'a dyn Fn(&[f64], &[f64]) -> Vec<f64>;
+/// How far the forces r and gaps g (after `previous`) are from the law.
+type ResidualFn<'a> = &'a dyn Fn(&[f64], &[f64], &[f64], &[PointStatus]) -> f64;
+
+/// A friction law solved as a fixed point on its threshold.
+struct ThresholdLaw<'a> {
+    threshold: ThresholdFn<'a>,
+    residual: ResidualFn<'a>,
+    name: &'a str,
+}
+
+/// A fixed point on the slip threshold (seed §4.3): each outer iteration
+/// solves the Tresca problem with the thresholds `threshold(r, g)` of the
+/// previous forces and gaps, until `residual(previous r, r, g, statuses)`
+/// (relative to the force scale) meets the tolerance. An inner problem that
+/// cycles under stale thresholds usually settles once they are updated, so
+/// the iteration goes on unless it was the last chance or the thresholds no
+/// longer move.
+fn threshold_fixed_point(
+    problem: &mut DelassusProblem,
+    layout: &FrictionLayout,
+    mut run: Run,
+    start: (Vec<f64>, Vec<f64>),
+    law: &ThresholdLaw<'_>,
+    opts: &FrictionOptions,
+) -> Result<FrictionOutcome, ContactError> {
+    let ThresholdLaw {
+        threshold,
+        residual,
+        name: what,
+    } = law;
+    let (mut forces, mut gaps) = start;
+    for outer in 0..opts.max_fixed_point {
+        let thr = threshold(&forces, &gaps);
+        let (conv, r, g, reason) =
+            status_loop(problem, layout, &mut run, &|_| thr.clone(), false, opts)?;
+        let fscale = opts
+            .force_scale
+            .max(r.iter().fold(0.0f64, |a, v| a.max(v.abs())))
+            .max(f64::MIN_POSITIVE);
+        let res = residual(&forces, &r, &g, &run.statuses) / fscale;
+        run.residuals.push(res);
+        forces = r;
+        gaps = g;
+        if !conv && outer + 1 < opts.max_fixed_point && res > opts.tolerance {
+            continue;
+        }
+        if !conv {
+            return Ok(run.finish(
+                false,
+                forces,
+                gaps,
+                format!("inner Tresca problem: {reason}"),
+            ));
+        }
+        if res <= opts.tolerance {
+            let reason = format!("{what} reached after {} iterations", outer + 1);
+            return Ok(run.finish(true, forces, gaps, reason));
+        }
+    }
+    let reason = format!("{what} not reached in {} iterations", opts.max_fixed_point);
+    Ok(run.finish(false, forces, gaps, reason))
+}
+
+/// Coulomb by fixed point on the threshold g ← μ λ_n (seed §4.3), stopping
+/// when the normal forces no longer change. Without `start` (the previous
+/// step's forces), the first threshold comes from the solution in which
+/// every point initially closed sticks.
+pub fn coulomb_fixed_point(
+    problem: &mut DelassusProblem,
+    layout: &FrictionLayout,
+    initial: Vec<PointStatus>,
+    start: Option<&[f64]>,
+    opts: &FrictionOptions,
+) -> Result<FrictionOutcome, ContactError> {
+    let m = initial.len();
+    let mut run = Run::new(initial);
+    let start = match start {
+        Some(f) => (f.to_vec(), vec![0.0; f.len()]),
+        None => {
+            let inf = vec![f64::INFINITY; m];
+            let (_, r, g, _) =
+                status_loop(problem, layout, &mut run, &|_| inf.clone(), false, opts)?;
+            (r, g)
+        }
+    };
+    let change = |prev: &[f64], r: &[f64], _: &[f64], _: &[PointStatus]| {
+        (0..m).fold(0.0f64, |a, p| a.max((r[p] - prev[p]).abs()))
+    };
+    let law = ThresholdLaw {
+        threshold: &|r, _| thresholds_from(layout, r),
+        residual: &change,
+        name: "fixed point on the threshold",
+    };
+    threshold_fixed_point(problem, layout, run, start, &law, opts)
 }
 
 /// Norton–Hoff friction (seed §4.1.4, eq. 19) at the points where
@@ -497,7 +510,8 @@ pub fn coulomb_status(
 /// slip measured in the scene's length unit; Coulomb as ρ → 0). Solved as a
 /// fixed point on that slip-dependent threshold, each inner problem a Tresca
 /// problem (as §4.3 does for Coulomb); the map g → μ λ_n |Δs(g)|^ρ contracts
-/// at a rate of order ρ. Started from the all-stick solution.
+/// at a rate of order ρ. Started from the all-stick solution; it stops when
+/// λ_t + g(Δs) sign(Δs) vanishes at every point in contact.
 pub fn norton_hoff(
     problem: &mut DelassusProblem,
     layout: &FrictionLayout,
@@ -506,102 +520,37 @@ pub fn norton_hoff(
     opts: &FrictionOptions,
 ) -> Result<FrictionOutcome, ContactError> {
     let m = initial.len();
-    let mut statuses = initial;
-    let mut iterations = 0;
-    let mut cycle = false;
-    let mut residuals = Vec::new();
+    let mut run = Run::new(initial);
     let inf = vec![f64::INFINITY; m];
-    let (_, mut r, mut g, _) = status_loop(
-        problem,
-        layout,
-        &mut statuses,
-        &|_| inf.clone(),
-        false,
-        opts,
-        &mut iterations,
-        &mut cycle,
-    )?;
+    let (_, r, g, _) = status_loop(problem, layout, &mut run, &|_| inf.clone(), false, opts)?;
     let s_min = 1e-14 * opts.gap_scale.max(f64::MIN_POSITIVE);
     let law = |r: &[f64], g: &[f64], p: usize| -> Option<f64> {
         let (t, (mu, rho)) = (layout.tangent_row[p]?, mu_rho[p]?);
         Some(mu * r[p].max(0.0) * g[t].abs().max(s_min).powf(rho))
     };
-    for outer in 0..opts.max_fixed_point {
-        let thr: Vec<f64> = (0..m)
-            .map(|p| law(&r, &g, p).unwrap_or(f64::INFINITY))
-            .collect();
-        let (conv, r_new, g_new, reason) = status_loop(
-            problem,
-            layout,
-            &mut statuses,
-            &|_| thr.clone(),
-            false,
-            opts,
-            &mut iterations,
-            &mut cycle,
-        )?;
-        r = r_new;
-        g = g_new;
-        let fscale = opts
-            .force_scale
-            .max(r.iter().fold(0.0f64, |a, v| a.max(v.abs())))
-            .max(f64::MIN_POSITIVE);
-        // The law's residual: λ_t + g(Δs) sign(Δs) at every point in contact.
+    let threshold = |r: &[f64], g: &[f64]| {
+        (0..m)
+            .map(|p| law(r, g, p).unwrap_or(f64::INFINITY))
+            .collect()
+    };
+    let misfit = |_: &[f64], r: &[f64], g: &[f64], statuses: &[PointStatus]| {
         let mut worst = 0.0f64;
         for (p, st) in statuses.iter().enumerate() {
-            let (Some(t), Some(gp)) = (layout.tangent_row[p], law(&r, &g, p)) else {
+            let (Some(t), Some(gp)) = (layout.tangent_row[p], law(r, g, p)) else {
                 continue;
             };
-            if *st == PointStatus::Open {
-                continue;
+            if *st != PointStatus::Open {
+                worst = worst.max((r[t] + gp * g[t].signum()).abs());
             }
-            worst = worst.max((r[t] + gp * g[t].signum()).abs());
         }
-        residuals.push(worst / fscale);
-        if conv && worst <= opts.tolerance * fscale {
-            return Ok(FrictionOutcome {
-                converged: true,
-                iterations,
-                fixed_point_iterations: outer + 1,
-                fixed_point_residuals: residuals,
-                statuses,
-                forces: r,
-                gaps: g,
-                stopping_reason: format!(
-                    "Norton-Hoff law met after {} fixed-point iterations",
-                    outer + 1
-                ),
-                cycle_detected: cycle,
-            });
-        }
-        if !conv && outer + 1 == opts.max_fixed_point {
-            return Ok(FrictionOutcome {
-                converged: false,
-                iterations,
-                fixed_point_iterations: outer + 1,
-                fixed_point_residuals: residuals,
-                statuses,
-                forces: r,
-                gaps: g,
-                stopping_reason: format!("inner Tresca problem: {reason}"),
-                cycle_detected: cycle,
-            });
-        }
-    }
-    Ok(FrictionOutcome {
-        converged: false,
-        iterations,
-        fixed_point_iterations: opts.max_fixed_point,
-        fixed_point_residuals: residuals,
-        statuses,
-        forces: r,
-        gaps: g,
-        stopping_reason: format!(
-            "Norton-Hoff fixed point not reached in {} iterations",
-            opts.max_fixed_point
-        ),
-        cycle_detected: cycle,
-    })
+        worst
+    };
+    let law = ThresholdLaw {
+        threshold: &threshold,
+        residual: &misfit,
+        name: "Norton-Hoff fixed point",
+    };
+    threshold_fixed_point(problem, layout, run, (r, g), &law, opts)
 }
 
 #[cfg(test)]
