@@ -287,7 +287,6 @@ pub fn run(
     let specs = subdomain::subdomain_specs(&bodies);
     timings.setup = t.elapsed().as_secs_f64();
     let scales = all_scales(sc, &bodies);
-    let m = points.len();
 
     if !condensed_path {
         if !comm.is_root() {
@@ -486,7 +485,6 @@ pub fn run(
             bytes_sent: f.bytes_sent,
         })
         .collect();
-    let _ = m;
     finish_report(
         partial, sc, scene_name, method, path, &bodies, &points, &specs, comm, t_total, timings,
         messages, stages, bytes, stats,
@@ -790,8 +788,31 @@ fn status_options(
     }
 }
 
-fn e_max(bodies: &[BodyModel]) -> f64 {
-    bodies.iter().fold(0.0f64, |a, b| a.max(b.material.young))
+/// The length scale of a step, against which gaps and penetrations are
+/// measured: the largest prescribed displacement, initial gap, or the
+/// displacement ‖F‖/E the largest load gives the stiffest body.
+fn length_scale(
+    bodies: &[BodyModel],
+    points: &[PointModel],
+    u_p: &[Vec<f64>],
+    f_scale: f64,
+) -> f64 {
+    let u_p_scale = u_p.iter().fold(0.0f64, |a, v| a.max(inf_norm(v)));
+    let g0_scale = points.iter().fold(0.0f64, |a, p| a.max(p.gap0.abs()));
+    let e_max = bodies.iter().fold(0.0f64, |a, b| a.max(b.material.young));
+    u_p_scale.max(g0_scale).max(f_scale / e_max)
+}
+
+/// The solver report of a status-method solve.
+fn status_report(method: &str, outcome: &StatusOutcome, linear_solves: usize) -> SolverReport {
+    SolverReport {
+        method: method.into(),
+        converged: outcome.converged,
+        iterations: outcome.iterations,
+        operator_applications: linear_solves,
+        residual_history: vec![],
+        stopping_reason: outcome.stopping_reason.clone(),
+    }
 }
 
 /// The root's contact solve on the assembled interface problem.
@@ -914,9 +935,7 @@ fn solve_root(
             u_p.push(u);
         }
         f_scale = f_scale.max(inf_norm(&fp));
-        let u_p_scale = u_p.iter().fold(0.0f64, |a, v| a.max(inf_norm(v)));
-        let g0_scale = points.iter().fold(0.0f64, |a, p| a.max(p.gap0.abs()));
-        let length_scale = u_p_scale.max(g0_scale).max(f_scale / e_max(bodies));
+        let length_scale = length_scale(bodies, points, &u_p, f_scale);
         let gap0 = step_gaps(sc, bodies, points, fixed, &u_p, length_scale, si)?;
         // e = −Rᵀ F' for each floating body.
         let mut e_of = Vec::new();
@@ -1127,14 +1146,8 @@ fn solve_root(
             )
             .map_err(contact_error)?
         };
-        let solver = solver_report.unwrap_or_else(|| SolverReport {
-            method: algorithm.name().into(),
-            converged: outcome.converged,
-            iterations: outcome.iterations,
-            operator_applications: problem.solves,
-            residual_history: vec![],
-            stopping_reason: outcome.stopping_reason.clone(),
-        });
+        let solver = solver_report
+            .unwrap_or_else(|| status_report(algorithm.name(), &outcome, problem.solves));
         u_gamma.push(problem.displacement(&outcome.lambda));
         steps.push(StepSolution {
             outcome,
@@ -1513,9 +1526,7 @@ fn run_direct(
             forces.push(force);
         }
         f_scale = f_scale.max(inf_norm(&f));
-        let u_p_scale = u_p.iter().fold(0.0f64, |a, v| a.max(inf_norm(v)));
-        let g0_scale = points.iter().fold(0.0f64, |a, p| a.max(p.gap0.abs()));
-        let length_scale = u_p_scale.max(g0_scale).max(f_scale / e_max(bodies));
+        let length_scale = length_scale(bodies, points, &u_p, f_scale);
         let gap0 = step_gaps(sc, bodies, points, fixed, &u_p, length_scale, si)?;
         let e_of: Vec<Vec<f64>> = bodies
             .iter()
@@ -1541,10 +1552,8 @@ fn run_direct(
             &status_options(sc, f_scale, length_scale, &gap0),
         )
         .map_err(contact_error)?;
-        // Re-solve with the final active set so that `problem.u` is the answer.
-        let _ = problem
-            .solve_active(&outcome.active)
-            .map_err(contact_error)?;
+        // `problem.u` is the displacement of the last solve, the one that
+        // gave `outcome.lambda` (as the condensed path recovers it).
         let u_full: Vec<Vec<f64>> = bodies
             .iter()
             .enumerate()
@@ -1556,14 +1565,7 @@ fn run_direct(
                 u
             })
             .collect();
-        let solver = SolverReport {
-            method: "status".into(),
-            converged: outcome.converged,
-            iterations: outcome.iterations,
-            operator_applications: problem.factorisations,
-            residual_history: vec![],
-            stopping_reason: outcome.stopping_reason.clone(),
-        };
+        let solver = status_report("status", &outcome, problem.factorisations);
         let law_k = vec![0.0; points.len()];
         let sol = StepSolution {
             outcome,
