@@ -2,38 +2,20 @@
 //! (VALIDATION.md §7): every exact method equals the status method; the
 //! penalty methods converge to it as their stiffness grows.
 
-use signorini_comm::Local;
-use signorini_scene::{parse_toml, Method};
-use signorini_solver::{run, RunOptions, RunOutput, SolveError};
+mod common;
+
+use common::{example, max_rel, try_run};
+use signorini_scene::Method;
+use signorini_solver::{RunOptions, RunOutput, SolveError};
 
 fn run_with(text: &str, method: Method) -> Result<RunOutput, SolveError> {
-    let sc = parse_toml(text).unwrap_or_else(|e| panic!("scene: {e}"));
-    run(
-        &sc,
-        "test",
-        &RunOptions {
+    try_run(
+        text,
+        RunOptions {
             method: Some(method),
             path: None,
         },
-        &Local,
     )
-    .map(|o| o.expect("root output"))
-}
-
-fn example(name: &str) -> String {
-    std::fs::read_to_string(format!("{}/examples/{name}", env!("CARGO_MANIFEST_DIR"))).unwrap()
-}
-
-fn max_rel(a: &[f64], b: &[f64]) -> f64 {
-    let s = a
-        .iter()
-        .chain(b)
-        .fold(0.0f64, |m, v| m.max(v.abs()))
-        .max(f64::MIN_POSITIVE);
-    a.iter()
-        .zip(b)
-        .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()))
-        / s
 }
 
 fn forces(o: &RunOutput) -> Vec<f64> {

@@ -1,35 +1,21 @@
 //! End-to-end 2D frictionless contact against closed-form answers
 //! (VALIDATION.md §1, §3, §7), through the same pipeline as `signorini run`.
 
-use signorini_comm::Local;
-use signorini_scene::{parse_toml, SolvePath};
-use signorini_solver::{run, RunOptions, RunOutput};
+mod common;
 
+use common::{converged, example, max_rel};
+use signorini_scene::SolvePath;
+use signorini_solver::{RunOptions, RunOutput};
+
+/// Solves on a path, asserting convergence and the certificate.
 fn solve(text: &str, path: SolvePath) -> RunOutput {
-    let sc = parse_toml(text).unwrap_or_else(|e| panic!("scene: {e}"));
-    let out = run(
-        &sc,
-        "test",
-        &RunOptions {
+    converged(
+        text,
+        RunOptions {
             method: None,
             path: Some(path),
         },
-        &Local,
     )
-    .unwrap_or_else(|e| panic!("run: {e}"))
-    .expect("the root has the output");
-    let c = &out.report.certificate;
-    assert!(
-        out.report.converged,
-        "not converged: {:?}",
-        out.report.failure
-    );
-    assert!(c.max() <= 1e-9, "certificate above 1e-9: {c:?}");
-    out
-}
-
-fn example(name: &str) -> String {
-    std::fs::read_to_string(format!("{}/examples/{name}", env!("CARGO_MANIFEST_DIR"))).unwrap()
 }
 
 /// A block W × H of one material on a rigid frictionless plane y = 0 (or
@@ -76,18 +62,6 @@ master = {{ body = "floor" }}
 "#,
         divisions[0], divisions[1]
     )
-}
-
-fn max_rel(a: &[f64], b: &[f64]) -> f64 {
-    let scale = a
-        .iter()
-        .chain(b)
-        .fold(0.0f64, |m, v| m.max(v.abs()))
-        .max(f64::MIN_POSITIVE);
-    a.iter()
-        .zip(b)
-        .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()))
-        / scale
 }
 
 #[test]

@@ -1,23 +1,17 @@
 //! Coulomb friction on the condensed problem (VALIDATION.md §5, §7; seed §4).
 
-use signorini_comm::Local;
-use signorini_scene::parse_toml;
-use signorini_solver::{run, RunOptions, RunOutput, SolveError};
+mod common;
+
+use common::example;
+use signorini_solver::{RunOptions, RunOutput, SolveError};
 
 fn solve(text: &str) -> Result<RunOutput, SolveError> {
-    let sc = parse_toml(text).unwrap_or_else(|e| panic!("scene: {e}"));
-    run(&sc, "test", &RunOptions::default(), &Local).map(|o| o.expect("root output"))
+    common::try_run(text, RunOptions::default())
 }
 
+/// Solves, asserting convergence and the certificate.
 fn converged(text: &str) -> RunOutput {
-    let out = solve(text).unwrap_or_else(|e| panic!("{e}"));
-    assert!(out.report.converged, "{:?}", out.report.failure);
-    assert!(
-        out.report.certificate.max() <= 1e-9,
-        "{:?}",
-        out.report.certificate
-    );
-    out
+    common::converged(text, RunOptions::default())
 }
 
 /// Resultants (normal, tangential) of the contact forces at a step.
@@ -267,10 +261,6 @@ fn a_tangential_force_above_mu_n_has_no_equilibrium_and_says_so() {
         Ok(o) => assert!(!o.report.converged, "a force above μN cannot be held"),
         Err(e) => panic!("{e}"),
     }
-}
-
-fn example(name: &str) -> String {
-    std::fs::read_to_string(format!("{}/examples/{name}", env!("CARGO_MANIFEST_DIR"))).unwrap()
 }
 
 /// VALIDATION.md §6 on the shipped example: the stick zone of two elastically

@@ -3,6 +3,9 @@
 //! Built only with the cargo feature `mpi` (ci/test.sh builds with it).
 #![cfg(feature = "mpi")]
 
+mod common;
+
+use common::{example_path as example, max_rel};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
 use std::time::{Duration, Instant};
@@ -69,10 +72,6 @@ fn dir(name: &str) -> PathBuf {
     d
 }
 
-fn example(name: &str) -> String {
-    format!("{}/examples/{name}", env!("CARGO_MANIFEST_DIR"))
-}
-
 /// Numeric columns of a CSV file (header skipped, non-numbers dropped).
 fn numbers(path: &Path, columns: &[&str]) -> Vec<f64> {
     let text = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
@@ -90,19 +89,6 @@ fn numbers(path: &Path, columns: &[&str]) -> Vec<f64> {
                 .collect::<Vec<_>>()
         })
         .collect()
-}
-
-fn max_rel(a: &[f64], b: &[f64]) -> f64 {
-    assert_eq!(a.len(), b.len());
-    let s = a
-        .iter()
-        .chain(b)
-        .fold(0.0f64, |m, v| m.max(v.abs()))
-        .max(f64::MIN_POSITIVE);
-    a.iter()
-        .zip(b)
-        .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()))
-        / s
 }
 
 fn report(d: &Path) -> serde_json::Value {

@@ -1,47 +1,21 @@
 //! Substructuring in one process (seed §8.3): bodies split into METIS parts
 //! glue exactly and reproduce the unsplit solution (VALIDATION.md §7).
 
-use signorini_comm::Local;
-use signorini_scene::{parse_toml, SolvePath};
-use signorini_solver::{run, RunOptions, RunOutput};
+mod common;
 
+use common::{converged, example, max_rel};
+use signorini_scene::SolvePath;
+use signorini_solver::{RunOptions, RunOutput};
+
+/// Solves on a path, asserting convergence and the certificate.
 fn solve(text: &str, path: SolvePath) -> RunOutput {
-    let sc = parse_toml(text).unwrap_or_else(|e| panic!("scene: {e}"));
-    let out = run(
-        &sc,
-        "test",
-        &RunOptions {
+    converged(
+        text,
+        RunOptions {
             method: None,
             path: Some(path),
         },
-        &Local,
     )
-    .unwrap_or_else(|e| panic!("run: {e}"))
-    .expect("the root has the output");
-    assert!(out.report.converged, "{:?}", out.report.failure);
-    assert!(
-        out.report.certificate.max() <= 1e-9,
-        "{:?}",
-        out.report.certificate
-    );
-    out
-}
-
-fn example(name: &str) -> String {
-    std::fs::read_to_string(format!("{}/examples/{name}", env!("CARGO_MANIFEST_DIR"))).unwrap()
-}
-
-fn max_rel(a: &[f64], b: &[f64]) -> f64 {
-    assert_eq!(a.len(), b.len());
-    let scale = a
-        .iter()
-        .chain(b)
-        .fold(0.0f64, |m, v| m.max(v.abs()))
-        .max(f64::MIN_POSITIVE);
-    a.iter()
-        .zip(b)
-        .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()))
-        / scale
 }
 
 /// Displacements of every body and contact forces agree to `tol`.

@@ -1,0 +1,54 @@
+//! Helpers shared by the integration tests (each test file is its own crate,
+//! so not every helper is used by every file).
+#![allow(dead_code)]
+
+use signorini_comm::Local;
+use signorini_scene::parse_toml;
+use signorini_solver::{run, RunOptions, RunOutput, SolveError};
+
+/// The path of a shipped example.
+pub fn example_path(name: &str) -> String {
+    format!("{}/examples/{name}", env!("CARGO_MANIFEST_DIR"))
+}
+
+/// The text of a shipped example.
+pub fn example(name: &str) -> String {
+    std::fs::read_to_string(example_path(name)).unwrap()
+}
+
+/// Runs a scene given as TOML text in one process.
+pub fn try_run(text: &str, opts: RunOptions) -> Result<RunOutput, SolveError> {
+    let sc = parse_toml(text).unwrap_or_else(|e| panic!("scene: {e}"));
+    run(&sc, "test", &opts, &Local).map(|o| o.expect("the root has the output"))
+}
+
+/// Runs a scene and asserts that it converged with every certificate
+/// residual at most 1e-9.
+pub fn converged(text: &str, opts: RunOptions) -> RunOutput {
+    let out = try_run(text, opts).unwrap_or_else(|e| panic!("run: {e}"));
+    assert!(
+        out.report.converged,
+        "not converged: {:?}",
+        out.report.failure
+    );
+    assert!(
+        out.report.certificate.max() <= 1e-9,
+        "certificate above 1e-9: {:?}",
+        out.report.certificate
+    );
+    out
+}
+
+/// max |a − b| over max(|a|, |b|): the relative difference of two results.
+pub fn max_rel(a: &[f64], b: &[f64]) -> f64 {
+    assert_eq!(a.len(), b.len());
+    let scale = a
+        .iter()
+        .chain(b)
+        .fold(0.0f64, |m, v| m.max(v.abs()))
+        .max(f64::MIN_POSITIVE);
+    a.iter()
+        .zip(b)
+        .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()))
+        / scale
+}
