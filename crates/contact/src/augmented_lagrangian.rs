@@ -35,7 +35,8 @@
 use faer::Mat;
 
 use crate::lcp::{
-    check_input, mean_diag, residual_from_gaps, LcpOptions, LcpSolution, SolverReport,
+    check_input, empty_solution, mean_diag, residual_from_gaps, LcpOptions, LcpSolution,
+    SolverReport,
 };
 use crate::penalty::regularised_newton;
 use crate::ContactError;
@@ -58,18 +59,13 @@ pub fn augmented_lagrangian(
 ) -> Result<LcpSolution, ContactError> {
     check_input(w, q, "augmented_lagrangian")?;
     let m = q.len();
+    if m == 0 {
+        return Ok(empty_solution("augmented_lagrangian"));
+    }
     let mut report = SolverReport {
         method: "augmented_lagrangian".into(),
         ..Default::default()
     };
-    if m == 0 {
-        report.converged = true;
-        report.stopping_reason = "no contact point".into();
-        return Ok(LcpSolution {
-            lambda: Vec::new(),
-            report,
-        });
-    }
     let mut lambda = vec![0.0; m];
     let r0 = residual_from_gaps(&lambda, q, opts);
     if r0 <= opts.tolerance {

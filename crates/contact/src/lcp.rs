@@ -87,6 +87,19 @@ pub fn residual_from_gaps(lambda: &[f64], g: &[f64], opts: &LcpOptions) -> f64 {
         .fold(0.0, f64::max)
 }
 
+/// The solution of the empty problem (m = 0).
+pub(crate) fn empty_solution(method: &str) -> LcpSolution {
+    LcpSolution {
+        lambda: Vec::new(),
+        report: SolverReport {
+            method: method.into(),
+            converged: true,
+            stopping_reason: "no contact point".into(),
+            ..Default::default()
+        },
+    }
+}
+
 /// Rejects a non-square W, a size mismatch with q, and any non-finite entry.
 pub(crate) fn check_input(w: &Mat<f64>, q: &[f64], method: &str) -> Result<(), ContactError> {
     let m = q.len();

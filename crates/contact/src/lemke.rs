@@ -36,8 +36,10 @@
 use faer::prelude::Solve;
 use faer::{Mat, Side};
 
-use crate::lcp::{check_input, lcp_residual, LcpOptions, LcpSolution, SolverReport};
-use crate::projected_gradient::{clamp, empty_solution};
+use crate::lcp::{
+    check_input, empty_solution, lcp_residual, LcpOptions, LcpSolution, SolverReport,
+};
+use crate::projected_gradient::clamp;
 use crate::ContactError;
 
 /// Relative pivot tolerance: column entries below `PIVOT_TOL` × the largest

@@ -37,12 +37,10 @@
 use faer::Mat;
 
 use crate::lcp::{
-    check_input, dot, gaps_into, matvec, residual_from_gaps, spectral_norm_estimate, LcpOptions,
-    LcpSolution, SolverReport,
+    check_input, dot, empty_solution, gaps_into, matvec, residual_from_gaps,
+    spectral_norm_estimate, LcpOptions, LcpSolution, SolverReport,
 };
-use crate::projected_gradient::{
-    clamp, empty_solution, iteration_limit, stagnated, unbounded, verify,
-};
+use crate::projected_gradient::{clamp, iteration_limit, stagnated, unbounded, verify};
 use crate::ContactError;
 
 /// Γ of the proportioning test ‖β‖² ≤ Γ² φ̃ᵀφ.

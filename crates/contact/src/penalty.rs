@@ -57,7 +57,8 @@ use faer::prelude::Solve;
 use faer::{Mat, Side};
 
 use crate::lcp::{
-    check_input, gaps, mean_diag, residual_from_gaps, LcpOptions, LcpSolution, SolverReport,
+    check_input, empty_solution, gaps, mean_diag, residual_from_gaps, LcpOptions, LcpSolution,
+    SolverReport,
 };
 use crate::status::{status_method, ActiveSetSolve, StatusOptions, StatusVariant};
 use crate::ContactError;
@@ -87,18 +88,13 @@ pub fn penalty(
 ) -> Result<LcpSolution, ContactError> {
     let c = compliance(w, q, k)?;
     let m = q.len();
+    if m == 0 {
+        return Ok(empty_solution("penalty"));
+    }
     let mut report = SolverReport {
         method: "penalty".into(),
         ..Default::default()
     };
-    if m == 0 {
-        report.converged = true;
-        report.stopping_reason = "no contact point".into();
-        return Ok(LcpSolution {
-            lambda: Vec::new(),
-            report,
-        });
-    }
     let active: Vec<bool> = q.iter().map(|&v| v < 0.0).collect();
     let mut history = Vec::new();
     let out = regularised_newton(w, q, &c, active, opts, opts.max_iterations, &mut |l, g| {

@@ -29,8 +29,8 @@
 use faer::Mat;
 
 use crate::lcp::{
-    check_input, dot, energy_of, gaps_into, lcp_residual, matvec, residual_from_gaps, LcpOptions,
-    LcpSolution, SolverReport,
+    check_input, dot, empty_solution, energy_of, gaps_into, lcp_residual, matvec,
+    residual_from_gaps, LcpOptions, LcpSolution, SolverReport,
 };
 use crate::ContactError;
 
@@ -327,19 +327,6 @@ pub fn projected_conjugate_gradient(
 // ---------------------------------------------------------------------------
 // Helpers shared by the LCP methods (lemke, projected_gradient, mprgp).
 // ---------------------------------------------------------------------------
-
-/// The solution of the empty problem (m = 0).
-pub(crate) fn empty_solution(method: &str) -> LcpSolution {
-    LcpSolution {
-        lambda: Vec::new(),
-        report: SolverReport {
-            method: method.into(),
-            converged: true,
-            stopping_reason: "no contact point".into(),
-            ..Default::default()
-        },
-    }
-}
 
 /// Largest α with λ + α d ≥ 0 (∞ when no component decreases).
 pub(crate) fn max_feasible_step(lambda: &[f64], d: &[f64]) -> f64 {

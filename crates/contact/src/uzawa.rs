@@ -32,8 +32,8 @@
 use faer::Mat;
 
 use crate::lcp::{
-    check_input, energy_of, gaps, mean_diag, power_iteration, residual_from_gaps, LcpOptions,
-    LcpSolution, SolverReport,
+    check_input, empty_solution, energy_of, gaps, mean_diag, power_iteration, residual_from_gaps,
+    LcpOptions, LcpSolution, SolverReport,
 };
 use crate::ContactError;
 
@@ -46,18 +46,13 @@ use crate::ContactError;
 pub fn uzawa(w: &Mat<f64>, q: &[f64], opts: &LcpOptions) -> Result<LcpSolution, ContactError> {
     check_input(w, q, "uzawa")?;
     let m = q.len();
+    if m == 0 {
+        return Ok(empty_solution("uzawa"));
+    }
     let mut report = SolverReport {
         method: "uzawa".into(),
         ..Default::default()
     };
-    if m == 0 {
-        report.converged = true;
-        report.stopping_reason = "no contact point".into();
-        return Ok(LcpSolution {
-            lambda: Vec::new(),
-            report,
-        });
-    }
     let mut lambda = vec![0.0; m];
     let mut g = q.to_vec();
     let r0 = residual_from_gaps(&lambda, &g, opts);
