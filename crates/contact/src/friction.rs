@@ -26,6 +26,7 @@
 use serde::Serialize;
 
 use crate::delassus::{DelassusProblem, VarEquation};
+use crate::lcp::LcpOptions;
 use crate::ContactError;
 
 /// Status of a contact point.
@@ -392,6 +393,70 @@ pub fn tresca_status(
 ) -> Result<FrictionOutcome, ContactError> {
     let thresholds = thresholds_from(layout, &vec![0.0; problem.q.len()]);
     fixed_thresholds(problem, layout, initial, thresholds, false, opts)
+}
+
+/// Tresca by a projection method (seed §3.2 on the forces; Dostál's MPRGP for
+/// simple bounds): min ½ rᵀ W r + qᵀ r over λ_n ≥ 0, −g ≤ λ_t ≤ g. Unlike the
+/// status method, the box lets an open point carry a tangential force up to
+/// its threshold (Tresca's law does not depend on the normal force); on
+/// contacts closed everywhere both give the same answer.
+pub fn tresca_projection(
+    problem: &DelassusProblem,
+    layout: &FrictionLayout,
+    opts: &FrictionOptions,
+) -> Result<FrictionOutcome, ContactError> {
+    if problem.n_kernel() > 0 {
+        return Err(ContactError::Singular(
+            "the projection method for Tresca cannot hold bodies held by contact or friction alone; use method = \"status\"".into(),
+        ));
+    }
+    let n = problem.q.len();
+    let m = layout.tangent_row.len();
+    let mut lower = vec![0.0; n];
+    let mut upper = vec![f64::INFINITY; n];
+    for p in 0..m {
+        if let (Some(t), Threshold::Tresca(g)) = (layout.tangent_row[p], layout.threshold[p]) {
+            lower[t] = -g;
+            upper[t] = g;
+        }
+    }
+    let lcp_opts = LcpOptions {
+        tolerance: opts.tolerance,
+        max_iterations: opts.max_iterations,
+        force_scale: opts.force_scale,
+        gap_scale: opts.gap_scale,
+        stiffness: None,
+    };
+    let sol = crate::box_qp::mprgp_box(&problem.w, &problem.q, &lower, &upper, &lcp_opts)?;
+    let gaps = crate::lcp::gaps(&problem.w, &problem.q, &sol.lambda);
+    let tol = opts.tolerance
+        * opts
+            .force_scale
+            .max(sol.lambda.iter().fold(0.0f64, |a, v| a.max(v.abs())));
+    let statuses = (0..m)
+        .map(|p| {
+            if sol.lambda[p] <= tol {
+                PointStatus::Open
+            } else {
+                match layout.tangent_row[p] {
+                    Some(t) if sol.lambda[t] >= upper[t] - tol => PointStatus::SlipPlus,
+                    Some(t) if sol.lambda[t] <= lower[t] + tol => PointStatus::SlipMinus,
+                    _ => PointStatus::Stick,
+                }
+            }
+        })
+        .collect();
+    Ok(FrictionOutcome {
+        converged: sol.report.converged,
+        iterations: sol.report.iterations,
+        fixed_point_iterations: 0,
+        fixed_point_residuals: sol.report.residual_history.clone(),
+        statuses,
+        forces: sol.lambda,
+        gaps,
+        stopping_reason: sol.report.stopping_reason,
+        cycle_detected: false,
+    })
 }
 
 /// The status method applied to friction (seed §4.5): slipping Coulomb

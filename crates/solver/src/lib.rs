@@ -26,8 +26,8 @@ use signorini_condense::{spmv, submatrix};
 use signorini_contact::direct::DirectProblem;
 use signorini_contact::equilibrium::nnls;
 use signorini_contact::friction::{
-    coulomb_fixed_point, coulomb_status, tresca_status, FrictionLayout, FrictionOptions,
-    PointStatus, Threshold,
+    coulomb_fixed_point, coulomb_status, tresca_projection, tresca_status, FrictionLayout,
+    FrictionOptions, PointStatus, Threshold,
 };
 use signorini_contact::methods::{solve_lcp, Algorithm};
 use signorini_contact::{
@@ -517,70 +517,6 @@ struct FrictionStep {
     threshold: Vec<f64>,
 }
 
-/// Tresca by a projection method (seed §3.2 on the forces; Dostál's MPRGP for
-/// simple bounds): min ½ rᵀ W r + qᵀ r over λ_n ≥ 0, −g ≤ λ_t ≤ g. Unlike the
-/// status method, the box lets an open point carry a tangential force up to
-/// its threshold (Tresca's law does not depend on the normal force); on
-/// contacts closed everywhere both give the same answer.
-fn tresca_by_projection(
-    problem: &DelassusProblem,
-    layout: &FrictionLayout,
-    sc: &scene::Scene,
-    f_scale: f64,
-    length_scale: f64,
-) -> Result<signorini_contact::friction::FrictionOutcome, ContactError> {
-    if problem.n_kernel() > 0 {
-        return Err(ContactError::Singular(
-            "the projection method for Tresca cannot hold bodies held by contact or friction alone; use method = \"status\"".into(),
-        ));
-    }
-    let n = problem.q.len();
-    let m = layout.tangent_row.len();
-    let mut lower = vec![0.0; n];
-    let mut upper = vec![f64::INFINITY; n];
-    for p in 0..m {
-        if let (Some(t), Threshold::Tresca(g)) = (layout.tangent_row[p], layout.threshold[p]) {
-            lower[t] = -g;
-            upper[t] = g;
-        }
-    }
-    let opts = LcpOptions {
-        tolerance: sc.solver.tolerance,
-        max_iterations: sc.solver.max_iterations,
-        force_scale: f_scale,
-        gap_scale: length_scale,
-        stiffness: None,
-    };
-    let sol = signorini_contact::box_qp::mprgp_box(&problem.w, &problem.q, &lower, &upper, &opts)?;
-    let gaps = signorini_contact::lcp::gaps(&problem.w, &problem.q, &sol.lambda);
-    let tol =
-        sc.solver.tolerance * f_scale.max(sol.lambda.iter().fold(0.0f64, |a, v| a.max(v.abs())));
-    let statuses = (0..m)
-        .map(|p| {
-            if sol.lambda[p] <= tol {
-                PointStatus::Open
-            } else {
-                match layout.tangent_row[p] {
-                    Some(t) if sol.lambda[t] >= upper[t] - tol => PointStatus::SlipPlus,
-                    Some(t) if sol.lambda[t] <= lower[t] + tol => PointStatus::SlipMinus,
-                    _ => PointStatus::Stick,
-                }
-            }
-        })
-        .collect();
-    Ok(signorini_contact::friction::FrictionOutcome {
-        converged: sol.report.converged,
-        iterations: sol.report.iterations,
-        fixed_point_iterations: 0,
-        fixed_point_residuals: sol.report.residual_history.clone(),
-        statuses,
-        forces: sol.lambda,
-        gaps,
-        stopping_reason: sol.report.stopping_reason,
-        cycle_detected: false,
-    })
-}
-
 /// The algorithm of a scene's `[solver]` (and `--method`).
 pub fn algorithm_of(solver: &scene::Solver, method: scene::Method) -> Algorithm {
     let variant = match solver.status_changes {
@@ -1016,7 +952,7 @@ fn solve_root(
                 )
             } else if all_tresca && algorithm == Algorithm::Mprgp {
                 (
-                    tresca_by_projection(&problem, &layout, sc, f_scale, length_scale),
+                    tresca_projection(&problem, &layout, &fopts),
                     "tresca_mprgp_box",
                 )
             } else if all_tresca {
