@@ -216,10 +216,10 @@ fn status_loop(
     let mut single = false;
     let mut thr = threshold(&vec![0.0; statuses.len()]);
     let mut last = None;
-    // The last statuses that gave a regular system and the changes they
-    // called for, most violated first: when a change leaves a floating body
-    // unheld (a singular system), the method goes back and tries the other
-    // changes one at a time.
+    // The last statuses that gave a regular system, their forces, and the
+    // points already made to stick from them: when a change leaves a
+    // friction-held body unheld (a singular system), the method goes back to
+    // those statuses and makes their most loaded point not yet tried stick.
     let mut fallback: Option<(Vec<PointStatus>, Vec<f64>, Vec<usize>)> = None;
     for _ in 0..opts.max_iterations {
         *iterations += 1;
