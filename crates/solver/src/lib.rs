@@ -1175,8 +1175,9 @@ fn conclude_step(
     if !outcome.converged {
         partial.converged = false;
         partial.failure.get_or_insert(format!(
-            "step {}: status method: {}",
+            "step {}: {}: {}",
             si + 1,
+            sol.solver.method,
             outcome.stopping_reason
         ));
     } else if cert.max() > cert.tolerance {
