@@ -116,7 +116,10 @@ fn non_matching_meshes_node_to_segment_keep_the_resultant_and_report_the_deviati
     // One-pass node-to-segment does not pass the patch test exactly: the
     // deviation is reported, finite and small.
     let dev = q["pressure"].relative_error;
-    assert!(dev.is_finite() && dev > 1e-6 && dev < 0.5, "deviation {dev}");
+    assert!(
+        dev.is_finite() && dev > 1e-6 && dev < 0.5,
+        "deviation {dev}"
+    );
     eprintln!("node_to_segment non-matching pressure deviation: {dev:.3e}");
 }
 

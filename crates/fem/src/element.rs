@@ -98,6 +98,12 @@ pub fn b_matrix(mesh: &Mesh, cell: usize, xi: [f64; 2]) -> Result<(DMatrix<f64>,
                 .collect();
             (g, det)
         }
+        other => {
+            return Err(FemError::Unsupported(format!(
+                "{} cells are not supported yet",
+                other.name()
+            )))
+        }
     };
     let n = grads.len();
     let mut b = DMatrix::zeros(3, 2 * n);
@@ -127,6 +133,7 @@ pub fn try_element_stiffness(
     let points: &[[f64; 2]] = match mesh.cells[cell].kind {
         CellKind::Tri3 => &[[0.0, 0.0]],
         CellKind::Quad4 => &GAUSS_2X2,
+        _ => &[[0.0, 0.0]],
     };
     let n = 2 * mesh.cells[cell].nodes.len();
     let mut k = DMatrix::zeros(n, n);
@@ -186,6 +193,12 @@ pub fn check_mesh(mesh: &Mesh) -> Result<(), FemError> {
                 for xi in Q4_CORNERS {
                     b_matrix(mesh, c, xi)?;
                 }
+            }
+            other => {
+                return Err(FemError::Unsupported(format!(
+                    "{} cells are not supported yet",
+                    other.name()
+                )))
             }
         }
     }

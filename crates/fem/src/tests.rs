@@ -192,6 +192,7 @@ fn element_matrices_exact_values() {
             nodes: vec![0, 1, 2],
         }],
         surfaces: Default::default(),
+        regions: Default::default(),
     };
     let el = mat(Model::PlaneStress);
     let k = element_stiffness(&m, 0, &el);
@@ -217,6 +218,7 @@ fn element_matrices_exact_values() {
             nodes: vec![0, 1, 2, 3],
         }],
         surfaces: Default::default(),
+        regions: Default::default(),
     };
     let k = element_stiffness(&q, 0, &el);
     assert!((k[(0, 0)] - c * (0.5 - NU / 6.0)).abs() < 1e-12 * E);

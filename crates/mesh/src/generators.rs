@@ -177,12 +177,10 @@ fn build_2d(
                     });
                 }
             }
+            other => panic!("build_2d: {} is not a first-order 2D kind", other.name()),
         }
     }
-    let ncell_per_quad = match kind {
-        CellKind::Quad4 => 1,
-        CellKind::Tri3 => 2,
-    };
+    let ncell_per_quad = if kind == CellKind::Quad4 { 1 } else { 2 };
     let mut surfaces = BTreeMap::new();
     for (name, list) in edges {
         let mut facets = Vec::with_capacity(list.len());
@@ -211,6 +209,7 @@ fn build_2d(
         coords,
         cells,
         surfaces,
+        regions: Default::default(),
     }
 }
 

@@ -11,26 +11,98 @@ pub mod partition;
 
 use std::collections::BTreeMap;
 
-/// Kind of a finite element cell.
+/// Kind of a finite element cell. Node orders follow Gmsh and VTK: corners
+/// first (counter-clockwise in 2D; for Tet4 a positive volume
+/// `(x1−x0)·((x2−x0)×(x3−x0)) > 0`; for Hex8 the bottom face 0-1-2-3
+/// counter-clockwise seen from the top face 4-5-6-7, node 4 above node 0),
+/// then the mid-side nodes of second-order cells, edge by edge in the order of
+/// [`CellKind::facets`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum CellKind {
     /// Linear triangle (3 nodes, counter-clockwise).
     Tri3,
     /// Bilinear quadrilateral (4 nodes, counter-clockwise).
     Quad4,
+    /// Quadratic triangle: 3 corners, then the mid-sides of 0-1, 1-2, 2-0.
+    Tri6,
+    /// Serendipity quadrilateral: 4 corners, then the mid-sides of 0-1, 1-2,
+    /// 2-3, 3-0.
+    Quad8,
+    /// Linear tetrahedron (4 nodes, positive volume).
+    Tet4,
+    /// Trilinear hexahedron (8 nodes).
+    Hex8,
 }
 
 impl CellKind {
+    /// Number of nodes of the cell.
     pub fn nodes(self) -> usize {
         match self {
             CellKind::Tri3 => 3,
             CellKind::Quad4 => 4,
+            CellKind::Tri6 => 6,
+            CellKind::Quad8 => 8,
+            CellKind::Tet4 => 4,
+            CellKind::Hex8 => 8,
         }
     }
+
+    /// Number of corner nodes (the first nodes of the cell).
+    pub fn corners(self) -> usize {
+        match self {
+            CellKind::Tri3 | CellKind::Tri6 => 3,
+            CellKind::Quad4 | CellKind::Quad8 | CellKind::Tet4 => 4,
+            CellKind::Hex8 => 8,
+        }
+    }
+
+    /// Space dimension of the cell.
+    pub fn dim(self) -> usize {
+        match self {
+            CellKind::Tet4 | CellKind::Hex8 => 3,
+            _ => 2,
+        }
+    }
+
+    /// Polynomial order of the cell (1 or 2).
+    pub fn order(self) -> usize {
+        match self {
+            CellKind::Tri6 | CellKind::Quad8 => 2,
+            _ => 1,
+        }
+    }
+
+    /// The scene-file spelling.
     pub fn name(self) -> &'static str {
         match self {
             CellKind::Tri3 => "tri3",
             CellKind::Quad4 => "quad4",
+            CellKind::Tri6 => "tri6",
+            CellKind::Quad8 => "quad8",
+            CellKind::Tet4 => "tet4",
+            CellKind::Hex8 => "hex8",
+        }
+    }
+
+    /// Local node indices of each facet (boundary part of dimension d−1):
+    /// edges in 2D as `[corner, corner]` or, for second-order cells,
+    /// `[corner, corner, mid-side]`; faces in 3D, ordered so that their
+    /// right-hand normal points out of a well-oriented cell.
+    pub fn facets(self) -> &'static [&'static [usize]] {
+        match self {
+            CellKind::Tri3 => &[&[0, 1], &[1, 2], &[2, 0]],
+            CellKind::Quad4 => &[&[0, 1], &[1, 2], &[2, 3], &[3, 0]],
+            CellKind::Tri6 => &[&[0, 1, 3], &[1, 2, 4], &[2, 0, 5]],
+            CellKind::Quad8 => &[&[0, 1, 4], &[1, 2, 5], &[2, 3, 6], &[3, 0, 7]],
+            CellKind::Tet4 => &[&[0, 2, 1], &[0, 1, 3], &[1, 2, 3], &[0, 3, 2]],
+            CellKind::Hex8 => &[
+                &[0, 3, 2, 1],
+                &[4, 5, 6, 7],
+                &[0, 1, 5, 4],
+                &[1, 2, 6, 5],
+                &[2, 3, 7, 6],
+                &[3, 0, 4, 7],
+            ],
         }
     }
 }
@@ -42,7 +114,9 @@ pub struct Cell {
     pub nodes: Vec<usize>,
 }
 
-/// A boundary facet: a segment (2D) with the cell it belongs to.
+/// A boundary facet with the cell it belongs to: a segment in 2D (2 nodes, or
+/// 3 for a second-order edge: `[corner, corner, mid-side]`), a triangle or a
+/// quadrilateral in 3D. Its node order follows [`CellKind::facets`].
 #[derive(Debug, Clone, PartialEq)]
 pub struct Facet {
     pub nodes: Vec<usize>,
@@ -77,6 +151,9 @@ pub struct Mesh {
     pub coords: Vec<[f64; 3]>,
     pub cells: Vec<Cell>,
     pub surfaces: BTreeMap<String, Surface>,
+    /// Named groups of cells (Gmsh physical groups of dimension d); empty for
+    /// generated meshes.
+    pub regions: BTreeMap<String, Vec<usize>>,
 }
 
 impl Mesh {
@@ -129,6 +206,76 @@ impl Mesh {
         (n, len)
     }
 
+    /// Outward unit normal and measure (length in 2D, area in 3D) of a
+    /// boundary facet, oriented away from the centroid of the cell it bounds.
+    /// Second-order edges are taken straight (their corners define them); a
+    /// quadrilateral face's normal and area come from its diagonals,
+    /// `½ (x2 − x0) × (x3 − x1)` (exact for a planar face).
+    pub fn facet_normal(&self, f: &Facet) -> ([f64; 3], f64) {
+        let p = |k: usize| self.coords[f.nodes[k]];
+        let area_vec = if self.dim == 2 {
+            let (a, b) = (p(0), p(1));
+            [b[1] - a[1], -(b[0] - a[0]), 0.0]
+        } else if f.nodes.len() == 3 {
+            let (u, v) = (sub3(p(1), p(0)), sub3(p(2), p(0)));
+            let c = cross3(u, v);
+            [0.5 * c[0], 0.5 * c[1], 0.5 * c[2]]
+        } else {
+            let (u, v) = (sub3(p(2), p(0)), sub3(p(3), p(1)));
+            let c = cross3(u, v);
+            [0.5 * c[0], 0.5 * c[1], 0.5 * c[2]]
+        };
+        let len = (area_vec[0].powi(2) + area_vec[1].powi(2) + area_vec[2].powi(2)).sqrt();
+        let mut n = if len > 0.0 {
+            [area_vec[0] / len, area_vec[1] / len, area_vec[2] / len]
+        } else {
+            [0.0; 3]
+        };
+        let corners = if self.dim == 2 { 2 } else { f.nodes.len() };
+        let mut mid = [0.0; 3];
+        for k in 0..corners {
+            for (m, x) in mid.iter_mut().zip(p(k)) {
+                *m += x / corners as f64;
+            }
+        }
+        let c = self.cell_centroid(f.cell);
+        let out = sub3(mid, c);
+        if n[0] * out[0] + n[1] * out[1] + n[2] * out[2] < 0.0 {
+            n = [-n[0], -n[1], -n[2]];
+        }
+        (n, len)
+    }
+
+    /// Every facet of every cell that no other cell shares: the boundary of
+    /// the mesh, in cell order. Facets are matched by their sorted corner
+    /// nodes.
+    pub fn boundary_facets(&self) -> Vec<Facet> {
+        let mut count: std::collections::HashMap<Vec<usize>, usize> = Default::default();
+        let key = |cell: &Cell, local: &[usize]| {
+            let corners = if cell.kind.dim() == 2 { 2 } else { local.len() };
+            let mut k: Vec<usize> = local[..corners].iter().map(|&i| cell.nodes[i]).collect();
+            k.sort_unstable();
+            k
+        };
+        for cell in &self.cells {
+            for local in cell.kind.facets() {
+                *count.entry(key(cell, local)).or_insert(0) += 1;
+            }
+        }
+        let mut out = Vec::new();
+        for (c, cell) in self.cells.iter().enumerate() {
+            for local in cell.kind.facets() {
+                if count[&key(cell, local)] == 1 {
+                    out.push(Facet {
+                        nodes: local.iter().map(|&i| cell.nodes[i]).collect(),
+                        cell: c,
+                    });
+                }
+            }
+        }
+        out
+    }
+
     /// Index of the node nearest to `p`, with its distance.
     pub fn nearest_node(&self, p: [f64; 3]) -> Option<(usize, f64)> {
         self.coords
@@ -162,8 +309,30 @@ impl Mesh {
                     cell.nodes.len()
                 )));
             }
-            if self.dim == 2 {
+            if cell.kind.dim() != self.dim {
+                return Err(MeshError::Invalid(format!(
+                    "cell {c} is a {} cell in a {}D mesh",
+                    cell.kind.name(),
+                    self.dim
+                )));
+            }
+            if cell.kind == CellKind::Tet4 {
                 let p: Vec<[f64; 3]> = cell.nodes.iter().map(|&n| self.coords[n]).collect();
+                let c3 = cross3(sub3(p[2], p[0]), sub3(p[3], p[0]));
+                let v = sub3(p[1], p[0]);
+                let vol = (v[0] * c3[0] + v[1] * c3[1] + v[2] * c3[2]) / 6.0;
+                if vol <= 0.0 || vol.is_nan() {
+                    return Err(MeshError::Invalid(format!(
+                        "cell {c} (tet4) has a non-positive volume {vol:e}"
+                    )));
+                }
+            }
+            if self.dim == 2 {
+                let corners = cell.kind.corners();
+                let p: Vec<[f64; 3]> = cell.nodes[..corners]
+                    .iter()
+                    .map(|&n| self.coords[n])
+                    .collect();
                 let m = p.len();
                 let area: f64 = (0..m)
                     .map(|i| {
@@ -181,6 +350,18 @@ impl Mesh {
         }
         Ok(())
     }
+}
+
+fn sub3(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+
+fn cross3(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
 }
 
 #[derive(Debug, thiserror::Error)]

@@ -115,14 +115,18 @@ pub fn shared_nodes(mesh: &Mesh, parts: &[usize]) -> Vec<usize> {
     (0..mesh.n_nodes()).filter(|&n| shared[n]).collect()
 }
 
-/// Facets of a cell as node lists (edges in 2D, in the cell's node order).
-fn cell_facets(kind: CellKind, nodes: &[usize]) -> Vec<[usize; 2]> {
-    match kind {
-        CellKind::Tri3 | CellKind::Quad4 => {
-            let m = nodes.len();
-            (0..m).map(|i| [nodes[i], nodes[(i + 1) % m]]).collect()
-        }
-    }
+/// Facets of a cell as sorted corner-node lists (edges in 2D, faces in 3D),
+/// from [`CellKind::facets`].
+fn cell_facets(kind: CellKind, nodes: &[usize]) -> Vec<Vec<usize>> {
+    kind.facets()
+        .iter()
+        .map(|local| {
+            let corners = if kind.dim() == 2 { 2 } else { local.len() };
+            let mut f: Vec<usize> = local[..corners].iter().map(|&i| nodes[i]).collect();
+            f.sort_unstable();
+            f
+        })
+        .collect()
 }
 
 /// Element dual graph in CSR form (`xadj`, `adjncy`) for METIS: cells `a` and
@@ -130,7 +134,7 @@ fn cell_facets(kind: CellKind, nodes: &[usize]) -> Vec<[usize; 2]> {
 /// loops, no duplicates.
 fn dual_graph(mesh: &Mesh) -> Result<(Vec<Idx>, Vec<Idx>), MeshError> {
     let ncells = mesh.cells.len();
-    let mut by_facet: HashMap<[usize; 2], Vec<usize>> = HashMap::new();
+    let mut by_facet: HashMap<Vec<usize>, Vec<usize>> = HashMap::new();
     for (c, cell) in mesh.cells.iter().enumerate() {
         if cell.nodes.len() != cell.kind.nodes() {
             return Err(MeshError::Invalid(format!(
@@ -140,8 +144,7 @@ fn dual_graph(mesh: &Mesh) -> Result<(Vec<Idx>, Vec<Idx>), MeshError> {
                 cell.kind.nodes()
             )));
         }
-        for mut f in cell_facets(cell.kind, &cell.nodes) {
-            f.sort_unstable();
+        for f in cell_facets(cell.kind, &cell.nodes) {
             by_facet.entry(f).or_default().push(c);
         }
     }

@@ -137,6 +137,7 @@ impl Subdomain {
                 })
                 .collect(),
             surfaces: Default::default(),
+            regions: Default::default(),
         };
         let k_local = signorini_fem::try_assemble_stiffness(&mesh, &body.material)
             .map_err(|e| e.to_string())?;
