@@ -7,6 +7,8 @@
 //! are oriented away from that cell whatever the facet's node order.
 
 pub mod generators;
+pub mod gmsh;
+pub mod quadratic;
 pub mod partition;
 
 use std::collections::BTreeMap;

@@ -1,0 +1,1 @@
+//! Gmsh .msh import (stub: filled in by the Gmsh import work).

@@ -1,0 +1,1 @@
+//! Second-order meshes from first-order ones (stub).
