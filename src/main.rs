@@ -413,7 +413,8 @@ fn write_outputs(
     t: Instant,
 ) -> std::io::Result<()> {
     std::fs::create_dir_all(dir)?;
-    signorini_report::write_contact_csv(&dir.join("contact.csv"), &output.contact_rows)?;
+    let dim = sc.dimension as usize;
+    signorini_report::write_contact_csv(&dir.join("contact.csv"), &output.contact_rows, dim)?;
     signorini_report::write_steps_csv(&dir.join("steps.csv"), &output.report.steps)?;
     // With friction and several steps: the tangential force against the slip
     // (a hysteresis loop under cyclic loading).
@@ -453,32 +454,50 @@ fn write_outputs(
     write_vtu_fields(dir, sc, output).map_err(std::io::Error::other)?;
     if sc.output.wants("displacement") {
         let mut w = std::io::BufWriter::new(std::fs::File::create(dir.join("displacement.csv"))?);
-        writeln!(w, "body,node,x,y,ux,uy")?;
+        let axes = &["x", "y", "z"][..dim];
+        let header: Vec<String> = axes
+            .iter()
+            .map(|a| a.to_string())
+            .chain(axes.iter().map(|a| format!("u{a}")))
+            .collect();
+        writeln!(w, "body,node,{}", header.join(","))?;
         for b in &output.bodies {
             for (n, x) in b.coords.iter().enumerate() {
-                writeln!(
-                    w,
-                    "{},{},{:e},{:e},{:e},{:e}",
-                    b.name,
-                    n,
-                    x[0],
-                    x[1],
-                    b.displacement[2 * n],
-                    b.displacement[2 * n + 1]
-                )?;
+                write!(w, "{},{}", b.name, n)?;
+                for xk in &x[..dim] {
+                    write!(w, ",{xk:e}")?;
+                }
+                for uk in &b.displacement[dim * n..dim * (n + 1)] {
+                    write!(w, ",{uk:e}")?;
+                }
+                writeln!(w)?;
             }
         }
     }
     if sc.output.wants("stress") {
+        // Voigt [xx, yy, zz, xy, yz, xz]; 2D keeps its historical columns
+        // (axisymmetric: x = r, y = z, szz = the hoop stress σ_θθ).
         let mut w = std::io::BufWriter::new(std::fs::File::create(dir.join("stress.csv"))?);
-        writeln!(w, "body,cell,sxx,syy,sxy,szz,von_mises")?;
+        if dim == 3 {
+            writeln!(w, "body,cell,sxx,syy,szz,sxy,syz,sxz,von_mises")?;
+        } else {
+            writeln!(w, "body,cell,sxx,syy,sxy,szz,von_mises")?;
+        }
         for b in &output.bodies {
             for (c, s) in b.stress.iter().enumerate() {
-                writeln!(
-                    w,
-                    "{},{},{:e},{:e},{:e},{:e},{:e}",
-                    b.name, c, s[0], s[1], s[2], s[3], b.von_mises[c]
-                )?;
+                if dim == 3 {
+                    writeln!(
+                        w,
+                        "{},{},{:e},{:e},{:e},{:e},{:e},{:e},{:e}",
+                        b.name, c, s[0], s[1], s[2], s[3], s[4], s[5], b.von_mises[c]
+                    )?;
+                } else {
+                    writeln!(
+                        w,
+                        "{},{},{:e},{:e},{:e},{:e},{:e}",
+                        b.name, c, s[0], s[1], s[3], s[2], b.von_mises[c]
+                    )?;
+                }
             }
         }
     }
@@ -488,66 +507,26 @@ fn write_outputs(
     signorini_report::write_report(&dir.join("report.json"), &output.report)
 }
 
-/// DIR/<body>.vtu for every body and DIR/fields.pvd, with the fields that
-/// `[output] fields` asks for (last step): displacement; contact pressure,
-/// status (−1 no contact point, 0 open, 1 contact, 2 stick, 3 slip) and
-/// tangential force at the slave nodes; stress [sxx, syy, sxy, szz] and von
+/// DIR/<body>_<step>.vtu for every body and load step, and DIR/fields.pvd,
+/// the time series (timestep = step number) that ParaView opens as one
+/// dataset, with the fields that `[output] fields` asks for: displacement;
+/// contact pressure, status (−1 no contact point, 0 open, 1 contact, 2 stick,
+/// 3 slip) and tangential force at the slave nodes; stress (Voigt
+/// [xx, yy, zz, xy, yz, xz]; axisymmetric: x = r, y = z, zz = hoop) and von
 /// Mises per cell; the METIS subdomain of each cell.
 fn write_vtu_fields(
     dir: &Path,
     sc: &signorini_scene::Scene,
     output: &RunOutput,
 ) -> Result<(), String> {
-    use signorini_report::vtu::{write_pvd, write_vtu, VtuPiece};
+    use signorini_report::vtu::{write_pvd, write_vtu, PvdEntry, VtuPiece};
     if sc.output.fields.is_empty() {
         return Ok(());
     }
-    let last = output.report.steps.len();
-    let mut files = Vec::new();
+    let dim = sc.dimension as usize;
+    let mut entries = Vec::new();
     for (bi, b) in output.bodies.iter().enumerate() {
         let n = b.coords.len();
-        let mut point_data = Vec::new();
-        if sc.output.wants("displacement") {
-            let u: Vec<f64> = (0..n)
-                .flat_map(|i| [b.displacement[2 * i], b.displacement[2 * i + 1], 0.0])
-                .collect();
-            point_data.push(("displacement".to_string(), 3, u));
-        }
-        if sc.output.wants("contact") {
-            let mut pressure = vec![0.0; n];
-            let mut status = vec![-1.0; n];
-            let mut tangential = vec![0.0; n];
-            for r in output
-                .contact_rows
-                .iter()
-                .filter(|r| r.step == last && r.body == b.name)
-            {
-                pressure[r.point] = r.pressure;
-                tangential[r.point] = r.tangential_force;
-                status[r.point] = match r.status {
-                    "open" => 0.0,
-                    "contact" => 1.0,
-                    "stick" => 2.0,
-                    _ => 3.0,
-                };
-            }
-            point_data.push(("contact_pressure".to_string(), 1, pressure));
-            point_data.push(("contact_status".to_string(), 1, status));
-            point_data.push(("tangential_force".to_string(), 1, tangential));
-        }
-        let mut cell_data = vec![(
-            "subdomain".to_string(),
-            1,
-            b.parts.iter().map(|&p| p as f64).collect(),
-        )];
-        if sc.output.wants("stress") && !b.stress.is_empty() {
-            cell_data.push((
-                "stress".to_string(),
-                4,
-                b.stress.iter().flat_map(|s| s.iter().copied()).collect(),
-            ));
-            cell_data.push(("von_mises".to_string(), 1, b.von_mises.clone()));
-        }
         let safe: String = b
             .name
             .chars()
@@ -559,20 +538,78 @@ fn write_vtu_fields(
                 }
             })
             .collect();
-        let file = format!("{safe}.vtu");
-        write_vtu(
-            &dir.join(&file),
-            &VtuPiece {
-                title: b.name.clone(),
-                coords: &b.coords,
-                cells: &b.cells,
-                point_data,
-                cell_data,
-            },
-        )?;
-        files.push((bi, file));
+        for (si, fields) in b.history.iter().enumerate() {
+            let step = si + 1;
+            let mut point_data = Vec::new();
+            if sc.output.wants("displacement") {
+                let u: Vec<f64> = (0..n)
+                    .flat_map(|i| {
+                        let mut v = [0.0; 3];
+                        v[..dim].copy_from_slice(&fields.displacement[dim * i..dim * (i + 1)]);
+                        v
+                    })
+                    .collect();
+                point_data.push(("displacement".to_string(), 3, u));
+            }
+            if sc.output.wants("contact") {
+                let mut pressure = vec![0.0; n];
+                let mut status = vec![-1.0; n];
+                let mut tangential = vec![0.0; n];
+                for r in output
+                    .contact_rows
+                    .iter()
+                    .filter(|r| r.step == step && r.body == b.name)
+                {
+                    pressure[r.point] = r.pressure;
+                    tangential[r.point] = r.tangential_force;
+                    status[r.point] = match r.status {
+                        "open" => 0.0,
+                        "contact" => 1.0,
+                        "stick" => 2.0,
+                        _ => 3.0,
+                    };
+                }
+                point_data.push(("contact_pressure".to_string(), 1, pressure));
+                point_data.push(("contact_status".to_string(), 1, status));
+                point_data.push(("tangential_force".to_string(), 1, tangential));
+            }
+            let mut cell_data = vec![(
+                "subdomain".to_string(),
+                1,
+                b.parts.iter().map(|&p| p as f64).collect(),
+            )];
+            if sc.output.wants("stress") && !fields.stress.is_empty() {
+                cell_data.push((
+                    "stress".to_string(),
+                    6,
+                    fields
+                        .stress
+                        .iter()
+                        .flat_map(|s| s.iter().copied())
+                        .collect(),
+                ));
+                cell_data.push(("von_mises".to_string(), 1, fields.von_mises.clone()));
+            }
+            let file = format!("{safe}_{step}.vtu");
+            write_vtu(
+                &dir.join(&file),
+                &VtuPiece {
+                    title: format!("{} step {step}", b.name),
+                    dim,
+                    coords: &b.coords,
+                    cells: &b.cells,
+                    point_data,
+                    cell_data,
+                },
+            )?;
+            entries.push(PvdEntry {
+                timestep: step as f64,
+                part: bi,
+                file,
+            });
+        }
     }
-    write_pvd(&dir.join("fields.pvd"), &files).map_err(|e| e.to_string())
+    write_pvd(&dir.join("fields.pvd"), &entries).map_err(|e| e.to_string())
 }
 
 fn summarise(dir: &Path, o: &RunOutput) {
@@ -600,9 +637,12 @@ fn summarise(dir: &Path, o: &RunOutput) {
         );
     }
     println!(
-        "  contact force ({:.6e}, {:.6e}); certificate max {:.2e} (equilibrium {:.1e}, penetration {:.1e}, tension {:.1e}, complementarity {:.1e})",
-        r.contact_force[0],
-        r.contact_force[1],
+        "  contact force ({}); certificate max {:.2e} (equilibrium {:.1e}, penetration {:.1e}, tension {:.1e}, complementarity {:.1e})",
+        r.contact_force
+            .iter()
+            .map(|f| format!("{f:.6e}"))
+            .collect::<Vec<_>>()
+            .join(", "),
         r.certificate.max(),
         r.certificate.equilibrium,
         r.certificate.penetration,

@@ -1,16 +1,42 @@
-//! Contact points of a contact pair (seed §2.4 and §3.1.2).
+//! Contact points of a contact pair (seed §2.4 and §3.1.2), in 2D and 3D.
 //!
-//! Each slave node is a contact point. Its normal n (unit, from master to
-//! slave) follows the rule of seed Fig. 3: the master's normal, the slave's
-//! (reversed), their average, or the direction joining the two points at rest.
-//! Its initial gap is g0 = n · (x_slave − x_master) with x_master the closest
-//! point of the master (seed eq. 10, j = g0). The row of B is
-//! n·(u_slave − Σ N_i u_i) with N_i the master's shape functions at that point
-//! (seed §3.1.2, Fig. 6: ½(u_A + u_B) at a mid-segment projection).
+//! Each slave node is a contact point (the mid-side nodes of second-order
+//! slave edges included). Its normal n (unit, from master to slave) follows
+//! the rule of seed Fig. 3: the master's normal, the slave's (reversed), their
+//! average, or the direction joining the two points at rest. Its initial gap
+//! is g0 = n · (x_slave − x_master) with x_master the closest point of the
+//! master (seed eq. 10, j = g0). The row of B is n·(u_slave − Σ N_i u_i) with
+//! N_i the master's shape functions at that point (seed §3.1.2, Fig. 6:
+//! ½(u_A + u_B) at a mid-segment projection); they sum to 1.
+//!
+//! Master surfaces:
+//! - 2D linear edges: segments (the historical 2D code, kept bit-for-bit).
+//! - 2D quadratic edges `[c0, c1, mid]`: taken as piecewise linear through
+//!   the mid-side node, two straight segments c0–mid and mid–c1; the weights
+//!   are the linear ones on the sub-segment that holds the projection (so
+//!   nodes c0 and mid, or mid and c1), and the master normal is that
+//!   sub-segment's.
+//! - 3D triangles: exact closest point on the triangle, linear weights
+//!   (barycentric coordinates).
+//! - 3D quadrilaterals: bilinear patches; the closest point by Gauss–Newton on
+//!   the bilinear map for (ξ, η), clamped to [−1, 1]² by comparing with the
+//!   exact closest points on the four (straight) sides; the weights are the
+//!   bilinear shape functions at (ξ, η) (see `closest::quad`).
+//!
+//! The closest facet is found with an R*-tree of the facets' bounding boxes
+//! (`search::MasterIndex`), exactly (same answer as a loop over all facets).
+//!
+//! Tangents: in 2D the tangent is the normal turned by −90° and `tangent2` is
+//! zero. In 3D (`tangent`, `tangent2`, `normal`) is a right-handed
+//! orthonormal frame built from n alone, see [`tangent_frame`].
+
+mod closest;
+mod search;
 
 use signorini_mesh::{Mesh, Surface};
 
 use crate::ContactError;
+use search::{is_3d, MasterIndex, NodeIndex};
 
 /// Rule that chooses the contact normal (seed §2.4, Fig. 3).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -23,7 +49,8 @@ pub enum NormalRule {
 
 /// The master side of a contact pair.
 pub enum MasterGeometry<'a> {
-    /// A deformable body's surface.
+    /// A deformable body's surface: 2D edges (2 nodes, or 3 for quadratic
+    /// edges), 3D triangles or quadrilaterals.
     Surface {
         mesh: &'a Mesh,
         surface: &'a Surface,
@@ -31,6 +58,11 @@ pub enum MasterGeometry<'a> {
     /// A rigid plane (2D: a line) through `point` with unit normal `normal`
     /// pointing towards the slave.
     Plane { point: [f64; 3], normal: [f64; 3] },
+    /// A rigid ball (2D: a disc in the xy-plane, the centre's z ignored) of
+    /// centre `center` and radius `radius`. The slave is outside it: the
+    /// master normal is n = (x − c)/|x − c| and g0 = |x − c| − R (with the
+    /// master normal rule).
+    Sphere { center: [f64; 3], radius: f64 },
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -54,8 +86,14 @@ pub struct ContactPoint {
     pub x: [f64; 3],
     /// Unit normal, from master to slave.
     pub normal: [f64; 3],
-    /// Unit tangent (2D: the normal turned by −90°).
+    /// Unit tangent. 2D: the normal turned by −90°, (n_y, −n_x, 0). 3D: the
+    /// global axis least aligned with n (smallest |n_k|, ties to the lowest
+    /// k), projected on the tangent plane and normalised; see
+    /// [`tangent_frame`].
     pub tangent: [f64; 3],
+    /// Second unit tangent: zero in 2D; in 3D n × `tangent`, so that
+    /// (`tangent`, `tangent2`, `normal`) is right-handed and orthonormal.
+    pub tangent2: [f64; 3],
     /// Initial gap g0 (negative: initial overlap).
     pub gap0: f64,
     /// g = g0 + Σ_terms weight · n · u(node).
@@ -75,50 +113,90 @@ fn unit(a: [f64; 3]) -> Option<[f64; 3]> {
     let l = norm(a);
     (l > 0.0 && l.is_finite()).then(|| [a[0] / l, a[1] / l, a[2] / l])
 }
+fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
 
-/// Outward unit normal at each node of a surface (2D): the length-weighted
-/// average of the normals of the facets around it.
+/// Tangents of a 3D unit normal n: `t1` is the global axis e_k least aligned
+/// with n (smallest |n_k|; ties, up to 10⁻⁹ so that rounding noise in a
+/// computed normal cannot flip the choice, go to the lowest k: n ≈ ±e_z gives
+/// t1 ≈ e_x, n ≈ ±e_x gives t1 ≈ e_y, n ≈ ±e_y gives t1 ≈ e_x) projected on
+/// the tangent plane, t1 = (e_k − n_k n)/|e_k − n_k n| (never degenerate:
+/// |n_k| ≤ 1/√3); `t2` = n × t1. (t1, t2, n) is a right-handed orthonormal
+/// frame that depends on n only, so friction rows are reproducible. It jumps
+/// where two |n_k| swap order (for isotropic friction only the tangent plane
+/// matters).
+pub fn tangent_frame(n: [f64; 3]) -> ([f64; 3], [f64; 3]) {
+    const TIE: f64 = 1e-9;
+    let a = [n[0].abs(), n[1].abs(), n[2].abs()];
+    let least = a[0].min(a[1]).min(a[2]);
+    let k = (0..3).find(|&k| a[k] <= least + TIE).unwrap_or(0);
+    let mut e = [0.0; 3];
+    e[k] = 1.0;
+    let t1 = unit([e[0] - n[k] * n[0], e[1] - n[k] * n[1], e[2] - n[k] * n[2]]).unwrap_or(e);
+    (t1, cross(n, t1))
+}
+
+fn tangent_2d(n: [f64; 3]) -> [f64; 3] {
+    [n[1], -n[0], 0.0]
+}
+
+/// (`tangent`, `tangent2`) of a contact point in a mesh of dimension `dim`.
+fn tangents(three_d: bool, n: [f64; 3]) -> ([f64; 3], [f64; 3]) {
+    if three_d {
+        tangent_frame(n)
+    } else {
+        (tangent_2d(n), [0.0; 3])
+    }
+}
+
+/// Outward unit normal at each node of a surface: the measure-weighted
+/// average of the normals of the facets around it. 2D linear edges: their
+/// length-weighted normals. 2D quadratic edges: the normals of their two
+/// straight halves c0–mid and mid–c1, each weighted by its length (the
+/// mid-side node gets the average of the two). 3D faces: area-weighted face
+/// normals ([`Mesh::facet_normal`]; a quadrilateral's from its diagonals).
 pub fn nodal_normals(mesh: &Mesh, surface: &Surface) -> Vec<(usize, [f64; 3])> {
     let mut acc: std::collections::BTreeMap<usize, [f64; 3]> = Default::default();
+    let three_d = is_3d(mesh);
     for f in &surface.facets {
-        let (n, len) = mesh.facet_normal_2d(f);
-        for &v in &f.nodes {
-            let e = acc.entry(v).or_insert([0.0; 3]);
-            e[0] += n[0] * len;
-            e[1] += n[1] * len;
+        if three_d {
+            let (n, area) = mesh.facet_normal(f);
+            for &v in &f.nodes {
+                let e = acc.entry(v).or_insert([0.0; 3]);
+                for k in 0..3 {
+                    e[k] += n[k] * area;
+                }
+            }
+        } else if f.nodes.len() >= 3 {
+            let (n2, _) = mesh.facet_normal_2d(f);
+            let outward = [n2[0], n2[1], 0.0];
+            let (c0, c1, mid) = (f.nodes[0], f.nodes[1], f.nodes[2]);
+            for (a, b) in [(c0, mid), (mid, c1)] {
+                let (n, len) =
+                    search::segment_normal(mesh, a, b, outward).unwrap_or((outward, 0.0));
+                for v in [a, b] {
+                    let e = acc.entry(v).or_insert([0.0; 3]);
+                    e[0] += n[0] * len;
+                    e[1] += n[1] * len;
+                }
+            }
+        } else {
+            let (n, len) = mesh.facet_normal_2d(f);
+            for &v in &f.nodes {
+                let e = acc.entry(v).or_insert([0.0; 3]);
+                e[0] += n[0] * len;
+                e[1] += n[1] * len;
+            }
         }
     }
     acc.into_iter()
         .map(|(v, n)| (v, unit(n).unwrap_or([0.0, 0.0, 0.0])))
         .collect()
-}
-
-/// Closest point of the master segments to x: (facet index, parameter ξ in
-/// [0, 1] from node 0 to node 1, distance, unclamped ξ).
-fn closest_segment(mesh: &Mesh, surface: &Surface, x: [f64; 3]) -> Option<(usize, f64, f64, f64)> {
-    let mut best: Option<(usize, f64, f64, f64)> = None;
-    for (k, f) in surface.facets.iter().enumerate() {
-        let a = mesh.coords[f.nodes[0]];
-        let b = mesh.coords[f.nodes[1]];
-        let ab = sub(b, a);
-        let l2 = dot(ab, ab);
-        let xi_raw = if l2 > 0.0 {
-            dot(sub(x, a), ab) / l2
-        } else {
-            0.0
-        };
-        let xi = xi_raw.clamp(0.0, 1.0);
-        let p = [a[0] + xi * ab[0], a[1] + xi * ab[1], a[2] + xi * ab[2]];
-        let d = norm(sub(x, p));
-        if best.is_none_or(|bst| d < bst.2) {
-            best = Some((k, xi, d, xi_raw));
-        }
-    }
-    best
-}
-
-fn tangent_2d(n: [f64; 3]) -> [f64; 3] {
-    [n[1], -n[0], 0.0]
 }
 
 fn choose_normal(
@@ -149,71 +227,130 @@ fn choose_normal(
     }
 }
 
-/// Node-to-segment contact points (seed §3.1.2, Fig. 6): each slave node is
-/// projected on the closest master segment (or on the rigid plane). Slave
-/// nodes whose projection falls outside the master surface (beyond a
-/// relative tolerance of the segment length) are not contact points.
+fn check_dims(slave_mesh: &Mesh, master: &MasterGeometry<'_>) -> Result<(), ContactError> {
+    if let MasterGeometry::Surface { mesh, .. } = master {
+        if is_3d(mesh) != is_3d(slave_mesh) {
+            return Err(ContactError::Geometry(format!(
+                "the slave mesh is {}D and the master mesh {}D",
+                if is_3d(slave_mesh) { 3 } else { 2 },
+                if is_3d(mesh) { 3 } else { 2 },
+            )));
+        }
+    }
+    if let MasterGeometry::Sphere { radius, .. } = master {
+        if !(*radius > 0.0 && radius.is_finite()) {
+            return Err(ContactError::Geometry(format!(
+                "the rigid sphere's radius must be positive and finite, not {radius}"
+            )));
+        }
+    }
+    Ok(())
+}
+
+fn slave_term(s: usize) -> Term {
+    Term {
+        side: TermSide::Slave,
+        node: s,
+        weight: 1.0,
+    }
+}
+
+/// Node-to-segment contact points (seed §3.1.2, Fig. 6), in 2D and 3D (where
+/// it is node-to-face, [`node_to_face`] is the same function): each slave node
+/// is projected on the closest point of the master surface (or of the rigid
+/// plane or sphere); the row's master weights are the master's shape
+/// functions there.
+///
+/// Slave nodes that do not face the master are not contact points:
+/// - 2D linear edges (the historical rule, kept bit-for-bit): the unclamped
+///   projection on the closest edge falls outside it by more than 10⁻⁶ of its
+///   length. This also drops a node whose closest master point is a convex
+///   corner between two master edges.
+/// - quadratic edges and 3D faces: the node lies beyond a free side of the
+///   master surface (an edge end or a face side that no other facet of the
+///   surface shares), by more than 10⁻⁶ of the facet's size, for one of the
+///   facets at the least distance. A node whose closest point is clamped to a
+///   side or corner inside the surface (the kinks of a faceted curved master,
+///   the mid-side node of a bent quadratic edge) keeps that clamped point,
+///   with the normal of the facet chosen (the lowest-numbered at the least
+///   distance).
 pub fn node_to_segment(
     slave_mesh: &Mesh,
     slave_surface: &Surface,
     master: &MasterGeometry<'_>,
     rule: NormalRule,
 ) -> Result<Vec<ContactPoint>, ContactError> {
+    check_dims(slave_mesh, master)?;
+    let three_d = is_3d(slave_mesh);
     let slave_normals = nodal_normals(slave_mesh, slave_surface);
     let scale = slave_mesh.size();
+    let index = match master {
+        MasterGeometry::Surface { mesh, surface } => Some(MasterIndex::new(mesh, surface)?),
+        _ => None,
+    };
     let mut out = Vec::with_capacity(slave_normals.len());
     for (s, n_s) in slave_normals {
         let x = slave_mesh.coords[s];
+        let point = |n: [f64; 3], xm: [f64; 3], terms: Vec<Term>| {
+            let (tangent, tangent2) = tangents(three_d, n);
+            ContactPoint {
+                slave_node: s,
+                x,
+                normal: n,
+                tangent,
+                tangent2,
+                gap0: dot(n, sub(x, xm)),
+                terms,
+            }
+        };
         match master {
-            MasterGeometry::Plane { point, normal } => {
-                let d = dot(sub(x, *point), *normal);
+            MasterGeometry::Plane { point: p0, normal } => {
+                let d = dot(sub(x, *p0), *normal);
                 let xm = [
                     x[0] - d * normal[0],
                     x[1] - d * normal[1],
                     x[2] - d * normal[2],
                 ];
                 let n = choose_normal(rule, *normal, n_s, x, xm, scale);
-                out.push(ContactPoint {
-                    slave_node: s,
-                    x,
-                    normal: n,
-                    tangent: tangent_2d(n),
-                    gap0: dot(n, sub(x, xm)),
-                    terms: vec![Term {
-                        side: TermSide::Slave,
-                        node: s,
-                        weight: 1.0,
-                    }],
-                });
+                out.push(point(n, xm, vec![slave_term(s)]));
             }
-            MasterGeometry::Surface { mesh, surface } => {
-                let Some((k, xi, _d, xi_raw)) = closest_segment(mesh, surface, x) else {
+            MasterGeometry::Sphere { center, radius } => {
+                let c = [center[0], center[1], if three_d { center[2] } else { x[2] }];
+                let Some(n_m) = unit(sub(x, c)) else {
+                    return Err(ContactError::Geometry(format!(
+                        "slave node {s} is at the centre of the rigid sphere: its normal is undefined"
+                    )));
+                };
+                let xm = [
+                    c[0] + radius * n_m[0],
+                    c[1] + radius * n_m[1],
+                    c[2] + radius * n_m[2],
+                ];
+                let n = choose_normal(rule, n_m, n_s, x, xm, scale);
+                out.push(point(n, xm, vec![slave_term(s)]));
+            }
+            MasterGeometry::Surface { .. } => {
+                let index = index.as_ref().expect("built for a surface");
+                let Some(hit) = index.closest(x) else {
                     return Err(ContactError::Geometry(
                         "the master surface has no facet".into(),
                     ));
                 };
-                let tol = 1e-6;
-                if xi_raw < -tol || xi_raw > 1.0 + tol {
-                    // Projection outside the master: no contact point here.
+                let c = &hit.closest;
+                if index.is_linear_2d() {
+                    let tol = 1e-6;
+                    if c.xi_raw < -tol || c.xi_raw > 1.0 + tol {
+                        // Projection outside the master: no contact point here.
+                        continue;
+                    }
+                } else if hit.off_surface {
                     continue;
                 }
-                let f = &surface.facets[k];
-                let (nm2, _) = mesh.facet_normal_2d(f);
-                let n_master = [nm2[0], nm2[1], 0.0];
-                let a = mesh.coords[f.nodes[0]];
-                let b = mesh.coords[f.nodes[1]];
-                let xm = [
-                    a[0] + xi * (b[0] - a[0]),
-                    a[1] + xi * (b[1] - a[1]),
-                    a[2] + xi * (b[2] - a[2]),
-                ];
-                let n = choose_normal(rule, n_master, n_s, x, xm, scale);
-                let mut terms = vec![Term {
-                    side: TermSide::Slave,
-                    node: s,
-                    weight: 1.0,
-                }];
-                for (node, w) in [(f.nodes[0], 1.0 - xi), (f.nodes[1], xi)] {
+                let piece = &index.pieces[hit.piece];
+                let n_master = index.normal(&hit);
+                let n = choose_normal(rule, n_master, n_s, x, c.x, scale);
+                let mut terms = vec![slave_term(s)];
+                for (&node, &w) in piece.nodes[..piece.len()].iter().zip(&c.weights) {
                     if w != 0.0 {
                         terms.push(Term {
                             side: TermSide::Master,
@@ -222,24 +359,29 @@ pub fn node_to_segment(
                         });
                     }
                 }
-                out.push(ContactPoint {
-                    slave_node: s,
-                    x,
-                    normal: n,
-                    tangent: tangent_2d(n),
-                    gap0: dot(n, sub(x, xm)),
-                    terms,
-                });
+                out.push(point(n, c.x, terms));
             }
         }
     }
     Ok(out)
 }
 
-/// Node-to-node contact points for matching meshes (seed §3.1.2, Fig. 4):
-/// each slave node faces the nearest master node; the pair must coincide
-/// within a relative tolerance of the slave's element size unless a gap
-/// separates them along the normal.
+/// Node-to-face contact points: the 3D name of [`node_to_segment`] (the same
+/// function, for 2D and 3D).
+pub fn node_to_face(
+    slave_mesh: &Mesh,
+    slave_surface: &Surface,
+    master: &MasterGeometry<'_>,
+    rule: NormalRule,
+) -> Result<Vec<ContactPoint>, ContactError> {
+    node_to_segment(slave_mesh, slave_surface, master, rule)
+}
+
+/// Node-to-node contact points for matching meshes (seed §3.1.2, Fig. 4), in
+/// 2D and 3D: each slave node faces the nearest master node (R*-tree search;
+/// ties to the lowest node number); the pair must coincide within a relative
+/// tolerance (10⁻⁶) of the slave body's size unless a gap separates them
+/// along the normal.
 pub fn node_to_node(
     slave_mesh: &Mesh,
     slave_surface: &Surface,
@@ -247,21 +389,27 @@ pub fn node_to_node(
     rule: NormalRule,
 ) -> Result<Vec<ContactPoint>, ContactError> {
     let (mesh, surface) = match master {
-        MasterGeometry::Plane { .. } => {
-            // Against a rigid plane, node-to-node and node-to-segment coincide.
+        MasterGeometry::Plane { .. } | MasterGeometry::Sphere { .. } => {
+            // Against a rigid obstacle, node-to-node and node-to-segment coincide.
             return node_to_segment(slave_mesh, slave_surface, master, rule);
         }
         MasterGeometry::Surface { mesh, surface } => (*mesh, *surface),
     };
+    check_dims(slave_mesh, master)?;
+    let three_d = is_3d(slave_mesh);
     let slave_normals = nodal_normals(slave_mesh, slave_surface);
     let master_normals = nodal_normals(mesh, surface);
+    let nodes = NodeIndex::new(
+        master_normals
+            .iter()
+            .map(|&(m, _)| mesh.coords[m])
+            .collect(),
+    );
     let scale = slave_mesh.size();
     let mut out = Vec::with_capacity(slave_normals.len());
     for (s, n_s) in slave_normals {
         let x = slave_mesh.coords[s];
-        let Some(&(m, n_m)) = master_normals.iter().min_by(|a, b| {
-            norm(sub(mesh.coords[a.0], x)).total_cmp(&norm(sub(mesh.coords[b.0], x)))
-        }) else {
+        let Some((m, n_m)) = nodes.nearest(x).map(|i| master_normals[i]) else {
             return Err(ContactError::Geometry(
                 "the master surface has no node".into(),
             ));
@@ -277,23 +425,25 @@ pub fn node_to_node(
             d[2] - dot(d, n) * n[2],
         ]);
         if tangential > 1e-6 * scale.max(f64::MIN_POSITIVE) {
+            let at = if three_d {
+                format!("({:.6}, {:.6}, {:.6})", x[0], x[1], x[2])
+            } else {
+                format!("({:.6}, {:.6})", x[0], x[1])
+            };
             return Err(ContactError::Geometry(format!(
-                "node_to_node needs matching meshes: slave node {s} at ({:.6}, {:.6}) has no master node facing it (nearest is {:.3e} off the normal); use discretization = \"node_to_segment\"",
-                x[0], x[1], tangential
+                "node_to_node needs matching meshes: slave node {s} at {at} has no master node facing it (nearest is {tangential:.3e} off the normal); use discretization = \"node_to_segment\""
             )));
         }
+        let (tangent, tangent2) = tangents(three_d, n);
         out.push(ContactPoint {
             slave_node: s,
             x,
             normal: n,
-            tangent: tangent_2d(n),
+            tangent,
+            tangent2,
             gap0: dot(n, d),
             terms: vec![
-                Term {
-                    side: TermSide::Slave,
-                    node: s,
-                    weight: 1.0,
-                },
+                slave_term(s),
                 Term {
                     side: TermSide::Master,
                     node: m,
@@ -304,3 +454,6 @@ pub fn node_to_node(
     }
     Ok(out)
 }
+
+#[cfg(test)]
+mod tests;

@@ -1,7 +1,7 @@
 //! Sparse assembly of the global stiffness `K = Σ_e A_eᵀ K_e A_e` (§3.1.3 of the
 //! notes: `[K][u] = [F]`), with the full DOF index `node * dim + component`.
 
-use crate::element::{check_mesh, try_element_stiffness};
+use crate::element::{check_mesh, stiffness_with};
 use crate::{Elasticity, FemError};
 use faer::sparse::{SparseColMat, Triplet};
 use signorini_mesh::Mesh;
@@ -11,7 +11,7 @@ use signorini_mesh::Mesh;
 /// on the mesh only); duplicates are meant to be summed.
 ///
 /// # Panics
-/// On a cell with a non-positive Jacobian (see [`check_mesh`]).
+/// On a cell that cannot be integrated (see [`check_mesh`]).
 pub fn stiffness_triplets(mesh: &Mesh, mat: &Elasticity) -> Vec<Triplet<usize, usize, f64>> {
     try_stiffness_triplets(mesh, mat).unwrap_or_else(|e| panic!("{e}"))
 }
@@ -22,19 +22,22 @@ pub fn try_stiffness_triplets(
     mat: &Elasticity,
 ) -> Result<Vec<Triplet<usize, usize, f64>>, FemError> {
     let dim = mesh.dim;
+    let d = mat.d_matrix();
     let cap: usize = mesh
         .cells
         .iter()
         .map(|c| (c.nodes.len() * dim).pow(2))
         .sum();
     let mut t = Vec::with_capacity(cap);
+    let mut dofs = Vec::new();
     for (c, cell) in mesh.cells.iter().enumerate() {
-        let ke = try_element_stiffness(mesh, c, mat)?;
-        let dofs: Vec<usize> = cell
-            .nodes
-            .iter()
-            .flat_map(|&n| (0..dim).map(move |k| n * dim + k))
-            .collect();
+        let ke = stiffness_with(mesh, c, mat.model, &d)?;
+        dofs.clear();
+        dofs.extend(
+            cell.nodes
+                .iter()
+                .flat_map(|&n| (0..dim).map(move |k| n * dim + k)),
+        );
         for (j, &gj) in dofs.iter().enumerate() {
             for (i, &gi) in dofs.iter().enumerate() {
                 t.push(Triplet::new(gi, gj, ke[(i, j)]));
@@ -53,12 +56,13 @@ pub fn assemble_stiffness(mesh: &Mesh, mat: &Elasticity) -> SparseColMat<usize, 
     try_assemble_stiffness(mesh, mat).unwrap_or_else(|e| panic!("{e}"))
 }
 
-/// [`assemble_stiffness`] after [`check_mesh`] and the material check.
+/// [`assemble_stiffness`] after [`check_mesh`] (in the material's model) and
+/// the material check.
 pub fn try_assemble_stiffness(
     mesh: &Mesh,
     mat: &Elasticity,
 ) -> Result<SparseColMat<usize, f64>, FemError> {
-    check_mesh(mesh)?;
+    check_mesh(mesh, mat.model)?;
     mat.check()?;
     let n = mesh.n_nodes() * mesh.dim;
     let t = try_stiffness_triplets(mesh, mat)?;

@@ -1,12 +1,20 @@
-//! Linear elastic finite elements on 2D meshes and their sparse assembly
-//! (course notes §3.1.1, "Discrétisation éléments finis": `u = Σ φ_i u_i`, and
-//! §3.1.3: the discrete energy `½ uᵀ K u − uᵀ F` gives `K u = F`).
+//! Linear elastic finite elements and their sparse assembly (course notes
+//! §3.1.1, "Discrétisation éléments finis": `u = Σ φ_i u_i`, and §3.1.3: the
+//! discrete energy `½ uᵀ K u − uᵀ F` gives `K u = F`).
 //!
 //! Conventions (DESIGN.md §3): small strain, linear elastic, isotropic (E, ν);
-//! 2D plane strain or plane stress, thickness 1; any consistent set of units.
+//! any consistent set of units. Models ([`Model`]): 2D plane strain and plane
+//! stress (thickness 1), axisymmetric (`x = r ≥ 0`, `y = z`, every integral
+//! weighted by `2π r`: stiffness, forces and measures of the full 360° ring),
+//! and 3D solids. Cells: T3, Q4, T6, Q8 in 2D, Tet4 and Hex8 in 3D
+//! ([`element`]).
+//!
 //! DOF numbering: the full DOF index of component `k` of node `n` is
-//! `n * dim + k` (`dim = mesh.dim`, 2 for now). Voigt order
-//! `[xx, yy, xy]` with the engineering shear strain `γ_xy = 2 ε_xy`.
+//! `n * dim + k` (`dim = mesh.dim`; in axisymmetry `k = 0` is `u_r`, `k = 1`
+//! is `u_z`). Voigt orders, with engineering shear strains `γ_ij = 2 ε_ij`:
+//! plane `[xx, yy, xy]`, axisymmetric `[rr, zz, θθ, rz]`, solid
+//! `[xx, yy, zz, xy, yz, xz]`. Recovered stresses ([`cell_stress`]) are always
+//! full 3D `[xx, yy, zz, xy, yz, xz]` (axisymmetric: `[rr, zz, θθ, rz, 0, 0]`).
 
 pub mod assembly;
 pub mod elasticity;
@@ -14,9 +22,13 @@ pub mod element;
 pub mod loads;
 pub mod stress;
 
-pub use assembly::{assemble_stiffness, stiffness_triplets, try_assemble_stiffness};
+pub use assembly::{
+    assemble_stiffness, stiffness_triplets, try_assemble_stiffness, try_stiffness_triplets,
+};
 pub use elasticity::{check_material, Elasticity, Model};
-pub use element::{check_mesh, element_stiffness, try_element_stiffness};
+pub use element::{
+    b_matrix, check_mesh, element_stiffness, quadrature, try_element_stiffness, QuadPoint,
+};
 pub use loads::{rigid_body_modes, surface_measure, traction_load, tributary_measure};
 pub use stress::{cell_stress, von_mises};
 
@@ -25,15 +37,17 @@ pub use stress::{cell_stress, von_mises};
 pub enum FemError {
     #[error("invalid material: {0}")]
     Material(String),
-    #[error("cell {cell} has a non-positive Jacobian determinant {det:e} (nodes not counter-clockwise, or the element is degenerate or folded)")]
+    #[error("cell {cell} has a non-positive Jacobian determinant {det:e} (nodes not counter-clockwise / not positively oriented, or the element is degenerate or folded)")]
     BadJacobian { cell: usize, det: f64 },
+    #[error("node {node} lies at x = r = {r:e} < 0; an axisymmetric mesh lies in the half-plane x = r ≥ 0 (x is the radius, y the axis)")]
+    NegativeRadius { node: usize, r: f64 },
+    #[error("cell {cell} has a quadrature point at r = {r:e} ≤ 0; the axisymmetric hoop strain u_r / r needs r > 0 inside every cell")]
+    PointOnAxis { cell: usize, r: f64 },
     #[error("unsupported mesh: {0}")]
     Unsupported(String),
     #[error("sparse assembly failed: {0}")]
     Assembly(String),
 }
-
-pub use assembly::try_stiffness_triplets;
 
 #[cfg(test)]
 mod tests;

@@ -1,17 +1,152 @@
 //! Surface loads, boundary measures and rigid-body modes.
+//!
+//! Every surface integral is computed on the facet's own parametrisation
+//! (course notes §3.1.1: the load is discretised with the same `φ_a` as the
+//! displacement): `∫_facet N_a dS ≈ Σ_g w_g N_a(s_g) |∂x/∂s|(s_g) · (2π r(s_g) in
+//! axisymmetry)`, with
+//!
+//! * 2D linear segments `[a, b]`: `N = [(1−s)/2, (1+s)/2]` on `[−1, 1]`, 2-point
+//!   Gauss: `L/2` per node, and in axisymmetry the exact
+//!   `∫ N_a 2π r ds = 2π L (2 r_a + r_b) / 6` (`r` is linear);
+//! * 2D quadratic edges `[corner, corner, mid-side]`: `N = [s(s−1)/2, s(s+1)/2,
+//!   1−s²]`, 3-point Gauss: `L/6, L/6, 2L/3` on a straight edge with a centred
+//!   mid-side node, exact in axisymmetry too on such an edge;
+//! * 3D triangles: linear `N`, the 3-point rule of degree 2: `A/3` per node;
+//! * 3D quadrilaterals: bilinear `N` on `[−1, 1]²` with `dS = |∂x/∂ξ × ∂x/∂η| dξ dη`,
+//!   2×2 Gauss (exact on a planar face).
 
-use signorini_mesh::{Mesh, Surface};
+use crate::element::{GAUSS_2X2, TRI_3};
+use crate::Model;
+use signorini_mesh::{Facet, Mesh, Surface};
+use std::f64::consts::PI;
 
-/// Consistent nodal forces of a constant traction `t` (force per unit length,
-/// `traction.len() == mesh.dim`) on the facets of `surface`:
-/// `F_a = ∫_facet N_a t ds = t L / 2` for each end node of a linear segment of
-/// length `L` (exact). Full length `n_dof`, DOF `node * dim + k`.
+/// Largest number of nodes of a supported facet.
+const MAX_FACET_NODES: usize = 4;
+
+fn check_model(mesh: &Mesh, model: Model, what: &str) {
+    assert_eq!(
+        mesh.dim,
+        model.dim(),
+        "{what}: the {} model needs a {}D mesh (the mesh is {}D)",
+        model.name(),
+        model.dim(),
+        mesh.dim
+    );
+}
+
+/// The consistent nodal measures `∫_facet N_a dS` of one facet in its node
+/// order (see the module docs), written into `out`; returns the number of
+/// nodes.
 ///
 /// # Panics
-/// If `traction.len() != mesh.dim` or the mesh is not 2D.
-pub fn traction_load(mesh: &Mesh, surface: &Surface, traction: &[f64]) -> Vec<f64> {
+/// On a facet that is not a 2- or 3-node segment in 2D, or a 3- or 4-node
+/// face in 3D.
+fn facet_measures(
+    mesh: &Mesh,
+    facet: &Facet,
+    model: Model,
+    out: &mut [f64; MAX_FACET_NODES],
+) -> usize {
+    let nn = facet.nodes.len();
+    let x = |a: usize| mesh.coords[facet.nodes[a]];
+    *out = [0.0; MAX_FACET_NODES];
+    let axi = model == Model::Axisymmetric;
+    // one quadrature point: shape values n[..nn], surface density |∂x/∂s| and the radius
+    let mut add = |n: &[f64], density: f64, w: f64| {
+        let r: f64 = (0..nn).map(|a| n[a] * x(a)[0]).sum();
+        let ds = w * density * if axi { 2.0 * PI * r } else { 1.0 };
+        for a in 0..nn {
+            out[a] += n[a] * ds;
+        }
+    };
+    match (mesh.dim, nn) {
+        (2, 2) => {
+            let (p, q) = (x(0), x(1));
+            let half = 0.5 * (q[0] - p[0]).hypot(q[1] - p[1]);
+            const G: f64 = 0.577_350_269_189_625_8; // 1/√3
+            for s in [-G, G] {
+                add(&[0.5 * (1.0 - s), 0.5 * (1.0 + s)], half, 1.0);
+            }
+        }
+        (2, 3) => {
+            const G: f64 = 0.774_596_669_241_483_4; // √(3/5)
+            for (s, w) in [(-G, 5.0 / 9.0), (0.0, 8.0 / 9.0), (G, 5.0 / 9.0)] {
+                let n = [0.5 * s * (s - 1.0), 0.5 * s * (s + 1.0), 1.0 - s * s];
+                let dn = [s - 0.5, s + 0.5, -2.0 * s];
+                let (mut dx, mut dy) = (0.0, 0.0);
+                for (a, d) in dn.iter().enumerate() {
+                    dx += d * x(a)[0];
+                    dy += d * x(a)[1];
+                }
+                add(&n, dx.hypot(dy), w);
+            }
+        }
+        (3, 3) => {
+            let (p0, p1, p2) = (x(0), x(1), x(2));
+            let density = norm(cross(sub(p1, p0), sub(p2, p0)));
+            for q in &TRI_3 {
+                let [s, t, _] = q.xi;
+                add(&[1.0 - s - t, s, t], density, q.w);
+            }
+        }
+        (3, 4) => {
+            const C: [[f64; 2]; 4] = [[-1.0, -1.0], [1.0, -1.0], [1.0, 1.0], [-1.0, 1.0]];
+            for q in &GAUSS_2X2 {
+                let [s, t, _] = q.xi;
+                let mut n = [0.0; 4];
+                let (mut ds, mut dt) = ([0.0; 3], [0.0; 3]);
+                for (a, c) in C.iter().enumerate() {
+                    n[a] = 0.25 * (1.0 + c[0] * s) * (1.0 + c[1] * t);
+                    let (da, db) = (
+                        0.25 * c[0] * (1.0 + c[1] * t),
+                        0.25 * c[1] * (1.0 + c[0] * s),
+                    );
+                    for k in 0..3 {
+                        ds[k] += da * x(a)[k];
+                        dt[k] += db * x(a)[k];
+                    }
+                }
+                add(&n, norm(cross(ds, dt)), q.w);
+            }
+        }
+        (d, n) => {
+            panic!("unsupported facet: {n} nodes in a {d}D mesh (2D: 2 or 3 nodes; 3D: 3 or 4)")
+        }
+    }
+    nn
+}
+
+fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+
+fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
+
+fn norm(a: [f64; 3]) -> f64 {
+    (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt()
+}
+
+/// Consistent nodal forces `F_a = t ∫_facet N_a dS` of a constant traction
+/// `t` (`traction.len() == mesh.dim`) on the facets of `surface` (see the
+/// module docs). `t` is a force per unit measure of the real surface: per
+/// unit length in the plane models (thickness 1), per unit area in 3D, and in
+/// axisymmetry per unit area of the surface of revolution (`[t_r, t_z]`, the
+/// nodal forces being totals over the ring: `Σ F = t · 2π ∫ r ds`). Full
+/// length `n_dof`, DOF `node * dim + k`. The forces sum to
+/// `t · surface_measure(mesh, surface, model)`.
+///
+/// # Panics
+/// If `traction.len() != mesh.dim`, the mesh's dimension is not the model's,
+/// or a facet is not supported (see the module docs).
+pub fn traction_load(mesh: &Mesh, surface: &Surface, traction: &[f64], model: Model) -> Vec<f64> {
+    check_model(mesh, model, "traction_load");
     let dim = mesh.dim;
-    assert_eq!(dim, 2, "traction_load: 2D meshes only");
     assert_eq!(
         traction.len(),
         dim,
@@ -19,71 +154,107 @@ pub fn traction_load(mesh: &Mesh, surface: &Surface, traction: &[f64]) -> Vec<f6
         traction.len()
     );
     let mut f = vec![0.0; mesh.n_nodes() * dim];
+    let mut m = [0.0; MAX_FACET_NODES];
     for facet in &surface.facets {
-        let l = segment_length(mesh, facet.nodes[0], facet.nodes[1]);
-        for &n in &facet.nodes {
-            for k in 0..dim {
-                f[n * dim + k] += 0.5 * l * traction[k];
+        let nn = facet_measures(mesh, facet, model, &mut m);
+        for (&n, &ma) in facet.nodes.iter().zip(&m[..nn]) {
+            for (k, tk) in traction.iter().enumerate() {
+                f[n * dim + k] += ma * tk;
             }
         }
     }
     f
 }
 
-fn segment_length(mesh: &Mesh, a: usize, b: usize) -> f64 {
-    let (p, q) = (mesh.coords[a], mesh.coords[b]);
-    (q[0] - p[0]).hypot(q[1] - p[1])
-}
-
-/// Total measure of a surface: its length in 2D.
-pub fn surface_measure(mesh: &Mesh, surface: &Surface) -> f64 {
+/// Total measure of a surface: its length in the plane models, its area in
+/// 3D, the area `2π ∫ r ds` of the surface of revolution in axisymmetry (a
+/// flat disk of radius `R` gives `π R²`).
+///
+/// # Panics
+/// As [`traction_load`].
+pub fn surface_measure(mesh: &Mesh, surface: &Surface, model: Model) -> f64 {
+    check_model(mesh, model, "surface_measure");
+    let mut m = [0.0; MAX_FACET_NODES];
     surface
         .facets
         .iter()
-        .map(|f| segment_length(mesh, f.nodes[0], f.nodes[1]))
+        .map(|f| {
+            let nn = facet_measures(mesh, f, model, &mut m);
+            m[..nn].iter().sum::<f64>()
+        })
         .sum()
 }
 
-/// Tributary length of each surface node: half the lengths of its adjacent
-/// facets in the surface (the lumped `∫ N_a ds`), sorted by node index. Sums to
-/// [`surface_measure`].
-pub fn tributary_measure(mesh: &Mesh, surface: &Surface) -> Vec<(usize, f64)> {
-    let mut m = std::collections::BTreeMap::<usize, f64>::new();
+/// The consistent nodal measure `∫_surface N_a dS` of each node of the
+/// surface (with `2π r` in axisymmetry), sorted by node index; sums to
+/// [`surface_measure`]. The consistent load of a constant traction is
+/// traction × this measure.
+///
+/// # Panics
+/// As [`traction_load`].
+pub fn tributary_measure(mesh: &Mesh, surface: &Surface, model: Model) -> Vec<(usize, f64)> {
+    check_model(mesh, model, "tributary_measure");
+    let mut acc = std::collections::BTreeMap::<usize, f64>::new();
+    let mut m = [0.0; MAX_FACET_NODES];
     for f in &surface.facets {
-        let l = segment_length(mesh, f.nodes[0], f.nodes[1]);
-        for &n in &f.nodes {
-            *m.entry(n).or_insert(0.0) += 0.5 * l;
+        let nn = facet_measures(mesh, f, model, &mut m);
+        for (&n, &ma) in f.nodes.iter().zip(&m[..nn]) {
+            *acc.entry(n).or_insert(0.0) += ma;
         }
     }
-    m.into_iter().collect()
+    acc.into_iter().collect()
 }
 
 /// Rigid-body modes (the kernel of an unconstrained `K`), each of length
-/// `n_dof`: in 2D the x-translation, the y-translation and the infinitesimal
-/// rotation about the centroid `c` of the nodes, `u = (−(y − c_y), x − c_x)`.
+/// `n_dof`, with `c` the centroid of the nodes:
+///
+/// * plane strain and plane stress (3): the x- and y-translations and the
+///   infinitesimal rotation `u = (−(y − c_y), x − c_x)`;
+/// * axisymmetric (1): the axial translation `u_z = 1` (a radial translation
+///   or a rotation would strain the ring);
+/// * solid (6): the x-, y- and z-translations, then the rotations about the
+///   x, y and z axes through `c`, `u = e_k × (x − c)`.
 ///
 /// # Panics
-/// If the mesh is not 2D.
-pub fn rigid_body_modes(mesh: &Mesh) -> Vec<Vec<f64>> {
-    assert_eq!(mesh.dim, 2, "rigid_body_modes: 2D meshes only");
+/// If the mesh's dimension is not the model's.
+pub fn rigid_body_modes(mesh: &Mesh, model: Model) -> Vec<Vec<f64>> {
+    check_model(mesh, model, "rigid_body_modes");
     let n = mesh.n_nodes();
-    let mut c = [0.0; 2];
+    let dim = mesh.dim;
+    let mut c = [0.0; 3];
     for p in &mesh.coords {
-        c[0] += p[0];
-        c[1] += p[1];
+        for k in 0..3 {
+            c[k] += p[k] / n as f64;
+        }
     }
-    if n > 0 {
-        c[0] /= n as f64;
-        c[1] /= n as f64;
+    let translation = |k: usize| {
+        let mut t = vec![0.0; dim * n];
+        t.iter_mut().skip(k).step_by(dim).for_each(|v| *v = 1.0);
+        t
+    };
+    match model {
+        Model::Axisymmetric => vec![translation(1)],
+        Model::PlaneStrain | Model::PlaneStress => {
+            let mut rz = vec![0.0; 2 * n];
+            for (i, p) in mesh.coords.iter().enumerate() {
+                rz[2 * i] = -(p[1] - c[1]);
+                rz[2 * i + 1] = p[0] - c[0];
+            }
+            vec![translation(0), translation(1), rz]
+        }
+        Model::Solid => {
+            let mut modes: Vec<Vec<f64>> = (0..3).map(translation).collect();
+            for axis in 0..3 {
+                let mut e = [0.0; 3];
+                e[axis] = 1.0;
+                let mut r = vec![0.0; 3 * n];
+                for (i, p) in mesh.coords.iter().enumerate() {
+                    let u = cross(e, sub(*p, c));
+                    r[3 * i..3 * i + 3].copy_from_slice(&u);
+                }
+                modes.push(r);
+            }
+            modes
+        }
     }
-    let mut tx = vec![0.0; 2 * n];
-    let mut ty = vec![0.0; 2 * n];
-    let mut rz = vec![0.0; 2 * n];
-    for (i, p) in mesh.coords.iter().enumerate() {
-        tx[2 * i] = 1.0;
-        ty[2 * i + 1] = 1.0;
-        rz[2 * i] = -(p[1] - c[1]);
-        rz[2 * i + 1] = p[0] - c[0];
-    }
-    vec![tx, ty, rz]
 }

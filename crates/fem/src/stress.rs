@@ -1,39 +1,60 @@
-//! Stress recovery: `σ = D B u_e` at the cell centroid.
+//! Stress recovery: `σ = D B u_e` at the centre of each cell.
 
-use crate::element::b_matrix;
+use crate::element::{b_matrix, reference_centre, QuadPoint};
 use crate::Elasticity;
 use nalgebra::DVector;
 use signorini_mesh::Mesh;
 
-/// Stress of every cell at its centroid (T3: constant; Q4: at `ξ = η = 0`),
-/// `[σ_xx, σ_yy, σ_xy, σ_zz]` with `[σ_xx, σ_yy, σ_xy] = D B u_e` and
-/// `σ_zz = ν (σ_xx + σ_yy)` in plane strain, 0 in plane stress. `u` is the full
-/// displacement vector (DOF `node * 2 + k`).
+/// Stress of every cell at the centre of its reference cell (T3, Tet4:
+/// constant; T6 at `L_i = 1/3`; Q4, Q8, Hex8 at `ξ = 0`), as the full 3D Voigt
+/// vector `[σ_xx, σ_yy, σ_zz, σ_xy, σ_yz, σ_xz]` ([`Elasticity::full_stress`]
+/// of `D B u_e`):
+///
+/// * plane strain: `σ_zz = ν (σ_xx + σ_yy)`; plane stress: `σ_zz = 0`;
+///   `σ_yz = σ_xz = 0`;
+/// * axisymmetric: `[σ_rr, σ_zz, σ_θθ, σ_rz, 0, 0]`: slot xx is radial, yy
+///   axial, **zz the hoop stress**, xy the rz shear;
+/// * solid: all six.
+///
+/// `u` is the full displacement vector (DOF `node * dim + k`).
 ///
 /// # Panics
-/// On a cell with a non-positive Jacobian, a non-2D mesh, or a short `u`.
-pub fn cell_stress(mesh: &Mesh, mat: &Elasticity, u: &[f64]) -> Vec<[f64; 4]> {
-    assert_eq!(mesh.dim, 2, "cell_stress: 2D meshes only");
-    assert!(u.len() >= 2 * mesh.n_nodes(), "cell_stress: u is too short");
+/// On a cell that cannot be integrated (see [`crate::check_mesh`]) or a short `u`.
+pub fn cell_stress(mesh: &Mesh, mat: &Elasticity, u: &[f64]) -> Vec<[f64; 6]> {
+    let dim = mesh.dim;
+    assert!(
+        u.len() >= dim * mesh.n_nodes(),
+        "cell_stress: u is too short"
+    );
     let d = mat.d_matrix();
+    let mut ue = DVector::zeros(0);
     (0..mesh.cells.len())
         .map(|c| {
-            let (b, _) = b_matrix(mesh, c, [0.0, 0.0]).unwrap_or_else(|e| panic!("{e}"));
-            let nodes = &mesh.cells[c].nodes;
-            let ue = DVector::from_iterator(
-                2 * nodes.len(),
-                nodes.iter().flat_map(|&n| [u[2 * n], u[2 * n + 1]]),
-            );
-            let eps = &b * ue;
-            let s = d * nalgebra::Vector3::new(eps[0], eps[1], eps[2]);
-            [s[0], s[1], s[2], mat.sigma_zz(s[0], s[1])]
+            let cell = &mesh.cells[c];
+            let q = QuadPoint {
+                xi: reference_centre(cell.kind),
+                w: 1.0,
+            };
+            let (b, _) = b_matrix(mesh, c, mat.model, &q).unwrap_or_else(|e| panic!("{e}"));
+            ue.resize_vertically_mut(dim * cell.nodes.len(), 0.0);
+            for (a, &n) in cell.nodes.iter().enumerate() {
+                for k in 0..dim {
+                    ue[dim * a + k] = u[dim * n + k];
+                }
+            }
+            let s = &d * (&b * &ue);
+            mat.full_stress(s.as_slice())
         })
         .collect()
 }
 
-/// Von Mises equivalent stress of `[σ_xx, σ_yy, σ_xy, σ_zz]`:
-/// `√(½[(σ_xx−σ_yy)² + (σ_yy−σ_zz)² + (σ_zz−σ_xx)²] + 3 σ_xy²)`.
-pub fn von_mises(s: &[f64; 4]) -> f64 {
-    let [xx, yy, xy, zz] = *s;
-    (0.5 * ((xx - yy).powi(2) + (yy - zz).powi(2) + (zz - xx).powi(2)) + 3.0 * xy * xy).sqrt()
+/// Von Mises equivalent stress of `[σ_xx, σ_yy, σ_zz, σ_xy, σ_yz, σ_xz]`:
+/// `√(½[(σ_xx−σ_yy)² + (σ_yy−σ_zz)² + (σ_zz−σ_xx)²] + 3 (σ_xy² + σ_yz² + σ_xz²))`
+/// (axisymmetric stresses in the layout of [`cell_stress`] give the right
+/// value: the hoop stress is a principal normal stress).
+pub fn von_mises(s: &[f64; 6]) -> f64 {
+    let [xx, yy, zz, xy, yz, xz] = *s;
+    (0.5 * ((xx - yy).powi(2) + (yy - zz).powi(2) + (zz - xx).powi(2))
+        + 3.0 * (xy * xy + yz * yz + xz * xz))
+        .sqrt()
 }

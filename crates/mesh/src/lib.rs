@@ -8,8 +8,8 @@
 
 pub mod generators;
 pub mod gmsh;
-pub mod quadratic;
 pub mod partition;
+pub mod quadratic;
 
 use std::collections::BTreeMap;
 

@@ -295,6 +295,9 @@ pub struct ContactRow {
     pub normal_force: f64,
     pub tangential_force: f64,
     pub slip: f64,
+    /// Along the second tangent (3D; 0 in 2D).
+    pub tangential_force_2: f64,
+    pub slip_2: f64,
     pub pressure: f64,
     pub status: &'static str,
 }
@@ -303,26 +306,36 @@ pub struct ContactRow {
 pub const CONTACT_CSV_HEADER_2D: &str =
     "step,contact,body,point,x,y,gap,normal_force,tangential_force,slip,pressure,status";
 
-pub fn write_contact_csv(path: &Path, rows: &[ContactRow]) -> std::io::Result<()> {
+/// The header of contact.csv in 3D: 2D's with `z`, `tangential_force_2` and
+/// `slip_2` (SCENE.md).
+pub const CONTACT_CSV_HEADER_3D: &str = "step,contact,body,point,x,y,z,gap,normal_force,tangential_force,slip,tangential_force_2,slip_2,pressure,status";
+
+/// Writes contact.csv with the columns of the dimension `dim` (2 or 3).
+pub fn write_contact_csv(path: &Path, rows: &[ContactRow], dim: usize) -> std::io::Result<()> {
     let mut w = std::io::BufWriter::new(std::fs::File::create(path)?);
-    writeln!(w, "{CONTACT_CSV_HEADER_2D}")?;
+    if dim == 3 {
+        writeln!(w, "{CONTACT_CSV_HEADER_3D}")?;
+    } else {
+        writeln!(w, "{CONTACT_CSV_HEADER_2D}")?;
+    }
     for r in rows {
-        writeln!(
+        write!(
             w,
-            "{},{},{},{},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{}",
-            r.step,
-            r.contact,
-            r.body,
-            r.point,
-            r.x[0],
-            r.x[1],
-            r.gap,
-            r.normal_force,
-            r.tangential_force,
-            r.slip,
-            r.pressure,
-            r.status
+            "{},{},{},{},{:e},{:e},",
+            r.step, r.contact, r.body, r.point, r.x[0], r.x[1]
         )?;
+        if dim == 3 {
+            write!(w, "{:e},", r.x[2])?;
+        }
+        write!(
+            w,
+            "{:e},{:e},{:e},{:e},",
+            r.gap, r.normal_force, r.tangential_force, r.slip
+        )?;
+        if dim == 3 {
+            write!(w, "{:e},{:e},", r.tangential_force_2, r.slip_2)?;
+        }
+        writeln!(w, "{:e},{}", r.pressure, r.status)?;
     }
     w.flush()
 }

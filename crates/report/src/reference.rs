@@ -85,6 +85,74 @@ pub fn hertz_cylinder(nodes: &[NodalPressure], e_star: f64, r: f64) -> Reference
     }
 }
 
+/// Hertz, sphere on a plane (VALIDATION.md §2): with P the total load, E*
+/// the contact modulus and R the relative radius, a = (3PR/(4E*))^(1/3),
+/// p0 = 3P/(2πa²).
+pub fn hertz_sphere_exact(p: f64, e_star: f64, r: f64) -> (f64, f64) {
+    let a = (3.0 * p * r / (4.0 * e_star)).cbrt();
+    (a, 3.0 * p / (2.0 * std::f64::consts::PI * a * a))
+}
+
+/// Compares nodal pressures with the Hertz sphere. `s` of each node is its
+/// distance from the axis of the contact (the radius r in an axisymmetric
+/// model; in 3D the distance from the force-weighted centre in the contact
+/// plane), `tributary` its area (2π r ds in an axisymmetric model). Reports
+/// p0 (max nodal pressure), a from the pressure moment
+/// a_mom = sqrt(5/2 · Σ F r² / Σ F) (exact for the Hertz profile:
+/// ∫p r² dA / ∫p dA = 2a²/5), the last node in contact and the relative L2
+/// error of the profile on r ≤ a.
+pub fn hertz_sphere(nodes: &[NodalPressure], e_star: f64, r: f64) -> ReferenceReport {
+    let total: f64 = nodes.iter().map(|n| n.force).sum();
+    let (a, p0) = hertz_sphere_exact(total, e_star, r);
+    let second: f64 = nodes.iter().map(|n| n.force * n.s * n.s).sum();
+    let a_mom = if total > 0.0 {
+        (2.5 * second / total).sqrt()
+    } else {
+        0.0
+    };
+    let pressures: Vec<(f64, f64, f64)> = nodes
+        .iter()
+        .filter(|n| n.tributary > 0.0)
+        .map(|n| (n.s, n.force / n.tributary, n.tributary))
+        .collect();
+    let p0_c = pressures.iter().fold(0.0f64, |m, p| m.max(p.1));
+    let a_last = pressures
+        .iter()
+        .filter(|p| p.1 > 0.0)
+        .fold(0.0f64, |m, p| m.max(p.0.abs()));
+    let (mut num, mut den) = (0.0, 0.0);
+    for &(x, p, w) in &pressures {
+        if x.abs() <= a {
+            let pe = p0 * (1.0 - (x / a).powi(2)).max(0.0).sqrt();
+            num += (p - pe).powi(2) * w;
+            den += pe * pe * w;
+        }
+    }
+    let l2 = if den > 0.0 { (num / den).sqrt() } else { 0.0 };
+    let mut q = BTreeMap::new();
+    q.insert("load".to_string(), Quantity::new(total, total));
+    q.insert("p0".to_string(), Quantity::new(p0_c, p0));
+    q.insert("a".to_string(), Quantity::new(a_mom, a));
+    q.insert("a_last_node".to_string(), Quantity::new(a_last, a));
+    q.insert(
+        "profile_l2".to_string(),
+        Quantity {
+            computed: l2,
+            exact: 0.0,
+            relative_error: l2,
+        },
+    );
+    ReferenceReport {
+        kind: "hertz_sphere".into(),
+        quantities: q,
+        notes: vec![
+            format!("E* = {e_star:e}, R = {r:e}; the load P is the computed resultant contact force (the whole ring in an axisymmetric model)"),
+            "Hertz assumes a half-space: a finite body deviates slightly, growing like (a/R)²".into(),
+            "a is estimated from the pressure moment sqrt(5/2 · ∫p r² dA / ∫p dA); a_last_node is the last node with a positive pressure (within a node spacing)".into(),
+        ],
+    }
+}
+
 /// Uniform pressure (VALIDATION.md §3): every contact point carries the
 /// pressure p. `exact_pressure` is the applied traction when known, else the
 /// mean pressure P / L over the slave surface.
@@ -270,6 +338,37 @@ mod tests {
         );
         assert!(q["stick_half_width"].relative_error < 1e-3);
         assert!(q["shear_profile_l2"].relative_error < 1e-2);
+    }
+
+    /// An axisymmetric sampling of the Hertz sphere pressure (rings of area
+    /// 2π r dr) gives back p0 and a from the moment estimate.
+    #[test]
+    fn hertz_sphere_rings_sampled_finely_recover_p0_and_a() {
+        let (e_star, r, p) = (2.0, 0.5, 0.01);
+        let (a, p0) = hertz_sphere_exact(p, e_star, r);
+        assert!((p - 2.0 / 3.0 * std::f64::consts::PI * a * a * p0).abs() <= 1e-12 * p);
+        let n = 4000;
+        let h = a / n as f64;
+        let nodes: Vec<NodalPressure> = (0..=n)
+            .map(|i| {
+                let s = i as f64 * h;
+                // ring of the node: [s - h/2, s + h/2] within [0, a]
+                let (lo, hi) = ((s - h / 2.0).max(0.0), (s + h / 2.0).min(a));
+                let w = std::f64::consts::PI * (hi * hi - lo * lo);
+                NodalPressure {
+                    s,
+                    force: p0 * (1.0 - (s / a).powi(2)).max(0.0).sqrt() * w,
+                    tributary: w,
+                    tangential: 0.0,
+                    stick: false,
+                }
+            })
+            .collect();
+        let rep = hertz_sphere(&nodes, e_star, r);
+        let q = &rep.quantities;
+        assert!(q["p0"].relative_error < 1e-3, "{:?}", q["p0"]);
+        assert!(q["a"].relative_error < 1e-3, "{:?}", q["a"]);
+        assert!(q["profile_l2"].relative_error < 1e-2);
     }
 
     #[test]

@@ -14,8 +14,13 @@ use vtkio::Vtk;
 /// One body's fields.
 pub struct VtuPiece<'a> {
     pub title: String,
+    /// Space dimension of the mesh (2 or 3): tells a 4-node quadrilateral
+    /// from a tetrahedron.
+    pub dim: usize,
     pub coords: &'a [[f64; 3]],
-    /// Cells as node lists (3 nodes: triangle, 4: quadrilateral).
+    /// Cells as node lists in the VTK orders (2D: 3 triangle, 4 quadrilateral,
+    /// 6 quadratic triangle, 8 quadratic quadrilateral; 3D: 4 tetrahedron, 8
+    /// hexahedron).
     pub cells: &'a [Vec<usize>],
     /// (name, components, values) at the points.
     pub point_data: Vec<(String, u32, Vec<f64>)>,
@@ -23,11 +28,15 @@ pub struct VtuPiece<'a> {
     pub cell_data: Vec<(String, u32, Vec<f64>)>,
 }
 
-fn cell_type(n: usize) -> Result<CellType, String> {
-    match n {
-        3 => Ok(CellType::Triangle),
-        4 => Ok(CellType::Quad),
-        other => Err(format!("no VTK cell type for a {other}-node cell here")),
+fn cell_type(dim: usize, n: usize) -> Result<CellType, String> {
+    match (dim, n) {
+        (2, 3) => Ok(CellType::Triangle),
+        (2, 4) => Ok(CellType::Quad),
+        (2, 6) => Ok(CellType::QuadraticTriangle),
+        (2, 8) => Ok(CellType::QuadraticQuad),
+        (3, 4) => Ok(CellType::Tetra),
+        (3, 8) => Ok(CellType::Hexahedron),
+        (d, other) => Err(format!("no VTK cell type for a {other}-node cell in {d}D")),
     }
 }
 
@@ -39,7 +48,7 @@ pub fn write_vtu(path: &Path, piece: &VtuPiece<'_>) -> Result<(), String> {
     for c in piece.cells {
         connectivity.extend(c.iter().map(|&n| n as u64));
         offsets.push(connectivity.len() as u64);
-        types.push(cell_type(c.len())?);
+        types.push(cell_type(piece.dim, c.len())?);
     }
     let points: Vec<f64> = piece
         .coords
@@ -77,14 +86,24 @@ pub fn write_vtu(path: &Path, piece: &VtuPiece<'_>) -> Result<(), String> {
         .map_err(|e| format!("{}: {e}", path.display()))
 }
 
-/// A `.pvd` collection naming `.vtu` files (relative paths), one per part.
-pub fn write_pvd(path: &Path, files: &[(usize, String)]) -> std::io::Result<()> {
+/// One dataset of a `.pvd` collection: a `.vtu` file (path relative to the
+/// `.pvd`) at a time step (the load step number) for a part (the body).
+pub struct PvdEntry {
+    pub timestep: f64,
+    pub part: usize,
+    pub file: String,
+}
+
+/// A `.pvd` collection: the time series of every body's `.vtu` files, which
+/// ParaView opens as one animated dataset.
+pub fn write_pvd(path: &Path, entries: &[PvdEntry]) -> std::io::Result<()> {
     let mut s = String::from(
         "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\">\n  <Collection>\n",
     );
-    for (part, f) in files {
+    for e in entries {
         s.push_str(&format!(
-            "    <DataSet timestep=\"0\" part=\"{part}\" file=\"{f}\"/>\n"
+            "    <DataSet timestep=\"{}\" part=\"{}\" file=\"{}\"/>\n",
+            e.timestep, e.part, e.file
         ));
     }
     s.push_str("  </Collection>\n</VTKFile>\n");
@@ -136,6 +155,7 @@ mod tests {
         let cells = vec![vec![0, 1, 2, 3], vec![1, 4, 2]];
         let piece = VtuPiece {
             title: "t".into(),
+            dim: 2,
             coords: &coords,
             cells: &cells,
             point_data: vec![

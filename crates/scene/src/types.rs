@@ -396,12 +396,15 @@ fn one() -> f64 {
     1.0
 }
 
-/// Element type: `quad4` | `tri3` (2D), `hex8` | `tet4` (3D).
+/// Element type: `quad4` | `tri3` | `quad8` | `tri6` (2D, the last two of
+/// second order), `hex8` | `tet4` (3D).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Element {
     Quad4,
     Tri3,
+    Quad8,
+    Tri6,
     Hex8,
     Tet4,
 }
@@ -419,6 +422,8 @@ impl Element {
         match self {
             Element::Quad4 => "quad4",
             Element::Tri3 => "tri3",
+            Element::Quad8 => "quad8",
+            Element::Tri6 => "tri6",
             Element::Hex8 => "hex8",
             Element::Tet4 => "tet4",
         }
@@ -540,7 +545,10 @@ pub struct ContactSide {
 pub enum Discretization {
     /// Matching meshes.
     NodeToNode,
+    /// Node-to-segment in 2D, node-to-face in 3D (`node_to_face` is accepted
+    /// as another spelling).
     #[default]
+    #[serde(alias = "node_to_face")]
     NodeToSegment,
     Mortar,
 }

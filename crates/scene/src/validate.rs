@@ -333,7 +333,10 @@ impl Scene {
                 finite_all(&format!("{e}.origin"), origin)?;
                 sizes(size)?;
                 divisions(d)?;
-                element(*el, &[Element::Quad4, Element::Tri3])?;
+                element(
+                    *el,
+                    &[Element::Quad4, Element::Tri3, Element::Quad8, Element::Tri6],
+                )?;
                 grading(gr, &["bottom", "top", "left", "right"])?;
             }
             Generator::Box {
@@ -367,7 +370,10 @@ impl Scene {
                 }
                 non_zero(&format!("{e}.pole"), pole)?;
                 grading_ratio(&format!("{e}.grading"), *gr)?;
-                element(*el, &[Element::Quad4, Element::Tri3])?;
+                element(
+                    *el,
+                    &[Element::Quad4, Element::Tri3, Element::Quad8, Element::Tri6],
+                )?;
             }
             Generator::Hemisphere {
                 center,
@@ -402,7 +408,10 @@ impl Scene {
                 positive(&format!("{e}.radius"), *radius)?;
                 divisions(&[*d])?;
                 grading_ratio(&format!("{e}.grading"), *gr)?;
-                element(*el, &[Element::Quad4, Element::Tri3])?;
+                element(
+                    *el,
+                    &[Element::Quad4, Element::Tri3, Element::Quad8, Element::Tri6],
+                )?;
             }
         }
         Ok(())

@@ -68,11 +68,23 @@ pub struct BodyResult {
     pub cells: Vec<Vec<usize>>,
     /// METIS part of each cell.
     pub parts: Vec<usize>,
-    /// Displacement, 2 values per node.
+    /// Displacement at the last step, `dim` values per node.
     pub displacement: Vec<f64>,
-    /// Per cell: [sxx, syy, sxy, szz].
-    pub stress: Vec<[f64; 4]>,
-    /// Per cell: von Mises equivalent stress.
+    /// Per cell at the last step: Voigt [sxx, syy, szz, sxy, syz, sxz]
+    /// (axisymmetric: x = r, y = z, szz = the hoop stress); see
+    /// `signorini_fem::cell_stress`. Empty unless `[output] fields` has
+    /// "stress".
+    pub stress: Vec<[f64; 6]>,
+    /// Per cell at the last step: von Mises equivalent stress.
+    pub von_mises: Vec<f64>,
+    /// The same fields at every load step (the last one included).
+    pub history: Vec<StepFields>,
+}
+
+/// The fields of one body at one load step.
+pub struct StepFields {
+    pub displacement: Vec<f64>,
+    pub stress: Vec<[f64; 6]>,
     pub von_mises: Vec<f64>,
 }
 
@@ -175,7 +187,8 @@ fn interface_numbering(
         }
         let mut g = vec![usize::MAX; b.n_dof];
         for (d, gd) in g.iter_mut().enumerate() {
-            if !b.prescribed[d] && (shared[d / 2] || b.contact_node[d / 2]) {
+            let node = d / b.mesh.dim;
+            if !b.prescribed[d] && (shared[node] || b.contact_node[node]) {
                 *gd = n;
                 n += 1;
             }
@@ -639,8 +652,8 @@ struct Partial {
     failure: Option<String>,
     contact_rows: Vec<ContactRow>,
     lambda: Vec<f64>,
-    /// Full displacement of each body at the last step.
-    u_full: Vec<Vec<f64>>,
+    /// Full displacement of each body at every step.
+    u_steps: Vec<Vec<Vec<f64>>>,
     dense_interface_bytes: u64,
     factor_bytes: u64,
     n_gamma: usize,
@@ -660,10 +673,11 @@ fn body_step(b: &BodyModel, s: &[f64]) -> (Vec<f64>, Vec<f64>) {
     )
 }
 
-fn resultant(force: &[f64]) -> [f64; 2] {
-    let mut r = [0.0; 2];
+/// Resultant of a force vector with `dim` components per node.
+fn resultant(force: &[f64], dim: usize) -> Vec<f64> {
+    let mut r = vec![0.0; dim];
     for (d, f) in force.iter().enumerate() {
-        r[d % 2] += f;
+        r[d % dim] += f;
     }
     r
 }
@@ -867,7 +881,7 @@ fn solve_root(
             }
             let (u, f) = body_step(b, &st[bi]);
             f_scale = f_scale.max(inf_norm(&f));
-            res.push(resultant(&f));
+            res.push(resultant(&f, b.mesh.dim));
             u_p.push(u);
         }
         f_scale = f_scale.max(inf_norm(&fp));
@@ -1207,6 +1221,8 @@ fn conclude_step(
             normal_force: l,
             tangential_force: sol.friction.as_ref().map_or(0.0, |f| f.tangential[pi]),
             slip: sol.friction.as_ref().map_or(0.0, |f| f.slip_total[pi]),
+            tangential_force_2: 0.0,
+            slip_2: 0.0,
             pressure: if p.tributary > 0.0 {
                 l / p.tributary
             } else {
@@ -1235,7 +1251,8 @@ fn conclude_step(
         ),
         None => (0, 0),
     };
-    let mut step_force = [0.0f64; 2];
+    let dim = sc.dimension as usize;
+    let mut step_force = vec![0.0f64; dim];
     let (mut sum_n, mut sum_t, mut slip_sum, mut slip_count) = (0.0f64, 0.0f64, 0.0f64, 0usize);
     for (pi, p) in points.iter().enumerate() {
         let lt = sol.friction.as_ref().map_or(0.0, |f| f.tangential[pi]);
@@ -1254,7 +1271,7 @@ fn conclude_step(
     }
     partial.steps.push(StepReport {
         scale: sc.step_scales()[si].clone(),
-        contact_force: step_force.to_vec(),
+        contact_force: step_force,
         normal_force: sum_n,
         tangential_force: sum_t,
         mean_slip: if slip_count > 0 {
@@ -1295,7 +1312,7 @@ fn empty_partial() -> Partial {
         failure: None,
         contact_rows: vec![],
         lambda: vec![],
-        u_full: vec![],
+        u_steps: vec![],
         dense_interface_bytes: 0,
         factor_bytes: 0,
         n_gamma: 0,
@@ -1322,15 +1339,21 @@ fn finish_condensed(
 ) -> Result<Partial, SolveError> {
     let n_gamma = u_gamma.first().map(|u| u.len()).unwrap_or(0);
     let mut partial = empty_partial();
-    // Full displacement of each body at the last step.
-    let mut u_full: Vec<Vec<f64>> = bodies.iter().map(|b| vec![0.0; b.n_dof]).collect();
+    // Full displacement of each body at every step.
+    let mut u_steps: Vec<Vec<Vec<f64>>> = steps
+        .iter()
+        .map(|_| bodies.iter().map(|b| vec![0.0; b.n_dof]).collect())
+        .collect();
     for r in recovered {
         let b = specs[r.id].body;
-        for (l, &n) in r.nodes.iter().enumerate() {
-            u_full[b][2 * n] = r.displacement[2 * l];
-            u_full[b][2 * n + 1] = r.displacement[2 * l + 1];
+        let dim = r.dim;
+        for (si, u) in r.displacements.iter().enumerate() {
+            for (l, &n) in r.nodes.iter().enumerate() {
+                u_steps[si][b][dim * n..dim * (n + 1)].copy_from_slice(&u[dim * l..dim * (l + 1)]);
+            }
         }
     }
+    let u_full = u_steps.last().cloned().unwrap_or_default();
     let umax = u_full.iter().fold(0.0f64, |a, u| a.max(inf_norm(u)));
     for (si, sol) in steps.iter().enumerate() {
         let lambda = &sol.outcome.lambda;
@@ -1380,7 +1403,7 @@ fn finish_condensed(
         );
     }
     let m = points.len();
-    partial.u_full = u_full;
+    partial.u_steps = u_steps;
     partial.dense_interface_bytes = 8 * (n_gamma * n_gamma + m * m) as u64;
     partial.factor_bytes = data.iter().map(|d| d.factor_bytes as u64).sum();
     partial.n_gamma = n_gamma;
@@ -1445,7 +1468,7 @@ fn run_direct(
         .collect();
     let mut partial = empty_partial();
     let t = Instant::now();
-    let mut last_u = Vec::new();
+    let mut u_steps: Vec<Vec<Vec<f64>>> = Vec::new();
     let mut solutions = Vec::new();
     for (si, st) in scales.iter().enumerate() {
         let mut f = vec![0.0; n_free];
@@ -1481,7 +1504,11 @@ fn run_direct(
                     .collect()
             })
             .collect();
-        let res: Vec<[f64; 2]> = forces.iter().map(|f| resultant(f)).collect();
+        let res: Vec<Vec<f64>> = forces
+            .iter()
+            .zip(bodies)
+            .map(|(f, b)| resultant(f, b.mesh.dim))
+            .collect();
         check_floating_equilibrium(bodies, points, &e_of, &res, si)?;
         let mut problem = DirectProblem::new(&k_global, &f, &rows, &gap0);
         let outcome = status_method(
@@ -1525,7 +1552,7 @@ fn run_direct(
         let gaps = gaps_of(points, &u_full);
         let umax = u_full.iter().fold(0.0f64, |a, u| a.max(inf_norm(u)));
         solutions.push((sol, gaps, res, umax));
-        last_u = u_full;
+        u_steps.push(u_full);
     }
     timings.contact = t.elapsed().as_secs_f64();
     for (si, (sol, gaps, res, umax)) in solutions.iter().enumerate() {
@@ -1542,7 +1569,7 @@ fn run_direct(
             messages,
         );
     }
-    partial.u_full = last_u;
+    partial.u_steps = u_steps;
     partial.dofs = n_free;
     Ok(partial)
 }
@@ -1567,8 +1594,10 @@ fn finish_report(
     rank_stats: Vec<RankStats>,
 ) -> Result<RunOutput, SolveError> {
     let lambda = &partial.lambda;
-    let u_full = &partial.u_full;
-    let mut contact_force = vec![0.0; 2];
+    let no_step = Vec::new();
+    let u_full = partial.u_steps.last().unwrap_or(&no_step);
+    let dim = sc.dimension as usize;
+    let mut contact_force = vec![0.0; dim];
     let mut summaries: Vec<ContactSummary> = sc
         .contact
         .iter()
@@ -1576,7 +1605,7 @@ fn finish_report(
             name: c.name.clone(),
             points: 0,
             active: 0,
-            force: vec![0.0; 2],
+            force: vec![0.0; dim],
         })
         .collect();
     for (pi, p) in points.iter().enumerate() {
@@ -1594,7 +1623,11 @@ fn finish_report(
     }
     let mut probes = Vec::new();
     for pr in &sc.output.probes {
-        let x = [pr[0], pr.get(1).copied().unwrap_or(0.0), 0.0];
+        let x = [
+            pr[0],
+            pr.get(1).copied().unwrap_or(0.0),
+            pr.get(2).copied().unwrap_or(0.0),
+        ];
         let best = bodies
             .iter()
             .enumerate()
@@ -1606,7 +1639,7 @@ fn finish_report(
                 body: bodies[bi].name.clone(),
                 node: n,
                 distance: d,
-                displacement: vec![u_full[bi][n * 2], u_full[bi][n * 2 + 1]],
+                displacement: u_full[bi][n * dim..(n + 1) * dim].to_vec(),
             });
         }
     }
@@ -1629,19 +1662,41 @@ fn finish_report(
     }
     let mut results = Vec::new();
     for (bi, b) in bodies.iter().enumerate() {
-        let stress = if want_stress {
-            signorini_fem::cell_stress(&b.mesh, &b.material, &u_full[bi])
-        } else {
-            Vec::new()
-        };
+        let mut history: Vec<StepFields> = partial
+            .u_steps
+            .iter()
+            .map(|u| {
+                let stress = if want_stress {
+                    signorini_fem::cell_stress(&b.mesh, &b.material, &u[bi])
+                } else {
+                    Vec::new()
+                };
+                StepFields {
+                    von_mises: stress.iter().map(signorini_fem::von_mises).collect(),
+                    displacement: u[bi].clone(),
+                    stress,
+                }
+            })
+            .collect();
+        let last = history.pop().unwrap_or(StepFields {
+            displacement: vec![0.0; b.n_dof],
+            stress: Vec::new(),
+            von_mises: Vec::new(),
+        });
+        history.push(StepFields {
+            displacement: last.displacement.clone(),
+            stress: last.stress.clone(),
+            von_mises: last.von_mises.clone(),
+        });
         results.push(BodyResult {
             name: b.name.clone(),
             coords: b.mesh.coords.clone(),
             cells: b.mesh.cells.iter().map(|c| c.nodes.clone()).collect(),
             parts: b.parts.clone(),
-            von_mises: stress.iter().map(signorini_fem::von_mises).collect(),
-            displacement: u_full[bi].clone(),
-            stress,
+            von_mises: last.von_mises,
+            displacement: last.displacement,
+            stress: last.stress,
+            history,
         });
     }
     let report = Report {
@@ -1739,7 +1794,7 @@ fn check_floating_equilibrium(
     bodies: &[BodyModel],
     points: &[PointModel],
     e_of: &[Vec<f64>],
-    resultant: &[[f64; 2]],
+    resultant: &[Vec<f64>],
     step: usize,
 ) -> Result<(), SolveError> {
     for (bi, b) in bodies.iter().enumerate() {
@@ -1767,8 +1822,8 @@ fn check_floating_equilibrium(
             }
         }
         let e = &e_of[bi];
-        let [fx, fy] = resultant[bi];
-        let fmax = inf_norm(e).max(fx.abs()).max(fy.abs());
+        let fr = &resultant[bi];
+        let fmax = inf_norm(e).max(inf_norm(fr));
         // Rigid motions that no contact can hold: the null space of Gᵀ (rank
         // test of G Gᵀ, scaled by its largest eigenvalue).
         let ggt = &gt * gt.transpose();
@@ -1790,15 +1845,22 @@ fn check_floating_equilibrium(
         }
         if res > 1e-8 * fmax.max(f64::MIN_POSITIVE) {
             return Err(SolveError::Input(format!(
-                "bodies[{}]: body \"{}\" cannot be in equilibrium at step {}: it has no support against {} rigid motion(s), and its external load (resultant ({fx:e}, {fy:e})) cannot be balanced by its contacts, which can only push along their normals; add a [[boundary]] displacement that holds it, or change the load",
+                "bodies[{}]: body \"{}\" cannot be in equilibrium at step {}: it has no support against {} rigid motion(s), and its external load (resultant {}) cannot be balanced by its contacts, which can only push along their normals; add a [[boundary]] displacement that holds it, or change the load",
                 b.scene_index,
                 b.name,
                 step + 1,
-                k
+                k,
+                fmt_vector(fr)
             )));
         }
     }
     Ok(())
+}
+
+/// `(a, b, c)` with every component in `{:e}`.
+fn fmt_vector(v: &[f64]) -> String {
+    let parts: Vec<String> = v.iter().map(|x| format!("{x:e}")).collect();
+    format!("({})", parts.join(", "))
 }
 
 fn contact_modulus(sc: &scene::Scene, body: &str) -> f64 {
@@ -1825,13 +1887,38 @@ fn compare_reference(
             "reference: the scene has no contact point to compare".into(),
         ));
     };
+    // The coordinate of each point across the contact: along the tangent of
+    // the most loaded point in 2D; the radius in an axisymmetric model; in 3D
+    // the distance from the force-weighted centre within the contact plane.
     let t = points[pmax].point.tangent;
+    let n0 = points[pmax].point.normal;
+    let total: f64 = lambda.iter().map(|l| l.max(0.0)).sum();
+    let mut centre = [0.0; 3];
+    for (p, &l) in points.iter().zip(lambda) {
+        for (c, x) in centre.iter_mut().zip(p.point.x) {
+            *c += l.max(0.0) * x / total.max(f64::MIN_POSITIVE);
+        }
+    }
+    let coordinate = |x: [f64; 3]| -> f64 {
+        match sc.model {
+            scene::Model::Axisymmetric => x[0],
+            scene::Model::Solid => {
+                let d = [x[0] - centre[0], x[1] - centre[1], x[2] - centre[2]];
+                let dn = d[0] * n0[0] + d[1] * n0[1] + d[2] * n0[2];
+                ((d[0] - dn * n0[0]).powi(2)
+                    + (d[1] - dn * n0[1]).powi(2)
+                    + (d[2] - dn * n0[2]).powi(2))
+                .sqrt()
+            }
+            _ => x[0] * t[0] + x[1] * t[1],
+        }
+    };
     let nodes: Vec<reference::NodalPressure> = points
         .iter()
         .zip(lambda)
         .enumerate()
         .map(|(pi, (p, &l))| reference::NodalPressure {
-            s: p.point.x[0] * t[0] + p.point.x[1] * t[1],
+            s: coordinate(p.point.x),
             force: l.max(0.0),
             tributary: p.tributary,
             tangential: friction.map_or(0.0, |f| f.tangential[pi]),
@@ -1866,12 +1953,23 @@ fn compare_reference(
             })
     };
     match r.kind {
-        scene::ReferenceKind::HertzCylinder => Ok(reference::hertz_cylinder(&nodes, e_star(), radius()?)),
+        scene::ReferenceKind::HertzCylinder if sc.dimension == 2 && sc.model != scene::Model::Axisymmetric => {
+            Ok(reference::hertz_cylinder(&nodes, e_star(), radius()?))
+        }
+        scene::ReferenceKind::HertzCylinder => Err(SolveError::Input(
+            "reference.kind: \"hertz_cylinder\" is a plane strain / plane stress reference; for a sphere (3D or axisymmetric) use \"hertz_sphere\"".into(),
+        )),
+        scene::ReferenceKind::HertzSphere if sc.model == scene::Model::Axisymmetric || sc.dimension == 3 => {
+            Ok(reference::hertz_sphere(&nodes, e_star(), radius()?))
+        }
+        scene::ReferenceKind::HertzSphere => Err(SolveError::Input(
+            "reference.kind: \"hertz_sphere\" needs model = \"axisymmetric\" or dimension = 3; in plane strain use \"hertz_cylinder\"".into(),
+        )),
         scene::ReferenceKind::UniformPressure => Ok(reference::uniform_pressure(&nodes, r.pressure, None)),
         scene::ReferenceKind::CattaneoMindlin => Ok(reference::cattaneo_mindlin(&nodes, e_star(), radius()?, mu()?)),
         scene::ReferenceKind::SlidingBlock => Ok(reference::sliding_block(&nodes, mu()?, None)),
         other => Err(SolveError::Input(format!(
-            "reference.kind: \"{}\" is not supported yet (supported: hertz_cylinder, uniform_pressure, cattaneo_mindlin, sliding_block)",
+            "reference.kind: \"{}\" is not supported yet (supported: hertz_cylinder, hertz_sphere, uniform_pressure, cattaneo_mindlin, sliding_block)",
             other.as_str()
         ))),
     }

@@ -6,7 +6,9 @@ use faer::{Mat, Side};
 use signorini_contact::geometry::{node_to_node, node_to_segment};
 use signorini_contact::{ContactPoint, MasterGeometry, NormalRule, TermSide};
 use signorini_fem::{Elasticity, Model as FemModel};
-use signorini_mesh::generators::{half_disk, rectangle, RectSide};
+use signorini_mesh::generators::{
+    box_mesh, half_disk, hemisphere, quarter_disk, rectangle, BoxSide, RectSide,
+};
 use signorini_mesh::{CellKind, Mesh};
 use signorini_scene as scene;
 
@@ -118,64 +120,115 @@ pub enum PointFriction {
 }
 
 pub fn fem_model(model: scene::Model) -> Result<FemModel, SolveError> {
-    match model {
-        scene::Model::PlaneStrain => Ok(FemModel::PlaneStrain),
-        scene::Model::PlaneStress => Ok(FemModel::PlaneStress),
-        other => Err(input(format!(
-            "model: \"{}\" is not supported yet (supported: plane_strain, plane_stress)",
-            other.as_str()
-        ))),
-    }
+    Ok(match model {
+        scene::Model::PlaneStrain => FemModel::PlaneStrain,
+        scene::Model::PlaneStress => FemModel::PlaneStress,
+        scene::Model::Axisymmetric => FemModel::Axisymmetric,
+        scene::Model::Solid => FemModel::Solid,
+    })
 }
 
-fn cell_kind(e: scene::Element, entry: &str) -> Result<CellKind, SolveError> {
+fn cell_kind(e: scene::Element) -> CellKind {
     match e {
-        scene::Element::Quad4 => Ok(CellKind::Quad4),
-        scene::Element::Tri3 => Ok(CellKind::Tri3),
-        other => Err(input(format!(
-            "{entry}.element: \"{}\" is a 3D element; 2D generators take quad4 or tri3",
-            other.as_str()
-        ))),
+        scene::Element::Quad4 => CellKind::Quad4,
+        scene::Element::Tri3 => CellKind::Tri3,
+        scene::Element::Quad8 => CellKind::Quad8,
+        scene::Element::Tri6 => CellKind::Tri6,
+        scene::Element::Hex8 => CellKind::Hex8,
+        scene::Element::Tet4 => CellKind::Tet4,
     }
 }
 
-pub fn build_mesh(body: &scene::Body, entry: &str) -> Result<Mesh, SolveError> {
+/// The mesh of a deformable body: a generator's, or a Gmsh file's (its
+/// physical groups of dimension d−1 are the surfaces).
+pub fn build_mesh(body: &scene::Body, entry: &str, dim: usize) -> Result<Mesh, SolveError> {
     let Some(spec) = &body.mesh else {
         return Err(input(format!("{entry}.mesh: missing")));
     };
+    let towards =
+        |g: &Option<scene::Grading>, names: &[&str]| -> Result<Option<(String, f64)>, SolveError> {
+            match g {
+                None => Ok(None),
+                Some(g) if names.contains(&g.towards.as_str()) => {
+                    Ok(Some((g.towards.clone(), g.ratio)))
+                }
+                Some(g) => Err(input(format!(
+                    "{entry}.mesh.grading.towards: \"{}\" is not one of {}",
+                    g.towards,
+                    names.join(", ")
+                ))),
+            }
+        };
+    let finish = |mesh: Mesh| {
+        if mesh.dim != dim {
+            return Err(input(format!(
+                "{entry}.mesh: a {}D mesh in a scene of dimension {dim}",
+                mesh.dim
+            )));
+        }
+        Ok(mesh)
+    };
+    use scene::Generator as G;
     let mesh = match spec {
-        scene::MeshSpec::Generator(scene::Generator::Rectangle { origin, size, divisions, element, grading }) => {
-            let g = match grading {
-                None => None,
-                Some(g) => Some((
-                    RectSide::from_name(&g.towards).ok_or_else(|| {
-                        input(format!(
-                            "{entry}.mesh.grading.towards: \"{}\" is not one of bottom, top, left, right",
-                            g.towards
-                        ))
-                    })?,
-                    g.ratio,
-                )),
-            };
-            rectangle(*origin, *size, *divisions, cell_kind(*element, &format!("{entry}.mesh"))?, g)
+        scene::MeshSpec::Generator(G::Rectangle {
+            origin,
+            size,
+            divisions,
+            element,
+            grading,
+        }) => {
+            let g = towards(grading, &["bottom", "top", "left", "right"])?
+                .and_then(|(side, r)| RectSide::from_name(&side).map(|s| (s, r)));
+            rectangle(*origin, *size, *divisions, cell_kind(*element), g)
         }
-        scene::MeshSpec::Generator(scene::Generator::HalfDisk { center, radius, divisions, pole, grading, element }) => {
-            half_disk(*center, *radius, *divisions, *pole, *grading, cell_kind(*element, &format!("{entry}.mesh"))?)
+        scene::MeshSpec::Generator(G::HalfDisk {
+            center,
+            radius,
+            divisions,
+            pole,
+            grading,
+            element,
+        }) => half_disk(
+            *center,
+            *radius,
+            *divisions,
+            *pole,
+            *grading,
+            cell_kind(*element),
+        ),
+        scene::MeshSpec::Generator(G::Box {
+            origin,
+            size,
+            divisions,
+            element,
+            grading,
+        }) => {
+            let g = towards(grading, &["xmin", "xmax", "ymin", "ymax", "zmin", "zmax"])?
+                .and_then(|(side, r)| BoxSide::from_name(&side).map(|s| (s, r)));
+            box_mesh(*origin, *size, *divisions, cell_kind(*element), g)
         }
-        scene::MeshSpec::Generator(g) => {
-            return Err(input(format!(
-                "{entry}.mesh.generator: \"{}\" is not supported yet (supported: rectangle, half_disk)",
-                g.name()
-            )))
-        }
+        scene::MeshSpec::Generator(G::Hemisphere {
+            center,
+            radius,
+            divisions,
+            pole,
+            grading,
+        }) => hemisphere(*center, *radius, *divisions, *pole, *grading),
+        scene::MeshSpec::Generator(G::QuarterDisk {
+            center,
+            radius,
+            divisions,
+            grading,
+            element,
+        }) => quarter_disk(*center, *radius, *divisions, *grading, cell_kind(*element)),
         scene::MeshSpec::File { file } => {
-            return Err(input(format!(
-                "{entry}.mesh.file: reading mesh files ({}) is not supported yet; use a generator (rectangle, half_disk)",
-                file.display()
-            )))
+            return finish(
+                signorini_mesh::gmsh::read_msh(file, dim)
+                    .map_err(|e| input(format!("{entry}.mesh.file: {e}")))?,
+            )
         }
     };
-    mesh.map_err(|e| input(format!("{entry}.mesh: {e}")))
+    finish(mesh.map_err(|e| input(format!("{entry}.mesh: {e}")))?)
 }
 
 /// Nodes a boundary entry acts on.
@@ -221,18 +274,14 @@ fn boundary_nodes(
 /// Builds every deformable body with its DOF classes and loads.
 pub fn build_bodies(sc: &scene::Scene) -> Result<Vec<BodyModel>, SolveError> {
     let model = fem_model(sc.model)?;
-    if sc.dimension != 2 {
-        return Err(input(
-            "dimension: 3D is not supported yet (supported: dimension = 2)",
-        ));
-    }
+    let scene_dim = sc.dimension as usize;
     let mut out = Vec::new();
     for (bi, body) in sc.bodies.iter().enumerate() {
         if !body.is_deformable() {
             continue;
         }
         let entry = format!("bodies[{bi}]");
-        let mesh = build_mesh(body, &entry)?;
+        let mesh = build_mesh(body, &entry, scene_dim)?;
         let mat_name = body.material.as_deref().unwrap_or_default();
         let mat = sc.material(mat_name).ok_or_else(|| {
             input(format!(
@@ -247,7 +296,7 @@ pub fn build_bodies(sc: &scene::Scene) -> Result<Vec<BodyModel>, SolveError> {
         material
             .check()
             .map_err(|e| input(format!("{entry}.material \"{mat_name}\": {e}")))?;
-        signorini_fem::check_mesh(&mesh).map_err(|e| input(format!("{entry}.mesh: {e}")))?;
+        signorini_fem::check_mesh(&mesh, model).map_err(|e| input(format!("{entry}.mesh: {e}")))?;
         let dim = mesh.dim;
         let n_dof = mesh.n_nodes() * dim;
         // Prescribed DOFs and their values per entry.
@@ -290,15 +339,15 @@ pub fn build_bodies(sc: &scene::Scene) -> Result<Vec<BodyModel>, SolveError> {
                 let surf = mesh
                     .surface(surf_name)
                     .map_err(|e| input(format!("{lentry}.surface: {e}")))?;
-                force = signorini_fem::traction_load(&mesh, surf, t);
+                force = signorini_fem::traction_load(&mesh, surf, t, model);
             } else if let Some(f) = &b.force {
                 if let Some(surf_name) = &b.surface {
                     let surf = mesh
                         .surface(surf_name)
                         .map_err(|e| input(format!("{lentry}.surface: {e}")))?;
-                    let len = signorini_fem::surface_measure(&mesh, surf);
+                    let len = signorini_fem::surface_measure(&mesh, surf, model);
                     let t: Vec<f64> = f.iter().map(|v| v / len).collect();
-                    force = signorini_fem::traction_load(&mesh, surf, &t);
+                    force = signorini_fem::traction_load(&mesh, surf, &t, model);
                 } else {
                     for (c, v) in f.iter().enumerate().take(dim) {
                         force[nodes[0] * dim + c] += v;
@@ -306,6 +355,23 @@ pub fn build_bodies(sc: &scene::Scene) -> Result<Vec<BodyModel>, SolveError> {
                 }
             }
             raw_loads.push((li, force, disp));
+        }
+        if model == FemModel::Axisymmetric {
+            // On the axis (r = 0) the radial displacement is zero by symmetry.
+            let tol = 1e-9 * mesh.size();
+            for (n, x) in mesh.coords.iter().enumerate() {
+                if x[0].abs() <= tol {
+                    if let Some((other, v)) = set_by[n * dim] {
+                        if v != 0.0 {
+                            return Err(input(format!(
+                                "boundary[{other}].displacement: imposes x = {v} at node ({}, {}) on the axis of body \"{}\"; in an axisymmetric model the radial displacement on the axis is zero",
+                                x[0], x[1], body.name
+                            )));
+                        }
+                    }
+                    prescribed[n * dim] = true;
+                }
+            }
         }
         let free: Vec<usize> = (0..n_dof).filter(|&d| !prescribed[d]).collect();
         let mut free_index = vec![usize::MAX; n_dof];
@@ -320,7 +386,7 @@ pub fn build_bodies(sc: &scene::Scene) -> Result<Vec<BodyModel>, SolveError> {
                 displacement: disp,
             })
             .collect();
-        let kernel = free_rigid_modes(&mesh, &prescribed);
+        let kernel = free_rigid_modes(&mesh, model, &prescribed);
         let n_cells = mesh.cells.len();
         let n_nodes = mesh.n_nodes();
         out.push(BodyModel {
@@ -348,8 +414,8 @@ pub fn build_bodies(sc: &scene::Scene) -> Result<Vec<BodyModel>, SolveError> {
 /// The rigid motions r with r = 0 on every prescribed DOF: the null space of
 /// the prescribed rows of the (normalised) rigid-body modes, by a symmetric
 /// eigen decomposition of CᵀC, a rank test scaled by the number of DOFs.
-fn free_rigid_modes(mesh: &Mesh, prescribed: &[bool]) -> Vec<Vec<f64>> {
-    let mut modes = signorini_fem::rigid_body_modes(mesh);
+fn free_rigid_modes(mesh: &Mesh, model: FemModel, prescribed: &[bool]) -> Vec<Vec<f64>> {
+    let mut modes = signorini_fem::rigid_body_modes(mesh, model);
     for m in modes.iter_mut() {
         let n = m.iter().map(|v| v * v).sum::<f64>().sqrt();
         m.iter_mut().for_each(|v| *v /= n);
@@ -409,6 +475,12 @@ pub fn build_contacts(
             }
         }
 
+        let dim = sc.dimension as usize;
+        if dim == 3 && c.friction != scene::Friction::None {
+            return Err(input(format!(
+                "{entry}.friction: friction in 3D (two tangents, the Tresca disc and the Coulomb cone) is not supported yet; use friction = \"none\" in 3D, or an axisymmetric or plane model"
+            )));
+        }
         let si = body_model(&c.slave.body).ok_or_else(|| {
             input(format!(
                 "{entry}.slave.body: \"{}\" is not a deformable body",
@@ -459,17 +531,30 @@ pub fn build_contacts(
                 surface: m_surf,
             }
         } else {
+            let xyz = |v: &[f64]| {
+                [
+                    v[0],
+                    v.get(1).copied().unwrap_or(0.0),
+                    v.get(2).copied().unwrap_or(0.0),
+                ]
+            };
             match &master_scene.rigid {
                 Some(scene::RigidShape::Plane { point, normal }) => {
-                    let nn = (normal[0] * normal[0] + normal[1] * normal[1]).sqrt();
+                    let n = xyz(normal);
+                    let nn = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
                     MasterGeometry::Plane {
-                        point: [point[0], point[1], 0.0],
-                        normal: [normal[0] / nn, normal[1] / nn, 0.0],
+                        point: xyz(point),
+                        normal: [n[0] / nn, n[1] / nn, n[2] / nn],
                     }
                 }
-                _ => {
+                Some(scene::RigidShape::Circle { center, radius })
+                | Some(scene::RigidShape::Sphere { center, radius }) => MasterGeometry::Sphere {
+                    center: xyz(center),
+                    radius: *radius,
+                },
+                None => {
                     return Err(input(format!(
-                        "{entry}.master: rigid body \"{}\" has a shape that is not supported yet (supported: plane)",
+                        "{entry}.master: body \"{}\" is neither deformable nor rigid",
                         c.master.body
                     )))
                 }
@@ -486,7 +571,7 @@ pub fn build_contacts(
             )));
         }
         let trib: std::collections::BTreeMap<usize, f64> =
-            signorini_fem::tributary_measure(s_mesh, s_surf)
+            signorini_fem::tributary_measure(s_mesh, s_surf, bodies[si].material.model)
                 .into_iter()
                 .collect();
         interface_nodes[si].extend(s_surf.nodes());
@@ -500,10 +585,10 @@ pub fn build_contacts(
                     TermSide::Slave => si,
                     TermSide::Master => mi.expect("a master term needs a deformable master"),
                 };
-                for k in 0..2 {
+                for k in 0..dim {
                     let coef = t.weight * p.normal[k];
                     if coef != 0.0 {
-                        row.push((b, t.node * 2 + k, coef));
+                        row.push((b, t.node * dim + k, coef));
                     }
                 }
             }
@@ -545,10 +630,10 @@ pub fn build_contacts(
                         TermSide::Slave => si,
                         TermSide::Master => mi.expect("a master term needs a deformable master"),
                     };
-                    for k in 0..2 {
+                    for k in 0..dim {
                         let coef = term.weight * p.tangent[k];
                         if coef != 0.0 {
-                            t.push((b, term.node * 2 + k, coef));
+                            t.push((b, term.node * dim + k, coef));
                         }
                     }
                 }

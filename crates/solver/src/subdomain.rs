@@ -84,14 +84,19 @@ pub struct RecoveredData {
     pub force_scale: Vec<f64>,
     /// Per step: K_i u_i − f_i on the interface DOFs, as (Γ index, value).
     pub gamma_residual: Vec<Vec<(usize, f64)>>,
-    /// Body nodes and the displacement (2 per node) at the last step.
+    /// Body nodes of the subdomain.
     pub nodes: Vec<usize>,
-    pub displacement: Vec<f64>,
+    /// Space dimension (DOFs per node).
+    pub dim: usize,
+    /// Per step: the displacement of the nodes (`dim` values per node).
+    pub displacements: Vec<Vec<f64>>,
 }
 
 /// A condensed subdomain kept by its rank for the recovery.
 pub struct Subdomain {
     pub id: usize,
+    /// Space dimension (DOFs per node).
+    dim: usize,
     spec: SubdomainSpec,
     k_local: SparseColMat<usize, f64>,
     k_ff: SparseColMat<usize, f64>,
@@ -122,8 +127,9 @@ impl Subdomain {
         for (l, &n) in spec.nodes.iter().enumerate() {
             local_of[n] = l;
         }
+        let dim = body.mesh.dim;
         let mesh = Mesh {
-            dim: 2,
+            dim,
             coords: spec.nodes.iter().map(|&n| body.mesh.coords[n]).collect(),
             cells: spec
                 .cells
@@ -141,8 +147,8 @@ impl Subdomain {
         };
         let k_local = signorini_fem::try_assemble_stiffness(&mesh, &body.material)
             .map_err(|e| e.to_string())?;
-        let n_local = 2 * spec.nodes.len();
-        let body_dof = |l: usize| 2 * spec.nodes[l / 2] + l % 2;
+        let n_local = dim * spec.nodes.len();
+        let body_dof = |l: usize| dim * spec.nodes[l / dim] + l % dim;
         let free: Vec<usize> = (0..n_local)
             .filter(|&l| !body.prescribed[body_dof(l)])
             .collect();
@@ -163,7 +169,7 @@ impl Subdomain {
             let f: Vec<f64> = (0..n_local)
                 .map(|l| {
                     let d = body_dof(l);
-                    if owner_part[d / 2] == spec.part {
+                    if owner_part[d / dim] == spec.part {
                         load.force[d]
                     } else {
                         0.0
@@ -202,6 +208,7 @@ impl Subdomain {
         Ok((
             Self {
                 id,
+                dim,
                 spec: spec.clone(),
                 k_local,
                 k_ff,
@@ -219,14 +226,16 @@ impl Subdomain {
     /// Recovers every step from its interface displacement and reports the
     /// residuals the root needs for the certificate.
     pub fn recover(&self, scales: &[Vec<f64>], u_gamma: &[Vec<f64>]) -> RecoveredData {
-        let n_local = 2 * self.spec.nodes.len();
+        let dim = self.dim;
+        let n_local = dim * self.spec.nodes.len();
         let mut out = RecoveredData {
             id: self.id,
             interior_residual: Vec::new(),
             force_scale: Vec::new(),
             gamma_residual: Vec::new(),
             nodes: self.spec.nodes.clone(),
-            displacement: Vec::new(),
+            dim,
+            displacements: Vec::new(),
         };
         let mut is_interface = vec![false; n_local];
         for &i in self.condensed.interface() {
@@ -268,7 +277,7 @@ impl Subdomain {
             out.interior_residual.push(interior);
             out.force_scale.push(scale);
             out.gamma_residual.push(gamma_res);
-            out.displacement = u;
+            out.displacements.push(u);
         }
         out
     }
