@@ -22,6 +22,13 @@ if [ "${#missing[@]}" -gt 0 ]; then
         apt-get install -y --no-install-recommends "${missing[@]}"
 fi
 
+# Python's meshio reads the VTU files back in tests/solids.rs (an
+# independent reader beside vtkio).
+if ! python3 -c "import meshio" >/dev/null 2>&1; then
+    echo "ci/setup.sh: installing meshio (pip)"
+    python3 -m pip install --quiet --disable-pip-version-check meshio
+fi
+
 # cargo on PATH (rustup installs put it in ~/.cargo/bin).
 if ! command -v cargo >/dev/null 2>&1 && [ -f "$HOME/.cargo/env" ]; then
     # shellcheck disable=SC1091

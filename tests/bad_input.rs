@@ -357,3 +357,50 @@ fn check_accepts_hertz2d_and_writes_nothing() {
 fn check_accepts_blocks_and_writes_nothing() {
     check_example("check_accepts_blocks_and_writes_nothing", "blocks.toml");
 }
+
+/// A Gmsh 2.2 file holding one 9-node quadrangle (Gmsh type 10), which the
+/// solver does not support.
+const QUAD9_MSH: &str = "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n9\n1 0 0 0\n2 1 0 0\n3 1 1 0\n4 0 1 0\n5 0.5 0 0\n6 1 0.5 0\n7 0.5 1 0\n8 0 0.5 0\n9 0.5 0.5 0\n$EndNodes\n$Elements\n1\n1 10 2 1 1 1 2 3 4 5 6 7 8 9\n$EndElements\n";
+
+#[test]
+fn gmsh_file_with_an_unsupported_element_type_is_named_and_counted() {
+    let scene = block_with(
+        "mesh = { generator = \"rectangle\", origin = [0.0, 0.0], size = [1.0, 0.5], divisions = [4, 2] }",
+        "mesh = { file = \"quad9.msh\" }",
+    );
+    let dir = fresh_dir("gmsh_unsupported");
+    std::fs::write(dir.join("quad9.msh"), QUAD9_MSH).unwrap();
+    std::fs::write(dir.join("scene.toml"), &scene).unwrap();
+    let output = Command::new(BIN)
+        .arg("run")
+        .arg(dir.join("scene.toml"))
+        .arg("--out")
+        .arg(dir.join("out"))
+        .output()
+        .unwrap();
+    let run = Run { dir, output };
+    run.assert_bad_input(&["bodies[0].mesh", "9-node quadrangle", "1"]);
+}
+
+#[test]
+fn gmsh_file_without_the_surface_the_scene_names() {
+    // the shipped block2d.msh names bottom, top, left, right: not "base"
+    let msh = format!("{}/examples/meshes/block2d.msh", env!("CARGO_MANIFEST_DIR"));
+    let scene = block_with(
+        "mesh = { generator = \"rectangle\", origin = [0.0, 0.0], size = [1.0, 0.5], divisions = [4, 2] }",
+        &format!("mesh = {{ file = \"{msh}\" }}"),
+    )
+    .replace("surface = \"bottom\"", "surface = \"base\"");
+    let run = run_scene("gmsh_missing_surface", Some(&scene), &[]);
+    run.assert_bad_input(&["base", "bottom"]);
+}
+
+#[test]
+fn gmsh_file_that_does_not_exist() {
+    let scene = block_with(
+        "mesh = { generator = \"rectangle\", origin = [0.0, 0.0], size = [1.0, 0.5], divisions = [4, 2] }",
+        "mesh = { file = \"nowhere.msh\" }",
+    );
+    let run = run_scene("gmsh_missing_file", Some(&scene), &[]);
+    run.assert_bad_input(&["bodies[0].mesh", "nowhere.msh"]);
+}
