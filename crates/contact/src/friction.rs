@@ -40,11 +40,17 @@ pub enum PointStatus {
     SlipPlus,
     /// Slipping with λ_t = −threshold.
     SlipMinus,
+    /// 3D: slipping in the tangent plane, the tangential force on the
+    /// boundary of the disc / ellipse and opposing the slip.
+    Slip,
 }
 
 impl PointStatus {
     pub fn is_slip(self) -> bool {
-        matches!(self, PointStatus::SlipPlus | PointStatus::SlipMinus)
+        matches!(
+            self,
+            PointStatus::SlipPlus | PointStatus::SlipMinus | PointStatus::Slip
+        )
     }
 }
 
@@ -113,7 +119,8 @@ fn equations(
         if let Some(t) = layout.tangent_row[p] {
             eqs[t] = match st {
                 PointStatus::Open => VarEquation::Value(0.0),
-                PointStatus::Stick => VarEquation::Gap,
+                // Slip (3D) does not occur in 2D: no direction, treated as stick.
+                PointStatus::Stick | PointStatus::Slip => VarEquation::Gap,
                 PointStatus::SlipPlus | PointStatus::SlipMinus => {
                     let sign = if st == PointStatus::SlipPlus {
                         1.0

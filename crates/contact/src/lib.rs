@@ -14,6 +14,7 @@ pub mod delassus;
 pub mod direct;
 pub mod equilibrium;
 pub mod friction;
+pub mod friction3d;
 pub mod geometry;
 pub mod lcp;
 pub mod lemke;

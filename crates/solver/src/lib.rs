@@ -29,6 +29,7 @@ use signorini_contact::friction::{
     coulomb_fixed_point, coulomb_status, tresca_projection, tresca_status, FrictionLayout,
     FrictionOptions, PointStatus, Threshold,
 };
+use signorini_contact::friction3d::{friction_3d, FrictionLayout3d, Law3d};
 use signorini_contact::methods::{solve_lcp, Algorithm};
 use signorini_contact::{
     status_method, ActiveSetSolve, ContactError, DelassusProblem, LcpOptions, SolverReport,
@@ -526,8 +527,25 @@ struct FrictionStep {
     tangential: Vec<f64>,
     slip_increment: Vec<f64>,
     slip_total: Vec<f64>,
-    /// The threshold in force at the solution (Tresca g or μ λ_n), for the cone check.
+    /// Along the second tangent (3D; zeros in 2D).
+    tangential2: Vec<f64>,
+    slip_increment2: Vec<f64>,
+    slip_total2: Vec<f64>,
+    /// The threshold in force at the solution (Tresca g or μ λ_n).
     threshold: Vec<f64>,
+    /// How far the tangential force lies outside its admissible set, in
+    /// force (≤ 0 inside): |λ_t| − g in 2D, ‖λ_t‖ − g on the Tresca disc,
+    /// μ₁ (‖(λ_t1/μ₁, λ_t2/μ₂)‖ − λ_n) on the (elliptic) Coulomb cone.
+    cone_excess: Vec<f64>,
+}
+
+/// The coefficients (μ₁, μ₂) of a 3D Coulomb law; `None` for Tresca or
+/// frictionless points.
+fn p_law(law: &Law3d) -> Option<(f64, f64)> {
+    match law {
+        Law3d::Coulomb { mu } => Some((mu[0], mu[1])),
+        _ => None,
+    }
 }
 
 /// The algorithm of a scene's `[solver]` (and `--method`).
@@ -822,12 +840,31 @@ fn solve_root(
     // Tangential rows after the normal ones (seed eq. 16: the slip [u_t]).
     let m = points.len();
     let mut tangent_row = vec![None; m];
+    let mut tangent_row2 = vec![None; m];
     for (pi, p) in points.iter().enumerate() {
         if let Some(t) = &p.trow {
             tangent_row[pi] = Some(rows.len());
             rows.push(to_gamma(t));
         }
+        if let Some(t) = &p.trow2 {
+            tangent_row2[pi] = Some(rows.len());
+            rows.push(to_gamma(t));
+        }
     }
+    let layout_3d = FrictionLayout3d {
+        tangent_rows: (0..m)
+            .map(|p| tangent_row[p].zip(tangent_row2[p]).map(|(a, b)| [a, b]))
+            .collect(),
+        law: points
+            .iter()
+            .map(|p| match p.friction {
+                PointFriction::Tresca(g) => Law3d::Tresca(g),
+                PointFriction::Coulomb { mu, mu2, .. } => Law3d::Coulomb { mu: [mu, mu2] },
+                _ => Law3d::None,
+            })
+            .collect(),
+    };
+    let three_d = tangent_row2.iter().any(|t| t.is_some());
     let has_friction = tangent_row.iter().any(|t| t.is_some());
     let layout = FrictionLayout {
         tangent_row: tangent_row.clone(),
@@ -863,6 +900,7 @@ fn solve_root(
         ));
     }
     let mut slip_total = vec![0.0; m];
+    let mut slip_total2 = vec![0.0; m];
     let mut previous: Option<(Vec<PointStatus>, Vec<f64>)> = None;
     let mut steps = Vec::new();
     let mut u_gamma = Vec::new();
@@ -904,14 +942,19 @@ fn solve_root(
             // at the end of the previous step, so that the tangential rows give
             // slip increments (seed §4.4).
             let mut gap0_all = gap0.clone();
+            let prescribed = |t: &[(usize, usize, f64)]| -> f64 {
+                t.iter()
+                    .filter(|&&(b, d, _)| bodies[b].prescribed[d])
+                    .map(|&(b, d, c)| c * u_p[b][d])
+                    .sum()
+            };
+            // in the order of the rows: t1 then t2 of each point
             for (pi, p) in points.iter().enumerate() {
                 if let Some(t) = &p.trow {
-                    let prescribed: f64 = t
-                        .iter()
-                        .filter(|&&(b, d, _)| bodies[b].prescribed[d])
-                        .map(|&(b, d, c)| c * u_p[b][d])
-                        .sum();
-                    gap0_all.push(prescribed - slip_total[pi]);
+                    gap0_all.push(prescribed(t) - slip_total[pi]);
+                }
+                if let Some(t) = &p.trow2 {
+                    gap0_all.push(prescribed(t) - slip_total2[pi]);
                 }
             }
             let mut problem =
@@ -927,6 +970,9 @@ fn solve_root(
                 ) = (p.friction, tangent_row[pi])
                 {
                     compliance[t] = 1.0 / k;
+                    if let Some(t2) = tangent_row2[pi] {
+                        compliance[t2] = 1.0 / k;
+                    }
                 }
             }
             problem.add_compliance(&compliance);
@@ -953,7 +999,17 @@ fn solve_root(
                 .threshold
                 .iter()
                 .all(|t| !matches!(t, Threshold::Coulomb(_)));
-            let (out, name) = if any_nh {
+            let (out, name) = if three_d {
+                let start = previous.as_ref().map(|p| p.1.clone());
+                (
+                    friction_3d(&mut problem, &layout_3d, start.as_deref(), &fopts),
+                    if all_tresca {
+                        "tresca_3d_semismooth_newton"
+                    } else {
+                        "coulomb_3d_fixed_point"
+                    },
+                )
+            } else if any_nh {
                 (
                     signorini_contact::friction::norton_hoff(
                         &mut problem,
@@ -993,7 +1049,11 @@ fn solve_root(
                 tangential: vec![0.0; m],
                 slip_increment: vec![0.0; m],
                 slip_total: vec![0.0; m],
+                tangential2: vec![0.0; m],
+                slip_increment2: vec![0.0; m],
+                slip_total2: vec![0.0; m],
                 threshold: vec![0.0; m],
+                cone_excess: vec![0.0; m],
             };
             for pi in 0..m {
                 if let Some(t) = tangent_row[pi] {
@@ -1005,8 +1065,24 @@ fn solve_root(
                         Threshold::Coulomb(mu) => mu * lambda[pi].max(0.0),
                         Threshold::None => 0.0,
                     };
+                    fr.cone_excess[pi] = fr.tangential[pi].abs() - fr.threshold[pi];
+                }
+                if let Some(t2) = tangent_row2[pi] {
+                    fr.tangential2[pi] = out.forces[t2];
+                    fr.slip_increment2[pi] = out.gaps[t2];
+                    slip_total2[pi] += out.gaps[t2];
+                    let (l1, l2) = (fr.tangential[pi], fr.tangential2[pi]);
+                    fr.cone_excess[pi] = match p_law(&layout_3d.law[pi]) {
+                        Some((mu1, mu2)) if mu1 > 0.0 && mu2 > 0.0 => {
+                            mu1 * (((l1 / mu1).powi(2) + (l2 / mu2).powi(2)).sqrt()
+                                - lambda[pi].max(0.0))
+                        }
+                        Some(_) => l1.hypot(l2),
+                        None => l1.hypot(l2) - fr.threshold[pi],
+                    };
                 }
                 fr.slip_total[pi] = slip_total[pi];
+                fr.slip_total2[pi] = slip_total2[pi];
             }
             let outcome = StatusOutcome {
                 converged: out.converged,
@@ -1154,12 +1230,14 @@ fn certificate_of(
             .fold(0.0f64, |a, p| a.max((gaps[p] * lambda[p]).abs()))
             / (lscale * fscale),
         cone: sol.friction.as_ref().map_or(0.0, |f| {
-            (0..lambda.len()).fold(0.0f64, |a, p| a.max(f.tangential[p].abs() - f.threshold[p]))
-                / fscale
+            f.cone_excess.iter().fold(0.0f64, |a, &c| a.max(c)) / fscale
         }),
         dissipation: sol.friction.as_ref().map_or(0.0, |f| {
-            (0..lambda.len()).fold(0.0f64, |a, p| a.max(f.tangential[p] * f.slip_increment[p]))
-                / (fscale * lscale)
+            (0..lambda.len()).fold(0.0f64, |a, p| {
+                a.max(
+                    f.tangential[p] * f.slip_increment[p] + f.tangential2[p] * f.slip_increment2[p],
+                )
+            }) / (fscale * lscale)
         }),
         law,
         tolerance: tolerance.max(1e-9),
@@ -1221,8 +1299,8 @@ fn conclude_step(
             normal_force: l,
             tangential_force: sol.friction.as_ref().map_or(0.0, |f| f.tangential[pi]),
             slip: sol.friction.as_ref().map_or(0.0, |f| f.slip_total[pi]),
-            tangential_force_2: 0.0,
-            slip_2: 0.0,
+            tangential_force_2: sol.friction.as_ref().map_or(0.0, |f| f.tangential2[pi]),
+            slip_2: sol.friction.as_ref().map_or(0.0, |f| f.slip_total2[pi]),
             pressure: if p.tributary > 0.0 {
                 l / p.tributary
             } else {
@@ -1257,7 +1335,10 @@ fn conclude_step(
     for (pi, p) in points.iter().enumerate() {
         let lt = sol.friction.as_ref().map_or(0.0, |f| f.tangential[pi]);
         for (k, f) in step_force.iter_mut().enumerate() {
-            *f += lambda[pi] * p.point.normal[k] + lt * p.point.tangent[k];
+            let lt2 = sol.friction.as_ref().map_or(0.0, |f| f.tangential2[pi]);
+            *f += lambda[pi] * p.point.normal[k]
+                + lt * p.point.tangent[k]
+                + lt2 * p.point.tangent2[k];
         }
         sum_n += lambda[pi];
         sum_t += lt;
@@ -1381,6 +1462,13 @@ fn finish_condensed(
                 for &(b, d, c) in t {
                     if !bodies[b].prescribed[d] {
                         r_gamma[gamma_of[b][d]] -= c * fr.tangential[pi];
+                    }
+                }
+            }
+            if let (Some(t), Some(fr)) = (&p.trow2, &sol.friction) {
+                for &(b, d, c) in t {
+                    if !bodies[b].prescribed[d] {
+                        r_gamma[gamma_of[b][d]] -= c * fr.tangential2[pi];
                     }
                 }
             }
@@ -1615,8 +1703,11 @@ fn finish_report(
             s.active += 1;
         }
         let lt = partial.lambda_t.get(pi).copied().unwrap_or(0.0);
+        let lt2 = partial.friction.as_ref().map_or(0.0, |f| f.tangential2[pi]);
         for (k, total) in contact_force.iter_mut().enumerate() {
-            let f = lambda[pi] * p.point.normal[k] + lt * p.point.tangent[k];
+            let f = lambda[pi] * p.point.normal[k]
+                + lt * p.point.tangent[k]
+                + lt2 * p.point.tangent2[k];
             s.force[k] += f;
             *total += f;
         }
@@ -1803,7 +1894,7 @@ fn check_floating_equilibrium(
         }
         let k = b.kernel.len();
         let friction = points.iter().any(|p| p.trow.is_some());
-        let mut gt = Mat::<f64>::zeros(k, points.len() * if friction { 2 } else { 1 });
+        let mut gt = Mat::<f64>::zeros(k, points.len() * if friction { 3 } else { 1 });
         for (pi, p) in points.iter().enumerate() {
             for &(pb, d, c) in &p.row {
                 if pb == bi {
@@ -1817,6 +1908,13 @@ fn check_floating_equilibrium(
                 if pb == bi {
                     for (j, r) in b.kernel.iter().enumerate() {
                         gt[(j, points.len() + pi)] += c * r[d];
+                    }
+                }
+            }
+            for &(pb, d, c) in p.trow2.iter().flatten() {
+                if pb == bi {
+                    for (j, r) in b.kernel.iter().enumerate() {
+                        gt[(j, 2 * points.len() + pi)] += c * r[d];
                     }
                 }
             }
@@ -1913,6 +2011,24 @@ fn compare_reference(
             _ => x[0] * t[0] + x[1] * t[1],
         }
     };
+    // The tangential force of each point: along t in 2D; in 3D its component
+    // along the direction of the total tangential force.
+    let tangential_vector = |pi: usize| -> [f64; 3] {
+        let (t1, t2) = (points[pi].point.tangent, points[pi].point.tangent2);
+        let (l1, l2) = friction.map_or((0.0, 0.0), |f| (f.tangential[pi], f.tangential2[pi]));
+        [0, 1, 2].map(|k| l1 * t1[k] + l2 * t2[k])
+    };
+    let mut total_t = [0.0; 3];
+    for pi in 0..points.len() {
+        let v = tangential_vector(pi);
+        (0..3).for_each(|k| total_t[k] += v[k]);
+    }
+    let norm_t = (total_t[0].powi(2) + total_t[1].powi(2) + total_t[2].powi(2)).sqrt();
+    let direction = if norm_t > 0.0 {
+        total_t.map(|x| x / norm_t)
+    } else {
+        t
+    };
     let nodes: Vec<reference::NodalPressure> = points
         .iter()
         .zip(lambda)
@@ -1921,7 +2037,12 @@ fn compare_reference(
             s: coordinate(p.point.x),
             force: l.max(0.0),
             tributary: p.tributary,
-            tangential: friction.map_or(0.0, |f| f.tangential[pi]),
+            tangential: if sc.dimension == 3 {
+                let v = tangential_vector(pi);
+                v[0] * direction[0] + v[1] * direction[1] + v[2] * direction[2]
+            } else {
+                friction.map_or(0.0, |f| f.tangential[pi])
+            },
             stick: friction.is_some_and(|f| f.statuses[pi] == PointStatus::Stick),
         })
         .collect();
@@ -1939,10 +2060,24 @@ fn compare_reference(
             ))
         })
     };
+    // The coefficient in the direction of the tangential force: μ, or on an
+    // elliptic cone (3D, μ₁ along t1, μ₂ along t2) 1/‖(d₁/μ₁, d₂/μ₂)‖.
+    let directional = |c: &[f64]| -> Option<f64> {
+        match c {
+            [mu] => Some(*mu),
+            [mu1, mu2] => {
+                let p = &points[pmax].point;
+                let d1: f64 = (0..3).map(|k| direction[k] * p.tangent[k]).sum();
+                let d2: f64 = (0..3).map(|k| direction[k] * p.tangent2[k]).sum();
+                Some(1.0 / ((d1 / mu1).powi(2) + (d2 / mu2).powi(2)).sqrt())
+            }
+            _ => None,
+        }
+    };
     let mu = || -> Result<f64, SolveError> {
         r.friction
             .or(match &first.friction {
-                scene::Friction::Coulomb { coefficient, .. } => coefficient.first().copied(),
+                scene::Friction::Coulomb { coefficient, .. } => directional(coefficient),
                 _ => None,
             })
             .ok_or_else(|| {

@@ -95,6 +95,8 @@ pub struct PointModel {
     /// The tangential row (slip of the slave relative to the master along
     /// the tangent t), for points of a contact with friction.
     pub trow: Option<Vec<(usize, usize, f64)>>,
+    /// In 3D, the row along the second tangent t2 (n, t1, t2 right-handed).
+    pub trow2: Option<Vec<(usize, usize, f64)>>,
     /// The friction law of the point's contact, per point: the Tresca
     /// threshold as a force (g × tributary length), or μ.
     pub friction: PointFriction,
@@ -110,6 +112,10 @@ pub enum PointFriction {
     /// regularised law (seed §4.1.3).
     Coulomb {
         mu: f64,
+        /// The coefficient along the second tangent t2 (3D anisotropic
+        /// friction, the elliptic cone of seed §4.1.2); equal to `mu` when
+        /// one coefficient is given.
+        mu2: f64,
         slip_stiffness: Option<f64>,
     },
     /// Norton–Hoff (seed §4.1.4): λ_t = −μ λ_n |Δs|^(ρ−1) Δs.
@@ -476,9 +482,9 @@ pub fn build_contacts(
         }
 
         let dim = sc.dimension as usize;
-        if dim == 3 && c.friction != scene::Friction::None {
+        if dim == 3 && matches!(c.friction, scene::Friction::NortonHoff { .. }) {
             return Err(input(format!(
-                "{entry}.friction: friction in 3D (two tangents, the Tresca disc and the Coulomb cone) is not supported yet; use friction = \"none\" in 3D, or an axisymmetric or plane model"
+                "{entry}.friction: Norton-Hoff friction is not supported in 3D yet (supported in 3D: tresca, coulomb with one or two coefficients, slip_stiffness)"
             )));
         }
         let si = body_model(&c.slave.body).ok_or_else(|| {
@@ -620,10 +626,15 @@ pub fn build_contacts(
                     slip_stiffness,
                 } => PointFriction::Coulomb {
                     mu: coefficient.first().copied().unwrap_or(0.0),
+                    mu2: coefficient
+                        .get(1)
+                        .or(coefficient.first())
+                        .copied()
+                        .unwrap_or(0.0),
                     slip_stiffness: slip_stiffness.map(|k| k * tributary),
                 },
             };
-            let trow = (friction != PointFriction::None).then(|| {
+            let tangential_row = |tangent: [f64; 3]| {
                 let mut t = Vec::new();
                 for term in &p.terms {
                     let b = match term.side {
@@ -631,16 +642,20 @@ pub fn build_contacts(
                         TermSide::Master => mi.expect("a master term needs a deformable master"),
                     };
                     for k in 0..dim {
-                        let coef = term.weight * p.tangent[k];
+                        let coef = term.weight * tangent[k];
                         if coef != 0.0 {
                             t.push((b, term.node * dim + k, coef));
                         }
                     }
                 }
                 t
-            });
+            };
+            let trow = (friction != PointFriction::None).then(|| tangential_row(p.tangent));
+            let trow2 =
+                (friction != PointFriction::None && dim == 3).then(|| tangential_row(p.tangent2));
             points.push(PointModel {
                 trow,
+                trow2,
                 friction,
                 contact: ci,
                 tributary,

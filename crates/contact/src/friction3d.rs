@@ -1,0 +1,1034 @@
+//! Friction in 3D on the condensed problem (seed §4.1.1, §4.1.2, §4.3): each
+//! frictional contact point has a normal force λ_n and a tangential force
+//! λ_t = (λ_t1, λ_t2) in its tangent plane; the "gaps" of the two tangential
+//! rows are the components (Δs1, Δs2) of the slip increment of the slave
+//! relative to the master since the previous load step.
+//!
+//! Layout of the rows (forces and gaps): rows 0..m are the normal rows of the
+//! m contact points (gap g = g0 + B u ≥ 0, λ_n ≥ 0 compressive, λ_n g = 0);
+//! each frictional point p has two further rows `tangent_rows[p] = [t1, t2]`
+//! (any rows ≥ m, each used once). Sign convention: the tangential force
+//! opposes the slip.
+//!
+//! Laws (threshold g for Tresca, μ λ_n for Coulomb; anisotropic Coulomb with
+//! the elliptic section (λ_t1/μ1)² + (λ_t2/μ2)² ≤ λ_n², i.e. the semi-axes
+//! g_i = μ_i λ_n):
+//! - stick: λ_t inside the disc / ellipse and Δs = 0;
+//! - slip: λ_t on its boundary and Δs = −γ ∇φ(λ_t), γ ≥ 0, with
+//!   φ(λ_t) = (λ_t1/g1)² + (λ_t2/g2)² (maximum dissipation; isotropic:
+//!   λ_t = −g Δs/‖Δs‖).
+//!
+//! With the thresholds fixed this is the convex program
+//! min ½ rᵀ W r + qᵀ r over λ_n ≥ 0, λ_t in the disc / ellipse (plus the
+//! equilibrium Gᵀ r = e of floating bodies). It is solved by a semi-smooth
+//! Newton method on the Alart–Curnier projection equations (unknowns: the
+//! forces and the rigid-mode amplitudes α), with an Armijo line search on
+//! ½‖F‖² and, without floating bodies, an accelerated projected-gradient
+//! fallback. Coulomb is the fixed point on the thresholds g ← μ λ_n (§4.3).
+//!
+//! As with the 2D projection method ([`crate::friction::tresca_projection`]),
+//! a Tresca point that opens may still carry a tangential force up to its
+//! threshold (Tresca's law does not depend on the normal force); with
+//! Coulomb the threshold of an open point is zero.
+
+use faer::prelude::Solve;
+use faer::Mat;
+
+use crate::delassus::{DelassusProblem, VarEquation};
+use crate::friction::{FrictionOptions, FrictionOutcome, PointStatus};
+use crate::ContactError;
+
+/// The friction law of one contact point.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Law3d {
+    /// Frictionless: the tangential force (if the point has tangential rows) is zero.
+    None,
+    /// Tresca: the tangential force is bounded by this threshold (a force), ‖λ_t‖ ≤ g.
+    Tresca(f64),
+    /// Coulomb: (λ_t1/μ1)² + (λ_t2/μ2)² ≤ λ_n² (μ1 = μ2: the isotropic cone
+    /// ‖λ_t‖ ≤ μ λ_n).
+    Coulomb { mu: [f64; 2] },
+}
+
+/// Normal rows 0..m, then two tangential rows per frictional point.
+#[derive(Debug, Clone)]
+pub struct FrictionLayout3d {
+    /// The rows (t1, t2) of each point's tangential force, if it has friction.
+    pub tangent_rows: Vec<Option<[usize; 2]>>,
+    pub law: Vec<Law3d>,
+}
+
+impl FrictionLayout3d {
+    fn n_points(&self) -> usize {
+        self.tangent_rows.len()
+    }
+
+    fn validate(&self, n_rows: usize) -> Result<(), ContactError> {
+        let m = self.n_points();
+        if self.law.len() != m {
+            return Err(ContactError::Geometry(format!(
+                "friction 3D: {} laws for {} contact points",
+                self.law.len(),
+                m
+            )));
+        }
+        let mut owner = vec![false; n_rows];
+        if m > n_rows {
+            return Err(ContactError::Geometry(format!(
+                "friction 3D: {m} contact points but only {n_rows} rows"
+            )));
+        }
+        owner[..m].iter_mut().for_each(|o| *o = true);
+        for (p, rows) in self.tangent_rows.iter().enumerate() {
+            for &t in rows.iter().flatten() {
+                if t < m || t >= n_rows || owner[t] {
+                    return Err(ContactError::Geometry(format!(
+                        "friction 3D: tangential row {t} of point {p} is out of range or used twice"
+                    )));
+                }
+                owner[t] = true;
+            }
+        }
+        if let Some(i) = owner.iter().position(|o| !o) {
+            return Err(ContactError::Geometry(format!(
+                "friction 3D: row {i} belongs to no contact point"
+            )));
+        }
+        for (p, law) in self.law.iter().enumerate() {
+            let bad = match *law {
+                Law3d::None => false,
+                Law3d::Tresca(g) => !(g >= 0.0 && g.is_finite()),
+                Law3d::Coulomb { mu } => mu.iter().any(|m| !(*m >= 0.0 && m.is_finite())),
+            };
+            if bad {
+                return Err(ContactError::Geometry(format!(
+                    "friction 3D: point {p} has a negative or non-finite friction parameter"
+                )));
+            }
+        }
+        Ok(())
+    }
+
+    fn has_coulomb(&self) -> bool {
+        self.law
+            .iter()
+            .zip(&self.tangent_rows)
+            .any(|(l, t)| t.is_some() && matches!(l, Law3d::Coulomb { .. }))
+    }
+
+    /// The semi-axes (g1, g2) of each point's admissible set of tangential
+    /// forces, Coulomb ones from the normal forces `r`.
+    fn thresholds(&self, r: &[f64]) -> Vec<[f64; 2]> {
+        self.law
+            .iter()
+            .enumerate()
+            .map(|(p, law)| match *law {
+                Law3d::None => [0.0, 0.0],
+                Law3d::Tresca(g) => [g, g],
+                Law3d::Coulomb { mu } => {
+                    let n = r[p].max(0.0);
+                    [mu[0] * n, mu[1] * n]
+                }
+            })
+            .collect()
+    }
+}
+
+/// Projection of x on the ellipse (x1/a1)² + (x2/a2)² ≤ 1 (Euclidean; a
+/// semi-axis may be zero, both infinite means no bound).
+fn project_ellipse(x: [f64; 2], a: [f64; 2]) -> [f64; 2] {
+    if a[0].is_infinite() || a[1].is_infinite() {
+        return x;
+    }
+    match (a[0] > 0.0, a[1] > 0.0) {
+        (false, false) => return [0.0, 0.0],
+        (false, true) => return [0.0, x[1].clamp(-a[1], a[1])],
+        (true, false) => return [x[0].clamp(-a[0], a[0]), 0.0],
+        _ => {}
+    }
+    if (x[0] / a[0]).powi(2) + (x[1] / a[1]).powi(2) <= 1.0 {
+        return x;
+    }
+    // f(t) = Σ (a_i x_i / (a_i² + t))² − 1, decreasing and convex on t ≥ 0:
+    // Newton from t = 0 converges monotonically to its root.
+    let mut t = 0.0f64;
+    for _ in 0..200 {
+        let mut f = -1.0;
+        let mut df = 0.0;
+        for i in 0..2 {
+            let d = a[i] * a[i] + t;
+            let v = a[i] * x[i] / d;
+            f += v * v;
+            df -= 2.0 * v * v / d;
+        }
+        let step = -f / df;
+        if !step.is_finite() || step <= 1e-16 * t.max(f64::MIN_POSITIVE) {
+            break;
+        }
+        t += step;
+    }
+    [
+        a[0] * a[0] * x[0] / (a[0] * a[0] + t),
+        a[1] * a[1] * x[1] / (a[1] * a[1] + t),
+    ]
+}
+
+/// The Tresca problem with fixed semi-axes: its rows, thresholds and scales.
+struct Inner<'a> {
+    problem: &'a DelassusProblem,
+    layout: &'a FrictionLayout3d,
+    /// Semi-axes (g1, g2) per point; infinite: no bound (stuck).
+    thr: &'a [[f64; 2]],
+    /// Newton's projection parameters per row (1 / diagonal of W).
+    rho: Vec<f64>,
+}
+
+/// How a residual is scaled: `Newton` with ρ = 1/W_ii, `Check` with ρ = F/L
+/// (the natural residual relative to the force and length scales).
+#[derive(Clone, Copy, PartialEq)]
+enum Scale {
+    Newton,
+    Check(f64),
+}
+
+impl<'a> Inner<'a> {
+    fn new(
+        problem: &'a DelassusProblem,
+        layout: &'a FrictionLayout3d,
+        thr: &'a [[f64; 2]],
+    ) -> Self {
+        let n = problem.q.len();
+        let rho = (0..n)
+            .map(|i| {
+                let d = problem.w[(i, i)];
+                if d > 0.0 && d.is_finite() {
+                    1.0 / d
+                } else {
+                    1.0
+                }
+            })
+            .collect();
+        Self {
+            problem,
+            layout,
+            thr,
+            rho,
+        }
+    }
+
+    fn n(&self) -> usize {
+        self.problem.q.len()
+    }
+
+    fn k(&self) -> usize {
+        self.problem.g_mat.ncols()
+    }
+
+    /// y = W λ + q + G α.
+    fn gaps(&self, x: &[f64]) -> Vec<f64> {
+        let (n, k) = (self.n(), self.k());
+        let mut y = self.problem.q.clone();
+        for (j, &l) in x[..n].iter().enumerate() {
+            if l != 0.0 {
+                for (i, yi) in y.iter_mut().enumerate() {
+                    *yi += self.problem.w[(i, j)] * l;
+                }
+            }
+        }
+        for j in 0..k {
+            let a = x[n + j];
+            for (i, yi) in y.iter_mut().enumerate() {
+                *yi += self.problem.g_mat[(i, j)] * a;
+            }
+        }
+        y
+    }
+
+    /// The Alart–Curnier residual F(x) and, if asked, its generalised
+    /// Jacobian (rows: the n forces, then the k equilibrium equations).
+    fn residual(&self, x: &[f64], scale: Scale, jac: Option<&mut Mat<f64>>) -> Vec<f64> {
+        let (n, k) = (self.n(), self.k());
+        let m = self.layout.n_points();
+        let w = &self.problem.w;
+        let gm = &self.problem.g_mat;
+        let y = self.gaps(x);
+        let mut f = vec![0.0; n + k];
+        let mut jac = jac;
+        if let Some(j) = jac.as_deref_mut() {
+            j.fill(0.0);
+        }
+        // Row i of [W G] times c into Jacobian row `row`.
+        let add_wg = |j: &mut Mat<f64>, row: usize, i: usize, c: f64| {
+            for col in 0..n {
+                j[(row, col)] += c * w[(i, col)];
+            }
+            for col in 0..k {
+                j[(row, n + col)] += c * gm[(i, col)];
+            }
+        };
+        for p in 0..m {
+            // Normal row.
+            let rn = match scale {
+                Scale::Newton => self.rho[p],
+                Scale::Check(c) => c,
+            };
+            if x[p] - rn * y[p] > 0.0 {
+                f[p] = rn * y[p];
+                if let Some(j) = jac.as_deref_mut() {
+                    add_wg(j, p, p, rn);
+                }
+            } else {
+                f[p] = x[p];
+                if let Some(j) = jac.as_deref_mut() {
+                    j[(p, p)] = 1.0;
+                }
+            }
+            let Some([a, b]) = self.layout.tangent_rows[p] else {
+                continue;
+            };
+            let rt = match scale {
+                Scale::Newton => 0.5 * (self.rho[a] + self.rho[b]),
+                Scale::Check(c) => c,
+            };
+            let g = self.thr[p];
+            let gbar = g[0].max(g[1]);
+            if gbar.is_infinite() {
+                // No bound: stuck, Δs = 0.
+                f[a] = rt * y[a];
+                f[b] = rt * y[b];
+                if let Some(j) = jac.as_deref_mut() {
+                    add_wg(j, a, a, rt);
+                    add_wg(j, b, b, rt);
+                }
+                continue;
+            }
+            if gbar <= 0.0 {
+                f[a] = x[a];
+                f[b] = x[b];
+                if let Some(j) = jac.as_deref_mut() {
+                    j[(a, a)] = 1.0;
+                    j[(b, b)] = 1.0;
+                }
+                continue;
+            }
+            // Scaled to the unit disc: ν = D⁺ λ_t, z = ν − c D Δs, F = λ_t − D proj(z).
+            let c = rt / (gbar * gbar);
+            let dinv = [
+                if g[0] > 0.0 { 1.0 / g[0] } else { 0.0 },
+                if g[1] > 0.0 { 1.0 / g[1] } else { 0.0 },
+            ];
+            let rows = [a, b];
+            let z = [
+                dinv[0] * x[a] - c * g[0] * y[a],
+                dinv[1] * x[b] - c * g[1] * y[b],
+            ];
+            let nz = z[0].hypot(z[1]);
+            let (pz, dp) = if nz <= 1.0 {
+                (z, [[1.0, 0.0], [0.0, 1.0]])
+            } else {
+                let u = [z[0] / nz, z[1] / nz];
+                (
+                    u,
+                    [
+                        [(1.0 - u[0] * u[0]) / nz, -u[0] * u[1] / nz],
+                        [-u[1] * u[0] / nz, (1.0 - u[1] * u[1]) / nz],
+                    ],
+                )
+            };
+            for i in 0..2 {
+                f[rows[i]] = x[rows[i]] - g[i] * pz[i];
+            }
+            if let Some(j) = jac.as_deref_mut() {
+                // dF_i = dλ_i − g_i Σ_l dp[i][l] (dinv_l dλ_l − c g_l d(Δs_l)).
+                for i in 0..2 {
+                    let row = rows[i];
+                    j[(row, row)] += 1.0;
+                    for l in 0..2 {
+                        let coef = g[i] * dp[i][l];
+                        if coef == 0.0 {
+                            continue;
+                        }
+                        j[(row, rows[l])] -= coef * dinv[l];
+                        add_wg(j, row, rows[l], coef * c * g[l]);
+                    }
+                }
+            }
+        }
+        // Equilibrium of the rigid modes: Gᵀ λ = e.
+        for jj in 0..k {
+            let mut s = -self.problem.e[jj];
+            for i in 0..n {
+                s += gm[(i, jj)] * x[i];
+            }
+            f[n + jj] = s;
+            if let Some(j) = jac.as_deref_mut() {
+                for i in 0..n {
+                    j[(n + jj, i)] = gm[(i, jj)];
+                }
+            }
+        }
+        f
+    }
+
+    /// The scaled natural residual: max over the rows of |F_check| / F.
+    fn check(&self, x: &[f64], opts: &FrictionOptions) -> f64 {
+        let n = self.n();
+        let fs = opts
+            .force_scale
+            .max(x[..n].iter().fold(0.0f64, |a, v| a.max(v.abs())))
+            .max(f64::MIN_POSITIVE);
+        let c = fs / opts.gap_scale.max(f64::MIN_POSITIVE);
+        let f = self.residual(x, Scale::Check(c), None);
+        f.iter().fold(0.0f64, |a, v| a.max(v.abs())) / fs
+    }
+
+    /// Accelerated projected gradient (FISTA with adaptive restart) on
+    /// ½ λᵀ W λ + qᵀ λ over the product of half-lines and ellipses; no
+    /// floating body.
+    fn projected_gradient(&self, x: &mut [f64], iterations: usize) {
+        let n = self.n();
+        let m = self.layout.n_points();
+        let w = &self.problem.w;
+        // Gershgorin bound on the largest eigenvalue of W.
+        let lip = (0..n)
+            .map(|i| (0..n).map(|j| w[(i, j)].abs()).sum::<f64>())
+            .fold(0.0f64, f64::max)
+            .max(f64::MIN_POSITIVE);
+        let project = |v: &mut [f64]| {
+            for p in 0..m {
+                v[p] = v[p].max(0.0);
+                if let Some([a, b]) = self.layout.tangent_rows[p] {
+                    let r = project_ellipse([v[a], v[b]], self.thr[p]);
+                    v[a] = r[0];
+                    v[b] = r[1];
+                }
+            }
+        };
+        project(x);
+        let mut prev = x.to_vec();
+        let mut ypt = x.to_vec();
+        let mut t = 1.0f64;
+        for _ in 0..iterations {
+            let grad = self.gaps(&ypt);
+            let mut next: Vec<f64> = (0..n).map(|i| ypt[i] - grad[i] / lip).collect();
+            project(&mut next);
+            // Restart when the momentum points uphill.
+            let uphill: f64 = (0..n).map(|i| grad[i] * (next[i] - prev[i])).sum();
+            let t_next = if uphill > 0.0 {
+                1.0
+            } else {
+                0.5 * (1.0 + (1.0 + 4.0 * t * t).sqrt())
+            };
+            let beta = if uphill > 0.0 {
+                0.0
+            } else {
+                (t - 1.0) / t_next
+            };
+            for i in 0..n {
+                ypt[i] = next[i] + beta * (next[i] - prev[i]);
+            }
+            prev = next;
+            t = t_next;
+        }
+        x[..n].copy_from_slice(&prev);
+    }
+}
+
+/// Result of one inner (fixed-threshold) solve.
+struct InnerResult {
+    forces: Vec<f64>,
+    gaps: Vec<f64>,
+    iterations: usize,
+    converged: bool,
+    reason: String,
+}
+
+/// Semi-smooth Newton on the Alart–Curnier equations with fixed semi-axes
+/// `thr`, from the forces `start`.
+fn solve_inner(
+    problem: &DelassusProblem,
+    layout: &FrictionLayout3d,
+    thr: &[[f64; 2]],
+    start: &[f64],
+    opts: &FrictionOptions,
+) -> Result<InnerResult, ContactError> {
+    let inner = Inner::new(problem, layout, thr);
+    let (n, k) = (inner.n(), inner.k());
+    let mut x = vec![0.0; n + k];
+    x[..n].copy_from_slice(start);
+    let mut jac = Mat::<f64>::zeros(n + k, n + k);
+    let mut fallbacks = 0usize;
+    let merit = |f: &[f64]| 0.5 * f.iter().map(|v| v * v).sum::<f64>();
+    let mut iterations = 0;
+    let mut reason = format!("iteration limit {} reached", opts.max_iterations);
+    let mut converged = false;
+    for it in 0..opts.max_iterations {
+        let res = inner.check(&x, opts);
+        if res <= opts.tolerance {
+            converged = true;
+            reason = format!("natural residual {res:.2e} after {it} Newton iterations");
+            break;
+        }
+        iterations = it + 1;
+        let f = inner.residual(&x, Scale::Newton, Some(&mut jac));
+        let psi = merit(&f);
+        let rhs = Mat::<f64>::from_fn(n + k, 1, |i, _| -f[i]);
+        let dx = jac.full_piv_lu().solve(&rhs);
+        let step_ok = (0..n + k).all(|i| dx[(i, 0)].is_finite());
+        let mut accepted = false;
+        if step_ok {
+            let mut t = 1.0;
+            for _ in 0..30 {
+                let trial: Vec<f64> = (0..n + k).map(|i| x[i] + t * dx[(i, 0)]).collect();
+                let ft = inner.residual(&trial, Scale::Newton, None);
+                if merit(&ft) <= (1.0 - 1e-4 * t) * psi {
+                    x = trial;
+                    accepted = true;
+                    break;
+                }
+                t *= 0.5;
+            }
+        }
+        if accepted {
+            continue;
+        }
+        fallbacks += 1;
+        if k == 0 {
+            // Globalisation: accelerated projected gradient, then Newton again.
+            inner.projected_gradient(&mut x, 200 * fallbacks);
+        } else if step_ok && fallbacks <= 5 {
+            // Floating bodies: no projection on the equilibrium; take the full
+            // (non-monotone) Newton step.
+            for i in 0..n + k {
+                x[i] += dx[(i, 0)];
+            }
+        } else {
+            reason = if step_ok {
+                "the Newton line search failed repeatedly (floating bodies: no fallback)".into()
+            } else {
+                return Err(ContactError::Singular(
+                    "friction 3D: singular Newton system (a floating body not held by the contact and friction forces?)".into(),
+                ));
+            };
+            break;
+        }
+    }
+    if !converged {
+        let res = inner.check(&x, opts);
+        if res <= opts.tolerance {
+            converged = true;
+            reason = format!("natural residual {res:.2e} after {iterations} Newton iterations");
+        }
+    }
+    let gaps = inner.gaps(&x);
+    x.truncate(n);
+    Ok(InnerResult {
+        forces: x,
+        gaps,
+        iterations,
+        converged,
+        reason,
+    })
+}
+
+/// Statuses: open (λ_n ≤ tol), slip (‖Δs‖ > tol, the force on the boundary
+/// of the disc / ellipse), stick otherwise (in contact, and sticking if the
+/// point has friction).
+fn statuses(
+    layout: &FrictionLayout3d,
+    r: &[f64],
+    g: &[f64],
+    opts: &FrictionOptions,
+) -> Vec<PointStatus> {
+    let lmax = r.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+    let tol_f = opts.tolerance * opts.force_scale.max(lmax);
+    let tol_g = opts.tolerance * opts.gap_scale;
+    (0..layout.n_points())
+        .map(|p| {
+            if r[p] <= tol_f {
+                PointStatus::Open
+            } else {
+                match layout.tangent_rows[p] {
+                    Some([a, b]) if g[a].hypot(g[b]) > tol_g => PointStatus::Slip,
+                    _ => PointStatus::Stick,
+                }
+            }
+        })
+        .collect()
+}
+
+/// Friction in 3D: Tresca (and frictionless) points in one convex solve,
+/// Coulomb by the fixed point on the thresholds g ← μ λ_n (seed §4.3),
+/// started from `start` (the previous step's forces, all rows) or from the
+/// solution with every frictional point stuck (so that a body held by
+/// friction alone can start). The fixed point stops when
+/// max |Δλ_n| / max(force_scale, ‖λ‖∞) ≤ tolerance; each inner problem stops
+/// on its scaled natural residual. `iterations` counts the Newton iterations
+/// of all inner solves.
+///
+/// With floating bodies, the rigid-mode amplitudes α used by
+/// [`DelassusProblem::displacement`] are those of a final linear solve with
+/// the statuses found (closed normal rows and stuck tangential rows: zero
+/// gap; other rows: the forces found); if that system is singular (e.g. every
+/// point of a friction-held body slips), α is left from the previous solve.
+pub fn friction_3d(
+    problem: &mut DelassusProblem,
+    layout: &FrictionLayout3d,
+    start: Option<&[f64]>,
+    opts: &FrictionOptions,
+) -> Result<FrictionOutcome, ContactError> {
+    let out = solve_3d(problem, layout, start, opts)?;
+    if problem.n_kernel() > 0 {
+        let mut eqs: Vec<VarEquation> = out.forces.iter().map(|&v| VarEquation::Value(v)).collect();
+        for (p, st) in out.statuses.iter().enumerate() {
+            if *st == PointStatus::Open {
+                continue;
+            }
+            eqs[p] = VarEquation::Gap;
+            if let (PointStatus::Stick, Some(rows)) = (st, layout.tangent_rows[p]) {
+                for t in rows {
+                    eqs[t] = VarEquation::Gap;
+                }
+            }
+        }
+        let _ = problem.solve_equations(&eqs);
+    }
+    Ok(out)
+}
+
+fn solve_3d(
+    problem: &DelassusProblem,
+    layout: &FrictionLayout3d,
+    start: Option<&[f64]>,
+    opts: &FrictionOptions,
+) -> Result<FrictionOutcome, ContactError> {
+    let n = problem.q.len();
+    layout.validate(n)?;
+    let m = layout.n_points();
+    let mut iterations = 0usize;
+    let mut residuals = Vec::new();
+    let finish = |converged: bool,
+                  res: InnerResult,
+                  iterations: usize,
+                  residuals: Vec<f64>,
+                  reason: String| {
+        FrictionOutcome {
+            converged,
+            iterations,
+            fixed_point_iterations: residuals.len(),
+            fixed_point_residuals: residuals,
+            statuses: statuses(layout, &res.forces, &res.gaps, opts),
+            forces: res.forces,
+            gaps: res.gaps,
+            stopping_reason: reason,
+            cycle_detected: false,
+        }
+    };
+    let mut forces = match start {
+        Some(f) if f.len() == n => f.to_vec(),
+        Some(f) => {
+            return Err(ContactError::Geometry(format!(
+                "friction 3D: {} start forces for {n} rows",
+                f.len()
+            )))
+        }
+        None => vec![0.0; n],
+    };
+    if !layout.has_coulomb() {
+        let thr = layout.thresholds(&forces);
+        let res = solve_inner(problem, layout, &thr, &forces, opts)?;
+        let reason = format!("Tresca: {}", res.reason);
+        let conv = res.converged;
+        let it = res.iterations;
+        return Ok(finish(conv, res, it, residuals, reason));
+    }
+    if start.is_none() {
+        let stuck = vec![[f64::INFINITY; 2]; m];
+        let res = solve_inner(problem, layout, &stuck, &forces, opts)?;
+        iterations += res.iterations;
+        forces = res.forces;
+    }
+    let mut last: Option<InnerResult> = None;
+    for outer in 0..opts.max_fixed_point {
+        let thr = layout.thresholds(&forces);
+        let res = solve_inner(problem, layout, &thr, &forces, opts)?;
+        iterations += res.iterations;
+        let fscale = opts
+            .force_scale
+            .max(res.forces.iter().fold(0.0f64, |a, v| a.max(v.abs())))
+            .max(f64::MIN_POSITIVE);
+        let change = (0..m).fold(0.0f64, |a, p| a.max((res.forces[p] - forces[p]).abs())) / fscale;
+        residuals.push(change);
+        forces.clone_from(&res.forces);
+        if change <= opts.tolerance {
+            let (conv, reason) = if res.converged {
+                (
+                    true,
+                    format!(
+                        "fixed point on the threshold reached after {} iterations",
+                        outer + 1
+                    ),
+                )
+            } else {
+                (false, format!("inner Tresca problem: {}", res.reason))
+            };
+            return Ok(finish(conv, res, iterations, residuals, reason));
+        }
+        last = Some(res);
+    }
+    let reason = format!(
+        "fixed point on the threshold not reached in {} iterations",
+        opts.max_fixed_point
+    );
+    let res = last.unwrap_or_else(|| {
+        let mut x = forces.clone();
+        x.resize(n + problem.g_mat.ncols(), 0.0);
+        InnerResult {
+            gaps: Inner::new(problem, layout, &[]).gaps(&x),
+            forces,
+            iterations: 0,
+            converged: false,
+            reason: String::new(),
+        }
+    });
+    Ok(finish(false, res, iterations, residuals, reason))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn opts() -> FrictionOptions {
+        FrictionOptions {
+            max_iterations: 100,
+            max_fixed_point: 200,
+            tolerance: 1e-12,
+            force_scale: 1.0,
+            gap_scale: 1.0,
+        }
+    }
+
+    fn one_point_layout(law: Law3d) -> FrictionLayout3d {
+        FrictionLayout3d {
+            tangent_rows: vec![Some([1, 2])],
+            law: vec![law],
+        }
+    }
+
+    /// W = diag(kn, kt, kt), pushed by a penetration d, driven by s0 along (cos θ, sin θ).
+    fn one_point(kn: f64, kt: f64, d: f64, s0: f64, theta: f64) -> DelassusProblem {
+        let w = Mat::<f64>::from_fn(3, 3, |i, j| match (i, j) {
+            (0, 0) => kn,
+            (1, 1) | (2, 2) => kt,
+            _ => 0.0,
+        });
+        DelassusProblem::from_operator(w, vec![-d, s0 * theta.cos(), s0 * theta.sin()])
+    }
+
+    #[test]
+    fn a_point_sticks_below_the_cone_and_slips_on_it_in_any_direction() {
+        let (kn, kt, d, mu) = (5.0, 2.0, 0.6, 0.5);
+        let ln = d / kn; // 0.12, threshold μ λ_n = 0.06
+        for k in 0..12 {
+            let theta = 0.37 + k as f64 * std::f64::consts::PI / 6.0;
+            let dir = [theta.cos(), theta.sin()];
+            let law = Law3d::Coulomb { mu: [mu, mu] };
+            // Drive 0.02: the stuck reaction s0 / kt = 0.01 < 0.06.
+            let mut p = one_point(kn, kt, d, 0.02, theta);
+            let out = friction_3d(&mut p, &one_point_layout(law), None, &opts()).unwrap();
+            assert!(out.converged, "{}", out.stopping_reason);
+            assert_eq!(out.statuses, vec![PointStatus::Stick]);
+            assert!((out.forces[0] - ln).abs() < 1e-12 * ln);
+            for (i, di) in dir.iter().enumerate() {
+                assert!(
+                    (out.forces[1 + i] + 0.01 * di).abs() < 1e-12,
+                    "{:?}",
+                    out.forces
+                );
+                assert!(out.gaps[1 + i].abs() < 1e-12);
+            }
+            // Drive 0.2: s0 / kt = 0.1 > 0.06: slips by 0.2 − kt · 0.06 = 0.08.
+            let mut p = one_point(kn, kt, d, 0.2, theta);
+            let out = friction_3d(&mut p, &one_point_layout(law), None, &opts()).unwrap();
+            assert!(out.converged, "{}", out.stopping_reason);
+            assert_eq!(out.statuses, vec![PointStatus::Slip]);
+            let lt = [out.forces[1], out.forces[2]];
+            let s = [out.gaps[1], out.gaps[2]];
+            assert!((lt[0].hypot(lt[1]) - mu * out.forces[0]).abs() < 1e-9 * mu * ln);
+            for i in 0..2 {
+                assert!(
+                    (lt[i] + mu * ln * dir[i]).abs() < 1e-12,
+                    "θ {theta}: {lt:?}"
+                );
+                assert!((s[i] - 0.08 * dir[i]).abs() < 1e-12, "θ {theta}: {s:?}");
+            }
+            // Exactly opposite to the slip.
+            let cross = lt[0] * s[1] - lt[1] * s[0];
+            assert!(cross.abs() < 1e-12 * lt[0].hypot(lt[1]) * s[0].hypot(s[1]));
+            assert!(lt[0] * s[0] + lt[1] * s[1] < 0.0);
+            assert!(out.fixed_point_residuals.last().unwrap() <= &1e-12);
+        }
+    }
+
+    #[test]
+    fn tresca_point_slips_at_its_threshold() {
+        let mut p = one_point(5.0, 2.0, 0.6, 0.1, 1.0);
+        let out = friction_3d(
+            &mut p,
+            &one_point_layout(Law3d::Tresca(0.03)),
+            None,
+            &opts(),
+        )
+        .unwrap();
+        assert!(out.converged);
+        assert_eq!(out.statuses, vec![PointStatus::Slip]);
+        assert!((out.forces[1].hypot(out.forces[2]) - 0.03).abs() < 1e-12);
+        assert!((out.gaps[1].hypot(out.gaps[2]) - (0.1 - 2.0 * 0.03)).abs() < 1e-12);
+        assert_eq!(out.fixed_point_iterations, 0);
+    }
+
+    /// The elliptic cone: the force on (λ1/μ1)² + (λ2/μ2)² = λ_n², its outward
+    /// normal (λ1/μ1², λ2/μ2²) along −Δs.
+    fn check_ellipse_slip(lt: [f64; 2], s: [f64; 2], a: [f64; 2]) {
+        let phi = (lt[0] / a[0]).powi(2) + (lt[1] / a[1]).powi(2);
+        assert!((phi - 1.0).abs() < 1e-9, "φ = {phi}");
+        let nrm = [lt[0] / (a[0] * a[0]), lt[1] / (a[1] * a[1])];
+        let cross = nrm[0] * s[1] - nrm[1] * s[0];
+        let size = nrm[0].hypot(nrm[1]) * s[0].hypot(s[1]);
+        assert!(cross.abs() < 1e-9 * size, "normal {nrm:?}, slip {s:?}");
+        assert!(nrm[0] * s[0] + nrm[1] * s[1] < 0.0);
+    }
+
+    #[test]
+    fn elliptic_cone_bounds_each_direction_by_its_coefficient() {
+        let (kn, kt, d) = (5.0, 2.0, 0.6);
+        let ln = d / kn;
+        let law = Law3d::Coulomb { mu: [0.3, 0.1] };
+        for (theta, mu) in [(0.0, 0.3), (std::f64::consts::FRAC_PI_2, 0.1)] {
+            let mut p = one_point(kn, kt, d, 1.0, theta);
+            let out = friction_3d(&mut p, &one_point_layout(law), None, &opts()).unwrap();
+            assert!(out.converged, "{}", out.stopping_reason);
+            assert_eq!(out.statuses, vec![PointStatus::Slip]);
+            let lt = out.forces[1].hypot(out.forces[2]);
+            assert!((lt - mu * ln).abs() < 1e-9 * mu * ln, "{:?}", out.forces);
+        }
+        // A diagonal drive: not along the force, but along the ellipse's normal.
+        let mut p = one_point(kn, kt, d, 1.0, std::f64::consts::FRAC_PI_4);
+        let out = friction_3d(&mut p, &one_point_layout(law), None, &opts()).unwrap();
+        assert!(out.converged, "{}", out.stopping_reason);
+        assert_eq!(out.statuses, vec![PointStatus::Slip]);
+        let lt = [out.forces[1], out.forces[2]];
+        let s = [out.gaps[1], out.gaps[2]];
+        check_ellipse_slip(lt, s, [0.3 * out.forces[0], 0.1 * out.forces[0]]);
+        // The slip is not parallel to the force.
+        assert!((lt[0] * s[1] - lt[1] * s[0]).abs() > 1e-3 * lt[0].hypot(lt[1]) * s[0].hypot(s[1]));
+    }
+
+    #[test]
+    fn a_coupled_point_slips_opposite_to_its_slip() {
+        // A full SPD W (normal-tangential coupling): fixed point needed.
+        let w = Mat::<f64>::from_fn(3, 3, |i, j| {
+            [[4.0, 0.8, -0.5], [0.8, 2.0, 0.3], [-0.5, 0.3, 1.5]][i][j]
+        });
+        for mu in [[0.4, 0.4], [0.5, 0.2]] {
+            let mut p = DelassusProblem::from_operator(w.clone(), vec![-1.0, 0.7, -0.4]);
+            let out = friction_3d(
+                &mut p,
+                &one_point_layout(Law3d::Coulomb { mu }),
+                None,
+                &opts(),
+            )
+            .unwrap();
+            assert!(out.converged, "{}", out.stopping_reason);
+            assert_eq!(out.statuses, vec![PointStatus::Slip]);
+            assert!(out.gaps[0].abs() < 1e-12);
+            let a = [mu[0] * out.forces[0], mu[1] * out.forces[0]];
+            check_ellipse_slip(
+                [out.forces[1], out.forces[2]],
+                [out.gaps[1], out.gaps[2]],
+                a,
+            );
+        }
+    }
+
+    /// Pseudo-random numbers in [−1, 1).
+    struct Lcg(u64);
+    impl Lcg {
+        fn next(&mut self) -> f64 {
+            self.0 = self
+                .0
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            ((self.0 >> 11) as f64 / (1u64 << 53) as f64) * 2.0 - 1.0
+        }
+    }
+
+    fn random_problem(m: usize, seed: u64) -> (DelassusProblem, FrictionLayout3d) {
+        let n = 3 * m;
+        let mut rng = Lcg(seed);
+        let a = Mat::<f64>::from_fn(n, n, |_, _| rng.next());
+        let mut w = &a * a.transpose();
+        for i in 0..n {
+            w[(i, i)] += 0.1 * n as f64;
+        }
+        let q: Vec<f64> = (0..n)
+            .map(|i| {
+                if i < m {
+                    rng.next() - 0.3
+                } else {
+                    0.5 * rng.next()
+                }
+            })
+            .collect();
+        let layout = FrictionLayout3d {
+            tangent_rows: (0..m).map(|p| Some([m + 2 * p, m + 2 * p + 1])).collect(),
+            law: (0..m)
+                .map(|p| match p % 3 {
+                    0 => Law3d::Coulomb { mu: [0.3, 0.3] },
+                    1 => Law3d::Coulomb { mu: [0.6, 0.15] },
+                    _ => Law3d::Coulomb { mu: [0.1, 0.4] },
+                })
+                .collect(),
+        };
+        (DelassusProblem::from_operator(w, q), layout)
+    }
+
+    /// Every condition of the law at every point, to `tol` (relative to the
+    /// largest force and gap).
+    fn check_conditions(out: &FrictionOutcome, layout: &FrictionLayout3d, tol: f64) {
+        let fs = out.forces.iter().fold(1.0f64, |a, v| a.max(v.abs()));
+        let gs = out.gaps.iter().fold(1.0f64, |a, v| a.max(v.abs()));
+        for (p, (rows, law)) in layout.tangent_rows.iter().zip(&layout.law).enumerate() {
+            let (ln, gn) = (out.forces[p], out.gaps[p]);
+            assert!(
+                ln >= -tol * fs && gn >= -tol * gs,
+                "point {p}: λ {ln}, g {gn}"
+            );
+            assert!(
+                (ln * gn).abs() <= tol * fs * gs,
+                "point {p}: λ g = {}",
+                ln * gn
+            );
+            let (Some([a, b]), Law3d::Coulomb { mu }) = (rows, law) else {
+                continue;
+            };
+            let lt = [out.forces[*a], out.forces[*b]];
+            let s = [out.gaps[*a], out.gaps[*b]];
+            let ax = [mu[0] * ln.max(0.0), mu[1] * ln.max(0.0)];
+            if ax[0] <= tol * fs {
+                assert!(lt[0].hypot(lt[1]) <= tol * fs);
+                continue;
+            }
+            let phi = ((lt[0] / ax[0]).powi(2) + (lt[1] / ax[1]).powi(2)).sqrt();
+            // Distances to the boundary in force units.
+            let amin = ax[0].min(ax[1]);
+            assert!(
+                (phi - 1.0) * amin <= tol * fs,
+                "point {p}: outside the cone, φ = {phi}"
+            );
+            match out.statuses[p] {
+                PointStatus::Stick => {
+                    assert!(s[0].hypot(s[1]) <= tol * gs, "point {p}: stuck slips {s:?}")
+                }
+                PointStatus::Slip => {
+                    assert!(
+                        (phi - 1.0).abs() * amin <= tol * fs,
+                        "point {p}: slip inside the cone, φ = {phi}"
+                    );
+                    // Δs = −γ ∇φ: maximal dissipation.
+                    let nrm = [lt[0] / (ax[0] * ax[0]), lt[1] / (ax[1] * ax[1])];
+                    let size = nrm[0].hypot(nrm[1]) * s[0].hypot(s[1]);
+                    let angle = tol * (fs / amin + gs / s[0].hypot(s[1]));
+                    assert!(
+                        (nrm[0] * s[1] - nrm[1] * s[0]).abs() <= angle * size,
+                        "point {p}: slip {s:?} not along the normal {nrm:?}"
+                    );
+                    assert!(nrm[0] * s[0] + nrm[1] * s[1] < 0.0);
+                }
+                st => panic!("point {p}: unexpected status {st:?}"),
+            }
+        }
+    }
+
+    #[test]
+    fn random_problems_satisfy_every_condition() {
+        let mut seen_slip = 0;
+        let mut seen_stick = 0;
+        let mut seen_open = 0;
+        for (m, seed) in [(2, 1), (3, 2), (5, 3), (8, 4), (20, 5), (40, 6)] {
+            let (mut p, layout) = random_problem(m, seed);
+            let mut o = opts();
+            o.tolerance = 1e-10;
+            let out = friction_3d(&mut p, &layout, None, &o).unwrap();
+            assert!(out.converged, "m = {m}: {}", out.stopping_reason);
+            check_conditions(&out, &layout, 1e-8);
+            for st in &out.statuses {
+                match st {
+                    PointStatus::Slip => seen_slip += 1,
+                    PointStatus::Stick => seen_stick += 1,
+                    _ => seen_open += 1,
+                }
+            }
+            // Restarted from its own answer: converges at once to the same forces.
+            let again = friction_3d(&mut p, &layout, Some(&out.forces), &o).unwrap();
+            assert!(again.converged);
+            assert!(again.fixed_point_iterations <= 2);
+            for (x, y) in again.forces.iter().zip(&out.forces) {
+                assert!((x - y).abs() < 1e-8);
+            }
+        }
+        assert!(
+            seen_slip > 0 && seen_stick > 0 && seen_open > 0,
+            "{seen_slip} {seen_stick} {seen_open}"
+        );
+    }
+
+    #[test]
+    fn zero_friction_equals_the_frictionless_answer() {
+        let m = 6;
+        let (p, mut layout) = random_problem(m, 11);
+        for law in layout.law.iter_mut() {
+            *law = Law3d::Coulomb { mu: [0.0, 0.0] };
+        }
+        let mut pf = DelassusProblem::from_operator(p.w.clone(), p.q.clone());
+        let out = friction_3d(&mut pf, &layout, None, &opts()).unwrap();
+        assert!(out.converged, "{}", out.stopping_reason);
+        // Frictionless: only the normal rows, W_nn.
+        let wn = Mat::<f64>::from_fn(m, m, |i, j| p.w[(i, j)]);
+        let mut pn = DelassusProblem::from_operator(wn, p.q[..m].to_vec());
+        let none = FrictionLayout3d {
+            tangent_rows: vec![None; m],
+            law: vec![Law3d::None; m],
+        };
+        let plain = friction_3d(&mut pn, &none, None, &opts()).unwrap();
+        assert!(plain.converged);
+        for i in 0..m {
+            assert!((out.forces[i] - plain.forces[i]).abs() < 1e-10, "{i}");
+            assert!((out.gaps[i] - plain.gaps[i]).abs() < 1e-10, "{i}");
+        }
+        assert!(out.forces[m..].iter().all(|v| v.abs() < 1e-12));
+        // And it is the LCP answer.
+        let lcp =
+            crate::lcp::lcp_residual(&pn.w, &pn.q, &plain.forces, &crate::LcpOptions::default());
+        assert!(lcp < 1e-10);
+    }
+
+    #[test]
+    fn a_floating_body_held_by_friction_alone() {
+        // One node resting on a plane: stiff normally, free tangentially (the
+        // kernel: translations x, y). Load (fx, fy, −fn).
+        let s = Mat::<f64>::from_fn(3, 3, |i, j| if i == j && i == 2 { 5.0 } else { 0.0 });
+        let kernel = Mat::<f64>::from_fn(3, 2, |i, j| if i == j { 1.0 } else { 0.0 });
+        let rows = vec![vec![(2, 1.0)], vec![(0, 1.0)], vec![(1, 1.0)]];
+        let (fx, fy, fn_) = (0.3, -0.2, 2.0);
+        let mut p = DelassusProblem::new(&s, &rows, &[0.0; 3], &[fx, fy, -fn_], &kernel).unwrap();
+        assert_eq!(p.n_kernel(), 2);
+        let law = Law3d::Coulomb { mu: [0.5, 0.5] };
+        let out = friction_3d(&mut p, &one_point_layout(law), None, &opts()).unwrap();
+        assert!(out.converged, "{}", out.stopping_reason);
+        assert_eq!(out.statuses, vec![PointStatus::Stick]);
+        assert!((out.forces[0] - fn_).abs() < 1e-12);
+        assert!((out.forces[1] + fx).abs() < 1e-12 && (out.forces[2] + fy).abs() < 1e-12);
+        assert!(out.gaps[1].abs() < 1e-12 && out.gaps[2].abs() < 1e-12);
+    }
+}

@@ -1,0 +1,207 @@
+//! Friction in 3D (seed §4.1.1–4.1.2, §4.3; VALIDATION.md §5): two tangents
+//! per contact point, the Tresca disc, the isotropic and the elliptic
+//! Coulomb cone, on a box on a rigid plane.
+
+mod common;
+
+use common::{converged, example};
+use signorini_solver::{RunOptions, RunOutput};
+
+/// A 1 × 1 × 0.5 box on the rigid plane z = 0, its top pressed down by
+/// 0.01 and, at step 2, moved by `drag` (x, y), or loaded by the traction
+/// `traction` instead.
+fn box_scene(friction: &str, drag: [f64; 2], top_traction: Option<[f64; 3]>) -> String {
+    let load = match top_traction {
+        Some([tx, ty, tz]) => format!(
+            "[[boundary]]\nname = \"load\"\nbody = \"box\"\nsurface = \"zmax\"\ntraction = [{tx}, {ty}, {tz}]\n"
+        ),
+        None => format!(
+            "[[boundary]]\nname = \"press\"\nbody = \"box\"\nsurface = \"zmax\"\ndisplacement = {{ z = -0.01 }}\n\n[[boundary]]\nname = \"drag\"\nbody = \"box\"\nsurface = \"zmax\"\ndisplacement = {{ x = {}, y = {} }}\n\n[[steps]]\nscale = {{ drag = 0.0 }}\n\n[[steps]]\nscale = {{ drag = 1.0 }}\n",
+            drag[0], drag[1]
+        ),
+    };
+    format!(
+        r#"dimension = 3
+model = "solid"
+[[materials]]
+name = "m"
+young = 100.0
+poisson = 0.3
+[[bodies]]
+name = "box"
+material = "m"
+mesh = {{ generator = "box", origin = [0.0, 0.0, 0.0], size = [1.0, 1.0, 0.5], divisions = [3, 3, 2] }}
+[[bodies]]
+name = "floor"
+rigid = {{ shape = "plane", point = [0.0, 0.0, 0.0], normal = [0.0, 0.0, 1.0] }}
+{load}
+[[contact]]
+name = "c"
+slave = {{ body = "box", surface = "zmin" }}
+master = {{ body = "floor" }}
+discretization = "node_to_face"
+friction = {friction}
+"#
+    )
+}
+
+/// Normal and tangential (x, y) resultants of the contact forces on the box
+/// at the last step.
+fn resultants(out: &RunOutput) -> (f64, f64, f64) {
+    let f = &out.report.contact_force;
+    (f[2], f[0], f[1])
+}
+
+/// Every slipping point lies on its cone (‖(λ_t1/μ1, λ_t2/μ2)‖ = λ_n) with
+/// its tangential force opposite to its slip increment (maximal dissipation
+/// on an isotropic cone); returns the number of slipping points.
+fn slip_points_on_the_cone(out: &RunOutput, mu: [f64; 2], step: usize) -> usize {
+    let n_max = out
+        .contact_rows
+        .iter()
+        .fold(0.0f64, |a, r| a.max(r.normal_force));
+    let mut slipping = 0;
+    for r in out
+        .contact_rows
+        .iter()
+        .filter(|r| r.step == step && r.status == "slip")
+    {
+        let (t1, t2) = (r.tangential_force, r.tangential_force_2);
+        let on = ((t1 / mu[0]).powi(2) + (t2 / mu[1]).powi(2)).sqrt();
+        // in force units along t1 (the certificate's cone measure)
+        assert!(
+            mu[0] * (on - r.normal_force).abs() <= 1e-9 * n_max,
+            "{on} vs {}",
+            r.normal_force
+        );
+        slipping += 1;
+    }
+    slipping
+}
+
+#[test]
+fn box_dragged_past_the_isotropic_cone_slides_with_reaction_mu_n_in_any_direction() {
+    for drag in [[0.1, 0.0], [0.0, 0.1], [0.06, -0.08]] {
+        let out = converged(
+            &box_scene("{ coulomb = 0.3 }", drag, None),
+            RunOptions::default(),
+        );
+        assert_eq!(
+            slip_points_on_the_cone(&out, [0.3, 0.3], 2),
+            16,
+            "drag {drag:?}"
+        );
+        let (n, tx, ty) = resultants(&out);
+        let t = tx.hypot(ty);
+        // every point slips, mostly along the drag (Poisson's effect adds a
+        // small sideways slip that cancels in the resultant): |T| ≈ μN
+        assert!(
+            t <= 0.3 * n * (1.0 + 1e-9) && t >= 0.3 * n * 0.999,
+            "drag {drag:?}: |T| = {t}, 0.3 N = {}",
+            0.3 * n
+        );
+        // opposite to the motion
+        let d = drag[0].hypot(drag[1]);
+        assert!(
+            (tx * drag[0] + ty * drag[1]) / (t * d) < -1.0 + 1e-9,
+            "drag {drag:?}: T = ({tx}, {ty})"
+        );
+        assert!(out.report.certificate.dissipation <= 1e-9);
+        // the same friction in any direction: the same |T|/N up to the
+        // sideways slip, which depends on the direction on a square mesh
+        let x = converged(
+            &box_scene("{ coulomb = 0.3 }", [0.1, 0.0], None),
+            RunOptions::default(),
+        );
+        let (nx, ax, ay) = resultants(&x);
+        assert!((ax.hypot(ay) / nx - t / n).abs() <= 1e-3 * 0.3, "{drag:?}");
+    }
+}
+
+#[test]
+fn elliptic_cone_gives_mu1_along_t1_and_mu2_along_t2() {
+    for (drag, mu) in [([0.1, 0.0], 0.3), ([0.0, 0.1], 0.1)] {
+        let out = converged(
+            &box_scene("{ coulomb = [0.3, 0.1] }", drag, None),
+            RunOptions::default(),
+        );
+        assert_eq!(slip_points_on_the_cone(&out, [0.3, 0.1], 2), 16);
+        let (n, tx, ty) = resultants(&out);
+        let t = tx.hypot(ty);
+        // the sideways (Poisson) slip meets the other coefficient: within 0.5 %
+        assert!(
+            t <= 0.3 * n && (t - mu * n).abs() <= 5e-3 * mu * n,
+            "drag {drag:?}: |T| = {t}, μN = {}",
+            mu * n
+        );
+    }
+}
+
+#[test]
+fn tresca_disc_slip_points_carry_the_threshold() {
+    let g = 0.05;
+    let out = converged(
+        &box_scene(&format!("{{ tresca = {g} }}"), [0.1, 0.05], None),
+        RunOptions::default(),
+    );
+    let rows: Vec<_> = out.contact_rows.iter().filter(|r| r.step == 2).collect();
+    assert!(rows.iter().all(|r| r.status == "slip"));
+    // the resultant of the thresholds g × area is g × 1 (the whole face slides)
+    let (_, tx, ty) = resultants(&out);
+    let t = tx.hypot(ty);
+    assert!(t <= g * (1.0 + 1e-9) && t >= g * 0.999, "{t}");
+    for r in rows {
+        let t = r.tangential_force.hypot(r.tangential_force_2);
+        assert!(t <= g * (1.0 + 1e-9), "{t}");
+    }
+}
+
+#[test]
+fn box_held_by_friction_alone_sticks_below_mu_n_with_the_exact_reaction() {
+    // no support in x, y: the traction (q, q/2, −p) on the top is held by
+    // friction, ‖q‖ < μ p
+    let (p, q) = (1.0, 0.2);
+    let out = converged(
+        &box_scene("{ coulomb = 0.5 }", [0.0, 0.0], Some([q, q / 2.0, -p])),
+        RunOptions::default(),
+    );
+    let (n, tx, ty) = resultants(&out);
+    assert!((n - p).abs() <= 1e-9 * p, "{n}");
+    assert!(
+        (tx + q).abs() <= 1e-9 * p && (ty + q / 2.0).abs() <= 1e-9 * p,
+        "({tx}, {ty})"
+    );
+    assert!(out.contact_rows.iter().all(|r| r.status == "stick"));
+}
+
+#[test]
+fn zero_friction_equals_the_frictionless_answer_in_3d() {
+    let a = converged(
+        &box_scene("{ coulomb = 0.0 }", [0.05, 0.0], None),
+        RunOptions::default(),
+    );
+    let b = converged(
+        &box_scene("\"none\"", [0.05, 0.0], None),
+        RunOptions::default(),
+    );
+    let fa: Vec<f64> = a.contact_rows.iter().map(|r| r.normal_force).collect();
+    let fb: Vec<f64> = b.contact_rows.iter().map(|r| r.normal_force).collect();
+    assert!(common::max_rel(&fa, &fb) <= 1e-9);
+    assert!(a
+        .contact_rows
+        .iter()
+        .all(|r| r.tangential_force == 0.0 || r.tangential_force.abs() <= 1e-12));
+}
+
+#[test]
+fn sliding3d_example_meets_its_reference() {
+    let out = converged(&example("sliding3d.toml"), RunOptions::default());
+    let q = &out.report.reference.as_ref().unwrap().quantities;
+    assert!(
+        q["tangential_reaction"].relative_error <= 1e-3,
+        "{:?}",
+        q["tangential_reaction"]
+    );
+    assert!(out.report.certificate.cone <= 1e-9);
+    assert!(out.report.certificate.dissipation <= 1e-9);
+}
