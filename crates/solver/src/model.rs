@@ -641,8 +641,8 @@ pub fn build_contacts(
                         TermSide::Slave => si,
                         TermSide::Master => mi.expect("a master term needs a deformable master"),
                     };
-                    for k in 0..dim {
-                        let coef = term.weight * tangent[k];
+                    for (k, tk) in tangent.iter().enumerate().take(dim) {
+                        let coef = term.weight * tk;
                         if coef != 0.0 {
                             t.push((b, term.node * dim + k, coef));
                         }
