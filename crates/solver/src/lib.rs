@@ -865,6 +865,11 @@ fn solve_root(
             .collect(),
     };
     let three_d = tangent_row2.iter().any(|t| t.is_some());
+    if three_d && sc.solver.friction == scene::FrictionSolver::Status {
+        return Err(SolveError::Input(
+            "solver.friction: the friction status method (seed §4.5) is 2D only; in 3D friction is solved by the fixed point on the threshold (friction = \"fixed_point\", the default)".into(),
+        ));
+    }
     let has_friction = tangent_row.iter().any(|t| t.is_some());
     let layout = FrictionLayout {
         tangent_row: tangent_row.clone(),
