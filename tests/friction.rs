@@ -442,3 +442,36 @@ fn tiny_loads_give_the_scaled_answer() {
         );
     }
 }
+
+/// Under force control a block pushed past μN has no equilibrium
+/// (VALIDATION.md §5): bad input naming the body and both forces, not a
+/// failing solve.
+#[test]
+fn force_above_mu_n_under_force_control_is_refused_with_the_numbers() {
+    let text = block("{ coulomb = 0.3 }", "{ y = -0.01 }", 0.0, "")
+        .replace("displacement = { y = -0.01 }", "traction = [0.0, -1.0]")
+        .replace("force = [0, 0.0]", "force = [1.0, 0.0]");
+    assert!(text.contains("force = [1.0, 0.0]"), "{text}");
+    match solve(&text) {
+        Err(SolveError::Input(m)) => {
+            assert!(
+                m.contains("\"block\"") && m.contains("exceeds what friction can hold"),
+                "{m}"
+            );
+            assert!(
+                m.contains("6e-1") || m.contains("5.99999"),
+                "μ|N| = 0.6 named: {m}"
+            );
+        }
+        Err(e) => panic!("expected bad input, got {e}"),
+        Ok(_) => panic!("a block pushed past μN under force control has no equilibrium"),
+    }
+    // below μN it sticks with the exact reaction
+    let below = text.replace("force = [1.0, 0.0]", "force = [0.5, 0.0]");
+    let out = converged(&below);
+    let (n, t) = resultants(&out, 1);
+    assert!(
+        (n - 2.0).abs() <= 1e-9 * 2.0 && (t + 0.5).abs() <= 1e-9,
+        "({n}, {t})"
+    );
+}

@@ -205,3 +205,22 @@ fn sliding3d_example_meets_its_reference() {
     assert!(out.report.certificate.cone <= 1e-9);
     assert!(out.report.certificate.dissipation <= 1e-9);
 }
+
+#[test]
+fn force_above_mu_n_under_force_control_is_refused_in_3d() {
+    let text = box_scene(
+        "{ coulomb = [0.3, 0.2] }",
+        [0.0, 0.0],
+        Some([0.5, 0.0, -1.0]),
+    );
+    match common::try_run(&text, RunOptions::default()) {
+        Err(signorini_solver::SolveError::Input(m)) => {
+            assert!(
+                m.contains("\"box\"") && m.contains("exceeds what friction can hold"),
+                "{m}"
+            )
+        }
+        Err(e) => panic!("expected bad input, got {e}"),
+        Ok(_) => panic!("no equilibrium exists"),
+    }
+}

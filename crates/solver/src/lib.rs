@@ -1940,6 +1940,9 @@ fn check_floating_equilibrium(
         // Compressive normal forces alone must balance the load unless
         // friction can help (then the friction solve itself decides).
         let res = if friction { 0.0 } else { nnls(&gt, e).1 };
+        if friction {
+            check_friction_capacity(b, points, bi, fr, step)?;
+        }
         if unheld > 0 {
             return Err(SolveError::Input(format!(
                 "bodies[{}]: body \"{}\" is free to move: {unheld} of its rigid motions are prevented neither by a support nor by its contacts (frictionless contact only holds along the normals); add a [[boundary]] displacement that pins it (e.g. a point with x = 0)",
@@ -1956,6 +1959,61 @@ fn check_floating_equilibrium(
                 fmt_vector(fr)
             )));
         }
+    }
+    Ok(())
+}
+
+/// A floating body on a flat frictional contact (every normal the same),
+/// free to translate along the tangential part R_t of its load resultant R,
+/// needs ‖R_t‖ ≤ μ |R·n| (VALIDATION.md §5: under force control a body
+/// pushed past its friction has no static equilibrium). Exit 1 with the
+/// numbers otherwise, instead of a failing friction solve.
+fn check_friction_capacity(
+    b: &BodyModel,
+    points: &[PointModel],
+    bi: usize,
+    resultant: &[f64],
+    step: usize,
+) -> Result<(), SolveError> {
+    let own: Vec<&PointModel> = points
+        .iter()
+        .filter(|p| p.slave_body == bi && p.trow.is_some())
+        .collect();
+    let Some(first) = own.first() else {
+        return Ok(());
+    };
+    let n = first.point.normal;
+    let flat = own
+        .iter()
+        .all(|p| (0..3).all(|k| (p.point.normal[k] - n[k]).abs() <= 1e-9));
+    let mu = own.iter().try_fold(0.0f64, |m, p| match p.friction {
+        PointFriction::Coulomb { mu, mu2, .. } => Some(m.max(mu).max(mu2)),
+        _ => None,
+    });
+    let (true, Some(mu)) = (flat, mu) else {
+        return Ok(());
+    };
+    let dim = b.mesh.dim;
+    let r: Vec<f64> = (0..3)
+        .map(|k| resultant.get(k).copied().unwrap_or(0.0))
+        .collect();
+    let rn: f64 = (0..3).map(|k| r[k] * n[k]).sum();
+    let rt: Vec<f64> = (0..3).map(|k| r[k] - rn * n[k]).collect();
+    let rt_norm = rt.iter().map(|x| x * x).sum::<f64>().sqrt();
+    let scale = rn.abs().max(rt_norm).max(f64::MIN_POSITIVE);
+    // the translation along R_t must be free: no prescribed DOF along it
+    let free_along = (0..b.n_dof)
+        .filter(|&d| b.prescribed[d])
+        .all(|d| rt[d % dim].abs() <= 1e-12 * scale);
+    if free_along && rt_norm > mu * (-rn).max(0.0) * (1.0 + 1e-9) + 1e-12 * scale {
+        return Err(SolveError::Input(format!(
+            "bodies[{}]: body \"{}\" cannot be in equilibrium at step {}: the tangential part of its load, {rt_norm:e}, exceeds what friction can hold, μ|N| = {:e} (μ = {mu}, normal load {:e}); a body pushed past its friction under force control has no static equilibrium: impose a tangential displacement instead, or add a support",
+            b.scene_index,
+            b.name,
+            step + 1,
+            mu * (-rn).max(0.0),
+            -rn
+        )));
     }
     Ok(())
 }
