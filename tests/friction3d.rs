@@ -224,3 +224,34 @@ fn force_above_mu_n_under_force_control_is_refused_in_3d() {
         Ok(_) => panic!("no equilibrium exists"),
     }
 }
+
+/// Regularised Coulomb (elastic slip k_e, seed §4.1.3) in 3D tends to
+/// Coulomb as k_e grows; a soft k_e lets the box move with less friction
+/// mobilised at the same drag.
+#[test]
+fn regularised_coulomb_tends_to_coulomb_in_3d() {
+    let exact = converged(
+        &box_scene("{ coulomb = 0.3 }", [0.002, 0.001], None),
+        RunOptions::default(),
+    );
+    let (_, ex, ey) = resultants(&exact);
+    let mut previous = f64::INFINITY;
+    for k in [1e2, 1e4, 1e6, 1e8] {
+        let out = converged(
+            &box_scene(
+                &format!("{{ coulomb = 0.3, slip_stiffness = {k:e} }}"),
+                [0.002, 0.001],
+                None,
+            ),
+            RunOptions::default(),
+        );
+        let (_, tx, ty) = resultants(&out);
+        let err = (tx - ex).hypot(ty - ey) / ex.hypot(ey);
+        assert!(
+            err < previous,
+            "k_e = {k:e}: error {err} did not fall below {previous}"
+        );
+        previous = err;
+    }
+    assert!(previous <= 1e-4, "k_e = 1e8: error {previous}");
+}
