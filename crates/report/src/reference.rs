@@ -43,37 +43,7 @@ pub fn hertz_cylinder(nodes: &[NodalPressure], e_star: f64, r: f64) -> Reference
     } else {
         0.0
     };
-    let pressures: Vec<(f64, f64, f64)> = nodes
-        .iter()
-        .filter(|n| n.tributary > 0.0)
-        .map(|n| (n.s - centre, n.force / n.tributary, n.tributary))
-        .collect();
-    let p0_c = pressures.iter().fold(0.0f64, |m, p| m.max(p.1));
-    let a_last = pressures
-        .iter()
-        .filter(|p| p.1 > 0.0)
-        .fold(0.0f64, |m, p| m.max(p.0.abs()));
-    let (mut num, mut den) = (0.0, 0.0);
-    for &(x, p, w) in &pressures {
-        if x.abs() <= a {
-            let pe = p0 * (1.0 - (x / a).powi(2)).max(0.0).sqrt();
-            num += (p - pe).powi(2) * w;
-            den += pe * pe * w;
-        }
-    }
-    let mut q = BTreeMap::new();
-    q.insert("load".to_string(), Quantity::new(total, total));
-    q.insert("p0".to_string(), Quantity::new(p0_c, p0));
-    q.insert("a".to_string(), Quantity::new(a_mom, a));
-    q.insert("a_last_node".to_string(), Quantity::new(a_last, a));
-    q.insert(
-        "profile_l2".to_string(),
-        Quantity {
-            computed: if den > 0.0 { (num / den).sqrt() } else { 0.0 },
-            exact: 0.0,
-            relative_error: if den > 0.0 { (num / den).sqrt() } else { 0.0 },
-        },
-    );
+    let q = hertz_quantities(nodes, centre, total, a_mom, a, p0);
     ReferenceReport {
         kind: "hertz_cylinder".into(),
         quantities: q,
@@ -85,35 +55,23 @@ pub fn hertz_cylinder(nodes: &[NodalPressure], e_star: f64, r: f64) -> Reference
     }
 }
 
-/// Hertz, sphere on a plane (VALIDATION.md §2): with P the total load, E*
-/// the contact modulus and R the relative radius, a = (3PR/(4E*))^(1/3),
-/// p0 = 3P/(2πa²).
-pub fn hertz_sphere_exact(p: f64, e_star: f64, r: f64) -> (f64, f64) {
-    let a = (3.0 * p * r / (4.0 * e_star)).cbrt();
-    (a, 3.0 * p / (2.0 * std::f64::consts::PI * a * a))
-}
-
-/// Compares nodal pressures with the Hertz sphere. `s` of each node is its
-/// distance from the axis of the contact (the radius r in an axisymmetric
-/// model; in 3D the distance from the force-weighted centre in the contact
-/// plane), `tributary` its area (2π r ds in an axisymmetric model). Reports
-/// p0 (max nodal pressure), a from the pressure moment
-/// a_mom = sqrt(5/2 · Σ F r² / Σ F) (exact for the Hertz profile:
-/// ∫p r² dA / ∫p dA = 2a²/5), the last node in contact and the relative L2
-/// error of the profile on r ≤ a.
-pub fn hertz_sphere(nodes: &[NodalPressure], e_star: f64, r: f64) -> ReferenceReport {
-    let total: f64 = nodes.iter().map(|n| n.force).sum();
-    let (a, p0) = hertz_sphere_exact(total, e_star, r);
-    let second: f64 = nodes.iter().map(|n| n.force * n.s * n.s).sum();
-    let a_mom = if total > 0.0 {
-        (2.5 * second / total).sqrt()
-    } else {
-        0.0
-    };
+/// The quantities both Hertz references report, for the profile
+/// p0 sqrt(1 − x²/a²) in the coordinate `s − centre`: the load, p0 (max nodal
+/// pressure = force / tributary measure), a (from the pressure moment,
+/// `a_mom`), the last node in contact, and the relative L2 error of the
+/// profile on |x| ≤ a weighted by the tributary measures.
+fn hertz_quantities(
+    nodes: &[NodalPressure],
+    centre: f64,
+    total: f64,
+    a_mom: f64,
+    a: f64,
+    p0: f64,
+) -> BTreeMap<String, Quantity> {
     let pressures: Vec<(f64, f64, f64)> = nodes
         .iter()
         .filter(|n| n.tributary > 0.0)
-        .map(|n| (n.s, n.force / n.tributary, n.tributary))
+        .map(|n| (n.s - centre, n.force / n.tributary, n.tributary))
         .collect();
     let p0_c = pressures.iter().fold(0.0f64, |m, p| m.max(p.1));
     let a_last = pressures
@@ -142,6 +100,35 @@ pub fn hertz_sphere(nodes: &[NodalPressure], e_star: f64, r: f64) -> ReferenceRe
             relative_error: l2,
         },
     );
+    q
+}
+
+/// Hertz, sphere on a plane (VALIDATION.md §2): with P the total load, E*
+/// the contact modulus and R the relative radius, a = (3PR/(4E*))^(1/3),
+/// p0 = 3P/(2πa²).
+pub fn hertz_sphere_exact(p: f64, e_star: f64, r: f64) -> (f64, f64) {
+    let a = (3.0 * p * r / (4.0 * e_star)).cbrt();
+    (a, 3.0 * p / (2.0 * std::f64::consts::PI * a * a))
+}
+
+/// Compares nodal pressures with the Hertz sphere. `s` of each node is its
+/// distance from the axis of the contact (the radius r in an axisymmetric
+/// model; in 3D the distance from the force-weighted centre in the contact
+/// plane), `tributary` its area (2π r ds in an axisymmetric model). Reports
+/// p0 (max nodal pressure), a from the pressure moment
+/// a_mom = sqrt(5/2 · Σ F r² / Σ F) (exact for the Hertz profile:
+/// ∫p r² dA / ∫p dA = 2a²/5), the last node in contact and the relative L2
+/// error of the profile on r ≤ a.
+pub fn hertz_sphere(nodes: &[NodalPressure], e_star: f64, r: f64) -> ReferenceReport {
+    let total: f64 = nodes.iter().map(|n| n.force).sum();
+    let (a, p0) = hertz_sphere_exact(total, e_star, r);
+    let second: f64 = nodes.iter().map(|n| n.force * n.s * n.s).sum();
+    let a_mom = if total > 0.0 {
+        (2.5 * second / total).sqrt()
+    } else {
+        0.0
+    };
+    let q = hertz_quantities(nodes, 0.0, total, a_mom, a, p0);
     ReferenceReport {
         kind: "hertz_sphere".into(),
         quantities: q,
