@@ -1964,7 +1964,8 @@ fn check_floating_equilibrium(
 }
 
 /// A floating body on a flat frictional contact (every normal the same),
-/// free to translate along the tangential part R_t of its load resultant R,
+/// free to translate along the normal and along the tangential part R_t of
+/// its load resultant R,
 /// needs ‖R_t‖ ≤ μ |R·n| (VALIDATION.md §5: under force control a body
 /// pushed past its friction has no static equilibrium). Exit 1 with the
 /// numbers otherwise, instead of a failing friction solve.
@@ -2001,10 +2002,12 @@ fn check_friction_capacity(
     let rt: Vec<f64> = (0..3).map(|k| r[k] - rn * n[k]).collect();
     let rt_norm = rt.iter().map(|x| x * x).sum::<f64>().sqrt();
     let scale = rn.abs().max(rt_norm).max(f64::MIN_POSITIVE);
-    // the translation along R_t must be free: no prescribed DOF along it
+    // The translations along R_t and along n must be free (no prescribed DOF
+    // along them): otherwise a support carries part of the load, and the
+    // normal force is not known from the load alone.
     let free_along = (0..b.n_dof)
         .filter(|&d| b.prescribed[d])
-        .all(|d| rt[d % dim].abs() <= 1e-12 * scale);
+        .all(|d| rt[d % dim].abs() <= 1e-12 * scale && n[d % dim].abs() <= 1e-12);
     if free_along && rt_norm > mu * (-rn).max(0.0) * (1.0 + 1e-9) + 1e-12 * scale {
         return Err(SolveError::Input(format!(
             "bodies[{}]: body \"{}\" cannot be in equilibrium at step {}: the tangential part of its load, {rt_norm:e}, exceeds what friction can hold, μ|N| = {:e} (μ = {mu}, normal load {:e}); a body pushed past its friction under force control has no static equilibrium: impose a tangential displacement instead, or add a support",
