@@ -227,14 +227,7 @@ impl<'a> Inner<'a> {
     /// y = W λ + q + G α.
     fn gaps(&self, x: &[f64]) -> Vec<f64> {
         let (n, k) = (self.n(), self.k());
-        let mut y = self.problem.q.clone();
-        for (j, &l) in x[..n].iter().enumerate() {
-            if l != 0.0 {
-                for (i, yi) in y.iter_mut().enumerate() {
-                    *yi += self.problem.w[(i, j)] * l;
-                }
-            }
-        }
+        let mut y = crate::lcp::gaps(&self.problem.w, &self.problem.q, &x[..n]);
         for j in 0..k {
             let a = x[n + j];
             for (i, yi) in y.iter_mut().enumerate() {
