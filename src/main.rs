@@ -467,7 +467,7 @@ fn write_outputs(
                 for xk in &x[..dim] {
                     write!(w, ",{xk:e}")?;
                 }
-                for uk in &b.displacement[dim * n..dim * (n + 1)] {
+                for uk in &b.last().displacement[dim * n..dim * (n + 1)] {
                     write!(w, ",{uk:e}")?;
                 }
                 writeln!(w)?;
@@ -484,18 +484,19 @@ fn write_outputs(
             writeln!(w, "body,cell,sxx,syy,sxy,szz,von_mises")?;
         }
         for b in &output.bodies {
-            for (c, s) in b.stress.iter().enumerate() {
+            let last = b.last();
+            for (c, s) in last.stress.iter().enumerate() {
                 if dim == 3 {
                     writeln!(
                         w,
                         "{},{},{:e},{:e},{:e},{:e},{:e},{:e},{:e}",
-                        b.name, c, s[0], s[1], s[2], s[3], s[4], s[5], b.von_mises[c]
+                        b.name, c, s[0], s[1], s[2], s[3], s[4], s[5], last.von_mises[c]
                     )?;
                 } else {
                     writeln!(
                         w,
                         "{},{},{:e},{:e},{:e},{:e},{:e}",
-                        b.name, c, s[0], s[1], s[3], s[2], b.von_mises[c]
+                        b.name, c, s[0], s[1], s[3], s[2], last.von_mises[c]
                     )?;
                 }
             }

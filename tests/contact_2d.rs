@@ -246,7 +246,7 @@ fn condensed_path_equals_direct_path() {
             max_rel(&fa, &fb)
         );
         for (ba, bb) in a.bodies.iter().zip(&b.bodies) {
-            let rel = max_rel(&ba.displacement, &bb.displacement);
+            let rel = max_rel(&ba.last().displacement, &bb.last().displacement);
             assert!(
                 rel <= 1e-9,
                 "body {}: displacements differ by {rel:e}",

@@ -69,23 +69,28 @@ pub struct BodyResult {
     pub cells: Vec<Vec<usize>>,
     /// METIS part of each cell.
     pub parts: Vec<usize>,
-    /// Displacement at the last step, `dim` values per node.
-    pub displacement: Vec<f64>,
-    /// Per cell at the last step: Voigt [sxx, syy, szz, sxy, syz, sxz]
-    /// (axisymmetric: x = r, y = z, szz = the hoop stress); see
-    /// `signorini_fem::cell_stress`. Empty unless `[output] fields` has
-    /// "stress".
-    pub stress: Vec<[f64; 6]>,
-    /// Per cell at the last step: von Mises equivalent stress.
-    pub von_mises: Vec<f64>,
-    /// The same fields at every load step (the last one included).
+    /// The fields at every load step (at least one).
     pub history: Vec<StepFields>,
+}
+
+impl BodyResult {
+    /// The fields at the last load step.
+    pub fn last(&self) -> &StepFields {
+        self.history
+            .last()
+            .expect("a body result holds at least one step")
+    }
 }
 
 /// The fields of one body at one load step.
 pub struct StepFields {
+    /// Displacement, `dim` values per node.
     pub displacement: Vec<f64>,
+    /// Per cell: Voigt [sxx, syy, szz, sxy, syz, sxz] (axisymmetric: x = r,
+    /// y = z, szz = the hoop stress); see `signorini_fem::cell_stress`. Empty
+    /// unless `[output] fields` has "stress".
     pub stress: Vec<[f64; 6]>,
+    /// Per cell: von Mises equivalent stress.
     pub von_mises: Vec<f64>,
 }
 
@@ -539,6 +544,20 @@ struct FrictionStep {
     cone_excess: Vec<f64>,
 }
 
+/// The force that the master exerts on the slave at contact point `pi`,
+/// λ_n n + λ_t1 t1 + λ_t2 t2 (the tangential parts from `friction`, zero
+/// without it).
+fn point_force(
+    p: &PointModel,
+    pi: usize,
+    lambda_n: f64,
+    friction: Option<&FrictionStep>,
+) -> [f64; 3] {
+    let (l1, l2) = friction.map_or((0.0, 0.0), |f| (f.tangential[pi], f.tangential2[pi]));
+    let c = &p.point;
+    [0, 1, 2].map(|k| lambda_n * c.normal[k] + l1 * c.tangent[k] + l2 * c.tangent2[k])
+}
+
 /// The coefficients (μ₁, μ₂) of a 3D Coulomb law; `None` for Tresca or
 /// frictionless points.
 fn p_law(law: &Law3d) -> Option<(f64, f64)> {
@@ -677,8 +696,6 @@ struct Partial {
     n_gamma: usize,
     dofs: usize,
     solver: serde_json::Value,
-    /// Tangential forces at the last step (zero without friction).
-    lambda_t: Vec<f64>,
     /// Friction at the last step.
     friction: Option<FrictionStep>,
 }
@@ -1339,11 +1356,9 @@ fn conclude_step(
     let (mut sum_n, mut sum_t, mut slip_sum, mut slip_count) = (0.0f64, 0.0f64, 0.0f64, 0usize);
     for (pi, p) in points.iter().enumerate() {
         let lt = sol.friction.as_ref().map_or(0.0, |f| f.tangential[pi]);
-        for (k, f) in step_force.iter_mut().enumerate() {
-            let lt2 = sol.friction.as_ref().map_or(0.0, |f| f.tangential2[pi]);
-            *f += lambda[pi] * p.point.normal[k]
-                + lt * p.point.tangent[k]
-                + lt2 * p.point.tangent2[k];
+        let force = point_force(p, pi, lambda[pi], sol.friction.as_ref());
+        for (f, fk) in step_force.iter_mut().zip(force) {
+            *f += fk;
         }
         sum_n += lambda[pi];
         sum_t += lt;
@@ -1383,11 +1398,6 @@ fn conclude_step(
     partial.certificate = cert;
     partial.lambda = lambda.clone();
     partial.friction = sol.friction.clone();
-    partial.lambda_t = sol
-        .friction
-        .as_ref()
-        .map(|f| f.tangential.clone())
-        .unwrap_or_else(|| vec![0.0; lambda.len()]);
 }
 
 fn empty_partial() -> Partial {
@@ -1404,7 +1414,6 @@ fn empty_partial() -> Partial {
         n_gamma: 0,
         dofs: 0,
         solver: serde_json::Value::Null,
-        lambda_t: vec![],
         friction: None,
     }
 }
@@ -1439,8 +1448,9 @@ fn finish_condensed(
             }
         }
     }
-    let u_full = u_steps.last().cloned().unwrap_or_default();
-    let umax = u_full.iter().fold(0.0f64, |a, u| a.max(inf_norm(u)));
+    let umax = u_steps
+        .last()
+        .map_or(0.0, |u| u.iter().fold(0.0f64, |a, ub| a.max(inf_norm(ub))));
     for (si, sol) in steps.iter().enumerate() {
         let lambda = &sol.outcome.lambda;
         // Γ residual: Σ_i (K_i u_i − f_i)_Γ − Bᵀλ; interior residuals as sent.
@@ -1707,23 +1717,15 @@ fn finish_report(
         if lambda[pi] != 0.0 {
             s.active += 1;
         }
-        let lt = partial.lambda_t.get(pi).copied().unwrap_or(0.0);
-        let lt2 = partial.friction.as_ref().map_or(0.0, |f| f.tangential2[pi]);
+        let force = point_force(p, pi, lambda[pi], partial.friction.as_ref());
         for (k, total) in contact_force.iter_mut().enumerate() {
-            let f = lambda[pi] * p.point.normal[k]
-                + lt * p.point.tangent[k]
-                + lt2 * p.point.tangent2[k];
-            s.force[k] += f;
-            *total += f;
+            s.force[k] += force[k];
+            *total += force[k];
         }
     }
     let mut probes = Vec::new();
     for pr in &sc.output.probes {
-        let x = [
-            pr[0],
-            pr.get(1).copied().unwrap_or(0.0),
-            pr.get(2).copied().unwrap_or(0.0),
-        ];
+        let x = model::point3(pr);
         let best = bodies
             .iter()
             .enumerate()
@@ -1774,24 +1776,18 @@ fn finish_report(
                 }
             })
             .collect();
-        let last = history.pop().unwrap_or(StepFields {
-            displacement: vec![0.0; b.n_dof],
-            stress: Vec::new(),
-            von_mises: Vec::new(),
-        });
-        history.push(StepFields {
-            displacement: last.displacement.clone(),
-            stress: last.stress.clone(),
-            von_mises: last.von_mises.clone(),
-        });
+        if history.is_empty() {
+            history.push(StepFields {
+                displacement: vec![0.0; b.n_dof],
+                stress: Vec::new(),
+                von_mises: Vec::new(),
+            });
+        }
         results.push(BodyResult {
             name: b.name.clone(),
             coords: b.mesh.coords.clone(),
             cells: b.mesh.cells.iter().map(|c| c.nodes.clone()).collect(),
             parts: b.parts.clone(),
-            von_mises: last.von_mises,
-            displacement: last.displacement,
-            stress: last.stress,
             history,
         });
     }
@@ -2079,11 +2075,7 @@ fn compare_reference(
     };
     // The tangential force of each point: along t in 2D; in 3D its component
     // along the direction of the total tangential force.
-    let tangential_vector = |pi: usize| -> [f64; 3] {
-        let (t1, t2) = (points[pi].point.tangent, points[pi].point.tangent2);
-        let (l1, l2) = friction.map_or((0.0, 0.0), |f| (f.tangential[pi], f.tangential2[pi]));
-        [0, 1, 2].map(|k| l1 * t1[k] + l2 * t2[k])
-    };
+    let tangential_vector = |pi: usize| point_force(&points[pi], pi, 0.0, friction);
     let mut total_t = [0.0; 3];
     for pi in 0..points.len() {
         let v = tangential_vector(pi);

@@ -145,26 +145,44 @@ fn cell_kind(e: scene::Element) -> CellKind {
     }
 }
 
+/// `grading = { towards, ratio }` as the generator's side (`from_name`) and
+/// ratio, or an error listing the valid `names`.
+fn grading_side<S>(
+    grading: &Option<scene::Grading>,
+    from_name: impl Fn(&str) -> Option<S>,
+    names: &str,
+    entry: &str,
+) -> Result<Option<(S, f64)>, SolveError> {
+    grading
+        .as_ref()
+        .map(|g| {
+            from_name(&g.towards)
+                .map(|side| (side, g.ratio))
+                .ok_or_else(|| {
+                    input(format!(
+                        "{entry}.mesh.grading.towards: \"{}\" is not one of {names}",
+                        g.towards
+                    ))
+                })
+        })
+        .transpose()
+}
+
+/// A point given with `dimension` components, as `[x, y, z]` (z = 0 in 2D).
+pub fn point3(v: &[f64]) -> [f64; 3] {
+    [
+        v[0],
+        v.get(1).copied().unwrap_or(0.0),
+        v.get(2).copied().unwrap_or(0.0),
+    ]
+}
+
 /// The mesh of a deformable body: a generator's, or a Gmsh file's (its
 /// physical groups of dimension d−1 are the surfaces).
 pub fn build_mesh(body: &scene::Body, entry: &str, dim: usize) -> Result<Mesh, SolveError> {
     let Some(spec) = &body.mesh else {
         return Err(input(format!("{entry}.mesh: missing")));
     };
-    let towards =
-        |g: &Option<scene::Grading>, names: &[&str]| -> Result<Option<(String, f64)>, SolveError> {
-            match g {
-                None => Ok(None),
-                Some(g) if names.contains(&g.towards.as_str()) => {
-                    Ok(Some((g.towards.clone(), g.ratio)))
-                }
-                Some(g) => Err(input(format!(
-                    "{entry}.mesh.grading.towards: \"{}\" is not one of {}",
-                    g.towards,
-                    names.join(", ")
-                ))),
-            }
-        };
     let finish = |mesh: Mesh| {
         if mesh.dim != dim {
             return Err(input(format!(
@@ -183,8 +201,12 @@ pub fn build_mesh(body: &scene::Body, entry: &str, dim: usize) -> Result<Mesh, S
             element,
             grading,
         }) => {
-            let g = towards(grading, &["bottom", "top", "left", "right"])?
-                .and_then(|(side, r)| RectSide::from_name(&side).map(|s| (s, r)));
+            let g = grading_side(
+                grading,
+                RectSide::from_name,
+                "bottom, top, left, right",
+                entry,
+            )?;
             rectangle(*origin, *size, *divisions, cell_kind(*element), g)
         }
         scene::MeshSpec::Generator(G::HalfDisk {
@@ -209,8 +231,12 @@ pub fn build_mesh(body: &scene::Body, entry: &str, dim: usize) -> Result<Mesh, S
             element,
             grading,
         }) => {
-            let g = towards(grading, &["xmin", "xmax", "ymin", "ymax", "zmin", "zmax"])?
-                .and_then(|(side, r)| BoxSide::from_name(&side).map(|s| (s, r)));
+            let g = grading_side(
+                grading,
+                BoxSide::from_name,
+                "xmin, xmax, ymin, ymax, zmin, zmax",
+                entry,
+            )?;
             box_mesh(*origin, *size, *divisions, cell_kind(*element), g)
         }
         scene::MeshSpec::Generator(G::Hemisphere {
@@ -256,11 +282,7 @@ fn boundary_nodes(
         }
         Ok(nodes)
     } else if let Some(p) = &b.point {
-        let x = [
-            p[0],
-            p.get(1).copied().unwrap_or(0.0),
-            p.get(2).copied().unwrap_or(0.0),
-        ];
+        let x = point3(p);
         let (n, d) = mesh
             .nearest_node(x)
             .ok_or_else(|| input(format!("{entry}.point: body \"{body}\" has no nodes")))?;
@@ -537,25 +559,18 @@ pub fn build_contacts(
                 surface: m_surf,
             }
         } else {
-            let xyz = |v: &[f64]| {
-                [
-                    v[0],
-                    v.get(1).copied().unwrap_or(0.0),
-                    v.get(2).copied().unwrap_or(0.0),
-                ]
-            };
             match &master_scene.rigid {
                 Some(scene::RigidShape::Plane { point, normal }) => {
-                    let n = xyz(normal);
+                    let n = point3(normal);
                     let nn = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
                     MasterGeometry::Plane {
-                        point: xyz(point),
+                        point: point3(point),
                         normal: [n[0] / nn, n[1] / nn, n[2] / nn],
                     }
                 }
                 Some(scene::RigidShape::Circle { center, radius })
                 | Some(scene::RigidShape::Sphere { center, radius }) => MasterGeometry::Sphere {
-                    center: xyz(center),
+                    center: point3(center),
                     radius: *radius,
                 },
                 None => {
