@@ -68,11 +68,19 @@ enum Command {
         friction: String,
     },
     /// Time scenes over refinement levels, subdomain counts and paths; writes
-    /// DIR/bench.csv and prints a table.
+    /// DIR/bench.csv and prints a table. With `--suite stiff`: the stiff and
+    /// extreme cases (VALIDATION.md §8), DIR/stiff.csv and DIR/stiff.md, exit 1
+    /// if a case fails its expectation.
     Bench {
         /// Scene files.
-        #[arg(required = true)]
+        #[arg(required_unless_present = "suite")]
         scenes: Vec<PathBuf>,
+        /// A built-in suite instead of scene files: `stiff`.
+        #[arg(long, value_parser = ["stiff"], conflicts_with = "scenes")]
+        suite: Option<String>,
+        /// With --suite: the smaller meshes of the test suite.
+        #[arg(long, requires = "suite")]
+        quick: bool,
         /// Refinement factors applied to the generators' divisions.
         #[arg(long, value_delimiter = ',', default_value = "1")]
         levels: Vec<f64>,
@@ -111,12 +119,24 @@ fn main() -> ExitCode {
             &friction,
         ),
         Command::Bench {
+            suite: Some(_),
+            quick,
+            out,
+            ..
+        } => stiff_suite(quick, &out),
+        Command::Bench {
+            suite: None,
+            quick: true,
+            ..
+        } => fail(1, "--quick: only with --suite stiff"),
+        Command::Bench {
             scenes,
             levels,
             subdomains,
             methods,
             paths,
             out,
+            ..
         } => bench(&scenes, &levels, &subdomains, &methods, &paths, &out),
         Command::Run {
             scene,
@@ -269,6 +289,78 @@ fn bench(
         ExitCode::SUCCESS
     } else {
         ExitCode::from(2)
+    }
+}
+
+/// `signorini bench --suite stiff`: every case of the stiff suite in this
+/// process, a line on stderr as each ends, the table on stdout,
+/// DIR/stiff.csv, DIR/stiff.md and each case's scene in DIR/stiff/; exit 1
+/// naming the cases that fail their expectation.
+fn stiff_suite(quick: bool, out: &Path) -> ExitCode {
+    use signorini_solver::stiff;
+    // Every case's scene beside the table, so that any case can be rerun
+    // alone with `signorini run DIR/stiff/<case>.toml`.
+    let cases = stiff::cases(quick);
+    let scenes = out.join("stiff");
+    if let Err(e) = std::fs::create_dir_all(&scenes).and_then(|_| {
+        cases.iter().try_for_each(|c| {
+            std::fs::write(
+                scenes.join(format!("{}.toml", c.name)),
+                format!(
+                    "# signorini bench --suite stiff{}: case {} ({}, {})\n{}",
+                    if quick { " --quick" } else { "" },
+                    c.name,
+                    c.family,
+                    c.parameter,
+                    c.text
+                ),
+            )
+        })
+    }) {
+        return fail(3, &format!("cannot write {}: {e}", scenes.display()));
+    }
+    let n = cases.len();
+    let mut rows = Vec::with_capacity(n);
+    for (i, c) in cases.iter().enumerate() {
+        let r = stiff::run_case(c);
+        eprintln!(
+            "[{}/{n}] {} ({}): {} in {:.3} s: {}",
+            i + 1,
+            r.case,
+            r.parameter,
+            if r.exit_code == 0 {
+                "solved".to_string()
+            } else {
+                format!("exit {}", r.exit_code)
+            },
+            r.time_s,
+            stiff::verdict_text(&r.verdict)
+        );
+        rows.push(r);
+    }
+    let table = stiff::markdown(&rows);
+    println!("{table}");
+    if let Err(e) = std::fs::create_dir_all(out)
+        .and_then(|_| stiff::write_csv(&out.join("stiff.csv"), &rows))
+        .and_then(|_| std::fs::write(out.join("stiff.md"), &table))
+    {
+        return fail(3, &format!("cannot write {}: {e}", out.display()));
+    }
+    let failed: Vec<&stiff::StiffRow> = rows.iter().filter(|r| r.failed()).collect();
+    println!(
+        "{} cases: {} passed, {} failed; stiff.csv, stiff.md and the scenes (stiff/<case>.toml) in {}",
+        rows.len(),
+        rows.iter().filter(|r| r.passed()).count(),
+        failed.len(),
+        out.display()
+    );
+    if failed.is_empty() {
+        ExitCode::SUCCESS
+    } else {
+        for r in &failed {
+            eprintln!("error: {}: {}", r.case, stiff::verdict_text(&r.verdict));
+        }
+        ExitCode::from(1)
     }
 }
 
@@ -650,6 +742,13 @@ fn summarise(dir: &Path, o: &RunOutput) {
         r.certificate.tension,
         r.certificate.complementarity
     );
+    let warning = r.conditioning.as_ref().and_then(|c| c.warning.as_ref());
+    if let Some(w) = warning {
+        println!("  warning: {w}");
+    }
+    for m in r.messages.iter().filter(|m| Some(*m) != warning) {
+        println!("  note: {m}");
+    }
     if let Some(refr) = &r.reference {
         for (k, q) in &refr.quantities {
             println!(

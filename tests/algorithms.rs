@@ -174,20 +174,6 @@ fn status_variants_and_penalty_imposed_constraints_agree_with_the_default() {
     assert!(single.report.steps[0].iterations > reference.report.steps[0].iterations);
 }
 
-#[test]
-fn a_method_that_cannot_hold_a_floating_body_says_so() {
-    match run_with(&example("blocks.toml"), Method::Lemke) {
-        Err(SolveError::Input(m)) => assert!(
-            m.contains("held by contact alone") && m.contains("status"),
-            "{m}"
-        ),
-        other => panic!(
-            "expected a clear input error, got {:?}",
-            other.map(|o| o.report.converged)
-        ),
-    }
-}
-
 /// The regularised law of seed §3.6, pressure = k × penetration: a block of
 /// height H whose top is pushed down by d onto a rigid plane through that law
 /// is a spring E'/H in series with k: the penetration is

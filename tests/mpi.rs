@@ -5,7 +5,7 @@
 
 mod common;
 
-use common::{example_path as example, max_rel};
+use common::{example_path as example, hertz_in_units, max_rel};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
 use std::time::{Duration, Instant};
@@ -289,4 +289,96 @@ fn axisymmetric_hertz_split_in_two_under_mpirun_2_equals_the_in_process_run() {
     }
     let scene = split_example("hertz_axi.toml", "material = \"steel\"", "axi");
     compare(&scene, 2, "axi");
+}
+
+/// Bodies held by contact alone (issue 7) under `mpirun -n 2`: the 2D pad of
+/// blocks.toml split in two METIS parts, solved by SMALBE (mprgp), and the
+/// 3D floating box split in two, equal the in-process runs.
+#[test]
+fn floating_bodies_under_mpirun_2_equal_the_in_process_run() {
+    if !have_mpirun() {
+        return;
+    }
+    let d = dir("floating_scene");
+    let text = std::fs::read_to_string(example("blocks.toml"))
+        .unwrap()
+        .replace(
+            "material = \"rubber\"\nmesh",
+            "material = \"rubber\"\nsubdomains = 2\nmesh",
+        );
+    assert!(text.contains("subdomains = 2"));
+    let text = if text.contains("[solver]") {
+        text.replace("[solver]", "[solver]\nmethod = \"mprgp\"")
+    } else {
+        format!("{text}\n[solver]\nmethod = \"mprgp\"\n")
+    };
+    let scene = d.join("blocks_mprgp.toml");
+    std::fs::write(&scene, text).unwrap();
+    compare(scene.to_str().unwrap(), 2, "floating2d");
+    let scene = split_example("floating3d.toml", "material = \"aluminium\"", "floating3d");
+    compare(&scene, 2, "floating3d");
+}
+
+/// The units test (tests/units.rs) across the two transports: Hertz in Pa
+/// and m split over two ranks by `mpirun -n 2` equals Hertz in MPa and mm
+/// (the same two subdomains) in one process, after conversion, to 1e-10.
+#[test]
+fn hertz_in_pa_under_mpirun_2_equals_hertz_in_mpa_in_process() {
+    if !have_mpirun() {
+        return;
+    }
+    let d = dir("units");
+    let split = |t: String| {
+        t.replace(
+            "material = \"steel\"\nmesh",
+            "material = \"steel\"\nsubdomains = 2\nmesh",
+        )
+    };
+    let si = split(hertz_in_units("210e9", 0.01));
+    assert!(si.contains("subdomains = 2"));
+    let (si_scene, mm_scene) = (d.join("si.toml"), d.join("mm.toml"));
+    std::fs::write(&si_scene, si).unwrap();
+    std::fs::write(&mm_scene, split(hertz_in_units("210e3", 10.0))).unwrap();
+    let (a, b) = (d.join("si"), d.join("mm"));
+    let out = mpirun(
+        2,
+        &[
+            "run",
+            si_scene.to_str().unwrap(),
+            "--out",
+            a.to_str().unwrap(),
+        ],
+        &[],
+    );
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let out = local(&[
+        "run",
+        mm_scene.to_str().unwrap(),
+        "--out",
+        b.to_str().unwrap(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert_eq!(report(&a)["transport"], "mpi");
+    let f_si = numbers(&a.join("contact.csv"), &["normal_force"]);
+    let f_mm: Vec<f64> = numbers(&b.join("contact.csv"), &["normal_force"])
+        .iter()
+        .map(|f| 1000.0 * f)
+        .collect();
+    let r = max_rel(&f_si, &f_mm);
+    assert!(r <= 1e-10, "forces differ by {r:e}");
+    let u_si = numbers(&a.join("displacement.csv"), &["ux", "uy"]);
+    let u_mm: Vec<f64> = numbers(&b.join("displacement.csv"), &["ux", "uy"])
+        .iter()
+        .map(|u| u / 1000.0)
+        .collect();
+    let r = max_rel(&u_si, &u_mm);
+    assert!(r <= 1e-10, "displacements differ by {r:e}");
 }

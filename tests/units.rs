@@ -6,30 +6,9 @@
 
 mod common;
 
-use common::{converged, example, max_rel};
+use common::{converged, example, hertz_in_units as hertz, max_rel};
 use signorini_scene::SolvePath;
 use signorini_solver::{RunOptions, RunOutput};
-
-/// hertz2d.toml (coarsened) with E in `young`, lengths scaled by `l`.
-fn hertz(young: &str, l: f64) -> String {
-    example("hertz2d.toml")
-        .replace("young = 1.0", &format!("young = {young}"))
-        .replace("divisions = 160", "divisions = 40")
-        .replace(
-            "center = [0.0, 1.0], radius = 1.0",
-            &format!("center = [0.0, {l:e}], radius = {l:e}"),
-        )
-        .replace(
-            "displacement = { y = -0.015 }",
-            &format!("displacement = {{ y = {:e} }}", -0.015 * l),
-        )
-        .replace("point = [0.0, 1.0]", &format!("point = [0.0, {l:e}]"))
-        .replace("radius = 1.0\n", &format!("radius = {l:e}\n"))
-        .replace(
-            "[[0.0, 0.0], [0.0, 1.0]]",
-            &format!("[[0.0, 0.0], [0.0, {l:e}]]"),
-        )
-}
 
 fn forces(o: &RunOutput) -> Vec<f64> {
     o.contact_rows.iter().map(|r| r.normal_force).collect()

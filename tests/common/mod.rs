@@ -52,3 +52,24 @@ pub fn max_rel(a: &[f64], b: &[f64]) -> f64 {
         .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()))
         / scale
 }
+
+/// hertz2d.toml (coarsened) with E in `young`, lengths scaled by `l`.
+pub fn hertz_in_units(young: &str, l: f64) -> String {
+    example("hertz2d.toml")
+        .replace("young = 1.0", &format!("young = {young}"))
+        .replace("divisions = 160", "divisions = 40")
+        .replace(
+            "center = [0.0, 1.0], radius = 1.0",
+            &format!("center = [0.0, {l:e}], radius = {l:e}"),
+        )
+        .replace(
+            "displacement = { y = -0.015 }",
+            &format!("displacement = {{ y = {:e} }}", -0.015 * l),
+        )
+        .replace("point = [0.0, 1.0]", &format!("point = [0.0, {l:e}]"))
+        .replace("radius = 1.0\n", &format!("radius = {l:e}\n"))
+        .replace(
+            "[[0.0, 0.0], [0.0, 1.0]]",
+            &format!("[[0.0, 0.0], [0.0, {l:e}]]"),
+        )
+}

@@ -50,6 +50,9 @@ pub struct DelassusProblem {
     last_alpha: Vec<f64>,
     /// Number of linear solves with W blocks (for the report).
     pub solves: usize,
+    /// Estimated κ₁ of the factorised S (S + ρRRᵀ with floating bodies),
+    /// when built by [`DelassusProblem::new_with_condition`].
+    s_condition: Option<f64>,
 }
 
 fn orthonormalize(r: &Mat<f64>) -> Result<Mat<f64>, ContactError> {
@@ -91,6 +94,37 @@ impl DelassusProblem {
         f: &[f64],
         kernel: &Mat<f64>,
     ) -> Result<Self, ContactError> {
+        Self::build(s, b, gap0, f, kernel, false)
+    }
+
+    /// As [`DelassusProblem::new`], and estimates the condition number κ₁ of
+    /// the matrix it factorises (S, or S + ρRRᵀ with floating bodies) by the
+    /// Hager–Higham estimator on that Cholesky factor (a dozen O(n²) solves
+    /// beside the O(n³) factorisation): see [`DelassusProblem::s_condition`].
+    pub fn new_with_condition(
+        s: &Mat<f64>,
+        b: &[SparseRow],
+        gap0: &[f64],
+        f: &[f64],
+        kernel: &Mat<f64>,
+    ) -> Result<Self, ContactError> {
+        Self::build(s, b, gap0, f, kernel, true)
+    }
+
+    /// The estimated κ₁ of S (S + ρRRᵀ with floating bodies) when built by
+    /// [`DelassusProblem::new_with_condition`], else `None`.
+    pub fn s_condition(&self) -> Option<f64> {
+        self.s_condition
+    }
+
+    fn build(
+        s: &Mat<f64>,
+        b: &[SparseRow],
+        gap0: &[f64],
+        f: &[f64],
+        kernel: &Mat<f64>,
+        estimate_condition: bool,
+    ) -> Result<Self, ContactError> {
         let n = s.nrows();
         let m = b.len();
         let k = kernel.ncols();
@@ -99,6 +133,19 @@ impl DelassusProblem {
         } else {
             Mat::zeros(n, 0)
         };
+        if k > 0 {
+            // The kernel comes from the supports (the rigid modes they leave
+            // free, by a rank test); check that it is S's: ‖S r‖ must be
+            // round-off next to the stiffness (r orthonormal).
+            let smax = (0..n).fold(0.0f64, |a, i| a.max(s[(i, i)].abs()));
+            let sr = s * &r;
+            let worst = sr.norm_max();
+            if worst.is_nan() || worst > 1e-8 * smax * (n as f64).sqrt() {
+                return Err(ContactError::Singular(format!(
+                    "the rigid modes left free by the supports are not in the kernel of S (‖S r‖ = {worst:.2e} against a stiffness {smax:.2e}): the interface stiffness and the supports disagree"
+                )));
+            }
+        }
         let mut s_reg = s.clone();
         if k > 0 {
             let mean = (0..n).map(|i| s[(i, i)].abs()).sum::<f64>() / n.max(1) as f64;
@@ -118,6 +165,12 @@ impl DelassusProblem {
                 "the interface stiffness S is not positive definite beyond the rigid modes of the floating bodies: a body is free to move in a way its supports do not prevent".into(),
             )
         })?;
+        let s_condition = estimate_condition.then(|| {
+            use signorini_condense::conditioning::{
+                dense_norm1, inverse_norm1_estimate, llt_solve,
+            };
+            dense_norm1(s_reg.as_ref()) * inverse_norm1_estimate(n, |x| llt_solve(&llt, x))
+        });
         let mut x = Mat::<f64>::zeros(n, m);
         for (p, row) in b.iter().enumerate() {
             for &(i, c) in row {
@@ -162,6 +215,7 @@ impl DelassusProblem {
             e,
             last_alpha: vec![0.0; k],
             solves: 0,
+            s_condition,
         })
     }
 
@@ -180,6 +234,7 @@ impl DelassusProblem {
             q,
             last_alpha: Vec::new(),
             solves: 0,
+            s_condition: None,
         }
     }
 
@@ -277,6 +332,13 @@ impl DelassusProblem {
     pub fn alpha(&self) -> &[f64] {
         &self.last_alpha
     }
+
+    /// Sets α from a solver that found it itself (the multiplier of the
+    /// equality in [`crate::smalbe`]), for [`Self::displacement`].
+    pub fn set_alpha(&mut self, alpha: &[f64]) {
+        assert_eq!(alpha.len(), self.r.ncols());
+        self.last_alpha = alpha.to_vec();
+    }
 }
 
 impl ActiveSetSolve for DelassusProblem {
@@ -316,7 +378,20 @@ impl ActiveSetSolve for DelassusProblem {
                     Err(_) => solve_checked(&a, &rhs, "W_AA (redundant contact constraints?)")?,
                 }
             } else {
-                solve_checked(&a, &rhs, "the active contacts do not hold a floating body")?
+                solve_checked(&a, &rhs, "the active contacts do not hold a floating body").map_err(
+                    |e| {
+                        // Tell redundant constraints (W_AA itself singular)
+                        // from contacts that cannot hold a rigid motion.
+                        let waa = a.submatrix(0, 0, na, na).to_owned();
+                        if na > 0 && solve_checked(&waa, &Mat::zeros(na, 1), "").is_err() {
+                            ContactError::Singular(
+                                "W_AA is singular: the active contact constraints are linearly dependent (redundant constraints)".into(),
+                            )
+                        } else {
+                            e
+                        }
+                    },
+                )?
             };
             for (ii, &p) in active.iter().enumerate() {
                 lambda[p] = sol[(ii, 0)];
@@ -339,15 +414,52 @@ impl ActiveSetSolve for DelassusProblem {
     }
 }
 
-/// Dense solve by full-pivoting LU, rejecting a (numerically) singular matrix.
-fn solve_checked(a: &Mat<f64>, rhs: &Mat<f64>, what: &str) -> Result<Mat<f64>, ContactError> {
-    let lu = a.full_piv_lu();
-    let x = lu.solve(rhs);
-    let amax = a.norm_max();
-    // Singular: non-finite answer or a residual far above round-off.
-    let res = a * &x - rhs;
-    let scale = amax * x.norm_max() + rhs.norm_max();
-    if !x.norm_max().is_finite() || res.norm_max() > 1e-8 * scale.max(f64::MIN_POSITIVE) {
+/// Dense solve by full-pivoting LU, rejecting a (numerically) singular
+/// matrix with a rank test, never returning the huge or NaN "solution" of a
+/// singular system: the matrix is first scaled symmetrically to unit row
+/// maxima (D A D, D_i = 1/sqrt(max_j |a_ij|), so that the compliance block W
+/// and the dimensionless rigid-mode block G compare in any units), then the
+/// smallest pivot of U must exceed 100 · n · ε times the largest (full
+/// pivoting orders the pivots by decreasing size). A backward-error test
+/// alone cannot see singularity: LU is backward stable on singular matrices
+/// too.
+pub(crate) fn solve_checked(
+    a: &Mat<f64>,
+    rhs: &Mat<f64>,
+    what: &str,
+) -> Result<Mat<f64>, ContactError> {
+    let n = a.nrows();
+    let d: Vec<f64> = (0..n)
+        .map(|i| {
+            let m = (0..n).fold(0.0f64, |m, j| m.max(a[(i, j)].abs()));
+            if m > 0.0 && m.is_finite() {
+                1.0 / m.sqrt()
+            } else {
+                1.0
+            }
+        })
+        .collect();
+    let scaled = Mat::<f64>::from_fn(n, n, |i, j| d[i] * a[(i, j)] * d[j]);
+    let lu = scaled.full_piv_lu();
+    let u = lu.U();
+    let pivots: Vec<f64> = (0..n).map(|i| u[(i, i)].abs()).collect();
+    let pmax = pivots.iter().fold(0.0f64, |m, &p| m.max(p));
+    let pmin = pivots.iter().fold(f64::INFINITY, |m, &p| m.min(p));
+    let threshold = 100.0 * n as f64 * f64::EPSILON * pmax;
+    if n > 0 && (pmin.is_nan() || pmin <= threshold) {
+        let deficiency = pivots
+            .iter()
+            .filter(|&&p| p.is_nan() || p <= threshold)
+            .count();
+        return Err(ContactError::Singular(format!(
+            "{what} (rank deficient by {deficiency} of {n}: smallest pivot {:.1e} of the largest)",
+            pmin / pmax.max(f64::MIN_POSITIVE)
+        )));
+    }
+    let srhs = Mat::<f64>::from_fn(n, rhs.ncols(), |i, j| d[i] * rhs[(i, j)]);
+    let y = lu.solve(&srhs);
+    let x = Mat::<f64>::from_fn(n, rhs.ncols(), |i, j| d[i] * y[(i, j)]);
+    if !x.norm_max().is_finite() {
         return Err(ContactError::Singular(what.to_string()));
     }
     Ok(x)

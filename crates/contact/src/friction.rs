@@ -336,6 +336,9 @@ struct Run {
     cycle: bool,
     /// Fixed-point residual after each outer iteration.
     residuals: Vec<f64>,
+    /// Inner Tresca problems solved by the box QP after the status method
+    /// cycled.
+    box_fallbacks: usize,
 }
 
 impl Run {
@@ -345,6 +348,7 @@ impl Run {
             iterations: 0,
             cycle: false,
             residuals: Vec::new(),
+            box_fallbacks: 0,
         }
     }
 
@@ -355,6 +359,14 @@ impl Run {
         gaps: Vec<f64>,
         reason: String,
     ) -> FrictionOutcome {
+        let reason = if self.box_fallbacks > 0 {
+            format!(
+                "{reason} ({} inner Tresca problem(s) solved by MPRGP on the box after the status method cycled)",
+                self.box_fallbacks
+            )
+        } else {
+            reason
+        };
         FrictionOutcome {
             converged,
             iterations: self.iterations,
@@ -412,6 +424,32 @@ pub fn tresca_projection(
     layout: &FrictionLayout,
     opts: &FrictionOptions,
 ) -> Result<FrictionOutcome, ContactError> {
+    let thr = thresholds_from(layout, &vec![0.0; problem.q.len()]);
+    let (sol, statuses) = tresca_box(problem, layout, &thr, opts)?;
+    let gaps = crate::lcp::gaps(&problem.w, &problem.q, &sol.lambda);
+    Ok(FrictionOutcome {
+        converged: sol.report.converged,
+        iterations: sol.report.iterations,
+        fixed_point_iterations: 0,
+        fixed_point_residuals: sol.report.residual_history.clone(),
+        statuses,
+        forces: sol.lambda,
+        gaps,
+        stopping_reason: sol.report.stopping_reason,
+        cycle_detected: false,
+    })
+}
+
+/// The Tresca problem with the thresholds `thr` (a force per point) as the
+/// box-constrained QP min ½ rᵀ W r + qᵀ r over λ_n ≥ 0, −g ≤ λ_t ≤ g, by
+/// MPRGP for simple bounds (convex: it converges whatever the thresholds,
+/// where the status method may cycle), with the statuses it implies.
+fn tresca_box(
+    problem: &DelassusProblem,
+    layout: &FrictionLayout,
+    thr: &[f64],
+    opts: &FrictionOptions,
+) -> Result<(crate::lcp::LcpSolution, Vec<PointStatus>), ContactError> {
     if problem.n_kernel() > 0 {
         return Err(ContactError::Singular(
             "the projection method for Tresca cannot hold bodies held by contact or friction alone; use method = \"status\"".into(),
@@ -421,8 +459,8 @@ pub fn tresca_projection(
     let m = layout.tangent_row.len();
     let mut lower = vec![0.0; n];
     let mut upper = vec![f64::INFINITY; n];
-    for p in 0..m {
-        if let (Some(t), Threshold::Tresca(g)) = (layout.tangent_row[p], layout.threshold[p]) {
+    for (row, &g) in layout.tangent_row.iter().zip(thr) {
+        if let Some(t) = *row {
             lower[t] = -g;
             upper[t] = g;
         }
@@ -435,7 +473,6 @@ pub fn tresca_projection(
         stiffness: None,
     };
     let sol = crate::box_qp::mprgp_box(&problem.w, &problem.q, &lower, &upper, &lcp_opts)?;
-    let gaps = crate::lcp::gaps(&problem.w, &problem.q, &sol.lambda);
     let tol = opts.tolerance
         * opts
             .force_scale
@@ -453,17 +490,7 @@ pub fn tresca_projection(
             }
         })
         .collect();
-    Ok(FrictionOutcome {
-        converged: sol.report.converged,
-        iterations: sol.report.iterations,
-        fixed_point_iterations: 0,
-        fixed_point_residuals: sol.report.residual_history.clone(),
-        statuses,
-        forces: sol.lambda,
-        gaps,
-        stopping_reason: sol.report.stopping_reason,
-        cycle_detected: false,
-    })
+    Ok((sol, statuses))
 }
 
 /// The status method applied to friction (seed §4.5): slipping Coulomb
@@ -513,8 +540,21 @@ fn threshold_fixed_point(
     let (mut forces, mut gaps) = start;
     for outer in 0..opts.max_fixed_point {
         let thr = threshold(&forces, &gaps);
-        let (conv, r, g, reason) =
+        let (mut conv, mut r, mut g, mut reason) =
             status_loop(problem, layout, &mut run, &|_| thr.clone(), false, opts)?;
+        if !conv && problem.n_kernel() == 0 {
+            // The status method cycles on some Tresca problems (large μ):
+            // the same problem as a convex box QP always has its solution.
+            let (sol, statuses) = tresca_box(problem, layout, &thr, opts)?;
+            if sol.report.converged {
+                g = crate::lcp::gaps(&problem.w, &problem.q, &sol.lambda);
+                r = sol.lambda;
+                run.statuses = statuses;
+                conv = true;
+                reason = "solved by MPRGP on the Tresca box".into();
+                run.box_fallbacks += 1;
+            }
+        }
         let fscale = opts
             .force_scale
             .max(r.iter().fold(0.0f64, |a, v| a.max(v.abs())))

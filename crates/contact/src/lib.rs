@@ -22,6 +22,8 @@ pub mod methods;
 pub mod mprgp;
 pub mod penalty;
 pub mod projected_gradient;
+pub mod redundancy;
+pub mod smalbe;
 pub mod status;
 pub mod uzawa;
 

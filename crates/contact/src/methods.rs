@@ -70,18 +70,11 @@ impl ActiveSetSolve for DenseLcp<'_> {
             let rhs = Mat::<f64>::from_fn(na, 1, |i, _| -self.q[active[i]]);
             let x = match a.llt(faer::Side::Lower) {
                 Ok(l) => l.solve(&rhs),
-                Err(_) => {
-                    let x = a.full_piv_lu().solve(&rhs);
-                    let r = &a * &x - &rhs;
-                    if !x.norm_max().is_finite()
-                        || r.norm_max() > 1e-8 * (a.norm_max() * x.norm_max() + rhs.norm_max())
-                    {
-                        return Err(ContactError::Singular(
-                            "W_AA (redundant contact constraints?)".into(),
-                        ));
-                    }
-                    x
-                }
+                Err(_) => crate::delassus::solve_checked(
+                    &a,
+                    &rhs,
+                    "W_AA is singular: redundant contact constraints",
+                )?,
             };
             for (i, &p) in active.iter().enumerate() {
                 lambda[p] = x[(i, 0)];
@@ -192,4 +185,48 @@ fn polish(w: &Mat<f64>, q: &[f64], sol: &mut LcpSolution, opts: &LcpOptions) {
             .stopping_reason
             .push_str("; polished by one solve on the identified active set");
     }
+}
+
+/// Solves LCP(W, q) with the equilibrium of floating bodies Gᵀλ = e (see
+/// [`crate::smalbe`]) by SMALBE with `algorithm` as the bound-constrained
+/// inner solver (MPRGP warm-started, as in Dostál's SMALBE-M). The penalty
+/// algorithms solve their regularised law, LCP(W + K⁻¹, q) with K the
+/// penalty stiffness per point (seed §3.6), exactly inside SMALBE. Without
+/// a kernel (G with no column) this is one call of [`solve_lcp`].
+pub fn solve_lcp_constrained(
+    algorithm: Algorithm,
+    w: &Mat<f64>,
+    q: &[f64],
+    g: &Mat<f64>,
+    e: &[f64],
+    stiffness: Option<&[f64]>,
+    opts: &LcpOptions,
+) -> Result<crate::smalbe::ConstrainedSolution, ContactError> {
+    let regularised;
+    let (w_eff, inner_algorithm) = if algorithm.is_exact() {
+        (w, algorithm)
+    } else {
+        let k = stiffness
+            .map(|k| k.to_vec())
+            .unwrap_or_else(|| crate::penalty::uniform_stiffness(w, opts.stiffness.unwrap_or(1e8)));
+        let mut wk = w.clone();
+        for (i, &ki) in k.iter().enumerate() {
+            wk[(i, i)] += 1.0 / ki;
+        }
+        regularised = wk;
+        (&regularised, Algorithm::Status(StatusVariant::All))
+    };
+    let mut sol = crate::smalbe::smalbe(w_eff, q, g, e, opts, |wi, qi, l0, o| {
+        if inner_algorithm == Algorithm::Mprgp {
+            crate::mprgp::mprgp_from(wi, qi, l0, o)
+        } else {
+            solve_lcp(inner_algorithm, wi, qi, None, o)
+        }
+    })?;
+    sol.report.method = algorithm.name().into();
+    if !algorithm.is_exact() {
+        // The gaps of the regularised law are those of W, not W + K⁻¹.
+        sol.gap = crate::smalbe::constrained_gaps(w, q, g, &sol.lambda, &sol.alpha);
+    }
+    Ok(sol)
 }

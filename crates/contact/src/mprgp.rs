@@ -37,7 +37,7 @@
 use faer::Mat;
 
 use crate::lcp::{
-    check_input, dot, empty_solution, gaps_into, matvec, residual_from_gaps,
+    check_input, dot, empty_solution, gaps, gaps_into, matvec, residual_from_gaps,
     spectral_norm_estimate, LcpOptions, LcpSolution, SolverReport,
 };
 use crate::projected_gradient::{clamp, iteration_limit, stagnated, unbounded, verify};
@@ -56,6 +56,18 @@ const STEP_FACTOR: f64 = 1.9;
 /// included; one per CG or proportioning step, two per expansion step).
 /// `stopping_reason` also gives the number of steps of each kind.
 pub fn mprgp(w: &Mat<f64>, q: &[f64], opts: &LcpOptions) -> Result<LcpSolution, ContactError> {
+    mprgp_from(w, q, &vec![0.0; q.len()], opts)
+}
+
+/// [`mprgp`] from a warm start λ0 (its negative entries are set to zero):
+/// the inner solver of [`crate::smalbe`], whose successive problems differ
+/// little.
+pub fn mprgp_from(
+    w: &Mat<f64>,
+    q: &[f64],
+    lambda0: &[f64],
+    opts: &LcpOptions,
+) -> Result<LcpSolution, ContactError> {
     const METHOD: &str = "mprgp";
     check_input(w, q, METHOD)?;
     let m = q.len();
@@ -66,9 +78,9 @@ pub fn mprgp(w: &Mat<f64>, q: &[f64], opts: &LcpOptions) -> Result<LcpSolution, 
         method: METHOD.into(),
         ..Default::default()
     };
-    let mut lambda = vec![0.0; m];
-    let mut g = q.to_vec();
-    if q.iter().all(|&v| v >= 0.0) {
+    let mut lambda: Vec<f64> = lambda0.iter().map(|&l| l.max(0.0)).collect();
+    let mut g = gaps(w, q, &lambda);
+    if lambda.iter().all(|&l| l == 0.0) && q.iter().all(|&v| v >= 0.0) {
         // λ = 0 solves the LCP: no need for ‖W‖.
         verify(w, q, &mut lambda, &mut g, opts, &mut report);
         report.converged = true;

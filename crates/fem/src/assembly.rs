@@ -1,7 +1,7 @@
 //! Sparse assembly of the global stiffness `K = Σ_e A_eᵀ K_e A_e` (§3.1.3 of the
 //! notes: `[K][u] = [F]`), with the full DOF index `node * dim + component`.
 
-use crate::element::{check_mesh, stiffness_with};
+use crate::element::{check_formulation, check_mesh, formulation_d, stiffness_of};
 use crate::{Elasticity, FemError};
 use faer::sparse::{SparseColMat, Triplet};
 use signorini_mesh::Mesh;
@@ -22,7 +22,7 @@ pub fn try_stiffness_triplets(
     mat: &Elasticity,
 ) -> Result<Vec<Triplet<usize, usize, f64>>, FemError> {
     let dim = mesh.dim;
-    let d = mat.d_matrix();
+    let d = formulation_d(mat);
     let cap: usize = mesh
         .cells
         .iter()
@@ -31,7 +31,7 @@ pub fn try_stiffness_triplets(
     let mut t = Vec::with_capacity(cap);
     let mut dofs = Vec::new();
     for (c, cell) in mesh.cells.iter().enumerate() {
-        let ke = stiffness_with(mesh, c, mat.model, &d)?;
+        let ke = stiffness_of(mesh, c, mat, &d)?;
         dofs.clear();
         dofs.extend(
             cell.nodes
@@ -56,14 +56,15 @@ pub fn assemble_stiffness(mesh: &Mesh, mat: &Elasticity) -> SparseColMat<usize, 
     try_assemble_stiffness(mesh, mat).unwrap_or_else(|e| panic!("{e}"))
 }
 
-/// [`assemble_stiffness`] after [`check_mesh`] (in the material's model) and
-/// the material check.
+/// [`assemble_stiffness`] after [`check_mesh`] (in the material's model),
+/// the material check and [`check_formulation`] (the element formulation,
+/// displacement or B-bar, is the material's).
 pub fn try_assemble_stiffness(
     mesh: &Mesh,
     mat: &Elasticity,
 ) -> Result<SparseColMat<usize, f64>, FemError> {
     check_mesh(mesh, mat.model)?;
-    mat.check()?;
+    check_formulation(mesh, mat)?;
     let n = mesh.n_nodes() * mesh.dim;
     let t = try_stiffness_triplets(mesh, mat)?;
     SparseColMat::try_new_from_triplets(n, n, &t).map_err(|e| FemError::Assembly(format!("{e:?}")))

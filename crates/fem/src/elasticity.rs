@@ -10,6 +10,7 @@
 
 use crate::FemError;
 use nalgebra::DMatrix;
+use signorini_mesh::CellKind;
 
 /// Kinematic model of a body.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -57,15 +58,84 @@ impl Model {
     }
 }
 
-/// An isotropic linear elastic material in a kinematic model.
+/// How a body's elements relate strains to displacements (scene key
+/// `bodies.formulation`).
+///
+/// Low-order elements **lock** as ν → ½ in the models where the volume is
+/// constrained (plane strain, axisymmetric, solid): the bulk modulus
+/// `κ = λ + 2μ/3` grows without bound, and the pointwise constraint
+/// `div u ≈ 0` at every Gauss point leaves a bilinear or trilinear field
+/// almost no way to deform, so displacements come out far too small. The
+/// mean-dilatation **B-bar** method (Hughes 1980, "Generalization of selective
+/// integration procedures to anisotropic and nonlinear media", IJNME 15,
+/// pp. 1413–1418; Hughes, *The Finite Element Method*, 1987/2000, §4.5)
+/// enforces the volume change only in the element mean. It is offered for
+/// Quad4 (plane strain and axisymmetric) and Hex8 (solid), see [`crate::bbar`];
+/// plane stress does not lock (σ_zz = 0 leaves ε_zz free) and is refused.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub enum Formulation {
+    /// The standard displacement formulation `K_e = ∫ Bᵀ D B dV`.
+    #[default]
+    Displacement,
+    /// Mean-dilatation B-bar: `K_e = ∫ B̄ᵀ D B̄ dV` with the volumetric part of
+    /// `B` replaced by its element mean ([`crate::bbar`]).
+    BBar,
+}
+
+impl Formulation {
+    /// The scene-file spelling: `displacement` or `b_bar`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Formulation::Displacement => "displacement",
+            Formulation::BBar => "b_bar",
+        }
+    }
+
+    /// Whether this formulation is available for `kind` cells in `model`:
+    /// the displacement formulation everywhere; B-bar for Quad4 in plane
+    /// strain and axisymmetry and Hex8 in 3D.
+    pub fn supports(self, kind: CellKind, model: Model) -> bool {
+        match self {
+            Formulation::Displacement => true,
+            Formulation::BBar => matches!(
+                (kind, model),
+                (CellKind::Quad4, Model::PlaneStrain | Model::Axisymmetric)
+                    | (CellKind::Hex8, Model::Solid)
+            ),
+        }
+    }
+}
+
+/// An isotropic linear elastic material in a kinematic model, with the
+/// element [`Formulation`] that discretises it (the displacement formulation
+/// unless asked otherwise).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Elasticity {
     pub young: f64,
     pub poisson: f64,
     pub model: Model,
+    pub formulation: Formulation,
 }
 
 impl Elasticity {
+    /// A material in `model` with the displacement formulation.
+    pub fn new(young: f64, poisson: f64, model: Model) -> Self {
+        Elasticity {
+            young,
+            poisson,
+            model,
+            formulation: Formulation::Displacement,
+        }
+    }
+
+    /// The same material with another element formulation.
+    pub fn with_formulation(self, formulation: Formulation) -> Self {
+        Elasticity {
+            formulation,
+            ..self
+        }
+    }
+
     /// Lamé's constants `(λ, μ)`: `λ = E ν / ((1+ν)(1−2ν))`, `μ = G = E / (2(1+ν))`.
     pub fn lame(&self) -> (f64, f64) {
         let (e, nu) = (self.young, self.poisson);
@@ -156,9 +226,18 @@ impl Elasticity {
         }
     }
 
-    /// [`check_material`] on this material (the same bounds in every model).
+    /// [`check_material`] on this material (the same bounds in every model),
+    /// and a formulation the model has: B-bar is refused in plane stress,
+    /// which does not lock (the cell kinds are checked by
+    /// [`crate::check_formulation`]).
     pub fn check(&self) -> Result<(), FemError> {
-        check_material(self.young, self.poisson)
+        check_material(self.young, self.poisson)?;
+        if self.formulation == Formulation::BBar && self.model == Model::PlaneStress {
+            return Err(FemError::Unsupported(
+                "the b_bar formulation is for plane_strain, axisymmetric and solid models; plane stress does not lock as ν → 0.5 (σ_zz = 0 leaves ε_zz free), use the displacement formulation".into(),
+            ));
+        }
+        Ok(())
     }
 }
 

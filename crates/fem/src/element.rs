@@ -53,7 +53,7 @@
 //! motions (3 in the plane, the axial translation in axisymmetry, 6 in 3D;
 //! [`crate::rigid_body_modes`]): no spurious zero-energy mode.
 
-use crate::{Elasticity, FemError, Model};
+use crate::{bbar, Elasticity, FemError, Formulation, Model};
 use nalgebra::{DMatrix, Matrix3};
 use signorini_mesh::{CellKind, Mesh};
 use std::f64::consts::PI;
@@ -315,7 +315,7 @@ fn point_geometry(
 /// Fills `b` (`n_strain × dim·n`, zeroed here) with the strain–displacement
 /// matrix of `cell` at the quadrature point `q` and returns the quadrature
 /// weight `q.w · det J` (`· 2π r` in axisymmetry).
-fn fill_b(
+pub(crate) fn fill_b(
     mesh: &Mesh,
     cell: usize,
     model: Model,
@@ -370,7 +370,7 @@ fn fill_b(
 }
 
 /// A cell whose kind has the model's dimension.
-fn check_kind(mesh: &Mesh, cell: usize, model: Model) -> Result<(), FemError> {
+pub(crate) fn check_kind(mesh: &Mesh, cell: usize, model: Model) -> Result<(), FemError> {
     let kind = mesh.cells[cell].kind;
     if kind.dim() != model.dim() {
         return Err(FemError::Unsupported(format!(
@@ -436,22 +436,67 @@ pub(crate) fn stiffness_with(
     Ok(k)
 }
 
+/// The Hooke matrix the material's formulation integrates with:
+/// [`Elasticity::d_matrix`], or [`crate::bbar::d_matrix_bbar`] for B-bar.
+pub(crate) fn formulation_d(mat: &Elasticity) -> DMatrix<f64> {
+    match mat.formulation {
+        Formulation::Displacement => mat.d_matrix(),
+        Formulation::BBar => bbar::d_matrix_bbar(mat),
+    }
+}
+
+/// Element stiffness of the material's formulation, with `d` =
+/// [`formulation_d`] (assembly computes it once).
+pub(crate) fn stiffness_of(
+    mesh: &Mesh,
+    cell: usize,
+    mat: &Elasticity,
+    d: &DMatrix<f64>,
+) -> Result<DMatrix<f64>, FemError> {
+    match mat.formulation {
+        Formulation::Displacement => stiffness_with(mesh, cell, mat.model, d),
+        Formulation::BBar => bbar::stiffness_bbar(mesh, cell, mat.model, d),
+    }
+}
+
 /// Element stiffness `K_e = ∫_e Bᵀ D B dV` by the cell's [`quadrature`] rule,
 /// `(dim·n) × (dim·n)` with `n` the number of nodes of the cell, DOFs node by
 /// node (thickness 1 in the plane models, the full 360° ring in
-/// axisymmetry).
+/// axisymmetry); with [`Formulation::BBar`], `∫_e B̄ᵀ D B̄ dV`
+/// ([`crate::bbar`]).
 ///
 /// # Errors
 /// [`FemError::BadJacobian`] (naming the cell) if the Jacobian determinant is
 /// not positive at a quadrature point, [`FemError::PointOnAxis`] if a
 /// quadrature point has `r ≤ 0` in axisymmetry, [`FemError::Unsupported`] if
-/// the cell's dimension is not the model's.
+/// the cell's dimension is not the model's, or for B-bar on a cell kind or
+/// model that has none ([`Formulation::supports`]).
 pub fn try_element_stiffness(
     mesh: &Mesh,
     cell: usize,
     mat: &Elasticity,
 ) -> Result<DMatrix<f64>, FemError> {
-    stiffness_with(mesh, cell, mat.model, &mat.d_matrix())
+    stiffness_of(mesh, cell, mat, &formulation_d(mat))
+}
+
+/// Checks that the material's [`Formulation`] applies to every cell of
+/// `mesh` (and [`Elasticity::check`]): B-bar takes Quad4 cells in plane
+/// strain and axisymmetry and Hex8 cells in 3D only.
+///
+/// # Errors
+/// [`FemError::Unsupported`] naming the first cell of another kind, or the
+/// plane stress model; [`FemError::Material`] for a bad material.
+pub fn check_formulation(mesh: &Mesh, mat: &Elasticity) -> Result<(), FemError> {
+    mat.check()?;
+    if let Some((c, cell)) = mesh
+        .cells
+        .iter()
+        .enumerate()
+        .find(|(_, cell)| !mat.formulation.supports(cell.kind, mat.model))
+    {
+        return Err(bbar::unsupported(c, cell.kind.name(), mat.model));
+    }
+    Ok(())
 }
 
 /// [`try_element_stiffness`] for a valid cell.

@@ -7,7 +7,9 @@
 //! stress (thickness 1), axisymmetric (`x = r ≥ 0`, `y = z`, every integral
 //! weighted by `2π r`: stiffness, forces and measures of the full 360° ring),
 //! and 3D solids. Cells: T3, Q4, T6, Q8 in 2D, Tet4 and Hex8 in 3D
-//! ([`element`]).
+//! ([`element`]). Near-incompressible bodies (ν → ½) can use the
+//! mean-dilatation B-bar formulation on Q4 and Hex8 ([`Formulation`],
+//! [`bbar`]; Hughes 1980).
 //!
 //! DOF numbering: the full DOF index of component `k` of node `n` is
 //! `n * dim + k` (`dim = mesh.dim`; in axisymmetry `k = 0` is `u_r`, `k = 1`
@@ -17,6 +19,7 @@
 //! full 3D `[xx, yy, zz, xy, yz, xz]` (axisymmetric: `[rr, zz, θθ, rz, 0, 0]`).
 
 pub mod assembly;
+pub mod bbar;
 pub mod elasticity;
 pub mod element;
 pub mod loads;
@@ -25,9 +28,11 @@ pub mod stress;
 pub use assembly::{
     assemble_stiffness, stiffness_triplets, try_assemble_stiffness, try_stiffness_triplets,
 };
-pub use elasticity::{check_material, Elasticity, Model};
+pub use bbar::{b_bar_matrix, d_matrix_bbar};
+pub use elasticity::{check_material, Elasticity, Formulation, Model};
 pub use element::{
-    b_matrix, check_mesh, element_stiffness, quadrature, try_element_stiffness, QuadPoint,
+    b_matrix, check_formulation, check_mesh, element_stiffness, quadrature, try_element_stiffness,
+    QuadPoint,
 };
 pub use loads::{rigid_body_modes, surface_measure, traction_load, tributary_measure};
 pub use stress::{cell_stress, von_mises};

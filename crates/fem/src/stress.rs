@@ -1,7 +1,9 @@
-//! Stress recovery: `σ = D B u_e` at the centre of each cell.
+//! Stress recovery: `σ = D B u_e` at the centre of each cell (`D B̄ u_e`
+//! for the B-bar formulation, [`crate::bbar`]).
 
+use crate::bbar::{b_bar_matrix, d_matrix_bbar, full_stress_bbar};
 use crate::element::{b_matrix, reference_centre, QuadPoint};
-use crate::Elasticity;
+use crate::{Elasticity, Formulation};
 use nalgebra::DVector;
 use signorini_mesh::Mesh;
 
@@ -16,6 +18,11 @@ use signorini_mesh::Mesh;
 ///   axial, **zz the hoop stress**, xy the rz shear;
 /// * solid: all six.
 ///
+/// With [`Formulation::BBar`] the stress is `D B̄ u_e` with the stiffness's
+/// `B̄` ([`crate::bbar`]), in the same layout; in plane strain its σ_zz is
+/// the zz component of `D B̄ u_e` (B̄ has an ε_zz row), which at the centre
+/// of a Q4, where the dilatation is the element mean, is `ν (σ_xx + σ_yy)`.
+///
 /// `u` is the full displacement vector (DOF `node * dim + k`).
 ///
 /// # Panics
@@ -26,7 +33,12 @@ pub fn cell_stress(mesh: &Mesh, mat: &Elasticity, u: &[f64]) -> Vec<[f64; 6]> {
         u.len() >= dim * mesh.n_nodes(),
         "cell_stress: u is too short"
     );
-    let d = mat.d_matrix();
+    let bbar = mat.formulation == Formulation::BBar;
+    let d = if bbar {
+        d_matrix_bbar(mat)
+    } else {
+        mat.d_matrix()
+    };
     let mut ue = DVector::zeros(0);
     (0..mesh.cells.len())
         .map(|c| {
@@ -35,7 +47,12 @@ pub fn cell_stress(mesh: &Mesh, mat: &Elasticity, u: &[f64]) -> Vec<[f64; 6]> {
                 xi: reference_centre(cell.kind),
                 w: 1.0,
             };
-            let (b, _) = b_matrix(mesh, c, mat.model, &q).unwrap_or_else(|e| panic!("{e}"));
+            let (b, _) = if bbar {
+                b_bar_matrix(mesh, c, mat.model, &q)
+            } else {
+                b_matrix(mesh, c, mat.model, &q)
+            }
+            .unwrap_or_else(|e| panic!("{e}"));
             ue.resize_vertically_mut(dim * cell.nodes.len(), 0.0);
             for (a, &n) in cell.nodes.iter().enumerate() {
                 for k in 0..dim {
@@ -43,7 +60,11 @@ pub fn cell_stress(mesh: &Mesh, mat: &Elasticity, u: &[f64]) -> Vec<[f64; 6]> {
                 }
             }
             let s = &d * (&b * &ue);
-            mat.full_stress(s.as_slice())
+            if bbar {
+                full_stress_bbar(mat.model, s.as_slice())
+            } else {
+                mat.full_stress(s.as_slice())
+            }
         })
         .collect()
 }

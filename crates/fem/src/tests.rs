@@ -3,6 +3,7 @@
 //! `tests/` holds the tests of every cell kind and model on hand-built meshes.
 
 mod axisymmetric;
+mod b_bar;
 mod elements;
 mod loads;
 mod meshes;
@@ -19,11 +20,7 @@ const E: f64 = 210e3;
 const NU: f64 = 0.3;
 
 fn mat(model: Model) -> Elasticity {
-    Elasticity {
-        young: E,
-        poisson: NU,
-        model,
-    }
+    Elasticity::new(E, NU, model)
 }
 
 /// A rectangle whose interior nodes are moved by up to `amp` of the local

@@ -200,11 +200,62 @@ pub struct Report {
     pub probes: Vec<Probe>,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub reference: Option<ReferenceReport>,
+    /// Condition estimates of the factorised operators and the digits they
+    /// cost against the tolerance (see [`Conditioning`]).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub conditioning: Option<Conditioning>,
     /// Warnings and notes for the user.
     pub messages: Vec<String>,
     /// Why the run is not converged, when it is not.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub failure: Option<String>,
+}
+
+/// Condition estimates of the operators a run factorises (report.json
+/// `conditioning`), each the 1-norm condition number κ₁ = ‖A‖₁ ‖A⁻¹‖₁ with
+/// ‖A‖₁ exact and ‖A⁻¹‖₁ estimated by the Hager–Higham estimator (LAPACK
+/// `dlacon`) from solves with the run's own factorisations: a lower bound of
+/// κ₁, in practice within a factor 3. An entry is `null` when it does not
+/// apply or was not estimated (`notes` says why); a singular operator is
+/// `null` too (JSON has no infinity).
+///
+/// The rule: a solve with A may lose log10 κ of the 15.65 decimal digits of
+/// an f64 (−log10 ε). `digits_lost` = log10 of the largest estimated κ,
+/// `digits_available` = 15.65 − `digits_lost`, `digits_needed` =
+/// −log10(solver.tolerance); `warning` is set when `digits_available` <
+/// `digits_needed`: the tolerance asks for more digits than the worst
+/// conditioned operator leaves.
+#[derive(Debug, Clone, Default, Serialize)]
+pub struct Conditioning {
+    /// How κ was estimated: "hager_higham_1norm".
+    pub method: String,
+    /// Condensed path: the largest κ₁(K_II) over the subdomains (the interior
+    /// stiffness each subdomain factorises by sparse Cholesky).
+    pub k_ii: Option<f64>,
+    /// κ₁(K_II) of each subdomain, in subdomain order (`null` for a subdomain
+    /// without interior DOFs).
+    pub k_ii_per_subdomain: Vec<Option<f64>>,
+    /// Condensed path: κ₁ of the assembled interface Schur complement S as the
+    /// root factorises it (S + ρRRᵀ when a body is floating).
+    pub s: Option<f64>,
+    /// Condensed path: κ₁ of the Delassus operator W = B S⁻¹ Bᵀ (normal and
+    /// tangential rows) at the first step, by a dense Cholesky of W when
+    /// m ≤ 4000; `null` when W is singular (redundant contact constraints)
+    /// or m is larger.
+    pub w: Option<f64>,
+    /// Direct path: κ₁ of the whole stiffness K on the free DOFs (`null` when
+    /// a body is floating: K is then singular).
+    pub k: Option<f64>,
+    /// log10 of the largest κ above (`null` when none was estimated).
+    pub digits_lost: Option<f64>,
+    /// 15.65 − `digits_lost`: the decimal digits a solve can still get right.
+    pub digits_available: Option<f64>,
+    /// −log10(solver.tolerance): the digits the tolerance asks for.
+    pub digits_needed: f64,
+    /// Set when `digits_available` < `digits_needed` (also in `messages`).
+    pub warning: Option<String>,
+    /// Why an entry is `null`, and remarks (e.g. W singular).
+    pub notes: Vec<String>,
 }
 
 /// What one rank did.

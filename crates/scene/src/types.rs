@@ -253,6 +253,40 @@ pub struct Body {
     /// The shape of a rigid obstacle. Exactly one of `mesh` / `rigid`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub rigid: Option<RigidShape>,
+    /// Element formulation of a deformable body: `"displacement"` (default)
+    /// or `"b_bar"` (mean dilatation, against locking as ν → 0.5; quad4 in
+    /// plane strain and axisymmetry, hex8 in 3D).
+    #[serde(default, skip_serializing_if = "Formulation::is_displacement")]
+    pub formulation: Formulation,
+}
+
+/// `bodies.formulation`: how the elements of a deformable body relate strains
+/// to displacements.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Formulation {
+    /// The standard displacement elements.
+    #[default]
+    Displacement,
+    /// Mean-dilatation B-bar (Hughes 1980): the volumetric strain is the
+    /// element mean, which cures the volumetric locking of quad4 and hex8
+    /// as ν → 0.5 (plane strain, axisymmetric, solid).
+    BBar,
+}
+
+impl Formulation {
+    /// The scene-file spelling.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Formulation::Displacement => "displacement",
+            Formulation::BBar => "b_bar",
+        }
+    }
+
+    /// The default, `"displacement"` (not written when serializing).
+    pub fn is_displacement(&self) -> bool {
+        *self == Formulation::Displacement
+    }
 }
 
 impl Body {
@@ -363,6 +397,17 @@ impl Generator {
             Generator::Box { .. } => "box",
             Generator::Hemisphere { .. } => "hemisphere",
             Generator::QuarterDisk { .. } => "quarter_disk",
+        }
+    }
+
+    /// The element type of the generated cells (`hemisphere`: hex8).
+    pub fn element(&self) -> Element {
+        match self {
+            Generator::Rectangle { element, .. }
+            | Generator::HalfDisk { element, .. }
+            | Generator::Box { element, .. }
+            | Generator::QuarterDisk { element, .. } => *element,
+            Generator::Hemisphere { .. } => Element::Hex8,
         }
     }
 

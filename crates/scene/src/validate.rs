@@ -225,6 +225,7 @@ impl Scene {
                         Some(_) => {}
                     }
                     self.validate_mesh(&format!("{e}.mesh"), mesh)?;
+                    self.validate_formulation(&format!("{e}.formulation"), b.formulation, mesh)?;
                 }
                 (None, Some(shape)) => {
                     if b.material.is_some() {
@@ -233,8 +234,43 @@ impl Scene {
                             "a rigid body has no material; remove `material` (or give a `mesh` instead of `rigid` for a deformable body)",
                         ));
                     }
+                    if !b.formulation.is_displacement() {
+                        return Err(invalid(
+                            format!("{e}.formulation"),
+                            "a rigid body has no elements; remove `formulation`",
+                        ));
+                    }
                     validate_rigid(&format!("{e}.rigid"), shape, dim)?;
                 }
+            }
+        }
+        Ok(())
+    }
+
+    /// `b_bar` needs a model that locks (not plane stress) and quad4 / hex8
+    /// cells; a Gmsh file's cells are checked by the solver once it is read.
+    fn validate_formulation(&self, e: &str, f: Formulation, mesh: &MeshSpec) -> Result {
+        if f != Formulation::BBar {
+            return Ok(());
+        }
+        const VALID: &str = "\"b_bar\" takes quad4 cells in plane_strain and axisymmetric models and hex8 cells in solid models; otherwise use \"displacement\" (the default)";
+        if self.model == Model::PlaneStress {
+            return Err(invalid(
+                e,
+                format!("\"b_bar\" is refused with model = \"plane_stress\", which does not lock as poisson -> 0.5 (sigma_zz = 0 leaves eps_zz free); {VALID}"),
+            ));
+        }
+        if let MeshSpec::Generator(g) = mesh {
+            let el = g.element();
+            if !matches!(el, Element::Quad4 | Element::Hex8) {
+                return Err(invalid(
+                    e,
+                    format!(
+                        "\"b_bar\" is not available for {} cells (mesh.element = \"{}\"); {VALID}",
+                        el.as_str(),
+                        el.as_str()
+                    ),
+                ));
             }
         }
         Ok(())

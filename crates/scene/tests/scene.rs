@@ -847,3 +847,89 @@ fn method_and_path_from_str() {
         assert_eq!(serde_json::to_value(m).unwrap(), m.as_str());
     }
 }
+
+#[test]
+fn body_formulation() {
+    // default, spellings, and JSON / TOML round trips
+    let s = parse_toml(BASE).unwrap();
+    assert_eq!(s.bodies[0].formulation, Formulation::Displacement);
+    assert!(!toml::to_string(&s).unwrap().contains("formulation"));
+    let text = BASE.replacen(
+        "material = \"steel\"\n",
+        "material = \"steel\"\nformulation = \"b_bar\"\n",
+        1,
+    );
+    let s = parse_toml(&text).unwrap();
+    assert_eq!(s.bodies[0].formulation, Formulation::BBar);
+    assert_eq!(s.bodies[0].formulation.as_str(), "b_bar");
+    let json = serde_json::to_string(&s).unwrap();
+    assert!(json.contains("\"formulation\":\"b_bar\""), "{json}");
+    assert_eq!(parse_json(&json).unwrap(), s);
+    assert_eq!(parse_toml(&toml::to_string(&s).unwrap()).unwrap(), s);
+    let explicit = text.replace("\"b_bar\"", "\"displacement\"");
+    assert_eq!(
+        parse_toml(&explicit).unwrap().bodies[0].formulation,
+        Formulation::Displacement
+    );
+
+    // an unknown value names itself, the valid ones and the line
+    let e = parse_err(&text.replace("\"b_bar\"", "\"bbar\""));
+    assert!(
+        e.contains("bbar")
+            && e.contains("b_bar")
+            && e.contains("displacement")
+            && e.contains("line"),
+        "{e}"
+    );
+
+    // plane stress does not lock
+    let (entry, msg) = invalid_entry(&text.replace(
+        "dimension = 2\n",
+        "dimension = 2\nmodel = \"plane_stress\"\n",
+    ));
+    assert_eq!(entry, "bodies[0].formulation");
+    assert!(
+        msg.contains("plane_stress") && msg.contains("quad4"),
+        "{msg}"
+    );
+
+    // triangles (and second-order cells) have no B-bar
+    for el in ["tri3", "tri6", "quad8"] {
+        let (entry, msg) = invalid_entry(&text.replace(
+            "divisions = [4, 2] }",
+            &format!("divisions = [4, 2], element = \"{el}\" }}"),
+        ));
+        assert_eq!(entry, "bodies[0].formulation");
+        assert!(msg.contains(el) && msg.contains("hex8"), "{msg}");
+    }
+
+    // axisymmetric quad4 and 3D hex8 (the hemisphere's cells) are fine,
+    // tet4 is not
+    let axi = text.replace(
+        "dimension = 2\n",
+        "dimension = 2\nmodel = \"axisymmetric\"\n",
+    );
+    assert!(parse_toml(&axi).is_ok());
+    let solid = |mesh: &str| {
+        format!(
+            "dimension = 3\n[[materials]]\nname = \"m\"\nyoung = 1.0\npoisson = 0.49\n[[bodies]]\nname = \"b\"\nmaterial = \"m\"\nformulation = \"b_bar\"\nmesh = {mesh}\n"
+        )
+    };
+    let hemi = solid(
+        "{ generator = \"hemisphere\", center = [0.0, 0.0, 1.0], radius = 1.0, divisions = 4 }",
+    );
+    assert!(parse_toml(&hemi).is_ok(), "{:?}", parse_toml(&hemi).err());
+    let tets = solid("{ generator = \"box\", origin = [0.0, 0.0, 0.0], size = [1.0, 1.0, 1.0], divisions = [2, 2, 2], element = \"tet4\" }");
+    let (entry, msg) = invalid_entry(&tets);
+    assert_eq!(entry, "bodies[0].formulation");
+    assert!(msg.contains("tet4"), "{msg}");
+
+    // a rigid body has no elements
+    let rigid = text.replacen(
+        "name = \"ground\"\n",
+        "name = \"ground\"\nformulation = \"b_bar\"\n",
+        1,
+    );
+    let (entry, _) = invalid_entry(&rigid);
+    assert_eq!(entry, "bodies[1].formulation");
+}

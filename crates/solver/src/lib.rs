@@ -12,8 +12,10 @@
 //! (seed §3.3), for checking and benchmarking the condensed path.
 
 pub mod bench;
+mod conditioning;
 pub mod local;
 pub mod model;
+pub mod stiff;
 pub mod subdomain;
 
 use std::time::Instant;
@@ -22,7 +24,7 @@ use faer::sparse::SparseColMat;
 use faer::Mat;
 use serde::{Deserialize, Serialize};
 use signorini_comm::{broadcast, deal, gather, Transport};
-use signorini_condense::{spmv, submatrix};
+use signorini_condense::{abs_spmv, spmv, submatrix};
 use signorini_contact::direct::DirectProblem;
 use signorini_contact::equilibrium::nnls;
 use signorini_contact::friction::{
@@ -30,10 +32,10 @@ use signorini_contact::friction::{
     FrictionOptions, PointStatus, Threshold,
 };
 use signorini_contact::friction3d::{friction_3d, FrictionLayout3d, Law3d};
-use signorini_contact::methods::{solve_lcp, Algorithm};
+use signorini_contact::methods::{solve_lcp, solve_lcp_constrained, Algorithm};
 use signorini_contact::{
-    status_method, ActiveSetSolve, ContactError, DelassusProblem, LcpOptions, SolverReport,
-    StatusOptions, StatusOutcome, StatusVariant,
+    status_method, ActiveSetSolve, ContactError, DelassusProblem, LcpOptions, LcpSolution,
+    SolverReport, StatusOptions, StatusOutcome, StatusVariant,
 };
 use signorini_report::{
     reference, Certificate, ContactRow, ContactSummary, Memory, Probe, RankStats, Regularisation,
@@ -281,7 +283,8 @@ pub fn run(
     // deterministic: METIS runs with a fixed seed).
     let t = Instant::now();
     let mut bodies = model::build_bodies(sc)?;
-    let (points, fixed_points) = model::build_contacts(sc, &mut bodies)?;
+    let (mut points, fixed_points) = model::build_contacts(sc, &mut bodies)?;
+    messages.extend(model::eliminate_redundant(sc, &mut points));
     if !fixed_points.is_empty() {
         messages.push(format!(
             "{} slave node(s) have every normal DOF prescribed: their gap is known and they are not contact unknowns",
@@ -403,6 +406,7 @@ pub fn run(
     // Root: the contact problem on Γ at every step.
     let t_root = Instant::now();
     let mut root_state = None;
+    let mut root_cond = conditioning::RootConditioning::default();
     let answer: Result<RootAnswer, SolveError> = if let Some(all) = gathered {
         let mut data = Vec::new();
         let mut first_err = None;
@@ -429,6 +433,7 @@ pub fn run(
                     &gamma_of,
                     n_gamma,
                     &scales,
+                    &mut root_cond,
                 )
                 .map(|(ans, state)| {
                     root_state = Some((state, data));
@@ -479,7 +484,7 @@ pub fn run(
     timings.condense = figures.iter().fold(0.0f64, |a, f| a.max(f.condense_s));
     timings.contact = contact_s;
     timings.recover = figures.iter().fold(0.0f64, |a, f| a.max(f.recover_s));
-    let partial = finish_condensed(
+    let mut partial = finish_condensed(
         sc,
         &bodies,
         &points,
@@ -491,6 +496,12 @@ pub fn run(
         &answer.u_gamma,
         &mut messages,
     )?;
+    partial.conditioning = Some(conditioning::condensed(
+        &data,
+        root_cond,
+        sc.solver.tolerance,
+        &mut messages,
+    ));
     let bytes: u64 = figures.iter().map(|f| f.bytes_sent).sum();
     let stats: Vec<RankStats> = figures
         .iter()
@@ -599,18 +610,12 @@ pub const PENETRATION_WARNING_FRACTION: f64 = 0.01;
 fn solve_with_algorithm(
     sc: &scene::Scene,
     algorithm: Algorithm,
-    problem: &DelassusProblem,
+    problem: &mut DelassusProblem,
     points: &[PointModel],
     law_k: &[f64],
     f_scale: f64,
     length_scale: f64,
 ) -> Result<(StatusOutcome, SolverReport, Option<Regularisation>), SolveError> {
-    if problem.n_kernel() > 0 {
-        return Err(SolveError::Input(format!(
-            "solver.method: \"{}\" cannot yet solve bodies held by contact alone (their rigid modes need the equilibrium constraint); use method = \"status\"",
-            algorithm.name()
-        )));
-    }
     let opts = LcpOptions {
         tolerance: sc.solver.tolerance,
         max_iterations: sc.solver.max_iterations,
@@ -624,20 +629,43 @@ fn solve_with_algorithm(
         .zip(&uniform)
         .map(|(&kl, &ku)| if kl > 0.0 { kl } else { ku })
         .collect();
-    let sol =
-        solve_lcp(algorithm, &problem.w, &problem.q, Some(&k), &opts).map_err(contact_error)?;
-    let gap = signorini_contact::lcp::gaps(&problem.w, &problem.q, &sol.lambda);
+    // Floating bodies: SMALBE with the method as inner solver, the
+    // equilibrium of their rigid modes as the equality (contact::smalbe).
+    let floating = problem.n_kernel() > 0;
+    let solve = |algorithm: Algorithm,
+                 k: Option<&[f64]>|
+     -> Result<(LcpSolution, Vec<f64>, Vec<f64>), SolveError> {
+        if floating {
+            let c = solve_lcp_constrained(
+                algorithm,
+                &problem.w,
+                &problem.q,
+                &problem.g_mat,
+                &problem.e,
+                k,
+                &opts,
+            )
+            .map_err(contact_error)?;
+            Ok((
+                LcpSolution {
+                    lambda: c.lambda,
+                    report: c.report,
+                },
+                c.gap,
+                c.alpha,
+            ))
+        } else {
+            let sol =
+                solve_lcp(algorithm, &problem.w, &problem.q, k, &opts).map_err(contact_error)?;
+            let gap = signorini_contact::lcp::gaps(&problem.w, &problem.q, &sol.lambda);
+            Ok((sol, gap, vec![]))
+        }
+    };
+    let (sol, gap, alpha) = solve(algorithm, Some(&k))?;
     let regularisation = if algorithm.is_exact() {
         None
     } else {
-        let exact = solve_lcp(
-            Algorithm::Status(StatusVariant::All),
-            &problem.w,
-            &problem.q,
-            None,
-            &opts,
-        )
-        .map_err(contact_error)?;
+        let (exact, _, _) = solve(Algorithm::Status(StatusVariant::All), None)?;
         let lmax = inf_norm(&exact.lambda).max(f64::MIN_POSITIVE);
         let dev = sol
             .lambda
@@ -678,6 +706,9 @@ fn solve_with_algorithm(
         cycle_detected_at: None,
         variant_used: StatusVariant::All,
     };
+    if floating {
+        problem.set_alpha(&alpha);
+    }
     Ok((outcome, sol.report, regularisation))
 }
 
@@ -698,6 +729,8 @@ struct Partial {
     solver: serde_json::Value,
     /// Friction at the last step.
     friction: Option<FrictionStep>,
+    /// Condition estimates (report.json `conditioning`).
+    conditioning: Option<signorini_report::Conditioning>,
 }
 
 /// Prescribed displacement and external force of a body at a step.
@@ -813,6 +846,7 @@ fn solve_root(
     gamma_of: &[Vec<usize>],
     n_gamma: usize,
     scales: &[Vec<Vec<f64>>],
+    cond: &mut conditioning::RootConditioning,
 ) -> Result<(RootAnswer, Vec<StepSolution>), SolveError> {
     // Assemble S and the condensed load of every entry on Γ.
     let mut s = Mat::<f64>::zeros(n_gamma, n_gamma);
@@ -980,7 +1014,8 @@ fn solve_root(
                 }
             }
             let mut problem =
-                DelassusProblem::new(&s, &rows, &gap0_all, &fp, &kernel).map_err(contact_error)?;
+                conditioning::delassus_problem(&s, &rows, &gap0_all, &fp, &kernel, cond)
+                    .map_err(contact_error)?;
             let mut compliance = vec![0.0; rows.len()];
             for (pi, p) in points.iter().enumerate() {
                 if let (
@@ -1142,8 +1177,8 @@ fn solve_root(
             });
             continue;
         }
-        let mut problem =
-            DelassusProblem::new(&s, &rows, &gap0, &fp, &kernel).map_err(contact_error)?;
+        let mut problem = conditioning::delassus_problem(&s, &rows, &gap0, &fp, &kernel, cond)
+            .map_err(contact_error)?;
         let law_k: Vec<f64> = points
             .iter()
             .map(|p| match sc.contact[p.contact].law {
@@ -1157,7 +1192,7 @@ fn solve_root(
             let (o, r, reg) = solve_with_algorithm(
                 sc,
                 algorithm,
-                &problem,
+                &mut problem,
                 points,
                 &law_k,
                 f_scale,
@@ -1415,6 +1450,7 @@ fn empty_partial() -> Partial {
         dofs: 0,
         solver: serde_json::Value::Null,
         friction: None,
+        conditioning: None,
     }
 }
 
@@ -1658,6 +1694,13 @@ fn run_direct(
         u_steps.push(u_full);
     }
     timings.contact = t.elapsed().as_secs_f64();
+    // Outside the timed phases: one more sparse Cholesky, of K alone.
+    partial.conditioning = Some(conditioning::direct(
+        &k_global,
+        bodies.iter().any(|b| !b.kernel.is_empty()),
+        sc.solver.tolerance,
+        messages,
+    ));
     for (si, (sol, gaps, res, umax)) in solutions.iter().enumerate() {
         conclude_step(
             sc,
@@ -1824,6 +1867,7 @@ fn finish_report(
         contacts: summaries,
         probes,
         reference,
+        conditioning: partial.conditioning,
         messages,
         failure: partial.failure,
     };
@@ -1862,10 +1906,11 @@ fn direct_residuals(
     let mut scale = 0.0f64;
     for (bi, b) in bodies.iter().enumerate() {
         let ku = spmv(k_full[bi].as_ref(), &u_full[bi]);
+        let abs_ku = abs_spmv(k_full[bi].as_ref(), &u_full[bi]);
         for d in (0..b.n_dof).filter(|&d| !b.prescribed[d]) {
             eq = eq.max((ku[d] - forces[bi][d] - contact_force[bi][d]).abs());
             scale = scale
-                .max(ku[d].abs())
+                .max(abs_ku[d])
                 .max(forces[bi][d].abs())
                 .max(contact_force[bi][d].abs());
         }

@@ -5,7 +5,7 @@
 use faer::{Mat, Side};
 use signorini_contact::geometry::{node_to_node, node_to_segment};
 use signorini_contact::{ContactPoint, MasterGeometry, NormalRule, TermSide};
-use signorini_fem::{Elasticity, Model as FemModel};
+use signorini_fem::{Elasticity, Formulation as FemFormulation, Model as FemModel};
 use signorini_mesh::generators::{
     box_mesh, half_disk, hemisphere, quarter_disk, rectangle, BoxSide, RectSide,
 };
@@ -132,6 +132,14 @@ pub fn fem_model(model: scene::Model) -> Result<FemModel, SolveError> {
         scene::Model::Axisymmetric => FemModel::Axisymmetric,
         scene::Model::Solid => FemModel::Solid,
     })
+}
+
+/// The element formulation of a body (`bodies.formulation`).
+pub fn fem_formulation(f: scene::Formulation) -> FemFormulation {
+    match f {
+        scene::Formulation::Displacement => FemFormulation::Displacement,
+        scene::Formulation::BBar => FemFormulation::BBar,
+    }
 }
 
 fn cell_kind(e: scene::Element) -> CellKind {
@@ -316,15 +324,20 @@ pub fn build_bodies(sc: &scene::Scene) -> Result<Vec<BodyModel>, SolveError> {
                 "{entry}.material: no material named \"{mat_name}\""
             ))
         })?;
-        let material = Elasticity {
-            young: mat.young,
-            poisson: mat.poisson,
-            model,
-        };
-        material
-            .check()
+        // The body's formulation travels with its material, so every path
+        // that assembles or recovers stresses from `material` (condensed
+        // subdomains, direct path, MPI ranks) uses it.
+        let material = Elasticity::new(mat.young, mat.poisson, model)
+            .with_formulation(fem_formulation(body.formulation));
+        signorini_fem::check_material(mat.young, mat.poisson)
             .map_err(|e| input(format!("{entry}.material \"{mat_name}\": {e}")))?;
         signorini_fem::check_mesh(&mesh, model).map_err(|e| input(format!("{entry}.mesh: {e}")))?;
+        signorini_fem::check_formulation(&mesh, &material).map_err(|e| {
+            input(format!(
+                "{entry}.formulation \"{}\": {e}",
+                body.formulation.as_str()
+            ))
+        })?;
         let dim = mesh.dim;
         let n_dof = mesh.n_nodes() * dim;
         // Prescribed DOFs and their values per entry.
@@ -696,4 +709,77 @@ pub struct FixedPoint {
     pub node: usize,
     pub row: Vec<(usize, usize, f64)>,
     pub gap0: f64,
+}
+
+/// Finds contact constraints that repeat another (contact::redundancy: the
+/// same slave node against the same master with a parallel row, e.g. a
+/// surface in two contacts or two-pass node-to-node contact), drops the
+/// less restrictive of each pair, and reports what it did; also reports
+/// slave nodes shared by two contacts whose constraints differ (a corner
+/// against two obstacles), which are kept. Returns the messages.
+pub fn eliminate_redundant(sc: &scene::Scene, points: &mut Vec<PointModel>) -> Vec<String> {
+    let mut messages = Vec::new();
+    let size = points.iter().fold(0.0f64, |a, p| a.max(p.tributary));
+    // (body, DOF) keys: a row of B and its initial gap per point.
+    type Keyed = (Vec<((usize, usize), f64)>, f64);
+    let rows: Vec<Keyed> = points
+        .iter()
+        .map(|p| (p.row.iter().map(|&(b, d, c)| ((b, d), c)).collect(), p.gap0))
+        .collect();
+    let dup = signorini_contact::redundancy::duplicate_constraints(&rows, 1e-9 * size);
+    // (dropped contact, kept contact) → count
+    let mut dropped: std::collections::BTreeMap<(usize, usize), usize> = Default::default();
+    for (i, d) in dup.iter().enumerate() {
+        if let Some(j) = d {
+            *dropped
+                .entry((points[i].contact, points[*j].contact))
+                .or_default() += 1;
+        }
+    }
+    for ((ci, cj), n) in &dropped {
+        messages.push(if ci == cj {
+            format!(
+                "contact \"{}\": {n} constraint(s) repeat another of the same contact: dropped (redundant constraints)",
+                sc.contact[*ci].name
+            )
+        } else {
+            format!(
+                "contact \"{}\": {n} constraint(s) repeat those of contact \"{}\" (same nodes, parallel rows): dropped as redundant, the problem is unchanged",
+                sc.contact[*ci].name, sc.contact[*cj].name
+            )
+        });
+    }
+    let mut i = 0;
+    points.retain(|_| {
+        let keep = dup[i].is_none();
+        i += 1;
+        keep
+    });
+    // Slave nodes in two contacts with different constraints: reported.
+    let mut by_node: std::collections::BTreeMap<(usize, usize), Vec<usize>> = Default::default();
+    for p in points.iter() {
+        by_node
+            .entry((p.slave_body, p.point.slave_node))
+            .or_default()
+            .push(p.contact);
+    }
+    let mut shared: std::collections::BTreeMap<(usize, usize), usize> = Default::default();
+    for cs in by_node.values() {
+        for a in 0..cs.len() {
+            for b in a + 1..cs.len() {
+                if cs[a] != cs[b] {
+                    *shared
+                        .entry((cs[a].min(cs[b]), cs[a].max(cs[b])))
+                        .or_default() += 1;
+                }
+            }
+        }
+    }
+    for ((a, b), n) in shared {
+        messages.push(format!(
+            "{n} slave node(s) belong to both contact \"{}\" and contact \"{}\" with different normals: each keeps its constraint",
+            sc.contact[a].name, sc.contact[b].name
+        ));
+    }
+    messages
 }

@@ -12,7 +12,7 @@
 use faer::sparse::SparseColMat;
 use faer::Par;
 use serde::{Deserialize, Serialize};
-use signorini_condense::{spmv, submatrix, Condensed};
+use signorini_condense::{abs_spmv, spmv, submatrix, Condensed};
 use signorini_mesh::Mesh;
 
 use crate::model::BodyModel;
@@ -72,6 +72,9 @@ pub struct CondensedData {
     pub fprime: Vec<Vec<f64>>,
     pub dofs: usize,
     pub factor_bytes: usize,
+    /// Estimated κ₁(K_II) of the subdomain's interior stiffness (Hager–Higham
+    /// on its own factor); `None` without interior DOFs.
+    pub k_ii_condition: Option<f64>,
 }
 
 /// What a subdomain sends back after the recovery of every step.
@@ -204,6 +207,7 @@ impl Subdomain {
             fprime,
             dofs: free.len(),
             factor_bytes: condensed.memory_bytes(),
+            k_ii_condition: condensed.interior_condition_estimate(),
         };
         Ok((
             Self {
@@ -260,13 +264,16 @@ impl Subdomain {
                 u[l] = uf[i];
             }
             let ku = spmv(self.k_local.as_ref(), &u);
+            // The scale of the residual: the internal forces term by term
+            // (|K||u|), not their sum, which cancels in a stiff body.
+            let abs_ku = abs_spmv(self.k_local.as_ref(), &u);
             let mut interior = 0.0f64;
             let mut scale = 0.0f64;
             let mut gamma_res = Vec::new();
             let mut gi = 0;
             for &l in &self.free {
                 let r = ku[l] - f[l];
-                scale = scale.max(ku[l].abs()).max(f[l].abs());
+                scale = scale.max(abs_ku[l]).max(f[l].abs());
                 if is_interface[l] {
                     gamma_res.push((self.gamma[gi], r));
                     gi += 1;

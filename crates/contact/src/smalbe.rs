@@ -1,0 +1,497 @@
+//! Bodies held by contact alone: the LCP with the equilibrium of their rigid
+//! modes as an equality constraint, solved by SMALBE (semi-monotonic
+//! augmented Lagrangian for bound and equality constraints: Z. Dostál,
+//! *Optimal Quadratic Programming Algorithms*, Springer 2009, ch. 9; the
+//! dual problem of TFETI, Dostál, Horák & Kučera 2006).
+//!
+//! A floating body makes the interface stiffness S singular with kernel R
+//! (DESIGN.md §3, [`crate::delassus`]). Its contact forces must balance its
+//! load on every rigid mode, Rᵀ(F' + Bᵀλ) = 0, i.e. Gᵀλ = e with G = B R and
+//! e = −Rᵀ F'; the problem in the forces is the quadratic programme
+//!
+//! ```text
+//! min f(λ) = ½ λᵀ W λ + qᵀ λ   subject to   λ ≥ 0,  Gᵀ λ = e,
+//! ```
+//!
+//! whose KKT conditions are the Signorini conditions with the gaps
+//! g = W λ + q + G α ≥ 0, λ ≥ 0, λ·g = 0: α, the multiplier of the equality,
+//! is the amplitude of the rigid motion of the body (seed §3.2 for the
+//! projection methods on the forces, §3.4 for the augmented Lagrangian).
+//!
+//! SMALBE keeps the bound constraints in the inner problem and treats the
+//! equality by an augmented Lagrangian with multiplier μ and penalty ρ:
+//!
+//! ```text
+//! L(λ, μ, ρ) = f(λ) + μᵀ(Gᵀλ − e) + ρ/2 ‖Gᵀλ − e‖²,
+//! ∇_λ L = (W + ρ G Gᵀ) λ + q + G μ − ρ G e.
+//! ```
+//!
+//! Each outer iteration minimises L over λ ≥ 0 — an LCP with the SPD matrix
+//! W + ρGGᵀ, solved by MPRGP (or any of the bound-constrained methods),
+//! warm-started, to a precision tied to the current infeasibility
+//! (‖gᴾ‖ ≤ min(M ‖Gᵀλ − e‖, η) in Dostál's form) — then updates
+//! μ ← μ + ρ (Gᵀλ − e) and raises ρ when the infeasibility did not fall
+//! enough. After the update the inner gradient is exactly the gap vector of
+//! the original problem with α = μ, so the stopping test is the natural
+//! residual of the Signorini conditions plus the equality residual. No
+//! artificial spring is added: the answer satisfies Gᵀλ = e to the tolerance.
+//!
+//! The answer is finally polished by one saddle-point solve on the
+//! identified active set A, [W_AA G_A; G_Aᵀ 0][λ_A; α] = [−q_A; e], kept
+//! only if it is at least as good.
+
+use faer::Mat;
+
+use crate::lcp::{
+    gaps, residual_from_gaps, spectral_norm_estimate, LcpOptions, LcpSolution, SolverReport,
+};
+use crate::ContactError;
+
+/// Factor by which ρ grows when the infeasibility fell by less than
+/// [`FEASIBILITY_DECREASE`] in one outer iteration (Dostál's β > 1).
+const RHO_GROWTH: f64 = 10.0;
+/// Required decrease of ‖Gᵀλ − e‖ per outer iteration before ρ grows.
+const FEASIBILITY_DECREASE: f64 = 0.25;
+/// ρ‖GGᵀ‖ is kept below this multiple of ‖W‖ (the conditioning of the
+/// inner problem).
+const RHO_CAP: f64 = 1e8;
+/// Outer iterations at most (each solves an inner LCP).
+const MAX_OUTER: usize = 60;
+
+/// An LCP solution with the multiplier α of the equality Gᵀλ = e.
+#[derive(Debug, Clone)]
+pub struct ConstrainedSolution {
+    pub lambda: Vec<f64>,
+    /// α: the rigid-mode amplitudes (multiplier of Gᵀλ = e).
+    pub alpha: Vec<f64>,
+    /// g = W λ + q + G α.
+    pub gap: Vec<f64>,
+    pub report: SolverReport,
+}
+
+/// The relative residual of Gᵀλ = e: max_j |(Gᵀλ − e)_j| over the size of
+/// the terms summed (max_j Σ_p |G_pj λ_p| and |e_j|, at least the force
+/// scale times the largest |G_pj|), so that it compares with a tolerance in
+/// any units.
+pub fn equality_residual(g: &Mat<f64>, e: &[f64], lambda: &[f64], force_scale: f64) -> f64 {
+    let (m, k) = (g.nrows(), g.ncols());
+    let mut worst = 0.0f64;
+    let gmax = g.norm_max();
+    for j in 0..k {
+        let mut sum = -e[j];
+        let mut size = e[j].abs().max(force_scale * gmax);
+        for p in 0..m {
+            sum += g[(p, j)] * lambda[p];
+            size = size.max((g[(p, j)] * lambda[p]).abs());
+        }
+        if size > 0.0 {
+            worst = worst.max(sum.abs() / size);
+        }
+    }
+    worst
+}
+
+fn equality_vector(g: &Mat<f64>, e: &[f64], lambda: &[f64]) -> Vec<f64> {
+    (0..g.ncols())
+        .map(|j| (0..g.nrows()).map(|p| g[(p, j)] * lambda[p]).sum::<f64>() - e[j])
+        .collect()
+}
+
+/// g = W λ + q + G α.
+pub fn constrained_gaps(
+    w: &Mat<f64>,
+    q: &[f64],
+    g: &Mat<f64>,
+    lambda: &[f64],
+    alpha: &[f64],
+) -> Vec<f64> {
+    let mut gap = gaps(w, q, lambda);
+    for (p, gp) in gap.iter_mut().enumerate() {
+        for (j, a) in alpha.iter().enumerate() {
+            *gp += g[(p, j)] * a;
+        }
+    }
+    gap
+}
+
+/// Solves min ½λᵀWλ + qᵀλ over λ ≥ 0 with Gᵀλ = e by SMALBE (module
+/// documentation). `inner(w, q, λ0, opts)` solves the bound-constrained
+/// LCP(w, q) from the warm start λ0 (it may ignore it); the outer loop
+/// passes it W + ρGGᵀ and q + Gμ − ρGe.
+pub fn smalbe(
+    w: &Mat<f64>,
+    q: &[f64],
+    g: &Mat<f64>,
+    e: &[f64],
+    opts: &LcpOptions,
+    mut inner: impl FnMut(&Mat<f64>, &[f64], &[f64], &LcpOptions) -> Result<LcpSolution, ContactError>,
+) -> Result<ConstrainedSolution, ContactError> {
+    let (m, k) = (g.nrows(), g.ncols());
+    assert_eq!(m, q.len());
+    assert_eq!(k, e.len());
+    let mut report = SolverReport {
+        method: "smalbe".into(),
+        ..Default::default()
+    };
+    // GGᵀ and its norm (the largest eigenvalue of the k × k GᵀG).
+    let mut ggt = Mat::<f64>::zeros(m, m);
+    faer::linalg::matmul::matmul(
+        ggt.as_mut(),
+        faer::Accum::Replace,
+        g.as_ref(),
+        g.transpose(),
+        1.0,
+        faer::Par::Seq,
+    );
+    let gtg = g.transpose() * g;
+    let norm_gtg = gtg
+        .self_adjoint_eigenvalues(faer::Side::Lower)
+        .map(|v| v.iter().fold(0.0f64, |a, &x| a.max(x)))
+        .unwrap_or(0.0);
+    if k > 0 && (norm_gtg.is_nan() || norm_gtg <= 0.0) {
+        return Err(ContactError::Singular(
+            "a floating body has no contact point that acts on its rigid motions (G = B R = 0)"
+                .into(),
+        ));
+    }
+    let (norm_w, products) = spectral_norm_estimate(w);
+    report.operator_applications += products;
+    let norm_w = norm_w.max(f64::MIN_POSITIVE);
+    let mut rho = if k > 0 { norm_w / norm_gtg } else { 0.0 };
+    let rho_max = RHO_CAP * rho;
+    let mut mu = vec![0.0; k];
+    let mut lambda = vec![0.0; m];
+    let mut feas_prev = f64::INFINITY;
+    let mut inner_iterations = 0usize;
+    let mut last_reason = String::new();
+    let mut previous_active: Option<Vec<bool>> = None;
+    for outer in 0..MAX_OUTER {
+        // Inner problem: LCP(W + ρGGᵀ, q + Gμ − ρGe).
+        let mut w_in = w.clone();
+        if k > 0 {
+            for j in 0..m {
+                for i in 0..m {
+                    w_in[(i, j)] += rho * ggt[(i, j)];
+                }
+            }
+        }
+        let q_in: Vec<f64> = (0..m)
+            .map(|p| {
+                q[p] + (0..k)
+                    .map(|j| g[(p, j)] * (mu[j] - rho * e[j]))
+                    .sum::<f64>()
+            })
+            .collect();
+        // Inner precision: tied to the current infeasibility (Dostál's
+        // ‖gᴾ‖ ≤ min(M‖Gᵀλ − e‖, η)) and tightened tenfold per outer
+        // iteration (the two residuals are measured in different units, so
+        // M is not known in advance), never tighter than the tolerance.
+        let inner_tolerance = if k == 0 {
+            opts.tolerance
+        } else {
+            let feas_rel = if outer == 0 {
+                1.0
+            } else {
+                equality_residual(g, e, &lambda, opts.force_scale)
+            };
+            (feas_rel.min(1e-2) * 0.1f64.powi(outer as i32)).max(opts.tolerance)
+        };
+        let inner_opts = LcpOptions {
+            tolerance: inner_tolerance,
+            ..opts.clone()
+        };
+        let sol = inner(&w_in, &q_in, &lambda, &inner_opts)?;
+        inner_iterations += sol.report.iterations;
+        report.operator_applications += sol.report.operator_applications;
+        last_reason = sol.report.stopping_reason.clone();
+        if !sol.report.converged && inner_opts.tolerance <= opts.tolerance {
+            report.stopping_reason = format!(
+                "SMALBE outer iteration {}: the inner solver did not converge: {}",
+                outer + 1,
+                sol.report.stopping_reason
+            );
+            report.iterations = outer + 1;
+            let gap = constrained_gaps(w, q, g, &sol.lambda, &mu);
+            return Ok(ConstrainedSolution {
+                lambda: sol.lambda,
+                alpha: mu,
+                gap,
+                report,
+            });
+        }
+        lambda = sol.lambda;
+        let r = equality_vector(g, e, &lambda);
+        for j in 0..k {
+            mu[j] += rho * r[j];
+        }
+        let gap = constrained_gaps(w, q, g, &lambda, &mu);
+        let natural = residual_from_gaps(&lambda, &gap, opts);
+        let feas = equality_residual(g, e, &lambda, opts.force_scale);
+        report.iterations = outer + 1;
+        report.residual_history.push(natural.max(feas));
+        let active: Vec<bool> = lambda.iter().map(|&l| l > 0.0).collect();
+        let settled = k > 0 && previous_active.as_ref() == Some(&active);
+        previous_active = Some(active);
+        if settled && !(natural <= opts.tolerance && feas <= opts.tolerance) {
+            // The active set has settled: one saddle-point solve on it may
+            // finish the job (polish keeps it only if it is better).
+            let mut trial = ConstrainedSolution {
+                lambda: lambda.clone(),
+                alpha: mu.clone(),
+                gap: gap.clone(),
+                report: report.clone(),
+            };
+            if polish(w, q, g, e, &mut trial, opts) {
+                trial.report.converged = true;
+                trial.report.stopping_reason = format!(
+                    "SMALBE: the active set settled after {} outer iterations ({inner_iterations} inner iterations; ρ = {rho:.3e}); one saddle-point solve on it meets the tolerance {:.3e}; last inner: {last_reason}",
+                    outer + 1,
+                    opts.tolerance
+                );
+                return Ok(trial);
+            }
+        }
+        if natural <= opts.tolerance && feas <= opts.tolerance {
+            report.converged = true;
+            report.stopping_reason = format!(
+                "SMALBE: natural residual {natural:.3e} and equilibrium residual {feas:.3e} ≤ tolerance {:.3e} after {} outer iterations ({inner_iterations} inner iterations; ρ = {rho:.3e}); last inner: {last_reason}",
+                opts.tolerance,
+                outer + 1
+            );
+            let mut out = ConstrainedSolution {
+                lambda,
+                alpha: mu,
+                gap,
+                report,
+            };
+            polish(w, q, g, e, &mut out, opts);
+            return Ok(out);
+        }
+        if feas > FEASIBILITY_DECREASE * feas_prev && rho * RHO_GROWTH <= rho_max {
+            rho *= RHO_GROWTH;
+        }
+        feas_prev = feas;
+    }
+    let gap = constrained_gaps(w, q, g, &lambda, &mu);
+    let natural = residual_from_gaps(&lambda, &gap, opts);
+    let feas = equality_residual(g, e, &lambda, opts.force_scale);
+    report.stopping_reason = format!(
+        "SMALBE: {MAX_OUTER} outer iterations without meeting the tolerance {:.3e} (natural residual {natural:.3e}, equilibrium residual {feas:.3e}, ρ = {rho:.3e}); last inner: {last_reason}",
+        opts.tolerance
+    );
+    Ok(ConstrainedSolution {
+        lambda,
+        alpha: mu,
+        gap,
+        report,
+    })
+}
+
+/// One saddle-point solve on the active set of a converged answer (see the
+/// module documentation); kept if feasible and not worse.
+fn polish(
+    w: &Mat<f64>,
+    q: &[f64],
+    g: &Mat<f64>,
+    e: &[f64],
+    sol: &mut ConstrainedSolution,
+    opts: &LcpOptions,
+) -> bool {
+    let (m, k) = (g.nrows(), g.ncols());
+    let lmax = sol.lambda.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+    let active: Vec<usize> = (0..m).filter(|&p| sol.lambda[p] > 1e-14 * lmax).collect();
+    let na = active.len();
+    let dim = na + k;
+    if dim == 0 {
+        return false;
+    }
+    let mut a = Mat::<f64>::zeros(dim, dim);
+    let mut rhs = Mat::<f64>::zeros(dim, 1);
+    for (ii, &p) in active.iter().enumerate() {
+        for (jj, &r) in active.iter().enumerate() {
+            a[(ii, jj)] = w[(p, r)];
+        }
+        for j in 0..k {
+            a[(ii, na + j)] = g[(p, j)];
+            a[(na + j, ii)] = g[(p, j)];
+        }
+        rhs[(ii, 0)] = -q[p];
+    }
+    for j in 0..k {
+        rhs[(na + j, 0)] = e[j];
+    }
+    let Ok(x) = crate::delassus::solve_checked(&a, &rhs, "polish") else {
+        return false;
+    };
+    let mut lambda = vec![0.0; m];
+    for (ii, &p) in active.iter().enumerate() {
+        lambda[p] = x[(ii, 0)].max(0.0);
+    }
+    let alpha: Vec<f64> = (0..k).map(|j| x[(na + j, 0)]).collect();
+    let gap = constrained_gaps(w, q, g, &lambda, &alpha);
+    let before = residual_from_gaps(&sol.lambda, &sol.gap, opts).max(equality_residual(
+        g,
+        e,
+        &sol.lambda,
+        opts.force_scale,
+    ));
+    let after = residual_from_gaps(&lambda, &gap, opts).max(equality_residual(
+        g,
+        e,
+        &lambda,
+        opts.force_scale,
+    ));
+    let feasible = (0..m).all(|p| x_ok(&lambda, &gap, p, active.contains(&p), opts, lmax));
+    if feasible && after <= before.max(opts.tolerance) {
+        sol.lambda = lambda;
+        sol.alpha = alpha;
+        sol.gap = gap;
+        sol.report.operator_applications += 1;
+        sol.report.residual_history.push(after);
+        sol.report
+            .stopping_reason
+            .push_str("; polished by one saddle-point solve on the identified active set");
+        return after <= opts.tolerance;
+    }
+    false
+}
+
+/// The polished answer keeps the active forces non-negative and the
+/// inactive gaps open (to the tolerance).
+fn x_ok(lambda: &[f64], gap: &[f64], p: usize, active: bool, opts: &LcpOptions, lmax: f64) -> bool {
+    if active {
+        lambda[p] >= -opts.tolerance * opts.force_scale.max(lmax)
+    } else {
+        gap[p] >= -opts.tolerance * opts.gap_scale
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mprgp::mprgp_from;
+    use crate::projected_gradient::test_support::{random_spd, random_vec, tight, Rng};
+    use crate::status::status_method;
+    use crate::DelassusProblem;
+    use faer::prelude::Solve;
+
+    fn inner_mprgp(
+        w: &Mat<f64>,
+        q: &[f64],
+        l0: &[f64],
+        o: &LcpOptions,
+    ) -> Result<LcpSolution, ContactError> {
+        mprgp_from(w, q, l0, o)
+    }
+
+    /// A point mass on two springs' worth of contacts: W = I, one rigid
+    /// mode acting on both points (G = [1; 1]), load e = 3 to balance.
+    /// min ½(λ1² + λ2²) − λ1 + λ2 with λ1 + λ2 = 3, λ ≥ 0: both in contact,
+    /// g = λ + q + α = 0 gives λ1 = 1 − α, λ2 = −1 − α, so α = −1.5 and
+    /// λ = (2.5, 0.5).
+    #[test]
+    fn a_floating_point_held_by_two_contacts_matches_the_hand_solution() {
+        let w = Mat::<f64>::identity(2, 2);
+        let q = [-1.0, 1.0];
+        let g = Mat::<f64>::from_fn(2, 1, |_, _| 1.0);
+        let sol = smalbe(&w, &q, &g, &[3.0], &tight(), inner_mprgp).unwrap();
+        assert!(sol.report.converged, "{}", sol.report.stopping_reason);
+        let tol = 1e-10 * 3.0;
+        assert!((sol.lambda[0] - 2.5).abs() <= tol, "{:?}", sol.lambda);
+        assert!((sol.lambda[1] - 0.5).abs() <= tol, "{:?}", sol.lambda);
+        assert!((sol.alpha[0] + 1.5).abs() <= tol, "{:?}", sol.alpha);
+        assert!(sol.gap.iter().all(|v| v.abs() <= tol));
+    }
+
+    /// Random SPD W, random q, a random kernel: SMALBE with MPRGP inside
+    /// gives the answer of the status method on the saddle-point systems
+    /// (DelassusProblem with the same kernel), forces and rigid amplitudes.
+    #[test]
+    fn smalbe_agrees_with_the_status_method_on_floating_bodies() {
+        for seed in 1..=12u64 {
+            let mut rng = Rng::new(seed);
+            let n = 24;
+            let k = 1 + (seed as usize % 3);
+            // S = A Aᵀ + (positive on the complement of R): build S from a
+            // random SPD matrix projected off a random R, so S R = 0.
+            let r = Mat::<f64>::from_fn(n, k, |_, _| rng.uniform() - 0.5);
+            let spd = random_spd(n, &mut rng);
+            // P = I − R (RᵀR)⁻¹ Rᵀ, the orthogonal projector off R.
+            let rtr_inv = (r.transpose() * &r)
+                .full_piv_lu()
+                .solve(Mat::<f64>::identity(k, k));
+            let p = Mat::<f64>::identity(n, n) - &r * &rtr_inv * r.transpose();
+            let s = &p * &spd * &p;
+            // Contacts: m rows, each a unit row on one DOF.
+            let m = 10;
+            let rows: Vec<Vec<(usize, f64)>> = (0..m).map(|i| vec![(2 * i, 1.0)]).collect();
+            let gap0 = random_vec(m, &mut rng);
+            // A load the contacts can balance: F' = −Bᵀ λ* for some λ* ≥ 0, plus
+            // a self-equilibrated part.
+            let lstar: Vec<f64> = (0..m).map(|_| 0.5 * (rng.uniform() + 1.0)).collect();
+            let extra = random_vec(n, &mut rng);
+            let mut f: Vec<f64> = (0..n)
+                .map(|i| (0..n).map(|j| p[(i, j)] * extra[j]).sum::<f64>())
+                .collect();
+            for (i, row) in rows.iter().enumerate() {
+                for &(d, c) in row {
+                    f[d] -= c * lstar[i];
+                }
+            }
+            let mut prob = DelassusProblem::new(&s, &rows, &gap0, &f, &r).unwrap();
+            let opts = tight();
+            let exact = status_method(
+                &mut prob,
+                &crate::StatusOptions {
+                    variant: crate::StatusVariant::All,
+                    max_iterations: 200,
+                    tolerance: 1e-12,
+                    force_scale: 1.0,
+                    gap_scale: 1.0,
+                    initial_active: None,
+                },
+            )
+            .unwrap();
+            assert!(exact.converged, "seed {seed}: {}", exact.stopping_reason);
+            let sol = smalbe(&prob.w, &prob.q, &prob.g_mat, &prob.e, &opts, inner_mprgp).unwrap();
+            assert!(
+                sol.report.converged,
+                "seed {seed}: {}",
+                sol.report.stopping_reason
+            );
+            let scale = exact.lambda.iter().fold(1.0f64, |a, v| a.max(v.abs()));
+            let d = sol
+                .lambda
+                .iter()
+                .zip(&exact.lambda)
+                .fold(0.0f64, |a, (x, y)| a.max((x - y).abs()));
+            assert!(d <= 1e-8 * scale, "seed {seed}: forces differ by {d:e}");
+            let da = sol
+                .alpha
+                .iter()
+                .zip(prob.alpha())
+                .fold(0.0f64, |a, (x, y)| a.max((x - y).abs()));
+            let ascale = prob.alpha().iter().fold(1.0f64, |a, v| a.max(v.abs()));
+            assert!(da <= 1e-7 * ascale, "seed {seed}: α differ by {da:e}");
+        }
+    }
+
+    /// No kernel: SMALBE is the inner method itself, in one outer iteration.
+    #[test]
+    fn without_floating_bodies_smalbe_is_its_inner_method() {
+        let mut rng = Rng::new(7);
+        let w = random_spd(15, &mut rng);
+        let q = random_vec(15, &mut rng);
+        let g = Mat::<f64>::zeros(15, 0);
+        let sol = smalbe(&w, &q, &g, &[], &tight(), inner_mprgp).unwrap();
+        assert!(sol.report.converged);
+        assert_eq!(sol.report.iterations, 1);
+        let direct = crate::mprgp::mprgp(&w, &q, &tight()).unwrap();
+        let d = sol
+            .lambda
+            .iter()
+            .zip(&direct.lambda)
+            .fold(0.0f64, |a, (x, y)| a.max((x - y).abs()));
+        assert!(d <= 1e-8 * direct.lambda.iter().fold(1.0f64, |a, v| a.max(v.abs())));
+    }
+}

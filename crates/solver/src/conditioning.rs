@@ -1,0 +1,318 @@
+//! Condition estimates for the report (report.json `conditioning`, see
+//! [`signorini_report::Conditioning`] and the README, "The report").
+//!
+//! Every estimate is κ₁ = ‖A‖₁ ‖A⁻¹‖₁ with ‖A⁻¹‖₁ from the Hager–Higham
+//! estimator (`signorini_condense::conditioning`) on a factorisation the run
+//! makes anyway, except W (one dense Cholesky of the m × m Delassus operator,
+//! once per run, m ≤ [`MAX_W_SIZE`]) and, on the direct path, K (one sparse
+//! Cholesky of the whole stiffness, outside the timed phases).
+//!
+//! Condensed path: κ(K_II) per subdomain (computed by the rank that owns it
+//! and sent with its Schur complement), κ(S) from the root's Cholesky of S
+//! (S + ρRRᵀ with floating bodies), κ(W) at the first step. Direct path: κ(K).
+//!
+//! The warning rule: digits_lost = log10 max κ, digits_available =
+//! 15.65 − digits_lost, digits_needed = −log10(tolerance); warn when
+//! digits_available < digits_needed.
+
+use faer::sparse::SparseColMat;
+use faer::{Mat, Side};
+use signorini_condense::conditioning::{
+    dense_spd_condition, digits_lost, inverse_norm1_estimate, F64_DIGITS,
+};
+use signorini_contact::delassus::SparseRow;
+use signorini_contact::{ContactError, DelassusProblem};
+use signorini_report::Conditioning;
+
+use crate::subdomain::CondensedData;
+
+/// W is estimated by a dense Cholesky only up to this many contact rows
+/// (m³/3 flops: about a second at m = 4000).
+pub const MAX_W_SIZE: usize = 4000;
+
+/// The name of the estimator in the report.
+pub const METHOD: &str = "hager_higham_1norm";
+
+/// The root's estimates, made when the first Delassus problem is built.
+#[derive(Debug, Default)]
+pub(crate) struct RootConditioning {
+    s: Option<f64>,
+    w: Option<f64>,
+    notes: Vec<String>,
+    /// Notes that are warnings too (they go to the report's messages).
+    warnings: Vec<String>,
+    done: bool,
+}
+
+/// `DelassusProblem::new`, and, the first time (the first load step), the
+/// estimates of κ(S) (from the factorisation `new` makes) and κ(W) (before
+/// any slip compliance is added to W). W changes over the steps only with
+/// the geometry of the contact rows.
+pub(crate) fn delassus_problem(
+    s: &Mat<f64>,
+    rows: &[SparseRow],
+    gap0: &[f64],
+    f: &[f64],
+    kernel: &Mat<f64>,
+    cond: &mut RootConditioning,
+) -> Result<DelassusProblem, ContactError> {
+    if cond.done {
+        return DelassusProblem::new(s, rows, gap0, f, kernel);
+    }
+    let p = DelassusProblem::new_with_condition(s, rows, gap0, f, kernel)?;
+    cond.done = true;
+    cond.s = p.s_condition();
+    if p.n_kernel() > 0 {
+        cond.notes.push(format!(
+            "s is the condition of S + ρRRᵀ, the matrix factorised: S itself is singular on the {} rigid mode(s) of the floating bodies",
+            p.n_kernel()
+        ));
+    }
+    let m = p.w.nrows();
+    if m == 0 {
+        cond.notes.push("w: no contact rows".into());
+    } else if m > MAX_W_SIZE {
+        cond.notes
+            .push(format!("w: not estimated (m = {m} > {MAX_W_SIZE})"));
+    } else {
+        match dense_spd_condition(p.w.as_ref()) {
+            Some(k) if k * f64::EPSILON < 1.0 => cond.w = Some(k),
+            Some(k) => {
+                cond.warnings.push(format!(
+                    "W is singular: redundant contact constraints (κ₁(W) ≈ {k:.1e} ≥ 1/ε); w is left out of digits_lost"
+                ));
+            }
+            None => {
+                cond.warnings.push(
+                    "W is singular: redundant contact constraints (its Cholesky factorisation fails); w is left out of digits_lost".into(),
+                );
+            }
+        }
+    }
+    Ok(p)
+}
+
+/// The report's entry on the condensed path, from the subdomains' κ(K_II)
+/// and the root's estimates. Pushes the warnings to `messages`.
+pub(crate) fn condensed(
+    data: &[CondensedData],
+    root: RootConditioning,
+    tolerance: f64,
+    messages: &mut Vec<String>,
+) -> Conditioning {
+    let per: Vec<Option<f64>> = data.iter().map(|d| d.k_ii_condition).collect();
+    let k_ii = per.iter().flatten().copied().reduce(f64::max);
+    let mut notes = root.notes;
+    if k_ii.is_none() {
+        notes.push("k_ii: no subdomain has interior DOFs".into());
+    }
+    if !root.done {
+        notes.push("s, w: no Delassus problem was built".into());
+    }
+    notes.push("k: the whole stiffness is factorised on the direct path only".into());
+    for w in &root.warnings {
+        messages.push(format!("conditioning: {w}"));
+    }
+    notes.extend(root.warnings);
+    let mut c = Conditioning {
+        method: METHOD.into(),
+        k_ii,
+        k_ii_per_subdomain: per,
+        s: root.s,
+        w: root.w,
+        k: None,
+        notes,
+        ..Default::default()
+    };
+    apply_rule(
+        &mut c,
+        &[("K_II", k_ii), ("S", root.s), ("W", root.w)],
+        tolerance,
+        messages,
+    );
+    c
+}
+
+/// The report's entry on the direct path: κ(K) of the whole stiffness on the
+/// free DOFs by one sparse Cholesky (none when a body is floating).
+pub(crate) fn direct(
+    k: &SparseColMat<usize, f64>,
+    floating: bool,
+    tolerance: f64,
+    messages: &mut Vec<String>,
+) -> Conditioning {
+    let mut notes = vec![
+        "k_ii, s, w: the direct path does not condense (it factorises [K Bᵀ; B 0] by sparse LU)"
+            .to_string(),
+    ];
+    let kappa = if floating {
+        notes.push("k: a floating body makes K singular".into());
+        None
+    } else {
+        let est = sparse_spd_condition(k);
+        if est.is_none() {
+            notes.push("k: the Cholesky factorisation of K fails (K is singular)".into());
+        }
+        est
+    };
+    let mut c = Conditioning {
+        method: METHOD.into(),
+        k: kappa,
+        notes,
+        ..Default::default()
+    };
+    apply_rule(&mut c, &[("K", kappa)], tolerance, messages);
+    c
+}
+
+/// κ₁ of a sparse symmetric positive definite matrix (both triangles stored)
+/// by one sparse Cholesky; `None` when it fails.
+fn sparse_spd_condition(k: &SparseColMat<usize, f64>) -> Option<f64> {
+    use faer::linalg::solvers::SolveCore;
+    let n = k.nrows();
+    if n == 0 {
+        return None;
+    }
+    let norm = (0..n)
+        .map(|j| k.val_of_col(j).iter().map(|v| v.abs()).sum::<f64>())
+        .fold(0.0, f64::max);
+    let llt = k.sp_cholesky(Side::Lower).ok()?;
+    let inv = inverse_norm1_estimate(n, |x| {
+        let xm = faer::MatMut::from_column_major_slice_mut(x, n, 1);
+        llt.solve_in_place_with_conj(faer::Conj::No, xm);
+    });
+    let kappa = norm * inv;
+    kappa.is_finite().then_some(kappa)
+}
+
+/// Fills the digits and the warning: digits_lost = log10 of the largest
+/// estimate, available = 15.65 − lost, needed = −log10(tolerance); warns when
+/// available < needed.
+fn apply_rule(
+    c: &mut Conditioning,
+    estimates: &[(&str, Option<f64>)],
+    tolerance: f64,
+    messages: &mut Vec<String>,
+) {
+    c.digits_needed = -tolerance.log10();
+    let worst = estimates
+        .iter()
+        .filter_map(|&(name, k)| k.filter(|k| k.is_finite()).map(|k| (name, k)))
+        .max_by(|a, b| a.1.total_cmp(&b.1));
+    let Some((name, kappa)) = worst else {
+        return;
+    };
+    let lost = digits_lost(kappa);
+    let available = F64_DIGITS - lost;
+    c.digits_lost = Some(lost);
+    c.digits_available = Some(available);
+    if available < c.digits_needed {
+        let w = format!(
+            "conditioning: κ₁({name}) ≈ {kappa:.2e} leaves about {available:.1} of the {F64_DIGITS:.2} decimal digits of a double, fewer than the {:.1} that solver.tolerance = {tolerance:e} asks for: the answer may not be accurate to the tolerance (relax the tolerance, or reduce the stiffness contrast, the mesh grading or the refinement)",
+            c.digits_needed
+        );
+        messages.push(w.clone());
+        c.warning = Some(w);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn rule_warns_only_when_the_tolerance_needs_more_digits_than_are_left() {
+        let mut messages = Vec::new();
+        // κ = 1e6: 9.65 digits left; a tolerance of 1e-9 needs 9, 1e-10 needs 10.
+        let mut c = Conditioning::default();
+        apply_rule(
+            &mut c,
+            &[("A", Some(1e6)), ("B", None)],
+            1e-9,
+            &mut messages,
+        );
+        assert!((c.digits_lost.unwrap() - 6.0).abs() < 1e-12);
+        assert!((c.digits_available.unwrap() - 9.6536).abs() < 1e-3);
+        assert!((c.digits_needed - 9.0).abs() < 1e-12);
+        assert!(c.warning.is_none() && messages.is_empty());
+        let mut c = Conditioning::default();
+        apply_rule(
+            &mut c,
+            &[("A", Some(1e6)), ("B", Some(10.0))],
+            1e-10,
+            &mut messages,
+        );
+        let w = c.warning.expect("warning");
+        assert!(w.contains("κ₁(A)"), "{w}");
+        assert_eq!(messages, vec![w]);
+        // nothing estimated: no digits, no warning
+        let mut c = Conditioning::default();
+        apply_rule(&mut c, &[("A", None)], 1e-15, &mut messages);
+        assert!(c.digits_lost.is_none() && c.warning.is_none());
+    }
+
+    #[test]
+    fn first_delassus_problem_estimates_s_and_w_once() {
+        // S = diag(1, 4, 2): κ₁(S) = 4; rows e0 and e1 + e2:
+        // W = [[1, 0], [0, 1/4 + 1/2]], κ₁(W) = 1/0.75.
+        let s = Mat::<f64>::from_fn(3, 3, |i, j| if i == j { [1.0, 4.0, 2.0][i] } else { 0.0 });
+        let rows: Vec<SparseRow> = vec![vec![(0, 1.0)], vec![(1, 1.0), (2, 1.0)]];
+        let kernel = Mat::<f64>::zeros(3, 0);
+        let mut cond = RootConditioning::default();
+        let p = delassus_problem(&s, &rows, &[0.0; 2], &[0.0; 3], &kernel, &mut cond).unwrap();
+        assert_eq!(p.s_condition(), Some(4.0));
+        assert!((cond.s.unwrap() - 4.0).abs() < 1e-14);
+        assert!((cond.w.unwrap() - 1.0 / 0.75).abs() < 1e-14, "{:?}", cond.w);
+        assert!(cond.warnings.is_empty());
+        // later steps do not estimate again
+        let p = delassus_problem(&s, &rows, &[0.0; 2], &[0.0; 3], &kernel, &mut cond).unwrap();
+        assert_eq!(p.s_condition(), None);
+        assert!((cond.s.unwrap() - 4.0).abs() < 1e-14);
+    }
+
+    #[test]
+    fn redundant_rows_make_w_singular_with_a_message() {
+        let s = Mat::<f64>::identity(2, 2);
+        let rows: Vec<SparseRow> = vec![vec![(0, 1.0)], vec![(0, 1.0)]];
+        let mut cond = RootConditioning::default();
+        delassus_problem(
+            &s,
+            &rows,
+            &[0.0; 2],
+            &[0.0; 2],
+            &Mat::zeros(2, 0),
+            &mut cond,
+        )
+        .unwrap();
+        assert!(cond.w.is_none());
+        let mut messages = Vec::new();
+        let c = condensed(&[], cond, 1e-10, &mut messages);
+        assert!(c.w.is_none());
+        assert!(
+            messages
+                .iter()
+                .any(|m| m.contains("W is singular: redundant contact constraints")),
+            "{messages:?}"
+        );
+        // S = I: κ = 1, no digit lost, no warning
+        assert_eq!(c.digits_lost, Some(0.0));
+        assert!(c.warning.is_none());
+    }
+
+    #[test]
+    fn sparse_estimate_of_a_1d_laplacian() {
+        // tridiag(−1, 2, −1), n = 99: κ₁ = 4 ‖A⁻¹‖₁ = (n+1)²/2 = 5000.
+        let n = 99;
+        let mut t = Vec::new();
+        for i in 0..n {
+            t.push(faer::sparse::Triplet::new(i, i, 2.0));
+            if i + 1 < n {
+                t.push(faer::sparse::Triplet::new(i, i + 1, -1.0));
+                t.push(faer::sparse::Triplet::new(i + 1, i, -1.0));
+            }
+        }
+        let k = SparseColMat::<usize, f64>::try_new_from_triplets(n, n, &t).unwrap();
+        let est = sparse_spd_condition(&k).unwrap();
+        assert!(est <= 5000.0 * (1.0 + 1e-9) && est >= 5000.0 / 3.0, "{est}");
+    }
+}

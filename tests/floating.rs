@@ -1,0 +1,153 @@
+//! Bodies held by contact alone (issue 7, item 1; DESIGN.md §3): no
+//! Dirichlet condition on some rigid motions, no artificial spring. The
+//! status method solves the saddle-point systems with the equilibrium of the
+//! rigid modes, every other method runs inside SMALBE (contact::smalbe) with
+//! that equilibrium as the equality; all must give the same answer, and the
+//! uniform-pressure patch test (VALIDATION.md §3) exactly.
+
+mod common;
+
+use common::{converged, example, max_rel, try_run};
+use signorini_scene::Method;
+use signorini_solver::{RunOptions, RunOutput, SolveError};
+
+fn with(method: Method) -> RunOptions {
+    RunOptions {
+        method: Some(method),
+        path: None,
+    }
+}
+
+fn forces(o: &RunOutput) -> Vec<f64> {
+    o.contact_rows.iter().map(|r| r.normal_force).collect()
+}
+
+fn displacements(o: &RunOutput) -> Vec<f64> {
+    o.bodies
+        .iter()
+        .flat_map(|b| b.last().displacement.clone())
+        .collect()
+}
+
+const EXACT: [Method; 6] = [
+    Method::Mprgp,
+    Method::ProjectedGradient,
+    Method::ProjectedConjugateGradient,
+    Method::Lemke,
+    Method::Uzawa,
+    Method::AugmentedLagrangian,
+];
+
+/// examples/floating3d.toml: a box on a rigid plane with no support in z
+/// (only two top corners pinned in the plane), so its z translation and both
+/// tilts (three rigid modes) are held by the contact alone; a uniform
+/// traction t on its top.
+fn floating_box_3d(t: f64) -> String {
+    let text = example("floating3d.toml");
+    assert!(text.contains("traction = [0.0, 0.0, -0.5]") && text.contains("pressure = 0.5"));
+    text.replace(
+        "traction = [0.0, 0.0, -0.5]",
+        &format!("traction = [0.0, 0.0, {t:e}]"),
+    )
+    .replace("pressure = 0.5", &format!("pressure = {:e}", -t))
+}
+
+/// Every method on one scene: converged, the certificate met, and forces
+/// and displacements equal to the status method's.
+fn every_method_equals_the_status_method(text: &str, what: &str) {
+    let reference = converged(text, with(Method::Status));
+    let f0 = forces(&reference);
+    let u0 = displacements(&reference);
+    for m in EXACT {
+        let out = converged(text, with(m));
+        let df = max_rel(&forces(&out), &f0);
+        let du = max_rel(&displacements(&out), &u0);
+        assert!(df <= 1e-9, "{what}, {m:?}: forces differ by {df:e}");
+        assert!(du <= 1e-9, "{what}, {m:?}: displacements differ by {du:e}");
+        if m == Method::Mprgp {
+            assert!(
+                out.report.steps[0].stopping_reason.contains("SMALBE"),
+                "{}",
+                out.report.steps[0].stopping_reason
+            );
+        }
+        let q = &out.report.reference.as_ref().unwrap().quantities["pressure"];
+        assert!(
+            q.relative_error <= 1e-10,
+            "{what}, {m:?}: pressure {} vs {}",
+            q.computed,
+            q.exact
+        );
+    }
+}
+
+#[test]
+fn a_pad_held_by_contact_alone_is_solved_by_every_method_in_2d() {
+    // examples/blocks.toml: the pad has two rigid modes (vertical
+    // translation, rotation about its pinned corner) held by the contact.
+    every_method_equals_the_status_method(&example("blocks.toml"), "blocks 2D");
+}
+
+#[test]
+fn a_box_held_by_contact_alone_in_three_rigid_modes_is_solved_by_every_method_in_3d() {
+    let text = floating_box_3d(-0.5);
+    let out = converged(&text, with(Method::Status));
+    assert!(
+        out.report
+            .messages
+            .iter()
+            .any(|m| m.contains("held by contact in 3 rigid motion(s)")),
+        "{:?}",
+        out.report.messages
+    );
+    every_method_equals_the_status_method(&text, "box 3D");
+}
+
+/// The load cannot be balanced by compressive contact forces: a clear input
+/// error naming the body and its unbalanced resultant, whatever the method.
+#[test]
+fn a_floating_box_pulled_off_its_support_is_refused_by_name() {
+    let text = floating_box_3d(0.5);
+    for m in [Method::Status, Method::Mprgp] {
+        match try_run(&text, with(m)) {
+            Err(SolveError::Input(msg)) => {
+                assert!(msg.contains("\"box\""), "{msg}");
+                assert!(
+                    msg.contains("unbalanced") || msg.contains("balance"),
+                    "{msg}"
+                );
+            }
+            other => panic!(
+                "{m:?}: expected a clear input error, got {:?}",
+                other.map(|o| o.report.converged)
+            ),
+        }
+    }
+}
+
+/// The penalty method on a floating body solves its regularised law inside
+/// SMALBE: the deviation from the exact forces shrinks with the stiffness.
+#[test]
+fn the_penalty_method_holds_a_floating_body_and_tends_to_the_exact_answer() {
+    let text = example("blocks.toml");
+    let exact = forces(&converged(&text, with(Method::Status)));
+    let mut last = f64::INFINITY;
+    for factor in [1e2, 1e4, 1e6] {
+        let t = text.replace("[solver]", &format!("[solver]\npenalty = {factor:e}"));
+        let t = if t.contains("[solver]") {
+            t
+        } else {
+            format!("{t}\n[solver]\npenalty = {factor:e}\n")
+        };
+        let out = try_run(&t, with(Method::Penalty)).unwrap();
+        let reg = out.report.steps[0].regularisation.as_ref().unwrap();
+        let d = max_rel(&forces(&out), &exact);
+        // The report's deviation is the same measure, relative to the exact
+        // forces alone.
+        let r = reg.force_deviation;
+        assert!((d - r).abs() <= 0.01 * r, "reported {r:e}, measured {d:e}");
+        assert!(d < last, "factor {factor:e}: deviation {d:e} ≥ {last:e}");
+        last = d;
+    }
+    assert!(last <= 1e-4, "{last:e}");
+}
