@@ -139,7 +139,11 @@ fn every_family_of_the_issue_is_covered_over_its_whole_range() {
 #[test]
 fn contrast_pressure_equals_the_traction_at_every_ratio() {
     let rows = family("contrast");
-    assert_eq!(rows.len(), 5);
+    assert_eq!(
+        rows.len(),
+        9,
+        "5 ratios by status, 2 by mprgp and projected_gradient"
+    );
     for r in rows {
         assert_eq!(r.exit_code, 0, "{}: {}", r.case, r.outcome);
         assert!(r.converged && r.certificate <= r.tolerance, "{}", r.case);

@@ -287,8 +287,9 @@ pub fn smalbe(
     })
 }
 
-/// One saddle-point solve on the active set of a converged answer (see the
-/// module documentation); kept if feasible and not worse.
+/// One saddle-point solve on the active set of an answer (see the module
+/// documentation); kept, and `true`, when it is a solution (compressive
+/// forces, open gaps elsewhere).
 fn polish(
     w: &Mat<f64>,
     q: &[f64],
@@ -323,26 +324,30 @@ fn polish(
     let Ok(x) = crate::delassus::solve_checked(&a, &rhs, "polish") else {
         return false;
     };
+    // The exact solution for this active set is the solution of the LCP
+    // when its forces are compressive and its other gaps open (to the
+    // tolerance): then it is kept, as the status method keeps its last
+    // active set; the gaps of the active points vanish by construction, to
+    // the round-off of W λ + q + G α.
+    let raw: Vec<f64> = (0..na).map(|ii| x[(ii, 0)]).collect();
     let mut lambda = vec![0.0; m];
     for (ii, &p) in active.iter().enumerate() {
-        lambda[p] = x[(ii, 0)].max(0.0);
+        lambda[p] = raw[ii].max(0.0);
     }
     let alpha: Vec<f64> = (0..k).map(|j| x[(na + j, 0)]).collect();
     let gap = constrained_gaps(w, q, g, &lambda, &alpha);
-    let before = residual_from_gaps(&sol.lambda, &sol.gap, opts).max(equality_residual(
-        g,
-        e,
-        &sol.lambda,
-        opts.force_scale,
-    ));
-    let after = residual_from_gaps(&lambda, &gap, opts).max(equality_residual(
-        g,
-        e,
-        &lambda,
-        opts.force_scale,
-    ));
-    let feasible = (0..m).all(|p| x_ok(&lambda, &gap, p, active.contains(&p), opts, lmax));
-    if feasible && after <= before.max(opts.tolerance) {
+    let fscale = opts.force_scale.max(lmax);
+    let compressive = raw.iter().all(|&l| l >= -opts.tolerance * fscale);
+    let mut is_active = vec![false; m];
+    active.iter().for_each(|&p| is_active[p] = true);
+    let open = (0..m).all(|p| is_active[p] || gap[p] >= -opts.tolerance * opts.gap_scale);
+    if compressive && open {
+        let after = residual_from_gaps(&lambda, &gap, opts).max(equality_residual(
+            g,
+            e,
+            &lambda,
+            opts.force_scale,
+        ));
         sol.lambda = lambda;
         sol.alpha = alpha;
         sol.gap = gap;
@@ -351,19 +356,9 @@ fn polish(
         sol.report
             .stopping_reason
             .push_str("; polished by one saddle-point solve on the identified active set");
-        return after <= opts.tolerance;
+        return true;
     }
     false
-}
-
-/// The polished answer keeps the active forces non-negative and the
-/// inactive gaps open (to the tolerance).
-fn x_ok(lambda: &[f64], gap: &[f64], p: usize, active: bool, opts: &LcpOptions, lmax: f64) -> bool {
-    if active {
-        lambda[p] >= -opts.tolerance * opts.force_scale.max(lmax)
-    } else {
-        gap[p] >= -opts.tolerance * opts.gap_scale
-    }
 }
 
 #[cfg(test)]

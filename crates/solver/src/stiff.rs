@@ -525,28 +525,52 @@ fn contrast(quick: bool) -> Vec<Case> {
         ([64, 16], [64, 16])
     };
     let dofs = 2.0 * ((pad[0] + 1) * (pad[1] + 1) + (base[0] + 1) * (base[1] + 1)) as f64;
-    [1e-6, 1e-3, 1.0, 1e3, 1e6]
+    // The status method at every ratio; the extreme ratios also by the
+    // iterative methods, which run inside SMALBE here (the pad floats).
+    let runs = [1e-6, 1e-3, 1.0, 1e3, 1e6]
         .into_iter()
-        .map(|r: f64| {
-            let (e_b, e_t) = (1.0f64, r);
-            let t = 1e-3 * e_b.min(e_t);
-            // The round-off of the answer grows with the size of the problem
-            // and with the contrast (the compliance of the soft body swamps
-            // the stiff one's in W): κ ≈ DOFs × contrast.
-            let tol = roundoff(dofs * r.max(1.0 / r));
-            Case::new(
-                "contrast",
+        .map(|r| (r, "status"))
+        .chain(
+            [1e-6, 1e6]
+                .into_iter()
+                .flat_map(|r| ["mprgp", "projected_gradient"].map(move |m| (r, m))),
+        );
+    runs.map(|(r, method): (f64, &str)| {
+        let (e_b, e_t) = (1.0f64, r);
+        let t = 1e-3 * e_b.min(e_t);
+        // The round-off of the answer grows with the size of the problem
+        // and with the contrast (the compliance of the soft body swamps
+        // the stiff one's in W): κ ≈ DOFs × contrast.
+        let tol = roundoff(dofs * r.max(1.0 / r));
+        let (name, parameter, text) = if method == "status" {
+            (
                 format!("contrast_{r:e}"),
                 format!("E_top/E_bottom = {r:e}"),
-                r,
                 stacked(e_b, e_t, t, pad, base, "node_to_node"),
-                Expectation::Solves(vec![
-                    Reference::new("pressure", tol, None, pressure(t, None)),
-                    Reference::new("resultant", tol, None, force(1, 2.0 * t, None)),
-                ]),
             )
-        })
-        .collect()
+        } else {
+            (
+                format!("contrast_{r:e}_{method}"),
+                format!("E_top/E_bottom = {r:e}, {method}"),
+                format!(
+                    "{}[solver]\nmethod = \"{method}\"\n",
+                    stacked(e_b, e_t, t, pad, base, "node_to_node")
+                ),
+            )
+        };
+        Case::new(
+            "contrast",
+            name,
+            parameter,
+            r,
+            text,
+            Expectation::Solves(vec![
+                Reference::new("pressure", tol, None, pressure(t, None)),
+                Reference::new("resultant", tol, None, force(1, 2.0 * t, None)),
+            ]),
+        )
+    })
+    .collect()
 }
 
 /// The tolerance of the Hertz cases on p0 and a (half_disk of
