@@ -5,7 +5,7 @@
 
 mod common;
 
-use common::{example_path as example, hertz_in_units, max_rel};
+use common::{example_path as example, hertz_in_units, max_rel, patch3d_in_pa_and_m};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
 use std::time::{Duration, Instant};
@@ -321,9 +321,10 @@ fn floating_bodies_under_mpirun_2_equal_the_in_process_run() {
 
 /// The units test (tests/units.rs) across the two transports: Hertz in Pa
 /// and m split over two ranks by `mpirun -n 2` equals Hertz in MPa and mm
-/// (the same two subdomains) in one process, after conversion, to 1e-10.
+/// (the same two subdomains) in one process, and likewise the 3D two-box
+/// patch, after conversion, to 1e-10.
 #[test]
-fn hertz_in_pa_under_mpirun_2_equals_hertz_in_mpa_in_process() {
+fn units_under_mpirun_2_equal_the_other_units_in_process_2d_and_3d() {
     if !have_mpirun() {
         return;
     }
@@ -381,4 +382,46 @@ fn hertz_in_pa_under_mpirun_2_equals_hertz_in_mpa_in_process() {
         .collect();
     let r = max_rel(&u_si, &u_mm);
     assert!(r <= 1e-10, "displacements differ by {r:e}");
+    // 3D: the two-box patch in Pa and m under mpirun -n 2 (a box per rank)
+    // equals it in MPa and mm in one process (forces in N both ways).
+    let si_scene = d.join("patch3d_si.toml");
+    std::fs::write(&si_scene, patch3d_in_pa_and_m()).unwrap();
+    let (a, b) = (d.join("patch3d_si"), d.join("patch3d_mm"));
+    let out = mpirun(
+        2,
+        &[
+            "run",
+            si_scene.to_str().unwrap(),
+            "--out",
+            a.to_str().unwrap(),
+        ],
+        &[],
+    );
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let out = local(&[
+        "run",
+        &example("patch3d.toml"),
+        "--out",
+        b.to_str().unwrap(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let f_si = numbers(&a.join("contact.csv"), &["normal_force"]);
+    let f_mm = numbers(&b.join("contact.csv"), &["normal_force"]);
+    let r = max_rel(&f_si, &f_mm);
+    assert!(r <= 1e-10, "3D: forces differ by {r:e}");
+    let u_si: Vec<f64> = numbers(&a.join("displacement.csv"), &["ux", "uy", "uz"])
+        .iter()
+        .map(|u| u * 1000.0)
+        .collect();
+    let u_mm = numbers(&b.join("displacement.csv"), &["ux", "uy", "uz"]);
+    let r = max_rel(&u_si, &u_mm);
+    assert!(r <= 1e-10, "3D: displacements differ by {r:e}");
 }

@@ -6,7 +6,7 @@
 
 mod common;
 
-use common::{converged, example, hertz_in_units as hertz, max_rel};
+use common::{converged, example, hertz_in_units as hertz, max_rel, patch3d_in_pa_and_m};
 use signorini_scene::SolvePath;
 use signorini_solver::{RunOptions, RunOutput};
 
@@ -47,13 +47,7 @@ fn box_patch_in_pa_and_m_equals_mpa_and_mm_in_3d() {
     // patch3d.toml is in consistent units of its own: read it as MPa and mm,
     // then as Pa and m (E × 1e6, lengths × 1e-3, traction × 1e6)
     let mm = example("patch3d.toml");
-    let si = mm
-        .replace("young = 210.0", "young = 210e6")
-        .replace("size = [1.0, 1.0, 0.5]", "size = [1e-3, 1e-3, 5e-4]")
-        .replace("origin = [0.0, 0.0, 0.5]", "origin = [0.0, 0.0, 5e-4]")
-        .replace("traction = [0.0, 0.0, -1.0]", "traction = [0.0, 0.0, -1e6]")
-        .replace("pressure = 1.0", "pressure = 1e6");
-    assert!(si.contains("size = [1e-3, 1e-3, 5e-4]") && si.contains("origin = [0.0, 0.0, 5e-4]"));
+    let si = patch3d_in_pa_and_m();
     let a = converged(&mm, RunOptions::default());
     let b = converged(&si, RunOptions::default());
     // forces in N both ways

@@ -73,3 +73,16 @@ pub fn hertz_in_units(young: &str, l: f64) -> String {
             &format!("[[0.0, 0.0], [0.0, {l:e}]]"),
         )
 }
+
+/// examples/patch3d.toml (consistent units of its own, read as MPa and mm)
+/// in Pa and m: E × 1e6, lengths × 1e-3, traction × 1e6.
+pub fn patch3d_in_pa_and_m() -> String {
+    let si = example("patch3d.toml")
+        .replace("young = 210.0", "young = 210e6")
+        .replace("size = [1.0, 1.0, 0.5]", "size = [1e-3, 1e-3, 5e-4]")
+        .replace("origin = [0.0, 0.0, 0.5]", "origin = [0.0, 0.0, 5e-4]")
+        .replace("traction = [0.0, 0.0, -1.0]", "traction = [0.0, 0.0, -1e6]")
+        .replace("pressure = 1.0", "pressure = 1e6");
+    assert!(si.contains("size = [1e-3, 1e-3, 5e-4]") && si.contains("origin = [0.0, 0.0, 5e-4]"));
+    si
+}
