@@ -340,88 +340,68 @@ fn units_under_mpirun_2_equal_the_other_units_in_process_2d_and_3d() {
     let (si_scene, mm_scene) = (d.join("si.toml"), d.join("mm.toml"));
     std::fs::write(&si_scene, si).unwrap();
     std::fs::write(&mm_scene, split(hertz_in_units("210e3", 10.0))).unwrap();
-    let (a, b) = (d.join("si"), d.join("mm"));
-    let out = mpirun(
+    // plane strain: N/m against N/mm per unit thickness
+    si_under_mpirun_equals_mm_in_process(
+        &si_scene,
+        &mm_scene,
+        &d.join("hertz"),
+        1000.0,
+        &["ux", "uy"],
+    );
+    // 3D: the two-box patch (a box per rank), forces in N both ways
+    let si_scene = d.join("patch3d_si.toml");
+    std::fs::write(&si_scene, patch3d_in_pa_and_m()).unwrap();
+    let mm_scene = PathBuf::from(example("patch3d.toml"));
+    si_under_mpirun_equals_mm_in_process(
+        &si_scene,
+        &mm_scene,
+        &d.join("patch3d"),
+        1.0,
+        &["ux", "uy", "uz"],
+    );
+}
+
+/// Runs `si` (Pa, m) under `mpirun -n 2` and `mm` (MPa, mm) in one process
+/// into `out`/si and `out`/mm: the contact forces (× `force_factor` from
+/// the mm run's unit) and the displacements (mm → m) agree to 1e-10.
+fn si_under_mpirun_equals_mm_in_process(
+    si: &Path,
+    mm: &Path,
+    out: &Path,
+    force_factor: f64,
+    displacement_columns: &[&str],
+) {
+    let (a, b) = (out.join("si"), out.join("mm"));
+    let run = mpirun(
         2,
-        &[
-            "run",
-            si_scene.to_str().unwrap(),
-            "--out",
-            a.to_str().unwrap(),
-        ],
+        &["run", si.to_str().unwrap(), "--out", a.to_str().unwrap()],
         &[],
     );
     assert!(
-        out.status.success(),
+        run.status.success(),
         "{}",
-        String::from_utf8_lossy(&out.stderr)
+        String::from_utf8_lossy(&run.stderr)
     );
-    let out = local(&[
-        "run",
-        mm_scene.to_str().unwrap(),
-        "--out",
-        b.to_str().unwrap(),
-    ]);
+    let run = local(&["run", mm.to_str().unwrap(), "--out", b.to_str().unwrap()]);
     assert!(
-        out.status.success(),
+        run.status.success(),
         "{}",
-        String::from_utf8_lossy(&out.stderr)
+        String::from_utf8_lossy(&run.stderr)
     );
     assert_eq!(report(&a)["transport"], "mpi");
+    let tag = out.display();
     let f_si = numbers(&a.join("contact.csv"), &["normal_force"]);
     let f_mm: Vec<f64> = numbers(&b.join("contact.csv"), &["normal_force"])
         .iter()
-        .map(|f| 1000.0 * f)
+        .map(|f| force_factor * f)
         .collect();
     let r = max_rel(&f_si, &f_mm);
-    assert!(r <= 1e-10, "forces differ by {r:e}");
-    let u_si = numbers(&a.join("displacement.csv"), &["ux", "uy"]);
-    let u_mm: Vec<f64> = numbers(&b.join("displacement.csv"), &["ux", "uy"])
+    assert!(r <= 1e-10, "{tag}: forces differ by {r:e}");
+    let u_si = numbers(&a.join("displacement.csv"), displacement_columns);
+    let u_mm: Vec<f64> = numbers(&b.join("displacement.csv"), displacement_columns)
         .iter()
         .map(|u| u / 1000.0)
         .collect();
     let r = max_rel(&u_si, &u_mm);
-    assert!(r <= 1e-10, "displacements differ by {r:e}");
-    // 3D: the two-box patch in Pa and m under mpirun -n 2 (a box per rank)
-    // equals it in MPa and mm in one process (forces in N both ways).
-    let si_scene = d.join("patch3d_si.toml");
-    std::fs::write(&si_scene, patch3d_in_pa_and_m()).unwrap();
-    let (a, b) = (d.join("patch3d_si"), d.join("patch3d_mm"));
-    let out = mpirun(
-        2,
-        &[
-            "run",
-            si_scene.to_str().unwrap(),
-            "--out",
-            a.to_str().unwrap(),
-        ],
-        &[],
-    );
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let out = local(&[
-        "run",
-        &example("patch3d.toml"),
-        "--out",
-        b.to_str().unwrap(),
-    ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let f_si = numbers(&a.join("contact.csv"), &["normal_force"]);
-    let f_mm = numbers(&b.join("contact.csv"), &["normal_force"]);
-    let r = max_rel(&f_si, &f_mm);
-    assert!(r <= 1e-10, "3D: forces differ by {r:e}");
-    let u_si: Vec<f64> = numbers(&a.join("displacement.csv"), &["ux", "uy", "uz"])
-        .iter()
-        .map(|u| u * 1000.0)
-        .collect();
-    let u_mm = numbers(&b.join("displacement.csv"), &["ux", "uy", "uz"]);
-    let r = max_rel(&u_si, &u_mm);
-    assert!(r <= 1e-10, "3D: displacements differ by {r:e}");
+    assert!(r <= 1e-10, "{tag}: displacements differ by {r:e}");
 }

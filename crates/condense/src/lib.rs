@@ -86,21 +86,24 @@ pub fn spmv(k: SparseColMatRef<'_, usize, f64>, x: &[f64]) -> Vec<f64> {
     y
 }
 
-/// y = |K| |x| entrywise: the size of the terms summed in each entry of K x,
-/// the scale of its round-off (a componentwise backward-error scale,
-/// Oettli–Prager). Where internal forces cancel (an interior node, a stiff
-/// body next to a soft one) K x is small but |K||x| is not.
-pub fn abs_spmv(k: SparseColMatRef<'_, usize, f64>, x: &[f64]) -> Vec<f64> {
+/// (K x, |K| |x|) in one pass: the product and, entry by entry, the size
+/// of the terms summed in it, the scale of its round-off (a componentwise
+/// backward-error scale, Oettli–Prager). Where internal forces cancel (an
+/// interior node, a stiff body next to a soft one) K x is small but |K||x|
+/// is not.
+pub fn spmv_with_magnitude(k: SparseColMatRef<'_, usize, f64>, x: &[f64]) -> (Vec<f64>, Vec<f64>) {
     let mut y = vec![0.0; k.nrows()];
+    let mut size = vec![0.0; k.nrows()];
     for (j, &xj) in x.iter().enumerate().take(k.ncols()) {
         if xj == 0.0 {
             continue;
         }
         for (&r, &v) in k.row_idx_of_col_raw(j).iter().zip(k.val_of_col(j)) {
-            y[r] += (v * xj).abs();
+            y[r] += v * xj;
+            size[r] += (v * xj).abs();
         }
     }
-    y
+    (y, size)
 }
 
 /// A condensed subdomain: the factor of its stiffness with the interface last,

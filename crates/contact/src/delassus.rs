@@ -313,17 +313,7 @@ impl DelassusProblem {
         let sol = solve_checked(&a, &rhs, "the contact and friction statuses do not hold a floating body, or the constraints are redundant")?;
         let r: Vec<f64> = (0..m).map(|i| sol[(i, 0)]).collect();
         let alpha: Vec<f64> = (0..k).map(|j| sol[(m + j, 0)]).collect();
-        let mut g = self.q.clone();
-        for (i, gi) in g.iter_mut().enumerate() {
-            for (j, rj) in r.iter().enumerate() {
-                if *rj != 0.0 {
-                    *gi += self.w[(i, j)] * rj;
-                }
-            }
-            for (j, aj) in alpha.iter().enumerate() {
-                *gi += self.g_mat[(i, j)] * aj;
-            }
-        }
+        let g = crate::smalbe::constrained_gaps(&self.w, &self.q, &self.g_mat, &r, &alpha);
         self.last_alpha = alpha;
         Ok((r, g))
     }
@@ -356,22 +346,7 @@ impl ActiveSetSolve for DelassusProblem {
         let mut lambda = vec![0.0; m];
         let mut alpha = vec![0.0; k];
         if na + k > 0 {
-            let dim = na + k;
-            let mut a = Mat::<f64>::zeros(dim, dim);
-            let mut rhs = Mat::<f64>::zeros(dim, 1);
-            for (ii, &p) in active.iter().enumerate() {
-                for (jj, &r) in active.iter().enumerate() {
-                    a[(ii, jj)] = self.w[(p, r)];
-                }
-                for j in 0..k {
-                    a[(ii, na + j)] = self.g_mat[(p, j)];
-                    a[(na + j, ii)] = self.g_mat[(p, j)];
-                }
-                rhs[(ii, 0)] = -self.q[p];
-            }
-            for j in 0..k {
-                rhs[(na + j, 0)] = self.e[j];
-            }
+            let (a, rhs) = saddle_point_system(&self.w, &self.q, &self.g_mat, &self.e, active);
             let sol = if k == 0 {
                 match a.llt(Side::Lower) {
                     Ok(llt) => llt.solve(&rhs),
@@ -383,7 +358,7 @@ impl ActiveSetSolve for DelassusProblem {
                         // Tell redundant constraints (W_AA itself singular)
                         // from contacts that cannot hold a rigid motion.
                         let waa = a.submatrix(0, 0, na, na).to_owned();
-                        if na > 0 && solve_checked(&waa, &Mat::zeros(na, 1), "").is_err() {
+                        if na > 0 && rank_deficiency(&scaled_lu(&waa).0).is_some() {
                             ContactError::Singular(
                                 "W_AA is singular: the active contact constraints are linearly dependent (redundant constraints)".into(),
                             )
@@ -400,18 +375,40 @@ impl ActiveSetSolve for DelassusProblem {
                 alpha[j] = sol[(na + j, 0)];
             }
         }
-        let mut g = self.q.clone();
-        for (p, gp) in g.iter_mut().enumerate() {
-            for &r in active {
-                *gp += self.w[(p, r)] * lambda[r];
-            }
-            for (j, a) in alpha.iter().enumerate() {
-                *gp += self.g_mat[(p, j)] * a;
-            }
-        }
+        let g = crate::smalbe::constrained_gaps(&self.w, &self.q, &self.g_mat, &lambda, &alpha);
         self.last_alpha = alpha;
         Ok((lambda, g))
     }
+}
+
+/// The system of the forces on an active set A with the equilibrium of the
+/// floating bodies, [W_AA G_A; G_Aᵀ 0][λ_A; α] = [−q_A; e] (W_AA λ_A = −q_A
+/// without them): its matrix and right-hand side.
+pub(crate) fn saddle_point_system(
+    w: &Mat<f64>,
+    q: &[f64],
+    g: &Mat<f64>,
+    e: &[f64],
+    active: &[usize],
+) -> (Mat<f64>, Mat<f64>) {
+    let (na, k) = (active.len(), g.ncols());
+    let dim = na + k;
+    let mut a = Mat::<f64>::zeros(dim, dim);
+    let mut rhs = Mat::<f64>::zeros(dim, 1);
+    for (ii, &p) in active.iter().enumerate() {
+        for (jj, &r) in active.iter().enumerate() {
+            a[(ii, jj)] = w[(p, r)];
+        }
+        for j in 0..k {
+            a[(ii, na + j)] = g[(p, j)];
+            a[(na + j, ii)] = g[(p, j)];
+        }
+        rhs[(ii, 0)] = -q[p];
+    }
+    for j in 0..k {
+        rhs[(na + j, 0)] = e[j];
+    }
+    (a, rhs)
 }
 
 /// Dense solve by full-pivoting LU, rejecting a (numerically) singular
@@ -429,6 +426,25 @@ pub(crate) fn solve_checked(
     what: &str,
 ) -> Result<Mat<f64>, ContactError> {
     let n = a.nrows();
+    let (lu, d) = scaled_lu(a);
+    if let Some((deficiency, ratio)) = rank_deficiency(&lu) {
+        return Err(ContactError::Singular(format!(
+            "{what} (rank deficient by {deficiency} of {n}: smallest pivot {ratio:.1e} of the largest)"
+        )));
+    }
+    let srhs = Mat::<f64>::from_fn(n, rhs.ncols(), |i, j| d[i] * rhs[(i, j)]);
+    let y = lu.solve(&srhs);
+    let x = Mat::<f64>::from_fn(n, rhs.ncols(), |i, j| d[i] * y[(i, j)]);
+    if !x.norm_max().is_finite() {
+        return Err(ContactError::Singular(what.to_string()));
+    }
+    Ok(x)
+}
+
+/// The full-pivoting LU of D A D, D_i = 1/sqrt(max_j |a_ij|) (see
+/// [`solve_checked`]), and D.
+fn scaled_lu(a: &Mat<f64>) -> (faer::linalg::solvers::FullPivLu<f64>, Vec<f64>) {
+    let n = a.nrows();
     let d: Vec<f64> = (0..n)
         .map(|i| {
             let m = (0..n).fold(0.0f64, |m, j| m.max(a[(i, j)].abs()));
@@ -440,8 +456,14 @@ pub(crate) fn solve_checked(
         })
         .collect();
     let scaled = Mat::<f64>::from_fn(n, n, |i, j| d[i] * a[(i, j)] * d[j]);
-    let lu = scaled.full_piv_lu();
+    (scaled.full_piv_lu(), d)
+}
+
+/// The rank test of [`solve_checked`]: `Some((pivots at or below
+/// 100 · n · ε × the largest, smallest/largest))` when singular.
+fn rank_deficiency(lu: &faer::linalg::solvers::FullPivLu<f64>) -> Option<(usize, f64)> {
     let u = lu.U();
+    let n = u.nrows();
     let pivots: Vec<f64> = (0..n).map(|i| u[(i, i)].abs()).collect();
     let pmax = pivots.iter().fold(0.0f64, |m, &p| m.max(p));
     let pmin = pivots.iter().fold(f64::INFINITY, |m, &p| m.min(p));
@@ -451,16 +473,8 @@ pub(crate) fn solve_checked(
             .iter()
             .filter(|&&p| p.is_nan() || p <= threshold)
             .count();
-        return Err(ContactError::Singular(format!(
-            "{what} (rank deficient by {deficiency} of {n}: smallest pivot {:.1e} of the largest)",
-            pmin / pmax.max(f64::MIN_POSITIVE)
-        )));
+        Some((deficiency, pmin / pmax.max(f64::MIN_POSITIVE)))
+    } else {
+        None
     }
-    let srhs = Mat::<f64>::from_fn(n, rhs.ncols(), |i, j| d[i] * rhs[(i, j)]);
-    let y = lu.solve(&srhs);
-    let x = Mat::<f64>::from_fn(n, rhs.ncols(), |i, j| d[i] * y[(i, j)]);
-    if !x.norm_max().is_finite() {
-        return Err(ContactError::Singular(what.to_string()));
-    }
-    Ok(x)
 }

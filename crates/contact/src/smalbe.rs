@@ -302,25 +302,10 @@ fn polish(
     let lmax = sol.lambda.iter().fold(0.0f64, |a, v| a.max(v.abs()));
     let active: Vec<usize> = (0..m).filter(|&p| sol.lambda[p] > 1e-14 * lmax).collect();
     let na = active.len();
-    let dim = na + k;
-    if dim == 0 {
+    if na + k == 0 {
         return false;
     }
-    let mut a = Mat::<f64>::zeros(dim, dim);
-    let mut rhs = Mat::<f64>::zeros(dim, 1);
-    for (ii, &p) in active.iter().enumerate() {
-        for (jj, &r) in active.iter().enumerate() {
-            a[(ii, jj)] = w[(p, r)];
-        }
-        for j in 0..k {
-            a[(ii, na + j)] = g[(p, j)];
-            a[(na + j, ii)] = g[(p, j)];
-        }
-        rhs[(ii, 0)] = -q[p];
-    }
-    for j in 0..k {
-        rhs[(na + j, 0)] = e[j];
-    }
+    let (a, rhs) = crate::delassus::saddle_point_system(w, q, g, e, &active);
     let Ok(x) = crate::delassus::solve_checked(&a, &rhs, "polish") else {
         return false;
     };

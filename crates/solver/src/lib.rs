@@ -24,7 +24,7 @@ use faer::sparse::SparseColMat;
 use faer::Mat;
 use serde::{Deserialize, Serialize};
 use signorini_comm::{broadcast, deal, gather, Transport};
-use signorini_condense::{abs_spmv, spmv, submatrix};
+use signorini_condense::{spmv, spmv_with_magnitude, submatrix};
 use signorini_contact::direct::DirectProblem;
 use signorini_contact::equilibrium::nnls;
 use signorini_contact::friction::{
@@ -1905,8 +1905,7 @@ fn direct_residuals(
     let mut eq = 0.0f64;
     let mut scale = 0.0f64;
     for (bi, b) in bodies.iter().enumerate() {
-        let ku = spmv(k_full[bi].as_ref(), &u_full[bi]);
-        let abs_ku = abs_spmv(k_full[bi].as_ref(), &u_full[bi]);
+        let (ku, abs_ku) = spmv_with_magnitude(k_full[bi].as_ref(), &u_full[bi]);
         for d in (0..b.n_dof).filter(|&d| !b.prescribed[d]) {
             eq = eq.max((ku[d] - forces[bi][d] - contact_force[bi][d]).abs());
             scale = scale

@@ -12,7 +12,7 @@
 use faer::sparse::SparseColMat;
 use faer::Par;
 use serde::{Deserialize, Serialize};
-use signorini_condense::{abs_spmv, spmv, submatrix, Condensed};
+use signorini_condense::{spmv, spmv_with_magnitude, submatrix, Condensed};
 use signorini_mesh::Mesh;
 
 use crate::model::BodyModel;
@@ -263,10 +263,9 @@ impl Subdomain {
             for (i, &l) in self.free.iter().enumerate() {
                 u[l] = uf[i];
             }
-            let ku = spmv(self.k_local.as_ref(), &u);
             // The scale of the residual: the internal forces term by term
             // (|K||u|), not their sum, which cancels in a stiff body.
-            let abs_ku = abs_spmv(self.k_local.as_ref(), &u);
+            let (ku, abs_ku) = spmv_with_magnitude(self.k_local.as_ref(), &u);
             let mut interior = 0.0f64;
             let mut scale = 0.0f64;
             let mut gamma_res = Vec::new();
