@@ -7,7 +7,10 @@
 //! Layout of the rows (forces and gaps): rows 0..m are the normal rows of the
 //! m contact points (gap g = g0 + B u ≥ 0, λ_n ≥ 0 compressive, λ_n g = 0);
 //! each frictional point p has two further rows `tangent_rows[p] = [t1, t2]`
-//! (any rows ≥ m, each used once). Sign convention: the tangential force
+//! (any rows ≥ m, each used once), or one, `[t1]`, where a support
+//! prescribes the slip along the other tangent (a node on a symmetry plane:
+//! the tangential force along t2 is then a support reaction, not a friction
+//! unknown, and the admissible set is the segment |λ_t1| ≤ g1). Sign convention: the tangential force
 //! opposes the slip.
 //!
 //! Laws (threshold g for Tresca, μ λ_n for Coulomb; anisotropic Coulomb with
@@ -53,8 +56,9 @@ pub enum Law3d {
 /// Normal rows 0..m, then two tangential rows per frictional point.
 #[derive(Debug, Clone)]
 pub struct FrictionLayout3d {
-    /// The rows (t1, t2) of each point's tangential force, if it has friction.
-    pub tangent_rows: Vec<Option<[usize; 2]>>,
+    /// The rows (t1, t2), or (t1) alone, of each point's tangential force;
+    /// empty for a frictionless point.
+    pub tangent_rows: Vec<Vec<usize>>,
     pub law: Vec<Law3d>,
 }
 
@@ -80,7 +84,13 @@ impl FrictionLayout3d {
         }
         owner[..m].iter_mut().for_each(|o| *o = true);
         for (p, rows) in self.tangent_rows.iter().enumerate() {
-            for &t in rows.iter().flatten() {
+            if rows.len() > 2 {
+                return Err(ContactError::Geometry(format!(
+                    "friction 3D: point {p} has {} tangential rows (at most 2)",
+                    rows.len()
+                )));
+            }
+            for &t in rows {
                 if t < m || t >= n_rows || owner[t] {
                     return Err(ContactError::Geometry(format!(
                         "friction 3D: tangential row {t} of point {p} is out of range or used twice"
@@ -113,7 +123,7 @@ impl FrictionLayout3d {
         self.law
             .iter()
             .zip(&self.tangent_rows)
-            .any(|(l, t)| t.is_some() && matches!(l, Law3d::Coulomb { .. }))
+            .any(|(l, t)| !t.is_empty() && matches!(l, Law3d::Coulomb { .. }))
     }
 
     /// The semi-axes (g1, g2) of each point's admissible set of tangential
@@ -276,76 +286,11 @@ impl<'a> Inner<'a> {
                     j[(p, p)] = 1.0;
                 }
             }
-            let Some([a, b]) = self.layout.tangent_rows[p] else {
-                continue;
-            };
-            let rt = match scale {
-                Scale::Newton => 0.5 * (self.rho[a] + self.rho[b]),
-                Scale::Check(c) => c,
-            };
-            let g = self.thr[p];
-            let gbar = g[0].max(g[1]);
-            if gbar.is_infinite() {
-                // No bound: stuck, Δs = 0.
-                f[a] = rt * y[a];
-                f[b] = rt * y[b];
-                if let Some(j) = jac.as_deref_mut() {
-                    add_wg(j, a, a, rt);
-                    add_wg(j, b, b, rt);
-                }
+            let rows = &self.layout.tangent_rows[p];
+            if rows.is_empty() {
                 continue;
             }
-            if gbar <= 0.0 {
-                f[a] = x[a];
-                f[b] = x[b];
-                if let Some(j) = jac.as_deref_mut() {
-                    j[(a, a)] = 1.0;
-                    j[(b, b)] = 1.0;
-                }
-                continue;
-            }
-            // Scaled to the unit disc: ν = D⁺ λ_t, z = ν − c D Δs, F = λ_t − D proj(z).
-            let c = rt / (gbar * gbar);
-            let dinv = [
-                if g[0] > 0.0 { 1.0 / g[0] } else { 0.0 },
-                if g[1] > 0.0 { 1.0 / g[1] } else { 0.0 },
-            ];
-            let rows = [a, b];
-            let z = [
-                dinv[0] * x[a] - c * g[0] * y[a],
-                dinv[1] * x[b] - c * g[1] * y[b],
-            ];
-            let nz = z[0].hypot(z[1]);
-            let (pz, dp) = if nz <= 1.0 {
-                (z, [[1.0, 0.0], [0.0, 1.0]])
-            } else {
-                let u = [z[0] / nz, z[1] / nz];
-                (
-                    u,
-                    [
-                        [(1.0 - u[0] * u[0]) / nz, -u[0] * u[1] / nz],
-                        [-u[1] * u[0] / nz, (1.0 - u[1] * u[1]) / nz],
-                    ],
-                )
-            };
-            for i in 0..2 {
-                f[rows[i]] = x[rows[i]] - g[i] * pz[i];
-            }
-            if let Some(j) = jac.as_deref_mut() {
-                // dF_i = dλ_i − g_i Σ_l dp[i][l] (dinv_l dλ_l − c g_l d(Δs_l)).
-                for i in 0..2 {
-                    let row = rows[i];
-                    j[(row, row)] += 1.0;
-                    for l in 0..2 {
-                        let coef = g[i] * dp[i][l];
-                        if coef == 0.0 {
-                            continue;
-                        }
-                        j[(row, rows[l])] -= coef * dinv[l];
-                        add_wg(j, row, rows[l], coef * c * g[l]);
-                    }
-                }
-            }
+            self.tangential_residual(x, &y, rows, self.thr[p], scale, &mut f, jac.as_deref_mut());
         }
         // Equilibrium of the rigid modes: Gᵀ λ = e.
         for jj in 0..k {
@@ -361,6 +306,91 @@ impl<'a> Inner<'a> {
             }
         }
         f
+    }
+
+    /// The Alart–Curnier rows of one point's tangential force λ_t (one or
+    /// two rows) with semi-axes `g`: stuck (Δs = 0) for an infinite bound,
+    /// zero for a zero bound, else, scaled to the unit disc,
+    /// ν = D⁺ λ_t, z = ν − c D Δs, F = λ_t − D proj(z) (seed §4.1.2).
+    #[allow(clippy::too_many_arguments)]
+    fn tangential_residual(
+        &self,
+        x: &[f64],
+        y: &[f64],
+        rows: &[usize],
+        g: [f64; 2],
+        scale: Scale,
+        f: &mut [f64],
+        mut jac: Option<&mut Mat<f64>>,
+    ) {
+        let (n, k) = (self.n(), self.k());
+        let (w, gm) = (&self.problem.w, &self.problem.g_mat);
+        let add_wg = |j: &mut Mat<f64>, row: usize, i: usize, c: f64| {
+            for col in 0..n {
+                j[(row, col)] += c * w[(i, col)];
+            }
+            for col in 0..k {
+                j[(row, n + col)] += c * gm[(i, col)];
+            }
+        };
+        let rt = match scale {
+            Scale::Newton => rows.iter().map(|&r| self.rho[r]).sum::<f64>() / rows.len() as f64,
+            Scale::Check(c) => c,
+        };
+        let gbar = g[..rows.len()].iter().fold(0.0f64, |a, &v| a.max(v));
+        if gbar.is_infinite() || gbar <= 0.0 {
+            for &r in rows {
+                if gbar.is_infinite() {
+                    // No bound: stuck, Δs = 0.
+                    f[r] = rt * y[r];
+                    if let Some(j) = jac.as_deref_mut() {
+                        add_wg(j, r, r, rt);
+                    }
+                } else {
+                    f[r] = x[r];
+                    if let Some(j) = jac.as_deref_mut() {
+                        j[(r, r)] = 1.0;
+                    }
+                }
+            }
+            return;
+        }
+        let c = rt / (gbar * gbar);
+        let dinv = g.map(|gi| if gi > 0.0 { 1.0 / gi } else { 0.0 });
+        let mut z = [0.0; 2];
+        for (i, &r) in rows.iter().enumerate() {
+            z[i] = dinv[i] * x[r] - c * g[i] * y[r];
+        }
+        let nz = z[0].hypot(z[1]);
+        let (pz, dp) = if nz <= 1.0 {
+            (z, [[1.0, 0.0], [0.0, 1.0]])
+        } else {
+            let u = [z[0] / nz, z[1] / nz];
+            (
+                u,
+                [
+                    [(1.0 - u[0] * u[0]) / nz, -u[0] * u[1] / nz],
+                    [-u[1] * u[0] / nz, (1.0 - u[1] * u[1]) / nz],
+                ],
+            )
+        };
+        for (i, &r) in rows.iter().enumerate() {
+            f[r] = x[r] - g[i] * pz[i];
+        }
+        if let Some(j) = jac {
+            // dF_i = dλ_i − g_i Σ_l dp[i][l] (dinv_l dλ_l − c g_l d(Δs_l)).
+            for (i, &row) in rows.iter().enumerate() {
+                j[(row, row)] += 1.0;
+                for (l, &col) in rows.iter().enumerate() {
+                    let coef = g[i] * dp[i][l];
+                    if coef == 0.0 {
+                        continue;
+                    }
+                    j[(row, col)] -= coef * dinv[l];
+                    add_wg(j, row, col, coef * c * g[l]);
+                }
+            }
+        }
     }
 
     /// The scaled natural residual: max over the rows of |F_check| / F.
@@ -390,10 +420,16 @@ impl<'a> Inner<'a> {
         let project = |v: &mut [f64]| {
             for p in 0..m {
                 v[p] = v[p].max(0.0);
-                if let Some([a, b]) = self.layout.tangent_rows[p] {
-                    let r = project_ellipse([v[a], v[b]], self.thr[p]);
-                    v[a] = r[0];
-                    v[b] = r[1];
+                match self.layout.tangent_rows[p][..] {
+                    [a, b] => {
+                        let r = project_ellipse([v[a], v[b]], self.thr[p]);
+                        v[a] = r[0];
+                        v[b] = r[1];
+                    }
+                    [a] if self.thr[p][0].is_finite() => {
+                        v[a] = v[a].clamp(-self.thr[p][0], self.thr[p][0]);
+                    }
+                    _ => {}
                 }
             }
         };
@@ -449,6 +485,10 @@ fn solve_inner(
     let (n, k) = (inner.n(), inner.k());
     let mut x = vec![0.0; n + k];
     x[..n].copy_from_slice(start);
+    // The rigid-mode amplitudes start from the problem's last solve.
+    if problem.alpha().len() == k {
+        x[n..].copy_from_slice(problem.alpha());
+    }
     let mut jac = Mat::<f64>::zeros(n + k, n + k);
     let mut fallbacks = 0usize;
     let merit = |f: &[f64]| 0.5 * f.iter().map(|v| v * v).sum::<f64>();
@@ -541,9 +581,14 @@ fn statuses(
             if r[p] <= tol_f {
                 PointStatus::Open
             } else {
-                match layout.tangent_rows[p] {
-                    Some([a, b]) if g[a].hypot(g[b]) > tol_g => PointStatus::Slip,
-                    _ => PointStatus::Stick,
+                let slip = layout.tangent_rows[p]
+                    .iter()
+                    .map(|&t| g[t] * g[t])
+                    .sum::<f64>();
+                if slip.sqrt() > tol_g {
+                    PointStatus::Slip
+                } else {
+                    PointStatus::Stick
                 }
             }
         })
@@ -570,7 +615,11 @@ pub fn friction_3d(
     start: Option<&[f64]>,
     opts: &FrictionOptions,
 ) -> Result<FrictionOutcome, ContactError> {
-    let out = solve_3d(problem, layout, start, opts)?;
+    let bilateral = match start {
+        None if problem.n_kernel() > 0 => bilateral_start(problem),
+        _ => None,
+    };
+    let out = solve_3d(problem, layout, start, bilateral, opts)?;
     if problem.n_kernel() > 0 {
         let mut eqs: Vec<VarEquation> = out.forces.iter().map(|&v| VarEquation::Value(v)).collect();
         for (p, st) in out.statuses.iter().enumerate() {
@@ -578,8 +627,8 @@ pub fn friction_3d(
                 continue;
             }
             eqs[p] = VarEquation::Gap;
-            if let (PointStatus::Stick, Some(rows)) = (st, layout.tangent_rows[p]) {
-                for t in rows {
+            if *st == PointStatus::Stick {
+                for &t in &layout.tangent_rows[p] {
                     eqs[t] = VarEquation::Gap;
                 }
             }
@@ -589,10 +638,23 @@ pub fn friction_3d(
     Ok(out)
 }
 
+/// The forces (and, kept in `problem`, the rigid-mode amplitudes α) with
+/// every point closed and stuck: the start of the first step of a problem
+/// with floating bodies. From zero forces the Newton method would see a body
+/// whose contacts start open (an initial gap) as held by nothing, a singular
+/// system; closed everywhere, its position is determined, and the points
+/// that come out in tension open in the iterations that follow. `None` when
+/// that system is singular too.
+fn bilateral_start(problem: &mut DelassusProblem) -> Option<Vec<f64>> {
+    let eqs = vec![VarEquation::Gap; problem.q.len()];
+    problem.solve_equations(&eqs).ok().map(|(r, _)| r)
+}
+
 fn solve_3d(
     problem: &DelassusProblem,
     layout: &FrictionLayout3d,
     start: Option<&[f64]>,
+    first_guess: Option<Vec<f64>>,
     opts: &FrictionOptions,
 ) -> Result<FrictionOutcome, ContactError> {
     let n = problem.q.len();
@@ -625,7 +687,7 @@ fn solve_3d(
                 f.len()
             )))
         }
-        None => vec![0.0; n],
+        None => first_guess.unwrap_or_else(|| vec![0.0; n]),
     };
     if !layout.has_coulomb() {
         let thr = layout.thresholds(&forces);
@@ -703,7 +765,7 @@ mod tests {
 
     fn one_point_layout(law: Law3d) -> FrictionLayout3d {
         FrictionLayout3d {
-            tangent_rows: vec![Some([1, 2])],
+            tangent_rows: vec![vec![1, 2]],
             law: vec![law],
         }
     }
@@ -874,7 +936,7 @@ mod tests {
             })
             .collect();
         let layout = FrictionLayout3d {
-            tangent_rows: (0..m).map(|p| Some([m + 2 * p, m + 2 * p + 1])).collect(),
+            tangent_rows: (0..m).map(|p| vec![m + 2 * p, m + 2 * p + 1]).collect(),
             law: (0..m)
                 .map(|p| match p % 3 {
                     0 => Law3d::Coulomb { mu: [0.3, 0.3] },
@@ -902,11 +964,11 @@ mod tests {
                 "point {p}: λ g = {}",
                 ln * gn
             );
-            let (Some([a, b]), Law3d::Coulomb { mu }) = (rows, law) else {
+            let (&[a, b], Law3d::Coulomb { mu }) = (&rows[..], law) else {
                 continue;
             };
-            let lt = [out.forces[*a], out.forces[*b]];
-            let s = [out.gaps[*a], out.gaps[*b]];
+            let lt = [out.forces[a], out.forces[b]];
+            let s = [out.gaps[a], out.gaps[b]];
             let ax = [mu[0] * ln.max(0.0), mu[1] * ln.max(0.0)];
             if ax[0] <= tol * fs {
                 assert!(lt[0].hypot(lt[1]) <= tol * fs);
@@ -990,7 +1052,7 @@ mod tests {
         let wn = Mat::<f64>::from_fn(m, m, |i, j| p.w[(i, j)]);
         let mut pn = DelassusProblem::from_operator(wn, p.q[..m].to_vec());
         let none = FrictionLayout3d {
-            tangent_rows: vec![None; m],
+            tangent_rows: vec![vec![]; m],
             law: vec![Law3d::None; m],
         };
         let plain = friction_3d(&mut pn, &none, None, &opts()).unwrap();

@@ -569,6 +569,16 @@ fn point_force(
     [0, 1, 2].map(|k| lambda_n * c.normal[k] + l1 * c.tangent[k] + l2 * c.tangent2[k])
 }
 
+/// The net force of a sum of point forces: in an axisymmetric model each
+/// point force is that of a whole ring, whose radial parts cancel around the
+/// axis, so only the axial component (y = z) remains.
+fn net_force(model: scene::Model, mut force: Vec<f64>) -> Vec<f64> {
+    if model == scene::Model::Axisymmetric {
+        force[0] = 0.0;
+    }
+    force
+}
+
 /// The coefficients (μ₁, μ₂) of a 3D Coulomb law; `None` for Tresca or
 /// frictionless points.
 fn p_law(law: &Law3d) -> Option<(f64, f64)> {
@@ -904,18 +914,24 @@ fn solve_root(
     }
     let layout_3d = FrictionLayout3d {
         tangent_rows: (0..m)
-            .map(|p| tangent_row[p].zip(tangent_row2[p]).map(|(a, b)| [a, b]))
+            .map(|p| {
+                [tangent_row[p], tangent_row2[p]]
+                    .into_iter()
+                    .flatten()
+                    .collect()
+            })
             .collect(),
         law: points
             .iter()
             .map(|p| match p.friction {
+                _ if p.trow.is_none() => Law3d::None,
                 PointFriction::Tresca(g) => Law3d::Tresca(g),
                 PointFriction::Coulomb { mu, mu2, .. } => Law3d::Coulomb { mu: [mu, mu2] },
                 _ => Law3d::None,
             })
             .collect(),
     };
-    let three_d = tangent_row2.iter().any(|t| t.is_some());
+    let three_d = sc.dimension == 3 && tangent_row.iter().any(|t| t.is_some());
     if three_d && sc.solver.friction == scene::FrictionSolver::Status {
         return Err(SolveError::Input(
             "solver.friction: the friction status method (seed §4.5) is 2D only; in 3D friction is solved by the fixed point on the threshold (friction = \"fixed_point\", the default)".into(),
@@ -927,6 +943,9 @@ fn solve_root(
         threshold: points
             .iter()
             .map(|p| match p.friction {
+                // A point whose slip is prescribed by a support has no
+                // tangential unknown (see model::free_tangential_rows).
+                _ if p.trow.is_none() => Threshold::None,
                 PointFriction::None => Threshold::None,
                 PointFriction::Tresca(g) => Threshold::Tresca(g),
                 PointFriction::Coulomb { mu, .. } => Threshold::Coulomb(mu),
@@ -1034,17 +1053,14 @@ fn solve_root(
             }
             problem.add_compliance(&compliance);
             let closed = sc.solver.tolerance * length_scale;
-            let initial = previous.as_ref().map(|p| p.0.clone()).unwrap_or_else(|| {
-                gap0.iter()
-                    .map(|&g| {
-                        if g <= closed {
-                            PointStatus::Stick
-                        } else {
-                            PointStatus::Open
-                        }
-                    })
-                    .collect()
-            });
+            let initial = previous
+                .as_ref()
+                .map(|p| p.0.clone())
+                .unwrap_or_else(|| initial_statuses(bodies, points, &gap0, closed, true));
+            // A body held by contact alone starts closed at the first step;
+            // if that start is singular (e.g. a corner stuck on one contact
+            // and closed on another along the same DOF), start from the gaps.
+            let retry_from_gaps = previous.is_none() && bodies.iter().any(|b| !b.kernel.is_empty());
             let fopts = FrictionOptions {
                 max_iterations: sc.solver.max_iterations,
                 max_fixed_point: sc.solver.max_iterations,
@@ -1066,38 +1082,55 @@ fn solve_root(
                         "coulomb_3d_fixed_point"
                     },
                 )
-            } else if any_nh {
-                (
-                    signorini_contact::friction::norton_hoff(
-                        &mut problem,
-                        &layout,
-                        &norton_hoff,
-                        initial,
-                        &fopts,
-                    ),
-                    "norton_hoff",
-                )
-            } else if all_tresca && algorithm == Algorithm::Mprgp {
-                (
-                    tresca_projection(&problem, &layout, &fopts),
-                    "tresca_mprgp_box",
-                )
-            } else if all_tresca {
-                (
-                    tresca_status(&mut problem, &layout, initial, &fopts),
-                    "tresca_status",
-                )
-            } else if sc.solver.friction == scene::FrictionSolver::Status {
-                (
-                    coulomb_status(&mut problem, &layout, initial, &fopts),
-                    "friction_status",
-                )
             } else {
-                let start = previous.as_ref().map(|p| p.1.clone());
-                (
-                    coulomb_fixed_point(&mut problem, &layout, initial, start.as_deref(), &fopts),
-                    "coulomb_fixed_point",
-                )
+                let solve_2d = |problem: &mut DelassusProblem, initial: Vec<PointStatus>| {
+                    if any_nh {
+                        (
+                            signorini_contact::friction::norton_hoff(
+                                problem,
+                                &layout,
+                                &norton_hoff,
+                                initial,
+                                &fopts,
+                            ),
+                            "norton_hoff",
+                        )
+                    } else if all_tresca && algorithm == Algorithm::Mprgp {
+                        (
+                            tresca_projection(problem, &layout, &fopts),
+                            "tresca_mprgp_box",
+                        )
+                    } else if all_tresca {
+                        (
+                            tresca_status(problem, &layout, initial, &fopts),
+                            "tresca_status",
+                        )
+                    } else if sc.solver.friction == scene::FrictionSolver::Status {
+                        (
+                            coulomb_status(problem, &layout, initial, &fopts),
+                            "friction_status",
+                        )
+                    } else {
+                        let start = previous.as_ref().map(|p| p.1.clone());
+                        (
+                            coulomb_fixed_point(
+                                problem,
+                                &layout,
+                                initial,
+                                start.as_deref(),
+                                &fopts,
+                            ),
+                            "coulomb_fixed_point",
+                        )
+                    }
+                };
+                match solve_2d(&mut problem, initial) {
+                    (Err(ContactError::Singular(_)), _) if retry_from_gaps => solve_2d(
+                        &mut problem,
+                        initial_statuses(bodies, points, &gap0, closed, false),
+                    ),
+                    other => other,
+                }
             };
             let out = out.map_err(contact_error)?;
             let lambda: Vec<f64> = out.forces[..m].to_vec();
@@ -1244,6 +1277,36 @@ fn solve_root(
         });
     }
     Ok((RootAnswer { u_gamma }, steps))
+}
+
+/// The statuses a friction solve starts from at its first step: closed
+/// points stick, open ones are open, except that every point of a body held
+/// by contact alone starts closed. While such a body's contacts are open
+/// nothing determines its rigid motion along them (its position is a free
+/// unknown, the saddle-point system of its equilibrium is singular): starting
+/// closed, the status iterations open the points whose forces come out
+/// tensile, so that a body with an initial gap reaches the closed state
+/// directly, under displacement or force control (Code_Aster SSNV503).
+fn initial_statuses(
+    bodies: &[BodyModel],
+    points: &[PointModel],
+    gap0: &[f64],
+    closed: f64,
+    close_floating: bool,
+) -> Vec<PointStatus> {
+    points
+        .iter()
+        .zip(gap0)
+        .map(|(p, &g)| {
+            let floating =
+                close_floating && p.row.iter().any(|&(b, _, _)| !bodies[b].kernel.is_empty());
+            if g <= closed || floating {
+                PointStatus::Stick
+            } else {
+                PointStatus::Open
+            }
+        })
+        .collect()
 }
 
 /// Residual pieces of one step for the certificate.
@@ -1407,7 +1470,7 @@ fn conclude_step(
     }
     partial.steps.push(StepReport {
         scale: sc.step_scales()[si].clone(),
-        contact_force: step_force,
+        contact_force: net_force(sc.model, step_force),
         normal_force: sum_n,
         tangential_force: sum_t,
         mean_slip: if slip_count > 0 {
@@ -1863,8 +1926,14 @@ fn finish_report(
         rank_timings_s: signorini_report::RankTimings::of(&rank_stats),
         rank_stats,
         certificate: partial.certificate,
-        contact_force,
-        contacts: summaries,
+        contact_force: net_force(sc.model, contact_force),
+        contacts: summaries
+            .into_iter()
+            .map(|c| ContactSummary {
+                force: net_force(sc.model, c.force),
+                ..c
+            })
+            .collect(),
         probes,
         reference,
         conditioning: partial.conditioning,
@@ -2003,12 +2072,15 @@ fn check_floating_equilibrium(
     Ok(())
 }
 
-/// A floating body on a flat frictional contact (every normal the same),
-/// free to translate along the normal and along the tangential part R_t of
-/// its load resultant R,
-/// needs ‖R_t‖ ≤ μ |R·n| (VALIDATION.md §5: under force control a body
-/// pushed past its friction has no static equilibrium). Exit 1 with the
-/// numbers otherwise, instead of a failing friction solve.
+/// A floating body whose every contact is frictional and flat (every
+/// contact point of the body, as slave or as master, with the same normal
+/// seen from the body), free to translate along that normal and along the
+/// tangential part R_t of its load resultant R, needs ‖R_t‖ ≤ μ |R·n|
+/// (VALIDATION.md §5: under force control a body pushed past its friction
+/// has no static equilibrium). Exit 1 with the numbers otherwise, instead of
+/// a failing friction solve. When any contact of the body is frictionless,
+/// or pushes along another direction, that contact may carry the rest: the
+/// solver decides.
 fn check_friction_capacity(
     b: &BodyModel,
     points: &[PointModel],
@@ -2016,19 +2088,29 @@ fn check_friction_capacity(
     resultant: &[f64],
     step: usize,
 ) -> Result<(), SolveError> {
-    let own: Vec<&PointModel> = points
+    // Every contact point acting on the body, with its normal turned
+    // towards the body (the point's normal points from master to slave).
+    let own: Vec<(&PointModel, [f64; 3])> = points
         .iter()
-        .filter(|p| p.slave_body == bi && p.trow.is_some())
+        .filter_map(|p| {
+            let sign = if p.slave_body == bi {
+                1.0
+            } else if p.row.iter().any(|&(pb, _, _)| pb == bi) {
+                -1.0
+            } else {
+                return None;
+            };
+            Some((p, p.point.normal.map(|x| sign * x)))
+        })
         .collect();
-    let Some(first) = own.first() else {
+    let Some(&(_, n)) = own.first() else {
         return Ok(());
     };
-    let n = first.point.normal;
     let flat = own
         .iter()
-        .all(|p| (0..3).all(|k| (p.point.normal[k] - n[k]).abs() <= 1e-9));
-    let mu = own.iter().try_fold(0.0f64, |m, p| match p.friction {
-        PointFriction::Coulomb { mu, mu2, .. } => Some(m.max(mu).max(mu2)),
+        .all(|(_, m)| (0..3).all(|k| (m[k] - n[k]).abs() <= 1e-9));
+    let mu = own.iter().try_fold(0.0f64, |m, (p, _)| match p.friction {
+        PointFriction::Coulomb { mu, mu2, .. } if p.trow.is_some() => Some(m.max(mu).max(mu2)),
         _ => None,
     });
     let (true, Some(mu)) = (flat, mu) else {

@@ -612,7 +612,7 @@ pub fn build_contacts(
         if let (Some(mi), MasterGeometry::Surface { surface, .. }) = (mi, &master) {
             interface_nodes[mi].extend(surface.nodes());
         }
-        for p in pts {
+        for mut p in pts {
             let mut row = Vec::new();
             for t in &p.terms {
                 let b = match t.side {
@@ -681,6 +681,8 @@ pub fn build_contacts(
             let trow = (friction != PointFriction::None).then(|| tangential_row(p.tangent));
             let trow2 =
                 (friction != PointFriction::None && dim == 3).then(|| tangential_row(p.tangent2));
+            let (trow, trow2, friction) =
+                free_tangential_rows(bodies, &mut p, trow, trow2, friction);
             points.push(PointModel {
                 trow,
                 trow2,
@@ -700,6 +702,96 @@ pub fn build_contacts(
         }
     }
     Ok((points, fixed))
+}
+
+/// A row of B as (body, DOF, coefficient) entries.
+type Row = Vec<(usize, usize, f64)>;
+
+/// The tangential rows of a contact point that carry a friction unknown.
+///
+/// A support that prescribes the slave's (and master's) motion along a
+/// tangent — a symmetry plane or a guide meeting the contact surface, the
+/// axis r = 0 of an axisymmetric model — makes the slip along it known: the
+/// tangential force there is a support reaction, not a friction unknown, and
+/// its row has no free DOF (a zero row of the condensed B, a singular W), as
+/// the normal row of a [`FixedPoint`]. In 2D such a row is dropped. In 3D the
+/// free parts f1, f2 of the two rows are compared (Gram matrix): both zero,
+/// both are dropped; dependent (a node on one symmetry plane), the frame
+/// (t1, t2) is turned about n so that t2 is the prescribed direction, and
+/// only t1, along which the node may slip, keeps a row, with the elliptic
+/// cone's coefficient in that direction (seed §4.1.2).
+fn free_tangential_rows(
+    bodies: &[BodyModel],
+    p: &mut ContactPoint,
+    t1: Option<Row>,
+    t2: Option<Row>,
+    friction: PointFriction,
+) -> (Option<Row>, Option<Row>, PointFriction) {
+    let free = |r: &Row| -> std::collections::BTreeMap<(usize, usize), f64> {
+        let mut m = std::collections::BTreeMap::new();
+        for &(b, d, c) in r.iter().filter(|&&(b, d, _)| !bodies[b].prescribed[d]) {
+            *m.entry((b, d)).or_insert(0.0) += c;
+        }
+        m
+    };
+    let dot = |a: &std::collections::BTreeMap<(usize, usize), f64>,
+               b: &std::collections::BTreeMap<(usize, usize), f64>| {
+        a.iter()
+            .map(|(k, v)| v * b.get(k).copied().unwrap_or(0.0))
+            .sum::<f64>()
+    };
+    let norm2 = |r: &Row| r.iter().map(|e| e.2 * e.2).sum::<f64>();
+    let (Some(r1), Some(r2)) = (&t1, &t2) else {
+        // 2D: one tangent.
+        let keep = t1.filter(|r| !free(r).is_empty());
+        return (keep, None, friction);
+    };
+    let (f1, f2) = (free(r1), free(r2));
+    let (a, b, c) = (dot(&f1, &f1), dot(&f1, &f2), dot(&f2, &f2));
+    let scale = norm2(r1) + norm2(r2);
+    let lmin = 0.5 * (a + c - ((a - c).powi(2) + 4.0 * b * b).sqrt());
+    if a + c <= 1e-24 * scale {
+        return (None, None, friction);
+    }
+    if lmin > 1e-10 * scale {
+        return (t1, t2, friction);
+    }
+    // (cs, sn): the combination cs t1 + sn t2 with no free DOF.
+    let (v1, v2) = if (a - lmin).abs() >= (c - lmin).abs() {
+        (-b, a - lmin)
+    } else {
+        (c - lmin, -b)
+    };
+    let nv = v1.hypot(v2);
+    let (cs, sn) = (v1 / nv, v2 / nv);
+    // New frame: t1' = −sn t1 + cs t2 (free), t2' = −(cs t1 + sn t2).
+    let combine = |x: f64, y: f64, u: &Row, v: &Row| -> Row {
+        u.iter()
+            .map(|&(bb, d, k)| (bb, d, x * k))
+            .chain(v.iter().map(|&(bb, d, k)| (bb, d, y * k)))
+            .filter(|e| e.2 != 0.0)
+            .collect()
+    };
+    let kept = combine(-sn, cs, r1, r2);
+    let (o1, o2) = (p.tangent, p.tangent2);
+    p.tangent = [0, 1, 2].map(|k| -sn * o1[k] + cs * o2[k]);
+    p.tangent2 = [0, 1, 2].map(|k| -(cs * o1[k] + sn * o2[k]));
+    let friction = match friction {
+        PointFriction::Coulomb {
+            mu,
+            mu2,
+            slip_stiffness,
+        } if mu > 0.0 && mu2 > 0.0 => {
+            let m = 1.0 / ((-sn / mu).powi(2) + (cs / mu2).powi(2)).sqrt();
+            PointFriction::Coulomb {
+                mu: m,
+                mu2: m,
+                slip_stiffness,
+            }
+        }
+        other => other,
+    };
+    (Some(kept), None, friction)
 }
 
 /// A slave node whose normal motion is fully prescribed: its gap follows

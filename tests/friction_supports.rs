@@ -1,0 +1,340 @@
+//! Friction where supports meet contacts, and bodies held by friction whose
+//! contacts start open (issue 12, items 2–4 and 8):
+//! - a tangential row whose slip a support prescribes (a symmetry plane, the
+//!   axis r = 0) carries a support reaction, not a friction unknown: half
+//!   and quarter models with symmetry planes give the full model's forces;
+//! - a pad pressed onto a plane across an initial gap and held sideways by
+//!   friction alone (Code_Aster SSNV503) solves under displacement and force
+//!   control, in 2D and 3D, by the fixed point and the status method;
+//! - the friction-capacity pre-check counts every contact of a body;
+//! - an axisymmetric contact force has no radial component.
+
+mod common;
+
+use common::{converged, example, try_run};
+use signorini_solver::RunOptions;
+
+fn run(text: &str) -> signorini_solver::RunOutput {
+    converged(text, RunOptions::default())
+}
+
+/// A block (2D: `[[x0, y0], [w, h]]`, 3D with a z extent) on the rigid plane
+/// through the origin with normal `normal`, Coulomb μ, its top loaded by
+/// `top` (a boundary entry body) and extra `boundary` entries.
+fn block(
+    dim: usize,
+    origin: &[f64],
+    size: &[f64],
+    div: &[usize],
+    normal: &[f64],
+    mu: f64,
+    top: &str,
+    extra: &str,
+    friction_solver: &str,
+) -> String {
+    let v = |x: &[f64]| format!("{x:?}");
+    let (model, top_face, bottom, disc) = if dim == 2 {
+        ("plane_strain", "top", "bottom", "node_to_segment")
+    } else {
+        ("solid", "zmax", "zmin", "node_to_face")
+    };
+    let generator = if dim == 2 { "rectangle" } else { "box" };
+    let point = vec![0.0; dim];
+    format!(
+        r#"dimension = {dim}
+model = "{model}"
+[[materials]]
+name = "m"
+young = 1000.0
+poisson = 0.3
+[[bodies]]
+name = "pad"
+material = "m"
+mesh = {{ generator = "{generator}", origin = {}, size = {}, divisions = {div:?} }}
+[[bodies]]
+name = "ground"
+rigid = {{ shape = "plane", point = {}, normal = {} }}
+[[boundary]]
+name = "top"
+body = "pad"
+surface = "{top_face}"
+{top}
+{extra}
+[[contact]]
+name = "c"
+slave = {{ body = "pad", surface = "{bottom}" }}
+master = {{ body = "ground" }}
+discretization = "{disc}"
+friction = {{ coulomb = {mu} }}
+[solver]
+method = "status"
+path = "condensed"
+friction = "{friction_solver}"
+"#,
+        v(origin),
+        v(size),
+        v(&point),
+        v(normal)
+    )
+}
+
+fn symmetry(surface: &str, axis: &str) -> String {
+    format!("[[boundary]]\nname = \"sym-{surface}\"\nbody = \"pad\"\nsurface = \"{surface}\"\ndisplacement = {{ {axis} = 0.0 }}\n")
+}
+
+#[test]
+fn a_quarter_model_with_symmetry_planes_gives_a_quarter_of_the_full_force() {
+    // The box expands sideways under the press; friction holds it. Nodes on
+    // a symmetry plane keep one tangent, the corner node on both keeps none.
+    let press = "displacement = { x = 0.0, y = 0.0, z = -0.02 }";
+    let full = block(
+        3,
+        &[-1.0, -1.0, 0.0],
+        &[2.0, 2.0, 0.5],
+        &[8, 8, 2],
+        &[0.0, 0.0, 1.0],
+        0.2,
+        press,
+        "",
+        "fixed_point",
+    );
+    let sym = symmetry("xmin", "x") + &symmetry("ymin", "y");
+    let quarter = block(
+        3,
+        &[0.0, 0.0, 0.0],
+        &[1.0, 1.0, 0.5],
+        &[4, 4, 2],
+        &[0.0, 0.0, 1.0],
+        0.2,
+        press,
+        &sym,
+        "fixed_point",
+    );
+    let f = run(&full).report.contact_force[2];
+    let q = run(&quarter);
+    let fq = q.report.contact_force[2];
+    assert!(f > 0.0);
+    assert!(
+        (4.0 * fq - f).abs() <= 1e-8 * f,
+        "quarter ×4 {} vs full {f}",
+        4.0 * fq
+    );
+    // Friction is active: some points slip, and the tangential force at the
+    // quarter's outer corner points inwards (it resists the expansion).
+    assert!(q.contact_rows.iter().any(|r| r.status == "slip"));
+    let corner = q
+        .contact_rows
+        .iter()
+        .find(|r| r.x[0] >= 1.0 - 1e-12 && r.x[1] >= 1.0 - 1e-12)
+        .expect("the outer corner is a contact point");
+    assert!(corner.tangential_force.abs() + corner.tangential_force_2.abs() > 0.0);
+}
+
+#[test]
+fn a_half_model_with_a_symmetry_plane_gives_half_of_the_full_force_in_2d() {
+    let press = "displacement = { x = 0.0, y = -0.02 }";
+    for solver in ["fixed_point", "status"] {
+        let full = block(
+            2,
+            &[-1.0, 0.0],
+            &[2.0, 0.5],
+            &[16, 4],
+            &[0.0, 1.0],
+            0.2,
+            press,
+            "",
+            solver,
+        );
+        let half = block(
+            2,
+            &[0.0, 0.0],
+            &[1.0, 0.5],
+            &[8, 4],
+            &[0.0, 1.0],
+            0.2,
+            press,
+            &symmetry("left", "x"),
+            solver,
+        );
+        let f = run(&full).report.contact_force[1];
+        let h = run(&half).report.contact_force[1];
+        assert!(
+            (2.0 * h - f).abs() <= 1e-8 * f,
+            "{solver}: half ×2 {} vs full {f}",
+            2.0 * h
+        );
+    }
+}
+
+#[test]
+fn the_axisymmetric_hertz_sphere_with_friction_solves() {
+    let frictionless = example("hertz_axi.toml").replace("divisions = 80", "divisions = 40");
+    let with = |mu: f64| {
+        frictionless.replace(
+            "discretization = \"node_to_segment\"",
+            &format!("discretization = \"node_to_segment\"\nfriction = {{ coulomb = {mu} }}"),
+        )
+    };
+    let p0 = run(&frictionless).report.contact_force[1];
+    let p_mu = run(&with(0.3));
+    let p1 = p_mu.report.contact_force[1];
+    let p_stick = run(&with(1e3)).report.contact_force[1];
+    // Friction holds the surface's inward motion: the load at the same
+    // approach rises a little, at most to that of full adhesion.
+    assert!(
+        p1 > p0 && p1 <= p_stick * (1.0 + 1e-9),
+        "{p0} {p1} {p_stick}"
+    );
+    assert!(
+        (p1 - p0) / p0 <= 0.02,
+        "friction changed the load by {}",
+        (p1 - p0) / p0
+    );
+    // A ring has no net radial force.
+    assert_eq!(p_mu.report.contact_force[0], 0.0);
+    assert_eq!(p_mu.report.contacts[0].force[0], 0.0);
+    assert!(p_mu.report.steps.iter().all(|s| s.contact_force[0] == 0.0));
+}
+
+/// 2D pad 1 × 0.5 starting 0.05 above the plane; x is held by friction only.
+fn gap_pad(dim: usize, normal: &[f64], top: &str, solver: &str) -> String {
+    if dim == 2 {
+        block(
+            2,
+            &[0.0, 0.05],
+            &[1.0, 0.5],
+            &[8, 4],
+            normal,
+            0.5,
+            top,
+            "",
+            solver,
+        )
+    } else {
+        block(
+            3,
+            &[0.0, 0.0, 0.05],
+            &[1.0, 1.0, 0.5],
+            &[4, 4, 2],
+            normal,
+            0.5,
+            top,
+            "",
+            solver,
+        )
+    }
+}
+
+#[test]
+fn a_pad_pressed_across_a_gap_onto_a_flat_and_held_by_friction_solves() {
+    // Uniform compression: closing the gap takes 0.05 of the 0.2 approach,
+    // so the force is 3/4 of the force without a gap.
+    for solver in ["fixed_point", "status"] {
+        let gap = gap_pad(2, &[0.0, 1.0], "displacement = { y = -0.2 }", solver);
+        let no_gap = gap.replace("origin = [0.0, 0.05]", "origin = [0.0, 0.0]");
+        let fg = run(&gap).report.contact_force[1];
+        let f0 = run(&no_gap).report.contact_force[1];
+        assert!(
+            (fg - 0.75 * f0).abs() <= 1e-8 * f0,
+            "{solver}: {fg} vs 3/4 of {f0}"
+        );
+    }
+}
+
+#[test]
+fn a_pad_on_an_inclined_plane_across_a_gap_is_held_by_friction() {
+    // SSNV503-like: the plane's slope 0.1 is below μ = 0.5, so friction holds
+    // the pad; the contact forces balance the load exactly.
+    let incline2 = [0.1, 1.0];
+    let incline3 = [0.1, 0.0, 1.0];
+    for solver in ["fixed_point", "status"] {
+        let o = run(&gap_pad(2, &incline2, "traction = [0.0, -10.0]", solver));
+        assert!((o.report.contact_force[1] - 10.0).abs() <= 1e-9 * 10.0);
+        assert!(o.report.contact_force[0].abs() <= 1e-9 * 10.0);
+        assert!(o.contact_rows.iter().any(|r| r.tangential_force != 0.0));
+        let d = run(&gap_pad(
+            2,
+            &incline2,
+            "displacement = { y = -0.2 }",
+            solver,
+        ));
+        // The top is pushed straight down, x is free: no net x force.
+        assert!(d.report.contact_force[0].abs() <= 1e-9 * d.report.contact_force[1]);
+        assert!(d.report.contact_force[1] > 0.0);
+    }
+    let o = run(&gap_pad(
+        3,
+        &incline3,
+        "traction = [0.0, 0.0, -10.0]",
+        "fixed_point",
+    ));
+    assert!((o.report.contact_force[2] - 10.0).abs() <= 1e-9 * 10.0);
+    let d = run(&gap_pad(
+        3,
+        &incline3,
+        "displacement = { z = -0.2 }",
+        "fixed_point",
+    ));
+    assert!(d.report.contact_force[0].abs() <= 1e-9 * d.report.contact_force[2]);
+}
+
+#[test]
+fn the_friction_capacity_check_counts_a_frictionless_wall() {
+    // A block on a frictional floor pushed sideways by more than μN, against
+    // a frictionless rigid disc touching its right side at mid-height, which
+    // takes the rest: in equilibrium, not refused.
+    let wall = r#"
+[[bodies]]
+name = "wall"
+rigid = { shape = "circle", center = [1.5, 0.25], radius = 0.5 }
+[[contact]]
+name = "w"
+slave = { body = "pad", surface = "right" }
+master = { body = "wall" }
+[[boundary]]
+name = "push"
+body = "pad"
+surface = "left"
+traction = [8.0, 0.0]
+"#;
+    let text = block(
+        2,
+        &[0.0, 0.0],
+        &[1.0, 0.5],
+        &[8, 4],
+        &[0.0, 1.0],
+        0.2,
+        "traction = [0.0, -10.0]",
+        wall,
+        "fixed_point",
+    );
+    let o = run(&text);
+    // The push, 8 × 0.5 = 4, exceeds μN = 0.2 × 10: the wall carries what
+    // friction does not; the contacts balance the load.
+    assert!(
+        (o.report.contact_force[0] + 4.0).abs() <= 1e-9 * 10.0,
+        "{:?}",
+        o.report.contact_force
+    );
+    assert!((o.report.contact_force[1] - 10.0).abs() <= 1e-9 * 10.0);
+    let wall_force = o
+        .report
+        .contacts
+        .iter()
+        .find(|c| c.name == "w")
+        .unwrap()
+        .force[0];
+    assert!(
+        wall_force <= -2.0 * (1.0 - 1e-9),
+        "the wall takes at least 4 − μN: {wall_force}"
+    );
+    // Without the wall, the same push beyond μN is refused (exit 1).
+    let alone = block(2, &[0.0, 0.0], &[1.0, 0.5], &[8, 4], &[0.0, 1.0], 0.1, "traction = [0.0, -10.0]", "[[boundary]]\nname = \"push\"\nbody = \"pad\"\nsurface = \"left\"\ntraction = [4.0, 0.0]\n", "fixed_point");
+    let err = try_run(&alone, RunOptions::default())
+        .err()
+        .expect("refused");
+    assert!(
+        err.to_string().contains("exceeds what friction can hold"),
+        "{err}"
+    );
+}
