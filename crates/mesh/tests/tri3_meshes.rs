@@ -3,7 +3,7 @@
 //! (the pole included), so that no node of a contact zone at the pole is set
 //! apart from its neighbours (VALIDATION.md §1-2).
 
-use signorini_mesh::generators::{half_disk, quarter_disk};
+use signorini_mesh::generators::{box_mesh, half_disk, quarter_disk, rectangle, BoxSide, RectSide};
 use signorini_mesh::{CellKind, Mesh};
 use std::collections::HashSet;
 
@@ -63,7 +63,8 @@ fn stars(m: &Mesh, name: &str) -> Vec<usize> {
 
 #[test]
 fn tri3_half_disk_is_its_own_mirror_image_about_the_pole_radius() {
-    for (n, g) in [(16, 1.0), (32, 4.0), (160, 16.0)] {
+    // an odd count too: the pole is then the middle of an arc facet
+    for (n, g) in [(16, 1.0), (17, 2.0), (32, 4.0), (160, 16.0)] {
         for (c, r, pole) in [
             ([0.0, 1.0], 1.0, [0.0, -1.0]),
             ([0.3, -1.2], 2.5, [1.0, 2.0]),
@@ -93,4 +94,32 @@ fn every_arc_node_of_the_tri3_disks_has_the_same_star() {
         assert_eq!(s[0], 2, "n={n}: the pole's star {s:?}");
         assert!(s[1..n].iter().all(|&k| k == 4), "n={n}: stars {s:?}");
     }
+}
+
+/// The rectangle (Tri3) and the box (Tet4) cut every cell the same way: not
+/// mirror-symmetric, but no node of a side is set apart from the others (the
+/// disks' defect was a node unlike its neighbours).
+#[test]
+fn rectangle_tri3_and_box_tet4_nodes_along_a_side_have_the_same_star() {
+    let grading = Some((RectSide::Bottom, 4.0));
+    let m = rectangle([0.0, 0.0], [2.0, 1.0], [8, 5], CellKind::Tri3, grading).unwrap();
+    let s = stars(&m, "bottom");
+    assert!(s[1..8].iter().all(|&k| k == 3), "rectangle: {s:?}");
+    let b = box_mesh(
+        [0.0; 3],
+        [1.0; 3],
+        [4, 4, 3],
+        CellKind::Tet4,
+        Some((BoxSide::Zmin, 4.0)),
+    )
+    .unwrap();
+    // the interior nodes of the bottom face (z = 0): 12 tetrahedra each (24 inside)
+    let interior =
+        |x: [f64; 3]| x[2] == 0.0 && x[0] > 0.0 && x[0] < 1.0 && x[1] > 0.0 && x[1] < 1.0;
+    let stars: Vec<usize> = (0..b.n_nodes())
+        .filter(|&n| interior(b.coords[n]))
+        .map(|n| b.cells.iter().filter(|c| c.nodes.contains(&n)).count())
+        .collect();
+    assert_eq!(stars.len(), 9);
+    assert!(stars.iter().all(|&k| k == 12), "box: {stars:?}");
 }
