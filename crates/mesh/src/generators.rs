@@ -6,7 +6,7 @@
 //!
 //! 2D ([`rectangle`], [`half_disk`], [`quarter_disk`]): all cells are
 //! counter-clockwise (Quad4, Tri3, or those made second-order by
-//! [`to_second_order`]). Facets of a surface are oriented along the boundary
+//! [`to_second_order`](crate::quadratic::to_second_order)). Facets of a surface are oriented along the boundary
 //! with the body on their left (the order in which the owning cell lists the two
 //! nodes), and `Facet::cell` is the owning cell.
 //!
@@ -15,8 +15,10 @@
 //! are faces of their cells with the node order of [`CellKind::facets`]
 //! (right-hand normal pointing out of the body).
 
-use crate::quadratic::to_second_order;
+mod split;
+
 use crate::{Cell, CellKind, Facet, Mesh, MeshError, Surface};
+use split::{build_2d, EdgeList, TriangleSplit};
 use std::collections::BTreeMap;
 use std::f64::consts::PI;
 
@@ -150,122 +152,12 @@ fn check_ratio(what: &str, r: f64) -> Result<(), MeshError> {
     }
 }
 
-/// Boundary edges `(node a, node b, owning quad)`.
-type EdgeList = Vec<(usize, usize, usize)>;
-
-/// Builds a 2D mesh from counter-clockwise quadrilaterals (as Quad4, or split in
-/// two Tri3 along the shorter diagonal; Quad8 and Tri6 are those made
-/// second-order by [`to_second_order`], mid-side nodes at the edge midpoints) and
-/// named boundary edges `(a, b, quad)`. A 3D kind is an error.
-fn build_2d(
-    coords: Vec<[f64; 3]>,
-    quads: &[[usize; 4]],
-    edges: Vec<(&str, EdgeList)>,
-    kind: CellKind,
-) -> Result<Mesh, MeshError> {
-    let first_order = match kind {
-        CellKind::Quad4 | CellKind::Tri3 => kind,
-        CellKind::Quad8 => CellKind::Quad4,
-        CellKind::Tri6 => CellKind::Tri3,
-        CellKind::Tet4 | CellKind::Hex8 => {
-            return Err(MeshError::Invalid(format!(
-                "a 2D generator cannot make {} cells (quad4, tri3, quad8, tri6)",
-                kind.name()
-            )))
-        }
-    };
-    let mesh = build_2d_first_order(coords, quads, edges, first_order);
-    mesh.check()?;
-    if kind.order() == 2 {
-        to_second_order(&mesh)
-    } else {
-        Ok(mesh)
-    }
-}
-
-/// [`build_2d`] for Quad4 or Tri3.
-fn build_2d_first_order(
-    coords: Vec<[f64; 3]>,
-    quads: &[[usize; 4]],
-    edges: Vec<(&str, EdgeList)>,
-    kind: CellKind,
-) -> Mesh {
-    let d2 = |a: usize, b: usize| {
-        let (p, q) = (coords[a], coords[b]);
-        (p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2)
-    };
-    let mut cells = Vec::new();
-    // cells made from quad q: first index and count
-    let mut first = Vec::with_capacity(quads.len());
-    for q in quads {
-        first.push(cells.len());
-        match kind {
-            CellKind::Quad4 => cells.push(Cell {
-                kind,
-                nodes: q.to_vec(),
-            }),
-            CellKind::Tri3 => {
-                let [a, b, c, d] = *q;
-                // the shorter diagonal (ties: a-c)
-                if d2(a, c) <= d2(b, d) * (1.0 + 1e-12) {
-                    cells.push(Cell {
-                        kind,
-                        nodes: vec![a, b, c],
-                    });
-                    cells.push(Cell {
-                        kind,
-                        nodes: vec![a, c, d],
-                    });
-                } else {
-                    cells.push(Cell {
-                        kind,
-                        nodes: vec![a, b, d],
-                    });
-                    cells.push(Cell {
-                        kind,
-                        nodes: vec![b, c, d],
-                    });
-                }
-            }
-            other => unreachable!("build_2d_first_order: {}", other.name()),
-        }
-    }
-    let ncell_per_quad = if kind == CellKind::Quad4 { 1 } else { 2 };
-    let mut surfaces = BTreeMap::new();
-    for (name, list) in edges {
-        let mut facets = Vec::with_capacity(list.len());
-        for (a, b, q) in list {
-            // the cell of quad q holding both nodes, and the ccw order of (a, b) in it
-            let (cell, nodes) = (first[q]..first[q] + ncell_per_quad)
-                .find_map(|c| {
-                    let n = &cells[c].nodes;
-                    let m = n.len();
-                    (0..m).find_map(|i| {
-                        let (x, y) = (n[i], n[(i + 1) % m]);
-                        if (x, y) == (a, b) || (x, y) == (b, a) {
-                            Some((c, vec![x, y]))
-                        } else {
-                            None
-                        }
-                    })
-                })
-                .expect("boundary edge is an edge of its quad");
-            facets.push(Facet { nodes, cell });
-        }
-        surfaces.insert(name.to_string(), Surface { facets });
-    }
-    Mesh {
-        dim: 2,
-        coords,
-        cells,
-        surfaces,
-        regions: Default::default(),
-    }
-}
-
 /// Rectangle `[x0, x0 + w] x [y0, y0 + h]` with `nx x ny` quadrilaterals on a
-/// structured grid (Quad4, or each quad split in two Tri3 along its shorter
-/// diagonal; Quad8 / Tri6: those made second-order by [`to_second_order`], the
+/// structured grid (Quad4, or each quad split in two Tri3 along its diagonal
+/// from node `(i, j)` to `(i + 1, j + 1)`, the same in every quad
+/// (`TriangleSplit::Diagonal`: every node has the same star, no node is set
+/// apart, but the mesh is not mirror-symmetric); Quad8 / Tri6: those made
+/// second-order by [`to_second_order`](crate::quadratic::to_second_order), the
 /// mid-side nodes at the edge midpoints). `grading = Some((side, r))` grades the
 /// direction normal to `side` geometrically, with the smallest elements along
 /// `side` and largest / smallest = `r`.
@@ -357,6 +249,7 @@ pub fn rectangle(
             ("left", left),
         ],
         kind,
+        TriangleSplit::Diagonal,
     )
 }
 
@@ -384,11 +277,17 @@ const HALF_DISK_BLEND: f64 = 0.85;
 /// ceil(divisions / 8)` layers). The rectangle's boundary nodes are 15% the
 /// radial projection of the arc nodes, 85% uniform, so the fine spacing at the
 /// pole does not run into slivers deep in the body. Measured quality (divisions
-/// 4..129, grading 1..16): quad angles in [43°, 137°], edge ratio <= 7; Tri3
-/// (quads split along the shorter diagonal) angles >= 8°.
+/// 4..129, grading 1..16): quad angles in [43°, 137°], edge ratio <= 7.
+///
+/// Tri3: each quad cut in four triangles about a node at the mean of its
+/// corners (`TriangleSplit::Crossed`; those nodes come after the quads'), so
+/// that the mesh is the mirror image of itself about the pole's radius (for an
+/// even `divisions`) and the pole has the same kind of star as its neighbours
+/// (cut in two, the pole's force was 8-14 % off its neighbours' and the Hertz
+/// p0 as much); angles >= 8°.
 ///
 /// Second-order kinds (Quad8, Tri6) are the first-order mesh made second-order by
-/// [`to_second_order`], with the mid-side nodes of the arc's facets then moved
+/// [`to_second_order`](crate::quadratic::to_second_order), with the mid-side nodes of the arc's facets then moved
 /// radially onto the circle (the other mid-side nodes stay at the midpoints).
 ///
 /// Surfaces: "flat" (the diameter through the centre, perpendicular to the pole)
@@ -407,6 +306,7 @@ pub fn half_disk(
         &parts.quads,
         vec![("flat", parts.flat), ("arc", parts.arc)],
         kind,
+        TriangleSplit::Crossed,
     )?;
     arc_midsides_on_circle(&mut mesh, "arc", center, radius);
     Ok(mesh)
@@ -637,7 +537,7 @@ fn half_disk_quads(
 /// lines (the middle column of its inner rectangle and the radial line to the
 /// pole); its quadrilaterals on the side `x >= c_x` are kept (nodes on the axis
 /// set to `x = c_x` exactly, no node has `x < c_x`) and become cells as in
-/// [`half_disk`] (Quad4, Tri3 split along the shorter diagonal, Quad8 / Tri6 with
+/// [`half_disk`] (Quad4, Tri3 four per quad about its centre, Quad8 / Tri6 with
 /// the arc's mid-side nodes on the circle).
 ///
 /// Surfaces, each listed along the boundary with the body on its left: "flat"
@@ -734,6 +634,7 @@ pub fn quarter_disk(
         &quads,
         vec![("flat", flat), ("axis", axis), ("arc", arc)],
         kind,
+        TriangleSplit::Crossed,
     )?;
     arc_midsides_on_circle(&mut mesh, "arc", center, radius);
     Ok(mesh)
@@ -1631,7 +1532,7 @@ mod tests {
                     let m = check_half_disk([0.3, -1.2], 2.5, n, pole, g, kind);
                     let (min_sin, aspect) = quality(&m);
                     // measured: quads min sin 0.68 (angles in [43°, 137°]), aspect <= 7.0;
-                    // triangles (quads split) min sin 0.14 (angles >= 8°)
+                    // triangles (four per quad) min sin 0.145 (angles >= 8°), aspect <= 3.6
                     let sin_min = if kind == CellKind::Quad4 { 0.6 } else { 0.12 };
                     assert!(min_sin > sin_min, "n={n} g={g} {kind:?}: min sin {min_sin}");
                     assert!(aspect < 8.0, "n={n} g={g} {kind:?}: aspect {aspect}");
@@ -1649,9 +1550,15 @@ mod tests {
         // uniform 16: corner at arc node 4 (45°), rectangle 8 x 4, ring 16 x 2
         assert_eq!(m.cells.len(), 8 * 4 + 16 * 2);
         assert_eq!(m.n_nodes(), 9 * 5 + 17 * 2);
+        // Tri3: four triangles about a node added at each quad's centre
         let t = half_disk([0.0, 0.0], 1.0, 16, [0.0, -1.0], 1.0, CellKind::Tri3).unwrap();
-        assert_eq!(t.cells.len(), 2 * m.cells.len());
-        assert_eq!(t.n_nodes(), m.n_nodes());
+        assert_eq!(t.cells.len(), 4 * m.cells.len());
+        assert_eq!(t.n_nodes(), m.n_nodes() + m.cells.len());
+        assert_eq!(
+            &t.coords[..m.n_nodes()],
+            &m.coords[..],
+            "the quads' nodes keep their numbers"
+        );
         assert_eq!(t.surface("arc").unwrap().nodes().len(), 17);
         assert_eq!(t.surface("flat").unwrap().nodes().len(), 9 + 2 * 2);
     }
