@@ -6,11 +6,14 @@ use std::collections::BTreeMap;
 use crate::{Quantity, ReferenceReport};
 
 /// Nodal contact data along the contact line: tangential coordinate,
-/// normal force and tributary length of each contact point.
+/// normal force, tributary length and pressure of each contact point.
 pub struct NodalPressure {
     pub s: f64,
     pub force: f64,
     pub tributary: f64,
+    /// The contact pressure, force / tributary where the tributary measure
+    /// is not zero (the caller's rule elsewhere, as in contact.csv).
+    pub pressure: f64,
     /// Tangential force (0 without friction).
     pub tangential: f64,
     /// Whether the point sticks (friction).
@@ -70,8 +73,7 @@ fn hertz_quantities(
 ) -> BTreeMap<String, Quantity> {
     let pressures: Vec<(f64, f64, f64)> = nodes
         .iter()
-        .filter(|n| n.tributary > 0.0)
-        .map(|n| (n.s - centre, n.force / n.tributary, n.tributary))
+        .map(|n| (n.s - centre, n.pressure, n.tributary))
         .collect();
     let p0_c = pressures.iter().fold(0.0f64, |m, p| m.max(p.1));
     let a_last = pressures
@@ -154,7 +156,7 @@ pub fn uniform_pressure(
     let mut worst = 0.0f64;
     let mut worst_p = p;
     for n in nodes.iter().filter(|n| n.tributary > 0.0) {
-        let pi = n.force / n.tributary;
+        let pi = n.pressure;
         let dev = (pi - p).abs();
         if dev >= worst {
             worst = dev;
@@ -311,6 +313,7 @@ mod tests {
                     s: x,
                     force: pe * w,
                     tributary: w,
+                    pressure: pe,
                     tangential: -q * w,
                     stick: x.abs() < c,
                 }
@@ -346,6 +349,7 @@ mod tests {
                     s,
                     force: p0 * (1.0 - (s / a).powi(2)).max(0.0).sqrt() * w,
                     tributary: w,
+                    pressure: p0 * (1.0 - (s / a).powi(2)).max(0.0).sqrt(),
                     tangential: 0.0,
                     stick: false,
                 }
@@ -373,6 +377,7 @@ mod tests {
                     s,
                     force: p0 * (1.0 - (s / a).powi(2)).max(0.0).sqrt() * w,
                     tributary: w,
+                    pressure: p0 * (1.0 - (s / a).powi(2)).max(0.0).sqrt(),
                     tangential: 0.0,
                     stick: false,
                 }

@@ -313,6 +313,9 @@ mod tests {
         }
         let k = SparseColMat::<usize, f64>::try_new_from_triplets(n, n, &t).unwrap();
         let est = sparse_spd_condition(&k).unwrap();
-        assert!((5000.0 / 3.0..=5000.0 * (1.0 + 1e-9)).contains(&est), "{est}");
+        assert!(
+            (5000.0 / 3.0..=5000.0 * (1.0 + 1e-9)).contains(&est),
+            "{est}"
+        );
     }
 }

@@ -1309,6 +1309,42 @@ fn initial_statuses(
         .collect()
 }
 
+/// The contact pressure at every point, its force over its tributary
+/// measure. A point whose consistent tributary measure vanishes — the corner
+/// node of a quadratic edge on the axis of an axisymmetric model, where
+/// ∫ N r dr = 0 — carries no force from a smooth pressure, so force over
+/// measure says nothing there (round-off over zero); it takes the pressure
+/// of the nearest point of its contact that has a measure.
+fn nodal_pressures(points: &[PointModel], lambda: &[f64]) -> Vec<f64> {
+    let largest = points.iter().fold(0.0f64, |a, p| a.max(p.tributary));
+    let measured = |p: &PointModel| p.tributary > 1e-9 * largest;
+    let own: Vec<f64> = points
+        .iter()
+        .zip(lambda)
+        .map(|(p, l)| if measured(p) { l / p.tributary } else { 0.0 })
+        .collect();
+    points
+        .iter()
+        .enumerate()
+        .map(|(pi, p)| {
+            if measured(p) {
+                return own[pi];
+            }
+            let dist2 = |q: &PointModel| {
+                (0..3)
+                    .map(|k| (q.point.x[k] - p.point.x[k]).powi(2))
+                    .sum::<f64>()
+            };
+            points
+                .iter()
+                .enumerate()
+                .filter(|(_, q)| q.contact == p.contact && measured(q))
+                .min_by(|a, b| dist2(a.1).total_cmp(&dist2(b.1)))
+                .map_or(0.0, |(qi, _)| own[qi])
+        })
+        .collect()
+}
+
 /// Residual pieces of one step for the certificate.
 struct Residuals {
     /// Largest equilibrium residual (interior and Γ, contact forces included).
@@ -1407,6 +1443,7 @@ fn conclude_step(
             si + 1
         ));
     }
+    let pressure = nodal_pressures(points, lambda);
     for (pi, p) in points.iter().enumerate() {
         let l = lambda[pi];
         partial.contact_rows.push(ContactRow {
@@ -1421,11 +1458,7 @@ fn conclude_step(
             slip: sol.friction.as_ref().map_or(0.0, |f| f.slip_total[pi]),
             tangential_force_2: sol.friction.as_ref().map_or(0.0, |f| f.tangential2[pi]),
             slip_2: sol.friction.as_ref().map_or(0.0, |f| f.slip_total2[pi]),
-            pressure: if p.tributary > 0.0 {
-                l / p.tributary
-            } else {
-                0.0
-            },
+            pressure: pressure[pi],
             status: match (
                 outcome.active.binary_search(&pi).is_ok(),
                 &sol.friction,
@@ -2213,6 +2246,7 @@ fn compare_reference(
     } else {
         t
     };
+    let pressure = nodal_pressures(points, lambda);
     let nodes: Vec<reference::NodalPressure> = points
         .iter()
         .zip(lambda)
@@ -2221,6 +2255,7 @@ fn compare_reference(
             s: coordinate(p.point.x),
             force: l.max(0.0),
             tributary: p.tributary,
+            pressure: pressure[pi].max(0.0),
             tangential: if sc.dimension == 3 {
                 let v = tangential_vector(pi);
                 v[0] * direction[0] + v[1] * direction[1] + v[2] * direction[2]
