@@ -278,26 +278,26 @@ fn a_pad_on_an_inclined_plane_across_a_gap_is_held_by_friction() {
     assert!(d.report.contact_force[0].abs() <= 1e-9 * d.report.contact_force[2]);
 }
 
-#[test]
-fn the_friction_capacity_check_counts_a_frictionless_wall() {
-    // A block on a frictional floor pushed sideways by more than μN, against
-    // a frictionless rigid disc touching its right side at mid-height, which
-    // takes the rest: in equilibrium, not refused.
-    let wall = r#"
+/// A block on a floor (μ = 0.2) loaded by N = 10 down and pushed sideways
+/// by 8 × 0.5 = 4 > μN against a frictionless rigid `wall`.
+fn pushed_block(wall: &str, friction_solver: &str) -> String {
+    let extra = format!(
+        r#"
 [[bodies]]
 name = "wall"
-rigid = { shape = "circle", center = [1.5, 0.25], radius = 0.5 }
+rigid = {wall}
 [[contact]]
 name = "w"
-slave = { body = "pad", surface = "right" }
-master = { body = "wall" }
+slave = {{ body = "pad", surface = "right" }}
+master = {{ body = "wall" }}
 [[boundary]]
 name = "push"
 body = "pad"
 surface = "left"
 traction = [8.0, 0.0]
-"#;
-    let text = block(
+"#
+    );
+    block(
         2,
         &[0.0, 0.0],
         &[1.0, 0.5],
@@ -305,31 +305,68 @@ traction = [8.0, 0.0]
         &[0.0, 1.0],
         0.2,
         "traction = [0.0, -10.0]",
-        wall,
+        &extra,
+        friction_solver,
+    )
+}
+
+#[test]
+fn the_friction_capacity_check_counts_a_frictionless_wall() {
+    // The wall takes what friction does not: in equilibrium, not refused.
+    // A disc touching the block's side at mid-height, and a flat wall whose
+    // contact shares the block's corner node with the floor's (the corner's
+    // slip along the floor is the wall's gap: one constraint, not two).
+    let disc = r#"{ shape = "circle", center = [1.5, 0.25], radius = 0.5 }"#;
+    let flat = r#"{ shape = "plane", point = [1.0, 0.0], normal = [-1.0, 0.0] }"#;
+    for wall in [disc, flat] {
+        let mut wall_forces = Vec::new();
+        for solver in ["fixed_point", "status"] {
+            let o = run(&pushed_block(wall, solver));
+            let f = &o.report.contact_force;
+            assert!((f[0] + 4.0).abs() <= 1e-9 * 10.0, "{wall} {solver}: {f:?}");
+            assert!((f[1] - 10.0).abs() <= 1e-9 * 10.0, "{wall} {solver}: {f:?}");
+            let floor = o
+                .report
+                .contacts
+                .iter()
+                .find(|c| c.name == "c")
+                .unwrap()
+                .force[0];
+            assert!(
+                floor.abs() <= 0.2 * 10.0 * (1.0 + 1e-9),
+                "friction within μN: {floor}"
+            );
+            let w = o
+                .report
+                .contacts
+                .iter()
+                .find(|c| c.name == "w")
+                .unwrap()
+                .force[0];
+            assert!(
+                w <= -2.0 * (1.0 - 1e-9),
+                "the wall takes at least 4 − μN: {w}"
+            );
+            wall_forces.push(w);
+        }
+        assert!(
+            (wall_forces[0] - wall_forces[1]).abs() <= 1e-6 * 4.0,
+            "{wall}: {wall_forces:?}"
+        );
+    }
+    // Without the wall, the same push beyond μN is refused (exit 1).
+    let push = "[[boundary]]\nname = \"push\"\nbody = \"pad\"\nsurface = \"left\"\ntraction = [8.0, 0.0]\n";
+    let alone = block(
+        2,
+        &[0.0, 0.0],
+        &[1.0, 0.5],
+        &[8, 4],
+        &[0.0, 1.0],
+        0.2,
+        "traction = [0.0, -10.0]",
+        push,
         "fixed_point",
     );
-    let o = run(&text);
-    // The push, 8 × 0.5 = 4, exceeds μN = 0.2 × 10: the wall carries what
-    // friction does not; the contacts balance the load.
-    assert!(
-        (o.report.contact_force[0] + 4.0).abs() <= 1e-9 * 10.0,
-        "{:?}",
-        o.report.contact_force
-    );
-    assert!((o.report.contact_force[1] - 10.0).abs() <= 1e-9 * 10.0);
-    let wall_force = o
-        .report
-        .contacts
-        .iter()
-        .find(|c| c.name == "w")
-        .unwrap()
-        .force[0];
-    assert!(
-        wall_force <= -2.0 * (1.0 - 1e-9),
-        "the wall takes at least 4 − μN: {wall_force}"
-    );
-    // Without the wall, the same push beyond μN is refused (exit 1).
-    let alone = block(2, &[0.0, 0.0], &[1.0, 0.5], &[8, 4], &[0.0, 1.0], 0.1, "traction = [0.0, -10.0]", "[[boundary]]\nname = \"push\"\nbody = \"pad\"\nsurface = \"left\"\ntraction = [4.0, 0.0]\n", "fixed_point");
     let err = try_run(&alone, RunOptions::default())
         .err()
         .expect("refused");

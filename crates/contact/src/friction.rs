@@ -72,6 +72,11 @@ pub struct FrictionLayout {
     /// Tangential row of each point, if it has friction.
     pub tangent_row: Vec<Option<usize>>,
     pub threshold: Vec<Threshold>,
+    /// For a point whose tangential row constrains the same motion as the
+    /// normal row of another point (a corner node on a frictional floor and
+    /// against a wall: its slip along the floor is the wall's gap), that
+    /// other point (see [`crate::redundancy::tangent_shadows`]).
+    pub shadow: Vec<Option<usize>>,
 }
 
 #[derive(Debug, Clone)]
@@ -117,8 +122,20 @@ fn equations(
             VarEquation::Gap
         };
         if let Some(t) = layout.tangent_row[p] {
+            // Stuck while its shadow is closed, the point's slip is already
+            // held by the shadow's gap: the two rows are one constraint, the
+            // split of the force between them is free, and the friction
+            // force is taken as zero (inside any cone) so that the system
+            // stays regular.
+            let held = layout
+                .shadow
+                .get(p)
+                .copied()
+                .flatten()
+                .is_some_and(|q| statuses[q] != PointStatus::Open);
             eqs[t] = match st {
                 PointStatus::Open => VarEquation::Value(0.0),
+                PointStatus::Stick | PointStatus::Slip if held => VarEquation::Value(0.0),
                 // Slip (3D) does not occur in 2D: no direction, treated as stick.
                 PointStatus::Stick | PointStatus::Slip => VarEquation::Gap,
                 PointStatus::SlipPlus | PointStatus::SlipMinus => {
@@ -691,6 +708,7 @@ mod tests {
         FrictionLayout {
             tangent_row: vec![Some(1)],
             threshold: vec![t],
+            shadow: vec![None],
         }
     }
 

@@ -92,6 +92,56 @@ pub fn duplicate_constraints<K: Ord + Clone>(
     out
 }
 
+/// For each point p with a tangential row, `Some(q)` when that row is
+/// parallel (either sign) to the normal row of another point q over the
+/// same DOFs: a corner node in a frictional contact and in a second contact
+/// whose normal lies along the first one's tangent (a block on a floor
+/// against a wall). Stuck on the floor and closed on the wall, both rows fix
+/// the same motion (W singular); the friction solve then lets the normal
+/// row alone hold it. `rows[..m]` are the normal rows.
+pub fn tangent_shadows(
+    rows: &[Vec<(usize, f64)>],
+    m: usize,
+    tangent_row: &[Option<usize>],
+) -> Vec<Option<usize>> {
+    let normalised = |r: &Vec<(usize, f64)>| -> BTreeMap<usize, f64> {
+        let mut a: BTreeMap<usize, f64> = BTreeMap::new();
+        for &(k, c) in r {
+            *a.entry(k).or_insert(0.0) += c;
+        }
+        let scale = a.values().fold(0.0f64, |x, c| x.max(c.abs()));
+        a.retain(|_, c| c.abs() > 1e-14 * scale);
+        let norm = a.values().map(|c| c * c).sum::<f64>().sqrt();
+        a.values_mut().for_each(|c| *c /= norm);
+        a
+    };
+    let mut by_dofs: BTreeMap<Vec<usize>, Vec<(usize, BTreeMap<usize, f64>)>> = BTreeMap::new();
+    for (q, r) in rows.iter().enumerate().take(m) {
+        let a = normalised(r);
+        if !a.is_empty() {
+            by_dofs
+                .entry(a.keys().copied().collect())
+                .or_default()
+                .push((q, a));
+        }
+    }
+    tangent_row
+        .iter()
+        .enumerate()
+        .map(|(p, t)| {
+            let a = normalised(&rows[(*t)?]);
+            let key: Vec<usize> = a.keys().copied().collect();
+            by_dofs.get(&key)?.iter().find_map(|(q, b)| {
+                let cos: f64 = a
+                    .iter()
+                    .map(|(k, c)| c * b.get(k).copied().unwrap_or(0.0))
+                    .sum();
+                (*q != p && cos.abs() >= 1.0 - PARALLEL).then_some(*q)
+            })
+        })
+        .collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -120,5 +170,24 @@ mod tests {
             (vec![(0usize, 1.0), (1, 1e-3)], 0.0),
         ];
         assert_eq!(duplicate_constraints(&rows, 1e-12), vec![None, None]);
+    }
+
+    #[test]
+    fn a_tangential_row_along_another_points_normal_is_shadowed() {
+        // Point 0: a corner on a floor (normal y = DOF 1, tangent x = DOF 0);
+        // point 1: the same node on a wall (normal −x). Point 2: another
+        // floor node, its tangent (DOF 2) along nobody's normal.
+        let rows = vec![
+            vec![(1usize, 1.0)],
+            vec![(0usize, -1.0)],
+            vec![(3usize, 1.0)],
+            vec![(0usize, 2.0)],
+            vec![(2usize, 1.0)],
+        ];
+        let tangent = [Some(3), None, Some(4)];
+        assert_eq!(
+            tangent_shadows(&rows, 3, &tangent),
+            vec![Some(1), None, None]
+        );
     }
 }

@@ -939,6 +939,7 @@ fn solve_root(
     }
     let has_friction = tangent_row.iter().any(|t| t.is_some());
     let layout = FrictionLayout {
+        shadow: signorini_contact::redundancy::tangent_shadows(&rows, m, &tangent_row),
         tangent_row: tangent_row.clone(),
         threshold: points
             .iter()

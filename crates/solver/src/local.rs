@@ -176,6 +176,7 @@ pub fn solve_friction(
     let layout = FrictionLayout {
         tangent_row: (0..m).map(|i| Some(m + i)).collect(),
         threshold: mu.iter().map(|&u| Threshold::Coulomb(u)).collect(),
+        shadow: vec![None; m],
     };
     let opts = FrictionOptions {
         max_iterations,
