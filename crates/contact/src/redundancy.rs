@@ -115,7 +115,8 @@ pub fn tangent_shadows(
         a.values_mut().for_each(|c| *c /= norm);
         a
     };
-    let mut by_dofs: BTreeMap<Vec<usize>, Vec<(usize, BTreeMap<usize, f64>)>> = BTreeMap::new();
+    type Unit = BTreeMap<usize, f64>;
+    let mut by_dofs: BTreeMap<Vec<usize>, Vec<(usize, Unit)>> = BTreeMap::new();
     for (q, r) in rows.iter().enumerate().take(m) {
         let a = normalised(r);
         if !a.is_empty() {
