@@ -313,7 +313,7 @@ impl DelassusProblem {
         let sol = solve_checked(&a, &rhs, "the contact and friction statuses do not hold a floating body, or the constraints are redundant")?;
         let r: Vec<f64> = (0..m).map(|i| sol[(i, 0)]).collect();
         let alpha: Vec<f64> = (0..k).map(|j| sol[(m + j, 0)]).collect();
-        let g = crate::smalbe::constrained_gaps(&self.w, &self.q, &self.g_mat, &r, &alpha);
+        let g = crate::lcp::constrained_gaps(&self.w, &self.q, &self.g_mat, &r, &alpha);
         self.last_alpha = alpha;
         Ok((r, g))
     }
@@ -375,7 +375,7 @@ impl ActiveSetSolve for DelassusProblem {
                 alpha[j] = sol[(na + j, 0)];
             }
         }
-        let g = crate::smalbe::constrained_gaps(&self.w, &self.q, &self.g_mat, &lambda, &alpha);
+        let g = crate::lcp::constrained_gaps(&self.w, &self.q, &self.g_mat, &lambda, &alpha);
         self.last_alpha = alpha;
         Ok((lambda, g))
     }

@@ -65,6 +65,24 @@ pub fn gaps(w: &Mat<f64>, q: &[f64], lambda: &[f64]) -> Vec<f64> {
     g
 }
 
+/// g = W λ + q + G α: the gaps with the rigid-mode amplitudes α of the
+/// floating bodies (G = B R).
+pub fn constrained_gaps(
+    w: &Mat<f64>,
+    q: &[f64],
+    g: &Mat<f64>,
+    lambda: &[f64],
+    alpha: &[f64],
+) -> Vec<f64> {
+    let mut gap = gaps(w, q, lambda);
+    for (p, gp) in gap.iter_mut().enumerate() {
+        for (j, a) in alpha.iter().enumerate() {
+            *gp += g[(p, j)] * a;
+        }
+    }
+    gap
+}
+
 /// The scaled natural residual of the LCP, max over points of
 /// |min(λ_p / F, w_p / L)| with F = max(force_scale, ‖λ‖∞) and
 /// L = gap_scale: zero exactly at a solution, and comparable with the

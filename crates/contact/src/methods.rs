@@ -226,7 +226,7 @@ pub fn solve_lcp_constrained(
     sol.report.method = algorithm.name().into();
     if !algorithm.is_exact() {
         // The gaps of the regularised law are those of W, not W + K⁻¹.
-        sol.gap = crate::smalbe::constrained_gaps(w, q, g, &sol.lambda, &sol.alpha);
+        sol.gap = crate::lcp::constrained_gaps(w, q, g, &sol.lambda, &sol.alpha);
     }
     Ok(sol)
 }

@@ -43,7 +43,8 @@
 use faer::Mat;
 
 use crate::lcp::{
-    gaps, residual_from_gaps, spectral_norm_estimate, LcpOptions, LcpSolution, SolverReport,
+    constrained_gaps, residual_from_gaps, spectral_norm_estimate, LcpOptions, LcpSolution,
+    SolverReport,
 };
 use crate::ContactError;
 
@@ -95,23 +96,6 @@ fn equality_vector(g: &Mat<f64>, e: &[f64], lambda: &[f64]) -> Vec<f64> {
     (0..g.ncols())
         .map(|j| (0..g.nrows()).map(|p| g[(p, j)] * lambda[p]).sum::<f64>() - e[j])
         .collect()
-}
-
-/// g = W λ + q + G α.
-pub fn constrained_gaps(
-    w: &Mat<f64>,
-    q: &[f64],
-    g: &Mat<f64>,
-    lambda: &[f64],
-    alpha: &[f64],
-) -> Vec<f64> {
-    let mut gap = gaps(w, q, lambda);
-    for (p, gp) in gap.iter_mut().enumerate() {
-        for (j, a) in alpha.iter().enumerate() {
-            *gp += g[(p, j)] * a;
-        }
-    }
-    gap
 }
 
 /// Solves min ½λᵀWλ + qᵀλ over λ ≥ 0 with Gᵀλ = e by SMALBE (module

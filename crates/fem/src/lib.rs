@@ -22,6 +22,7 @@ pub mod assembly;
 pub mod bbar;
 pub mod elasticity;
 pub mod element;
+pub mod isoparametric;
 pub mod loads;
 pub mod stress;
 
@@ -30,10 +31,8 @@ pub use assembly::{
 };
 pub use bbar::{b_bar_matrix, d_matrix_bbar};
 pub use elasticity::{check_material, Elasticity, Formulation, Model};
-pub use element::{
-    b_matrix, check_formulation, check_mesh, element_stiffness, quadrature, try_element_stiffness,
-    QuadPoint,
-};
+pub use element::{check_formulation, check_mesh, element_stiffness, try_element_stiffness};
+pub use isoparametric::{b_matrix, quadrature, QuadPoint};
 pub use loads::{rigid_body_modes, surface_measure, traction_load, tributary_measure};
 pub use stress::{cell_stress, von_mises};
 

@@ -15,7 +15,7 @@
 //! * 3D quadrilaterals: bilinear `N` on `[−1, 1]²` with `dS = |∂x/∂ξ × ∂x/∂η| dξ dη`,
 //!   2×2 Gauss (exact on a planar face).
 
-use crate::element::{GAUSS_2X2, TRI_3};
+use crate::isoparametric::{GAUSS_2X2, TRI_3};
 use crate::Model;
 use signorini_mesh::{Facet, Mesh, Surface};
 use std::f64::consts::PI;
