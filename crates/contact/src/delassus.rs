@@ -12,6 +12,8 @@
 //! S + ρ R Rᵀ (R orthonormal), a generalised inverse of S on its range: no
 //! artificial spring enters the answer.
 
+use std::sync::Arc;
+
 use faer::prelude::Solve;
 use faer::{Mat, Side};
 
@@ -33,14 +35,32 @@ pub enum VarEquation {
     Ratio { of: usize, factor: f64 },
 }
 
+/// The Delassus operator of a run, W = B S⁺ Bᵀ (seed §3.1.3), with what
+/// every load step needs of it: the Cholesky factor of S (S + ρRRᵀ with
+/// floating bodies), X = S⁺ Bᵀ, the orthonormal kernel R and G = B R. S, B
+/// and R do not change over the steps: it is built once per run (one
+/// factorisation and m solves), and each step's [`DelassusProblem`] needs
+/// only one more solve, u0 = S⁺ F', for its right-hand side q = g0 + B u0
+/// and e = −Rᵀ F' ([`DelassusOperator::problem`]).
+pub struct DelassusOperator {
+    n: usize,
+    llt: faer::linalg::solvers::Llt<f64>,
+    b: Vec<SparseRow>,
+    x: Arc<Mat<f64>>,
+    r: Arc<Mat<f64>>,
+    w: Mat<f64>,
+    g_mat: Mat<f64>,
+    s_condition: Option<f64>,
+}
+
 pub struct DelassusProblem {
     n: usize,
-    /// X = S⁺ Bᵀ (n × m).
-    x: Mat<f64>,
+    /// X = S⁺ Bᵀ (n × m), shared with the operator.
+    x: Arc<Mat<f64>>,
     /// u0 = S⁺ F'.
     u0: Vec<f64>,
-    /// Orthonormal kernel basis (n × k).
-    r: Mat<f64>,
+    /// Orthonormal kernel basis (n × k), shared with the operator.
+    r: Arc<Mat<f64>>,
     pub w: Mat<f64>,
     pub q: Vec<f64>,
     /// G = B R (m × k).
@@ -82,46 +102,77 @@ fn orthonormalize(r: &Mat<f64>) -> Result<Mat<f64>, ContactError> {
     Ok(q)
 }
 
-impl DelassusProblem {
-    /// Builds W, q (and G, e for floating bodies) from the dense interface
-    /// stiffness `s`, the contact rows `b` (over interface DOFs), the initial
-    /// gaps `gap0`, the condensed load `f` and the kernel `kernel` (n × k,
-    /// k = 0 without floating bodies).
-    pub fn new(
-        s: &Mat<f64>,
-        b: &[SparseRow],
-        gap0: &[f64],
-        f: &[f64],
-        kernel: &Mat<f64>,
-    ) -> Result<Self, ContactError> {
-        Self::build(s, b, gap0, f, kernel, false)
+impl DelassusOperator {
+    /// Builds W (and G for floating bodies) from the dense interface
+    /// stiffness `s`, the contact rows `b` (over interface DOFs) and the
+    /// kernel `kernel` (n × k, k = 0 without floating bodies).
+    pub fn new(s: &Mat<f64>, b: &[SparseRow], kernel: &Mat<f64>) -> Result<Self, ContactError> {
+        Self::build(s, b, kernel, false)
     }
 
-    /// As [`DelassusProblem::new`], and estimates the condition number κ₁ of
+    /// As [`DelassusOperator::new`], and estimates the condition number κ₁ of
     /// the matrix it factorises (S, or S + ρRRᵀ with floating bodies) by the
     /// Hager–Higham estimator on that Cholesky factor (a dozen O(n²) solves
-    /// beside the O(n³) factorisation): see [`DelassusProblem::s_condition`].
+    /// beside the O(n³) factorisation): see [`DelassusOperator::s_condition`].
     pub fn new_with_condition(
         s: &Mat<f64>,
         b: &[SparseRow],
-        gap0: &[f64],
-        f: &[f64],
         kernel: &Mat<f64>,
     ) -> Result<Self, ContactError> {
-        Self::build(s, b, gap0, f, kernel, true)
+        Self::build(s, b, kernel, true)
     }
 
     /// The estimated κ₁ of S (S + ρRRᵀ with floating bodies) when built by
-    /// [`DelassusProblem::new_with_condition`], else `None`.
+    /// [`DelassusOperator::new_with_condition`], else `None`.
     pub fn s_condition(&self) -> Option<f64> {
         self.s_condition
+    }
+
+    /// W = B S⁺ Bᵀ.
+    pub fn w(&self) -> &Mat<f64> {
+        &self.w
+    }
+
+    /// The number of rigid modes of the floating bodies.
+    pub fn n_kernel(&self) -> usize {
+        self.r.ncols()
+    }
+
+    /// The problem of one load step: q = g0 + B S⁺ F' and e = −Rᵀ F' for the
+    /// initial gaps `gap0` and the condensed load `f` (one solve with the
+    /// factor of S).
+    pub fn problem(&self, gap0: &[f64], f: &[f64]) -> DelassusProblem {
+        let (n, k) = (self.n, self.n_kernel());
+        let mut u0m = Mat::<f64>::from_fn(n, 1, |i, _| f[i]);
+        self.llt.solve_in_place(u0m.as_mut());
+        let u0: Vec<f64> = (0..n).map(|i| u0m[(i, 0)]).collect();
+        let q: Vec<f64> = self
+            .b
+            .iter()
+            .zip(gap0)
+            .map(|(row, g0)| g0 + row.iter().map(|&(i, c)| c * u0[i]).sum::<f64>())
+            .collect();
+        let e: Vec<f64> = (0..k)
+            .map(|j| -(0..n).map(|i| self.r[(i, j)] * f[i]).sum::<f64>())
+            .collect();
+        DelassusProblem {
+            n,
+            x: Arc::clone(&self.x),
+            u0,
+            r: Arc::clone(&self.r),
+            w: self.w.clone(),
+            q,
+            g_mat: self.g_mat.clone(),
+            e,
+            last_alpha: vec![0.0; k],
+            solves: 0,
+            s_condition: self.s_condition,
+        }
     }
 
     fn build(
         s: &Mat<f64>,
         b: &[SparseRow],
-        gap0: &[f64],
-        f: &[f64],
         kernel: &Mat<f64>,
         estimate_condition: bool,
     ) -> Result<Self, ContactError> {
@@ -191,32 +242,39 @@ impl DelassusProblem {
                 w[(j, i)] = v;
             }
         }
-        let mut u0m = Mat::<f64>::from_fn(n, 1, |i, _| f[i]);
-        llt.solve_in_place(u0m.as_mut());
-        let u0: Vec<f64> = (0..n).map(|i| u0m[(i, 0)]).collect();
-        let q: Vec<f64> = b
-            .iter()
-            .zip(gap0)
-            .map(|(row, g0)| g0 + row.iter().map(|&(i, c)| c * u0[i]).sum::<f64>())
-            .collect();
         let g_mat =
             Mat::<f64>::from_fn(m, k, |p, j| b[p].iter().map(|&(i, c)| c * r[(i, j)]).sum());
-        let e: Vec<f64> = (0..k)
-            .map(|j| -(0..n).map(|i| r[(i, j)] * f[i]).sum::<f64>())
-            .collect();
         Ok(Self {
             n,
-            x,
-            u0,
-            r,
+            llt,
+            b: b.to_vec(),
+            x: Arc::new(x),
+            r: Arc::new(r),
             w,
-            q,
             g_mat,
-            e,
-            last_alpha: vec![0.0; k],
-            solves: 0,
             s_condition,
         })
+    }
+}
+
+impl DelassusProblem {
+    /// The problem of one step built from scratch: [`DelassusOperator::new`]
+    /// then [`DelassusOperator::problem`] (for a single solve; a run builds
+    /// the operator once).
+    pub fn new(
+        s: &Mat<f64>,
+        b: &[SparseRow],
+        gap0: &[f64],
+        f: &[f64],
+        kernel: &Mat<f64>,
+    ) -> Result<Self, ContactError> {
+        Ok(DelassusOperator::new(s, b, kernel)?.problem(gap0, f))
+    }
+
+    /// The estimated κ₁ of S of the operator this problem comes from, when
+    /// it was built by [`DelassusOperator::new_with_condition`].
+    pub fn s_condition(&self) -> Option<f64> {
+        self.s_condition
     }
 
     /// A problem given directly by its Delassus operator W and gaps q (for
@@ -225,9 +283,9 @@ impl DelassusProblem {
         let m = q.len();
         Self {
             n: 0,
-            x: Mat::zeros(0, m),
+            x: Arc::new(Mat::zeros(0, m)),
             u0: Vec::new(),
-            r: Mat::zeros(0, 0),
+            r: Arc::new(Mat::zeros(0, 0)),
             g_mat: Mat::zeros(m, 0),
             e: Vec::new(),
             w,
@@ -476,5 +534,45 @@ fn rank_deficiency(lu: &faer::linalg::solvers::FullPivLu<f64>) -> Option<(usize,
         Some((deficiency, pmin / pmax.max(f64::MIN_POSITIVE)))
     } else {
         None
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// One operator serves every load: each step's problem equals the one
+    /// built from scratch for that load (W, q, G, e and the displacement).
+    #[test]
+    fn one_operator_gives_each_steps_problem() {
+        let n = 4;
+        let s = Mat::<f64>::from_fn(n, n, |i, j| {
+            if i == j {
+                4.0 + i as f64
+            } else if i.abs_diff(j) == 1 {
+                -1.0
+            } else {
+                0.0
+            }
+        });
+        let rows: Vec<SparseRow> = vec![vec![(0, 1.0)], vec![(2, 1.0), (3, -0.5)]];
+        let kernel = Mat::<f64>::zeros(n, 0);
+        let op = DelassusOperator::new(&s, &rows, &kernel).unwrap();
+        for (gap0, f) in [
+            ([0.1, 0.0], [1.0, -2.0, 0.5, 0.0]),
+            ([0.0, 0.3], [0.0, 0.0, -3.0, 1.0]),
+        ] {
+            let a = op.problem(&gap0, &f);
+            let b = DelassusProblem::new(&s, &rows, &gap0, &f, &kernel).unwrap();
+            let scale = a.w.norm_max();
+            assert!((&a.w - &b.w).norm_max() <= 1e-14 * scale);
+            for (x, y) in a.q.iter().zip(&b.q) {
+                assert!((x - y).abs() <= 1e-14 * (1.0 + y.abs()), "{x} {y}");
+            }
+            let (ua, ub) = (a.displacement(&[1.0, 2.0]), b.displacement(&[1.0, 2.0]));
+            for (x, y) in ua.iter().zip(&ub) {
+                assert!((x - y).abs() <= 1e-14 * (1.0 + y.abs()));
+            }
+        }
     }
 }

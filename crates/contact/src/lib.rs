@@ -27,7 +27,7 @@ pub mod smalbe;
 pub mod status;
 pub mod uzawa;
 
-pub use delassus::DelassusProblem;
+pub use delassus::{DelassusOperator, DelassusProblem};
 pub use geometry::{ContactPoint, MasterGeometry, NormalRule, Term, TermSide};
 pub use status::{status_method, ActiveSetSolve, StatusOptions, StatusOutcome, StatusVariant};
 

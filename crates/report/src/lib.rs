@@ -37,6 +37,10 @@ pub struct StepReport {
     /// Penalty methods: deviation from the exact unilateral solution.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub regularisation: Option<Regularisation>,
+    /// Wall-clock seconds of this step's contact solve on the root (its
+    /// right-hand side and the algorithm; the Delassus operator, built once
+    /// per run, is `timings_s.delassus`).
+    pub solve_s: f64,
 }
 
 /// How far a penalty (regularised) solution is from the exact unilateral one.
@@ -62,6 +66,9 @@ pub struct Timings {
     pub assemble: f64,
     pub condense: f64,
     pub contact: f64,
+    /// Building the Delassus operator W = B S⁻¹ Bᵀ, once per run (part of
+    /// `contact`; 0 on the direct path).
+    pub delassus: f64,
     pub recover: f64,
     pub output: f64,
     pub total: f64,

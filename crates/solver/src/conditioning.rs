@@ -21,7 +21,7 @@ use signorini_condense::conditioning::{
     dense_spd_condition, digits_lost, inverse_norm1_estimate, F64_DIGITS,
 };
 use signorini_contact::delassus::SparseRow;
-use signorini_contact::{ContactError, DelassusProblem};
+use signorini_contact::{ContactError, DelassusOperator};
 use signorini_report::Conditioning;
 
 use crate::subdomain::CondensedData;
@@ -44,22 +44,19 @@ pub(crate) struct RootConditioning {
     done: bool,
 }
 
-/// `DelassusProblem::new`, and, the first time (the first load step), the
-/// estimates of κ(S) (from the factorisation `new` makes) and κ(W) (before
-/// any slip compliance is added to W). W changes over the steps only with
-/// the geometry of the contact rows.
-pub(crate) fn delassus_problem(
+/// `DelassusOperator::new`, and, the first time, the estimates of κ(S)
+/// (from the factorisation `new` makes) and κ(W) (before any slip
+/// compliance is added to W).
+pub(crate) fn delassus_operator(
     s: &Mat<f64>,
     rows: &[SparseRow],
-    gap0: &[f64],
-    f: &[f64],
     kernel: &Mat<f64>,
     cond: &mut RootConditioning,
-) -> Result<DelassusProblem, ContactError> {
+) -> Result<DelassusOperator, ContactError> {
     if cond.done {
-        return DelassusProblem::new(s, rows, gap0, f, kernel);
+        return DelassusOperator::new(s, rows, kernel);
     }
-    let p = DelassusProblem::new_with_condition(s, rows, gap0, f, kernel)?;
+    let p = DelassusOperator::new_with_condition(s, rows, kernel)?;
     cond.done = true;
     cond.s = p.s_condition();
     if p.n_kernel() > 0 {
@@ -68,14 +65,14 @@ pub(crate) fn delassus_problem(
             p.n_kernel()
         ));
     }
-    let m = p.w.nrows();
+    let m = p.w().nrows();
     if m == 0 {
         cond.notes.push("w: no contact rows".into());
     } else if m > MAX_W_SIZE {
         cond.notes
             .push(format!("w: not estimated (m = {m} > {MAX_W_SIZE})"));
     } else {
-        match dense_spd_condition(p.w.as_ref()) {
+        match dense_spd_condition(p.w().as_ref()) {
             Some(k) if k * f64::EPSILON < 1.0 => cond.w = Some(k),
             Some(k) => {
                 cond.warnings.push(format!(
@@ -259,13 +256,13 @@ mod tests {
         let rows: Vec<SparseRow> = vec![vec![(0, 1.0)], vec![(1, 1.0), (2, 1.0)]];
         let kernel = Mat::<f64>::zeros(3, 0);
         let mut cond = RootConditioning::default();
-        let p = delassus_problem(&s, &rows, &[0.0; 2], &[0.0; 3], &kernel, &mut cond).unwrap();
+        let p = delassus_operator(&s, &rows, &kernel, &mut cond).unwrap();
         assert_eq!(p.s_condition(), Some(4.0));
         assert!((cond.s.unwrap() - 4.0).abs() < 1e-14);
         assert!((cond.w.unwrap() - 1.0 / 0.75).abs() < 1e-14, "{:?}", cond.w);
         assert!(cond.warnings.is_empty());
         // later steps do not estimate again
-        let p = delassus_problem(&s, &rows, &[0.0; 2], &[0.0; 3], &kernel, &mut cond).unwrap();
+        let p = delassus_operator(&s, &rows, &kernel, &mut cond).unwrap();
         assert_eq!(p.s_condition(), None);
         assert!((cond.s.unwrap() - 4.0).abs() < 1e-14);
     }
@@ -275,15 +272,7 @@ mod tests {
         let s = Mat::<f64>::identity(2, 2);
         let rows: Vec<SparseRow> = vec![vec![(0, 1.0)], vec![(0, 1.0)]];
         let mut cond = RootConditioning::default();
-        delassus_problem(
-            &s,
-            &rows,
-            &[0.0; 2],
-            &[0.0; 2],
-            &Mat::zeros(2, 0),
-            &mut cond,
-        )
-        .unwrap();
+        delassus_operator(&s, &rows, &Mat::zeros(2, 0), &mut cond).unwrap();
         assert!(cond.w.is_none());
         let mut messages = Vec::new();
         let c = condensed(&[], cond, 1e-10, &mut messages);

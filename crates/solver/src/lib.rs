@@ -34,8 +34,8 @@ use signorini_contact::friction::{
 use signorini_contact::friction3d::{friction_3d, FrictionLayout3d, Law3d};
 use signorini_contact::methods::{solve_lcp, solve_lcp_constrained, Algorithm};
 use signorini_contact::{
-    status_method, ActiveSetSolve, ContactError, DelassusProblem, LcpOptions, LcpSolution,
-    SolverReport, StatusOptions, StatusOutcome, StatusVariant,
+    status_method, ActiveSetSolve, ContactError, DelassusOperator, DelassusProblem, LcpOptions,
+    LcpSolution, SolverReport, StatusOptions, StatusOutcome, StatusVariant,
 };
 use signorini_report::{
     reference, Certificate, ContactRow, ContactSummary, Memory, Probe, RankStats, Regularisation,
@@ -472,6 +472,7 @@ pub fn run(
     let Some((state, data)) = root_state else {
         return Err(SolveError::Internal("root state missing".into()));
     };
+    timings.delassus = state.iter().map(|st| st.operator_s).sum();
     let mut recovered: Vec<RecoveredData> = Vec::new();
     let mut figures = Vec::new();
     for (r, f) in all {
@@ -534,6 +535,10 @@ struct StepSolution {
     law_k: Vec<f64>,
     /// Friction state at the end of the step, when a contact has friction.
     friction: Option<FrictionStep>,
+    /// Seconds of this step's root solve, and of building the Delassus
+    /// operator when this step built it (the first step), else 0.
+    solve_s: f64,
+    operator_s: f64,
 }
 
 /// Friction at one step, per contact point (zeros for frictionless points).
@@ -980,7 +985,10 @@ fn solve_root(
     let mut previous: Option<(Vec<PointStatus>, Vec<f64>)> = None;
     let mut steps = Vec::new();
     let mut u_gamma = Vec::new();
+    let mut operator: Option<DelassusOperator> = None;
     for (si, st) in scales.iter().enumerate() {
+        let t_step = Instant::now();
+        let mut operator_s = 0.0;
         let mut fp = vec![0.0; n_gamma];
         let mut u_p = Vec::new();
         let mut f_scale = 0.0f64;
@@ -1033,9 +1041,10 @@ fn solve_root(
                     gap0_all.push(prescribed(t) - slip_total2[pi]);
                 }
             }
-            let mut problem =
-                conditioning::delassus_problem(&s, &rows, &gap0_all, &fp, &kernel, cond)
-                    .map_err(contact_error)?;
+            let op = delassus_operator(&mut operator, &mut operator_s, || {
+                conditioning::delassus_operator(&s, &rows, &kernel, cond)
+            })?;
+            let mut problem = op.problem(&gap0_all, &fp);
             let mut compliance = vec![0.0; rows.len()];
             for (pi, p) in points.iter().enumerate() {
                 if let (
@@ -1208,11 +1217,15 @@ fn solve_root(
                 regularisation: None,
                 law_k: vec![0.0; m],
                 friction: Some(fr),
+                solve_s: t_step.elapsed().as_secs_f64() - operator_s,
+                operator_s,
             });
             continue;
         }
-        let mut problem = conditioning::delassus_problem(&s, &rows, &gap0, &fp, &kernel, cond)
-            .map_err(contact_error)?;
+        let op = delassus_operator(&mut operator, &mut operator_s, || {
+            conditioning::delassus_operator(&s, &rows, &kernel, cond)
+        })?;
+        let mut problem = op.problem(&gap0, &fp);
         let law_k: Vec<f64> = points
             .iter()
             .map(|p| match sc.contact[p.contact].law {
@@ -1275,9 +1288,28 @@ fn solve_root(
             regularisation,
             law_k,
             friction: None,
+            solve_s: t_step.elapsed().as_secs_f64() - operator_s,
+            operator_s,
         });
     }
     Ok((RootAnswer { u_gamma }, steps))
+}
+
+/// The run's Delassus operator, built by `build` at its first use (once per
+/// run: S, B and R do not change over the steps), with the seconds it took
+/// in `seconds`.
+fn delassus_operator<'a>(
+    slot: &'a mut Option<DelassusOperator>,
+    seconds: &mut f64,
+    build: impl FnOnce() -> Result<DelassusOperator, ContactError>,
+) -> Result<&'a DelassusOperator, SolveError> {
+    if slot.is_none() {
+        let t = Instant::now();
+        *slot = Some(build().map_err(contact_error)?);
+        *seconds = t.elapsed().as_secs_f64();
+    }
+    slot.as_ref()
+        .ok_or_else(|| SolveError::Internal("the Delassus operator was not built".into()))
 }
 
 /// The statuses a friction solve starts from at its first step: closed
@@ -1522,6 +1554,7 @@ fn conclude_step(
         cycle_detected_at: outcome.cycle_detected_at,
         solver: serde_json::to_value(&sol.solver).unwrap_or_default(),
         regularisation: sol.regularisation.clone(),
+        solve_s: sol.solve_s,
     });
     if let Some(w) = sol.regularisation.as_ref().and_then(|r| r.warning.clone()) {
         messages.push(format!("step {}: {w}", si + 1));
@@ -1707,6 +1740,7 @@ fn run_direct(
     let mut u_steps: Vec<Vec<Vec<f64>>> = Vec::new();
     let mut solutions = Vec::new();
     for (si, st) in scales.iter().enumerate() {
+        let t_step = Instant::now();
         let mut f = vec![0.0; n_free];
         let mut u_p = Vec::new();
         let mut forces = Vec::new();
@@ -1776,6 +1810,8 @@ fn run_direct(
             regularisation: None,
             law_k,
             friction: None,
+            solve_s: t_step.elapsed().as_secs_f64(),
+            operator_s: 0.0,
         };
         let res = direct_residuals(
             bodies,
