@@ -56,8 +56,8 @@ fn check_on_the_line(p: &ContactPoint, master: &Mesh, want: [f64; 3]) {
     assert!(close(w.iter().map(|t| t.1).sum::<f64>(), 1.0, 1e-14));
     let mut xm = [0.0; 3];
     for (node, wk) in w {
-        for d in 0..3 {
-            xm[d] += wk * master.coords[node][d];
+        for (x, c) in xm.iter_mut().zip(master.coords[node]) {
+            *x += wk * c;
         }
     }
     assert_vec(xm, want, 1e-14);
@@ -124,9 +124,9 @@ fn a_slave_normal_that_misses_the_master_segments_is_no_contact_point() {
             .unwrap()
     };
     let mut w = master_weights(by[&0]);
-    w.sort_by(|a, b| a.0.cmp(&b.0));
+    w.sort_by_key(|t| t.0);
     let mut want = vec![(node_at(0.5), 0.92), (node_at(1.0), 0.08)];
-    want.sort_by(|a, b| a.0.cmp(&b.0));
+    want.sort_by_key(|t| t.0);
     for (a, b) in w.iter().zip(&want) {
         assert!(a.0 == b.0 && close(a.1, b.1, 1e-14), "{w:?}");
     }
