@@ -4,8 +4,12 @@
 //! slave edges included). Its normal n (unit, from master to slave) follows
 //! the rule of seed Fig. 3: the master's normal, the slave's (reversed), their
 //! average, or the direction joining the two points at rest. Its initial gap
-//! is g0 = n · (x_slave − x_master) with x_master the closest point of the
-//! master (seed eq. 10, j = g0). The row of B is n·(u_slave − Σ N_i u_i) with
+//! is g0 = n · (x_slave − x_master) (seed eq. 10, j = g0) with x_master the
+//! closest point of the master (master and points rules) or the point where
+//! the line through x_slave along n meets a master facet facing it (slave and
+//! average rules); a node with no such point within the search distance
+//! (half the smaller body) is not a contact point, and [`Pairing`] counts it
+//! (see [`node_to_segment_pairing`]). The row of B is n·(u_slave − Σ N_i u_i) with
 //! N_i the master's shape functions at that point (seed §3.1.2, Fig. 6:
 //! ½(u_A + u_B) at a mid-segment projection); they sum to 1.
 //!
