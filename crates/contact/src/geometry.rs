@@ -4,8 +4,12 @@
 //! slave edges included). Its normal n (unit, from master to slave) follows
 //! the rule of seed Fig. 3: the master's normal, the slave's (reversed), their
 //! average, or the direction joining the two points at rest. Its initial gap
-//! is g0 = n · (x_slave − x_master) with x_master the closest point of the
-//! master (seed eq. 10, j = g0). The row of B is n·(u_slave − Σ N_i u_i) with
+//! is g0 = n · (x_slave − x_master) (seed eq. 10, j = g0) with x_master the
+//! closest point of the master (master and points rules) or the point where
+//! the line through x_slave along n meets a master facet facing it (slave and
+//! average rules); a node with no such point within the search distance
+//! (half the smaller body) is not a contact point, and [`Pairing`] counts it
+//! (see [`node_to_segment_pairing`]). The row of B is n·(u_slave − Σ N_i u_i) with
 //! N_i the master's shape functions at that point (seed §3.1.2, Fig. 6:
 //! ½(u_A + u_B) at a mid-segment projection); they sum to 1.
 //!
@@ -31,6 +35,7 @@
 //! orthonormal frame built from n alone, see [`tangent_frame`].
 
 mod closest;
+mod ray;
 mod search;
 
 use signorini_mesh::{Mesh, Surface};
@@ -255,66 +260,161 @@ fn slave_term(s: usize) -> Term {
     }
 }
 
-/// Node-to-segment contact points (seed §3.1.2, Fig. 6), in 2D and 3D (where
-/// it is node-to-face, [`node_to_face`] is the same function): each slave node
-/// is projected on the closest point of the master surface (or of the rigid
-/// plane or sphere); the row's master weights are the master's shape
-/// functions there.
+/// Fraction of the body size within which a slave node looks for its master
+/// point (see [`search_distance`]).
+pub const SEARCH_FRACTION: f64 = 0.5;
+
+/// How far from a slave node its master point may be: [`SEARCH_FRACTION`]
+/// of the smaller body's size (the diagonal of its bounding box; against a
+/// rigid obstacle, the slave body's).
 ///
-/// Slave nodes that do not face the master are not contact points:
-/// - 2D linear edges (the historical rule, kept bit-for-bit): the unclamped
-///   projection on the closest edge falls outside it by more than 10⁻⁶ of its
-///   length. This also drops a node whose closest master point is a convex
-///   corner between two master edges.
-/// - quadratic edges and 3D faces: the node lies beyond a free side of the
-///   master surface (an edge end or a face side that no other facet of the
-///   surface shares), by more than 10⁻⁶ of the facet's size, for one of the
-///   facets at the least distance. A node whose closest point is clamped to a
-///   side or corner inside the surface (the kinks of a faceted curved master,
-///   the mid-side node of a bent quadratic edge) keeps that clamped point,
-///   with the normal of the facet chosen (the lowest-numbered at the least
-///   distance).
-pub fn node_to_segment(
-    slave_mesh: &Mesh,
-    slave_surface: &Surface,
-    master: &MasterGeometry<'_>,
-    rule: NormalRule,
-) -> Result<Vec<ContactPoint>, ContactError> {
-    check_dims(slave_mesh, master)?;
-    let three_d = is_3d(slave_mesh);
-    let slave_normals = nodal_normals(slave_mesh, slave_surface);
-    let scale = slave_mesh.size();
-    let index = match master {
-        MasterGeometry::Surface { mesh, surface } => Some(MasterIndex::new(mesh, surface)?),
-        _ => None,
+/// Why so: the pairing itself is decided by the normal rule (the slave and
+/// average rules take the master facet the normal meets, facing the node);
+/// the search distance only keeps a node from being paired across the model.
+/// A pair half a body apart has no common normal in the sense of seed §2.4
+/// ("le jeu se doit d'être petit", the two normals must be close), and its
+/// gap cannot close in a small-perturbation solution. A tighter bound, in
+/// element sizes, would be a risk: a node left out is not held at all, and
+/// the gaps that close under a load can span many elements (on a graded mesh,
+/// about 1.5 of the smallest at the pole of `examples/hertz_axi.toml`; under
+/// a large prescribed translation, which linear elasticity allows, many
+/// more).
+pub fn search_distance(slave_mesh: &Mesh, master: &MasterGeometry<'_>) -> f64 {
+    let size = match master {
+        MasterGeometry::Surface { mesh, .. } => slave_mesh.size().min(mesh.size()),
+        _ => slave_mesh.size(),
     };
-    let mut out = Vec::with_capacity(slave_normals.len());
-    for (s, n_s) in slave_normals {
-        let x = slave_mesh.coords[s];
-        let point = |n: [f64; 3], xm: [f64; 3], terms: Vec<Term>| {
-            let (tangent, tangent2) = tangents(three_d, n);
-            ContactPoint {
-                slave_node: s,
-                x,
-                normal: n,
-                tangent,
-                tangent2,
-                gap0: dot(n, sub(x, xm)),
-                terms,
+    SEARCH_FRACTION * size
+}
+
+/// Slave nodes that are not contact points, by reason.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Dropped {
+    /// Master and points rules: the node does not face the master (its
+    /// projection on the closest facet falls outside it, see
+    /// [`node_to_segment_pairing`]).
+    pub off_surface: usize,
+    /// The closest master point is farther than the search distance.
+    pub far: usize,
+    /// Slave and average rules: the line along the normal meets no master
+    /// facet facing the node within the search distance.
+    pub missed: usize,
+    /// The search distance used ([`search_distance`]).
+    pub search_distance: f64,
+}
+
+impl Dropped {
+    pub fn total(&self) -> usize {
+        self.off_surface + self.far + self.missed
+    }
+
+    /// A note for the report (`None` if no node was dropped), e.g. "3 slave
+    /// node(s) have no master point along their normal: ...".
+    pub fn note(&self) -> Option<String> {
+        if self.total() == 0 {
+            return None;
+        }
+        let mut why = Vec::new();
+        if self.off_surface > 0 {
+            why.push(format!(
+                "{} do not face the master (their projection on the closest master facet falls outside it)",
+                self.off_surface
+            ));
+        }
+        if self.far > 0 {
+            why.push(format!(
+                "{} are farther than the search distance {:.3e} (half the smaller body) from the master",
+                self.far, self.search_distance
+            ));
+        }
+        if self.missed > 0 {
+            why.push(format!(
+                "{} have a normal that meets no master facet facing them within the search distance {:.3e}",
+                self.missed, self.search_distance
+            ));
+        }
+        Some(format!(
+            "{} slave node(s) are not contact points: {}",
+            self.total(),
+            why.join("; ")
+        ))
+    }
+}
+
+/// Contact points of a pair and the slave nodes left out.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Pairing {
+    pub points: Vec<ContactPoint>,
+    pub dropped: Dropped,
+}
+
+/// Why a slave node has no master point.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Unpaired {
+    OffSurface,
+    Far,
+    Missed,
+}
+
+/// The master point paired with a slave node: where it is, the master's
+/// outward unit normal there, and the master terms of the row.
+struct MasterPoint {
+    x: [f64; 3],
+    normal: [f64; 3],
+    terms: Vec<Term>,
+}
+
+/// The master side of a pair, ready for queries.
+enum MasterSide<'a> {
+    Plane { point: [f64; 3], normal: [f64; 3] },
+    Sphere { center: [f64; 3], radius: f64 },
+    Surface(MasterIndex<'a>),
+}
+
+impl<'a> MasterSide<'a> {
+    fn new(master: &MasterGeometry<'a>) -> Result<Self, ContactError> {
+        Ok(match master {
+            MasterGeometry::Plane { point, normal } => MasterSide::Plane {
+                point: *point,
+                normal: *normal,
+            },
+            MasterGeometry::Sphere { center, radius } => MasterSide::Sphere {
+                center: *center,
+                radius: *radius,
+            },
+            MasterGeometry::Surface { mesh, surface } => {
+                let index = MasterIndex::new(mesh, surface)?;
+                if index.pieces.is_empty() {
+                    return Err(ContactError::Geometry(
+                        "the master surface has no facet".into(),
+                    ));
+                }
+                MasterSide::Surface(index)
             }
-        };
-        match master {
-            MasterGeometry::Plane { point: p0, normal } => {
-                let d = dot(sub(x, *p0), *normal);
+        })
+    }
+
+    /// The closest master point to slave node `s` at x, its distance, and
+    /// whether it lies off the master surface: clamped to a free side of it
+    /// (2D linear edges: the unclamped projection is outside the edge by more
+    /// than 10⁻⁶ of its length, the historical rule).
+    fn closest(
+        &self,
+        s: usize,
+        x: [f64; 3],
+        three_d: bool,
+    ) -> Result<(MasterPoint, f64, bool), ContactError> {
+        Ok(match self {
+            MasterSide::Plane { point, normal } => {
+                let d = dot(sub(x, *point), *normal);
                 let xm = [
                     x[0] - d * normal[0],
                     x[1] - d * normal[1],
                     x[2] - d * normal[2],
                 ];
-                let n = choose_normal(rule, *normal, n_s, x, xm, scale);
-                out.push(point(n, xm, vec![slave_term(s)]));
+                (rigid_point(xm, *normal), d.abs(), false)
             }
-            MasterGeometry::Sphere { center, radius } => {
+            MasterSide::Sphere { center, radius } => {
                 let c = [center[0], center[1], if three_d { center[2] } else { x[2] }];
                 let Some(n_m) = unit(sub(x, c)) else {
                     return Err(ContactError::Geometry(format!(
@@ -326,41 +426,222 @@ pub fn node_to_segment(
                     c[1] + radius * n_m[1],
                     c[2] + radius * n_m[2],
                 ];
-                let n = choose_normal(rule, n_m, n_s, x, xm, scale);
-                out.push(point(n, xm, vec![slave_term(s)]));
+                (rigid_point(xm, n_m), norm(sub(x, xm)), false)
             }
-            MasterGeometry::Surface { .. } => {
-                let index = index.as_ref().expect("built for a surface");
-                let Some(hit) = index.closest(x) else {
-                    return Err(ContactError::Geometry(
-                        "the master surface has no facet".into(),
-                    ));
-                };
+            MasterSide::Surface(index) => {
+                let hit = index.closest(x).expect("the surface has facets");
                 let c = &hit.closest;
-                if index.is_linear_2d() {
-                    let tol = 1e-6;
-                    if c.xi_raw < -tol || c.xi_raw > 1.0 + tol {
-                        // Projection outside the master: no contact point here.
-                        continue;
-                    }
-                } else if hit.off_surface {
-                    continue;
-                }
-                let piece = &index.pieces[hit.piece];
-                let n_master = index.normal(&hit);
-                let n = choose_normal(rule, n_master, n_s, x, c.x, scale);
-                let mut terms = vec![slave_term(s)];
-                for (&node, &w) in piece.nodes[..piece.len()].iter().zip(&c.weights) {
-                    if w != 0.0 {
-                        terms.push(Term {
-                            side: TermSide::Master,
-                            node,
-                            weight: -w,
-                        });
-                    }
-                }
-                out.push(point(n, c.x, terms));
+                let off = if index.is_linear_2d() {
+                    c.xi_raw < -1e-6 || c.xi_raw > 1.0 + 1e-6
+                } else {
+                    hit.off_surface
+                };
+                (surface_point(index, &hit), c.dist, off)
             }
+        })
+    }
+
+    /// Where the line x − g n meets the master, facing the slave (n_master ·
+    /// n > 0), with |g| ≤ `reach` (the meeting of least |g|).
+    fn along(&self, x: [f64; 3], n: [f64; 3], reach: f64, three_d: bool) -> Option<MasterPoint> {
+        match self {
+            MasterSide::Plane { point, normal } => {
+                let cos = dot(n, *normal);
+                if cos <= 0.0 {
+                    return None;
+                }
+                let g = dot(sub(x, *point), *normal) / cos;
+                (g.abs() <= reach).then(|| {
+                    rigid_point([x[0] - g * n[0], x[1] - g * n[1], x[2] - g * n[2]], *normal)
+                })
+            }
+            MasterSide::Sphere { center, radius } => {
+                let c = [center[0], center[1], if three_d { center[2] } else { x[2] }];
+                // |x − g n − c| = R: g² − 2 b g + |x − c|² − R² = 0; the root
+                // b − √disc is where the line enters the ball, facing x.
+                let xc = sub(x, c);
+                let b = dot(n, xc);
+                let disc = b * b - (dot(xc, xc) - radius * radius);
+                if disc.is_nan() || disc < 0.0 {
+                    return None;
+                }
+                let g = b - disc.sqrt();
+                let xm = [x[0] - g * n[0], x[1] - g * n[1], x[2] - g * n[2]];
+                let n_m = unit(sub(xm, c))?;
+                (g.abs() <= reach && dot(n_m, n) > 0.0).then(|| rigid_point(xm, n_m))
+            }
+            MasterSide::Surface(index) => {
+                let (hit, _) = index.along(x, n, reach)?;
+                Some(surface_point(index, &hit))
+            }
+        }
+    }
+}
+
+fn rigid_point(x: [f64; 3], normal: [f64; 3]) -> MasterPoint {
+    MasterPoint {
+        x,
+        normal,
+        terms: Vec::new(),
+    }
+}
+
+/// The master point of a hit on a surface: the master's shape functions
+/// there (zero weights left out) and its normal.
+fn surface_point(index: &MasterIndex<'_>, hit: &search::Hit) -> MasterPoint {
+    let piece = &index.pieces[hit.piece];
+    let terms = piece.nodes[..piece.len()]
+        .iter()
+        .zip(&hit.closest.weights)
+        .filter(|&(_, &w)| w != 0.0)
+        .map(|(&node, &w)| Term {
+            side: TermSide::Master,
+            node,
+            weight: -w,
+        })
+        .collect();
+    MasterPoint {
+        x: hit.closest.x,
+        normal: index.normal(hit),
+        terms,
+    }
+}
+
+/// The contact normal and the master point of slave node `s` at x (outward
+/// normal `n_s`) by the rule (seed §2.4, Fig. 3):
+/// - master: the closest master point and the master's normal there;
+/// - points: the closest master point, n along the two points;
+/// - slave: n = −n_s, the master point where the line x − g n meets the
+///   master (see [`MasterSide::along`]);
+/// - average: n = (n_m − n_s)/|n_m − n_s| with n_m the master's normal where
+///   the line along n meets the master: a fixed point, from n_m at the
+///   closest point, on at most 4 meetings (on a faceted master it settles on
+///   one facet, except at a kink the line keeps crossing, where the last
+///   facet's normal is kept).
+///
+/// Every rule first asks the closest master point to lie within `reach`
+/// (a meeting along a line is never closer).
+fn pair(
+    side: &MasterSide<'_>,
+    rule: NormalRule,
+    (s, x, n_s): (usize, [f64; 3], [f64; 3]),
+    reach: f64,
+    (three_d, scale): (bool, f64),
+) -> Result<Result<([f64; 3], MasterPoint), Unpaired>, ContactError> {
+    let (near, dist, off) = side.closest(s, x, three_d)?;
+    if dist > reach {
+        return Ok(Err(Unpaired::Far));
+    }
+    // Slave and average: the line along the normal decides instead.
+    if off && matches!(rule, NormalRule::Master | NormalRule::Points) {
+        return Ok(Err(Unpaired::OffSurface));
+    }
+    let paired = match rule {
+        NormalRule::Master | NormalRule::Points => {
+            let n = choose_normal(rule, near.normal, n_s, x, near.x, scale);
+            Some((n, near))
+        }
+        NormalRule::Slave => unit(n_s).and_then(|out| {
+            let n = [-out[0], -out[1], -out[2]];
+            side.along(x, n, reach, three_d).map(|m| (n, m))
+        }),
+        NormalRule::Average => {
+            let mut n_m = near.normal;
+            let mut found = None;
+            for _ in 0..4 {
+                let n = choose_normal(rule, n_m, n_s, x, near.x, scale);
+                let Some(m) = side.along(x, n, reach, three_d) else {
+                    found = None;
+                    break;
+                };
+                let settled = dot(m.normal, n_m) >= 1.0 - 1e-12;
+                n_m = m.normal;
+                found = Some((n, m));
+                if settled {
+                    break;
+                }
+            }
+            found
+        }
+    };
+    Ok(paired.ok_or(Unpaired::Missed))
+}
+
+/// Node-to-segment contact points (seed §3.1.2, Fig. 6), in 2D and 3D (where
+/// it is node-to-face, [`node_to_face`] is the same function): each slave
+/// node is paired with a point of the master surface (or of the rigid plane
+/// or sphere) by the normal rule (see [`pair`]); the row's master weights
+/// are the master's shape functions there. The points of
+/// [`node_to_segment_pairing`], without the count of the nodes left out.
+pub fn node_to_segment(
+    slave_mesh: &Mesh,
+    slave_surface: &Surface,
+    master: &MasterGeometry<'_>,
+    rule: NormalRule,
+) -> Result<Vec<ContactPoint>, ContactError> {
+    node_to_segment_pairing(slave_mesh, slave_surface, master, rule).map(|p| p.points)
+}
+
+/// Node-to-segment contact points and the slave nodes left out.
+///
+/// A slave node is not a contact point when (counted in [`Dropped`]):
+/// - its closest master point is farther than the [`search_distance`];
+/// - master and points rules: it does not face the master. 2D linear edges
+///   (the historical rule, kept bit-for-bit): the unclamped projection on the
+///   closest edge falls outside it by more than 10⁻⁶ of its length, which
+///   also drops a node whose closest master point is a convex corner between
+///   two master edges. Quadratic edges and 3D faces: the node lies beyond a
+///   free side of the master surface (an edge end or a face side that no
+///   other facet of the surface shares), by more than 10⁻⁶ of the facet's
+///   size, for one of the facets at the least distance. A node whose closest
+///   point is clamped to a side or corner inside the surface (the kinks of a
+///   faceted curved master, the mid-side node of a bent quadratic edge) keeps
+///   that clamped point, with the normal of the facet chosen (the
+///   lowest-numbered at the least distance);
+/// - slave and average rules: the line through it along the normal meets no
+///   master facet facing it (inside the facet up to 10⁻⁶ of its parameter
+///   range) within the search distance. Without this bound, the closest
+///   master point with the slave's normal gave nodes far from the contact
+///   zone a gap near zero (a normal nearly tangent to the master).
+pub fn node_to_segment_pairing(
+    slave_mesh: &Mesh,
+    slave_surface: &Surface,
+    master: &MasterGeometry<'_>,
+    rule: NormalRule,
+) -> Result<Pairing, ContactError> {
+    check_dims(slave_mesh, master)?;
+    let three_d = is_3d(slave_mesh);
+    let slave_normals = nodal_normals(slave_mesh, slave_surface);
+    let scale = slave_mesh.size();
+    let reach = search_distance(slave_mesh, master);
+    let side = MasterSide::new(master)?;
+    let mut out = Pairing {
+        points: Vec::with_capacity(slave_normals.len()),
+        dropped: Dropped {
+            search_distance: reach,
+            ..Dropped::default()
+        },
+    };
+    for (s, n_s) in slave_normals {
+        let x = slave_mesh.coords[s];
+        match pair(&side, rule, (s, x, n_s), reach, (three_d, scale))? {
+            Ok((n, m)) => {
+                let (tangent, tangent2) = tangents(three_d, n);
+                let mut terms = vec![slave_term(s)];
+                terms.extend(m.terms);
+                out.points.push(ContactPoint {
+                    slave_node: s,
+                    x,
+                    normal: n,
+                    tangent,
+                    tangent2,
+                    gap0: dot(n, sub(x, m.x)),
+                    terms,
+                });
+            }
+            Err(Unpaired::OffSurface) => out.dropped.off_surface += 1,
+            Err(Unpaired::Far) => out.dropped.far += 1,
+            Err(Unpaired::Missed) => out.dropped.missed += 1,
         }
     }
     Ok(out)
@@ -381,17 +662,29 @@ pub fn node_to_face(
 /// 2D and 3D: each slave node faces the nearest master node (R*-tree search;
 /// ties to the lowest node number); the pair must coincide within a relative
 /// tolerance (10⁻⁶) of the slave body's size unless a gap separates them
-/// along the normal.
+/// along the normal. The points of [`node_to_node_pairing`].
 pub fn node_to_node(
     slave_mesh: &Mesh,
     slave_surface: &Surface,
     master: &MasterGeometry<'_>,
     rule: NormalRule,
 ) -> Result<Vec<ContactPoint>, ContactError> {
+    node_to_node_pairing(slave_mesh, slave_surface, master, rule).map(|p| p.points)
+}
+
+/// Node-to-node contact points and the slave nodes left out: those whose
+/// nearest master node is farther than the [`search_distance`] (counted as
+/// `far`; they are not asked to face a master node).
+pub fn node_to_node_pairing(
+    slave_mesh: &Mesh,
+    slave_surface: &Surface,
+    master: &MasterGeometry<'_>,
+    rule: NormalRule,
+) -> Result<Pairing, ContactError> {
     let (mesh, surface) = match master {
         MasterGeometry::Plane { .. } | MasterGeometry::Sphere { .. } => {
             // Against a rigid obstacle, node-to-node and node-to-segment coincide.
-            return node_to_segment(slave_mesh, slave_surface, master, rule);
+            return node_to_segment_pairing(slave_mesh, slave_surface, master, rule);
         }
         MasterGeometry::Surface { mesh, surface } => (*mesh, *surface),
     };
@@ -406,7 +699,12 @@ pub fn node_to_node(
             .collect(),
     );
     let scale = slave_mesh.size();
+    let reach = search_distance(slave_mesh, master);
     let mut out = Vec::with_capacity(slave_normals.len());
+    let mut dropped = Dropped {
+        search_distance: reach,
+        ..Dropped::default()
+    };
     for (s, n_s) in slave_normals {
         let x = slave_mesh.coords[s];
         let Some((m, n_m)) = nodes.nearest(x).map(|i| master_normals[i]) else {
@@ -416,6 +714,10 @@ pub fn node_to_node(
         };
         let xm = mesh.coords[m];
         let d = sub(x, xm);
+        if norm(d) > reach {
+            dropped.far += 1;
+            continue;
+        }
         let n = choose_normal(rule, n_m, n_s, x, xm, scale);
         // The facing node must lie along the normal: a tangential offset
         // means the meshes do not match.
@@ -452,7 +754,10 @@ pub fn node_to_node(
             ],
         });
     }
-    Ok(out)
+    Ok(Pairing {
+        points: out,
+        dropped,
+    })
 }
 
 #[cfg(test)]

@@ -283,7 +283,7 @@ pub fn run(
     // deterministic: METIS runs with a fixed seed).
     let t = Instant::now();
     let mut bodies = model::build_bodies(sc)?;
-    let (mut points, fixed_points) = model::build_contacts(sc, &mut bodies)?;
+    let (mut points, fixed_points) = model::build_contacts(sc, &mut bodies, &mut messages)?;
     messages.extend(model::eliminate_redundant(sc, &mut points));
     if !fixed_points.is_empty() {
         messages.push(format!(

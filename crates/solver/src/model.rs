@@ -3,7 +3,7 @@
 //! and the contact points with their rows over the bodies' DOFs.
 
 use faer::{Mat, Side};
-use signorini_contact::geometry::{node_to_node, node_to_segment};
+use signorini_contact::geometry::{node_to_node_pairing, node_to_segment_pairing};
 use signorini_contact::{ContactPoint, MasterGeometry, NormalRule, TermSide};
 use signorini_fem::{Elasticity, Formulation as FemFormulation, Model as FemModel};
 use signorini_mesh::generators::{
@@ -495,10 +495,12 @@ fn free_rigid_modes(mesh: &Mesh, model: FemModel, prescribed: &[bool]) -> Vec<Ve
 }
 
 /// Builds the contact points of every pair, and marks the DOFs of contact
-/// surfaces as interface DOFs of their bodies.
+/// surfaces as interface DOFs of their bodies. Adds to `notes` a note per
+/// pair that left slave nodes out (no master point along their normal).
 pub fn build_contacts(
     sc: &scene::Scene,
     bodies: &mut [BodyModel],
+    notes: &mut Vec<String>,
 ) -> Result<(Vec<PointModel>, Vec<FixedPoint>), SolveError> {
     let body_model = |name: &str| bodies.iter().position(|b| b.name == name);
     let mut points = Vec::new();
@@ -594,16 +596,22 @@ pub fn build_contacts(
                 }
             }
         };
-        let pts = match c.discretization {
-            scene::Discretization::NodeToNode => node_to_node(s_mesh, s_surf, &master, rule),
-            _ => node_to_segment(s_mesh, s_surf, &master, rule),
+        let pairing = match c.discretization {
+            scene::Discretization::NodeToNode => {
+                node_to_node_pairing(s_mesh, s_surf, &master, rule)
+            }
+            _ => node_to_segment_pairing(s_mesh, s_surf, &master, rule),
         }
         .map_err(|e| input(format!("{entry}: {e}")))?;
+        let pts = pairing.points;
+        let dropped = pairing.dropped.note().map(|n| format!("{entry}: {n}"));
         if pts.is_empty() {
             return Err(input(format!(
-                "{entry}: no node of slave surface \"{s_surf_name}\" faces the master; check the geometry"
+                "{entry}: no node of slave surface \"{s_surf_name}\" faces the master; check the geometry{}",
+                dropped.map_or(String::new(), |n| format!(" ({n})"))
             )));
         }
+        notes.extend(dropped);
         let trib: std::collections::BTreeMap<usize, f64> =
             signorini_fem::tributary_measure(s_mesh, s_surf, bodies[si].material.model)
                 .into_iter()

@@ -16,10 +16,11 @@
 use std::collections::HashMap;
 
 use rstar::primitives::{GeomWithData, Rectangle};
-use rstar::RTree;
+use rstar::{RTree, RTreeObject, SelectionFunction, AABB};
 use signorini_mesh::{Facet, Mesh, Surface};
 
 use super::closest::{self, Closest};
+use super::ray;
 use super::{dot, norm, sub, unit};
 use crate::ContactError;
 
@@ -205,6 +206,60 @@ impl<'a> MasterIndex<'a> {
         )
     }
 
+    /// Where the line x − g n (n unit, from master to slave) meets a piece
+    /// whose outward normal there faces the slave (n_master · n > 0), with
+    /// |g| ≤ `reach`: the meeting of least |g| (ties to the lowest piece),
+    /// and g, which is the initial gap along n. `None` if the line meets no
+    /// facing piece within `reach` (see [`ray`] for "meets").
+    pub fn along(&self, x: [f64; 3], n: [f64; 3], reach: f64) -> Option<(Hit, f64)> {
+        let span = AlongSegment {
+            from: [
+                x[0] - reach * n[0],
+                x[1] - reach * n[1],
+                x[2] - reach * n[2],
+            ],
+            to: [
+                x[0] + reach * n[0],
+                x[1] + reach * n[1],
+                x[2] + reach * n[2],
+            ],
+            pad: 1e-6 * self.scale,
+        };
+        let mut best: Option<(Hit, f64)> = None;
+        for obj in self.tree.locate_with_selection_function(span) {
+            let i = obj.data;
+            let Some((closest, g)) = self.meet(i, x, n) else {
+                continue;
+            };
+            let hit = Hit {
+                piece: i,
+                closest,
+                off_surface: false,
+            };
+            if g.abs() > reach || dot(self.normal(&hit), n) <= 0.0 {
+                continue;
+            }
+            if best
+                .as_ref()
+                .is_none_or(|(b, bg)| g.abs() < bg.abs() || (g.abs() == bg.abs() && i < b.piece))
+            {
+                best = Some((hit, g));
+            }
+        }
+        best
+    }
+
+    /// Where the line x − g n meets piece `i`.
+    fn meet(&self, i: usize, x: [f64; 3], n: [f64; 3]) -> Option<(Closest, f64)> {
+        let p = &self.pieces[i];
+        let c = |k: usize| self.mesh.coords[p.nodes[k]];
+        match p.kind {
+            PieceKind::Segment => ray::segment(x, n, c(0), c(1)),
+            PieceKind::Triangle => ray::triangle(x, n, c(0), c(1), c(2)),
+            PieceKind::Quad => ray::quad(x, n, &[c(0), c(1), c(2), c(3)]),
+        }
+    }
+
     /// The same answer by a loop over all pieces (tests and checks).
     #[cfg(test)]
     pub fn closest_brute_force(&self, x: [f64; 3]) -> Option<(usize, Closest)> {
@@ -246,6 +301,48 @@ impl<'a> MasterIndex<'a> {
             }
         }
         n_facet
+    }
+}
+
+/// R*-tree selection of the boxes (padded by `pad`) that the segment
+/// `from`–`to` crosses (slab test).
+struct AlongSegment {
+    from: [f64; 3],
+    to: [f64; 3],
+    pad: f64,
+}
+
+impl AlongSegment {
+    fn crosses(&self, env: &AABB<[f64; 3]>) -> bool {
+        let (lo, hi) = (env.lower(), env.upper());
+        let (mut s0, mut s1) = (0.0f64, 1.0f64);
+        for k in 0..3 {
+            let (l, h) = (lo[k] - self.pad, hi[k] + self.pad);
+            let (a, d) = (self.from[k], self.to[k] - self.from[k]);
+            if d == 0.0 {
+                if a < l || a > h {
+                    return false;
+                }
+                continue;
+            }
+            let (t0, t1) = ((l - a) / d, (h - a) / d);
+            s0 = s0.max(t0.min(t1));
+            s1 = s1.min(t0.max(t1));
+            if s0 > s1 {
+                return false;
+            }
+        }
+        true
+    }
+}
+
+impl SelectionFunction<Boxed> for AlongSegment {
+    fn should_unpack_parent(&self, envelope: &AABB<[f64; 3]>) -> bool {
+        self.crosses(envelope)
+    }
+
+    fn should_unpack_leaf(&self, leaf: &Boxed) -> bool {
+        self.crosses(&leaf.envelope())
     }
 }
 

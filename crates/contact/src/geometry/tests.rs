@@ -955,3 +955,5 @@ fn linear_2d_node_to_segment_weights_and_skips() {
         }
     }
 }
+
+mod pairing;
