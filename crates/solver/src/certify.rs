@@ -1,0 +1,501 @@
+//! From a step's contact solution to its report: the certificate of
+//! DESIGN.md §4, the per-step and per-point rows, and the final report.
+
+use super::*;
+
+/// The contact pressure at every point, its force over its tributary
+/// measure. A point whose consistent tributary measure vanishes — the corner
+/// node of a quadratic edge on the axis of an axisymmetric model, where
+/// ∫ N r dr = 0 — carries no force from a smooth pressure, so force over
+/// measure says nothing there (round-off over zero); it takes the pressure
+/// of the nearest point of its contact that has a measure.
+pub(crate) fn nodal_pressures(points: &[PointModel], lambda: &[f64]) -> Vec<f64> {
+    let largest = points.iter().fold(0.0f64, |a, p| a.max(p.tributary));
+    let measured = |p: &PointModel| p.tributary > 1e-9 * largest;
+    let own: Vec<f64> = points
+        .iter()
+        .zip(lambda)
+        .map(|(p, l)| if measured(p) { l / p.tributary } else { 0.0 })
+        .collect();
+    points
+        .iter()
+        .enumerate()
+        .map(|(pi, p)| {
+            if measured(p) {
+                return own[pi];
+            }
+            let dist2 = |q: &PointModel| {
+                (0..3)
+                    .map(|k| (q.point.x[k] - p.point.x[k]).powi(2))
+                    .sum::<f64>()
+            };
+            points
+                .iter()
+                .enumerate()
+                .filter(|(_, q)| q.contact == p.contact && measured(q))
+                .min_by(|a, b| dist2(a.1).total_cmp(&dist2(b.1)))
+                .map_or(0.0, |(qi, _)| own[qi])
+        })
+        .collect()
+}
+
+/// The certificate of DESIGN.md §4 at one step, from the equilibrium
+/// residual and the final gaps and forces.
+pub(crate) fn certificate_of(
+    res: &Residuals,
+    gaps: &[f64],
+    lambda: &[f64],
+    sol: &StepSolution,
+    umax: f64,
+    tolerance: f64,
+) -> Certificate {
+    let lmax = inf_norm(lambda);
+    let lscale = sol.length_scale.max(umax).max(f64::MIN_POSITIVE);
+    let fscale = sol.f_scale.max(lmax).max(f64::MIN_POSITIVE);
+    // Points of a regularised law obey λ = k max(0, −g) instead of g ≥ 0, λ g = 0.
+    let unilateral = |p: &usize| sol.law_k.get(*p).is_none_or(|k| *k == 0.0);
+    let law = (0..lambda.len())
+        .filter(|p| !unilateral(p))
+        .fold(0.0f64, |a, p| {
+            a.max((lambda[p] - sol.law_k[p] * (-gaps[p]).max(0.0)).abs())
+        })
+        / fscale;
+    Certificate {
+        equilibrium: res.equilibrium / res.force_scale.max(fscale),
+        penetration: (0..gaps.len())
+            .filter(unilateral)
+            .fold(0.0f64, |a, p| a.max(-gaps[p]))
+            / lscale,
+        tension: lambda.iter().fold(0.0f64, |a, &l| a.max(-l)) / fscale,
+        complementarity: (0..gaps.len())
+            .filter(unilateral)
+            .fold(0.0f64, |a, p| a.max((gaps[p] * lambda[p]).abs()))
+            / (lscale * fscale),
+        cone: sol.friction.as_ref().map_or(0.0, |f| {
+            f.cone_excess.iter().fold(0.0f64, |a, &c| a.max(c)) / fscale
+        }),
+        dissipation: sol.friction.as_ref().map_or(0.0, |f| {
+            (0..lambda.len()).fold(0.0f64, |a, p| {
+                a.max(
+                    f.tangential[p] * f.slip_increment[p] + f.tangential2[p] * f.slip_increment2[p],
+                )
+            }) / (fscale * lscale)
+        }),
+        law,
+        tolerance: tolerance.max(1e-9),
+        force_scale: fscale,
+        length_scale: lscale,
+    }
+}
+
+/// Certificate, contact.csv rows and the step report of one step; updates
+/// the run's convergence.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn conclude_step(
+    sc: &scene::Scene,
+    bodies: &[BodyModel],
+    points: &[PointModel],
+    si: usize,
+    sol: &StepSolution,
+    gaps: &[f64],
+    res: &Residuals,
+    umax: f64,
+    partial: &mut Partial,
+    messages: &mut Vec<String>,
+) {
+    let lambda = &sol.outcome.lambda;
+    let cert = certificate_of(res, gaps, lambda, sol, umax, sc.solver.tolerance);
+    let outcome = &sol.outcome;
+    if !outcome.converged {
+        partial.converged = false;
+        partial.failure.get_or_insert(format!(
+            "step {}: {}: {}",
+            si + 1,
+            sol.solver.method,
+            outcome.stopping_reason
+        ));
+    } else if cert.max() > cert.tolerance {
+        partial.converged = false;
+        partial.failure.get_or_insert(format!(
+            "step {}: the certificate residual {:.3e} exceeds the tolerance {:.1e}",
+            si + 1,
+            cert.max(),
+            cert.tolerance
+        ));
+    }
+    if let Some(c) = outcome.cycle_detected_at {
+        messages.push(format!(
+            "step {}: the status method cycled (flip-flop) at iteration {c}; it fell back to one status change per iteration (seed §3.3)",
+            si + 1
+        ));
+    }
+    let pressure = nodal_pressures(points, lambda);
+    for (pi, p) in points.iter().enumerate() {
+        let l = lambda[pi];
+        partial.contact_rows.push(ContactRow {
+            step: si + 1,
+            contact: sc.contact[p.contact].name.clone(),
+            body: bodies[p.slave_body].name.clone(),
+            point: p.point.slave_node,
+            x: p.point.x,
+            gap: gaps[pi],
+            normal_force: l,
+            tangential_force: sol.friction.as_ref().map_or(0.0, |f| f.tangential[pi]),
+            slip: sol.friction.as_ref().map_or(0.0, |f| f.slip_total[pi]),
+            tangential_force_2: sol.friction.as_ref().map_or(0.0, |f| f.tangential2[pi]),
+            slip_2: sol.friction.as_ref().map_or(0.0, |f| f.slip_total2[pi]),
+            pressure: pressure[pi],
+            status: match (
+                outcome.active.binary_search(&pi).is_ok(),
+                &sol.friction,
+                p.trow.is_some(),
+            ) {
+                (false, _, _) => "open",
+                (true, Some(f), true) if f.statuses[pi].is_slip() => "slip",
+                (true, Some(_), true) => "stick",
+                _ => "contact",
+            },
+        });
+    }
+    let (sticking, slipping) = match &sol.friction {
+        Some(f) => (
+            (0..points.len())
+                .filter(|&p| points[p].trow.is_some() && f.statuses[p] == PointStatus::Stick)
+                .count(),
+            (0..points.len())
+                .filter(|&p| points[p].trow.is_some() && f.statuses[p].is_slip())
+                .count(),
+        ),
+        None => (0, 0),
+    };
+    let dim = sc.dimension as usize;
+    let mut step_force = vec![0.0f64; dim];
+    let (mut sum_n, mut sum_t, mut slip_sum, mut slip_count) = (0.0f64, 0.0f64, 0.0f64, 0usize);
+    for (pi, p) in points.iter().enumerate() {
+        let lt = sol.friction.as_ref().map_or(0.0, |f| f.tangential[pi]);
+        let force = point_force(p, pi, lambda[pi], sol.friction.as_ref());
+        for (f, fk) in step_force.iter_mut().zip(force) {
+            *f += fk;
+        }
+        sum_n += lambda[pi];
+        sum_t += lt;
+        if let (Some(f), true) = (
+            &sol.friction,
+            p.trow.is_some() && outcome.active.binary_search(&pi).is_ok(),
+        ) {
+            slip_sum += f.slip_total[pi];
+            slip_count += 1;
+        }
+    }
+    partial.steps.push(StepReport {
+        scale: sc.step_scales()[si].clone(),
+        contact_force: net_force(sc.model, step_force),
+        normal_force: sum_n,
+        tangential_force: sum_t,
+        mean_slip: if slip_count > 0 {
+            slip_sum / slip_count as f64
+        } else {
+            0.0
+        },
+        iterations: outcome.iterations,
+        active: outcome.active.len(),
+        sticking,
+        slipping,
+        converged: outcome.converged && cert.max() <= cert.tolerance,
+        stopping_reason: outcome.stopping_reason.clone(),
+        active_history: outcome.active_history.clone(),
+        cycle_detected_at: outcome.cycle_detected_at,
+        solver: serde_json::to_value(&sol.solver).unwrap_or_default(),
+        regularisation: sol.regularisation.clone(),
+        solve_s: sol.solve_s,
+    });
+    if let Some(w) = sol.regularisation.as_ref().and_then(|r| r.warning.clone()) {
+        messages.push(format!("step {}: {w}", si + 1));
+    }
+    partial.solver = serde_json::to_value(&sol.solver).unwrap_or_default();
+    partial.certificate = cert;
+    partial.lambda = lambda.clone();
+    partial.friction = sol.friction.clone();
+}
+
+pub(crate) fn empty_partial() -> Partial {
+    Partial {
+        steps: vec![],
+        certificate: Certificate::default(),
+        converged: true,
+        failure: None,
+        contact_rows: vec![],
+        lambda: vec![],
+        u_steps: vec![],
+        dense_interface_bytes: 0,
+        factor_bytes: 0,
+        n_gamma: 0,
+        dofs: 0,
+        solver: serde_json::Value::Null,
+        friction: None,
+        conditioning: None,
+    }
+}
+
+/// Root: certificates from the residuals the ranks sent back, and the fields.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn finish_condensed(
+    sc: &scene::Scene,
+    bodies: &[BodyModel],
+    points: &[PointModel],
+    specs: &[SubdomainSpec],
+    data: &[CondensedData],
+    gamma_of: &[Vec<usize>],
+    recovered: &[RecoveredData],
+    steps: Vec<StepSolution>,
+    u_gamma: &[Vec<f64>],
+    messages: &mut Vec<String>,
+) -> Result<Partial, SolveError> {
+    let n_gamma = u_gamma.first().map(|u| u.len()).unwrap_or(0);
+    let mut partial = empty_partial();
+    // Full displacement of each body at every step.
+    let mut u_steps: Vec<Vec<Vec<f64>>> = steps
+        .iter()
+        .map(|_| bodies.iter().map(|b| vec![0.0; b.n_dof]).collect())
+        .collect();
+    for r in recovered {
+        let b = specs[r.id].body;
+        let dim = r.dim;
+        for (si, u) in r.displacements.iter().enumerate() {
+            for (l, &n) in r.nodes.iter().enumerate() {
+                u_steps[si][b][dim * n..dim * (n + 1)].copy_from_slice(&u[dim * l..dim * (l + 1)]);
+            }
+        }
+    }
+    let umax = u_steps
+        .last()
+        .map_or(0.0, |u| u.iter().fold(0.0f64, |a, ub| a.max(inf_norm(ub))));
+    for (si, sol) in steps.iter().enumerate() {
+        let lambda = &sol.outcome.lambda;
+        // Γ residual: Σ_i (K_i u_i − f_i)_Γ − Bᵀλ; interior residuals as sent.
+        let mut r_gamma = vec![0.0; n_gamma];
+        let mut interior = 0.0f64;
+        let mut force_scale = 0.0f64;
+        for r in recovered {
+            for &(g, v) in &r.gamma_residual[si] {
+                r_gamma[g] += v;
+            }
+            interior = interior.max(r.interior_residual[si]);
+            force_scale = force_scale.max(r.force_scale[si]);
+        }
+        let mut gaps = sol.gap0.clone();
+        for (pi, p) in points.iter().enumerate() {
+            for &(b, d, c) in &p.row {
+                if !bodies[b].prescribed[d] {
+                    let g = gamma_of[b][d];
+                    r_gamma[g] -= c * lambda[pi];
+                    gaps[pi] += c * u_gamma[si][g];
+                }
+            }
+            if let (Some(t), Some(fr)) = (&p.trow, &sol.friction) {
+                for &(b, d, c) in t {
+                    if !bodies[b].prescribed[d] {
+                        r_gamma[gamma_of[b][d]] -= c * fr.tangential[pi];
+                    }
+                }
+            }
+            if let (Some(t), Some(fr)) = (&p.trow2, &sol.friction) {
+                for &(b, d, c) in t {
+                    if !bodies[b].prescribed[d] {
+                        r_gamma[gamma_of[b][d]] -= c * fr.tangential2[pi];
+                    }
+                }
+            }
+        }
+        let res = Residuals {
+            equilibrium: interior.max(inf_norm(&r_gamma)),
+            force_scale: force_scale.max(inf_norm(lambda)),
+        };
+        conclude_step(
+            sc,
+            bodies,
+            points,
+            si,
+            sol,
+            &gaps,
+            &res,
+            umax,
+            &mut partial,
+            messages,
+        );
+    }
+    let m = points.len();
+    partial.u_steps = u_steps;
+    partial.dense_interface_bytes = 8 * (n_gamma * n_gamma + m * m) as u64;
+    partial.factor_bytes = data.iter().map(|d| d.factor_bytes as u64).sum();
+    partial.n_gamma = n_gamma;
+    partial.dofs = bodies
+        .iter()
+        .map(|b| b.prescribed.iter().filter(|p| !**p).count())
+        .sum();
+    Ok(partial)
+}
+
+/// Fills the report common to both paths.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn finish_report(
+    partial: Partial,
+    sc: &scene::Scene,
+    scene_name: &str,
+    method: scene::Method,
+    path: scene::SolvePath,
+    bodies: &[BodyModel],
+    points: &[PointModel],
+    specs: &[SubdomainSpec],
+    comm: &dyn Transport,
+    t_total: Instant,
+    timings: Timings,
+    messages: Vec<String>,
+    mut stages: Vec<String>,
+    communication_bytes: u64,
+    rank_stats: Vec<RankStats>,
+) -> Result<RunOutput, SolveError> {
+    let lambda = &partial.lambda;
+    let no_step = Vec::new();
+    let u_full = partial.u_steps.last().unwrap_or(&no_step);
+    let dim = sc.dimension as usize;
+    let mut contact_force = vec![0.0; dim];
+    let mut summaries: Vec<ContactSummary> = sc
+        .contact
+        .iter()
+        .map(|c| ContactSummary {
+            name: c.name.clone(),
+            points: 0,
+            active: 0,
+            force: vec![0.0; dim],
+        })
+        .collect();
+    for (pi, p) in points.iter().enumerate() {
+        let s = &mut summaries[p.contact];
+        s.points += 1;
+        if lambda[pi] != 0.0 {
+            s.active += 1;
+        }
+        let force = point_force(p, pi, lambda[pi], partial.friction.as_ref());
+        for (k, total) in contact_force.iter_mut().enumerate() {
+            s.force[k] += force[k];
+            *total += force[k];
+        }
+    }
+    let mut probes = Vec::new();
+    for pr in &sc.output.probes {
+        let x = model::point3(pr);
+        let best = bodies
+            .iter()
+            .enumerate()
+            .filter_map(|(bi, b)| b.mesh.nearest_node(x).map(|(n, d)| (bi, n, d)))
+            .min_by(|a, b| a.2.total_cmp(&b.2));
+        if let Some((bi, n, d)) = best {
+            probes.push(Probe {
+                point: pr.clone(),
+                body: bodies[bi].name.clone(),
+                node: n,
+                distance: d,
+                displacement: u_full[bi][n * dim..(n + 1) * dim].to_vec(),
+            });
+        }
+    }
+    let reference = match &sc.reference {
+        None => None,
+        Some(r) => Some(compare_reference(
+            sc,
+            r,
+            points,
+            lambda,
+            partial.friction.as_ref(),
+        )?),
+    };
+    let want_stress = sc.output.wants("stress");
+    if want_stress {
+        stages.push("stress".into());
+    }
+    if partial.steps.len() > 1 {
+        stages.push(format!("steps ({})", partial.steps.len()));
+    }
+    let mut results = Vec::new();
+    for (bi, b) in bodies.iter().enumerate() {
+        let mut history: Vec<StepFields> = partial
+            .u_steps
+            .iter()
+            .map(|u| {
+                let stress = if want_stress {
+                    signorini_fem::cell_stress(&b.mesh, &b.material, &u[bi])
+                } else {
+                    Vec::new()
+                };
+                StepFields {
+                    von_mises: stress.iter().map(signorini_fem::von_mises).collect(),
+                    displacement: u[bi].clone(),
+                    stress,
+                }
+            })
+            .collect();
+        if history.is_empty() {
+            history.push(StepFields {
+                displacement: vec![0.0; b.n_dof],
+                stress: Vec::new(),
+                von_mises: Vec::new(),
+            });
+        }
+        results.push(BodyResult {
+            name: b.name.clone(),
+            coords: b.mesh.coords.clone(),
+            cells: b.mesh.cells.iter().map(|c| c.nodes.clone()).collect(),
+            parts: b.parts.clone(),
+            history,
+        });
+    }
+    let report = Report {
+        scene: scene_name.to_string(),
+        title: sc.title.clone(),
+        version: env!("CARGO_PKG_VERSION").to_string(),
+        ranks: comm.size(),
+        transport: comm.kind().to_string(),
+        subdomains: specs.len(),
+        dofs: partial.dofs,
+        interface_dofs: partial.n_gamma,
+        contact_points: points.len(),
+        converged: partial.converged,
+        method: method.as_str().to_string(),
+        path: path.as_str().to_string(),
+        solver: partial.solver,
+        stages,
+        steps: partial.steps,
+        timings_s: Timings {
+            total: t_total.elapsed().as_secs_f64(),
+            ..timings
+        },
+        memory: Memory {
+            peak_rss_bytes: signorini_report::peak_rss_bytes(),
+            dense_interface_bytes: partial.dense_interface_bytes,
+            factor_bytes: partial.factor_bytes,
+        },
+        communication_bytes,
+        rank_timings_s: signorini_report::RankTimings::of(&rank_stats),
+        rank_stats,
+        certificate: partial.certificate,
+        contact_force: net_force(sc.model, contact_force),
+        contacts: summaries
+            .into_iter()
+            .map(|c| ContactSummary {
+                force: net_force(sc.model, c.force),
+                ..c
+            })
+            .collect(),
+        probes,
+        reference,
+        conditioning: partial.conditioning,
+        messages,
+        failure: partial.failure,
+    };
+    Ok(RunOutput {
+        report,
+        contact_rows: partial.contact_rows,
+        bodies: results,
+    })
+}

@@ -1,0 +1,165 @@
+//! Checks of a body held by contact alone before its solve: its load must be
+//! one its contacts can balance (they only push), and, on a flat frictional
+//! contact under force control, within what friction can hold.
+
+use super::*;
+
+/// A body held by contact needs compressive contact forces that balance the
+/// load on its free rigid motions: Gᵀλ = e with λ ≥ 0, G = B R, e = −Rᵀ F
+/// (see [`signorini_contact::equilibrium`]). Otherwise it cannot be in
+/// equilibrium: bad input, exit 1, with the unbalanced resultant. `e[bi]` is
+/// computed by the caller from its own load representation (the condensed
+/// load on Γ or the load on the free DOFs: both give the same work on R).
+pub(crate) fn check_floating_equilibrium(
+    bodies: &[BodyModel],
+    points: &[PointModel],
+    e_of: &[Vec<f64>],
+    resultant: &[Vec<f64>],
+    step: usize,
+) -> Result<(), SolveError> {
+    for (bi, b) in bodies.iter().enumerate() {
+        if b.kernel.is_empty() {
+            continue;
+        }
+        let k = b.kernel.len();
+        let friction = points.iter().any(|p| p.trow.is_some());
+        let mut gt = Mat::<f64>::zeros(k, points.len() * if friction { 3 } else { 1 });
+        for (pi, p) in points.iter().enumerate() {
+            for &(pb, d, c) in &p.row {
+                if pb == bi {
+                    for (j, r) in b.kernel.iter().enumerate() {
+                        gt[(j, pi)] += c * r[d];
+                    }
+                }
+            }
+            // Tangential forces hold rigid motions too (bounded by friction).
+            for &(pb, d, c) in p.trow.iter().flatten() {
+                if pb == bi {
+                    for (j, r) in b.kernel.iter().enumerate() {
+                        gt[(j, points.len() + pi)] += c * r[d];
+                    }
+                }
+            }
+            for &(pb, d, c) in p.trow2.iter().flatten() {
+                if pb == bi {
+                    for (j, r) in b.kernel.iter().enumerate() {
+                        gt[(j, 2 * points.len() + pi)] += c * r[d];
+                    }
+                }
+            }
+        }
+        let e = &e_of[bi];
+        let fr = &resultant[bi];
+        let fmax = inf_norm(e).max(inf_norm(fr));
+        // Rigid motions that no contact can hold: the null space of Gᵀ (rank
+        // test of G Gᵀ, scaled by its largest eigenvalue).
+        let ggt = &gt * gt.transpose();
+        let eig = ggt
+            .self_adjoint_eigen(faer::Side::Lower)
+            .map_err(|e| SolveError::Internal(format!("eigen decomposition of G Gᵀ: {e:?}")))?;
+        let emax = (0..k).fold(0.0f64, |a, j| a.max(eig.S()[j]));
+        let unheld = (0..k)
+            .filter(|&j| eig.S()[j] <= 1e-12 * emax || emax == 0.0)
+            .count();
+        // Compressive normal forces alone must balance the load unless
+        // friction can help (then the friction solve itself decides).
+        let res = if friction { 0.0 } else { nnls(&gt, e).1 };
+        if friction {
+            check_friction_capacity(b, points, bi, fr, step)?;
+        }
+        if unheld > 0 {
+            return Err(SolveError::Input(format!(
+                "bodies[{}]: body \"{}\" is free to move: {unheld} of its rigid motions are prevented neither by a support nor by its contacts (frictionless contact only holds along the normals); add a [[boundary]] displacement that pins it (e.g. a point with x = 0)",
+                b.scene_index, b.name
+            )));
+        }
+        if res > 1e-8 * fmax.max(f64::MIN_POSITIVE) {
+            return Err(SolveError::Input(format!(
+                "bodies[{}]: body \"{}\" cannot be in equilibrium at step {}: it has no support against {} rigid motion(s), and its external load (resultant {}) cannot be balanced by its contacts, which can only push along their normals; add a [[boundary]] displacement that holds it, or change the load",
+                b.scene_index,
+                b.name,
+                step + 1,
+                k,
+                fmt_vector(fr)
+            )));
+        }
+    }
+    Ok(())
+}
+
+/// A floating body whose every contact is frictional and flat (every
+/// contact point of the body, as slave or as master, with the same normal
+/// seen from the body), free to translate along that normal and along the
+/// tangential part R_t of its load resultant R, needs ‖R_t‖ ≤ μ |R·n|
+/// (VALIDATION.md §5: under force control a body pushed past its friction
+/// has no static equilibrium). Exit 1 with the numbers otherwise, instead of
+/// a failing friction solve. When any contact of the body is frictionless,
+/// or pushes along another direction, that contact may carry the rest: the
+/// solver decides.
+pub(crate) fn check_friction_capacity(
+    b: &BodyModel,
+    points: &[PointModel],
+    bi: usize,
+    resultant: &[f64],
+    step: usize,
+) -> Result<(), SolveError> {
+    // Every contact point acting on the body, with its normal turned
+    // towards the body (the point's normal points from master to slave).
+    let own: Vec<(&PointModel, [f64; 3])> = points
+        .iter()
+        .filter_map(|p| {
+            let sign = if p.slave_body == bi {
+                1.0
+            } else if p.row.iter().any(|&(pb, _, _)| pb == bi) {
+                -1.0
+            } else {
+                return None;
+            };
+            Some((p, p.point.normal.map(|x| sign * x)))
+        })
+        .collect();
+    let Some(&(_, n)) = own.first() else {
+        return Ok(());
+    };
+    let flat = own
+        .iter()
+        .all(|(_, m)| (0..3).all(|k| (m[k] - n[k]).abs() <= 1e-9));
+    let mu = own.iter().try_fold(0.0f64, |m, (p, _)| match p.friction {
+        PointFriction::Coulomb { mu, mu2, .. } if p.trow.is_some() => Some(m.max(mu).max(mu2)),
+        _ => None,
+    });
+    let (true, Some(mu)) = (flat, mu) else {
+        return Ok(());
+    };
+    let dim = b.mesh.dim;
+    let r: Vec<f64> = (0..3)
+        .map(|k| resultant.get(k).copied().unwrap_or(0.0))
+        .collect();
+    let rn: f64 = (0..3).map(|k| r[k] * n[k]).sum();
+    let rt: Vec<f64> = (0..3).map(|k| r[k] - rn * n[k]).collect();
+    let rt_norm = rt.iter().map(|x| x * x).sum::<f64>().sqrt();
+    let scale = rn.abs().max(rt_norm).max(f64::MIN_POSITIVE);
+    // The translations along R_t and along n must be free (no prescribed DOF
+    // along them): otherwise a support carries part of the load, and the
+    // normal force is not known from the load alone.
+    let free_along = (0..b.n_dof)
+        .filter(|&d| b.prescribed[d])
+        .all(|d| rt[d % dim].abs() <= 1e-12 * scale && n[d % dim].abs() <= 1e-12);
+    if free_along && rt_norm > mu * (-rn).max(0.0) * (1.0 + 1e-9) + 1e-12 * scale {
+        return Err(SolveError::Input(format!(
+            "bodies[{}]: body \"{}\" cannot be in equilibrium at step {}: the tangential part of its load, {rt_norm:e}, exceeds what friction can hold, μ|N| = {:e} (μ = {mu}, normal load {:e}); a body pushed past its friction under force control has no static equilibrium: impose a tangential displacement instead, or add a support",
+            b.scene_index,
+            b.name,
+            step + 1,
+            mu * (-rn).max(0.0),
+            -rn
+        )));
+    }
+    Ok(())
+}
+
+/// `(a, b, c)` with every component in `{:e}`.
+pub(crate) fn fmt_vector(v: &[f64]) -> String {
+    let parts: Vec<String> = v.iter().map(|x| format!("{x:e}")).collect();
+    format!("({})", parts.join(", "))
+}

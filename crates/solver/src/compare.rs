@@ -1,0 +1,151 @@
+//! The comparison of a run with its analytic reference (VALIDATION.md):
+//! the nodal pressures and forces handed to `signorini_report::reference`.
+
+use super::*;
+
+pub(crate) fn contact_modulus(sc: &scene::Scene, body: &str) -> f64 {
+    // 1/E* contribution of one body: (1 − ν²)/E in plane strain, 1/E in plane stress, 0 if rigid.
+    let Some(b) = sc.body(body) else { return 0.0 };
+    let Some(m) = b.material.as_deref().and_then(|n| sc.material(n)) else {
+        return 0.0;
+    };
+    match sc.model {
+        scene::Model::PlaneStress => 1.0 / m.young,
+        _ => (1.0 - m.poisson * m.poisson) / m.young,
+    }
+}
+
+pub(crate) fn compare_reference(
+    sc: &scene::Scene,
+    r: &scene::Reference,
+    points: &[PointModel],
+    lambda: &[f64],
+    friction: Option<&FrictionStep>,
+) -> Result<signorini_report::ReferenceReport, SolveError> {
+    let Some(pmax) = (0..points.len()).max_by(|&a, &b| lambda[a].total_cmp(&lambda[b])) else {
+        return Err(SolveError::Input(
+            "reference: the scene has no contact point to compare".into(),
+        ));
+    };
+    // The coordinate of each point across the contact: along the tangent of
+    // the most loaded point in 2D; the radius in an axisymmetric model; in 3D
+    // the distance from the force-weighted centre within the contact plane.
+    let t = points[pmax].point.tangent;
+    let n0 = points[pmax].point.normal;
+    let total: f64 = lambda.iter().map(|l| l.max(0.0)).sum();
+    let mut centre = [0.0; 3];
+    for (p, &l) in points.iter().zip(lambda) {
+        for (c, x) in centre.iter_mut().zip(p.point.x) {
+            *c += l.max(0.0) * x / total.max(f64::MIN_POSITIVE);
+        }
+    }
+    let coordinate = |x: [f64; 3]| -> f64 {
+        match sc.model {
+            scene::Model::Axisymmetric => x[0],
+            scene::Model::Solid => {
+                let d = [x[0] - centre[0], x[1] - centre[1], x[2] - centre[2]];
+                let dn = d[0] * n0[0] + d[1] * n0[1] + d[2] * n0[2];
+                ((d[0] - dn * n0[0]).powi(2)
+                    + (d[1] - dn * n0[1]).powi(2)
+                    + (d[2] - dn * n0[2]).powi(2))
+                .sqrt()
+            }
+            _ => x[0] * t[0] + x[1] * t[1],
+        }
+    };
+    // The tangential force of each point: along t in 2D; in 3D its component
+    // along the direction of the total tangential force.
+    let tangential_vector = |pi: usize| point_force(&points[pi], pi, 0.0, friction);
+    let mut total_t = [0.0; 3];
+    for pi in 0..points.len() {
+        let v = tangential_vector(pi);
+        (0..3).for_each(|k| total_t[k] += v[k]);
+    }
+    let norm_t = (total_t[0].powi(2) + total_t[1].powi(2) + total_t[2].powi(2)).sqrt();
+    let direction = if norm_t > 0.0 {
+        total_t.map(|x| x / norm_t)
+    } else {
+        t
+    };
+    let pressure = nodal_pressures(points, lambda);
+    let nodes: Vec<reference::NodalPressure> = points
+        .iter()
+        .zip(lambda)
+        .enumerate()
+        .map(|(pi, (p, &l))| reference::NodalPressure {
+            s: coordinate(p.point.x),
+            force: l.max(0.0),
+            tributary: p.tributary,
+            pressure: pressure[pi].max(0.0),
+            tangential: if sc.dimension == 3 {
+                let v = tangential_vector(pi);
+                v[0] * direction[0] + v[1] * direction[1] + v[2] * direction[2]
+            } else {
+                friction.map_or(0.0, |f| f.tangential[pi])
+            },
+            stick: friction.is_some_and(|f| f.statuses[pi] == PointStatus::Stick),
+        })
+        .collect();
+    let first = sc
+        .contact
+        .first()
+        .ok_or_else(|| SolveError::Input("reference: needs a [[contact]]".into()))?;
+    let e_star =
+        || 1.0 / (contact_modulus(sc, &first.slave.body) + contact_modulus(sc, &first.master.body));
+    let radius = || {
+        r.radius.ok_or_else(|| {
+            SolveError::Input(format!(
+                "reference.radius: {} needs the radius",
+                r.kind.as_str()
+            ))
+        })
+    };
+    // The coefficient in the direction of the tangential force: μ, or on an
+    // elliptic cone (3D, μ₁ along t1, μ₂ along t2) 1/‖(d₁/μ₁, d₂/μ₂)‖.
+    let directional = |c: &[f64]| -> Option<f64> {
+        match c {
+            [mu] => Some(*mu),
+            [mu1, mu2] => {
+                let p = &points[pmax].point;
+                let d1: f64 = (0..3).map(|k| direction[k] * p.tangent[k]).sum();
+                let d2: f64 = (0..3).map(|k| direction[k] * p.tangent2[k]).sum();
+                Some(1.0 / ((d1 / mu1).powi(2) + (d2 / mu2).powi(2)).sqrt())
+            }
+            _ => None,
+        }
+    };
+    let mu = || -> Result<f64, SolveError> {
+        r.friction
+            .or(match &first.friction {
+                scene::Friction::Coulomb { coefficient, .. } => directional(coefficient),
+                _ => None,
+            })
+            .ok_or_else(|| {
+                SolveError::Input(format!(
+                    "reference.friction: {} needs μ (or a Coulomb contact)",
+                    r.kind.as_str()
+                ))
+            })
+    };
+    match r.kind {
+        scene::ReferenceKind::HertzCylinder if sc.dimension == 2 && sc.model != scene::Model::Axisymmetric => {
+            Ok(reference::hertz_cylinder(&nodes, e_star(), radius()?))
+        }
+        scene::ReferenceKind::HertzCylinder => Err(SolveError::Input(
+            "reference.kind: \"hertz_cylinder\" is a plane strain / plane stress reference; for a sphere (3D or axisymmetric) use \"hertz_sphere\"".into(),
+        )),
+        scene::ReferenceKind::HertzSphere if sc.model == scene::Model::Axisymmetric || sc.dimension == 3 => {
+            Ok(reference::hertz_sphere(&nodes, e_star(), radius()?))
+        }
+        scene::ReferenceKind::HertzSphere => Err(SolveError::Input(
+            "reference.kind: \"hertz_sphere\" needs model = \"axisymmetric\" or dimension = 3; in plane strain use \"hertz_cylinder\"".into(),
+        )),
+        scene::ReferenceKind::UniformPressure => Ok(reference::uniform_pressure(&nodes, r.pressure, None)),
+        scene::ReferenceKind::CattaneoMindlin => Ok(reference::cattaneo_mindlin(&nodes, e_star(), radius()?, mu()?)),
+        scene::ReferenceKind::SlidingBlock => Ok(reference::sliding_block(&nodes, mu()?, None)),
+        other => Err(SolveError::Input(format!(
+            "reference.kind: \"{}\" is not supported yet (supported: hertz_cylinder, hertz_sphere, uniform_pressure, cattaneo_mindlin, sliding_block)",
+            other.as_str()
+        ))),
+    }
+}
