@@ -17,6 +17,7 @@ mod checks;
 mod compare;
 mod conditioning;
 mod direct_path;
+mod friction_step;
 pub mod local;
 pub mod model;
 mod root;
@@ -52,6 +53,7 @@ use certify::*;
 use checks::*;
 use compare::*;
 use direct_path::*;
+use friction_step::*;
 use model::{BodyModel, FixedPoint, PointFriction, PointModel};
 use root::*;
 use subdomain::{CondensedData, RecoveredData, Subdomain, SubdomainSpec};
@@ -432,20 +434,18 @@ pub fn run(
             Some(e) => Err(SolveError::Input(e)),
             None => {
                 data.sort_by_key(|d| d.id);
-                solve_root(
+                let input = RootInput {
                     sc,
                     algorithm,
-                    &bodies,
-                    &points,
-                    &fixed_points,
-                    &specs,
-                    &data,
-                    &gamma_of,
+                    bodies: &bodies,
+                    points: &points,
+                    fixed: &fixed_points,
+                    specs: &specs,
+                    data: &data,
+                    gamma_of: &gamma_of,
                     n_gamma,
-                    &scales,
-                    &mut root_cond,
-                )
-                .map(|(ans, state)| {
+                };
+                solve_root(&input, &scales, &mut root_cond).map(|(ans, state)| {
                     root_state = Some((state, data));
                     ans
                 })

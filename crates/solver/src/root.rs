@@ -250,35 +250,97 @@ pub(crate) fn status_report(
     }
 }
 
-/// The root's contact solve on the assembled interface problem.
-#[allow(clippy::too_many_arguments)]
+/// What the root's solve reads: the scene, the chosen algorithm, the model
+/// and the subdomains' condensed data on Γ.
+pub(crate) struct RootInput<'a> {
+    pub sc: &'a scene::Scene,
+    pub algorithm: Algorithm,
+    pub bodies: &'a [BodyModel],
+    pub points: &'a [PointModel],
+    pub fixed: &'a [FixedPoint],
+    pub specs: &'a [SubdomainSpec],
+    pub data: &'a [CondensedData],
+    pub gamma_of: &'a [Vec<usize>],
+    pub n_gamma: usize,
+}
+
+/// The interface problem on Γ, assembled once per run: S = Σ S_i, the
+/// condensed load F'_i of every load entry, the rigid modes R of the
+/// floating bodies, and the contact rows (normal rows, then tangential).
+pub(crate) struct Interface {
+    pub s: Mat<f64>,
+    /// Per body, per load entry: its condensed load on Γ at scale 1.
+    pub fp_entries: Vec<Vec<Vec<f64>>>,
+    pub kernel: Mat<f64>,
+    pub rows: Vec<Vec<(usize, f64)>>,
+    /// The tangential rows t1 (and t2 in 3D) of each point, if it has them.
+    pub tangent_row: Vec<Option<usize>>,
+    pub tangent_row2: Vec<Option<usize>>,
+}
+
+/// The load of one step on Γ, with its scales and the initial gaps.
+pub(crate) struct StepLoad {
+    pub fp: Vec<f64>,
+    /// Prescribed displacement of every body (full DOFs).
+    pub u_p: Vec<Vec<f64>>,
+    pub f_scale: f64,
+    pub length_scale: f64,
+    pub gap0: Vec<f64>,
+}
+
+/// The root's contact solve on the assembled interface problem, step by
+/// step: the Delassus operator built once, then each step's right-hand side
+/// and contact (and friction) solve.
 pub(crate) fn solve_root(
-    sc: &scene::Scene,
-    algorithm: Algorithm,
-    bodies: &[BodyModel],
-    points: &[PointModel],
-    fixed: &[FixedPoint],
-    specs: &[SubdomainSpec],
-    data: &[CondensedData],
-    gamma_of: &[Vec<usize>],
-    n_gamma: usize,
+    input: &RootInput,
     scales: &[Vec<Vec<f64>>],
     cond: &mut conditioning::RootConditioning,
 ) -> Result<(RootAnswer, Vec<StepSolution>), SolveError> {
-    // Assemble S and the condensed load of every entry on Γ.
+    let interface = assemble_interface(input);
+    let friction = friction_rows(input, &interface)?;
+    let mut history = friction
+        .as_ref()
+        .map(|_| FrictionHistory::new(input.points.len()));
+    let mut steps = Vec::new();
+    let mut u_gamma = Vec::new();
+    let mut operator: Option<DelassusOperator> = None;
+    for (si, st) in scales.iter().enumerate() {
+        let t_step = Instant::now();
+        let mut operator_s = 0.0;
+        let load = step_load(input, &interface, st, si)?;
+        let op = delassus_operator(&mut operator, &mut operator_s, || {
+            conditioning::delassus_operator(&interface.s, &interface.rows, &interface.kernel, cond)
+        })?;
+        let (mut step, u) = match (&friction, history.as_mut()) {
+            (Some(fr), Some(h)) => friction_step(input, &interface, fr, h, op, load)?,
+            _ => frictionless_step(input, op, load)?,
+        };
+        step.operator_s = operator_s;
+        step.solve_s = t_step.elapsed().as_secs_f64() - operator_s;
+        u_gamma.push(u);
+        steps.push(step);
+    }
+    Ok((RootAnswer { u_gamma }, steps))
+}
+
+/// Assembles S and the condensed load of every entry on Γ from the
+/// subdomains' blocks, the kernel R on Γ, and the contact rows on Γ
+/// (tangential rows after the normal ones, seed eq. 16: the slip [u_t]).
+fn assemble_interface(input: &RootInput) -> Interface {
+    let (bodies, n_gamma) = (input.bodies, input.n_gamma);
     let mut s = Mat::<f64>::zeros(n_gamma, n_gamma);
     let mut fp_entries: Vec<Vec<Vec<f64>>> = bodies
         .iter()
         .map(|b| vec![vec![0.0; n_gamma]; b.loads.len()])
         .collect();
-    for d in data {
+    for d in input.data {
         let nb = d.gamma.len();
         for j in 0..nb {
             for i in 0..nb {
                 s[(d.gamma[i], d.gamma[j])] += d.schur[i + nb * j];
             }
         }
-        let b = specs[d.id].body;
+        let b = input.specs[d.id].body;
         for (e, f) in d.fprime.iter().enumerate() {
             for (i, v) in f.iter().enumerate() {
                 fp_entries[b][e][d.gamma[i]] += v;
@@ -290,7 +352,7 @@ pub(crate) fn solve_root(
     let mut col = 0;
     for (bi, b) in bodies.iter().enumerate() {
         for r in &b.kernel {
-            for (d, &g) in gamma_of[bi].iter().enumerate() {
+            for (d, &g) in input.gamma_of[bi].iter().enumerate() {
                 if g != usize::MAX {
                     kernel[(g, col)] = r[d];
                 }
@@ -298,18 +360,38 @@ pub(crate) fn solve_root(
             col += 1;
         }
     }
+    let (rows, tangent_row, tangent_row2) = rows_on_gamma(input);
+    Interface {
+        s,
+        fp_entries,
+        kernel,
+        rows,
+        tangent_row,
+        tangent_row2,
+    }
+}
+
+type RowsOnGamma = (
+    Vec<Vec<(usize, f64)>>,
+    Vec<Option<usize>>,
+    Vec<Option<usize>>,
+);
+
+/// The rows of B on Γ (prescribed DOFs left out): one normal row per point,
+/// then the tangential rows t1 (and t2) of each frictional point.
+fn rows_on_gamma(input: &RootInput) -> RowsOnGamma {
+    let (bodies, gamma_of) = (input.bodies, input.gamma_of);
     let to_gamma = |row: &[(usize, usize, f64)]| -> Vec<(usize, f64)> {
         row.iter()
             .filter(|&&(b, d, _)| !bodies[b].prescribed[d])
             .map(|&(b, d, c)| (gamma_of[b][d], c))
             .collect()
     };
-    let mut rows: Vec<Vec<(usize, f64)>> = points.iter().map(|p| to_gamma(&p.row)).collect();
-    // Tangential rows after the normal ones (seed eq. 16: the slip [u_t]).
-    let m = points.len();
+    let mut rows: Vec<Vec<(usize, f64)>> = input.points.iter().map(|p| to_gamma(&p.row)).collect();
+    let m = input.points.len();
     let mut tangent_row = vec![None; m];
     let mut tangent_row2 = vec![None; m];
-    for (pi, p) in points.iter().enumerate() {
+    for (pi, p) in input.points.iter().enumerate() {
         if let Some(t) = &p.trow {
             tangent_row[pi] = Some(rows.len());
             rows.push(to_gamma(t));
@@ -319,382 +401,150 @@ pub(crate) fn solve_root(
             rows.push(to_gamma(t));
         }
     }
-    let layout_3d = FrictionLayout3d {
-        tangent_rows: (0..m)
-            .map(|p| {
-                [tangent_row[p], tangent_row2[p]]
-                    .into_iter()
-                    .flatten()
-                    .collect()
-            })
-            .collect(),
-        law: points
-            .iter()
-            .map(|p| match p.friction {
-                _ if p.trow.is_none() => Law3d::None,
-                PointFriction::Tresca(g) => Law3d::Tresca(g),
-                PointFriction::Coulomb { mu, mu2, .. } => Law3d::Coulomb { mu: [mu, mu2] },
-                _ => Law3d::None,
-            })
-            .collect(),
-    };
-    let three_d = sc.dimension == 3 && tangent_row.iter().any(|t| t.is_some());
-    if three_d && sc.solver.friction == scene::FrictionSolver::Status {
-        return Err(SolveError::Input(
-            "solver.friction: the friction status method (seed §4.5) is 2D only; in 3D friction is solved by the fixed point on the threshold (friction = \"fixed_point\", the default)".into(),
-        ));
+    (rows, tangent_row, tangent_row2)
+}
+
+/// The load of step `si` on Γ (Σ s_e F'_e), the prescribed displacements,
+/// the force and length scales, the initial gaps, and the check that every
+/// body held by contact alone can be balanced by its contacts.
+fn step_load(
+    input: &RootInput,
+    interface: &Interface,
+    st: &[Vec<f64>],
+    si: usize,
+) -> Result<StepLoad, SolveError> {
+    let (bodies, points) = (input.bodies, input.points);
+    let mut fp = vec![0.0; input.n_gamma];
+    let mut u_p = Vec::new();
+    let mut f_scale = 0.0f64;
+    let mut res = Vec::new();
+    for (bi, b) in bodies.iter().enumerate() {
+        for (e, &sv) in st[bi].iter().enumerate() {
+            if sv != 0.0 {
+                for (o, v) in fp.iter_mut().zip(&interface.fp_entries[bi][e]) {
+                    *o += sv * v;
+                }
+            }
+        }
+        let (u, f) = body_step(b, &st[bi]);
+        f_scale = f_scale.max(inf_norm(&f));
+        res.push(resultant(&f, b.mesh.dim));
+        u_p.push(u);
     }
-    let has_friction = tangent_row.iter().any(|t| t.is_some());
-    let layout = FrictionLayout {
-        shadow: signorini_contact::redundancy::tangent_shadows(&rows, m, &tangent_row),
-        tangent_row: tangent_row.clone(),
-        threshold: points
-            .iter()
-            .map(|p| match p.friction {
-                // A point whose slip is prescribed by a support has no
-                // tangential unknown (see model::free_tangential_rows).
-                _ if p.trow.is_none() => Threshold::None,
-                PointFriction::None => Threshold::None,
-                PointFriction::Tresca(g) => Threshold::Tresca(g),
-                PointFriction::Coulomb { mu, .. } => Threshold::Coulomb(mu),
-                // No threshold: the law is single-valued (checked by its own residual).
-                PointFriction::NortonHoff { .. } => Threshold::Tresca(f64::INFINITY),
-            })
-            .collect(),
-    };
-    let norton_hoff: Vec<Option<(f64, f64)>> = points
+    f_scale = f_scale.max(inf_norm(&fp));
+    let length_scale = length_scale(bodies, points, &u_p, f_scale);
+    let gap0 = step_gaps(
+        input.sc,
+        bodies,
+        points,
+        input.fixed,
+        &u_p,
+        length_scale,
+        si,
+    )?;
+    // e = −Rᵀ F' for each floating body.
+    let mut e_of = Vec::new();
+    let mut col = 0;
+    for b in bodies {
+        let mut e = Vec::new();
+        for _ in &b.kernel {
+            e.push(
+                -(0..input.n_gamma)
+                    .map(|i| interface.kernel[(i, col)] * fp[i])
+                    .sum::<f64>(),
+            );
+            col += 1;
+        }
+        e_of.push(e);
+    }
+    check_floating_equilibrium(bodies, points, &e_of, &res, si)?;
+    Ok(StepLoad {
+        fp,
+        u_p,
+        f_scale,
+        length_scale,
+        gap0,
+    })
+}
+
+/// One frictionless step: the chosen algorithm (or the status method) on
+/// the step's problem; returns the step and u_Γ.
+fn frictionless_step(
+    input: &RootInput,
+    op: &DelassusOperator,
+    load: StepLoad,
+) -> Result<(StepSolution, Vec<f64>), SolveError> {
+    let (sc, algorithm, points) = (input.sc, input.algorithm, input.points);
+    let mut problem = op.problem(&load.gap0, &load.fp);
+    let law_k: Vec<f64> = points
         .iter()
-        .map(|p| match p.friction {
-            PointFriction::NortonHoff { mu, rho } => Some((mu, rho)),
-            _ => None,
+        .map(|p| match sc.contact[p.contact].law {
+            scene::Law::Penalty { penalty } => penalty * p.tributary,
+            scene::Law::Unilateral => 0.0,
         })
         .collect();
-    let any_nh = norton_hoff.iter().any(|x| x.is_some());
-    if any_nh
-        && points.iter().any(|p| {
-            matches!(
-                p.friction,
-                PointFriction::Tresca(_) | PointFriction::Coulomb { .. }
-            )
-        })
-    {
-        return Err(SolveError::Input(
-            "contact.friction: Norton-Hoff cannot be mixed with Tresca or Coulomb contacts in one scene yet".into(),
-        ));
-    }
-    let mut slip_total = vec![0.0; m];
-    let mut slip_total2 = vec![0.0; m];
-    let mut previous: Option<(Vec<PointStatus>, Vec<f64>)> = None;
-    let mut steps = Vec::new();
-    let mut u_gamma = Vec::new();
-    let mut operator: Option<DelassusOperator> = None;
-    for (si, st) in scales.iter().enumerate() {
-        let t_step = Instant::now();
-        let mut operator_s = 0.0;
-        let mut fp = vec![0.0; n_gamma];
-        let mut u_p = Vec::new();
-        let mut f_scale = 0.0f64;
-        let mut res = Vec::new();
-        for (bi, b) in bodies.iter().enumerate() {
-            for (e, &sv) in st[bi].iter().enumerate() {
-                if sv != 0.0 {
-                    for (o, v) in fp.iter_mut().zip(&fp_entries[bi][e]) {
-                        *o += sv * v;
-                    }
-                }
-            }
-            let (u, f) = body_step(b, &st[bi]);
-            f_scale = f_scale.max(inf_norm(&f));
-            res.push(resultant(&f, b.mesh.dim));
-            u_p.push(u);
+    let (f_scale, length_scale) = (load.f_scale, load.length_scale);
+    let mut solver_report = None;
+    let mut regularisation = None;
+    let outcome = if !points.is_empty() && !matches!(algorithm, Algorithm::Status(_)) {
+        let (o, r, reg) = solve_with_algorithm(
+            sc,
+            algorithm,
+            &mut problem,
+            points,
+            &law_k,
+            f_scale,
+            length_scale,
+        )?;
+        solver_report = Some(r);
+        regularisation = reg;
+        o
+    } else if points.is_empty() {
+        let (lambda, gap) = problem.solve_active(&[]).map_err(contact_error)?;
+        StatusOutcome {
+            converged: true,
+            iterations: 0,
+            solves: 1,
+            active: vec![],
+            lambda,
+            gap,
+            stopping_reason: "no contact point".into(),
+            active_history: vec![],
+            cycle_detected_at: None,
+            variant_used: StatusVariant::All,
         }
-        f_scale = f_scale.max(inf_norm(&fp));
-        let length_scale = length_scale(bodies, points, &u_p, f_scale);
-        let gap0 = step_gaps(sc, bodies, points, fixed, &u_p, length_scale, si)?;
-        // e = −Rᵀ F' for each floating body.
-        let mut e_of = Vec::new();
-        let mut col = 0;
-        for b in bodies {
-            let mut e = Vec::new();
-            for _ in &b.kernel {
-                e.push(-(0..n_gamma).map(|i| kernel[(i, col)] * fp[i]).sum::<f64>());
-                col += 1;
-            }
-            e_of.push(e);
-        }
-        check_floating_equilibrium(bodies, points, &e_of, &res, si)?;
-        if has_friction {
-            // Tangential "gaps": the prescribed part of the slip minus the slip
-            // at the end of the previous step, so that the tangential rows give
-            // slip increments (seed §4.4).
-            let mut gap0_all = gap0.clone();
-            let prescribed = |t: &[(usize, usize, f64)]| -> f64 {
-                t.iter()
-                    .filter(|&&(b, d, _)| bodies[b].prescribed[d])
-                    .map(|&(b, d, c)| c * u_p[b][d])
-                    .sum()
-            };
-            // in the order of the rows: t1 then t2 of each point
-            for (pi, p) in points.iter().enumerate() {
-                if let Some(t) = &p.trow {
-                    gap0_all.push(prescribed(t) - slip_total[pi]);
-                }
-                if let Some(t) = &p.trow2 {
-                    gap0_all.push(prescribed(t) - slip_total2[pi]);
-                }
-            }
-            let op = delassus_operator(&mut operator, &mut operator_s, || {
-                conditioning::delassus_operator(&s, &rows, &kernel, cond)
-            })?;
-            let mut problem = op.problem(&gap0_all, &fp);
-            let mut compliance = vec![0.0; rows.len()];
-            for (pi, p) in points.iter().enumerate() {
-                if let (
-                    PointFriction::Coulomb {
-                        slip_stiffness: Some(k),
-                        ..
-                    },
-                    Some(t),
-                ) = (p.friction, tangent_row[pi])
-                {
-                    compliance[t] = 1.0 / k;
-                    if let Some(t2) = tangent_row2[pi] {
-                        compliance[t2] = 1.0 / k;
-                    }
-                }
-            }
-            problem.add_compliance(&compliance);
-            let closed = sc.solver.tolerance * length_scale;
-            let initial = previous
-                .as_ref()
-                .map(|p| p.0.clone())
-                .unwrap_or_else(|| initial_statuses(bodies, points, &gap0, closed, true));
-            // A body held by contact alone starts closed at the first step;
-            // if that start is singular (e.g. a corner stuck on one contact
-            // and closed on another along the same DOF), start from the gaps.
-            let retry_from_gaps = previous.is_none() && bodies.iter().any(|b| !b.kernel.is_empty());
-            let fopts = FrictionOptions {
-                max_iterations: sc.solver.max_iterations,
-                max_fixed_point: sc.solver.max_iterations,
-                tolerance: sc.solver.tolerance,
-                force_scale: f_scale,
-                gap_scale: length_scale,
-            };
-            let all_tresca = layout
-                .threshold
-                .iter()
-                .all(|t| !matches!(t, Threshold::Coulomb(_)));
-            let (out, name) = if three_d {
-                let start = previous.as_ref().map(|p| p.1.clone());
-                (
-                    friction_3d(&mut problem, &layout_3d, start.as_deref(), &fopts),
-                    if all_tresca {
-                        "tresca_3d_semismooth_newton"
-                    } else {
-                        "coulomb_3d_fixed_point"
-                    },
-                )
-            } else {
-                let solve_2d = |problem: &mut DelassusProblem, initial: Vec<PointStatus>| {
-                    if any_nh {
-                        (
-                            signorini_contact::friction::norton_hoff(
-                                problem,
-                                &layout,
-                                &norton_hoff,
-                                initial,
-                                &fopts,
-                            ),
-                            "norton_hoff",
-                        )
-                    } else if all_tresca && algorithm == Algorithm::Mprgp {
-                        (
-                            tresca_projection(problem, &layout, &fopts),
-                            "tresca_mprgp_box",
-                        )
-                    } else if all_tresca {
-                        (
-                            tresca_status(problem, &layout, initial, &fopts),
-                            "tresca_status",
-                        )
-                    } else if sc.solver.friction == scene::FrictionSolver::Status {
-                        (
-                            coulomb_status(problem, &layout, initial, &fopts),
-                            "friction_status",
-                        )
-                    } else {
-                        let start = previous.as_ref().map(|p| p.1.clone());
-                        (
-                            coulomb_fixed_point(
-                                problem,
-                                &layout,
-                                initial,
-                                start.as_deref(),
-                                &fopts,
-                            ),
-                            "coulomb_fixed_point",
-                        )
-                    }
-                };
-                match solve_2d(&mut problem, initial) {
-                    (Err(ContactError::Singular(_)), _) if retry_from_gaps => solve_2d(
-                        &mut problem,
-                        initial_statuses(bodies, points, &gap0, closed, false),
-                    ),
-                    other => other,
-                }
-            };
-            let out = out.map_err(contact_error)?;
-            let lambda: Vec<f64> = out.forces[..m].to_vec();
-            let mut fr = FrictionStep {
-                statuses: out.statuses.clone(),
-                tangential: vec![0.0; m],
-                slip_increment: vec![0.0; m],
-                slip_total: vec![0.0; m],
-                tangential2: vec![0.0; m],
-                slip_increment2: vec![0.0; m],
-                slip_total2: vec![0.0; m],
-                threshold: vec![0.0; m],
-                cone_excess: vec![0.0; m],
-            };
-            for pi in 0..m {
-                if let Some(t) = tangent_row[pi] {
-                    fr.tangential[pi] = out.forces[t];
-                    fr.slip_increment[pi] = out.gaps[t];
-                    slip_total[pi] += out.gaps[t];
-                    fr.threshold[pi] = match layout.threshold[pi] {
-                        Threshold::Tresca(g) => g,
-                        Threshold::Coulomb(mu) => mu * lambda[pi].max(0.0),
-                        Threshold::None => 0.0,
-                    };
-                    fr.cone_excess[pi] = fr.tangential[pi].abs() - fr.threshold[pi];
-                }
-                if let Some(t2) = tangent_row2[pi] {
-                    fr.tangential2[pi] = out.forces[t2];
-                    fr.slip_increment2[pi] = out.gaps[t2];
-                    slip_total2[pi] += out.gaps[t2];
-                    let (l1, l2) = (fr.tangential[pi], fr.tangential2[pi]);
-                    fr.cone_excess[pi] = match p_law(&layout_3d.law[pi]) {
-                        Some((mu1, mu2)) if mu1 > 0.0 && mu2 > 0.0 => {
-                            mu1 * (((l1 / mu1).powi(2) + (l2 / mu2).powi(2)).sqrt()
-                                - lambda[pi].max(0.0))
-                        }
-                        Some(_) => l1.hypot(l2),
-                        None => l1.hypot(l2) - fr.threshold[pi],
-                    };
-                }
-                fr.slip_total[pi] = slip_total[pi];
-                fr.slip_total2[pi] = slip_total2[pi];
-            }
-            let outcome = StatusOutcome {
-                converged: out.converged,
-                iterations: out.iterations,
-                solves: problem.solves,
-                active: (0..m)
-                    .filter(|&p| out.statuses[p] != PointStatus::Open)
-                    .collect(),
-                lambda,
-                gap: out.gaps[..m].to_vec(),
-                stopping_reason: out.stopping_reason.clone(),
-                active_history: vec![],
-                cycle_detected_at: out.cycle_detected.then_some(out.iterations),
-                variant_used: StatusVariant::All,
-            };
-            let solver = SolverReport {
-                method: name.into(),
-                converged: out.converged,
-                iterations: out.iterations,
-                operator_applications: problem.solves,
-                residual_history: out.fixed_point_residuals.clone(),
-                stopping_reason: out.stopping_reason.clone(),
-            };
-            u_gamma.push(problem.displacement(&out.forces));
-            previous = Some((out.statuses.clone(), out.forces.clone()));
-            steps.push(StepSolution {
-                outcome,
-                gap0,
-                f_scale,
-                length_scale,
-                solver,
-                regularisation: None,
-                law_k: vec![0.0; m],
-                friction: Some(fr),
-                solve_s: t_step.elapsed().as_secs_f64() - operator_s,
-                operator_s,
-            });
-            continue;
-        }
-        let op = delassus_operator(&mut operator, &mut operator_s, || {
-            conditioning::delassus_operator(&s, &rows, &kernel, cond)
-        })?;
-        let mut problem = op.problem(&gap0, &fp);
-        let law_k: Vec<f64> = points
-            .iter()
-            .map(|p| match sc.contact[p.contact].law {
-                scene::Law::Penalty { penalty } => penalty * p.tributary,
-                scene::Law::Unilateral => 0.0,
-            })
-            .collect();
-        let mut solver_report = None;
-        let mut regularisation = None;
-        let outcome = if !points.is_empty() && !matches!(algorithm, Algorithm::Status(_)) {
-            let (o, r, reg) = solve_with_algorithm(
-                sc,
-                algorithm,
-                &mut problem,
-                points,
-                &law_k,
-                f_scale,
-                length_scale,
-            )?;
-            solver_report = Some(r);
-            regularisation = reg;
-            o
-        } else if points.is_empty() {
-            let (lambda, gap) = problem.solve_active(&[]).map_err(contact_error)?;
-            StatusOutcome {
-                converged: true,
-                iterations: 0,
-                solves: 1,
-                active: vec![],
-                lambda,
-                gap,
-                stopping_reason: "no contact point".into(),
-                active_history: vec![],
-                cycle_detected_at: None,
-                variant_used: StatusVariant::All,
-            }
-        } else {
-            let variant = match algorithm {
-                Algorithm::Status(v) => v,
-                _ => StatusVariant::All,
-            };
-            status_method(
-                &mut problem,
-                &StatusOptions {
-                    variant,
-                    ..status_options(sc, f_scale, length_scale, &gap0)
-                },
-            )
-            .map_err(contact_error)?
+    } else {
+        let variant = match algorithm {
+            Algorithm::Status(v) => v,
+            _ => StatusVariant::All,
         };
-        let solver = solver_report
-            .unwrap_or_else(|| status_report(algorithm.name(), &outcome, problem.solves));
-        u_gamma.push(problem.displacement(&outcome.lambda));
-        steps.push(StepSolution {
+        status_method(
+            &mut problem,
+            &StatusOptions {
+                variant,
+                ..status_options(sc, f_scale, length_scale, &load.gap0)
+            },
+        )
+        .map_err(contact_error)?
+    };
+    let solver =
+        solver_report.unwrap_or_else(|| status_report(algorithm.name(), &outcome, problem.solves));
+    let u = problem.displacement(&outcome.lambda);
+    Ok((
+        StepSolution {
             outcome,
-            gap0,
+            gap0: load.gap0,
             f_scale,
             length_scale,
             solver,
             regularisation,
             law_k,
             friction: None,
-            solve_s: t_step.elapsed().as_secs_f64() - operator_s,
-            operator_s,
-        });
-    }
-    Ok((RootAnswer { u_gamma }, steps))
+            solve_s: 0.0,
+            operator_s: 0.0,
+        },
+        u,
+    ))
 }
 
 /// The run's Delassus operator, built by `build` at its first use (once per

@@ -1,0 +1,358 @@
+//! One load step with friction on the condensed problem (seed §4): the
+//! tangential rows' "gaps" (slip increments, §4.4), the regularised law's
+//! compliance, the choice of the friction algorithm (Tresca status or
+//! projection, Coulomb fixed point or status method, Norton–Hoff, the 3D
+//! semi-smooth Newton method), and the slip history carried to the next step.
+
+use super::*;
+use signorini_contact::friction::FrictionOutcome;
+
+/// The friction layouts of the interface problem, built once per run.
+pub(crate) struct FrictionRows {
+    layout: FrictionLayout,
+    layout_3d: FrictionLayout3d,
+    norton_hoff: Vec<Option<(f64, f64)>>,
+    three_d: bool,
+}
+
+/// What a friction step carries to the next: total slips, the last
+/// statuses and forces.
+pub(crate) struct FrictionHistory {
+    slip_total: Vec<f64>,
+    slip_total2: Vec<f64>,
+    previous: Option<(Vec<PointStatus>, Vec<f64>)>,
+}
+
+impl FrictionHistory {
+    pub(crate) fn new(m: usize) -> Self {
+        Self {
+            slip_total: vec![0.0; m],
+            slip_total2: vec![0.0; m],
+            previous: None,
+        }
+    }
+}
+
+/// The friction layouts (`None` without a tangential row), and the
+/// combinations refused: the friction status method in 3D, Norton–Hoff
+/// mixed with Tresca or Coulomb.
+pub(crate) fn friction_rows(
+    input: &RootInput,
+    interface: &Interface,
+) -> Result<Option<FrictionRows>, SolveError> {
+    let (sc, points) = (input.sc, input.points);
+    let (tangent_row, tangent_row2) = (&interface.tangent_row, &interface.tangent_row2);
+    if tangent_row.iter().all(|t| t.is_none()) {
+        return Ok(None);
+    }
+    let m = points.len();
+    let three_d = sc.dimension == 3;
+    if three_d && sc.solver.friction == scene::FrictionSolver::Status {
+        return Err(SolveError::Input(
+            "solver.friction: the friction status method (seed §4.5) is 2D only; in 3D friction is solved by the fixed point on the threshold (friction = \"fixed_point\", the default)".into(),
+        ));
+    }
+    let norton_hoff: Vec<Option<(f64, f64)>> = points
+        .iter()
+        .map(|p| match p.friction {
+            PointFriction::NortonHoff { mu, rho } => Some((mu, rho)),
+            _ => None,
+        })
+        .collect();
+    let mixed = points.iter().any(|p| {
+        matches!(
+            p.friction,
+            PointFriction::Tresca(_) | PointFriction::Coulomb { .. }
+        )
+    });
+    if norton_hoff.iter().any(|x| x.is_some()) && mixed {
+        return Err(SolveError::Input(
+            "contact.friction: Norton-Hoff cannot be mixed with Tresca or Coulomb contacts in one scene yet".into(),
+        ));
+    }
+    let layout_3d = FrictionLayout3d {
+        tangent_rows: (0..m)
+            .map(|p| {
+                [tangent_row[p], tangent_row2[p]]
+                    .into_iter()
+                    .flatten()
+                    .collect()
+            })
+            .collect(),
+        law: points
+            .iter()
+            .map(|p| match p.friction {
+                _ if p.trow.is_none() => Law3d::None,
+                PointFriction::Tresca(g) => Law3d::Tresca(g),
+                PointFriction::Coulomb { mu, mu2, .. } => Law3d::Coulomb { mu: [mu, mu2] },
+                _ => Law3d::None,
+            })
+            .collect(),
+    };
+    let layout = FrictionLayout {
+        shadow: signorini_contact::redundancy::tangent_shadows(&interface.rows, m, tangent_row),
+        tangent_row: tangent_row.clone(),
+        threshold: points
+            .iter()
+            .map(|p| match p.friction {
+                // A point whose slip is prescribed by a support has no
+                // tangential unknown (see model::free_tangential_rows).
+                _ if p.trow.is_none() => Threshold::None,
+                PointFriction::None => Threshold::None,
+                PointFriction::Tresca(g) => Threshold::Tresca(g),
+                PointFriction::Coulomb { mu, .. } => Threshold::Coulomb(mu),
+                // No threshold: the law is single-valued (checked by its own residual).
+                PointFriction::NortonHoff { .. } => Threshold::Tresca(f64::INFINITY),
+            })
+            .collect(),
+    };
+    Ok(Some(FrictionRows {
+        layout,
+        layout_3d,
+        norton_hoff,
+        three_d,
+    }))
+}
+
+/// The gaps of every row: the normal ones, then the tangential "gaps": the
+/// prescribed part of the slip minus the slip at the end of the previous
+/// step, so that the tangential rows give slip increments (seed §4.4); in
+/// the order of the rows, t1 then t2 of each point.
+fn tangential_gaps(input: &RootInput, load: &StepLoad, history: &FrictionHistory) -> Vec<f64> {
+    let bodies = input.bodies;
+    let mut gap0_all = load.gap0.clone();
+    let prescribed = |t: &[(usize, usize, f64)]| -> f64 {
+        t.iter()
+            .filter(|&&(b, d, _)| bodies[b].prescribed[d])
+            .map(|&(b, d, c)| c * load.u_p[b][d])
+            .sum()
+    };
+    for (pi, p) in input.points.iter().enumerate() {
+        if let Some(t) = &p.trow {
+            gap0_all.push(prescribed(t) - history.slip_total[pi]);
+        }
+        if let Some(t) = &p.trow2 {
+            gap0_all.push(prescribed(t) - history.slip_total2[pi]);
+        }
+    }
+    gap0_all
+}
+
+/// The elastic slip compliance 1/k_e of a regularised law on the diagonal
+/// of W's tangential rows (seed §4.1.3).
+fn slip_compliance(input: &RootInput, interface: &Interface) -> Vec<f64> {
+    let mut compliance = vec![0.0; interface.rows.len()];
+    for (pi, p) in input.points.iter().enumerate() {
+        if let (
+            PointFriction::Coulomb {
+                slip_stiffness: Some(k),
+                ..
+            },
+            Some(t),
+        ) = (p.friction, interface.tangent_row[pi])
+        {
+            compliance[t] = 1.0 / k;
+            if let Some(t2) = interface.tangent_row2[pi] {
+                compliance[t2] = 1.0 / k;
+            }
+        }
+    }
+    compliance
+}
+
+/// One friction step: the problem with the tangential gaps and compliance,
+/// solved by the algorithm the scene asks for; returns the step and u_Γ,
+/// and updates the slip history.
+pub(crate) fn friction_step(
+    input: &RootInput,
+    interface: &Interface,
+    fr: &FrictionRows,
+    history: &mut FrictionHistory,
+    op: &DelassusOperator,
+    load: StepLoad,
+) -> Result<(StepSolution, Vec<f64>), SolveError> {
+    let m = input.points.len();
+    let mut problem = op.problem(&tangential_gaps(input, &load, history), &load.fp);
+    problem.add_compliance(&slip_compliance(input, interface));
+    let fopts = FrictionOptions {
+        max_iterations: input.sc.solver.max_iterations,
+        max_fixed_point: input.sc.solver.max_iterations,
+        tolerance: input.sc.solver.tolerance,
+        force_scale: load.f_scale,
+        gap_scale: load.length_scale,
+    };
+    let (out, name) = solve_friction(input, fr, history, &mut problem, &load, &fopts);
+    let out = out.map_err(contact_error)?;
+    let friction = friction_state(interface, fr, history, &out, m);
+    let outcome = StatusOutcome {
+        converged: out.converged,
+        iterations: out.iterations,
+        solves: problem.solves,
+        active: (0..m)
+            .filter(|&p| out.statuses[p] != PointStatus::Open)
+            .collect(),
+        lambda: out.forces[..m].to_vec(),
+        gap: out.gaps[..m].to_vec(),
+        stopping_reason: out.stopping_reason.clone(),
+        active_history: vec![],
+        cycle_detected_at: out.cycle_detected.then_some(out.iterations),
+        variant_used: StatusVariant::All,
+    };
+    let solver = SolverReport {
+        method: name.into(),
+        converged: out.converged,
+        iterations: out.iterations,
+        operator_applications: problem.solves,
+        residual_history: out.fixed_point_residuals.clone(),
+        stopping_reason: out.stopping_reason.clone(),
+    };
+    let u = problem.displacement(&out.forces);
+    history.previous = Some((out.statuses, out.forces));
+    Ok((
+        StepSolution {
+            outcome,
+            gap0: load.gap0,
+            f_scale: load.f_scale,
+            length_scale: load.length_scale,
+            solver,
+            regularisation: None,
+            law_k: vec![0.0; m],
+            friction: Some(friction),
+            solve_s: 0.0,
+            operator_s: 0.0,
+        },
+        u,
+    ))
+}
+
+type FrictionSolve = (Result<FrictionOutcome, ContactError>, &'static str);
+
+/// The friction algorithm of the scene on the step's problem, with its name.
+/// A body held by contact alone starts closed at the first step; if that
+/// start is singular (e.g. a corner stuck on one contact and closed on
+/// another along the same DOF), the 2D solves start again from the gaps.
+fn solve_friction(
+    input: &RootInput,
+    fr: &FrictionRows,
+    history: &FrictionHistory,
+    problem: &mut DelassusProblem,
+    load: &StepLoad,
+    fopts: &FrictionOptions,
+) -> FrictionSolve {
+    let (bodies, points) = (input.bodies, input.points);
+    let all_tresca = fr
+        .layout
+        .threshold
+        .iter()
+        .all(|t| !matches!(t, Threshold::Coulomb(_)));
+    let start = history.previous.as_ref().map(|p| p.1.clone());
+    if fr.three_d {
+        let name = if all_tresca {
+            "tresca_3d_semismooth_newton"
+        } else {
+            "coulomb_3d_fixed_point"
+        };
+        return (
+            friction_3d(problem, &fr.layout_3d, start.as_deref(), fopts),
+            name,
+        );
+    }
+    let closed = input.sc.solver.tolerance * load.length_scale;
+    let initial = history
+        .previous
+        .as_ref()
+        .map(|p| p.0.clone())
+        .unwrap_or_else(|| initial_statuses(bodies, points, &load.gap0, closed, true));
+    let retry_from_gaps = history.previous.is_none() && bodies.iter().any(|b| !b.kernel.is_empty());
+    let solve_2d = |problem: &mut DelassusProblem, initial: Vec<PointStatus>| -> FrictionSolve {
+        let layout = &fr.layout;
+        if fr.norton_hoff.iter().any(|x| x.is_some()) {
+            let out = signorini_contact::friction::norton_hoff(
+                problem,
+                layout,
+                &fr.norton_hoff,
+                initial,
+                fopts,
+            );
+            (out, "norton_hoff")
+        } else if all_tresca && input.algorithm == Algorithm::Mprgp {
+            (
+                tresca_projection(problem, layout, fopts),
+                "tresca_mprgp_box",
+            )
+        } else if all_tresca {
+            (
+                tresca_status(problem, layout, initial, fopts),
+                "tresca_status",
+            )
+        } else if input.sc.solver.friction == scene::FrictionSolver::Status {
+            (
+                coulomb_status(problem, layout, initial, fopts),
+                "friction_status",
+            )
+        } else {
+            let out = coulomb_fixed_point(problem, layout, initial, start.as_deref(), fopts);
+            (out, "coulomb_fixed_point")
+        }
+    };
+    match solve_2d(problem, initial) {
+        (Err(ContactError::Singular(_)), _) if retry_from_gaps => solve_2d(
+            problem,
+            initial_statuses(bodies, points, &load.gap0, closed, false),
+        ),
+        other => other,
+    }
+}
+
+/// The friction state of the step per point (tangential forces, slip
+/// increments and totals, thresholds, cone excess), and the slip totals
+/// carried to the next step.
+fn friction_state(
+    interface: &Interface,
+    fr: &FrictionRows,
+    history: &mut FrictionHistory,
+    out: &FrictionOutcome,
+    m: usize,
+) -> FrictionStep {
+    let lambda = &out.forces[..m];
+    let mut f = FrictionStep {
+        statuses: out.statuses.clone(),
+        tangential: vec![0.0; m],
+        slip_increment: vec![0.0; m],
+        slip_total: vec![0.0; m],
+        tangential2: vec![0.0; m],
+        slip_increment2: vec![0.0; m],
+        slip_total2: vec![0.0; m],
+        threshold: vec![0.0; m],
+        cone_excess: vec![0.0; m],
+    };
+    for (pi, &ln) in lambda.iter().enumerate() {
+        if let Some(t) = interface.tangent_row[pi] {
+            f.tangential[pi] = out.forces[t];
+            f.slip_increment[pi] = out.gaps[t];
+            history.slip_total[pi] += out.gaps[t];
+            f.threshold[pi] = match fr.layout.threshold[pi] {
+                Threshold::Tresca(g) => g,
+                Threshold::Coulomb(mu) => mu * ln.max(0.0),
+                Threshold::None => 0.0,
+            };
+            f.cone_excess[pi] = f.tangential[pi].abs() - f.threshold[pi];
+        }
+        if let Some(t2) = interface.tangent_row2[pi] {
+            f.tangential2[pi] = out.forces[t2];
+            f.slip_increment2[pi] = out.gaps[t2];
+            history.slip_total2[pi] += out.gaps[t2];
+            let (l1, l2) = (f.tangential[pi], f.tangential2[pi]);
+            f.cone_excess[pi] = match p_law(&fr.layout_3d.law[pi]) {
+                Some((mu1, mu2)) if mu1 > 0.0 && mu2 > 0.0 => {
+                    mu1 * (((l1 / mu1).powi(2) + (l2 / mu2).powi(2)).sqrt() - ln.max(0.0))
+                }
+                Some(_) => l1.hypot(l2),
+                None => l1.hypot(l2) - f.threshold[pi],
+            };
+        }
+        f.slip_total[pi] = history.slip_total[pi];
+        f.slip_total2[pi] = history.slip_total2[pi];
+    }
+    f
+}
