@@ -11,7 +11,6 @@
 pub mod augmented_lagrangian;
 pub mod box_qp;
 pub mod delassus;
-pub mod direct;
 pub mod equilibrium;
 pub mod friction;
 pub mod friction3d;

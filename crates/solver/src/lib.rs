@@ -18,6 +18,7 @@ mod compare;
 mod conditioning;
 mod direct_path;
 mod friction_step;
+mod kkt;
 pub mod local;
 pub mod model;
 mod root;
@@ -31,7 +32,7 @@ use faer::Mat;
 use serde::{Deserialize, Serialize};
 use signorini_comm::{broadcast, deal, gather, Transport};
 use signorini_condense::{spmv, spmv_with_magnitude, submatrix};
-use signorini_contact::direct::DirectProblem;
+use kkt::DirectProblem;
 use signorini_contact::equilibrium::nnls;
 use signorini_contact::friction::{
     coulomb_fixed_point, coulomb_status, tresca_projection, tresca_status, FrictionLayout,

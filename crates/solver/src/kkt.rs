@@ -14,9 +14,9 @@ use faer::prelude::Solve;
 use faer::sparse::{SparseColMat, Triplet};
 use faer::Mat;
 
-use crate::delassus::SparseRow;
-use crate::status::ActiveSetSolve;
-use crate::ContactError;
+use signorini_contact::delassus::SparseRow;
+use signorini_contact::ActiveSetSolve;
+use signorini_contact::ContactError;
 
 pub struct DirectProblem<'a> {
     pub k: &'a SparseColMat<usize, f64>,
