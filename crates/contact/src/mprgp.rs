@@ -190,11 +190,11 @@ pub fn mprgp_box_from(
 /// max_i | min((x_i − l_i)/F, max((x_i − u_i)/F, g_i/L)) |,   g = A x + b,
 /// ```
 ///
-/// i.e. |x − P_[l,u](x − g)| with the forces scaled by F = max(force_scale,
-/// ‖x‖∞) and the gradients by L = gap_scale (as [`crate::lcp_residual`],
-/// which it equals bit for bit when l = 0 and u = +∞). Zero exactly when x
-/// solves the QP; positive at any other x, in particular outside the box.
-/// Non-finite data give +∞.
+/// i.e. |x − P(x − g)| (P the projection onto the box) with the forces
+/// scaled by F = max(force_scale, ‖x‖∞) and the gradients by L = gap_scale
+/// (as [`crate::lcp_residual`], which it equals bit for bit when l = 0 and
+/// u = +∞). Zero exactly when x solves the QP; positive at any other x, in
+/// particular outside the box. Non-finite data give +∞.
 ///
 /// # Panics
 /// When the sizes of A, b, x, l and u disagree.
@@ -228,7 +228,7 @@ struct Bounds<'a> {
 }
 
 impl Bounds<'_> {
-    /// P_[l,u](v) for variable i.
+    /// The projection of v onto the interval of variable i.
     fn project(&self, i: usize, v: f64) -> f64 {
         v.max(self.lower[i]).min(self.upper[i])
     }
