@@ -489,7 +489,7 @@ fn tresca_box(
         gap_scale: opts.gap_scale,
         stiffness: None,
     };
-    let sol = crate::box_qp::mprgp_box(&problem.w, &problem.q, &lower, &upper, &lcp_opts)?;
+    let sol = crate::mprgp::mprgp_box(&problem.w, &problem.q, &lower, &upper, &lcp_opts)?;
     let tol = opts.tolerance
         * opts
             .force_scale

@@ -9,7 +9,6 @@
 //! complementarity λ g = 0.
 
 pub mod augmented_lagrangian;
-pub mod box_qp;
 pub mod delassus;
 pub mod equilibrium;
 pub mod friction;
