@@ -21,7 +21,6 @@ mod friction_step;
 pub mod local;
 pub mod model;
 mod root;
-pub mod stiff;
 pub mod subdomain;
 
 use std::time::Instant;

@@ -1,6 +1,6 @@
 //! The stiff and extreme cases of VALIDATION.md §8 (issue 7) as data: each
 //! case is a real scene (TOML text parsed and validated by the scene crate,
-//! as `signorini run` does), run in process through [`crate::run`], with an
+//! as `signorini run` does), run in process through [`signorini_solver::run`], with an
 //! expectation — it solves (converged, certificate within its tolerance) and
 //! every reference quantity is within a stated relative tolerance, or it stops
 //! with a documented message and exit class (1 bad input, 2 not converged).
@@ -27,7 +27,7 @@ use serde::Serialize;
 use signorini_comm::Local;
 use signorini_scene as scene;
 
-use crate::{run, RunOptions, RunOutput, SolveError};
+use signorini_solver::{run, RunOptions, RunOutput, SolveError};
 
 /// A relative round-off tolerance for a problem whose error amplification
 /// (condition number of the part of the problem the answer depends on) is
