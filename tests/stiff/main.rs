@@ -1,5 +1,5 @@
 //! The stiff and extreme cases of VALIDATION.md §8 (issue 7): the quick suite
-//! of `signorini bench --suite stiff --quick` (crates/stiff),
+//! of `signorini bench --suite stiff --quick` (crates/stiff/cases.toml),
 //! run once in process and asserted over the whole suite — no NaN anywhere, no
 //! `converged: true` with a certificate above its tolerance, every case meets
 //! its expectation — plus family-specific numbers.
