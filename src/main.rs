@@ -297,7 +297,7 @@ fn bench(
 /// DIR/stiff.csv, DIR/stiff.md and each case's scene in DIR/stiff/; exit 1
 /// naming the cases that fail their expectation.
 fn stiff_suite(quick: bool, out: &Path) -> ExitCode {
-    use signorini_solver::stiff;
+    use signorini_stiff as stiff;
     // Every case's scene beside the table, so that any case can be rerun
     // alone with `signorini run DIR/stiff/<case>.toml`.
     let cases = stiff::cases(quick);

@@ -1,12 +1,12 @@
 //! The stiff and extreme cases of VALIDATION.md §8 (issue 7): the quick suite
-//! of `signorini bench --suite stiff --quick` (crates/solver/src/stiff.rs),
+//! of `signorini bench --suite stiff --quick` (crates/stiff/cases.toml),
 //! run once in process and asserted over the whole suite — no NaN anywhere, no
 //! `converged: true` with a certificate above its tolerance, every case meets
 //! its expectation — plus family-specific numbers.
 
 use std::sync::OnceLock;
 
-use signorini_solver::stiff::{self, StiffRow};
+use signorini_stiff::{self as stiff, StiffRow};
 
 /// The quick suite, run once for every test of this file.
 fn suite() -> &'static [StiffRow] {

@@ -22,7 +22,6 @@ mod kkt;
 pub mod local;
 pub mod model;
 mod root;
-pub mod stiff;
 pub mod subdomain;
 
 use std::time::Instant;
