@@ -21,6 +21,7 @@ fn run(text: &str) -> signorini_solver::RunOutput {
 /// A block (2D: `[[x0, y0], [w, h]]`, 3D with a z extent) on the rigid plane
 /// through the origin with normal `normal`, Coulomb μ, its top loaded by
 /// `top` (a boundary entry body) and extra `boundary` entries.
+#[allow(clippy::too_many_arguments)] // a scene template: one argument per scene entry
 fn block(
     dim: usize,
     origin: &[f64],
