@@ -10,15 +10,15 @@
 //! 2 solved but a tolerance or iteration limit was not met (the report says
 //! which); 3 internal error.
 
-use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::Instant;
 
 use clap::{Parser, Subcommand};
 use signorini_comm::{Local, Transport};
+use signorini_report::output::{summary, write_outputs, OutputRequest};
 use signorini_scene::{Method, SolvePath};
-use signorini_solver::{RunOptions, RunOutput, SolveError};
+use signorini_solver::{RunOptions, SolveError};
 
 #[derive(Parser)]
 #[command(
@@ -480,13 +480,17 @@ fn run(path: &Path, opts: RunOptions, out: Option<PathBuf>, comm: &dyn Transport
     let dir = out.unwrap_or_else(|| sc.output.directory_for(path));
     let t = Instant::now();
     output.report.timings_s.setup += setup;
-    if let Err(e) = write_outputs(&dir, &sc, &mut output, t) {
+    let request = OutputRequest {
+        dim: sc.dimension as usize,
+        fields: sc.output.fields.clone(),
+    };
+    if let Err(e) = write_outputs(&dir, &request, &mut output, t) {
         return fail(
             3,
             &format!("cannot write the output in {}: {e}", dir.display()),
         );
     }
-    summarise(&dir, &output);
+    print!("{}", summary(&dir, &output));
     if output.report.converged {
         ExitCode::SUCCESS
     } else {
@@ -496,270 +500,4 @@ fn run(path: &Path, opts: RunOptions, out: Option<PathBuf>, comm: &dyn Transport
         );
         ExitCode::from(2)
     }
-}
-
-fn write_outputs(
-    dir: &Path,
-    sc: &signorini_scene::Scene,
-    output: &mut RunOutput,
-    t: Instant,
-) -> std::io::Result<()> {
-    std::fs::create_dir_all(dir)?;
-    let dim = sc.dimension as usize;
-    signorini_report::write_contact_csv(&dir.join("contact.csv"), &output.contact_rows, dim)?;
-    signorini_report::write_steps_csv(&dir.join("steps.csv"), &output.report.steps)?;
-    // With friction and several steps: the tangential force against the slip
-    // (a hysteresis loop under cyclic loading).
-    let friction = output
-        .report
-        .steps
-        .iter()
-        .any(|s| s.sticking + s.slipping > 0);
-    if friction && output.report.steps.len() >= 3 {
-        use signorini_report::plot::{linear_svg, Series};
-        let points = std::iter::once((0.0, 0.0))
-            .chain(
-                output
-                    .report
-                    .steps
-                    .iter()
-                    .map(|s| (s.mean_slip, s.tangential_force)),
-            )
-            .collect();
-        let series = [Series {
-            label: "tangential contact force".into(),
-            points,
-        }];
-        if let Err(e) = linear_svg(
-            &dir.join("friction.svg"),
-            "Tangential force against slip",
-            "mean slip",
-            "tangential contact force",
-            &series,
-        ) {
-            output
-                .report
-                .messages
-                .push(format!("no friction plot: {e}"));
-        }
-    }
-    write_vtu_fields(dir, sc, output).map_err(std::io::Error::other)?;
-    if sc.output.wants("displacement") {
-        let mut w = std::io::BufWriter::new(std::fs::File::create(dir.join("displacement.csv"))?);
-        let axes = &["x", "y", "z"][..dim];
-        let header: Vec<String> = axes
-            .iter()
-            .map(|a| a.to_string())
-            .chain(axes.iter().map(|a| format!("u{a}")))
-            .collect();
-        writeln!(w, "body,node,{}", header.join(","))?;
-        for b in &output.bodies {
-            for (n, x) in b.coords.iter().enumerate() {
-                write!(w, "{},{}", b.name, n)?;
-                for xk in &x[..dim] {
-                    write!(w, ",{xk:e}")?;
-                }
-                for uk in &b.last().displacement[dim * n..dim * (n + 1)] {
-                    write!(w, ",{uk:e}")?;
-                }
-                writeln!(w)?;
-            }
-        }
-    }
-    if sc.output.wants("stress") {
-        // Voigt [xx, yy, zz, xy, yz, xz]; 2D keeps its historical columns
-        // (axisymmetric: x = r, y = z, szz = the hoop stress σ_θθ).
-        let mut w = std::io::BufWriter::new(std::fs::File::create(dir.join("stress.csv"))?);
-        if dim == 3 {
-            writeln!(w, "body,cell,sxx,syy,szz,sxy,syz,sxz,von_mises")?;
-        } else {
-            writeln!(w, "body,cell,sxx,syy,sxy,szz,von_mises")?;
-        }
-        for b in &output.bodies {
-            let last = b.last();
-            for (c, s) in last.stress.iter().enumerate() {
-                if dim == 3 {
-                    writeln!(
-                        w,
-                        "{},{},{:e},{:e},{:e},{:e},{:e},{:e},{:e}",
-                        b.name, c, s[0], s[1], s[2], s[3], s[4], s[5], last.von_mises[c]
-                    )?;
-                } else {
-                    writeln!(
-                        w,
-                        "{},{},{:e},{:e},{:e},{:e},{:e}",
-                        b.name, c, s[0], s[1], s[3], s[2], last.von_mises[c]
-                    )?;
-                }
-            }
-        }
-    }
-    let tim = &mut output.report.timings_s;
-    tim.output = t.elapsed().as_secs_f64();
-    tim.total += tim.setup + tim.output;
-    signorini_report::write_report(&dir.join("report.json"), &output.report)
-}
-
-/// DIR/<body>_<step>.vtu for every body and load step, and DIR/fields.pvd,
-/// the time series (timestep = step number) that ParaView opens as one
-/// dataset, with the fields that `[output] fields` asks for: displacement;
-/// contact pressure, status (−1 no contact point, 0 open, 1 contact, 2 stick,
-/// 3 slip) and tangential force at the slave nodes; stress (Voigt
-/// [xx, yy, zz, xy, yz, xz]; axisymmetric: x = r, y = z, zz = hoop) and von
-/// Mises per cell; the METIS subdomain of each cell.
-fn write_vtu_fields(
-    dir: &Path,
-    sc: &signorini_scene::Scene,
-    output: &RunOutput,
-) -> Result<(), String> {
-    use signorini_report::vtu::{write_pvd, write_vtu, PvdEntry, VtuPiece};
-    if sc.output.fields.is_empty() {
-        return Ok(());
-    }
-    let dim = sc.dimension as usize;
-    let mut entries = Vec::new();
-    for (bi, b) in output.bodies.iter().enumerate() {
-        let n = b.coords.len();
-        let safe: String = b
-            .name
-            .chars()
-            .map(|c| {
-                if c.is_ascii_alphanumeric() || c == '-' || c == '_' {
-                    c
-                } else {
-                    '_'
-                }
-            })
-            .collect();
-        for (si, fields) in b.history.iter().enumerate() {
-            let step = si + 1;
-            let mut point_data = Vec::new();
-            if sc.output.wants("displacement") {
-                let u: Vec<f64> = (0..n)
-                    .flat_map(|i| {
-                        let mut v = [0.0; 3];
-                        v[..dim].copy_from_slice(&fields.displacement[dim * i..dim * (i + 1)]);
-                        v
-                    })
-                    .collect();
-                point_data.push(("displacement".to_string(), 3, u));
-            }
-            if sc.output.wants("contact") {
-                let mut pressure = vec![0.0; n];
-                let mut status = vec![-1.0; n];
-                let mut tangential = vec![0.0; n];
-                for r in output
-                    .contact_rows
-                    .iter()
-                    .filter(|r| r.step == step && r.body == b.name)
-                {
-                    pressure[r.point] = r.pressure;
-                    tangential[r.point] = r.tangential_force;
-                    status[r.point] = match r.status {
-                        "open" => 0.0,
-                        "contact" => 1.0,
-                        "stick" => 2.0,
-                        _ => 3.0,
-                    };
-                }
-                point_data.push(("contact_pressure".to_string(), 1, pressure));
-                point_data.push(("contact_status".to_string(), 1, status));
-                point_data.push(("tangential_force".to_string(), 1, tangential));
-            }
-            let mut cell_data = vec![(
-                "subdomain".to_string(),
-                1,
-                b.parts.iter().map(|&p| p as f64).collect(),
-            )];
-            if sc.output.wants("stress") && !fields.stress.is_empty() {
-                cell_data.push((
-                    "stress".to_string(),
-                    6,
-                    fields
-                        .stress
-                        .iter()
-                        .flat_map(|s| s.iter().copied())
-                        .collect(),
-                ));
-                cell_data.push(("von_mises".to_string(), 1, fields.von_mises.clone()));
-            }
-            let file = format!("{safe}_{step}.vtu");
-            write_vtu(
-                &dir.join(&file),
-                &VtuPiece {
-                    title: format!("{} step {step}", b.name),
-                    dim,
-                    coords: &b.coords,
-                    cells: &b.cells,
-                    point_data,
-                    cell_data,
-                },
-            )?;
-            entries.push(PvdEntry {
-                timestep: step as f64,
-                part: bi,
-                file,
-            });
-        }
-    }
-    write_pvd(&dir.join("fields.pvd"), &entries).map_err(|e| e.to_string())
-}
-
-fn summarise(dir: &Path, o: &RunOutput) {
-    let r = &o.report;
-    println!(
-        "{}: {} DOFs, {} interface DOFs, {} contact points, method {} ({} path): {}",
-        r.scene,
-        r.dofs,
-        r.interface_dofs,
-        r.contact_points,
-        r.method,
-        r.path,
-        if r.converged {
-            "converged"
-        } else {
-            "NOT converged"
-        }
-    );
-    for (i, s) in r.steps.iter().enumerate() {
-        println!(
-            "  step {}: {} iterations, {} active",
-            i + 1,
-            s.iterations,
-            s.active
-        );
-    }
-    println!(
-        "  contact force ({}); certificate max {:.2e} (equilibrium {:.1e}, penetration {:.1e}, tension {:.1e}, complementarity {:.1e})",
-        r.contact_force
-            .iter()
-            .map(|f| format!("{f:.6e}"))
-            .collect::<Vec<_>>()
-            .join(", "),
-        r.certificate.max(),
-        r.certificate.equilibrium,
-        r.certificate.penetration,
-        r.certificate.tension,
-        r.certificate.complementarity
-    );
-    let warning = r.conditioning.as_ref().and_then(|c| c.warning.as_ref());
-    if let Some(w) = warning {
-        println!("  warning: {w}");
-    }
-    for m in r.messages.iter().filter(|m| Some(*m) != warning) {
-        println!("  note: {m}");
-    }
-    if let Some(refr) = &r.reference {
-        for (k, q) in &refr.quantities {
-            println!(
-                "  {} {k}: computed {:.6e}, exact {:.6e}, relative error {:.3e}",
-                refr.kind, q.computed, q.exact, q.relative_error
-            );
-        }
-    }
-    println!(
-        "  total {:.3} s; report in {}",
-        r.timings_s.total,
-        dir.join("report.json").display()
-    );
 }

@@ -1,6 +1,7 @@
 //! The run report (SCENE.md, "The report"): report.json, contact.csv, and the
 //! analytic references a run is compared with (VALIDATION.md).
 
+pub mod output;
 pub mod plot;
 pub mod reference;
 pub mod vtu;

@@ -43,6 +43,7 @@ use signorini_contact::{
     status_method, ActiveSetSolve, ContactError, DelassusOperator, DelassusProblem, LcpOptions,
     LcpSolution, SolverReport, StatusOptions, StatusOutcome, StatusVariant,
 };
+pub use signorini_report::output::{BodyResult, RunOutput, StepFields};
 use signorini_report::{
     reference, Certificate, ContactRow, ContactSummary, Memory, Probe, RankStats, Regularisation,
     Report, StepReport, Timings,
@@ -74,44 +75,6 @@ pub enum SolveError {
 pub struct RunOptions {
     pub method: Option<scene::Method>,
     pub path: Option<scene::SolvePath>,
-}
-
-/// Final fields of one body.
-pub struct BodyResult {
-    pub name: String,
-    pub coords: Vec<[f64; 3]>,
-    pub cells: Vec<Vec<usize>>,
-    /// METIS part of each cell.
-    pub parts: Vec<usize>,
-    /// The fields at every load step (at least one).
-    pub history: Vec<StepFields>,
-}
-
-impl BodyResult {
-    /// The fields at the last load step.
-    pub fn last(&self) -> &StepFields {
-        self.history
-            .last()
-            .expect("a body result holds at least one step")
-    }
-}
-
-/// The fields of one body at one load step.
-pub struct StepFields {
-    /// Displacement, `dim` values per node.
-    pub displacement: Vec<f64>,
-    /// Per cell: Voigt [sxx, syy, szz, sxy, syz, sxz] (axisymmetric: x = r,
-    /// y = z, szz = the hoop stress); see `signorini_fem::cell_stress`. Empty
-    /// unless `[output] fields` has "stress".
-    pub stress: Vec<[f64; 6]>,
-    /// Per cell: von Mises equivalent stress.
-    pub von_mises: Vec<f64>,
-}
-
-pub struct RunOutput {
-    pub report: Report,
-    pub contact_rows: Vec<ContactRow>,
-    pub bodies: Vec<BodyResult>,
 }
 
 fn inf_norm(v: &[f64]) -> f64 {
