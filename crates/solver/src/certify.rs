@@ -342,19 +342,21 @@ pub(crate) fn finish_report(
     partial: Partial,
     sc: &scene::Scene,
     scene_name: &str,
-    method: scene::Method,
-    path: scene::SolvePath,
-    bodies: &[BodyModel],
-    points: &[PointModel],
-    specs: &[SubdomainSpec],
+    plan: &plan::Plan,
+    model: &partition::ModelData,
     comm: &dyn Transport,
-    t_total: Instant,
-    timings: Timings,
-    messages: Vec<String>,
-    mut stages: Vec<String>,
+    log: RunLog,
     communication_bytes: u64,
     rank_stats: Vec<RankStats>,
 ) -> Result<RunOutput, SolveError> {
+    let (method, path) = (plan.method, plan.path);
+    let (bodies, points, specs) = (&model.bodies, &model.points, &model.specs);
+    let RunLog {
+        t_total,
+        timings,
+        messages,
+        mut stages,
+    } = log;
     let lambda = &partial.lambda;
     let no_step = Vec::new();
     let u_full = partial.u_steps.last().unwrap_or(&no_step);

@@ -1,0 +1,153 @@
+//! The model and partition stages: the bodies and contact points built from
+//! the scene (every rank builds the same, deterministically: METIS runs with
+//! a fixed seed), the METIS parts of each body, and the numbering of the
+//! interface Γ.
+
+use super::*;
+
+/// What the model and partition stages build, on every rank alike.
+pub(crate) struct ModelData {
+    pub bodies: Vec<BodyModel>,
+    pub points: Vec<PointModel>,
+    pub fixed: Vec<FixedPoint>,
+    /// Γ index of every body DOF (usize::MAX off Γ), and the size of Γ.
+    pub gamma_of: Vec<Vec<usize>>,
+    pub n_gamma: usize,
+    /// Owner part of every body node.
+    pub owner_part: Vec<Vec<usize>>,
+    pub specs: Vec<SubdomainSpec>,
+    /// The scale of each load entry of each body at each step.
+    pub scales: Vec<Vec<Vec<f64>>>,
+}
+
+/// Builds the bodies and the contact points, drops redundant constraints,
+/// partitions the bodies over `ranks` (1 on the direct path) and numbers Γ;
+/// notes what a user should know in `messages`.
+pub(crate) fn model_stage(
+    sc: &scene::Scene,
+    ranks: usize,
+    messages: &mut Vec<String>,
+) -> Result<ModelData, SolveError> {
+    let mut bodies = model::build_bodies(sc)?;
+    let (mut points, fixed) = model::build_contacts(sc, &mut bodies, messages)?;
+    messages.extend(model::eliminate_redundant(sc, &mut points));
+    if !fixed.is_empty() {
+        messages.push(format!(
+            "{} slave node(s) have every normal DOF prescribed: their gap is known and they are not contact unknowns",
+            fixed.len()
+        ));
+    }
+    for b in &bodies {
+        if !b.kernel.is_empty() {
+            messages.push(format!(
+                "body \"{}\" is held by contact in {} rigid motion(s): solved with the equilibrium of its rigid modes as a constraint (no artificial spring)",
+                b.name,
+                b.kernel.len()
+            ));
+        }
+    }
+    let (gamma_of, n_gamma, owner_part) = interface_numbering(sc, &mut bodies, ranks)?;
+    let specs = subdomain::subdomain_specs(&bodies);
+    let scales = all_scales(sc, &bodies);
+    Ok(ModelData {
+        bodies,
+        points,
+        fixed,
+        gamma_of,
+        n_gamma,
+        owner_part,
+        specs,
+        scales,
+    })
+}
+
+/// The scale of each load entry of each body at each step.
+pub(crate) fn all_scales(sc: &scene::Scene, bodies: &[BodyModel]) -> Vec<Vec<Vec<f64>>> {
+    sc.step_scales()
+        .iter()
+        .map(|st| bodies.iter().map(|b| b.scales(sc, st)).collect())
+        .collect()
+}
+
+/// How many METIS parts each body gets: its `subdomains` count, and for
+/// `"auto"` bodies the ranks left over, shared in proportion to their cells.
+pub(crate) fn parts_per_body(sc: &scene::Scene, bodies: &[BodyModel], ranks: usize) -> Vec<usize> {
+    let fixed: usize = bodies
+        .iter()
+        .map(|b| match sc.bodies[b.scene_index].subdomains {
+            scene::Subdomains::Count(n) => n,
+            scene::Subdomains::Auto => 0,
+        })
+        .sum();
+    let auto: Vec<usize> = (0..bodies.len())
+        .filter(|&i| sc.bodies[bodies[i].scene_index].subdomains == scene::Subdomains::Auto)
+        .collect();
+    let spare = ranks.saturating_sub(fixed).max(auto.len());
+    let cells: usize = auto.iter().map(|&i| bodies[i].mesh.cells.len()).sum();
+    let mut out: Vec<usize> = bodies
+        .iter()
+        .map(|b| match sc.bodies[b.scene_index].subdomains {
+            scene::Subdomains::Count(n) => n,
+            scene::Subdomains::Auto => 1,
+        })
+        .collect();
+    let mut given = 0;
+    for (k, &i) in auto.iter().enumerate() {
+        let share = if k + 1 == auto.len() {
+            spare - given
+        } else {
+            ((spare as f64 * bodies[i].mesh.cells.len() as f64 / cells.max(1) as f64).round()
+                as usize)
+                .max(1)
+        };
+        out[i] = share.max(1);
+        given += out[i];
+    }
+    out
+}
+
+/// Partitions the bodies and numbers the interface Γ: the free DOFs of the
+/// nodes on contact surfaces or shared between parts, body by body.
+/// Returns (Γ index of every body DOF, size of Γ, owner part of every node).
+pub(crate) fn interface_numbering(
+    sc: &scene::Scene,
+    bodies: &mut [BodyModel],
+    ranks: usize,
+) -> Result<InterfaceNumbering, SolveError> {
+    let counts = parts_per_body(sc, bodies, ranks);
+    let mut gamma_of = Vec::new();
+    let mut owner = Vec::new();
+    let mut n = 0;
+    for (b, &k) in bodies.iter_mut().zip(&counts) {
+        if k > 1 {
+            b.parts = signorini_mesh::partition::partition_cells(&b.mesh, k).map_err(|e| {
+                SolveError::Input(format!("bodies[{}].subdomains: {e}", b.scene_index))
+            })?;
+        }
+        b.n_parts = k;
+        let mut shared = vec![false; b.mesh.n_nodes()];
+        for s in signorini_mesh::partition::shared_nodes(&b.mesh, &b.parts) {
+            shared[s] = true;
+        }
+        let mut own = vec![usize::MAX; b.mesh.n_nodes()];
+        for (c, cell) in b.mesh.cells.iter().enumerate() {
+            for &v in &cell.nodes {
+                own[v] = own[v].min(b.parts[c]);
+            }
+        }
+        let mut g = vec![usize::MAX; b.n_dof];
+        for (d, gd) in g.iter_mut().enumerate() {
+            let node = d / b.mesh.dim;
+            if !b.prescribed[d] && (shared[node] || b.contact_node[node]) {
+                *gd = n;
+                n += 1;
+            }
+        }
+        gamma_of.push(g);
+        owner.push(own);
+    }
+    Ok((gamma_of, n, owner))
+}
+
+/// Γ index of every body DOF, size of Γ, owner part of every body node.
+pub(crate) type InterfaceNumbering = (Vec<Vec<usize>>, usize, Vec<Vec<usize>>);

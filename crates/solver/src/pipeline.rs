@@ -1,0 +1,296 @@
+//! A run as a sequence of named stages (DESIGN.md §2): plan → model and
+//! partition → condense (each rank its subdomains) → root: the interface
+//! problem and its contact solve at every step → recover (each rank its
+//! subdomains) → certify and report. Only this module calls the transport
+//! (gather, broadcast, deal).
+
+use super::*;
+
+/// What a run keeps for its report as it goes.
+pub(crate) struct RunLog {
+    pub t_total: Instant,
+    pub timings: Timings,
+    pub messages: Vec<String>,
+    pub stages: Vec<String>,
+}
+
+/// Per-rank figures for the report.
+#[derive(Serialize, Deserialize, Clone, Default)]
+pub(crate) struct RankFigures {
+    condense_s: f64,
+    recover_s: f64,
+    peak_rss_bytes: u64,
+    bytes_sent: u64,
+    subdomains: usize,
+}
+
+/// What the root keeps of its solve for the report: the step solutions and
+/// the subdomains' condensed data, with the conditioning estimates.
+type RootState = (
+    Vec<StepSolution>,
+    Vec<CondensedData>,
+    conditioning::RootConditioning,
+);
+
+/// Runs a scene on every rank of `comm`. Returns the output on the root,
+/// `None` on the other ranks; an error is returned identically on every rank.
+pub fn run(
+    sc: &scene::Scene,
+    scene_name: &str,
+    opts: &RunOptions,
+    comm: &dyn Transport,
+) -> Result<Option<RunOutput>, SolveError> {
+    let mut log = RunLog {
+        t_total: Instant::now(),
+        timings: Timings::default(),
+        messages: Vec::new(),
+        stages: vec!["mesh".to_string(), "assemble".to_string()],
+    };
+    let plan = plan::plan(sc, opts)?;
+    let condensed_path = plan.path == scene::SolvePath::Condensed;
+    let t = Instant::now();
+    let ranks = if condensed_path { comm.size() } else { 1 };
+    let model = partition::model_stage(sc, ranks, &mut log.messages)?;
+    log.timings.setup = t.elapsed().as_secs_f64();
+    if !condensed_path {
+        return direct_stage(sc, scene_name, &plan, &model, comm, log);
+    }
+    log.stages.push("condense".into());
+    let (local, condensed, condense_s) = condense_stage(comm, &model, &mut log.messages);
+    let gathered = wire(gather(comm, &condensed))?;
+    let t_root = Instant::now();
+    let (answer, root_state) = root_stage(sc, &plan, &model, gathered);
+    let contact_s = t_root.elapsed().as_secs_f64();
+    let answer: Result<RootAnswer, SolveError> =
+        wire(broadcast(comm, comm.is_root().then_some(&answer)))?;
+    let answer = answer?;
+    let t = Instant::now();
+    let recovered = recover_stage(&model, &local, &answer);
+    let figures = RankFigures {
+        condense_s,
+        recover_s: t.elapsed().as_secs_f64(),
+        peak_rss_bytes: signorini_report::peak_rss_bytes(),
+        bytes_sent: comm.bytes_sent(),
+        subdomains: local.len(),
+    };
+    let gathered = wire(gather(comm, &(recovered, figures)))?;
+    let Some(all) = gathered else { return Ok(None) };
+    let Some(state) = root_state else {
+        return Err(SolveError::Internal("root state missing".into()));
+    };
+    log.timings.contact = contact_s;
+    report_stage(
+        sc, scene_name, &plan, &model, comm, log, state, all, &answer,
+    )
+    .map(Some)
+}
+
+/// The direct path on the root (the other ranks have nothing to do).
+fn direct_stage(
+    sc: &scene::Scene,
+    scene_name: &str,
+    plan: &plan::Plan,
+    model: &partition::ModelData,
+    comm: &dyn Transport,
+    mut log: RunLog,
+) -> Result<Option<RunOutput>, SolveError> {
+    if !comm.is_root() {
+        return Ok(None);
+    }
+    log.stages.push("contact".into());
+    let partial = run_direct(
+        sc,
+        &model.bodies,
+        &model.points,
+        &model.fixed,
+        &model.scales,
+        &mut log.timings,
+        &mut log.messages,
+    )?;
+    finish_report(partial, sc, scene_name, plan, model, comm, log, 0, vec![]).map(Some)
+}
+
+type Condensed = (Vec<Subdomain>, Result<Vec<CondensedData>, String>, f64);
+
+/// Condensation, on the rank that owns each subdomain (subdomains dealt to
+/// the ranks by cost): this rank's subdomains, their S_i and F'_i (or the
+/// first error), and the seconds it took.
+fn condense_stage(
+    comm: &dyn Transport,
+    model: &partition::ModelData,
+    messages: &mut Vec<String>,
+) -> Condensed {
+    let specs = &model.specs;
+    let costs: Vec<f64> = specs.iter().map(|s| s.cost()).collect();
+    let owner_rank = deal(&costs, comm.size());
+    if comm.size() > specs.len() && comm.is_root() {
+        messages.push(format!(
+            "{} ranks for {} subdomains: {} ranks idle (use subdomains = \"auto\" to split bodies over every rank)",
+            comm.size(),
+            specs.len(),
+            comm.size() - specs.len()
+        ));
+    }
+    let t = Instant::now();
+    let par = faer::get_global_parallelism();
+    let condense = |i: usize, spec: &SubdomainSpec| {
+        let b = &model.bodies[spec.body];
+        let (gamma, owner) = (&model.gamma_of[spec.body], &model.owner_part[spec.body]);
+        Subdomain::condense(i, spec, b, gamma, owner, par).map_err(|e| {
+            format!(
+                "bodies[{}] \"{}\", subdomain {} (rank {}): {e}",
+                b.scene_index,
+                b.name,
+                spec.part,
+                comm.rank()
+            )
+        })
+    };
+    let mine: Result<Vec<(Subdomain, CondensedData)>, String> = injected_failure(comm).map_or_else(
+        || {
+            specs
+                .iter()
+                .enumerate()
+                .filter(|(i, _)| owner_rank[*i] == comm.rank())
+                .map(|(i, spec)| condense(i, spec))
+                .collect()
+        },
+        Err,
+    );
+    let condense_s = t.elapsed().as_secs_f64();
+    match mine {
+        Ok(v) => {
+            let (a, b): (Vec<_>, Vec<_>) = v.into_iter().unzip();
+            (a, Ok(b), condense_s)
+        }
+        Err(e) => (Vec::new(), Err(e), condense_s),
+    }
+}
+
+/// A failure injected on this rank by SIGNORINI_FAIL_RANK (the failure
+/// test of the MPI path).
+fn injected_failure(comm: &dyn Transport) -> Option<String> {
+    let r = std::env::var("SIGNORINI_FAIL_RANK").ok()?;
+    (r.parse::<usize>().ok() == Some(comm.rank())).then(|| {
+        format!(
+            "failure injected on rank {} (SIGNORINI_FAIL_RANK)",
+            comm.rank()
+        )
+    })
+}
+
+/// The root: the subdomains' condensed data (or the first error of any
+/// rank) to the contact solve on Γ at every step. Other ranks get `None`
+/// from the gather and answer nothing.
+fn root_stage(
+    sc: &scene::Scene,
+    plan: &plan::Plan,
+    model: &partition::ModelData,
+    gathered: Option<Vec<Result<Vec<CondensedData>, String>>>,
+) -> (Result<RootAnswer, SolveError>, Option<RootState>) {
+    let Some(all) = gathered else {
+        return (Err(SolveError::Internal("no answer".into())), None);
+    };
+    let mut data = Vec::new();
+    for r in all {
+        match r {
+            Ok(v) => data.extend(v),
+            Err(e) => return (Err(SolveError::Input(e)), None),
+        }
+    }
+    data.sort_by_key(|d| d.id);
+    let input = RootInput {
+        sc,
+        algorithm: plan.algorithm,
+        bodies: &model.bodies,
+        points: &model.points,
+        fixed: &model.fixed,
+        specs: &model.specs,
+        data: &data,
+        gamma_of: &model.gamma_of,
+        n_gamma: model.n_gamma,
+    };
+    let mut cond = conditioning::RootConditioning::default();
+    match solve_root(&input, &model.scales, &mut cond) {
+        Ok((answer, steps)) => (Ok(answer), Some((steps, data, cond))),
+        Err(e) => (Err(e), None),
+    }
+}
+
+/// Every rank recovers its subdomains' interiors at every step.
+fn recover_stage(
+    model: &partition::ModelData,
+    local: &[Subdomain],
+    answer: &RootAnswer,
+) -> Vec<RecoveredData> {
+    local
+        .iter()
+        .map(|s| {
+            let b = model.specs[s.id].body;
+            let sc_b: Vec<Vec<f64>> = model.scales.iter().map(|st| st[b].clone()).collect();
+            s.recover(&sc_b, &answer.u_gamma)
+        })
+        .collect()
+}
+
+/// The root: the recovered fields of every rank, the certificate per step,
+/// the conditioning and the per-rank statistics, into the report.
+#[allow(clippy::too_many_arguments)]
+fn report_stage(
+    sc: &scene::Scene,
+    scene_name: &str,
+    plan: &plan::Plan,
+    model: &partition::ModelData,
+    comm: &dyn Transport,
+    mut log: RunLog,
+    (steps, data, root_cond): RootState,
+    all: Vec<(Vec<RecoveredData>, RankFigures)>,
+    answer: &RootAnswer,
+) -> Result<RunOutput, SolveError> {
+    log.timings.delassus = steps.iter().map(|st| st.operator_s).sum();
+    let mut recovered: Vec<RecoveredData> = Vec::new();
+    let mut figures = Vec::new();
+    for (r, f) in all {
+        recovered.extend(r);
+        figures.push(f);
+    }
+    recovered.sort_by_key(|r| r.id);
+    log.stages.push("contact".into());
+    log.stages.push("recover".into());
+    log.timings.condense = figures.iter().fold(0.0f64, |a, f| a.max(f.condense_s));
+    log.timings.recover = figures.iter().fold(0.0f64, |a, f| a.max(f.recover_s));
+    let mut partial = finish_condensed(
+        sc,
+        &model.bodies,
+        &model.points,
+        &model.specs,
+        &data,
+        &model.gamma_of,
+        &recovered,
+        steps,
+        &answer.u_gamma,
+        &mut log.messages,
+    )?;
+    partial.conditioning = Some(conditioning::condensed(
+        &data,
+        root_cond,
+        sc.solver.tolerance,
+        &mut log.messages,
+    ));
+    let bytes: u64 = figures.iter().map(|f| f.bytes_sent).sum();
+    let stats: Vec<RankStats> = figures
+        .iter()
+        .enumerate()
+        .map(|(r, f)| RankStats {
+            rank: r,
+            subdomains: f.subdomains,
+            condense_s: f.condense_s,
+            recover_s: f.recover_s,
+            peak_rss_bytes: f.peak_rss_bytes,
+            bytes_sent: f.bytes_sent,
+        })
+        .collect();
+    finish_report(
+        partial, sc, scene_name, plan, model, comm, log, bytes, stats,
+    )
+}
