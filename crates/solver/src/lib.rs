@@ -29,10 +29,10 @@ use std::time::Instant;
 
 use faer::sparse::SparseColMat;
 use faer::Mat;
+use kkt::DirectProblem;
 use serde::{Deserialize, Serialize};
 use signorini_comm::{broadcast, deal, gather, Transport};
 use signorini_condense::{spmv, spmv_with_magnitude, submatrix};
-use kkt::DirectProblem;
 use signorini_contact::equilibrium::nnls;
 use signorini_contact::friction::{
     coulomb_fixed_point, coulomb_status, tresca_projection, tresca_status, FrictionLayout,
