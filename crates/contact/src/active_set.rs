@@ -3,8 +3,9 @@
 //!
 //! Each iteration imposes the equations of the current statuses, solves, and
 //! checks the statuses against the solution; the points whose status is
-//! violated change, and the loop stops when no status changes ("les statuts
-//! se répètent"). What the two uses share lives here:
+//! violated change, and the loop stops when no status changes ("jusqu'à ce
+//! que les mêmes statuts de contact soient obtenus à deux itérations
+//! successives", §3.3). What the two uses share lives here:
 //!
 //! - the iteration with its limit;
 //! - the seen-set of status vectors: a status vector that comes back is a
@@ -60,13 +61,8 @@ pub trait StatusRule {
     /// The solution of one status vector (forces and gaps).
     type Solution: Clone;
 
-    /// Solves the equations the statuses impose; `iteration` counts from 1
-    /// (every call is one iteration).
-    fn solve(
-        &mut self,
-        iteration: usize,
-        statuses: &[Self::Status],
-    ) -> Result<Self::Solution, ContactError>;
+    /// Solves the equations the statuses impose (one call per iteration).
+    fn solve(&mut self, statuses: &[Self::Status]) -> Result<Self::Solution, ContactError>;
 
     /// The violated statuses of `solution` (of iteration `iteration`). The
     /// driver orders them most violated first by a stable sort, so among
@@ -128,24 +124,18 @@ pub fn drive<R: StatusRule>(
     max_iterations: usize,
 ) -> Result<Driven<R::Status, R::Solution>, ContactError> {
     let mut seen: HashSet<Vec<R::Status>> = HashSet::new();
-    let mut single = one_change;
-    let mut cycle_at = None;
-    let mut solution = None;
+    let (mut single, mut cycle_at, mut solution) = (one_change, None, None);
     let mut last: Option<Regular<R::Status, R::Solution>> = None;
-    let mut iterations = 0;
-    let mut stop = Stop::Limit;
+    let (mut iterations, mut stop) = (0, Stop::Limit);
     while iterations < max_iterations {
         iterations += 1;
         seen.insert(statuses.clone());
-        let sol = match rule.solve(iterations, &statuses) {
+        let sol = match rule.solve(&statuses) {
             Ok(v) => v,
             Err(ContactError::Singular(msg)) => {
                 match rule.singular(iterations, &statuses, &mut last) {
                     Some(Fallback::Restart(next)) => statuses = next,
-                    Some(Fallback::OneChange(next)) => {
-                        single = true;
-                        statuses = next;
-                    }
+                    Some(Fallback::OneChange(next)) => (statuses, single) = (next, true),
                     None => return Err(ContactError::Singular(msg)),
                 }
                 continue;
@@ -159,11 +149,7 @@ pub fn drive<R: StatusRule>(
             break;
         }
         changes.sort_by(|a, b| b.2.total_cmp(&a.2));
-        let mut next = statuses.clone();
-        let n_changes = if single { 1 } else { changes.len() };
-        for (p, st, _) in &changes[..n_changes] {
-            next[*p] = st.clone();
-        }
+        let mut next = changed(&statuses, &changes, single);
         if seen.contains(&next) {
             cycle_at.get_or_insert(iterations);
             if single {
@@ -175,8 +161,7 @@ pub fn drive<R: StatusRule>(
             // Flip-flop: fall back to one change per iteration (seed §3.3).
             single = true;
             seen.clear();
-            next = statuses.clone();
-            next[changes[0].0] = changes[0].1.clone();
+            next = changed(&statuses, &changes, true);
         }
         last = Some(Regular {
             statuses: std::mem::replace(&mut statuses, next),
@@ -193,6 +178,17 @@ pub fn drive<R: StatusRule>(
         cycle_at,
         one_change: single,
     })
+}
+
+/// `statuses` after `changes` (most violated first): all of them, or with
+/// `single` only the first.
+fn changed<S: Clone>(statuses: &[S], changes: &[Change<S>], single: bool) -> Vec<S> {
+    let mut next = statuses.to_vec();
+    let n = if single { 1 } else { changes.len() };
+    for (p, st, _) in &changes[..n] {
+        next[*p] = st.clone();
+    }
+    next
 }
 
 /// The tolerances on forces and gaps of a solution (r, g): `tolerance`

@@ -238,11 +238,7 @@ impl StatusRule for FrictionRule<'_> {
     type Status = PointStatus;
     type Solution = (Vec<f64>, Vec<f64>);
 
-    fn solve(
-        &mut self,
-        _: usize,
-        statuses: &[PointStatus],
-    ) -> Result<Self::Solution, ContactError> {
+    fn solve(&mut self, statuses: &[PointStatus]) -> Result<Self::Solution, ContactError> {
         let eqs = equations(self.layout, statuses, &self.thr, self.coulomb_ratio);
         self.problem.solve_equations(&eqs)
     }

@@ -87,7 +87,7 @@ impl StatusRule for Signorini<'_> {
     type Status = bool;
     type Solution = (Vec<f64>, Vec<f64>);
 
-    fn solve(&mut self, _: usize, active: &[bool]) -> Result<Self::Solution, ContactError> {
+    fn solve(&mut self, active: &[bool]) -> Result<Self::Solution, ContactError> {
         let set = active_points(active);
         self.history.push(set.len());
         self.problem.solve_active(&set)
