@@ -25,6 +25,7 @@
 
 use serde::Serialize;
 
+use crate::active_set::{drive, scaled_tolerances, Change, Fallback, Regular, StatusRule, Stop};
 use crate::delassus::{DelassusProblem, VarEquation};
 use crate::lcp::LcpOptions;
 use crate::ContactError;
@@ -219,117 +220,109 @@ fn updates(
     out
 }
 
-/// Status iterations with the thresholds `threshold` (Tresca values, or
-/// μ λ_n of the previous fixed-point iterate); with `coulomb_ratio`, slipping
-/// Coulomb points use λ_t = ±μ λ_n instead (§4.5).
+/// The status rule of friction (seed §4.5, and the Tresca problems of
+/// §4.3) over the [`crate::active_set`] driver: statuses open, stick, slip±,
+/// one equation per force variable ([`equations`]), the changes of
+/// [`updates`].
+struct FrictionRule<'a> {
+    problem: &'a mut DelassusProblem,
+    layout: &'a FrictionLayout,
+    /// Thresholds (Tresca values, or μ λ_n of the previous fixed-point
+    /// iterate; with `coulomb_ratio`, μ λ_n of the last solve).
+    thr: Vec<f64>,
+    coulomb_ratio: bool,
+    opts: &'a FrictionOptions,
+}
+
+impl StatusRule for FrictionRule<'_> {
+    type Status = PointStatus;
+    type Solution = (Vec<f64>, Vec<f64>);
+
+    fn solve(&mut self, statuses: &[PointStatus]) -> Result<Self::Solution, ContactError> {
+        let eqs = equations(self.layout, statuses, &self.thr, self.coulomb_ratio);
+        self.problem.solve_equations(&eqs)
+    }
+
+    fn violations(
+        &mut self,
+        _: usize,
+        statuses: &[PointStatus],
+        (r, g): &Self::Solution,
+    ) -> Result<Vec<Change<PointStatus>>, ContactError> {
+        if self.coulomb_ratio {
+            self.thr = thresholds_from(self.layout, r);
+        }
+        let o = self.opts;
+        let (tol_f, tol_g) = scaled_tolerances(o.tolerance, o.force_scale, o.gap_scale, r, g);
+        Ok(updates(
+            self.layout,
+            statuses,
+            r,
+            g,
+            &self.thr,
+            tol_f,
+            tol_g,
+        ))
+    }
+
+    /// Nothing holds a friction-held body: go back to the last regular
+    /// statuses and make their most loaded contact point not yet tried stick
+    /// (one stick point holds the tangential motion).
+    fn singular(
+        &mut self,
+        _: usize,
+        _: &[PointStatus],
+        last: &mut Option<Regular<PointStatus, Self::Solution>>,
+    ) -> Option<Fallback<PointStatus>> {
+        let regular = last.as_mut()?;
+        let (prev, prev_r) = (&regular.statuses, &regular.solution.0);
+        let p = (0..prev.len())
+            .filter(|&p| {
+                prev[p] != PointStatus::Open
+                    && self.layout.tangent_row[p].is_some()
+                    && !regular.tried.contains(&p)
+            })
+            .max_by(|&a, &b| prev_r[a].total_cmp(&prev_r[b]))?;
+        regular.tried.push(p);
+        let mut next = prev.clone();
+        next[p] = PointStatus::Stick;
+        Some(Fallback::OneChange(next))
+    }
+}
+
+/// Status iterations with the thresholds `thr` (Tresca values, or μ λ_n of
+/// the previous fixed-point iterate); with `coulomb_ratio`, slipping Coulomb
+/// points use λ_t = ±μ λ_n instead (§4.5).
 fn status_loop(
     problem: &mut DelassusProblem,
     layout: &FrictionLayout,
     run: &mut Run,
-    threshold: &dyn Fn(&[f64]) -> Vec<f64>,
+    thr: Vec<f64>,
     coulomb_ratio: bool,
     opts: &FrictionOptions,
 ) -> Result<(bool, Vec<f64>, Vec<f64>, String), ContactError> {
-    let Run {
-        statuses,
-        iterations,
-        cycle,
-        ..
-    } = run;
-    let mut seen = std::collections::HashSet::new();
-    let mut single = false;
-    let mut thr = threshold(&vec![0.0; statuses.len()]);
-    let mut last = None;
-    // The last statuses that gave a regular system, their forces, and the
-    // points already made to stick from them: when a change leaves a
-    // friction-held body unheld (a singular system), the method goes back to
-    // those statuses and makes their most loaded point not yet tried stick.
-    let mut fallback: Option<(Vec<PointStatus>, Vec<f64>, Vec<usize>)> = None;
-    for _ in 0..opts.max_iterations {
-        *iterations += 1;
-        seen.insert(statuses.clone());
-        let eqs = equations(layout, statuses, &thr, coulomb_ratio);
-        let (r, g) = match problem.solve_equations(&eqs) {
-            Ok(v) => v,
-            Err(ContactError::Singular(msg)) => {
-                // Nothing holds a friction-held body: go back to the last
-                // regular statuses and make their most loaded contact point
-                // stick (one stick point holds the tangential motion).
-                let Some((prev, prev_r, tried)) = fallback.as_mut() else {
-                    return Err(ContactError::Singular(msg));
-                };
-                let candidate = (0..prev.len())
-                    .filter(|&p| {
-                        prev[p] != PointStatus::Open
-                            && layout.tangent_row[p].is_some()
-                            && !tried.contains(&p)
-                    })
-                    .max_by(|&a, &b| prev_r[a].total_cmp(&prev_r[b]));
-                let Some(p) = candidate else {
-                    return Err(ContactError::Singular(msg));
-                };
-                tried.push(p);
-                let mut next = prev.clone();
-                next[p] = PointStatus::Stick;
-                single = true;
-                *statuses = next;
-                continue;
-            }
-            Err(e) => return Err(e),
-        };
-        if coulomb_ratio {
-            thr = threshold(&r);
-        }
-        let lmax = r.iter().fold(0.0f64, |a, v| a.max(v.abs()));
-        let gmax = g.iter().fold(0.0f64, |a, v| a.max(v.abs()));
-        let tol_f = opts.tolerance * opts.force_scale.max(lmax);
-        let tol_g = opts.tolerance * opts.gap_scale.max(gmax);
-        let mut ch = updates(layout, statuses, &r, &g, &thr, tol_f, tol_g);
-        if ch.is_empty() {
-            return Ok((
-                true,
-                r,
-                g,
-                format!("statuses repeated after {} status solves", iterations),
-            ));
-        }
-        ch.sort_by(|a, b| b.2.total_cmp(&a.2));
-        fallback = Some((statuses.clone(), r.clone(), Vec::new()));
-        if single {
-            ch.truncate(1);
-        }
-        let mut next = statuses.clone();
-        for &(p, st, _) in &ch {
-            next[p] = st;
-        }
-        if seen.contains(&next) {
-            *cycle = true;
-            if single {
-                return Ok((
-                    false,
-                    r,
-                    g,
-                    "cycling even with one status change per iteration".into(),
-                ));
-            }
-            single = true;
-            seen.clear();
-            next = statuses.clone();
-            next[ch[0].0] = ch[0].1;
-        }
-        *statuses = next;
-        last = Some((r, g));
-    }
-    let (r, g) = last.unwrap_or_default();
-    Ok((
-        false,
-        r,
-        g,
-        format!(
+    let mut rule = FrictionRule {
+        problem,
+        layout,
+        thr,
+        coulomb_ratio,
+        opts,
+    };
+    let initial = std::mem::take(&mut run.statuses);
+    let out = drive(&mut rule, initial, false, opts.max_iterations)?;
+    run.statuses = out.statuses;
+    run.iterations += out.iterations;
+    run.cycle |= out.cycle_at.is_some();
+    let reason = match out.stop {
+        Stop::Converged => format!("statuses repeated after {} status solves", run.iterations),
+        Stop::Cycling => "cycling even with one status change per iteration".into(),
+        Stop::Limit => format!(
             "iteration limit {} reached with statuses still changing",
             opts.max_iterations
         ),
-    ))
+    };
+    let (r, g) = out.solution.unwrap_or_default();
+    Ok((out.stop == Stop::Converged, r, g, reason))
 }
 
 fn thresholds_from(layout: &FrictionLayout, r: &[f64]) -> Vec<f64> {
@@ -408,15 +401,13 @@ fn fixed_thresholds(
     opts: &FrictionOptions,
 ) -> Result<FrictionOutcome, ContactError> {
     let mut run = Run::new(initial);
-    let threshold = |r: &[f64]| {
-        if coulomb_ratio {
-            thresholds_from(layout, r)
-        } else {
-            thresholds.clone()
-        }
+    let thresholds = if coulomb_ratio {
+        thresholds_from(layout, &vec![0.0; run.statuses.len()])
+    } else {
+        thresholds
     };
     let (converged, forces, gaps, reason) =
-        status_loop(problem, layout, &mut run, &threshold, coulomb_ratio, opts)?;
+        status_loop(problem, layout, &mut run, thresholds, coulomb_ratio, opts)?;
     Ok(run.finish(converged, forces, gaps, reason))
 }
 
@@ -558,7 +549,7 @@ fn threshold_fixed_point(
     for outer in 0..opts.max_fixed_point {
         let thr = threshold(&forces, &gaps);
         let (mut conv, mut r, mut g, mut reason) =
-            status_loop(problem, layout, &mut run, &|_| thr.clone(), false, opts)?;
+            status_loop(problem, layout, &mut run, thr.clone(), false, opts)?;
         if !conv && problem.n_kernel() == 0 {
             // The status method cycles on some Tresca problems (large μ):
             // the same problem as a convex box QP always has its solution.
@@ -617,8 +608,7 @@ pub fn coulomb_fixed_point(
         Some(f) => (f.to_vec(), vec![0.0; f.len()]),
         None => {
             let inf = vec![f64::INFINITY; m];
-            let (_, r, g, _) =
-                status_loop(problem, layout, &mut run, &|_| inf.clone(), false, opts)?;
+            let (_, r, g, _) = status_loop(problem, layout, &mut run, inf, false, opts)?;
             (r, g)
         }
     };
@@ -651,7 +641,7 @@ pub fn norton_hoff(
     let m = initial.len();
     let mut run = Run::new(initial);
     let inf = vec![f64::INFINITY; m];
-    let (_, r, g, _) = status_loop(problem, layout, &mut run, &|_| inf.clone(), false, opts)?;
+    let (_, r, g, _) = status_loop(problem, layout, &mut run, inf, false, opts)?;
     let s_min = 1e-14 * opts.gap_scale.max(f64::MIN_POSITIVE);
     let law = |r: &[f64], g: &[f64], p: usize| -> Option<f64> {
         let (t, (mu, rho)) = (layout.tangent_row[p]?, mu_rho[p]?);

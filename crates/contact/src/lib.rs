@@ -8,6 +8,7 @@
 //! compressive normal force on the slave (the seed's F_n = −λ ≤ 0, §2.1);
 //! complementarity λ g = 0.
 
+pub mod active_set;
 pub mod augmented_lagrangian;
 pub mod delassus;
 pub mod equilibrium;

@@ -9,15 +9,16 @@
 //! ([`StatusVariant::Single`]); changing all at once ([`StatusVariant::All`])
 //! is faster in practice but may flip-flop at the edge of a coarse contact
 //! zone. Cycling is detected (an active set seen before) and reported; the
-//! `All` variant then falls back to `Single`.
+//! `All` variant then falls back to `Single`. The loop itself (iterations,
+//! seen-set, fallbacks, stopping reasons) is the driver of
+//! [`crate::active_set`]; this module is its rule for normal contact.
 //!
 //! The linear solve of step 2 is abstracted by [`ActiveSetSolve`]: the
 //! condensed path solves with the Delassus operator on the forces
 //! ([`crate::DelassusProblem`]), the direct path refactorises the whole
 //! sparse stiffness with the active constraints ([`crate::direct`]).
 
-use std::collections::HashSet;
-
+use crate::active_set::{drive, scaled_tolerances, Change, Fallback, Regular, StatusRule, Stop};
 use crate::ContactError;
 
 /// Solves the equality-constrained problem for a given active set.
@@ -72,154 +73,132 @@ pub struct StatusOutcome {
     pub variant_used: StatusVariant,
 }
 
+/// The rule of seed §3.3 over the [`crate::active_set`] driver: a point's
+/// status is whether it is active (g_p = 0 imposed); an active point in
+/// tension is released, an inactive point that penetrates is imposed.
+struct Signorini<'a> {
+    problem: &'a mut dyn ActiveSetSolve,
+    opts: &'a StatusOptions,
+    /// Size of the active set at each iteration.
+    history: Vec<usize>,
+}
+
+impl StatusRule for Signorini<'_> {
+    type Status = bool;
+    type Solution = (Vec<f64>, Vec<f64>);
+
+    fn solve(&mut self, active: &[bool]) -> Result<Self::Solution, ContactError> {
+        let set = active_points(active);
+        self.history.push(set.len());
+        self.problem.solve_active(&set)
+    }
+
+    fn violations(
+        &mut self,
+        iteration: usize,
+        active: &[bool],
+        (lambda, gap): &Self::Solution,
+    ) -> Result<Vec<Change<bool>>, ContactError> {
+        if lambda.iter().chain(gap).any(|v| !v.is_finite()) {
+            return Err(ContactError::Singular(format!(
+                "non-finite forces or gaps at status iteration {iteration} with {} active points",
+                active_points(active).len()
+            )));
+        }
+        let o = self.opts;
+        let (tol_f, tol_g) =
+            scaled_tolerances(o.tolerance, o.force_scale, o.gap_scale, lambda, gap);
+        // Violations, scaled to compare forces with gaps; listed from the
+        // last point so that among equal violations the last point changes
+        // first.
+        let mut changes = Vec::new();
+        for p in (0..active.len()).rev() {
+            if active[p] && lambda[p] < -tol_f {
+                changes.push((p, false, -lambda[p] / tol_f.max(f64::MIN_POSITIVE)));
+            } else if !active[p] && gap[p] < -tol_g {
+                changes.push((p, true, -gap[p] / tol_g.max(f64::MIN_POSITIVE)));
+            }
+        }
+        Ok(changes)
+    }
+
+    /// A singular first solve (the initial set cannot hold a floating body)
+    /// starts again from every point active. Later, when a release makes the
+    /// system singular (a floating body no longer held), the method goes
+    /// back to the last regular set and only imposes the penetrating points
+    /// it left out, once.
+    fn singular(
+        &mut self,
+        iteration: usize,
+        active: &[bool],
+        last: &mut Option<Regular<bool, Self::Solution>>,
+    ) -> Option<Fallback<bool>> {
+        match last.take() {
+            None if iteration == 1 && active.contains(&false) => {
+                Some(Fallback::Restart(vec![true; active.len()]))
+            }
+            Some(regular) => {
+                let mut next = regular.statuses;
+                let mut penetrating = regular.changes.iter().filter(|c| c.1).peekable();
+                penetrating.peek()?;
+                for &(p, _, _) in penetrating {
+                    next[p] = true;
+                }
+                Some(Fallback::OneChange(next))
+            }
+            None => None,
+        }
+    }
+}
+
+fn active_points(active: &[bool]) -> Vec<usize> {
+    (0..active.len()).filter(|&p| active[p]).collect()
+}
+
 /// Runs the status method of seed §3.3 on `problem`.
 pub fn status_method(
     problem: &mut dyn ActiveSetSolve,
     opts: &StatusOptions,
 ) -> Result<StatusOutcome, ContactError> {
     let m = problem.n_points();
-    let mut active: Vec<usize> = opts
-        .initial_active
-        .clone()
-        .unwrap_or_else(|| (0..m).collect());
-    let mut variant = opts.variant;
-    let mut seen: HashSet<Vec<usize>> = HashSet::new();
-    let mut history = Vec::new();
-    let mut cycle_at = None;
-    let mut iterations = 0;
-    let mut lambda = vec![0.0; m];
-    let mut gap = vec![0.0; m];
-    let mut reason = String::new();
-    let mut converged = false;
-    // The last active set that gave a regular system, and the penetrating
-    // points it left out: the fallback when a release makes the system
-    // singular (a floating body no longer held).
-    let mut last_regular: Option<(Vec<usize>, Vec<usize>)> = None;
-    while iterations < opts.max_iterations {
-        iterations += 1;
-        history.push(active.len());
-        seen.insert(active.clone());
-        let (l, g) = match problem.solve_active(&active) {
-            Ok(v) => v,
-            Err(ContactError::Singular(msg)) => {
-                match last_regular.take() {
-                    // First solve: start again from every point active.
-                    None if active.len() < m && iterations == 1 => {
-                        active = (0..m).collect();
-                        continue;
-                    }
-                    // Keep the last regular set and only impose the penetrating points.
-                    Some((prev, penetrating)) if !penetrating.is_empty() => {
-                        let mut next = prev;
-                        next.extend(penetrating);
-                        next.sort_unstable();
-                        next.dedup();
-                        variant = StatusVariant::Single;
-                        active = next;
-                        continue;
-                    }
-                    _ => return Err(ContactError::Singular(msg)),
-                }
-            }
-            Err(e) => return Err(e),
-        };
-        lambda = l;
-        gap = g;
-        if lambda.iter().chain(&gap).any(|v| !v.is_finite()) {
-            return Err(ContactError::Singular(format!(
-                "non-finite forces or gaps at status iteration {iterations} with {} active points",
-                active.len()
-            )));
-        }
-        let lmax = lambda.iter().fold(0.0f64, |a, v| a.max(v.abs()));
-        let gmax = gap.iter().fold(0.0f64, |a, v| a.max(v.abs()));
-        let tol_f = opts.tolerance * opts.force_scale.max(lmax);
-        let tol_g = opts.tolerance * opts.gap_scale.max(gmax);
-        let mut is_active = vec![false; m];
-        for &p in &active {
-            is_active[p] = true;
-        }
-        // Violations, scaled to compare forces with gaps.
-        let mut changes: Vec<(usize, f64)> = Vec::new();
-        for p in 0..m {
-            if is_active[p] && lambda[p] < -tol_f {
-                changes.push((p, -lambda[p] / tol_f.max(f64::MIN_POSITIVE)));
-            } else if !is_active[p] && gap[p] < -tol_g {
-                changes.push((p, -gap[p] / tol_g.max(f64::MIN_POSITIVE)));
-            }
-        }
-        last_regular = Some((
-            active.clone(),
-            changes
-                .iter()
-                .map(|c| c.0)
-                .filter(|&p| !is_active[p])
-                .collect(),
-        ));
-        if changes.is_empty() {
-            converged = true;
-            reason = format!("statuses repeated after {iterations} iterations");
-            break;
-        }
-        let to_change: Vec<usize> = match variant {
-            StatusVariant::All => changes.iter().map(|c| c.0).collect(),
-            StatusVariant::Single => {
-                let worst = changes
-                    .iter()
-                    .max_by(|a, b| a.1.total_cmp(&b.1))
-                    .map(|c| c.0)
-                    .into_iter()
-                    .collect();
-                worst
-            }
-        };
-        for p in to_change {
-            is_active[p] = !is_active[p];
-        }
-        let next: Vec<usize> = (0..m).filter(|&p| is_active[p]).collect();
-        if seen.contains(&next) {
-            cycle_at.get_or_insert(iterations);
-            if variant == StatusVariant::All {
-                // Flip-flop: fall back to one change per iteration (seed §3.3).
-                variant = StatusVariant::Single;
-                seen.clear();
-                let worst = changes
-                    .iter()
-                    .max_by(|a, b| a.1.total_cmp(&b.1))
-                    .map(|c| c.0)
-                    .unwrap_or(0);
-                let mut is_active = vec![false; m];
-                for &p in &active {
-                    is_active[p] = true;
-                }
-                is_active[worst] = !is_active[worst];
-                active = (0..m).filter(|&p| is_active[p]).collect();
-                continue;
-            }
-            reason = format!(
-                "cycling: the active set of iteration {iterations} repeats an earlier one even with one status change per iteration (the contact zone is probably meshed too coarsely, seed §3.3)"
-            );
-            break;
-        }
-        active = next;
+    let mut initial = vec![opts.initial_active.is_none(); m];
+    for &p in opts.initial_active.iter().flatten() {
+        initial[p] = true;
     }
-    if !converged && reason.is_empty() {
-        reason = format!(
+    let mut rule = Signorini {
+        problem,
+        opts,
+        history: Vec::new(),
+    };
+    let single = opts.variant == StatusVariant::Single;
+    let out = drive(&mut rule, initial, single, opts.max_iterations)?;
+    let iterations = out.iterations;
+    let stopping_reason = match out.stop {
+        Stop::Converged => format!("statuses repeated after {iterations} iterations"),
+        Stop::Cycling => format!(
+            "cycling: the active set of iteration {iterations} repeats an earlier one even with one status change per iteration (the contact zone is probably meshed too coarsely, seed §3.3)"
+        ),
+        Stop::Limit => format!(
             "iteration limit {} reached with statuses still changing",
             opts.max_iterations
-        );
-    }
+        ),
+    };
+    let (lambda, gap) = out.solution.unwrap_or((vec![0.0; m], vec![0.0; m]));
     Ok(StatusOutcome {
-        converged,
+        converged: out.stop == Stop::Converged,
         iterations,
         solves: iterations,
-        active,
+        active: active_points(&out.statuses),
         lambda,
         gap,
-        stopping_reason: reason,
-        active_history: history,
-        cycle_detected_at: cycle_at,
-        variant_used: variant,
+        stopping_reason,
+        active_history: rule.history,
+        cycle_detected_at: out.cycle_at,
+        variant_used: if out.one_change {
+            StatusVariant::Single
+        } else {
+            StatusVariant::All
+        },
     })
 }
 
