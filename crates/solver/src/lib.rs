@@ -14,6 +14,7 @@
 pub mod bench;
 mod conditioning;
 pub mod local;
+pub mod memory;
 pub mod model;
 pub mod stiff;
 pub mod subdomain;
@@ -276,6 +277,12 @@ pub fn run(
             }
         }
     }
+    // Refuse a scene that cannot fit before building anything (the root's
+    // verdict on every rank: the machines' memory may differ).
+    let fits = comm
+        .is_root()
+        .then(|| memory::check(sc, path, comm.size()).map(|_| ()));
+    wire(broadcast(comm, fits.as_ref()))??;
     let mut messages = Vec::new();
     let mut stages = vec!["mesh".to_string(), "assemble".to_string()];
 
@@ -1858,6 +1865,7 @@ fn finish_report(
             peak_rss_bytes: signorini_report::peak_rss_bytes(),
             dense_interface_bytes: partial.dense_interface_bytes,
             factor_bytes: partial.factor_bytes,
+            estimated_bytes: memory::estimate(sc, path, comm.size()).bytes(),
         },
         communication_bytes,
         rank_timings_s: signorini_report::RankTimings::of(&rank_stats),
