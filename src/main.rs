@@ -46,9 +46,22 @@ enum Command {
         /// Output directory, overriding [output] directory (default out/<scene stem>).
         #[arg(long)]
         out: Option<PathBuf>,
+        /// Memory the run may use, e.g. 64G, 500M (powers of 1024), instead
+        /// of the machine's available memory: a scene estimated to need more
+        /// is refused before anything is built.
+        #[arg(long, value_name = "SIZE", value_parser = memory_size)]
+        max_memory: Option<u64>,
     },
-    /// Parse and validate a scene, writing nothing.
-    Check { scene: PathBuf },
+    /// Parse and validate a scene and estimate its memory, writing nothing.
+    Check {
+        scene: PathBuf,
+        /// The path whose memory to estimate (default: the scene's).
+        #[arg(long)]
+        path: Option<SolvePath>,
+        /// As for `run`: the memory the run may use.
+        #[arg(long, value_name = "SIZE", value_parser = memory_size)]
+        max_memory: Option<u64>,
+    },
     /// Solve a stand-alone condensed problem LCP(W, q) given as JSON
     /// {"W": [[...]], "q": [...]} or NumPy .npz (arrays W, q); prints one JSON
     /// line of timings and residuals.
@@ -96,13 +109,61 @@ enum Command {
         /// Output directory.
         #[arg(long, default_value = "out/bench")]
         out: PathBuf,
+        /// As for `run`: the memory each run may use.
+        #[arg(long, value_name = "SIZE", value_parser = memory_size)]
+        max_memory: Option<u64>,
     },
 }
 
+fn memory_size(text: &str) -> Result<u64, String> {
+    signorini_solver::memory::parse_size(text)
+}
+
+/// A panic is a bug: one line on stderr and exit 3, never a backtrace (set
+/// SIGNORINI_BACKTRACE=1 for Rust's report). Under MPI the transport's hook
+/// runs this one and then aborts every rank (crates/comm), so that no rank
+/// waits forever for a dead one.
+fn install_panic_hook() {
+    let default_hook = std::panic::take_hook();
+    std::panic::set_hook(Box::new(move |info| {
+        if std::env::var_os("SIGNORINI_BACKTRACE").is_some() {
+            default_hook(info);
+        }
+        let what = info
+            .payload()
+            .downcast_ref::<&str>()
+            .map(|s| s.to_string())
+            .or_else(|| info.payload().downcast_ref::<String>().cloned())
+            .unwrap_or_else(|| "a panic".to_string());
+        let what = what.lines().next().unwrap_or_default();
+        let what: String = what.chars().take(300).collect();
+        let place = info
+            .location()
+            .map(|l| format!(" at {}:{}", l.file(), l.line()))
+            .unwrap_or_default();
+        eprintln!("error: internal error: {what}{place} (please report)");
+    }));
+}
+
 fn main() -> ExitCode {
+    install_panic_hook();
     let cli = Cli::parse();
+    // The hook has printed the line; a panic anywhere (in faer's threads too,
+    // which hand it to the caller) ends here with exit 3.
+    std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| command(cli)))
+        .unwrap_or(ExitCode::from(3))
+}
+
+fn command(cli: Cli) -> ExitCode {
     match cli.command {
-        Command::Check { scene } => check(&scene),
+        Command::Check {
+            scene,
+            path,
+            max_memory,
+        } => {
+            signorini_solver::memory::set_budget(max_memory);
+            check(&scene, path)
+        }
         Command::Local {
             problem,
             method,
@@ -136,15 +197,27 @@ fn main() -> ExitCode {
             methods,
             paths,
             out,
+            max_memory,
             ..
-        } => bench(&scenes, &levels, &subdomains, &methods, &paths, &out),
+        } => {
+            signorini_solver::memory::set_budget(max_memory);
+            bench(&scenes, &levels, &subdomains, &methods, &paths, &out)
+        }
         Command::Run {
             scene,
             method,
             path,
             out,
+            max_memory,
         } => {
+            signorini_solver::memory::set_budget(max_memory);
             let comm = transport();
+            // For the tests of the panic path: a panic on that rank.
+            if let Ok(r) = std::env::var("SIGNORINI_INJECT_PANIC") {
+                if r.parse::<usize>().ok() == Some(comm.rank()) {
+                    panic!("panic injected on rank {r} (SIGNORINI_INJECT_PANIC)");
+                }
+            }
             run(&scene, RunOptions { method, path }, out, comm.as_ref())
         }
     }
@@ -433,22 +506,36 @@ fn local(
     }
 }
 
-fn check(path: &Path) -> ExitCode {
-    match signorini_scene::load(path) {
-        Ok(sc) => {
-            println!(
-                "{}: valid scene \"{}\" ({} bodies, {} boundary conditions, {} contacts, {} steps)",
-                path.display(),
-                sc.title,
-                sc.bodies.len(),
-                sc.boundary.len(),
-                sc.contact.len(),
-                sc.step_scales().len()
-            );
-            ExitCode::SUCCESS
-        }
-        Err(e) => fail(1, &e.to_string()),
-    }
+fn check(path: &Path, solve_path: Option<SolvePath>) -> ExitCode {
+    use signorini_solver::memory;
+    let sc = match signorini_scene::load(path) {
+        Ok(sc) => sc,
+        Err(e) => return fail(1, &e.to_string()),
+    };
+    let solve_path = solve_path.unwrap_or(sc.solver.path);
+    // The memory of one process (under mpirun, `run` estimates for its ranks).
+    let estimate = match memory::check(&sc, solve_path, 1) {
+        Ok(e) => e,
+        Err(e) => return fail(1, &e.to_string()),
+    };
+    println!(
+        "{}: valid scene \"{}\" ({} bodies, {} boundary conditions, {} contacts, {} steps)",
+        path.display(),
+        sc.title,
+        sc.bodies.len(),
+        sc.boundary.len(),
+        sc.contact.len(),
+        sc.step_scales().len()
+    );
+    let budget = memory::budget()
+        .map(|b| format!("; {} {}", memory::human(b.bytes as f64), b.source))
+        .unwrap_or_default();
+    println!(
+        "  memory ({} path): {}{budget}",
+        solve_path.as_str(),
+        estimate.describe()
+    );
+    ExitCode::SUCCESS
 }
 
 fn run(path: &Path, opts: RunOptions, out: Option<PathBuf>, comm: &dyn Transport) -> ExitCode {

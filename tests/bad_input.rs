@@ -404,3 +404,665 @@ fn gmsh_file_that_does_not_exist() {
     let run = run_scene("gmsh_missing_file", Some(&scene), &[]);
     run.assert_bad_input(&["bodies[0].mesh", "nowhere.msh"]);
 }
+
+// ============================================================================
+// Issue 12, items 5 and 6: no input crashes, hangs or allocates without a
+// check, and every message names the key.
+// ============================================================================
+
+use std::process::Stdio;
+use std::time::{Duration, Instant};
+
+/// The mesh line of `BLOCK_ON_PLANE`, to swap generators in.
+const BLOCK_MESH: &str = "mesh = { generator = \"rectangle\", origin = [0.0, 0.0], size = [1.0, 0.5], divisions = [4, 2] }";
+
+/// `BLOCK_ON_PLANE` with every `(from, to)` replaced (each `from` must be in
+/// it, in turn).
+fn block_with_all(edits: &[(&str, &str)]) -> String {
+    edits
+        .iter()
+        .fold(BLOCK_ON_PLANE.to_string(), |s, (from, to)| {
+            assert!(s.contains(from), "test bug: {from:?} is not in the scene");
+            s.replacen(from, to, 1)
+        })
+}
+
+/// `BLOCK_ON_PLANE` with another mesh (a generator table).
+fn block_meshed(mesh: &str) -> String {
+    block_with(BLOCK_MESH, &format!("mesh = {mesh}"))
+}
+
+/// A 3D box resting on a rigid plane, pinned sideways at two corners, pressed
+/// on its top: the 3D base of the sweep (it runs fine as it is).
+const BOX_ON_PLANE: &str = r#"dimension = 3
+
+[[materials]]
+name = "steel"
+young = 1.0
+poisson = 0.3
+
+[[bodies]]
+name = "box"
+material = "steel"
+mesh = { generator = "box", origin = [0.0, 0.0, 0.0], size = [1.0, 1.0, 0.5], divisions = [2, 2, 1] }
+
+[[bodies]]
+name = "ground"
+rigid = { shape = "plane", point = [0.0, 0.0, 0.0], normal = [0.0, 0.0, 1.0] }
+
+[[boundary]]
+body = "box"
+surface = "xmin"
+displacement = { x = 0.0 }
+
+[[boundary]]
+body = "box"
+surface = "ymin"
+displacement = { y = 0.0 }
+
+[[boundary]]
+body = "box"
+surface = "zmax"
+traction = [0.0, 0.0, -1.0]
+
+[[contact]]
+name = "box-ground"
+slave = { body = "box", surface = "zmin" }
+master = { body = "ground" }
+"#;
+
+fn box_meshed(mesh: &str) -> String {
+    let from = "mesh = { generator = \"box\", origin = [0.0, 0.0, 0.0], size = [1.0, 1.0, 0.5], divisions = [2, 2, 1] }";
+    assert!(BOX_ON_PLANE.contains(from));
+    BOX_ON_PLANE.replacen(from, &format!("mesh = {mesh}"), 1)
+}
+
+/// One entry of the sweep: a scene (and files beside it), extra arguments,
+/// and what its one-line error must contain.
+struct Bad {
+    name: &'static str,
+    scene: String,
+    needles: Vec<&'static str>,
+    args: Vec<&'static str>,
+    files: Vec<(&'static str, Vec<u8>)>,
+}
+
+fn bad(name: &'static str, scene: String, needles: &[&'static str]) -> Bad {
+    Bad {
+        name,
+        scene,
+        needles: needles.to_vec(),
+        args: Vec::new(),
+        files: Vec::new(),
+    }
+}
+
+impl Bad {
+    fn args(mut self, args: &[&'static str]) -> Bad {
+        self.args = args.to_vec();
+        self
+    }
+
+    fn file(mut self, name: &'static str, bytes: Vec<u8>) -> Bad {
+        self.files.push((name, bytes));
+        self
+    }
+}
+
+/// Runs the binary with a time limit (a hang is a failure, not a stuck
+/// test), and with `RUST_BACKTRACE=1`, so that a backtrace would show.
+fn run_limited(mut cmd: Command, limit: Duration) -> (Output, Duration) {
+    let t = Instant::now();
+    let mut child = cmd
+        .env("RUST_BACKTRACE", "1")
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("cannot start the signorini binary");
+    loop {
+        if child.try_wait().expect("wait").is_some() {
+            return (child.wait_with_output().expect("output"), t.elapsed());
+        }
+        if t.elapsed() > limit {
+            let _ = child.kill();
+            let out = child.wait_with_output().expect("output");
+            return (out, t.elapsed());
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    }
+}
+
+/// What is wrong with the answer to a bad scene, if anything: exit 1 within
+/// a few seconds, a few lines on stderr naming the entry (every needle), no
+/// panic or backtrace, nothing written.
+fn judge(dir: &Path, output: &Output, elapsed: Duration, needles: &[&str]) -> Option<String> {
+    let err = String::from_utf8_lossy(&output.stderr);
+    let mut wrong = Vec::new();
+    if output.status.code() != Some(1) {
+        wrong.push(format!(
+            "exit status {:?}, expected 1",
+            output.status.code()
+        ));
+    }
+    if elapsed > Duration::from_secs(10) {
+        wrong.push(format!("took {elapsed:?}"));
+    }
+    let lines = err.lines().count();
+    if err.trim().is_empty() || lines > 6 || err.len() > 800 {
+        wrong.push(format!("{lines} lines, {} characters on stderr", err.len()));
+    }
+    for word in [
+        "panicked",
+        "backtrace",
+        "internal error",
+        "memory allocation",
+    ] {
+        if err.contains(word) {
+            wrong.push(format!("stderr mentions {word:?}"));
+        }
+    }
+    for n in needles {
+        if !err.contains(n) {
+            wrong.push(format!("stderr does not mention {n:?}"));
+        }
+    }
+    if dir.join("out").exists() {
+        wrong.push("the output directory was created".into());
+    }
+    (!wrong.is_empty()).then(|| {
+        format!(
+            "{}\n--- stderr ---\n{}",
+            wrong.join("; "),
+            err.chars().take(1500).collect::<String>()
+        )
+    })
+}
+
+/// A Gmsh 2.2 file of two triangles with physical names, valid as it is.
+const TWO_TRIANGLES_MSH: &str = "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$PhysicalNames\n2\n1 1 \"bottom\"\n2 2 \"block\"\n$EndPhysicalNames\n$Nodes\n4\n1 0 0 0\n2 1 0 0\n3 1 1 0\n4 0 1 0\n$EndNodes\n$Elements\n3\n1 1 2 1 1 1 2\n2 2 2 2 1 1 2 3\n3 2 2 2 1 1 3 4\n$EndElements\n";
+
+fn sweep() -> Vec<Bad> {
+    let half = |rest: &str| {
+        block_meshed(&format!(
+            "{{ generator = \"half_disk\", center = [0.0, 1.0], radius = 1.0, {rest} }}"
+        ))
+    };
+    let quarter = |rest: &str| {
+        block_with_all(&[
+            ("model = \"plane_strain\"", "model = \"axisymmetric\""),
+            (
+                BLOCK_MESH,
+                &format!(
+                    "mesh = {{ generator = \"quarter_disk\", center = [0.0, 1.0], radius = 1.0, {rest} }}"
+                ),
+            ),
+        ])
+    };
+    let hemisphere = |rest: &str| {
+        box_meshed(&format!(
+            "{{ generator = \"hemisphere\", center = [0.0, 0.0, 1.0], radius = 1.0, {rest} }}"
+        ))
+    };
+    let boxed = |divisions: &str| {
+        box_meshed(&format!(
+            "{{ generator = \"box\", origin = [0.0, 0.0, 0.0], size = [1.0, 1.0, 0.5], divisions = {divisions} }}"
+        ))
+    };
+    let gmsh = || block_with(BLOCK_MESH, "mesh = { file = \"part.msh\" }");
+    let msh = TWO_TRIANGLES_MSH.as_bytes();
+    let many_steps = format!(
+        "steps = [{}]\n{BLOCK_ON_PLANE}",
+        vec!["{ scale = { press = 1.0 } }"; 20_000].join(", ")
+    );
+    let contact = "[[contact]]\nname = \"block-ground\"";
+    let mut garbage = Vec::new();
+    let mut x: u32 = 12345;
+    for _ in 0..4000 {
+        x = x.wrapping_mul(1_103_515_245).wrapping_add(12_345);
+        garbage.push((x >> 16) as u8);
+    }
+    vec![
+        // divisions: negative, fractional, zero, not a number, huge, for every generator
+        bad("rectangle_divisions_negative", block_with("divisions = [4, 2]", "divisions = [-8, 4]"), &["mesh.divisions", "positive whole numbers", "got -8", "line 13"]),
+        bad("rectangle_divisions_fractional", block_with("divisions = [4, 2]", "divisions = [8.5, 4]"), &["mesh.divisions", "got 8.5"]),
+        bad("rectangle_divisions_zero", block_with("divisions = [4, 2]", "divisions = [0, 4]"), &["bodies[0].mesh.divisions", ">= 1"]),
+        bad("rectangle_divisions_text", block_with("divisions = [4, 2]", "divisions = \"many\""), &["mesh.divisions", "\"many\""]),
+        bad("rectangle_100000_squared", block_with("divisions = [4, 2]", "divisions = [100000, 100000]"), &["memory", "GiB", "bodies[0].mesh.divisions", "coarser"]),
+        bad("rectangle_1e9_by_4", block_with("divisions = [4, 2]", "divisions = [1000000000, 4]"), &["memory", "bodies[0].mesh.divisions"]),
+        bad("rectangle_3000_squared_on_24_gib", block_with("divisions = [4, 2]", "divisions = [3000, 3000]"), &["memory", "GiB", "--max-memory is 24 GiB"]).args(&["--max-memory", "24G"]),
+        bad("half_disk_divisions_1e9", half("divisions = 1e9"), &["memory", "bodies[0].mesh.divisions"]),
+        bad("half_disk_divisions_negative", half("divisions = -3"), &["mesh.divisions", "got -3", "elements along the arc"]),
+        bad("half_disk_divisions_fractional", half("divisions = 2.5"), &["mesh.divisions", "got 2.5"]),
+        bad("half_disk_divisions_array", half("divisions = [8]"), &["mesh.divisions", "an array"]),
+        bad("half_disk_divisions_3", half("divisions = 3"), &["bodies[0].mesh.divisions", ">= 4"]),
+        bad("quarter_disk_divisions_1e9", quarter("divisions = 1000000000"), &["memory", "bodies[0].mesh.divisions"]),
+        bad("quarter_disk_divisions_negative", quarter("divisions = -1"), &["mesh.divisions", "got -1"]),
+        bad("box_2000_cubed", boxed("[2000, 2000, 2000]"), &["memory", "bodies[0].mesh.divisions"]),
+        bad("box_divisions_negative", boxed("[4, -1, 2]"), &["mesh.divisions", "got -1"]),
+        bad("box_divisions_fractional", boxed("[4, 1.5, 2]"), &["mesh.divisions", "got 1.5"]),
+        bad("hemisphere_divisions_1e6", hemisphere("divisions = 1000000"), &["memory", "bodies[0].mesh.divisions"]),
+        bad("hemisphere_divisions_fractional", hemisphere("divisions = 0.5"), &["mesh.divisions", "got 0.5", "quarter meridian"]),
+        // sizes and radii
+        bad("rectangle_size_zero", block_with("size = [1.0, 0.5]", "size = [1.0, 0.0]"), &["bodies[0].mesh.size", "> 0"]),
+        bad("rectangle_size_negative", block_with("size = [1.0, 0.5]", "size = [-1.0, 0.5]"), &["bodies[0].mesh.size"]),
+        bad("rectangle_size_text", block_with("size = [1.0, 0.5]", "size = [1.0, \"big\"]"), &["mesh.size", "\"big\""]),
+        bad("half_disk_radius_zero", half("divisions = 8").replace("radius = 1.0", "radius = 0.0"), &["bodies[0].mesh.radius", "> 0"]),
+        bad("half_disk_radius_negative", half("divisions = 8").replace("radius = 1.0", "radius = -1.0"), &["bodies[0].mesh.radius"]),
+        bad("box_size_zero", box_meshed("{ generator = \"box\", origin = [0.0, 0.0, 0.0], size = [1.0, 0.0, 0.5], divisions = [2, 2, 1] }"), &["bodies[0].mesh.size"]),
+        bad("hemisphere_radius_negative", hemisphere("divisions = 4").replace("radius = 1.0", "radius = -2.0"), &["bodies[0].mesh.radius"]),
+        bad("rigid_circle_radius_zero", block_with("rigid = { shape = \"plane\", point = [0.0, 0.0], normal = [0.0, 1.0] }", "rigid = { shape = \"circle\", center = [0.0, -1.0], radius = 0.0 }"), &["bodies[1].rigid.radius"]),
+        // NaN and infinities in every kind of float key
+        bad("nan_in_size", block_with("size = [1.0, 0.5]", "size = [nan, 0.5]"), &["bodies[0].mesh.size", "NaN"]),
+        bad("inf_in_origin", block_with("origin = [0.0, 0.0]", "origin = [inf, 0.0]"), &["bodies[0].mesh.origin", "inf"]),
+        bad("nan_in_grading_ratio", block_with("divisions = [4, 2]", "divisions = [4, 2], grading = { towards = \"top\", ratio = nan }"), &["bodies[0].mesh.grading.ratio", "NaN"]),
+        bad("inf_in_half_disk_grading", half("divisions = 8, grading = inf"), &["bodies[0].mesh.grading", "inf"]),
+        bad("nan_in_half_disk_center", half("divisions = 8").replace("center = [0.0, 1.0]", "center = [0.0, nan]"), &["bodies[0].mesh.center", "NaN"]),
+        bad("nan_in_pole", half("divisions = 8, pole = [nan, -1.0]"), &["bodies[0].mesh.pole", "NaN"]),
+        bad("nan_in_young", block_with("young = 1.0", "young = nan"), &["materials[0].young", "NaN"]),
+        bad("inf_in_young", block_with("young = 1.0", "young = inf"), &["materials[0].young", "inf"]),
+        bad("nan_in_poisson", block_with("poisson = 0.3", "poisson = nan"), &["materials[0].poisson", "NaN"]),
+        bad("nan_in_rigid_point", block_with("point = [0.0, 0.0]", "point = [nan, 0.0]"), &["bodies[1].rigid.point", "NaN"]),
+        bad("inf_in_rigid_normal", block_with("normal = [0.0, 1.0]", "normal = [0.0, -inf]"), &["bodies[1].rigid.normal", "inf"]),
+        bad("nan_in_boundary_point", block_with("point = [0.0, 0.5]", "point = [nan, 0.5]"), &["boundary[0].point", "NaN"]),
+        bad("nan_in_displacement", block_with("displacement = { x = 0.0 }", "displacement = { x = nan }"), &["boundary[0].displacement.x", "NaN"]),
+        bad("inf_in_traction", block_with("traction = [0.0, -1.0]", "traction = [0.0, -inf]"), &["boundary[1].traction", "inf"]),
+        bad("nan_in_gap", block_with("discretization = \"node_to_segment\"", "discretization = \"node_to_segment\"\ngap = nan"), &["contact \"block-ground\".gap", "NaN"]),
+        bad("nan_in_coulomb", block_with("discretization = \"node_to_segment\"", "discretization = \"node_to_segment\"\nfriction = { coulomb = nan }"), &["contact \"block-ground\".friction.coulomb", "NaN"]),
+        bad("inf_in_penalty_law", block_with("discretization = \"node_to_segment\"", "discretization = \"node_to_segment\"\nlaw = { penalty = inf }"), &["contact \"block-ground\".law.penalty", "inf"]),
+        bad("nan_in_step_scale", format!("{BLOCK_ON_PLANE}\n[[steps]]\nscale = {{ press = nan }}\n"), &["steps[0].scale.press", "NaN"]),
+        bad("nan_in_tolerance", format!("{BLOCK_ON_PLANE}\n[solver]\ntolerance = nan\n"), &["solver.tolerance", "NaN"]),
+        bad("inf_in_solver_penalty", format!("{BLOCK_ON_PLANE}\n[solver]\npenalty = inf\n"), &["solver.penalty", "inf"]),
+        bad("nan_in_reference_radius", format!("{BLOCK_ON_PLANE}\n[reference]\nkind = \"hertz_cylinder\"\nradius = nan\n"), &["reference.radius", "NaN"]),
+        bad("nan_in_probe", format!("{BLOCK_ON_PLANE}\n[output]\nprobes = [[nan, 0.0]]\n"), &["output.probes[0]", "NaN"]),
+        // materials
+        bad("young_zero", block_with("young = 1.0", "young = 0.0"), &["materials[0].young", "> 0"]),
+        bad("young_negative", block_with("young = 1.0", "young = -2.0"), &["materials[0].young"]),
+        bad("poisson_one_half", block_with("poisson = 0.3", "poisson = 0.5"), &["materials[0].poisson", "0.5"]),
+        bad("poisson_above_one_half", block_with("poisson = 0.3", "poisson = 0.7"), &["materials[0].poisson"]),
+        bad("poisson_minus_one", block_with("poisson = 0.3", "poisson = -1.0"), &["materials[0].poisson", "-1"]),
+        // whole numbers elsewhere
+        bad("dimension_negative", block_with("dimension = 2", "dimension = -2"), &["dimension: expected 2 or 3, got -2"]),
+        bad("dimension_four", block_with("dimension = 2", "dimension = 4"), &["dimension", "2 or 3"]),
+        bad("max_iterations_negative", format!("{BLOCK_ON_PLANE}\n[solver]\nmax_iterations = -3\n"), &["solver.max_iterations", "got -3"]),
+        bad("subdomains_negative", block_with("name = \"block\"\nmaterial", "name = \"block\"\nsubdomains = -2\nmaterial"), &["subdomains", "-2"]),
+        bad("subdomains_more_than_cells", block_with("name = \"block\"\nmaterial", "name = \"block\"\nsubdomains = 1000000000\nmaterial"), &["bodies[0].subdomains", "8 cells"]),
+        // structure: unknown keys, missing bodies, wrong references
+        bad("unknown_top_level_key", format!("frobnicate = 1\n{BLOCK_ON_PLANE}"), &["frobnicate", "line 1"]),
+        bad("unknown_generator_key", block_with("divisions = [4, 2]", "divisions = [4, 2], radus = 1.0"), &["radus"]),
+        bad("unknown_generator", block_with("\"rectangle\"", "\"disk\""), &["disk", "half_disk"]),
+        bad("no_bodies", "dimension = 2\n[[materials]]\nname = \"steel\"\nyoung = 1.0\npoisson = 0.3\n".into(), &["bodies", "no deformable body"]),
+        bad("contact_to_missing_surface", block_with("surface = \"bottom\"", "surface = \"underside\""), &["underside", "block-ground", "bottom"]),
+        bad("contact_to_missing_body", block_with("master = { body = \"ground\" }", "master = { body = \"nowhere\" }"), &["contact \"block-ground\".master.body", "nowhere"]),
+        bad("boundary_on_missing_body", block_with("name = \"press\"\nbody = \"block\"", "name = \"press\"\nbody = \"blok\""), &["boundary[1].body", "blok"]),
+        bad("unknown_body_among_thousands", format!("{}{}", block_with("master = { body = \"ground\" }", "master = { body = \"nowhere\" }"), (0..5000).map(|i| format!("\n[[bodies]]\nname = \"g{i}\"\nrigid = {{ shape = \"plane\", point = [0.0, -{i}.0], normal = [0.0, 1.0] }}\n")).collect::<String>()), &["contact \"block-ground\".master.body", "nowhere", "and 4990 more"]),
+        bad("duplicate_contact_name", format!("{BLOCK_ON_PLANE}\n{contact}\nslave = {{ body = \"block\", surface = \"bottom\" }}\nmaster = {{ body = \"ground\" }}\n"), &["block-ground", "unique"]),
+        // steps
+        bad("step_scale_not_a_number", format!("{BLOCK_ON_PLANE}\n[[steps]]\nscale = {{ press = \"half\" }}\n"), &["scale = { press = \"half\" }", "f64"]),
+        bad("too_many_steps", many_steps, &["steps", "20000 load steps, at most 10000"]),
+        // Gmsh files: missing, garbage, truncated, lying about its size
+        bad("gmsh_missing", block_with(BLOCK_MESH, "mesh = { file = \"nowhere.msh\" }"), &["bodies[0].mesh", "nowhere.msh"]),
+        bad("gmsh_garbage", gmsh(), &["bodies[0].mesh", "part.msh"]).file("part.msh", garbage),
+        bad("gmsh_truncated", gmsh(), &["bodies[0].mesh", "part.msh"]).file("part.msh", msh[..msh.len() / 2].to_vec()),
+        bad("gmsh_huge_node_count", gmsh(), &["bodies[0].mesh", "part.msh", "announces 99999999999999 nodes"]).file("part.msh", TWO_TRIANGLES_MSH.replace("$Nodes\n4\n", "$Nodes\n99999999999999\n").into_bytes()),
+        bad("gmsh_empty", gmsh(), &["bodies[0].mesh", "part.msh"]).file("part.msh", Vec::new()),
+        // a line of 200 000 characters: the message quotes a window of it
+        bad("very_long_line", format!("x = [{}]\n{BLOCK_ON_PLANE}", vec!["1"; 40_000].join(", ")), &["unknown field `x`", "line 1"]),
+    ]
+}
+
+#[test]
+fn sweep_of_malformed_and_oversized_scenes_exits_1_naming_the_entry() {
+    let cases = sweep();
+    assert!(cases.len() >= 30);
+    let mut failures = Vec::new();
+    for case in &cases {
+        let dir = fresh_dir(&format!("sweep/{}", case.name));
+        let scene = dir.join("scene.toml");
+        std::fs::write(&scene, &case.scene).unwrap();
+        for (name, bytes) in &case.files {
+            std::fs::write(dir.join(name), bytes).unwrap();
+        }
+        let mut cmd = Command::new(BIN);
+        cmd.arg("run")
+            .arg(&scene)
+            .arg("--out")
+            .arg(dir.join("out"))
+            .args(&case.args)
+            .current_dir(&dir);
+        let (output, elapsed) = run_limited(cmd, Duration::from_secs(60));
+        if let Some(why) = judge(&dir, &output, elapsed, &case.needles) {
+            failures.push(format!("== {}: {why}", case.name));
+        }
+    }
+    assert!(
+        failures.is_empty(),
+        "{} of {} bad scenes were not refused as they should:\n{}",
+        failures.len(),
+        cases.len(),
+        failures.join("\n")
+    );
+}
+
+// ---------------------------------------------------------------- item 6
+
+#[test]
+fn negative_divisions_name_the_key_the_value_and_what_is_valid() {
+    let scene = block_with("divisions = [4, 2]", "divisions = [-8, 4]");
+    let run = run_scene("negative_divisions", Some(&scene), &[]);
+    run.assert_bad_input(&["mesh.divisions: expected positive whole numbers", "got -8"]);
+    assert!(!run.stderr().contains("usize"), "{}", run.describe());
+}
+
+#[test]
+fn fractional_divisions_name_the_key_and_the_value() {
+    let scene = block_with("divisions = [4, 2]", "divisions = [8.5, 4]");
+    let run = run_scene("fractional_divisions", Some(&scene), &[]);
+    run.assert_bad_input(&["mesh.divisions: expected positive whole numbers", "got 8.5"]);
+}
+
+#[test]
+fn nan_and_inf_in_a_mesh_name_the_entry() {
+    for (test, from, to, entry) in [
+        (
+            "nan_size",
+            "size = [1.0, 0.5]",
+            "size = [nan, 0.5]",
+            "bodies[0].mesh.size",
+        ),
+        (
+            "inf_origin",
+            "origin = [0.0, 0.0]",
+            "origin = [0.0, inf]",
+            "bodies[0].mesh.origin",
+        ),
+        (
+            "nan_grading",
+            "divisions = [4, 2]",
+            "divisions = [4, 2], grading = { towards = \"top\", ratio = nan }",
+            "bodies[0].mesh.grading.ratio",
+        ),
+    ] {
+        let run = run_scene(test, Some(&block_with(from, to)), &[]);
+        run.assert_bad_input(&[entry, "must be"]);
+        assert!(!run.stderr().contains("null"), "{}", run.describe());
+    }
+}
+
+// ---------------------------------------------------------------- item 5
+
+#[test]
+fn an_oversized_rectangle_is_refused_with_the_estimate_before_anything_is_built() {
+    let scene = block_with("divisions = [4, 2]", "divisions = [100000, 100000]");
+    let t = Instant::now();
+    let run = run_scene("oversized_rectangle", Some(&scene), &[]);
+    run.assert_bad_input(&[
+        "memory: the scene needs about",
+        "GiB",
+        "available",
+        "bodies[0].mesh.divisions",
+        "coarser divisions",
+    ]);
+    assert!(t.elapsed() < Duration::from_secs(10), "{:?}", t.elapsed());
+}
+
+#[test]
+fn a_half_disk_of_1e9_divisions_is_refused() {
+    let scene = block_meshed(
+        "{ generator = \"half_disk\", center = [0.0, 1.0], radius = 1.0, divisions = 1e9 }",
+    );
+    let run = run_scene("half_disk_1e9", Some(&scene), &[]);
+    run.assert_bad_input(&["memory: the scene needs about", "bodies[0].mesh.divisions"]);
+}
+
+#[test]
+fn the_3000_square_rectangle_does_not_fit_in_24_gib_and_max_memory_says_so() {
+    let scene = block_with("divisions = [4, 2]", "divisions = [3000, 3000]");
+    let run = run_scene("rectangle_3000", Some(&scene), &["--max-memory", "24G"]);
+    run.assert_bad_input(&[
+        "memory: the scene needs about",
+        "--max-memory is 24 GiB",
+        "or --max-memory",
+    ]);
+}
+
+#[test]
+fn max_memory_overrides_the_machine_both_ways() {
+    // far too little for even the small block
+    let run = run_scene(
+        "max_memory_tiny",
+        Some(BLOCK_ON_PLANE),
+        &["--max-memory", "1M"],
+    );
+    run.assert_bad_input(&["--max-memory is 1 MiB"]);
+    // plenty
+    let run = run_scene(
+        "max_memory_plenty",
+        Some(BLOCK_ON_PLANE),
+        &["--max-memory", "64G"],
+    );
+    assert_eq!(run.output.status.code(), Some(0), "{}", run.describe());
+    // a bad size is a usage error naming the value
+    let run = run_scene(
+        "max_memory_bad",
+        Some(BLOCK_ON_PLANE),
+        &["--max-memory", "lots"],
+    );
+    assert!(!run.output.status.success(), "{}", run.describe());
+    assert!(run.stderr().contains("lots"), "{}", run.describe());
+    run.assert_nothing_written();
+}
+
+#[test]
+fn check_prints_the_memory_estimate_and_refuses_what_cannot_fit() {
+    let dir = fresh_dir("check_memory");
+    let scene = dir.join("scene.toml");
+    std::fs::write(&scene, BLOCK_ON_PLANE).unwrap();
+    let out = Command::new(BIN).arg("check").arg(&scene).output().unwrap();
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(out.status.code(), Some(0), "{text}");
+    assert!(
+        text.contains("memory (condensed path): about") && text.contains("MiB"),
+        "{text}"
+    );
+    std::fs::write(
+        &scene,
+        block_with("divisions = [4, 2]", "divisions = [100000, 100000]"),
+    )
+    .unwrap();
+    let out = Command::new(BIN).arg("check").arg(&scene).output().unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    assert!(err.contains("memory: the scene needs about"), "{err}");
+}
+
+#[test]
+fn every_example_passes_check_with_its_memory_estimate() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples");
+    let mut n = 0;
+    for entry in std::fs::read_dir(&dir).unwrap() {
+        let path = entry.unwrap().path();
+        if path.extension().is_none_or(|e| e != "toml") {
+            continue;
+        }
+        let out = Command::new(BIN).arg("check").arg(&path).output().unwrap();
+        let text = String::from_utf8_lossy(&out.stdout);
+        assert_eq!(
+            out.status.code(),
+            Some(0),
+            "{}: {text}{}",
+            path.display(),
+            String::from_utf8_lossy(&out.stderr)
+        );
+        assert!(text.contains("memory ("), "{}: {text}", path.display());
+        n += 1;
+    }
+    assert!(n >= 10, "{n} examples");
+}
+
+#[test]
+fn the_estimate_is_near_the_measured_peak() {
+    // 150 x 150 quad4 on a plane: about 150 MiB, well above the fixed part
+    let scene = block_with_all(&[
+        ("divisions = [4, 2]", "divisions = [150, 150]"),
+        ("size = [1.0, 0.5]", "size = [1.0, 1.0]"),
+        ("point = [0.0, 0.5]", "point = [0.0, 1.0]"),
+    ]) + "[output]\nfields = []\n";
+    let run = run_scene("estimate_near_peak", Some(&scene), &[]);
+    assert_eq!(run.output.status.code(), Some(0), "{}", run.describe());
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(run.out_dir().join("report.json")).unwrap())
+            .unwrap();
+    let memory = &report["memory"];
+    let estimated = memory["estimated_bytes"].as_f64().unwrap();
+    let peak = memory["peak_rss_bytes"].as_f64().unwrap();
+    if peak > 0.0 {
+        let ratio = estimated / peak;
+        assert!(
+            (0.9..2.0).contains(&ratio),
+            "estimated {estimated:e} bytes, peak {peak:e}: ratio {ratio}"
+        );
+    }
+}
+
+#[test]
+fn an_internal_error_is_one_line_and_exit_3() {
+    let dir = fresh_dir("internal_error");
+    let scene = dir.join("scene.toml");
+    std::fs::write(&scene, BLOCK_ON_PLANE).unwrap();
+    let mut cmd = Command::new(BIN);
+    cmd.arg("run")
+        .arg(&scene)
+        .arg("--out")
+        .arg(dir.join("out"))
+        .env("SIGNORINI_INJECT_PANIC", "0");
+    let (out, _) = run_limited(cmd, Duration::from_secs(60));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(3), "{err}");
+    assert_eq!(err.lines().count(), 1, "{err}");
+    assert!(
+        err.starts_with("error: internal error: panic injected on rank 0")
+            && err.contains("(please report)"),
+        "{err}"
+    );
+    assert!(
+        !err.contains("panicked") && !err.contains("backtrace"),
+        "{err}"
+    );
+    assert!(!dir.join("out").exists());
+}
+
+/// Under MPI a panic on one rank still ends every rank (crates/comm's hook
+/// runs after the one-line message), never a hang.
+#[cfg(feature = "mpi")]
+#[test]
+fn an_internal_error_under_mpirun_ends_every_rank() {
+    let have = Command::new("mpirun")
+        .arg("--version")
+        .output()
+        .is_ok_and(|o| o.status.success());
+    if !have {
+        return;
+    }
+    let dir = fresh_dir("internal_error_mpi");
+    let scene = dir.join("scene.toml");
+    std::fs::write(&scene, BLOCK_ON_PLANE).unwrap();
+    let mut cmd = Command::new("mpirun");
+    cmd.arg("-n")
+        .arg("2")
+        .arg(BIN)
+        .arg("run")
+        .arg(&scene)
+        .arg("--out")
+        .arg(dir.join("out"))
+        .env("SIGNORINI_INJECT_PANIC", "1")
+        .env("OMPI_ALLOW_RUN_AS_ROOT", "1")
+        .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
+        .env("OMPI_MCA_rmaps_base_oversubscribe", "1")
+        .env("PRTE_MCA_rmaps_default_mapping_policy", ":oversubscribe")
+        .env("OMPI_MCA_hwloc_base_binding_policy", "none");
+    let (out, elapsed) = run_limited(cmd, Duration::from_secs(60));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(elapsed < Duration::from_secs(60), "a rank hangs: {err}");
+    assert!(!out.status.success(), "{err}");
+    assert_eq!(
+        err.matches("internal error: panic injected on rank 1")
+            .count(),
+        1,
+        "{err}"
+    );
+    assert!(!err.contains("panicked at"), "{err}");
+    assert!(!dir.join("out").exists());
+}
+
+// ---------------------------------------------------------------- local and bench
+
+#[test]
+fn local_problems_that_lie_about_their_shape_are_refused() {
+    let dir = fresh_dir("local_bad");
+    for (name, text, needle) in [
+        (
+            "ragged.json",
+            r#"{"W": [[2, 1], [1]], "q": [-1, 1]}"#,
+            "W must be 2 × 2",
+        ),
+        (
+            "inf.json",
+            r#"{"W": [[2, 1], [1, 2]], "q": [-1, 1e999]}"#,
+            "out of range",
+        ),
+        (
+            "asym.json",
+            r#"{"W": [[2, 1], [0, 2]], "q": [-1, 1]}"#,
+            "not symmetric",
+        ),
+        (
+            "mu.json",
+            r#"{"W": [[1, 0], [0, 1]], "q": [-1, 1], "mu": [-0.3]}"#,
+            "mu[0]",
+        ),
+        (
+            "truncated.json",
+            r#"{"W": [[2, 1], [1, 2]], "q": [-1,"#,
+            "truncated.json",
+        ),
+        (
+            "garbage.npz",
+            "PK\u{3}\u{4} not a zip",
+            "not a .npz archive",
+        ),
+    ] {
+        let path = dir.join(name);
+        std::fs::write(&path, text).unwrap();
+        let mut cmd = Command::new(BIN);
+        cmd.arg("local").arg(&path);
+        let (out, elapsed) = run_limited(cmd, Duration::from_secs(30));
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(1), "{name}: {err}");
+        assert!(err.contains(needle), "{name}: {err}");
+        assert!(
+            err.lines().count() <= 2 && !err.contains("panicked"),
+            "{name}: {err}"
+        );
+        assert!(elapsed < Duration::from_secs(10), "{name}: {elapsed:?}");
+    }
+}
+
+#[test]
+fn bench_refuses_a_refinement_that_cannot_fit() {
+    let dir = fresh_dir("bench_huge");
+    let scene = dir.join("scene.toml");
+    std::fs::write(&scene, BLOCK_ON_PLANE).unwrap();
+    let mut cmd = Command::new(BIN);
+    cmd.arg("bench")
+        .arg(&scene)
+        .arg("--levels")
+        .arg("1e9")
+        .arg("--out")
+        .arg(dir.join("out"));
+    let (out, elapsed) = run_limited(cmd, Duration::from_secs(60));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    assert!(err.contains("memory: the scene needs about"), "{err}");
+    assert!(elapsed < Duration::from_secs(10), "{elapsed:?}");
+    assert!(!dir.join("out").exists());
+}

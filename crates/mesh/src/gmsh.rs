@@ -345,7 +345,8 @@ fn read_v22(bytes: &[u8]) -> Result<Raw, MeshError> {
     let lines = section_lines(&text, "Nodes")
         .ok_or_else(|| invalid("MSH 2.2: no $Nodes section".into()))?;
     let count = header_count(&lines, "Nodes")?;
-    let mut nodes = Vec::with_capacity(count);
+    // a count is the file's word: reserve no more than its lines can hold
+    let mut nodes = Vec::with_capacity(count.min(lines.len()));
     for line in &lines[1..] {
         let bad = || invalid(format!("MSH 2.2 $Nodes: bad line \"{line}\""));
         let v: Vec<&str> = line.split_whitespace().collect();
@@ -467,7 +468,7 @@ fn read_v41(bytes: &[u8]) -> Result<Raw, MeshError> {
     } else {
         None
     };
-    let mut nodes = Vec::with_capacity(msh_nodes.num_nodes as usize);
+    let mut nodes = Vec::with_capacity((msh_nodes.num_nodes as usize).min(bytes.len()));
     let mut implicit = msh_nodes.min_node_tag;
     let mut offset = 0usize;
     for block in &msh_nodes.node_blocks {
@@ -570,7 +571,7 @@ fn node_tags_v41(bytes: &[u8], header: &mshio::MshHeader) -> Option<Vec<u64>> {
         let n_nodes: usize = next()?.parse().ok()?;
         next()?;
         next()?;
-        let mut tags = Vec::with_capacity(n_nodes);
+        let mut tags = Vec::with_capacity(n_nodes.min(data.len()));
         for _ in 0..n_blocks {
             next()?; // entity dim
             next()?; // entity tag
@@ -613,7 +614,7 @@ fn node_tags_v41(bytes: &[u8], header: &mshio::MshHeader) -> Option<Vec<u64>> {
         let n_nodes = usize::try_from(read(size_t)?).ok()?;
         read(size_t)?; // min tag
         read(size_t)?; // max tag
-        let mut tags = Vec::with_capacity(n_nodes);
+        let mut tags = Vec::with_capacity(n_nodes.min(data.len()));
         for _ in 0..n_blocks {
             read(4)?; // entity dim
             read(4)?; // entity tag

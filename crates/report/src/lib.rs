@@ -83,6 +83,10 @@ pub struct Memory {
     pub dense_interface_bytes: u64,
     /// Bytes of the subdomains' sparse factors and dense Schur blocks.
     pub factor_bytes: u64,
+    /// The peak the run was estimated to need before it started, from the
+    /// mesh sizes (`signorini_solver::memory`; a scene estimated above the
+    /// machine's memory is refused).
+    pub estimated_bytes: u64,
 }
 
 /// The contact conditions checked on the final solution, each relative to

@@ -28,6 +28,7 @@ mod types;
 mod validate;
 
 pub use types::*;
+pub use validate::MAX_STEPS;
 
 /// Everything that can go wrong while reading a scene.
 #[derive(Debug, thiserror::Error)]
@@ -104,8 +105,48 @@ pub fn parse_json(text: &str) -> Result<Scene, SceneError> {
 
 fn from_toml(text: &str) -> Result<Scene, SceneError> {
     toml::from_str(text).map_err(|e| SceneError::Parse {
-        message: e.to_string().trim_end().to_string(),
+        message: shorten_snippet(e.to_string().trim_end()),
     })
+}
+
+/// The `toml` crate quotes the whole offending line under its caret; a scene
+/// with a very long line (a generated one, or 10^5 brackets) would make the
+/// message as long. Keep a window of the line around the caret.
+fn shorten_snippet(message: &str) -> String {
+    const WIDTH: usize = 100;
+    let lines: Vec<&str> = message.lines().collect();
+    let mut out: Vec<String> = lines.iter().map(|l| l.to_string()).collect();
+    for i in 0..lines.len().saturating_sub(1) {
+        // "NN | source" followed by "   |   ^^^^"
+        let (Some(bar), Some(caret_bar)) = (lines[i].find(" | "), lines[i + 1].find(" | ")) else {
+            continue;
+        };
+        let source: Vec<char> = lines[i][bar + 3..].chars().collect();
+        let carets: Vec<char> = lines[i + 1][caret_bar + 3..].chars().collect();
+        if source.len() <= WIDTH || !carets.contains(&'^') {
+            continue;
+        }
+        let first = carets.iter().position(|&c| c == '^').unwrap_or(0);
+        let start = first.saturating_sub(WIDTH / 4).min(source.len());
+        let end = (start + WIDTH).min(source.len());
+        let lead = if start > 0 { "…" } else { "" };
+        let tail = if end < source.len() { "…" } else { "" };
+        let text: String = source[start..end].iter().collect();
+        out[i] = format!("{} | {lead}{text}{tail}", &lines[i][..bar]);
+        let span = carets[first..]
+            .iter()
+            .take_while(|&&c| c == '^')
+            .count()
+            .min(end.saturating_sub(first))
+            .max(1);
+        out[i + 1] = format!(
+            "{} | {}{}",
+            &lines[i + 1][..caret_bar],
+            " ".repeat(first - start + lead.chars().count()),
+            "^".repeat(span)
+        );
+    }
+    out.join("\n")
 }
 
 fn from_json(text: &str) -> Result<Scene, SceneError> {

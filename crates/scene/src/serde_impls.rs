@@ -327,6 +327,14 @@ impl<'de> Deserialize<'de> for Subdomains {
                     )))
                 }
             }
+            fn visit_f64<E: de::Error>(self, v: f64) -> Result<Subdomains, E> {
+                match whole(v) {
+                    Ok(n) => self.visit_u64(n),
+                    Err(got) => Err(E::custom(format!(
+                        "subdomains: expected an integer >= 1 or \"auto\", got {got}"
+                    ))),
+                }
+            }
         }
         d.deserialize_any(V)
     }
@@ -341,6 +349,234 @@ impl Serialize for Subdomains {
     }
 }
 
+// ---------------------------------------------------------------- whole numbers
+
+/// `v` as it would be written in a scene file (`-8`, `8.5`, `1e30`, `NaN`).
+fn show_f64(v: f64) -> String {
+    if v.is_finite() && v.abs() >= 1e15 {
+        format!("{v:e}")
+    } else {
+        format!("{v}")
+    }
+}
+
+/// A whole number ≥ 0 (a float with no fractional part is one too: `8.0`,
+/// `1e9`); `Err` holds the value as written, for the message.
+fn whole(v: f64) -> Result<u64, String> {
+    if v.is_finite() && v >= 0.0 && v.fract() == 0.0 && v < u64::MAX as f64 {
+        Ok(v as u64)
+    } else {
+        Err(show_f64(v))
+    }
+}
+
+/// Deserializes a whole number ≥ 0 for the key `key`; anything else is an
+/// error naming the key, the value and `expected`.
+struct Whole {
+    key: &'static str,
+    expected: &'static str,
+}
+
+impl<'de> Visitor<'de> for Whole {
+    type Value = u64;
+    fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{} for `{}`", self.expected, self.key)
+    }
+    fn visit_u64<E: de::Error>(self, v: u64) -> Result<u64, E> {
+        Ok(v)
+    }
+    fn visit_i64<E: de::Error>(self, v: i64) -> Result<u64, E> {
+        u64::try_from(v).map_err(|_| self.bad(v))
+    }
+    fn visit_f64<E: de::Error>(self, v: f64) -> Result<u64, E> {
+        whole(v).map_err(|s| self.bad(s))
+    }
+    fn visit_str<E: de::Error>(self, v: &str) -> Result<u64, E> {
+        Err(self.bad(format!("\"{v}\"")))
+    }
+    fn visit_bool<E: de::Error>(self, v: bool) -> Result<u64, E> {
+        Err(self.bad(v))
+    }
+}
+
+impl Whole {
+    fn bad<E: de::Error>(&self, got: impl fmt::Display) -> E {
+        E::custom(format!(
+            "{}: expected {}, got {got}",
+            self.key, self.expected
+        ))
+    }
+}
+
+/// `dimension`: 2 or 3 (other whole numbers are refused by validation, with
+/// the same words).
+pub(crate) fn dimension<'de, D: Deserializer<'de>>(d: D) -> Result<u8, D::Error> {
+    let v = d.deserialize_any(Whole {
+        key: "dimension",
+        expected: "2 or 3",
+    })?;
+    u8::try_from(v).map_err(|_| de::Error::custom(format!("dimension: expected 2 or 3, got {v}")))
+}
+
+/// `solver.max_iterations`: a whole number (0 is refused by validation).
+pub(crate) fn max_iterations<'de, D: Deserializer<'de>>(d: D) -> Result<usize, D::Error> {
+    let v = d.deserialize_any(Whole {
+        key: "solver.max_iterations",
+        expected: "a whole number >= 1",
+    })?;
+    usize::try_from(v).map_err(|_| {
+        de::Error::custom(format!(
+            "solver.max_iterations: expected a whole number >= 1, got {v} (too large)"
+        ))
+    })
+}
+
+// ---------------------------------------------------------------- buffered values
+
+/// A value buffered as written. `serde_json::Value` would do, but it turns
+/// NaN and ±inf (valid TOML floats) into null, so that `size = [nan, 1.0]`
+/// used to fail with "invalid type: null, expected f64" instead of reaching
+/// the validation that names `bodies[0].mesh.size`.
+#[derive(Debug, Clone)]
+enum Raw {
+    Null,
+    Bool(bool),
+    Int(i64),
+    UInt(u64),
+    Float(f64),
+    Str(String),
+    Seq(Vec<Raw>),
+    Map(Vec<(String, Raw)>),
+}
+
+impl Raw {
+    fn number(&self) -> Option<f64> {
+        match *self {
+            Raw::Int(v) => Some(v as f64),
+            Raw::UInt(v) => Some(v as f64),
+            Raw::Float(v) => Some(v),
+            _ => None,
+        }
+    }
+
+    /// The value as a user would recognise it in a message.
+    fn show(&self) -> String {
+        match self {
+            Raw::Null => "null".into(),
+            Raw::Bool(b) => b.to_string(),
+            Raw::Int(v) => v.to_string(),
+            Raw::UInt(v) => v.to_string(),
+            Raw::Float(v) => show_f64(*v),
+            Raw::Str(s) => format!("\"{s}\""),
+            Raw::Seq(_) => "an array".into(),
+            Raw::Map(_) => "a table".into(),
+        }
+    }
+
+    fn get(&self, key: &str) -> Option<&Raw> {
+        match self {
+            Raw::Map(m) => m.iter().find(|(k, _)| k == key).map(|(_, v)| v),
+            _ => None,
+        }
+    }
+
+    fn get_mut(&mut self, key: &str) -> Option<&mut Raw> {
+        match self {
+            Raw::Map(m) => m.iter_mut().find(|(k, _)| k == key).map(|(_, v)| v),
+            _ => None,
+        }
+    }
+}
+
+impl<'de> Deserialize<'de> for Raw {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct V;
+        impl<'de> Visitor<'de> for V {
+            type Value = Raw;
+            fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+                f.write_str("a value")
+            }
+            fn visit_unit<E: de::Error>(self) -> Result<Raw, E> {
+                Ok(Raw::Null)
+            }
+            fn visit_none<E: de::Error>(self) -> Result<Raw, E> {
+                Ok(Raw::Null)
+            }
+            fn visit_some<D2: Deserializer<'de>>(self, d: D2) -> Result<Raw, D2::Error> {
+                Raw::deserialize(d)
+            }
+            fn visit_bool<E: de::Error>(self, v: bool) -> Result<Raw, E> {
+                Ok(Raw::Bool(v))
+            }
+            fn visit_i64<E: de::Error>(self, v: i64) -> Result<Raw, E> {
+                Ok(Raw::Int(v))
+            }
+            fn visit_u64<E: de::Error>(self, v: u64) -> Result<Raw, E> {
+                Ok(Raw::UInt(v))
+            }
+            fn visit_f64<E: de::Error>(self, v: f64) -> Result<Raw, E> {
+                Ok(Raw::Float(v))
+            }
+            fn visit_str<E: de::Error>(self, v: &str) -> Result<Raw, E> {
+                Ok(Raw::Str(v.to_string()))
+            }
+            fn visit_string<E: de::Error>(self, v: String) -> Result<Raw, E> {
+                Ok(Raw::Str(v))
+            }
+            fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<Raw, A::Error> {
+                let mut out = Vec::new();
+                while let Some(v) = seq.next_element()? {
+                    out.push(v);
+                }
+                Ok(Raw::Seq(out))
+            }
+            fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<Raw, A::Error> {
+                let mut out = Vec::new();
+                while let Some((k, v)) = map.next_entry::<String, Raw>()? {
+                    out.push((k, v));
+                }
+                Ok(Raw::Map(out))
+            }
+        }
+        d.deserialize_any(V)
+    }
+}
+
+impl<'de> Deserializer<'de> for Raw {
+    type Error = de::value::Error;
+    fn deserialize_any<V: Visitor<'de>>(self, v: V) -> Result<V::Value, Self::Error> {
+        use serde::de::value::{MapDeserializer, SeqDeserializer};
+        match self {
+            Raw::Null => v.visit_unit(),
+            Raw::Bool(b) => v.visit_bool(b),
+            Raw::Int(i) => v.visit_i64(i),
+            Raw::UInt(u) => v.visit_u64(u),
+            Raw::Float(f) => v.visit_f64(f),
+            Raw::Str(s) => v.visit_string(s),
+            Raw::Seq(items) => v.visit_seq(SeqDeserializer::new(items.into_iter())),
+            Raw::Map(entries) => v.visit_map(MapDeserializer::new(entries.into_iter())),
+        }
+    }
+    fn deserialize_option<V: Visitor<'de>>(self, v: V) -> Result<V::Value, Self::Error> {
+        match self {
+            Raw::Null => v.visit_none(),
+            other => v.visit_some(other),
+        }
+    }
+    serde::forward_to_deserialize_any! {
+        bool i8 i16 i32 i64 i128 u8 u16 u32 u64 u128 f32 f64 char str string
+        bytes byte_buf unit unit_struct newtype_struct seq tuple tuple_struct
+        map struct enum identifier ignored_any
+    }
+}
+
+impl<'de> de::IntoDeserializer<'de, de::value::Error> for Raw {
+    type Deserializer = Raw;
+    fn into_deserializer(self) -> Raw {
+        self
+    }
+}
+
 // ---------------------------------------------------------------- mesh
 
 const MESH_EXPECTED: &str = r#"mesh: expected { generator = "<rectangle|half_disk|box|hemisphere|quarter_disk>", ... } or { file = "<part.msh>" }"#;
@@ -351,33 +587,146 @@ struct MeshFile {
     file: PathBuf,
 }
 
-impl<'de> Deserialize<'de> for MeshSpec {
-    /// Buffers the table (format-independently, through `serde_json::Value`), then
-    /// picks the struct by the presence of `generator` or `file`, so that an unknown
-    /// key inside the table is reported by name (e.g. "unknown field `radus`").
-    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
-        let value = serde_json::Value::deserialize(d)?;
-        let serde_json::Value::Object(map) = &value else {
-            return Err(de::Error::custom(format!("{MESH_EXPECTED}, got {value}")));
-        };
-        match (map.contains_key("generator"), map.contains_key("file")) {
-            (true, false) => {
-                // Name the key of a fixed-size array of the wrong length (serde
-                // alone would only say "invalid length 3").
-                let dim = match map.get("generator").and_then(|g| g.as_str()) {
-                    Some("box" | "hemisphere") => 3,
-                    _ => 2,
-                };
-                for key in ["origin", "size", "divisions", "center", "pole"] {
-                    if let Some(serde_json::Value::Array(a)) = map.get(key) {
-                        if a.len() != dim {
-                            return Err(de::Error::custom(format!(
-                                "mesh.{key}: this generator needs {dim} components, got {}",
-                                a.len()
-                            )));
-                        }
-                    }
+/// Checks the numeric keys of a generator table by name before serde sees
+/// them (serde alone would say "invalid value: integer `-8`, expected usize"
+/// without the key), and makes whole-valued floats in `divisions` integers
+/// (`divisions = 1e3` is 1000 elements).
+fn check_generator(map: &mut Raw) -> Result<(), String> {
+    let generator = match map.get("generator") {
+        Some(Raw::Str(g)) => g.clone(),
+        _ => String::new(),
+    };
+    let dim = match generator.as_str() {
+        "box" | "hemisphere" => 3,
+        "rectangle" | "half_disk" | "quarter_disk" => 2,
+        // serde names the unknown generator and lists the known ones
+        _ => return Ok(()),
+    };
+    let per_side = matches!(generator.as_str(), "rectangle" | "box");
+    // Fixed-size arrays of the wrong length (serde alone: "invalid length 3").
+    for key in ["origin", "size", "divisions", "center", "pole"] {
+        if let Some(Raw::Seq(a)) = map.get(key) {
+            if (per_side || key != "divisions") && a.len() != dim {
+                return Err(format!(
+                    "mesh.{key}: this generator needs {dim} components, got {}",
+                    a.len()
+                ));
+            }
+        }
+    }
+    // Vectors and scalars of numbers.
+    for key in ["origin", "size", "center", "pole"] {
+        match map.get(key) {
+            None => {}
+            Some(Raw::Seq(a)) => {
+                if let Some(x) = a.iter().find(|x| x.number().is_none()) {
+                    return Err(format!(
+                        "mesh.{key}: expected {dim} numbers, got {}",
+                        x.show()
+                    ));
                 }
+            }
+            Some(other) => {
+                return Err(format!(
+                    "mesh.{key}: expected an array of {dim} numbers, got {}",
+                    other.show()
+                ))
+            }
+        }
+    }
+    if let Some(r) = map.get("radius") {
+        if r.number().is_none() {
+            return Err(format!(
+                "mesh.radius: expected a number > 0, got {}",
+                r.show()
+            ));
+        }
+    }
+    match map.get("grading") {
+        None => {}
+        Some(Raw::Map(_)) if per_side => {
+            let g = map.get("grading").and_then(|g| g.get("ratio"));
+            if let Some(r) = g.filter(|r| r.number().is_none()) {
+                return Err(format!(
+                    "mesh.grading.ratio: expected a number >= 1, got {}",
+                    r.show()
+                ));
+            }
+        }
+        Some(g) if per_side => {
+            return Err(format!(
+                "mesh.grading: expected {{ towards = \"<side>\", ratio = <number >= 1> }}, got {}",
+                g.show()
+            ))
+        }
+        Some(g) if g.number().is_none() => {
+            return Err(format!(
+                "mesh.grading: expected a number >= 1 (largest over smallest element size), got {}",
+                g.show()
+            ))
+        }
+        Some(_) => {}
+    }
+    // Divisions: whole numbers, named with the value when not.
+    let what = if per_side {
+        "positive whole numbers (elements along each side)"
+    } else if generator == "hemisphere" {
+        "a positive whole number (elements along a quarter meridian)"
+    } else {
+        "a positive whole number (elements along the arc)"
+    };
+    let to_whole = |x: &mut Raw| -> Result<(), String> {
+        let n = match &*x {
+            Raw::UInt(_) => return Ok(()),
+            Raw::Int(v) if *v >= 0 => return Ok(()),
+            Raw::Int(v) => Err(v.to_string()),
+            Raw::Float(v) => whole(*v),
+            other => Err(other.show()),
+        };
+        match n {
+            Ok(n) => {
+                *x = Raw::UInt(n);
+                Ok(())
+            }
+            Err(got) => Err(format!("mesh.divisions: expected {what}, got {got}")),
+        }
+    };
+    match map.get_mut("divisions") {
+        None => {}
+        Some(Raw::Seq(a)) if per_side => a.iter_mut().try_for_each(to_whole)?,
+        Some(x @ (Raw::Int(_) | Raw::UInt(_) | Raw::Float(_))) if !per_side => to_whole(x)?,
+        Some(other) => {
+            return Err(format!(
+                "mesh.divisions: expected {}{what}, got {}",
+                if per_side {
+                    format!("an array of {dim} ")
+                } else {
+                    String::new()
+                },
+                other.show()
+            ))
+        }
+    }
+    Ok(())
+}
+
+impl<'de> Deserialize<'de> for MeshSpec {
+    /// Buffers the table (format-independently, keeping every number as
+    /// written), then picks the struct by the presence of `generator` or
+    /// `file`, so that an unknown key inside the table is reported by name
+    /// (e.g. "unknown field `radus`"), and a wrong number by its key.
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let mut value = Raw::deserialize(d)?;
+        let Raw::Map(map) = &value else {
+            return Err(de::Error::custom(format!(
+                "{MESH_EXPECTED}, got {}",
+                value.show()
+            )));
+        };
+        let has = |k: &str| map.iter().any(|(key, _)| key == k);
+        match (has("generator"), has("file")) {
+            (true, false) => {
+                check_generator(&mut value).map_err(de::Error::custom)?;
                 Generator::deserialize(value)
                     .map(MeshSpec::Generator)
                     .map_err(|e| de::Error::custom(format!("mesh: {e}")))

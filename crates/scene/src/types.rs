@@ -45,6 +45,7 @@ pub struct Scene {
 pub(crate) struct SceneRaw {
     #[serde(default)]
     title: String,
+    #[serde(deserialize_with = "crate::serde_impls::dimension")]
     dimension: u8,
     #[serde(default)]
     model: Option<Model>,
@@ -689,6 +690,7 @@ pub struct Solver {
     /// Convergence tolerance, 0 < tol < 1 (default 1e-10).
     pub tolerance: f64,
     /// ≥ 1 (default 500).
+    #[serde(deserialize_with = "crate::serde_impls::max_iterations")]
     pub max_iterations: usize,
     /// Friction outer loop: `fixed_point` (default) or `status`.
     pub friction: FrictionSolver,

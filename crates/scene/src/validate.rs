@@ -8,6 +8,10 @@ use std::collections::BTreeSet;
 
 type Result<T = ()> = std::result::Result<T, SceneError>;
 
+/// The most `[[steps]]` a scene may have: every step is a contact solve whose
+/// fields are kept for the report and written as one VTU file per body.
+pub const MAX_STEPS: usize = 10_000;
+
 fn invalid(entry: impl Into<String>, message: impl Into<String>) -> SceneError {
     SceneError::Invalid {
         entry: entry.into(),
@@ -15,13 +19,23 @@ fn invalid(entry: impl Into<String>, message: impl Into<String>) -> SceneError {
     }
 }
 
-/// `"a", "b"` or a note that there is none.
+/// `"a", "b"` or a note that there is none; a long list is cut after a dozen
+/// names (the message stays a line).
 fn known(names: &[&str], what: &str, table: &str) -> String {
+    const SHOWN: usize = 12;
     if names.is_empty() {
         format!("no {table} entry is defined")
     } else {
-        let list: Vec<String> = names.iter().map(|n| format!("\"{n}\"")).collect();
-        format!("known {what}: {}", list.join(", "))
+        let list: Vec<String> = names
+            .iter()
+            .take(SHOWN)
+            .map(|n| format!("\"{n}\""))
+            .collect();
+        let more = match names.len().saturating_sub(SHOWN) {
+            0 => String::new(),
+            n => format!(" and {n} more"),
+        };
+        format!("known {what}: {}{more}", list.join(", "))
     }
 }
 
@@ -693,6 +707,15 @@ impl Scene {
     }
 
     fn validate_steps(&self) -> Result {
+        if self.steps.len() > MAX_STEPS {
+            return Err(invalid(
+                "steps",
+                format!(
+                    "{} load steps, at most {MAX_STEPS} (each is a contact solve, kept in memory and written as one VTU file per body); use fewer, larger steps",
+                    self.steps.len()
+                ),
+            ));
+        }
         let names: Vec<&str> = self
             .boundary
             .iter()

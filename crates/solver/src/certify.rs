@@ -476,6 +476,7 @@ pub(crate) fn finish_report(
             peak_rss_bytes: signorini_report::peak_rss_bytes(),
             dense_interface_bytes: partial.dense_interface_bytes,
             factor_bytes: partial.factor_bytes,
+            estimated_bytes: memory::estimate(sc, path, comm.size()).bytes(),
         },
         communication_bytes,
         rank_timings_s: signorini_report::RankTimings::of(&rank_stats),

@@ -20,6 +20,7 @@ mod direct_path;
 mod friction_step;
 mod kkt;
 pub mod local;
+pub mod memory;
 pub mod model;
 mod partition;
 mod pipeline;

@@ -76,9 +76,17 @@ pub fn load(path: &Path) -> Result<LocalProblem, String> {
         if ws.len() != 2 || ws[0] != ws[1] {
             return Err(format!("{shown}: W must be square, has shape {ws:?}"));
         }
-        let m = ws[0] as usize;
-        if qs.iter().product::<u64>() as usize != m {
+        let m = usize::try_from(ws[0]).map_err(|_| format!("{shown}: W is too large"))?;
+        // The shapes are the file's word; the data must be there too.
+        let q_len = qs.iter().try_fold(1u64, |a, &d| a.checked_mul(d));
+        if q_len != Some(m as u64) || qd.len() != m {
             return Err(format!("{shown}: q has shape {qs:?}, W is {m} × {m}"));
+        }
+        if m.checked_mul(m) != Some(wd.len()) {
+            return Err(format!(
+                "{shown}: W has shape {ws:?} but holds {} numbers",
+                wd.len()
+            ));
         }
         let w = Mat::<f64>::from_fn(m, m, |i, j| if wf { wd[i + m * j] } else { wd[i * m + j] });
         (w, qd, mu_npz)
@@ -410,5 +418,40 @@ mod tests {
         z.write_all(&npy(&[3], false, &q)).unwrap();
         z.finish().unwrap();
         assert!(load(&bad).unwrap_err().contains("no array named W"));
+    }
+
+    /// Shapes are the file's word: a header that lies about them (or that
+    /// overflows) is an error naming the file, never an out-of-bounds read
+    /// or a huge allocation.
+    #[test]
+    fn npz_shapes_that_lie_are_refused() {
+        use std::io::Write;
+        let dir = std::env::temp_dir().join(format!("signorini-npz-lies-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let write = |name: &str, w: Vec<u8>, q: Vec<u8>| {
+            let path = dir.join(name);
+            let mut z = zip::ZipWriter::new(std::fs::File::create(&path).unwrap());
+            let o = zip::write::SimpleFileOptions::default();
+            z.start_file("W.npy", o).unwrap();
+            z.write_all(&w).unwrap();
+            z.start_file("q.npy", o).unwrap();
+            z.write_all(&q).unwrap();
+            z.finish().unwrap();
+            load(&path).unwrap_err()
+        };
+        let q3 = npy(&[3], false, &[1.0, 2.0, 3.0]);
+        // W says 3 × 3 but holds 4 numbers
+        let e = write("short.npz", npy(&[3, 3], false, &[1.0; 4]), q3.clone());
+        assert!(e.contains("short.npz") || e.contains("W.npy"), "{e}");
+        // W is 2^32 × 2^32: its element count overflows
+        let e = write("huge.npz", npy(&[1 << 32, 1 << 32], false, &[]), q3.clone());
+        assert!(e.contains("huge.npz"), "{e}");
+        // q's shape overflows
+        let e = write(
+            "qhuge.npz",
+            npy(&[3, 3], false, &[1.0; 9]),
+            npy(&[1 << 40, 1 << 40], false, &[]),
+        );
+        assert!(e.contains("qhuge.npz") || e.contains("q.npy"), "{e}");
     }
 }

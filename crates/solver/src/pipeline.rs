@@ -47,6 +47,12 @@ pub fn run(
         stages: vec!["mesh".to_string(), "assemble".to_string()],
     };
     let plan = plan::plan(sc, opts)?;
+    // Refuse a scene that cannot fit before building anything (the root's
+    // verdict on every rank: the machines' memory may differ).
+    let fits = comm
+        .is_root()
+        .then(|| memory::check(sc, plan.path, comm.size()).map(|_| ()));
+    wire(broadcast(comm, fits.as_ref()))??;
     let condensed_path = plan.path == scene::SolvePath::Condensed;
     let t = Instant::now();
     let ranks = if condensed_path { comm.size() } else { 1 };

@@ -1,0 +1,911 @@
+//! The memory a scene needs, estimated from the sizes of its meshes before
+//! anything is built, and the memory the machine has: a scene that cannot fit
+//! is refused (exit 1) with the estimate, instead of aborting on a failed
+//! allocation minutes later.
+//!
+//! The estimate follows the pipeline of [`crate::run`] on the condensed path
+//! (the direct path where it differs), per subdomain of `n` DOFs, `n_b` of
+//! them on its interface, `n_I = n − n_b` interior:
+//!
+//! * **sparse**: the element triplets (24 bytes each, `(d p)²` per cell of `p`
+//!   nodes) and three copies of the stiffness (K, K_ff, the interior block:
+//!   16 bytes per entry, `d² q` entries per node with `q` the nodes a node
+//!   shares a cell with), and a few vectors per DOF and load entry;
+//! * **factor**: the sparse Cholesky factor of K with the interface ordered
+//!   last (AMD on the interior; `crates/condense`). Its interior block has
+//!   O(n log n) entries in 2D, as nested dissection would give (George
+//!   1973): measured with faer 0.24, 6.2–7.7 n log₂ n (quad4 to quad8), taken
+//!   as 8. In 3D nested dissection would give O(n^{4/3}), but AMD grows
+//!   faster: measured 6.1–6.8 n^{3/2} on cubes of 11 000 to 135 000 DOFs
+//!   (29 to 49 n^{4/3}), taken as 7 n^{3/2} (with the width of a flat or long
+//!   box instead of a cube's). Its interface rows fill in: about 10 n_b
+//!   entries per interface DOF (measured 8–11 on squares and cubes), at most
+//!   n_I, and the dense trailing block n_b²/2. The direct path factorises the
+//!   whole stiffness with its contact constraints by a sparse LU at each
+//!   status iteration: measured 8.5 (2D) and 6.7 (3D) times the Cholesky
+//!   factor, taken as 8 and 6;
+//! * **dense interface**: 8 bytes per entry of S_i (n_b², three copies: the
+//!   factorisation's, the one sent to the root, its encoding), of the
+//!   assembled S on Γ (n_Γ², two: S and its factor), of the Delassus operator
+//!   W (m², three) and of S⁻¹Bᵀ (n_Γ m), m the contact rows;
+//! * **fields**: per load step, the displacement three times (recovered,
+//!   gathered, kept) and the stresses of every cell.
+//!
+//! Measured against the peak resident set of the runs it was fitted on
+//! (squares of 100² to 800² quad4, 200² quad8 and tri6, 400² tri3, cubes of
+//! 10³ to 35³ hex8 and 20³ tet4, plates 40×40×4 and 60×60×3, a bar
+//! 10×10×80, a strip 2000×20, both paths) the estimate lies between 1.0 and
+//! 1.6 times the peak (tiny scenes: up to 2, the fixed part). It is an
+//! estimate: `--max-memory` overrides the machine's figure either way.
+//!
+//! A Gmsh file's node count is read from its `$Nodes` header (the file is not
+//! parsed); a file mesh is taken as compact (a square or a cube), with its
+//! contact surfaces as two faces' worth of nodes.
+
+use std::path::Path;
+use std::sync::atomic::{AtomicU64, Ordering};
+
+use signorini_scene as scene;
+
+use crate::SolveError;
+
+/// Bytes per GiB.
+const GIB: f64 = (1u64 << 30) as f64;
+/// What the process holds before any mesh (code, libraries, buffers).
+const BASE_BYTES: f64 = 16.0 * 1024.0 * 1024.0;
+/// Entries of the interior factor: `C2 n log₂ n` (2D), `C3 n^{3/2}` (3D, a
+/// compact body; `C3 n (d (ab)^{3/2})^{1/2}` for a box of a ≤ b ≤ c nodes
+/// per side, the same for a cube).
+const C2: f64 = 8.0;
+const C3: f64 = 7.0;
+/// Fill of the interface rows of the factor, entries per interface DOF, as a
+/// multiple of the interface DOFs.
+const INTERFACE_FILL: f64 = 10.0;
+/// The direct path's sparse LU against the Cholesky factor (2D, 3D).
+const DIRECT_LU: [f64; 2] = [8.0, 6.0];
+
+/// The memory budget set by `--max-memory` (0: the machine's).
+static BUDGET: AtomicU64 = AtomicU64::new(0);
+
+/// Sets the memory a run may use (`--max-memory`), instead of the machine's
+/// available memory; `None` restores the machine's.
+pub fn set_budget(bytes: Option<u64>) {
+    BUDGET.store(bytes.unwrap_or(0), Ordering::Relaxed);
+}
+
+/// The memory a run may use, and where that figure comes from.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Budget {
+    pub bytes: u64,
+    /// "--max-memory", "available" (MemAvailable), "total" (MemTotal) or
+    /// "cgroup limit".
+    pub source: &'static str,
+}
+
+/// The budget: `--max-memory` if given, else the machine's memory; `None`
+/// when neither is known (then nothing is refused).
+pub fn budget() -> Option<Budget> {
+    match BUDGET.load(Ordering::Relaxed) {
+        0 => machine_memory(),
+        bytes => Some(Budget {
+            bytes,
+            source: "--max-memory",
+        }),
+    }
+}
+
+/// The machine's memory: `MemAvailable` of /proc/meminfo (what can be had
+/// without swapping), else `MemTotal`, lowered to the cgroup's limit when one
+/// is set (containers).
+pub fn machine_memory() -> Option<Budget> {
+    let meminfo = std::fs::read_to_string("/proc/meminfo").ok();
+    let field = |name: &str| -> Option<u64> {
+        meminfo.as_deref()?.lines().find_map(|l| {
+            let rest = l.strip_prefix(name)?.strip_prefix(':')?;
+            let kb: u64 = rest.trim().trim_end_matches("kB").trim().parse().ok()?;
+            Some(kb * 1024)
+        })
+    };
+    let machine = field("MemAvailable")
+        .map(|bytes| Budget {
+            bytes,
+            source: "available",
+        })
+        .or_else(|| {
+            field("MemTotal").map(|bytes| Budget {
+                bytes,
+                source: "total",
+            })
+        });
+    let cgroup = [
+        "/sys/fs/cgroup/memory.max",
+        "/sys/fs/cgroup/memory/memory.limit_in_bytes",
+    ]
+    .iter()
+    .find_map(|p| std::fs::read_to_string(p).ok()?.trim().parse::<u64>().ok());
+    match (machine, cgroup) {
+        (Some(m), Some(c)) if c < m.bytes => Some(Budget {
+            bytes: c,
+            source: "cgroup limit",
+        }),
+        (None, Some(c)) if c < u64::MAX / 2 => Some(Budget {
+            bytes: c,
+            source: "cgroup limit",
+        }),
+        (m, _) => m,
+    }
+}
+
+/// Parses a size: a number of bytes, or with a unit `K`, `M`, `G`, `T`
+/// (powers of 1024; `GiB`, `GB`, `g` are the same), e.g. `64G`, `1.5T`,
+/// `500MiB`.
+pub fn parse_size(text: &str) -> Result<u64, String> {
+    let t = text.trim();
+    let split = t.find(|c: char| c.is_ascii_alphabetic()).unwrap_or(t.len());
+    let (number, unit) = t.split_at(split);
+    let value: f64 = number.trim().parse().map_err(|_| {
+        format!("expected a size like 64G, 500M or 1.5T (powers of 1024), got \"{text}\"")
+    })?;
+    let scale = match unit.trim().to_ascii_lowercase().as_str() {
+        "" | "b" => 1.0,
+        "k" | "kb" | "kib" => 1024.0,
+        "m" | "mb" | "mib" => 1024.0 * 1024.0,
+        "g" | "gb" | "gib" => GIB,
+        "t" | "tb" | "tib" => GIB * 1024.0,
+        _ => {
+            return Err(format!(
+                "unknown unit \"{unit}\" in \"{text}\"; use K, M, G or T (powers of 1024)"
+            ))
+        }
+    };
+    let bytes = value * scale;
+    if !(1.0..1.8e19).contains(&bytes) {
+        return Err(format!("expected a positive size, got \"{text}\""));
+    }
+    Ok(bytes as u64)
+}
+
+/// `bytes` for a person: "850 MiB", "1.5 GiB", "41 GiB", "3.0 TiB".
+pub fn human(bytes: f64) -> String {
+    const UNITS: [&str; 3] = ["GiB", "TiB", "PiB"];
+    if bytes < GIB {
+        return format!("{:.0} MiB", (bytes / 1024.0 / 1024.0).max(1.0));
+    }
+    let mut v = bytes / GIB;
+    for (i, unit) in UNITS.iter().enumerate() {
+        if v < 1024.0 || i + 1 == UNITS.len() {
+            return if v >= 1e4 {
+                format!("{v:.1e} {unit}")
+            } else if v >= 10.0 {
+                format!("{v:.0} {unit}")
+            } else {
+                format!("{v:.1} {unit}")
+            };
+        }
+        v /= 1024.0;
+    }
+    unreachable!()
+}
+
+/// The estimate of a run's peak memory, in bytes (as f64: a scene can ask
+/// for more than u64 holds), with its parts and the sizes it comes from.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Estimate {
+    pub total: f64,
+    pub sparse: f64,
+    pub factor: f64,
+    pub dense: f64,
+    pub fields: f64,
+    pub nodes: f64,
+    pub dofs: f64,
+    /// DOFs of the interface Γ (condensed path).
+    pub interface_dofs: f64,
+    /// Contact rows (normal and tangential).
+    pub contact_rows: f64,
+}
+
+impl Estimate {
+    /// `total` as whole bytes (saturating).
+    pub fn bytes(&self) -> u64 {
+        if self.total >= u64::MAX as f64 {
+            u64::MAX
+        } else {
+            self.total as u64
+        }
+    }
+
+    /// "about 41 GiB (factor 30 GiB, ...) for 9.0e6 nodes".
+    pub fn describe(&self) -> String {
+        let mut parts = Vec::new();
+        for (what, b) in [
+            ("factor", self.factor),
+            ("stiffness", self.sparse),
+            ("dense interface", self.dense),
+            ("fields", self.fields),
+        ] {
+            if b >= 0.05 * self.total {
+                parts.push(format!("{what} {}", human(b)));
+            }
+        }
+        let parts = if parts.is_empty() {
+            String::new()
+        } else {
+            format!(" ({})", parts.join(", "))
+        };
+        format!(
+            "about {}{parts} for {} nodes, {} DOFs, {} interface DOFs, {} contact rows",
+            human(self.total),
+            count(self.nodes),
+            count(self.dofs),
+            count(self.interface_dofs),
+            count(self.contact_rows)
+        )
+    }
+}
+
+fn count(x: f64) -> String {
+    if x < 1e6 {
+        format!("{x:.0}")
+    } else {
+        format!("{x:.2e}")
+    }
+}
+
+/// The size of one deformable body, from its generator (or file header).
+#[derive(Debug, Clone)]
+struct BodySize {
+    nodes: f64,
+    cells: f64,
+    /// Nodes per cell.
+    per_cell: f64,
+    /// Nodes sharing a cell with a node, itself included (average).
+    neighbours: f64,
+    dim: usize,
+    /// The width of the mesh in nodes, the cube root of the nodes for a
+    /// compact 3D body; for a box of a ≤ b ≤ c nodes per side, √(ab) (the
+    /// separators of nested dissection cut across the long side).
+    width: f64,
+    /// Nodes on each named surface (unknown names: none).
+    surfaces: Vec<(&'static str, f64)>,
+    /// A file mesh: its surfaces are unknown, each taken as two faces' worth.
+    any_surface: Option<f64>,
+}
+
+impl BodySize {
+    fn surface(&self, name: &str) -> f64 {
+        self.surfaces
+            .iter()
+            .find(|(n, _)| *n == name)
+            .map(|(_, v)| *v)
+            .or(self.any_surface)
+            .unwrap_or(0.0)
+    }
+}
+
+/// 2D element data: nodes of the first-order grid `n1` with `quads`
+/// quadrilaterals, made into `element`; returns (nodes, cells, per_cell,
+/// neighbours, order).
+fn planar(n1: f64, quads: f64, element: scene::Element) -> (f64, f64, f64, f64, f64) {
+    // Euler: a mesh of n1 nodes and f faces has n1 + f − 1 edges (mid-side nodes).
+    match element {
+        scene::Element::Tri3 => (n1, 2.0 * quads, 3.0, 7.0, 1.0),
+        scene::Element::Quad8 => (2.0 * n1 + quads - 1.0, quads, 8.0, 16.0, 2.0),
+        scene::Element::Tri6 => (2.0 * n1 + 2.0 * quads - 1.0, 2.0 * quads, 6.0, 15.0, 2.0),
+        _ => (n1, quads, 4.0, 9.0, 1.0),
+    }
+}
+
+/// The index k at which a graded spacing of `2 half` elements, symmetric
+/// about its middle with largest / smallest = `grading` over `span` growth
+/// steps (`crates/mesh` `symmetric_graded_spacing`), reaches a quarter of its
+/// length: where the generators put the corner of their inner block (45°).
+/// In closed form, so that a huge `divisions` costs nothing:
+/// t_k = (1 − q^{−k}) / (2 (1 − q^{−half})), q = grading^{1/span}.
+fn quarter_index(half: f64, grading: f64, span: f64) -> f64 {
+    let ln_g = grading.max(1.0).ln();
+    if span <= 0.0 || ln_g < 1e-12 {
+        return half / 2.0;
+    }
+    -((1.0 + (-ln_g * half / span).exp()) / 2.0).ln() * span / ln_g
+}
+
+/// Nodes and quadrilaterals of the first-order half disk of `n` arc
+/// divisions (`crates/mesh` `half_disk`: an inner block of (n − 2m) × m, m
+/// the arc index nearest 45°, and a ring of n × ⌈n/8⌉), and its (ns, m, nr).
+fn half_disk_grid(n: f64, grading: f64) -> (f64, f64, f64, f64, f64) {
+    let span = if n % 2.0 == 0.0 {
+        n / 2.0 - 1.0
+    } else {
+        (n - 1.0) / 2.0
+    };
+    let m = quarter_index(n / 2.0, grading, span)
+        .round()
+        .clamp(1.0, ((n - 1.0) / 2.0).floor().max(1.0));
+    let ns = (n - 2.0 * m).max(1.0);
+    let nr = (n / 8.0).ceil().max(1.0);
+    let nodes = (ns + 1.0) * (m + 1.0) + (n + 1.0) * nr;
+    let quads = ns * m + n * nr;
+    (nodes, quads, ns, m, nr)
+}
+
+fn body_size(body: &scene::Body, dim: usize) -> Option<BodySize> {
+    let mesh = body.mesh.as_ref()?;
+    let g = match mesh {
+        scene::MeshSpec::Generator(g) => g,
+        scene::MeshSpec::File { file } => {
+            let nodes = gmsh_nodes(file)?;
+            let d = dim as f64;
+            let (cells, per_cell, neighbours) = if dim == 3 {
+                (5.0 * nodes, 4.0, 15.0)
+            } else {
+                (2.0 * nodes, 3.0, 7.0)
+            };
+            return Some(BodySize {
+                nodes,
+                cells,
+                per_cell,
+                neighbours,
+                dim,
+                width: nodes.cbrt(),
+                surfaces: Vec::new(),
+                any_surface: Some((2.0 * nodes.powf((d - 1.0) / d)).min(nodes)),
+            });
+        }
+    };
+    Some(match g {
+        scene::Generator::Rectangle {
+            divisions, element, ..
+        } => {
+            let [nx, ny] = divisions.map(|d| d as f64);
+            let (nodes, cells, per_cell, neighbours, o) =
+                planar((nx + 1.0) * (ny + 1.0), nx * ny, *element);
+            BodySize {
+                nodes,
+                cells,
+                per_cell,
+                neighbours,
+                dim: 2,
+                width: 0.0,
+                surfaces: vec![
+                    ("bottom", o * nx + 1.0),
+                    ("top", o * nx + 1.0),
+                    ("left", o * ny + 1.0),
+                    ("right", o * ny + 1.0),
+                ],
+                any_surface: None,
+            }
+        }
+        scene::Generator::HalfDisk {
+            divisions,
+            element,
+            grading,
+            ..
+        } => {
+            let n = *divisions as f64;
+            let (n1, quads, ns, _, nr) = half_disk_grid(n, *grading);
+            let (nodes, cells, per_cell, neighbours, o) = planar(n1, quads, *element);
+            BodySize {
+                nodes,
+                cells,
+                per_cell,
+                neighbours,
+                dim: 2,
+                width: 0.0,
+                surfaces: vec![("arc", o * n + 1.0), ("flat", o * (ns + 2.0 * nr) + 1.0)],
+                any_surface: None,
+            }
+        }
+        scene::Generator::QuarterDisk {
+            divisions,
+            element,
+            grading,
+            ..
+        } => {
+            // the half disk of 2n divisions, cut along its axis
+            let n = *divisions as f64;
+            let (n1, quads, ns, m, nr) = half_disk_grid(2.0 * n, *grading);
+            let (nodes, cells, per_cell, neighbours, o) =
+                planar(n1 / 2.0 + m + nr + 1.0, quads / 2.0, *element);
+            BodySize {
+                nodes,
+                cells,
+                per_cell,
+                neighbours,
+                dim: 2,
+                width: 0.0,
+                surfaces: vec![
+                    ("arc", o * n + 1.0),
+                    ("flat", o * (ns / 2.0 + nr) + 1.0),
+                    ("axis", o * (m + nr) + 1.0),
+                ],
+                any_surface: None,
+            }
+        }
+        scene::Generator::Box {
+            divisions, element, ..
+        } => {
+            let [nx, ny, nz] = divisions.map(|d| d as f64);
+            let (cells, per_cell, neighbours) = if *element == scene::Element::Tet4 {
+                (6.0 * nx * ny * nz, 4.0, 15.0)
+            } else {
+                (nx * ny * nz, 8.0, 27.0)
+            };
+            let (px, py, pz) = (nx + 1.0, ny + 1.0, nz + 1.0);
+            let mut sides = [px, py, pz];
+            sides.sort_by(f64::total_cmp);
+            BodySize {
+                nodes: px * py * pz,
+                cells,
+                per_cell,
+                neighbours,
+                dim: 3,
+                width: (sides[0] * sides[1]).sqrt(),
+                surfaces: vec![
+                    ("xmin", py * pz),
+                    ("xmax", py * pz),
+                    ("ymin", px * pz),
+                    ("ymax", px * pz),
+                    ("zmin", px * py),
+                    ("zmax", px * py),
+                ],
+                any_surface: None,
+            }
+        }
+        scene::Generator::Hemisphere {
+            divisions, grading, ..
+        } => {
+            // `crates/mesh` `hemisphere`: (ns + 1)² (m + 1) + ((ns + 1)² + 4 ns m) n_r
+            // nodes, m the meridian index nearest 45°, ns = 2n − 2m,
+            // n_r = max(2, ⌈n/2⌉)
+            let n = *divisions as f64;
+            let m = quarter_index(n, *grading, n - 1.0)
+                .round()
+                .clamp(1.0, (n - 1.0).max(1.0));
+            let ns = (2.0 * n - 2.0 * m).max(1.0);
+            let nr = (n / 2.0).ceil().max(2.0);
+            let block = (ns + 1.0) * (ns + 1.0);
+            let nodes = block * (m + 1.0) + (block + 4.0 * ns * m) * nr;
+            BodySize {
+                nodes,
+                width: nodes.cbrt(),
+                cells: ns * ns * m + (ns * ns + 4.0 * ns * m) * nr,
+                per_cell: 8.0,
+                neighbours: 27.0,
+                dim: 3,
+                surfaces: vec![
+                    ("dome", block + 4.0 * ns * m),
+                    ("flat", block + 4.0 * ns * nr),
+                ],
+                any_surface: None,
+            }
+        }
+    })
+}
+
+/// The node count announced by a Gmsh file's `$Nodes` header (MSH 2.2: the
+/// count; MSH 4.1 ASCII: the second number; binary: the second size_t), at
+/// most one node per 4 bytes of file, else one node per 32 bytes. `None` if
+/// the file cannot be read (the solver reports that).
+fn gmsh_nodes(path: &Path) -> Option<f64> {
+    use std::io::Read;
+    // The headers come first: read at most 16 MiB, not a file that may not fit.
+    let file = std::fs::File::open(path).ok()?;
+    let len = file.metadata().ok()?.len() as f64;
+    let mut bytes = Vec::new();
+    file.take(16 << 20).read_to_end(&mut bytes).ok()?;
+    let fallback = Some(len / 32.0);
+    let find = |tag: &[u8]| bytes.windows(tag.len()).position(|w| w == tag);
+    let Some(fmt) = find(b"$MeshFormat") else {
+        return fallback;
+    };
+    let header: Vec<&str> = std::str::from_utf8(&bytes[fmt..(fmt + 64).min(bytes.len())])
+        .unwrap_or("")
+        .lines()
+        .nth(1)
+        .unwrap_or("")
+        .split_whitespace()
+        .collect();
+    let (version, binary, size_t) = match header.as_slice() {
+        [v, b, s, ..] => (*v, *b == "1", s.parse::<usize>().unwrap_or(8)),
+        _ => return fallback,
+    };
+    let Some(start) = find(b"$Nodes") else {
+        return fallback;
+    };
+    let body = &bytes[start + b"$Nodes".len()..];
+    let body = body.strip_prefix(b"\r").unwrap_or(body);
+    let body = body.strip_prefix(b"\n").unwrap_or(body);
+    let count = if version.starts_with('4') && binary {
+        if size_t != 4 && size_t != 8 {
+            return fallback;
+        }
+        let raw = body.get(size_t..2 * size_t)?;
+        let big_endian = bytes
+            .get(fmt..)
+            .and_then(|b| b.iter().position(|&c| c == b'\n').map(|e| fmt + e + 1))
+            .and_then(|e| bytes.get(e..))
+            .and_then(|b| b.iter().position(|&c| c == b'\n').map(|e| (e, b)))
+            .and_then(|(e, b)| b.get(e + 1..e + 5))
+            == Some(&[0, 0, 0, 1][..]);
+        let mut v = 0u64;
+        let mut push = |x: &u8| v = (v << 8) | u64::from(*x);
+        if big_endian {
+            raw.iter().for_each(&mut push);
+        } else {
+            raw.iter().rev().for_each(&mut push);
+        }
+        v as f64
+    } else {
+        let text = String::from_utf8_lossy(&body[..body.len().min(200)]).into_owned();
+        let mut numbers = text.split_whitespace().map(|t| t.parse::<f64>().ok());
+        let first = numbers.next().flatten();
+        let second = numbers.next().flatten();
+        match (version.starts_with('4'), first, second) {
+            (true, _, Some(n)) => n,
+            (false, Some(n), _) => n,
+            _ => return fallback,
+        }
+    };
+    // A header can claim anything: the file cannot hold more nodes than its
+    // bytes allow (a node is at least a few bytes).
+    Some(count.min(len / 4.0))
+}
+
+/// Entries of the Cholesky factor of a subdomain of `n` DOFs in `dim`
+/// dimensions, `nb` of them on its interface (ordered last), part of a body
+/// of `body_n` DOFs and `width` (see [`BodySize::width`]).
+fn factor_entries(n: f64, nb: f64, dim: usize, body_n: f64, width: f64) -> f64 {
+    let ni = (n - nb).max(0.0);
+    let interior = if dim == 3 {
+        // n^{3/2} = n (d N)^{1/2}, N = width³ for a cube
+        let part = ni / body_n.max(1.0);
+        C3 * ni * (3.0 * width.powi(3) * part).sqrt()
+    } else {
+        C2 * ni * ni.max(2.0).log2()
+    };
+    interior + nb * (INTERFACE_FILL * nb).min(ni) + 0.5 * nb * nb
+}
+
+/// Estimates the peak memory of `signorini run` on this scene, along
+/// `path`, with `ranks` MPI ranks (for `subdomains = "auto"`). Nothing is
+/// built; a Gmsh file's header is read.
+pub fn estimate(sc: &scene::Scene, path: scene::SolvePath, ranks: usize) -> Estimate {
+    let dim = sc.dimension as usize;
+    let direct = path == scene::SolvePath::Direct;
+    let steps = sc.step_scales().len().max(1) as f64;
+    let sizes: Vec<Option<BodySize>> = sc.bodies.iter().map(|b| body_size(b, dim)).collect();
+    let autos = sc
+        .bodies
+        .iter()
+        .filter(|b| b.is_deformable() && b.subdomains == scene::Subdomains::Auto)
+        .count()
+        .max(1);
+    let body_of = |name: &str| sc.body_index(name).and_then(|i| sizes[i].as_ref());
+    // Contact rows, and contact nodes of each body.
+    let mut contact_nodes = vec![0.0; sc.bodies.len()];
+    let mut rows = 0.0;
+    for c in &sc.contact {
+        let slave = c
+            .slave
+            .surface
+            .as_deref()
+            .and_then(|s| body_of(&c.slave.body).map(|b| b.surface(s)))
+            .unwrap_or(0.0);
+        if let Some(i) = sc.body_index(&c.slave.body) {
+            contact_nodes[i] += slave;
+        }
+        if let (Some(i), Some(s)) = (sc.body_index(&c.master.body), c.master.surface.as_deref()) {
+            contact_nodes[i] += body_of(&c.master.body).map_or(0.0, |b| b.surface(s));
+        }
+        let tangential = match c.friction {
+            scene::Friction::None => 0.0,
+            _ => (dim - 1) as f64,
+        };
+        rows += slave * (1.0 + tangential);
+    }
+    let mut e = Estimate {
+        contact_rows: rows,
+        ..Default::default()
+    };
+    let mut subdomain_dense = 0.0;
+    let loads = |name: &str| sc.boundary.iter().filter(|b| b.body == name).count() as f64;
+    for (i, b) in sc.bodies.iter().enumerate() {
+        let Some(s) = &sizes[i] else { continue };
+        let d = s.dim as f64;
+        let parts = if direct {
+            1.0
+        } else {
+            match b.subdomains {
+                scene::Subdomains::Count(k) => k as f64,
+                scene::Subdomains::Auto => (ranks / autos).max(1) as f64,
+            }
+        }
+        .clamp(1.0, s.cells.max(1.0));
+        // nodes on the cuts between parts (METIS separators)
+        let shared = if parts > 1.0 {
+            (1.5 * (parts - 1.0) * s.nodes.powf((d - 1.0) / d)).min(s.nodes)
+        } else {
+            0.0
+        };
+        let gamma_nodes = (contact_nodes[i] + shared).min(s.nodes);
+        let n = d * s.nodes;
+        e.nodes += s.nodes;
+        e.dofs += n;
+        e.interface_dofs += d * gamma_nodes;
+        // per part
+        let n_part = n / parts;
+        let nb_part = (d * (contact_nodes[i] + 2.0 * shared) / parts).min(n_part);
+        let triplets = s.cells * (d * s.per_cell).powi(2);
+        let entries = s.nodes * d * d * s.neighbours;
+        let per_dof = 8.0 * (12.0 + 5.0 * loads(&b.name));
+        e.sparse += 24.0 * triplets + 48.0 * entries + per_dof * n;
+        if direct {
+            // the stiffness's triplets are kept and copied at each factorisation
+            e.sparse += 48.0 * entries;
+            let lu = DIRECT_LU[usize::from(s.dim == 3)];
+            e.factor += 8.0 * lu * factor_entries(n, 0.0, s.dim, n, s.width);
+        } else {
+            e.factor += 8.0 * parts * factor_entries(n_part, nb_part, s.dim, n, s.width);
+            subdomain_dense += 3.0 * parts * nb_part * nb_part;
+        }
+        // per step: displacement (recovered, gathered, kept) and the stresses
+        e.fields += steps * 8.0 * (3.0 * n + 7.0 * s.cells);
+    }
+    let (g, m) = (e.interface_dofs, e.contact_rows);
+    e.dense = if direct {
+        8.0 * 3.0 * m * m
+    } else {
+        8.0 * (subdomain_dense + 2.0 * g * g + 3.0 * m * m + g * m)
+    };
+    e.fields += steps * 200.0 * m;
+    e.total = BASE_BYTES + e.sparse + e.factor + e.dense + e.fields;
+    e
+}
+
+/// [`estimate`], refused with [`SolveError::Input`] when it exceeds the
+/// [`budget`] (the machine's memory or `--max-memory`).
+pub fn check(
+    sc: &scene::Scene,
+    path: scene::SolvePath,
+    ranks: usize,
+) -> Result<Estimate, SolveError> {
+    let e = estimate(sc, path, ranks);
+    let Some(budget) = budget() else {
+        return Ok(e);
+    };
+    if e.total <= budget.bytes as f64 {
+        return Ok(e);
+    }
+    let has = match budget.source {
+        "--max-memory" => format!("--max-memory is {}", human(budget.bytes as f64)),
+        "available" => format!("the machine has {} available", human(budget.bytes as f64)),
+        "cgroup limit" => format!(
+            "the process may use {} (cgroup limit)",
+            human(budget.bytes as f64)
+        ),
+        _ => format!("the machine has {}", human(budget.bytes as f64)),
+    };
+    let dim = sc.dimension as usize;
+    let biggest = sc
+        .bodies
+        .iter()
+        .enumerate()
+        .filter_map(|(i, b)| body_size(b, dim).map(|s| (i, b, s.nodes)))
+        .max_by(|a, b| a.2.total_cmp(&b.2))
+        .map(|(i, b, _)| {
+            let key = match b.mesh {
+                Some(scene::MeshSpec::File { .. }) => "file",
+                _ => "divisions",
+            };
+            format!(
+                "; the largest mesh is bodies[{i}] \"{}\" (bodies[{i}].mesh.{key})",
+                b.name
+            )
+        })
+        .unwrap_or_default();
+    // --max-memory is for an estimate that is wrong, not for 1000 times too much
+    let remedy = if e.total < 16.0 * budget.bytes as f64 {
+        format!(
+            "use coarser divisions, or --max-memory {} if the estimate is wrong for this machine",
+            suggest(e.total)
+        )
+    } else {
+        "use coarser divisions".to_string()
+    };
+    Err(SolveError::Input(format!(
+        "memory: the scene needs {}, {has}{biggest}; {remedy}",
+        e.describe()
+    )))
+}
+
+/// A `--max-memory` value just above `bytes`.
+fn suggest(bytes: f64) -> String {
+    let g = (bytes / GIB).ceil();
+    if g < 1e6 {
+        format!("{g:.0}G")
+    } else {
+        format!("{g:.1e}G")
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn scene(mesh: &str, dim: u8) -> scene::Scene {
+        let (surface, rigid) = if dim == 3 {
+            (
+                "zmin",
+                "rigid = { shape = \"plane\", point = [0.0, 0.0, 0.0], normal = [0.0, 0.0, 1.0] }",
+            )
+        } else {
+            (
+                "bottom",
+                "rigid = { shape = \"plane\", point = [0.0, 0.0], normal = [0.0, 1.0] }",
+            )
+        };
+        scene::parse_toml(&format!(
+            "dimension = {dim}\n[[materials]]\nname = \"s\"\nyoung = 1.0\npoisson = 0.3\n[[bodies]]\nname = \"b\"\nmaterial = \"s\"\nmesh = {mesh}\n[[bodies]]\nname = \"g\"\n{rigid}\n[[contact]]\nname = \"c\"\nslave = {{ body = \"b\", surface = \"{surface}\" }}\nmaster = {{ body = \"g\" }}\n"
+        ))
+        .unwrap()
+    }
+
+    #[test]
+    fn sizes_match_the_generators() {
+        use signorini_mesh::generators as g;
+        use signorini_mesh::CellKind;
+        let close = |what: &str, est: f64, real: usize| {
+            let r = est / real as f64;
+            assert!(
+                (0.97..=1.1).contains(&r),
+                "{what}: estimated {est}, real {real}"
+            );
+        };
+        for (el, kind) in [
+            (scene::Element::Quad4, CellKind::Quad4),
+            (scene::Element::Tri3, CellKind::Tri3),
+            (scene::Element::Quad8, CellKind::Quad8),
+            (scene::Element::Tri6, CellKind::Tri6),
+        ] {
+            let m = g::rectangle([0.0, 0.0], [1.0, 1.0], [7, 3], kind, None).unwrap();
+            let body = scene::Body {
+                name: "b".into(),
+                material: None,
+                subdomains: Default::default(),
+                mesh: Some(scene::MeshSpec::Generator(scene::Generator::Rectangle {
+                    origin: [0.0, 0.0],
+                    size: [1.0, 1.0],
+                    divisions: [7, 3],
+                    element: el,
+                    grading: None,
+                })),
+                rigid: None,
+                formulation: Default::default(),
+            };
+            let s = body_size(&body, 2).unwrap();
+            assert_eq!(s.nodes as usize, m.n_nodes(), "{el:?}");
+            assert_eq!(s.cells as usize, m.cells.len(), "{el:?}");
+            let bottom = m.surface("bottom").unwrap().nodes().len();
+            assert_eq!(s.surface("bottom") as usize, bottom, "{el:?}");
+            for (n, grading) in [(8, 1.0), (40, 1.0), (160, 16.0)] {
+                let m = g::half_disk([0.0, 1.0], 1.0, n, [0.0, -1.0], grading, kind).unwrap();
+                let body = scene::Body {
+                    mesh: Some(scene::MeshSpec::Generator(scene::Generator::HalfDisk {
+                        center: [0.0, 1.0],
+                        radius: 1.0,
+                        divisions: n,
+                        pole: [0.0, -1.0],
+                        grading,
+                        element: el,
+                    })),
+                    ..body.clone()
+                };
+                let s = body_size(&body, 2).unwrap();
+                close(&format!("half_disk {n} {el:?} nodes"), s.nodes, m.n_nodes());
+                close(
+                    &format!("half_disk {n} {el:?} cells"),
+                    s.cells,
+                    m.cells.len(),
+                );
+                let arc = m.surface("arc").unwrap().nodes().len();
+                close(&format!("half_disk {n} {el:?} arc"), s.surface("arc"), arc);
+                let m = g::quarter_disk([0.0, 1.0], 1.0, n, grading, kind).unwrap();
+                let body = scene::Body {
+                    mesh: Some(scene::MeshSpec::Generator(scene::Generator::QuarterDisk {
+                        center: [0.0, 1.0],
+                        radius: 1.0,
+                        divisions: n,
+                        grading,
+                        element: el,
+                    })),
+                    ..body.clone()
+                };
+                let s = body_size(&body, 2).unwrap();
+                close(
+                    &format!("quarter_disk {n} {el:?} nodes"),
+                    s.nodes,
+                    m.n_nodes(),
+                );
+                close(
+                    &format!("quarter_disk {n} {el:?} cells"),
+                    s.cells,
+                    m.cells.len(),
+                );
+            }
+        }
+        for (el, kind) in [
+            (scene::Element::Hex8, CellKind::Hex8),
+            (scene::Element::Tet4, CellKind::Tet4),
+        ] {
+            let m = g::box_mesh([0.0; 3], [1.0; 3], [4, 3, 2], kind, None).unwrap();
+            let sc = scene(
+                &format!("{{ generator = \"box\", origin = [0.0, 0.0, 0.0], size = [1.0, 1.0, 1.0], divisions = [4, 3, 2], element = \"{}\" }}", el.as_str()),
+                3,
+            );
+            let s = body_size(&sc.bodies[0], 3).unwrap();
+            assert_eq!(s.nodes as usize, m.n_nodes());
+            assert_eq!(s.cells as usize, m.cells.len());
+            let zmin = m.surface("zmin").unwrap().nodes().len();
+            assert_eq!(s.surface("zmin") as usize, zmin);
+        }
+        for (n, grading) in [(4, 1.0), (12, 8.0), (20, 1.0)] {
+            let m = g::hemisphere([0.0, 0.0, 1.0], 1.0, n, [0.0, 0.0, -1.0], grading).unwrap();
+            let sc = scene(
+                &format!("{{ generator = \"hemisphere\", center = [0.0, 0.0, 1.0], radius = 1.0, divisions = {n}, grading = {grading:.1} }}"),
+                3,
+            );
+            let s = body_size(&sc.bodies[0], 3).unwrap();
+            close(&format!("hemisphere {n} nodes"), s.nodes, m.n_nodes());
+            close(&format!("hemisphere {n} cells"), s.cells, m.cells.len());
+            let dome = m.surface("dome").unwrap().nodes().len();
+            close(&format!("hemisphere {n} dome"), s.surface("dome"), dome);
+        }
+    }
+
+    #[test]
+    fn the_3000_square_does_not_fit_in_24_gib_and_the_small_ones_do() {
+        let rect = |k: usize| {
+            scene(
+                &format!("{{ generator = \"rectangle\", origin = [0.0, 0.0], size = [1.0, 1.0], divisions = [{k}, {k}] }}"),
+                2,
+            )
+        };
+        let path = scene::SolvePath::Condensed;
+        let big = estimate(&rect(3000), path, 1);
+        assert!(big.total > 24.0 * GIB, "{}", big.describe());
+        assert!(big.total < 200.0 * GIB, "{}", big.describe());
+        // measured peaks (faer 0.24): 400²: 895 MiB, 800²: 3.6 GiB
+        let mid = estimate(&rect(400), path, 1);
+        assert!(
+            (0.9..1.6).contains(&(mid.total / (895.0 * 1024.0 * 1024.0))),
+            "{}",
+            mid.describe()
+        );
+        let small = estimate(&rect(40), path, 1);
+        assert!(small.total < 0.1 * GIB, "{}", small.describe());
+        // no overflow, however large
+        let huge = estimate(&rect(usize::MAX / 2), path, 1);
+        assert!(huge.total.is_finite() && huge.bytes() == u64::MAX);
+    }
+
+    #[test]
+    fn sizes_parse_with_units() {
+        assert_eq!(parse_size("64G").unwrap(), 64 << 30);
+        assert_eq!(parse_size("1.5 GiB").unwrap(), 3 << 29);
+        assert_eq!(parse_size("500m").unwrap(), 500 << 20);
+        assert_eq!(parse_size("2T").unwrap(), 2 << 40);
+        assert_eq!(parse_size("4096").unwrap(), 4096);
+        assert!(parse_size("lots").is_err());
+        assert!(parse_size("-3G").is_err());
+        assert!(parse_size("3 parsecs").is_err());
+        assert!(parse_size("nan").is_err());
+    }
+
+    #[test]
+    fn meminfo_is_read_here() {
+        if std::path::Path::new("/proc/meminfo").exists() {
+            let m = machine_memory().expect("/proc/meminfo has MemAvailable or MemTotal");
+            assert!(m.bytes > 64 << 20, "{m:?}");
+        }
+    }
+}
