@@ -6,6 +6,9 @@
 //!
 //! Messages are serde values encoded with bincode; collectives move one buffer
 //! per rank (gather with variable counts, not one message per entry).
+//!
+//! The comm crate owns the transport; it must not know meshes, numerics or the
+//! scene.
 
 use serde::de::DeserializeOwned;
 use serde::Serialize;

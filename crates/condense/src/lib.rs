@@ -21,6 +21,9 @@
 //! recovery. [`schur_complement_reference`] is the plain multi-RHS formula,
 //! kept as the reference in tests. [`Condensed::interior_condition_estimate`]
 //! estimates κ₁(K_II) from the same factor ([`conditioning`]).
+//!
+//! The condense crate owns the static condensation of one subdomain (and
+//! condition estimates); it must not know contact, the scene format or MPI.
 
 pub mod conditioning;
 

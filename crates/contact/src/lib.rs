@@ -7,6 +7,11 @@
 //! interpolated); non-penetration g ≥ 0; the contact force λ ≥ 0 is the
 //! compressive normal force on the slave (the seed's F_n = −λ ≤ 0, §2.1);
 //! complementarity λ g = 0.
+//!
+//! The contact crate owns the contact geometry (module `geometry`) and the
+//! algebra on W, q (G, e); it must not know the scene format, MPI, the command
+//! line or finite-element systems (the direct path's KKT solve lives in the
+//! solver).
 
 pub mod active_set;
 pub mod augmented_lagrangian;

@@ -17,6 +17,9 @@
 //! plane `[xx, yy, xy]`, axisymmetric `[rr, zz, θθ, rz]`, solid
 //! `[xx, yy, zz, xy, yz, xz]`. Recovered stresses ([`cell_stress`]) are always
 //! full 3D `[xx, yy, zz, xy, yz, xz]` (axisymmetric: `[rr, zz, θθ, rz, 0, 0]`).
+//!
+//! The fem crate owns elements, their stiffness and loads; it must not know
+//! contact, the scene format or MPI.
 
 pub mod assembly;
 pub mod bbar;

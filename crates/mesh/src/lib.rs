@@ -5,6 +5,10 @@
 //! that 2D and 3D share one type. A surface is a list of boundary facets (2-node
 //! segments in 2D); each facet remembers the cell it bounds, so outward normals
 //! are oriented away from that cell whatever the facet's node order.
+//!
+//! The mesh crate owns geometry and topology (cells, surfaces, generators, Gmsh
+//! files, METIS parts); it must not know elasticity, contact or the scene
+//! format.
 
 pub mod generators;
 pub mod gmsh;

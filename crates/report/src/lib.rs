@@ -1,5 +1,8 @@
 //! The run report (SCENE.md, "The report"): report.json, contact.csv, and the
 //! analytic references a run is compared with (VALIDATION.md).
+//!
+//! The report crate owns the output files, the terminal summary and the
+//! analytic references; it must not know the scene format or the solver.
 
 pub mod output;
 pub mod plot;

@@ -20,6 +20,9 @@
 //! "#).unwrap();
 //! assert_eq!(scene.model, signorini_scene::Model::PlaneStrain);
 //! ```
+//!
+//! The scene crate owns the user contract (the scene file and its validation);
+//! it must not know meshes, finite elements, contact algorithms or MPI.
 
 use std::path::Path;
 

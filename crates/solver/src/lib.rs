@@ -10,6 +10,11 @@
 //! The direct path (`path = "direct"`) solves the same contact problem on the
 //! whole sparse stiffness on the root, refactorised at each status iteration
 //! (seed §3.3), for checking and benchmarking the condensed path.
+//!
+//! The solver crate owns the pipeline (`pipeline.rs`: plan → model and
+//! partition → condense → root → recover → certify and report) and is the only
+//! one that knows the scene, the numerics and the transport together; it must
+//! not know the command line.
 
 pub mod bench;
 mod certify;

@@ -26,6 +26,9 @@
 //! templates, with `{placeholder}`s), read by [`data`] and compiled in with
 //! `include_str!`; each reference's quantity is a named [`Measure`] read by
 //! [`measure`].
+//!
+//! The stiff crate owns the stiff and extreme suite as data; it is not part of
+//! the library the CLI runs scenes with.
 
 use serde::Serialize;
 use signorini_scene as scene;
