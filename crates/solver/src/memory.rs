@@ -295,6 +295,17 @@ fn planar(n1: f64, quads: f64, element: scene::Element) -> (f64, f64, f64, f64, 
     }
 }
 
+/// As [`planar`] for the disk generators, whose triangles are cut four to a
+/// quadrilateral about a centre node (`crates/mesh` generators/split.rs).
+fn planar_disk(n1: f64, quads: f64, element: scene::Element) -> (f64, f64, f64, f64, f64) {
+    // Tri3: n1 + quads nodes and 4 quads cells, so n1 + 5 quads − 1 edges.
+    match element {
+        scene::Element::Tri3 => (n1 + quads, 4.0 * quads, 3.0, 7.0, 1.0),
+        scene::Element::Tri6 => (2.0 * n1 + 6.0 * quads - 1.0, 4.0 * quads, 6.0, 15.0, 2.0),
+        other => planar(n1, quads, other),
+    }
+}
+
 /// The index k at which a graded spacing of `2 half` elements, symmetric
 /// about its middle with largest / smallest = `grading` over `span` growth
 /// steps (`crates/mesh` `symmetric_graded_spacing`), reaches a quarter of its
@@ -383,7 +394,7 @@ fn body_size(body: &scene::Body, dim: usize) -> Option<BodySize> {
         } => {
             let n = *divisions as f64;
             let (n1, quads, ns, _, nr) = half_disk_grid(n, *grading);
-            let (nodes, cells, per_cell, neighbours, o) = planar(n1, quads, *element);
+            let (nodes, cells, per_cell, neighbours, o) = planar_disk(n1, quads, *element);
             BodySize {
                 nodes,
                 cells,
@@ -405,7 +416,7 @@ fn body_size(body: &scene::Body, dim: usize) -> Option<BodySize> {
             let n = *divisions as f64;
             let (n1, quads, ns, m, nr) = half_disk_grid(2.0 * n, *grading);
             let (nodes, cells, per_cell, neighbours, o) =
-                planar(n1 / 2.0 + m + nr + 1.0, quads / 2.0, *element);
+                planar_disk(n1 / 2.0 + m + nr + 1.0, quads / 2.0, *element);
             BodySize {
                 nodes,
                 cells,
