@@ -113,82 +113,10 @@ pub fn box_mesh(
         }
         None => None,
     };
-    // grid line coordinates along each axis, the ends exact
-    let lines: Vec<Vec<f64>> = (0..3)
-        .map(|a| {
-            let n = divisions[a];
-            axis_spacing(n, a, grading)
-                .iter()
-                .enumerate()
-                .map(|(i, t)| {
-                    if i == n {
-                        origin[a] + size[a]
-                    } else {
-                        origin[a] + size[a] * t
-                    }
-                })
-                .collect()
-        })
-        .collect();
-    let id = |i: usize, j: usize, k: usize| (k * (ny + 1) + j) * (nx + 1) + i;
-    let mut coords = Vec::with_capacity((nx + 1) * (ny + 1) * (nz + 1));
-    for &z in &lines[2] {
-        for &y in &lines[1] {
-            for &x in &lines[0] {
-                coords.push([x, y, z]);
-            }
-        }
-    }
-    let mut cells = Vec::new();
-    for k in 0..nz {
-        for j in 0..ny {
-            for i in 0..nx {
-                let v = |a: usize, b: usize, c: usize| id(i + a, j + b, k + c);
-                if kind == CellKind::Hex8 {
-                    cells.push(Cell {
-                        kind,
-                        nodes: vec![
-                            v(0, 0, 0),
-                            v(1, 0, 0),
-                            v(1, 1, 0),
-                            v(0, 1, 0),
-                            v(0, 0, 1),
-                            v(1, 0, 1),
-                            v(1, 1, 1),
-                            v(0, 1, 1),
-                        ],
-                    });
-                    continue;
-                }
-                // Kuhn split: the path (0,0,0) -> +e_p0 -> +e_p1 -> (1,1,1) for
-                // each permutation p; an odd permutation gives a negative volume
-                // in path order, so its last two nodes are swapped
-                for (p, odd) in [
-                    ([0, 1, 2], false),
-                    ([1, 2, 0], false),
-                    ([2, 0, 1], false),
-                    ([1, 0, 2], true),
-                    ([0, 2, 1], true),
-                    ([2, 1, 0], true),
-                ] {
-                    let mut o = [0usize; 3];
-                    let mut path = vec![v(0, 0, 0)];
-                    for &axis in &p {
-                        o[axis] = 1;
-                        path.push(v(o[0], o[1], o[2]));
-                    }
-                    if odd {
-                        path.swap(2, 3);
-                    }
-                    cells.push(Cell { kind, nodes: path });
-                }
-            }
-        }
-    }
     let mut mesh = Mesh {
         dim: 3,
-        coords,
-        cells,
+        coords: grid_nodes(origin, size, divisions, grading),
+        cells: grid_cells(divisions, kind),
         surfaces: BTreeMap::new(),
         regions: Default::default(),
     };
@@ -210,4 +138,107 @@ pub fn box_mesh(
     })?;
     mesh.check()?;
     Ok(mesh)
+}
+
+/// The grid's nodes, node `(i, j, k)` at index `(k (ny + 1) + j) (nx + 1) + i`,
+/// on the grid lines along each axis of the box at `origin` of `size`
+/// ([`axis_spacing`]: graded along the axis `grading` names, uniform along the
+/// others), the last line exactly at `origin + size`.
+fn grid_nodes(
+    origin: [f64; 3],
+    size: [f64; 3],
+    divisions: [usize; 3],
+    grading: Option<(usize, bool, f64)>,
+) -> Vec<[f64; 3]> {
+    let [nx, ny, nz] = divisions;
+    let lines: Vec<Vec<f64>> = (0..3)
+        .map(|a| {
+            let n = divisions[a];
+            axis_spacing(n, a, grading)
+                .iter()
+                .enumerate()
+                .map(|(i, t)| {
+                    if i == n {
+                        origin[a] + size[a]
+                    } else {
+                        origin[a] + size[a] * t
+                    }
+                })
+                .collect()
+        })
+        .collect();
+    let mut coords = Vec::with_capacity((nx + 1) * (ny + 1) * (nz + 1));
+    for &z in &lines[2] {
+        for &y in &lines[1] {
+            for &x in &lines[0] {
+                coords.push([x, y, z]);
+            }
+        }
+    }
+    coords
+}
+
+/// The cells of the `nx x ny x nz` grid, hexahedron `(i, j, k)` by hexahedron
+/// (i fastest): one Hex8 in the VTK order, or its 6 Tet4 of the Kuhn split
+/// ([`kuhn_tetrahedra`]).
+fn grid_cells(divisions: [usize; 3], kind: CellKind) -> Vec<Cell> {
+    let [nx, ny, nz] = divisions;
+    let id = |i: usize, j: usize, k: usize| (k * (ny + 1) + j) * (nx + 1) + i;
+    let mut cells = Vec::new();
+    for k in 0..nz {
+        for j in 0..ny {
+            for i in 0..nx {
+                let v = |a: usize, b: usize, c: usize| id(i + a, j + b, k + c);
+                if kind == CellKind::Hex8 {
+                    cells.push(Cell {
+                        kind,
+                        nodes: vec![
+                            v(0, 0, 0),
+                            v(1, 0, 0),
+                            v(1, 1, 0),
+                            v(0, 1, 0),
+                            v(0, 0, 1),
+                            v(1, 0, 1),
+                            v(1, 1, 1),
+                            v(0, 1, 1),
+                        ],
+                    });
+                } else {
+                    cells.extend(kuhn_tetrahedra(v));
+                }
+            }
+        }
+    }
+    cells
+}
+
+/// The 6 Tet4 of the Kuhn split of the hexahedron whose corner at offset
+/// `(a, b, c)` (each 0 or 1) is node `corner(a, b, c)`: the path (0,0,0) ->
+/// +e_p0 -> +e_p1 -> (1,1,1) for each permutation p; an odd permutation gives a
+/// negative volume in path order, so its last two nodes are swapped.
+fn kuhn_tetrahedra(corner: impl Fn(usize, usize, usize) -> usize) -> Vec<Cell> {
+    let mut cells = Vec::with_capacity(6);
+    for (p, odd) in [
+        ([0, 1, 2], false),
+        ([1, 2, 0], false),
+        ([2, 0, 1], false),
+        ([1, 0, 2], true),
+        ([0, 2, 1], true),
+        ([2, 1, 0], true),
+    ] {
+        let mut o = [0usize; 3];
+        let mut path = vec![corner(0, 0, 0)];
+        for &axis in &p {
+            o[axis] = 1;
+            path.push(corner(o[0], o[1], o[2]));
+        }
+        if odd {
+            path.swap(2, 3);
+        }
+        cells.push(Cell {
+            kind: CellKind::Tet4,
+            nodes: path,
+        });
+    }
+    cells
 }
