@@ -123,142 +123,14 @@ fn half_disk_quads(
     }
     let ep = [pole[0] / pn, pole[1] / pn];
     let et = [ep[1], -ep[0]];
-    let n = divisions;
-    let phi: Vec<f64> = symmetric_graded_spacing(n, grading)
+    let phi: Vec<f64> = symmetric_graded_spacing(divisions, grading)
         .iter()
         .map(|t| PI * t)
         .collect();
-    // arc index of the inner rectangle's corner: the angle nearest 45°
-    let m = (1..=(n - 1) / 2)
-        .min_by(|&a, &b| {
-            (phi[a] - PI / 4.0)
-                .abs()
-                .total_cmp(&(phi[b] - PI / 4.0).abs())
-        })
-        .unwrap_or(1);
-    let ns = n - 2 * m;
-    let nr = n.div_ceil(8).max(1);
-    let (a, b) = (HALF_DISK_CORE * phi[m].cos(), HALF_DISK_CORE * phi[m].sin());
-    let w = HALF_DISK_BLEND;
-    // inner rectangle in unit-radius local coordinates (u along e_t, v along e_p)
-    // right side heights y_j (j = 0..=m), from arc nodes 0..=m
-    let ys: Vec<f64> = (0..=m)
-        .map(|j| {
-            if j == m {
-                b
-            } else {
-                (1.0 - w) * a * phi[j].tan() + w * b * j as f64 / m as f64
-            }
-        })
-        .collect();
-    // top side abscissae x_i (i = 0..=ns, increasing), from arc node k = n - m - i
-    let xt: Vec<f64> = (0..=ns)
-        .map(|i| {
-            if i == 0 {
-                -a
-            } else if i == ns {
-                a
-            } else {
-                let k = n - m - i;
-                let ray = b * phi[k].cos() / phi[k].sin();
-                (1.0 - w) * ray + w * (-a + 2.0 * a * i as f64 / ns as f64)
-            }
-        })
-        .collect();
-    let xb: Vec<f64> = (0..=ns)
-        .map(|i| -a + 2.0 * a * i as f64 / ns as f64)
-        .collect();
-
-    let mut local: Vec<[f64; 2]> = Vec::new();
-    let rid = |i: usize, j: usize| j * (ns + 1) + i;
-    for (j, &y) in ys.iter().enumerate() {
-        let s = y / b;
-        for i in 0..=ns {
-            let x = if j == m {
-                xt[i]
-            } else {
-                (1.0 - s) * xb[i] + s * xt[i]
-            };
-            local.push([x, y]);
-        }
-    }
-    let n_rect = local.len();
-    // ring: node (k, l), k = 0..=n along the arc, l = 0..=nr outwards; l = 0 is
-    // the rectangle's boundary.
-    let inner = |k: usize| -> usize {
-        if k <= m {
-            rid(ns, k)
-        } else if k <= n - m {
-            rid(ns - (k - m), m)
-        } else {
-            rid(0, n - k)
-        }
-    };
-    let g: Vec<f64> = graded_spacing(nr, grading.sqrt())
-        .iter()
-        .rev()
-        .map(|t| 1.0 - t)
-        .collect();
-    let ring_id = |k: usize, l: usize| -> usize {
-        if l == 0 {
-            inner(k)
-        } else {
-            n_rect + k * nr + (l - 1)
-        }
-    };
-    for k in 0..=n {
-        let p0 = local[inner(k)];
-        let p1 = [phi[k].cos(), phi[k].sin()];
-        for (l, &gl) in g.iter().enumerate().skip(1) {
-            if l == nr {
-                // exactly on the arc (and on the flat line at the ends)
-                let p = match k {
-                    0 => [1.0, 0.0],
-                    _ if k == n => [-1.0, 0.0],
-                    _ => p1,
-                };
-                local.push(p);
-            } else {
-                let mut p = [p0[0] + gl * (p1[0] - p0[0]), p0[1] + gl * (p1[1] - p0[1])];
-                if k == 0 || k == n {
-                    p[1] = 0.0;
-                }
-                local.push(p);
-            }
-        }
-    }
-    let mut quads: Vec<[usize; 4]> = Vec::with_capacity(ns * m + n * nr);
-    for j in 0..m {
-        for i in 0..ns {
-            quads.push([rid(i, j), rid(i + 1, j), rid(i + 1, j + 1), rid(i, j + 1)]);
-        }
-    }
-    let q_ring = |k: usize, l: usize| ns * m + k * nr + l;
-    for k in 0..n {
-        for l in 0..nr {
-            // radial outwards, then ccw along the arc: counter-clockwise
-            quads.push([
-                ring_id(k, l),
-                ring_id(k, l + 1),
-                ring_id(k + 1, l + 1),
-                ring_id(k + 1, l),
-            ]);
-        }
-    }
-    // boundary edges, listed along the boundary (body on the left)
-    let mut flat = Vec::new();
-    for l in (0..nr).rev() {
-        flat.push((ring_id(n, l + 1), ring_id(n, l), q_ring(n - 1, l)));
-    }
-    for i in 0..ns {
-        flat.push((rid(i, 0), rid(i + 1, 0), i));
-    }
-    for l in 0..nr {
-        flat.push((ring_id(0, l), ring_id(0, l + 1), q_ring(0, l)));
-    }
-    let arc = (0..n)
-        .map(|k| (ring_id(k, nr), ring_id(k + 1, nr), q_ring(k, nr - 1)))
-        .collect();
+    let grid = HalfDiskGrid::new(&phi);
+    let mut local = grid.rectangle_nodes(&phi);
+    grid.push_ring_nodes(&phi, grading, &mut local);
+    let (flat, arc) = grid.boundary_edges();
     let coords = local
         .iter()
         .map(|p| {
@@ -271,10 +143,224 @@ fn half_disk_quads(
         .collect();
     Ok(HalfDiskQuads {
         coords,
-        quads,
+        quads: grid.quads(),
         flat,
         arc,
     })
+}
+
+/// The index layout of [`half_disk`]'s half O-grid (unit radius, local frame
+/// `u` along `e_t`, `v` along `e_p`): the inner rectangle's nodes `(i, j)`,
+/// then the ring's, radial line by radial line along the arc.
+struct HalfDiskGrid {
+    /// Elements along the arc.
+    n: usize,
+    /// Arc index of the inner rectangle's corner (the angle nearest 45°); also
+    /// its elements along `v`.
+    m: usize,
+    /// The inner rectangle's elements along `u`: `n − 2m`.
+    ns: usize,
+    /// The ring's layers: `ceil(n / 8)`.
+    nr: usize,
+}
+
+impl HalfDiskGrid {
+    /// The layout for the arc angles `phi` (`n + 1` of them, 0 to π).
+    fn new(phi: &[f64]) -> HalfDiskGrid {
+        let n = phi.len() - 1;
+        // arc index of the inner rectangle's corner: the angle nearest 45°
+        let m = (1..=(n - 1) / 2)
+            .min_by(|&a, &b| {
+                (phi[a] - PI / 4.0)
+                    .abs()
+                    .total_cmp(&(phi[b] - PI / 4.0).abs())
+            })
+            .unwrap_or(1);
+        HalfDiskGrid {
+            n,
+            m,
+            ns: n - 2 * m,
+            nr: n.div_ceil(8).max(1),
+        }
+    }
+
+    /// Node `(i, j)` of the inner rectangle (i along u, j along v).
+    fn rid(&self, i: usize, j: usize) -> usize {
+        j * (self.ns + 1) + i
+    }
+
+    /// The rectangle's boundary node on the radial line to arc node `k`.
+    fn inner(&self, k: usize) -> usize {
+        let (n, m, ns) = (self.n, self.m, self.ns);
+        if k <= m {
+            self.rid(ns, k)
+        } else if k <= n - m {
+            self.rid(ns - (k - m), m)
+        } else {
+            self.rid(0, n - k)
+        }
+    }
+
+    /// Ring node `(k, l)`, `k = 0..=n` along the arc, `l = 0..=nr` outwards;
+    /// `l = 0` is the rectangle's boundary.
+    fn ring_id(&self, k: usize, l: usize) -> usize {
+        if l == 0 {
+            self.inner(k)
+        } else {
+            (self.ns + 1) * (self.m + 1) + k * self.nr + (l - 1)
+        }
+    }
+
+    /// Ring quadrilateral `(k, l)` (after the rectangle's `ns m`).
+    fn q_ring(&self, k: usize, l: usize) -> usize {
+        self.ns * self.m + k * self.nr + l
+    }
+
+    /// The inner rectangle `[-a, a] x [0, b]`'s nodes, row by row: the right
+    /// and top sides 15% the radial projection of the arc nodes, 85% uniform;
+    /// inside, each column blends the uniform bottom and the top.
+    fn rectangle_nodes(&self, phi: &[f64]) -> Vec<[f64; 2]> {
+        let (n, m, ns) = (self.n, self.m, self.ns);
+        let (a, b) = (HALF_DISK_CORE * phi[m].cos(), HALF_DISK_CORE * phi[m].sin());
+        let w = HALF_DISK_BLEND;
+        // right side heights y_j (j = 0..=m), from arc nodes 0..=m
+        let ys: Vec<f64> = (0..=m)
+            .map(|j| {
+                if j == m {
+                    b
+                } else {
+                    (1.0 - w) * a * phi[j].tan() + w * b * j as f64 / m as f64
+                }
+            })
+            .collect();
+        // top side abscissae x_i (i = 0..=ns, increasing), from arc node k = n - m - i
+        let xt: Vec<f64> = (0..=ns)
+            .map(|i| {
+                if i == 0 {
+                    -a
+                } else if i == ns {
+                    a
+                } else {
+                    let k = n - m - i;
+                    let ray = b * phi[k].cos() / phi[k].sin();
+                    (1.0 - w) * ray + w * (-a + 2.0 * a * i as f64 / ns as f64)
+                }
+            })
+            .collect();
+        let xb: Vec<f64> = (0..=ns)
+            .map(|i| -a + 2.0 * a * i as f64 / ns as f64)
+            .collect();
+        let mut local: Vec<[f64; 2]> = Vec::new();
+        for (j, &y) in ys.iter().enumerate() {
+            let s = y / b;
+            for i in 0..=ns {
+                let x = if j == m {
+                    xt[i]
+                } else {
+                    (1.0 - s) * xb[i] + s * xt[i]
+                };
+                local.push([x, y]);
+            }
+        }
+        local
+    }
+
+    /// Appends the ring's nodes to the rectangle's (`local`): on the straight
+    /// line from the rectangle's boundary node to each arc node, graded
+    /// geometrically towards the arc (ratio `sqrt(grading)`), the last exactly
+    /// on the arc (and the ends' on the flat line).
+    fn push_ring_nodes(&self, phi: &[f64], grading: f64, local: &mut Vec<[f64; 2]>) {
+        let (n, nr) = (self.n, self.nr);
+        let g: Vec<f64> = graded_spacing(nr, grading.sqrt())
+            .iter()
+            .rev()
+            .map(|t| 1.0 - t)
+            .collect();
+        for k in 0..=n {
+            let p0 = local[self.inner(k)];
+            let p1 = [phi[k].cos(), phi[k].sin()];
+            for (l, &gl) in g.iter().enumerate().skip(1) {
+                if l == nr {
+                    // exactly on the arc (and on the flat line at the ends)
+                    let p = match k {
+                        0 => [1.0, 0.0],
+                        _ if k == n => [-1.0, 0.0],
+                        _ => p1,
+                    };
+                    local.push(p);
+                } else {
+                    let mut p = [p0[0] + gl * (p1[0] - p0[0]), p0[1] + gl * (p1[1] - p0[1])];
+                    if k == 0 || k == n {
+                        p[1] = 0.0;
+                    }
+                    local.push(p);
+                }
+            }
+        }
+    }
+
+    /// The counter-clockwise quadrilaterals: the rectangle's row by row, then
+    /// the ring's radial line by radial line.
+    fn quads(&self) -> Vec<[usize; 4]> {
+        let (n, m, ns, nr) = (self.n, self.m, self.ns, self.nr);
+        let mut quads: Vec<[usize; 4]> = Vec::with_capacity(ns * m + n * nr);
+        for j in 0..m {
+            for i in 0..ns {
+                quads.push([
+                    self.rid(i, j),
+                    self.rid(i + 1, j),
+                    self.rid(i + 1, j + 1),
+                    self.rid(i, j + 1),
+                ]);
+            }
+        }
+        for k in 0..n {
+            for l in 0..nr {
+                // radial outwards, then ccw along the arc: counter-clockwise
+                quads.push([
+                    self.ring_id(k, l),
+                    self.ring_id(k, l + 1),
+                    self.ring_id(k + 1, l + 1),
+                    self.ring_id(k + 1, l),
+                ]);
+            }
+        }
+        quads
+    }
+
+    /// The boundary edges "flat" and "arc", listed along the boundary (body on
+    /// the left).
+    fn boundary_edges(&self) -> (EdgeList, EdgeList) {
+        let (n, ns, nr) = (self.n, self.ns, self.nr);
+        let mut flat = Vec::new();
+        for l in (0..nr).rev() {
+            flat.push((
+                self.ring_id(n, l + 1),
+                self.ring_id(n, l),
+                self.q_ring(n - 1, l),
+            ));
+        }
+        for i in 0..ns {
+            flat.push((self.rid(i, 0), self.rid(i + 1, 0), i));
+        }
+        for l in 0..nr {
+            flat.push((
+                self.ring_id(0, l),
+                self.ring_id(0, l + 1),
+                self.q_ring(0, l),
+            ));
+        }
+        let arc = (0..n)
+            .map(|k| {
+                (
+                    self.ring_id(k, nr),
+                    self.ring_id(k + 1, nr),
+                    self.q_ring(k, nr - 1),
+                )
+            })
+            .collect();
+        (flat, arc)
+    }
 }
 
 /// Quarter of the disk of `radius` about `center` for axisymmetric models (x = r,
