@@ -1,0 +1,110 @@
+//! MSH 2.2 ASCII, read by a small parser here (`mshio` reads 4.1 only).
+
+use super::{invalid, physical_names, type_info, Block, Raw};
+use crate::MeshError;
+
+/// The lines of section `$NAME`, up to `$EndNAME`.
+fn section_lines<'a>(text: &'a str, name: &str) -> Option<Vec<&'a str>> {
+    let begin = format!("${name}");
+    let end = format!("$End{name}");
+    let mut lines = text.lines().map(str::trim);
+    lines.find(|l| *l == begin)?;
+    Some(
+        lines
+            .take_while(|l| *l != end)
+            .filter(|l| !l.is_empty())
+            .collect(),
+    )
+}
+
+pub(super) fn read_v22(bytes: &[u8]) -> Result<Raw, MeshError> {
+    let text = String::from_utf8_lossy(bytes);
+    let names = physical_names(bytes)?;
+
+    let lines = section_lines(&text, "Nodes")
+        .ok_or_else(|| invalid("MSH 2.2: no $Nodes section".into()))?;
+    let count = header_count(&lines, "Nodes")?;
+    // a count is the file's word: reserve no more than its lines can hold
+    let mut nodes = Vec::with_capacity(count.min(lines.len()));
+    for line in &lines[1..] {
+        let bad = || invalid(format!("MSH 2.2 $Nodes: bad line \"{line}\""));
+        let v: Vec<&str> = line.split_whitespace().collect();
+        if v.len() != 4 {
+            return Err(bad());
+        }
+        let tag: u64 = v[0].parse().map_err(|_| bad())?;
+        let mut x = [0.0; 3];
+        for (xk, s) in x.iter_mut().zip(&v[1..]) {
+            *xk = s.parse().map_err(|_| bad())?;
+        }
+        nodes.push((tag, x));
+    }
+    if nodes.len() != count {
+        return Err(invalid(format!(
+            "MSH 2.2 $Nodes announces {count} nodes but lists {}",
+            nodes.len()
+        )));
+    }
+
+    let lines = section_lines(&text, "Elements")
+        .ok_or_else(|| invalid("MSH 2.2: no $Elements section".into()))?;
+    let count = header_count(&lines, "Elements")?;
+    let mut blocks: Vec<Block> = Vec::new();
+    for line in &lines[1..] {
+        let bad = || invalid(format!("MSH 2.2 $Elements: bad line \"{line}\""));
+        let v: Vec<i64> = line
+            .split_whitespace()
+            .map(|s| s.parse::<i64>())
+            .collect::<Result<_, _>>()
+            .map_err(|_| bad())?;
+        // tag type ntags tags... nodes...
+        if v.len() < 3 {
+            return Err(bad());
+        }
+        let gmsh_type = i32::try_from(v[1]).map_err(|_| bad())?;
+        let ntags = usize::try_from(v[2]).map_err(|_| bad())?;
+        if v.len() < 3 + ntags + 1 {
+            return Err(bad());
+        }
+        let physical = match v.get(3) {
+            Some(&p) if ntags > 0 && p != 0 => vec![i32::try_from(p.abs()).map_err(|_| bad())?],
+            _ => vec![],
+        };
+        let node_tags: Vec<u64> = v[3 + ntags..]
+            .iter()
+            .map(|&n| u64::try_from(n).map_err(|_| bad()))
+            .collect::<Result<_, _>>()?;
+        let n_per = node_tags.len();
+        let dim = type_info(gmsh_type).map_or(usize::MAX, |(_, d)| d);
+        match blocks.last_mut() {
+            Some(b) if b.gmsh_type == gmsh_type && b.physical == physical && b.n_per == n_per => {
+                b.nodes.extend(node_tags)
+            }
+            _ => blocks.push(Block {
+                gmsh_type,
+                dim,
+                physical,
+                n_per,
+                nodes: node_tags,
+            }),
+        }
+    }
+    let listed: usize = blocks.iter().map(Block::len).sum();
+    if listed != count {
+        return Err(invalid(format!(
+            "MSH 2.2 $Elements announces {count} elements but lists {listed}"
+        )));
+    }
+    Ok(Raw {
+        nodes,
+        blocks,
+        names,
+    })
+}
+
+fn header_count(lines: &[&str], section: &str) -> Result<usize, MeshError> {
+    lines
+        .first()
+        .and_then(|l| l.parse().ok())
+        .ok_or_else(|| invalid(format!("MSH 2.2 ${section}: bad count line")))
+}
