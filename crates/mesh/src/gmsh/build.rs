@@ -1,17 +1,26 @@
 //! From the file's contents (nodes, element blocks, physical names) to a
 //! [`Mesh`]: cells, regions and surfaces.
 
-use super::{cell_kind, facet_corners, invalid, supported_list, type_name, Raw};
+use super::{cell_kind, facet_corners, invalid, supported_list, type_name, Block, Raw};
 use crate::{Cell, CellKind, Facet, Mesh, MeshError, Surface};
 use std::collections::{BTreeMap, HashMap, HashSet};
 
-fn group_name(names: &HashMap<(usize, i32), String>, dim: usize, tag: i32) -> String {
+/// Physical names by (dimension, tag).
+type Names = HashMap<(usize, i32), String>;
+
+/// The physical groups of the cells that have some: (cell index, group tags).
+type CellGroups<'a> = Vec<(usize, &'a [i32])>;
+
+/// The name of physical group `tag` of dimension `dim`: its physical name, or
+/// the tag itself when it has none.
+fn group_name(names: &Names, dim: usize, tag: i32) -> String {
     match names.get(&(dim, tag)) {
         Some(name) if !name.is_empty() => name.clone(),
         _ => tag.to_string(),
     }
 }
 
+/// Element counts by type, written "n × type name, ...".
 fn count_list(counts: &BTreeMap<i32, usize>) -> String {
     counts
         .iter()
@@ -20,18 +29,59 @@ fn count_list(counts: &BTreeMap<i32, usize>) -> String {
         .join(", ")
 }
 
+/// Builds the mesh of dimension `dim` from a file's contents: cells, their
+/// nodes renumbered densely (in the plane z = 0 in 2D) and oriented, regions
+/// and surfaces from the physical groups (see the module documentation of
+/// [`gmsh`](super)).
 pub(super) fn build(raw: Raw, dim: usize) -> Result<Mesh, MeshError> {
     let Raw {
         nodes: raw_nodes,
         blocks,
         names,
     } = raw;
+    let present = check_element_types(&blocks, dim)?;
+    let tags = NodeTags::new(&raw_nodes)?;
+    let (mut cells, cell_groups) = read_cells(&blocks, dim, &tags)?;
+    if cells.is_empty() {
+        return Err(no_cells(&present, dim));
+    }
+    let (mut coords, new_index) = renumber_nodes(&raw_nodes, &mut cells);
+    if dim == 2 {
+        flatten_2d(&mut coords, &raw_nodes, &new_index)?;
+    }
+    for c in &mut cells {
+        orient(c, &coords);
+    }
+    let mut mesh = Mesh {
+        dim,
+        coords,
+        cells,
+        surfaces: BTreeMap::new(),
+        regions: BTreeMap::new(),
+    };
+    add_regions(&mut mesh, cell_groups, &names);
+    add_surfaces(&mut mesh, &blocks, &names, &tags, &new_index)?;
+    if mesh.surfaces.is_empty() {
+        mesh.surfaces.insert(
+            "boundary".to_string(),
+            Surface {
+                facets: mesh.boundary_facets(),
+            },
+        );
+    }
+    mesh.check()?;
+    Ok(mesh)
+}
 
-    // Element types: too high a dimension, unsupported, present.
+/// Checks the element types against a mesh of dimension `dim`: an error for
+/// elements of a higher dimension, and for unsupported types that would be
+/// cells or facets of a physical surface. Returns the count of every type
+/// present.
+fn check_element_types(blocks: &[Block], dim: usize) -> Result<BTreeMap<i32, usize>, MeshError> {
     let mut present: BTreeMap<i32, usize> = BTreeMap::new();
     let mut too_high: BTreeMap<i32, usize> = BTreeMap::new();
     let mut unsupported: BTreeMap<i32, usize> = BTreeMap::new();
-    for b in &blocks {
+    for b in blocks {
         let n = b.len();
         if n == 0 {
             continue;
@@ -66,25 +116,44 @@ pub(super) fn build(raw: Raw, dim: usize) -> Result<Mesh, MeshError> {
             supported_list(dim)
         )));
     }
+    Ok(present)
+}
 
-    // Node tags → index in raw_nodes.
-    let mut by_tag: HashMap<u64, usize> = HashMap::with_capacity(raw_nodes.len());
-    for (i, (tag, _)) in raw_nodes.iter().enumerate() {
-        if by_tag.insert(*tag, i).is_some() {
-            return Err(invalid(format!("node tag {tag} appears twice in $Nodes")));
+/// Node tags → index in the file's `$Nodes` order.
+struct NodeTags(HashMap<u64, usize>);
+
+impl NodeTags {
+    /// Indexes the tags of `raw_nodes`; a tag listed twice is an error.
+    fn new(raw_nodes: &[(u64, [f64; 3])]) -> Result<NodeTags, MeshError> {
+        let mut by_tag: HashMap<u64, usize> = HashMap::with_capacity(raw_nodes.len());
+        for (i, (tag, _)) in raw_nodes.iter().enumerate() {
+            if by_tag.insert(*tag, i).is_some() {
+                return Err(invalid(format!("node tag {tag} appears twice in $Nodes")));
+            }
         }
+        Ok(NodeTags(by_tag))
     }
-    let lookup = |tag: u64| -> Result<usize, MeshError> {
-        by_tag.get(&tag).copied().ok_or_else(|| {
+
+    /// The index of node `tag`; an error if `$Nodes` does not list it.
+    fn lookup(&self, tag: u64) -> Result<usize, MeshError> {
+        self.0.get(&tag).copied().ok_or_else(|| {
             invalid(format!(
                 "an element refers to node {tag}, which is not in $Nodes"
             ))
         })
-    };
+    }
+}
 
-    // Cells, with raw node indices first.
+/// The cells: the elements of dimension `dim` in file order, with the indices
+/// of their nodes in `$Nodes`, and the physical groups of each cell that has
+/// some (by cell index).
+fn read_cells<'a>(
+    blocks: &'a [Block],
+    dim: usize,
+    tags: &NodeTags,
+) -> Result<(Vec<Cell>, CellGroups<'a>), MeshError> {
     let mut cells: Vec<Cell> = Vec::new();
-    let mut cell_groups: Vec<(usize, &[i32])> = Vec::new();
+    let mut cell_groups: CellGroups = Vec::new();
     for b in blocks.iter().filter(|b| b.dim == dim) {
         let Some(kind) = cell_kind(b.gmsh_type, dim) else {
             continue;
@@ -97,30 +166,44 @@ pub(super) fn build(raw: Raw, dim: usize) -> Result<Mesh, MeshError> {
             )));
         }
         for el in b.nodes.chunks_exact(b.n_per) {
-            let nodes = el.iter().map(|&t| lookup(t)).collect::<Result<_, _>>()?;
+            let nodes = el
+                .iter()
+                .map(|&t| tags.lookup(t))
+                .collect::<Result<_, _>>()?;
             if !b.physical.is_empty() {
                 cell_groups.push((cells.len(), &b.physical));
             }
             cells.push(Cell { kind, nodes });
         }
     }
-    if cells.is_empty() {
-        let found = if present.is_empty() {
-            "none".to_string()
-        } else {
-            count_list(&present)
-        };
-        let what = if dim == 2 { "Surface" } else { "Volume" };
-        return Err(invalid(format!(
-            "no cell of dimension {dim} in the file (elements found: {found}); note that when \
-             a .geo defines physical groups Gmsh saves only their elements: add a \
-             Physical {what} for the body or set Mesh.SaveAll = 1"
-        )));
-    }
+    Ok((cells, cell_groups))
+}
 
-    // Dense renumbering of the nodes of cells, in $Nodes order.
+/// The error for a file without cells of dimension `dim`, listing the
+/// elements `present` and the likely cause (physical groups without the body).
+fn no_cells(present: &BTreeMap<i32, usize>, dim: usize) -> MeshError {
+    let found = if present.is_empty() {
+        "none".to_string()
+    } else {
+        count_list(present)
+    };
+    let what = if dim == 2 { "Surface" } else { "Volume" };
+    invalid(format!(
+        "no cell of dimension {dim} in the file (elements found: {found}); note that when \
+         a .geo defines physical groups Gmsh saves only their elements: add a \
+         Physical {what} for the body or set Mesh.SaveAll = 1"
+    ))
+}
+
+/// Keeps the nodes of cells only, numbered densely in `$Nodes` order, and
+/// renumbers the cells' nodes so. Returns their coordinates and the new index
+/// of each node of `$Nodes` (`usize::MAX` for those dropped).
+fn renumber_nodes(
+    raw_nodes: &[(u64, [f64; 3])],
+    cells: &mut [Cell],
+) -> (Vec<[f64; 3]>, Vec<usize>) {
     let mut new_index = vec![usize::MAX; raw_nodes.len()];
-    for c in &cells {
+    for c in cells.iter() {
         for &n in &c.nodes {
             new_index[n] = 0;
         }
@@ -132,58 +215,56 @@ pub(super) fn build(raw: Raw, dim: usize) -> Result<Mesh, MeshError> {
             coords.push(raw_nodes[i].1);
         }
     }
-    for c in &mut cells {
+    for c in cells.iter_mut() {
         for n in &mut c.nodes {
             *n = new_index[*n];
         }
     }
+    (coords, new_index)
+}
 
-    // 2D meshes lie in the plane z = 0.
-    if dim == 2 {
-        let mut lo = [f64::INFINITY; 2];
-        let mut hi = [f64::NEG_INFINITY; 2];
-        for p in &coords {
-            for k in 0..2 {
-                lo[k] = lo[k].min(p[k]);
-                hi[k] = hi[k].max(p[k]);
-            }
-        }
-        let size = ((hi[0] - lo[0]).powi(2) + (hi[1] - lo[1]).powi(2)).sqrt();
-        let (worst, z) = coords
-            .iter()
-            .enumerate()
-            .map(|(i, p)| (i, p[2]))
-            .max_by(|a, b| a.1.abs().total_cmp(&b.1.abs()))
-            .unwrap_or((0, 0.0));
-        if z.is_nan() || z.abs() > 1e-8 * size {
-            let tag = raw_nodes[new_index.iter().position(|&k| k == worst).unwrap_or(0)].0;
-            return Err(invalid(format!(
-                "a 2D mesh must lie in the plane z = 0, but node {tag} has z = {z:e} \
-                 (mesh size {size:e})"
-            )));
-        }
-        for p in &mut coords {
-            p[2] = 0.0;
+/// Puts a 2D mesh in the plane z = 0: an error naming the node of largest
+/// `|z|` if that is not negligible against the mesh size, else z set to 0.
+fn flatten_2d(
+    coords: &mut [[f64; 3]],
+    raw_nodes: &[(u64, [f64; 3])],
+    new_index: &[usize],
+) -> Result<(), MeshError> {
+    let mut lo = [f64::INFINITY; 2];
+    let mut hi = [f64::NEG_INFINITY; 2];
+    for p in coords.iter() {
+        for k in 0..2 {
+            lo[k] = lo[k].min(p[k]);
+            hi[k] = hi[k].max(p[k]);
         }
     }
-
-    for c in &mut cells {
-        orient(c, &coords);
+    let size = ((hi[0] - lo[0]).powi(2) + (hi[1] - lo[1]).powi(2)).sqrt();
+    let (worst, z) = coords
+        .iter()
+        .enumerate()
+        .map(|(i, p)| (i, p[2]))
+        .max_by(|a, b| a.1.abs().total_cmp(&b.1.abs()))
+        .unwrap_or((0, 0.0));
+    if z.is_nan() || z.abs() > 1e-8 * size {
+        let tag = raw_nodes[new_index.iter().position(|&k| k == worst).unwrap_or(0)].0;
+        return Err(invalid(format!(
+            "a 2D mesh must lie in the plane z = 0, but node {tag} has z = {z:e} \
+             (mesh size {size:e})"
+        )));
     }
+    for p in coords.iter_mut() {
+        p[2] = 0.0;
+    }
+    Ok(())
+}
 
-    let mut mesh = Mesh {
-        dim,
-        coords,
-        cells,
-        surfaces: BTreeMap::new(),
-        regions: BTreeMap::new(),
-    };
-
-    // Regions: physical groups of dimension dim.
+/// Regions: each physical group of dimension `dim` lists its cells, sorted,
+/// once each.
+fn add_regions(mesh: &mut Mesh, cell_groups: CellGroups, names: &Names) {
     for (c, groups) in cell_groups {
         for &g in groups {
             mesh.regions
-                .entry(group_name(&names, dim, g))
+                .entry(group_name(names, mesh.dim, g))
                 .or_default()
                 .push(c);
         }
@@ -192,24 +273,103 @@ pub(super) fn build(raw: Raw, dim: usize) -> Result<Mesh, MeshError> {
         cells.sort_unstable();
         cells.dedup();
     }
+}
 
-    // Surfaces: physical groups of dimension dim − 1, matched to cell facets.
-    let corner_key = |nodes: &[usize], local: &[usize]| {
-        let m = if dim == 2 { 2 } else { local.len() };
-        let mut k: Vec<usize> = local[..m].iter().map(|&i| nodes[i]).collect();
-        k.sort_unstable();
-        k
-    };
-    // sorted corners → (number of cells, one cell, its local facet)
-    let mut facet_of: HashMap<Vec<usize>, (usize, usize, usize)> = HashMap::new();
-    for (c, cell) in mesh.cells.iter().enumerate() {
-        for (f, local) in cell.kind.facets().iter().enumerate() {
-            facet_of
-                .entry(corner_key(&cell.nodes, local))
-                .and_modify(|e| e.0 += 1)
-                .or_insert((1, c, f));
+/// The facets of a mesh's cells by their sorted corner nodes, to find those
+/// of a file's facet elements.
+struct FacetIndex<'a> {
+    dim: usize,
+    /// Sorted corners → (number of cells, one cell, its local facet).
+    facet_of: HashMap<Vec<usize>, (usize, usize, usize)>,
+    tags: &'a NodeTags,
+    /// New index of each node of `$Nodes` (`usize::MAX` if dropped).
+    new_index: &'a [usize],
+}
+
+impl<'a> FacetIndex<'a> {
+    /// Indexes the facets of every cell of `mesh`.
+    fn new(mesh: &Mesh, tags: &'a NodeTags, new_index: &'a [usize]) -> FacetIndex<'a> {
+        let dim = mesh.dim;
+        let corner_key = |nodes: &[usize], local: &[usize]| {
+            let m = if dim == 2 { 2 } else { local.len() };
+            let mut k: Vec<usize> = local[..m].iter().map(|&i| nodes[i]).collect();
+            k.sort_unstable();
+            k
+        };
+        let mut facet_of: HashMap<Vec<usize>, (usize, usize, usize)> = HashMap::new();
+        for (c, cell) in mesh.cells.iter().enumerate() {
+            for (f, local) in cell.kind.facets().iter().enumerate() {
+                facet_of
+                    .entry(corner_key(&cell.nodes, local))
+                    .and_modify(|e| e.0 += 1)
+                    .or_insert((1, c, f));
+            }
+        }
+        FacetIndex {
+            dim,
+            facet_of,
+            tags,
+            new_index,
         }
     }
+
+    /// The cell and its local facet whose corners are the first `m` nodes of
+    /// element `el` of block `b`; an error naming the block's group if it is
+    /// the facet of no cell, or of more than one (an interior facet).
+    fn find(
+        &self,
+        b: &Block,
+        el: &[u64],
+        m: usize,
+        names: &Names,
+    ) -> Result<(usize, usize), MeshError> {
+        let dim = self.dim;
+        let mut key = Vec::with_capacity(m);
+        let mut orphan = false;
+        for &t in &el[..m] {
+            match self.new_index.get(self.tags.lookup(t)?) {
+                Some(&k) if k != usize::MAX => key.push(k),
+                _ => orphan = true,
+            }
+        }
+        key.sort_unstable();
+        let found = if orphan {
+            None
+        } else {
+            self.facet_of.get(&key)
+        };
+        match found {
+            Some(&(1, c, f)) => Ok((c, f)),
+            other => {
+                let g = b.physical[0];
+                let why = match other {
+                    Some(&(n, _, _)) => format!("an interior facet shared by {n} cells"),
+                    _ => "not a facet of any cell".to_string(),
+                };
+                Err(invalid(format!(
+                    "physical group \"{}\" (dimension {}, tag {g}): its element with nodes \
+                     {:?} is {why}; the facets of a surface must lie on the boundary",
+                    group_name(names, dim - 1, g),
+                    dim - 1,
+                    el
+                )))
+            }
+        }
+    }
+}
+
+/// Surfaces: every physical group of dimension `dim − 1` gets the cell facets
+/// its elements match by their corners ([`FacetIndex::find`]), in the cells'
+/// node order, each facet once.
+fn add_surfaces(
+    mesh: &mut Mesh,
+    blocks: &[Block],
+    names: &Names,
+    tags: &NodeTags,
+    new_index: &[usize],
+) -> Result<(), MeshError> {
+    let dim = mesh.dim;
+    let index = FacetIndex::new(mesh, tags, new_index);
     let mut seen: HashMap<String, HashSet<(usize, usize)>> = HashMap::new();
     for b in blocks
         .iter()
@@ -226,33 +386,7 @@ pub(super) fn build(raw: Raw, dim: usize) -> Result<Mesh, MeshError> {
             )));
         }
         for el in b.nodes.chunks_exact(b.n_per) {
-            let mut key = Vec::with_capacity(m);
-            let mut orphan = false;
-            for &t in &el[..m] {
-                match new_index.get(lookup(t)?) {
-                    Some(&k) if k != usize::MAX => key.push(k),
-                    _ => orphan = true,
-                }
-            }
-            key.sort_unstable();
-            let found = if orphan { None } else { facet_of.get(&key) };
-            let (c, f) = match found {
-                Some(&(1, c, f)) => (c, f),
-                other => {
-                    let g = b.physical[0];
-                    let why = match other {
-                        Some(&(n, _, _)) => format!("an interior facet shared by {n} cells"),
-                        _ => "not a facet of any cell".to_string(),
-                    };
-                    return Err(invalid(format!(
-                        "physical group \"{}\" (dimension {}, tag {g}): its element with nodes \
-                         {:?} is {why}; the facets of a surface must lie on the boundary",
-                        group_name(&names, dim - 1, g),
-                        dim - 1,
-                        el
-                    )));
-                }
-            };
+            let (c, f) = index.find(b, el, m, names)?;
             let cell = &mesh.cells[c];
             let facet = Facet {
                 nodes: cell.kind.facets()[f]
@@ -262,7 +396,7 @@ pub(super) fn build(raw: Raw, dim: usize) -> Result<Mesh, MeshError> {
                 cell: c,
             };
             for &g in &b.physical {
-                let name = group_name(&names, dim - 1, g);
+                let name = group_name(names, dim - 1, g);
                 if seen.entry(name.clone()).or_default().insert((c, f)) {
                     mesh.surfaces
                         .entry(name)
@@ -273,17 +407,7 @@ pub(super) fn build(raw: Raw, dim: usize) -> Result<Mesh, MeshError> {
             }
         }
     }
-    if mesh.surfaces.is_empty() {
-        mesh.surfaces.insert(
-            "boundary".to_string(),
-            Surface {
-                facets: mesh.boundary_facets(),
-            },
-        );
-    }
-
-    mesh.check()?;
-    Ok(mesh)
+    Ok(())
 }
 
 /// Turns a cell over if it is clockwise (2D) or of negative volume (3D),
@@ -343,14 +467,17 @@ fn orient(cell: &mut Cell, coords: &[[f64; 3]]) {
     cell.nodes = perm.iter().map(|&i| cell.nodes[i]).collect();
 }
 
+/// `a − b`.
 fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
     [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
 }
 
+/// The dot product `a · b`.
 fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
     a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
 
+/// The cross product `a × b`.
 fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
     [
         a[1] * b[2] - a[2] * b[1],
