@@ -5,6 +5,12 @@ use super::{find_section, invalid, physical_names, type_name, Block, Raw};
 use crate::MeshError;
 use std::collections::HashMap;
 
+/// The mesh data of `mshio`'s 4.1 reading.
+type MshData = mshio::MshData<u64, i32, f64>;
+
+/// Reads an MSH 4.1 file (ASCII or binary): its nodes with their tags, its
+/// element blocks with the physical groups of their entities, and the physical
+/// names.
 pub(super) fn read_v41(bytes: &[u8]) -> Result<Raw, MeshError> {
     let msh = mshio::parse_msh_bytes(bytes).map_err(|e| {
         let mut msg = e.to_string();
@@ -19,7 +25,6 @@ pub(super) fn read_v41(bytes: &[u8]) -> Result<Raw, MeshError> {
         ))
     })?;
     let names = physical_names(bytes)?;
-
     let msh_nodes = msh
         .data
         .nodes
@@ -30,12 +35,26 @@ pub(super) fn read_v41(bytes: &[u8]) -> Result<Raw, MeshError> {
         .elements
         .as_ref()
         .ok_or_else(|| invalid("MSH 4.1: no $Elements section".into()))?;
+    let nodes = tagged_nodes(bytes, &msh.header, msh_nodes)?;
+    let blocks = element_blocks(elements, &entity_physicals(&msh.data))?;
+    Ok(Raw {
+        nodes,
+        blocks,
+        names,
+    })
+}
 
-    // Node tags: explicit when mshio kept them (sparse), else read again from
-    // the file, else implied (min tag + running index).
+/// The nodes with their tags, in file order. Tags are explicit when `mshio`
+/// kept them (sparse), else read again from the file ([`node_tags_v41`]),
+/// else implied (min tag + running index).
+fn tagged_nodes(
+    bytes: &[u8],
+    header: &mshio::MshHeader,
+    msh_nodes: &mshio::Nodes<u64, i32, f64>,
+) -> Result<Vec<(u64, [f64; 3])>, MeshError> {
     let needs_tags = msh_nodes.node_blocks.iter().any(|b| b.node_tags.is_none());
     let reread = if needs_tags {
-        node_tags_v41(bytes, &msh.header)
+        node_tags_v41(bytes, header)
     } else {
         None
     };
@@ -67,10 +86,14 @@ pub(super) fn read_v41(bytes: &[u8]) -> Result<Raw, MeshError> {
             nodes.push((tag, [p.x, p.y, p.z]));
         }
     }
+    Ok(nodes)
+}
 
-    // Physical tags of each entity, by (dimension, entity tag).
+/// Physical tags of each entity, by (dimension, entity tag): positive, sorted,
+/// once each (none without `$Entities`).
+fn entity_physicals(data: &MshData) -> HashMap<(usize, i32), Vec<i32>> {
     let mut entity_physicals: HashMap<(usize, i32), Vec<i32>> = HashMap::new();
-    if let Some(ent) = &msh.data.entities {
+    if let Some(ent) = &data.entities {
         let mut add = |d: usize, tag: i32, phys: &[i32]| {
             let mut p: Vec<i32> = phys.iter().map(|t| t.abs()).filter(|&t| t != 0).collect();
             p.sort_unstable();
@@ -90,7 +113,15 @@ pub(super) fn read_v41(bytes: &[u8]) -> Result<Raw, MeshError> {
             add(3, e.tag, &e.physical_tags);
         }
     }
+    entity_physicals
+}
 
+/// One [`Block`] per element block of the file, with the physical groups of its
+/// entity; an element with the wrong number of nodes for its type is an error.
+fn element_blocks(
+    elements: &mshio::Elements<u64, i32>,
+    entity_physicals: &HashMap<(usize, i32), Vec<i32>>,
+) -> Result<Vec<Block>, MeshError> {
     let mut blocks = Vec::with_capacity(elements.element_blocks.len());
     for eb in &elements.element_blocks {
         let gmsh_type = eb.element_type as i32;
@@ -119,11 +150,7 @@ pub(super) fn read_v41(bytes: &[u8]) -> Result<Raw, MeshError> {
             nodes: node_tags,
         });
     }
-    Ok(Raw {
-        nodes,
-        blocks,
-        names,
-    })
+    Ok(blocks)
 }
 
 /// The node tags of the `$Nodes` section of an MSH 4.1 file, in file order,
