@@ -93,6 +93,8 @@ pub fn symmetric_graded_spacing(n: usize, ratio: f64) -> Vec<f64> {
     t
 }
 
+/// The `n + 1` parameters in `[0, 1]` of `n` elements of relative sizes `h`
+/// (the last exactly 1).
 fn spacing_from_sizes(h: Vec<f64>) -> Vec<f64> {
     let total: f64 = h.iter().sum();
     let mut t = Vec::with_capacity(h.len() + 1);
@@ -119,6 +121,8 @@ fn axis_spacing(n: usize, axis: usize, grading: Option<(usize, bool, f64)>) -> V
     }
 }
 
+/// An error naming the generator `what` unless the grading ratio `r` is finite
+/// and positive.
 fn check_ratio(what: &str, r: f64) -> Result<(), MeshError> {
     if r.is_finite() && r > 0.0 {
         Ok(())

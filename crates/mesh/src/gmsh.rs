@@ -86,6 +86,7 @@ pub fn parse_msh(bytes: &[u8], dim: usize) -> Result<Mesh, MeshError> {
     build(raw, dim)
 }
 
+/// The error for a bad file, with message `msg`.
 fn invalid(msg: String) -> MeshError {
     MeshError::Invalid(msg)
 }
@@ -137,6 +138,8 @@ fn type_info(t: i32) -> Option<(&'static str, usize)> {
     })
 }
 
+/// A Gmsh element type as messages name it: "name (type t)", or the bare
+/// number when unknown.
 fn type_name(t: i32) -> String {
     match type_info(t) {
         Some((name, _)) => format!("{name} (type {t})"),
@@ -167,6 +170,7 @@ fn facet_corners(t: i32, dim: usize) -> Option<usize> {
     }
 }
 
+/// The sentence listing the supported cell and facet types in dimension `dim`.
 fn supported_list(dim: usize) -> String {
     let (cells, facets): (&[i32], &[i32]) = if dim == 2 {
         (&[2, 3, 9, 16], &[1, 8])
@@ -204,11 +208,13 @@ struct Block {
 }
 
 impl Block {
+    /// Number of elements in the block.
     fn len(&self) -> usize {
         self.nodes.len().checked_div(self.n_per).unwrap_or(0)
     }
 }
 
+/// A file's contents, whatever its version.
 struct Raw {
     /// Node tags and coordinates, in file order.
     nodes: Vec<(u64, [f64; 3])>,
@@ -217,11 +223,14 @@ struct Raw {
     names: HashMap<(usize, i32), String>,
 }
 
+/// The `$MeshFormat` line: version (as spelled for messages) and whether the
+/// file is binary.
 struct Format {
     version: String,
     binary: bool,
 }
 
+/// Reads the `$MeshFormat` line that must start the file.
 fn mesh_format(bytes: &[u8]) -> Result<Format, MeshError> {
     let start = bytes
         .iter()

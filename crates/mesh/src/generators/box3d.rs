@@ -32,6 +32,7 @@ impl BoxSide {
         BoxSide::ALL.into_iter().find(|s| s.name() == name)
     }
 
+    /// The side's name: "xmin", "xmax", "ymin", "ymax", "zmin" or "zmax".
     pub fn name(self) -> &'static str {
         match self {
             BoxSide::Xmin => "xmin",

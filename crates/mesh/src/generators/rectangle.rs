@@ -25,6 +25,7 @@ impl RectSide {
         }
     }
 
+    /// The side's name: "left", "right", "bottom" or "top".
     pub fn name(self) -> &'static str {
         match self {
             RectSide::Left => "left",

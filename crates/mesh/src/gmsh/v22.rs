@@ -17,6 +17,9 @@ fn section_lines<'a>(text: &'a str, name: &str) -> Option<Vec<&'a str>> {
     )
 }
 
+/// Reads an MSH 2.2 ASCII file: its `$Nodes`, its `$Elements` gathered into
+/// blocks of consecutive elements of one type and physical group, and the
+/// physical names; the counts the sections announce must match their lines.
 pub(super) fn read_v22(bytes: &[u8]) -> Result<Raw, MeshError> {
     let text = String::from_utf8_lossy(bytes);
     let names = physical_names(bytes)?;
@@ -102,6 +105,7 @@ pub(super) fn read_v22(bytes: &[u8]) -> Result<Raw, MeshError> {
     })
 }
 
+/// The count on the first line of a section's `lines`.
 fn header_count(lines: &[&str], section: &str) -> Result<usize, MeshError> {
     lines
         .first()
