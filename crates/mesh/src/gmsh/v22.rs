@@ -23,9 +23,19 @@ fn section_lines<'a>(text: &'a str, name: &str) -> Option<Vec<&'a str>> {
 pub(super) fn read_v22(bytes: &[u8]) -> Result<Raw, MeshError> {
     let text = String::from_utf8_lossy(bytes);
     let names = physical_names(bytes)?;
+    let nodes = read_nodes(&text)?;
+    let blocks = read_element_blocks(&text)?;
+    Ok(Raw {
+        nodes,
+        blocks,
+        names,
+    })
+}
 
-    let lines = section_lines(&text, "Nodes")
-        .ok_or_else(|| invalid("MSH 2.2: no $Nodes section".into()))?;
+/// The `$Nodes` section: node tags and coordinates, in file order.
+fn read_nodes(text: &str) -> Result<Vec<(u64, [f64; 3])>, MeshError> {
+    let lines =
+        section_lines(text, "Nodes").ok_or_else(|| invalid("MSH 2.2: no $Nodes section".into()))?;
     let count = header_count(&lines, "Nodes")?;
     // a count is the file's word: reserve no more than its lines can hold
     let mut nodes = Vec::with_capacity(count.min(lines.len()));
@@ -48,8 +58,13 @@ pub(super) fn read_v22(bytes: &[u8]) -> Result<Raw, MeshError> {
             nodes.len()
         )));
     }
+    Ok(nodes)
+}
 
-    let lines = section_lines(&text, "Elements")
+/// The `$Elements` section: runs of consecutive elements of one type, number of
+/// nodes and physical group, each a [`Block`].
+fn read_element_blocks(text: &str) -> Result<Vec<Block>, MeshError> {
+    let lines = section_lines(text, "Elements")
         .ok_or_else(|| invalid("MSH 2.2: no $Elements section".into()))?;
     let count = header_count(&lines, "Elements")?;
     let mut blocks: Vec<Block> = Vec::new();
@@ -98,11 +113,7 @@ pub(super) fn read_v22(bytes: &[u8]) -> Result<Raw, MeshError> {
             "MSH 2.2 $Elements announces {count} elements but lists {listed}"
         )));
     }
-    Ok(Raw {
-        nodes,
-        blocks,
-        names,
-    })
+    Ok(blocks)
 }
 
 /// The count on the first line of a section's `lines`.
