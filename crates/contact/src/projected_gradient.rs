@@ -235,8 +235,8 @@ impl<'a> Projection<'a> {
     /// f(trial) ≤ f(λ) + 10⁻⁴ gᵀ(trial − λ).
     fn armijo_trial(&mut self, mu: f64, d: &[f64]) -> bool {
         let m = self.lambda.len();
-        for p in 0..m {
-            self.trial[p] = (self.lambda[p] + mu * d[p]).max(0.0);
+        for ((t, &l), &dp) in self.trial.iter_mut().zip(&self.lambda).zip(d) {
+            *t = (l + mu * dp).max(0.0);
         }
         gaps_into(self.w, self.q, &self.trial, &mut self.g_trial);
         self.report.operator_applications += 1;
@@ -405,8 +405,8 @@ impl Conjugate {
         self.restart = false;
         if dot(g, &self.dir) >= 0.0 {
             // Not a descent direction (round-off): restart along −φ.
-            for p in 0..m {
-                self.dir[p] = if self.free_old[p] { -g[p] } else { 0.0 };
+            for ((dp, &free), &gp) in self.dir.iter_mut().zip(&self.free_old).zip(g) {
+                *dp = if free { -gp } else { 0.0 };
             }
         }
     }

@@ -140,10 +140,7 @@ pub fn smalbe(
             return Ok(pb.inner_failed(sol, mu, report, outer));
         }
         lambda = sol.lambda;
-        let r = equality_vector(g, e, &lambda);
-        for j in 0..k {
-            mu[j] += rho * r[j];
-        }
+        update_multiplier(&mut mu, rho, &equality_vector(g, e, &lambda));
         let gap = constrained_gaps(w, q, g, &lambda, &mu);
         let natural = residual_from_gaps(&lambda, &gap, opts);
         let feas = equality_residual(g, e, &lambda, opts.force_scale);
@@ -176,14 +173,7 @@ pub fn smalbe(
                 "SMALBE: natural residual {natural:.3e} and equilibrium residual {feas:.3e} ≤ tolerance {:.3e} {progress}; last inner: {last_reason}",
                 opts.tolerance
             );
-            let mut out = ConstrainedSolution {
-                lambda,
-                alpha: mu,
-                gap,
-                report,
-            };
-            polish(w, q, g, e, &mut out, opts);
-            return Ok(out);
+            return Ok(pb.polished(lambda, mu, gap, report));
         }
         if feas > FEASIBILITY_DECREASE * feas_prev && rho * RHO_GROWTH <= rho_max {
             rho *= RHO_GROWTH;
@@ -203,6 +193,25 @@ struct Constrained<'a> {
 }
 
 impl Constrained<'_> {
+    /// The converged iterate, polished on its active set ([`polish`] keeps
+    /// the polished point only if it is at least as good).
+    fn polished(
+        &self,
+        lambda: Vec<f64>,
+        mu: Vec<f64>,
+        gap: Vec<f64>,
+        report: SolverReport,
+    ) -> ConstrainedSolution {
+        let mut out = ConstrainedSolution {
+            lambda,
+            alpha: mu,
+            gap,
+            report,
+        };
+        polish(self.w, self.q, self.g, self.e, &mut out, self.opts);
+        out
+    }
+
     /// The inner solver did not converge at the final precision: its
     /// answer, with the gaps at the current μ, reported as not converged.
     fn inner_failed(
@@ -310,6 +319,13 @@ fn penalty_start(
     let norm_w = norm_w.max(f64::MIN_POSITIVE);
     let rho = if k > 0 { norm_w / norm_gtg } else { 0.0 };
     Ok((ggt, rho))
+}
+
+/// The multiplier update μ ← μ + ρ (Gᵀλ − e), `r` = Gᵀλ − e.
+fn update_multiplier(mu: &mut [f64], rho: f64, r: &[f64]) {
+    for (m, rj) in mu.iter_mut().zip(r) {
+        *m += rho * rj;
+    }
 }
 
 /// The inner problem of one outer iteration: LCP(W + ρGGᵀ, q + Gμ − ρGe).

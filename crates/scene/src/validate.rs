@@ -319,74 +319,7 @@ impl Scene {
                 ),
             ));
         }
-        let check = GeneratorCheck { e, g };
-        match g {
-            Generator::Rectangle {
-                origin,
-                size,
-                divisions,
-                element,
-                grading,
-            } => {
-                check.block(origin, size, divisions, *element, &PLANE_ELEMENTS)?;
-                check.grading(grading, &["bottom", "top", "left", "right"])
-            }
-            Generator::Box {
-                origin,
-                size,
-                divisions,
-                element,
-                grading,
-            } => {
-                check.block(
-                    origin,
-                    size,
-                    divisions,
-                    *element,
-                    &[Element::Hex8, Element::Tet4],
-                )?;
-                check.grading(grading, &["xmin", "xmax", "ymin", "ymax", "zmin", "zmax"])
-            }
-            Generator::HalfDisk {
-                center,
-                radius,
-                divisions,
-                pole,
-                grading,
-                element,
-            } => check.half_disk(center, *radius, *divisions, pole, *grading, *element),
-            Generator::Hemisphere {
-                center,
-                radius,
-                divisions,
-                pole,
-                grading,
-            } => {
-                check.disk(center, *radius, *divisions)?;
-                non_zero(&format!("{e}.pole"), pole)?;
-                grading_ratio(&format!("{e}.grading"), *grading)
-            }
-            Generator::QuarterDisk {
-                center,
-                radius,
-                divisions,
-                grading,
-                element,
-            } => {
-                if self.model != Model::Axisymmetric {
-                    return Err(invalid(
-                        format!("{e}.generator"),
-                        format!(
-                            "\"quarter_disk\" needs model = \"axisymmetric\" (model is \"{}\"); use half_disk otherwise",
-                            self.model.as_str()
-                        ),
-                    ));
-                }
-                check.disk(center, *radius, *divisions)?;
-                grading_ratio(&format!("{e}.grading"), *grading)?;
-                check.element(*element, &PLANE_ELEMENTS)
-            }
-        }
+        GeneratorCheck { e, g }.check(self.model)
     }
 
     fn validate_boundary(&self) -> Result {
@@ -775,6 +708,78 @@ struct GeneratorCheck<'a> {
 }
 
 impl GeneratorCheck<'_> {
+    /// The entries of the generator, in the order of its table.
+    fn check(&self, model: Model) -> Result {
+        let e = self.e;
+        match self.g {
+            Generator::Rectangle {
+                origin,
+                size,
+                divisions,
+                element,
+                grading,
+            } => {
+                self.block(origin, size, divisions, *element, &PLANE_ELEMENTS)?;
+                self.grading(grading, &["bottom", "top", "left", "right"])
+            }
+            Generator::Box {
+                origin,
+                size,
+                divisions,
+                element,
+                grading,
+            } => {
+                self.block(
+                    origin,
+                    size,
+                    divisions,
+                    *element,
+                    &[Element::Hex8, Element::Tet4],
+                )?;
+                self.grading(grading, &["xmin", "xmax", "ymin", "ymax", "zmin", "zmax"])
+            }
+            Generator::HalfDisk {
+                center,
+                radius,
+                divisions,
+                pole,
+                grading,
+                element,
+            } => self.half_disk(center, *radius, *divisions, pole, *grading, *element),
+            Generator::Hemisphere {
+                center,
+                radius,
+                divisions,
+                pole,
+                grading,
+            } => {
+                self.disk(center, *radius, *divisions)?;
+                non_zero(&format!("{e}.pole"), pole)?;
+                grading_ratio(&format!("{e}.grading"), *grading)
+            }
+            Generator::QuarterDisk {
+                center,
+                radius,
+                divisions,
+                grading,
+                element,
+            } => {
+                if model != Model::Axisymmetric {
+                    return Err(invalid(
+                        format!("{e}.generator"),
+                        format!(
+                            "\"quarter_disk\" needs model = \"axisymmetric\" (model is \"{}\"); use half_disk otherwise",
+                            model.as_str()
+                        ),
+                    ));
+                }
+                self.disk(center, *radius, *divisions)?;
+                grading_ratio(&format!("{e}.grading"), *grading)?;
+                self.element(*element, &PLANE_ELEMENTS)
+            }
+        }
+    }
+
     fn element(&self, el: Element, valid: &[Element]) -> Result {
         if valid.contains(&el) {
             Ok(())
