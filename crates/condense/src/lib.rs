@@ -109,6 +109,227 @@ pub fn spmv_with_magnitude(k: SparseColMatRef<'_, usize, f64>, x: &[f64]) -> (Ve
     (y, size)
 }
 
+/// Which of the n DOFs are on the interface; refused when an interface DOF
+/// is out of range or repeated.
+fn interface_mask(n: usize, interface: &[usize]) -> Result<Vec<bool>, CondenseError> {
+    let mut is_b = vec![false; n];
+    for &b in interface {
+        if b >= n || is_b[b] {
+            return Err(CondenseError::BadInterface(b));
+        }
+        is_b[b] = true;
+    }
+    Ok(is_b)
+}
+
+/// ‖K_II‖₁, the largest absolute column sum of the interior block.
+fn interior_norm1(k: SparseColMatRef<'_, usize, f64>, is_b: &[bool], interior: &[usize]) -> f64 {
+    interior
+        .iter()
+        .map(|&col| {
+            k.row_idx_of_col_raw(col)
+                .iter()
+                .zip(k.val_of_col(col))
+                .filter(|(&r, _)| !is_b[r])
+                .map(|(_, v)| v.abs())
+                .sum::<f64>()
+        })
+        .fold(0.0, f64::max)
+}
+
+/// Shift c on the interface diagonal: c ~ max diag(K_BB) (1 when it is 0).
+fn interface_shift(k: SparseColMatRef<'_, usize, f64>, interface: &[usize]) -> f64 {
+    let mut c = 0.0f64;
+    for &b in interface {
+        for (&r, &v) in k.row_idx_of_col_raw(b).iter().zip(k.val_of_col(b)) {
+            if r == b {
+                c = c.max(v.abs());
+            }
+        }
+    }
+    if c == 0.0 {
+        c = 1.0;
+    }
+    c
+}
+
+/// The shifted matrix K + c·I_BB, renumbered: interior first (natural),
+/// interface last.
+fn shifted_interface_last(
+    k: SparseColMatRef<'_, usize, f64>,
+    interior: &[usize],
+    interface: &[usize],
+    c: f64,
+) -> Result<SparseColMat<usize, f64>, CondenseError> {
+    let n = k.nrows();
+    let (ni, nb) = (interior.len(), interface.len());
+    let mut new_index = vec![0usize; n];
+    for (i, &d) in interior.iter().enumerate() {
+        new_index[d] = i;
+    }
+    for (j, &d) in interface.iter().enumerate() {
+        new_index[d] = ni + j;
+    }
+    let mut t = Vec::with_capacity(k.compute_nnz() + nb);
+    for col in 0..n {
+        for (&r, &v) in k.row_idx_of_col_raw(col).iter().zip(k.val_of_col(col)) {
+            t.push(Triplet::new(new_index[r], new_index[col], v));
+        }
+    }
+    for j in 0..nb {
+        t.push(Triplet::new(ni + j, ni + j, c));
+    }
+    SparseColMat::<usize, f64>::try_new_from_triplets(n, n, &t)
+        .map_err(|e| CondenseError::Factorisation(format!("{e:?}")))
+}
+
+/// Ordering (forward, inverse): AMD on K_II (the leading ni × ni block of
+/// the renumbered matrix), interface appended in natural order.
+fn interior_first_ordering(
+    ks: SparseColMatRef<'_, usize, f64>,
+    ni: usize,
+) -> Result<(Vec<usize>, Vec<usize>), CondenseError> {
+    let n = ks.nrows();
+    let mut fwd = vec![0usize; n];
+    let mut inv = vec![0usize; n];
+    if ni > 0 {
+        let kii = submatrix(
+            ks,
+            &(0..ni).collect::<Vec<_>>(),
+            &(0..ni).collect::<Vec<_>>(),
+        );
+        let mut mem = MemBuffer::new(amd::order_maybe_unsorted_scratch::<usize>(
+            ni,
+            kii.compute_nnz(),
+        ));
+        amd::order_maybe_unsorted(
+            &mut fwd[..ni],
+            &mut inv[..ni],
+            kii.symbolic(),
+            amd::Control::default(),
+            MemStack::new(&mut mem),
+        )
+        .map_err(|e| CondenseError::Factorisation(format!("AMD: {e:?}")))?;
+    }
+    for i in ni..n {
+        fwd[i] = i;
+        inv[i] = i;
+    }
+    Ok((fwd, inv))
+}
+
+/// The supernodal Cholesky factor (symbolic, values) of the shifted,
+/// renumbered matrix in the ordering (fwd, inv); refused when the final
+/// permutation does not keep the interface (rows ni..n) last.
+fn factorise_interface_last(
+    ks: SparseColMatRef<'_, usize, f64>,
+    fwd: &[usize],
+    inv: &[usize],
+    ni: usize,
+    par: Par,
+) -> Result<(SymbolicCholesky<usize>, Vec<f64>), CondenseError> {
+    let n = ks.nrows();
+    let perm = PermRef::new_checked(fwd, inv, n);
+    let symbolic = factorize_symbolic_cholesky(
+        ks.symbolic(),
+        Side::Lower,
+        SymmetricOrdering::Custom(perm),
+        CholeskySymbolicParams {
+            supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SUPERNODAL,
+            ..Default::default()
+        },
+    )
+    .map_err(|e| CondenseError::Factorisation(format!("{e:?}")))?;
+    let mut l_values = vec![0.0f64; symbolic.len_val()];
+    {
+        let mut mem =
+            MemBuffer::new(symbolic.factorize_numeric_llt_scratch::<f64>(par, Default::default()));
+        symbolic
+            .factorize_numeric_llt::<f64>(
+                &mut l_values,
+                ks,
+                Side::Lower,
+                LltRegularization::default(),
+                par,
+                MemStack::new(&mut mem),
+                Default::default(),
+            )
+            .map_err(|e| CondenseError::NotPositiveDefinite(format!("{e:?}")))?;
+    }
+    // The final permutation must keep the interface last.
+    if let Some(p) = symbolic.perm() {
+        let (f, _) = p.arrays();
+        if (ni..n).any(|i| f[i] != i) {
+            return Err(CondenseError::Factorisation(
+                "the ordering did not keep the interface last".into(),
+            ));
+        }
+    }
+    Ok((symbolic, l_values))
+}
+
+/// The trailing nb × nb block L_BB of the supernodal factor (lower
+/// triangular), read from the supernodes that reach past the interior.
+fn trailing_block(
+    symbolic: &SymbolicCholesky<usize>,
+    l_values: &[f64],
+    ni: usize,
+    nb: usize,
+) -> Result<Mat<f64>, CondenseError> {
+    let mut l_bb = Mat::<f64>::zeros(nb, nb);
+    let SymbolicCholeskyRaw::Supernodal(sn) = symbolic.raw() else {
+        return Err(CondenseError::Factorisation(
+            "expected a supernodal factor".into(),
+        ));
+    };
+    let l = SupernodalLltRef::<usize, f64>::new(sn, l_values);
+    for s in 0..sn.n_supernodes() {
+        let snode = l.supernode(s);
+        let (start, ncols) = (snode.start(), snode.val().ncols());
+        if start + ncols <= ni {
+            continue;
+        }
+        let rows: Vec<usize> = (start..start + ncols)
+            .chain(snode.pattern().iter().copied())
+            .collect();
+        for jj in 0..ncols {
+            let j = start + jj;
+            if j < ni {
+                continue;
+            }
+            for (ii, &i) in rows.iter().enumerate() {
+                if i >= ni && i >= j {
+                    l_bb[(i - ni, j - ni)] = snode.val()[(ii, jj)];
+                }
+            }
+        }
+    }
+    Ok(l_bb)
+}
+
+/// S = L_BB L_BBᵀ − c·I (L_BB L_BBᵀ = S + c·I exactly), symmetrised.
+fn schur_from_trailing_block(l_bb: &Mat<f64>, c: f64, par: Par) -> Mat<f64> {
+    let nb = l_bb.nrows();
+    let mut schur = Mat::<f64>::from_fn(nb, nb, |i, j| if i == j { -c } else { 0.0 });
+    faer::linalg::matmul::matmul(
+        schur.as_mut(),
+        Accum::Add,
+        l_bb.as_ref(),
+        l_bb.transpose(),
+        1.0,
+        par,
+    );
+    // Symmetrise exactly (rounding leaves |S - Sᵀ| ~ ε c).
+    for j in 0..nb {
+        for i in j + 1..nb {
+            let v = 0.5 * (schur[(i, j)] + schur[(j, i)]);
+            schur[(i, j)] = v;
+            schur[(j, i)] = v;
+        }
+    }
+    schur
+}
+
 /// A condensed subdomain: the factor of its stiffness with the interface last,
 /// its Schur complement S, and what is needed to condense loads and recover the
 /// interior.
@@ -141,170 +362,16 @@ impl Condensed {
         par: Par,
     ) -> Result<Self, CondenseError> {
         let n = k.nrows();
-        let mut is_b = vec![false; n];
-        for &b in interface {
-            if b >= n || is_b[b] {
-                return Err(CondenseError::BadInterface(b));
-            }
-            is_b[b] = true;
-        }
+        let is_b = interface_mask(n, interface)?;
         let interior: Vec<usize> = (0..n).filter(|&i| !is_b[i]).collect();
         let ni = interior.len();
-        let nb = interface.len();
-        let k_ii_norm1 = interior
-            .iter()
-            .map(|&col| {
-                k.row_idx_of_col_raw(col)
-                    .iter()
-                    .zip(k.val_of_col(col))
-                    .filter(|(&r, _)| !is_b[r])
-                    .map(|(_, v)| v.abs())
-                    .sum::<f64>()
-            })
-            .fold(0.0, f64::max);
-
-        // Shift c on the interface diagonal: c ~ max diag(K_BB).
-        let mut c = 0.0f64;
-        for &b in interface {
-            for (&r, &v) in k.row_idx_of_col_raw(b).iter().zip(k.val_of_col(b)) {
-                if r == b {
-                    c = c.max(v.abs());
-                }
-            }
-        }
-        if c == 0.0 {
-            c = 1.0;
-        }
-        // Shifted matrix, renumbered: interior first (natural), interface last.
-        let mut new_index = vec![0usize; n];
-        for (i, &d) in interior.iter().enumerate() {
-            new_index[d] = i;
-        }
-        for (j, &d) in interface.iter().enumerate() {
-            new_index[d] = ni + j;
-        }
-        let mut t = Vec::with_capacity(k.compute_nnz() + nb);
-        for col in 0..n {
-            for (&r, &v) in k.row_idx_of_col_raw(col).iter().zip(k.val_of_col(col)) {
-                t.push(Triplet::new(new_index[r], new_index[col], v));
-            }
-        }
-        for j in 0..nb {
-            t.push(Triplet::new(ni + j, ni + j, c));
-        }
-        let ks = SparseColMat::<usize, f64>::try_new_from_triplets(n, n, &t)
-            .map_err(|e| CondenseError::Factorisation(format!("{e:?}")))?;
-
-        // Ordering: AMD on K_II, interface appended in natural order.
-        let mut fwd = vec![0usize; n];
-        let mut inv = vec![0usize; n];
-        if ni > 0 {
-            let kii = submatrix(
-                ks.as_ref(),
-                &(0..ni).collect::<Vec<_>>(),
-                &(0..ni).collect::<Vec<_>>(),
-            );
-            let mut mem = MemBuffer::new(amd::order_maybe_unsorted_scratch::<usize>(
-                ni,
-                kii.compute_nnz(),
-            ));
-            amd::order_maybe_unsorted(
-                &mut fwd[..ni],
-                &mut inv[..ni],
-                kii.symbolic(),
-                amd::Control::default(),
-                MemStack::new(&mut mem),
-            )
-            .map_err(|e| CondenseError::Factorisation(format!("AMD: {e:?}")))?;
-        }
-        for i in ni..n {
-            fwd[i] = i;
-            inv[i] = i;
-        }
-        let perm = PermRef::new_checked(&fwd, &inv, n);
-        let symbolic = factorize_symbolic_cholesky(
-            ks.symbolic(),
-            Side::Lower,
-            SymmetricOrdering::Custom(perm),
-            CholeskySymbolicParams {
-                supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SUPERNODAL,
-                ..Default::default()
-            },
-        )
-        .map_err(|e| CondenseError::Factorisation(format!("{e:?}")))?;
-        let mut l_values = vec![0.0f64; symbolic.len_val()];
-        {
-            let mut mem = MemBuffer::new(
-                symbolic.factorize_numeric_llt_scratch::<f64>(par, Default::default()),
-            );
-            symbolic
-                .factorize_numeric_llt::<f64>(
-                    &mut l_values,
-                    ks.as_ref(),
-                    Side::Lower,
-                    LltRegularization::default(),
-                    par,
-                    MemStack::new(&mut mem),
-                    Default::default(),
-                )
-                .map_err(|e| CondenseError::NotPositiveDefinite(format!("{e:?}")))?;
-        }
-        // The final permutation must keep the interface last.
-        if let Some(p) = symbolic.perm() {
-            let (f, _) = p.arrays();
-            if (ni..n).any(|i| f[i] != i) {
-                return Err(CondenseError::Factorisation(
-                    "the ordering did not keep the interface last".into(),
-                ));
-            }
-        }
-        let mut l_bb = Mat::<f64>::zeros(nb, nb);
-        {
-            let SymbolicCholeskyRaw::Supernodal(sn) = symbolic.raw() else {
-                return Err(CondenseError::Factorisation(
-                    "expected a supernodal factor".into(),
-                ));
-            };
-            let l = SupernodalLltRef::<usize, f64>::new(sn, &l_values);
-            for s in 0..sn.n_supernodes() {
-                let snode = l.supernode(s);
-                let (start, ncols) = (snode.start(), snode.val().ncols());
-                if start + ncols <= ni {
-                    continue;
-                }
-                let rows: Vec<usize> = (start..start + ncols)
-                    .chain(snode.pattern().iter().copied())
-                    .collect();
-                for jj in 0..ncols {
-                    let j = start + jj;
-                    if j < ni {
-                        continue;
-                    }
-                    for (ii, &i) in rows.iter().enumerate() {
-                        if i >= ni && i >= j {
-                            l_bb[(i - ni, j - ni)] = snode.val()[(ii, jj)];
-                        }
-                    }
-                }
-            }
-        }
-        let mut schur = Mat::<f64>::from_fn(nb, nb, |i, j| if i == j { -c } else { 0.0 });
-        faer::linalg::matmul::matmul(
-            schur.as_mut(),
-            Accum::Add,
-            l_bb.as_ref(),
-            l_bb.transpose(),
-            1.0,
-            par,
-        );
-        // Symmetrise exactly (rounding leaves |S - Sᵀ| ~ ε c).
-        for j in 0..nb {
-            for i in j + 1..nb {
-                let v = 0.5 * (schur[(i, j)] + schur[(j, i)]);
-                schur[(i, j)] = v;
-                schur[(j, i)] = v;
-            }
-        }
+        let k_ii_norm1 = interior_norm1(k, &is_b, &interior);
+        let c = interface_shift(k, interface);
+        let ks = shifted_interface_last(k, &interior, interface, c)?;
+        let (fwd, inv) = interior_first_ordering(ks.as_ref(), ni)?;
+        let (symbolic, l_values) = factorise_interface_last(ks.as_ref(), &fwd, &inv, ni, par)?;
+        let l_bb = trailing_block(&symbolic, &l_values, ni, interface.len())?;
+        let schur = schur_from_trailing_block(&l_bb, c, par);
         Ok(Self {
             n,
             interior,

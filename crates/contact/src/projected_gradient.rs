@@ -65,62 +65,32 @@ pub fn projected_gradient(
         return Ok(empty_solution(METHOD));
     }
     let wscale = w.norm_max();
-    let mut report = SolverReport {
-        method: METHOD.into(),
-        ..Default::default()
-    };
-    let mut lambda = vec![0.0; m];
-    let mut g = q.to_vec();
-    let mut energy = 0.0;
+    let mut s = Projection::new(w, q, opts, METHOD);
     let mut wr = vec![0.0; m];
-    let mut trial = vec![0.0; m];
-    let mut g_trial = vec![0.0; m];
     loop {
-        let res = residual_from_gaps(&lambda, &g, opts);
+        let res = s.residual();
         if res <= opts.tolerance {
-            if verify(w, q, &mut lambda, &mut g, opts, &mut report) {
-                report.converged = true;
-                report.stopping_reason = format!(
-                    "natural residual {:.3e} ≤ tolerance {:.3e} after {} iterations",
-                    report.residual_history.last().copied().unwrap_or(res),
-                    opts.tolerance,
-                    report.iterations
-                );
+            if s.at_tolerance(res) {
                 break;
             }
-            energy = energy_of(&lambda, &g, q);
             continue;
         }
-        if report.iterations >= opts.max_iterations {
-            report.stopping_reason = iteration_limit(opts.max_iterations, res, opts.tolerance);
+        if s.out_of_iterations(res) {
             break;
         }
-        report.iterations += 1;
-        // Free part of the residual.
-        let r: Vec<f64> = (0..m)
-            .map(|p| {
-                if lambda[p] <= 0.0 && g[p] >= 0.0 {
-                    0.0
-                } else {
-                    -g[p]
-                }
-            })
-            .collect();
+        s.report.iterations += 1;
+        let r = free_residual(&s.lambda, &s.g);
         let rr = dot(&r, &r);
         if rr == 0.0 {
-            report.stopping_reason = stagnated(report.iterations, res, opts.tolerance);
+            s.report.stopping_reason = stagnated(s.report.iterations, res, opts.tolerance);
             break;
         }
         matvec(w, &r, &mut wr);
-        report.operator_applications += 1;
+        s.report.operator_applications += 1;
         let curv = dot(&r, &wr);
         // Longest step before a force reaches zero.
-        let feasible = max_feasible_step(&lambda, &r);
-        let mut mu = if curv > 1e-14 * wscale * rr {
-            rr / curv
-        } else {
-            f64::INFINITY
-        };
+        let feasible = max_feasible_step(&s.lambda, &r);
+        let mut mu = exact_step(rr, curv, wscale, rr);
         if !mu.is_finite() {
             if !feasible.is_finite() {
                 return Err(unbounded(METHOD));
@@ -129,47 +99,181 @@ pub fn projected_gradient(
         }
         if mu <= feasible {
             // No clamp: the exact step of the seed, gradient updated exactly.
-            for p in 0..m {
-                lambda[p] = (lambda[p] + mu * r[p]).max(0.0);
-                g[p] += mu * wr[p];
-            }
-            energy = energy_of(&lambda, &g, q);
-        } else {
-            // Clamped step with Armijo backtracking on the projection arc.
-            let mut accepted = false;
-            for _ in 0..60 {
-                for p in 0..m {
-                    trial[p] = (lambda[p] + mu * r[p]).max(0.0);
-                }
-                gaps_into(w, q, &trial, &mut g_trial);
-                report.operator_applications += 1;
-                let e_trial = energy_of(&trial, &g_trial, q);
-                let decrease: f64 = (0..m).map(|p| g[p] * (trial[p] - lambda[p])).sum();
-                if e_trial <= energy + ARMIJO * decrease || mu <= feasible {
-                    accepted = true;
-                    break;
-                }
-                mu = (0.5 * mu).max(feasible);
-            }
-            if !accepted {
-                report.stopping_reason = format!(
-                    "line search failed at iteration {} (natural residual {:.3e})",
-                    report.iterations, res
-                );
-                break;
-            }
-            std::mem::swap(&mut lambda, &mut trial);
-            std::mem::swap(&mut g, &mut g_trial);
-            energy = energy_of(&lambda, &g, q);
+            s.advance(mu, &r, &wr);
+            s.update_energy();
+        } else if !s.backtrack(mu, feasible, &r) {
+            s.report.stopping_reason = format!(
+                "line search failed at iteration {} (natural residual {:.3e})",
+                s.report.iterations, res
+            );
+            break;
         }
-        report
-            .residual_history
-            .push(residual_from_gaps(&lambda, &g, opts));
+        s.push_residual();
     }
-    Ok(LcpSolution {
-        lambda: clamp(lambda),
-        report,
-    })
+    Ok(s.finish())
+}
+
+/// The free part of the residual of [`projected_gradient`]: r = −g, 0 at
+/// the points held at the bound (λ_p = 0 and g_p ≥ 0).
+fn free_residual(lambda: &[f64], g: &[f64]) -> Vec<f64> {
+    (0..g.len())
+        .map(|p| {
+            if lambda[p] <= 0.0 && g[p] >= 0.0 {
+                0.0
+            } else {
+                -g[p]
+            }
+        })
+        .collect()
+}
+
+/// The exact minimiser `num / curv` along a direction d with dᵀd = `dd`
+/// and curvature dᵀW d = `curv`; ∞ where the curvature is negligible
+/// against ‖W‖ (the energy is flat or unbounded along d).
+fn exact_step(num: f64, curv: f64, wscale: f64, dd: f64) -> f64 {
+    if curv > 1e-14 * wscale * dd {
+        num / curv
+    } else {
+        f64::INFINITY
+    }
+}
+
+/// The state shared by the projection methods: the iterate λ ≥ 0, its
+/// gradient g = W λ + q (updated recursively), its energy f(λ), the trial
+/// point of the Armijo test and the report.
+struct Projection<'a> {
+    w: &'a Mat<f64>,
+    q: &'a [f64],
+    opts: &'a LcpOptions,
+    lambda: Vec<f64>,
+    g: Vec<f64>,
+    energy: f64,
+    trial: Vec<f64>,
+    g_trial: Vec<f64>,
+    report: SolverReport,
+}
+
+impl<'a> Projection<'a> {
+    /// λ = 0, g = q, f = 0.
+    fn new(w: &'a Mat<f64>, q: &'a [f64], opts: &'a LcpOptions, method: &str) -> Self {
+        let m = q.len();
+        Self {
+            w,
+            q,
+            opts,
+            lambda: vec![0.0; m],
+            g: q.to_vec(),
+            energy: 0.0,
+            trial: vec![0.0; m],
+            g_trial: vec![0.0; m],
+            report: SolverReport {
+                method: method.into(),
+                ..Default::default()
+            },
+        }
+    }
+
+    /// The natural residual from the recursive gradient.
+    fn residual(&self) -> f64 {
+        residual_from_gaps(&self.lambda, &self.g, self.opts)
+    }
+
+    fn update_energy(&mut self) {
+        self.energy = energy_of(&self.lambda, &self.g, self.q);
+    }
+
+    fn push_residual(&mut self) {
+        let res = self.residual();
+        self.report.residual_history.push(res);
+    }
+
+    /// At a recursive residual `res` ≤ tolerance: [`verify`] with the exact
+    /// gaps; `true` (converged, reported) when it holds, else the iteration
+    /// goes on from the exact gradient and its energy.
+    fn at_tolerance(&mut self, res: f64) -> bool {
+        if verify(
+            self.w,
+            self.q,
+            &mut self.lambda,
+            &mut self.g,
+            self.opts,
+            &mut self.report,
+        ) {
+            self.report.converged = true;
+            self.report.stopping_reason = format!(
+                "natural residual {:.3e} ≤ tolerance {:.3e} after {} iterations",
+                self.report.residual_history.last().copied().unwrap_or(res),
+                self.opts.tolerance,
+                self.report.iterations
+            );
+            return true;
+        }
+        self.update_energy();
+        false
+    }
+
+    /// `true` (reported) when the iteration limit is reached.
+    fn out_of_iterations(&mut self, res: f64) -> bool {
+        if self.report.iterations < self.opts.max_iterations {
+            return false;
+        }
+        self.report.stopping_reason =
+            iteration_limit(self.opts.max_iterations, res, self.opts.tolerance);
+        true
+    }
+
+    /// λ ← P(λ + α d), g ← g + α W d (W d in `wd`).
+    fn advance(&mut self, alpha: f64, d: &[f64], wd: &[f64]) {
+        for p in 0..self.lambda.len() {
+            self.lambda[p] = (self.lambda[p] + alpha * d[p]).max(0.0);
+            self.g[p] += alpha * wd[p];
+        }
+    }
+
+    /// The clamped trial point P(λ + μ d) with its exact gaps (one
+    /// product); `true` when it passes the Armijo test
+    /// f(trial) ≤ f(λ) + 10⁻⁴ gᵀ(trial − λ).
+    fn armijo_trial(&mut self, mu: f64, d: &[f64]) -> bool {
+        let m = self.lambda.len();
+        for ((t, &l), &dp) in self.trial.iter_mut().zip(&self.lambda).zip(d) {
+            *t = (l + mu * dp).max(0.0);
+        }
+        gaps_into(self.w, self.q, &self.trial, &mut self.g_trial);
+        self.report.operator_applications += 1;
+        let e_trial = energy_of(&self.trial, &self.g_trial, self.q);
+        let decrease: f64 = (0..m)
+            .map(|p| self.g[p] * (self.trial[p] - self.lambda[p]))
+            .sum();
+        e_trial <= self.energy + ARMIJO * decrease
+    }
+
+    /// The trial point becomes the iterate.
+    fn accept_trial(&mut self) {
+        std::mem::swap(&mut self.lambda, &mut self.trial);
+        std::mem::swap(&mut self.g, &mut self.g_trial);
+    }
+
+    /// Clamped step with Armijo backtracking on the projection arc: μ is
+    /// halved (never below the feasible step) until the test passes;
+    /// `false` when it does not within 60 halvings.
+    fn backtrack(&mut self, mut mu: f64, feasible: f64, r: &[f64]) -> bool {
+        for _ in 0..60 {
+            if self.armijo_trial(mu, r) || mu <= feasible {
+                self.accept_trial();
+                self.update_energy();
+                return true;
+            }
+            mu = (0.5 * mu).max(feasible);
+        }
+        false
+    }
+
+    fn finish(self) -> LcpSolution {
+        LcpSolution {
+            lambda: clamp(self.lambda),
+            report: self.report,
+        }
+    }
 }
 
 /// Projected conjugate gradient (seed §3.2 with CG in place of the gradient;
@@ -201,127 +305,111 @@ pub fn projected_conjugate_gradient(
         return Ok(empty_solution(METHOD));
     }
     let wscale = w.norm_max();
-    let mut report = SolverReport {
-        method: METHOD.into(),
-        ..Default::default()
-    };
-    let mut lambda = vec![0.0; m];
-    let mut g = q.to_vec();
-    let mut energy = 0.0;
-    let mut dir = vec![0.0; m];
+    let mut s = Projection::new(w, q, opts, METHOD);
+    let mut cg = Conjugate::new(m);
     let mut wd = vec![0.0; m];
-    let mut trial = vec![0.0; m];
-    let mut g_trial = vec![0.0; m];
-    let mut free_old: Vec<bool> = Vec::new();
-    let mut phi_norm_old = 0.0;
-    let mut restart = true;
     loop {
-        let res = residual_from_gaps(&lambda, &g, opts);
+        let res = s.residual();
         if res <= opts.tolerance {
-            if verify(w, q, &mut lambda, &mut g, opts, &mut report) {
-                report.converged = true;
-                report.stopping_reason = format!(
-                    "natural residual {:.3e} ≤ tolerance {:.3e} after {} iterations",
-                    report.residual_history.last().copied().unwrap_or(res),
-                    opts.tolerance,
-                    report.iterations
-                );
+            if s.at_tolerance(res) {
                 break;
             }
-            energy = energy_of(&lambda, &g, q);
-            restart = true;
+            cg.restart = true;
             continue;
         }
-        if report.iterations >= opts.max_iterations {
-            report.stopping_reason = iteration_limit(opts.max_iterations, res, opts.tolerance);
+        if s.out_of_iterations(res) {
             break;
         }
-        report.iterations += 1;
-        let free: Vec<bool> = (0..m).map(|p| lambda[p] > 0.0 || g[p] < 0.0).collect();
-        if free != free_old {
-            restart = true;
-        }
-        let phi_norm: f64 = (0..m).filter(|&p| free[p]).map(|p| g[p] * g[p]).sum();
-        let beta = if restart || phi_norm_old <= 0.0 {
-            0.0
-        } else {
-            phi_norm / phi_norm_old
-        };
-        for p in 0..m {
-            dir[p] = if free[p] { -g[p] + beta * dir[p] } else { 0.0 };
-        }
-        free_old = free;
-        phi_norm_old = phi_norm;
-        restart = false;
-        let slope = dot(&g, &dir);
-        if slope >= 0.0 {
-            // Not a descent direction (round-off): restart along −φ.
-            for p in 0..m {
-                dir[p] = if free_old[p] { -g[p] } else { 0.0 };
-            }
-        }
-        let slope = dot(&g, &dir);
-        let dd = dot(&dir, &dir);
+        s.report.iterations += 1;
+        cg.update(&s.lambda, &s.g);
+        let dir = &cg.dir;
+        let slope = dot(&s.g, dir);
+        let dd = dot(dir, dir);
         if dd == 0.0 {
-            report.stopping_reason = stagnated(report.iterations, res, opts.tolerance);
+            s.report.stopping_reason = stagnated(s.report.iterations, res, opts.tolerance);
             break;
         }
-        matvec(w, &dir, &mut wd);
-        report.operator_applications += 1;
-        let curv = dot(&dir, &wd);
-        let feasible = max_feasible_step(&lambda, &dir);
-        let alpha = if curv > 1e-14 * wscale * dd {
-            -slope / curv
-        } else {
-            f64::INFINITY
-        };
+        matvec(w, dir, &mut wd);
+        s.report.operator_applications += 1;
+        let curv = dot(dir, &wd);
+        let feasible = max_feasible_step(&s.lambda, dir);
+        let alpha = exact_step(-slope, curv, wscale, dd);
         if !alpha.is_finite() && !feasible.is_finite() {
             return Err(unbounded(METHOD));
         }
         if alpha <= feasible {
-            for p in 0..m {
-                lambda[p] = (lambda[p] + alpha * dir[p]).max(0.0);
-                g[p] += alpha * wd[p];
-            }
-            energy = energy_of(&lambda, &g, q);
+            s.advance(alpha, dir, &wd);
         } else {
             // The CG step leaves λ ≥ 0: try the clamped point, else stop at the bound.
-            let mut accepted = false;
-            if alpha.is_finite() {
-                for p in 0..m {
-                    trial[p] = (lambda[p] + alpha * dir[p]).max(0.0);
-                }
-                gaps_into(w, q, &trial, &mut g_trial);
-                report.operator_applications += 1;
-                let e_trial = energy_of(&trial, &g_trial, q);
-                let decrease: f64 = (0..m).map(|p| g[p] * (trial[p] - lambda[p])).sum();
-                if e_trial <= energy + ARMIJO * decrease {
-                    std::mem::swap(&mut lambda, &mut trial);
-                    std::mem::swap(&mut g, &mut g_trial);
-                    accepted = true;
-                }
-            }
-            if !accepted {
-                for p in 0..m {
-                    lambda[p] = (lambda[p] + feasible * dir[p]).max(0.0);
-                    g[p] += feasible * wd[p];
-                }
+            if alpha.is_finite() && s.armijo_trial(alpha, dir) {
+                s.accept_trial();
+            } else {
+                s.advance(feasible, dir, &wd);
                 // The blocking point lands exactly on its bound.
-                if let Some(b) = blocking_index(&lambda, &dir) {
-                    lambda[b] = 0.0;
+                if let Some(b) = blocking_index(&s.lambda, dir) {
+                    s.lambda[b] = 0.0;
                 }
             }
-            energy = energy_of(&lambda, &g, q);
-            restart = true;
+            cg.restart = true;
         }
-        report
-            .residual_history
-            .push(residual_from_gaps(&lambda, &g, opts));
+        s.update_energy();
+        s.push_residual();
     }
-    Ok(LcpSolution {
-        lambda: clamp(lambda),
-        report,
-    })
+    Ok(s.finish())
+}
+
+/// The conjugate-gradient recursion of [`projected_conjugate_gradient`]:
+/// the direction, the free set and ‖φ‖² of the previous iteration, and
+/// whether the next direction restarts along −φ.
+struct Conjugate {
+    dir: Vec<f64>,
+    free_old: Vec<bool>,
+    phi_norm_old: f64,
+    restart: bool,
+}
+
+impl Conjugate {
+    fn new(m: usize) -> Self {
+        Self {
+            dir: vec![0.0; m],
+            free_old: Vec::new(),
+            phi_norm_old: 0.0,
+            restart: true,
+        }
+    }
+
+    /// The next direction: p = −φ after a restart (asked, or the free set
+    /// F changed), else p = −φ + β p_old with β = φᵀφ / φ_oldᵀφ_old
+    /// (Fletcher–Reeves); −φ again when p is not a descent direction.
+    fn update(&mut self, lambda: &[f64], g: &[f64]) {
+        let m = g.len();
+        let free: Vec<bool> = (0..m).map(|p| lambda[p] > 0.0 || g[p] < 0.0).collect();
+        if free != self.free_old {
+            self.restart = true;
+        }
+        let phi_norm: f64 = (0..m).filter(|&p| free[p]).map(|p| g[p] * g[p]).sum();
+        let beta = if self.restart || self.phi_norm_old <= 0.0 {
+            0.0
+        } else {
+            phi_norm / self.phi_norm_old
+        };
+        for p in 0..m {
+            self.dir[p] = if free[p] {
+                -g[p] + beta * self.dir[p]
+            } else {
+                0.0
+            };
+        }
+        self.free_old = free;
+        self.phi_norm_old = phi_norm;
+        self.restart = false;
+        if dot(g, &self.dir) >= 0.0 {
+            // Not a descent direction (round-off): restart along −φ.
+            for ((dp, &free), &gp) in self.dir.iter_mut().zip(&self.free_old).zip(g) {
+                *dp = if free { -gp } else { 0.0 };
+            }
+        }
+    }
 }
 
 // ---------------------------------------------------------------------------

@@ -113,11 +113,187 @@ pub fn smalbe(
     let (m, k) = (g.nrows(), g.ncols());
     assert_eq!(m, q.len());
     assert_eq!(k, e.len());
+    let pb = Constrained { w, q, g, e, opts };
     let mut report = SolverReport {
         method: "smalbe".into(),
         ..Default::default()
     };
-    // GGᵀ and its norm (the largest eigenvalue of the k × k GᵀG).
+    let (ggt, mut rho) = penalty_start(w, g, &mut report)?;
+    let rho_max = RHO_CAP * rho;
+    let mut mu = vec![0.0; k];
+    let mut lambda = vec![0.0; m];
+    let mut feas_prev = f64::INFINITY;
+    let mut inner_iterations = 0usize;
+    let mut last_reason = String::new();
+    let mut previous_active: Option<Vec<bool>> = None;
+    for outer in 0..MAX_OUTER {
+        let (w_in, q_in) = inner_problem(w, q, g, e, &ggt, &mu, rho);
+        let inner_opts = LcpOptions {
+            tolerance: inner_tolerance(g, e, &lambda, opts, outer),
+            ..opts.clone()
+        };
+        let sol = inner(&w_in, &q_in, &lambda, &inner_opts)?;
+        inner_iterations += sol.report.iterations;
+        report.operator_applications += sol.report.operator_applications;
+        last_reason = sol.report.stopping_reason.clone();
+        if !sol.report.converged && inner_opts.tolerance <= opts.tolerance {
+            return Ok(pb.inner_failed(sol, mu, report, outer));
+        }
+        lambda = sol.lambda;
+        update_multiplier(&mut mu, rho, &equality_vector(g, e, &lambda));
+        let gap = constrained_gaps(w, q, g, &lambda, &mu);
+        let natural = residual_from_gaps(&lambda, &gap, opts);
+        let feas = equality_residual(g, e, &lambda, opts.force_scale);
+        report.iterations = outer + 1;
+        report.residual_history.push(natural.max(feas));
+        let active: Vec<bool> = lambda.iter().map(|&l| l > 0.0).collect();
+        let settled = k > 0 && previous_active.as_ref() == Some(&active);
+        previous_active = Some(active);
+        let met = natural <= opts.tolerance && feas <= opts.tolerance;
+        let progress = format!(
+            "after {} outer iterations ({inner_iterations} inner iterations; ρ = {rho:.3e})",
+            outer + 1
+        );
+        if settled && !met {
+            // The active set has settled: one saddle-point solve on it may
+            // finish the job (polish keeps it only if it is better).
+            let trial = ConstrainedSolution {
+                lambda: lambda.clone(),
+                alpha: mu.clone(),
+                gap: gap.clone(),
+                report: report.clone(),
+            };
+            if let Some(done) = pb.polish_settled(trial, &progress, &last_reason) {
+                return Ok(done);
+            }
+        }
+        if met {
+            report.converged = true;
+            report.stopping_reason = format!(
+                "SMALBE: natural residual {natural:.3e} and equilibrium residual {feas:.3e} ≤ tolerance {:.3e} {progress}; last inner: {last_reason}",
+                opts.tolerance
+            );
+            return Ok(pb.polished(lambda, mu, gap, report));
+        }
+        if feas > FEASIBILITY_DECREASE * feas_prev && rho * RHO_GROWTH <= rho_max {
+            rho *= RHO_GROWTH;
+        }
+        feas_prev = feas;
+    }
+    Ok(pb.exhausted(lambda, mu, report, rho, &last_reason))
+}
+
+/// The data of the constrained problem, for the steps of [`smalbe`].
+struct Constrained<'a> {
+    w: &'a Mat<f64>,
+    q: &'a [f64],
+    g: &'a Mat<f64>,
+    e: &'a [f64],
+    opts: &'a LcpOptions,
+}
+
+impl Constrained<'_> {
+    /// The converged iterate, polished on its active set ([`polish`] keeps
+    /// the polished point only if it is at least as good).
+    fn polished(
+        &self,
+        lambda: Vec<f64>,
+        mu: Vec<f64>,
+        gap: Vec<f64>,
+        report: SolverReport,
+    ) -> ConstrainedSolution {
+        let mut out = ConstrainedSolution {
+            lambda,
+            alpha: mu,
+            gap,
+            report,
+        };
+        polish(self.w, self.q, self.g, self.e, &mut out, self.opts);
+        out
+    }
+
+    /// The inner solver did not converge at the final precision: its
+    /// answer, with the gaps at the current μ, reported as not converged.
+    fn inner_failed(
+        &self,
+        sol: LcpSolution,
+        mu: Vec<f64>,
+        mut report: SolverReport,
+        outer: usize,
+    ) -> ConstrainedSolution {
+        report.stopping_reason = format!(
+            "SMALBE outer iteration {}: the inner solver did not converge: {}",
+            outer + 1,
+            sol.report.stopping_reason
+        );
+        report.iterations = outer + 1;
+        let gap = constrained_gaps(self.w, self.q, self.g, &sol.lambda, &mu);
+        ConstrainedSolution {
+            lambda: sol.lambda,
+            alpha: mu,
+            gap,
+            report,
+        }
+    }
+
+    /// The active set has settled: one saddle-point solve on it
+    /// ([`polish`]) may finish the job; the answer, marked converged, when
+    /// it does. `progress` says after how many outer and inner iterations,
+    /// at which ρ.
+    fn polish_settled(
+        &self,
+        mut trial: ConstrainedSolution,
+        progress: &str,
+        last_reason: &str,
+    ) -> Option<ConstrainedSolution> {
+        if !polish(self.w, self.q, self.g, self.e, &mut trial, self.opts) {
+            return None;
+        }
+        trial.report.converged = true;
+        trial.report.stopping_reason = format!(
+            "SMALBE: the active set settled {progress}; one saddle-point solve on it meets the tolerance {:.3e}; last inner: {last_reason}",
+            self.opts.tolerance
+        );
+        Some(trial)
+    }
+
+    /// [`MAX_OUTER`] outer iterations without meeting the tolerance: the
+    /// last iterate, reported as not converged with its residuals.
+    fn exhausted(
+        &self,
+        lambda: Vec<f64>,
+        mu: Vec<f64>,
+        mut report: SolverReport,
+        rho: f64,
+        last_reason: &str,
+    ) -> ConstrainedSolution {
+        let (g, opts) = (self.g, self.opts);
+        let gap = constrained_gaps(self.w, self.q, g, &lambda, &mu);
+        let natural = residual_from_gaps(&lambda, &gap, opts);
+        let feas = equality_residual(g, self.e, &lambda, opts.force_scale);
+        report.stopping_reason = format!(
+            "SMALBE: {MAX_OUTER} outer iterations without meeting the tolerance {:.3e} (natural residual {natural:.3e}, equilibrium residual {feas:.3e}, ρ = {rho:.3e}); last inner: {last_reason}",
+            opts.tolerance
+        );
+        ConstrainedSolution {
+            lambda,
+            alpha: mu,
+            gap,
+            report,
+        }
+    }
+}
+
+/// GGᵀ and the starting penalty ρ = ‖W‖ / ‖GᵀG‖ (the norm of GᵀG is the
+/// largest eigenvalue of the k × k matrix); refused when G = 0, i.e. no
+/// contact point acts on the rigid motions. Counts the products of the
+/// estimate of ‖W‖ in the report.
+fn penalty_start(
+    w: &Mat<f64>,
+    g: &Mat<f64>,
+    report: &mut SolverReport,
+) -> Result<(Mat<f64>, f64), ContactError> {
+    let (m, k) = (g.nrows(), g.ncols());
     let mut ggt = Mat::<f64>::zeros(m, m);
     faer::linalg::matmul::matmul(
         ggt.as_mut(),
@@ -141,134 +317,66 @@ pub fn smalbe(
     let (norm_w, products) = spectral_norm_estimate(w);
     report.operator_applications += products;
     let norm_w = norm_w.max(f64::MIN_POSITIVE);
-    let mut rho = if k > 0 { norm_w / norm_gtg } else { 0.0 };
-    let rho_max = RHO_CAP * rho;
-    let mut mu = vec![0.0; k];
-    let mut lambda = vec![0.0; m];
-    let mut feas_prev = f64::INFINITY;
-    let mut inner_iterations = 0usize;
-    let mut last_reason = String::new();
-    let mut previous_active: Option<Vec<bool>> = None;
-    for outer in 0..MAX_OUTER {
-        // Inner problem: LCP(W + ρGGᵀ, q + Gμ − ρGe).
-        let mut w_in = w.clone();
-        if k > 0 {
-            for j in 0..m {
-                for i in 0..m {
-                    w_in[(i, j)] += rho * ggt[(i, j)];
-                }
-            }
-        }
-        let q_in: Vec<f64> = (0..m)
-            .map(|p| {
-                q[p] + (0..k)
-                    .map(|j| g[(p, j)] * (mu[j] - rho * e[j]))
-                    .sum::<f64>()
-            })
-            .collect();
-        // Inner precision: tied to the current infeasibility (Dostál's
-        // ‖gᴾ‖ ≤ min(M‖Gᵀλ − e‖, η)) and tightened tenfold per outer
-        // iteration (the two residuals are measured in different units, so
-        // M is not known in advance), never tighter than the tolerance.
-        let inner_tolerance = if k == 0 {
-            opts.tolerance
-        } else {
-            let feas_rel = if outer == 0 {
-                1.0
-            } else {
-                equality_residual(g, e, &lambda, opts.force_scale)
-            };
-            (feas_rel.min(1e-2) * 0.1f64.powi(outer as i32)).max(opts.tolerance)
-        };
-        let inner_opts = LcpOptions {
-            tolerance: inner_tolerance,
-            ..opts.clone()
-        };
-        let sol = inner(&w_in, &q_in, &lambda, &inner_opts)?;
-        inner_iterations += sol.report.iterations;
-        report.operator_applications += sol.report.operator_applications;
-        last_reason = sol.report.stopping_reason.clone();
-        if !sol.report.converged && inner_opts.tolerance <= opts.tolerance {
-            report.stopping_reason = format!(
-                "SMALBE outer iteration {}: the inner solver did not converge: {}",
-                outer + 1,
-                sol.report.stopping_reason
-            );
-            report.iterations = outer + 1;
-            let gap = constrained_gaps(w, q, g, &sol.lambda, &mu);
-            return Ok(ConstrainedSolution {
-                lambda: sol.lambda,
-                alpha: mu,
-                gap,
-                report,
-            });
-        }
-        lambda = sol.lambda;
-        let r = equality_vector(g, e, &lambda);
-        for j in 0..k {
-            mu[j] += rho * r[j];
-        }
-        let gap = constrained_gaps(w, q, g, &lambda, &mu);
-        let natural = residual_from_gaps(&lambda, &gap, opts);
-        let feas = equality_residual(g, e, &lambda, opts.force_scale);
-        report.iterations = outer + 1;
-        report.residual_history.push(natural.max(feas));
-        let active: Vec<bool> = lambda.iter().map(|&l| l > 0.0).collect();
-        let settled = k > 0 && previous_active.as_ref() == Some(&active);
-        previous_active = Some(active);
-        if settled && !(natural <= opts.tolerance && feas <= opts.tolerance) {
-            // The active set has settled: one saddle-point solve on it may
-            // finish the job (polish keeps it only if it is better).
-            let mut trial = ConstrainedSolution {
-                lambda: lambda.clone(),
-                alpha: mu.clone(),
-                gap: gap.clone(),
-                report: report.clone(),
-            };
-            if polish(w, q, g, e, &mut trial, opts) {
-                trial.report.converged = true;
-                trial.report.stopping_reason = format!(
-                    "SMALBE: the active set settled after {} outer iterations ({inner_iterations} inner iterations; ρ = {rho:.3e}); one saddle-point solve on it meets the tolerance {:.3e}; last inner: {last_reason}",
-                    outer + 1,
-                    opts.tolerance
-                );
-                return Ok(trial);
-            }
-        }
-        if natural <= opts.tolerance && feas <= opts.tolerance {
-            report.converged = true;
-            report.stopping_reason = format!(
-                "SMALBE: natural residual {natural:.3e} and equilibrium residual {feas:.3e} ≤ tolerance {:.3e} after {} outer iterations ({inner_iterations} inner iterations; ρ = {rho:.3e}); last inner: {last_reason}",
-                opts.tolerance,
-                outer + 1
-            );
-            let mut out = ConstrainedSolution {
-                lambda,
-                alpha: mu,
-                gap,
-                report,
-            };
-            polish(w, q, g, e, &mut out, opts);
-            return Ok(out);
-        }
-        if feas > FEASIBILITY_DECREASE * feas_prev && rho * RHO_GROWTH <= rho_max {
-            rho *= RHO_GROWTH;
-        }
-        feas_prev = feas;
+    let rho = if k > 0 { norm_w / norm_gtg } else { 0.0 };
+    Ok((ggt, rho))
+}
+
+/// The multiplier update μ ← μ + ρ (Gᵀλ − e), `r` = Gᵀλ − e.
+fn update_multiplier(mu: &mut [f64], rho: f64, r: &[f64]) {
+    for (m, rj) in mu.iter_mut().zip(r) {
+        *m += rho * rj;
     }
-    let gap = constrained_gaps(w, q, g, &lambda, &mu);
-    let natural = residual_from_gaps(&lambda, &gap, opts);
-    let feas = equality_residual(g, e, &lambda, opts.force_scale);
-    report.stopping_reason = format!(
-        "SMALBE: {MAX_OUTER} outer iterations without meeting the tolerance {:.3e} (natural residual {natural:.3e}, equilibrium residual {feas:.3e}, ρ = {rho:.3e}); last inner: {last_reason}",
-        opts.tolerance
-    );
-    Ok(ConstrainedSolution {
-        lambda,
-        alpha: mu,
-        gap,
-        report,
-    })
+}
+
+/// The inner problem of one outer iteration: LCP(W + ρGGᵀ, q + Gμ − ρGe).
+fn inner_problem(
+    w: &Mat<f64>,
+    q: &[f64],
+    g: &Mat<f64>,
+    e: &[f64],
+    ggt: &Mat<f64>,
+    mu: &[f64],
+    rho: f64,
+) -> (Mat<f64>, Vec<f64>) {
+    let (m, k) = (g.nrows(), g.ncols());
+    let mut w_in = w.clone();
+    if k > 0 {
+        for j in 0..m {
+            for i in 0..m {
+                w_in[(i, j)] += rho * ggt[(i, j)];
+            }
+        }
+    }
+    let q_in: Vec<f64> = (0..m)
+        .map(|p| {
+            q[p] + (0..k)
+                .map(|j| g[(p, j)] * (mu[j] - rho * e[j]))
+                .sum::<f64>()
+        })
+        .collect();
+    (w_in, q_in)
+}
+
+/// Inner precision: tied to the current infeasibility (Dostál's
+/// ‖gᴾ‖ ≤ min(M‖Gᵀλ − e‖, η)) and tightened tenfold per outer
+/// iteration (the two residuals are measured in different units, so
+/// M is not known in advance), never tighter than the tolerance.
+fn inner_tolerance(
+    g: &Mat<f64>,
+    e: &[f64],
+    lambda: &[f64],
+    opts: &LcpOptions,
+    outer: usize,
+) -> f64 {
+    if g.ncols() == 0 {
+        return opts.tolerance;
+    }
+    let feas_rel = if outer == 0 {
+        1.0
+    } else {
+        equality_residual(g, e, lambda, opts.force_scale)
+    };
+    (feas_rel.min(1e-2) * 0.1f64.powi(outer as i32)).max(opts.tolerance)
 }
 
 /// One saddle-point solve on the active set of an answer (see the module

@@ -603,6 +603,15 @@ fn check_generator(map: &mut Raw) -> Result<(), String> {
         _ => return Ok(()),
     };
     let per_side = matches!(generator.as_str(), "rectangle" | "box");
+    check_lengths(map, dim, per_side)?;
+    check_numbers(map, dim)?;
+    check_grading(map, per_side)?;
+    whole_divisions(map, dim, per_side, &generator)
+}
+
+/// Fixed-size arrays of the wrong length (serde alone: "invalid length 3");
+/// `divisions` is an array only for the generators `per_side`.
+fn check_lengths(map: &Raw, dim: usize, per_side: bool) -> Result<(), String> {
     // Fixed-size arrays of the wrong length (serde alone: "invalid length 3").
     for key in ["origin", "size", "divisions", "center", "pole"] {
         if let Some(Raw::Seq(a)) = map.get(key) {
@@ -614,7 +623,12 @@ fn check_generator(map: &mut Raw) -> Result<(), String> {
             }
         }
     }
-    // Vectors and scalars of numbers.
+    Ok(())
+}
+
+/// Vectors and scalars of numbers: `origin`, `size`, `center`, `pole`,
+/// `radius`.
+fn check_numbers(map: &Raw, dim: usize) -> Result<(), String> {
     for key in ["origin", "size", "center", "pole"] {
         match map.get(key) {
             None => {}
@@ -642,6 +656,12 @@ fn check_generator(map: &mut Raw) -> Result<(), String> {
             ));
         }
     }
+    Ok(())
+}
+
+/// `grading`: a table { towards, ratio } for the generators `per_side`, a
+/// number for the others.
+fn check_grading(map: &Raw, per_side: bool) -> Result<(), String> {
     match map.get("grading") {
         None => {}
         Some(Raw::Map(_)) if per_side => {
@@ -667,7 +687,17 @@ fn check_generator(map: &mut Raw) -> Result<(), String> {
         }
         Some(_) => {}
     }
-    // Divisions: whole numbers, named with the value when not.
+    Ok(())
+}
+
+/// Divisions: whole numbers, named with the value when not, made integers
+/// (`divisions = 1e3` is 1000 elements).
+fn whole_divisions(
+    map: &mut Raw,
+    dim: usize,
+    per_side: bool,
+    generator: &str,
+) -> Result<(), String> {
     let what = if per_side {
         "positive whole numbers (elements along each side)"
     } else if generator == "hemisphere" {

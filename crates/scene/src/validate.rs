@@ -319,152 +319,7 @@ impl Scene {
                 ),
             ));
         }
-        let element = |el: Element, valid: &[Element]| -> Result {
-            if valid.contains(&el) {
-                Ok(())
-            } else {
-                let names: Vec<&str> = valid.iter().map(|x| x.as_str()).collect();
-                Err(invalid(
-                    format!("{e}.element"),
-                    format!(
-                        "\"{}\" is not available for the {} generator; use {}",
-                        el.as_str(),
-                        g.name(),
-                        names.join(" or ")
-                    ),
-                ))
-            }
-        };
-        let sizes = |s: &[f64]| -> Result {
-            finite_all(&format!("{e}.size"), s)?;
-            if s.iter().any(|x| *x <= 0.0) {
-                Err(invalid(
-                    format!("{e}.size"),
-                    format!("every component must be > 0, got {s:?}"),
-                ))
-            } else {
-                Ok(())
-            }
-        };
-        let divisions = |d: &[usize]| -> Result {
-            if d.contains(&0) {
-                Err(invalid(
-                    format!("{e}.divisions"),
-                    format!("every component must be >= 1, got {d:?}"),
-                ))
-            } else {
-                Ok(())
-            }
-        };
-        let grading = |gr: &Option<Grading>, valid: &[&str]| -> Result {
-            if let Some(gr) = gr {
-                if !valid.contains(&gr.towards.as_str()) {
-                    return Err(invalid(
-                        format!("{e}.grading.towards"),
-                        format!(
-                            "unknown side \"{}\"; valid: {}",
-                            gr.towards,
-                            valid.join(", ")
-                        ),
-                    ));
-                }
-                grading_ratio(&format!("{e}.grading.ratio"), gr.ratio)?;
-            }
-            Ok(())
-        };
-        match g {
-            Generator::Rectangle {
-                origin,
-                size,
-                divisions: d,
-                element: el,
-                grading: gr,
-            } => {
-                finite_all(&format!("{e}.origin"), origin)?;
-                sizes(size)?;
-                divisions(d)?;
-                element(
-                    *el,
-                    &[Element::Quad4, Element::Tri3, Element::Quad8, Element::Tri6],
-                )?;
-                grading(gr, &["bottom", "top", "left", "right"])?;
-            }
-            Generator::Box {
-                origin,
-                size,
-                divisions: d,
-                element: el,
-                grading: gr,
-            } => {
-                finite_all(&format!("{e}.origin"), origin)?;
-                sizes(size)?;
-                divisions(d)?;
-                element(*el, &[Element::Hex8, Element::Tet4])?;
-                grading(gr, &["xmin", "xmax", "ymin", "ymax", "zmin", "zmax"])?;
-            }
-            Generator::HalfDisk {
-                center,
-                radius,
-                divisions: d,
-                pole,
-                grading: gr,
-                element: el,
-            } => {
-                finite_all(&format!("{e}.center"), center)?;
-                positive(&format!("{e}.radius"), *radius)?;
-                if *d < 4 {
-                    return Err(invalid(
-                        format!("{e}.divisions"),
-                        format!("must be >= 4 (elements along the arc), got {d}"),
-                    ));
-                }
-                non_zero(&format!("{e}.pole"), pole)?;
-                grading_ratio(&format!("{e}.grading"), *gr)?;
-                element(
-                    *el,
-                    &[Element::Quad4, Element::Tri3, Element::Quad8, Element::Tri6],
-                )?;
-            }
-            Generator::Hemisphere {
-                center,
-                radius,
-                divisions: d,
-                pole,
-                grading: gr,
-            } => {
-                finite_all(&format!("{e}.center"), center)?;
-                positive(&format!("{e}.radius"), *radius)?;
-                divisions(&[*d])?;
-                non_zero(&format!("{e}.pole"), pole)?;
-                grading_ratio(&format!("{e}.grading"), *gr)?;
-            }
-            Generator::QuarterDisk {
-                center,
-                radius,
-                divisions: d,
-                grading: gr,
-                element: el,
-            } => {
-                if self.model != Model::Axisymmetric {
-                    return Err(invalid(
-                        format!("{e}.generator"),
-                        format!(
-                            "\"quarter_disk\" needs model = \"axisymmetric\" (model is \"{}\"); use half_disk otherwise",
-                            self.model.as_str()
-                        ),
-                    ));
-                }
-                finite_all(&format!("{e}.center"), center)?;
-                positive(&format!("{e}.radius"), *radius)?;
-                divisions(&[*d])?;
-                grading_ratio(&format!("{e}.grading"), *gr)?;
-                element(
-                    *el,
-                    &[Element::Quad4, Element::Tri3, Element::Quad8, Element::Tri6],
-                )?;
-            }
-        }
-        Ok(())
+        GeneratorCheck { e, g }.check(self.model)
     }
 
     fn validate_boundary(&self) -> Result {
@@ -603,9 +458,24 @@ impl Scene {
                     "is already the name of another [[contact]] entry; names must be unique",
                 ));
             }
-            // slave
-            self.deformable_body(&format!("{e}.slave.body"), &c.slave.body, "the slave side")?;
-            match &c.slave.surface {
+            self.validate_contact_sides(&e, c)?;
+            if let Law::Penalty { penalty } = c.law {
+                positive(&format!("{e}.law.penalty"), penalty)?;
+            }
+            validate_friction(&e, &c.friction, dim)?;
+            if let Gap::Uniform(g) = c.gap {
+                finite(&format!("{e}.gap"), g)?;
+            }
+        }
+        Ok(())
+    }
+
+    /// The slave and master sides of the contact entry `e`: bodies that
+    /// exist, surfaces where needed (and only there), not the same body.
+    fn validate_contact_sides(&self, e: &str, c: &Contact) -> Result {
+        // slave
+        self.deformable_body(&format!("{e}.slave.body"), &c.slave.body, "the slave side")?;
+        match &c.slave.surface {
                 None => {
                     return Err(invalid(
                         format!("{e}.slave.surface"),
@@ -620,10 +490,10 @@ impl Scene {
                 }
                 Some(_) => {}
             }
-            // master
-            let master = self.body_exists(&format!("{e}.master.body"), &c.master.body)?;
-            if master.is_deformable() {
-                match &c.master.surface {
+        // master
+        let master = self.body_exists(&format!("{e}.master.body"), &c.master.body)?;
+        if master.is_deformable() {
+            match &c.master.surface {
                     None => {
                         return Err(invalid(
                             format!("{e}.master.surface"),
@@ -638,74 +508,26 @@ impl Scene {
                     }
                     Some(_) => {}
                 }
-            } else if c.master.surface.is_some() {
-                return Err(invalid(
-                    format!("{e}.master.surface"),
-                    format!(
-                        "body \"{}\" is rigid and has no surfaces; write master = {{ body = \"{}\" }}",
-                        c.master.body, c.master.body
-                    ),
-                ));
-            }
-            if c.slave.body == c.master.body {
-                return Err(invalid(
-                    &e,
+        } else if c.master.surface.is_some() {
+            return Err(invalid(
+                format!("{e}.master.surface"),
+                format!(
+                    "body \"{}\" is rigid and has no surfaces; write master = {{ body = \"{}\" }}",
+                    c.master.body, c.master.body
+                ),
+            ));
+        }
+        if c.slave.body == c.master.body {
+            return Err(invalid(
+                    e,
                     format!(
                         "self-contact (slave and master both body \"{}\") is not supported; the master must be another body",
                         c.slave.body
                     ),
                 ));
-            }
-            if let Law::Penalty { penalty } = c.law {
-                positive(&format!("{e}.law.penalty"), penalty)?;
-            }
-            match &c.friction {
-                Friction::None => {}
-                Friction::Tresca(g) => non_negative(&format!("{e}.friction.tresca"), *g)?,
-                Friction::Coulomb {
-                    coefficient,
-                    slip_stiffness,
-                } => {
-                    let fe = format!("{e}.friction.coulomb");
-                    match (coefficient.len(), dim) {
-                        (1, _) | (2, 3) => {}
-                        (2, _) => {
-                            return Err(invalid(
-                                fe,
-                                "two coefficients (anisotropic, elliptic cone) need dimension = 3; give one number",
-                            ))
-                        }
-                        (n, _) => {
-                            return Err(invalid(
-                                fe,
-                                format!("give one coefficient (or two in 3D: [mu1, mu2]), got {n}"),
-                            ))
-                        }
-                    }
-                    for mu in coefficient {
-                        non_negative(&fe, *mu)?;
-                    }
-                    if let Some(k) = slip_stiffness {
-                        positive(&format!("{e}.friction.slip_stiffness"), *k)?;
-                    }
-                }
-                Friction::NortonHoff { coefficient, rho } => {
-                    non_negative(&format!("{e}.friction.norton_hoff"), *coefficient)?;
-                    if !(rho.is_finite() && *rho > 0.0 && *rho < 1.0) {
-                        return Err(invalid(
-                            format!("{e}.friction.rho"),
-                            format!("must satisfy 0 < rho < 1, got {rho}"),
-                        ));
-                    }
-                }
-            }
-            if let Gap::Uniform(g) = c.gap {
-                finite(&format!("{e}.gap"), g)?;
-            }
         }
         Ok(())
     }
-
     fn validate_steps(&self) -> Result {
         if self.steps.len() > MAX_STEPS {
             return Err(invalid(
@@ -828,6 +650,236 @@ impl Scene {
             }
         }
         Ok(())
+    }
+}
+
+/// The friction law of the contact entry `e` in dimension `dim`.
+fn validate_friction(e: &str, friction: &Friction, dim: usize) -> Result {
+    match friction {
+        Friction::None => {}
+        Friction::Tresca(g) => non_negative(&format!("{e}.friction.tresca"), *g)?,
+        Friction::Coulomb {
+            coefficient,
+            slip_stiffness,
+        } => {
+            let fe = format!("{e}.friction.coulomb");
+            match (coefficient.len(), dim) {
+                        (1, _) | (2, 3) => {}
+                        (2, _) => {
+                            return Err(invalid(
+                                fe,
+                                "two coefficients (anisotropic, elliptic cone) need dimension = 3; give one number",
+                            ))
+                        }
+                        (n, _) => {
+                            return Err(invalid(
+                                fe,
+                                format!("give one coefficient (or two in 3D: [mu1, mu2]), got {n}"),
+                            ))
+                        }
+                    }
+            for mu in coefficient {
+                non_negative(&fe, *mu)?;
+            }
+            if let Some(k) = slip_stiffness {
+                positive(&format!("{e}.friction.slip_stiffness"), *k)?;
+            }
+        }
+        Friction::NortonHoff { coefficient, rho } => {
+            non_negative(&format!("{e}.friction.norton_hoff"), *coefficient)?;
+            if !(rho.is_finite() && *rho > 0.0 && *rho < 1.0) {
+                return Err(invalid(
+                    format!("{e}.friction.rho"),
+                    format!("must satisfy 0 < rho < 1, got {rho}"),
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// The elements of the plane generators (rectangle, half and quarter disk).
+const PLANE_ELEMENTS: [Element; 4] = [Element::Quad4, Element::Tri3, Element::Quad8, Element::Tri6];
+
+/// The checks of the entries of one generator `g` of the mesh entry `e`.
+struct GeneratorCheck<'a> {
+    e: &'a str,
+    g: &'a Generator,
+}
+
+impl GeneratorCheck<'_> {
+    /// The entries of the generator, in the order of its table.
+    fn check(&self, model: Model) -> Result {
+        let e = self.e;
+        match self.g {
+            Generator::Rectangle {
+                origin,
+                size,
+                divisions,
+                element,
+                grading,
+            } => {
+                self.block(origin, size, divisions, *element, &PLANE_ELEMENTS)?;
+                self.grading(grading, &["bottom", "top", "left", "right"])
+            }
+            Generator::Box {
+                origin,
+                size,
+                divisions,
+                element,
+                grading,
+            } => {
+                self.block(
+                    origin,
+                    size,
+                    divisions,
+                    *element,
+                    &[Element::Hex8, Element::Tet4],
+                )?;
+                self.grading(grading, &["xmin", "xmax", "ymin", "ymax", "zmin", "zmax"])
+            }
+            Generator::HalfDisk {
+                center,
+                radius,
+                divisions,
+                pole,
+                grading,
+                element,
+            } => self.half_disk(center, *radius, *divisions, pole, *grading, *element),
+            Generator::Hemisphere {
+                center,
+                radius,
+                divisions,
+                pole,
+                grading,
+            } => {
+                self.disk(center, *radius, *divisions)?;
+                non_zero(&format!("{e}.pole"), pole)?;
+                grading_ratio(&format!("{e}.grading"), *grading)
+            }
+            Generator::QuarterDisk {
+                center,
+                radius,
+                divisions,
+                grading,
+                element,
+            } => {
+                if model != Model::Axisymmetric {
+                    return Err(invalid(
+                        format!("{e}.generator"),
+                        format!(
+                            "\"quarter_disk\" needs model = \"axisymmetric\" (model is \"{}\"); use half_disk otherwise",
+                            model.as_str()
+                        ),
+                    ));
+                }
+                self.disk(center, *radius, *divisions)?;
+                grading_ratio(&format!("{e}.grading"), *grading)?;
+                self.element(*element, &PLANE_ELEMENTS)
+            }
+        }
+    }
+
+    fn element(&self, el: Element, valid: &[Element]) -> Result {
+        if valid.contains(&el) {
+            Ok(())
+        } else {
+            let names: Vec<&str> = valid.iter().map(|x| x.as_str()).collect();
+            Err(invalid(
+                format!("{}.element", self.e),
+                format!(
+                    "\"{}\" is not available for the {} generator; use {}",
+                    el.as_str(),
+                    self.g.name(),
+                    names.join(" or ")
+                ),
+            ))
+        }
+    }
+
+    fn sizes(&self, s: &[f64]) -> Result {
+        finite_all(&format!("{}.size", self.e), s)?;
+        if s.iter().any(|x| *x <= 0.0) {
+            Err(invalid(
+                format!("{}.size", self.e),
+                format!("every component must be > 0, got {s:?}"),
+            ))
+        } else {
+            Ok(())
+        }
+    }
+
+    fn divisions(&self, d: &[usize]) -> Result {
+        if d.contains(&0) {
+            Err(invalid(
+                format!("{}.divisions", self.e),
+                format!("every component must be >= 1, got {d:?}"),
+            ))
+        } else {
+            Ok(())
+        }
+    }
+
+    fn grading(&self, gr: &Option<Grading>, valid: &[&str]) -> Result {
+        if let Some(gr) = gr {
+            if !valid.contains(&gr.towards.as_str()) {
+                return Err(invalid(
+                    format!("{}.grading.towards", self.e),
+                    format!(
+                        "unknown side \"{}\"; valid: {}",
+                        gr.towards,
+                        valid.join(", ")
+                    ),
+                ));
+            }
+            grading_ratio(&format!("{}.grading.ratio", self.e), gr.ratio)?;
+        }
+        Ok(())
+    }
+
+    /// Origin, size, divisions and element of a rectangle or a box.
+    fn block(
+        &self,
+        origin: &[f64],
+        size: &[f64],
+        divisions: &[usize],
+        el: Element,
+        elements: &[Element],
+    ) -> Result {
+        finite_all(&format!("{}.origin", self.e), origin)?;
+        self.sizes(size)?;
+        self.divisions(divisions)?;
+        self.element(el, elements)
+    }
+
+    /// Center, radius and divisions of a hemisphere or a quarter disk.
+    fn disk(&self, center: &[f64], radius: f64, divisions: usize) -> Result {
+        finite_all(&format!("{}.center", self.e), center)?;
+        positive(&format!("{}.radius", self.e), radius)?;
+        self.divisions(&[divisions])
+    }
+
+    fn half_disk(
+        &self,
+        center: &[f64],
+        radius: f64,
+        d: usize,
+        pole: &[f64],
+        grading: f64,
+        el: Element,
+    ) -> Result {
+        let e = self.e;
+        finite_all(&format!("{e}.center"), center)?;
+        positive(&format!("{e}.radius"), radius)?;
+        if d < 4 {
+            return Err(invalid(
+                format!("{e}.divisions"),
+                format!("must be >= 4 (elements along the arc), got {d}"),
+            ));
+        }
+        non_zero(&format!("{e}.pole"), pole)?;
+        grading_ratio(&format!("{e}.grading"), grading)?;
+        self.element(el, &PLANE_ELEMENTS)
     }
 }
 
