@@ -247,12 +247,22 @@ impl<'a> Inner<'a> {
         y
     }
 
+    /// Adds c times row i of [W G] to row `row` of the Jacobian.
+    fn add_wg(&self, j: &mut Mat<f64>, row: usize, i: usize, c: f64) {
+        let (n, k) = (self.n(), self.k());
+        for col in 0..n {
+            j[(row, col)] += c * self.problem.w[(i, col)];
+        }
+        for col in 0..k {
+            j[(row, n + col)] += c * self.problem.g_mat[(i, col)];
+        }
+    }
+
     /// The Alart–Curnier residual F(x) and, if asked, its generalised
     /// Jacobian (rows: the n forces, then the k equilibrium equations).
     fn residual(&self, x: &[f64], scale: Scale, jac: Option<&mut Mat<f64>>) -> Vec<f64> {
         let (n, k) = (self.n(), self.k());
         let m = self.layout.n_points();
-        let w = &self.problem.w;
         let gm = &self.problem.g_mat;
         let y = self.gaps(x);
         let mut f = vec![0.0; n + k];
@@ -260,15 +270,7 @@ impl<'a> Inner<'a> {
         if let Some(j) = jac.as_deref_mut() {
             j.fill(0.0);
         }
-        // Row i of [W G] times c into Jacobian row `row`.
-        let add_wg = |j: &mut Mat<f64>, row: usize, i: usize, c: f64| {
-            for col in 0..n {
-                j[(row, col)] += c * w[(i, col)];
-            }
-            for col in 0..k {
-                j[(row, n + col)] += c * gm[(i, col)];
-            }
-        };
+        let add_wg = |j: &mut Mat<f64>, row: usize, i: usize, c: f64| self.add_wg(j, row, i, c);
         for p in 0..m {
             // Normal row.
             let rn = match scale {
@@ -323,16 +325,7 @@ impl<'a> Inner<'a> {
         f: &mut [f64],
         mut jac: Option<&mut Mat<f64>>,
     ) {
-        let (n, k) = (self.n(), self.k());
-        let (w, gm) = (&self.problem.w, &self.problem.g_mat);
-        let add_wg = |j: &mut Mat<f64>, row: usize, i: usize, c: f64| {
-            for col in 0..n {
-                j[(row, col)] += c * w[(i, col)];
-            }
-            for col in 0..k {
-                j[(row, n + col)] += c * gm[(i, col)];
-            }
-        };
+        let add_wg = |j: &mut Mat<f64>, row: usize, i: usize, c: f64| self.add_wg(j, row, i, c);
         let rt = match scale {
             Scale::Newton => rows.iter().map(|&r| self.rho[r]).sum::<f64>() / rows.len() as f64,
             Scale::Check(c) => c,
