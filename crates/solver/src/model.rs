@@ -502,206 +502,16 @@ pub fn build_contacts(
     bodies: &mut [BodyModel],
     notes: &mut Vec<String>,
 ) -> Result<(Vec<PointModel>, Vec<FixedPoint>), SolveError> {
-    let body_model = |name: &str| bodies.iter().position(|b| b.name == name);
     let mut points = Vec::new();
     let mut fixed = Vec::new();
     let mut interface_nodes: Vec<Vec<usize>> = vec![Vec::new(); bodies.len()];
-    for (ci, c) in sc.contact.iter().enumerate() {
-        let entry = format!("contact \"{}\"", c.name);
-        match c.discretization {
-            scene::Discretization::NodeToNode | scene::Discretization::NodeToSegment => {}
-            other => {
-                return Err(input(format!(
-                    "{entry}.discretization: \"{}\" is not supported yet (supported: node_to_node, node_to_segment)",
-                    other.as_str()
-                )))
+    for ci in 0..sc.contact.len() {
+        let pair = contact_pair(sc, bodies, ci, notes, &mut interface_nodes)?;
+        for p in pair.points {
+            match point_model(sc, bodies, &pair.sides, ci, &pair.tributary, p) {
+                PairPoint::Unknown(point) => points.push(point),
+                PairPoint::Fixed(f) => fixed.push(f),
             }
-        }
-
-        let dim = sc.dimension as usize;
-        if dim == 3 && matches!(c.friction, scene::Friction::NortonHoff { .. }) {
-            return Err(input(format!(
-                "{entry}.friction: Norton-Hoff friction is not supported in 3D yet (supported in 3D: tresca, coulomb with one or two coefficients, slip_stiffness)"
-            )));
-        }
-        let si = body_model(&c.slave.body).ok_or_else(|| {
-            input(format!(
-                "{entry}.slave.body: \"{}\" is not a deformable body",
-                c.slave.body
-            ))
-        })?;
-        let s_surf_name = c.slave.surface.as_deref().unwrap_or_default();
-        let s_mesh = &bodies[si].mesh;
-        let s_surf = s_mesh.surface(s_surf_name).map_err(|e| {
-            input(format!(
-                "{entry}.slave.surface: body \"{}\": {e}",
-                c.slave.body
-            ))
-        })?;
-        if s_surf.facets.is_empty() {
-            return Err(input(format!(
-                "{entry}.slave.surface: surface \"{s_surf_name}\" has no nodes"
-            )));
-        }
-        let rule = match c.normal {
-            scene::NormalRule::Master => NormalRule::Master,
-            scene::NormalRule::Slave => NormalRule::Slave,
-            scene::NormalRule::Average => NormalRule::Average,
-            scene::NormalRule::Points => NormalRule::Points,
-        };
-        let master_scene = sc.body(&c.master.body).ok_or_else(|| {
-            input(format!(
-                "{entry}.master.body: no body named \"{}\"",
-                c.master.body
-            ))
-        })?;
-        let mi = body_model(&c.master.body);
-        let master = if let Some(mi) = mi {
-            let m_name = c.master.surface.as_deref().unwrap_or_default();
-            let m_surf = bodies[mi].mesh.surface(m_name).map_err(|e| {
-                input(format!(
-                    "{entry}.master.surface: body \"{}\": {e}",
-                    c.master.body
-                ))
-            })?;
-            if m_surf.facets.is_empty() {
-                return Err(input(format!(
-                    "{entry}.master.surface: surface \"{m_name}\" has no nodes"
-                )));
-            }
-            MasterGeometry::Surface {
-                mesh: &bodies[mi].mesh,
-                surface: m_surf,
-            }
-        } else {
-            match &master_scene.rigid {
-                Some(scene::RigidShape::Plane { point, normal }) => {
-                    let n = point3(normal);
-                    let nn = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
-                    MasterGeometry::Plane {
-                        point: point3(point),
-                        normal: [n[0] / nn, n[1] / nn, n[2] / nn],
-                    }
-                }
-                Some(scene::RigidShape::Circle { center, radius })
-                | Some(scene::RigidShape::Sphere { center, radius }) => MasterGeometry::Sphere {
-                    center: point3(center),
-                    radius: *radius,
-                },
-                None => {
-                    return Err(input(format!(
-                        "{entry}.master: body \"{}\" is neither deformable nor rigid",
-                        c.master.body
-                    )))
-                }
-            }
-        };
-        let pairing = match c.discretization {
-            scene::Discretization::NodeToNode => {
-                node_to_node_pairing(s_mesh, s_surf, &master, rule)
-            }
-            _ => node_to_segment_pairing(s_mesh, s_surf, &master, rule),
-        }
-        .map_err(|e| input(format!("{entry}: {e}")))?;
-        let pts = pairing.points;
-        let dropped = pairing.dropped.note().map(|n| format!("{entry}: {n}"));
-        if pts.is_empty() {
-            return Err(input(format!(
-                "{entry}: no node of slave surface \"{s_surf_name}\" faces the master; check the geometry{}",
-                dropped.map_or(String::new(), |n| format!(" ({n})"))
-            )));
-        }
-        notes.extend(dropped);
-        let trib: std::collections::BTreeMap<usize, f64> =
-            signorini_fem::tributary_measure(s_mesh, s_surf, bodies[si].material.model)
-                .into_iter()
-                .collect();
-        interface_nodes[si].extend(s_surf.nodes());
-        if let (Some(mi), MasterGeometry::Surface { surface, .. }) = (mi, &master) {
-            interface_nodes[mi].extend(surface.nodes());
-        }
-        for mut p in pts {
-            let mut row = Vec::new();
-            for t in &p.terms {
-                let b = match t.side {
-                    TermSide::Slave => si,
-                    TermSide::Master => mi.expect("a master term needs a deformable master"),
-                };
-                for k in 0..dim {
-                    let coef = t.weight * p.normal[k];
-                    if coef != 0.0 {
-                        row.push((b, t.node * dim + k, coef));
-                    }
-                }
-            }
-            // A point whose normal DOFs are all prescribed has a known gap:
-            // it is not an unknown of the contact problem.
-            if row.iter().all(|&(b, d, _)| bodies[b].prescribed[d]) {
-                fixed.push(FixedPoint {
-                    contact: ci,
-                    node: p.slave_node,
-                    row,
-                    gap0: p.gap0,
-                });
-                continue;
-            }
-            let gap0 = match c.gap {
-                scene::Gap::Geometric => p.gap0,
-                scene::Gap::Uniform(j) => j,
-            };
-            let tributary = trib.get(&p.slave_node).copied().unwrap_or(0.0);
-            let friction = match &c.friction {
-                scene::Friction::None => PointFriction::None,
-                scene::Friction::NortonHoff { coefficient, rho } => PointFriction::NortonHoff {
-                    mu: *coefficient,
-                    rho: *rho,
-                },
-                scene::Friction::Tresca(g) => PointFriction::Tresca(g * tributary),
-                scene::Friction::Coulomb {
-                    coefficient,
-                    slip_stiffness,
-                } => PointFriction::Coulomb {
-                    mu: coefficient.first().copied().unwrap_or(0.0),
-                    mu2: coefficient
-                        .get(1)
-                        .or(coefficient.first())
-                        .copied()
-                        .unwrap_or(0.0),
-                    slip_stiffness: slip_stiffness.map(|k| k * tributary),
-                },
-            };
-            let tangential_row = |tangent: [f64; 3]| {
-                let mut t = Vec::new();
-                for term in &p.terms {
-                    let b = match term.side {
-                        TermSide::Slave => si,
-                        TermSide::Master => mi.expect("a master term needs a deformable master"),
-                    };
-                    for (k, tk) in tangent.iter().enumerate().take(dim) {
-                        let coef = term.weight * tk;
-                        if coef != 0.0 {
-                            t.push((b, term.node * dim + k, coef));
-                        }
-                    }
-                }
-                t
-            };
-            let trow = (friction != PointFriction::None).then(|| tangential_row(p.tangent));
-            let trow2 =
-                (friction != PointFriction::None && dim == 3).then(|| tangential_row(p.tangent2));
-            let (trow, trow2, friction) =
-                free_tangential_rows(bodies, &mut p, trow, trow2, friction);
-            points.push(PointModel {
-                trow,
-                trow2,
-                friction,
-                contact: ci,
-                tributary,
-                point: p,
-                row,
-                gap0,
-                slave_body: si,
-            });
         }
     }
     for (b, nodes) in interface_nodes.into_iter().enumerate() {
@@ -710,6 +520,275 @@ pub fn build_contacts(
         }
     }
     Ok((points, fixed))
+}
+
+/// The contact points of one pair with the slave's tributary measure per
+/// node, and the bodies their rows act on.
+struct ContactPair {
+    points: Vec<ContactPoint>,
+    tributary: std::collections::BTreeMap<usize, f64>,
+    sides: PairSides,
+}
+
+/// The body models of a pair's slave and (deformable) master.
+struct PairSides {
+    slave: usize,
+    master: Option<usize>,
+}
+
+/// Refuses what the contact solver does not support yet: a discretisation
+/// other than node-to-node or node-to-segment, Norton–Hoff friction in 3D.
+fn check_contact_supported(
+    sc: &scene::Scene,
+    c: &scene::Contact,
+    entry: &str,
+) -> Result<(), SolveError> {
+    match c.discretization {
+        scene::Discretization::NodeToNode | scene::Discretization::NodeToSegment => {}
+        other => {
+            return Err(input(format!(
+                "{entry}.discretization: \"{}\" is not supported yet (supported: node_to_node, node_to_segment)",
+                other.as_str()
+            )))
+        }
+    }
+    if sc.dimension == 3 && matches!(c.friction, scene::Friction::NortonHoff { .. }) {
+        return Err(input(format!(
+            "{entry}.friction: Norton-Hoff friction is not supported in 3D yet (supported in 3D: tresca, coulomb with one or two coefficients, slip_stiffness)"
+        )));
+    }
+    Ok(())
+}
+
+/// The named contact surface of a body (`side` is "slave" or "master"),
+/// refused when it is unknown or has no nodes.
+fn contact_surface<'a>(
+    bodies: &'a [BodyModel],
+    b: usize,
+    s: &scene::ContactSide,
+    side: &str,
+    entry: &str,
+) -> Result<&'a signorini_mesh::Surface, SolveError> {
+    let name = s.surface.as_deref().unwrap_or_default();
+    let surface = bodies[b]
+        .mesh
+        .surface(name)
+        .map_err(|e| input(format!("{entry}.{side}.surface: body \"{}\": {e}", s.body)))?;
+    if surface.facets.is_empty() {
+        return Err(input(format!(
+            "{entry}.{side}.surface: surface \"{name}\" has no nodes"
+        )));
+    }
+    Ok(surface)
+}
+
+/// The scene's normal rule as the contact crate's.
+fn normal_rule(rule: scene::NormalRule) -> NormalRule {
+    match rule {
+        scene::NormalRule::Master => NormalRule::Master,
+        scene::NormalRule::Slave => NormalRule::Slave,
+        scene::NormalRule::Average => NormalRule::Average,
+        scene::NormalRule::Points => NormalRule::Points,
+    }
+}
+
+/// The master geometry of a pair: a deformable body's surface, or a rigid
+/// plane (unit normal) or circle/sphere.
+fn master_geometry<'a>(
+    sc: &scene::Scene,
+    bodies: &'a [BodyModel],
+    c: &scene::Contact,
+    mi: Option<usize>,
+    entry: &str,
+) -> Result<MasterGeometry<'a>, SolveError> {
+    let master_scene = sc.body(&c.master.body).ok_or_else(|| {
+        input(format!(
+            "{entry}.master.body: no body named \"{}\"",
+            c.master.body
+        ))
+    })?;
+    if let Some(mi) = mi {
+        return Ok(MasterGeometry::Surface {
+            mesh: &bodies[mi].mesh,
+            surface: contact_surface(bodies, mi, &c.master, "master", entry)?,
+        });
+    }
+    Ok(match &master_scene.rigid {
+        Some(scene::RigidShape::Plane { point, normal }) => {
+            let n = point3(normal);
+            let nn = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
+            MasterGeometry::Plane {
+                point: point3(point),
+                normal: [n[0] / nn, n[1] / nn, n[2] / nn],
+            }
+        }
+        Some(scene::RigidShape::Circle { center, radius })
+        | Some(scene::RigidShape::Sphere { center, radius }) => MasterGeometry::Sphere {
+            center: point3(center),
+            radius: *radius,
+        },
+        None => {
+            return Err(input(format!(
+                "{entry}.master: body \"{}\" is neither deformable nor rigid",
+                c.master.body
+            )))
+        }
+    })
+}
+
+/// Pairs the slave surface of contact `ci` with its master: the contact
+/// points, the slave's tributary measures; notes the slave nodes left out
+/// and marks both surfaces' nodes as interface nodes.
+fn contact_pair(
+    sc: &scene::Scene,
+    bodies: &[BodyModel],
+    ci: usize,
+    notes: &mut Vec<String>,
+    interface_nodes: &mut [Vec<usize>],
+) -> Result<ContactPair, SolveError> {
+    let c = &sc.contact[ci];
+    let entry = format!("contact \"{}\"", c.name);
+    check_contact_supported(sc, c, &entry)?;
+    let body_model = |name: &str| bodies.iter().position(|b| b.name == name);
+    let si = body_model(&c.slave.body).ok_or_else(|| {
+        input(format!(
+            "{entry}.slave.body: \"{}\" is not a deformable body",
+            c.slave.body
+        ))
+    })?;
+    let s_mesh = &bodies[si].mesh;
+    let s_surf = contact_surface(bodies, si, &c.slave, "slave", &entry)?;
+    let rule = normal_rule(c.normal);
+    let mi = body_model(&c.master.body);
+    let master = master_geometry(sc, bodies, c, mi, &entry)?;
+    let pairing = match c.discretization {
+        scene::Discretization::NodeToNode => node_to_node_pairing(s_mesh, s_surf, &master, rule),
+        _ => node_to_segment_pairing(s_mesh, s_surf, &master, rule),
+    }
+    .map_err(|e| input(format!("{entry}: {e}")))?;
+    let dropped = pairing.dropped.note().map(|n| format!("{entry}: {n}"));
+    if pairing.points.is_empty() {
+        return Err(input(format!(
+            "{entry}: no node of slave surface \"{}\" faces the master; check the geometry{}",
+            c.slave.surface.as_deref().unwrap_or_default(),
+            dropped.map_or(String::new(), |n| format!(" ({n})"))
+        )));
+    }
+    notes.extend(dropped);
+    let tributary = signorini_fem::tributary_measure(s_mesh, s_surf, bodies[si].material.model)
+        .into_iter()
+        .collect();
+    interface_nodes[si].extend(s_surf.nodes());
+    if let (Some(mi), MasterGeometry::Surface { surface, .. }) = (mi, &master) {
+        interface_nodes[mi].extend(surface.nodes());
+    }
+    Ok(ContactPair {
+        points: pairing.points,
+        tributary,
+        sides: PairSides {
+            slave: si,
+            master: mi,
+        },
+    })
+}
+
+/// The row of a contact point along `direction` (its normal or a tangent):
+/// Σ weight × direction over the terms' DOFs, slave and master.
+fn row_along(p: &ContactPoint, sides: &PairSides, dim: usize, direction: [f64; 3]) -> Row {
+    let mut row = Vec::new();
+    for term in &p.terms {
+        let b = match term.side {
+            TermSide::Slave => sides.slave,
+            TermSide::Master => sides
+                .master
+                .expect("a master term needs a deformable master"),
+        };
+        for (k, dk) in direction.iter().enumerate().take(dim) {
+            let coef = term.weight * dk;
+            if coef != 0.0 {
+                row.push((b, term.node * dim + k, coef));
+            }
+        }
+    }
+    row
+}
+
+/// The friction law of a contact at one of its points: a Tresca threshold
+/// and a slip stiffness scale with the point's tributary measure.
+fn point_friction(friction: &scene::Friction, tributary: f64) -> PointFriction {
+    match friction {
+        scene::Friction::None => PointFriction::None,
+        scene::Friction::NortonHoff { coefficient, rho } => PointFriction::NortonHoff {
+            mu: *coefficient,
+            rho: *rho,
+        },
+        scene::Friction::Tresca(g) => PointFriction::Tresca(g * tributary),
+        scene::Friction::Coulomb {
+            coefficient,
+            slip_stiffness,
+        } => PointFriction::Coulomb {
+            mu: coefficient.first().copied().unwrap_or(0.0),
+            mu2: coefficient
+                .get(1)
+                .or(coefficient.first())
+                .copied()
+                .unwrap_or(0.0),
+            slip_stiffness: slip_stiffness.map(|k| k * tributary),
+        },
+    }
+}
+
+/// A contact point of a pair: an unknown of the contact problem, or one
+/// whose gap the supports fix.
+enum PairPoint {
+    Unknown(PointModel),
+    Fixed(FixedPoint),
+}
+
+/// The model of one contact point: its normal row, gap and friction law
+/// with the tangential rows that carry a friction unknown; or, when its
+/// normal DOFs are all prescribed, the point as a [`FixedPoint`] (its gap is
+/// known: it is not an unknown of the contact problem).
+fn point_model(
+    sc: &scene::Scene,
+    bodies: &[BodyModel],
+    sides: &PairSides,
+    ci: usize,
+    tributaries: &std::collections::BTreeMap<usize, f64>,
+    mut p: ContactPoint,
+) -> PairPoint {
+    let c = &sc.contact[ci];
+    let dim = sc.dimension as usize;
+    let row = row_along(&p, sides, dim, p.normal);
+    if row.iter().all(|&(b, d, _)| bodies[b].prescribed[d]) {
+        return PairPoint::Fixed(FixedPoint {
+            contact: ci,
+            node: p.slave_node,
+            row,
+            gap0: p.gap0,
+        });
+    }
+    let gap0 = match c.gap {
+        scene::Gap::Geometric => p.gap0,
+        scene::Gap::Uniform(j) => j,
+    };
+    let tributary = tributaries.get(&p.slave_node).copied().unwrap_or(0.0);
+    let friction = point_friction(&c.friction, tributary);
+    let trow = (friction != PointFriction::None).then(|| row_along(&p, sides, dim, p.tangent));
+    let trow2 = (friction != PointFriction::None && dim == 3)
+        .then(|| row_along(&p, sides, dim, p.tangent2));
+    let (trow, trow2, friction) = free_tangential_rows(bodies, &mut p, trow, trow2, friction);
+    PairPoint::Unknown(PointModel {
+        trow,
+        trow2,
+        friction,
+        contact: ci,
+        tributary,
+        point: p,
+        row,
+        gap0,
+        slave_body: sides.slave,
+    })
 }
 
 /// A row of B as (body, DOF, coefficient) entries.
