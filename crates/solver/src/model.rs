@@ -1,6 +1,6 @@
 //! From a scene to the discrete model: one [`BodyModel`] per deformable body
 //! (mesh, stiffness, DOF classes, loads per boundary entry, rigid-body kernel)
-//! and (in [`contacts`]) the contact points with their rows over the bodies' DOFs.
+//! and (in `contacts`) the contact points with their rows over the bodies' DOFs.
 
 use faer::{Mat, Side};
 use signorini_contact::ContactPoint;
