@@ -78,8 +78,8 @@ fn tangential_direction(
     t: [f64; 3],
 ) -> [f64; 3] {
     let mut total_t = [0.0; 3];
-    for pi in 0..points.len() {
-        let v = point_force(&points[pi], pi, 0.0, friction);
+    for (pi, p) in points.iter().enumerate() {
+        let v = point_force(p, pi, 0.0, friction);
         (0..3).for_each(|k| total_t[k] += v[k]);
     }
     let norm_t = (total_t[0].powi(2) + total_t[1].powi(2) + total_t[2].powi(2)).sqrt();

@@ -25,7 +25,7 @@ pub fn build_contacts(
         let pair = contact_pair(sc, bodies, ci, notes, &mut interface_nodes)?;
         for p in pair.points {
             match point_model(sc, bodies, &pair.sides, ci, &pair.tributary, p) {
-                PairPoint::Unknown(point) => points.push(point),
+                PairPoint::Unknown(point) => points.push(*point),
                 PairPoint::Fixed(f) => fixed.push(f),
             }
         }
@@ -257,7 +257,7 @@ fn point_friction(friction: &scene::Friction, tributary: f64) -> PointFriction {
 /// A contact point of a pair: an unknown of the contact problem, or one
 /// whose gap the supports fix.
 enum PairPoint {
-    Unknown(PointModel),
+    Unknown(Box<PointModel>),
     Fixed(FixedPoint),
 }
 
@@ -294,7 +294,7 @@ fn point_model(
     let trow2 = (friction != PointFriction::None && dim == 3)
         .then(|| row_along(&p, sides, dim, p.tangent2));
     let (trow, trow2, friction) = free_tangential_rows(bodies, &mut p, trow, trow2, friction);
-    PairPoint::Unknown(PointModel {
+    PairPoint::Unknown(Box::new(PointModel {
         trow,
         trow2,
         friction,
@@ -304,7 +304,7 @@ fn point_model(
         row,
         gap0,
         slave_body: sides.slave,
-    })
+    }))
 }
 
 /// A row of B as (body, DOF, coefficient) entries.
