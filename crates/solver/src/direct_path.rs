@@ -138,17 +138,7 @@ fn direct_step(
     .map_err(contact_error)?;
     // `problem.u` is the displacement of the last solve, the one that
     // gave `outcome.lambda` (as the condensed path recovers it).
-    let u_full: Vec<Vec<f64>> = bodies
-        .iter()
-        .enumerate()
-        .map(|(bi, b)| {
-            let mut u = loads.u_p[bi].clone();
-            for (i, &d) in b.free.iter().enumerate() {
-                u[d] = problem.u[system.offset[bi] + i];
-            }
-            u
-        })
-        .collect();
+    let u_full = full_displacements(bodies, system, &loads.u_p, &problem.u);
     let solver = status_report("status", &outcome, problem.factorisations);
     let sol = StepSolution {
         outcome,
@@ -210,6 +200,27 @@ fn check_floating(
         .collect();
     check_floating_equilibrium(bodies, points, &e_of, &res, si)?;
     Ok(())
+}
+
+/// Each body's full displacement: the prescribed `u_p`, and on its free
+/// DOFs the global solution `u`.
+fn full_displacements(
+    bodies: &[BodyModel],
+    system: &DirectSystem,
+    u_p: &[Vec<f64>],
+    u: &[f64],
+) -> Vec<Vec<f64>> {
+    bodies
+        .iter()
+        .enumerate()
+        .map(|(bi, b)| {
+            let mut full = u_p[bi].clone();
+            for (i, &d) in b.free.iter().enumerate() {
+                full[d] = u[system.offset[bi] + i];
+            }
+            full
+        })
+        .collect()
 }
 
 /// The loads of a step on the direct path.
