@@ -105,6 +105,27 @@ pub(crate) fn conclude_step(
 ) {
     let lambda = &sol.outcome.lambda;
     let cert = certificate_of(res, gaps, lambda, sol, umax, sc.solver.tolerance);
+    record_convergence(partial, si, sol, &cert);
+    if let Some(c) = sol.outcome.cycle_detected_at {
+        messages.push(format!(
+            "step {}: the status method cycled (flip-flop) at iteration {c}; it fell back to one status change per iteration (seed §3.3)",
+            si + 1
+        ));
+    }
+    push_contact_rows(sc, bodies, points, si, sol, gaps, partial);
+    partial.steps.push(step_report(sc, points, si, sol, &cert));
+    if let Some(w) = sol.regularisation.as_ref().and_then(|r| r.warning.clone()) {
+        messages.push(format!("step {}: {w}", si + 1));
+    }
+    partial.solver = serde_json::to_value(&sol.solver).unwrap_or_default();
+    partial.certificate = cert;
+    partial.lambda = lambda.clone();
+    partial.friction = sol.friction.clone();
+}
+
+/// Marks the run as not converged, with the first failure, when the step's
+/// solver did not converge or its certificate exceeds the tolerance.
+fn record_convergence(partial: &mut Partial, si: usize, sol: &StepSolution, cert: &Certificate) {
     let outcome = &sol.outcome;
     if !outcome.converged {
         partial.converged = false;
@@ -123,15 +144,22 @@ pub(crate) fn conclude_step(
             cert.tolerance
         ));
     }
-    if let Some(c) = outcome.cycle_detected_at {
-        messages.push(format!(
-            "step {}: the status method cycled (flip-flop) at iteration {c}; it fell back to one status change per iteration (seed §3.3)",
-            si + 1
-        ));
-    }
+}
+
+/// The contact.csv rows of a step: each point's gap, forces, slip,
+/// pressure and status (open, contact, stick or slip).
+fn push_contact_rows(
+    sc: &scene::Scene,
+    bodies: &[BodyModel],
+    points: &[PointModel],
+    si: usize,
+    sol: &StepSolution,
+    gaps: &[f64],
+    partial: &mut Partial,
+) {
+    let lambda = &sol.outcome.lambda;
     let pressure = nodal_pressures(points, lambda);
     for (pi, p) in points.iter().enumerate() {
-        let l = lambda[pi];
         partial.contact_rows.push(ContactRow {
             step: si + 1,
             contact: sc.contact[p.contact].name.clone(),
@@ -139,14 +167,14 @@ pub(crate) fn conclude_step(
             point: p.point.slave_node,
             x: p.point.x,
             gap: gaps[pi],
-            normal_force: l,
+            normal_force: lambda[pi],
             tangential_force: sol.friction.as_ref().map_or(0.0, |f| f.tangential[pi]),
             slip: sol.friction.as_ref().map_or(0.0, |f| f.slip_total[pi]),
             tangential_force_2: sol.friction.as_ref().map_or(0.0, |f| f.tangential2[pi]),
             slip_2: sol.friction.as_ref().map_or(0.0, |f| f.slip_total2[pi]),
             pressure: pressure[pi],
             status: match (
-                outcome.active.binary_search(&pi).is_ok(),
+                sol.outcome.active.binary_search(&pi).is_ok(),
                 &sol.friction,
                 p.trow.is_some(),
             ) {
@@ -157,28 +185,36 @@ pub(crate) fn conclude_step(
             },
         });
     }
-    let (sticking, slipping) = match &sol.friction {
-        Some(f) => (
-            (0..points.len())
-                .filter(|&p| points[p].trow.is_some() && f.statuses[p] == PointStatus::Stick)
-                .count(),
-            (0..points.len())
-                .filter(|&p| points[p].trow.is_some() && f.statuses[p].is_slip())
-                .count(),
-        ),
-        None => (0, 0),
+}
+
+/// The report of one step: its net contact force, the sums of the normal
+/// and tangential forces, the mean slip of the active points with friction,
+/// the sticking and slipping counts and the solver's outcome.
+fn step_report(
+    sc: &scene::Scene,
+    points: &[PointModel],
+    si: usize,
+    sol: &StepSolution,
+    cert: &Certificate,
+) -> StepReport {
+    let (outcome, lambda) = (&sol.outcome, &sol.outcome.lambda);
+    let friction_points = |keep: &dyn Fn(PointStatus) -> bool| match &sol.friction {
+        Some(f) => (0..points.len())
+            .filter(|&p| points[p].trow.is_some() && keep(f.statuses[p]))
+            .count(),
+        None => 0,
     };
-    let dim = sc.dimension as usize;
-    let mut step_force = vec![0.0f64; dim];
+    let sticking = friction_points(&|s| s == PointStatus::Stick);
+    let slipping = friction_points(&|s| s.is_slip());
+    let mut step_force = vec![0.0f64; sc.dimension as usize];
     let (mut sum_n, mut sum_t, mut slip_sum, mut slip_count) = (0.0f64, 0.0f64, 0.0f64, 0usize);
     for (pi, p) in points.iter().enumerate() {
-        let lt = sol.friction.as_ref().map_or(0.0, |f| f.tangential[pi]);
         let force = point_force(p, pi, lambda[pi], sol.friction.as_ref());
         for (f, fk) in step_force.iter_mut().zip(force) {
             *f += fk;
         }
         sum_n += lambda[pi];
-        sum_t += lt;
+        sum_t += sol.friction.as_ref().map_or(0.0, |f| f.tangential[pi]);
         if let (Some(f), true) = (
             &sol.friction,
             p.trow.is_some() && outcome.active.binary_search(&pi).is_ok(),
@@ -187,7 +223,7 @@ pub(crate) fn conclude_step(
             slip_count += 1;
         }
     }
-    partial.steps.push(StepReport {
+    StepReport {
         scale: sc.step_scales()[si].clone(),
         contact_force: net_force(sc.model, step_force),
         normal_force: sum_n,
@@ -208,14 +244,7 @@ pub(crate) fn conclude_step(
         solver: serde_json::to_value(&sol.solver).unwrap_or_default(),
         regularisation: sol.regularisation.clone(),
         solve_s: sol.solve_s,
-    });
-    if let Some(w) = sol.regularisation.as_ref().and_then(|r| r.warning.clone()) {
-        messages.push(format!("step {}: {w}", si + 1));
     }
-    partial.solver = serde_json::to_value(&sol.solver).unwrap_or_default();
-    partial.certificate = cert;
-    partial.lambda = lambda.clone();
-    partial.friction = sol.friction.clone();
 }
 
 pub(crate) fn empty_partial() -> Partial {
@@ -336,30 +365,84 @@ pub(crate) fn finish_condensed(
     Ok(partial)
 }
 
+/// What the run found beyond its steps: the net contact force, each
+/// contact's summary, the probes and the comparison with a reference.
+struct Findings {
+    contact_force: Vec<f64>,
+    contacts: Vec<ContactSummary>,
+    probes: Vec<Probe>,
+    reference: Option<signorini_report::ReferenceReport>,
+}
+
 /// Fills the report common to both paths.
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn finish_report(
-    partial: Partial,
+    mut partial: Partial,
     sc: &scene::Scene,
     scene_name: &str,
     plan: &plan::Plan,
     model: &partition::ModelData,
     comm: &dyn Transport,
-    log: RunLog,
+    mut log: RunLog,
     communication_bytes: u64,
     rank_stats: Vec<RankStats>,
 ) -> Result<RunOutput, SolveError> {
-    let (method, path) = (plan.method, plan.path);
-    let (bodies, points, specs) = (&model.bodies, &model.points, &model.specs);
-    let RunLog {
-        t_total,
-        timings,
-        messages,
-        mut stages,
-    } = log;
-    let lambda = &partial.lambda;
+    let (bodies, points) = (&model.bodies, &model.points);
+    let friction = partial.friction.as_ref();
+    let (contact_force, contacts) = contact_summaries(sc, points, &partial.lambda, friction);
     let no_step = Vec::new();
-    let u_full = partial.u_steps.last().unwrap_or(&no_step);
+    let probes = probes_of(sc, bodies, partial.u_steps.last().unwrap_or(&no_step));
+    let reference = match &sc.reference {
+        None => None,
+        Some(r) => Some(compare_reference(
+            sc,
+            r,
+            points,
+            &partial.lambda,
+            partial.friction.as_ref(),
+        )?),
+    };
+    let want_stress = sc.output.wants("stress");
+    if want_stress {
+        log.stages.push("stress".into());
+    }
+    if partial.steps.len() > 1 {
+        log.stages.push(format!("steps ({})", partial.steps.len()));
+    }
+    let results = body_results(bodies, &partial.u_steps, want_stress);
+    let contact_rows = std::mem::take(&mut partial.contact_rows);
+    let findings = Findings {
+        contact_force,
+        contacts,
+        probes,
+        reference,
+    };
+    let report = report_of(
+        partial,
+        sc,
+        scene_name,
+        plan,
+        model,
+        comm,
+        log,
+        (communication_bytes, rank_stats),
+        findings,
+    );
+    Ok(RunOutput {
+        report,
+        contact_rows,
+        bodies: results,
+    })
+}
+
+/// The net contact force and each contact's summary (its points, active
+/// points and net force) from the final contact forces.
+fn contact_summaries(
+    sc: &scene::Scene,
+    points: &[PointModel],
+    lambda: &[f64],
+    friction: Option<&FrictionStep>,
+) -> (Vec<f64>, Vec<ContactSummary>) {
     let dim = sc.dimension as usize;
     let mut contact_force = vec![0.0; dim];
     let mut summaries: Vec<ContactSummary> = sc
@@ -378,12 +461,26 @@ pub(crate) fn finish_report(
         if lambda[pi] != 0.0 {
             s.active += 1;
         }
-        let force = point_force(p, pi, lambda[pi], partial.friction.as_ref());
+        let force = point_force(p, pi, lambda[pi], friction);
         for (k, total) in contact_force.iter_mut().enumerate() {
             s.force[k] += force[k];
             *total += force[k];
         }
     }
+    let summaries = summaries
+        .into_iter()
+        .map(|c| ContactSummary {
+            force: net_force(sc.model, c.force),
+            ..c
+        })
+        .collect();
+    (net_force(sc.model, contact_force), summaries)
+}
+
+/// The displacement at the mesh node nearest each probe point of the scene,
+/// over all bodies (`u_full`: the final displacement of each body).
+fn probes_of(sc: &scene::Scene, bodies: &[BodyModel], u_full: &[Vec<f64>]) -> Vec<Probe> {
+    let dim = sc.dimension as usize;
     let mut probes = Vec::new();
     for pr in &sc.output.probes {
         let x = model::point3(pr);
@@ -402,27 +499,20 @@ pub(crate) fn finish_report(
             });
         }
     }
-    let reference = match &sc.reference {
-        None => None,
-        Some(r) => Some(compare_reference(
-            sc,
-            r,
-            points,
-            lambda,
-            partial.friction.as_ref(),
-        )?),
-    };
-    let want_stress = sc.output.wants("stress");
-    if want_stress {
-        stages.push("stress".into());
-    }
-    if partial.steps.len() > 1 {
-        stages.push(format!("steps ({})", partial.steps.len()));
-    }
+    probes
+}
+
+/// Each body's mesh and its fields at every step: displacement, and the
+/// cell stresses with their von Mises values when the scene asks for them
+/// (one zero displacement when no step ran).
+fn body_results(
+    bodies: &[BodyModel],
+    u_steps: &[Vec<Vec<f64>>],
+    want_stress: bool,
+) -> Vec<BodyResult> {
     let mut results = Vec::new();
     for (bi, b) in bodies.iter().enumerate() {
-        let mut history: Vec<StepFields> = partial
-            .u_steps
+        let mut history: Vec<StepFields> = u_steps
             .iter()
             .map(|u| {
                 let stress = if want_stress {
@@ -452,16 +542,42 @@ pub(crate) fn finish_report(
             history,
         });
     }
-    let report = Report {
+    results
+}
+
+/// The report.json of a run: its plan, sizes, steps, timings, memory,
+/// the ranks' traffic (`ranks`: bytes sent, per-rank statistics), the
+/// certificate and what the run found.
+#[allow(clippy::too_many_arguments)]
+fn report_of(
+    partial: Partial,
+    sc: &scene::Scene,
+    scene_name: &str,
+    plan: &plan::Plan,
+    model: &partition::ModelData,
+    comm: &dyn Transport,
+    log: RunLog,
+    ranks: (u64, Vec<RankStats>),
+    findings: Findings,
+) -> Report {
+    let (method, path) = (plan.method, plan.path);
+    let RunLog {
+        t_total,
+        timings,
+        messages,
+        stages,
+    } = log;
+    let (communication_bytes, rank_stats) = ranks;
+    Report {
         scene: scene_name.to_string(),
         title: sc.title.clone(),
         version: env!("CARGO_PKG_VERSION").to_string(),
         ranks: comm.size(),
         transport: comm.kind().to_string(),
-        subdomains: specs.len(),
+        subdomains: model.specs.len(),
         dofs: partial.dofs,
         interface_dofs: partial.n_gamma,
-        contact_points: points.len(),
+        contact_points: model.points.len(),
         converged: partial.converged,
         method: method.as_str().to_string(),
         path: path.as_str().to_string(),
@@ -482,23 +598,12 @@ pub(crate) fn finish_report(
         rank_timings_s: signorini_report::RankTimings::of(&rank_stats),
         rank_stats,
         certificate: partial.certificate,
-        contact_force: net_force(sc.model, contact_force),
-        contacts: summaries
-            .into_iter()
-            .map(|c| ContactSummary {
-                force: net_force(sc.model, c.force),
-                ..c
-            })
-            .collect(),
-        probes,
-        reference,
+        contact_force: findings.contact_force,
+        contacts: findings.contacts,
+        probes: findings.probes,
+        reference: findings.reference,
         conditioning: partial.conditioning,
         messages,
         failure: partial.failure,
-    };
-    Ok(RunOutput {
-        report,
-        contact_rows: partial.contact_rows,
-        bodies: results,
-    })
+    }
 }

@@ -15,6 +15,9 @@ pub(crate) fn contact_modulus(sc: &scene::Scene, body: &str) -> f64 {
     }
 }
 
+/// The comparison of the final contact forces with the scene's analytic
+/// reference (Hertz cylinder or sphere, uniform pressure, Cattaneo–Mindlin,
+/// sliding block); refuses a reference the scene's model does not fit.
 pub(crate) fn compare_reference(
     sc: &scene::Scene,
     r: &scene::Reference,
@@ -27,9 +30,110 @@ pub(crate) fn compare_reference(
             "reference: the scene has no contact point to compare".into(),
         ));
     };
-    // The coordinate of each point across the contact: along the tangent of
-    // the most loaded point in 2D; the radius in an axisymmetric model; in 3D
-    // the distance from the force-weighted centre within the contact plane.
+    let direction = tangential_direction(points, friction, points[pmax].point.tangent);
+    let nodes = reference_nodes(sc, points, lambda, friction, pmax, direction);
+    let first = sc
+        .contact
+        .first()
+        .ok_or_else(|| SolveError::Input("reference: needs a [[contact]]".into()))?;
+    let e_star =
+        || 1.0 / (contact_modulus(sc, &first.slave.body) + contact_modulus(sc, &first.master.body));
+    let radius = || {
+        r.radius.ok_or_else(|| {
+            SolveError::Input(format!(
+                "reference.radius: {} needs the radius",
+                r.kind.as_str()
+            ))
+        })
+    };
+    let mu = || reference_mu(r, first, &points[pmax].point, direction);
+    match r.kind {
+        scene::ReferenceKind::HertzCylinder if sc.dimension == 2 && sc.model != scene::Model::Axisymmetric => {
+            Ok(reference::hertz_cylinder(&nodes, e_star(), radius()?))
+        }
+        scene::ReferenceKind::HertzCylinder => Err(SolveError::Input(
+            "reference.kind: \"hertz_cylinder\" is a plane strain / plane stress reference; for a sphere (3D or axisymmetric) use \"hertz_sphere\"".into(),
+        )),
+        scene::ReferenceKind::HertzSphere if sc.model == scene::Model::Axisymmetric || sc.dimension == 3 => {
+            Ok(reference::hertz_sphere(&nodes, e_star(), radius()?))
+        }
+        scene::ReferenceKind::HertzSphere => Err(SolveError::Input(
+            "reference.kind: \"hertz_sphere\" needs model = \"axisymmetric\" or dimension = 3; in plane strain use \"hertz_cylinder\"".into(),
+        )),
+        scene::ReferenceKind::UniformPressure => Ok(reference::uniform_pressure(&nodes, r.pressure, None)),
+        scene::ReferenceKind::CattaneoMindlin => Ok(reference::cattaneo_mindlin(&nodes, e_star(), radius()?, mu()?)),
+        scene::ReferenceKind::SlidingBlock => Ok(reference::sliding_block(&nodes, mu()?, None)),
+        other => Err(SolveError::Input(format!(
+            "reference.kind: \"{}\" is not supported yet (supported: hertz_cylinder, hertz_sphere, uniform_pressure, cattaneo_mindlin, sliding_block)",
+            other.as_str()
+        ))),
+    }
+}
+
+/// The direction of the total tangential force of the contact points, or
+/// `t` (the tangent of the most loaded point) where there is none.
+fn tangential_direction(
+    points: &[PointModel],
+    friction: Option<&FrictionStep>,
+    t: [f64; 3],
+) -> [f64; 3] {
+    let mut total_t = [0.0; 3];
+    for (pi, p) in points.iter().enumerate() {
+        let v = point_force(p, pi, 0.0, friction);
+        (0..3).for_each(|k| total_t[k] += v[k]);
+    }
+    let norm_t = (total_t[0].powi(2) + total_t[1].powi(2) + total_t[2].powi(2)).sqrt();
+    if norm_t > 0.0 {
+        total_t.map(|x| x / norm_t)
+    } else {
+        t
+    }
+}
+
+/// Each contact point as the reference sees it: its coordinate across the
+/// contact, normal force, tributary measure, pressure, tangential force
+/// (along t in 2D; in 3D its component along `direction`, that of the total
+/// tangential force) and whether it sticks.
+fn reference_nodes(
+    sc: &scene::Scene,
+    points: &[PointModel],
+    lambda: &[f64],
+    friction: Option<&FrictionStep>,
+    pmax: usize,
+    direction: [f64; 3],
+) -> Vec<reference::NodalPressure> {
+    let s = contact_coordinates(sc, points, lambda, pmax);
+    let pressure = nodal_pressures(points, lambda);
+    points
+        .iter()
+        .zip(lambda)
+        .enumerate()
+        .map(|(pi, (p, &l))| reference::NodalPressure {
+            s: s[pi],
+            force: l.max(0.0),
+            tributary: p.tributary,
+            pressure: pressure[pi].max(0.0),
+            tangential: if sc.dimension == 3 {
+                let v = point_force(&points[pi], pi, 0.0, friction);
+                v[0] * direction[0] + v[1] * direction[1] + v[2] * direction[2]
+            } else {
+                friction.map_or(0.0, |f| f.tangential[pi])
+            },
+            stick: friction.is_some_and(|f| f.statuses[pi] == PointStatus::Stick),
+        })
+        .collect()
+}
+
+/// The coordinate of each point across the contact: along the tangent of
+/// the most loaded point `pmax` in 2D; the radius in an axisymmetric model;
+/// in 3D the distance from the force-weighted centre within the contact
+/// plane.
+fn contact_coordinates(
+    sc: &scene::Scene,
+    points: &[PointModel],
+    lambda: &[f64],
+    pmax: usize,
+) -> Vec<f64> {
     let t = points[pmax].point.tangent;
     let n0 = points[pmax].point.normal;
     let total: f64 = lambda.iter().map(|l| l.max(0.0)).sum();
@@ -53,60 +157,23 @@ pub(crate) fn compare_reference(
             _ => x[0] * t[0] + x[1] * t[1],
         }
     };
-    // The tangential force of each point: along t in 2D; in 3D its component
-    // along the direction of the total tangential force.
-    let tangential_vector = |pi: usize| point_force(&points[pi], pi, 0.0, friction);
-    let mut total_t = [0.0; 3];
-    for pi in 0..points.len() {
-        let v = tangential_vector(pi);
-        (0..3).for_each(|k| total_t[k] += v[k]);
-    }
-    let norm_t = (total_t[0].powi(2) + total_t[1].powi(2) + total_t[2].powi(2)).sqrt();
-    let direction = if norm_t > 0.0 {
-        total_t.map(|x| x / norm_t)
-    } else {
-        t
-    };
-    let pressure = nodal_pressures(points, lambda);
-    let nodes: Vec<reference::NodalPressure> = points
-        .iter()
-        .zip(lambda)
-        .enumerate()
-        .map(|(pi, (p, &l))| reference::NodalPressure {
-            s: coordinate(p.point.x),
-            force: l.max(0.0),
-            tributary: p.tributary,
-            pressure: pressure[pi].max(0.0),
-            tangential: if sc.dimension == 3 {
-                let v = tangential_vector(pi);
-                v[0] * direction[0] + v[1] * direction[1] + v[2] * direction[2]
-            } else {
-                friction.map_or(0.0, |f| f.tangential[pi])
-            },
-            stick: friction.is_some_and(|f| f.statuses[pi] == PointStatus::Stick),
-        })
-        .collect();
-    let first = sc
-        .contact
-        .first()
-        .ok_or_else(|| SolveError::Input("reference: needs a [[contact]]".into()))?;
-    let e_star =
-        || 1.0 / (contact_modulus(sc, &first.slave.body) + contact_modulus(sc, &first.master.body));
-    let radius = || {
-        r.radius.ok_or_else(|| {
-            SolveError::Input(format!(
-                "reference.radius: {} needs the radius",
-                r.kind.as_str()
-            ))
-        })
-    };
-    // The coefficient in the direction of the tangential force: μ, or on an
-    // elliptic cone (3D, μ₁ along t1, μ₂ along t2) 1/‖(d₁/μ₁, d₂/μ₂)‖.
+    points.iter().map(|p| coordinate(p.point.x)).collect()
+}
+
+/// The friction coefficient of a reference: its own μ, else that of the
+/// first contact's Coulomb law in the direction of the tangential force —
+/// μ, or on an elliptic cone (3D, μ₁ along t1, μ₂ along t2)
+/// 1/‖(d₁/μ₁, d₂/μ₂)‖ with the tangents of the most loaded point `p`.
+fn reference_mu(
+    r: &scene::Reference,
+    first: &scene::Contact,
+    p: &signorini_contact::ContactPoint,
+    direction: [f64; 3],
+) -> Result<f64, SolveError> {
     let directional = |c: &[f64]| -> Option<f64> {
         match c {
             [mu] => Some(*mu),
             [mu1, mu2] => {
-                let p = &points[pmax].point;
                 let d1: f64 = (0..3).map(|k| direction[k] * p.tangent[k]).sum();
                 let d2: f64 = (0..3).map(|k| direction[k] * p.tangent2[k]).sum();
                 Some(1.0 / ((d1 / mu1).powi(2) + (d2 / mu2).powi(2)).sqrt())
@@ -114,38 +181,15 @@ pub(crate) fn compare_reference(
             _ => None,
         }
     };
-    let mu = || -> Result<f64, SolveError> {
-        r.friction
-            .or(match &first.friction {
-                scene::Friction::Coulomb { coefficient, .. } => directional(coefficient),
-                _ => None,
-            })
-            .ok_or_else(|| {
-                SolveError::Input(format!(
-                    "reference.friction: {} needs μ (or a Coulomb contact)",
-                    r.kind.as_str()
-                ))
-            })
-    };
-    match r.kind {
-        scene::ReferenceKind::HertzCylinder if sc.dimension == 2 && sc.model != scene::Model::Axisymmetric => {
-            Ok(reference::hertz_cylinder(&nodes, e_star(), radius()?))
-        }
-        scene::ReferenceKind::HertzCylinder => Err(SolveError::Input(
-            "reference.kind: \"hertz_cylinder\" is a plane strain / plane stress reference; for a sphere (3D or axisymmetric) use \"hertz_sphere\"".into(),
-        )),
-        scene::ReferenceKind::HertzSphere if sc.model == scene::Model::Axisymmetric || sc.dimension == 3 => {
-            Ok(reference::hertz_sphere(&nodes, e_star(), radius()?))
-        }
-        scene::ReferenceKind::HertzSphere => Err(SolveError::Input(
-            "reference.kind: \"hertz_sphere\" needs model = \"axisymmetric\" or dimension = 3; in plane strain use \"hertz_cylinder\"".into(),
-        )),
-        scene::ReferenceKind::UniformPressure => Ok(reference::uniform_pressure(&nodes, r.pressure, None)),
-        scene::ReferenceKind::CattaneoMindlin => Ok(reference::cattaneo_mindlin(&nodes, e_star(), radius()?, mu()?)),
-        scene::ReferenceKind::SlidingBlock => Ok(reference::sliding_block(&nodes, mu()?, None)),
-        other => Err(SolveError::Input(format!(
-            "reference.kind: \"{}\" is not supported yet (supported: hertz_cylinder, hertz_sphere, uniform_pressure, cattaneo_mindlin, sliding_block)",
-            other.as_str()
-        ))),
-    }
+    r.friction
+        .or(match &first.friction {
+            scene::Friction::Coulomb { coefficient, .. } => directional(coefficient),
+            _ => None,
+        })
+        .ok_or_else(|| {
+            SolveError::Input(format!(
+                "reference.friction: {} needs μ (or a Coulomb contact)",
+                r.kind.as_str()
+            ))
+        })
 }

@@ -18,34 +18,7 @@ pub(crate) fn run_direct(
     messages: &mut Vec<String>,
 ) -> Result<Partial, SolveError> {
     let t = Instant::now();
-    let mut k_full = Vec::new();
-    let mut free_offset = Vec::new();
-    let mut free_index: Vec<Vec<usize>> = Vec::new();
-    let mut frees: Vec<Vec<usize>> = Vec::new();
-    let mut triplets = Vec::new();
-    let mut n_free = 0;
-    for b in bodies {
-        let k = signorini_fem::try_assemble_stiffness(&b.mesh, &b.material)
-            .map_err(|e| SolveError::Input(format!("bodies[{}].mesh: {e}", b.scene_index)))?;
-        let free: Vec<usize> = (0..b.n_dof).filter(|&d| !b.prescribed[d]).collect();
-        let mut idx = vec![usize::MAX; b.n_dof];
-        for (i, &d) in free.iter().enumerate() {
-            idx[d] = i;
-        }
-        let kff = submatrix(k.as_ref(), &free, &free);
-        for j in 0..kff.ncols() {
-            for (&i, &v) in kff.row_idx_of_col_raw(j).iter().zip(kff.val_of_col(j)) {
-                triplets.push(faer::sparse::Triplet::new(n_free + i, n_free + j, v));
-            }
-        }
-        free_offset.push(n_free);
-        n_free += free.len();
-        free_index.push(idx);
-        frees.push(free);
-        k_full.push(k);
-    }
-    let k_global = SparseColMat::<usize, f64>::try_new_from_triplets(n_free, n_free, &triplets)
-        .map_err(|e| SolveError::Internal(format!("{e:?}")))?;
+    let system = assemble_direct(bodies)?;
     timings.assemble = t.elapsed().as_secs_f64();
     let rows: Vec<Vec<(usize, f64)>> = points
         .iter()
@@ -53,7 +26,7 @@ pub(crate) fn run_direct(
             p.row
                 .iter()
                 .filter(|&&(b, d, _)| !bodies[b].prescribed[d])
-                .map(|&(b, d, c)| (free_offset[b] + free_index[b][d], c))
+                .map(|&(b, d, c)| (system.offset[b] + bodies[b].free_index[d], c))
                 .collect()
         })
         .collect();
@@ -62,96 +35,14 @@ pub(crate) fn run_direct(
     let mut u_steps: Vec<Vec<Vec<f64>>> = Vec::new();
     let mut solutions = Vec::new();
     for (si, st) in scales.iter().enumerate() {
-        let t_step = Instant::now();
-        let mut f = vec![0.0; n_free];
-        let mut u_p = Vec::new();
-        let mut forces = Vec::new();
-        let mut f_scale = 0.0f64;
-        for (bi, b) in bodies.iter().enumerate() {
-            let (u, force) = body_step(b, &st[bi]);
-            let ku = spmv(k_full[bi].as_ref(), &u);
-            for (i, &d) in frees[bi].iter().enumerate() {
-                f[free_offset[bi] + i] = force[d] - ku[d];
-            }
-            f_scale = f_scale.max(inf_norm(&force));
-            u_p.push(u);
-            forces.push(force);
-        }
-        f_scale = f_scale.max(inf_norm(&f));
-        let length_scale = length_scale(bodies, points, &u_p, f_scale);
-        let gap0 = step_gaps(sc, bodies, points, fixed, &u_p, length_scale, si)?;
-        let e_of: Vec<Vec<f64>> = bodies
-            .iter()
-            .enumerate()
-            .map(|(bi, b)| {
-                b.kernel
-                    .iter()
-                    .map(|r| {
-                        -frees[bi]
-                            .iter()
-                            .enumerate()
-                            .map(|(i, &d)| r[d] * f[free_offset[bi] + i])
-                            .sum::<f64>()
-                    })
-                    .collect()
-            })
-            .collect();
-        let res: Vec<Vec<f64>> = forces
-            .iter()
-            .zip(bodies)
-            .map(|(f, b)| resultant(f, b.mesh.dim))
-            .collect();
-        check_floating_equilibrium(bodies, points, &e_of, &res, si)?;
-        let mut problem = DirectProblem::new(&k_global, &f, &rows, &gap0);
-        let outcome = status_method(
-            &mut problem,
-            &status_options(sc, f_scale, length_scale, &gap0),
-        )
-        .map_err(contact_error)?;
-        // `problem.u` is the displacement of the last solve, the one that
-        // gave `outcome.lambda` (as the condensed path recovers it).
-        let u_full: Vec<Vec<f64>> = bodies
-            .iter()
-            .enumerate()
-            .map(|(bi, _)| {
-                let mut u = u_p[bi].clone();
-                for (i, &d) in frees[bi].iter().enumerate() {
-                    u[d] = problem.u[free_offset[bi] + i];
-                }
-                u
-            })
-            .collect();
-        let solver = status_report("status", &outcome, problem.factorisations);
-        let law_k = vec![0.0; points.len()];
-        let sol = StepSolution {
-            outcome,
-            gap0,
-            f_scale,
-            length_scale,
-            solver,
-            regularisation: None,
-            law_k,
-            friction: None,
-            solve_s: t_step.elapsed().as_secs_f64(),
-            operator_s: 0.0,
-        };
-        let res = direct_residuals(
-            bodies,
-            &k_full,
-            points,
-            &forces,
-            &u_full,
-            &sol.outcome.lambda,
-        );
-        let gaps = gaps_of(points, &u_full);
-        let umax = u_full.iter().fold(0.0f64, |a, u| a.max(inf_norm(u)));
-        solutions.push((sol, gaps, res, umax));
+        let (step, u_full) = direct_step(sc, bodies, points, fixed, &system, &rows, st, si)?;
+        solutions.push(step);
         u_steps.push(u_full);
     }
     timings.contact = t.elapsed().as_secs_f64();
     // Outside the timed phases: one more sparse Cholesky, of K alone.
     partial.conditioning = Some(conditioning::direct(
-        &k_global,
+        &system.k_global,
         bodies.iter().any(|b| !b.kernel.is_empty()),
         sc.solver.tolerance,
         messages,
@@ -171,8 +62,203 @@ pub(crate) fn run_direct(
         );
     }
     partial.u_steps = u_steps;
-    partial.dofs = n_free;
+    partial.dofs = system.n_free;
     Ok(partial)
+}
+
+/// The stiffness of the direct path: each body's whole stiffness, and the
+/// global one over the free DOFs of all bodies, body after body.
+struct DirectSystem {
+    k_full: Vec<SparseColMat<usize, f64>>,
+    /// Where each body's free DOFs start in the global numbering.
+    offset: Vec<usize>,
+    k_global: SparseColMat<usize, f64>,
+    n_free: usize,
+}
+
+/// Assembles every body's stiffness and the global stiffness on the free
+/// DOFs (the bodies' free-free blocks on the diagonal).
+fn assemble_direct(bodies: &[BodyModel]) -> Result<DirectSystem, SolveError> {
+    let mut k_full = Vec::new();
+    let mut offset = Vec::new();
+    let mut triplets = Vec::new();
+    let mut n_free = 0;
+    for b in bodies {
+        let k = signorini_fem::try_assemble_stiffness(&b.mesh, &b.material)
+            .map_err(|e| SolveError::Input(format!("bodies[{}].mesh: {e}", b.scene_index)))?;
+        let kff = submatrix(k.as_ref(), &b.free, &b.free);
+        for j in 0..kff.ncols() {
+            for (&i, &v) in kff.row_idx_of_col_raw(j).iter().zip(kff.val_of_col(j)) {
+                triplets.push(faer::sparse::Triplet::new(n_free + i, n_free + j, v));
+            }
+        }
+        offset.push(n_free);
+        n_free += b.free.len();
+        k_full.push(k);
+    }
+    let k_global = SparseColMat::<usize, f64>::try_new_from_triplets(n_free, n_free, &triplets)
+        .map_err(|e| SolveError::Internal(format!("{e:?}")))?;
+    Ok(DirectSystem {
+        k_full,
+        offset,
+        k_global,
+        n_free,
+    })
+}
+
+/// A step's solution with its final gaps, residuals and largest
+/// displacement, as [`conclude_step`] takes them.
+type DirectStep = (StepSolution, Vec<f64>, Residuals, f64);
+
+/// One load step of the direct path: the loads on the free DOFs, the
+/// floating bodies' equilibrium checked, the status method on the KKT
+/// system; returns the step and each body's full displacement.
+#[allow(clippy::too_many_arguments)]
+fn direct_step(
+    sc: &scene::Scene,
+    bodies: &[BodyModel],
+    points: &[PointModel],
+    fixed: &[FixedPoint],
+    system: &DirectSystem,
+    rows: &[Vec<(usize, f64)>],
+    st: &[Vec<f64>],
+    si: usize,
+) -> Result<(DirectStep, Vec<Vec<f64>>), SolveError> {
+    let t_step = Instant::now();
+    let loads = direct_loads(bodies, system, st);
+    let f_scale = loads.f_scale;
+    let length_scale = length_scale(bodies, points, &loads.u_p, f_scale);
+    let gap0 = step_gaps(sc, bodies, points, fixed, &loads.u_p, length_scale, si)?;
+    check_floating(bodies, points, system, &loads, si)?;
+    let mut problem = DirectProblem::new(&system.k_global, &loads.f, rows, &gap0);
+    let outcome = status_method(
+        &mut problem,
+        &status_options(sc, f_scale, length_scale, &gap0),
+    )
+    .map_err(contact_error)?;
+    // `problem.u` is the displacement of the last solve, the one that
+    // gave `outcome.lambda` (as the condensed path recovers it).
+    let u_full = full_displacements(bodies, system, &loads.u_p, &problem.u);
+    let solver = status_report("status", &outcome, problem.factorisations);
+    let sol = StepSolution {
+        outcome,
+        gap0,
+        f_scale,
+        length_scale,
+        solver,
+        regularisation: None,
+        law_k: vec![0.0; points.len()],
+        friction: None,
+        solve_s: t_step.elapsed().as_secs_f64(),
+        operator_s: 0.0,
+    };
+    let lambda = &sol.outcome.lambda;
+    let res = direct_residuals(
+        bodies,
+        &system.k_full,
+        points,
+        &loads.forces,
+        &u_full,
+        lambda,
+    );
+    let gaps = gaps_of(points, &u_full);
+    let umax = u_full.iter().fold(0.0f64, |a, u| a.max(inf_norm(u)));
+    Ok(((sol, gaps, res, umax), u_full))
+}
+
+/// Checks that each floating body's loads can be balanced by contact
+/// (`check_floating_equilibrium`): the work e = −Rᵀ f of the free load on
+/// its rigid motions, and the resultant of its external force.
+fn check_floating(
+    bodies: &[BodyModel],
+    points: &[PointModel],
+    system: &DirectSystem,
+    loads: &DirectLoads,
+    si: usize,
+) -> Result<(), SolveError> {
+    let e_of: Vec<Vec<f64>> = bodies
+        .iter()
+        .enumerate()
+        .map(|(bi, b)| {
+            b.kernel
+                .iter()
+                .map(|r| {
+                    -b.free
+                        .iter()
+                        .enumerate()
+                        .map(|(i, &d)| r[d] * loads.f[system.offset[bi] + i])
+                        .sum::<f64>()
+                })
+                .collect()
+        })
+        .collect();
+    let res: Vec<Vec<f64>> = loads
+        .forces
+        .iter()
+        .zip(bodies)
+        .map(|(f, b)| resultant(f, b.mesh.dim))
+        .collect();
+    check_floating_equilibrium(bodies, points, &e_of, &res, si)?;
+    Ok(())
+}
+
+/// Each body's full displacement: the prescribed `u_p`, and on its free
+/// DOFs the global solution `u`.
+fn full_displacements(
+    bodies: &[BodyModel],
+    system: &DirectSystem,
+    u_p: &[Vec<f64>],
+    u: &[f64],
+) -> Vec<Vec<f64>> {
+    bodies
+        .iter()
+        .enumerate()
+        .map(|(bi, b)| {
+            let mut full = u_p[bi].clone();
+            for (i, &d) in b.free.iter().enumerate() {
+                full[d] = u[system.offset[bi] + i];
+            }
+            full
+        })
+        .collect()
+}
+
+/// The loads of a step on the direct path.
+struct DirectLoads {
+    /// Global load on the free DOFs: f − K u_p.
+    f: Vec<f64>,
+    /// Each body's prescribed displacement.
+    u_p: Vec<Vec<f64>>,
+    /// Each body's external force.
+    forces: Vec<Vec<f64>>,
+    /// The largest external or free-DOF load entry.
+    f_scale: f64,
+}
+
+/// A step's loads: each body's prescribed displacement and force at the
+/// step's scales, and the global load f − K u_p on the free DOFs.
+fn direct_loads(bodies: &[BodyModel], system: &DirectSystem, st: &[Vec<f64>]) -> DirectLoads {
+    let mut f = vec![0.0; system.n_free];
+    let mut u_p = Vec::new();
+    let mut forces = Vec::new();
+    let mut f_scale = 0.0f64;
+    for (bi, b) in bodies.iter().enumerate() {
+        let (u, force) = body_step(b, &st[bi]);
+        let ku = spmv(system.k_full[bi].as_ref(), &u);
+        for (i, &d) in b.free.iter().enumerate() {
+            f[system.offset[bi] + i] = force[d] - ku[d];
+        }
+        f_scale = f_scale.max(inf_norm(&force));
+        u_p.push(u);
+        forces.push(force);
+    }
+    f_scale = f_scale.max(inf_norm(&f));
+    DirectLoads {
+        f,
+        u_p,
+        forces,
+        f_scale,
+    }
 }
 
 /// g_p = g0_p + Σ coef u over the full DOFs.

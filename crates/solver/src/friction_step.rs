@@ -96,7 +96,7 @@ pub(crate) fn friction_rows(
             .iter()
             .map(|p| match p.friction {
                 // A point whose slip is prescribed by a support has no
-                // tangential unknown (see model::free_tangential_rows).
+                // tangential unknown (see model::contacts::free_tangential_rows).
                 _ if p.trow.is_none() => Threshold::None,
                 PointFriction::None => Threshold::None,
                 PointFriction::Tresca(g) => Threshold::Tresca(g),

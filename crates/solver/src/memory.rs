@@ -339,158 +339,172 @@ fn half_disk_grid(n: f64, grading: f64) -> (f64, f64, f64, f64, f64) {
     (nodes, quads, ns, m, nr)
 }
 
+/// The estimated size of a deformable body's mesh: its generator's counts
+/// in closed form, or a Gmsh file's announced node count.
 fn body_size(body: &scene::Body, dim: usize) -> Option<BodySize> {
-    let mesh = body.mesh.as_ref()?;
-    let g = match mesh {
+    use scene::Generator as G;
+    let g = match body.mesh.as_ref()? {
         scene::MeshSpec::Generator(g) => g,
-        scene::MeshSpec::File { file } => {
-            let nodes = gmsh_nodes(file)?;
-            let d = dim as f64;
-            let (cells, per_cell, neighbours) = if dim == 3 {
-                (5.0 * nodes, 4.0, 15.0)
-            } else {
-                (2.0 * nodes, 3.0, 7.0)
-            };
-            return Some(BodySize {
-                nodes,
-                cells,
-                per_cell,
-                neighbours,
-                dim,
-                width: nodes.cbrt(),
-                surfaces: Vec::new(),
-                any_surface: Some((2.0 * nodes.powf((d - 1.0) / d)).min(nodes)),
-            });
-        }
+        scene::MeshSpec::File { file } => return file_size(file, dim),
     };
     Some(match g {
-        scene::Generator::Rectangle {
+        G::Rectangle {
             divisions, element, ..
-        } => {
-            let [nx, ny] = divisions.map(|d| d as f64);
-            let (nodes, cells, per_cell, neighbours, o) =
-                planar((nx + 1.0) * (ny + 1.0), nx * ny, *element);
-            BodySize {
-                nodes,
-                cells,
-                per_cell,
-                neighbours,
-                dim: 2,
-                width: 0.0,
-                surfaces: vec![
-                    ("bottom", o * nx + 1.0),
-                    ("top", o * nx + 1.0),
-                    ("left", o * ny + 1.0),
-                    ("right", o * ny + 1.0),
-                ],
-                any_surface: None,
-            }
-        }
-        scene::Generator::HalfDisk {
+        } => rectangle_size(*divisions, *element),
+        G::HalfDisk {
             divisions,
             element,
             grading,
             ..
-        } => {
-            let n = *divisions as f64;
-            let (n1, quads, ns, _, nr) = half_disk_grid(n, *grading);
-            let (nodes, cells, per_cell, neighbours, o) = planar_disk(n1, quads, *element);
-            BodySize {
-                nodes,
-                cells,
-                per_cell,
-                neighbours,
-                dim: 2,
-                width: 0.0,
-                surfaces: vec![("arc", o * n + 1.0), ("flat", o * (ns + 2.0 * nr) + 1.0)],
-                any_surface: None,
-            }
-        }
-        scene::Generator::QuarterDisk {
+        } => half_disk_size(*divisions as f64, *grading, *element),
+        G::QuarterDisk {
             divisions,
             element,
             grading,
             ..
-        } => {
-            // the half disk of 2n divisions, cut along its axis
-            let n = *divisions as f64;
-            let (n1, quads, ns, m, nr) = half_disk_grid(2.0 * n, *grading);
-            let (nodes, cells, per_cell, neighbours, o) =
-                planar_disk(n1 / 2.0 + m + nr + 1.0, quads / 2.0, *element);
-            BodySize {
-                nodes,
-                cells,
-                per_cell,
-                neighbours,
-                dim: 2,
-                width: 0.0,
-                surfaces: vec![
-                    ("arc", o * n + 1.0),
-                    ("flat", o * (ns / 2.0 + nr) + 1.0),
-                    ("axis", o * (m + nr) + 1.0),
-                ],
-                any_surface: None,
-            }
-        }
-        scene::Generator::Box {
+        } => quarter_disk_size(*divisions as f64, *grading, *element),
+        G::Box {
             divisions, element, ..
-        } => {
-            let [nx, ny, nz] = divisions.map(|d| d as f64);
-            let (cells, per_cell, neighbours) = if *element == scene::Element::Tet4 {
-                (6.0 * nx * ny * nz, 4.0, 15.0)
-            } else {
-                (nx * ny * nz, 8.0, 27.0)
-            };
-            let (px, py, pz) = (nx + 1.0, ny + 1.0, nz + 1.0);
-            let mut sides = [px, py, pz];
-            sides.sort_by(f64::total_cmp);
-            BodySize {
-                nodes: px * py * pz,
-                cells,
-                per_cell,
-                neighbours,
-                dim: 3,
-                width: (sides[0] * sides[1]).sqrt(),
-                surfaces: vec![
-                    ("xmin", py * pz),
-                    ("xmax", py * pz),
-                    ("ymin", px * pz),
-                    ("ymax", px * pz),
-                    ("zmin", px * py),
-                    ("zmax", px * py),
-                ],
-                any_surface: None,
-            }
-        }
-        scene::Generator::Hemisphere {
+        } => box_size(divisions.map(|d| d as f64), *element),
+        G::Hemisphere {
             divisions, grading, ..
-        } => {
-            // `crates/mesh` `hemisphere`: (ns + 1)² (m + 1) + ((ns + 1)² + 4 ns m) n_r
-            // nodes, m the meridian index nearest 45°, ns = 2n − 2m,
-            // n_r = max(2, ⌈n/2⌉)
-            let n = *divisions as f64;
-            let m = quarter_index(n, *grading, n - 1.0)
-                .round()
-                .clamp(1.0, (n - 1.0).max(1.0));
-            let ns = (2.0 * n - 2.0 * m).max(1.0);
-            let nr = (n / 2.0).ceil().max(2.0);
-            let block = (ns + 1.0) * (ns + 1.0);
-            let nodes = block * (m + 1.0) + (block + 4.0 * ns * m) * nr;
-            BodySize {
-                nodes,
-                width: nodes.cbrt(),
-                cells: ns * ns * m + (ns * ns + 4.0 * ns * m) * nr,
-                per_cell: 8.0,
-                neighbours: 27.0,
-                dim: 3,
-                surfaces: vec![
-                    ("dome", block + 4.0 * ns * m),
-                    ("flat", block + 4.0 * ns * nr),
-                ],
-                any_surface: None,
-            }
-        }
+        } => hemisphere_size(*divisions as f64, *grading),
     })
+}
+
+/// A Gmsh file's mesh: its announced nodes, simplices (five tetrahedra or
+/// two triangles a node) and surfaces of two faces' worth of nodes.
+fn file_size(file: &Path, dim: usize) -> Option<BodySize> {
+    let nodes = gmsh_nodes(file)?;
+    let d = dim as f64;
+    let (cells, per_cell, neighbours) = if dim == 3 {
+        (5.0 * nodes, 4.0, 15.0)
+    } else {
+        (2.0 * nodes, 3.0, 7.0)
+    };
+    Some(BodySize {
+        nodes,
+        cells,
+        per_cell,
+        neighbours,
+        dim,
+        width: nodes.cbrt(),
+        surfaces: Vec::new(),
+        any_surface: Some((2.0 * nodes.powf((d - 1.0) / d)).min(nodes)),
+    })
+}
+
+/// A 2D body from its (nodes, cells, nodes per cell, neighbours) and the
+/// nodes of its named surfaces.
+fn planar_size(counts: (f64, f64, f64, f64), surfaces: Vec<(&'static str, f64)>) -> BodySize {
+    let (nodes, cells, per_cell, neighbours) = counts;
+    BodySize {
+        nodes,
+        cells,
+        per_cell,
+        neighbours,
+        dim: 2,
+        width: 0.0,
+        surfaces,
+        any_surface: None,
+    }
+}
+
+/// `crates/mesh` `rectangle`: an nx × ny grid.
+fn rectangle_size(divisions: [usize; 2], element: scene::Element) -> BodySize {
+    let [nx, ny] = divisions.map(|d| d as f64);
+    let (nodes, cells, per_cell, neighbours, o) = planar((nx + 1.0) * (ny + 1.0), nx * ny, element);
+    planar_size(
+        (nodes, cells, per_cell, neighbours),
+        vec![
+            ("bottom", o * nx + 1.0),
+            ("top", o * nx + 1.0),
+            ("left", o * ny + 1.0),
+            ("right", o * ny + 1.0),
+        ],
+    )
+}
+
+/// `crates/mesh` `half_disk` of `n` arc divisions.
+fn half_disk_size(n: f64, grading: f64, element: scene::Element) -> BodySize {
+    let (n1, quads, ns, _, nr) = half_disk_grid(n, grading);
+    let (nodes, cells, per_cell, neighbours, o) = planar_disk(n1, quads, element);
+    planar_size(
+        (nodes, cells, per_cell, neighbours),
+        vec![("arc", o * n + 1.0), ("flat", o * (ns + 2.0 * nr) + 1.0)],
+    )
+}
+
+/// `crates/mesh` `quarter_disk` of `n` arc divisions: the half disk of 2n
+/// divisions, cut along its axis.
+fn quarter_disk_size(n: f64, grading: f64, element: scene::Element) -> BodySize {
+    let (n1, quads, ns, m, nr) = half_disk_grid(2.0 * n, grading);
+    let (nodes, cells, per_cell, neighbours, o) =
+        planar_disk(n1 / 2.0 + m + nr + 1.0, quads / 2.0, element);
+    planar_size(
+        (nodes, cells, per_cell, neighbours),
+        vec![
+            ("arc", o * n + 1.0),
+            ("flat", o * (ns / 2.0 + nr) + 1.0),
+            ("axis", o * (m + nr) + 1.0),
+        ],
+    )
+}
+
+/// `crates/mesh` `box_mesh`: an nx × ny × nz grid of hexahedra, or six
+/// tetrahedra a hexahedron.
+fn box_size([nx, ny, nz]: [f64; 3], element: scene::Element) -> BodySize {
+    let (cells, per_cell, neighbours) = if element == scene::Element::Tet4 {
+        (6.0 * nx * ny * nz, 4.0, 15.0)
+    } else {
+        (nx * ny * nz, 8.0, 27.0)
+    };
+    let (px, py, pz) = (nx + 1.0, ny + 1.0, nz + 1.0);
+    let mut sides = [px, py, pz];
+    sides.sort_by(f64::total_cmp);
+    BodySize {
+        nodes: px * py * pz,
+        cells,
+        per_cell,
+        neighbours,
+        dim: 3,
+        width: (sides[0] * sides[1]).sqrt(),
+        surfaces: vec![
+            ("xmin", py * pz),
+            ("xmax", py * pz),
+            ("ymin", px * pz),
+            ("ymax", px * pz),
+            ("zmin", px * py),
+            ("zmax", px * py),
+        ],
+        any_surface: None,
+    }
+}
+
+/// `crates/mesh` `hemisphere` of `n` divisions: (ns + 1)² (m + 1) +
+/// ((ns + 1)² + 4 ns m) n_r nodes, m the meridian index nearest 45°,
+/// ns = 2n − 2m, n_r = max(2, ⌈n/2⌉).
+fn hemisphere_size(n: f64, grading: f64) -> BodySize {
+    let m = quarter_index(n, grading, n - 1.0)
+        .round()
+        .clamp(1.0, (n - 1.0).max(1.0));
+    let ns = (2.0 * n - 2.0 * m).max(1.0);
+    let nr = (n / 2.0).ceil().max(2.0);
+    let block = (ns + 1.0) * (ns + 1.0);
+    let nodes = block * (m + 1.0) + (block + 4.0 * ns * m) * nr;
+    BodySize {
+        nodes,
+        width: nodes.cbrt(),
+        cells: ns * ns * m + (ns * ns + 4.0 * ns * m) * nr,
+        per_cell: 8.0,
+        neighbours: 27.0,
+        dim: 3,
+        surfaces: vec![
+            ("dome", block + 4.0 * ns * m),
+            ("flat", block + 4.0 * ns * nr),
+        ],
+        any_surface: None,
+    }
 }
 
 /// The node count announced by a Gmsh file's `$Nodes` header (MSH 2.2: the

@@ -1,10 +1,9 @@
 //! From a scene to the discrete model: one [`BodyModel`] per deformable body
 //! (mesh, stiffness, DOF classes, loads per boundary entry, rigid-body kernel)
-//! and the contact points with their rows over the bodies' DOFs.
+//! and (in `contacts`) the contact points with their rows over the bodies' DOFs.
 
 use faer::{Mat, Side};
-use signorini_contact::geometry::{node_to_node_pairing, node_to_segment_pairing};
-use signorini_contact::{ContactPoint, MasterGeometry, NormalRule, TermSide};
+use signorini_contact::ContactPoint;
 use signorini_fem::{Elasticity, Formulation as FemFormulation, Model as FemModel};
 use signorini_mesh::generators::{
     box_mesh, half_disk, hemisphere, quarter_disk, rectangle, BoxSide, RectSide,
@@ -13,6 +12,9 @@ use signorini_mesh::{CellKind, Mesh};
 use signorini_scene as scene;
 
 use crate::SolveError;
+
+mod contacts;
+pub use contacts::{build_contacts, eliminate_redundant, FixedPoint};
 
 fn input(msg: impl Into<String>) -> SolveError {
     SolveError::Input(msg.into())
@@ -310,146 +312,218 @@ fn boundary_nodes(
 /// Builds every deformable body with its DOF classes and loads.
 pub fn build_bodies(sc: &scene::Scene) -> Result<Vec<BodyModel>, SolveError> {
     let model = fem_model(sc.model)?;
-    let scene_dim = sc.dimension as usize;
     let mut out = Vec::new();
     for (bi, body) in sc.bodies.iter().enumerate() {
-        if !body.is_deformable() {
-            continue;
+        if body.is_deformable() {
+            out.push(build_body(sc, bi, model)?);
         }
-        let entry = format!("bodies[{bi}]");
-        let mesh = build_mesh(body, &entry, scene_dim)?;
-        let mat_name = body.material.as_deref().unwrap_or_default();
-        let mat = sc.material(mat_name).ok_or_else(|| {
-            input(format!(
-                "{entry}.material: no material named \"{mat_name}\""
-            ))
-        })?;
-        // The body's formulation travels with its material, so every path
-        // that assembles or recovers stresses from `material` (condensed
-        // subdomains, direct path, MPI ranks) uses it.
-        let material = Elasticity::new(mat.young, mat.poisson, model)
-            .with_formulation(fem_formulation(body.formulation));
-        signorini_fem::check_material(mat.young, mat.poisson)
-            .map_err(|e| input(format!("{entry}.material \"{mat_name}\": {e}")))?;
-        signorini_fem::check_mesh(&mesh, model).map_err(|e| input(format!("{entry}.mesh: {e}")))?;
-        signorini_fem::check_formulation(&mesh, &material).map_err(|e| {
-            input(format!(
-                "{entry}.formulation \"{}\": {e}",
-                body.formulation.as_str()
-            ))
-        })?;
-        let dim = mesh.dim;
-        let n_dof = mesh.n_nodes() * dim;
-        // Prescribed DOFs and their values per entry.
-        let mut prescribed = vec![false; n_dof];
-        let mut set_by: Vec<Option<(usize, f64)>> = vec![None; n_dof];
-        let mut raw_loads: Vec<(usize, Vec<f64>, Vec<f64>)> = Vec::new();
-        for (li, b) in sc.boundary.iter().enumerate() {
-            if b.body != body.name {
-                continue;
-            }
-            let lentry = format!("boundary[{li}]");
-            let nodes = boundary_nodes(b, &lentry, &mesh, &body.name)?;
-            let mut force = vec![0.0; n_dof];
-            let mut disp = vec![0.0; n_dof];
-            if let Some(d) = &b.displacement {
-                for (c, v) in d.components().iter().enumerate().take(dim) {
-                    let Some(v) = v else { continue };
-                    for &n in &nodes {
-                        let dof = n * dim + c;
-                        if let Some((other, ov)) = set_by[dof] {
-                            if ov != *v || sc.boundary[other].name != b.name {
-                                let x = mesh.coords[n];
-                                if !(ov == 0.0 && *v == 0.0) {
-                                    return Err(input(format!(
-                                        "{lentry}.displacement: boundary[{other}] already imposes component {} at node ({}, {}) of body \"{}\" with another value or scale",
-                                        ["x", "y", "z"][c], x[0], x[1], body.name
-                                    )));
-                                }
-                            }
-                        }
-                        set_by[dof] = Some((li, *v));
-                        prescribed[dof] = true;
-                        disp[dof] = *v;
-                    }
-                }
-            } else if let Some(t) = &b.traction {
-                let surf_name = b.surface.as_deref().ok_or_else(|| {
-                    input(format!("{lentry}.traction: a traction acts on a surface; give `surface` (or use `force` on a point)"))
-                })?;
-                let surf = mesh
-                    .surface(surf_name)
-                    .map_err(|e| input(format!("{lentry}.surface: {e}")))?;
-                force = signorini_fem::traction_load(&mesh, surf, t, model);
-            } else if let Some(f) = &b.force {
-                if let Some(surf_name) = &b.surface {
-                    let surf = mesh
-                        .surface(surf_name)
-                        .map_err(|e| input(format!("{lentry}.surface: {e}")))?;
-                    let len = signorini_fem::surface_measure(&mesh, surf, model);
-                    let t: Vec<f64> = f.iter().map(|v| v / len).collect();
-                    force = signorini_fem::traction_load(&mesh, surf, &t, model);
-                } else {
-                    for (c, v) in f.iter().enumerate().take(dim) {
-                        force[nodes[0] * dim + c] += v;
-                    }
-                }
-            }
-            raw_loads.push((li, force, disp));
-        }
-        if model == FemModel::Axisymmetric {
-            // On the axis (r = 0) the radial displacement is zero by symmetry.
-            let tol = 1e-9 * mesh.size();
-            for (n, x) in mesh.coords.iter().enumerate() {
-                if x[0].abs() <= tol {
-                    if let Some((other, v)) = set_by[n * dim] {
-                        if v != 0.0 {
-                            return Err(input(format!(
-                                "boundary[{other}].displacement: imposes x = {v} at node ({}, {}) on the axis of body \"{}\"; in an axisymmetric model the radial displacement on the axis is zero",
-                                x[0], x[1], body.name
-                            )));
-                        }
-                    }
-                    prescribed[n * dim] = true;
-                }
-            }
-        }
-        let free: Vec<usize> = (0..n_dof).filter(|&d| !prescribed[d]).collect();
-        let mut free_index = vec![usize::MAX; n_dof];
-        for (i, &d) in free.iter().enumerate() {
-            free_index[d] = i;
-        }
-        let loads = raw_loads
-            .into_iter()
-            .map(|(li, force, disp)| BodyLoad {
-                boundary: li,
-                force,
-                displacement: disp,
-            })
-            .collect();
-        let kernel = free_rigid_modes(&mesh, model, &prescribed);
-        let n_cells = mesh.cells.len();
-        let n_nodes = mesh.n_nodes();
-        out.push(BodyModel {
-            scene_index: bi,
-            name: body.name.clone(),
-            mesh,
-            material,
-            n_dof,
-            prescribed,
-            free,
-            free_index,
-            loads,
-            kernel,
-            contact_node: vec![false; n_nodes],
-            parts: vec![0; n_cells],
-            n_parts: 1,
-        });
     }
     if out.is_empty() {
         return Err(input("bodies: the scene has no deformable body"));
     }
     Ok(out)
+}
+
+/// One deformable body: its mesh and material, checked, its prescribed and
+/// free DOFs, its loads and the rigid motions its supports leave free.
+fn build_body(sc: &scene::Scene, bi: usize, model: FemModel) -> Result<BodyModel, SolveError> {
+    let body = &sc.bodies[bi];
+    let entry = format!("bodies[{bi}]");
+    let mesh = build_mesh(body, &entry, sc.dimension as usize)?;
+    let material = body_material(sc, body, &entry, &mesh, model)?;
+    let n_dof = mesh.n_nodes() * mesh.dim;
+    let mut supports = Supports {
+        prescribed: vec![false; n_dof],
+        set_by: vec![None; n_dof],
+    };
+    let mut loads = Vec::new();
+    for (li, b) in sc.boundary.iter().enumerate() {
+        if b.body == body.name {
+            loads.push(boundary_load(
+                sc,
+                li,
+                &mesh,
+                &body.name,
+                model,
+                &mut supports,
+            )?);
+        }
+    }
+    if model == FemModel::Axisymmetric {
+        fix_axis(&mesh, &body.name, &mut supports)?;
+    }
+    let prescribed = supports.prescribed;
+    let free: Vec<usize> = (0..n_dof).filter(|&d| !prescribed[d]).collect();
+    let mut free_index = vec![usize::MAX; n_dof];
+    for (i, &d) in free.iter().enumerate() {
+        free_index[d] = i;
+    }
+    let kernel = free_rigid_modes(&mesh, model, &prescribed);
+    let n_cells = mesh.cells.len();
+    let n_nodes = mesh.n_nodes();
+    Ok(BodyModel {
+        scene_index: bi,
+        name: body.name.clone(),
+        mesh,
+        material,
+        n_dof,
+        prescribed,
+        free,
+        free_index,
+        loads,
+        kernel,
+        contact_node: vec![false; n_nodes],
+        parts: vec![0; n_cells],
+        n_parts: 1,
+    })
+}
+
+/// The elasticity of a body: its material with its formulation, the
+/// material, mesh and formulation checked for the model.
+fn body_material(
+    sc: &scene::Scene,
+    body: &scene::Body,
+    entry: &str,
+    mesh: &Mesh,
+    model: FemModel,
+) -> Result<Elasticity, SolveError> {
+    let mat_name = body.material.as_deref().unwrap_or_default();
+    let mat = sc.material(mat_name).ok_or_else(|| {
+        input(format!(
+            "{entry}.material: no material named \"{mat_name}\""
+        ))
+    })?;
+    // The body's formulation travels with its material, so every path
+    // that assembles or recovers stresses from `material` (condensed
+    // subdomains, direct path, MPI ranks) uses it.
+    let material = Elasticity::new(mat.young, mat.poisson, model)
+        .with_formulation(fem_formulation(body.formulation));
+    signorini_fem::check_material(mat.young, mat.poisson)
+        .map_err(|e| input(format!("{entry}.material \"{mat_name}\": {e}")))?;
+    signorini_fem::check_mesh(mesh, model).map_err(|e| input(format!("{entry}.mesh: {e}")))?;
+    signorini_fem::check_formulation(mesh, &material).map_err(|e| {
+        input(format!(
+            "{entry}.formulation \"{}\": {e}",
+            body.formulation.as_str()
+        ))
+    })?;
+    Ok(material)
+}
+
+/// The prescribed DOFs of a body so far, and for each the boundary entry
+/// that set it and its value.
+struct Supports {
+    prescribed: Vec<bool>,
+    set_by: Vec<Option<(usize, f64)>>,
+}
+
+/// The load of boundary entry `li` on a body: a prescribed displacement
+/// (recorded in `supports`, refused where another entry imposes another
+/// value or scale), or a force from a traction or a force.
+fn boundary_load(
+    sc: &scene::Scene,
+    li: usize,
+    mesh: &Mesh,
+    body: &str,
+    model: FemModel,
+    supports: &mut Supports,
+) -> Result<BodyLoad, SolveError> {
+    let b = &sc.boundary[li];
+    let lentry = format!("boundary[{li}]");
+    let nodes = boundary_nodes(b, &lentry, mesh, body)?;
+    let n_dof = mesh.n_nodes() * mesh.dim;
+    let mut force = vec![0.0; n_dof];
+    let mut displacement = vec![0.0; n_dof];
+    if let Some(d) = &b.displacement {
+        displacement = prescribe(sc, li, d, &nodes, mesh, body, supports)?;
+    } else if let Some(t) = &b.traction {
+        let surf_name = b.surface.as_deref().ok_or_else(|| {
+            input(format!("{lentry}.traction: a traction acts on a surface; give `surface` (or use `force` on a point)"))
+        })?;
+        let surf = mesh
+            .surface(surf_name)
+            .map_err(|e| input(format!("{lentry}.surface: {e}")))?;
+        force = signorini_fem::traction_load(mesh, surf, t, model);
+    } else if let Some(f) = &b.force {
+        if let Some(surf_name) = &b.surface {
+            let surf = mesh
+                .surface(surf_name)
+                .map_err(|e| input(format!("{lentry}.surface: {e}")))?;
+            let len = signorini_fem::surface_measure(mesh, surf, model);
+            let t: Vec<f64> = f.iter().map(|v| v / len).collect();
+            force = signorini_fem::traction_load(mesh, surf, &t, model);
+        } else {
+            for (c, v) in f.iter().enumerate().take(mesh.dim) {
+                force[nodes[0] * mesh.dim + c] += v;
+            }
+        }
+    }
+    Ok(BodyLoad {
+        boundary: li,
+        force,
+        displacement,
+    })
+}
+
+/// Prescribes the given components of a displacement entry on its nodes;
+/// refuses a DOF that another entry already imposes with another value or
+/// scale (unless both hold it at zero). Returns the entry's displacement
+/// at scale 1 on every DOF.
+fn prescribe(
+    sc: &scene::Scene,
+    li: usize,
+    d: &scene::Displacement,
+    nodes: &[usize],
+    mesh: &Mesh,
+    body: &str,
+    supports: &mut Supports,
+) -> Result<Vec<f64>, SolveError> {
+    let b = &sc.boundary[li];
+    let dim = mesh.dim;
+    let mut displacement = vec![0.0; mesh.n_nodes() * dim];
+    for (c, v) in d.components().iter().enumerate().take(dim) {
+        let Some(v) = v else { continue };
+        for &n in nodes {
+            let dof = n * dim + c;
+            if let Some((other, ov)) = supports.set_by[dof] {
+                if ov != *v || sc.boundary[other].name != b.name {
+                    let x = mesh.coords[n];
+                    if !(ov == 0.0 && *v == 0.0) {
+                        return Err(input(format!(
+                            "boundary[{li}].displacement: boundary[{other}] already imposes component {} at node ({}, {}) of body \"{}\" with another value or scale",
+                            ["x", "y", "z"][c], x[0], x[1], body
+                        )));
+                    }
+                }
+            }
+            supports.set_by[dof] = Some((li, *v));
+            supports.prescribed[dof] = true;
+            displacement[dof] = *v;
+        }
+    }
+    Ok(displacement)
+}
+
+/// In an axisymmetric model the radial displacement on the axis (r = 0) is
+/// zero by symmetry: prescribes it, and refuses an entry that imposes
+/// another value there.
+fn fix_axis(mesh: &Mesh, body: &str, supports: &mut Supports) -> Result<(), SolveError> {
+    let dim = mesh.dim;
+    let tol = 1e-9 * mesh.size();
+    for (n, x) in mesh.coords.iter().enumerate() {
+        if x[0].abs() <= tol {
+            if let Some((other, v)) = supports.set_by[n * dim] {
+                if v != 0.0 {
+                    return Err(input(format!(
+                        "boundary[{other}].displacement: imposes x = {v} at node ({}, {}) on the axis of body \"{}\"; in an axisymmetric model the radial displacement on the axis is zero",
+                        x[0], x[1], body
+                    )));
+                }
+            }
+            supports.prescribed[n * dim] = true;
+        }
+    }
+    Ok(())
 }
 
 /// The rigid motions r with r = 0 on every prescribed DOF: the null space of
@@ -492,394 +566,4 @@ fn free_rigid_modes(mesh: &Mesh, model: FemModel, prescribed: &[bool]) -> Vec<Ve
         }
     }
     kernel
-}
-
-/// Builds the contact points of every pair, and marks the DOFs of contact
-/// surfaces as interface DOFs of their bodies. Adds to `notes` a note per
-/// pair that left slave nodes out (no master point along their normal).
-pub fn build_contacts(
-    sc: &scene::Scene,
-    bodies: &mut [BodyModel],
-    notes: &mut Vec<String>,
-) -> Result<(Vec<PointModel>, Vec<FixedPoint>), SolveError> {
-    let body_model = |name: &str| bodies.iter().position(|b| b.name == name);
-    let mut points = Vec::new();
-    let mut fixed = Vec::new();
-    let mut interface_nodes: Vec<Vec<usize>> = vec![Vec::new(); bodies.len()];
-    for (ci, c) in sc.contact.iter().enumerate() {
-        let entry = format!("contact \"{}\"", c.name);
-        match c.discretization {
-            scene::Discretization::NodeToNode | scene::Discretization::NodeToSegment => {}
-            other => {
-                return Err(input(format!(
-                    "{entry}.discretization: \"{}\" is not supported yet (supported: node_to_node, node_to_segment)",
-                    other.as_str()
-                )))
-            }
-        }
-
-        let dim = sc.dimension as usize;
-        if dim == 3 && matches!(c.friction, scene::Friction::NortonHoff { .. }) {
-            return Err(input(format!(
-                "{entry}.friction: Norton-Hoff friction is not supported in 3D yet (supported in 3D: tresca, coulomb with one or two coefficients, slip_stiffness)"
-            )));
-        }
-        let si = body_model(&c.slave.body).ok_or_else(|| {
-            input(format!(
-                "{entry}.slave.body: \"{}\" is not a deformable body",
-                c.slave.body
-            ))
-        })?;
-        let s_surf_name = c.slave.surface.as_deref().unwrap_or_default();
-        let s_mesh = &bodies[si].mesh;
-        let s_surf = s_mesh.surface(s_surf_name).map_err(|e| {
-            input(format!(
-                "{entry}.slave.surface: body \"{}\": {e}",
-                c.slave.body
-            ))
-        })?;
-        if s_surf.facets.is_empty() {
-            return Err(input(format!(
-                "{entry}.slave.surface: surface \"{s_surf_name}\" has no nodes"
-            )));
-        }
-        let rule = match c.normal {
-            scene::NormalRule::Master => NormalRule::Master,
-            scene::NormalRule::Slave => NormalRule::Slave,
-            scene::NormalRule::Average => NormalRule::Average,
-            scene::NormalRule::Points => NormalRule::Points,
-        };
-        let master_scene = sc.body(&c.master.body).ok_or_else(|| {
-            input(format!(
-                "{entry}.master.body: no body named \"{}\"",
-                c.master.body
-            ))
-        })?;
-        let mi = body_model(&c.master.body);
-        let master = if let Some(mi) = mi {
-            let m_name = c.master.surface.as_deref().unwrap_or_default();
-            let m_surf = bodies[mi].mesh.surface(m_name).map_err(|e| {
-                input(format!(
-                    "{entry}.master.surface: body \"{}\": {e}",
-                    c.master.body
-                ))
-            })?;
-            if m_surf.facets.is_empty() {
-                return Err(input(format!(
-                    "{entry}.master.surface: surface \"{m_name}\" has no nodes"
-                )));
-            }
-            MasterGeometry::Surface {
-                mesh: &bodies[mi].mesh,
-                surface: m_surf,
-            }
-        } else {
-            match &master_scene.rigid {
-                Some(scene::RigidShape::Plane { point, normal }) => {
-                    let n = point3(normal);
-                    let nn = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
-                    MasterGeometry::Plane {
-                        point: point3(point),
-                        normal: [n[0] / nn, n[1] / nn, n[2] / nn],
-                    }
-                }
-                Some(scene::RigidShape::Circle { center, radius })
-                | Some(scene::RigidShape::Sphere { center, radius }) => MasterGeometry::Sphere {
-                    center: point3(center),
-                    radius: *radius,
-                },
-                None => {
-                    return Err(input(format!(
-                        "{entry}.master: body \"{}\" is neither deformable nor rigid",
-                        c.master.body
-                    )))
-                }
-            }
-        };
-        let pairing = match c.discretization {
-            scene::Discretization::NodeToNode => {
-                node_to_node_pairing(s_mesh, s_surf, &master, rule)
-            }
-            _ => node_to_segment_pairing(s_mesh, s_surf, &master, rule),
-        }
-        .map_err(|e| input(format!("{entry}: {e}")))?;
-        let pts = pairing.points;
-        let dropped = pairing.dropped.note().map(|n| format!("{entry}: {n}"));
-        if pts.is_empty() {
-            return Err(input(format!(
-                "{entry}: no node of slave surface \"{s_surf_name}\" faces the master; check the geometry{}",
-                dropped.map_or(String::new(), |n| format!(" ({n})"))
-            )));
-        }
-        notes.extend(dropped);
-        let trib: std::collections::BTreeMap<usize, f64> =
-            signorini_fem::tributary_measure(s_mesh, s_surf, bodies[si].material.model)
-                .into_iter()
-                .collect();
-        interface_nodes[si].extend(s_surf.nodes());
-        if let (Some(mi), MasterGeometry::Surface { surface, .. }) = (mi, &master) {
-            interface_nodes[mi].extend(surface.nodes());
-        }
-        for mut p in pts {
-            let mut row = Vec::new();
-            for t in &p.terms {
-                let b = match t.side {
-                    TermSide::Slave => si,
-                    TermSide::Master => mi.expect("a master term needs a deformable master"),
-                };
-                for k in 0..dim {
-                    let coef = t.weight * p.normal[k];
-                    if coef != 0.0 {
-                        row.push((b, t.node * dim + k, coef));
-                    }
-                }
-            }
-            // A point whose normal DOFs are all prescribed has a known gap:
-            // it is not an unknown of the contact problem.
-            if row.iter().all(|&(b, d, _)| bodies[b].prescribed[d]) {
-                fixed.push(FixedPoint {
-                    contact: ci,
-                    node: p.slave_node,
-                    row,
-                    gap0: p.gap0,
-                });
-                continue;
-            }
-            let gap0 = match c.gap {
-                scene::Gap::Geometric => p.gap0,
-                scene::Gap::Uniform(j) => j,
-            };
-            let tributary = trib.get(&p.slave_node).copied().unwrap_or(0.0);
-            let friction = match &c.friction {
-                scene::Friction::None => PointFriction::None,
-                scene::Friction::NortonHoff { coefficient, rho } => PointFriction::NortonHoff {
-                    mu: *coefficient,
-                    rho: *rho,
-                },
-                scene::Friction::Tresca(g) => PointFriction::Tresca(g * tributary),
-                scene::Friction::Coulomb {
-                    coefficient,
-                    slip_stiffness,
-                } => PointFriction::Coulomb {
-                    mu: coefficient.first().copied().unwrap_or(0.0),
-                    mu2: coefficient
-                        .get(1)
-                        .or(coefficient.first())
-                        .copied()
-                        .unwrap_or(0.0),
-                    slip_stiffness: slip_stiffness.map(|k| k * tributary),
-                },
-            };
-            let tangential_row = |tangent: [f64; 3]| {
-                let mut t = Vec::new();
-                for term in &p.terms {
-                    let b = match term.side {
-                        TermSide::Slave => si,
-                        TermSide::Master => mi.expect("a master term needs a deformable master"),
-                    };
-                    for (k, tk) in tangent.iter().enumerate().take(dim) {
-                        let coef = term.weight * tk;
-                        if coef != 0.0 {
-                            t.push((b, term.node * dim + k, coef));
-                        }
-                    }
-                }
-                t
-            };
-            let trow = (friction != PointFriction::None).then(|| tangential_row(p.tangent));
-            let trow2 =
-                (friction != PointFriction::None && dim == 3).then(|| tangential_row(p.tangent2));
-            let (trow, trow2, friction) =
-                free_tangential_rows(bodies, &mut p, trow, trow2, friction);
-            points.push(PointModel {
-                trow,
-                trow2,
-                friction,
-                contact: ci,
-                tributary,
-                point: p,
-                row,
-                gap0,
-                slave_body: si,
-            });
-        }
-    }
-    for (b, nodes) in interface_nodes.into_iter().enumerate() {
-        for n in nodes {
-            bodies[b].contact_node[n] = true;
-        }
-    }
-    Ok((points, fixed))
-}
-
-/// A row of B as (body, DOF, coefficient) entries.
-type Row = Vec<(usize, usize, f64)>;
-
-/// The tangential rows of a contact point that carry a friction unknown.
-///
-/// A support that prescribes the slave's (and master's) motion along a
-/// tangent — a symmetry plane or a guide meeting the contact surface, the
-/// axis r = 0 of an axisymmetric model — makes the slip along it known: the
-/// tangential force there is a support reaction, not a friction unknown, and
-/// its row has no free DOF (a zero row of the condensed B, a singular W), as
-/// the normal row of a [`FixedPoint`]. In 2D such a row is dropped. In 3D the
-/// free parts f1, f2 of the two rows are compared (Gram matrix): both zero,
-/// both are dropped; dependent (a node on one symmetry plane), the frame
-/// (t1, t2) is turned about n so that t2 is the prescribed direction, and
-/// only t1, along which the node may slip, keeps a row, with the elliptic
-/// cone's coefficient in that direction (seed §4.1.2).
-fn free_tangential_rows(
-    bodies: &[BodyModel],
-    p: &mut ContactPoint,
-    t1: Option<Row>,
-    t2: Option<Row>,
-    friction: PointFriction,
-) -> (Option<Row>, Option<Row>, PointFriction) {
-    let free = |r: &Row| -> std::collections::BTreeMap<(usize, usize), f64> {
-        let mut m = std::collections::BTreeMap::new();
-        for &(b, d, c) in r.iter().filter(|&&(b, d, _)| !bodies[b].prescribed[d]) {
-            *m.entry((b, d)).or_insert(0.0) += c;
-        }
-        m
-    };
-    let dot = |a: &std::collections::BTreeMap<(usize, usize), f64>,
-               b: &std::collections::BTreeMap<(usize, usize), f64>| {
-        a.iter()
-            .map(|(k, v)| v * b.get(k).copied().unwrap_or(0.0))
-            .sum::<f64>()
-    };
-    let norm2 = |r: &Row| r.iter().map(|e| e.2 * e.2).sum::<f64>();
-    let (Some(r1), Some(r2)) = (&t1, &t2) else {
-        // 2D: one tangent.
-        let keep = t1.filter(|r| !free(r).is_empty());
-        return (keep, None, friction);
-    };
-    let (f1, f2) = (free(r1), free(r2));
-    let (a, b, c) = (dot(&f1, &f1), dot(&f1, &f2), dot(&f2, &f2));
-    let scale = norm2(r1) + norm2(r2);
-    let lmin = 0.5 * (a + c - ((a - c).powi(2) + 4.0 * b * b).sqrt());
-    if a + c <= 1e-24 * scale {
-        return (None, None, friction);
-    }
-    if lmin > 1e-10 * scale {
-        return (t1, t2, friction);
-    }
-    // (cs, sn): the combination cs t1 + sn t2 with no free DOF.
-    let (v1, v2) = if (a - lmin).abs() >= (c - lmin).abs() {
-        (-b, a - lmin)
-    } else {
-        (c - lmin, -b)
-    };
-    let nv = v1.hypot(v2);
-    let (cs, sn) = (v1 / nv, v2 / nv);
-    // New frame: t1' = −sn t1 + cs t2 (free), t2' = −(cs t1 + sn t2).
-    let combine = |x: f64, y: f64, u: &Row, v: &Row| -> Row {
-        u.iter()
-            .map(|&(bb, d, k)| (bb, d, x * k))
-            .chain(v.iter().map(|&(bb, d, k)| (bb, d, y * k)))
-            .filter(|e| e.2 != 0.0)
-            .collect()
-    };
-    let kept = combine(-sn, cs, r1, r2);
-    let (o1, o2) = (p.tangent, p.tangent2);
-    p.tangent = [0, 1, 2].map(|k| -sn * o1[k] + cs * o2[k]);
-    p.tangent2 = [0, 1, 2].map(|k| -(cs * o1[k] + sn * o2[k]));
-    let friction = match friction {
-        PointFriction::Coulomb {
-            mu,
-            mu2,
-            slip_stiffness,
-        } if mu > 0.0 && mu2 > 0.0 => {
-            let m = 1.0 / ((-sn / mu).powi(2) + (cs / mu2).powi(2)).sqrt();
-            PointFriction::Coulomb {
-                mu: m,
-                mu2: m,
-                slip_stiffness,
-            }
-        }
-        other => other,
-    };
-    (Some(kept), None, friction)
-}
-
-/// A slave node whose normal motion is fully prescribed: its gap follows
-/// from the prescribed displacements and must not be negative.
-pub struct FixedPoint {
-    pub contact: usize,
-    pub node: usize,
-    pub row: Vec<(usize, usize, f64)>,
-    pub gap0: f64,
-}
-
-/// Finds contact constraints that repeat another (contact::redundancy: the
-/// same slave node against the same master with a parallel row, e.g. a
-/// surface in two contacts or two-pass node-to-node contact), drops the
-/// less restrictive of each pair, and reports what it did; also reports
-/// slave nodes shared by two contacts whose constraints differ (a corner
-/// against two obstacles), which are kept. Returns the messages.
-pub fn eliminate_redundant(sc: &scene::Scene, points: &mut Vec<PointModel>) -> Vec<String> {
-    let mut messages = Vec::new();
-    let size = points.iter().fold(0.0f64, |a, p| a.max(p.tributary));
-    // (body, DOF) keys: a row of B and its initial gap per point.
-    type Keyed = (Vec<((usize, usize), f64)>, f64);
-    let rows: Vec<Keyed> = points
-        .iter()
-        .map(|p| (p.row.iter().map(|&(b, d, c)| ((b, d), c)).collect(), p.gap0))
-        .collect();
-    let dup = signorini_contact::redundancy::duplicate_constraints(&rows, 1e-9 * size);
-    // (dropped contact, kept contact) → count
-    let mut dropped: std::collections::BTreeMap<(usize, usize), usize> = Default::default();
-    for (i, d) in dup.iter().enumerate() {
-        if let Some(j) = d {
-            *dropped
-                .entry((points[i].contact, points[*j].contact))
-                .or_default() += 1;
-        }
-    }
-    for ((ci, cj), n) in &dropped {
-        messages.push(if ci == cj {
-            format!(
-                "contact \"{}\": {n} constraint(s) repeat another of the same contact: dropped (redundant constraints)",
-                sc.contact[*ci].name
-            )
-        } else {
-            format!(
-                "contact \"{}\": {n} constraint(s) repeat those of contact \"{}\" (same nodes, parallel rows): dropped as redundant, the problem is unchanged",
-                sc.contact[*ci].name, sc.contact[*cj].name
-            )
-        });
-    }
-    let mut i = 0;
-    points.retain(|_| {
-        let keep = dup[i].is_none();
-        i += 1;
-        keep
-    });
-    // Slave nodes in two contacts with different constraints: reported.
-    let mut by_node: std::collections::BTreeMap<(usize, usize), Vec<usize>> = Default::default();
-    for p in points.iter() {
-        by_node
-            .entry((p.slave_body, p.point.slave_node))
-            .or_default()
-            .push(p.contact);
-    }
-    let mut shared: std::collections::BTreeMap<(usize, usize), usize> = Default::default();
-    for cs in by_node.values() {
-        for a in 0..cs.len() {
-            for b in a + 1..cs.len() {
-                if cs[a] != cs[b] {
-                    *shared
-                        .entry((cs[a].min(cs[b]), cs[a].max(cs[b])))
-                        .or_default() += 1;
-                }
-            }
-        }
-    }
-    for ((a, b), n) in shared {
-        messages.push(format!(
-            "{n} slave node(s) belong to both contact \"{}\" and contact \"{}\" with different normals: each keeps its constraint",
-            sc.contact[a].name, sc.contact[b].name
-        ));
-    }
-    messages
 }

@@ -63,67 +63,19 @@ pub(crate) fn solve_with_algorithm(
         .zip(&uniform)
         .map(|(&kl, &ku)| if kl > 0.0 { kl } else { ku })
         .collect();
-    // Floating bodies: SMALBE with the method as inner solver, the
-    // equilibrium of their rigid modes as the equality (contact::smalbe).
-    let floating = problem.n_kernel() > 0;
-    let solve = |algorithm: Algorithm,
-                 k: Option<&[f64]>|
-     -> Result<(LcpSolution, Vec<f64>, Vec<f64>), SolveError> {
-        if floating {
-            let c = solve_lcp_constrained(
-                algorithm,
-                &problem.w,
-                &problem.q,
-                &problem.g_mat,
-                &problem.e,
-                k,
-                &opts,
-            )
-            .map_err(contact_error)?;
-            Ok((
-                LcpSolution {
-                    lambda: c.lambda,
-                    report: c.report,
-                },
-                c.gap,
-                c.alpha,
-            ))
-        } else {
-            let sol =
-                solve_lcp(algorithm, &problem.w, &problem.q, k, &opts).map_err(contact_error)?;
-            let gap = signorini_contact::lcp::gaps(&problem.w, &problem.q, &sol.lambda);
-            Ok((sol, gap, vec![]))
-        }
-    };
-    let (sol, gap, alpha) = solve(algorithm, Some(&k))?;
+    let (sol, gap, alpha) = solve_condensed_lcp(algorithm, problem, Some(&k), &opts)?;
     let regularisation = if algorithm.is_exact() {
         None
     } else {
-        let (exact, _, _) = solve(Algorithm::Status(StatusVariant::All), None)?;
-        let lmax = inf_norm(&exact.lambda).max(f64::MIN_POSITIVE);
-        let dev = sol
-            .lambda
-            .iter()
-            .zip(&exact.lambda)
-            .fold(0.0f64, |a, (x, y)| a.max((x - y).abs()))
-            / lmax;
-        let sizes: Vec<f64> = points.iter().map(|p| p.tributary).collect();
-        let pen = gap.iter().fold(0.0f64, |a, &g| a.max(-g));
-        let rel = gap.iter().zip(&sizes).fold(
-            0.0f64,
-            |a, (&g, &h)| if h > 0.0 { a.max(-g / h) } else { a },
-        );
-        Some(Regularisation {
-            stiffness_factor: sc.solver.penalty,
-            force_deviation: dev,
-            max_penetration: pen,
-            penetration_over_element_size: rel,
-            warning: signorini_contact::penalty::penetration_warning(
-                &gap,
-                &sizes,
-                PENETRATION_WARNING_FRACTION,
-            ),
-        })
+        let exact = Algorithm::Status(StatusVariant::All);
+        let (exact, _, _) = solve_condensed_lcp(exact, problem, None, &opts)?;
+        Some(regularisation_of(
+            sc,
+            points,
+            &sol.lambda,
+            &exact.lambda,
+            &gap,
+        ))
     };
     let active: Vec<usize> = (0..sol.lambda.len())
         .filter(|&p| sol.lambda[p] > 0.0)
@@ -140,10 +92,83 @@ pub(crate) fn solve_with_algorithm(
         cycle_detected_at: None,
         variant_used: StatusVariant::All,
     };
-    if floating {
+    if problem.n_kernel() > 0 {
         problem.set_alpha(&alpha);
     }
     Ok((outcome, sol.report, regularisation))
+}
+
+/// One solve of the condensed contact problem by `algorithm` (penalty
+/// stiffness `k` per point where it takes one): the forces, the gaps and,
+/// for floating bodies, the amplitudes of their rigid modes — SMALBE with
+/// the method as inner solver, the equilibrium of their rigid modes as the
+/// equality (contact::smalbe).
+fn solve_condensed_lcp(
+    algorithm: Algorithm,
+    problem: &DelassusProblem,
+    k: Option<&[f64]>,
+    opts: &LcpOptions,
+) -> Result<(LcpSolution, Vec<f64>, Vec<f64>), SolveError> {
+    if problem.n_kernel() > 0 {
+        let c = solve_lcp_constrained(
+            algorithm,
+            &problem.w,
+            &problem.q,
+            &problem.g_mat,
+            &problem.e,
+            k,
+            opts,
+        )
+        .map_err(contact_error)?;
+        Ok((
+            LcpSolution {
+                lambda: c.lambda,
+                report: c.report,
+            },
+            c.gap,
+            c.alpha,
+        ))
+    } else {
+        let sol = solve_lcp(algorithm, &problem.w, &problem.q, k, opts).map_err(contact_error)?;
+        let gap = signorini_contact::lcp::gaps(&problem.w, &problem.q, &sol.lambda);
+        Ok((sol, gap, vec![]))
+    }
+}
+
+/// What a penalty method gave up against the exact solution: the largest
+/// force deviation over the largest exact force, the largest penetration,
+/// absolute and over the points' tributary sizes, and a warning when it
+/// is large.
+fn regularisation_of(
+    sc: &scene::Scene,
+    points: &[PointModel],
+    lambda: &[f64],
+    exact: &[f64],
+    gap: &[f64],
+) -> Regularisation {
+    let lmax = inf_norm(exact).max(f64::MIN_POSITIVE);
+    let dev = lambda
+        .iter()
+        .zip(exact)
+        .fold(0.0f64, |a, (x, y)| a.max((x - y).abs()))
+        / lmax;
+    let sizes: Vec<f64> = points.iter().map(|p| p.tributary).collect();
+    let pen = gap.iter().fold(0.0f64, |a, &g| a.max(-g));
+    let rel = gap.iter().zip(&sizes).fold(
+        0.0f64,
+        |a, (&g, &h)| if h > 0.0 { a.max(-g / h) } else { a },
+    );
+    Regularisation {
+        stiffness_factor: sc.solver.penalty,
+        force_deviation: dev,
+        max_penetration: pen,
+        penetration_over_element_size: rel,
+        warning: signorini_contact::penalty::penetration_warning(
+            gap,
+            &sizes,
+            PENETRATION_WARNING_FRACTION,
+        ),
+    }
 }
 
 /// Prescribed displacement and external force of a body at a step.

@@ -33,6 +33,89 @@ impl SubdomainSpec {
     pub fn cost(&self) -> f64 {
         (self.nodes.len() as f64).powf(1.5)
     }
+
+    /// The body DOF of local DOF `l` (`dim` DOFs per node).
+    fn body_dof(&self, dim: usize, l: usize) -> usize {
+        dim * self.nodes[l / dim] + l % dim
+    }
+
+    /// The subdomain's own mesh: its cells of the body, on its nodes
+    /// numbered locally (no surfaces or regions).
+    fn local_mesh(&self, body: &BodyModel) -> Mesh {
+        let mut local_of = vec![usize::MAX; body.mesh.n_nodes()];
+        for (l, &n) in self.nodes.iter().enumerate() {
+            local_of[n] = l;
+        }
+        Mesh {
+            dim: body.mesh.dim,
+            coords: self.nodes.iter().map(|&n| body.mesh.coords[n]).collect(),
+            cells: self
+                .cells
+                .iter()
+                .map(|&c| {
+                    let cell = &body.mesh.cells[c];
+                    signorini_mesh::Cell {
+                        kind: cell.kind,
+                        nodes: cell.nodes.iter().map(|&n| local_of[n]).collect(),
+                    }
+                })
+                .collect(),
+            surfaces: Default::default(),
+            regions: Default::default(),
+        }
+    }
+}
+
+/// A subdomain's loads per load entry of its body, on its local DOFs.
+struct LocalLoads {
+    /// External force (owned nodes only).
+    force: Vec<Vec<f64>>,
+    /// Prescribed displacement.
+    displacement: Vec<Vec<f64>>,
+    /// force_f − K_fp u_p on the free local DOFs.
+    free_load: Vec<Vec<f64>>,
+}
+
+impl LocalLoads {
+    /// Each load entry of the body restricted to the subdomain: the force
+    /// on the nodes it owns (`owner_part`), the prescribed displacement, and
+    /// the load they make on its free DOFs through `k_local`.
+    fn of(
+        spec: &SubdomainSpec,
+        body: &BodyModel,
+        owner_part: &[usize],
+        k_local: &SparseColMat<usize, f64>,
+        free: &[usize],
+    ) -> Self {
+        let dim = body.mesh.dim;
+        let n_local = dim * spec.nodes.len();
+        let mut out = LocalLoads {
+            force: Vec::new(),
+            displacement: Vec::new(),
+            free_load: Vec::new(),
+        };
+        for load in &body.loads {
+            let f: Vec<f64> = (0..n_local)
+                .map(|l| {
+                    let d = spec.body_dof(dim, l);
+                    if owner_part[d / dim] == spec.part {
+                        load.force[d]
+                    } else {
+                        0.0
+                    }
+                })
+                .collect();
+            let u: Vec<f64> = (0..n_local)
+                .map(|l| load.displacement[spec.body_dof(dim, l)])
+                .collect();
+            let ku = spmv(k_local.as_ref(), &u);
+            out.free_load
+                .push(free.iter().map(|&l| f[l] - ku[l]).collect::<Vec<f64>>());
+            out.force.push(f);
+            out.displacement.push(u);
+        }
+        out
+    }
 }
 
 /// Splits every body into its parts.
@@ -75,6 +158,39 @@ pub struct CondensedData {
     /// Estimated κ₁(K_II) of the subdomain's interior stiffness (Hager–Higham
     /// on its own factor); `None` without interior DOFs.
     pub k_ii_condition: Option<f64>,
+}
+
+impl CondensedData {
+    /// What subdomain `id` sends to the root: its Γ indices, its Schur
+    /// complement (column-major), the condensed load of each entry, its
+    /// free DOF count and the size and condition of its factor.
+    fn of(
+        id: usize,
+        condensed: &Condensed,
+        gamma: &[usize],
+        free_load: &[Vec<f64>],
+        dofs: usize,
+    ) -> Self {
+        let nb = gamma.len();
+        let mut schur = Vec::with_capacity(nb * nb);
+        for j in 0..nb {
+            for i in 0..nb {
+                schur.push(condensed.schur[(i, j)]);
+            }
+        }
+        CondensedData {
+            id,
+            gamma: gamma.to_vec(),
+            schur,
+            fprime: free_load
+                .iter()
+                .map(|f| condensed.condensed_load(f))
+                .collect(),
+            dofs,
+            factor_bytes: condensed.memory_bytes(),
+            k_ii_condition: condensed.interior_condition_estimate(),
+        }
+    }
 }
 
 /// What a subdomain sends back after the recovery of every step.
@@ -126,89 +242,28 @@ impl Subdomain {
         owner_part: &[usize],
         par: Par,
     ) -> Result<(Self, CondensedData), String> {
-        let mut local_of = vec![usize::MAX; body.mesh.n_nodes()];
-        for (l, &n) in spec.nodes.iter().enumerate() {
-            local_of[n] = l;
-        }
         let dim = body.mesh.dim;
-        let mesh = Mesh {
-            dim,
-            coords: spec.nodes.iter().map(|&n| body.mesh.coords[n]).collect(),
-            cells: spec
-                .cells
-                .iter()
-                .map(|&c| {
-                    let cell = &body.mesh.cells[c];
-                    signorini_mesh::Cell {
-                        kind: cell.kind,
-                        nodes: cell.nodes.iter().map(|&n| local_of[n]).collect(),
-                    }
-                })
-                .collect(),
-            surfaces: Default::default(),
-            regions: Default::default(),
-        };
+        let mesh = spec.local_mesh(body);
         let k_local = signorini_fem::try_assemble_stiffness(&mesh, &body.material)
             .map_err(|e| e.to_string())?;
         let n_local = dim * spec.nodes.len();
-        let body_dof = |l: usize| dim * spec.nodes[l / dim] + l % dim;
         let free: Vec<usize> = (0..n_local)
-            .filter(|&l| !body.prescribed[body_dof(l)])
+            .filter(|&l| !body.prescribed[spec.body_dof(dim, l)])
             .collect();
         let k_ff = submatrix(k_local.as_ref(), &free, &free);
         let mut interface = Vec::new();
         let mut gamma = Vec::new();
         for (i, &l) in free.iter().enumerate() {
-            let g = gamma_of[body_dof(l)];
+            let g = gamma_of[spec.body_dof(dim, l)];
             if g != usize::MAX {
                 interface.push(i);
                 gamma.push(g);
             }
         }
-        let mut force = Vec::new();
-        let mut displacement = Vec::new();
-        let mut free_load = Vec::new();
-        for load in &body.loads {
-            let f: Vec<f64> = (0..n_local)
-                .map(|l| {
-                    let d = body_dof(l);
-                    if owner_part[d / dim] == spec.part {
-                        load.force[d]
-                    } else {
-                        0.0
-                    }
-                })
-                .collect();
-            let u: Vec<f64> = (0..n_local)
-                .map(|l| load.displacement[body_dof(l)])
-                .collect();
-            let ku = spmv(k_local.as_ref(), &u);
-            free_load.push(free.iter().map(|&l| f[l] - ku[l]).collect::<Vec<f64>>());
-            force.push(f);
-            displacement.push(u);
-        }
+        let loads = LocalLoads::of(spec, body, owner_part, &k_local, &free);
         let condensed =
             Condensed::new(k_ff.as_ref(), &interface, par).map_err(|e| e.to_string())?;
-        let nb = interface.len();
-        let mut schur = Vec::with_capacity(nb * nb);
-        for j in 0..nb {
-            for i in 0..nb {
-                schur.push(condensed.schur[(i, j)]);
-            }
-        }
-        let fprime = free_load
-            .iter()
-            .map(|f| condensed.condensed_load(f))
-            .collect();
-        let data = CondensedData {
-            id,
-            gamma: gamma.clone(),
-            schur,
-            fprime,
-            dofs: free.len(),
-            factor_bytes: condensed.memory_bytes(),
-            k_ii_condition: condensed.interior_condition_estimate(),
-        };
+        let data = CondensedData::of(id, &condensed, &gamma, &loads.free_load, free.len());
         Ok((
             Self {
                 id,
@@ -219,9 +274,9 @@ impl Subdomain {
                 free,
                 gamma,
                 condensed,
-                force,
-                displacement,
-                free_load,
+                force: loads.force,
+                displacement: loads.displacement,
+                free_load: loads.free_load,
             },
             data,
         ))

@@ -1,0 +1,480 @@
+//! The contact points of every pair of a scene: the pairing of a slave
+//! surface with its master, each point's normal and tangential rows over
+//! the bodies' DOFs, its gap and friction law; the points whose gap the
+//! supports fix, and the constraints that repeat another.
+
+use signorini_contact::geometry::{node_to_node_pairing, node_to_segment_pairing};
+use signorini_contact::{ContactPoint, MasterGeometry, NormalRule, TermSide};
+use signorini_scene as scene;
+
+use super::{input, point3, BodyModel, PointFriction, PointModel};
+use crate::SolveError;
+
+/// Builds the contact points of every pair, and marks the DOFs of contact
+/// surfaces as interface DOFs of their bodies. Adds to `notes` a note per
+/// pair that left slave nodes out (no master point along their normal).
+pub fn build_contacts(
+    sc: &scene::Scene,
+    bodies: &mut [BodyModel],
+    notes: &mut Vec<String>,
+) -> Result<(Vec<PointModel>, Vec<FixedPoint>), SolveError> {
+    let mut points = Vec::new();
+    let mut fixed = Vec::new();
+    let mut interface_nodes: Vec<Vec<usize>> = vec![Vec::new(); bodies.len()];
+    for ci in 0..sc.contact.len() {
+        let pair = contact_pair(sc, bodies, ci, notes, &mut interface_nodes)?;
+        for p in pair.points {
+            match point_model(sc, bodies, &pair.sides, ci, &pair.tributary, p) {
+                PairPoint::Unknown(point) => points.push(*point),
+                PairPoint::Fixed(f) => fixed.push(f),
+            }
+        }
+    }
+    for (b, nodes) in interface_nodes.into_iter().enumerate() {
+        for n in nodes {
+            bodies[b].contact_node[n] = true;
+        }
+    }
+    Ok((points, fixed))
+}
+
+/// The contact points of one pair with the slave's tributary measure per
+/// node, and the bodies their rows act on.
+struct ContactPair {
+    points: Vec<ContactPoint>,
+    tributary: std::collections::BTreeMap<usize, f64>,
+    sides: PairSides,
+}
+
+/// The body models of a pair's slave and (deformable) master.
+struct PairSides {
+    slave: usize,
+    master: Option<usize>,
+}
+
+/// Refuses what the contact solver does not support yet: a discretisation
+/// other than node-to-node or node-to-segment, Norton–Hoff friction in 3D.
+fn check_contact_supported(
+    sc: &scene::Scene,
+    c: &scene::Contact,
+    entry: &str,
+) -> Result<(), SolveError> {
+    match c.discretization {
+        scene::Discretization::NodeToNode | scene::Discretization::NodeToSegment => {}
+        other => {
+            return Err(input(format!(
+                "{entry}.discretization: \"{}\" is not supported yet (supported: node_to_node, node_to_segment)",
+                other.as_str()
+            )))
+        }
+    }
+    if sc.dimension == 3 && matches!(c.friction, scene::Friction::NortonHoff { .. }) {
+        return Err(input(format!(
+            "{entry}.friction: Norton-Hoff friction is not supported in 3D yet (supported in 3D: tresca, coulomb with one or two coefficients, slip_stiffness)"
+        )));
+    }
+    Ok(())
+}
+
+/// The named contact surface of a body (`side` is "slave" or "master"),
+/// refused when it is unknown or has no nodes.
+fn contact_surface<'a>(
+    bodies: &'a [BodyModel],
+    b: usize,
+    s: &scene::ContactSide,
+    side: &str,
+    entry: &str,
+) -> Result<&'a signorini_mesh::Surface, SolveError> {
+    let name = s.surface.as_deref().unwrap_or_default();
+    let surface = bodies[b]
+        .mesh
+        .surface(name)
+        .map_err(|e| input(format!("{entry}.{side}.surface: body \"{}\": {e}", s.body)))?;
+    if surface.facets.is_empty() {
+        return Err(input(format!(
+            "{entry}.{side}.surface: surface \"{name}\" has no nodes"
+        )));
+    }
+    Ok(surface)
+}
+
+/// The scene's normal rule as the contact crate's.
+fn normal_rule(rule: scene::NormalRule) -> NormalRule {
+    match rule {
+        scene::NormalRule::Master => NormalRule::Master,
+        scene::NormalRule::Slave => NormalRule::Slave,
+        scene::NormalRule::Average => NormalRule::Average,
+        scene::NormalRule::Points => NormalRule::Points,
+    }
+}
+
+/// The master geometry of a pair: a deformable body's surface, or a rigid
+/// plane (unit normal) or circle/sphere.
+fn master_geometry<'a>(
+    sc: &scene::Scene,
+    bodies: &'a [BodyModel],
+    c: &scene::Contact,
+    mi: Option<usize>,
+    entry: &str,
+) -> Result<MasterGeometry<'a>, SolveError> {
+    let master_scene = sc.body(&c.master.body).ok_or_else(|| {
+        input(format!(
+            "{entry}.master.body: no body named \"{}\"",
+            c.master.body
+        ))
+    })?;
+    if let Some(mi) = mi {
+        return Ok(MasterGeometry::Surface {
+            mesh: &bodies[mi].mesh,
+            surface: contact_surface(bodies, mi, &c.master, "master", entry)?,
+        });
+    }
+    Ok(match &master_scene.rigid {
+        Some(scene::RigidShape::Plane { point, normal }) => {
+            let n = point3(normal);
+            let nn = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
+            MasterGeometry::Plane {
+                point: point3(point),
+                normal: [n[0] / nn, n[1] / nn, n[2] / nn],
+            }
+        }
+        Some(scene::RigidShape::Circle { center, radius })
+        | Some(scene::RigidShape::Sphere { center, radius }) => MasterGeometry::Sphere {
+            center: point3(center),
+            radius: *radius,
+        },
+        None => {
+            return Err(input(format!(
+                "{entry}.master: body \"{}\" is neither deformable nor rigid",
+                c.master.body
+            )))
+        }
+    })
+}
+
+/// Pairs the slave surface of contact `ci` with its master: the contact
+/// points, the slave's tributary measures; notes the slave nodes left out
+/// and marks both surfaces' nodes as interface nodes.
+fn contact_pair(
+    sc: &scene::Scene,
+    bodies: &[BodyModel],
+    ci: usize,
+    notes: &mut Vec<String>,
+    interface_nodes: &mut [Vec<usize>],
+) -> Result<ContactPair, SolveError> {
+    let c = &sc.contact[ci];
+    let entry = format!("contact \"{}\"", c.name);
+    check_contact_supported(sc, c, &entry)?;
+    let body_model = |name: &str| bodies.iter().position(|b| b.name == name);
+    let si = body_model(&c.slave.body).ok_or_else(|| {
+        input(format!(
+            "{entry}.slave.body: \"{}\" is not a deformable body",
+            c.slave.body
+        ))
+    })?;
+    let s_mesh = &bodies[si].mesh;
+    let s_surf = contact_surface(bodies, si, &c.slave, "slave", &entry)?;
+    let rule = normal_rule(c.normal);
+    let mi = body_model(&c.master.body);
+    let master = master_geometry(sc, bodies, c, mi, &entry)?;
+    let pairing = match c.discretization {
+        scene::Discretization::NodeToNode => node_to_node_pairing(s_mesh, s_surf, &master, rule),
+        _ => node_to_segment_pairing(s_mesh, s_surf, &master, rule),
+    }
+    .map_err(|e| input(format!("{entry}: {e}")))?;
+    let dropped = pairing.dropped.note().map(|n| format!("{entry}: {n}"));
+    if pairing.points.is_empty() {
+        return Err(input(format!(
+            "{entry}: no node of slave surface \"{}\" faces the master; check the geometry{}",
+            c.slave.surface.as_deref().unwrap_or_default(),
+            dropped.map_or(String::new(), |n| format!(" ({n})"))
+        )));
+    }
+    notes.extend(dropped);
+    let tributary = signorini_fem::tributary_measure(s_mesh, s_surf, bodies[si].material.model)
+        .into_iter()
+        .collect();
+    interface_nodes[si].extend(s_surf.nodes());
+    if let (Some(mi), MasterGeometry::Surface { surface, .. }) = (mi, &master) {
+        interface_nodes[mi].extend(surface.nodes());
+    }
+    Ok(ContactPair {
+        points: pairing.points,
+        tributary,
+        sides: PairSides {
+            slave: si,
+            master: mi,
+        },
+    })
+}
+
+/// The row of a contact point along `direction` (its normal or a tangent):
+/// Σ weight × direction over the terms' DOFs, slave and master.
+fn row_along(p: &ContactPoint, sides: &PairSides, dim: usize, direction: [f64; 3]) -> Row {
+    let mut row = Vec::new();
+    for term in &p.terms {
+        let b = match term.side {
+            TermSide::Slave => sides.slave,
+            TermSide::Master => sides
+                .master
+                .expect("a master term needs a deformable master"),
+        };
+        for (k, dk) in direction.iter().enumerate().take(dim) {
+            let coef = term.weight * dk;
+            if coef != 0.0 {
+                row.push((b, term.node * dim + k, coef));
+            }
+        }
+    }
+    row
+}
+
+/// The friction law of a contact at one of its points: a Tresca threshold
+/// and a slip stiffness scale with the point's tributary measure.
+fn point_friction(friction: &scene::Friction, tributary: f64) -> PointFriction {
+    match friction {
+        scene::Friction::None => PointFriction::None,
+        scene::Friction::NortonHoff { coefficient, rho } => PointFriction::NortonHoff {
+            mu: *coefficient,
+            rho: *rho,
+        },
+        scene::Friction::Tresca(g) => PointFriction::Tresca(g * tributary),
+        scene::Friction::Coulomb {
+            coefficient,
+            slip_stiffness,
+        } => PointFriction::Coulomb {
+            mu: coefficient.first().copied().unwrap_or(0.0),
+            mu2: coefficient
+                .get(1)
+                .or(coefficient.first())
+                .copied()
+                .unwrap_or(0.0),
+            slip_stiffness: slip_stiffness.map(|k| k * tributary),
+        },
+    }
+}
+
+/// A contact point of a pair: an unknown of the contact problem, or one
+/// whose gap the supports fix.
+enum PairPoint {
+    Unknown(Box<PointModel>),
+    Fixed(FixedPoint),
+}
+
+/// The model of one contact point: its normal row, gap and friction law
+/// with the tangential rows that carry a friction unknown; or, when its
+/// normal DOFs are all prescribed, the point as a [`FixedPoint`] (its gap is
+/// known: it is not an unknown of the contact problem).
+fn point_model(
+    sc: &scene::Scene,
+    bodies: &[BodyModel],
+    sides: &PairSides,
+    ci: usize,
+    tributaries: &std::collections::BTreeMap<usize, f64>,
+    mut p: ContactPoint,
+) -> PairPoint {
+    let c = &sc.contact[ci];
+    let dim = sc.dimension as usize;
+    let row = row_along(&p, sides, dim, p.normal);
+    if row.iter().all(|&(b, d, _)| bodies[b].prescribed[d]) {
+        return PairPoint::Fixed(FixedPoint {
+            contact: ci,
+            node: p.slave_node,
+            row,
+            gap0: p.gap0,
+        });
+    }
+    let gap0 = match c.gap {
+        scene::Gap::Geometric => p.gap0,
+        scene::Gap::Uniform(j) => j,
+    };
+    let tributary = tributaries.get(&p.slave_node).copied().unwrap_or(0.0);
+    let friction = point_friction(&c.friction, tributary);
+    let trow = (friction != PointFriction::None).then(|| row_along(&p, sides, dim, p.tangent));
+    let trow2 = (friction != PointFriction::None && dim == 3)
+        .then(|| row_along(&p, sides, dim, p.tangent2));
+    let (trow, trow2, friction) = free_tangential_rows(bodies, &mut p, trow, trow2, friction);
+    PairPoint::Unknown(Box::new(PointModel {
+        trow,
+        trow2,
+        friction,
+        contact: ci,
+        tributary,
+        point: p,
+        row,
+        gap0,
+        slave_body: sides.slave,
+    }))
+}
+
+/// A row of B as (body, DOF, coefficient) entries.
+type Row = Vec<(usize, usize, f64)>;
+
+/// The tangential rows of a contact point that carry a friction unknown.
+///
+/// A support that prescribes the slave's (and master's) motion along a
+/// tangent — a symmetry plane or a guide meeting the contact surface, the
+/// axis r = 0 of an axisymmetric model — makes the slip along it known: the
+/// tangential force there is a support reaction, not a friction unknown, and
+/// its row has no free DOF (a zero row of the condensed B, a singular W), as
+/// the normal row of a [`FixedPoint`]. In 2D such a row is dropped. In 3D the
+/// free parts f1, f2 of the two rows are compared (Gram matrix): both zero,
+/// both are dropped; dependent (a node on one symmetry plane), the frame
+/// (t1, t2) is turned about n so that t2 is the prescribed direction, and
+/// only t1, along which the node may slip, keeps a row, with the elliptic
+/// cone's coefficient in that direction (seed §4.1.2).
+fn free_tangential_rows(
+    bodies: &[BodyModel],
+    p: &mut ContactPoint,
+    t1: Option<Row>,
+    t2: Option<Row>,
+    friction: PointFriction,
+) -> (Option<Row>, Option<Row>, PointFriction) {
+    let free = |r: &Row| -> std::collections::BTreeMap<(usize, usize), f64> {
+        let mut m = std::collections::BTreeMap::new();
+        for &(b, d, c) in r.iter().filter(|&&(b, d, _)| !bodies[b].prescribed[d]) {
+            *m.entry((b, d)).or_insert(0.0) += c;
+        }
+        m
+    };
+    let dot = |a: &std::collections::BTreeMap<(usize, usize), f64>,
+               b: &std::collections::BTreeMap<(usize, usize), f64>| {
+        a.iter()
+            .map(|(k, v)| v * b.get(k).copied().unwrap_or(0.0))
+            .sum::<f64>()
+    };
+    let norm2 = |r: &Row| r.iter().map(|e| e.2 * e.2).sum::<f64>();
+    let (Some(r1), Some(r2)) = (&t1, &t2) else {
+        // 2D: one tangent.
+        let keep = t1.filter(|r| !free(r).is_empty());
+        return (keep, None, friction);
+    };
+    let (f1, f2) = (free(r1), free(r2));
+    let (a, b, c) = (dot(&f1, &f1), dot(&f1, &f2), dot(&f2, &f2));
+    let scale = norm2(r1) + norm2(r2);
+    let lmin = 0.5 * (a + c - ((a - c).powi(2) + 4.0 * b * b).sqrt());
+    if a + c <= 1e-24 * scale {
+        return (None, None, friction);
+    }
+    if lmin > 1e-10 * scale {
+        return (t1, t2, friction);
+    }
+    // (cs, sn): the combination cs t1 + sn t2 with no free DOF.
+    let (v1, v2) = if (a - lmin).abs() >= (c - lmin).abs() {
+        (-b, a - lmin)
+    } else {
+        (c - lmin, -b)
+    };
+    let nv = v1.hypot(v2);
+    let (cs, sn) = (v1 / nv, v2 / nv);
+    // New frame: t1' = −sn t1 + cs t2 (free), t2' = −(cs t1 + sn t2).
+    let combine = |x: f64, y: f64, u: &Row, v: &Row| -> Row {
+        u.iter()
+            .map(|&(bb, d, k)| (bb, d, x * k))
+            .chain(v.iter().map(|&(bb, d, k)| (bb, d, y * k)))
+            .filter(|e| e.2 != 0.0)
+            .collect()
+    };
+    let kept = combine(-sn, cs, r1, r2);
+    let (o1, o2) = (p.tangent, p.tangent2);
+    p.tangent = [0, 1, 2].map(|k| -sn * o1[k] + cs * o2[k]);
+    p.tangent2 = [0, 1, 2].map(|k| -(cs * o1[k] + sn * o2[k]));
+    let friction = match friction {
+        PointFriction::Coulomb {
+            mu,
+            mu2,
+            slip_stiffness,
+        } if mu > 0.0 && mu2 > 0.0 => {
+            let m = 1.0 / ((-sn / mu).powi(2) + (cs / mu2).powi(2)).sqrt();
+            PointFriction::Coulomb {
+                mu: m,
+                mu2: m,
+                slip_stiffness,
+            }
+        }
+        other => other,
+    };
+    (Some(kept), None, friction)
+}
+
+/// A slave node whose normal motion is fully prescribed: its gap follows
+/// from the prescribed displacements and must not be negative.
+pub struct FixedPoint {
+    pub contact: usize,
+    pub node: usize,
+    pub row: Vec<(usize, usize, f64)>,
+    pub gap0: f64,
+}
+
+/// Finds contact constraints that repeat another (contact::redundancy: the
+/// same slave node against the same master with a parallel row, e.g. a
+/// surface in two contacts or two-pass node-to-node contact), drops the
+/// less restrictive of each pair, and reports what it did; also reports
+/// slave nodes shared by two contacts whose constraints differ (a corner
+/// against two obstacles), which are kept. Returns the messages.
+pub fn eliminate_redundant(sc: &scene::Scene, points: &mut Vec<PointModel>) -> Vec<String> {
+    let mut messages = Vec::new();
+    let size = points.iter().fold(0.0f64, |a, p| a.max(p.tributary));
+    // (body, DOF) keys: a row of B and its initial gap per point.
+    type Keyed = (Vec<((usize, usize), f64)>, f64);
+    let rows: Vec<Keyed> = points
+        .iter()
+        .map(|p| (p.row.iter().map(|&(b, d, c)| ((b, d), c)).collect(), p.gap0))
+        .collect();
+    let dup = signorini_contact::redundancy::duplicate_constraints(&rows, 1e-9 * size);
+    // (dropped contact, kept contact) → count
+    let mut dropped: std::collections::BTreeMap<(usize, usize), usize> = Default::default();
+    for (i, d) in dup.iter().enumerate() {
+        if let Some(j) = d {
+            *dropped
+                .entry((points[i].contact, points[*j].contact))
+                .or_default() += 1;
+        }
+    }
+    for ((ci, cj), n) in &dropped {
+        messages.push(if ci == cj {
+            format!(
+                "contact \"{}\": {n} constraint(s) repeat another of the same contact: dropped (redundant constraints)",
+                sc.contact[*ci].name
+            )
+        } else {
+            format!(
+                "contact \"{}\": {n} constraint(s) repeat those of contact \"{}\" (same nodes, parallel rows): dropped as redundant, the problem is unchanged",
+                sc.contact[*ci].name, sc.contact[*cj].name
+            )
+        });
+    }
+    let mut i = 0;
+    points.retain(|_| {
+        let keep = dup[i].is_none();
+        i += 1;
+        keep
+    });
+    // Slave nodes in two contacts with different constraints: reported.
+    let mut by_node: std::collections::BTreeMap<(usize, usize), Vec<usize>> = Default::default();
+    for p in points.iter() {
+        by_node
+            .entry((p.slave_body, p.point.slave_node))
+            .or_default()
+            .push(p.contact);
+    }
+    let mut shared: std::collections::BTreeMap<(usize, usize), usize> = Default::default();
+    for cs in by_node.values() {
+        for a in 0..cs.len() {
+            for b in a + 1..cs.len() {
+                if cs[a] != cs[b] {
+                    *shared
+                        .entry((cs[a].min(cs[b]), cs[a].max(cs[b])))
+                        .or_default() += 1;
+                }
+            }
+        }
+    }
+    for ((a, b), n) in shared {
+        messages.push(format!(
+            "{n} slave node(s) belong to both contact \"{}\" and contact \"{}\" with different normals: each keeps its constraint",
+            sc.contact[a].name, sc.contact[b].name
+        ));
+    }
+    messages
+}
