@@ -35,8 +35,8 @@
 use faer::Mat;
 
 use crate::lcp::{
-    check_input, empty_solution, mean_diag, residual_from_gaps, LcpOptions, LcpSolution,
-    SolverReport,
+    dual_converged_reason, dual_limit_reason, dual_start, mean_diag, residual_from_gaps, DualStart,
+    LcpOptions, LcpSolution,
 };
 use crate::penalty::regularised_newton;
 use crate::ContactError;
@@ -57,24 +57,12 @@ pub fn augmented_lagrangian(
     q: &[f64],
     opts: &LcpOptions,
 ) -> Result<LcpSolution, ContactError> {
-    check_input(w, q, "augmented_lagrangian")?;
     let m = q.len();
-    if m == 0 {
-        return Ok(empty_solution("augmented_lagrangian"));
-    }
-    let mut report = SolverReport {
-        method: "augmented_lagrangian".into(),
-        ..Default::default()
+    let (mut report, r0) = match dual_start(w, q, opts, "augmented_lagrangian")? {
+        DualStart::Done(solution) => return Ok(solution),
+        DualStart::Iterate { report, r0 } => (report, r0),
     };
     let mut lambda = vec![0.0; m];
-    let r0 = residual_from_gaps(&lambda, q, opts);
-    if r0 <= opts.tolerance {
-        report.converged = true;
-        report.stopping_reason = format!(
-            "λ = 0 already satisfies the tolerance (natural residual {r0:.3e}): no point in contact"
-        );
-        return Ok(LcpSolution { lambda, report });
-    }
     let s = opts.stiffness.unwrap_or(DEFAULT_AUGMENTATION);
     let d = mean_diag(w);
     if !(s.is_finite() && s > 0.0) {
@@ -131,21 +119,28 @@ pub fn augmented_lagrangian(
         }
         if res <= opts.tolerance {
             report.converged = true;
-            report.stopping_reason = format!(
-                "natural residual {res:.3e} ≤ tolerance {:.1e} after {} outer iterations ({newton_steps} inner Newton steps, r = {s} / mean diag W{})",
-                opts.tolerance,
-                report.iterations,
-                cycle_note(cycles)
+            report.stopping_reason = dual_converged_reason(
+                res,
+                opts,
+                &report,
+                "outer iterations",
+                &format!(
+                    "{newton_steps} inner Newton steps, r = {s} / mean diag W{}",
+                    cycle_note(cycles)
+                ),
             );
             return Ok(LcpSolution { lambda, report });
         }
     }
-    report.stopping_reason = format!(
-        "iteration limit {} reached: natural residual {:.3e} > tolerance {:.1e} ({newton_steps} inner Newton steps, r = {s} / mean diag W{}); a larger augmentation (stiffness option) converges in fewer outer iterations",
-        opts.max_iterations,
-        report.residual_history.last().copied().unwrap_or(r0),
-        opts.tolerance,
-        cycle_note(cycles)
+    report.stopping_reason = dual_limit_reason(
+        opts,
+        &report,
+        r0,
+        &format!(
+            "{newton_steps} inner Newton steps, r = {s} / mean diag W{}",
+            cycle_note(cycles)
+        ),
+        "a larger augmentation (stiffness option) converges in fewer outer iterations",
     );
     Ok(LcpSolution { lambda, report })
 }

@@ -118,6 +118,75 @@ pub(crate) fn empty_solution(method: &str) -> LcpSolution {
     }
 }
 
+/// How a dual method (Uzawa, augmented Lagrangian) starts from λ = 0.
+pub(crate) enum DualStart {
+    /// Nothing to iterate: the empty problem, or λ = 0 already within tolerance.
+    Done(LcpSolution),
+    /// Iterate from λ = 0 with this report; `r0` is the residual of λ = 0.
+    Iterate { report: SolverReport, r0: f64 },
+}
+
+/// The start shared by the dual methods of seed §3.2: checks the input,
+/// answers the empty problem and a λ = 0 that already satisfies the
+/// tolerance, and otherwise gives the report to iterate with.
+pub(crate) fn dual_start(
+    w: &Mat<f64>,
+    q: &[f64],
+    opts: &LcpOptions,
+    method: &str,
+) -> Result<DualStart, ContactError> {
+    check_input(w, q, method)?;
+    if q.is_empty() {
+        return Ok(DualStart::Done(empty_solution(method)));
+    }
+    let mut report = SolverReport {
+        method: method.into(),
+        ..Default::default()
+    };
+    let lambda = vec![0.0; q.len()];
+    let r0 = residual_from_gaps(&lambda, q, opts);
+    if r0 <= opts.tolerance {
+        report.converged = true;
+        report.stopping_reason = format!(
+            "λ = 0 already satisfies the tolerance (natural residual {r0:.3e}): no point in contact"
+        );
+        return Ok(DualStart::Done(LcpSolution { lambda, report }));
+    }
+    Ok(DualStart::Iterate { report, r0 })
+}
+
+/// The stopping reason of a dual method that converged: `steps` names what
+/// `report.iterations` counts, `detail` goes in the parentheses.
+pub(crate) fn dual_converged_reason(
+    res: f64,
+    opts: &LcpOptions,
+    report: &SolverReport,
+    steps: &str,
+    detail: &str,
+) -> String {
+    format!(
+        "natural residual {res:.3e} ≤ tolerance {:.1e} after {} {steps} ({detail})",
+        opts.tolerance, report.iterations
+    )
+}
+
+/// The stopping reason of a dual method at the iteration limit: `detail`
+/// goes in the parentheses, `advice` after them.
+pub(crate) fn dual_limit_reason(
+    opts: &LcpOptions,
+    report: &SolverReport,
+    r0: f64,
+    detail: &str,
+    advice: &str,
+) -> String {
+    format!(
+        "iteration limit {} reached: natural residual {:.3e} > tolerance {:.1e} ({detail}); {advice}",
+        opts.max_iterations,
+        report.residual_history.last().copied().unwrap_or(r0),
+        opts.tolerance
+    )
+}
+
 /// Rejects a non-square W, a size mismatch with q, and any non-finite entry.
 pub(crate) fn check_input(w: &Mat<f64>, q: &[f64], method: &str) -> Result<(), ContactError> {
     let m = q.len();

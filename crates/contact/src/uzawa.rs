@@ -32,8 +32,8 @@
 use faer::Mat;
 
 use crate::lcp::{
-    check_input, empty_solution, energy_of, gaps, mean_diag, power_iteration, residual_from_gaps,
-    LcpOptions, LcpSolution, SolverReport,
+    dual_converged_reason, dual_limit_reason, dual_start, energy_of, gaps, mean_diag,
+    power_iteration, residual_from_gaps, DualStart, LcpOptions, LcpSolution,
 };
 use crate::ContactError;
 
@@ -44,25 +44,13 @@ use crate::ContactError;
 /// every product with W (power iteration included), `report.residual_history`
 /// the natural residual ([`crate::lcp_residual`]) after each step.
 pub fn uzawa(w: &Mat<f64>, q: &[f64], opts: &LcpOptions) -> Result<LcpSolution, ContactError> {
-    check_input(w, q, "uzawa")?;
     let m = q.len();
-    if m == 0 {
-        return Ok(empty_solution("uzawa"));
-    }
-    let mut report = SolverReport {
-        method: "uzawa".into(),
-        ..Default::default()
+    let (mut report, r0) = match dual_start(w, q, opts, "uzawa")? {
+        DualStart::Done(solution) => return Ok(solution),
+        DualStart::Iterate { report, r0 } => (report, r0),
     };
     let mut lambda = vec![0.0; m];
     let mut g = q.to_vec();
-    let r0 = residual_from_gaps(&lambda, &g, opts);
-    if r0 <= opts.tolerance {
-        report.converged = true;
-        report.stopping_reason = format!(
-            "λ = 0 already satisfies the tolerance (natural residual {r0:.3e}): no point in contact"
-        );
-        return Ok(LcpSolution { lambda, report });
-    }
     let d = mean_diag(w);
     let (mut rho, rho_origin) = match opts.stiffness {
         Some(s) if s.is_finite() && s > 0.0 && d > 0.0 => (s / d, format!("{s} / mean diag W")),
@@ -117,22 +105,23 @@ pub fn uzawa(w: &Mat<f64>, q: &[f64], opts: &LcpOptions) -> Result<LcpSolution, 
         report.residual_history.push(r);
         if r <= opts.tolerance {
             report.converged = true;
-            report.stopping_reason = format!(
-                "natural residual {r:.3e} ≤ tolerance {:.1e} after {} iterations (ρ = {rho_origin}{})",
-                opts.tolerance,
-                report.iterations,
-                halved(halvings)
+            report.stopping_reason = dual_converged_reason(
+                r,
+                opts,
+                &report,
+                "iterations",
+                &format!("ρ = {rho_origin}{}", halved(halvings)),
             );
             break;
         }
     }
     if !report.converged {
-        report.stopping_reason = format!(
-            "iteration limit {} reached: natural residual {:.3e} > tolerance {:.1e} (ρ = {rho_origin}{}); Uzawa converges slowly when W is ill-conditioned",
-            opts.max_iterations,
-            report.residual_history.last().copied().unwrap_or(r0),
-            opts.tolerance,
-            halved(halvings)
+        report.stopping_reason = dual_limit_reason(
+            opts,
+            &report,
+            r0,
+            &format!("ρ = {rho_origin}{}", halved(halvings)),
+            "Uzawa converges slowly when W is ill-conditioned",
         );
     }
     Ok(LcpSolution { lambda, report })
