@@ -170,10 +170,11 @@ fn degenerate_polygon(x: [f64; 3], p: &[[f64; 3]]) -> Closest {
 }
 
 /// Reference coordinates of the bilinear quadrilateral's corners.
-const QUAD_CORNERS: [[f64; 2]; 4] = [[-1.0, -1.0], [1.0, -1.0], [1.0, 1.0], [-1.0, 1.0]];
+pub(super) const QUAD_CORNERS: [[f64; 2]; 4] = [[-1.0, -1.0], [1.0, -1.0], [1.0, 1.0], [-1.0, 1.0]];
 
-/// Bilinear shape functions at (ξ, η) and their derivatives.
-fn bilinear(xi: f64, eta: f64) -> ([f64; 4], [f64; 4], [f64; 4]) {
+/// Bilinear shape functions at (ξ, η) and their derivatives (also used by
+/// `ray`).
+pub(super) fn bilinear(xi: f64, eta: f64) -> ([f64; 4], [f64; 4], [f64; 4]) {
     let mut n = [0.0; 4];
     let mut dxi = [0.0; 4];
     let mut deta = [0.0; 4];
@@ -185,7 +186,8 @@ fn bilinear(xi: f64, eta: f64) -> ([f64; 4], [f64; 4], [f64; 4]) {
     (n, dxi, deta)
 }
 
-fn combine(w: [f64; 4], p: &[[f64; 3]; 4]) -> [f64; 3] {
+/// The point Σ w_k p_k.
+pub(super) fn combine(w: [f64; 4], p: &[[f64; 3]; 4]) -> [f64; 3] {
     let mut x = [0.0; 3];
     for (wk, pk) in w.iter().zip(p) {
         for d in 0..3 {

@@ -12,7 +12,7 @@
 //! tolerance outside is put on the primitive's boundary (the weights are
 //! clamped, so they stay in [0, 1] and sum to 1).
 
-use super::closest::{Closest, BEYOND_TOL};
+use super::closest::{bilinear, combine, Closest, BEYOND_TOL, QUAD_CORNERS};
 use super::{cross, dot, norm, sub};
 
 /// `Closest` of a meeting point: `dist` is |g|, nothing is "beyond".
@@ -99,32 +99,6 @@ fn clamp_simplex(w: [f64; 3]) -> [f64; 3] {
     let c = [w[0].max(0.0), w[1].max(0.0), w[2].max(0.0)];
     let s = c[0] + c[1] + c[2];
     [c[0] / s, c[1] / s, c[2] / s]
-}
-
-/// Reference coordinates of the bilinear quadrilateral's corners (as in
-/// `closest`).
-const QUAD_CORNERS: [[f64; 2]; 4] = [[-1.0, -1.0], [1.0, -1.0], [1.0, 1.0], [-1.0, 1.0]];
-
-fn bilinear(xi: f64, eta: f64) -> ([f64; 4], [f64; 4], [f64; 4]) {
-    let mut n = [0.0; 4];
-    let mut dxi = [0.0; 4];
-    let mut deta = [0.0; 4];
-    for (k, [a, b]) in QUAD_CORNERS.into_iter().enumerate() {
-        n[k] = 0.25 * (1.0 + a * xi) * (1.0 + b * eta);
-        dxi[k] = 0.25 * a * (1.0 + b * eta);
-        deta[k] = 0.25 * b * (1.0 + a * xi);
-    }
-    (n, dxi, deta)
-}
-
-fn combine(w: [f64; 4], p: &[[f64; 3]; 4]) -> [f64; 3] {
-    let mut x = [0.0; 3];
-    for (wk, pk) in w.iter().zip(p) {
-        for d in 0..3 {
-            x[d] += wk * pk[d];
-        }
-    }
-    x
 }
 
 /// The line x − g n meets the bilinear quadrilateral x(ξ, η) = Σ N_k p_k:
