@@ -157,7 +157,7 @@ fn cycle_note(cycles: usize) -> String {
 mod tests {
     use super::*;
     use crate::lcp::gaps;
-    use crate::uzawa::test_problems::*;
+    use crate::test_problems::*;
 
     fn opts() -> LcpOptions {
         LcpOptions {

@@ -31,6 +31,9 @@ pub mod smalbe;
 pub mod status;
 pub mod uzawa;
 
+#[cfg(test)]
+pub(crate) mod test_problems;
+
 pub use delassus::{DelassusOperator, DelassusProblem};
 pub use geometry::{ContactPoint, MasterGeometry, NormalRule, Term, TermSide};
 pub use status::{status_method, ActiveSetSolve, StatusOptions, StatusOutcome, StatusVariant};

@@ -441,7 +441,7 @@ pub(crate) fn regularised_newton(
 mod tests {
     use super::*;
     use crate::lcp::gaps;
-    use crate::uzawa::test_problems::*;
+    use crate::test_problems::*;
 
     fn opts() -> LcpOptions {
         LcpOptions {

@@ -492,6 +492,7 @@ pub(crate) mod test_support {
 
     use crate::lcp::{gaps, lcp_residual, LcpOptions, LcpSolution};
     use crate::status::{status_method, StatusOptions, StatusVariant};
+    use crate::test_problems::lcp_problem;
     use crate::{ContactError, DelassusProblem};
 
     /// Deterministic xorshift64* generator.
@@ -562,16 +563,7 @@ pub(crate) mod test_support {
     /// The status method (seed §3.3) on (W, q): the reference answer.
     pub fn reference(w: &Mat<f64>, q: &[f64]) -> Vec<f64> {
         let m = q.len();
-        let mut p = DelassusProblem::new(
-            &Mat::<f64>::identity(m, m),
-            &(0..m).map(|i| vec![(i, 1.0)]).collect::<Vec<_>>(),
-            &vec![0.0; m],
-            &vec![0.0; m],
-            &Mat::zeros(m, 0),
-        )
-        .unwrap();
-        p.w = w.clone();
-        p.q = q.to_vec();
+        let mut p = lcp_problem(w, q);
         let out = status_method(
             &mut p,
             &StatusOptions {

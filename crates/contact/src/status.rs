@@ -205,6 +205,7 @@ pub fn status_method(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::test_problems::lcp_problem;
     use crate::DelassusProblem;
     use faer::Mat;
 
@@ -224,16 +225,7 @@ mod tests {
         let m = q.len();
         for mask in 0..(1usize << m) {
             let act: Vec<usize> = (0..m).filter(|&i| mask >> i & 1 == 1).collect();
-            let mut p = DelassusProblem::new(
-                &Mat::<f64>::identity(m, m),
-                &(0..m).map(|i| vec![(i, 1.0)]).collect::<Vec<_>>(),
-                &vec![0.0; m],
-                &vec![0.0; m],
-                &Mat::zeros(m, 0),
-            )
-            .unwrap();
-            p.w = w.clone();
-            p.q = q.to_vec();
+            let mut p = lcp_problem(w, q);
             let (l, g) = p.solve_active(&act).unwrap();
             if l.iter().all(|&v| v >= -1e-12) && g.iter().all(|&v| v >= -1e-12) {
                 return l;
