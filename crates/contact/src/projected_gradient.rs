@@ -68,17 +68,11 @@ pub fn projected_gradient(
     let mut s = Projection::new(w, q, opts, METHOD);
     let mut wr = vec![0.0; m];
     loop {
-        let res = s.residual();
-        if res <= opts.tolerance {
-            if s.at_tolerance(res) {
-                break;
-            }
-            continue;
-        }
-        if s.out_of_iterations(res) {
-            break;
-        }
-        s.report.iterations += 1;
+        let res = match s.next_step() {
+            Next::Stop => break,
+            Next::Again => continue,
+            Next::Step(res) => res,
+        };
         let r = free_residual(&s.lambda, &s.g);
         let rr = dot(&r, &r);
         if rr == 0.0 {
@@ -136,6 +130,17 @@ fn exact_step(num: f64, curv: f64, wscale: f64, dd: f64) -> f64 {
     } else {
         f64::INFINITY
     }
+}
+
+/// What [`Projection::next_step`] found at the head of an iteration.
+enum Next {
+    /// Converged or out of iterations (reported): stop.
+    Stop,
+    /// The recursive residual met the tolerance but the exact one did not:
+    /// the gradient is exact again, look again.
+    Again,
+    /// Take the step counted now; the natural residual before it.
+    Step(f64),
 }
 
 /// The state shared by the projection methods: the iterate λ ≥ 0, its
@@ -210,6 +215,25 @@ impl<'a> Projection<'a> {
         }
         self.update_energy();
         false
+    }
+
+    /// The head of an iteration of the projection methods: convergence
+    /// ([`Self::at_tolerance`]), then the iteration limit, then the step is
+    /// counted.
+    fn next_step(&mut self) -> Next {
+        let res = self.residual();
+        if res <= self.opts.tolerance {
+            return if self.at_tolerance(res) {
+                Next::Stop
+            } else {
+                Next::Again
+            };
+        }
+        if self.out_of_iterations(res) {
+            return Next::Stop;
+        }
+        self.report.iterations += 1;
+        Next::Step(res)
     }
 
     /// `true` (reported) when the iteration limit is reached.
@@ -309,18 +333,14 @@ pub fn projected_conjugate_gradient(
     let mut cg = Conjugate::new(m);
     let mut wd = vec![0.0; m];
     loop {
-        let res = s.residual();
-        if res <= opts.tolerance {
-            if s.at_tolerance(res) {
-                break;
+        let res = match s.next_step() {
+            Next::Stop => break,
+            Next::Again => {
+                cg.restart = true;
+                continue;
             }
-            cg.restart = true;
-            continue;
-        }
-        if s.out_of_iterations(res) {
-            break;
-        }
-        s.report.iterations += 1;
+            Next::Step(res) => res,
+        };
         cg.update(&s.lambda, &s.g);
         let dir = &cg.dir;
         let slope = dot(&s.g, dir);
