@@ -712,24 +712,30 @@ mod tests {
         }
     }
 
+    /// One point from stick by the Coulomb fixed point (`solve` = 0), the
+    /// Coulomb status method (1) with `l`, or the Tresca status method
+    /// with the threshold 1.5 (otherwise).
+    fn solve_one(solve: usize, p: &mut DelassusProblem, l: &FrictionLayout) -> FrictionOutcome {
+        match solve {
+            0 => coulomb_fixed_point(p, l, vec![PointStatus::Stick], None, &opts()).unwrap(),
+            1 => coulomb_status(p, l, vec![PointStatus::Stick], &opts()).unwrap(),
+            _ => tresca_status(
+                p,
+                &layout(Threshold::Tresca(1.5)),
+                vec![PointStatus::Stick],
+                &opts(),
+            )
+            .unwrap(),
+        }
+    }
+
     #[test]
     fn a_point_sticks_below_the_threshold_and_slips_at_it() {
         // Pressed by N = 3, pulled by Q = 1: μ = 0.5 → μN = 1.5 > Q: sticks, λ_t = −Q.
         for solve in [0, 1, 2] {
             let mut p = one_point(3.0, 1.0);
             let l = layout(Threshold::Coulomb(0.5));
-            let out = match solve {
-                0 => coulomb_fixed_point(&mut p, &l, vec![PointStatus::Stick], None, &opts())
-                    .unwrap(),
-                1 => coulomb_status(&mut p, &l, vec![PointStatus::Stick], &opts()).unwrap(),
-                _ => tresca_status(
-                    &mut p,
-                    &layout(Threshold::Tresca(1.5)),
-                    vec![PointStatus::Stick],
-                    &opts(),
-                )
-                .unwrap(),
-            };
+            let out = solve_one(solve, &mut p, &l);
             assert!(out.converged, "{}", out.stopping_reason);
             assert_eq!(out.statuses, vec![PointStatus::Stick]);
             assert!(
@@ -739,18 +745,7 @@ mod tests {
             );
             // Pulled by Q = 2 > μN = 1.5: slips, λ_t = −1.5, slip Q − μN over kt = 0.25 in +x.
             let mut p = one_point(3.0, 2.0);
-            let out = match solve {
-                0 => coulomb_fixed_point(&mut p, &l, vec![PointStatus::Stick], None, &opts())
-                    .unwrap(),
-                1 => coulomb_status(&mut p, &l, vec![PointStatus::Stick], &opts()).unwrap(),
-                _ => tresca_status(
-                    &mut p,
-                    &layout(Threshold::Tresca(1.5)),
-                    vec![PointStatus::Stick],
-                    &opts(),
-                )
-                .unwrap(),
-            };
+            let out = solve_one(solve, &mut p, &l);
             assert!(out.converged);
             assert_eq!(out.statuses, vec![PointStatus::SlipMinus]);
             assert!((out.forces[1] + 1.5).abs() < 1e-12, "{:?}", out.forces);
