@@ -50,6 +50,18 @@ pub struct SolverReport {
     pub stopping_reason: String,
 }
 
+impl SolverReport {
+    /// Records a final polishing solve (`what`) that brought the residual
+    /// to `residual`: one more operator application, the residual in the
+    /// history, and "; polished by one {what}" in the stopping reason.
+    pub(crate) fn record_polish(&mut self, residual: f64, what: &str) {
+        self.operator_applications += 1;
+        self.residual_history.push(residual);
+        self.stopping_reason
+            .push_str(&format!("; polished by one {what}"));
+    }
+}
+
 /// A solution of the LCP and how it was found.
 #[derive(Debug, Clone)]
 pub struct LcpSolution {

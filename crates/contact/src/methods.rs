@@ -106,14 +106,11 @@ pub fn solve_lcp(
             let closed = opts.tolerance * opts.gap_scale;
             let out = status_method(
                 &mut p,
-                &StatusOptions {
+                &StatusOptions::from_lcp(
                     variant,
-                    max_iterations: opts.max_iterations,
-                    tolerance: opts.tolerance,
-                    force_scale: opts.force_scale,
-                    gap_scale: opts.gap_scale,
-                    initial_active: Some((0..q.len()).filter(|&i| q[i] <= closed).collect()),
-                },
+                    opts,
+                    Some((0..q.len()).filter(|&i| q[i] <= closed).collect()),
+                ),
             )?;
             LcpSolution {
                 report: SolverReport {
@@ -179,11 +176,8 @@ fn polish(w: &Mat<f64>, q: &[f64], sol: &mut LcpSolution, opts: &LcpOptions) {
     let after = lcp_residual(w, q, &clamped, opts);
     if feasible && after <= before.max(opts.tolerance) {
         sol.lambda = clamped;
-        sol.report.operator_applications += 1;
-        sol.report.residual_history.push(after);
         sol.report
-            .stopping_reason
-            .push_str("; polished by one solve on the identified active set");
+            .record_polish(after, "solve on the identified active set");
     }
 }
 

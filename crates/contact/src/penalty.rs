@@ -169,17 +169,7 @@ pub fn status_with_penalty(
         products: 0,
         history: Vec::new(),
     };
-    let out = status_method(
-        &mut solver,
-        &StatusOptions {
-            variant,
-            max_iterations: opts.max_iterations,
-            tolerance: opts.tolerance,
-            force_scale: opts.force_scale,
-            gap_scale: opts.gap_scale,
-            initial_active: None,
-        },
-    )?;
+    let out = status_method(&mut solver, &StatusOptions::from_lcp(variant, opts, None))?;
     let lambda: Vec<f64> = out.lambda.iter().map(|v| v.max(0.0)).collect();
     if lambda.iter().any(|v| !v.is_finite()) {
         return Err(ContactError::Solve(

@@ -428,11 +428,8 @@ fn polish(
         sol.lambda = lambda;
         sol.alpha = alpha;
         sol.gap = gap;
-        sol.report.operator_applications += 1;
-        sol.report.residual_history.push(after);
         sol.report
-            .stopping_reason
-            .push_str("; polished by one saddle-point solve on the identified active set");
+            .record_polish(after, "saddle-point solve on the identified active set");
         return true;
     }
     false

@@ -55,6 +55,25 @@ pub struct StatusOptions {
     pub initial_active: Option<Vec<usize>>,
 }
 
+impl StatusOptions {
+    /// The status method with `variant` on an LCP solved with `opts`: the
+    /// same iteration limit, tolerance and scales.
+    pub(crate) fn from_lcp(
+        variant: StatusVariant,
+        opts: &crate::lcp::LcpOptions,
+        initial_active: Option<Vec<usize>>,
+    ) -> Self {
+        Self {
+            variant,
+            max_iterations: opts.max_iterations,
+            tolerance: opts.tolerance,
+            force_scale: opts.force_scale,
+            gap_scale: opts.gap_scale,
+            initial_active,
+        }
+    }
+}
+
 #[derive(Debug, Clone, serde::Serialize)]
 pub struct StatusOutcome {
     pub converged: bool,
