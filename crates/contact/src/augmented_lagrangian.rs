@@ -156,7 +156,6 @@ fn cycle_note(cycles: usize) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::lcp::gaps;
     use crate::test_problems::*;
 
     fn opts() -> LcpOptions {
@@ -176,23 +175,7 @@ mod tests {
                     ..opts()
                 };
                 let sol = augmented_lagrangian(&c.w, &c.q, &o).unwrap();
-                assert!(
-                    sol.report.converged,
-                    "{}: {}",
-                    c.name, sol.report.stopping_reason
-                );
-                assert!(sol.lambda.iter().all(|v| *v >= 0.0 && v.is_finite()));
-                let e = rel_err(&sol.lambda, &c.exact);
-                if norm_inf(&c.exact) == 0.0 {
-                    assert_eq!(e, 0.0, "{}", c.name);
-                } else {
-                    assert!(
-                        e <= 1e-8,
-                        "{} ({stiffness:?}): relative error {e:e}",
-                        c.name
-                    );
-                }
-                assert_eq!(sol.report.residual_history.len(), sol.report.iterations);
+                assert_solves_case(&c, &sol, &format!("{} ({stiffness:?})", c.name));
                 println!(
                     "augmented Lagrangian {} (stiffness {stiffness:?}): {} outer iterations, {} solves + products; {}",
                     c.name,
@@ -221,20 +204,7 @@ mod tests {
     fn augmented_lagrangian_on_redundant_constraints_gives_the_gaps_and_the_total_force() {
         let (w, q, l0, g0) = redundant();
         let sol = augmented_lagrangian(&w, &q, &opts()).unwrap();
-        assert!(sol.report.converged, "{}", sol.report.stopping_reason);
-        let l = &sol.lambda;
-        assert!(l.iter().all(|v| v.is_finite() && *v >= 0.0));
-        let g = gaps(&w, &q, l);
-        let scale = norm_inf(&l0);
-        assert!(((l[0] + l[1]) - l0[0]).abs() <= 1e-8 * scale);
-        for i in 1..l0.len() {
-            assert!((l[i + 1] - l0[i]).abs() <= 1e-8 * scale);
-        }
-        let gs = norm_inf(&g0);
-        assert!(g[0].abs() <= 1e-8 * gs && g[1].abs() <= 1e-8 * gs);
-        for i in 1..g0.len() {
-            assert!((g[i + 1] - g0[i]).abs() <= 1e-8 * gs);
-        }
+        assert_solves_redundant(&w, &q, &l0, &g0, &sol);
     }
 
     #[test]

@@ -3,6 +3,7 @@
 //! method), and the reference solution by the status method.
 use faer::Mat;
 
+use crate::lcp::{gaps, LcpSolution};
 use crate::status::{status_method, StatusOptions, StatusVariant};
 use crate::DelassusProblem;
 
@@ -187,4 +188,50 @@ pub fn redundant() -> (Mat<f64>, Vec<f64>, Vec<f64>, Vec<f64>) {
     let w = Mat::<f64>::from_fn(m, m, |i, j| w0[(map(i), map(j))]);
     let q: Vec<f64> = (0..m).map(|i| q0[map(i)]).collect();
     (w, q, l, g)
+}
+
+/// Asserts that `sol` solves the case `c`: converged, λ ≥ 0 and finite,
+/// relative error ≤ 1e-8 against the exact solution (exactly 0 when it
+/// is 0), one residual in the history per iteration. `label` names the
+/// run in the messages.
+pub fn assert_solves_case(c: &Case, sol: &LcpSolution, label: &str) {
+    assert!(
+        sol.report.converged,
+        "{}: {}",
+        c.name, sol.report.stopping_reason
+    );
+    assert!(sol.lambda.iter().all(|v| *v >= 0.0 && v.is_finite()));
+    let e = rel_err(&sol.lambda, &c.exact);
+    if norm_inf(&c.exact) == 0.0 {
+        assert_eq!(e, 0.0, "{}", c.name);
+    } else {
+        assert!(e <= 1e-8, "{label}: relative error {e:e}");
+    }
+    assert_eq!(sol.report.residual_history.len(), sol.report.iterations);
+}
+
+/// Asserts that `sol` solves the problem (W, q) of [`redundant`] with the
+/// regular (λ, g) = (`l0`, `g0`): converged, λ ≥ 0 and finite, the two
+/// doubled points share the force of point 0 and both have zero gap, the
+/// others as in the regular problem (to 1e-8 relative).
+pub fn assert_solves_redundant(w: &Mat<f64>, q: &[f64], l0: &[f64], g0: &[f64], sol: &LcpSolution) {
+    assert!(sol.report.converged, "{}", sol.report.stopping_reason);
+    let l = &sol.lambda;
+    assert!(l.iter().all(|v| v.is_finite() && *v >= 0.0));
+    let g = gaps(w, q, l);
+    let scale = norm_inf(l0);
+    assert!(((l[0] + l[1]) - l0[0]).abs() <= 1e-8 * scale);
+    for i in 1..l0.len() {
+        assert!((l[i + 1] - l0[i]).abs() <= 1e-8 * scale);
+    }
+    let gs = norm_inf(g0);
+    assert!(g[0].abs() <= 1e-8 * gs && g[1].abs() <= 1e-8 * gs);
+    for i in 1..g0.len() {
+        assert!(
+            (g[i + 1] - g0[i]).abs() <= 1e-8 * gs,
+            "{} vs {}",
+            g[i + 1],
+            g0[i]
+        );
+    }
 }
