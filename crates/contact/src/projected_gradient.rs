@@ -511,8 +511,7 @@ pub(crate) mod test_support {
     use faer::Mat;
 
     use crate::lcp::{gaps, lcp_residual, LcpOptions, LcpSolution};
-    use crate::status::{status_method, StatusOptions, StatusVariant};
-    use crate::test_problems::lcp_problem;
+    use crate::test_problems::status_solution;
     use crate::{ContactError, DelassusProblem};
 
     /// Deterministic xorshift64* generator.
@@ -582,22 +581,7 @@ pub(crate) mod test_support {
 
     /// The status method (seed §3.3) on (W, q): the reference answer.
     pub fn reference(w: &Mat<f64>, q: &[f64]) -> Vec<f64> {
-        let m = q.len();
-        let mut p = lcp_problem(w, q);
-        let out = status_method(
-            &mut p,
-            &StatusOptions {
-                variant: StatusVariant::All,
-                max_iterations: 10 * m + 10,
-                tolerance: 1e-14,
-                force_scale: 1.0,
-                gap_scale: 1.0,
-                initial_active: None,
-            },
-        )
-        .unwrap();
-        assert!(out.converged, "status method: {}", out.stopping_reason);
-        out.lambda
+        status_solution(w, q, 1e-14)
     }
 
     pub fn inf_norm(v: &[f64]) -> f64 {

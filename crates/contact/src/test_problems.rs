@@ -66,8 +66,9 @@ pub fn lcp_problem(w: &Mat<f64>, q: &[f64]) -> DelassusProblem {
     p
 }
 
-/// The exact solution by the status method (seed §3.3).
-pub fn exact_solution(w: &Mat<f64>, q: &[f64]) -> Vec<f64> {
+/// The forces of LCP(W, q) by the status method (seed §3.3, all statuses
+/// at once) to the relative `tolerance`; asserts that it converged.
+pub fn status_solution(w: &Mat<f64>, q: &[f64], tolerance: f64) -> Vec<f64> {
     let m = q.len();
     let mut p = lcp_problem(w, q);
     let out = status_method(
@@ -75,15 +76,23 @@ pub fn exact_solution(w: &Mat<f64>, q: &[f64]) -> Vec<f64> {
         &StatusOptions {
             variant: StatusVariant::All,
             max_iterations: 10 * m + 10,
-            tolerance: 1e-13,
+            tolerance,
             force_scale: 1.0,
             gap_scale: 1.0,
             initial_active: None,
         },
     )
     .unwrap();
-    assert!(out.converged, "{}", out.stopping_reason);
-    out.lambda.iter().map(|v| v.max(0.0)).collect()
+    assert!(out.converged, "status method: {}", out.stopping_reason);
+    out.lambda
+}
+
+/// The exact solution by the status method (seed §3.3).
+pub fn exact_solution(w: &Mat<f64>, q: &[f64]) -> Vec<f64> {
+    status_solution(w, q, 1e-13)
+        .iter()
+        .map(|v| v.max(0.0))
+        .collect()
 }
 
 pub fn norm_inf(v: &[f64]) -> f64 {
