@@ -130,6 +130,17 @@ pub(crate) fn empty_solution(method: &str) -> LcpSolution {
     }
 }
 
+/// [`check_input`], then the solution of the empty problem when m = 0
+/// (`None`: there is something to solve).
+pub(crate) fn checked_or_empty(
+    w: &Mat<f64>,
+    q: &[f64],
+    method: &str,
+) -> Result<Option<LcpSolution>, ContactError> {
+    check_input(w, q, method)?;
+    Ok(q.is_empty().then(|| empty_solution(method)))
+}
+
 /// How a dual method (Uzawa, augmented Lagrangian) starts from λ = 0.
 pub(crate) enum DualStart {
     /// Nothing to iterate: the empty problem, or λ = 0 already within tolerance.
@@ -147,9 +158,8 @@ pub(crate) fn dual_start(
     opts: &LcpOptions,
     method: &str,
 ) -> Result<DualStart, ContactError> {
-    check_input(w, q, method)?;
-    if q.is_empty() {
-        return Ok(DualStart::Done(empty_solution(method)));
+    if let Some(empty) = checked_or_empty(w, q, method)? {
+        return Ok(DualStart::Done(empty));
     }
     let mut report = SolverReport {
         method: method.into(),

@@ -36,9 +36,7 @@
 use faer::prelude::Solve;
 use faer::{Mat, Side};
 
-use crate::lcp::{
-    check_input, empty_solution, lcp_residual, LcpOptions, LcpSolution, SolverReport,
-};
+use crate::lcp::{checked_or_empty, lcp_residual, LcpOptions, LcpSolution, SolverReport};
 use crate::projected_gradient::clamp;
 use crate::ContactError;
 
@@ -59,11 +57,10 @@ const TIE_TOL: f64 = 1e-12;
 /// [`ContactError::Singular`].
 pub fn lemke(w: &Mat<f64>, q: &[f64], opts: &LcpOptions) -> Result<LcpSolution, ContactError> {
     const METHOD: &str = "lemke";
-    check_input(w, q, METHOD)?;
-    let m = q.len();
-    if m == 0 {
-        return Ok(empty_solution(METHOD));
+    if let Some(empty) = checked_or_empty(w, q, METHOD)? {
+        return Ok(empty);
     }
+    let m = q.len();
     let mut report = SolverReport {
         method: METHOD.into(),
         ..Default::default()

@@ -29,8 +29,8 @@
 use faer::Mat;
 
 use crate::lcp::{
-    check_input, dot, empty_solution, energy_of, gaps_into, lcp_residual, matvec,
-    residual_from_gaps, LcpOptions, LcpSolution, SolverReport,
+    checked_or_empty, dot, energy_of, gaps_into, lcp_residual, matvec, residual_from_gaps,
+    LcpOptions, LcpSolution, SolverReport,
 };
 use crate::ContactError;
 
@@ -59,12 +59,10 @@ pub fn projected_gradient(
     opts: &LcpOptions,
 ) -> Result<LcpSolution, ContactError> {
     const METHOD: &str = "projected_gradient";
-    check_input(w, q, METHOD)?;
-    let m = q.len();
-    if m == 0 {
-        return Ok(empty_solution(METHOD));
+    if let Some(empty) = checked_or_empty(w, q, METHOD)? {
+        return Ok(empty);
     }
-    let wscale = w.norm_max();
+    let m = q.len();
     let mut s = Projection::new(w, q, opts, METHOD);
     let mut wr = vec![0.0; m];
     loop {
@@ -84,7 +82,7 @@ pub fn projected_gradient(
         let curv = dot(&r, &wr);
         // Longest step before a force reaches zero.
         let feasible = max_feasible_step(&s.lambda, &r);
-        let mut mu = exact_step(rr, curv, wscale, rr);
+        let mut mu = exact_step(rr, curv, s.wscale, rr);
         if !mu.is_finite() {
             if !feasible.is_finite() {
                 return Err(unbounded(METHOD));
@@ -150,6 +148,8 @@ struct Projection<'a> {
     w: &'a Mat<f64>,
     q: &'a [f64],
     opts: &'a LcpOptions,
+    /// max |W_ij|, the scale of negligible curvature (see `exact_step`).
+    wscale: f64,
     lambda: Vec<f64>,
     g: Vec<f64>,
     energy: f64,
@@ -166,6 +166,7 @@ impl<'a> Projection<'a> {
             w,
             q,
             opts,
+            wscale: w.norm_max(),
             lambda: vec![0.0; m],
             g: q.to_vec(),
             energy: 0.0,
@@ -323,12 +324,10 @@ pub fn projected_conjugate_gradient(
     opts: &LcpOptions,
 ) -> Result<LcpSolution, ContactError> {
     const METHOD: &str = "projected_conjugate_gradient";
-    check_input(w, q, METHOD)?;
-    let m = q.len();
-    if m == 0 {
-        return Ok(empty_solution(METHOD));
+    if let Some(empty) = checked_or_empty(w, q, METHOD)? {
+        return Ok(empty);
     }
-    let wscale = w.norm_max();
+    let m = q.len();
     let mut s = Projection::new(w, q, opts, METHOD);
     let mut cg = Conjugate::new(m);
     let mut wd = vec![0.0; m];
@@ -353,7 +352,7 @@ pub fn projected_conjugate_gradient(
         s.report.operator_applications += 1;
         let curv = dot(dir, &wd);
         let feasible = max_feasible_step(&s.lambda, dir);
-        let alpha = exact_step(-slope, curv, wscale, dd);
+        let alpha = exact_step(-slope, curv, s.wscale, dd);
         if !alpha.is_finite() && !feasible.is_finite() {
             return Err(unbounded(METHOD));
         }
