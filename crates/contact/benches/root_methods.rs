@@ -221,42 +221,25 @@ fn run(bencher: Bencher, alg: Algorithm, m: usize) {
     bencher.bench(|| solve_lcp(alg, &p.w, &p.q, None, &opts).expect("solved in the setup"));
 }
 
-#[divan::bench(args = SIZES, sample_count = 10, sample_size = 1)]
-fn status(bencher: Bencher, m: usize) {
-    run(bencher, Algorithm::Status(StatusVariant::All), m);
+/// One divan benchmark a method, named after it, each over `SIZES`.
+macro_rules! method_benches {
+    ($($name:ident => $alg:expr,)*) => {
+        $(
+            #[divan::bench(args = SIZES, sample_count = 10, sample_size = 1)]
+            fn $name(bencher: Bencher, m: usize) {
+                run(bencher, $alg, m);
+            }
+        )*
+    };
 }
 
-#[divan::bench(args = SIZES, sample_count = 10, sample_size = 1)]
-fn lemke(bencher: Bencher, m: usize) {
-    run(bencher, Algorithm::Lemke, m);
-}
-
-#[divan::bench(args = SIZES, sample_count = 10, sample_size = 1)]
-fn projected_gradient(bencher: Bencher, m: usize) {
-    run(bencher, Algorithm::ProjectedGradient, m);
-}
-
-#[divan::bench(args = SIZES, sample_count = 10, sample_size = 1)]
-fn projected_conjugate_gradient(bencher: Bencher, m: usize) {
-    run(bencher, Algorithm::ProjectedConjugateGradient, m);
-}
-
-#[divan::bench(args = SIZES, sample_count = 10, sample_size = 1)]
-fn mprgp(bencher: Bencher, m: usize) {
-    run(bencher, Algorithm::Mprgp, m);
-}
-
-#[divan::bench(args = SIZES, sample_count = 10, sample_size = 1)]
-fn uzawa(bencher: Bencher, m: usize) {
-    run(bencher, Algorithm::Uzawa, m);
-}
-
-#[divan::bench(args = SIZES, sample_count = 10, sample_size = 1)]
-fn augmented_lagrangian(bencher: Bencher, m: usize) {
-    run(bencher, Algorithm::AugmentedLagrangian, m);
-}
-
-#[divan::bench(args = SIZES, sample_count = 10, sample_size = 1)]
-fn penalty(bencher: Bencher, m: usize) {
-    run(bencher, Algorithm::Penalty, m);
+method_benches! {
+    status => Algorithm::Status(StatusVariant::All),
+    lemke => Algorithm::Lemke,
+    projected_gradient => Algorithm::ProjectedGradient,
+    projected_conjugate_gradient => Algorithm::ProjectedConjugateGradient,
+    mprgp => Algorithm::Mprgp,
+    uzawa => Algorithm::Uzawa,
+    augmented_lagrangian => Algorithm::AugmentedLagrangian,
+    penalty => Algorithm::Penalty,
 }
