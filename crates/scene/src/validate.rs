@@ -12,6 +12,20 @@ type Result<T = ()> = std::result::Result<T, SceneError>;
 /// fields are kept for the report and written as one VTU file per body.
 pub const MAX_STEPS: usize = 10_000;
 
+/// A contact side's `surface` that must be given (`missing` is the message
+/// when it is not) and not be blank.
+fn named_surface(
+    entry: &str,
+    surface: &Option<String>,
+    missing: impl FnOnce() -> String,
+) -> Result {
+    match surface {
+        None => Err(invalid(entry, missing())),
+        Some(s) if s.trim().is_empty() => Err(invalid(entry, "must not be empty")),
+        Some(_) => Ok(()),
+    }
+}
+
 fn invalid(entry: impl Into<String>, message: impl Into<String>) -> SceneError {
     SceneError::Invalid {
         entry: entry.into(),
@@ -475,39 +489,21 @@ impl Scene {
     fn validate_contact_sides(&self, e: &str, c: &Contact) -> Result {
         // slave
         self.deformable_body(&format!("{e}.slave.body"), &c.slave.body, "the slave side")?;
-        match &c.slave.surface {
-                None => {
-                    return Err(invalid(
-                        format!("{e}.slave.surface"),
-                        format!(
-                            "the slave side needs `surface`, the surface of body \"{}\" that may touch: slave = {{ body = \"{}\", surface = \"...\" }}",
-                            c.slave.body, c.slave.body
-                        ),
-                    ))
-                }
-                Some(s) if s.trim().is_empty() => {
-                    return Err(invalid(format!("{e}.slave.surface"), "must not be empty"))
-                }
-                Some(_) => {}
-            }
+        named_surface(&format!("{e}.slave.surface"), &c.slave.surface, || {
+            format!(
+                    "the slave side needs `surface`, the surface of body \"{}\" that may touch: slave = {{ body = \"{}\", surface = \"...\" }}",
+                    c.slave.body, c.slave.body
+                )
+        })?;
         // master
         let master = self.body_exists(&format!("{e}.master.body"), &c.master.body)?;
         if master.is_deformable() {
-            match &c.master.surface {
-                    None => {
-                        return Err(invalid(
-                            format!("{e}.master.surface"),
-                            format!(
-                                "body \"{}\" is deformable, so the master side needs `surface`: master = {{ body = \"{}\", surface = \"...\" }}",
-                                c.master.body, c.master.body
-                            ),
-                        ))
-                    }
-                    Some(s) if s.trim().is_empty() => {
-                        return Err(invalid(format!("{e}.master.surface"), "must not be empty"))
-                    }
-                    Some(_) => {}
-                }
+            named_surface(&format!("{e}.master.surface"), &c.master.surface, || {
+                format!(
+                        "body \"{}\" is deformable, so the master side needs `surface`: master = {{ body = \"{}\", surface = \"...\" }}",
+                        c.master.body, c.master.body
+                    )
+            })?;
         } else if c.master.surface.is_some() {
             return Err(invalid(
                 format!("{e}.master.surface"),
