@@ -4,7 +4,7 @@
 //! tube at ν = 0.4999, and the stress recovery with `B̄`.
 
 use super::meshes::{boundary_nodes, boxed, rect, single};
-use super::{mat, solve_dirichlet, E, NU};
+use super::{fixed_at, mat, solve_dirichlet, E, NU};
 use crate::*;
 use nalgebra::{DMatrix, DVector, SymmetricEigen};
 use signorini_mesh::{CellKind, Mesh};
@@ -26,11 +26,7 @@ fn rel_err(x: &[f64], y: &[f64]) -> f64 {
 /// interior takes `exact` and every cell the stress `full`.
 fn patch(name: &str, m: &Mesh, el: &Elasticity, exact: &[f64], full: &[f64; 6]) {
     let dim = m.dim;
-    let fixed: Vec<(usize, f64)> = boundary_nodes(m)
-        .iter()
-        .flat_map(|&n| (0..dim).map(move |k| dim * n + k))
-        .map(|d| (d, exact[d]))
-        .collect();
+    let fixed = fixed_at(dim, &boundary_nodes(m), exact);
     assert!(fixed.len() < exact.len(), "{name}: no interior node");
     let u = solve_dirichlet(m, el, &vec![0.0; exact.len()], &fixed);
     let err = rel_err(&u, exact);
