@@ -11,7 +11,7 @@
 
 mod common;
 
-use common::{converged, example, try_run};
+use common::{contact_force, converged, example, try_run};
 use signorini_solver::RunOptions;
 
 fn run(text: &str) -> signorini_solver::RunOutput {
@@ -326,24 +326,12 @@ fn the_friction_capacity_check_counts_a_frictionless_wall() {
             let f = &o.report.contact_force;
             assert!((f[0] + 4.0).abs() <= 1e-9 * 10.0, "{wall} {solver}: {f:?}");
             assert!((f[1] - 10.0).abs() <= 1e-9 * 10.0, "{wall} {solver}: {f:?}");
-            let floor = o
-                .report
-                .contacts
-                .iter()
-                .find(|c| c.name == "c")
-                .unwrap()
-                .force[0];
+            let floor = contact_force(&o, "c")[0];
             assert!(
                 floor.abs() <= 0.2 * 10.0 * (1.0 + 1e-9),
                 "friction within μN: {floor}"
             );
-            let w = o
-                .report
-                .contacts
-                .iter()
-                .find(|c| c.name == "w")
-                .unwrap()
-                .force[0];
+            let w = contact_force(&o, "w")[0];
             assert!(
                 w <= -2.0 * (1.0 - 1e-9),
                 "the wall takes at least 4 − μN: {w}"
