@@ -126,6 +126,21 @@ fn solve_patch(
     (u, err, umax)
 }
 
+/// Asserts that every cell of `m` has the stress `full` (6 components) within
+/// `bound`; `what` opens the failure message.
+fn assert_cell_stress(m: &Mesh, el: &Elasticity, u: &[f64], full: &[f64], bound: f64, what: &str) {
+    for (c, sc) in cell_stress(m, el, u).iter().enumerate() {
+        for k in 0..6 {
+            assert!(
+                (sc[k] - full[k]).abs() <= bound,
+                "{what} cell {c} [{k}]: {} vs {}",
+                sc[k],
+                full[k]
+            );
+        }
+    }
+}
+
 fn dense(k: &SparseColMat<usize, f64>) -> Mat<f64> {
     k.to_dense()
 }

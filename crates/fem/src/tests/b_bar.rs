@@ -4,7 +4,7 @@
 //! tube at ν = 0.4999, and the stress recovery with `B̄`.
 
 use super::meshes::{boundary_nodes, boxed, rect, single};
-use super::{fixed_at, mat, solve_dirichlet, E, NU};
+use super::{assert_cell_stress, fixed_at, mat, solve_dirichlet, E, NU};
 use crate::*;
 use nalgebra::{DMatrix, DVector, SymmetricEigen};
 use signorini_mesh::{CellKind, Mesh};
@@ -32,16 +32,7 @@ fn patch(name: &str, m: &Mesh, el: &Elasticity, exact: &[f64], full: &[f64; 6]) 
     let err = rel_err(&u, exact);
     assert!(err <= 1e-9, "{name}: displacement error {err:e}");
     let smax = full.iter().fold(0.0f64, |a, v| a.max(v.abs()));
-    for (c, s) in cell_stress(m, el, &u).iter().enumerate() {
-        for k in 0..6 {
-            assert!(
-                (s[k] - full[k]).abs() <= 1e-8 * smax,
-                "{name}: cell {c} [{k}]: {} vs {}",
-                s[k],
-                full[k]
-            );
-        }
-    }
+    assert_cell_stress(m, el, &u, full, 1e-8 * smax, &format!("{name}:"));
 }
 
 /// A linear field `u = u0 + G x` imposed on the boundary of distorted Q4
