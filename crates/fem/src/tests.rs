@@ -126,6 +126,19 @@ fn solve_patch(
     (u, err, umax)
 }
 
+/// The plane field `u = u0 + G x` at every node of `m`, interleaved.
+fn linear_2d(m: &Mesh, u0: [f64; 2], gr: [[f64; 2]; 2]) -> Vec<f64> {
+    m.coords
+        .iter()
+        .flat_map(|p| {
+            [
+                u0[0] + gr[0][0] * p[0] + gr[0][1] * p[1],
+                u0[1] + gr[1][0] * p[0] + gr[1][1] * p[1],
+            ]
+        })
+        .collect()
+}
+
 /// Asserts that every cell of `m` has the stress `full` (6 components) within
 /// `bound`; `what` opens the failure message.
 fn assert_cell_stress(m: &Mesh, el: &Elasticity, u: &[f64], full: &[f64], bound: f64, what: &str) {
@@ -300,16 +313,7 @@ fn patch_test_uniform_strain() {
     for (name, m) in test_meshes() {
         for model in [Model::PlaneStrain, Model::PlaneStress] {
             let el = mat(model);
-            let exact: Vec<f64> = m
-                .coords
-                .iter()
-                .flat_map(|p| {
-                    [
-                        u0[0] + gr[0][0] * p[0] + gr[0][1] * p[1],
-                        u0[1] + gr[1][0] * p[0] + gr[1][1] * p[1],
-                    ]
-                })
-                .collect();
+            let exact = linear_2d(&m, u0, gr);
             let boundary: Vec<usize> = m.surfaces.values().flat_map(|s| s.nodes()).collect();
             let interior = m.n_nodes() - {
                 let mut b = boundary.clone();

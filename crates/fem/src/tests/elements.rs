@@ -3,7 +3,7 @@
 //! checks and the von Mises stress.
 
 use super::meshes::{boundary_nodes, rect, single};
-use super::{assert_cell_stress, mat, solve_patch, E, NU};
+use super::{assert_cell_stress, linear_2d, mat, solve_patch, E, NU};
 use crate::*;
 use nalgebra::{DMatrix, DVector, SymmetricEigen};
 use signorini_mesh::CellKind;
@@ -272,16 +272,7 @@ fn patch_test_every_2d_kind() {
         let m = rect(kind, [0.5, -0.25], [2.0, 1.0], [5, 4], 0.25);
         let boundary = boundary_nodes(&m);
         assert!(m.n_nodes() - boundary.len() >= 12, "{kind:?}");
-        let exact: Vec<f64> = m
-            .coords
-            .iter()
-            .flat_map(|p| {
-                [
-                    u0[0] + gr[0][0] * p[0] + gr[0][1] * p[1],
-                    u0[1] + gr[1][0] * p[0] + gr[1][1] * p[1],
-                ]
-            })
-            .collect();
+        let exact = linear_2d(&m, u0, gr);
         for model in PLANE {
             let el = mat(model);
             let (u, err, umax) = solve_patch(&m, &el, &exact, &boundary);
