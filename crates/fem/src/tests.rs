@@ -139,6 +139,33 @@ fn linear_2d(m: &Mesh, u0: [f64; 2], gr: [[f64; 2]; 2]) -> Vec<f64> {
         .collect()
 }
 
+/// A thick tube's errors against the exact radial displacement `ur(r)` and
+/// hoop stress `hoop(r)`: max over the nodes of |u_r − ur| and over the cell
+/// centroids of |σ_θθ − hoop|, each over its value at the inner radius `a`.
+fn tube_errors(
+    m: &Mesh,
+    el: &Elasticity,
+    u: &[f64],
+    ur: &dyn Fn(f64) -> f64,
+    hoop: &dyn Fn(f64) -> f64,
+    a: f64,
+) -> (f64, f64) {
+    let e_u = m
+        .coords
+        .iter()
+        .enumerate()
+        .map(|(n, x)| (u[2 * n] - ur(x[0])).abs())
+        .fold(0.0f64, f64::max)
+        / ur(a);
+    let e_hoop = cell_stress(m, el, u)
+        .iter()
+        .enumerate()
+        .map(|(c, s)| (s[2] - hoop(m.cell_centroid(c)[0])).abs())
+        .fold(0.0f64, f64::max)
+        / hoop(a);
+    (e_u, e_hoop)
+}
+
 /// Asserts that every cell of `m` has the stress `full` (6 components) within
 /// `bound`; `what` opens the failure message.
 fn assert_cell_stress(m: &Mesh, el: &Elasticity, u: &[f64], full: &[f64], bound: f64, what: &str) {

@@ -4,7 +4,7 @@
 //! tube at ν = 0.4999, and the stress recovery with `B̄`.
 
 use super::meshes::{boundary_nodes, boxed, rect, single};
-use super::{assert_cell_stress, fixed_at, mat, solve_dirichlet, E, NU};
+use super::{assert_cell_stress, fixed_at, mat, solve_dirichlet, tube_errors, E, NU};
 use crate::*;
 use nalgebra::{DMatrix, DVector, SymmetricEigen};
 use signorini_mesh::{CellKind, Mesh};
@@ -356,20 +356,7 @@ fn lame_tube_near_incompressible() {
         .collect();
     let errors = |el: &Elasticity| {
         let u = solve_dirichlet(&m, el, &f, &fixed);
-        let e_u = m
-            .coords
-            .iter()
-            .enumerate()
-            .map(|(n, x)| (u[2 * n] - ur(x[0])).abs())
-            .fold(0.0f64, f64::max)
-            / ur(a);
-        let e_hoop = cell_stress(&m, el, &u)
-            .iter()
-            .enumerate()
-            .map(|(c, s)| (s[2] - hoop(m.cell_centroid(c)[0])).abs())
-            .fold(0.0f64, f64::max)
-            / hoop(a);
-        (e_u, e_hoop)
+        tube_errors(&m, el, &u, &ur, &hoop, a)
     };
     let disp = errors(&Elasticity::new(E, nu, model));
     let bb = errors(&bbar(model, nu));
