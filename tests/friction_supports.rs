@@ -298,6 +298,12 @@ surface = "left"
 traction = [8.0, 0.0]
 "#
     );
+    pad_on_floor(&extra, friction_solver)
+}
+
+/// The block of `pushed_block` on its floor (μ = 0.2, N = 10 down), with
+/// `extra` appended.
+fn pad_on_floor(extra: &str, friction_solver: &str) -> String {
     block(
         2,
         &[0.0, 0.0],
@@ -306,7 +312,7 @@ traction = [8.0, 0.0]
         &[0.0, 1.0],
         0.2,
         "traction = [0.0, -10.0]",
-        &extra,
+        extra,
         friction_solver,
     )
 }
@@ -345,17 +351,7 @@ fn the_friction_capacity_check_counts_a_frictionless_wall() {
     }
     // Without the wall, the same push beyond μN is refused (exit 1).
     let push = "[[boundary]]\nname = \"push\"\nbody = \"pad\"\nsurface = \"left\"\ntraction = [8.0, 0.0]\n";
-    let alone = block(
-        2,
-        &[0.0, 0.0],
-        &[1.0, 0.5],
-        &[8, 4],
-        &[0.0, 1.0],
-        0.2,
-        "traction = [0.0, -10.0]",
-        push,
-        "fixed_point",
-    );
+    let alone = pad_on_floor(push, "fixed_point");
     let err = try_run(&alone, RunOptions::default())
         .err()
         .expect("refused");
