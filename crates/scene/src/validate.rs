@@ -26,6 +26,21 @@ fn named_surface(
     }
 }
 
+/// The name of a material or body (`what`) at entry `e`: not blank, and not
+/// already in `seen`.
+fn unique_name<'a>(seen: &mut BTreeSet<&'a str>, e: &str, name: &'a str, what: &str) -> Result {
+    if name.trim().is_empty() {
+        return Err(invalid(format!("{e}.name"), "must not be empty"));
+    }
+    if !seen.insert(name) {
+        return Err(invalid(
+            format!("{e}.name"),
+            format!("\"{name}\" is already the name of another {what}; names must be unique"),
+        ));
+    }
+    Ok(())
+}
+
 fn invalid(entry: impl Into<String>, message: impl Into<String>) -> SceneError {
     SceneError::Invalid {
         entry: entry.into(),
@@ -170,18 +185,7 @@ impl Scene {
         let mut seen = BTreeSet::new();
         for (i, m) in self.materials.iter().enumerate() {
             let e = format!("materials[{i}]");
-            if m.name.trim().is_empty() {
-                return Err(invalid(format!("{e}.name"), "must not be empty"));
-            }
-            if !seen.insert(m.name.as_str()) {
-                return Err(invalid(
-                    format!("{e}.name"),
-                    format!(
-                        "\"{}\" is already the name of another material; names must be unique",
-                        m.name
-                    ),
-                ));
-            }
+            unique_name(&mut seen, &e, &m.name, "material")?;
             positive(&format!("{e}.young"), m.young)?;
             if !(m.poisson.is_finite() && m.poisson > -1.0 && m.poisson < 0.5) {
                 return Err(invalid(
@@ -199,18 +203,7 @@ impl Scene {
         let mut seen = BTreeSet::new();
         for (i, b) in self.bodies.iter().enumerate() {
             let e = format!("bodies[{i}]");
-            if b.name.trim().is_empty() {
-                return Err(invalid(format!("{e}.name"), "must not be empty"));
-            }
-            if !seen.insert(b.name.as_str()) {
-                return Err(invalid(
-                    format!("{e}.name"),
-                    format!(
-                        "\"{}\" is already the name of another body; names must be unique",
-                        b.name
-                    ),
-                ));
-            }
+            unique_name(&mut seen, &e, &b.name, "body")?;
             if let Subdomains::Count(0) = b.subdomains {
                 return Err(invalid(
                     format!("{e}.subdomains"),
