@@ -4,7 +4,7 @@
 
 mod common;
 
-use common::{example, max_rel, try_run};
+use common::{example, forces, max_rel, try_run};
 use signorini_scene::Method;
 use signorini_solver::{RunOptions, RunOutput, SolveError};
 
@@ -16,10 +16,6 @@ fn run_with(text: &str, method: Method) -> Result<RunOutput, SolveError> {
             path: None,
         },
     )
-}
-
-fn forces(o: &RunOutput) -> Vec<f64> {
-    o.contact_rows.iter().map(|r| r.normal_force).collect()
 }
 
 /// A supported block pressed on a rigid plane with a gap profile that leaves

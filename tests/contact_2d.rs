@@ -3,20 +3,9 @@
 
 mod common;
 
-use common::{converged, example, max_rel};
+use common::{converged_on as solve, example, max_rel};
 use signorini_scene::SolvePath;
-use signorini_solver::{RunOptions, RunOutput};
-
-/// Solves on a path, asserting convergence and the certificate.
-fn solve(text: &str, path: SolvePath) -> RunOutput {
-    converged(
-        text,
-        RunOptions {
-            method: None,
-            path: Some(path),
-        },
-    )
-}
+use signorini_solver::RunOutput;
 
 /// A block W × H of one material on a rigid frictionless plane y = 0 (or
 /// `gap` below it), pinned in x at its lower-left corner, loaded on its top

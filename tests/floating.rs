@@ -7,7 +7,7 @@
 
 mod common;
 
-use common::{converged, example, max_rel, try_run};
+use common::{converged, example, forces, max_rel, try_run};
 use signorini_scene::Method;
 use signorini_solver::{RunOptions, RunOutput, SolveError};
 
@@ -16,10 +16,6 @@ fn with(method: Method) -> RunOptions {
         method: Some(method),
         path: None,
     }
-}
-
-fn forces(o: &RunOutput) -> Vec<f64> {
-    o.contact_rows.iter().map(|r| r.normal_force).collect()
 }
 
 fn displacements(o: &RunOutput) -> Vec<f64> {

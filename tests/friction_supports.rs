@@ -11,7 +11,7 @@
 
 mod common;
 
-use common::{converged, example, try_run};
+use common::{contact_force, converged, example, try_run};
 use signorini_solver::RunOptions;
 
 fn run(text: &str) -> signorini_solver::RunOutput {
@@ -298,6 +298,12 @@ surface = "left"
 traction = [8.0, 0.0]
 "#
     );
+    pad_on_floor(&extra, friction_solver)
+}
+
+/// The block of `pushed_block` on its floor (μ = 0.2, N = 10 down), with
+/// `extra` appended.
+fn pad_on_floor(extra: &str, friction_solver: &str) -> String {
     block(
         2,
         &[0.0, 0.0],
@@ -306,7 +312,7 @@ traction = [8.0, 0.0]
         &[0.0, 1.0],
         0.2,
         "traction = [0.0, -10.0]",
-        &extra,
+        extra,
         friction_solver,
     )
 }
@@ -326,24 +332,12 @@ fn the_friction_capacity_check_counts_a_frictionless_wall() {
             let f = &o.report.contact_force;
             assert!((f[0] + 4.0).abs() <= 1e-9 * 10.0, "{wall} {solver}: {f:?}");
             assert!((f[1] - 10.0).abs() <= 1e-9 * 10.0, "{wall} {solver}: {f:?}");
-            let floor = o
-                .report
-                .contacts
-                .iter()
-                .find(|c| c.name == "c")
-                .unwrap()
-                .force[0];
+            let floor = contact_force(&o, "c")[0];
             assert!(
                 floor.abs() <= 0.2 * 10.0 * (1.0 + 1e-9),
                 "friction within μN: {floor}"
             );
-            let w = o
-                .report
-                .contacts
-                .iter()
-                .find(|c| c.name == "w")
-                .unwrap()
-                .force[0];
+            let w = contact_force(&o, "w")[0];
             assert!(
                 w <= -2.0 * (1.0 - 1e-9),
                 "the wall takes at least 4 − μN: {w}"
@@ -357,17 +351,7 @@ fn the_friction_capacity_check_counts_a_frictionless_wall() {
     }
     // Without the wall, the same push beyond μN is refused (exit 1).
     let push = "[[boundary]]\nname = \"push\"\nbody = \"pad\"\nsurface = \"left\"\ntraction = [8.0, 0.0]\n";
-    let alone = block(
-        2,
-        &[0.0, 0.0],
-        &[1.0, 0.5],
-        &[8, 4],
-        &[0.0, 1.0],
-        0.2,
-        "traction = [0.0, -10.0]",
-        push,
-        "fixed_point",
-    );
+    let alone = pad_on_floor(push, "fixed_point");
     let err = try_run(&alone, RunOptions::default())
         .err()
         .expect("refused");

@@ -2,23 +2,16 @@
 //! every key of SCENE.md and Hertz's p0 and a within 2 % and 3 %
 //! (VALIDATION.md §1).
 
-use std::process::Command;
+mod common;
+
+use common::cli_run_ok;
 
 #[test]
 fn hertz_cylinder_on_a_rigid_plane_from_the_command_line() {
     let root = env!("CARGO_MANIFEST_DIR");
     let out = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("hertz_cli");
     let _ = std::fs::remove_dir_all(&out);
-    let status = Command::new(env!("CARGO_BIN_EXE_signorini"))
-        .args(["run", &format!("{root}/examples/hertz2d.toml"), "--out"])
-        .arg(&out)
-        .output()
-        .unwrap();
-    assert!(
-        status.status.success(),
-        "{}",
-        String::from_utf8_lossy(&status.stderr)
-    );
+    cli_run_ok(format!("{root}/examples/hertz2d.toml"), &out);
     let report: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(out.join("report.json")).unwrap()).unwrap();
     for key in [

@@ -4,7 +4,7 @@
 
 mod common;
 
-use common::{converged, example, max_rel};
+use common::{contact_force, converged, example, max_rel};
 use signorini_scene::Method;
 use signorini_solver::{RunOptions, RunOutput};
 
@@ -138,28 +138,10 @@ master = {{ body = "wall" }}
         // σ = E/((1+ν)(1−2ν)) · (−d) for each normal stress, so the
         // resultant on each unit side is that stress.
         let sigma = e / ((1.0 + nu) * (1.0 - 2.0 * nu)) * d;
-        let floor = out
-            .report
-            .contacts
-            .iter()
-            .find(|c| c.name == "floor")
-            .unwrap();
-        let wall = out
-            .report
-            .contacts
-            .iter()
-            .find(|c| c.name == "wall")
-            .unwrap();
-        assert!(
-            ((floor.force[1] - sigma) / sigma).abs() <= 1e-10,
-            "{:?}",
-            floor.force
-        );
-        assert!(
-            ((wall.force[0] - sigma) / sigma).abs() <= 1e-10,
-            "{:?}",
-            wall.force
-        );
+        let floor = contact_force(&out, "floor");
+        let wall = contact_force(&out, "wall");
+        assert!(((floor[1] - sigma) / sigma).abs() <= 1e-10, "{:?}", floor);
+        assert!(((wall[0] - sigma) / sigma).abs() <= 1e-10, "{:?}", wall);
         assert!(out.contact_rows.iter().all(|r| r.normal_force.is_finite()));
     }
 }

@@ -5,7 +5,7 @@
 
 mod common;
 
-use common::{converged, example, max_rel};
+use common::{cli_run_ok, converged, example, max_rel};
 use signorini_scene::SolvePath;
 use signorini_solver::{RunOptions, RunOutput};
 
@@ -239,20 +239,7 @@ fn vtu_series_reads_back_in_3d() {
         + "\n[[steps]]\nscale = { pressure = 0.5 }\n\n[[steps]]\nscale = { pressure = 1.0 }\n";
     std::fs::write(&scene, text).unwrap();
     let out_dir = dir.join("out");
-    let status = std::process::Command::new(env!("CARGO_BIN_EXE_signorini"))
-        .args([
-            "run",
-            scene.to_str().unwrap(),
-            "--out",
-            out_dir.to_str().unwrap(),
-        ])
-        .output()
-        .unwrap();
-    assert!(
-        status.status.success(),
-        "{}",
-        String::from_utf8_lossy(&status.stderr)
-    );
+    cli_run_ok(&scene, &out_dir);
     let pvd = std::fs::read_to_string(out_dir.join("fields.pvd")).unwrap();
     for f in ["base_1.vtu", "base_2.vtu", "block_1.vtu", "block_2.vtu"] {
         assert!(pvd.contains(f), "{pvd}");

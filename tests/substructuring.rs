@@ -3,20 +3,9 @@
 
 mod common;
 
-use common::{converged, example, max_rel};
+use common::{contact_force, converged_on as solve, example, max_rel};
 use signorini_scene::SolvePath;
-use signorini_solver::{RunOptions, RunOutput};
-
-/// Solves on a path, asserting convergence and the certificate.
-fn solve(text: &str, path: SolvePath) -> RunOutput {
-    converged(
-        text,
-        RunOptions {
-            method: None,
-            path: Some(path),
-        },
-    )
-}
+use signorini_solver::RunOutput;
 
 /// Displacements of every body and contact forces agree to `tol`.
 fn assert_same(a: &RunOutput, b: &RunOutput, tol: f64) {
@@ -115,14 +104,7 @@ fn stack_of_split_blocks_equals_the_unsplit_stack_and_the_direct_path() {
     assert_same(&a, &b, 1e-8);
     assert_same(&b, &c, 1e-9);
     // Equilibrium of the stack: what the roller pushes, the floor carries.
-    let force = |o: &RunOutput, name: &str| {
-        o.report
-            .contacts
-            .iter()
-            .find(|c| c.name == name)
-            .unwrap()
-            .force[1]
-    };
+    let force = |o: &RunOutput, name: &str| contact_force(o, name)[1];
     let roller = force(&b, "roller-plate");
     for pair in ["plate-base", "base-floor"] {
         assert!((force(&b, pair) - roller).abs() <= 1e-9 * roller, "{pair}");

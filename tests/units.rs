@@ -6,13 +6,9 @@
 
 mod common;
 
-use common::{converged, example, hertz_in_units as hertz, max_rel, patch3d_in_pa_and_m};
+use common::{converged, example, forces, hertz_in_units as hertz, max_rel, patch3d_in_pa_and_m};
 use signorini_scene::SolvePath;
-use signorini_solver::{RunOptions, RunOutput};
-
-fn forces(o: &RunOutput) -> Vec<f64> {
-    o.contact_rows.iter().map(|r| r.normal_force).collect()
-}
+use signorini_solver::RunOptions;
 
 #[test]
 fn hertz_in_pa_and_m_equals_hertz_in_mpa_and_mm() {

@@ -3,7 +3,7 @@
 #![allow(dead_code)]
 
 use signorini_comm::Local;
-use signorini_scene::parse_toml;
+use signorini_scene::{parse_toml, SolvePath};
 use signorini_solver::{run, RunOptions, RunOutput, SolveError};
 
 /// The path of a shipped example.
@@ -37,6 +37,53 @@ pub fn converged(text: &str, opts: RunOptions) -> RunOutput {
         out.report.certificate
     );
     out
+}
+
+/// Solves on a path, asserting convergence and the certificate.
+pub fn converged_on(text: &str, path: SolvePath) -> RunOutput {
+    converged(
+        text,
+        RunOptions {
+            method: None,
+            path: Some(path),
+        },
+    )
+}
+
+/// The normal force of every contact.csv row.
+pub fn forces(o: &RunOutput) -> Vec<f64> {
+    o.contact_rows.iter().map(|r| r.normal_force).collect()
+}
+
+/// The resultant force of the contact entry `name` in the report.
+pub fn contact_force<'a>(o: &'a RunOutput, name: &str) -> &'a [f64] {
+    &o.report
+        .contacts
+        .iter()
+        .find(|c| c.name == name)
+        .unwrap()
+        .force
+}
+
+/// `signorini run <scene> --out <out>` as a user runs it, asserting that it
+/// succeeded (with its stderr otherwise).
+pub fn cli_run_ok(
+    scene: impl AsRef<std::ffi::OsStr>,
+    out: impl AsRef<std::ffi::OsStr>,
+) -> std::process::Output {
+    let status = std::process::Command::new(env!("CARGO_BIN_EXE_signorini"))
+        .arg("run")
+        .arg(scene)
+        .arg("--out")
+        .arg(out)
+        .output()
+        .unwrap();
+    assert!(
+        status.status.success(),
+        "{}",
+        String::from_utf8_lossy(&status.stderr)
+    );
+    status
 }
 
 /// max |a − b| over max(|a|, |b|): the relative difference of two results.

@@ -98,6 +98,89 @@ fn solve_dirichlet(mesh: &Mesh, el: &Elasticity, f: &[f64], fixed: &[(usize, f64
     u
 }
 
+/// The dofs of the `boundary` nodes of a `dim`-dimensional mesh, each fixed
+/// at its value in `exact`.
+fn fixed_at(dim: usize, boundary: &[usize], exact: &[f64]) -> Vec<(usize, f64)> {
+    boundary
+        .iter()
+        .flat_map(|&n| (0..dim).map(move |k| dim * n + k))
+        .map(|d| (d, exact[d]))
+        .collect()
+}
+
+/// Patch test solve: no load, the `boundary` nodes fixed at `exact`.
+/// Returns the solution, max |u − exact| and max |exact|.
+fn solve_patch(
+    m: &Mesh,
+    el: &Elasticity,
+    exact: &[f64],
+    boundary: &[usize],
+) -> (Vec<f64>, f64, f64) {
+    let fixed = fixed_at(m.dim, boundary, exact);
+    let u = solve_dirichlet(m, el, &vec![0.0; exact.len()], &fixed);
+    let umax = exact.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+    let err = u
+        .iter()
+        .zip(exact)
+        .fold(0.0f64, |a, (x, y)| a.max((x - y).abs()));
+    (u, err, umax)
+}
+
+/// The plane field `u = u0 + G x` at every node of `m`, interleaved.
+fn linear_2d(m: &Mesh, u0: [f64; 2], gr: [[f64; 2]; 2]) -> Vec<f64> {
+    m.coords
+        .iter()
+        .flat_map(|p| {
+            [
+                u0[0] + gr[0][0] * p[0] + gr[0][1] * p[1],
+                u0[1] + gr[1][0] * p[0] + gr[1][1] * p[1],
+            ]
+        })
+        .collect()
+}
+
+/// A thick tube's errors against the exact radial displacement `ur(r)` and
+/// hoop stress `hoop(r)`: max over the nodes of |u_r − ur| and over the cell
+/// centroids of |σ_θθ − hoop|, each over its value at the inner radius `a`.
+fn tube_errors(
+    m: &Mesh,
+    el: &Elasticity,
+    u: &[f64],
+    ur: &dyn Fn(f64) -> f64,
+    hoop: &dyn Fn(f64) -> f64,
+    a: f64,
+) -> (f64, f64) {
+    let e_u = m
+        .coords
+        .iter()
+        .enumerate()
+        .map(|(n, x)| (u[2 * n] - ur(x[0])).abs())
+        .fold(0.0f64, f64::max)
+        / ur(a);
+    let e_hoop = cell_stress(m, el, u)
+        .iter()
+        .enumerate()
+        .map(|(c, s)| (s[2] - hoop(m.cell_centroid(c)[0])).abs())
+        .fold(0.0f64, f64::max)
+        / hoop(a);
+    (e_u, e_hoop)
+}
+
+/// Asserts that every cell of `m` has the stress `full` (6 components) within
+/// `bound`; `what` opens the failure message.
+fn assert_cell_stress(m: &Mesh, el: &Elasticity, u: &[f64], full: &[f64], bound: f64, what: &str) {
+    for (c, sc) in cell_stress(m, el, u).iter().enumerate() {
+        for k in 0..6 {
+            assert!(
+                (sc[k] - full[k]).abs() <= bound,
+                "{what} cell {c} [{k}]: {} vs {}",
+                sc[k],
+                full[k]
+            );
+        }
+    }
+}
+
 fn dense(k: &SparseColMat<usize, f64>) -> Mat<f64> {
     k.to_dense()
 }
@@ -257,21 +340,8 @@ fn patch_test_uniform_strain() {
     for (name, m) in test_meshes() {
         for model in [Model::PlaneStrain, Model::PlaneStress] {
             let el = mat(model);
-            let exact: Vec<f64> = m
-                .coords
-                .iter()
-                .flat_map(|p| {
-                    [
-                        u0[0] + gr[0][0] * p[0] + gr[0][1] * p[1],
-                        u0[1] + gr[1][0] * p[0] + gr[1][1] * p[1],
-                    ]
-                })
-                .collect();
+            let exact = linear_2d(&m, u0, gr);
             let boundary: Vec<usize> = m.surfaces.values().flat_map(|s| s.nodes()).collect();
-            let fixed: Vec<(usize, f64)> = boundary
-                .iter()
-                .flat_map(|&n| [(2 * n, exact[2 * n]), (2 * n + 1, exact[2 * n + 1])])
-                .collect();
             let interior = m.n_nodes() - {
                 let mut b = boundary.clone();
                 b.sort_unstable();
@@ -279,12 +349,7 @@ fn patch_test_uniform_strain() {
                 b.len()
             };
             assert!(interior >= 4, "{name}: {interior} interior nodes");
-            let u = solve_dirichlet(&m, &el, &vec![0.0; exact.len()], &fixed);
-            let umax = exact.iter().fold(0.0f64, |a, v| a.max(v.abs()));
-            let err = u
-                .iter()
-                .zip(&exact)
-                .fold(0.0f64, |a, (x, y)| a.max((x - y).abs()));
+            let (u, err, umax) = solve_patch(&m, &el, &exact, &boundary);
             assert!(err <= 1e-10 * umax, "{name} {model:?}: error {err:e}");
             let d = el.d_matrix();
             let eps = nalgebra::DVector::from_vec(vec![gr[0][0], gr[1][1], gr[0][1] + gr[1][0]]);

@@ -1,6 +1,7 @@
 //! Log-log line plots as SVG (plotters' SVG backend: pure Rust, no system
 //! fonts or libraries needed), for `signorini bench`.
 
+use plotters::coord::ranged1d::{AsRangedCoord, ValueFormatter};
 use plotters::prelude::*;
 
 /// One line of a plot: a label and its (x, y) points (positive values).
@@ -41,36 +42,73 @@ pub fn loglog_svg(
     };
     let (x0, x1) = pad(x0, x1);
     let (y0, y1) = pad(y0, y1);
-    let root = SVGBackend::new(path, (800, 560)).into_drawing_area();
+    let lines = series
+        .iter()
+        .map(|s| {
+            let line: Vec<(f64, f64)> = s
+                .points
+                .iter()
+                .copied()
+                .filter(|(x, y)| *x > 0.0 && *y > 0.0)
+                .collect();
+            (s.label.clone(), line)
+        })
+        .collect();
+    draw_svg(
+        path,
+        title,
+        (x_label, y_label),
+        (70, 1),
+        ((x0..x1).log_scale(), (y0..y1).log_scale()),
+        lines,
+        Some(SeriesLabelPosition::UpperRight),
+    )
+}
+
+/// The chart of both plots: `title`, the axis labels, a y label area of
+/// `area.0` pixels, ticks in scientific notation with `area.1` decimals,
+/// each line with its points and a legend entry (at `legend_at`, or where
+/// plotters puts it).
+fn draw_svg<X, Y>(
+    path: &std::path::Path,
+    title: &str,
+    (x_label, y_label): (&str, &str),
+    area: (u32, usize),
+    (x_spec, y_spec): (X, Y),
+    lines: Vec<(String, Vec<(f64, f64)>)>,
+    legend_at: Option<SeriesLabelPosition>,
+) -> Result<(), String>
+where
+    X: AsRangedCoord<Value = f64>,
+    Y: AsRangedCoord<Value = f64>,
+    X::CoordDescType: ValueFormatter<f64>,
+    Y::CoordDescType: ValueFormatter<f64>,
+{
+    let (y_area, digits) = area;
     let e = |err: &dyn std::fmt::Display| err.to_string();
+    let root = SVGBackend::new(path, (800, 560)).into_drawing_area();
     root.fill(&WHITE).map_err(|x| e(&x))?;
     let mut chart = ChartBuilder::on(&root)
         .caption(title, ("sans-serif", 22))
         .margin(15)
         .x_label_area_size(45)
-        .y_label_area_size(70)
-        .build_cartesian_2d((x0..x1).log_scale(), (y0..y1).log_scale())
+        .y_label_area_size(y_area)
+        .build_cartesian_2d(x_spec, y_spec)
         .map_err(|x| e(&x))?;
     chart
         .configure_mesh()
         .x_desc(x_label)
         .y_desc(y_label)
-        .x_label_formatter(&|v| format!("{v:.1e}"))
-        .y_label_formatter(&|v| format!("{v:.1e}"))
+        .x_label_formatter(&|v| format!("{v:.digits$e}"))
+        .y_label_formatter(&|v| format!("{v:.digits$e}"))
         .draw()
         .map_err(|x| e(&x))?;
-    for (i, s) in series.iter().enumerate() {
+    for (i, (label, line)) in lines.into_iter().enumerate() {
         let color = Palette99::pick(i).to_rgba();
-        let line: Vec<(f64, f64)> = s
-            .points
-            .iter()
-            .copied()
-            .filter(|(x, y)| *x > 0.0 && *y > 0.0)
-            .collect();
         chart
             .draw_series(LineSeries::new(line.clone(), color.stroke_width(2)))
             .map_err(|x| e(&x))?
-            .label(s.label.clone())
+            .label(label)
             .legend(move |(x, y)| {
                 PathElement::new(vec![(x, y), (x + 18, y)], color.stroke_width(2))
             });
@@ -78,13 +116,12 @@ pub fn loglog_svg(
             .draw_series(line.into_iter().map(|p| Circle::new(p, 3, color.filled())))
             .map_err(|x| e(&x))?;
     }
-    chart
-        .configure_series_labels()
-        .background_style(WHITE.mix(0.85))
-        .border_style(BLACK)
-        .position(SeriesLabelPosition::UpperRight)
-        .draw()
-        .map_err(|x| e(&x))?;
+    let mut labels = chart.configure_series_labels();
+    labels.background_style(WHITE.mix(0.85)).border_style(BLACK);
+    if let Some(at) = legend_at {
+        labels.position(at);
+    }
+    labels.draw().map_err(|x| e(&x))?;
     root.present().map_err(|x| e(&x))?;
     Ok(())
 }
@@ -123,45 +160,19 @@ pub fn linear_svg(
     };
     let (x0, x1) = pad(x0, x1);
     let (y0, y1) = pad(y0, y1);
-    let e = |err: &dyn std::fmt::Display| err.to_string();
-    let root = SVGBackend::new(path, (800, 560)).into_drawing_area();
-    root.fill(&WHITE).map_err(|x| e(&x))?;
-    let mut chart = ChartBuilder::on(&root)
-        .caption(title, ("sans-serif", 22))
-        .margin(15)
-        .x_label_area_size(45)
-        .y_label_area_size(80)
-        .build_cartesian_2d(x0..x1, y0..y1)
-        .map_err(|x| e(&x))?;
-    chart
-        .configure_mesh()
-        .x_desc(x_label)
-        .y_desc(y_label)
-        .x_label_formatter(&|v| format!("{v:.2e}"))
-        .y_label_formatter(&|v| format!("{v:.2e}"))
-        .draw()
-        .map_err(|x| e(&x))?;
-    for (i, s) in series.iter().enumerate() {
-        let color = Palette99::pick(i).to_rgba();
-        chart
-            .draw_series(LineSeries::new(s.points.clone(), color.stroke_width(2)))
-            .map_err(|x| e(&x))?
-            .label(s.label.clone())
-            .legend(move |(x, y)| {
-                PathElement::new(vec![(x, y), (x + 18, y)], color.stroke_width(2))
-            });
-        chart
-            .draw_series(s.points.iter().map(|p| Circle::new(*p, 3, color.filled())))
-            .map_err(|x| e(&x))?;
-    }
-    chart
-        .configure_series_labels()
-        .background_style(WHITE.mix(0.85))
-        .border_style(BLACK)
-        .draw()
-        .map_err(|x| e(&x))?;
-    root.present().map_err(|x| e(&x))?;
-    Ok(())
+    let lines = series
+        .iter()
+        .map(|s| (s.label.clone(), s.points.clone()))
+        .collect();
+    draw_svg(
+        path,
+        title,
+        (x_label, y_label),
+        (80, 2),
+        (x0..x1, y0..y1),
+        lines,
+        None,
+    )
 }
 
 #[cfg(test)]

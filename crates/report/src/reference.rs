@@ -345,14 +345,7 @@ mod tests {
                 // ring of the node: [s - h/2, s + h/2] within [0, a]
                 let (lo, hi) = ((s - h / 2.0).max(0.0), (s + h / 2.0).min(a));
                 let w = std::f64::consts::PI * (hi * hi - lo * lo);
-                NodalPressure {
-                    s,
-                    force: p0 * (1.0 - (s / a).powi(2)).max(0.0).sqrt() * w,
-                    tributary: w,
-                    pressure: p0 * (1.0 - (s / a).powi(2)).max(0.0).sqrt(),
-                    tangential: 0.0,
-                    stick: false,
-                }
+                hertz_node(s, w, p0, a)
             })
             .collect();
         let rep = hertz_sphere(&nodes, e_star, r);
@@ -360,6 +353,19 @@ mod tests {
         assert!(q["p0"].relative_error < 1e-3, "{:?}", q["p0"]);
         assert!(q["a"].relative_error < 1e-3, "{:?}", q["a"]);
         assert!(q["profile_l2"].relative_error < 1e-2);
+    }
+
+    /// A node at `s` of tributary `w` carrying the exact Hertz pressure
+    /// p0 √(1 − (s/a)²), stick-free.
+    fn hertz_node(s: f64, w: f64, p0: f64, a: f64) -> NodalPressure {
+        NodalPressure {
+            s,
+            force: p0 * (1.0 - (s / a).powi(2)).max(0.0).sqrt() * w,
+            tributary: w,
+            pressure: p0 * (1.0 - (s / a).powi(2)).max(0.0).sqrt(),
+            tangential: 0.0,
+            stick: false,
+        }
     }
 
     #[test]
@@ -373,14 +379,7 @@ mod tests {
             .map(|i| {
                 let s = -a + i as f64 * h;
                 let w = if i == 0 || i == n - 1 { h / 2.0 } else { h };
-                NodalPressure {
-                    s,
-                    force: p0 * (1.0 - (s / a).powi(2)).max(0.0).sqrt() * w,
-                    tributary: w,
-                    pressure: p0 * (1.0 - (s / a).powi(2)).max(0.0).sqrt(),
-                    tangential: 0.0,
-                    stick: false,
-                }
+                hertz_node(s, w, p0, a)
             })
             .collect();
         let rep = hertz_cylinder(&nodes, e_star, r);

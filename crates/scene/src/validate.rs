@@ -12,6 +12,35 @@ type Result<T = ()> = std::result::Result<T, SceneError>;
 /// fields are kept for the report and written as one VTU file per body.
 pub const MAX_STEPS: usize = 10_000;
 
+/// A contact side's `surface` that must be given (`missing` is the message
+/// when it is not) and not be blank.
+fn named_surface(
+    entry: &str,
+    surface: &Option<String>,
+    missing: impl FnOnce() -> String,
+) -> Result {
+    match surface {
+        None => Err(invalid(entry, missing())),
+        Some(s) if s.trim().is_empty() => Err(invalid(entry, "must not be empty")),
+        Some(_) => Ok(()),
+    }
+}
+
+/// The name of a material or body (`what`) at entry `e`: not blank, and not
+/// already in `seen`.
+fn unique_name<'a>(seen: &mut BTreeSet<&'a str>, e: &str, name: &'a str, what: &str) -> Result {
+    if name.trim().is_empty() {
+        return Err(invalid(format!("{e}.name"), "must not be empty"));
+    }
+    if !seen.insert(name) {
+        return Err(invalid(
+            format!("{e}.name"),
+            format!("\"{name}\" is already the name of another {what}; names must be unique"),
+        ));
+    }
+    Ok(())
+}
+
 fn invalid(entry: impl Into<String>, message: impl Into<String>) -> SceneError {
     SceneError::Invalid {
         entry: entry.into(),
@@ -156,18 +185,7 @@ impl Scene {
         let mut seen = BTreeSet::new();
         for (i, m) in self.materials.iter().enumerate() {
             let e = format!("materials[{i}]");
-            if m.name.trim().is_empty() {
-                return Err(invalid(format!("{e}.name"), "must not be empty"));
-            }
-            if !seen.insert(m.name.as_str()) {
-                return Err(invalid(
-                    format!("{e}.name"),
-                    format!(
-                        "\"{}\" is already the name of another material; names must be unique",
-                        m.name
-                    ),
-                ));
-            }
+            unique_name(&mut seen, &e, &m.name, "material")?;
             positive(&format!("{e}.young"), m.young)?;
             if !(m.poisson.is_finite() && m.poisson > -1.0 && m.poisson < 0.5) {
                 return Err(invalid(
@@ -185,18 +203,7 @@ impl Scene {
         let mut seen = BTreeSet::new();
         for (i, b) in self.bodies.iter().enumerate() {
             let e = format!("bodies[{i}]");
-            if b.name.trim().is_empty() {
-                return Err(invalid(format!("{e}.name"), "must not be empty"));
-            }
-            if !seen.insert(b.name.as_str()) {
-                return Err(invalid(
-                    format!("{e}.name"),
-                    format!(
-                        "\"{}\" is already the name of another body; names must be unique",
-                        b.name
-                    ),
-                ));
-            }
+            unique_name(&mut seen, &e, &b.name, "body")?;
             if let Subdomains::Count(0) = b.subdomains {
                 return Err(invalid(
                     format!("{e}.subdomains"),
@@ -475,39 +482,21 @@ impl Scene {
     fn validate_contact_sides(&self, e: &str, c: &Contact) -> Result {
         // slave
         self.deformable_body(&format!("{e}.slave.body"), &c.slave.body, "the slave side")?;
-        match &c.slave.surface {
-                None => {
-                    return Err(invalid(
-                        format!("{e}.slave.surface"),
-                        format!(
-                            "the slave side needs `surface`, the surface of body \"{}\" that may touch: slave = {{ body = \"{}\", surface = \"...\" }}",
-                            c.slave.body, c.slave.body
-                        ),
-                    ))
-                }
-                Some(s) if s.trim().is_empty() => {
-                    return Err(invalid(format!("{e}.slave.surface"), "must not be empty"))
-                }
-                Some(_) => {}
-            }
+        named_surface(&format!("{e}.slave.surface"), &c.slave.surface, || {
+            format!(
+                    "the slave side needs `surface`, the surface of body \"{}\" that may touch: slave = {{ body = \"{}\", surface = \"...\" }}",
+                    c.slave.body, c.slave.body
+                )
+        })?;
         // master
         let master = self.body_exists(&format!("{e}.master.body"), &c.master.body)?;
         if master.is_deformable() {
-            match &c.master.surface {
-                    None => {
-                        return Err(invalid(
-                            format!("{e}.master.surface"),
-                            format!(
-                                "body \"{}\" is deformable, so the master side needs `surface`: master = {{ body = \"{}\", surface = \"...\" }}",
-                                c.master.body, c.master.body
-                            ),
-                        ))
-                    }
-                    Some(s) if s.trim().is_empty() => {
-                        return Err(invalid(format!("{e}.master.surface"), "must not be empty"))
-                    }
-                    Some(_) => {}
-                }
+            named_surface(&format!("{e}.master.surface"), &c.master.surface, || {
+                format!(
+                        "body \"{}\" is deformable, so the master side needs `surface`: master = {{ body = \"{}\", surface = \"...\" }}",
+                        c.master.body, c.master.body
+                    )
+            })?;
         } else if c.master.surface.is_some() {
             return Err(invalid(
                 format!("{e}.master.surface"),

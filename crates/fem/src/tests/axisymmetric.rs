@@ -2,7 +2,9 @@
 //! cylinder, and the thick-walled cylinder under internal pressure (Lamé).
 
 use super::meshes::{boundary_nodes, rect};
-use super::{dense, mat, matvec, norm, solve_dirichlet, E, NU};
+use super::{
+    assert_cell_stress, dense, mat, matvec, norm, solve_dirichlet, solve_patch, tube_errors, E, NU,
+};
 use crate::*;
 use signorini_mesh::CellKind;
 use std::f64::consts::PI;
@@ -31,30 +33,13 @@ fn patch_test_every_kind() {
                 .iter()
                 .flat_map(|p| [a * p[0], b * p[1] + d])
                 .collect();
-            let fixed: Vec<(usize, f64)> = boundary_nodes(&m)
-                .iter()
-                .flat_map(|&n| [(2 * n, exact[2 * n]), (2 * n + 1, exact[2 * n + 1])])
-                .collect();
-            let u = solve_dirichlet(&m, &el, &vec![0.0; exact.len()], &fixed);
-            let umax = exact.iter().fold(0.0f64, |a, v| a.max(v.abs()));
-            let err = u
-                .iter()
-                .zip(&exact)
-                .fold(0.0f64, |a, (x, y)| a.max((x - y).abs()));
+            let (u, err, umax) = solve_patch(&m, &el, &exact, &boundary_nodes(&m));
             assert!(err <= 1e-10 * umax, "{kind:?} r0 = {r0}: error {err:e}");
             // [rr, zz, θθ, rz] = D [a, b, a, 0]
             let s = el.d_matrix() * nalgebra::DVector::from_vec(vec![a, b, a, 0.0]);
             let full = [s[0], s[1], s[2], 0.0, 0.0, 0.0];
-            for (c, sc) in cell_stress(&m, &el, &u).iter().enumerate() {
-                for k in 0..6 {
-                    assert!(
-                        (sc[k] - full[k]).abs() <= 1e-9 * s.amax(),
-                        "{kind:?} r0 = {r0} cell {c} [{k}]: {} vs {}",
-                        sc[k],
-                        full[k]
-                    );
-                }
-            }
+            let what = format!("{kind:?} r0 = {r0}");
+            assert_cell_stress(&m, &el, &u, &full, 1e-9 * s.amax(), &what);
         }
     }
 }
@@ -157,20 +142,8 @@ fn thick_walled_cylinder_lame() {
                 }
             }
             let u = solve_dirichlet(&m, &el, &f, &fixed);
-            let err = m
-                .coords
-                .iter()
-                .enumerate()
-                .map(|(n, x)| (u[2 * n] - ur(x[0])).abs())
-                .fold(0.0f64, f64::max)
-                / ur(a);
+            let (err, hoop_err) = tube_errors(&m, &el, &u, &ur, &hoop, a);
             errors.push(err);
-            let hoop_err = cell_stress(&m, &el, &u)
-                .iter()
-                .enumerate()
-                .map(|(c, s)| (s[2] - hoop(m.cell_centroid(c)[0])).abs())
-                .fold(0.0f64, f64::max)
-                / hoop(a);
             hoop_errors.push(hoop_err);
         }
         // observed convergence order of the nodal u_r: 2 for T3 and Q4, 3 for

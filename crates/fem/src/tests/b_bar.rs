@@ -4,7 +4,7 @@
 //! tube at ν = 0.4999, and the stress recovery with `B̄`.
 
 use super::meshes::{boundary_nodes, boxed, rect, single};
-use super::{mat, solve_dirichlet, E, NU};
+use super::{assert_cell_stress, fixed_at, mat, solve_dirichlet, tube_errors, E, NU};
 use crate::*;
 use nalgebra::{DMatrix, DVector, SymmetricEigen};
 use signorini_mesh::{CellKind, Mesh};
@@ -26,26 +26,13 @@ fn rel_err(x: &[f64], y: &[f64]) -> f64 {
 /// interior takes `exact` and every cell the stress `full`.
 fn patch(name: &str, m: &Mesh, el: &Elasticity, exact: &[f64], full: &[f64; 6]) {
     let dim = m.dim;
-    let fixed: Vec<(usize, f64)> = boundary_nodes(m)
-        .iter()
-        .flat_map(|&n| (0..dim).map(move |k| dim * n + k))
-        .map(|d| (d, exact[d]))
-        .collect();
+    let fixed = fixed_at(dim, &boundary_nodes(m), exact);
     assert!(fixed.len() < exact.len(), "{name}: no interior node");
     let u = solve_dirichlet(m, el, &vec![0.0; exact.len()], &fixed);
     let err = rel_err(&u, exact);
     assert!(err <= 1e-9, "{name}: displacement error {err:e}");
     let smax = full.iter().fold(0.0f64, |a, v| a.max(v.abs()));
-    for (c, s) in cell_stress(m, el, &u).iter().enumerate() {
-        for k in 0..6 {
-            assert!(
-                (s[k] - full[k]).abs() <= 1e-8 * smax,
-                "{name}: cell {c} [{k}]: {} vs {}",
-                s[k],
-                full[k]
-            );
-        }
-    }
+    assert_cell_stress(m, el, &u, full, 1e-8 * smax, &format!("{name}:"));
 }
 
 /// A linear field `u = u0 + G x` imposed on the boundary of distorted Q4
@@ -369,20 +356,7 @@ fn lame_tube_near_incompressible() {
         .collect();
     let errors = |el: &Elasticity| {
         let u = solve_dirichlet(&m, el, &f, &fixed);
-        let e_u = m
-            .coords
-            .iter()
-            .enumerate()
-            .map(|(n, x)| (u[2 * n] - ur(x[0])).abs())
-            .fold(0.0f64, f64::max)
-            / ur(a);
-        let e_hoop = cell_stress(&m, el, &u)
-            .iter()
-            .enumerate()
-            .map(|(c, s)| (s[2] - hoop(m.cell_centroid(c)[0])).abs())
-            .fold(0.0f64, f64::max)
-            / hoop(a);
-        (e_u, e_hoop)
+        tube_errors(&m, el, &u, &ur, &hoop, a)
     };
     let disp = errors(&Elasticity::new(E, nu, model));
     let bb = errors(&bbar(model, nu));

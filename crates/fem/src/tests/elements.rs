@@ -3,7 +3,7 @@
 //! checks and the von Mises stress.
 
 use super::meshes::{boundary_nodes, rect, single};
-use super::{mat, solve_dirichlet, E, NU};
+use super::{assert_cell_stress, linear_2d, mat, solve_patch, E, NU};
 use crate::*;
 use nalgebra::{DMatrix, DVector, SymmetricEigen};
 use signorini_mesh::CellKind;
@@ -272,42 +272,15 @@ fn patch_test_every_2d_kind() {
         let m = rect(kind, [0.5, -0.25], [2.0, 1.0], [5, 4], 0.25);
         let boundary = boundary_nodes(&m);
         assert!(m.n_nodes() - boundary.len() >= 12, "{kind:?}");
-        let exact: Vec<f64> = m
-            .coords
-            .iter()
-            .flat_map(|p| {
-                [
-                    u0[0] + gr[0][0] * p[0] + gr[0][1] * p[1],
-                    u0[1] + gr[1][0] * p[0] + gr[1][1] * p[1],
-                ]
-            })
-            .collect();
-        let umax = exact.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+        let exact = linear_2d(&m, u0, gr);
         for model in PLANE {
             let el = mat(model);
-            let fixed: Vec<(usize, f64)> = boundary
-                .iter()
-                .flat_map(|&n| [(2 * n, exact[2 * n]), (2 * n + 1, exact[2 * n + 1])])
-                .collect();
-            let u = solve_dirichlet(&m, &el, &vec![0.0; exact.len()], &fixed);
-            let err = u
-                .iter()
-                .zip(&exact)
-                .fold(0.0f64, |a, (x, y)| a.max((x - y).abs()));
+            let (u, err, umax) = solve_patch(&m, &el, &exact, &boundary);
             assert!(err <= 1e-10 * umax, "{kind:?} {model:?}: error {err:e}");
             let eps = DVector::from_vec(vec![gr[0][0], gr[1][1], gr[0][1] + gr[1][0]]);
             let s = el.full_stress((el.d_matrix() * eps).as_slice());
             let smax = s.iter().fold(0.0f64, |a, v| a.max(v.abs()));
-            for (c, sc) in cell_stress(&m, &el, &u).iter().enumerate() {
-                for k in 0..6 {
-                    assert!(
-                        (sc[k] - s[k]).abs() <= 1e-9 * smax,
-                        "{kind:?} {model:?} cell {c} [{k}]: {} vs {}",
-                        sc[k],
-                        s[k]
-                    );
-                }
-            }
+            assert_cell_stress(&m, &el, &u, &s, 1e-9 * smax, &format!("{kind:?} {model:?}"));
         }
     }
 }

@@ -121,15 +121,7 @@ pub fn rect(kind: CellKind, origin: [f64; 2], size: [f64; 2], div: [usize; 2], a
             }
         }
     }
-    let mut mesh = Mesh {
-        dim: 2,
-        coords,
-        cells: cells
-            .into_iter()
-            .map(|nodes| Cell { kind, nodes })
-            .collect(),
-        ..Default::default()
-    };
+    let mut mesh = of_cells(kind, coords, cells);
     let hi = [origin[0] + size[0], origin[1] + size[1], 0.0];
     side_surfaces(
         &mut mesh,
@@ -209,15 +201,7 @@ pub fn boxed(kind: CellKind, size: [f64; 3], div: [usize; 3], amp: f64) -> Mesh 
             }
         }
     }
-    let mut mesh = Mesh {
-        dim: 3,
-        coords,
-        cells: cells
-            .into_iter()
-            .map(|nodes| Cell { kind, nodes })
-            .collect(),
-        ..Default::default()
-    };
+    let mut mesh = of_cells(kind, coords, cells);
     side_surfaces(
         &mut mesh,
         [0.0; 3],
@@ -251,13 +235,18 @@ pub fn tet_volume(coords: &[[f64; 3]], t: &[usize]) -> f64 {
 /// A mesh of one cell with the given nodes.
 pub fn single(kind: CellKind, coords: Vec<[f64; 3]>) -> Mesh {
     let n = coords.len();
+    of_cells(kind, coords, vec![(0..n).collect()])
+}
+
+/// A mesh of cells of `kind` (its dimension) on `coords`, no surfaces.
+fn of_cells(kind: CellKind, coords: Vec<[f64; 3]>, cells: Vec<Vec<usize>>) -> Mesh {
     Mesh {
         dim: kind.dim(),
         coords,
-        cells: vec![Cell {
-            kind,
-            nodes: (0..n).collect(),
-        }],
+        cells: cells
+            .into_iter()
+            .map(|nodes| Cell { kind, nodes })
+            .collect(),
         ..Default::default()
     }
 }

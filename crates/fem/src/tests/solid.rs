@@ -1,7 +1,7 @@
 //! 3D solids: patch test, uniaxial compression of a box, assembled kernel.
 
 use super::meshes::{boundary_nodes, boxed};
-use super::{dense, mat, matvec, norm, solve_dirichlet, E, NU};
+use super::{assert_cell_stress, dense, mat, matvec, norm, solve_dirichlet, solve_patch, E, NU};
 use crate::*;
 use signorini_mesh::CellKind;
 
@@ -34,17 +34,7 @@ fn patch_test_hex_and_tet() {
                 u
             })
             .collect();
-        let fixed: Vec<(usize, f64)> = boundary
-            .iter()
-            .flat_map(|&n| (0..3).map(move |k| 3 * n + k))
-            .map(|d| (d, exact[d]))
-            .collect();
-        let u = solve_dirichlet(&m, &el, &vec![0.0; exact.len()], &fixed);
-        let umax = exact.iter().fold(0.0f64, |a, v| a.max(v.abs()));
-        let err = u
-            .iter()
-            .zip(&exact)
-            .fold(0.0f64, |a, (x, y)| a.max((x - y).abs()));
+        let (u, err, umax) = solve_patch(&m, &el, &exact, &boundary);
         assert!(err <= 1e-10 * umax, "{kind:?}: error {err:e}");
         // ε = [xx, yy, zz, γxy, γyz, γxz]
         let eps = nalgebra::DVector::from_vec(vec![
@@ -57,16 +47,7 @@ fn patch_test_hex_and_tet() {
         ]);
         let s = el.d_matrix() * eps;
         let smax = s.amax();
-        for (c, sc) in cell_stress(&m, &el, &u).iter().enumerate() {
-            for k in 0..6 {
-                assert!(
-                    (sc[k] - s[k]).abs() <= 1e-9 * smax,
-                    "{kind:?} cell {c} [{k}]: {} vs {}",
-                    sc[k],
-                    s[k]
-                );
-            }
-        }
+        assert_cell_stress(&m, &el, &u, s.as_slice(), 1e-9 * smax, &format!("{kind:?}"));
     }
 }
 
