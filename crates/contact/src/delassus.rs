@@ -70,9 +70,6 @@ pub struct DelassusProblem {
     last_alpha: Vec<f64>,
     /// Number of linear solves with W blocks (for the report).
     pub solves: usize,
-    /// Estimated κ₁ of the factorised S (S + ρRRᵀ with floating bodies),
-    /// when built by [`DelassusProblem::new_with_condition`].
-    s_condition: Option<f64>,
 }
 
 fn orthonormalize(r: &Mat<f64>) -> Result<Mat<f64>, ContactError> {
@@ -166,7 +163,6 @@ impl DelassusOperator {
             e,
             last_alpha: vec![0.0; k],
             solves: 0,
-            s_condition: self.s_condition,
         }
     }
 
@@ -271,12 +267,6 @@ impl DelassusProblem {
         Ok(DelassusOperator::new(s, b, kernel)?.problem(gap0, f))
     }
 
-    /// The estimated κ₁ of S of the operator this problem comes from, when
-    /// it was built by [`DelassusOperator::new_with_condition`].
-    pub fn s_condition(&self) -> Option<f64> {
-        self.s_condition
-    }
-
     /// A problem given directly by its Delassus operator W and gaps q (for
     /// stand-alone local problems): no interface displacement behind it.
     pub fn from_operator(w: Mat<f64>, q: Vec<f64>) -> Self {
@@ -292,7 +282,6 @@ impl DelassusProblem {
             q,
             last_alpha: Vec::new(),
             solves: 0,
-            s_condition: None,
         }
     }
 
