@@ -1,0 +1,13 @@
+//! The root-solver benchmark (issue 14): Delassus problems W, q (μ) of a
+//! rigid indenter on an elastic layer, built by this project's finite
+//! elements ([`layer`], [`problem`]), on which every root algorithm runs.
+//!
+//! This crate owns the benchmark problems and their runs; it is not part of
+//! the library the pipeline uses, and the numerics it times know nothing of
+//! it.
+
+pub mod layer;
+pub mod problem;
+
+pub use layer::{surface_compliance, Layer, SurfaceCompliance};
+pub use problem::{indentation_problem, Indentation, RootProblem};
