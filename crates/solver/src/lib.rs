@@ -30,6 +30,7 @@ pub mod model;
 mod partition;
 mod pipeline;
 mod plan;
+pub mod problem_file;
 mod root;
 pub mod subdomain;
 

@@ -1,0 +1,336 @@
+//! The stand-alone problem file of `signorini local` (DESIGN.md §4): a
+//! Delassus operator W (dense, symmetric), its free gaps q and, for
+//! friction, a coefficient μ per contact, so that the root solvers can be
+//! compared with other libraries on identical data.
+//!
+//! Formats: JSON `{"W": [[...], ...], "q": [...], "mu": [...], "dim": d}`
+//! (W by rows) or a NumPy `.npz` archive with arrays `W` (either order), `q`,
+//! optionally `mu` and `dim` (a scalar). Row layouts:
+//! - `dim` = 1, or neither `dim` nor `mu`: an LCP, one row per contact;
+//! - `dim` = 2 or 3: contact-wise rows, [n, t] or [n, t1, t2] per contact
+//!   (the layout of Siconos and FCLib); `mu` has one entry per contact, an
+//!   empty or absent `mu` meaning frictionless;
+//! - JSON only, `"layout": "normal_first"`: the m normal rows, then the m
+//!   tangential rows (2D), with `mu` of m entries.
+//!
+//! With `mu` and neither `dim` nor `layout`, the order of the rows cannot be
+//! known, and the file is refused: it is never solved in the wrong order.
+//! Once read, a problem is held in this project's block layout (normal rows
+//! 0..m, then the tangential rows of each contact in turn).
+
+use std::io::{Read, Write};
+use std::path::Path;
+
+use faer::Mat;
+use serde::Deserialize;
+
+/// A stand-alone problem in the block layout, with the file row of each row.
+#[derive(Debug)]
+pub struct LocalProblem {
+    pub w: Mat<f64>,
+    pub q: Vec<f64>,
+    /// Rows per contact: 1 (an LCP), 2 or 3.
+    pub dim: usize,
+    /// μ per contact; `None`: frictionless (an LCP on the normal rows).
+    pub mu: Option<Vec<f64>>,
+    /// The file's row of each block row.
+    pub file_row: Vec<usize>,
+}
+
+impl LocalProblem {
+    pub fn contacts(&self) -> usize {
+        self.q.len() / self.dim
+    }
+
+    /// Forces of the block layout in the file's row order.
+    pub fn to_file_order(&self, forces: &[f64]) -> Vec<f64> {
+        let mut out = vec![0.0; forces.len()];
+        for (k, &r) in self.file_row.iter().enumerate() {
+            out[r] = forces[k];
+        }
+        out
+    }
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct JsonProblem {
+    #[serde(rename = "W")]
+    w: Vec<Vec<f64>>,
+    q: Vec<f64>,
+    #[serde(default)]
+    mu: Option<serde_json::Value>,
+    #[serde(default)]
+    dim: Option<serde_json::Value>,
+    #[serde(default)]
+    layout: Option<String>,
+}
+
+/// What a file holds before its layout is resolved.
+struct Raw {
+    w: Mat<f64>,
+    q: Vec<f64>,
+    mu: Option<Vec<f64>>,
+    dim: Option<f64>,
+    normal_first: bool,
+}
+
+/// Shape, Fortran order, data (float64).
+type NpyArray = (Vec<u64>, bool, Vec<f64>);
+
+fn read_npy(
+    archive: &mut zip::ZipArchive<std::fs::File>,
+    name: &str,
+) -> Result<Option<NpyArray>, String> {
+    let mut file = match archive.by_name(&format!("{name}.npy")) {
+        Ok(f) => f,
+        Err(zip::result::ZipError::FileNotFound) => return Ok(None),
+        Err(e) => return Err(format!("{name}.npy: {e}")),
+    };
+    let mut bytes = Vec::new();
+    file.read_to_end(&mut bytes)
+        .map_err(|e| format!("{name}.npy: {e}"))?;
+    let npy = npyz::NpyFile::new(&bytes[..]).map_err(|e| format!("{name}.npy: {e}"))?;
+    let shape = npy.shape().to_vec();
+    let fortran = npy.order() == npyz::Order::Fortran;
+    let data = npy
+        .into_vec::<f64>()
+        .map_err(|e| format!("{name}.npy: expected float64 data ({e})"))?;
+    Ok(Some((shape, fortran, data)))
+}
+
+fn read_npz(path: &Path) -> Result<Raw, String> {
+    let shown = path.display();
+    let file = std::fs::File::open(path).map_err(|e| format!("cannot read {shown}: {e}"))?;
+    let mut archive =
+        zip::ZipArchive::new(file).map_err(|e| format!("{shown}: not a .npz archive ({e})"))?;
+    let (ws, wf, wd) = read_npy(&mut archive, "W")?.ok_or(format!("{shown}: no array named W"))?;
+    let (qs, _, qd) = read_npy(&mut archive, "q")?.ok_or(format!("{shown}: no array named q"))?;
+    let mu = read_npy(&mut archive, "mu")?.map(|(_, _, d)| d);
+    let dim = match read_npy(&mut archive, "dim")? {
+        None => None,
+        Some((_, _, d)) if d.len() == 1 => Some(d[0]),
+        Some((s, _, _)) => return Err(format!("{shown}: dim must be one number, has shape {s:?}")),
+    };
+    if ws.len() != 2 || ws[0] != ws[1] {
+        return Err(format!("{shown}: W must be square, has shape {ws:?}"));
+    }
+    let m = usize::try_from(ws[0]).map_err(|_| format!("{shown}: W is too large"))?;
+    // The shapes are the file's word; the data must be there too.
+    let q_len = qs.iter().try_fold(1u64, |a, &d| a.checked_mul(d));
+    if q_len != Some(m as u64) || qd.len() != m {
+        return Err(format!("{shown}: q has shape {qs:?}, W is {m} × {m}"));
+    }
+    if m.checked_mul(m) != Some(wd.len()) {
+        return Err(format!(
+            "{shown}: W has shape {ws:?} but holds {} numbers",
+            wd.len()
+        ));
+    }
+    let w = Mat::<f64>::from_fn(m, m, |i, j| if wf { wd[i + m * j] } else { wd[i * m + j] });
+    Ok(Raw {
+        w,
+        q: qd,
+        mu,
+        dim,
+        normal_first: false,
+    })
+}
+
+fn read_json(path: &Path) -> Result<Raw, String> {
+    let shown = path.display();
+    let text = std::fs::read_to_string(path).map_err(|e| format!("cannot read {shown}: {e}"))?;
+    let p: JsonProblem = serde_json::from_str(&text).map_err(|e| format!("{shown}: {e}"))?;
+    let mu = match p.mu {
+        None => None,
+        Some(v) => Some(
+            serde_json::from_value::<Vec<f64>>(v)
+                .map_err(|e| format!("{shown}: mu must be a list of numbers ({e})"))?,
+        ),
+    };
+    let dim = match p.dim {
+        None => None,
+        Some(v) => Some(
+            v.as_f64()
+                .ok_or(format!("{shown}: dim must be 1, 2 or 3, got {v}"))?,
+        ),
+    };
+    let normal_first = match p.layout.as_deref() {
+        None => false,
+        Some("normal_first") => true,
+        Some(other) => {
+            return Err(format!(
+                "{shown}: layout \"{other}\" is not known: the one layout name is \"normal_first\" (give \"dim\" for contact-wise rows)"
+            ))
+        }
+    };
+    let m = p.q.len();
+    if p.w.len() != m || p.w.iter().any(|r| r.len() != m) {
+        return Err(format!("{shown}: W must be {m} × {m} to match q"));
+    }
+    Ok(Raw {
+        w: Mat::<f64>::from_fn(m, m, |i, j| p.w[i][j]),
+        q: p.q,
+        mu,
+        dim,
+        normal_first,
+    })
+}
+
+/// W finite and symmetric, q finite.
+fn check_values(shown: &str, w: &Mat<f64>, q: &[f64]) -> Result<(), String> {
+    let m = q.len();
+    let wmax = w.norm_max();
+    for i in 0..m {
+        for j in 0..m {
+            if !w[(i, j)].is_finite() {
+                return Err(format!("{shown}: W[{i}][{j}] is not finite"));
+            }
+            if (w[(i, j)] - w[(j, i)]).abs() > 1e-10 * wmax {
+                return Err(format!(
+                    "{shown}: W is not symmetric (W[{i}][{j}] = {} but W[{j}][{i}] = {})",
+                    w[(i, j)],
+                    w[(j, i)]
+                ));
+            }
+        }
+    }
+    if let Some(i) = q.iter().position(|v| !v.is_finite()) {
+        return Err(format!("{shown}: q[{i}] is not finite"));
+    }
+    Ok(())
+}
+
+/// The rows per contact and, for each block row, its file row.
+fn resolve_layout(shown: &str, raw: &Raw) -> Result<(usize, Vec<usize>), String> {
+    let n = raw.q.len();
+    let friction = raw.mu.as_ref().is_some_and(|mu| !mu.is_empty());
+    let dim = match (raw.dim, raw.normal_first) {
+        (Some(_), true) => {
+            return Err(format!(
+                "{shown}: give either \"dim\" (contact-wise rows) or \"layout\": \"normal_first\", not both"
+            ))
+        }
+        (Some(d), false) if d == 1.0 || d == 2.0 || d == 3.0 => d as usize,
+        (Some(d), false) => return Err(format!("{shown}: dim must be 1, 2 or 3, got {d}")),
+        (None, true) => 2,
+        (None, false) if friction => {
+            return Err(format!(
+                "{shown}: the order of the rows is ambiguous: with mu, give \"dim\": 2 or 3 (contact-wise rows [n, t] or [n, t1, t2] per contact, as Siconos and FCLib write them) or, in JSON, \"layout\": \"normal_first\" (the m normal rows, then the m tangential rows)"
+            ))
+        }
+        (None, false) => 1,
+    };
+    if n % dim != 0 {
+        return Err(format!(
+            "{shown}: with {dim} rows per contact, W and q need a multiple of {dim} rows, have {n}"
+        ));
+    }
+    let m = n / dim;
+    if let Some(mu) = raw.mu.as_ref().filter(|mu| !mu.is_empty()) {
+        if dim == 1 {
+            return Err(format!(
+                "{shown}: mu is given but dim is 1 (an LCP has no tangential rows)"
+            ));
+        }
+        if mu.len() != m {
+            return Err(format!(
+                "{shown}: mu has {} entries for {m} contacts ({n} rows, {dim} per contact)",
+                mu.len()
+            ));
+        }
+        if let Some(i) = mu.iter().position(|v| !(v.is_finite() && *v >= 0.0)) {
+            return Err(format!("{shown}: mu[{i}] must be a finite number >= 0"));
+        }
+    }
+    let order = if raw.normal_first {
+        (0..n).collect()
+    } else {
+        let normals = (0..m).map(|p| p * dim);
+        normals
+            .chain((0..m).flat_map(|p| (1..dim).map(move |k| p * dim + k)))
+            .collect()
+    };
+    Ok((dim, order))
+}
+
+/// Reads a problem; errors name the file and what is wrong.
+pub fn load(path: &Path) -> Result<LocalProblem, String> {
+    let shown = path.display().to_string();
+    let raw = if path.extension().is_some_and(|e| e == "npz") {
+        read_npz(path)?
+    } else {
+        read_json(path)?
+    };
+    check_values(&shown, &raw.w, &raw.q)?;
+    let (dim, file_row) = resolve_layout(&shown, &raw)?;
+    let w = Mat::<f64>::from_fn(file_row.len(), file_row.len(), |i, j| {
+        raw.w[(file_row[i], file_row[j])]
+    });
+    let q = file_row.iter().map(|&r| raw.q[r]).collect();
+    let mu = raw.mu.filter(|mu| !mu.is_empty());
+    Ok(LocalProblem {
+        w,
+        q,
+        dim,
+        mu,
+        file_row,
+    })
+}
+
+/// A .npy v1.0 file of little-endian float64, C order (the format NumPy writes).
+fn npy_bytes(shape: &[usize], data: &[f64]) -> Vec<u8> {
+    let dims: Vec<String> = shape.iter().map(|d| d.to_string()).collect();
+    let shape = match dims.len() {
+        0 => "()".to_string(),
+        1 => format!("({},)", dims[0]),
+        _ => format!("({})", dims.join(", ")),
+    };
+    let mut header = format!("{{'descr': '<f8', 'fortran_order': False, 'shape': {shape}, }}");
+    while (10 + header.len() + 1) % 64 != 0 {
+        header.push(' ');
+    }
+    header.push('\n');
+    let mut out = b"\x93NUMPY\x01\x00".to_vec();
+    out.extend((header.len() as u16).to_le_bytes());
+    out.extend(header.as_bytes());
+    for v in data {
+        out.extend(v.to_le_bytes());
+    }
+    out
+}
+
+/// Writes a problem in the contact-wise layout as `.npz` (W, q, mu, dim),
+/// readable by [`load`] and by NumPy (`numpy.load`).
+pub fn write_npz(
+    path: &Path,
+    w: &Mat<f64>,
+    q: &[f64],
+    mu: &[f64],
+    dim: usize,
+) -> Result<(), String> {
+    let shown = path.display();
+    let io = |e: std::io::Error| format!("cannot write {shown}: {e}");
+    let n = q.len();
+    let data: Vec<f64> = (0..n * n).map(|k| w[(k / n, k % n)]).collect();
+    let file = std::fs::File::create(path).map_err(io)?;
+    let mut z = zip::ZipWriter::new(file);
+    let o = zip::write::SimpleFileOptions::default();
+    let arrays: [(&str, Vec<usize>, &[f64]); 4] = [
+        ("W", vec![n, n], &data),
+        ("q", vec![n], q),
+        ("mu", vec![mu.len()], mu),
+        ("dim", vec![], &[dim as f64]),
+    ];
+    for (name, shape, values) in arrays {
+        z.start_file(format!("{name}.npy"), o)
+            .map_err(|e| format!("cannot write {shown}: {e}"))?;
+        z.write_all(&npy_bytes(&shape, values)).map_err(io)?;
+    }
+    z.finish()
+        .map_err(|e| format!("cannot write {shown}: {e}"))?;
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests;
