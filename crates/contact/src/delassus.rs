@@ -325,6 +325,13 @@ impl DelassusProblem {
         eqs: &[VarEquation],
     ) -> Result<(Vec<f64>, Vec<f64>), ContactError> {
         self.solves += 1;
+        if let Some((r, alpha)) =
+            crate::reduced::solve_reduced(&self.w, &self.q, &self.g_mat, &self.e, eqs)
+        {
+            let g = crate::lcp::constrained_gaps(&self.w, &self.q, &self.g_mat, &r, &alpha);
+            self.last_alpha = alpha;
+            return Ok((r, g));
+        }
         let m = self.q.len();
         let k = self.r.ncols();
         let dim = m + k;
@@ -390,6 +397,17 @@ impl ActiveSetSolve for DelassusProblem {
         let m = self.q.len();
         let k = self.r.ncols();
         let na = active.len();
+        let mut eqs = vec![VarEquation::Value(0.0); m];
+        for &p in active {
+            eqs[p] = VarEquation::Gap;
+        }
+        if let Some((lambda, alpha)) =
+            crate::reduced::solve_reduced(&self.w, &self.q, &self.g_mat, &self.e, &eqs)
+        {
+            let g = crate::lcp::constrained_gaps(&self.w, &self.q, &self.g_mat, &lambda, &alpha);
+            self.last_alpha = alpha;
+            return Ok((lambda, g));
+        }
         let mut lambda = vec![0.0; m];
         let mut alpha = vec![0.0; k];
         if na + k > 0 {

@@ -26,6 +26,7 @@ pub mod methods;
 pub mod mprgp;
 pub mod penalty;
 pub mod projected_gradient;
+mod reduced;
 pub mod redundancy;
 pub mod smalbe;
 pub mod status;

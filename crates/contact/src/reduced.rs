@@ -1,0 +1,195 @@
+//! The linear system of one status iteration (seed §3.3 for contact, §4.5
+//! for friction), reduced to the forces its statuses leave unknown.
+//!
+//! Each force r_i has one equation ([`VarEquation`]): a zero gap (closed or
+//! stuck), a given value (open: 0; Tresca slip: ±g), or a multiple of
+//! another force (Coulomb slip: λ_t = s μ λ_n). Only the first kind is an
+//! unknown: with U the rows of zero gap, the given rows r_F = c and the
+//! slipping rows r_i = f_i r_{o(i)} substituted, r = P r_U + r_F with
+//! P = I on U plus f_i at (i, o(i)), and the system is
+//!
+//! ```text
+//!   W_U· P r_U + G_U α = −q_U − W_U· r_F        (zero gaps)
+//!   Gᵀ P r_U           = e − Gᵀ r_F              (floating bodies)
+//! ```
+//!
+//! Without slipping rows W_U· P = W_UU is symmetric positive definite and
+//! is factorised by Cholesky; with them by a partially pivoted LU. Floating
+//! bodies (k ≤ 6 rigid modes each) go through the small Schur complement
+//! Ĝᵀ A⁻¹ G_U (k × k). When a factorisation fails or its pivots say the
+//! block is near singular (redundant constraints, a body the statuses do not
+//! hold), the caller falls back to the rank-tested full solve, which keeps
+//! its message and exit code.
+
+use faer::prelude::Solve;
+use faer::{Mat, Side};
+
+use crate::delassus::VarEquation;
+
+/// How the reduced block was factorised.
+enum Factor {
+    Llt(faer::linalg::solvers::Llt<f64>),
+    Lu(faer::linalg::solvers::PartialPivLu<f64>),
+}
+
+impl Factor {
+    fn solve(&self, rhs: &Mat<f64>) -> Mat<f64> {
+        match self {
+            Factor::Llt(f) => f.solve(rhs),
+            Factor::Lu(f) => f.solve(rhs),
+        }
+    }
+}
+
+/// The pivots of a factorisation are trusted when the smallest exceeds
+/// 1e3 · n · ε times the largest (the full solve's rank test uses 100 · n · ε
+/// on a full-pivoting LU; a partial-pivoting LU is not rank revealing, so
+/// the fast path steps aside earlier).
+fn pivots_are_safe(diag: impl Iterator<Item = f64>, n: usize) -> bool {
+    let (mut lo, mut hi) = (f64::INFINITY, 0.0f64);
+    for d in diag {
+        let d = d.abs();
+        lo = lo.min(d);
+        hi = hi.max(d);
+    }
+    n == 0 || (lo.is_finite() && hi.is_finite() && lo > 1e3 * n as f64 * f64::EPSILON * hi)
+}
+
+/// Factorises the reduced block: Cholesky when symmetric, LU otherwise;
+/// `None` when it fails or is near singular.
+fn factorise(a: &Mat<f64>, symmetric: bool) -> Option<Factor> {
+    let n = a.nrows();
+    if symmetric {
+        if let Ok(llt) = a.llt(Side::Lower) {
+            // Pivots of LLᵀ are L_ii².
+            let l = llt.L();
+            if pivots_are_safe((0..n).map(|i| l[(i, i)] * l[(i, i)]), n) {
+                return Some(Factor::Llt(llt));
+            }
+            return None;
+        }
+    }
+    let lu = a.partial_piv_lu();
+    let u = lu.U();
+    pivots_are_safe((0..n).map(|i| u[(i, i)]), n).then_some(Factor::Lu(lu))
+}
+
+/// The unknowns and the substitution of the other rows.
+struct Reduction {
+    /// Rows with a zero gap (the unknowns), in order.
+    unknown: Vec<usize>,
+    /// Rows r_i = f r_{unknown}: (i, its unknown's position, f).
+    dependent: Vec<(usize, usize, f64)>,
+    /// Given forces (zero on the unknown and dependent rows).
+    given: Vec<f64>,
+}
+
+fn reduce(eqs: &[VarEquation]) -> Option<Reduction> {
+    let n = eqs.len();
+    let unknown: Vec<usize> = (0..n)
+        .filter(|&i| matches!(eqs[i], VarEquation::Gap))
+        .collect();
+    let mut position = vec![None; n];
+    for (a, &i) in unknown.iter().enumerate() {
+        position[i] = Some(a);
+    }
+    let mut dependent = Vec::new();
+    let mut given = vec![0.0; n];
+    for (i, eq) in eqs.iter().enumerate() {
+        match *eq {
+            VarEquation::Gap => {}
+            VarEquation::Value(c) => given[i] = c,
+            VarEquation::Ratio { of, factor } => match eqs.get(of)? {
+                VarEquation::Gap => dependent.push((i, position[of]?, factor)),
+                VarEquation::Value(c) => given[i] = factor * c,
+                // A ratio of a ratio: not a status the methods produce.
+                VarEquation::Ratio { .. } => return None,
+            },
+        }
+    }
+    Some(Reduction {
+        unknown,
+        dependent,
+        given,
+    })
+}
+
+/// Solves the status system reduced to its unknowns; `None` when the fast
+/// path cannot decide (a failed or near-singular factorisation, an unusual
+/// equation), for the caller's rank-tested full solve. Returns (r, α).
+pub(crate) fn solve_reduced(
+    w: &Mat<f64>,
+    q: &[f64],
+    g: &Mat<f64>,
+    e: &[f64],
+    eqs: &[VarEquation],
+) -> Option<(Vec<f64>, Vec<f64>)> {
+    let red = reduce(eqs)?;
+    let (nu, k) = (red.unknown.len(), g.ncols());
+    let given: Vec<(usize, f64)> = (0..eqs.len())
+        .filter(|&i| red.given[i] != 0.0)
+        .map(|i| (i, red.given[i]))
+        .collect();
+    // A = W_U· P and the right-hand side −q_U − W_U· r_F.
+    let mut a = Mat::<f64>::from_fn(nu, nu, |x, y| w[(red.unknown[x], red.unknown[y])]);
+    for &(i, col, f) in &red.dependent {
+        for (x, &u) in red.unknown.iter().enumerate() {
+            a[(x, col)] += f * w[(u, i)];
+        }
+    }
+    let rhs = Mat::<f64>::from_fn(nu, 1, |x, _| {
+        let u = red.unknown[x];
+        -q[u] - given.iter().map(|&(i, c)| w[(u, i)] * c).sum::<f64>()
+    });
+    let factor = factorise(&a, red.dependent.is_empty())?;
+    let y = factor.solve(&rhs);
+    let (r_u, alpha) = if k == 0 {
+        (y, Vec::new())
+    } else {
+        floating_bodies(&red, g, e, &given, &factor, y)?
+    };
+    let mut r = red.given.clone();
+    for (x, &u) in red.unknown.iter().enumerate() {
+        r[u] = r_u[(x, 0)];
+    }
+    for &(i, col, f) in &red.dependent {
+        r[i] = f * r_u[(col, 0)];
+    }
+    r.iter().all(|v| v.is_finite()).then_some((r, alpha))
+}
+
+/// The equilibrium of the floating bodies through the Schur complement on
+/// G: with X = A⁻¹ G_U and y = A⁻¹ rhs, (Ĝᵀ X) α = Ĝᵀ y − (e − Gᵀ r_F) and
+/// r_U = y − X α, Ĝ = Pᵀ G. Returns (r_U, α).
+fn floating_bodies(
+    red: &Reduction,
+    g: &Mat<f64>,
+    e: &[f64],
+    given: &[(usize, f64)],
+    factor: &Factor,
+    y: Mat<f64>,
+) -> Option<(Mat<f64>, Vec<f64>)> {
+    let (nu, k) = (red.unknown.len(), g.ncols());
+    let g_u = Mat::<f64>::from_fn(nu, k, |x, j| g[(red.unknown[x], j)]);
+    let mut g_hat = g_u.clone();
+    for &(i, col, f) in &red.dependent {
+        for j in 0..k {
+            g_hat[(col, j)] += f * g[(i, j)];
+        }
+    }
+    let x = factor.solve(&g_u);
+    let schur = g_hat.transpose() * &x;
+    let rhs = Mat::<f64>::from_fn(k, 1, |j, _| {
+        let gy: f64 = (0..nu).map(|a| g_hat[(a, j)] * y[(a, 0)]).sum();
+        let e_j = e[j] - given.iter().map(|&(i, c)| g[(i, j)] * c).sum::<f64>();
+        gy - e_j
+    });
+    let lu = schur.full_piv_lu();
+    let u = lu.U();
+    if !pivots_are_safe((0..k).map(|i| u[(i, i)]), k) {
+        return None;
+    }
+    let alpha = lu.solve(&rhs);
+    let r_u = &y - &x * &alpha;
+    Some((r_u, (0..k).map(|j| alpha[(j, 0)]).collect()))
+}
