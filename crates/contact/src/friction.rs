@@ -27,6 +27,9 @@ use serde::Serialize;
 
 use crate::active_set::{drive, scaled_tolerances, Change, Fallback, Regular, StatusRule, Stop};
 use crate::delassus::{DelassusProblem, VarEquation};
+use crate::fixed_point::{
+    fixed_point, normal_change, FixedPoint, InnerSolve, ThresholdMap, TrescaSolver,
+};
 use crate::lcp::LcpOptions;
 use crate::ContactError;
 
@@ -300,7 +303,7 @@ fn status_loop(
     thr: Vec<f64>,
     coulomb_ratio: bool,
     opts: &FrictionOptions,
-) -> Result<(bool, Vec<f64>, Vec<f64>, String), ContactError> {
+) -> Result<InnerSolve, ContactError> {
     let mut rule = FrictionRule {
         problem,
         layout,
@@ -321,8 +324,14 @@ fn status_loop(
             opts.max_iterations
         ),
     };
-    let (r, g) = out.solution.unwrap_or_default();
-    Ok((out.stop == Stop::Converged, r, g, reason))
+    let (forces, gaps) = out.solution.unwrap_or_default();
+    Ok(InnerSolve {
+        forces,
+        gaps,
+        statuses: run.statuses.clone(),
+        converged: out.stop == Stop::Converged,
+        reason,
+    })
 }
 
 fn thresholds_from(layout: &FrictionLayout, r: &[f64]) -> Vec<f64> {
@@ -344,8 +353,6 @@ struct Run {
     /// Status solves so far.
     iterations: usize,
     cycle: bool,
-    /// Fixed-point residual after each outer iteration.
-    residuals: Vec<f64>,
     /// Inner Tresca problems solved by the box QP after the status method
     /// cycled.
     box_fallbacks: usize,
@@ -357,37 +364,26 @@ impl Run {
             statuses,
             iterations: 0,
             cycle: false,
-            residuals: Vec::new(),
             box_fallbacks: 0,
         }
     }
 
-    fn finish(
-        self,
-        converged: bool,
-        forces: Vec<f64>,
-        gaps: Vec<f64>,
-        reason: String,
-    ) -> FrictionOutcome {
+    fn finish(self, end: FixedPoint) -> FrictionOutcome {
         let reason = if self.box_fallbacks > 0 {
             format!(
-                "{reason} ({} inner Tresca problem(s) solved by MPRGP on the box after the status method cycled)",
-                self.box_fallbacks
+                "{} ({} inner Tresca problem(s) solved by MPRGP on the box after the status method cycled)",
+                end.reason, self.box_fallbacks
             )
         } else {
-            reason
+            end.reason
         };
-        FrictionOutcome {
-            converged,
-            iterations: self.iterations,
-            fixed_point_iterations: self.residuals.len(),
-            fixed_point_residuals: self.residuals,
-            statuses: self.statuses,
-            forces,
-            gaps,
-            stopping_reason: reason,
-            cycle_detected: self.cycle,
-        }
+        end.last.outcome(
+            end.converged,
+            self.iterations,
+            end.residuals,
+            reason,
+            self.cycle,
+        )
     }
 }
 
@@ -406,9 +402,13 @@ fn fixed_thresholds(
     } else {
         thresholds
     };
-    let (converged, forces, gaps, reason) =
-        status_loop(problem, layout, &mut run, thresholds, coulomb_ratio, opts)?;
-    Ok(run.finish(converged, forces, gaps, reason))
+    let last = status_loop(problem, layout, &mut run, thresholds, coulomb_ratio, opts)?;
+    Ok(run.finish(FixedPoint {
+        converged: last.converged,
+        reason: last.reason.clone(),
+        residuals: Vec::new(),
+        last,
+    }))
 }
 
 /// The Tresca problem (fixed thresholds) by the status method.
@@ -513,82 +513,66 @@ pub fn coulomb_status(
     fixed_thresholds(problem, layout, initial, Vec::new(), true, opts)
 }
 
-/// The threshold of each point from the forces r and gaps g.
-type ThresholdFn<'a> = &'a dyn Fn(&[f64], &[f64]) -> Vec<f64>;
-/// How far the forces r and gaps g (after `previous`) are from the law.
-type ResidualFn<'a> = &'a dyn Fn(&[f64], &[f64], &[f64], &[PointStatus]) -> f64;
-
-/// A friction law solved as a fixed point on its threshold.
-struct ThresholdLaw<'a> {
-    threshold: ThresholdFn<'a>,
-    residual: ResidualFn<'a>,
-    name: &'a str,
+/// The 2D Tresca problems of a fixed point on the threshold (seed §4.3):
+/// the status method, from the statuses of the previous inner problem.
+struct StatusTresca<'a> {
+    problem: &'a mut DelassusProblem,
+    layout: &'a FrictionLayout,
+    run: Run,
+    opts: &'a FrictionOptions,
 }
 
-/// A fixed point on the slip threshold (seed §4.3): each outer iteration
-/// solves the Tresca problem with the thresholds `threshold(r, g)` of the
-/// previous forces and gaps, until `residual(previous r, r, g, statuses)`
-/// (relative to the force scale) meets the tolerance. An inner problem that
-/// cycles under stale thresholds usually settles once they are updated, so
-/// the iteration goes on unless it was the last chance or the thresholds no
-/// longer move.
-fn threshold_fixed_point(
-    problem: &mut DelassusProblem,
-    layout: &FrictionLayout,
-    mut run: Run,
-    start: (Vec<f64>, Vec<f64>),
-    law: &ThresholdLaw<'_>,
-    opts: &FrictionOptions,
-) -> Result<FrictionOutcome, ContactError> {
-    let ThresholdLaw {
-        threshold,
-        residual,
-        name: what,
-    } = law;
-    let (mut forces, mut gaps) = start;
-    for outer in 0..opts.max_fixed_point {
-        let thr = threshold(&forces, &gaps);
-        let (mut conv, mut r, mut g, mut reason) =
-            status_loop(problem, layout, &mut run, thr.clone(), false, opts)?;
-        if !conv && problem.n_kernel() == 0 {
-            // The status method cycles on some Tresca problems (large μ):
-            // the same problem as a convex box QP always has its solution.
-            let (sol, statuses) = tresca_box(problem, layout, &thr, opts)?;
-            if sol.report.converged {
-                g = crate::lcp::gaps(&problem.w, &problem.q, &sol.lambda);
-                r = sol.lambda;
-                run.statuses = statuses;
-                conv = true;
-                reason = "solved by MPRGP on the Tresca box".into();
-                run.box_fallbacks += 1;
-            }
-        }
-        let fscale = opts
-            .force_scale
-            .max(r.iter().fold(0.0f64, |a, v| a.max(v.abs())))
-            .max(f64::MIN_POSITIVE);
-        let res = residual(&forces, &r, &g, &run.statuses) / fscale;
-        run.residuals.push(res);
-        forces = r;
-        gaps = g;
-        if !conv && outer + 1 < opts.max_fixed_point && res > opts.tolerance {
-            continue;
-        }
-        if !conv {
-            return Ok(run.finish(
-                false,
-                forces,
-                gaps,
-                format!("inner Tresca problem: {reason}"),
-            ));
-        }
-        if res <= opts.tolerance {
-            let reason = format!("{what} reached after {} iterations", outer + 1);
-            return Ok(run.finish(true, forces, gaps, reason));
-        }
+impl StatusTresca<'_> {
+    /// The solution in which every point initially closed sticks.
+    fn stuck(&mut self) -> Result<InnerSolve, ContactError> {
+        let inf = vec![f64::INFINITY; self.run.statuses.len()];
+        status_loop(
+            self.problem,
+            self.layout,
+            &mut self.run,
+            inf,
+            false,
+            self.opts,
+        )
     }
-    let reason = format!("{what} not reached in {} iterations", opts.max_fixed_point);
-    Ok(run.finish(false, forces, gaps, reason))
+
+    fn fixed_point(
+        mut self,
+        start: InnerSolve,
+        map: &ThresholdMap<'_, Vec<f64>>,
+    ) -> Result<FrictionOutcome, ContactError> {
+        let opts = self.opts;
+        let end = fixed_point(&mut self, start, map, opts)?;
+        Ok(self.run.finish(end))
+    }
+}
+
+impl TrescaSolver for StatusTresca<'_> {
+    type Thresholds = Vec<f64>;
+
+    /// The status method; where it cycles (some Tresca problems at large
+    /// μ), the same problem as a convex box QP, which always has its
+    /// solution.
+    fn solve(&mut self, thr: &Vec<f64>, _: &[f64]) -> Result<InnerSolve, ContactError> {
+        let (problem, layout, opts) = (&mut *self.problem, self.layout, self.opts);
+        let out = status_loop(problem, layout, &mut self.run, thr.clone(), false, opts)?;
+        if out.converged || problem.n_kernel() > 0 {
+            return Ok(out);
+        }
+        let (sol, statuses) = tresca_box(problem, layout, thr, opts)?;
+        if !sol.report.converged {
+            return Ok(out);
+        }
+        self.run.statuses.clone_from(&statuses);
+        self.run.box_fallbacks += 1;
+        Ok(InnerSolve {
+            gaps: crate::lcp::gaps(&problem.w, &problem.q, &sol.lambda),
+            forces: sol.lambda,
+            statuses,
+            converged: true,
+            reason: "solved by MPRGP on the Tresca box".into(),
+        })
+    }
 }
 
 /// Coulomb by fixed point on the threshold g ← μ λ_n (seed §4.3), stopping
@@ -602,25 +586,28 @@ pub fn coulomb_fixed_point(
     start: Option<&[f64]>,
     opts: &FrictionOptions,
 ) -> Result<FrictionOutcome, ContactError> {
-    let m = initial.len();
-    let mut run = Run::new(initial);
+    let mut solver = StatusTresca {
+        problem,
+        layout,
+        run: Run::new(initial),
+        opts,
+    };
     let start = match start {
-        Some(f) => (f.to_vec(), vec![0.0; f.len()]),
-        None => {
-            let inf = vec![f64::INFINITY; m];
-            let (_, r, g, _) = status_loop(problem, layout, &mut run, inf, false, opts)?;
-            (r, g)
-        }
+        Some(f) => InnerSolve {
+            forces: f.to_vec(),
+            gaps: vec![0.0; f.len()],
+            statuses: solver.run.statuses.clone(),
+            converged: false,
+            reason: String::new(),
+        },
+        None => solver.stuck()?,
     };
-    let change = |prev: &[f64], r: &[f64], _: &[f64], _: &[PointStatus]| {
-        (0..m).fold(0.0f64, |a, p| a.max((r[p] - prev[p]).abs()))
-    };
-    let law = ThresholdLaw {
+    let map = ThresholdMap {
         threshold: &|r, _| thresholds_from(layout, r),
-        residual: &change,
+        residual: &normal_change,
         name: "fixed point on the threshold",
     };
-    threshold_fixed_point(problem, layout, run, start, &law, opts)
+    solver.fixed_point(start, &map)
 }
 
 /// Norton–Hoff friction (seed §4.1.4, eq. 19) at the points where
@@ -639,9 +626,13 @@ pub fn norton_hoff(
     opts: &FrictionOptions,
 ) -> Result<FrictionOutcome, ContactError> {
     let m = initial.len();
-    let mut run = Run::new(initial);
-    let inf = vec![f64::INFINITY; m];
-    let (_, r, g, _) = status_loop(problem, layout, &mut run, inf, false, opts)?;
+    let mut solver = StatusTresca {
+        problem,
+        layout,
+        run: Run::new(initial),
+        opts,
+    };
+    let start = solver.stuck()?;
     let s_min = 1e-14 * opts.gap_scale.max(f64::MIN_POSITIVE);
     let law = |r: &[f64], g: &[f64], p: usize| -> Option<f64> {
         let (t, (mu, rho)) = (layout.tangent_row[p]?, mu_rho[p]?);
@@ -652,9 +643,10 @@ pub fn norton_hoff(
             .map(|p| law(r, g, p).unwrap_or(f64::INFINITY))
             .collect()
     };
-    let misfit = |_: &[f64], r: &[f64], g: &[f64], statuses: &[PointStatus]| {
+    let misfit = |_: &[f64], it: &InnerSolve| {
+        let (r, g) = (&it.forces, &it.gaps);
         let mut worst = 0.0f64;
-        for (p, st) in statuses.iter().enumerate() {
+        for (p, st) in it.statuses.iter().enumerate() {
             let (Some(t), Some(gp)) = (layout.tangent_row[p], law(r, g, p)) else {
                 continue;
             };
@@ -664,12 +656,12 @@ pub fn norton_hoff(
         }
         worst
     };
-    let law = ThresholdLaw {
+    let map = ThresholdMap {
         threshold: &threshold,
         residual: &misfit,
         name: "Norton-Hoff fixed point",
     };
-    threshold_fixed_point(problem, layout, run, (r, g), &law, opts)
+    solver.fixed_point(start, &map)
 }
 
 #[cfg(test)]

@@ -38,6 +38,7 @@ use faer::prelude::Solve;
 use faer::Mat;
 
 use crate::delassus::{DelassusProblem, VarEquation};
+use crate::fixed_point::{fixed_point, normal_change, InnerSolve, ThresholdMap, TrescaSolver};
 use crate::friction::{FrictionOptions, FrictionOutcome, PointStatus};
 use crate::ContactError;
 
@@ -456,15 +457,6 @@ impl<'a> Inner<'a> {
     }
 }
 
-/// Result of one inner (fixed-threshold) solve.
-struct InnerResult {
-    forces: Vec<f64>,
-    gaps: Vec<f64>,
-    iterations: usize,
-    converged: bool,
-    reason: String,
-}
-
 /// Semi-smooth Newton on the Alart–Curnier equations with fixed semi-axes
 /// `thr`, from the forces `start`.
 fn solve_inner(
@@ -473,7 +465,7 @@ fn solve_inner(
     thr: &[[f64; 2]],
     start: &[f64],
     opts: &FrictionOptions,
-) -> Result<InnerResult, ContactError> {
+) -> Result<(InnerSolve, usize), ContactError> {
     let inner = Inner::new(problem, layout, thr);
     let (n, k) = (inner.n(), inner.k());
     let mut x = vec![0.0; n + k];
@@ -548,13 +540,14 @@ fn solve_inner(
     }
     let gaps = inner.gaps(&x);
     x.truncate(n);
-    Ok(InnerResult {
+    let solve = InnerSolve {
+        statuses: statuses(layout, &x, &gaps, opts),
         forces: x,
         gaps,
-        iterations,
         converged,
         reason,
-    })
+    };
+    Ok((solve, iterations))
 }
 
 /// Statuses: open (λ_n ≤ tol), slip (‖Δs‖ > tol, the force on the boundary
@@ -643,6 +636,43 @@ fn bilateral_start(problem: &mut DelassusProblem) -> Option<Vec<f64>> {
     problem.solve_equations(&eqs).ok().map(|(r, _)| r)
 }
 
+/// The 3D Tresca problems of a fixed point on the threshold (seed §4.3):
+/// the semi-smooth Newton method from the previous forces, counting the
+/// Newton iterations of all solves.
+struct Newton<'a> {
+    problem: &'a DelassusProblem,
+    layout: &'a FrictionLayout3d,
+    opts: &'a FrictionOptions,
+    iterations: usize,
+}
+
+impl Newton<'_> {
+    /// The iterate of the forces `forces` (no solve): their gaps (rigid-mode
+    /// amplitudes zero) and statuses.
+    fn iterate(&self, forces: Vec<f64>) -> InnerSolve {
+        let mut x = forces.clone();
+        x.resize(forces.len() + self.problem.g_mat.ncols(), 0.0);
+        let gaps = Inner::new(self.problem, self.layout, &[]).gaps(&x);
+        InnerSolve {
+            statuses: statuses(self.layout, &forces, &gaps, self.opts),
+            forces,
+            gaps,
+            converged: false,
+            reason: String::new(),
+        }
+    }
+}
+
+impl TrescaSolver for Newton<'_> {
+    type Thresholds = Vec<[f64; 2]>;
+
+    fn solve(&mut self, thr: &Vec<[f64; 2]>, start: &[f64]) -> Result<InnerSolve, ContactError> {
+        let (solve, iterations) = solve_inner(self.problem, self.layout, thr, start, self.opts)?;
+        self.iterations += iterations;
+        Ok(solve)
+    }
+}
+
 fn solve_3d(
     problem: &DelassusProblem,
     layout: &FrictionLayout3d,
@@ -652,27 +682,7 @@ fn solve_3d(
 ) -> Result<FrictionOutcome, ContactError> {
     let n = problem.q.len();
     layout.validate(n)?;
-    let m = layout.n_points();
-    let mut iterations = 0usize;
-    let mut residuals = Vec::new();
-    let finish = |converged: bool,
-                  res: InnerResult,
-                  iterations: usize,
-                  residuals: Vec<f64>,
-                  reason: String| {
-        FrictionOutcome {
-            converged,
-            iterations,
-            fixed_point_iterations: residuals.len(),
-            fixed_point_residuals: residuals,
-            statuses: statuses(layout, &res.forces, &res.gaps, opts),
-            forces: res.forces,
-            gaps: res.gaps,
-            stopping_reason: reason,
-            cycle_detected: false,
-        }
-    };
-    let mut forces = match start {
+    let forces = match start {
         Some(f) if f.len() == n => f.to_vec(),
         Some(f) => {
             return Err(ContactError::Geometry(format!(
@@ -682,64 +692,35 @@ fn solve_3d(
         }
         None => first_guess.unwrap_or_else(|| vec![0.0; n]),
     };
+    let mut newton = Newton {
+        problem,
+        layout,
+        opts,
+        iterations: 0,
+    };
     if !layout.has_coulomb() {
-        let thr = layout.thresholds(&forces);
-        let res = solve_inner(problem, layout, &thr, &forces, opts)?;
-        let reason = format!("Tresca: {}", res.reason);
-        let conv = res.converged;
-        let it = res.iterations;
-        return Ok(finish(conv, res, it, residuals, reason));
+        let res = newton.solve(&layout.thresholds(&forces), &forces)?;
+        let (converged, reason) = (res.converged, format!("Tresca: {}", res.reason));
+        return Ok(res.outcome(converged, newton.iterations, Vec::new(), reason, false));
     }
-    if start.is_none() {
-        let stuck = vec![[f64::INFINITY; 2]; m];
-        let res = solve_inner(problem, layout, &stuck, &forces, opts)?;
-        iterations += res.iterations;
-        forces = res.forces;
-    }
-    let mut last: Option<InnerResult> = None;
-    for outer in 0..opts.max_fixed_point {
-        let thr = layout.thresholds(&forces);
-        let res = solve_inner(problem, layout, &thr, &forces, opts)?;
-        iterations += res.iterations;
-        let fscale = opts
-            .force_scale
-            .max(res.forces.iter().fold(0.0f64, |a, v| a.max(v.abs())))
-            .max(f64::MIN_POSITIVE);
-        let change = (0..m).fold(0.0f64, |a, p| a.max((res.forces[p] - forces[p]).abs())) / fscale;
-        residuals.push(change);
-        forces.clone_from(&res.forces);
-        if change <= opts.tolerance {
-            let (conv, reason) = if res.converged {
-                (
-                    true,
-                    format!(
-                        "fixed point on the threshold reached after {} iterations",
-                        outer + 1
-                    ),
-                )
-            } else {
-                (false, format!("inner Tresca problem: {}", res.reason))
-            };
-            return Ok(finish(conv, res, iterations, residuals, reason));
-        }
-        last = Some(res);
-    }
-    let reason = format!(
-        "fixed point on the threshold not reached in {} iterations",
-        opts.max_fixed_point
+    let start = match start {
+        Some(_) => newton.iterate(forces),
+        None => newton.solve(&vec![[f64::INFINITY; 2]; layout.n_points()], &forces)?,
+    };
+    let map = ThresholdMap {
+        threshold: &|r, _| layout.thresholds(r),
+        residual: &normal_change,
+        name: "fixed point on the threshold",
+    };
+    let end = fixed_point(&mut newton, start, &map, opts)?;
+    let outcome = end.last.outcome(
+        end.converged,
+        newton.iterations,
+        end.residuals,
+        end.reason,
+        false,
     );
-    let res = last.unwrap_or_else(|| {
-        let mut x = forces.clone();
-        x.resize(n + problem.g_mat.ncols(), 0.0);
-        InnerResult {
-            gaps: Inner::new(problem, layout, &[]).gaps(&x),
-            forces,
-            iterations: 0,
-            converged: false,
-            reason: String::new(),
-        }
-    });
-    Ok(finish(false, res, iterations, residuals, reason))
+    Ok(outcome)
 }
 
 #[cfg(test)]
