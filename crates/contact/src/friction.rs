@@ -27,8 +27,14 @@ use serde::Serialize;
 
 use crate::active_set::{drive, scaled_tolerances, Change, Fallback, Regular, StatusRule, Stop};
 use crate::delassus::{DelassusProblem, VarEquation};
+use crate::fixed_point::{
+    fixed_point, normal_change, FixedPoint, InnerSolve, ThresholdMap, TrescaSolver,
+};
 use crate::lcp::LcpOptions;
 use crate::ContactError;
+
+pub mod law;
+pub use law::{FrictionLaw, FrictionLayout};
 
 /// Status of a contact point.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize)]
@@ -53,31 +59,6 @@ impl PointStatus {
             PointStatus::SlipPlus | PointStatus::SlipMinus | PointStatus::Slip
         )
     }
-}
-
-/// How each contact point's tangential force is bounded.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum Threshold {
-    /// Frictionless: no tangential row.
-    None,
-    /// Tresca: a given threshold (force).
-    Tresca(f64),
-    /// Coulomb: μ λ_n.
-    Coulomb(f64),
-}
-
-/// The layout of the forces: normal rows 0..m, then one tangential row per
-/// frictional point.
-#[derive(Debug, Clone)]
-pub struct FrictionLayout {
-    /// Tangential row of each point, if it has friction.
-    pub tangent_row: Vec<Option<usize>>,
-    pub threshold: Vec<Threshold>,
-    /// For a point whose tangential row constrains the same motion as the
-    /// normal row of another point (a corner node on a frictional floor and
-    /// against a wall: its slip along the floor is the wall's gap), that
-    /// other point (see [`crate::redundancy::tangent_shadows`]).
-    pub shadow: Vec<Option<usize>>,
 }
 
 #[derive(Debug, Clone)]
@@ -114,7 +95,7 @@ fn equations(
     coulomb_ratio: bool,
 ) -> Vec<VarEquation> {
     let m = statuses.len();
-    let n_rows = m + layout.tangent_row.iter().flatten().count();
+    let n_rows = m + layout.tangent_rows.iter().flatten().count();
     let mut eqs = vec![VarEquation::Gap; n_rows];
     for (p, &st) in statuses.iter().enumerate() {
         eqs[p] = if st == PointStatus::Open {
@@ -122,7 +103,7 @@ fn equations(
         } else {
             VarEquation::Gap
         };
-        if let Some(t) = layout.tangent_row[p] {
+        if let Some(t) = layout.tangent_row(p) {
             // Stuck while its shadow is closed, the point's slip is already
             // held by the shadow's gap: the two rows are one constraint, the
             // split of the force between them is free, and the friction
@@ -145,10 +126,10 @@ fn equations(
                     } else {
                         -1.0
                     };
-                    match (coulomb_ratio, layout.threshold[p]) {
-                        (true, Threshold::Coulomb(mu)) => VarEquation::Ratio {
+                    match (coulomb_ratio, layout.law[p]) {
+                        (true, FrictionLaw::Coulomb { mu }) => VarEquation::Ratio {
                             of: p,
-                            factor: sign * mu,
+                            factor: sign * mu[0],
                         },
                         _ => VarEquation::Value(sign * threshold[p]),
                     }
@@ -178,7 +159,7 @@ fn updates(
                     // Closing: it slips on in the direction it was moving while
                     // open (the force opposing it), or sticks if it was not moving.
                     let finite = threshold[p].is_finite();
-                    let next = match layout.tangent_row[p].map(|t| g[t]) {
+                    let next = match layout.tangent_row(p).map(|t| g[t]) {
                         Some(s) if finite && s > tol_g => PointStatus::SlipMinus,
                         Some(s) if finite && s < -tol_g => PointStatus::SlipPlus,
                         _ => PointStatus::Stick,
@@ -193,7 +174,7 @@ fn updates(
             }
             _ => {}
         }
-        let Some(t) = layout.tangent_row[p] else {
+        let Some(t) = layout.tangent_row(p) else {
             continue;
         };
         let (lt, s) = (r[t], g[t]);
@@ -279,7 +260,7 @@ impl StatusRule for FrictionRule<'_> {
         let p = (0..prev.len())
             .filter(|&p| {
                 prev[p] != PointStatus::Open
-                    && self.layout.tangent_row[p].is_some()
+                    && self.layout.tangent_row(p).is_some()
                     && !regular.tried.contains(&p)
             })
             .max_by(|&a, &b| prev_r[a].total_cmp(&prev_r[b]))?;
@@ -300,7 +281,7 @@ fn status_loop(
     thr: Vec<f64>,
     coulomb_ratio: bool,
     opts: &FrictionOptions,
-) -> Result<(bool, Vec<f64>, Vec<f64>, String), ContactError> {
+) -> Result<InnerSolve, ContactError> {
     let mut rule = FrictionRule {
         problem,
         layout,
@@ -321,21 +302,21 @@ fn status_loop(
             opts.max_iterations
         ),
     };
-    let (r, g) = out.solution.unwrap_or_default();
-    Ok((out.stop == Stop::Converged, r, g, reason))
+    let (forces, gaps) = out.solution.unwrap_or_default();
+    Ok(InnerSolve {
+        forces,
+        gaps,
+        statuses: run.statuses.clone(),
+        converged: out.stop == Stop::Converged,
+        reason,
+    })
 }
 
+/// The threshold of each point (2D: the first semi-axis of its law) with
+/// the normal forces `r`.
 fn thresholds_from(layout: &FrictionLayout, r: &[f64]) -> Vec<f64> {
-    layout
-        .threshold
-        .iter()
-        .enumerate()
-        .map(|(p, t)| match *t {
-            Threshold::None => 0.0,
-            Threshold::Tresca(g) => g,
-            Threshold::Coulomb(mu) => mu * r[p].max(0.0),
-        })
-        .collect()
+    let laws = layout.law.iter().enumerate();
+    laws.map(|(p, law)| law.semi_axes(r[p])[0]).collect()
 }
 
 /// What a friction solve carries from status loop to status loop.
@@ -344,8 +325,6 @@ struct Run {
     /// Status solves so far.
     iterations: usize,
     cycle: bool,
-    /// Fixed-point residual after each outer iteration.
-    residuals: Vec<f64>,
     /// Inner Tresca problems solved by the box QP after the status method
     /// cycled.
     box_fallbacks: usize,
@@ -357,58 +336,48 @@ impl Run {
             statuses,
             iterations: 0,
             cycle: false,
-            residuals: Vec::new(),
             box_fallbacks: 0,
         }
     }
 
-    fn finish(
-        self,
-        converged: bool,
-        forces: Vec<f64>,
-        gaps: Vec<f64>,
-        reason: String,
-    ) -> FrictionOutcome {
+    fn finish(self, end: FixedPoint) -> FrictionOutcome {
         let reason = if self.box_fallbacks > 0 {
             format!(
-                "{reason} ({} inner Tresca problem(s) solved by MPRGP on the box after the status method cycled)",
-                self.box_fallbacks
+                "{} ({} inner Tresca problem(s) solved by MPRGP on the box after the status method cycled)",
+                end.reason, self.box_fallbacks
             )
         } else {
-            reason
+            end.reason
         };
-        FrictionOutcome {
-            converged,
-            iterations: self.iterations,
-            fixed_point_iterations: self.residuals.len(),
-            fixed_point_residuals: self.residuals,
-            statuses: self.statuses,
-            forces,
-            gaps,
-            stopping_reason: reason,
-            cycle_detected: self.cycle,
-        }
+        end.last.outcome(
+            end.converged,
+            self.iterations,
+            end.residuals,
+            reason,
+            self.cycle,
+        )
     }
 }
 
-/// One status loop with thresholds that do not depend on the forces.
+/// One status loop with thresholds that do not depend on the forces (or,
+/// with `coulomb_ratio`, with λ_t = ±μ λ_n imposed at slipping points).
 fn fixed_thresholds(
     problem: &mut DelassusProblem,
     layout: &FrictionLayout,
     initial: Vec<PointStatus>,
-    thresholds: Vec<f64>,
     coulomb_ratio: bool,
     opts: &FrictionOptions,
 ) -> Result<FrictionOutcome, ContactError> {
+    layout.validate(problem.q.len(), 2)?;
     let mut run = Run::new(initial);
-    let thresholds = if coulomb_ratio {
-        thresholds_from(layout, &vec![0.0; run.statuses.len()])
-    } else {
-        thresholds
-    };
-    let (converged, forces, gaps, reason) =
-        status_loop(problem, layout, &mut run, thresholds, coulomb_ratio, opts)?;
-    Ok(run.finish(converged, forces, gaps, reason))
+    let thresholds = thresholds_from(layout, &vec![0.0; layout.n_points()]);
+    let last = status_loop(problem, layout, &mut run, thresholds, coulomb_ratio, opts)?;
+    Ok(run.finish(FixedPoint {
+        converged: last.converged,
+        reason: last.reason.clone(),
+        residuals: Vec::new(),
+        last,
+    }))
 }
 
 /// The Tresca problem (fixed thresholds) by the status method.
@@ -418,8 +387,7 @@ pub fn tresca_status(
     initial: Vec<PointStatus>,
     opts: &FrictionOptions,
 ) -> Result<FrictionOutcome, ContactError> {
-    let thresholds = thresholds_from(layout, &vec![0.0; problem.q.len()]);
-    fixed_thresholds(problem, layout, initial, thresholds, false, opts)
+    fixed_thresholds(problem, layout, initial, false, opts)
 }
 
 /// Tresca by a projection method (seed §3.2 on the forces; Dostál's MPRGP for
@@ -432,7 +400,8 @@ pub fn tresca_projection(
     layout: &FrictionLayout,
     opts: &FrictionOptions,
 ) -> Result<FrictionOutcome, ContactError> {
-    let thr = thresholds_from(layout, &vec![0.0; problem.q.len()]);
+    layout.validate(problem.q.len(), 2)?;
+    let thr = thresholds_from(layout, &vec![0.0; layout.n_points()]);
     let (sol, statuses) = tresca_box(problem, layout, &thr, opts)?;
     let gaps = crate::lcp::gaps(&problem.w, &problem.q, &sol.lambda);
     Ok(FrictionOutcome {
@@ -464,11 +433,11 @@ fn tresca_box(
         ));
     }
     let n = problem.q.len();
-    let m = layout.tangent_row.len();
+    let m = layout.n_points();
     let mut lower = vec![0.0; n];
     let mut upper = vec![f64::INFINITY; n];
-    for (row, &g) in layout.tangent_row.iter().zip(thr) {
-        if let Some(t) = *row {
+    for (p, &g) in thr.iter().enumerate().take(m) {
+        if let Some(t) = layout.tangent_row(p) {
             lower[t] = -g;
             upper[t] = g;
         }
@@ -490,7 +459,7 @@ fn tresca_box(
             if sol.lambda[p] <= tol {
                 PointStatus::Open
             } else {
-                match layout.tangent_row[p] {
+                match layout.tangent_row(p) {
                     Some(t) if sol.lambda[t] >= upper[t] - tol => PointStatus::SlipPlus,
                     Some(t) if sol.lambda[t] <= lower[t] + tol => PointStatus::SlipMinus,
                     _ => PointStatus::Stick,
@@ -510,85 +479,84 @@ pub fn coulomb_status(
     initial: Vec<PointStatus>,
     opts: &FrictionOptions,
 ) -> Result<FrictionOutcome, ContactError> {
-    fixed_thresholds(problem, layout, initial, Vec::new(), true, opts)
+    fixed_thresholds(problem, layout, initial, true, opts)
 }
 
-/// The threshold of each point from the forces r and gaps g.
-type ThresholdFn<'a> = &'a dyn Fn(&[f64], &[f64]) -> Vec<f64>;
-/// How far the forces r and gaps g (after `previous`) are from the law.
-type ResidualFn<'a> = &'a dyn Fn(&[f64], &[f64], &[f64], &[PointStatus]) -> f64;
-
-/// A friction law solved as a fixed point on its threshold.
-struct ThresholdLaw<'a> {
-    threshold: ThresholdFn<'a>,
-    residual: ResidualFn<'a>,
-    name: &'a str,
+/// The 2D Tresca problems of a fixed point on the threshold (seed §4.3):
+/// the status method, from the statuses of the previous inner problem.
+struct StatusTresca<'a> {
+    problem: &'a mut DelassusProblem,
+    layout: &'a FrictionLayout,
+    run: Run,
+    opts: &'a FrictionOptions,
 }
 
-/// A fixed point on the slip threshold (seed §4.3): each outer iteration
-/// solves the Tresca problem with the thresholds `threshold(r, g)` of the
-/// previous forces and gaps, until `residual(previous r, r, g, statuses)`
-/// (relative to the force scale) meets the tolerance. An inner problem that
-/// cycles under stale thresholds usually settles once they are updated, so
-/// the iteration goes on unless it was the last chance or the thresholds no
-/// longer move.
-fn threshold_fixed_point(
-    problem: &mut DelassusProblem,
-    layout: &FrictionLayout,
-    mut run: Run,
-    start: (Vec<f64>, Vec<f64>),
-    law: &ThresholdLaw<'_>,
-    opts: &FrictionOptions,
-) -> Result<FrictionOutcome, ContactError> {
-    let ThresholdLaw {
-        threshold,
-        residual,
-        name: what,
-    } = law;
-    let (mut forces, mut gaps) = start;
-    for outer in 0..opts.max_fixed_point {
-        let thr = threshold(&forces, &gaps);
-        let (mut conv, mut r, mut g, mut reason) =
-            status_loop(problem, layout, &mut run, thr.clone(), false, opts)?;
-        if !conv && problem.n_kernel() == 0 {
-            // The status method cycles on some Tresca problems (large μ):
-            // the same problem as a convex box QP always has its solution.
-            let (sol, statuses) = tresca_box(problem, layout, &thr, opts)?;
-            if sol.report.converged {
-                g = crate::lcp::gaps(&problem.w, &problem.q, &sol.lambda);
-                r = sol.lambda;
-                run.statuses = statuses;
-                conv = true;
-                reason = "solved by MPRGP on the Tresca box".into();
-                run.box_fallbacks += 1;
-            }
-        }
-        let fscale = opts
-            .force_scale
-            .max(r.iter().fold(0.0f64, |a, v| a.max(v.abs())))
-            .max(f64::MIN_POSITIVE);
-        let res = residual(&forces, &r, &g, &run.statuses) / fscale;
-        run.residuals.push(res);
-        forces = r;
-        gaps = g;
-        if !conv && outer + 1 < opts.max_fixed_point && res > opts.tolerance {
-            continue;
-        }
-        if !conv {
-            return Ok(run.finish(
-                false,
-                forces,
-                gaps,
-                format!("inner Tresca problem: {reason}"),
-            ));
-        }
-        if res <= opts.tolerance {
-            let reason = format!("{what} reached after {} iterations", outer + 1);
-            return Ok(run.finish(true, forces, gaps, reason));
-        }
+impl<'a> StatusTresca<'a> {
+    fn new(
+        problem: &'a mut DelassusProblem,
+        layout: &'a FrictionLayout,
+        initial: Vec<PointStatus>,
+        opts: &'a FrictionOptions,
+    ) -> Result<Self, ContactError> {
+        layout.validate(problem.q.len(), 2)?;
+        Ok(Self {
+            problem,
+            layout,
+            run: Run::new(initial),
+            opts,
+        })
     }
-    let reason = format!("{what} not reached in {} iterations", opts.max_fixed_point);
-    Ok(run.finish(false, forces, gaps, reason))
+
+    /// The solution in which every point initially closed sticks.
+    fn stuck(&mut self) -> Result<InnerSolve, ContactError> {
+        let inf = vec![f64::INFINITY; self.run.statuses.len()];
+        status_loop(
+            self.problem,
+            self.layout,
+            &mut self.run,
+            inf,
+            false,
+            self.opts,
+        )
+    }
+
+    fn fixed_point(
+        mut self,
+        start: InnerSolve,
+        map: &ThresholdMap<'_, Vec<f64>>,
+    ) -> Result<FrictionOutcome, ContactError> {
+        let opts = self.opts;
+        let end = fixed_point(&mut self, start, map, opts)?;
+        Ok(self.run.finish(end))
+    }
+}
+
+impl TrescaSolver for StatusTresca<'_> {
+    type Thresholds = Vec<f64>;
+
+    /// The status method; where it cycles (some Tresca problems at large
+    /// μ), the same problem as a convex box QP, which always has its
+    /// solution.
+    fn solve(&mut self, thr: &Vec<f64>, _: &[f64]) -> Result<InnerSolve, ContactError> {
+        let (problem, layout, opts) = (&mut *self.problem, self.layout, self.opts);
+        let out = status_loop(problem, layout, &mut self.run, thr.clone(), false, opts)?;
+        if out.converged || problem.n_kernel() > 0 {
+            return Ok(out);
+        }
+        let (sol, statuses) = tresca_box(problem, layout, thr, opts)?;
+        if !sol.report.converged {
+            return Ok(out);
+        }
+        self.run.statuses.clone_from(&statuses);
+        self.run.box_fallbacks += 1;
+        Ok(InnerSolve {
+            gaps: crate::lcp::gaps(&problem.w, &problem.q, &sol.lambda),
+            forces: sol.lambda,
+            statuses,
+            converged: true,
+            reason: "solved by MPRGP on the Tresca box".into(),
+        })
+    }
 }
 
 /// Coulomb by fixed point on the threshold g ← μ λ_n (seed §4.3), stopping
@@ -602,29 +570,27 @@ pub fn coulomb_fixed_point(
     start: Option<&[f64]>,
     opts: &FrictionOptions,
 ) -> Result<FrictionOutcome, ContactError> {
-    let m = initial.len();
-    let mut run = Run::new(initial);
+    let mut solver = StatusTresca::new(problem, layout, initial, opts)?;
     let start = match start {
-        Some(f) => (f.to_vec(), vec![0.0; f.len()]),
-        None => {
-            let inf = vec![f64::INFINITY; m];
-            let (_, r, g, _) = status_loop(problem, layout, &mut run, inf, false, opts)?;
-            (r, g)
-        }
+        Some(f) => InnerSolve {
+            forces: f.to_vec(),
+            gaps: vec![0.0; f.len()],
+            statuses: solver.run.statuses.clone(),
+            converged: false,
+            reason: String::new(),
+        },
+        None => solver.stuck()?,
     };
-    let change = |prev: &[f64], r: &[f64], _: &[f64], _: &[PointStatus]| {
-        (0..m).fold(0.0f64, |a, p| a.max((r[p] - prev[p]).abs()))
-    };
-    let law = ThresholdLaw {
+    let map = ThresholdMap {
         threshold: &|r, _| thresholds_from(layout, r),
-        residual: &change,
+        residual: &normal_change,
         name: "fixed point on the threshold",
     };
-    threshold_fixed_point(problem, layout, run, start, &law, opts)
+    solver.fixed_point(start, &map)
 }
 
-/// Norton–Hoff friction (seed §4.1.4, eq. 19) at the points where
-/// `mu_rho` is given: λ_t = −μ λ_n |Δs|^(ρ−1) Δs, 0 < ρ < 1, i.e. a slip
+/// Norton–Hoff friction (seed §4.1.4, eq. 19) at the points whose law is
+/// [`FrictionLaw::NortonHoff`] (the others stuck): λ_t = −μ λ_n |Δs|^(ρ−1) Δs, 0 < ρ < 1, i.e. a slip
 /// with the tangential force of magnitude g = μ λ_n |Δs|^ρ opposing it (the
 /// slip measured in the scene's length unit; Coulomb as ρ → 0). Solved as a
 /// fixed point on that slip-dependent threshold, each inner problem a Tresca
@@ -634,17 +600,18 @@ pub fn coulomb_fixed_point(
 pub fn norton_hoff(
     problem: &mut DelassusProblem,
     layout: &FrictionLayout,
-    mu_rho: &[Option<(f64, f64)>],
     initial: Vec<PointStatus>,
     opts: &FrictionOptions,
 ) -> Result<FrictionOutcome, ContactError> {
     let m = initial.len();
-    let mut run = Run::new(initial);
-    let inf = vec![f64::INFINITY; m];
-    let (_, r, g, _) = status_loop(problem, layout, &mut run, inf, false, opts)?;
+    let mut solver = StatusTresca::new(problem, layout, initial, opts)?;
+    let start = solver.stuck()?;
     let s_min = 1e-14 * opts.gap_scale.max(f64::MIN_POSITIVE);
     let law = |r: &[f64], g: &[f64], p: usize| -> Option<f64> {
-        let (t, (mu, rho)) = (layout.tangent_row[p]?, mu_rho[p]?);
+        let t = layout.tangent_row(p)?;
+        let FrictionLaw::NortonHoff { mu, rho } = layout.law[p] else {
+            return None;
+        };
         Some(mu * r[p].max(0.0) * g[t].abs().max(s_min).powf(rho))
     };
     let threshold = |r: &[f64], g: &[f64]| {
@@ -652,10 +619,11 @@ pub fn norton_hoff(
             .map(|p| law(r, g, p).unwrap_or(f64::INFINITY))
             .collect()
     };
-    let misfit = |_: &[f64], r: &[f64], g: &[f64], statuses: &[PointStatus]| {
+    let misfit = |_: &[f64], it: &InnerSolve| {
+        let (r, g) = (&it.forces, &it.gaps);
         let mut worst = 0.0f64;
-        for (p, st) in statuses.iter().enumerate() {
-            let (Some(t), Some(gp)) = (layout.tangent_row[p], law(r, g, p)) else {
+        for (p, st) in it.statuses.iter().enumerate() {
+            let (Some(t), Some(gp)) = (layout.tangent_row(p), law(r, g, p)) else {
                 continue;
             };
             if *st != PointStatus::Open {
@@ -664,12 +632,12 @@ pub fn norton_hoff(
         }
         worst
     };
-    let law = ThresholdLaw {
+    let map = ThresholdMap {
         threshold: &threshold,
         residual: &misfit,
         name: "Norton-Hoff fixed point",
     };
-    threshold_fixed_point(problem, layout, run, (r, g), &law, opts)
+    solver.fixed_point(start, &map)
 }
 
 #[cfg(test)]
@@ -694,10 +662,10 @@ mod tests {
         DelassusProblem::new(&s, &rows, &[0.0, 0.0], &[ft, -fn_], &Mat::zeros(2, 0)).unwrap()
     }
 
-    fn layout(t: Threshold) -> FrictionLayout {
+    fn layout(t: FrictionLaw) -> FrictionLayout {
         FrictionLayout {
-            tangent_row: vec![Some(1)],
-            threshold: vec![t],
+            tangent_rows: vec![vec![1]],
+            law: vec![t],
             shadow: vec![None],
         }
     }
@@ -721,7 +689,7 @@ mod tests {
             1 => coulomb_status(p, l, vec![PointStatus::Stick], &opts()).unwrap(),
             _ => tresca_status(
                 p,
-                &layout(Threshold::Tresca(1.5)),
+                &layout(FrictionLaw::Tresca(1.5)),
                 vec![PointStatus::Stick],
                 &opts(),
             )
@@ -734,7 +702,7 @@ mod tests {
         // Pressed by N = 3, pulled by Q = 1: μ = 0.5 → μN = 1.5 > Q: sticks, λ_t = −Q.
         for solve in [0, 1, 2] {
             let mut p = one_point(3.0, 1.0);
-            let l = layout(Threshold::Coulomb(0.5));
+            let l = layout(FrictionLaw::coulomb(0.5));
             let out = solve_one(solve, &mut p, &l);
             assert!(out.converged, "{}", out.stopping_reason);
             assert_eq!(out.statuses, vec![PointStatus::Stick]);
@@ -760,7 +728,7 @@ mod tests {
         let mut p = one_point(3.0, 0.0);
         let out = coulomb_fixed_point(
             &mut p,
-            &layout(Threshold::Coulomb(0.0)),
+            &layout(FrictionLaw::coulomb(0.0)),
             vec![PointStatus::Stick],
             None,
             &opts(),
@@ -775,7 +743,7 @@ mod tests {
         let mut p = one_point(-3.0, 1.0);
         let out = coulomb_fixed_point(
             &mut p,
-            &layout(Threshold::Coulomb(0.5)),
+            &layout(FrictionLaw::coulomb(0.5)),
             vec![PointStatus::Stick],
             None,
             &opts(),

@@ -4,16 +4,17 @@
 //! rows are the components (Δs1, Δs2) of the slip increment of the slave
 //! relative to the master since the previous load step.
 //!
-//! Layout of the rows (forces and gaps): rows 0..m are the normal rows of the
-//! m contact points (gap g = g0 + B u ≥ 0, λ_n ≥ 0 compressive, λ_n g = 0);
-//! each frictional point p has two further rows `tangent_rows[p] = [t1, t2]`
-//! (any rows ≥ m, each used once), or one, `[t1]`, where a support
-//! prescribes the slip along the other tangent (a node on a symmetry plane:
-//! the tangential force along t2 is then a support reaction, not a friction
-//! unknown, and the admissible set is the segment |λ_t1| ≤ g1). Sign convention: the tangential force
-//! opposes the slip.
+//! Layout of the rows (forces and gaps, [`FrictionLayout`], shared with
+//! 2D): rows 0..m are the normal rows of the m contact points (gap
+//! g = g0 + B u ≥ 0, λ_n ≥ 0 compressive, λ_n g = 0); each frictional point p
+//! has two further rows `tangent_rows[p] = [t1, t2]` (any rows ≥ m, each used
+//! once), or one, `[t1]`, where a support prescribes the slip along the other
+//! tangent (a node on a symmetry plane: the tangential force along t2 is then
+//! a support reaction, not a friction unknown, and the admissible set is the
+//! segment |λ_t1| ≤ g1). Sign convention: the tangential force opposes the
+//! slip.
 //!
-//! Laws (threshold g for Tresca, μ λ_n for Coulomb; anisotropic Coulomb with
+//! Laws ([`crate::friction::FrictionLaw`]; threshold g for Tresca, μ λ_n for Coulomb; anisotropic Coulomb with
 //! the elliptic section (λ_t1/μ1)² + (λ_t2/μ2)² ≤ λ_n², i.e. the semi-axes
 //! g_i = μ_i λ_n):
 //! - stick: λ_t inside the disc / ellipse and Δs = 0;
@@ -38,111 +39,9 @@ use faer::prelude::Solve;
 use faer::Mat;
 
 use crate::delassus::{DelassusProblem, VarEquation};
-use crate::friction::{FrictionOptions, FrictionOutcome, PointStatus};
+use crate::fixed_point::{fixed_point, normal_change, InnerSolve, ThresholdMap, TrescaSolver};
+use crate::friction::{FrictionLayout, FrictionOptions, FrictionOutcome, PointStatus};
 use crate::ContactError;
-
-/// The friction law of one contact point.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum Law3d {
-    /// Frictionless: the tangential force (if the point has tangential rows) is zero.
-    None,
-    /// Tresca: the tangential force is bounded by this threshold (a force), ‖λ_t‖ ≤ g.
-    Tresca(f64),
-    /// Coulomb: (λ_t1/μ1)² + (λ_t2/μ2)² ≤ λ_n² (μ1 = μ2: the isotropic cone
-    /// ‖λ_t‖ ≤ μ λ_n).
-    Coulomb { mu: [f64; 2] },
-}
-
-/// Normal rows 0..m, then two tangential rows per frictional point.
-#[derive(Debug, Clone)]
-pub struct FrictionLayout3d {
-    /// The rows (t1, t2), or (t1) alone, of each point's tangential force;
-    /// empty for a frictionless point.
-    pub tangent_rows: Vec<Vec<usize>>,
-    pub law: Vec<Law3d>,
-}
-
-impl FrictionLayout3d {
-    fn n_points(&self) -> usize {
-        self.tangent_rows.len()
-    }
-
-    fn validate(&self, n_rows: usize) -> Result<(), ContactError> {
-        let m = self.n_points();
-        if self.law.len() != m {
-            return Err(ContactError::Geometry(format!(
-                "friction 3D: {} laws for {} contact points",
-                self.law.len(),
-                m
-            )));
-        }
-        let mut owner = vec![false; n_rows];
-        if m > n_rows {
-            return Err(ContactError::Geometry(format!(
-                "friction 3D: {m} contact points but only {n_rows} rows"
-            )));
-        }
-        owner[..m].iter_mut().for_each(|o| *o = true);
-        for (p, rows) in self.tangent_rows.iter().enumerate() {
-            if rows.len() > 2 {
-                return Err(ContactError::Geometry(format!(
-                    "friction 3D: point {p} has {} tangential rows (at most 2)",
-                    rows.len()
-                )));
-            }
-            for &t in rows {
-                if t < m || t >= n_rows || owner[t] {
-                    return Err(ContactError::Geometry(format!(
-                        "friction 3D: tangential row {t} of point {p} is out of range or used twice"
-                    )));
-                }
-                owner[t] = true;
-            }
-        }
-        if let Some(i) = owner.iter().position(|o| !o) {
-            return Err(ContactError::Geometry(format!(
-                "friction 3D: row {i} belongs to no contact point"
-            )));
-        }
-        for (p, law) in self.law.iter().enumerate() {
-            let bad = match *law {
-                Law3d::None => false,
-                Law3d::Tresca(g) => !(g >= 0.0 && g.is_finite()),
-                Law3d::Coulomb { mu } => mu.iter().any(|m| !(*m >= 0.0 && m.is_finite())),
-            };
-            if bad {
-                return Err(ContactError::Geometry(format!(
-                    "friction 3D: point {p} has a negative or non-finite friction parameter"
-                )));
-            }
-        }
-        Ok(())
-    }
-
-    fn has_coulomb(&self) -> bool {
-        self.law
-            .iter()
-            .zip(&self.tangent_rows)
-            .any(|(l, t)| !t.is_empty() && matches!(l, Law3d::Coulomb { .. }))
-    }
-
-    /// The semi-axes (g1, g2) of each point's admissible set of tangential
-    /// forces, Coulomb ones from the normal forces `r`.
-    fn thresholds(&self, r: &[f64]) -> Vec<[f64; 2]> {
-        self.law
-            .iter()
-            .enumerate()
-            .map(|(p, law)| match *law {
-                Law3d::None => [0.0, 0.0],
-                Law3d::Tresca(g) => [g, g],
-                Law3d::Coulomb { mu } => {
-                    let n = r[p].max(0.0);
-                    [mu[0] * n, mu[1] * n]
-                }
-            })
-            .collect()
-    }
-}
 
 /// Projection of x on the ellipse (x1/a1)² + (x2/a2)² ≤ 1 (Euclidean; a
 /// semi-axis may be zero, both infinite means no bound).
@@ -186,7 +85,7 @@ fn project_ellipse(x: [f64; 2], a: [f64; 2]) -> [f64; 2] {
 /// The Tresca problem with fixed semi-axes: its rows, thresholds and scales.
 struct Inner<'a> {
     problem: &'a DelassusProblem,
-    layout: &'a FrictionLayout3d,
+    layout: &'a FrictionLayout,
     /// Semi-axes (g1, g2) per point; infinite: no bound (stuck).
     thr: &'a [[f64; 2]],
     /// Newton's projection parameters per row (1 / diagonal of W).
@@ -202,11 +101,7 @@ enum Scale {
 }
 
 impl<'a> Inner<'a> {
-    fn new(
-        problem: &'a DelassusProblem,
-        layout: &'a FrictionLayout3d,
-        thr: &'a [[f64; 2]],
-    ) -> Self {
+    fn new(problem: &'a DelassusProblem, layout: &'a FrictionLayout, thr: &'a [[f64; 2]]) -> Self {
         let n = problem.q.len();
         let rho = (0..n)
             .map(|i| {
@@ -386,6 +281,31 @@ impl<'a> Inner<'a> {
         }
     }
 
+    /// One semi-smooth Newton step from x with an Armijo line search on
+    /// ½‖F‖² (halving the step at most 30 times).
+    fn newton_step(&self, x: &mut Vec<f64>, jac: &mut Mat<f64>) -> Step {
+        let nk = self.n() + self.k();
+        let merit = |f: &[f64]| 0.5 * f.iter().map(|v| v * v).sum::<f64>();
+        let f = self.residual(x, Scale::Newton, Some(jac));
+        let psi = merit(&f);
+        let rhs = Mat::<f64>::from_fn(nk, 1, |i, _| -f[i]);
+        let dx = jac.full_piv_lu().solve(&rhs);
+        if !(0..nk).all(|i| dx[(i, 0)].is_finite()) {
+            return Step::Singular;
+        }
+        let mut t = 1.0;
+        for _ in 0..30 {
+            let trial: Vec<f64> = (0..nk).map(|i| x[i] + t * dx[(i, 0)]).collect();
+            let ft = self.residual(&trial, Scale::Newton, None);
+            if merit(&ft) <= (1.0 - 1e-4 * t) * psi {
+                *x = trial;
+                return Step::Accepted;
+            }
+            t *= 0.5;
+        }
+        Step::Rejected(dx)
+    }
+
     /// The scaled natural residual: max over the rows of |F_check| / F.
     fn check(&self, x: &[f64], opts: &FrictionOptions) -> f64 {
         let n = self.n();
@@ -456,24 +376,25 @@ impl<'a> Inner<'a> {
     }
 }
 
-/// Result of one inner (fixed-threshold) solve.
-struct InnerResult {
-    forces: Vec<f64>,
-    gaps: Vec<f64>,
-    iterations: usize,
-    converged: bool,
-    reason: String,
+/// What a Newton step did.
+enum Step {
+    /// A step length decreased the merit: x moved.
+    Accepted,
+    /// No step length did; the Newton direction.
+    Rejected(Mat<f64>),
+    /// The Newton system is singular (a non-finite direction).
+    Singular,
 }
 
 /// Semi-smooth Newton on the Alart–Curnier equations with fixed semi-axes
 /// `thr`, from the forces `start`.
 fn solve_inner(
     problem: &DelassusProblem,
-    layout: &FrictionLayout3d,
+    layout: &FrictionLayout,
     thr: &[[f64; 2]],
     start: &[f64],
     opts: &FrictionOptions,
-) -> Result<InnerResult, ContactError> {
+) -> Result<(InnerSolve, usize), ContactError> {
     let inner = Inner::new(problem, layout, thr);
     let (n, k) = (inner.n(), inner.k());
     let mut x = vec![0.0; n + k];
@@ -484,7 +405,6 @@ fn solve_inner(
     }
     let mut jac = Mat::<f64>::zeros(n + k, n + k);
     let mut fallbacks = 0usize;
-    let merit = |f: &[f64]| 0.5 * f.iter().map(|v| v * v).sum::<f64>();
     let mut iterations = 0;
     let mut reason = format!("iteration limit {} reached", opts.max_iterations);
     let mut converged = false;
@@ -496,47 +416,32 @@ fn solve_inner(
             break;
         }
         iterations = it + 1;
-        let f = inner.residual(&x, Scale::Newton, Some(&mut jac));
-        let psi = merit(&f);
-        let rhs = Mat::<f64>::from_fn(n + k, 1, |i, _| -f[i]);
-        let dx = jac.full_piv_lu().solve(&rhs);
-        let step_ok = (0..n + k).all(|i| dx[(i, 0)].is_finite());
-        let mut accepted = false;
-        if step_ok {
-            let mut t = 1.0;
-            for _ in 0..30 {
-                let trial: Vec<f64> = (0..n + k).map(|i| x[i] + t * dx[(i, 0)]).collect();
-                let ft = inner.residual(&trial, Scale::Newton, None);
-                if merit(&ft) <= (1.0 - 1e-4 * t) * psi {
-                    x = trial;
-                    accepted = true;
-                    break;
-                }
-                t *= 0.5;
-            }
-        }
-        if accepted {
-            continue;
-        }
+        let dx = match inner.newton_step(&mut x, &mut jac) {
+            Step::Accepted => continue,
+            Step::Rejected(dx) => Some(dx),
+            Step::Singular => None,
+        };
         fallbacks += 1;
-        if k == 0 {
+        match dx {
             // Globalisation: accelerated projected gradient, then Newton again.
-            inner.projected_gradient(&mut x, 200 * fallbacks);
-        } else if step_ok && fallbacks <= 5 {
-            // Floating bodies: no projection on the equilibrium; take the full
-            // (non-monotone) Newton step.
-            for i in 0..n + k {
-                x[i] += dx[(i, 0)];
+            _ if k == 0 => inner.projected_gradient(&mut x, 200 * fallbacks),
+            // Floating bodies: no projection on the equilibrium; take the
+            // full (non-monotone) Newton step.
+            Some(dx) if fallbacks <= 5 => {
+                for i in 0..n + k {
+                    x[i] += dx[(i, 0)];
+                }
             }
-        } else {
-            reason = if step_ok {
-                "the Newton line search failed repeatedly (floating bodies: no fallback)".into()
-            } else {
+            Some(_) => {
+                reason =
+                    "the Newton line search failed repeatedly (floating bodies: no fallback)".into();
+                break;
+            }
+            None => {
                 return Err(ContactError::Singular(
                     "friction 3D: singular Newton system (a floating body not held by the contact and friction forces?)".into(),
-                ));
-            };
-            break;
+                ))
+            }
         }
     }
     if !converged {
@@ -548,20 +453,21 @@ fn solve_inner(
     }
     let gaps = inner.gaps(&x);
     x.truncate(n);
-    Ok(InnerResult {
+    let solve = InnerSolve {
+        statuses: statuses(layout, &x, &gaps, opts),
         forces: x,
         gaps,
-        iterations,
         converged,
         reason,
-    })
+    };
+    Ok((solve, iterations))
 }
 
 /// Statuses: open (λ_n ≤ tol), slip (‖Δs‖ > tol, the force on the boundary
 /// of the disc / ellipse), stick otherwise (in contact, and sticking if the
 /// point has friction).
 fn statuses(
-    layout: &FrictionLayout3d,
+    layout: &FrictionLayout,
     r: &[f64],
     g: &[f64],
     opts: &FrictionOptions,
@@ -604,7 +510,7 @@ fn statuses(
 /// point of a friction-held body slips), α is left from the previous solve.
 pub fn friction_3d(
     problem: &mut DelassusProblem,
-    layout: &FrictionLayout3d,
+    layout: &FrictionLayout,
     start: Option<&[f64]>,
     opts: &FrictionOptions,
 ) -> Result<FrictionOutcome, ContactError> {
@@ -643,36 +549,53 @@ fn bilateral_start(problem: &mut DelassusProblem) -> Option<Vec<f64>> {
     problem.solve_equations(&eqs).ok().map(|(r, _)| r)
 }
 
+/// The 3D Tresca problems of a fixed point on the threshold (seed §4.3):
+/// the semi-smooth Newton method from the previous forces, counting the
+/// Newton iterations of all solves.
+struct Newton<'a> {
+    problem: &'a DelassusProblem,
+    layout: &'a FrictionLayout,
+    opts: &'a FrictionOptions,
+    iterations: usize,
+}
+
+impl Newton<'_> {
+    /// The iterate of the forces `forces` (no solve): their gaps (rigid-mode
+    /// amplitudes zero) and statuses.
+    fn iterate(&self, forces: Vec<f64>) -> InnerSolve {
+        let mut x = forces.clone();
+        x.resize(forces.len() + self.problem.g_mat.ncols(), 0.0);
+        let gaps = Inner::new(self.problem, self.layout, &[]).gaps(&x);
+        InnerSolve {
+            statuses: statuses(self.layout, &forces, &gaps, self.opts),
+            forces,
+            gaps,
+            converged: false,
+            reason: String::new(),
+        }
+    }
+}
+
+impl TrescaSolver for Newton<'_> {
+    type Thresholds = Vec<[f64; 2]>;
+
+    fn solve(&mut self, thr: &Vec<[f64; 2]>, start: &[f64]) -> Result<InnerSolve, ContactError> {
+        let (solve, iterations) = solve_inner(self.problem, self.layout, thr, start, self.opts)?;
+        self.iterations += iterations;
+        Ok(solve)
+    }
+}
+
 fn solve_3d(
     problem: &DelassusProblem,
-    layout: &FrictionLayout3d,
+    layout: &FrictionLayout,
     start: Option<&[f64]>,
     first_guess: Option<Vec<f64>>,
     opts: &FrictionOptions,
 ) -> Result<FrictionOutcome, ContactError> {
     let n = problem.q.len();
-    layout.validate(n)?;
-    let m = layout.n_points();
-    let mut iterations = 0usize;
-    let mut residuals = Vec::new();
-    let finish = |converged: bool,
-                  res: InnerResult,
-                  iterations: usize,
-                  residuals: Vec<f64>,
-                  reason: String| {
-        FrictionOutcome {
-            converged,
-            iterations,
-            fixed_point_iterations: residuals.len(),
-            fixed_point_residuals: residuals,
-            statuses: statuses(layout, &res.forces, &res.gaps, opts),
-            forces: res.forces,
-            gaps: res.gaps,
-            stopping_reason: reason,
-            cycle_detected: false,
-        }
-    };
-    let mut forces = match start {
+    layout.validate(n, 3)?;
+    let forces = match start {
         Some(f) if f.len() == n => f.to_vec(),
         Some(f) => {
             return Err(ContactError::Geometry(format!(
@@ -682,64 +605,35 @@ fn solve_3d(
         }
         None => first_guess.unwrap_or_else(|| vec![0.0; n]),
     };
+    let mut newton = Newton {
+        problem,
+        layout,
+        opts,
+        iterations: 0,
+    };
     if !layout.has_coulomb() {
-        let thr = layout.thresholds(&forces);
-        let res = solve_inner(problem, layout, &thr, &forces, opts)?;
-        let reason = format!("Tresca: {}", res.reason);
-        let conv = res.converged;
-        let it = res.iterations;
-        return Ok(finish(conv, res, it, residuals, reason));
+        let res = newton.solve(&layout.thresholds(&forces), &forces)?;
+        let (converged, reason) = (res.converged, format!("Tresca: {}", res.reason));
+        return Ok(res.outcome(converged, newton.iterations, Vec::new(), reason, false));
     }
-    if start.is_none() {
-        let stuck = vec![[f64::INFINITY; 2]; m];
-        let res = solve_inner(problem, layout, &stuck, &forces, opts)?;
-        iterations += res.iterations;
-        forces = res.forces;
-    }
-    let mut last: Option<InnerResult> = None;
-    for outer in 0..opts.max_fixed_point {
-        let thr = layout.thresholds(&forces);
-        let res = solve_inner(problem, layout, &thr, &forces, opts)?;
-        iterations += res.iterations;
-        let fscale = opts
-            .force_scale
-            .max(res.forces.iter().fold(0.0f64, |a, v| a.max(v.abs())))
-            .max(f64::MIN_POSITIVE);
-        let change = (0..m).fold(0.0f64, |a, p| a.max((res.forces[p] - forces[p]).abs())) / fscale;
-        residuals.push(change);
-        forces.clone_from(&res.forces);
-        if change <= opts.tolerance {
-            let (conv, reason) = if res.converged {
-                (
-                    true,
-                    format!(
-                        "fixed point on the threshold reached after {} iterations",
-                        outer + 1
-                    ),
-                )
-            } else {
-                (false, format!("inner Tresca problem: {}", res.reason))
-            };
-            return Ok(finish(conv, res, iterations, residuals, reason));
-        }
-        last = Some(res);
-    }
-    let reason = format!(
-        "fixed point on the threshold not reached in {} iterations",
-        opts.max_fixed_point
+    let start = match start {
+        Some(_) => newton.iterate(forces),
+        None => newton.solve(&vec![[f64::INFINITY; 2]; layout.n_points()], &forces)?,
+    };
+    let map = ThresholdMap {
+        threshold: &|r, _| layout.thresholds(r),
+        residual: &normal_change,
+        name: "fixed point on the threshold",
+    };
+    let end = fixed_point(&mut newton, start, &map, opts)?;
+    let outcome = end.last.outcome(
+        end.converged,
+        newton.iterations,
+        end.residuals,
+        end.reason,
+        false,
     );
-    let res = last.unwrap_or_else(|| {
-        let mut x = forces.clone();
-        x.resize(n + problem.g_mat.ncols(), 0.0);
-        InnerResult {
-            gaps: Inner::new(problem, layout, &[]).gaps(&x),
-            forces,
-            iterations: 0,
-            converged: false,
-            reason: String::new(),
-        }
-    });
-    Ok(finish(false, res, iterations, residuals, reason))
+    Ok(outcome)
 }
 
 #[cfg(test)]

@@ -17,6 +17,7 @@ pub mod active_set;
 pub mod augmented_lagrangian;
 pub mod delassus;
 pub mod equilibrium;
+mod fixed_point;
 pub mod friction;
 pub mod friction3d;
 pub mod geometry;

@@ -125,7 +125,7 @@ pub(crate) fn check_friction_capacity(
         .iter()
         .all(|(_, m)| (0..3).all(|k| (m[k] - n[k]).abs() <= 1e-9));
     let mu = own.iter().try_fold(0.0f64, |m, (p, _)| match p.friction {
-        PointFriction::Coulomb { mu, mu2, .. } if p.trow.is_some() => Some(m.max(mu).max(mu2)),
+        FrictionLaw::Coulomb { mu: [mu, mu2] } if p.trow.is_some() => Some(m.max(mu).max(mu2)),
         _ => None,
     });
     let (true, Some(mu)) = (flat, mu) else {

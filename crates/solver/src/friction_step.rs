@@ -7,11 +7,11 @@
 use super::*;
 use signorini_contact::friction::FrictionOutcome;
 
-/// The friction layouts of the interface problem, built once per run.
+/// The friction layout of the interface problem, built once per run.
 pub(crate) struct FrictionRows {
     layout: FrictionLayout,
-    layout_3d: FrictionLayout3d,
-    norton_hoff: Vec<Option<(f64, f64)>>,
+    /// Some contact has Norton–Hoff friction (then all frictional ones do).
+    norton_hoff: bool,
     three_d: bool,
 }
 
@@ -33,7 +33,7 @@ impl FrictionHistory {
     }
 }
 
-/// The friction layouts (`None` without a tangential row), and the
+/// The friction layout (`None` without a tangential row), and the
 /// combinations refused: the friction status method in 3D, Norton–Hoff
 /// mixed with Tresca or Coulomb.
 pub(crate) fn friction_rows(
@@ -52,25 +52,20 @@ pub(crate) fn friction_rows(
             "solver.friction: the friction status method (seed §4.5) is 2D only; in 3D friction is solved by the fixed point on the threshold (friction = \"fixed_point\", the default)".into(),
         ));
     }
-    let norton_hoff: Vec<Option<(f64, f64)>> = points
-        .iter()
-        .map(|p| match p.friction {
-            PointFriction::NortonHoff { mu, rho } => Some((mu, rho)),
-            _ => None,
-        })
-        .collect();
+    let is_norton_hoff = |p: &PointModel| matches!(p.friction, FrictionLaw::NortonHoff { .. });
+    let norton_hoff = points.iter().any(is_norton_hoff);
     let mixed = points.iter().any(|p| {
         matches!(
             p.friction,
-            PointFriction::Tresca(_) | PointFriction::Coulomb { .. }
+            FrictionLaw::Tresca(_) | FrictionLaw::Coulomb { .. }
         )
     });
-    if norton_hoff.iter().any(|x| x.is_some()) && mixed {
+    if norton_hoff && mixed {
         return Err(SolveError::Input(
             "contact.friction: Norton-Hoff cannot be mixed with Tresca or Coulomb contacts in one scene yet".into(),
         ));
     }
-    let layout_3d = FrictionLayout3d {
+    let layout = FrictionLayout {
         tangent_rows: (0..m)
             .map(|p| {
                 [tangent_row[p], tangent_row2[p]]
@@ -79,36 +74,19 @@ pub(crate) fn friction_rows(
                     .collect()
             })
             .collect(),
+        // A point whose slip is prescribed by a support has no tangential
+        // unknown (see model::contacts::free_tangential_rows).
         law: points
             .iter()
-            .map(|p| match p.friction {
-                _ if p.trow.is_none() => Law3d::None,
-                PointFriction::Tresca(g) => Law3d::Tresca(g),
-                PointFriction::Coulomb { mu, mu2, .. } => Law3d::Coulomb { mu: [mu, mu2] },
-                _ => Law3d::None,
+            .map(|p| match p.trow {
+                None => FrictionLaw::None,
+                Some(_) => p.friction,
             })
             .collect(),
-    };
-    let layout = FrictionLayout {
         shadow: signorini_contact::redundancy::tangent_shadows(&interface.rows, m, tangent_row),
-        tangent_row: tangent_row.clone(),
-        threshold: points
-            .iter()
-            .map(|p| match p.friction {
-                // A point whose slip is prescribed by a support has no
-                // tangential unknown (see model::contacts::free_tangential_rows).
-                _ if p.trow.is_none() => Threshold::None,
-                PointFriction::None => Threshold::None,
-                PointFriction::Tresca(g) => Threshold::Tresca(g),
-                PointFriction::Coulomb { mu, .. } => Threshold::Coulomb(mu),
-                // No threshold: the law is single-valued (checked by its own residual).
-                PointFriction::NortonHoff { .. } => Threshold::Tresca(f64::INFINITY),
-            })
-            .collect(),
     };
     Ok(Some(FrictionRows {
         layout,
-        layout_3d,
         norton_hoff,
         three_d,
     }))
@@ -143,14 +121,7 @@ fn tangential_gaps(input: &RootInput, load: &StepLoad, history: &FrictionHistory
 fn slip_compliance(input: &RootInput, interface: &Interface) -> Vec<f64> {
     let mut compliance = vec![0.0; interface.rows.len()];
     for (pi, p) in input.points.iter().enumerate() {
-        if let (
-            PointFriction::Coulomb {
-                slip_stiffness: Some(k),
-                ..
-            },
-            Some(t),
-        ) = (p.friction, interface.tangent_row[pi])
-        {
+        if let (Some(k), Some(t)) = (p.slip_stiffness, interface.tangent_row[pi]) {
             compliance[t] = 1.0 / k;
             if let Some(t2) = interface.tangent_row2[pi] {
                 compliance[t2] = 1.0 / k;
@@ -240,11 +211,7 @@ fn solve_friction(
     fopts: &FrictionOptions,
 ) -> FrictionSolve {
     let (bodies, points) = (input.bodies, input.points);
-    let all_tresca = fr
-        .layout
-        .threshold
-        .iter()
-        .all(|t| !matches!(t, Threshold::Coulomb(_)));
+    let all_tresca = fr.layout.law.iter().all(|l| l.coulomb_mu().is_none());
     let start = history.previous.as_ref().map(|p| p.1.clone());
     if fr.three_d {
         let name = if all_tresca {
@@ -253,7 +220,7 @@ fn solve_friction(
             "coulomb_3d_fixed_point"
         };
         return (
-            friction_3d(problem, &fr.layout_3d, start.as_deref(), fopts),
+            friction_3d(problem, &fr.layout, start.as_deref(), fopts),
             name,
         );
     }
@@ -266,14 +233,8 @@ fn solve_friction(
     let retry_from_gaps = history.previous.is_none() && bodies.iter().any(|b| !b.kernel.is_empty());
     let solve_2d = |problem: &mut DelassusProblem, initial: Vec<PointStatus>| -> FrictionSolve {
         let layout = &fr.layout;
-        if fr.norton_hoff.iter().any(|x| x.is_some()) {
-            let out = signorini_contact::friction::norton_hoff(
-                problem,
-                layout,
-                &fr.norton_hoff,
-                initial,
-                fopts,
-            );
+        if fr.norton_hoff {
+            let out = signorini_contact::friction::norton_hoff(problem, layout, initial, fopts);
             (out, "norton_hoff")
         } else if all_tresca && input.algorithm == Algorithm::Mprgp {
             (
@@ -331,11 +292,7 @@ fn friction_state(
             f.tangential[pi] = out.forces[t];
             f.slip_increment[pi] = out.gaps[t];
             history.slip_total[pi] += out.gaps[t];
-            f.threshold[pi] = match fr.layout.threshold[pi] {
-                Threshold::Tresca(g) => g,
-                Threshold::Coulomb(mu) => mu * ln.max(0.0),
-                Threshold::None => 0.0,
-            };
+            f.threshold[pi] = fr.layout.law[pi].semi_axes(ln)[0];
             f.cone_excess[pi] = f.tangential[pi].abs() - f.threshold[pi];
         }
         if let Some(t2) = interface.tangent_row2[pi] {
@@ -343,8 +300,8 @@ fn friction_state(
             f.slip_increment2[pi] = out.gaps[t2];
             history.slip_total2[pi] += out.gaps[t2];
             let (l1, l2) = (f.tangential[pi], f.tangential2[pi]);
-            f.cone_excess[pi] = match p_law(&fr.layout_3d.law[pi]) {
-                Some((mu1, mu2)) if mu1 > 0.0 && mu2 > 0.0 => {
+            f.cone_excess[pi] = match fr.layout.law[pi].coulomb_mu() {
+                Some([mu1, mu2]) if mu1 > 0.0 && mu2 > 0.0 => {
                     mu1 * (((l1 / mu1).powi(2) + (l2 / mu2).powi(2)).sqrt() - ln.max(0.0))
                 }
                 Some(_) => l1.hypot(l2),

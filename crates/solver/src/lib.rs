@@ -44,10 +44,10 @@ use signorini_comm::{broadcast, deal, gather, Transport};
 use signorini_condense::{spmv, spmv_with_magnitude, submatrix};
 use signorini_contact::equilibrium::nnls;
 use signorini_contact::friction::{
-    coulomb_fixed_point, coulomb_status, tresca_projection, tresca_status, FrictionLayout,
-    FrictionOptions, PointStatus, Threshold,
+    coulomb_fixed_point, coulomb_status, tresca_projection, tresca_status, FrictionLaw,
+    FrictionLayout, FrictionOptions, PointStatus,
 };
-use signorini_contact::friction3d::{friction_3d, FrictionLayout3d, Law3d};
+use signorini_contact::friction3d::friction_3d;
 use signorini_contact::methods::{solve_lcp, solve_lcp_constrained, Algorithm};
 use signorini_contact::{
     status_method, ActiveSetSolve, ContactError, DelassusOperator, DelassusProblem, LcpOptions,
@@ -65,7 +65,7 @@ use checks::*;
 use compare::*;
 use direct_path::*;
 use friction_step::*;
-use model::{BodyModel, FixedPoint, PointFriction, PointModel};
+use model::{BodyModel, FixedPoint, PointModel};
 pub use pipeline::run;
 use pipeline::RunLog;
 pub use plan::algorithm_of;

@@ -169,8 +169,8 @@ pub fn solve_friction(
     with_lambda: bool,
 ) -> Result<LocalResult, String> {
     use signorini_contact::friction::{
-        coulomb_fixed_point, coulomb_status, FrictionLayout, FrictionOptions, PointStatus,
-        Threshold,
+        coulomb_fixed_point, coulomb_status, FrictionLaw, FrictionLayout, FrictionOptions,
+        PointStatus,
     };
     let mu = p.mu.as_ref().ok_or("no mu")?;
     let m = mu.len();
@@ -182,8 +182,8 @@ pub fn solve_friction(
         .fold(0.0f64, |a, i| a.max(p.w[(i, i)].abs()))
         .max(f64::MIN_POSITIVE);
     let layout = FrictionLayout {
-        tangent_row: (0..m).map(|i| Some(m + i)).collect(),
-        threshold: mu.iter().map(|&u| Threshold::Coulomb(u)).collect(),
+        tangent_rows: (0..m).map(|i| vec![m + i]).collect(),
+        law: mu.iter().map(|&u| FrictionLaw::coulomb(u)).collect(),
         shadow: vec![None; m],
     };
     let opts = FrictionOptions {

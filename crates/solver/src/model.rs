@@ -3,6 +3,7 @@
 //! and (in `contacts`) the contact points with their rows over the bodies' DOFs.
 
 use faer::{Mat, Side};
+use signorini_contact::friction::FrictionLaw;
 use signorini_contact::ContactPoint;
 use signorini_fem::{Elasticity, Formulation as FemFormulation, Model as FemModel};
 use signorini_mesh::generators::{
@@ -100,31 +101,12 @@ pub struct PointModel {
     /// In 3D, the row along the second tangent t2 (n, t1, t2 right-handed).
     pub trow2: Option<Vec<(usize, usize, f64)>>,
     /// The friction law of the point's contact, per point: the Tresca
-    /// threshold as a force (g × tributary length), or μ.
-    pub friction: PointFriction,
-}
-
-/// The friction law at one contact point.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum PointFriction {
-    None,
-    /// Threshold force.
-    Tresca(f64),
-    /// Coefficient, and the elastic slip stiffness (force per unit slip) of a
-    /// regularised law (seed §4.1.3).
-    Coulomb {
-        mu: f64,
-        /// The coefficient along the second tangent t2 (3D anisotropic
-        /// friction, the elliptic cone of seed §4.1.2); equal to `mu` when
-        /// one coefficient is given.
-        mu2: f64,
-        slip_stiffness: Option<f64>,
-    },
-    /// Norton–Hoff (seed §4.1.4): λ_t = −μ λ_n |Δs|^(ρ−1) Δs.
-    NortonHoff {
-        mu: f64,
-        rho: f64,
-    },
+    /// threshold as a force (g × tributary length), or μ (in 3D, along t1
+    /// and t2: the elliptic cone of seed §4.1.2).
+    pub friction: FrictionLaw,
+    /// The elastic slip stiffness (force per unit slip) of a regularised
+    /// Coulomb law (seed §4.1.3).
+    pub slip_stiffness: Option<f64>,
 }
 
 pub fn fem_model(model: scene::Model) -> Result<FemModel, SolveError> {

@@ -28,15 +28,6 @@ pub(crate) fn net_force(model: scene::Model, mut force: Vec<f64>) -> Vec<f64> {
     force
 }
 
-/// The coefficients (μ₁, μ₂) of a 3D Coulomb law; `None` for Tresca or
-/// frictionless points.
-pub(crate) fn p_law(law: &Law3d) -> Option<(f64, f64)> {
-    match law {
-        Law3d::Coulomb { mu } => Some((mu[0], mu[1])),
-        _ => None,
-    }
-}
-
 /// Solves one step's condensed problem with a method other than the status
 /// method with multipliers; for the penalty methods, also the exact solution,
 /// to report their deviation.

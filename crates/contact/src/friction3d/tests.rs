@@ -1,6 +1,7 @@
 //! Tests of [`super`]: the three-dimensional Coulomb friction solver.
 
 use super::*;
+use crate::friction::FrictionLaw;
 
 fn opts() -> FrictionOptions {
     FrictionOptions {
@@ -12,10 +13,11 @@ fn opts() -> FrictionOptions {
     }
 }
 
-fn one_point_layout(law: Law3d) -> FrictionLayout3d {
-    FrictionLayout3d {
+fn one_point_layout(law: FrictionLaw) -> FrictionLayout {
+    FrictionLayout {
         tangent_rows: vec![vec![1, 2]],
         law: vec![law],
+        shadow: Vec::new(),
     }
 }
 
@@ -36,7 +38,7 @@ fn a_point_sticks_below_the_cone_and_slips_on_it_in_any_direction() {
     for k in 0..12 {
         let theta = 0.37 + k as f64 * std::f64::consts::PI / 6.0;
         let dir = [theta.cos(), theta.sin()];
-        let law = Law3d::Coulomb { mu: [mu, mu] };
+        let law = FrictionLaw::Coulomb { mu: [mu, mu] };
         // Drive 0.02: the stuck reaction s0 / kt = 0.01 < 0.06.
         let mut p = one_point(kn, kt, d, 0.02, theta);
         let out = friction_3d(&mut p, &one_point_layout(law), None, &opts()).unwrap();
@@ -79,7 +81,7 @@ fn tresca_point_slips_at_its_threshold() {
     let mut p = one_point(5.0, 2.0, 0.6, 0.1, 1.0);
     let out = friction_3d(
         &mut p,
-        &one_point_layout(Law3d::Tresca(0.03)),
+        &one_point_layout(FrictionLaw::Tresca(0.03)),
         None,
         &opts(),
     )
@@ -107,7 +109,7 @@ fn check_ellipse_slip(lt: [f64; 2], s: [f64; 2], a: [f64; 2]) {
 fn elliptic_cone_bounds_each_direction_by_its_coefficient() {
     let (kn, kt, d) = (5.0, 2.0, 0.6);
     let ln = d / kn;
-    let law = Law3d::Coulomb { mu: [0.3, 0.1] };
+    let law = FrictionLaw::Coulomb { mu: [0.3, 0.1] };
     for (theta, mu) in [(0.0, 0.3), (std::f64::consts::FRAC_PI_2, 0.1)] {
         let mut p = one_point(kn, kt, d, 1.0, theta);
         let out = friction_3d(&mut p, &one_point_layout(law), None, &opts()).unwrap();
@@ -138,7 +140,7 @@ fn a_coupled_point_slips_opposite_to_its_slip() {
         let mut p = DelassusProblem::from_operator(w.clone(), vec![-1.0, 0.7, -0.4]);
         let out = friction_3d(
             &mut p,
-            &one_point_layout(Law3d::Coulomb { mu }),
+            &one_point_layout(FrictionLaw::Coulomb { mu }),
             None,
             &opts(),
         )
@@ -167,7 +169,7 @@ impl Lcg {
     }
 }
 
-fn random_problem(m: usize, seed: u64) -> (DelassusProblem, FrictionLayout3d) {
+fn random_problem(m: usize, seed: u64) -> (DelassusProblem, FrictionLayout) {
     let n = 3 * m;
     let mut rng = Lcg(seed);
     let a = Mat::<f64>::from_fn(n, n, |_, _| rng.next());
@@ -184,22 +186,23 @@ fn random_problem(m: usize, seed: u64) -> (DelassusProblem, FrictionLayout3d) {
             }
         })
         .collect();
-    let layout = FrictionLayout3d {
+    let layout = FrictionLayout {
         tangent_rows: (0..m).map(|p| vec![m + 2 * p, m + 2 * p + 1]).collect(),
         law: (0..m)
             .map(|p| match p % 3 {
-                0 => Law3d::Coulomb { mu: [0.3, 0.3] },
-                1 => Law3d::Coulomb { mu: [0.6, 0.15] },
-                _ => Law3d::Coulomb { mu: [0.1, 0.4] },
+                0 => FrictionLaw::Coulomb { mu: [0.3, 0.3] },
+                1 => FrictionLaw::Coulomb { mu: [0.6, 0.15] },
+                _ => FrictionLaw::Coulomb { mu: [0.1, 0.4] },
             })
             .collect(),
+        shadow: Vec::new(),
     };
     (DelassusProblem::from_operator(w, q), layout)
 }
 
 /// Every condition of the law at every point, to `tol` (relative to the
 /// largest force and gap).
-fn check_conditions(out: &FrictionOutcome, layout: &FrictionLayout3d, tol: f64) {
+fn check_conditions(out: &FrictionOutcome, layout: &FrictionLayout, tol: f64) {
     let fs = out.forces.iter().fold(1.0f64, |a, v| a.max(v.abs()));
     let gs = out.gaps.iter().fold(1.0f64, |a, v| a.max(v.abs()));
     for (p, (rows, law)) in layout.tangent_rows.iter().zip(&layout.law).enumerate() {
@@ -213,7 +216,7 @@ fn check_conditions(out: &FrictionOutcome, layout: &FrictionLayout3d, tol: f64) 
             "point {p}: λ g = {}",
             ln * gn
         );
-        let (&[a, b], Law3d::Coulomb { mu }) = (&rows[..], law) else {
+        let (&[a, b], FrictionLaw::Coulomb { mu }) = (&rows[..], law) else {
             continue;
         };
         let lt = [out.forces[a], out.forces[b]];
@@ -292,7 +295,7 @@ fn zero_friction_equals_the_frictionless_answer() {
     let m = 6;
     let (p, mut layout) = random_problem(m, 11);
     for law in layout.law.iter_mut() {
-        *law = Law3d::Coulomb { mu: [0.0, 0.0] };
+        *law = FrictionLaw::Coulomb { mu: [0.0, 0.0] };
     }
     let mut pf = DelassusProblem::from_operator(p.w.clone(), p.q.clone());
     let out = friction_3d(&mut pf, &layout, None, &opts()).unwrap();
@@ -300,9 +303,10 @@ fn zero_friction_equals_the_frictionless_answer() {
     // Frictionless: only the normal rows, W_nn.
     let wn = Mat::<f64>::from_fn(m, m, |i, j| p.w[(i, j)]);
     let mut pn = DelassusProblem::from_operator(wn, p.q[..m].to_vec());
-    let none = FrictionLayout3d {
+    let none = FrictionLayout {
         tangent_rows: vec![vec![]; m],
-        law: vec![Law3d::None; m],
+        law: vec![FrictionLaw::None; m],
+        shadow: Vec::new(),
     };
     let plain = friction_3d(&mut pn, &none, None, &opts()).unwrap();
     assert!(plain.converged);
@@ -326,7 +330,7 @@ fn a_floating_body_held_by_friction_alone() {
     let (fx, fy, fn_) = (0.3, -0.2, 2.0);
     let mut p = DelassusProblem::new(&s, &rows, &[0.0; 3], &[fx, fy, -fn_], &kernel).unwrap();
     assert_eq!(p.n_kernel(), 2);
-    let law = Law3d::Coulomb { mu: [0.5, 0.5] };
+    let law = FrictionLaw::Coulomb { mu: [0.5, 0.5] };
     let out = friction_3d(&mut p, &one_point_layout(law), None, &opts()).unwrap();
     assert!(out.converged, "{}", out.stopping_reason);
     assert_eq!(out.statuses, vec![PointStatus::Stick]);

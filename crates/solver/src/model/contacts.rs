@@ -7,8 +7,9 @@ use signorini_contact::geometry::{node_to_node_pairing, node_to_segment_pairing}
 use signorini_contact::{ContactPoint, MasterGeometry, NormalRule, TermSide};
 use signorini_scene as scene;
 
-use super::{input, point3, BodyModel, PointFriction, PointModel};
+use super::{input, point3, BodyModel, PointModel};
 use crate::SolveError;
+use signorini_contact::friction::FrictionLaw;
 
 /// Builds the contact points of every pair, and marks the DOFs of contact
 /// surfaces as interface DOFs of their bodies. Adds to `notes` a note per
@@ -229,28 +230,29 @@ fn row_along(p: &ContactPoint, sides: &PairSides, dim: usize, direction: [f64; 3
     row
 }
 
-/// The friction law of a contact at one of its points: a Tresca threshold
-/// and a slip stiffness scale with the point's tributary measure.
-fn point_friction(friction: &scene::Friction, tributary: f64) -> PointFriction {
+/// The friction law of a contact at one of its points, and the slip
+/// stiffness of a regularised law (seed §4.1.3): a Tresca threshold and a
+/// slip stiffness scale with the point's tributary measure.
+fn point_friction(friction: &scene::Friction, tributary: f64) -> (FrictionLaw, Option<f64>) {
     match friction {
-        scene::Friction::None => PointFriction::None,
-        scene::Friction::NortonHoff { coefficient, rho } => PointFriction::NortonHoff {
-            mu: *coefficient,
-            rho: *rho,
-        },
-        scene::Friction::Tresca(g) => PointFriction::Tresca(g * tributary),
+        scene::Friction::None => (FrictionLaw::None, None),
+        scene::Friction::NortonHoff { coefficient, rho } => (
+            FrictionLaw::NortonHoff {
+                mu: *coefficient,
+                rho: *rho,
+            },
+            None,
+        ),
+        scene::Friction::Tresca(g) => (FrictionLaw::Tresca(g * tributary), None),
         scene::Friction::Coulomb {
             coefficient,
             slip_stiffness,
-        } => PointFriction::Coulomb {
-            mu: coefficient.first().copied().unwrap_or(0.0),
-            mu2: coefficient
-                .get(1)
-                .or(coefficient.first())
-                .copied()
-                .unwrap_or(0.0),
-            slip_stiffness: slip_stiffness.map(|k| k * tributary),
-        },
+        } => {
+            let mu = coefficient.first().copied().unwrap_or(0.0);
+            let mu2 = coefficient.get(1).copied().unwrap_or(mu);
+            let law = FrictionLaw::Coulomb { mu: [mu, mu2] };
+            (law, slip_stiffness.map(|k| k * tributary))
+        }
     }
 }
 
@@ -289,15 +291,16 @@ fn point_model(
         scene::Gap::Uniform(j) => j,
     };
     let tributary = tributaries.get(&p.slave_node).copied().unwrap_or(0.0);
-    let friction = point_friction(&c.friction, tributary);
-    let trow = (friction != PointFriction::None).then(|| row_along(&p, sides, dim, p.tangent));
-    let trow2 = (friction != PointFriction::None && dim == 3)
-        .then(|| row_along(&p, sides, dim, p.tangent2));
+    let (friction, slip_stiffness) = point_friction(&c.friction, tributary);
+    let trow = (friction != FrictionLaw::None).then(|| row_along(&p, sides, dim, p.tangent));
+    let trow2 =
+        (friction != FrictionLaw::None && dim == 3).then(|| row_along(&p, sides, dim, p.tangent2));
     let (trow, trow2, friction) = free_tangential_rows(bodies, &mut p, trow, trow2, friction);
     PairPoint::Unknown(Box::new(PointModel {
         trow,
         trow2,
         friction,
+        slip_stiffness,
         contact: ci,
         tributary,
         point: p,
@@ -328,8 +331,8 @@ fn free_tangential_rows(
     p: &mut ContactPoint,
     t1: Option<Row>,
     t2: Option<Row>,
-    friction: PointFriction,
-) -> (Option<Row>, Option<Row>, PointFriction) {
+    friction: FrictionLaw,
+) -> (Option<Row>, Option<Row>, FrictionLaw) {
     let free = |r: &Row| -> std::collections::BTreeMap<(usize, usize), f64> {
         let mut m = std::collections::BTreeMap::new();
         for &(b, d, c) in r.iter().filter(|&&(b, d, _)| !bodies[b].prescribed[d]) {
@@ -380,17 +383,8 @@ fn free_tangential_rows(
     p.tangent = [0, 1, 2].map(|k| -sn * o1[k] + cs * o2[k]);
     p.tangent2 = [0, 1, 2].map(|k| -(cs * o1[k] + sn * o2[k]));
     let friction = match friction {
-        PointFriction::Coulomb {
-            mu,
-            mu2,
-            slip_stiffness,
-        } if mu > 0.0 && mu2 > 0.0 => {
-            let m = 1.0 / ((-sn / mu).powi(2) + (cs / mu2).powi(2)).sqrt();
-            PointFriction::Coulomb {
-                mu: m,
-                mu2: m,
-                slip_stiffness,
-            }
+        FrictionLaw::Coulomb { mu: [mu, mu2] } if mu > 0.0 && mu2 > 0.0 => {
+            FrictionLaw::coulomb(1.0 / ((-sn / mu).powi(2) + (cs / mu2).powi(2)).sqrt())
         }
         other => other,
     };

@@ -1,0 +1,158 @@
+//! The fixed point on the slip threshold (seed §4.3), one driver for 2D and
+//! 3D friction.
+//!
+//! With the thresholds g fixed, friction is a Tresca problem (a convex
+//! program on the condensed problem, seed §4.1.1). Coulomb's law makes the
+//! threshold depend on the normal force, g = μ λ_n (§4.1.2): the fixed point
+//!
+//! g⁽ᵏ⁺¹⁾ ← μ λ_n(g⁽ᵏ⁾)
+//!
+//! solves one Tresca problem per outer iteration, with the thresholds of the
+//! previous forces, until the normal forces no longer change. Norton–Hoff
+//! friction (§4.1.4, eq. 19) is the same iteration with another threshold
+//! map, g ← μ λ_n |Δs|^ρ, stopped on the misfit of its law. The driver
+//! [`fixed_point`] is therefore generic over
+//! - the inner Tresca solver ([`TrescaSolver`]): the 2D status method
+//!   (`friction::StatusTresca`) or the 3D semi-smooth Newton method
+//!   (`friction3d::Newton`), each counting its own iterations;
+//! - the threshold map and the residual ([`ThresholdMap`]): Coulomb's
+//!   g ← μ λ_n with the change of the normal forces ([`normal_change`]),
+//!   or Norton–Hoff's map with its misfit.
+
+use crate::friction::{FrictionOptions, FrictionOutcome, PointStatus};
+use crate::ContactError;
+
+/// One solve of a Tresca problem (fixed thresholds): the forces and gaps of
+/// all rows (normal rows 0..m, then the tangential rows), the statuses of
+/// the m points, and whether and why it stopped.
+#[derive(Debug, Clone)]
+pub(crate) struct InnerSolve {
+    pub forces: Vec<f64>,
+    pub gaps: Vec<f64>,
+    pub statuses: Vec<PointStatus>,
+    pub converged: bool,
+    pub reason: String,
+}
+
+impl InnerSolve {
+    /// The outcome of a friction solve that ended on this iterate.
+    pub fn outcome(
+        self,
+        converged: bool,
+        iterations: usize,
+        residuals: Vec<f64>,
+        reason: String,
+        cycle_detected: bool,
+    ) -> FrictionOutcome {
+        FrictionOutcome {
+            converged,
+            iterations,
+            fixed_point_iterations: residuals.len(),
+            fixed_point_residuals: residuals,
+            statuses: self.statuses,
+            forces: self.forces,
+            gaps: self.gaps,
+            stopping_reason: reason,
+            cycle_detected,
+        }
+    }
+}
+
+/// A solver of the Tresca problem with given thresholds (seed §4.1.1), the
+/// inner problem of the fixed point.
+pub(crate) trait TrescaSolver {
+    /// The thresholds of the points (2D: a force per point; 3D: the
+    /// semi-axes of each point's disc / ellipse).
+    type Thresholds;
+
+    /// Solves the Tresca problem with `thresholds`, from the forces `start`
+    /// (the previous iterate; a solver may carry its own start instead,
+    /// e.g. the statuses of the status method).
+    fn solve(
+        &mut self,
+        thresholds: &Self::Thresholds,
+        start: &[f64],
+    ) -> Result<InnerSolve, ContactError>;
+}
+
+/// The thresholds from the forces and gaps of an iterate.
+pub(crate) type ThresholdFn<'a, T> = &'a dyn Fn(&[f64], &[f64]) -> T;
+/// How far an iterate is from the law, as a force (the driver divides it by
+/// the force scale), from the previous forces and the iterate.
+pub(crate) type ResidualFn<'a> = &'a dyn Fn(&[f64], &InnerSolve) -> f64;
+
+/// A friction law solved as a fixed point on its threshold.
+pub(crate) struct ThresholdMap<'a, T> {
+    pub threshold: ThresholdFn<'a, T>,
+    pub residual: ResidualFn<'a>,
+    /// "fixed point on the threshold", "Norton-Hoff fixed point": the
+    /// stop reasons read "<name> reached after N iterations" / "<name> not
+    /// reached in N iterations".
+    pub name: &'a str,
+}
+
+/// Coulomb's residual (seed §4.3): max |Δλ_n| over the m points between the
+/// previous forces and the iterate.
+pub(crate) fn normal_change(previous: &[f64], next: &InnerSolve) -> f64 {
+    (0..next.statuses.len()).fold(0.0f64, |a, p| a.max((next.forces[p] - previous[p]).abs()))
+}
+
+/// Where the fixed point stopped: its last iterate, the residual after each
+/// outer iteration, whether it converged and why it stopped.
+pub(crate) struct FixedPoint {
+    pub last: InnerSolve,
+    pub residuals: Vec<f64>,
+    pub converged: bool,
+    pub reason: String,
+}
+
+/// The fixed point on the threshold (seed §4.3) from the iterate `start`:
+/// each outer iteration solves the Tresca problem with the thresholds
+/// `map.threshold` of the previous forces and gaps, until `map.residual`
+/// relative to the force scale max(force_scale, ‖λ‖∞) meets the tolerance.
+/// An inner problem that fails under stale thresholds usually settles once
+/// they are updated, so the iteration goes on unless it was the last chance
+/// or the thresholds no longer move; it then stops with "inner Tresca
+/// problem: <its reason>".
+pub(crate) fn fixed_point<S: TrescaSolver>(
+    solver: &mut S,
+    start: InnerSolve,
+    map: &ThresholdMap<'_, S::Thresholds>,
+    opts: &FrictionOptions,
+) -> Result<FixedPoint, ContactError> {
+    let mut last = start;
+    let mut residuals = Vec::new();
+    let stop = |last, residuals, converged, reason| FixedPoint {
+        last,
+        residuals,
+        converged,
+        reason,
+    };
+    for outer in 0..opts.max_fixed_point {
+        let thr = (map.threshold)(&last.forces, &last.gaps);
+        let next = solver.solve(&thr, &last.forces)?;
+        let fscale = opts
+            .force_scale
+            .max(next.forces.iter().fold(0.0f64, |a, v| a.max(v.abs())))
+            .max(f64::MIN_POSITIVE);
+        let res = (map.residual)(&last.forces, &next) / fscale;
+        residuals.push(res);
+        last = next;
+        if !last.converged && outer + 1 < opts.max_fixed_point && res > opts.tolerance {
+            continue;
+        }
+        if !last.converged {
+            let reason = format!("inner Tresca problem: {}", last.reason);
+            return Ok(stop(last, residuals, false, reason));
+        }
+        if res <= opts.tolerance {
+            let reason = format!("{} reached after {} iterations", map.name, outer + 1);
+            return Ok(stop(last, residuals, true, reason));
+        }
+    }
+    let reason = format!(
+        "{} not reached in {} iterations",
+        map.name, opts.max_fixed_point
+    );
+    Ok(stop(last, residuals, false, reason))
+}
