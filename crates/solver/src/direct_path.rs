@@ -137,22 +137,22 @@ fn direct_step(
     )
     .map_err(contact_error)?;
     // `problem.u` is the displacement of the last solve, the one that
-    // gave `outcome.lambda` (as the condensed path recovers it).
+    // gave `outcome.forces` (as the condensed path recovers it).
     let u_full = full_displacements(bodies, system, &loads.u_p, &problem.u);
-    let solver = status_report("status", &outcome, problem.factorisations);
+    let mut outcome = outcome;
+    status_report(&mut outcome, "status", problem.factorisations);
     let sol = StepSolution {
         outcome,
         gap0,
         f_scale,
         length_scale,
-        solver,
         regularisation: None,
         law_k: vec![0.0; points.len()],
         friction: None,
         solve_s: t_step.elapsed().as_secs_f64(),
         operator_s: 0.0,
     };
-    let lambda = &sol.outcome.lambda;
+    let lambda = &sol.outcome.forces;
     let res = direct_residuals(
         bodies,
         &system.k_full,
