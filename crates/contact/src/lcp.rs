@@ -2,7 +2,8 @@
 //! the contact forces (DESIGN.md §3), λ ≥ 0, w = W λ + q ≥ 0, λ·w = 0, with
 //! W the Delassus operator (symmetric positive definite, or semi-definite
 //! with redundant constraints) and q the gaps of the unconstrained solution;
-//! the stopping test; and the report each method gives.
+//! the stopping test and the starts the methods share. What a method returns
+//! is in [`crate::solution`].
 
 use faer::Mat;
 

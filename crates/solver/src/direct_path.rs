@@ -131,7 +131,7 @@ fn direct_step(
     let gap0 = step_gaps(sc, bodies, points, fixed, &loads.u_p, length_scale, si)?;
     check_floating(bodies, points, system, &loads, si)?;
     let mut problem = DirectProblem::new(&system.k_global, &loads.f, rows, &gap0);
-    let outcome = status_method(
+    let mut outcome = status_method(
         &mut problem,
         &status_options(sc, f_scale, length_scale, &gap0),
     )
@@ -139,7 +139,6 @@ fn direct_step(
     // `problem.u` is the displacement of the last solve, the one that
     // gave `outcome.forces` (as the condensed path recovers it).
     let u_full = full_displacements(bodies, system, &loads.u_p, &problem.u);
-    let mut outcome = outcome;
     status_report(&mut outcome, "status", problem.factorisations);
     let sol = StepSolution {
         outcome,
