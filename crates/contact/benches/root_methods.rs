@@ -1,5 +1,5 @@
 //! `cargo bench -p signorini-contact --bench root_methods`: the root
-//! algorithms of [`signorini_contact::methods::solve_lcp`] on LCP(W, q) at
+//! algorithms of [`signorini_contact::registry`] on LCP(W, q) at
 //! 50, 200, 800 and 2000 contact points.
 //!
 //! The problems look like real Delassus operators: the m contact points are
@@ -23,8 +23,8 @@ use divan::Bencher;
 use faer::prelude::Solve;
 use faer::sparse::{SparseColMat, Triplet};
 use faer::{Mat, Side};
-use signorini_contact::methods::{solve_lcp, Algorithm};
-use signorini_contact::{lcp_residual, LcpOptions, StatusVariant};
+use signorini_contact::registry::Algorithm;
+use signorini_contact::{lcp_residual, LcpOptions};
 
 const SIZES: [usize; 4] = [50, 200, 800, 2000];
 
@@ -62,16 +62,22 @@ fn options() -> LcpOptions {
 /// (Lemke, the slowest, ≈ 4.6 s on 2 cores), so none is skipped at the large
 /// sizes; the penalty method (k = 1e8 / mean diag W) is within the 1e-6
 /// agreement too (rel. diff printed).
-const METHODS: [Algorithm; 8] = [
-    Algorithm::Status(StatusVariant::All),
-    Algorithm::Lemke,
-    Algorithm::ProjectedGradient,
-    Algorithm::ProjectedConjugateGradient,
-    Algorithm::Mprgp,
-    Algorithm::Uzawa,
-    Algorithm::AugmentedLagrangian,
-    Algorithm::Penalty,
+/// The status method comes first: it is the reference.
+const METHODS: [&str; 8] = [
+    "status",
+    "lemke",
+    "projected_gradient",
+    "projected_conjugate_gradient",
+    "mprgp",
+    "uzawa",
+    "augmented_lagrangian",
+    "penalty",
 ];
+
+/// The registry's method called `name`.
+fn algorithm(name: &str) -> Algorithm {
+    Algorithm::by_name(name).unwrap_or_else(|| panic!("{name} is not in the registry"))
+}
 
 struct Problem {
     w: Mat<f64>,
@@ -158,37 +164,38 @@ fn build(m: usize) -> Problem {
     let opts = options();
     let mut reference: Option<Vec<f64>> = None;
     let mut line = String::new();
-    for alg in METHODS {
+    for alg in METHODS.map(algorithm) {
         let t = Instant::now();
-        let sol = solve_lcp(alg, &w, &q, None, &opts)
+        let sol = alg
+            .solve(&w, &q, None, &opts)
             .unwrap_or_else(|e| panic!("{} at m = {m}: {e}", alg.name()));
         let dt = t.elapsed();
         assert!(
             sol.report.converged,
             "{} at m = {m} did not converge: {}",
             alg.name(),
-            sol.report.stopping_reason
+            sol.report.stop
         );
         let rel = match &reference {
             None => {
                 // The reference itself must solve the LCP.
-                let res = lcp_residual(&w, &q, &sol.lambda, &opts);
+                let res = lcp_residual(&w, &q, &sol.forces, &opts);
                 assert!(res <= 1e-8, "status at m = {m}: natural residual {res:.3e}");
-                let active = sol.lambda.iter().filter(|&&l| l > 0.0).count();
+                let active = sol.forces.iter().filter(|&&l| l > 0.0).count();
                 line += &format!(
                     "m = {m}: grid {m} x {}, W built in {:.2} s, active fraction {:.1} % ({active}/{m}), max λ {:.3e}; single solve, λ vs status:",
                     (m / 4).clamp(8, 20),
                     t_w.as_secs_f64(),
                     100.0 * active as f64 / m as f64,
-                    max_abs(&sol.lambda),
+                    max_abs(&sol.forces),
                 );
-                reference = Some(sol.lambda);
+                reference = Some(sol.forces);
                 0.0
             }
             Some(r) => {
                 let diff = r
                     .iter()
-                    .zip(&sol.lambda)
+                    .zip(&sol.forces)
                     .fold(0.0f64, |a, (x, y)| a.max((x - y).abs()));
                 let rel = diff / max_abs(r);
                 assert!(
@@ -215,31 +222,35 @@ fn problem(m: usize) -> &'static Problem {
     CACHE[k].get_or_init(|| build(m))
 }
 
-fn run(bencher: Bencher, alg: Algorithm, m: usize) {
+fn run(bencher: Bencher, name: &str, m: usize) {
     let p = problem(m);
     let opts = options();
-    bencher.bench(|| solve_lcp(alg, &p.w, &p.q, None, &opts).expect("solved in the setup"));
+    let alg = algorithm(name);
+    bencher.bench(|| {
+        alg.solve(&p.w, &p.q, None, &opts)
+            .expect("solved in the setup")
+    });
 }
 
 /// One divan benchmark a method, named after it, each over `SIZES`.
 macro_rules! method_benches {
-    ($($name:ident => $alg:expr,)*) => {
+    ($($name:ident)*) => {
         $(
             #[divan::bench(args = SIZES, sample_count = 10, sample_size = 1)]
             fn $name(bencher: Bencher, m: usize) {
-                run(bencher, $alg, m);
+                run(bencher, stringify!($name), m);
             }
         )*
     };
 }
 
 method_benches! {
-    status => Algorithm::Status(StatusVariant::All),
-    lemke => Algorithm::Lemke,
-    projected_gradient => Algorithm::ProjectedGradient,
-    projected_conjugate_gradient => Algorithm::ProjectedConjugateGradient,
-    mprgp => Algorithm::Mprgp,
-    uzawa => Algorithm::Uzawa,
-    augmented_lagrangian => Algorithm::AugmentedLagrangian,
-    penalty => Algorithm::Penalty,
+    status
+    lemke
+    projected_gradient
+    projected_conjugate_gradient
+    mprgp
+    uzawa
+    augmented_lagrangian
+    penalty
 }

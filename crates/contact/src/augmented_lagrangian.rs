@@ -35,10 +35,10 @@
 use faer::Mat;
 
 use crate::lcp::{
-    dual_converged_reason, dual_limit_reason, dual_start, mean_diag, residual_from_gaps, DualStart,
-    LcpOptions, LcpSolution,
+    dual_converged, dual_limit, dual_start, mean_diag, residual_from_gaps, DualStart, LcpOptions,
 };
 use crate::penalty::regularised_newton;
+use crate::solution::{ContactSolution, DualDetail, StopReason};
 use crate::ContactError;
 
 /// The augmentation factor used when `opts.stiffness` is `None`.
@@ -56,7 +56,7 @@ pub fn augmented_lagrangian(
     w: &Mat<f64>,
     q: &[f64],
     opts: &LcpOptions,
-) -> Result<LcpSolution, ContactError> {
+) -> Result<ContactSolution, ContactError> {
     let m = q.len();
     let (mut report, r0) = match dual_start(w, q, opts, "augmented_lagrangian")? {
         DualStart::Done(solution) => return Ok(solution),
@@ -99,11 +99,11 @@ pub fn augmented_lagrangian(
             cycles += 1;
         }
         if !inner.converged {
-            report.stopping_reason = format!(
-                "inner problem of outer iteration {} not solved: {}",
-                report.iterations, inner.reason
-            );
-            return Ok(LcpSolution { lambda, report });
+            report.stop = StopReason::InnerFailed {
+                outer: report.iterations,
+                inner: Box::new(inner.stop),
+            };
+            return Ok(ContactSolution::from_forces(w, q, lambda, report));
         }
         // True gaps g = Wλ + q = (Wλ + q̃) + λ_k/r, no extra product.
         let g: Vec<f64> = (0..m).map(|p| inner.g[p] + lambda[p] / r).collect();
@@ -119,38 +119,22 @@ pub fn augmented_lagrangian(
         }
         if res <= opts.tolerance {
             report.converged = true;
-            report.stopping_reason = dual_converged_reason(
-                res,
-                opts,
-                &report,
-                "outer iterations",
-                &format!(
-                    "{newton_steps} inner Newton steps, r = {s} / mean diag W{}",
-                    cycle_note(cycles)
-                ),
-            );
-            return Ok(LcpSolution { lambda, report });
+            let detail = DualDetail::Augmented {
+                newton_steps,
+                factor: s,
+                cycles,
+            };
+            report.stop = dual_converged(res, opts, &report, detail);
+            return Ok(ContactSolution::from_forces(w, q, lambda, report));
         }
     }
-    report.stopping_reason = dual_limit_reason(
-        opts,
-        &report,
-        r0,
-        &format!(
-            "{newton_steps} inner Newton steps, r = {s} / mean diag W{}",
-            cycle_note(cycles)
-        ),
-        "a larger augmentation (stiffness option) converges in fewer outer iterations",
-    );
-    Ok(LcpSolution { lambda, report })
-}
-
-fn cycle_note(cycles: usize) -> String {
-    if cycles == 0 {
-        String::new()
-    } else {
-        format!("; {cycles} inner problems cycled and switched to one status change per step")
-    }
+    let detail = DualDetail::Augmented {
+        newton_steps,
+        factor: s,
+        cycles,
+    };
+    report.stop = dual_limit(opts, &report, r0, detail);
+    Ok(ContactSolution::from_forces(w, q, lambda, report))
 }
 
 #[cfg(test)]
@@ -181,7 +165,7 @@ mod tests {
                     c.name,
                     sol.report.iterations,
                     sol.report.operator_applications,
-                    sol.report.stopping_reason
+                    sol.report.stop
                 );
             }
         }
@@ -218,12 +202,12 @@ mod tests {
         let sol = augmented_lagrangian(&c.w, &c.q, &o).unwrap();
         assert!(!sol.report.converged);
         assert!(
-            sol.report.stopping_reason.contains("limit 1")
-                || sol.report.stopping_reason.contains("not solved"),
+            sol.report.stop.to_string().contains("limit 1")
+                || sol.report.stop.to_string().contains("not solved"),
             "{}",
-            sol.report.stopping_reason
+            sol.report.stop
         );
-        assert!(sol.lambda.iter().all(|v| v.is_finite() && *v >= 0.0));
+        assert!(sol.forces.iter().all(|v| v.is_finite() && *v >= 0.0));
         let mut q = c.q.clone();
         q[0] = f64::NAN;
         assert!(matches!(
@@ -239,6 +223,6 @@ mod tests {
             Err(ContactError::Solve(_))
         ));
         let e = augmented_lagrangian(&Mat::zeros(0, 0), &[], &opts()).unwrap();
-        assert!(e.report.converged && e.lambda.is_empty());
+        assert!(e.report.converged && e.forces.is_empty());
     }
 }

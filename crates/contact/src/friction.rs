@@ -403,16 +403,16 @@ pub fn tresca_projection(
     layout.validate(problem.q.len(), 2)?;
     let thr = thresholds_from(layout, &vec![0.0; layout.n_points()]);
     let (sol, statuses) = tresca_box(problem, layout, &thr, opts)?;
-    let gaps = crate::lcp::gaps(&problem.w, &problem.q, &sol.lambda);
+    let gaps = crate::lcp::gaps(&problem.w, &problem.q, &sol.forces);
     Ok(FrictionOutcome {
         converged: sol.report.converged,
         iterations: sol.report.iterations,
         fixed_point_iterations: 0,
         fixed_point_residuals: sol.report.residual_history.clone(),
         statuses,
-        forces: sol.lambda,
+        forces: sol.forces,
         gaps,
-        stopping_reason: sol.report.stopping_reason,
+        stopping_reason: sol.report.stop.to_string(),
         cycle_detected: false,
     })
 }
@@ -426,7 +426,7 @@ fn tresca_box(
     layout: &FrictionLayout,
     thr: &[f64],
     opts: &FrictionOptions,
-) -> Result<(crate::lcp::LcpSolution, Vec<PointStatus>), ContactError> {
+) -> Result<(crate::ContactSolution, Vec<PointStatus>), ContactError> {
     if problem.n_kernel() > 0 {
         return Err(ContactError::Singular(
             "the projection method for Tresca cannot hold bodies held by contact or friction alone; use method = \"status\"".into(),
@@ -453,15 +453,15 @@ fn tresca_box(
     let tol = opts.tolerance
         * opts
             .force_scale
-            .max(sol.lambda.iter().fold(0.0f64, |a, v| a.max(v.abs())));
+            .max(sol.forces.iter().fold(0.0f64, |a, v| a.max(v.abs())));
     let statuses = (0..m)
         .map(|p| {
-            if sol.lambda[p] <= tol {
+            if sol.forces[p] <= tol {
                 PointStatus::Open
             } else {
                 match layout.tangent_row(p) {
-                    Some(t) if sol.lambda[t] >= upper[t] - tol => PointStatus::SlipPlus,
-                    Some(t) if sol.lambda[t] <= lower[t] + tol => PointStatus::SlipMinus,
+                    Some(t) if sol.forces[t] >= upper[t] - tol => PointStatus::SlipPlus,
+                    Some(t) if sol.forces[t] <= lower[t] + tol => PointStatus::SlipMinus,
                     _ => PointStatus::Stick,
                 }
             }
@@ -550,8 +550,8 @@ impl TrescaSolver for StatusTresca<'_> {
         self.run.statuses.clone_from(&statuses);
         self.run.box_fallbacks += 1;
         Ok(InnerSolve {
-            gaps: crate::lcp::gaps(&problem.w, &problem.q, &sol.lambda),
-            forces: sol.lambda,
+            gaps: crate::lcp::gaps(&problem.w, &problem.q, &sol.forces),
+            forces: sol.forces,
             statuses,
             converged: true,
             reason: "solved by MPRGP on the Tresca box".into(),

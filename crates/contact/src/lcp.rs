@@ -2,11 +2,12 @@
 //! the contact forces (DESIGN.md §3), λ ≥ 0, w = W λ + q ≥ 0, λ·w = 0, with
 //! W the Delassus operator (symmetric positive definite, or semi-definite
 //! with redundant constraints) and q the gaps of the unconstrained solution;
-//! the stopping test; and the report each method gives.
+//! the stopping test and the starts the methods share. What a method returns
+//! is in [`crate::solution`].
 
 use faer::Mat;
-use serde::Serialize;
 
+use crate::solution::{ContactSolution, DualDetail, SolverReport, StopReason};
 use crate::ContactError;
 
 /// Options of an iterative or pivoting LCP method.
@@ -35,38 +36,6 @@ impl Default for LcpOptions {
             stiffness: None,
         }
     }
-}
-
-/// What a method says about its run (`report.json` → `solver`).
-#[derive(Debug, Clone, Default, Serialize)]
-pub struct SolverReport {
-    pub method: String,
-    pub converged: bool,
-    pub iterations: usize,
-    /// Products with W (or solves with a block of W, each counted once).
-    pub operator_applications: usize,
-    /// The natural residual after each iteration (see [`lcp_residual`]).
-    pub residual_history: Vec<f64>,
-    pub stopping_reason: String,
-}
-
-impl SolverReport {
-    /// Records a final polishing solve (`what`) that brought the residual
-    /// to `residual`: one more operator application, the residual in the
-    /// history, and "; polished by one {what}" in the stopping reason.
-    pub(crate) fn record_polish(&mut self, residual: f64, what: &str) {
-        self.operator_applications += 1;
-        self.residual_history.push(residual);
-        self.stopping_reason
-            .push_str(&format!("; polished by one {what}"));
-    }
-}
-
-/// A solution of the LCP and how it was found.
-#[derive(Debug, Clone)]
-pub struct LcpSolution {
-    pub lambda: Vec<f64>,
-    pub report: SolverReport,
 }
 
 /// w = W λ + q (column by column, skipping the zero forces: few points are
@@ -117,34 +86,21 @@ pub fn residual_from_gaps(lambda: &[f64], g: &[f64], opts: &LcpOptions) -> f64 {
         .fold(0.0, f64::max)
 }
 
-/// The solution of the empty problem (m = 0).
-pub(crate) fn empty_solution(method: &str) -> LcpSolution {
-    LcpSolution {
-        lambda: Vec::new(),
-        report: SolverReport {
-            method: method.into(),
-            converged: true,
-            stopping_reason: "no contact point".into(),
-            ..Default::default()
-        },
-    }
-}
-
 /// [`check_input`], then the solution of the empty problem when m = 0
 /// (`None`: there is something to solve).
 pub(crate) fn checked_or_empty(
     w: &Mat<f64>,
     q: &[f64],
     method: &str,
-) -> Result<Option<LcpSolution>, ContactError> {
+) -> Result<Option<ContactSolution>, ContactError> {
     check_input(w, q, method)?;
-    Ok(q.is_empty().then(|| empty_solution(method)))
+    Ok(q.is_empty().then(|| ContactSolution::empty(method)))
 }
 
 /// How a dual method (Uzawa, augmented Lagrangian) starts from λ = 0.
 pub(crate) enum DualStart {
     /// Nothing to iterate: the empty problem, or λ = 0 already within tolerance.
-    Done(LcpSolution),
+    Done(ContactSolution),
     /// Iterate from λ = 0 with this report; `r0` is the residual of λ = 0.
     Iterate { report: SolverReport, r0: f64 },
 }
@@ -169,44 +125,43 @@ pub(crate) fn dual_start(
     let r0 = residual_from_gaps(&lambda, q, opts);
     if r0 <= opts.tolerance {
         report.converged = true;
-        report.stopping_reason = format!(
-            "λ = 0 already satisfies the tolerance (natural residual {r0:.3e}): no point in contact"
-        );
-        return Ok(DualStart::Done(LcpSolution { lambda, report }));
+        report.stop = StopReason::ZeroForces { residual: r0 };
+        return Ok(DualStart::Done(ContactSolution::from_forces(
+            w, q, lambda, report,
+        )));
     }
     Ok(DualStart::Iterate { report, r0 })
 }
 
-/// The stopping reason of a dual method that converged: `steps` names what
-/// `report.iterations` counts, `detail` goes in the parentheses.
-pub(crate) fn dual_converged_reason(
+/// The stop of a dual method that converged at the natural residual `res`.
+pub(crate) fn dual_converged(
     res: f64,
     opts: &LcpOptions,
     report: &SolverReport,
-    steps: &str,
-    detail: &str,
-) -> String {
-    format!(
-        "natural residual {res:.3e} ≤ tolerance {:.1e} after {} {steps} ({detail})",
-        opts.tolerance, report.iterations
-    )
+    detail: DualDetail,
+) -> StopReason {
+    StopReason::DualConverged {
+        residual: res,
+        tolerance: opts.tolerance,
+        iterations: report.iterations,
+        detail,
+    }
 }
 
-/// The stopping reason of a dual method at the iteration limit: `detail`
-/// goes in the parentheses, `advice` after them.
-pub(crate) fn dual_limit_reason(
+/// The stop of a dual method at the iteration limit (the last residual of
+/// the history, `r0` if there is none).
+pub(crate) fn dual_limit(
     opts: &LcpOptions,
     report: &SolverReport,
     r0: f64,
-    detail: &str,
-    advice: &str,
-) -> String {
-    format!(
-        "iteration limit {} reached: natural residual {:.3e} > tolerance {:.1e} ({detail}); {advice}",
-        opts.max_iterations,
-        report.residual_history.last().copied().unwrap_or(r0),
-        opts.tolerance
-    )
+    detail: DualDetail,
+) -> StopReason {
+    StopReason::DualLimit {
+        limit: opts.max_iterations,
+        residual: report.residual_history.last().copied().unwrap_or(r0),
+        tolerance: opts.tolerance,
+        detail,
+    }
 }
 
 /// Rejects a non-square W, a size mismatch with q, and any non-finite entry.

@@ -36,8 +36,9 @@
 use faer::prelude::Solve;
 use faer::{Mat, Side};
 
-use crate::lcp::{checked_or_empty, lcp_residual, LcpOptions, LcpSolution, SolverReport};
+use crate::lcp::{checked_or_empty, lcp_residual, LcpOptions};
 use crate::projected_gradient::clamp;
+use crate::solution::{ContactSolution, SolverReport, StopReason};
 use crate::ContactError;
 
 /// Relative pivot tolerance: column entries below `PIVOT_TOL` × the largest
@@ -55,7 +56,7 @@ const TIE_TOL: f64 = 1e-12;
 /// `Ok` with `converged = false`). `residual_history` holds one entry, the
 /// natural residual of the returned forces. Ray termination is
 /// [`ContactError::Singular`].
-pub fn lemke(w: &Mat<f64>, q: &[f64], opts: &LcpOptions) -> Result<LcpSolution, ContactError> {
+pub fn lemke(w: &Mat<f64>, q: &[f64], opts: &LcpOptions) -> Result<ContactSolution, ContactError> {
     const METHOD: &str = "lemke";
     if let Some(empty) = checked_or_empty(w, q, METHOD)? {
         return Ok(empty);
@@ -71,8 +72,8 @@ pub fn lemke(w: &Mat<f64>, q: &[f64], opts: &LcpOptions) -> Result<LcpSolution, 
             .residual_history
             .push(lcp_residual(w, q, &lambda, opts));
         report.converged = true;
-        report.stopping_reason = "q ≥ 0: λ = 0 solves the LCP (no pivot)".into();
-        return Ok(LcpSolution { lambda, report });
+        report.stop = StopReason::NoPivot;
+        return Ok(ContactSolution::from_forces(w, q, lambda, report));
     }
     let max_pivots = opts.max_iterations.max(10 * m);
     let mut tab = Tableau::new(w, q);
@@ -138,24 +139,28 @@ pub fn lemke(w: &Mat<f64>, q: &[f64], opts: &LcpOptions) -> Result<LcpSolution, 
     let lambda = clamp(lambda);
     let res = lcp_residual(w, q, &lambda, opts);
     report.residual_history.push(res);
-    if !solved {
-        report.stopping_reason = format!(
-            "pivot limit {max_pivots} reached before z0 left the basis (natural residual {res:.3e}; not converged)"
-        );
-    } else if res <= opts.tolerance {
-        report.converged = true;
-        report.stopping_reason = format!(
-            "z0 left the basis after {pivots} pivots; natural residual {res:.3e} ≤ tolerance {:.3e}{}",
-            opts.tolerance,
-            if polished { " after polishing on the active set" } else { "" }
-        );
+    let tolerance = opts.tolerance;
+    report.converged = solved && res <= tolerance;
+    report.stop = if !solved {
+        StopReason::PivotLimit {
+            limit: max_pivots,
+            residual: res,
+        }
+    } else if report.converged {
+        StopReason::Pivoted {
+            pivots,
+            residual: res,
+            tolerance,
+            polished,
+        }
     } else {
-        report.stopping_reason = format!(
-            "z0 left the basis after {pivots} pivots but the natural residual {res:.3e} is above tolerance {:.3e} (round-off on an ill-conditioned W; not converged)",
-            opts.tolerance
-        );
-    }
-    Ok(LcpSolution { lambda, report })
+        StopReason::PivotedAboveTolerance {
+            pivots,
+            residual: res,
+            tolerance,
+        }
+    };
+    Ok(ContactSolution::from_forces(w, q, lambda, report))
 }
 
 /// λ_A = −W_AA⁻¹ q_A on `active`, 0 elsewhere; `None` if the solve fails or
@@ -339,6 +344,6 @@ mod tests {
         let sol = lemke(&w, &[-1.0, 1.0], &tight()).unwrap();
         assert!(sol.report.converged);
         assert_eq!(sol.report.iterations, 2);
-        assert_eq!(sol.lambda, vec![0.5, 0.0]);
+        assert_eq!(sol.forces, vec![0.5, 0.0]);
     }
 }

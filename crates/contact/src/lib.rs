@@ -23,13 +23,14 @@ pub mod friction3d;
 pub mod geometry;
 pub mod lcp;
 pub mod lemke;
-pub mod methods;
 pub mod mprgp;
 pub mod penalty;
 pub mod projected_gradient;
 mod reduced;
 pub mod redundancy;
+pub mod registry;
 pub mod smalbe;
+pub mod solution;
 pub mod status;
 pub mod uzawa;
 
@@ -38,7 +39,7 @@ pub(crate) mod test_problems;
 
 pub use delassus::{DelassusOperator, DelassusProblem};
 pub use geometry::{ContactPoint, MasterGeometry, NormalRule, Term, TermSide};
-pub use status::{status_method, ActiveSetSolve, StatusOptions, StatusOutcome, StatusVariant};
+pub use status::{status_method, ActiveSetSolve, StatusOptions, StatusVariant};
 
 #[derive(Debug, thiserror::Error)]
 pub enum ContactError {
@@ -49,4 +50,5 @@ pub enum ContactError {
     #[error("linear solve failed: {0}")]
     Solve(String),
 }
-pub use lcp::{lcp_residual, LcpOptions, LcpSolution, SolverReport};
+pub use lcp::{lcp_residual, LcpOptions};
+pub use solution::{ContactSolution, SolverReport, StatusTrace, StopReason};

@@ -56,21 +56,17 @@
 //! *polished*: the variables at a bound are fixed, W_FF x_F = −q_F − W_FB x_B
 //! is solved (Cholesky, else full-pivoting LU) and the result is kept only if
 //! it stays in the box and its residual is no larger. The LCP entry points
-//! leave polishing to their callers ([`crate::methods`], [`crate::smalbe`]).
+//! leave polishing to their callers ([`crate::registry`], [`crate::smalbe`]).
 //!
 //! W may be positive semi-definite (redundant constraints); when f is
 //! unbounded below along a feasible direction (zero curvature, no bound in
 //! the way) the method returns [`ContactError::Singular`].
 
-use std::fmt;
-
 use faer::Mat;
 
-use crate::lcp::{
-    check_input, dot, empty_solution, gaps, gaps_into, matvec, spectral_norm_estimate, LcpOptions,
-    LcpSolution, SolverReport,
-};
+use crate::lcp::{check_input, dot, gaps, gaps_into, matvec, spectral_norm_estimate, LcpOptions};
 use crate::projected_gradient::clamp;
+use crate::solution::{BoxPolish, ContactSolution, Measure, MprgpSteps, SolverReport, StopReason};
 use crate::ContactError;
 
 /// Γ of the proportioning test ‖β‖² ≤ Γ² φ̃ᵀφ.
@@ -87,21 +83,21 @@ const FLAT: f64 = 1e-14;
 #[derive(Clone, Copy)]
 struct Flavour {
     method: &'static str,
-    residual: &'static str,
+    residual: Measure,
     polish: bool,
 }
 
 /// λ ≥ 0: the LCP, polished by the callers.
 const LCP: Flavour = Flavour {
     method: "mprgp",
-    residual: "natural residual",
+    residual: Measure::Natural,
     polish: false,
 };
 
 /// A general box (Tresca friction).
 const BOX: Flavour = Flavour {
     method: "mprgp_box",
-    residual: "projected-gradient residual",
+    residual: Measure::ProjectedGradient,
     polish: true,
 };
 
@@ -111,8 +107,8 @@ const BOX: Flavour = Flavour {
 /// `report.iterations` counts CG, expansion and proportioning steps;
 /// `operator_applications` the products W·v (power iterations for ‖W‖
 /// included; one per CG or proportioning step, two per expansion step).
-/// `stopping_reason` also gives the number of steps of each kind.
-pub fn mprgp(w: &Mat<f64>, q: &[f64], opts: &LcpOptions) -> Result<LcpSolution, ContactError> {
+/// The stop reason also gives the number of steps of each kind.
+pub fn mprgp(w: &Mat<f64>, q: &[f64], opts: &LcpOptions) -> Result<ContactSolution, ContactError> {
     mprgp_from(w, q, &vec![0.0; q.len()], opts)
 }
 
@@ -124,11 +120,11 @@ pub fn mprgp_from(
     q: &[f64],
     lambda0: &[f64],
     opts: &LcpOptions,
-) -> Result<LcpSolution, ContactError> {
+) -> Result<ContactSolution, ContactError> {
     check_input(w, q, LCP.method)?;
     check_start(lambda0, q.len(), LCP.method)?;
     if q.is_empty() {
-        return Ok(empty_solution(LCP.method));
+        return Ok(ContactSolution::empty(LCP.method));
     }
     let m = q.len();
     let (lower, upper) = (vec![0.0; m], vec![f64::INFINITY; m]);
@@ -137,7 +133,7 @@ pub fn mprgp_from(
         upper: &upper,
     };
     let mut sol = Mprgp::new(w, q, bounds, lambda0, opts, LCP).solve()?;
-    sol.lambda = clamp(sol.lambda);
+    sol.forces = clamp(std::mem::take(&mut sol.forces));
     Ok(sol)
 }
 
@@ -145,7 +141,8 @@ pub fn mprgp_from(
 /// documentation), from the projection of 0 onto the box. `lower[i]` may be
 /// −∞, `upper[i]` may be +∞; `lower[i] = upper[i]` fixes x_i.
 ///
-/// The solution is returned in `LcpSolution::lambda`. `report.iterations`
+/// The solution is returned in `ContactSolution::forces` (its `gaps` are
+/// the gradient A x + b). `report.iterations`
 /// counts CG, expansion and proportioning steps; `operator_applications` the
 /// products A·v (power iterations for ‖A‖ included) and the polishing solve;
 /// `residual_history` holds [`box_residual`] after each step, its last entry
@@ -162,7 +159,7 @@ pub fn mprgp_box(
     lower: &[f64],
     upper: &[f64],
     opts: &LcpOptions,
-) -> Result<LcpSolution, ContactError> {
+) -> Result<ContactSolution, ContactError> {
     mprgp_box_from(a, b, lower, upper, &vec![0.0; b.len()], opts)
 }
 
@@ -175,11 +172,11 @@ pub fn mprgp_box_from(
     upper: &[f64],
     x0: &[f64],
     opts: &LcpOptions,
-) -> Result<LcpSolution, ContactError> {
+) -> Result<ContactSolution, ContactError> {
     check_box_input(a, b, lower, upper)?;
     check_start(x0, b.len(), BOX.method)?;
     if b.is_empty() {
-        return Ok(empty_solution(BOX.method));
+        return Ok(ContactSolution::empty(BOX.method));
     }
     Mprgp::new(a, b, Bounds { lower, upper }, x0, opts, BOX).solve()
 }
@@ -327,24 +324,6 @@ impl Bounds<'_> {
     }
 }
 
-/// How many steps of each kind.
-#[derive(Default)]
-struct StepCounts {
-    cg: usize,
-    expansion: usize,
-    proportioning: usize,
-}
-
-impl fmt::Display for StepCounts {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(
-            f,
-            "{} CG, {} expansion, {} proportioning steps",
-            self.cg, self.expansion, self.proportioning
-        )
-    }
-}
-
 /// What one iteration did.
 enum Step {
     Taken,
@@ -368,7 +347,7 @@ struct Mprgp<'a> {
     /// ‖W‖ and the fixed step ᾱ = 1.9/‖W‖.
     norm_w: f64,
     abar: f64,
-    steps: StepCounts,
+    steps: MprgpSteps,
     report: SolverReport,
 }
 
@@ -401,7 +380,7 @@ impl<'a> Mprgp<'a> {
             wp: vec![0.0; q.len()],
             norm_w: 0.0,
             abar: 0.0,
-            steps: StepCounts::default(),
+            steps: MprgpSteps::default(),
             report,
         }
     }
@@ -415,7 +394,7 @@ impl<'a> Mprgp<'a> {
     }
 
     /// Iterates until the tolerance, the iteration limit or stagnation.
-    fn solve(mut self) -> Result<LcpSolution, ContactError> {
+    fn solve(mut self) -> Result<ContactSolution, ContactError> {
         let res0 = self.residual();
         if res0 <= self.opts.tolerance {
             return Ok(self.solved_at_start(res0));
@@ -437,18 +416,23 @@ impl<'a> Mprgp<'a> {
                 continue;
             }
             if self.report.iterations >= self.opts.max_iterations {
-                self.report.stopping_reason = format!(
-                    "iteration limit {} reached with {} {res:.3e} above tolerance {:.3e} (not converged; {})",
-                    self.opts.max_iterations, self.flavour.residual, self.opts.tolerance, self.steps
-                );
+                self.report.stop = StopReason::IterationLimit {
+                    limit: self.opts.max_iterations,
+                    measure: self.flavour.residual,
+                    residual: res,
+                    tolerance: self.opts.tolerance,
+                    steps: Some(self.steps),
+                };
                 break;
             }
             self.report.iterations += 1;
             if let Step::Stagnated = self.step()? {
-                self.report.stopping_reason = format!(
-                    "stagnation at iteration {}: no descent direction left at {} {res:.3e} above tolerance {:.3e} (round-off floor; not converged)",
-                    self.report.iterations, self.flavour.residual, self.opts.tolerance
-                );
+                self.report.stop = StopReason::Stagnation {
+                    iteration: self.report.iterations,
+                    measure: self.flavour.residual,
+                    residual: res,
+                    tolerance: self.opts.tolerance,
+                };
                 break;
             }
             if !self.x.iter().chain(&self.g).all(|v| v.is_finite()) {
@@ -459,25 +443,26 @@ impl<'a> Mprgp<'a> {
             let res = self.residual();
             self.report.residual_history.push(res);
         }
-        Ok(LcpSolution {
-            lambda: self.x,
-            report: self.report,
-        })
+        Ok(self.finish())
     }
 
     /// The start meets the tolerance: no iteration (and no ‖W‖).
-    fn solved_at_start(mut self, res0: f64) -> LcpSolution {
-        let (res, polished) = self.polish_if_asked(res0);
+    fn solved_at_start(mut self, res0: f64) -> ContactSolution {
+        let (res, polish) = self.polish_if_asked(res0);
         self.report.residual_history.push(res);
         self.report.converged = true;
-        self.report.stopping_reason = format!(
-            "the start projected onto the box meets the tolerance: {} {res:.3e} ≤ tolerance {:.3e}{polished}",
-            self.flavour.residual, self.opts.tolerance
-        );
-        LcpSolution {
-            lambda: self.x,
-            report: self.report,
-        }
+        self.report.stop = StopReason::StartMeetsTolerance {
+            measure: self.flavour.residual,
+            residual: res,
+            tolerance: self.opts.tolerance,
+            polish,
+        };
+        self.finish()
+    }
+
+    /// The answer: the iterate with its exact gradient W x + q as gaps.
+    fn finish(self) -> ContactSolution {
+        ContactSolution::from_forces(self.w, self.q, self.x, self.report)
     }
 
     /// At a recursive residual ≤ tolerance: recomputes g exactly (the
@@ -493,17 +478,18 @@ impl<'a> Mprgp<'a> {
             self.p = self.free_gradient();
             return false;
         }
-        let (res, polished) = self.polish_if_asked(exact);
+        let (res, polish) = self.polish_if_asked(exact);
         set_last(&mut self.report, res);
         self.report.converged = true;
-        self.report.stopping_reason = format!(
-            "{} {res:.3e} ≤ tolerance {:.3e} after {} iterations ({}; ᾱ = 1.9/‖W‖, ‖W‖ ≈ {:.6e}){polished}",
-            self.flavour.residual,
-            self.opts.tolerance,
-            self.report.iterations,
-            self.steps,
-            self.norm_w
-        );
+        self.report.stop = StopReason::MprgpConverged {
+            measure: self.flavour.residual,
+            residual: res,
+            tolerance: self.opts.tolerance,
+            iterations: self.report.iterations,
+            steps: self.steps,
+            norm_w: self.norm_w,
+            polish,
+        };
         true
     }
 
@@ -608,7 +594,7 @@ impl<'a> Mprgp<'a> {
     /// W = 0: f(x) = qᵀx is minimised variable by variable at the bound that
     /// q_i points away from (x_i unchanged where q_i = 0); unbounded when
     /// that bound is infinite.
-    fn solve_linear(mut self) -> Result<LcpSolution, ContactError> {
+    fn solve_linear(mut self) -> Result<ContactSolution, ContactError> {
         for i in 0..self.q.len() {
             if self.q[i] != 0.0 {
                 self.x[i] = self.bounds.reached(i, self.q[i]);
@@ -620,19 +606,15 @@ impl<'a> Mprgp<'a> {
         let res = self.bounds.residual(&self.x, self.q, self.opts);
         self.report.residual_history.push(res);
         self.report.converged = res <= self.opts.tolerance;
-        self.report.stopping_reason =
-            format!("W = 0: the linear objective is minimised at the bounds, residual {res:.3e}");
-        Ok(LcpSolution {
-            lambda: self.x,
-            report: self.report,
-        })
+        self.report.stop = StopReason::LinearObjective { residual: res };
+        Ok(self.finish())
     }
 
-    fn polish_if_asked(&mut self, res: f64) -> (f64, &'static str) {
+    fn polish_if_asked(&mut self, res: f64) -> (f64, BoxPolish) {
         if self.flavour.polish {
             self.polish(res)
         } else {
-            (res, "")
+            (res, BoxPolish::NotTried)
         }
     }
 
@@ -640,14 +622,14 @@ impl<'a> Mprgp<'a> {
     /// documentation). Replaces x when the polished point is in the box with
     /// a residual ≤ `res`; returns the residual of the kept x and a note for
     /// the stopping reason.
-    fn polish(&mut self, res: f64) -> (f64, &'static str) {
+    fn polish(&mut self, res: f64) -> (f64, BoxPolish) {
         use faer::prelude::Solve;
         let (w, q, n) = (self.w, self.q, self.x.len());
         let free: Vec<usize> = (0..n)
             .filter(|&i| self.bounds.is_free(i, self.x[i]))
             .collect();
         if free.is_empty() || res == 0.0 {
-            return (res, "");
+            return (res, BoxPolish::NotTried);
         }
         let mut fixed = vec![true; n];
         for &i in &free {
@@ -672,7 +654,7 @@ impl<'a> Mprgp<'a> {
         for (k, &i) in free.iter().enumerate() {
             let v = sol[(k, 0)];
             if !v.is_finite() || v < self.bounds.lower[i] || v > self.bounds.upper[i] {
-                return (res, "; polishing rejected (left the box)");
+                return (res, BoxPolish::LeftTheBox);
             }
             y[i] = v;
         }
@@ -681,9 +663,9 @@ impl<'a> Mprgp<'a> {
         if res_y <= res {
             self.x = y;
             self.g = gy;
-            (res_y, "; polished on the active set")
+            (res_y, BoxPolish::Polished)
         } else {
-            (res, "; polishing rejected (larger residual)")
+            (res, BoxPolish::LargerResidual)
         }
     }
 

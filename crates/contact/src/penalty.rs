@@ -56,10 +56,8 @@ use std::collections::HashSet;
 use faer::prelude::Solve;
 use faer::{Mat, Side};
 
-use crate::lcp::{
-    check_input, empty_solution, gaps, mean_diag, residual_from_gaps, LcpOptions, LcpSolution,
-    SolverReport,
-};
+use crate::lcp::{check_input, gaps, mean_diag, residual_from_gaps, LcpOptions};
+use crate::solution::{ContactSolution, SolverReport, StopReason};
 use crate::status::{status_method, ActiveSetSolve, StatusOptions, StatusVariant};
 use crate::ContactError;
 
@@ -85,11 +83,11 @@ pub fn penalty(
     q: &[f64],
     k: &[f64],
     opts: &LcpOptions,
-) -> Result<LcpSolution, ContactError> {
+) -> Result<ContactSolution, ContactError> {
     let c = compliance(w, q, k)?;
     let m = q.len();
     if m == 0 {
-        return Ok(empty_solution("penalty"));
+        return Ok(ContactSolution::empty("penalty"));
     }
     let mut report = SolverReport {
         method: "penalty".into(),
@@ -104,21 +102,17 @@ pub fn penalty(
     report.operator_applications = out.solves + out.products;
     report.residual_history = history;
     report.converged = out.converged;
-    let pen = max_penetration(&out.g);
-    report.stopping_reason = if out.converged {
-        format!(
-            "regularised law solved exactly: the active set ({} points) repeated after {} iterations{}; max penetration {pen:.3e} (O(1/k), seed §3.6)",
-            out.active.iter().filter(|&&a| a).count(),
-            out.iterations,
-            cycle_note(out.cycle_at)
-        )
+    report.stop = if out.converged {
+        StopReason::RegularisedSolved {
+            active: out.active.iter().filter(|&&a| a).count(),
+            iterations: out.iterations,
+            cycle_at: out.cycle_at,
+            penetration: max_penetration(&out.g),
+        }
     } else {
-        out.reason
+        out.stop
     };
-    Ok(LcpSolution {
-        lambda: out.lambda,
-        report,
-    })
+    Ok(ContactSolution::from_forces(w, q, out.lambda, report))
 }
 
 /// The status method of seed §3.3 with the active constraints imposed by a
@@ -142,7 +136,7 @@ pub fn status_with_penalty(
     k: &[f64],
     variant: StatusVariant,
     opts: &LcpOptions,
-) -> Result<LcpSolution, ContactError> {
+) -> Result<ContactSolution, ContactError> {
     let c = compliance(w, q, k)?;
     let m = q.len();
     let mut report = SolverReport {
@@ -153,12 +147,7 @@ pub fn status_with_penalty(
         ..Default::default()
     };
     if m == 0 {
-        report.converged = true;
-        report.stopping_reason = "no contact point".into();
-        return Ok(LcpSolution {
-            lambda: Vec::new(),
-            report,
-        });
+        return Ok(ContactSolution::empty(&report.method));
     }
     let mut solver = PenalisedActiveSet {
         w,
@@ -170,27 +159,26 @@ pub fn status_with_penalty(
         history: Vec::new(),
     };
     let out = status_method(&mut solver, &StatusOptions::from_lcp(variant, opts, None))?;
-    let lambda: Vec<f64> = out.lambda.iter().map(|v| v.max(0.0)).collect();
+    let lambda: Vec<f64> = out.forces.iter().map(|v| v.max(0.0)).collect();
     if lambda.iter().any(|v| !v.is_finite()) {
         return Err(ContactError::Solve(
             "status method with penalty: non-finite forces".into(),
         ));
     }
     let g = gaps(w, q, &lambda);
-    report.iterations = out.iterations;
+    report.iterations = out.report.iterations;
     report.operator_applications = solver.solves + solver.products;
     report.residual_history = solver.history;
-    report.converged = out.converged;
-    report.stopping_reason = if out.converged {
-        format!(
-            "{} (constraints imposed by penalty); max penetration {:.3e} (O(1/k))",
-            out.stopping_reason,
-            max_penetration(&g)
-        )
+    report.converged = out.report.converged;
+    report.stop = if out.report.converged {
+        StopReason::ByPenalty {
+            status: Box::new(out.report.stop),
+            penetration: max_penetration(&g),
+        }
     } else {
-        out.stopping_reason
+        out.report.stop
     };
-    Ok(LcpSolution { lambda, report })
+    Ok(ContactSolution::with_gaps(lambda, g, Vec::new(), report))
 }
 
 /// A message naming the worst point when some penetration −g_p exceeds
@@ -227,15 +215,6 @@ pub fn penetration_warning(g: &[f64], element_size: &[f64], fraction: f64) -> Op
 
 fn max_penetration(g: &[f64]) -> f64 {
     g.iter().fold(0.0f64, |a, &v| a.max(-v))
-}
-
-fn cycle_note(at: Option<usize>) -> String {
-    match at {
-        Some(i) => format!(
-            " (an active set repeated at iteration {i}: switched to one status change per iteration, least index first)"
-        ),
-        None => String::new(),
-    }
 }
 
 /// Checks the input and returns the compliances 1/k_p.
@@ -331,7 +310,8 @@ pub(crate) struct NewtonOutcome {
     pub solves: usize,
     pub products: usize,
     pub cycle_at: Option<usize>,
-    pub reason: String,
+    /// Why the iteration stopped when it did not converge.
+    pub stop: StopReason,
 }
 
 /// Exact solution of LCP(W + diag(c), q), c > 0, by the active-set (semi-
@@ -362,7 +342,7 @@ pub(crate) fn regularised_newton(
         solves: 0,
         products: 0,
         cycle_at: None,
-        reason: String::new(),
+        stop: StopReason::Pending,
     };
     while out.iterations < max_iterations {
         out.iterations += 1;
@@ -408,10 +388,10 @@ pub(crate) fn regularised_newton(
         }
         if seen.contains(&next) {
             if single {
-                out.reason = format!(
-                    "cycling: the active set of iteration {} repeats an earlier one even with one status change per iteration (round-off at the tolerance {:.1e}?)",
-                    out.iterations, opts.tolerance
-                );
+                out.stop = StopReason::NewtonCycling {
+                    iteration: out.iterations,
+                    tolerance: opts.tolerance,
+                };
                 return Ok(out);
             }
             out.cycle_at.get_or_insert(out.iterations);
@@ -422,8 +402,9 @@ pub(crate) fn regularised_newton(
         }
         active = next;
     }
-    out.reason =
-        format!("iteration limit {max_iterations} reached with the active set still changing");
+    out.stop = StopReason::ActiveSetLimit {
+        limit: max_iterations,
+    };
     Ok(out)
 }
 
@@ -450,20 +431,16 @@ mod tests {
         w: &Mat<f64>,
         q: &[f64],
         exact: &[f64],
-        solve: &dyn Fn(&[f64]) -> LcpSolution,
+        solve: &dyn Fn(&[f64]) -> ContactSolution,
     ) -> Vec<(f64, f64)> {
         (0..=12)
             .map(|j| {
                 let k = uniform_stiffness(w, 10f64.powi(j));
                 let sol = solve(&k);
-                assert!(
-                    sol.report.converged,
-                    "k = 1e{j}: {}",
-                    sol.report.stopping_reason
-                );
-                assert!(sol.lambda.iter().all(|v| v.is_finite() && *v >= 0.0));
-                let d: Vec<f64> = sol.lambda.iter().zip(exact).map(|(a, b)| a - b).collect();
-                let g = gaps(w, q, &sol.lambda);
+                assert!(sol.report.converged, "k = 1e{j}: {}", sol.report.stop);
+                assert!(sol.forces.iter().all(|v| v.is_finite() && *v >= 0.0));
+                let d: Vec<f64> = sol.forces.iter().zip(exact).map(|(a, b)| a - b).collect();
+                let g = gaps(w, q, &sol.forces);
                 (norm2(&d) / norm2(exact), max_penetration(&g))
             })
             .collect()
@@ -536,18 +513,18 @@ mod tests {
             let a = penalty(&c.w, &c.q, &k, &opts()).unwrap();
             let b = status_with_penalty(&c.w, &c.q, &k, StatusVariant::All, &opts()).unwrap();
             assert!(a.report.converged && b.report.converged, "{}", c.name);
-            let scale = norm_inf(&a.lambda).max(1e-300);
+            let scale = norm_inf(&a.forces).max(1e-300);
             // Round-off grows with the condition of W_AA + K_A⁻¹ (~ factor).
             let tol = (1e-10f64).max(1e-14 * factor);
-            for (x, y) in a.lambda.iter().zip(&b.lambda) {
+            for (x, y) in a.forces.iter().zip(&b.forces) {
                 assert!((x - y).abs() <= tol * scale, "{}: {x} vs {y}", c.name);
             }
             // The law itself: λ_p = k_p max(0, −g_p).
-            let g = gaps(&c.w, &c.q, &a.lambda);
+            let g = gaps(&c.w, &c.q, &a.forces);
             for p in 0..g.len() {
                 let law = k[p] * (-g[p]).max(0.0);
                 assert!(
-                    (a.lambda[p] - law).abs() <= 10.0 * tol * scale,
+                    (a.forces[p] - law).abs() <= 10.0 * tol * scale,
                     "{}: point {p}",
                     c.name
                 );
@@ -571,8 +548,8 @@ mod tests {
             penalty(&w, &q, &k, &opts()).unwrap(),
             status_with_penalty(&w, &q, &k, StatusVariant::All, &opts()).unwrap(),
         ] {
-            assert!(sol.report.converged, "{}", sol.report.stopping_reason);
-            let l = &sol.lambda;
+            assert!(sol.report.converged, "{}", sol.report.stop);
+            let l = &sol.forces;
             assert!(l.iter().all(|v| v.is_finite() && *v >= 0.0));
             // The pair shares the force equally (W + K⁻¹ is definite, but
             // its condition ~ k·max W_pp = 1e9 limits the split's accuracy).
@@ -624,17 +601,17 @@ mod tests {
             Err(ContactError::Solve(_))
         ));
         let e = penalty(&Mat::zeros(0, 0), &[], &[], &opts()).unwrap();
-        assert!(e.report.converged && e.lambda.is_empty());
+        assert!(e.report.converged && e.forces.is_empty());
         let e =
             status_with_penalty(&Mat::zeros(0, 0), &[], &[], StatusVariant::All, &opts()).unwrap();
-        assert!(e.report.converged && e.lambda.is_empty());
+        assert!(e.report.converged && e.forces.is_empty());
         let o = LcpOptions {
             max_iterations: 1,
             ..opts()
         };
         let big = &cases()[2];
         let s = penalty(&big.w, &big.q, &uniform_stiffness(&big.w, 1e6), &o).unwrap();
-        assert!(!s.report.converged && s.report.stopping_reason.contains("iteration limit"));
-        assert!(s.lambda.iter().all(|v| v.is_finite() && *v >= 0.0));
+        assert!(!s.report.converged && s.report.stop.to_string().contains("iteration limit"));
+        assert!(s.forces.iter().all(|v| v.is_finite() && *v >= 0.0));
     }
 }

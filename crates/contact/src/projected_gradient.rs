@@ -30,8 +30,9 @@ use faer::Mat;
 
 use crate::lcp::{
     checked_or_empty, dot, energy_of, gaps_into, lcp_residual, matvec, residual_from_gaps,
-    LcpOptions, LcpSolution, SolverReport,
+    LcpOptions,
 };
+use crate::solution::{ContactSolution, Measure, SolverReport, StopReason};
 use crate::ContactError;
 
 /// Armijo constant of the sufficient-decrease test on the projection arc.
@@ -57,7 +58,7 @@ pub fn projected_gradient(
     w: &Mat<f64>,
     q: &[f64],
     opts: &LcpOptions,
-) -> Result<LcpSolution, ContactError> {
+) -> Result<ContactSolution, ContactError> {
     const METHOD: &str = "projected_gradient";
     if let Some(empty) = checked_or_empty(w, q, METHOD)? {
         return Ok(empty);
@@ -74,7 +75,7 @@ pub fn projected_gradient(
         let r = free_residual(&s.lambda, &s.g);
         let rr = dot(&r, &r);
         if rr == 0.0 {
-            s.report.stopping_reason = stagnated(s.report.iterations, res, opts.tolerance);
+            s.report.stop = stagnated(s.report.iterations, res, opts.tolerance);
             break;
         }
         matvec(w, &r, &mut wr);
@@ -94,10 +95,10 @@ pub fn projected_gradient(
             s.advance(mu, &r, &wr);
             s.update_energy();
         } else if !s.backtrack(mu, feasible, &r) {
-            s.report.stopping_reason = format!(
-                "line search failed at iteration {} (natural residual {:.3e})",
-                s.report.iterations, res
-            );
+            s.report.stop = StopReason::LineSearchFailed {
+                iteration: s.report.iterations,
+                residual: res,
+            };
             break;
         }
         s.push_residual();
@@ -206,12 +207,11 @@ impl<'a> Projection<'a> {
             &mut self.report,
         ) {
             self.report.converged = true;
-            self.report.stopping_reason = format!(
-                "natural residual {:.3e} ≤ tolerance {:.3e} after {} iterations",
-                self.report.residual_history.last().copied().unwrap_or(res),
-                self.opts.tolerance,
-                self.report.iterations
-            );
+            self.report.stop = StopReason::ResidualMet {
+                residual: self.report.residual_history.last().copied().unwrap_or(res),
+                tolerance: self.opts.tolerance,
+                iterations: self.report.iterations,
+            };
             return true;
         }
         self.update_energy();
@@ -242,8 +242,13 @@ impl<'a> Projection<'a> {
         if self.report.iterations < self.opts.max_iterations {
             return false;
         }
-        self.report.stopping_reason =
-            iteration_limit(self.opts.max_iterations, res, self.opts.tolerance);
+        self.report.stop = StopReason::IterationLimit {
+            limit: self.opts.max_iterations,
+            measure: Measure::Natural,
+            residual: res,
+            tolerance: self.opts.tolerance,
+            steps: None,
+        };
         true
     }
 
@@ -293,11 +298,8 @@ impl<'a> Projection<'a> {
         false
     }
 
-    fn finish(self) -> LcpSolution {
-        LcpSolution {
-            lambda: clamp(self.lambda),
-            report: self.report,
-        }
+    fn finish(self) -> ContactSolution {
+        ContactSolution::from_forces(self.w, self.q, clamp(self.lambda), self.report)
     }
 }
 
@@ -322,7 +324,7 @@ pub fn projected_conjugate_gradient(
     w: &Mat<f64>,
     q: &[f64],
     opts: &LcpOptions,
-) -> Result<LcpSolution, ContactError> {
+) -> Result<ContactSolution, ContactError> {
     const METHOD: &str = "projected_conjugate_gradient";
     if let Some(empty) = checked_or_empty(w, q, METHOD)? {
         return Ok(empty);
@@ -345,7 +347,7 @@ pub fn projected_conjugate_gradient(
         let slope = dot(&s.g, dir);
         let dd = dot(dir, dir);
         if dd == 0.0 {
-            s.report.stopping_reason = stagnated(s.report.iterations, res, opts.tolerance);
+            s.report.stop = stagnated(s.report.iterations, res, opts.tolerance);
             break;
         }
         matvec(w, dir, &mut wd);
@@ -485,16 +487,15 @@ pub(crate) fn verify(
     res <= opts.tolerance
 }
 
-pub(crate) fn iteration_limit(max: usize, res: f64, tol: f64) -> String {
-    format!(
-        "iteration limit {max} reached with natural residual {res:.3e} above tolerance {tol:.3e} (not converged)"
-    )
-}
-
-pub(crate) fn stagnated(it: usize, res: f64, tol: f64) -> String {
-    format!(
-        "stagnation at iteration {it}: no descent direction left at natural residual {res:.3e} above tolerance {tol:.3e} (round-off floor; not converged)"
-    )
+/// The stop of a projection method without a descent direction at
+/// iteration `it`, natural residual `res` above the tolerance `tol`.
+fn stagnated(it: usize, res: f64, tol: f64) -> StopReason {
+    StopReason::Stagnation {
+        iteration: it,
+        measure: Measure::Natural,
+        residual: res,
+        tolerance: tol,
+    }
 }
 
 pub(crate) fn unbounded(method: &str) -> ContactError {
@@ -509,7 +510,8 @@ pub(crate) mod test_support {
 
     use faer::Mat;
 
-    use crate::lcp::{gaps, lcp_residual, LcpOptions, LcpSolution};
+    use crate::lcp::{gaps, lcp_residual, LcpOptions};
+    use crate::solution::ContactSolution;
     use crate::test_problems::status_solution;
     use crate::{ContactError, DelassusProblem};
 
@@ -603,15 +605,15 @@ pub(crate) mod test_support {
     }
 
     /// Checks a returned solution: finite, λ ≥ 0 exactly, residual met, converged.
-    pub fn check_solution(w: &Mat<f64>, q: &[f64], sol: &LcpSolution, opts: &LcpOptions) {
+    pub fn check_solution(w: &Mat<f64>, q: &[f64], sol: &ContactSolution, opts: &LcpOptions) {
         assert!(
             sol.report.converged,
             "{}: {}",
-            sol.report.method, sol.report.stopping_reason
+            sol.report.method, sol.report.stop
         );
-        assert_eq!(sol.lambda.len(), q.len());
-        assert!(sol.lambda.iter().all(|v| v.is_finite() && *v >= 0.0));
-        let r = lcp_residual(w, q, &sol.lambda, opts);
+        assert_eq!(sol.forces.len(), q.len());
+        assert!(sol.forces.iter().all(|v| v.is_finite() && *v >= 0.0));
+        let r = lcp_residual(w, q, &sol.forces, opts);
         assert!(
             r <= opts.tolerance,
             "{}: residual {r:.3e}",
@@ -625,7 +627,7 @@ pub(crate) mod test_support {
         );
     }
 
-    pub type Method = fn(&Mat<f64>, &[f64], &LcpOptions) -> Result<LcpSolution, ContactError>;
+    pub type Method = fn(&Mat<f64>, &[f64], &LcpOptions) -> Result<ContactSolution, ContactError>;
 
     /// Every case of the brief against the status method; returns
     /// (iterations, products with W) on the m = 60 random problem.
@@ -642,7 +644,7 @@ pub(crate) mod test_support {
             check_solution(&w, &q, &sol, &opts);
             let exact = reference(&w, &q);
             assert!(exact.iter().any(|v| *v > 0.0) && exact.contains(&0.0));
-            assert_close(&sol.lambda, &exact, 1e-8, &format!("random m = {m}"));
+            assert_close(&sol.forces, &exact, 1e-8, &format!("random m = {m}"));
             if m == 60 {
                 iters60 = (sol.report.iterations, sol.report.operator_applications);
             }
@@ -655,9 +657,9 @@ pub(crate) mod test_support {
         assert!(q.iter().all(|v| *v < 0.0));
         let sol = method(&w, &q, &opts).unwrap();
         check_solution(&w, &q, &sol, &opts);
-        assert_close(&sol.lambda, &lstar, 1e-8, "all active");
+        assert_close(&sol.forces, &lstar, 1e-8, "all active");
         assert_close(
-            &sol.lambda,
+            &sol.forces,
             &reference(&w, &q),
             1e-8,
             "all active vs status",
@@ -667,9 +669,9 @@ pub(crate) mod test_support {
         let sol = method(&w, &q, &opts).unwrap();
         check_solution(&w, &q, &sol, &opts);
         assert!(
-            sol.lambda.iter().all(|v| *v == 0.0),
+            sol.forces.iter().all(|v| *v == 0.0),
             "none active: {:?}",
-            sol.lambda
+            sol.forces
         );
         // Weakly active: points 3 and 11 have λ* = 0 and w* = 0.
         let mut lstar = vec![0.0; m];
@@ -687,15 +689,15 @@ pub(crate) mod test_support {
         let q = q_for(&w, &lstar, &wstar);
         let sol = method(&w, &q, &opts).unwrap();
         check_solution(&w, &q, &sol, &opts);
-        assert_close(&sol.lambda, &lstar, 1e-8, "weakly active");
+        assert_close(&sol.forces, &lstar, 1e-8, "weakly active");
         assert_close(
-            &sol.lambda,
+            &sol.forces,
             &reference(&w, &q),
             1e-8,
             "weakly active vs status",
         );
-        let g = gaps(&w, &q, &sol.lambda);
-        assert!(g[3].abs() <= 1e-9 && g[11].abs() <= 1e-9 && sol.lambda[3] <= 1e-9);
+        let g = gaps(&w, &q, &sol.forces);
+        assert!(g[3].abs() <= 1e-9 && g[11].abs() <= 1e-9 && sol.forces[3] <= 1e-9);
         iters60
     }
 
@@ -732,22 +734,22 @@ pub(crate) mod test_support {
                     "{} on redundant constraints: {} iterations, λ_2 = {:.6}, λ_dup = {:.6}, sum {:.6} (reduced problem: {:.6})",
                     sol.report.method,
                     sol.report.iterations,
-                    sol.lambda[2],
-                    sol.lambda[7],
-                    sol.lambda[2] + sol.lambda[7],
+                    sol.forces[2],
+                    sol.forces[7],
+                    sol.forces[2] + sol.forces[7],
                     exact[2]
                 );
-                assert!(sol.lambda.iter().all(|v| v.is_finite() && *v >= 0.0));
+                assert!(sol.forces.iter().all(|v| v.is_finite() && *v >= 0.0));
                 check_solution(&full.w, &full.q, &sol, &opts);
-                let mut merged = sol.lambda[..7].to_vec();
-                merged[2] += sol.lambda[7];
+                let mut merged = sol.forces[..7].to_vec();
+                merged[2] += sol.forces[7];
                 assert_close(
                     &merged,
                     &exact,
                     1e-8,
                     "redundant: forces with the duplicate merged",
                 );
-                let g = gaps(&full.w, &full.q, &sol.lambda);
+                let g = gaps(&full.w, &full.q, &sol.forces);
                 let g_exact = gaps(&reduced.w, &reduced.q, &exact);
                 assert_close(&g[..7], &g_exact, 1e-8, "redundant: gaps");
                 assert!((g[7] - g[2]).abs() <= 1e-12);
@@ -765,7 +767,7 @@ pub(crate) mod test_support {
     pub fn edge_cases(method: Method) {
         let opts = LcpOptions::default();
         let sol = method(&Mat::zeros(0, 0), &[], &opts).unwrap();
-        assert!(sol.report.converged && sol.lambda.is_empty());
+        assert!(sol.report.converged && sol.forces.is_empty());
         let mut w = Mat::<f64>::identity(3, 3);
         assert!(matches!(
             method(&w, &[1.0, f64::NAN, -1.0], &opts),
@@ -795,11 +797,11 @@ pub(crate) mod test_support {
         let sol = method(&w, &q, &opts).unwrap();
         assert!(!sol.report.converged);
         assert!(
-            sol.report.stopping_reason.contains("not converged"),
+            sol.report.stop.to_string().contains("not converged"),
             "{}",
-            sol.report.stopping_reason
+            sol.report.stop
         );
-        assert!(sol.lambda.iter().all(|v| v.is_finite() && *v >= 0.0));
+        assert!(sol.forces.iter().all(|v| v.is_finite() && *v >= 0.0));
     }
 }
 
@@ -847,6 +849,6 @@ mod tests {
         let sol = projected_gradient(&w, &q, &tight()).unwrap();
         assert!(sol.report.converged);
         assert_eq!(sol.report.iterations, 1);
-        assert_close(&sol.lambda, &[0.5, 1.0, 2.0], 1e-15, "one step");
+        assert_close(&sol.forces, &[0.5, 1.0, 2.0], 1e-15, "one step");
     }
 }

@@ -42,9 +42,9 @@
 
 use faer::Mat;
 
-use crate::lcp::{
-    constrained_gaps, residual_from_gaps, spectral_norm_estimate, LcpOptions, LcpSolution,
-    SolverReport,
+use crate::lcp::{constrained_gaps, residual_from_gaps, spectral_norm_estimate, LcpOptions};
+use crate::solution::{
+    ContactSolution, PolishSolve, SmalbeProgress, SmalbeStop, SolverReport, StopReason,
 };
 use crate::ContactError;
 
@@ -58,17 +58,6 @@ const FEASIBILITY_DECREASE: f64 = 0.25;
 const RHO_CAP: f64 = 1e8;
 /// Outer iterations at most (each solves an inner LCP).
 const MAX_OUTER: usize = 60;
-
-/// An LCP solution with the multiplier α of the equality Gᵀλ = e.
-#[derive(Debug, Clone)]
-pub struct ConstrainedSolution {
-    pub lambda: Vec<f64>,
-    /// α: the rigid-mode amplitudes (multiplier of Gᵀλ = e).
-    pub alpha: Vec<f64>,
-    /// g = W λ + q + G α.
-    pub gap: Vec<f64>,
-    pub report: SolverReport,
-}
 
 /// The relative residual of Gᵀλ = e: max_j |(Gᵀλ − e)_j| over the size of
 /// the terms summed (max_j Σ_p |G_pj λ_p| and |e_j|, at least the force
@@ -101,15 +90,21 @@ fn equality_vector(g: &Mat<f64>, e: &[f64], lambda: &[f64]) -> Vec<f64> {
 /// Solves min ½λᵀWλ + qᵀλ over λ ≥ 0 with Gᵀλ = e by SMALBE (module
 /// documentation). `inner(w, q, λ0, opts)` solves the bound-constrained
 /// LCP(w, q) from the warm start λ0 (it may ignore it); the outer loop
-/// passes it W + ρGGᵀ and q + Gμ − ρGe.
+/// passes it W + ρGGᵀ and q + Gμ − ρGe. The answer carries α, the
+/// multiplier of the equality, and the gaps g = W λ + q + G α.
 pub fn smalbe(
     w: &Mat<f64>,
     q: &[f64],
     g: &Mat<f64>,
     e: &[f64],
     opts: &LcpOptions,
-    mut inner: impl FnMut(&Mat<f64>, &[f64], &[f64], &LcpOptions) -> Result<LcpSolution, ContactError>,
-) -> Result<ConstrainedSolution, ContactError> {
+    mut inner: impl FnMut(
+        &Mat<f64>,
+        &[f64],
+        &[f64],
+        &LcpOptions,
+    ) -> Result<ContactSolution, ContactError>,
+) -> Result<ContactSolution, ContactError> {
     let (m, k) = (g.nrows(), g.ncols());
     assert_eq!(m, q.len());
     assert_eq!(k, e.len());
@@ -124,7 +119,7 @@ pub fn smalbe(
     let mut lambda = vec![0.0; m];
     let mut feas_prev = f64::INFINITY;
     let mut inner_iterations = 0usize;
-    let mut last_reason = String::new();
+    let mut last_inner = StopReason::Pending;
     let mut previous_active: Option<Vec<bool>> = None;
     for outer in 0..MAX_OUTER {
         let (w_in, q_in) = inner_problem(w, q, g, e, &ggt, &mu, rho);
@@ -135,11 +130,11 @@ pub fn smalbe(
         let sol = inner(&w_in, &q_in, &lambda, &inner_opts)?;
         inner_iterations += sol.report.iterations;
         report.operator_applications += sol.report.operator_applications;
-        last_reason = sol.report.stopping_reason.clone();
+        last_inner = sol.report.stop.clone();
         if !sol.report.converged && inner_opts.tolerance <= opts.tolerance {
             return Ok(pb.inner_failed(sol, mu, report, outer));
         }
-        lambda = sol.lambda;
+        lambda = sol.forces;
         update_multiplier(&mut mu, rho, &equality_vector(g, e, &lambda));
         let gap = constrained_gaps(w, q, g, &lambda, &mu);
         let natural = residual_from_gaps(&lambda, &gap, opts);
@@ -150,29 +145,29 @@ pub fn smalbe(
         let settled = k > 0 && previous_active.as_ref() == Some(&active);
         previous_active = Some(active);
         let met = natural <= opts.tolerance && feas <= opts.tolerance;
-        let progress = format!(
-            "after {} outer iterations ({inner_iterations} inner iterations; ρ = {rho:.3e})",
-            outer + 1
-        );
+        let progress = SmalbeProgress {
+            outer: outer + 1,
+            inner_iterations,
+            rho,
+        };
         if settled && !met {
             // The active set has settled: one saddle-point solve on it may
             // finish the job (polish keeps it only if it is better).
-            let trial = ConstrainedSolution {
-                lambda: lambda.clone(),
-                alpha: mu.clone(),
-                gap: gap.clone(),
-                report: report.clone(),
-            };
-            if let Some(done) = pb.polish_settled(trial, &progress, &last_reason) {
+            let trial =
+                ContactSolution::with_gaps(lambda.clone(), gap.clone(), mu.clone(), report.clone());
+            if let Some(done) = pb.polish_settled(trial, progress, &last_inner) {
                 return Ok(done);
             }
         }
         if met {
             report.converged = true;
-            report.stopping_reason = format!(
-                "SMALBE: natural residual {natural:.3e} and equilibrium residual {feas:.3e} ≤ tolerance {:.3e} {progress}; last inner: {last_reason}",
-                opts.tolerance
-            );
+            report.stop = StopReason::Smalbe(SmalbeStop::Met {
+                natural,
+                feasibility: feas,
+                tolerance: opts.tolerance,
+                progress,
+                last_inner: Box::new(last_inner),
+            });
             return Ok(pb.polished(lambda, mu, gap, report));
         }
         if feas > FEASIBILITY_DECREASE * feas_prev && rho * RHO_GROWTH <= rho_max {
@@ -180,7 +175,7 @@ pub fn smalbe(
         }
         feas_prev = feas;
     }
-    Ok(pb.exhausted(lambda, mu, report, rho, &last_reason))
+    Ok(pb.exhausted(lambda, mu, report, rho, last_inner))
 }
 
 /// The data of the constrained problem, for the steps of [`smalbe`].
@@ -201,13 +196,8 @@ impl Constrained<'_> {
         mu: Vec<f64>,
         gap: Vec<f64>,
         report: SolverReport,
-    ) -> ConstrainedSolution {
-        let mut out = ConstrainedSolution {
-            lambda,
-            alpha: mu,
-            gap,
-            report,
-        };
+    ) -> ContactSolution {
+        let mut out = ContactSolution::with_gaps(lambda, gap, mu, report);
         polish(self.w, self.q, self.g, self.e, &mut out, self.opts);
         out
     }
@@ -216,24 +206,18 @@ impl Constrained<'_> {
     /// answer, with the gaps at the current μ, reported as not converged.
     fn inner_failed(
         &self,
-        sol: LcpSolution,
+        sol: ContactSolution,
         mu: Vec<f64>,
         mut report: SolverReport,
         outer: usize,
-    ) -> ConstrainedSolution {
-        report.stopping_reason = format!(
-            "SMALBE outer iteration {}: the inner solver did not converge: {}",
-            outer + 1,
-            sol.report.stopping_reason
-        );
+    ) -> ContactSolution {
+        report.stop = StopReason::Smalbe(SmalbeStop::InnerFailed {
+            outer: outer + 1,
+            inner: Box::new(sol.report.stop),
+        });
         report.iterations = outer + 1;
-        let gap = constrained_gaps(self.w, self.q, self.g, &sol.lambda, &mu);
-        ConstrainedSolution {
-            lambda: sol.lambda,
-            alpha: mu,
-            gap,
-            report,
-        }
+        let gap = constrained_gaps(self.w, self.q, self.g, &sol.forces, &mu);
+        ContactSolution::with_gaps(sol.forces, gap, mu, report)
     }
 
     /// The active set has settled: one saddle-point solve on it
@@ -242,18 +226,22 @@ impl Constrained<'_> {
     /// at which ρ.
     fn polish_settled(
         &self,
-        mut trial: ConstrainedSolution,
-        progress: &str,
-        last_reason: &str,
-    ) -> Option<ConstrainedSolution> {
+        mut trial: ContactSolution,
+        progress: SmalbeProgress,
+        last_inner: &StopReason,
+    ) -> Option<ContactSolution> {
         if !polish(self.w, self.q, self.g, self.e, &mut trial, self.opts) {
             return None;
         }
         trial.report.converged = true;
-        trial.report.stopping_reason = format!(
-            "SMALBE: the active set settled {progress}; one saddle-point solve on it meets the tolerance {:.3e}; last inner: {last_reason}",
-            self.opts.tolerance
-        );
+        let settled = SmalbeStop::Settled {
+            progress,
+            tolerance: self.opts.tolerance,
+            last_inner: Box::new(last_inner.clone()),
+        };
+        // The reason says the saddle-point solve finished the job (it
+        // replaces the polish's own record).
+        trial.report.stop = StopReason::Smalbe(settled);
         Some(trial)
     }
 
@@ -265,22 +253,21 @@ impl Constrained<'_> {
         mu: Vec<f64>,
         mut report: SolverReport,
         rho: f64,
-        last_reason: &str,
-    ) -> ConstrainedSolution {
+        last_inner: StopReason,
+    ) -> ContactSolution {
         let (g, opts) = (self.g, self.opts);
         let gap = constrained_gaps(self.w, self.q, g, &lambda, &mu);
         let natural = residual_from_gaps(&lambda, &gap, opts);
         let feas = equality_residual(g, self.e, &lambda, opts.force_scale);
-        report.stopping_reason = format!(
-            "SMALBE: {MAX_OUTER} outer iterations without meeting the tolerance {:.3e} (natural residual {natural:.3e}, equilibrium residual {feas:.3e}, ρ = {rho:.3e}); last inner: {last_reason}",
-            opts.tolerance
-        );
-        ConstrainedSolution {
-            lambda,
-            alpha: mu,
-            gap,
-            report,
-        }
+        report.stop = StopReason::Smalbe(SmalbeStop::Exhausted {
+            outer: MAX_OUTER,
+            tolerance: opts.tolerance,
+            natural,
+            feasibility: feas,
+            rho,
+            last_inner: Box::new(last_inner),
+        });
+        ContactSolution::with_gaps(lambda, gap, mu, report)
     }
 }
 
@@ -387,12 +374,12 @@ fn polish(
     q: &[f64],
     g: &Mat<f64>,
     e: &[f64],
-    sol: &mut ConstrainedSolution,
+    sol: &mut ContactSolution,
     opts: &LcpOptions,
 ) -> bool {
     let (m, k) = (g.nrows(), g.ncols());
-    let lmax = sol.lambda.iter().fold(0.0f64, |a, v| a.max(v.abs()));
-    let active: Vec<usize> = (0..m).filter(|&p| sol.lambda[p] > 1e-14 * lmax).collect();
+    let lmax = sol.forces.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+    let active: Vec<usize> = (0..m).filter(|&p| sol.forces[p] > 1e-14 * lmax).collect();
     let na = active.len();
     if na + k == 0 {
         return false;
@@ -425,11 +412,9 @@ fn polish(
             &lambda,
             opts.force_scale,
         ));
-        sol.lambda = lambda;
+        sol.set_forces(lambda, gap);
         sol.alpha = alpha;
-        sol.gap = gap;
-        sol.report
-            .record_polish(after, "saddle-point solve on the identified active set");
+        sol.report.record_polish(after, PolishSolve::SaddlePoint);
         return true;
     }
     false
@@ -449,7 +434,7 @@ mod tests {
         q: &[f64],
         l0: &[f64],
         o: &LcpOptions,
-    ) -> Result<LcpSolution, ContactError> {
+    ) -> Result<ContactSolution, ContactError> {
         mprgp_from(w, q, l0, o)
     }
 
@@ -464,12 +449,12 @@ mod tests {
         let q = [-1.0, 1.0];
         let g = Mat::<f64>::from_fn(2, 1, |_, _| 1.0);
         let sol = smalbe(&w, &q, &g, &[3.0], &tight(), inner_mprgp).unwrap();
-        assert!(sol.report.converged, "{}", sol.report.stopping_reason);
+        assert!(sol.report.converged, "{}", sol.report.stop);
         let tol = 1e-10 * 3.0;
-        assert!((sol.lambda[0] - 2.5).abs() <= tol, "{:?}", sol.lambda);
-        assert!((sol.lambda[1] - 0.5).abs() <= tol, "{:?}", sol.lambda);
+        assert!((sol.forces[0] - 2.5).abs() <= tol, "{:?}", sol.forces);
+        assert!((sol.forces[1] - 0.5).abs() <= tol, "{:?}", sol.forces);
         assert!((sol.alpha[0] + 1.5).abs() <= tol, "{:?}", sol.alpha);
-        assert!(sol.gap.iter().all(|v| v.abs() <= tol));
+        assert!(sol.gaps.iter().all(|v| v.abs() <= tol));
     }
 
     /// Random SPD W, random q, a random kernel: SMALBE with MPRGP inside
@@ -521,18 +506,14 @@ mod tests {
                 },
             )
             .unwrap();
-            assert!(exact.converged, "seed {seed}: {}", exact.stopping_reason);
+            assert!(exact.report.converged, "seed {seed}: {}", exact.report.stop);
             let sol = smalbe(&prob.w, &prob.q, &prob.g_mat, &prob.e, &opts, inner_mprgp).unwrap();
-            assert!(
-                sol.report.converged,
-                "seed {seed}: {}",
-                sol.report.stopping_reason
-            );
-            let scale = exact.lambda.iter().fold(1.0f64, |a, v| a.max(v.abs()));
+            assert!(sol.report.converged, "seed {seed}: {}", sol.report.stop);
+            let scale = exact.forces.iter().fold(1.0f64, |a, v| a.max(v.abs()));
             let d = sol
-                .lambda
+                .forces
                 .iter()
-                .zip(&exact.lambda)
+                .zip(&exact.forces)
                 .fold(0.0f64, |a, (x, y)| a.max((x - y).abs()));
             assert!(d <= 1e-8 * scale, "seed {seed}: forces differ by {d:e}");
             let da = sol
@@ -557,10 +538,10 @@ mod tests {
         assert_eq!(sol.report.iterations, 1);
         let direct = crate::mprgp::mprgp(&w, &q, &tight()).unwrap();
         let d = sol
-            .lambda
+            .forces
             .iter()
-            .zip(&direct.lambda)
+            .zip(&direct.forces)
             .fold(0.0f64, |a, (x, y)| a.max((x - y).abs()));
-        assert!(d <= 1e-8 * direct.lambda.iter().fold(1.0f64, |a, v| a.max(v.abs())));
+        assert!(d <= 1e-8 * direct.forces.iter().fold(1.0f64, |a, v| a.max(v.abs())));
     }
 }

@@ -19,6 +19,7 @@
 //! sparse stiffness with the active constraints ([`crate::direct`]).
 
 use crate::active_set::{drive, scaled_tolerances, Change, Fallback, Regular, StatusRule, Stop};
+use crate::solution::{ContactSolution, SolverReport, StatusTrace, StopReason};
 use crate::ContactError;
 
 /// Solves the equality-constrained problem for a given active set.
@@ -30,10 +31,12 @@ pub trait ActiveSetSolve {
     fn solve_active(&mut self, active: &[usize]) -> Result<(Vec<f64>, Vec<f64>), ContactError>;
 }
 
-#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+/// How many statuses change per iteration of the status method.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, serde::Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum StatusVariant {
     /// Every violated status changes at each iteration.
+    #[default]
     All,
     /// Only the most violated status changes (the variant with the proof).
     Single,
@@ -72,24 +75,6 @@ impl StatusOptions {
             initial_active,
         }
     }
-}
-
-#[derive(Debug, Clone, serde::Serialize)]
-pub struct StatusOutcome {
-    pub converged: bool,
-    pub iterations: usize,
-    /// Number of linear solves (one per iteration).
-    pub solves: usize,
-    pub active: Vec<usize>,
-    pub lambda: Vec<f64>,
-    pub gap: Vec<f64>,
-    /// Why it stopped, in words.
-    pub stopping_reason: String,
-    /// Size of the active set at each iteration.
-    pub active_history: Vec<usize>,
-    /// Iteration at which a cycle was detected, if any.
-    pub cycle_detected_at: Option<usize>,
-    pub variant_used: StatusVariant,
 }
 
 /// The rule of seed §3.3 over the [`crate::active_set`] driver: a point's
@@ -174,11 +159,14 @@ fn active_points(active: &[bool]) -> Vec<usize> {
     (0..active.len()).filter(|&p| active[p]).collect()
 }
 
-/// Runs the status method of seed §3.3 on `problem`.
+/// Runs the status method of seed §3.3 on `problem`. The answer's
+/// `active` is the last active set, its report counts one operator
+/// application per iteration (one linear solve) and has no residual
+/// history; `method` is "status".
 pub fn status_method(
     problem: &mut dyn ActiveSetSolve,
     opts: &StatusOptions,
-) -> Result<StatusOutcome, ContactError> {
+) -> Result<ContactSolution, ContactError> {
     let m = problem.n_points();
     let mut initial = vec![opts.initial_active.is_none(); m];
     for &p in opts.initial_active.iter().flatten() {
@@ -192,31 +180,37 @@ pub fn status_method(
     let single = opts.variant == StatusVariant::Single;
     let out = drive(&mut rule, initial, single, opts.max_iterations)?;
     let iterations = out.iterations;
-    let stopping_reason = match out.stop {
-        Stop::Converged => format!("statuses repeated after {iterations} iterations"),
-        Stop::Cycling => format!(
-            "cycling: the active set of iteration {iterations} repeats an earlier one even with one status change per iteration (the contact zone is probably meshed too coarsely, seed §3.3)"
-        ),
-        Stop::Limit => format!(
-            "iteration limit {} reached with statuses still changing",
-            opts.max_iterations
-        ),
+    let stop = match out.stop {
+        Stop::Converged => StopReason::StatusesRepeated { iterations },
+        Stop::Cycling => StopReason::Cycling {
+            iteration: iterations,
+        },
+        Stop::Limit => StopReason::StatusLimit {
+            limit: opts.max_iterations,
+        },
     };
-    let (lambda, gap) = out.solution.unwrap_or((vec![0.0; m], vec![0.0; m]));
-    Ok(StatusOutcome {
-        converged: out.stop == Stop::Converged,
-        iterations,
-        solves: iterations,
+    let (forces, gaps) = out.solution.unwrap_or((vec![0.0; m], vec![0.0; m]));
+    Ok(ContactSolution {
+        forces,
+        gaps,
+        alpha: Vec::new(),
         active: active_points(&out.statuses),
-        lambda,
-        gap,
-        stopping_reason,
-        active_history: rule.history,
-        cycle_detected_at: out.cycle_at,
-        variant_used: if out.one_change {
-            StatusVariant::Single
-        } else {
-            StatusVariant::All
+        report: SolverReport {
+            method: "status".into(),
+            converged: out.stop == Stop::Converged,
+            iterations,
+            operator_applications: iterations,
+            residual_history: Vec::new(),
+            stop,
+        },
+        statuses: StatusTrace {
+            active_history: rule.history,
+            cycle_detected_at: out.cycle_at,
+            variant_used: if out.one_change {
+                StatusVariant::Single
+            } else {
+                StatusVariant::All
+            },
         },
     })
 }
@@ -266,15 +260,15 @@ mod tests {
             for variant in [StatusVariant::All, StatusVariant::Single] {
                 let mut p = DelassusProblem::new(&s, &rows, &gap0, &f, &Mat::zeros(3, 0)).unwrap();
                 let out = status_method(&mut p, &opts(variant)).unwrap();
-                assert!(out.converged, "{}", out.stopping_reason);
+                assert!(out.report.converged, "{}", out.report.stop);
                 let exact = brute_force(&p.w, &p.q);
-                for (a, b) in out.lambda.iter().zip(&exact) {
+                for (a, b) in out.forces.iter().zip(&exact) {
                     assert!(
                         (a - b).abs() <= 1e-12 * (1.0 + b.abs()),
                         "{variant:?}: {a} vs {b}"
                     );
                 }
-                for (l, g) in out.lambda.iter().zip(&out.gap) {
+                for (l, g) in out.forces.iter().zip(&out.gaps) {
                     assert!(*l >= 0.0 && *g >= -1e-12 && (l * g).abs() <= 1e-12);
                 }
             }
@@ -289,8 +283,8 @@ mod tests {
         let kernel = Mat::<f64>::from_fn(1, 1, |_, _| 1.0);
         let mut p = DelassusProblem::new(&s, &[vec![(0, 1.0)]], &[0.0], &[-2.0], &kernel).unwrap();
         let out = status_method(&mut p, &opts(StatusVariant::All)).unwrap();
-        assert!(out.converged);
-        assert!((out.lambda[0] - 2.0).abs() <= 1e-12);
-        assert!(p.displacement(&out.lambda)[0].abs() <= 1e-12);
+        assert!(out.report.converged);
+        assert!((out.forces[0] - 2.0).abs() <= 1e-12);
+        assert!(p.displacement(&out.forces)[0].abs() <= 1e-12);
     }
 }

@@ -3,7 +3,8 @@
 //! method), and the reference solution by the status method.
 use faer::Mat;
 
-use crate::lcp::{gaps, LcpSolution};
+use crate::lcp::gaps;
+use crate::solution::ContactSolution;
 use crate::status::{status_method, StatusOptions, StatusVariant};
 use crate::DelassusProblem;
 
@@ -83,8 +84,8 @@ pub fn status_solution(w: &Mat<f64>, q: &[f64], tolerance: f64) -> Vec<f64> {
         },
     )
     .unwrap();
-    assert!(out.converged, "status method: {}", out.stopping_reason);
-    out.lambda
+    assert!(out.report.converged, "status method: {}", out.report.stop);
+    out.forces
 }
 
 /// The exact solution by the status method (seed §3.3).
@@ -203,14 +204,10 @@ pub fn redundant() -> (Mat<f64>, Vec<f64>, Vec<f64>, Vec<f64>) {
 /// relative error ≤ 1e-8 against the exact solution (exactly 0 when it
 /// is 0), one residual in the history per iteration. `label` names the
 /// run in the messages.
-pub fn assert_solves_case(c: &Case, sol: &LcpSolution, label: &str) {
-    assert!(
-        sol.report.converged,
-        "{}: {}",
-        c.name, sol.report.stopping_reason
-    );
-    assert!(sol.lambda.iter().all(|v| *v >= 0.0 && v.is_finite()));
-    let e = rel_err(&sol.lambda, &c.exact);
+pub fn assert_solves_case(c: &Case, sol: &ContactSolution, label: &str) {
+    assert!(sol.report.converged, "{}: {}", c.name, sol.report.stop);
+    assert!(sol.forces.iter().all(|v| *v >= 0.0 && v.is_finite()));
+    let e = rel_err(&sol.forces, &c.exact);
     if norm_inf(&c.exact) == 0.0 {
         assert_eq!(e, 0.0, "{}", c.name);
     } else {
@@ -223,9 +220,15 @@ pub fn assert_solves_case(c: &Case, sol: &LcpSolution, label: &str) {
 /// regular (λ, g) = (`l0`, `g0`): converged, λ ≥ 0 and finite, the two
 /// doubled points share the force of point 0 and both have zero gap, the
 /// others as in the regular problem (to 1e-8 relative).
-pub fn assert_solves_redundant(w: &Mat<f64>, q: &[f64], l0: &[f64], g0: &[f64], sol: &LcpSolution) {
-    assert!(sol.report.converged, "{}", sol.report.stopping_reason);
-    let l = &sol.lambda;
+pub fn assert_solves_redundant(
+    w: &Mat<f64>,
+    q: &[f64],
+    l0: &[f64],
+    g0: &[f64],
+    sol: &ContactSolution,
+) {
+    assert!(sol.report.converged, "{}", sol.report.stop);
+    let l = &sol.forces;
     assert!(l.iter().all(|v| v.is_finite() && *v >= 0.0));
     let g = gaps(w, q, l);
     let scale = norm_inf(l0);

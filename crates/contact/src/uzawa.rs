@@ -32,9 +32,10 @@
 use faer::Mat;
 
 use crate::lcp::{
-    dual_converged_reason, dual_limit_reason, dual_start, energy_of, gaps, mean_diag,
-    power_iteration, residual_from_gaps, DualStart, LcpOptions, LcpSolution,
+    dual_converged, dual_limit, dual_start, energy_of, gaps, mean_diag, power_iteration,
+    residual_from_gaps, DualStart, LcpOptions,
 };
+use crate::solution::{ContactSolution, DualDetail, UzawaStep};
 use crate::ContactError;
 
 /// Solves LCP(W, q) by Uzawa's iteration λ ← max(0, λ − ρ(Wλ + q)) from
@@ -43,7 +44,7 @@ use crate::ContactError;
 /// `report.iterations` counts the Uzawa steps, `report.operator_applications`
 /// every product with W (power iteration included), `report.residual_history`
 /// the natural residual ([`crate::lcp_residual`]) after each step.
-pub fn uzawa(w: &Mat<f64>, q: &[f64], opts: &LcpOptions) -> Result<LcpSolution, ContactError> {
+pub fn uzawa(w: &Mat<f64>, q: &[f64], opts: &LcpOptions) -> Result<ContactSolution, ContactError> {
     let m = q.len();
     let (mut report, r0) = match dual_start(w, q, opts, "uzawa")? {
         DualStart::Done(solution) => return Ok(solution),
@@ -53,7 +54,7 @@ pub fn uzawa(w: &Mat<f64>, q: &[f64], opts: &LcpOptions) -> Result<LcpSolution, 
     let mut g = q.to_vec();
     let d = mean_diag(w);
     let (mut rho, rho_origin) = match opts.stiffness {
-        Some(s) if s.is_finite() && s > 0.0 && d > 0.0 => (s / d, format!("{s} / mean diag W")),
+        Some(s) if s.is_finite() && s > 0.0 && d > 0.0 => (s / d, UzawaStep::Given { factor: s }),
         Some(s) if !(s.is_finite() && s > 0.0) => {
             return Err(ContactError::Solve(format!(
                 "Uzawa: the step factor (stiffness option) must be finite and positive, got {s}"
@@ -63,12 +64,9 @@ pub fn uzawa(w: &Mat<f64>, q: &[f64], opts: &LcpOptions) -> Result<LcpSolution, 
             let (lmax, products) = power_iteration(w, 200, 1e-8);
             report.operator_applications += products;
             if lmax > 0.0 {
-                (
-                    1.9 / lmax,
-                    format!("1.9 / ‖W‖₂ (power iteration: ‖W‖₂ ≈ {lmax:.6e})"),
-                )
+                (1.9 / lmax, UzawaStep::PowerIteration { norm: lmax })
             } else {
-                (1.0, "1 (W = 0)".to_string())
+                (1.0, UzawaStep::ZeroOperator)
             }
         }
     };
@@ -105,34 +103,22 @@ pub fn uzawa(w: &Mat<f64>, q: &[f64], opts: &LcpOptions) -> Result<LcpSolution, 
         report.residual_history.push(r);
         if r <= opts.tolerance {
             report.converged = true;
-            report.stopping_reason = dual_converged_reason(
-                r,
-                opts,
-                &report,
-                "iterations",
-                &format!("ρ = {rho_origin}{}", halved(halvings)),
-            );
+            let detail = DualDetail::Uzawa {
+                step: rho_origin,
+                halvings,
+            };
+            report.stop = dual_converged(r, opts, &report, detail);
             break;
         }
     }
     if !report.converged {
-        report.stopping_reason = dual_limit_reason(
-            opts,
-            &report,
-            r0,
-            &format!("ρ = {rho_origin}{}", halved(halvings)),
-            "Uzawa converges slowly when W is ill-conditioned",
-        );
+        let detail = DualDetail::Uzawa {
+            step: rho_origin,
+            halvings,
+        };
+        report.stop = dual_limit(opts, &report, r0, detail);
     }
-    Ok(LcpSolution { lambda, report })
-}
-
-fn halved(n: usize) -> String {
-    if n == 0 {
-        String::new()
-    } else {
-        format!(", halved {n} times because the dual energy increased")
-    }
+    Ok(ContactSolution::from_forces(w, q, lambda, report))
 }
 
 #[cfg(test)]
@@ -195,9 +181,9 @@ mod tests {
         };
         let sol = uzawa(&c.w, &c.q, &o).unwrap();
         assert!(!sol.report.converged);
-        assert!(sol.report.stopping_reason.contains("iteration limit 5"));
+        assert!(sol.report.stop.to_string().contains("iteration limit 5"));
         assert_eq!(sol.report.iterations, 5);
-        assert!(sol.lambda.iter().all(|v| v.is_finite() && *v >= 0.0));
+        assert!(sol.forces.iter().all(|v| v.is_finite() && *v >= 0.0));
         let mut q = c.q.clone();
         q[3] = f64::NAN;
         assert!(matches!(uzawa(&c.w, &q, &o), Err(ContactError::Solve(_))));
@@ -205,7 +191,7 @@ mod tests {
         w[(1, 2)] = f64::INFINITY;
         assert!(matches!(uzawa(&w, &c.q, &o), Err(ContactError::Solve(_))));
         let e = uzawa(&Mat::zeros(0, 0), &[], &o).unwrap();
-        assert!(e.report.converged && e.lambda.is_empty());
+        assert!(e.report.converged && e.forces.is_empty());
     }
 
     #[test]
@@ -216,9 +202,9 @@ mod tests {
             ..opts()
         };
         let sol = uzawa(&c.w, &c.q, &o).unwrap();
-        assert!(sol.report.converged, "{}", sol.report.stopping_reason);
-        assert!(sol.report.stopping_reason.contains("halved"));
-        assert!(rel_err(&sol.lambda, &c.exact) <= 1e-8);
+        assert!(sol.report.converged, "{}", sol.report.stop);
+        assert!(sol.report.stop.to_string().contains("halved"));
+        assert!(rel_err(&sol.forces, &c.exact) <= 1e-8);
     }
 
     #[test]

@@ -103,10 +103,10 @@ pub(crate) fn conclude_step(
     partial: &mut Partial,
     messages: &mut Vec<String>,
 ) {
-    let lambda = &sol.outcome.lambda;
+    let lambda = &sol.outcome.forces;
     let cert = certificate_of(res, gaps, lambda, sol, umax, sc.solver.tolerance);
     record_convergence(partial, si, sol, &cert);
-    if let Some(c) = sol.outcome.cycle_detected_at {
+    if let Some(c) = sol.outcome.statuses.cycle_detected_at {
         messages.push(format!(
             "step {}: the status method cycled (flip-flop) at iteration {c}; it fell back to one status change per iteration (seed §3.3)",
             si + 1
@@ -117,7 +117,7 @@ pub(crate) fn conclude_step(
     if let Some(w) = sol.regularisation.as_ref().and_then(|r| r.warning.clone()) {
         messages.push(format!("step {}: {w}", si + 1));
     }
-    partial.solver = serde_json::to_value(&sol.solver).unwrap_or_default();
+    partial.solver = serde_json::to_value(&sol.outcome.report).unwrap_or_default();
     partial.certificate = cert;
     partial.lambda = lambda.clone();
     partial.friction = sol.friction.clone();
@@ -126,14 +126,14 @@ pub(crate) fn conclude_step(
 /// Marks the run as not converged, with the first failure, when the step's
 /// solver did not converge or its certificate exceeds the tolerance.
 fn record_convergence(partial: &mut Partial, si: usize, sol: &StepSolution, cert: &Certificate) {
-    let outcome = &sol.outcome;
-    if !outcome.converged {
+    let report = &sol.outcome.report;
+    if !report.converged {
         partial.converged = false;
         partial.failure.get_or_insert(format!(
             "step {}: {}: {}",
             si + 1,
-            sol.solver.method,
-            outcome.stopping_reason
+            report.method,
+            report.stop
         ));
     } else if cert.max() > cert.tolerance {
         partial.converged = false;
@@ -157,7 +157,7 @@ fn push_contact_rows(
     gaps: &[f64],
     partial: &mut Partial,
 ) {
-    let lambda = &sol.outcome.lambda;
+    let lambda = &sol.outcome.forces;
     let pressure = nodal_pressures(points, lambda);
     for (pi, p) in points.iter().enumerate() {
         partial.contact_rows.push(ContactRow {
@@ -197,7 +197,7 @@ fn step_report(
     sol: &StepSolution,
     cert: &Certificate,
 ) -> StepReport {
-    let (outcome, lambda) = (&sol.outcome, &sol.outcome.lambda);
+    let (outcome, lambda) = (&sol.outcome, &sol.outcome.forces);
     let friction_points = |keep: &dyn Fn(PointStatus) -> bool| match &sol.friction {
         Some(f) => (0..points.len())
             .filter(|&p| points[p].trow.is_some() && keep(f.statuses[p]))
@@ -233,15 +233,15 @@ fn step_report(
         } else {
             0.0
         },
-        iterations: outcome.iterations,
+        iterations: outcome.report.iterations,
         active: outcome.active.len(),
         sticking,
         slipping,
-        converged: outcome.converged && cert.max() <= cert.tolerance,
-        stopping_reason: outcome.stopping_reason.clone(),
-        active_history: outcome.active_history.clone(),
-        cycle_detected_at: outcome.cycle_detected_at,
-        solver: serde_json::to_value(&sol.solver).unwrap_or_default(),
+        converged: outcome.report.converged && cert.max() <= cert.tolerance,
+        stopping_reason: outcome.report.stop.to_string(),
+        active_history: outcome.statuses.active_history.clone(),
+        cycle_detected_at: outcome.statuses.cycle_detected_at,
+        solver: serde_json::to_value(&outcome.report).unwrap_or_default(),
         regularisation: sol.regularisation.clone(),
         solve_s: sol.solve_s,
     }
@@ -300,7 +300,7 @@ pub(crate) fn finish_condensed(
         .last()
         .map_or(0.0, |u| u.iter().fold(0.0f64, |a, ub| a.max(inf_norm(ub))));
     for (si, sol) in steps.iter().enumerate() {
-        let lambda = &sol.outcome.lambda;
+        let lambda = &sol.outcome.forces;
         // Γ residual: Σ_i (K_i u_i − f_i)_Γ − Bᵀλ; interior residuals as sent.
         let mut r_gamma = vec![0.0; n_gamma];
         let mut interior = 0.0f64;

@@ -131,28 +131,27 @@ fn direct_step(
     let gap0 = step_gaps(sc, bodies, points, fixed, &loads.u_p, length_scale, si)?;
     check_floating(bodies, points, system, &loads, si)?;
     let mut problem = DirectProblem::new(&system.k_global, &loads.f, rows, &gap0);
-    let outcome = status_method(
+    let mut outcome = status_method(
         &mut problem,
         &status_options(sc, f_scale, length_scale, &gap0),
     )
     .map_err(contact_error)?;
     // `problem.u` is the displacement of the last solve, the one that
-    // gave `outcome.lambda` (as the condensed path recovers it).
+    // gave `outcome.forces` (as the condensed path recovers it).
     let u_full = full_displacements(bodies, system, &loads.u_p, &problem.u);
-    let solver = status_report("status", &outcome, problem.factorisations);
+    status_report(&mut outcome, "status", problem.factorisations);
     let sol = StepSolution {
         outcome,
         gap0,
         f_scale,
         length_scale,
-        solver,
         regularisation: None,
         law_k: vec![0.0; points.len()],
         friction: None,
         solve_s: t_step.elapsed().as_secs_f64(),
         operator_s: 0.0,
     };
-    let lambda = &sol.outcome.lambda;
+    let lambda = &sol.outcome.forces;
     let res = direct_residuals(
         bodies,
         &system.k_full,

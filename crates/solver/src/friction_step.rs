@@ -155,27 +155,25 @@ pub(crate) fn friction_step(
     let (out, name) = solve_friction(input, fr, history, &mut problem, &load, &fopts);
     let out = out.map_err(contact_error)?;
     let friction = friction_state(interface, fr, history, &out, m);
-    let outcome = StatusOutcome {
-        converged: out.converged,
-        iterations: out.iterations,
-        solves: problem.solves,
+    let outcome = ContactSolution {
+        forces: out.forces[..m].to_vec(),
+        gaps: out.gaps[..m].to_vec(),
+        alpha: vec![],
         active: (0..m)
             .filter(|&p| out.statuses[p] != PointStatus::Open)
             .collect(),
-        lambda: out.forces[..m].to_vec(),
-        gap: out.gaps[..m].to_vec(),
-        stopping_reason: out.stopping_reason.clone(),
-        active_history: vec![],
-        cycle_detected_at: out.cycle_detected.then_some(out.iterations),
-        variant_used: StatusVariant::All,
-    };
-    let solver = SolverReport {
-        method: name.into(),
-        converged: out.converged,
-        iterations: out.iterations,
-        operator_applications: problem.solves,
-        residual_history: out.fixed_point_residuals.clone(),
-        stopping_reason: out.stopping_reason.clone(),
+        report: SolverReport {
+            method: name.into(),
+            converged: out.converged,
+            iterations: out.iterations,
+            operator_applications: problem.solves,
+            residual_history: out.fixed_point_residuals.clone(),
+            stop: StopReason::Friction(out.stopping_reason.clone()),
+        },
+        statuses: StatusTrace {
+            cycle_detected_at: out.cycle_detected.then_some(out.iterations),
+            ..Default::default()
+        },
     };
     let u = problem.displacement(&out.forces);
     history.previous = Some((out.statuses, out.forces));
@@ -185,7 +183,6 @@ pub(crate) fn friction_step(
             gap0: load.gap0,
             f_scale: load.f_scale,
             length_scale: load.length_scale,
-            solver,
             regularisation: None,
             law_k: vec![0.0; m],
             friction: Some(friction),
@@ -236,7 +233,7 @@ fn solve_friction(
         if fr.norton_hoff {
             let out = signorini_contact::friction::norton_hoff(problem, layout, initial, fopts);
             (out, "norton_hoff")
-        } else if all_tresca && input.algorithm == Algorithm::Mprgp {
+        } else if all_tresca && input.algorithm.friction() == FrictionSupport::TrescaBox {
             (
                 tresca_projection(problem, layout, fopts),
                 "tresca_mprgp_box",

@@ -48,10 +48,11 @@ use signorini_contact::friction::{
     FrictionLayout, FrictionOptions, PointStatus,
 };
 use signorini_contact::friction3d::friction_3d;
-use signorini_contact::methods::{solve_lcp, solve_lcp_constrained, Algorithm};
+use signorini_contact::registry::{Algorithm, Constraints, FrictionSupport};
 use signorini_contact::{
-    status_method, ActiveSetSolve, ContactError, DelassusOperator, DelassusProblem, LcpOptions,
-    LcpSolution, SolverReport, StatusOptions, StatusOutcome, StatusVariant,
+    status_method, ActiveSetSolve, ContactError, ContactSolution, DelassusOperator,
+    DelassusProblem, LcpOptions, SolverReport, StatusOptions, StatusTrace, StatusVariant,
+    StopReason,
 };
 pub use signorini_report::output::{BodyResult, RunOutput, StepFields};
 use signorini_report::{
@@ -116,11 +117,11 @@ struct RootAnswer {
 
 /// One step solved on the root.
 struct StepSolution {
-    outcome: StatusOutcome,
+    /// The contact problem's answer, with the report of the method that ran.
+    outcome: ContactSolution,
     gap0: Vec<f64>,
     f_scale: f64,
     length_scale: f64,
-    solver: SolverReport,
     regularisation: Option<Regularisation>,
     /// Penalty stiffness of each point whose contact has a regularised law (0: unilateral).
     law_k: Vec<f64>,

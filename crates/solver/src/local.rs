@@ -15,7 +15,7 @@ use std::time::Instant;
 use faer::Mat;
 use serde::{Deserialize, Serialize};
 use signorini_contact::lcp::{lcp_residual, LcpOptions};
-use signorini_contact::methods::{solve_lcp, Algorithm};
+use signorini_contact::registry::Algorithm;
 
 /// A stand-alone problem LCP(W, q), or with `mu` a frictional one: then W
 /// and q have 2m rows, the m normal rows first and the m tangential rows
@@ -271,7 +271,9 @@ pub fn solve(
         stiffness: None,
     };
     let t = Instant::now();
-    let sol = solve_lcp(algorithm, &p.w, &p.q, None, &opts).map_err(|e| e.to_string())?;
+    let sol = algorithm
+        .solve(&p.w, &p.q, None, &opts)
+        .map_err(|e| e.to_string())?;
     let time_s = t.elapsed().as_secs_f64();
     Ok(LocalResult {
         problem: name.to_string(),
@@ -281,10 +283,10 @@ pub fn solve(
         iterations: sol.report.iterations,
         operator_applications: sol.report.operator_applications,
         time_s,
-        residual: lcp_residual(&p.w, &p.q, &sol.lambda, &opts),
-        active: sol.lambda.iter().filter(|&&l| l > 0.0).count(),
-        stopping_reason: sol.report.stopping_reason,
-        lambda: with_lambda.then_some(sol.lambda),
+        residual: lcp_residual(&p.w, &p.q, &sol.forces, &opts),
+        active: sol.forces.iter().filter(|&&l| l > 0.0).count(),
+        stopping_reason: sol.report.stop.to_string(),
+        lambda: with_lambda.then_some(sol.forces),
     })
 }
 
@@ -300,11 +302,7 @@ mod tests {
         // W = [[2, 1], [1, 2]], q = [-1, 1]: λ = (0.5, 0), w = (0, 1.5).
         std::fs::write(&path, r#"{"W": [[2, 1], [1, 2]], "q": [-1, 1]}"#).unwrap();
         let p = load(&path).unwrap();
-        for a in [
-            Algorithm::Status(signorini_contact::StatusVariant::All),
-            Algorithm::Lemke,
-            Algorithm::Mprgp,
-        ] {
+        for a in ["status", "lemke", "mprgp"].map(|name| Algorithm::by_name(name).unwrap()) {
             let r = solve("p", &p, a, 1e-12, 1000, true).unwrap();
             assert!(r.converged);
             let l = r.lambda.unwrap();
@@ -394,7 +392,7 @@ mod tests {
             let r = solve(
                 "p",
                 &p,
-                Algorithm::Status(signorini_contact::StatusVariant::All),
+                Algorithm::status(signorini_contact::StatusVariant::All),
                 1e-12,
                 100,
                 true,

@@ -18,16 +18,13 @@ pub(crate) fn plan(sc: &scene::Scene, opts: &RunOptions) -> Result<Plan, SolveEr
     let method = opts.method.unwrap_or(sc.solver.method);
     let path = opts.path.unwrap_or(sc.solver.path);
     let algorithm = algorithm_of(&sc.solver, method);
-    if path == scene::SolvePath::Direct
-        && algorithm != Algorithm::Status(StatusVariant::All)
-        && algorithm != Algorithm::Status(StatusVariant::Single)
-    {
+    if path == scene::SolvePath::Direct && !algorithm.on_active_set() {
         return Err(SolveError::Input(format!(
             "solver.method: the direct path runs the status method with multipliers; \"{}\" runs on path = \"condensed\"",
             algorithm.name()
         )));
     }
-    let tresca_by_mprgp = algorithm == Algorithm::Mprgp
+    let tresca_by_box = algorithm.friction() == FrictionSupport::TrescaBox
         && sc
             .contact
             .iter()
@@ -35,7 +32,7 @@ pub(crate) fn plan(sc: &scene::Scene, opts: &RunOptions) -> Result<Plan, SolveEr
     for c in &sc.contact {
         if c.friction != scene::Friction::None
             && (path == scene::SolvePath::Direct
-                || !(matches!(algorithm, Algorithm::Status(_)) || tresca_by_mprgp))
+                || !(algorithm.friction() == FrictionSupport::StatusMethods || tresca_by_box))
         {
             return Err(SolveError::Input(format!(
                 "contact \"{}\".friction: friction is solved on path = \"condensed\" by method = \"status\" (with solver.friction = \"fixed_point\" or \"status\"), not by \"{}\" on the {} path",
@@ -61,23 +58,44 @@ pub(crate) fn plan(sc: &scene::Scene, opts: &RunOptions) -> Result<Plan, SolveEr
     })
 }
 
-/// The contact algorithm of a scene's `[solver]` with the method `method`.
+/// The contact algorithm of a scene's `[solver]` with the method `method`:
+/// the registry's method of that name (contact::registry), with the
+/// scene's constraints and status variant.
 pub fn algorithm_of(solver: &scene::Solver, method: scene::Method) -> Algorithm {
     let variant = match solver.status_changes {
         scene::StatusChanges::All => StatusVariant::All,
         scene::StatusChanges::Single => StatusVariant::Single,
     };
-    match method {
-        scene::Method::Status => match solver.constraints {
-            scene::Constraints::Multipliers => Algorithm::Status(variant),
-            scene::Constraints::Penalty => Algorithm::StatusPenalty(variant),
-        },
-        scene::Method::Lemke => Algorithm::Lemke,
-        scene::Method::ProjectedGradient => Algorithm::ProjectedGradient,
-        scene::Method::ProjectedConjugateGradient => Algorithm::ProjectedConjugateGradient,
-        scene::Method::Mprgp => Algorithm::Mprgp,
-        scene::Method::Uzawa => Algorithm::Uzawa,
-        scene::Method::AugmentedLagrangian => Algorithm::AugmentedLagrangian,
-        scene::Method::Penalty => Algorithm::Penalty,
+    let constraints = match solver.constraints {
+        scene::Constraints::Multipliers => Constraints::Multipliers,
+        scene::Constraints::Penalty => Constraints::Penalty,
+    };
+    Algorithm::named(method.as_str(), constraints, variant)
+        .expect("every scene method is in the registry (tested)")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_scene_method_is_the_registry_method_of_its_name() {
+        for method in scene::Method::ALL {
+            let solver = scene::Solver::default();
+            assert_eq!(algorithm_of(&solver, method).name(), method.as_str());
+        }
+        let penalised = scene::Solver {
+            constraints: scene::Constraints::Penalty,
+            status_changes: scene::StatusChanges::Single,
+            ..Default::default()
+        };
+        let a = algorithm_of(&penalised, scene::Method::Status);
+        assert_eq!(a.name(), "status_penalty");
+        assert_eq!(a.variant(), StatusVariant::Single);
+        assert!(!a.is_exact() && !a.on_active_set());
+        assert_eq!(
+            algorithm_of(&penalised, scene::Method::Lemke).name(),
+            "lemke"
+        );
     }
 }

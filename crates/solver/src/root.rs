@@ -30,7 +30,8 @@ pub(crate) fn net_force(model: scene::Model, mut force: Vec<f64>) -> Vec<f64> {
 
 /// Solves one step's condensed problem with a method other than the status
 /// method with multipliers; for the penalty methods, also the exact solution,
-/// to report their deviation.
+/// to report their deviation. The floating bodies' amplitudes α go into
+/// `problem`.
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn solve_with_algorithm(
     sc: &scene::Scene,
@@ -40,7 +41,7 @@ pub(crate) fn solve_with_algorithm(
     law_k: &[f64],
     f_scale: f64,
     length_scale: f64,
-) -> Result<(StatusOutcome, SolverReport, Option<Regularisation>), SolveError> {
+) -> Result<(ContactSolution, Option<Regularisation>), SolveError> {
     let opts = LcpOptions {
         tolerance: sc.solver.tolerance,
         max_iterations: sc.solver.max_iterations,
@@ -54,76 +55,27 @@ pub(crate) fn solve_with_algorithm(
         .zip(&uniform)
         .map(|(&kl, &ku)| if kl > 0.0 { kl } else { ku })
         .collect();
-    let (sol, gap, alpha) = solve_condensed_lcp(algorithm, problem, Some(&k), &opts)?;
+    let sol = algorithm
+        .solve_delassus(problem, Some(&k), &opts)
+        .map_err(contact_error)?;
     let regularisation = if algorithm.is_exact() {
         None
     } else {
-        let exact = Algorithm::Status(StatusVariant::All);
-        let (exact, _, _) = solve_condensed_lcp(exact, problem, None, &opts)?;
+        let exact = Algorithm::status(StatusVariant::All)
+            .solve_delassus(problem, None, &opts)
+            .map_err(contact_error)?;
         Some(regularisation_of(
             sc,
             points,
-            &sol.lambda,
-            &exact.lambda,
-            &gap,
+            &sol.forces,
+            &exact.forces,
+            &sol.gaps,
         ))
     };
-    let active: Vec<usize> = (0..sol.lambda.len())
-        .filter(|&p| sol.lambda[p] > 0.0)
-        .collect();
-    let outcome = StatusOutcome {
-        converged: sol.report.converged,
-        iterations: sol.report.iterations,
-        solves: sol.report.operator_applications,
-        active,
-        lambda: sol.lambda,
-        gap,
-        stopping_reason: sol.report.stopping_reason.clone(),
-        active_history: vec![],
-        cycle_detected_at: None,
-        variant_used: StatusVariant::All,
-    };
     if problem.n_kernel() > 0 {
-        problem.set_alpha(&alpha);
+        problem.set_alpha(&sol.alpha);
     }
-    Ok((outcome, sol.report, regularisation))
-}
-
-/// One solve of the condensed contact problem by `algorithm` (penalty
-/// stiffness `k` per point where it takes one): the forces, the gaps and,
-/// for floating bodies, the amplitudes of their rigid modes — SMALBE with
-/// the method as inner solver, the equilibrium of their rigid modes as the
-/// equality (contact::smalbe).
-fn solve_condensed_lcp(
-    algorithm: Algorithm,
-    problem: &DelassusProblem,
-    k: Option<&[f64]>,
-    opts: &LcpOptions,
-) -> Result<(LcpSolution, Vec<f64>, Vec<f64>), SolveError> {
-    if problem.n_kernel() > 0 {
-        let c = solve_lcp_constrained(
-            algorithm,
-            &problem.w,
-            &problem.q,
-            &problem.g_mat,
-            &problem.e,
-            k,
-            opts,
-        )
-        .map_err(contact_error)?;
-        Ok((
-            LcpSolution {
-                lambda: c.lambda,
-                report: c.report,
-            },
-            c.gap,
-            c.alpha,
-        ))
-    } else {
-        let sol = solve_lcp(algorithm, &problem.w, &problem.q, k, opts).map_err(contact_error)?;
-        let gap = signorini_contact::lcp::gaps(&problem.w, &problem.q, &sol.lambda);
-        Ok((sol, gap, vec![]))
-    }
+    Ok((sol, regularisation))
 }
 
 /// What a penalty method gave up against the exact solution: the largest
@@ -250,20 +202,12 @@ pub(crate) fn length_scale(
     u_p_scale.max(g0_scale).max(f_scale / e_max)
 }
 
-/// The solver report of a status-method solve.
-pub(crate) fn status_report(
-    method: &str,
-    outcome: &StatusOutcome,
-    linear_solves: usize,
-) -> SolverReport {
-    SolverReport {
-        method: method.into(),
-        converged: outcome.converged,
-        iterations: outcome.iterations,
-        operator_applications: linear_solves,
-        residual_history: vec![],
-        stopping_reason: outcome.stopping_reason.clone(),
-    }
+/// The report of a status-method solve: the method's name as the run
+/// calls it, and the linear solves its active-set problem counted.
+pub(crate) fn status_report(outcome: &mut ContactSolution, method: &str, linear_solves: usize) {
+    outcome.report.method = method.into();
+    outcome.report.operator_applications = linear_solves;
+    outcome.report.residual_history.clear();
 }
 
 /// What the root's solve reads: the scene, the chosen algorithm, the model
@@ -500,10 +444,9 @@ fn frictionless_step(
         })
         .collect();
     let (f_scale, length_scale) = (load.f_scale, load.length_scale);
-    let mut solver_report = None;
     let mut regularisation = None;
-    let outcome = if !points.is_empty() && !matches!(algorithm, Algorithm::Status(_)) {
-        let (o, r, reg) = solve_with_algorithm(
+    let outcome = if !points.is_empty() && !algorithm.on_active_set() {
+        let (o, reg) = solve_with_algorithm(
             sc,
             algorithm,
             &mut problem,
@@ -512,47 +455,37 @@ fn frictionless_step(
             f_scale,
             length_scale,
         )?;
-        solver_report = Some(r);
         regularisation = reg;
         o
     } else if points.is_empty() {
         let (lambda, gap) = problem.solve_active(&[]).map_err(contact_error)?;
-        StatusOutcome {
+        let report = SolverReport {
             converged: true,
-            iterations: 0,
-            solves: 1,
-            active: vec![],
-            lambda,
-            gap,
-            stopping_reason: "no contact point".into(),
-            active_history: vec![],
-            cycle_detected_at: None,
-            variant_used: StatusVariant::All,
-        }
-    } else {
-        let variant = match algorithm {
-            Algorithm::Status(v) => v,
-            _ => StatusVariant::All,
+            stop: StopReason::NoContactPoint,
+            ..Default::default()
         };
-        status_method(
+        let mut outcome = ContactSolution::with_gaps(lambda, gap, vec![], report);
+        status_report(&mut outcome, algorithm.name(), problem.solves);
+        outcome
+    } else {
+        let mut outcome = status_method(
             &mut problem,
             &StatusOptions {
-                variant,
+                variant: algorithm.variant(),
                 ..status_options(sc, f_scale, length_scale, &load.gap0)
             },
         )
-        .map_err(contact_error)?
+        .map_err(contact_error)?;
+        status_report(&mut outcome, algorithm.name(), problem.solves);
+        outcome
     };
-    let solver =
-        solver_report.unwrap_or_else(|| status_report(algorithm.name(), &outcome, problem.solves));
-    let u = problem.displacement(&outcome.lambda);
+    let u = problem.displacement(&outcome.forces);
     Ok((
         StepSolution {
             outcome,
             gap0: load.gap0,
             f_scale,
             length_scale,
-            solver,
             regularisation,
             law_k,
             friction: None,

@@ -55,14 +55,14 @@ proptest! {
         let b = mprgp(&w, &q, &opts).unwrap();
         let c = lemke(&w, &q, &opts).unwrap();
         for s in [&a, &b, &c] {
-            prop_assert!(s.report.converged, "{}: {}", s.report.method, s.report.stopping_reason);
-            prop_assert!(s.lambda.iter().all(|v| v.is_finite() && *v >= 0.0));
-            let r = lcp_residual(&w, &q, &s.lambda, &opts);
+            prop_assert!(s.report.converged, "{}: {}", s.report.method, s.report.stop);
+            prop_assert!(s.forces.iter().all(|v| v.is_finite() && *v >= 0.0));
+            let r = lcp_residual(&w, &q, &s.forces, &opts);
             prop_assert!(r <= 1e-8, "{}: residual {r:e}", s.report.method);
         }
-        let scale = inf_norm(&c.lambda).max(1.0);
+        let scale = inf_norm(&c.forces).max(1.0);
         for s in [&a, &b] {
-            let d = s.lambda.iter().zip(&c.lambda).map(|(x, y)| (x - y).abs()).fold(0.0, f64::max);
+            let d = s.forces.iter().zip(&c.forces).map(|(x, y)| (x - y).abs()).fold(0.0, f64::max);
             prop_assert!(d <= 1e-7 * scale, "{} vs lemke: {d:e}", s.report.method);
         }
     }
@@ -71,7 +71,7 @@ proptest! {
 const INF: f64 = f64::INFINITY;
 
 /// mprgp_box with l = 0, u = +∞: an LCP method.
-fn as_lcp(w: &Mat<f64>, q: &[f64], opts: &LcpOptions) -> Result<LcpSolution, ContactError> {
+fn as_lcp(w: &Mat<f64>, q: &[f64], opts: &LcpOptions) -> Result<ContactSolution, ContactError> {
     let m = q.len();
     mprgp_box(w, q, &vec![0.0; m], &vec![INF; m], opts)
 }
@@ -165,25 +165,25 @@ fn mprgp_box_equals_mprgp_on_the_lcp() {
         let q = random_vec(m, &mut rng);
         let reference = mprgp(&w, &q, &opts).unwrap();
         let sol = as_lcp(&w, &q, &opts).unwrap();
-        assert!(sol.report.converged, "{}", sol.report.stopping_reason);
-        assert!(sol.lambda.iter().all(|v| v.is_finite() && *v >= 0.0));
-        let r = lcp_residual(&w, &q, &sol.lambda, &opts);
+        assert!(sol.report.converged, "{}", sol.report.stop);
+        assert!(sol.forces.iter().all(|v| v.is_finite() && *v >= 0.0));
+        let r = lcp_residual(&w, &q, &sol.forces, &opts);
         assert_eq!(sol.report.residual_history.last(), Some(&r));
         assert!(r <= 1e-12, "m = {m}: residual {r:.3e}");
-        let d = max_diff(&sol.lambda, &reference.lambda);
+        let d = max_diff(&sol.forces, &reference.forces);
         eprintln!(
             "m = {m}: mprgp_box {} iterations / {} products, mprgp {} / {}; ‖Δλ‖∞ = {d:.2e}, residual {r:.2e}; {}",
             sol.report.iterations,
             sol.report.operator_applications,
             reference.report.iterations,
             reference.report.operator_applications,
-            sol.report.stopping_reason
+            sol.report.stop
         );
         assert!(
-            d <= 1e-8 * inf_norm(&reference.lambda).max(1.0),
+            d <= 1e-8 * inf_norm(&reference.forces).max(1.0),
             "m = {m}: {d:.3e}"
         );
-        assert!(sol.lambda.contains(&0.0) && sol.lambda.iter().any(|v| *v > 0.0));
+        assert!(sol.forces.contains(&0.0) && sol.forces.iter().any(|v| *v > 0.0));
     }
 }
 
@@ -217,12 +217,8 @@ fn mprgp_box_tresca_matches_brute_force() {
         assert!(kkt.len() + others.len() <= 729 && kkt.len() + others.len() == 216);
         let exact = &kkt[0];
         let sol = mprgp_box(&a, &b, &l, &u, &opts).unwrap();
-        assert!(
-            sol.report.converged,
-            "seed {seed}: {}",
-            sol.report.stopping_reason
-        );
-        let x = &sol.lambda;
+        assert!(sol.report.converged, "seed {seed}: {}", sol.report.stop);
+        let x = &sol.forces;
         assert!((0..2 * m).all(|i| x[i] >= l[i] && x[i] <= u[i]));
         let d = max_diff(x, exact);
         assert!(d <= 1e-10, "seed {seed}: ‖x − x_bf‖∞ = {d:.3e}");
@@ -255,9 +251,9 @@ fn mprgp_box_with_fixed_and_two_sided_bounds_matches_brute_force() {
     u[5] = INF;
     let (kkt, _) = brute_force(&a, &b, &l, &u);
     let sol = mprgp_box(&a, &b, &l, &u, &opts).unwrap();
-    assert!(sol.report.converged, "{}", sol.report.stopping_reason);
-    assert_eq!(sol.lambda[4], 0.1);
-    let d = max_diff(&sol.lambda, &kkt[0]);
+    assert!(sol.report.converged, "{}", sol.report.stop);
+    assert_eq!(sol.forces[4], 0.1);
+    let d = max_diff(&sol.forces, &kkt[0]);
     assert!(d <= 1e-10, "‖x − x_bf‖∞ = {d:.3e}");
 }
 
@@ -268,8 +264,8 @@ fn mprgp_box_all_fixed_returns_the_bounds() {
     let b = random_vec(7, &mut rng);
     let l = random_vec(7, &mut rng);
     let sol = mprgp_box(&a, &b, &l, &l, &tight()).unwrap();
-    assert!(sol.report.converged, "{}", sol.report.stopping_reason);
-    assert_eq!(sol.lambda, l);
+    assert!(sol.report.converged, "{}", sol.report.stop);
+    assert_eq!(sol.forces, l);
     assert_eq!(sol.report.iterations, 0);
     assert_eq!(sol.report.residual_history, vec![0.0]);
     assert_eq!(box_residual(&a, &b, &l, &l, &l, &tight()), 0.0);
@@ -307,11 +303,11 @@ fn mprgp_box_unbounded_semidefinite_is_singular() {
     )
     .unwrap();
     assert!(sol.report.converged);
-    assert_eq!(sol.lambda, vec![0.0, 3.0]);
+    assert_eq!(sol.forces, vec![0.0, 3.0]);
     // Semi-definite but bounded by u_1 = 5: x = (6, 5).
     let sol = mprgp_box(&a, &b, &[0.0, 0.0], &[INF, 5.0], &opts).unwrap();
-    assert!(sol.report.converged, "{}", sol.report.stopping_reason);
-    assert_close(&sol.lambda, &[6.0, 5.0], 1e-12, "bounded semi-definite");
+    assert!(sol.report.converged, "{}", sol.report.stop);
+    assert_close(&sol.forces, &[6.0, 5.0], 1e-12, "bounded semi-definite");
     assert_eq!(
         box_residual(&a, &b, &[6.0, 5.0], &[0.0, 0.0], &[INF, 5.0], &opts),
         0.0
@@ -332,7 +328,7 @@ fn box_residual_is_zero_exactly_at_the_solution() {
     assert_eq!(box_residual(&a, &b, &xs, &l, &u, &opts), 0.0);
     let sol = mprgp_box(&a, &b, &l, &u, &opts).unwrap();
     assert!(sol.report.converged);
-    assert_close(&sol.lambda, &xs, 1e-14, "exact case");
+    assert_close(&sol.forces, &xs, 1e-14, "exact case");
     // Perturbations: free variable moved, bound variable moved inward,
     // a point outside the box.
     for (i, dx, expected) in [(0, 1e-3, 4e-3), (1, -1e-3, 1e-3), (2, -1.0, 1.8)] {
@@ -369,13 +365,9 @@ fn mprgp_box_converges_on_many_tresca_and_semidefinite_problems() {
         let m = 1 + (seed as usize) % 15;
         let (a, b, l, u) = tresca(m, 1000 + seed);
         let sol = mprgp_box(&a, &b, &l, &u, &opts).unwrap();
-        assert!(
-            sol.report.converged,
-            "seed {seed}: {}",
-            sol.report.stopping_reason
-        );
-        assert!((0..2 * m).all(|i| sol.lambda[i] >= l[i] && sol.lambda[i] <= u[i]));
-        let r = box_residual(&a, &b, &sol.lambda, &l, &u, &opts);
+        assert!(sol.report.converged, "seed {seed}: {}", sol.report.stop);
+        assert!((0..2 * m).all(|i| sol.forces[i] >= l[i] && sol.forces[i] <= u[i]));
+        let r = box_residual(&a, &b, &sol.forces, &l, &u, &opts);
         assert!(r <= 1e-12, "seed {seed}: residual {r:e}");
         assert_eq!(sol.report.residual_history.last(), Some(&r));
         worst_iterations = worst_iterations.max(sol.report.iterations);
@@ -390,9 +382,9 @@ fn mprgp_box_converges_on_many_tresca_and_semidefinite_problems() {
         assert!(
             sol.report.converged,
             "semi-definite seed {seed}: {}",
-            sol.report.stopping_reason
+            sol.report.stop
         );
-        let r = box_residual(&s, &b, &sol.lambda, &lo, &hi, &opts);
+        let r = box_residual(&s, &b, &sol.forces, &lo, &hi, &opts);
         assert!(r <= 1e-12, "semi-definite seed {seed}: residual {r:e}");
     }
     eprintln!("Tresca m ≤ 15, 200 seeds: at most {worst_iterations} iterations");
@@ -433,14 +425,14 @@ fn mprgp_box_rejects_bad_input_and_reports_the_limit() {
     )
     .unwrap();
     assert!(!sol.report.converged);
-    assert!(sol.report.stopping_reason.contains("not converged"));
+    assert!(sol.report.stop.to_string().contains("not converged"));
     assert_eq!(sol.report.iterations, 2);
-    assert!((0..40).all(|i| sol.lambda[i] >= l[i] && sol.lambda[i] <= u[i]));
+    assert!((0..40).all(|i| sol.forces[i] >= l[i] && sol.forces[i] <= u[i]));
     // Larger Tresca problem: converges to the tolerance.
     let sol = mprgp_box(&a, &b, &l, &u, &tight()).unwrap();
-    assert!(sol.report.converged, "{}", sol.report.stopping_reason);
-    assert!(box_residual(&a, &b, &sol.lambda, &l, &u, &tight()) <= 1e-12);
-    eprintln!("Tresca m = 20: {}", sol.report.stopping_reason);
+    assert!(sol.report.converged, "{}", sol.report.stop);
+    assert!(box_residual(&a, &b, &sol.forces, &l, &u, &tight()) <= 1e-12);
+    eprintln!("Tresca m = 20: {}", sol.report.stop);
 }
 
 /// The warm start: from the solution no iteration is made; from a start
@@ -451,27 +443,27 @@ fn mprgp_warm_start_is_projected_and_reused() {
     let opts = tight();
     let (a, b, l, u) = tresca(8, 21);
     let cold = mprgp_box(&a, &b, &l, &u, &opts).unwrap();
-    assert!(cold.report.converged, "{}", cold.report.stopping_reason);
-    let again = mprgp_box_from(&a, &b, &l, &u, &cold.lambda, &opts).unwrap();
-    assert!(again.report.converged, "{}", again.report.stopping_reason);
+    assert!(cold.report.converged, "{}", cold.report.stop);
+    let again = mprgp_box_from(&a, &b, &l, &u, &cold.forces, &opts).unwrap();
+    assert!(again.report.converged, "{}", again.report.stop);
     assert_eq!(again.report.iterations, 0);
-    assert_eq!(again.lambda, cold.lambda);
+    assert_eq!(again.forces, cold.forces);
     let outside: Vec<f64> = (0..16)
         .map(|i| if i % 2 == 0 { -5.0 } else { 5.0 })
         .collect();
     let warm = mprgp_box_from(&a, &b, &l, &u, &outside, &opts).unwrap();
-    assert!(warm.report.converged, "{}", warm.report.stopping_reason);
-    let scale = inf_norm(&cold.lambda).max(1.0);
-    assert!(max_diff(&warm.lambda, &cold.lambda) <= 1e-10 * scale);
+    assert!(warm.report.converged, "{}", warm.report.stop);
+    let scale = inf_norm(&cold.forces).max(1.0);
+    assert!(max_diff(&warm.forces, &cold.forces) <= 1e-10 * scale);
     // The LCP entry point: λ0 < 0 is set to zero.
     let mut rng = Rng::new(4);
     let w = random_spd(20, &mut rng);
     let q = random_vec(20, &mut rng);
     let reference = mprgp(&w, &q, &opts).unwrap();
     let warm = mprgp_from(&w, &q, &[-1.0; 20], &opts).unwrap();
-    assert_eq!(warm.lambda, reference.lambda);
+    assert_eq!(warm.forces, reference.forces);
     assert_eq!(warm.report.iterations, reference.report.iterations);
-    let from_solution = mprgp_from(&w, &q, &reference.lambda, &opts).unwrap();
+    let from_solution = mprgp_from(&w, &q, &reference.forces, &opts).unwrap();
     assert!(from_solution.report.converged && from_solution.report.iterations == 0);
     for bad in [vec![0.0; 19], vec![f64::NAN; 20]] {
         assert!(matches!(

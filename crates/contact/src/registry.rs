@@ -1,0 +1,402 @@
+//! The contact solvers on the condensed problem LCP(W, q) (DESIGN.md §4),
+//! chosen by name: one table ([`METHODS`]) that the scene's plan, the
+//! pipeline's root solve, `signorini local` and the benchmarks read, so that
+//! no other place branches on a method's name.
+//!
+//! Each algorithm lives in its own file: [`crate::status`],
+//! [`crate::lemke`], [`crate::projected_gradient`], [`crate::mprgp`],
+//! [`crate::uzawa`], [`crate::augmented_lagrangian`], [`crate::penalty`];
+//! bodies held by contact alone go through [`crate::smalbe`] with the method
+//! as its inner solver.
+
+use std::fmt;
+
+use faer::Mat;
+
+use crate::lcp::{constrained_gaps, gaps, lcp_residual, LcpOptions};
+use crate::solution::{ContactSolution, PolishSolve};
+use crate::status::{status_method, ActiveSetSolve, StatusOptions, StatusVariant};
+use crate::{ContactError, DelassusProblem};
+
+/// Which friction a method solves, and so which friction algorithms the
+/// pipeline pairs it with.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum FrictionSupport {
+    /// Frictionless contact only.
+    None,
+    /// Tresca and Coulomb friction by the status methods of seed §4 (the
+    /// Coulomb fixed point, the friction status method).
+    StatusMethods,
+    /// Tresca friction only, as a box-constrained QP (MPRGP for simple bounds).
+    TrescaBox,
+}
+
+/// How the status method imposes the constraints of its active set (seed §3.3).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Constraints {
+    Multipliers,
+    Penalty,
+}
+
+/// One LCP(W, q) to solve, with what some methods read besides W and q.
+pub struct Lcp<'a> {
+    pub w: &'a Mat<f64>,
+    pub q: &'a [f64],
+    pub opts: &'a LcpOptions,
+    /// Status methods: how many statuses change per iteration.
+    pub variant: StatusVariant,
+    /// Penalty methods: the stiffness of each point (force per unit gap);
+    /// `None` takes `opts.stiffness` (default 1e8) / mean diag W.
+    pub stiffness: Option<&'a [f64]>,
+}
+
+type Solve = fn(&Lcp) -> Result<ContactSolution, ContactError>;
+type WarmSolve =
+    fn(&Mat<f64>, &[f64], &[f64], &LcpOptions) -> Result<ContactSolution, ContactError>;
+
+/// A contact solver as the registry knows it.
+pub struct Method {
+    /// The name in scenes, on the command line and in `report.json`.
+    pub name: &'static str,
+    /// The answer is the solution of the LCP, not of a regularised law.
+    pub exact: bool,
+    /// The status method with multipliers: the pipeline runs it on its own
+    /// active-set problem (the Delassus problem, or the whole stiffness on
+    /// the direct path, the only method that path runs).
+    pub active_set: bool,
+    pub friction: FrictionSupport,
+    solve: Solve,
+    /// The warm-started solver SMALBE calls for its inner problems, when the
+    /// method has one (else its `solve`).
+    warm_start: Option<WarmSolve>,
+    /// The same method with the constraints imposed by penalty.
+    by_penalty: Option<&'static Method>,
+}
+
+impl Method {
+    /// An exact iterative method is polished on its active set once it
+    /// converged ([`polish`]); the status method is exact on its own.
+    fn polished(&self) -> bool {
+        self.exact && !self.active_set
+    }
+}
+
+const fn method(name: &'static str, solve: Solve) -> Method {
+    Method {
+        name,
+        exact: true,
+        active_set: false,
+        friction: FrictionSupport::None,
+        solve,
+        warm_start: None,
+        by_penalty: None,
+    }
+}
+
+static STATUS: Method = Method {
+    active_set: true,
+    friction: FrictionSupport::StatusMethods,
+    by_penalty: Some(&STATUS_PENALTY),
+    ..method("status", status)
+};
+static STATUS_PENALTY: Method = Method {
+    exact: false,
+    ..method("status_penalty", status_penalty)
+};
+static LEMKE: Method = method("lemke", |p| crate::lemke::lemke(p.w, p.q, p.opts));
+static PROJECTED_GRADIENT: Method = method("projected_gradient", |p| {
+    crate::projected_gradient::projected_gradient(p.w, p.q, p.opts)
+});
+static PROJECTED_CONJUGATE_GRADIENT: Method = method("projected_conjugate_gradient", |p| {
+    crate::projected_gradient::projected_conjugate_gradient(p.w, p.q, p.opts)
+});
+static MPRGP: Method = Method {
+    friction: FrictionSupport::TrescaBox,
+    warm_start: Some(crate::mprgp::mprgp_from),
+    ..method("mprgp", |p| crate::mprgp::mprgp(p.w, p.q, p.opts))
+};
+static UZAWA: Method = method("uzawa", |p| crate::uzawa::uzawa(p.w, p.q, p.opts));
+static AUGMENTED_LAGRANGIAN: Method = method("augmented_lagrangian", |p| {
+    crate::augmented_lagrangian::augmented_lagrangian(p.w, p.q, p.opts)
+});
+static PENALTY: Method = Method {
+    exact: false,
+    ..method("penalty", |p| {
+        crate::penalty::penalty(p.w, p.q, &penalty_stiffness(p), p.opts)
+    })
+};
+
+/// Every contact solver on LCP(W, q).
+pub static METHODS: [&Method; 9] = [
+    &STATUS,
+    &STATUS_PENALTY,
+    &LEMKE,
+    &PROJECTED_GRADIENT,
+    &PROJECTED_CONJUGATE_GRADIENT,
+    &MPRGP,
+    &UZAWA,
+    &AUGMENTED_LAGRANGIAN,
+    &PENALTY,
+];
+
+/// The method called `name`.
+pub fn find(name: &str) -> Option<&'static Method> {
+    METHODS.iter().copied().find(|m| m.name == name)
+}
+
+/// The status method on LCP(W, q): W_AA λ_A = −q_A on the active set, from
+/// the points whose gap is closed (q_p ≤ tolerance × gap scale).
+fn status(p: &Lcp) -> Result<ContactSolution, ContactError> {
+    let (w, q, opts) = (p.w, p.q, p.opts);
+    let mut dense = DenseLcp { w, q, solves: 0 };
+    let closed = opts.tolerance * opts.gap_scale;
+    let initial = (0..q.len()).filter(|&i| q[i] <= closed).collect();
+    let mut out = status_method(
+        &mut dense,
+        &StatusOptions::from_lcp(p.variant, opts, Some(initial)),
+    )?;
+    out.report.operator_applications = dense.solves;
+    Ok(out)
+}
+
+fn status_penalty(p: &Lcp) -> Result<ContactSolution, ContactError> {
+    crate::penalty::status_with_penalty(p.w, p.q, &penalty_stiffness(p), p.variant, p.opts)
+}
+
+/// The penalty stiffness of each point: the given one, or `opts.stiffness`
+/// (default 1e8) / mean diag W.
+fn penalty_stiffness(p: &Lcp) -> Vec<f64> {
+    p.stiffness
+        .map(|k| k.to_vec())
+        .unwrap_or_else(|| crate::penalty::uniform_stiffness(p.w, p.opts.stiffness.unwrap_or(1e8)))
+}
+
+/// A method of the registry with its status variant: what a run solves its
+/// contact problems with.
+#[derive(Clone, Copy)]
+pub struct Algorithm {
+    method: &'static Method,
+    variant: StatusVariant,
+}
+
+impl PartialEq for Algorithm {
+    fn eq(&self, other: &Self) -> bool {
+        std::ptr::eq(self.method, other.method) && self.variant == other.variant
+    }
+}
+
+impl fmt::Debug for Algorithm {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "Algorithm({}, {:?})", self.method.name, self.variant)
+    }
+}
+
+impl Algorithm {
+    /// The method called `name`, its constraints imposed as `constraints`
+    /// where it has the choice (the status method), with `variant`.
+    pub fn named(name: &str, constraints: Constraints, variant: StatusVariant) -> Option<Self> {
+        let method = find(name)?;
+        let method = match (constraints, method.by_penalty) {
+            (Constraints::Penalty, Some(penalised)) => penalised,
+            _ => method,
+        };
+        Some(Self { method, variant })
+    }
+
+    /// The method called `name` with multipliers, every status changing at once.
+    pub fn by_name(name: &str) -> Option<Self> {
+        Self::named(name, Constraints::Multipliers, StatusVariant::All)
+    }
+
+    /// The status method with multipliers (the exact reference).
+    pub fn status(variant: StatusVariant) -> Self {
+        Self {
+            method: &STATUS,
+            variant,
+        }
+    }
+
+    pub fn name(self) -> &'static str {
+        self.method.name
+    }
+
+    /// Whether the answer is the exact solution of the LCP (not a regularised one).
+    pub fn is_exact(self) -> bool {
+        self.method.exact
+    }
+
+    /// Whether the pipeline runs it on its own active-set problem (see
+    /// [`Method::active_set`]).
+    pub fn on_active_set(self) -> bool {
+        self.method.active_set
+    }
+
+    pub fn variant(self) -> StatusVariant {
+        self.variant
+    }
+
+    pub fn friction(self) -> FrictionSupport {
+        self.method.friction
+    }
+
+    /// Solves LCP(W, q). `stiffness` gives the penalty stiffness per point
+    /// for the penalty methods (force per unit gap); `None` uses
+    /// `opts.stiffness` (default 1e8) / mean diag W. An exact iterative
+    /// method that converged is polished on its active set.
+    pub fn solve(
+        self,
+        w: &Mat<f64>,
+        q: &[f64],
+        stiffness: Option<&[f64]>,
+        opts: &LcpOptions,
+    ) -> Result<ContactSolution, ContactError> {
+        let problem = Lcp {
+            w,
+            q,
+            opts,
+            variant: self.variant,
+            stiffness,
+        };
+        let mut sol = (self.method.solve)(&problem)?;
+        if self.method.polished() && sol.report.converged {
+            polish(w, q, &mut sol, opts);
+        }
+        sol.report.method = self.name().into();
+        if sol.report.residual_history.is_empty() {
+            sol.report
+                .residual_history
+                .push(lcp_residual(w, q, &sol.forces, opts));
+        }
+        Ok(sol)
+    }
+
+    /// Solves LCP(W, q) with the equilibrium of floating bodies Gᵀλ = e (see
+    /// [`crate::smalbe`]) by SMALBE with this method as the bound-constrained
+    /// inner solver (warm-started where it can be, as MPRGP in Dostál's
+    /// SMALBE-M). The penalty methods solve their regularised law,
+    /// LCP(W + K⁻¹, q) with K the penalty stiffness per point (seed §3.6),
+    /// exactly inside SMALBE (the status method); their gaps are those of W.
+    pub fn solve_constrained(
+        self,
+        w: &Mat<f64>,
+        q: &[f64],
+        (g, e): (&Mat<f64>, &[f64]),
+        stiffness: Option<&[f64]>,
+        opts: &LcpOptions,
+    ) -> Result<ContactSolution, ContactError> {
+        let regularised;
+        let (w_eff, inner) = if self.is_exact() {
+            (w, self)
+        } else {
+            let p = Lcp {
+                w,
+                q,
+                opts,
+                variant: self.variant,
+                stiffness,
+            };
+            let mut wk = w.clone();
+            for (i, ki) in penalty_stiffness(&p).into_iter().enumerate() {
+                wk[(i, i)] += 1.0 / ki;
+            }
+            regularised = wk;
+            (&regularised, Algorithm::status(StatusVariant::All))
+        };
+        let mut sol = crate::smalbe::smalbe(w_eff, q, g, e, opts, |wi, qi, l0, o| {
+            match inner.method.warm_start {
+                Some(warm) => warm(wi, qi, l0, o),
+                None => inner.solve(wi, qi, None, o),
+            }
+        })?;
+        sol.report.method = self.name().into();
+        if !self.is_exact() {
+            sol.gaps = constrained_gaps(w, q, g, &sol.forces, &sol.alpha);
+        }
+        Ok(sol)
+    }
+
+    /// Solves a step's Delassus problem: SMALBE with the equilibrium of the
+    /// floating bodies when there are any ([`Self::solve_constrained`]),
+    /// else LCP(W, q) ([`Self::solve`]).
+    pub fn solve_delassus(
+        self,
+        problem: &DelassusProblem,
+        stiffness: Option<&[f64]>,
+        opts: &LcpOptions,
+    ) -> Result<ContactSolution, ContactError> {
+        let (w, q) = (&problem.w, problem.q.as_slice());
+        if problem.n_kernel() > 0 {
+            let equality = (&problem.g_mat, problem.e.as_slice());
+            self.solve_constrained(w, q, equality, stiffness, opts)
+        } else {
+            self.solve(w, q, stiffness, opts)
+        }
+    }
+}
+
+/// LCP(W, q) as an [`ActiveSetSolve`]: W_AA λ_A = −q_A.
+pub struct DenseLcp<'a> {
+    pub w: &'a Mat<f64>,
+    pub q: &'a [f64],
+    pub solves: usize,
+}
+
+impl ActiveSetSolve for DenseLcp<'_> {
+    fn n_points(&self) -> usize {
+        self.q.len()
+    }
+    fn solve_active(&mut self, active: &[usize]) -> Result<(Vec<f64>, Vec<f64>), ContactError> {
+        use faer::prelude::Solve;
+        self.solves += 1;
+        let m = self.q.len();
+        let na = active.len();
+        let mut lambda = vec![0.0; m];
+        if na > 0 {
+            let a = Mat::<f64>::from_fn(na, na, |i, j| self.w[(active[i], active[j])]);
+            let rhs = Mat::<f64>::from_fn(na, 1, |i, _| -self.q[active[i]]);
+            let x = match a.llt(faer::Side::Lower) {
+                Ok(l) => l.solve(&rhs),
+                Err(_) => crate::delassus::solve_checked(
+                    &a,
+                    &rhs,
+                    "W_AA is singular: redundant contact constraints",
+                )?,
+            };
+            for (i, &p) in active.iter().enumerate() {
+                lambda[p] = x[(i, 0)];
+            }
+        }
+        let g = gaps(self.w, self.q, &lambda);
+        Ok((lambda, g))
+    }
+}
+
+/// Active-set polishing: an iterative method that has converged to the
+/// tolerance has (in all but degenerate cases) found the active set A of the
+/// solution; solving W_AA λ_A = −q_A then gives the solution to round-off
+/// instead of to the tolerance times the condition number of W. The polished
+/// forces are kept only if they are a solution of the LCP at least as good as
+/// the iterate (λ ≥ 0 and g ≥ 0 to tolerance).
+fn polish(w: &Mat<f64>, q: &[f64], sol: &mut ContactSolution, opts: &LcpOptions) {
+    let lmax = sol.forces.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+    let active: Vec<usize> = (0..q.len())
+        .filter(|&p| sol.forces[p] > 1e-14 * lmax)
+        .collect();
+    let mut p = DenseLcp { w, q, solves: 0 };
+    let Ok((lambda, g)) = p.solve_active(&active) else {
+        return;
+    };
+    let f = opts.force_scale.max(lmax).max(f64::MIN_POSITIVE);
+    let feasible = lambda.iter().all(|&l| l >= -opts.tolerance * f)
+        && g.iter()
+            .enumerate()
+            .all(|(i, &gi)| active.contains(&i) || gi >= -opts.tolerance * opts.gap_scale);
+    let before = lcp_residual(w, q, &sol.forces, opts);
+    let clamped: Vec<f64> = lambda.iter().map(|l| l.max(0.0)).collect();
+    let g_clamped = gaps(w, q, &clamped);
+    let after = crate::lcp::residual_from_gaps(&clamped, &g_clamped, opts);
+    if feasible && after <= before.max(opts.tolerance) {
+        sol.set_forces(clamped, g_clamped);
+        sol.report.record_polish(after, PolishSolve::ActiveSet);
+    }
+}
