@@ -79,6 +79,9 @@ enum Command {
         /// Frictional problems (with mu): `fixed_point` (default) or `status`.
         #[arg(long, default_value = "fixed_point")]
         friction: String,
+        /// Solve N times and report the median time.
+        #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u64).range(1..=1000))]
+        repeat: u64,
     },
     /// Time scenes over refinement levels, subdomain counts and paths; writes
     /// DIR/bench.csv and prints a table. With `--suite stiff`: the stiff and
@@ -171,13 +174,17 @@ fn command(cli: Cli) -> ExitCode {
             max_iterations,
             lambda,
             friction,
+            repeat,
         } => local(
             &problem,
             method,
-            tolerance,
-            max_iterations,
-            lambda,
-            &friction,
+            LocalOptions {
+                tolerance,
+                max_iterations,
+                with_lambda: lambda,
+                friction,
+                repeat: repeat as usize,
+            },
         ),
         Command::Bench {
             suite: Some(_),
@@ -437,18 +444,20 @@ fn stiff_suite(quick: bool, out: &Path) -> ExitCode {
     }
 }
 
-fn local(
-    path: &Path,
-    method: Method,
+/// The options of `signorini local`.
+struct LocalOptions {
     tolerance: f64,
     max_iterations: usize,
     with_lambda: bool,
-    friction: &str,
-) -> ExitCode {
-    if !(tolerance > 0.0 && tolerance < 1.0) {
+    friction: String,
+    repeat: usize,
+}
+
+fn local(path: &Path, method: Method, o: LocalOptions) -> ExitCode {
+    if !(o.tolerance > 0.0 && o.tolerance < 1.0) {
         return fail(
             1,
-            &format!("--tolerance: must be in (0, 1), got {tolerance}"),
+            &format!("--tolerance: must be in (0, 1), got {}", o.tolerance),
         );
     }
     let problem = match signorini_solver::local::load(path) {
@@ -458,41 +467,48 @@ fn local(
     // The scene's defaults for the status variant and the constraints.
     let algorithm = signorini_solver::algorithm_of(&signorini_scene::Solver::default(), method);
     let name = path.display().to_string();
-    let result = if problem.mu.is_some() {
-        let status = match friction {
-            "fixed_point" => false,
-            "status" => true,
-            other => {
-                return fail(
-                    1,
-                    &format!("--friction: \"{other}\" is not one of fixed_point, status"),
-                )
-            }
-        };
+    let friction = if problem.mu.is_some() {
         if method != Method::Status {
             return fail(
                 1,
-                "--method: frictional local problems are solved by the status method (with --friction fixed_point or status)",
+                "--method: frictional local problems are solved by the friction solvers (--friction fixed_point or status)",
             );
         }
-        signorini_solver::local::solve_friction(
+        match signorini_solver::local::FrictionMethod::from_name(&o.friction) {
+            Ok(f) if problem.dim == 3 && !f.solves_3d() => {
+                return fail(
+                    1,
+                    &format!(
+                        "--friction {}: a 2D method; 3D problems are solved by fixed_point",
+                        f.name()
+                    ),
+                )
+            }
+            Ok(f) => Some(f),
+            Err(e) => return fail(1, &e),
+        }
+    } else {
+        None
+    };
+    let solve = || match friction {
+        Some(f) => signorini_solver::local::solve_friction(
             &name,
             &problem,
-            status,
-            tolerance,
-            max_iterations,
-            with_lambda,
-        )
-    } else {
-        signorini_solver::local::solve(
+            f,
+            o.tolerance,
+            o.max_iterations,
+            o.with_lambda,
+        ),
+        None => signorini_solver::local::solve(
             &name,
             &problem,
             algorithm,
-            tolerance,
-            max_iterations,
-            with_lambda,
-        )
+            o.tolerance,
+            o.max_iterations,
+            o.with_lambda,
+        ),
     };
+    let result = signorini_solver::local::repeated(o.repeat, solve);
     match result {
         Ok(r) => {
             println!("{}", serde_json::to_string(&r).unwrap_or_default());

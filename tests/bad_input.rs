@@ -1017,8 +1017,13 @@ fn local_problems_that_lie_about_their_shape_are_refused() {
         ),
         (
             "mu.json",
-            r#"{"W": [[1, 0], [0, 1]], "q": [-1, 1], "mu": [-0.3]}"#,
+            r#"{"W": [[1, 0], [0, 1]], "q": [-1, 1], "mu": [-0.3], "dim": 2}"#,
             "mu[0]",
+        ),
+        (
+            "ambiguous.json",
+            r#"{"W": [[1, 0], [0, 1]], "q": [-1, 1], "mu": [0.3]}"#,
+            "ambiguous",
         ),
         (
             "truncated.json",

@@ -278,15 +278,17 @@ pub fn load(path: &Path) -> Result<LocalProblem, String> {
     })
 }
 
-/// A .npy v1.0 file of little-endian float64, C order (the format NumPy writes).
-fn npy_bytes(shape: &[usize], data: &[f64]) -> Vec<u8> {
+/// A .npy v1.0 file of little-endian float64 in C or (`fortran`) column
+/// order (the format NumPy writes).
+pub(crate) fn npy_bytes(shape: &[usize], fortran: bool, data: &[f64]) -> Vec<u8> {
     let dims: Vec<String> = shape.iter().map(|d| d.to_string()).collect();
     let shape = match dims.len() {
         0 => "()".to_string(),
         1 => format!("({},)", dims[0]),
         _ => format!("({})", dims.join(", ")),
     };
-    let mut header = format!("{{'descr': '<f8', 'fortran_order': False, 'shape': {shape}, }}");
+    let order = if fortran { "True" } else { "False" };
+    let mut header = format!("{{'descr': '<f8', 'fortran_order': {order}, 'shape': {shape}, }}");
     while (10 + header.len() + 1) % 64 != 0 {
         header.push(' ');
     }
@@ -325,7 +327,7 @@ pub fn write_npz(
     for (name, shape, values) in arrays {
         z.start_file(format!("{name}.npy"), o)
             .map_err(|e| format!("cannot write {shown}: {e}"))?;
-        z.write_all(&npy_bytes(&shape, values)).map_err(io)?;
+        z.write_all(&npy_bytes(&shape, false, values)).map_err(io)?;
     }
     z.finish()
         .map_err(|e| format!("cannot write {shown}: {e}"))?;
