@@ -155,28 +155,30 @@ fn name_boundary(
     Ok(())
 }
 
+/// At each corner k of a Hex8 cell, the three corners joined to it by the edges
+/// along the reference axes xi, eta, zeta.
+pub const HEX_CORNER_AXES: [[usize; 3]; 8] = [
+    [1, 3, 4],
+    [0, 2, 5],
+    [3, 1, 6],
+    [2, 0, 7],
+    [5, 7, 0],
+    [4, 6, 1],
+    [7, 5, 2],
+    [6, 4, 3],
+];
+
 /// Determinants of the Jacobian of a Hex8 cell's trilinear map at its 8
 /// corners (positive for a valid, well-oriented cell).
 pub fn hex_corner_jacobians(mesh: &Mesh, cell: usize) -> [f64; 8] {
     let n = &mesh.cells[cell].nodes;
     let x = |k: usize| mesh.coords[n[k]];
-    // at corner k, the three edges along the reference axes xi, eta, zeta
-    const AXES: [[usize; 3]; 8] = [
-        [1, 3, 4],
-        [0, 2, 5],
-        [3, 1, 6],
-        [2, 0, 7],
-        [5, 7, 0],
-        [4, 6, 1],
-        [7, 5, 2],
-        [6, 4, 3],
-    ];
     // sign of the reference axes' directions at each corner (from the corner
     // to its neighbour along xi, eta, zeta)
     const SIGN: [f64; 8] = [1.0, -1.0, 1.0, -1.0, -1.0, 1.0, -1.0, 1.0];
     let mut det = [0.0; 8];
     for k in 0..8 {
-        let e = AXES[k].map(|m| {
+        let e = HEX_CORNER_AXES[k].map(|m| {
             let (a, b) = (x(k), x(m));
             [b[0] - a[0], b[1] - a[1], b[2] - a[2]]
         });

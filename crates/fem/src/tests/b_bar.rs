@@ -235,19 +235,9 @@ fn b_bar_is_selective_reduced_integration() {
     );
     // a parallelepiped: x = A ξ + c with a full A
     let a = [[0.6, 0.1, 0.05], [0.15, 0.5, -0.1], [0.05, 0.12, 0.7]];
-    let hex_corners = [
-        [-1.0, -1.0, -1.0],
-        [1.0, -1.0, -1.0],
-        [1.0, 1.0, -1.0],
-        [-1.0, 1.0, -1.0],
-        [-1.0, -1.0, 1.0],
-        [1.0, -1.0, 1.0],
-        [1.0, 1.0, 1.0],
-        [-1.0, 1.0, 1.0],
-    ];
     let pped = single(
         CellKind::Hex8,
-        hex_corners
+        crate::isoparametric::reference_corners(CellKind::Hex8)
             .iter()
             .map(|c| {
                 let mut x = [1.0, 2.0, 3.0];
