@@ -30,6 +30,14 @@ pub use rectangle::{rectangle, RectSide};
 
 use crate::{Facet, Mesh, MeshError, Surface};
 
+/// Panics unless the grading ratio is finite and positive.
+fn assert_ratio(ratio: f64) {
+    assert!(
+        ratio.is_finite() && ratio > 0.0,
+        "grading ratio must be finite and positive, got {ratio}"
+    );
+}
+
 /// `n + 1` increasing parameters `t_0 = 0 < t_1 < ... < t_n = 1` whose
 /// increments `h_i = t_{i+1} - t_i` are geometric, `h_i = h_0 q^i`, with
 /// `h_{n-1} / h_0 = ratio` (so `q = ratio^(1/(n-1))`): the smallest elements are
@@ -39,10 +47,7 @@ use crate::{Facet, Mesh, MeshError, Surface};
 /// # Panics
 /// If `ratio` is not finite and positive.
 pub fn graded_spacing(n: usize, ratio: f64) -> Vec<f64> {
-    assert!(
-        ratio.is_finite() && ratio > 0.0,
-        "grading ratio must be finite and positive, got {ratio}"
-    );
+    assert_ratio(ratio);
     if n == 0 {
         return vec![0.0];
     }
@@ -62,10 +67,7 @@ pub fn graded_spacing(n: usize, ratio: f64) -> Vec<f64> {
 /// # Panics
 /// If `ratio` is not finite and positive.
 pub fn symmetric_graded_spacing(n: usize, ratio: f64) -> Vec<f64> {
-    assert!(
-        ratio.is_finite() && ratio > 0.0,
-        "grading ratio must be finite and positive, got {ratio}"
-    );
+    assert_ratio(ratio);
     if n == 0 {
         return vec![0.0];
     }
@@ -131,6 +133,32 @@ fn check_ratio(what: &str, r: f64) -> Result<(), MeshError> {
             "{what}: grading ratio must be finite and positive, got {r}"
         )))
     }
+}
+
+/// The arguments shared by the round generators `what` (disks, hemisphere):
+/// a finite centre, a positive radius, `divisions.0` elements along
+/// `divisions.2`, at least `divisions.1`, and a valid grading ratio.
+fn check_round(
+    what: &str,
+    center: &[f64],
+    radius: f64,
+    (divisions, least, along): (usize, usize, &str),
+    grading: f64,
+) -> Result<(), MeshError> {
+    if !(radius.is_finite() && radius > 0.0) {
+        return Err(MeshError::Invalid(format!(
+            "{what}: radius must be positive, got {radius}"
+        )));
+    }
+    if !center.iter().all(|c| c.is_finite()) {
+        return Err(MeshError::Invalid(format!("{what}: center is not finite")));
+    }
+    if divisions < least {
+        return Err(MeshError::Invalid(format!(
+            "{what}: divisions (elements along {along}) must be at least {least}, got {divisions}"
+        )));
+    }
+    check_ratio(what, grading)
 }
 
 /// Names the boundary of a 3D mesh: every boundary facet

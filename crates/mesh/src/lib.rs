@@ -134,6 +134,21 @@ pub struct Cell {
     pub nodes: Vec<usize>,
 }
 
+impl Cell {
+    /// Checks that cell `c` has as many nodes as its kind: the message
+    /// naming it otherwise.
+    pub fn check_node_count(&self, c: usize) -> Result<(), String> {
+        if self.nodes.len() != self.kind.nodes() {
+            return Err(format!(
+                "cell {c} ({}) has {} nodes",
+                self.kind.name(),
+                self.nodes.len()
+            ));
+        }
+        Ok(())
+    }
+}
+
 /// A boundary facet with the cell it belongs to: a segment in 2D (2 nodes, or
 /// 3 for a second-order edge: `[corner, corner, mid-side]`), a triangle or a
 /// quadrilateral in 3D. Its node order follows [`CellKind::facets`].
@@ -322,13 +337,7 @@ impl Mesh {
     /// Checks that every cell has a positive area (counter-clockwise nodes).
     pub fn check(&self) -> Result<(), MeshError> {
         for (c, cell) in self.cells.iter().enumerate() {
-            if cell.nodes.len() != cell.kind.nodes() {
-                return Err(MeshError::Invalid(format!(
-                    "cell {c} ({}) has {} nodes",
-                    cell.kind.name(),
-                    cell.nodes.len()
-                )));
-            }
+            cell.check_node_count(c).map_err(MeshError::Invalid)?;
             if cell.kind.dim() != self.dim {
                 return Err(MeshError::Invalid(format!(
                     "cell {c} is a {} cell in a {}D mesh",

@@ -7,6 +7,25 @@
 use crate::{Cell, CellKind, Facet, Mesh, MeshError, Surface};
 use std::collections::HashMap;
 
+/// The node at the middle of the edge `a`-`b`, shared by the cells around the
+/// edge: found in `mids` (keyed by the sorted pair), or pushed onto `coords`.
+pub fn mid_node(
+    coords: &mut Vec<[f64; 3]>,
+    mids: &mut HashMap<(usize, usize), usize>,
+    a: usize,
+    b: usize,
+) -> usize {
+    *mids.entry((a.min(b), a.max(b))).or_insert_with(|| {
+        let (p, q) = (coords[a], coords[b]);
+        coords.push([
+            0.5 * (p[0] + q[0]),
+            0.5 * (p[1] + q[1]),
+            0.5 * (p[2] + q[2]),
+        ]);
+        coords.len() - 1
+    })
+}
+
 /// The second-order kind of a first-order 2D kind: Tri3 → Tri6, Quad4 → Quad8.
 fn second_order_kind(kind: CellKind) -> Option<CellKind> {
     match kind {
@@ -37,8 +56,8 @@ pub fn to_second_order(mesh: &Mesh) -> Result<Mesh, MeshError> {
             mesh.dim
         )));
     }
-    let key = |a: usize, b: usize| (a.min(b), a.max(b));
     let mut coords = mesh.coords.clone();
+    let key = |a: usize, b: usize| (a.min(b), a.max(b));
     let mut mid: HashMap<(usize, usize), usize> = HashMap::new();
     let mut cells = Vec::with_capacity(mesh.cells.len());
     for (c, cell) in mesh.cells.iter().enumerate() {
@@ -48,26 +67,12 @@ pub fn to_second_order(mesh: &Mesh) -> Result<Mesh, MeshError> {
                 cell.kind.name()
             ))
         })?;
-        if cell.nodes.len() != cell.kind.nodes() {
-            return Err(MeshError::Invalid(format!(
-                "to_second_order: cell {c} ({}) has {} nodes",
-                cell.kind.name(),
-                cell.nodes.len()
-            )));
-        }
+        cell.check_node_count(c)
+            .map_err(|m| MeshError::Invalid(format!("to_second_order: {m}")))?;
         let mut nodes = cell.nodes.clone();
         for local in cell.kind.facets() {
             let (a, b) = (cell.nodes[local[0]], cell.nodes[local[1]]);
-            let m = *mid.entry(key(a, b)).or_insert_with(|| {
-                let (p, q) = (coords[a], coords[b]);
-                coords.push([
-                    0.5 * (p[0] + q[0]),
-                    0.5 * (p[1] + q[1]),
-                    0.5 * (p[2] + q[2]),
-                ]);
-                coords.len() - 1
-            });
-            nodes.push(m);
+            nodes.push(mid_node(&mut coords, &mut mid, a, b));
         }
         cells.push(Cell { kind, nodes });
     }

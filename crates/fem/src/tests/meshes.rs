@@ -33,17 +33,7 @@ fn mid_nodes(
 ) -> Vec<usize> {
     edges
         .iter()
-        .map(|&(a, b)| {
-            *mids.entry((a.min(b), a.max(b))).or_insert_with(|| {
-                let (p, q) = (coords[a], coords[b]);
-                coords.push([
-                    0.5 * (p[0] + q[0]),
-                    0.5 * (p[1] + q[1]),
-                    0.5 * (p[2] + q[2]),
-                ]);
-                coords.len() - 1
-            })
-        })
+        .map(|&(a, b)| signorini_mesh::quadratic::mid_node(coords, mids, a, b))
         .collect()
 }
 
