@@ -78,15 +78,21 @@ pub fn submatrix(
 /// Sparse matrix times vector, y = K x.
 pub fn spmv(k: SparseColMatRef<'_, usize, f64>, x: &[f64]) -> Vec<f64> {
     let mut y = vec![0.0; k.nrows()];
+    for_each_term(k, x, |r, t| y[r] += t);
+    y
+}
+
+/// Calls `f(r, K[r][j] x[j])` for every stored entry of K whose `x[j]` is
+/// not zero, column by column.
+fn for_each_term(k: SparseColMatRef<'_, usize, f64>, x: &[f64], mut f: impl FnMut(usize, f64)) {
     for (j, &xj) in x.iter().enumerate().take(k.ncols()) {
         if xj == 0.0 {
             continue;
         }
         for (&r, &v) in k.row_idx_of_col_raw(j).iter().zip(k.val_of_col(j)) {
-            y[r] += v * xj;
+            f(r, v * xj);
         }
     }
-    y
 }
 
 /// (K x, |K| |x|) in one pass: the product and, entry by entry, the size
@@ -97,15 +103,10 @@ pub fn spmv(k: SparseColMatRef<'_, usize, f64>, x: &[f64]) -> Vec<f64> {
 pub fn spmv_with_magnitude(k: SparseColMatRef<'_, usize, f64>, x: &[f64]) -> (Vec<f64>, Vec<f64>) {
     let mut y = vec![0.0; k.nrows()];
     let mut size = vec![0.0; k.nrows()];
-    for (j, &xj) in x.iter().enumerate().take(k.ncols()) {
-        if xj == 0.0 {
-            continue;
-        }
-        for (&r, &v) in k.row_idx_of_col_raw(j).iter().zip(k.val_of_col(j)) {
-            y[r] += v * xj;
-            size[r] += (v * xj).abs();
-        }
-    }
+    for_each_term(k, x, |r, t| {
+        y[r] += t;
+        size[r] += t.abs();
+    });
     (y, size)
 }
 
