@@ -126,6 +126,33 @@ fn solve_patch(
     (u, err, umax)
 }
 
+/// The field `u = u0 + G x` at every node of a 3D mesh `m`, interleaved.
+fn linear_3d(m: &Mesh, u0: [f64; 3], g: [[f64; 3]; 3]) -> Vec<f64> {
+    m.coords
+        .iter()
+        .flat_map(|p| {
+            let mut u = u0;
+            for (i, ui) in u.iter_mut().enumerate() {
+                *ui += (0..3).map(|j| g[i][j] * p[j]).sum::<f64>();
+            }
+            u
+        })
+        .collect()
+}
+
+/// The engineering strain `[xx, yy, zz, γxy, γyz, γxz]` of the displacement
+/// gradient `g`.
+fn strain_3d(g: [[f64; 3]; 3]) -> nalgebra::DVector<f64> {
+    nalgebra::DVector::from_vec(vec![
+        g[0][0],
+        g[1][1],
+        g[2][2],
+        g[0][1] + g[1][0],
+        g[1][2] + g[2][1],
+        g[0][2] + g[2][0],
+    ])
+}
+
 /// The plane field `u = u0 + G x` at every node of `m`, interleaved.
 fn linear_2d(m: &Mesh, u0: [f64; 2], gr: [[f64; 2]; 2]) -> Vec<f64> {
     m.coords

@@ -2,12 +2,22 @@
 
 use super::meshes::{boxed, rect, single};
 use crate::*;
-use signorini_mesh::{CellKind, Facet, Surface};
+use signorini_mesh::{CellKind, Facet, Mesh, Surface};
 use std::f64::consts::PI;
 
 fn one_facet(nodes: Vec<usize>) -> Surface {
     Surface {
         facets: vec![Facet { nodes, cell: 0 }],
+    }
+}
+
+/// The consistent load of the traction `t` on `s` sums, component by
+/// component, to `t` times the surface's measure `area` (to 1e-13 `scale`).
+fn assert_resultant(m: &Mesh, s: &Surface, t: &[f64], model: Model, (area, scale): (f64, f64)) {
+    let f = traction_load(m, s, t, model);
+    for (k, tk) in t.iter().enumerate() {
+        let total: f64 = f.iter().skip(k).step_by(t.len()).sum();
+        assert!(close(total, tk * area, scale));
     }
 }
 
@@ -97,12 +107,7 @@ fn quadratic_edge_loads() {
     }
     let area = surface_measure(&m, &s, Model::Axisymmetric);
     assert!(close(area, PI * (rb * rb - ra * ra), 10.0));
-    let t = [1.0, 2.0];
-    let f = traction_load(&m, &s, &t, Model::Axisymmetric);
-    for (k, tk) in t.iter().enumerate() {
-        let total: f64 = f.iter().skip(k).step_by(2).sum();
-        assert!(close(total, tk * area, 10.0));
-    }
+    assert_resultant(&m, &s, &[1.0, 2.0], Model::Axisymmetric, (area, 10.0));
 }
 
 #[test]
@@ -148,12 +153,7 @@ fn face_loads_3d() {
     let my: f64 = trib.iter().map(|&(n, w)| w * h.coords[n][1]).sum();
     assert!(close(sum, area, 1.0) && close(mx, area * cx, 1.0) && close(my, area * cy, 1.0));
     assert!(close(surface_measure(&h, &bottom, Model::Solid), area, 1.0));
-    let t = [0.5, -1.0, 2.0];
-    let f = traction_load(&h, &bottom, &t, Model::Solid);
-    for (k, tk) in t.iter().enumerate() {
-        let total: f64 = f.iter().skip(k).step_by(3).sum();
-        assert!(close(total, tk * area, 3.0));
-    }
+    assert_resultant(&h, &bottom, &[0.5, -1.0, 2.0], Model::Solid, (area, 3.0));
 }
 
 /// Every surface of meshes of every kind and model: the consistent load of a
