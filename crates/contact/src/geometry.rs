@@ -106,6 +106,16 @@ pub struct ContactPoint {
     pub terms: Vec<Term>,
 }
 
+/// The planar trapezoid (0,0) (4,0) (3,2) (1,2) in z = 0 of the tests: its
+/// bilinear map x(ξ, η) is not affine.
+#[cfg(test)]
+const TRAPEZOID: [[f64; 3]; 4] = [
+    [0.0, 0.0, 0.0],
+    [4.0, 0.0, 0.0],
+    [3.0, 2.0, 0.0],
+    [1.0, 2.0, 0.0],
+];
+
 fn unit(a: [f64; 3]) -> Option<[f64; 3]> {
     let l = norm(a);
     (l > 0.0 && l.is_finite()).then(|| [a[0] / l, a[1] / l, a[2] / l])
