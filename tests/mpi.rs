@@ -64,12 +64,7 @@ fn local(args: &[&str]) -> Output {
 }
 
 fn dir(name: &str) -> PathBuf {
-    let d = Path::new(env!("CARGO_TARGET_TMPDIR"))
-        .join("mpi")
-        .join(name);
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
+    common::fresh_dir("mpi", name)
 }
 
 /// Numeric columns of a CSV file (header skipped, non-numbers dropped).
@@ -221,13 +216,7 @@ fn bad_input_under_mpirun_is_reported_once_with_exit_1() {
         ],
         &[],
     );
-    assert_eq!(
-        out.status.code(),
-        Some(1),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let err = String::from_utf8_lossy(&out.stderr);
+    let err = common::stderr_of_exit(&out, 1);
     assert_eq!(err.matches("materials[1].young").count(), 1, "{err}");
     assert!(!d.join("out").exists());
 }

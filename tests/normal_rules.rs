@@ -15,18 +15,6 @@ use signorini_solver::{RunOptions, RunOutput};
 
 const RULES: [&str; 4] = ["master", "slave", "average", "points"];
 
-/// A fresh scratch directory for one test.
-fn fresh_dir(test: &str) -> PathBuf {
-    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR"))
-        .join("normal_rules")
-        .join(test);
-    if dir.exists() {
-        std::fs::remove_dir_all(&dir).unwrap();
-    }
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
-
 /// A 2D mesh as a Gmsh 2.2 file: its cells (Quad4) and its surfaces as
 /// physical lines named like the mesh's surfaces.
 fn gmsh_2d(mesh: &Mesh) -> String {
@@ -169,7 +157,7 @@ fn hertz_load(e_star: f64, r: f64, approach: f64) -> f64 {
 /// contact zone.
 #[test]
 fn two_spheres_give_the_hertz_load_with_every_rule_and_either_slave() {
-    let dir = fresh_dir("two_spheres");
+    let dir = common::fresh_dir("normal_rules", "two_spheres");
     let approach = 0.01;
     let e_star = 1.0 / (2.0 * (1.0 - 0.3f64.powi(2)) / 1.0);
     let exact = hertz_load(e_star, 0.5, approach);
