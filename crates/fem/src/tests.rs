@@ -19,6 +19,24 @@ use signorini_mesh::{CellKind, Mesh};
 const E: f64 = 210e3;
 const NU: f64 = 0.3;
 
+/// The 2D cell kinds.
+const KINDS_2D: [CellKind; 4] = [
+    CellKind::Tri3,
+    CellKind::Quad4,
+    CellKind::Tri6,
+    CellKind::Quad8,
+];
+
+/// Every cell kind.
+const KINDS: [CellKind; 6] = [
+    CellKind::Tri3,
+    CellKind::Quad4,
+    CellKind::Tri6,
+    CellKind::Quad8,
+    CellKind::Tet4,
+    CellKind::Hex8,
+];
+
 fn mat(model: Model) -> Elasticity {
     Elasticity::new(E, NU, model)
 }

@@ -1,6 +1,6 @@
 //! Consistent surface loads and measures for every facet kind and model.
 
-use super::meshes::{boxed, rect, single};
+use super::meshes::{boxed, rect, single, single_2d};
 use crate::*;
 use signorini_mesh::{CellKind, Facet, Mesh, Surface};
 use std::f64::consts::PI;
@@ -30,14 +30,9 @@ fn segment_loads_plane_and_axisymmetric() {
     // one Q4 cell [ra, rb] × [0, 1]; its bottom edge nodes 0 (r = ra), 1 (r = rb)
     let (ra, rb) = (0.5, 2.0);
     let l = rb - ra;
-    let m = single(
+    let m = single_2d(
         CellKind::Quad4,
-        vec![
-            [ra, 0.0, 0.0],
-            [rb, 0.0, 0.0],
-            [rb, 1.0, 0.0],
-            [ra, 1.0, 0.0],
-        ],
+        &[[ra, 0.0], [rb, 0.0], [rb, 1.0], [ra, 1.0]],
     );
     let s = one_facet(vec![0, 1]);
     let t = [0.25, -3.0];
@@ -74,15 +69,15 @@ fn quadratic_edge_loads() {
     // a straight edge from (ra, 0) to (rb, 0) with its mid-side node at the middle
     let (ra, rb) = (0.5, 2.0);
     let (l, rm) = (rb - ra, 0.5 * (ra + rb));
-    let m = single(
+    let m = single_2d(
         CellKind::Tri6,
-        vec![
-            [ra, 0.0, 0.0],
-            [rb, 0.0, 0.0],
-            [ra, 1.0, 0.0],
-            [rm, 0.0, 0.0],
-            [rm, 0.5, 0.0],
-            [ra, 0.5, 0.0],
+        &[
+            [ra, 0.0],
+            [rb, 0.0],
+            [ra, 1.0],
+            [rm, 0.0],
+            [rm, 0.5],
+            [ra, 0.5],
         ],
     );
     let s = one_facet(vec![0, 1, 3]);
