@@ -559,6 +559,17 @@ pub fn schur_complement_reference(
 mod tests {
     use super::*;
 
+    /// [`grid`] with its interface: the top row of nodes and two more.
+    fn grid_with_top_interface(
+        nx: usize,
+        ny: usize,
+        shift: f64,
+        more: [usize; 2],
+    ) -> (SparseColMat<usize, f64>, Vec<usize>) {
+        let interface = (0..nx).map(|i| i + nx * (ny - 1)).chain(more).collect();
+        (grid(nx, ny, shift), interface)
+    }
+
     /// 2D grid Laplacian-like SPD matrix (5-point stencil) with an optional
     /// Dirichlet shift on the first row: floating when `shift` is 0.
     fn grid(nx: usize, ny: usize, shift: f64) -> SparseColMat<usize, f64> {
@@ -601,9 +612,8 @@ mod tests {
     #[test]
     fn partial_factorisation_equals_multi_rhs_schur_complement() {
         let (nx, ny) = (12, 9);
-        let k = grid(nx, ny, 3.0);
+        let (k, interface) = grid_with_top_interface(nx, ny, 3.0, [5, 40]);
         let n = nx * ny;
-        let interface: Vec<usize> = (0..nx).map(|i| i + nx * (ny - 1)).chain([5, 40]).collect();
         let f: Vec<f64> = (0..n).map(|i| ((i * 7) % 11) as f64 - 5.0).collect();
         let c = Condensed::new(k.as_ref(), &interface, Par::Seq).unwrap();
         let (s_ref, fp_ref) = schur_complement_reference(k.as_ref(), &interface, &f).unwrap();
@@ -644,9 +654,8 @@ mod tests {
     #[test]
     fn interior_condition_estimate_matches_the_dense_inverse() {
         let (nx, ny) = (11, 8);
-        let k = grid(nx, ny, 0.5);
+        let (k, interface) = grid_with_top_interface(nx, ny, 0.5, [3, 30]);
         let n = nx * ny;
-        let interface: Vec<usize> = (0..nx).map(|i| i + nx * (ny - 1)).chain([3, 30]).collect();
         let c = Condensed::new(k.as_ref(), &interface, Par::Seq).unwrap();
         let est = c.interior_condition_estimate().unwrap();
         let interior: Vec<usize> = (0..n).filter(|i| !interface.contains(i)).collect();

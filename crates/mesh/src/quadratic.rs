@@ -126,12 +126,19 @@ mod tests {
         uses
     }
 
+    /// A rectangle of `size` from the origin in `divisions` cells of `kind`,
+    /// and that mesh made second-order (checked).
+    fn grid_to_second_order(size: [f64; 2], divisions: [usize; 2], kind: CellKind) -> (Mesh, Mesh) {
+        let first = rectangle([0.0, 0.0], size, divisions, kind, None).unwrap();
+        let second = to_second_order(&first).unwrap();
+        second.check().unwrap();
+        (first, second)
+    }
+
     #[test]
     fn quad_grid_to_quad8() {
         let (nx, ny) = (5, 3);
-        let q4 = rectangle([0.0, 0.0], [2.0, 1.0], [nx, ny], CellKind::Quad4, None).unwrap();
-        let m = to_second_order(&q4).unwrap();
-        m.check().unwrap();
+        let (q4, m) = grid_to_second_order([2.0, 1.0], [nx, ny], CellKind::Quad4);
         assert_eq!(
             m.n_nodes(),
             (nx + 1) * (ny + 1) + nx * (ny + 1) + ny * (nx + 1)
@@ -188,9 +195,7 @@ mod tests {
     #[test]
     fn tri_grid_to_tri6() {
         let (nx, ny) = (4, 3);
-        let t3 = rectangle([0.0, 0.0], [1.0, 1.0], [nx, ny], CellKind::Tri3, None).unwrap();
-        let m = to_second_order(&t3).unwrap();
-        m.check().unwrap();
+        let (t3, m) = grid_to_second_order([1.0, 1.0], [nx, ny], CellKind::Tri3);
         // + one diagonal per quad
         let edges = nx * (ny + 1) + ny * (nx + 1) + nx * ny;
         assert_eq!(m.n_nodes(), (nx + 1) * (ny + 1) + edges);

@@ -693,14 +693,20 @@ fn quad8(c: [[f64; 2]; 4], m: [[f64; 2]; 4]) -> Mesh {
     one_cell(2, CellKind::Quad8, coords, [vec![0, 1, 4], vec![2, 3, 6]])
 }
 
+/// The unit square as one Quad8, the mid-side node 6 of its top edge at
+/// (0.5, `top_mid_y`).
+fn unit_square_quad8(top_mid_y: f64) -> Mesh {
+    quad8(
+        [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]],
+        [[0.5, 0.0], [1.0, 0.5], [0.5, top_mid_y], [0.0, 0.5]],
+    )
+}
+
 #[test]
 fn quadratic_edges_are_piecewise_linear_through_the_mid_side_node() {
     // Master: the unit square's top edge 2-3, its mid-side node 6 raised to
     // (0.5, 1.1): two straight halves (1,1)–(0.5,1.1) and (0.5,1.1)–(0,1).
-    let master = quad8(
-        [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]],
-        [[0.5, 0.0], [1.0, 0.5], [0.5, 1.1], [0.0, 0.5]],
-    );
+    let master = unit_square_quad8(1.1);
     // Slave: a Quad8 above, bottom edge nodes 0 (0.2, 1.5), 1 (0.9, 1.5) and
     // mid-side 4 (0.55, 1.5) (a straight edge).
     let slave = quad8(
@@ -755,10 +761,7 @@ fn quadratic_edges_are_piecewise_linear_through_the_mid_side_node() {
 
     // A straight quadratic edge: a node above x = 0.8 projects on the half
     // (1,1)–(0.5,1) at ξ = 0.4: weights 0.6 (corner 2) and 0.4 (mid 6).
-    let flat = quad8(
-        [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]],
-        [[0.5, 0.0], [1.0, 0.5], [0.5, 1.0], [0.0, 0.5]],
-    );
+    let flat = unit_square_quad8(1.0);
     let slave = quad8(
         [[0.8, 1.25], [1.6, 1.25], [1.6, 2.0], [0.8, 2.0]],
         [[1.2, 1.25], [1.6, 1.6], [1.2, 2.0], [0.8, 1.6]],
