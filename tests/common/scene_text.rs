@@ -18,9 +18,16 @@ pub fn block_body(
     divisions: [usize; 2],
     mesh_extra: &str,
 ) -> String {
-    format!(
-        "[[bodies]]\nname = \"block\"\nmaterial = \"m\"\nmesh = {{ generator = \"rectangle\", origin = {origin:?}, size = {size:?}, divisions = {divisions:?}{mesh_extra} }}\n"
+    elastic_body(
+        "block",
+        &format!("{{ generator = \"rectangle\", origin = {origin:?}, size = {size:?}, divisions = {divisions:?}{mesh_extra} }}"),
     )
+}
+
+/// The body `name` of material "m" with the mesh entry `mesh` (an inline
+/// table).
+pub fn elastic_body(name: &str, mesh: &str) -> String {
+    format!("[[bodies]]\nname = \"{name}\"\nmaterial = \"m\"\nmesh = {mesh}\n")
 }
 
 /// A rigid plane body `name` through `point` with the outward `normal`.
@@ -36,7 +43,12 @@ pub fn block_boundary(place: &str, condition: &str) -> String {
 
 /// The boundary condition `name` of "block" (see [`block_boundary`]).
 pub fn named_block_boundary(name: &str, place: &str, condition: &str) -> String {
-    format!("[[boundary]]\nname = \"{name}\"\nbody = \"block\"\n{place}\n{condition}\n")
+    boundary(name, "block", place, condition)
+}
+
+/// The boundary condition `name` of `body` (see [`block_boundary`]).
+pub fn boundary(name: &str, body: &str, place: &str, condition: &str) -> String {
+    format!("[[boundary]]\nname = \"{name}\"\nbody = \"{body}\"\n{place}\n{condition}\n")
 }
 
 /// The contact `name` of the surface `surface` of `slave` against `master`.
