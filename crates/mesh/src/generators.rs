@@ -135,30 +135,48 @@ fn check_ratio(what: &str, r: f64) -> Result<(), MeshError> {
     }
 }
 
-/// The arguments shared by the round generators `what` (disks, hemisphere):
-/// a finite centre, a positive radius, `divisions.0` elements along
-/// `divisions.2`, at least `divisions.1`, and a valid grading ratio.
-fn check_round(
-    what: &str,
-    center: &[f64],
-    radius: f64,
-    (divisions, least, along): (usize, usize, &str),
-    grading: f64,
-) -> Result<(), MeshError> {
-    if !(radius.is_finite() && radius > 0.0) {
-        return Err(MeshError::Invalid(format!(
-            "{what}: radius must be positive, got {radius}"
-        )));
+/// What the round generators (disks, hemisphere) check of their arguments:
+/// the generator's name, the least number of divisions and what they divide.
+pub(super) struct Round {
+    name: &'static str,
+    least: usize,
+    along: &'static str,
+}
+
+pub(super) const HALF_DISK: Round = Round::new("half_disk", 4, "the arc");
+pub(super) const QUARTER_DISK: Round = Round::new("quarter_disk", 2, "the arc");
+pub(super) const HEMISPHERE: Round = Round::new("hemisphere", 2, "a quarter meridian");
+
+impl Round {
+    const fn new(name: &'static str, least: usize, along: &'static str) -> Round {
+        Round { name, least, along }
     }
-    if !center.iter().all(|c| c.is_finite()) {
-        return Err(MeshError::Invalid(format!("{what}: center is not finite")));
+
+    /// A finite centre, a positive radius, at least `least` divisions and a
+    /// valid grading ratio.
+    pub(super) fn check(
+        &self,
+        center: &[f64],
+        radius: f64,
+        divisions: usize,
+        grading: f64,
+    ) -> Result<(), MeshError> {
+        let Round { name, least, along } = *self;
+        if !(radius.is_finite() && radius > 0.0) {
+            return Err(MeshError::Invalid(format!(
+                "{name}: radius must be positive, got {radius}"
+            )));
+        }
+        if !center.iter().all(|c| c.is_finite()) {
+            return Err(MeshError::Invalid(format!("{name}: center is not finite")));
+        }
+        if divisions < least {
+            return Err(MeshError::Invalid(format!(
+                "{name}: divisions (elements along {along}) must be at least {least}, got {divisions}"
+            )));
+        }
+        check_ratio(name, grading)
     }
-    if divisions < least {
-        return Err(MeshError::Invalid(format!(
-            "{what}: divisions (elements along {along}) must be at least {least}, got {divisions}"
-        )));
-    }
-    check_ratio(what, grading)
 }
 
 /// Names the boundary of a 3D mesh: every boundary facet

@@ -168,16 +168,13 @@ pub fn boxed(kind: CellKind, size: [f64; 3], div: [usize; 3], amp: f64) -> Mesh 
                             .collect::<Vec<_>>(),
                     ),
                     CellKind::Tet4 => {
-                        for perm in [
-                            [0, 1, 2],
-                            [0, 2, 1],
-                            [1, 0, 2],
-                            [1, 2, 0],
-                            [2, 0, 1],
-                            [2, 1, 0],
-                        ] {
-                            let b1 = 1 << perm[0];
-                            let b2 = b1 | (1 << perm[1]);
+                        // the paths along the three axes, first and second
+                        // steps in lexicographic order
+                        let paths = (0..3)
+                            .flat_map(|a| (0..3).filter(move |&b| b != a).map(move |b| (a, b)));
+                        for (first, second) in paths {
+                            let b1 = 1 << first;
+                            let b2 = b1 | (1 << second);
                             let mut t = vec![v(0), v(b1), v(b2), v(7)];
                             if tet_volume(&coords, &t) < 0.0 {
                                 t.swap(1, 2);

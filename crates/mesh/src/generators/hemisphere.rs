@@ -1,7 +1,7 @@
 //! The solid half ball of hexahedra ([`hemisphere`], a half cube-sphere O-grid).
 
 use super::{
-    check_round, graded_spacing, hex_corner_jacobians, name_boundary, symmetric_graded_spacing,
+    graded_spacing, hex_corner_jacobians, name_boundary, symmetric_graded_spacing, HEMISPHERE,
 };
 use crate::{Cell, CellKind, Mesh, MeshError};
 use std::collections::BTreeMap;
@@ -84,13 +84,7 @@ pub fn hemisphere(
     pole: [f64; 3],
     grading: f64,
 ) -> Result<Mesh, MeshError> {
-    check_round(
-        "hemisphere",
-        &center,
-        radius,
-        (divisions, 2, "a quarter meridian"),
-        grading,
-    )?;
+    HEMISPHERE.check(&center, radius, divisions, grading)?;
     let frame = pole_frame(pole)?;
     let lattice = Lattice::new(divisions, grading);
     let nodes = HemisphereNodes::new(&lattice, grading);
