@@ -146,12 +146,8 @@ fn hertz_split_in_two_under_mpirun_2_equals_the_in_process_run() {
         return;
     }
     let d = dir("hertz_scene");
-    let text = std::fs::read_to_string(example("hertz2d.toml"))
-        .unwrap()
-        .replace(
-            "material = \"steel\"\nmesh",
-            "material = \"steel\"\nsubdomains = 2\nmesh",
-        );
+    let text = std::fs::read_to_string(example("hertz2d.toml")).unwrap();
+    let text = common::with_subdomains(&text, "material = \"steel\"\n", 2);
     let scene = d.join("hertz_split.toml");
     std::fs::write(&scene, text).unwrap();
     compare(scene.to_str().unwrap(), 2, "hertz");
@@ -227,12 +223,8 @@ fn friction_with_a_split_block_under_mpirun_2_equals_the_in_process_run() {
         return;
     }
     let d = dir("cattaneo_scene");
-    let text = std::fs::read_to_string(example("cattaneo.toml"))
-        .unwrap()
-        .replace(
-            "name = \"block\"\nmaterial = \"steel\"\n",
-            "name = \"block\"\nmaterial = \"steel\"\nsubdomains = 2\n",
-        );
+    let text = std::fs::read_to_string(example("cattaneo.toml")).unwrap();
+    let text = common::with_subdomains(&text, "name = \"block\"\nmaterial = \"steel\"\n", 2);
     assert!(text.contains("subdomains = 2"));
     let scene = d.join("cattaneo_split.toml");
     std::fs::write(&scene, text).unwrap();
@@ -289,12 +281,8 @@ fn floating_bodies_under_mpirun_2_equal_the_in_process_run() {
         return;
     }
     let d = dir("floating_scene");
-    let text = std::fs::read_to_string(example("blocks.toml"))
-        .unwrap()
-        .replace(
-            "material = \"rubber\"\nmesh",
-            "material = \"rubber\"\nsubdomains = 2\nmesh",
-        );
+    let text = std::fs::read_to_string(example("blocks.toml")).unwrap();
+    let text = common::with_subdomains(&text, "material = \"rubber\"\n", 2);
     assert!(text.contains("subdomains = 2"));
     let text = if text.contains("[solver]") {
         text.replace("[solver]", "[solver]\nmethod = \"mprgp\"")
@@ -318,12 +306,7 @@ fn units_under_mpirun_2_equal_the_other_units_in_process_2d_and_3d() {
         return;
     }
     let d = dir("units");
-    let split = |t: String| {
-        t.replace(
-            "material = \"steel\"\nmesh",
-            "material = \"steel\"\nsubdomains = 2\nmesh",
-        )
-    };
+    let split = |t: String| common::with_subdomains(&t, "material = \"steel\"\n", 2);
     let si = split(hertz_in_units("210e9", 0.01));
     assert!(si.contains("subdomains = 2"));
     let (si_scene, mm_scene) = (d.join("si.toml"), d.join("mm.toml"));

@@ -7,7 +7,7 @@ mod common;
 
 use common::{
     block_body, block_boundary, block_contact, cli_run_ok, converged, example, material_2d,
-    max_rel, rigid_plane,
+    max_rel, rigid_plane, with_subdomains,
 };
 use signorini_scene::SolvePath;
 use signorini_solver::{RunOptions, RunOutput};
@@ -156,11 +156,7 @@ fn metis_parts_equal_one_subdomain_in_3d_and_axisymmetric() {
         example("hertz_axi.toml").replace("divisions = 80", "divisions = 24"),
     ];
     for text in scenes {
-        let split = text.replacen(
-            "material = \"steel\"\n",
-            "material = \"steel\"\nsubdomains = 3\n",
-            1,
-        );
+        let split = with_subdomains(&text, "material = \"steel\"\n", 3);
         assert!(split.contains("subdomains = 3"));
         let a = converged(&text, RunOptions::default());
         let b = converged(&split, RunOptions::default());

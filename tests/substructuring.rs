@@ -27,10 +27,7 @@ fn assert_same(a: &RunOutput, b: &RunOutput, tol: f64) {
 #[test]
 fn hertz_half_disk_split_in_two_equals_the_unsplit_body() {
     let one = example("hertz2d.toml").replace("divisions = 160", "divisions = 96");
-    let two = one.replace(
-        "material = \"steel\"\nmesh",
-        "material = \"steel\"\nsubdomains = 2\nmesh",
-    );
+    let two = common::with_subdomains(&one, "material = \"steel\"\n", 2);
     assert_ne!(one, two);
     let a = solve(&one, SolvePath::Condensed);
     let b = solve(&two, SolvePath::Condensed);

@@ -166,3 +166,9 @@ pub fn assert_message(out: &RunOutput, needle: &str) {
         out.report.messages
     );
 }
+
+/// `text` with the line `subdomains = n` inserted after the first line
+/// `after` (with its newline): the body of that line split in `n` parts.
+pub fn with_subdomains(text: &str, after: &str, n: usize) -> String {
+    text.replacen(after, &format!("{after}subdomains = {n}\n"), 1)
+}
