@@ -145,12 +145,13 @@ fn hertz_split_in_two_under_mpirun_2_equals_the_in_process_run() {
     if !have_mpirun() {
         return;
     }
-    let d = dir("hertz_scene");
     let text = std::fs::read_to_string(example("hertz2d.toml")).unwrap();
     let text = common::with_subdomains(&text, "material = \"steel\"\n", 2);
-    let scene = d.join("hertz_split.toml");
-    std::fs::write(&scene, text).unwrap();
-    compare(scene.to_str().unwrap(), 2, "hertz");
+    compare(
+        &write_scene("hertz_scene", "hertz_split.toml", &text),
+        2,
+        "hertz",
+    );
 }
 
 #[test]
@@ -222,18 +223,15 @@ fn friction_with_a_split_block_under_mpirun_2_equals_the_in_process_run() {
     if !have_mpirun() {
         return;
     }
-    let d = dir("cattaneo_scene");
     let text = std::fs::read_to_string(example("cattaneo.toml")).unwrap();
     let text = common::with_subdomains(&text, "name = \"block\"\nmaterial = \"steel\"\n", 2);
     assert!(text.contains("subdomains = 2"));
-    let scene = d.join("cattaneo_split.toml");
-    std::fs::write(&scene, text).unwrap();
-    compare(scene.to_str().unwrap(), 2, "cattaneo");
+    let scene = write_scene("cattaneo_scene", "cattaneo_split.toml", &text);
+    compare(&scene, 2, "cattaneo");
 }
 
 /// Writes an example with its first deformable body split in two METIS parts.
 fn split_example(name: &str, body_line: &str, tag: &str) -> String {
-    let d = dir(&format!("{tag}_scene"));
     let text = std::fs::read_to_string(example(name))
         .unwrap()
         .replace(body_line, &format!("{body_line}\nsubdomains = 2"));
@@ -246,7 +244,12 @@ fn split_example(name: &str, body_line: &str, tag: &str) -> String {
         "file = \"meshes/",
         &format!("file = \"{}/examples/meshes/", env!("CARGO_MANIFEST_DIR")),
     );
-    let scene = d.join(name);
+    write_scene(&format!("{tag}_scene"), name, &text)
+}
+
+/// Writes `text` as the scene `file` in the fresh directory `tag`; its path.
+fn write_scene(tag: &str, file: &str, text: &str) -> String {
+    let scene = dir(tag).join(file);
     std::fs::write(&scene, text).unwrap();
     scene.to_str().unwrap().to_string()
 }
@@ -280,7 +283,6 @@ fn floating_bodies_under_mpirun_2_equal_the_in_process_run() {
     if !have_mpirun() {
         return;
     }
-    let d = dir("floating_scene");
     let text = std::fs::read_to_string(example("blocks.toml")).unwrap();
     let text = common::with_subdomains(&text, "material = \"rubber\"\n", 2);
     assert!(text.contains("subdomains = 2"));
@@ -289,9 +291,8 @@ fn floating_bodies_under_mpirun_2_equal_the_in_process_run() {
     } else {
         format!("{text}\n[solver]\nmethod = \"mprgp\"\n")
     };
-    let scene = d.join("blocks_mprgp.toml");
-    std::fs::write(&scene, text).unwrap();
-    compare(scene.to_str().unwrap(), 2, "floating2d");
+    let scene = write_scene("floating_scene", "blocks_mprgp.toml", &text);
+    compare(&scene, 2, "floating2d");
     let scene = split_example("floating3d.toml", "material = \"aluminium\"", "floating3d");
     compare(&scene, 2, "floating3d");
 }
