@@ -4,7 +4,10 @@
 
 mod common;
 
-use common::{example, forces, max_rel, try_run};
+use common::{
+    block_body, block_boundary, block_contact, example, forces, material_2d, max_rel, rigid_plane,
+    try_run,
+};
 use signorini_scene::Method;
 use signorini_solver::{RunOptions, RunOutput, SolveError};
 
@@ -21,29 +24,17 @@ fn run_with(text: &str, method: Method) -> Result<RunOutput, SolveError> {
 /// A supported block pressed on a rigid plane with a gap profile that leaves
 /// part of it open: a non-trivial active set without floating bodies.
 fn tilted_block() -> String {
-    r#"
-dimension = 2
-[[materials]]
-name = "m"
-young = 100.0
-poisson = 0.3
-[[bodies]]
-name = "block"
-material = "m"
-mesh = { generator = "rectangle", origin = [0.0, 0.0], size = [2.0, 1.0], divisions = [20, 8] }
-[[bodies]]
-name = "floor"
-rigid = { shape = "plane", point = [0.0, -0.001], normal = [0.05, 1.0] }
-[[boundary]]
-body = "block"
-surface = "top"
-displacement = { x = 0.0, y = -0.02 }
-[[contact]]
-name = "c"
-slave = { body = "block", surface = "bottom" }
-master = { body = "floor" }
-"#
-    .to_string()
+    [
+        material_2d(100.0, 0.3),
+        block_body([0.0, 0.0], [2.0, 1.0], [20, 8], ""),
+        rigid_plane("floor", [0.0, -0.001], [0.05, 1.0]),
+        block_boundary(
+            r#"surface = "top""#,
+            "displacement = { x = 0.0, y = -0.02 }",
+        ),
+        block_contact("c", "bottom", "floor"),
+    ]
+    .concat()
 }
 
 #[test]
@@ -178,35 +169,19 @@ fn status_variants_and_penalty_imposed_constraints_agree_with_the_default() {
 #[test]
 fn regularised_law_gives_the_closed_form_penetration() {
     let (e, nu, h, d, k) = (100.0f64, 0.3f64, 1.0f64, 0.01f64, 5.0e3f64);
-    let text = format!(
-        r#"
-dimension = 2
-[[materials]]
-name = "m"
-young = {e}
-poisson = {nu}
-[[bodies]]
-name = "block"
-material = "m"
-mesh = {{ generator = "rectangle", origin = [0.0, 0.0], size = [2.0, {h}], divisions = [8, 4] }}
-[[bodies]]
-name = "floor"
-rigid = {{ shape = "plane", point = [0.0, 0.0], normal = [0.0, 1.0] }}
-[[boundary]]
-body = "block"
-surface = "top"
-displacement = {{ y = -{d} }}
-[[boundary]]
-body = "block"
-point = [0.0, 0.0]
-displacement = {{ x = 0.0 }}
-[[contact]]
-name = "c"
-slave = {{ body = "block", surface = "bottom" }}
-master = {{ body = "floor" }}
-law = {{ penalty = {k} }}
-"#
-    );
+    let text = [
+        material_2d(e, nu),
+        block_body([0.0, 0.0], [2.0, h], [8, 4], ""),
+        rigid_plane("floor", [0.0, 0.0], [0.0, 1.0]),
+        block_boundary(
+            r#"surface = "top""#,
+            &format!("displacement = {{ y = -{d} }}"),
+        ),
+        block_boundary("point = [0.0, 0.0]", "displacement = { x = 0.0 }"),
+        block_contact("c", "bottom", "floor"),
+        format!("law = {{ penalty = {k} }}\n"),
+    ]
+    .concat();
     let out = run_with(&text, Method::Penalty).unwrap();
     assert!(out.report.converged, "{:?}", out.report.failure);
     assert!(
@@ -248,13 +223,7 @@ fn a_method_stopped_by_its_iteration_limit_exits_2_with_its_residuals() {
         .arg(std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("uzawa-limit"))
         .output()
         .unwrap();
-    assert_eq!(
-        out.status.code(),
-        Some(2),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let err = String::from_utf8_lossy(&out.stderr);
+    let err = common::stderr_of_exit(&out, 2);
     assert!(
         err.contains("not converged") && err.contains("iteration"),
         "{err}"

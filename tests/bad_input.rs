@@ -5,6 +5,8 @@
 //! Each test writes a tiny scene into its own directory under
 //! `CARGO_TARGET_TMPDIR` and runs the real binary on it with `--out DIR/out`.
 
+mod common;
+
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
@@ -70,14 +72,7 @@ fn block_with(from: &str, to: &str) -> String {
 
 /// A fresh, empty directory for one test.
 fn fresh_dir(test: &str) -> PathBuf {
-    let dir = Path::new(env!("CARGO_TARGET_TMPDIR"))
-        .join("bad_input")
-        .join(test);
-    if dir.exists() {
-        std::fs::remove_dir_all(&dir).unwrap();
-    }
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+    common::fresh_dir("bad_input", test)
 }
 
 struct Run {

@@ -3,7 +3,10 @@
 
 mod common;
 
-use common::{converged_on as solve, example, max_rel};
+use common::{
+    block_body, block_contact, converged_on as solve, example, material_2d, max_rel,
+    named_block_boundary, rigid_plane,
+};
 use signorini_scene::SolvePath;
 use signorini_solver::RunOutput;
 
@@ -18,39 +21,26 @@ fn block_on_plane(
     load: &str,
     extra: &str,
 ) -> String {
-    format!(
-        r#"
-dimension = 2
-model = "{model}"
-[[materials]]
-name = "m"
-young = 200.0
-poisson = 0.3
-[[bodies]]
-name = "block"
-material = "m"
-mesh = {{ generator = "rectangle", origin = [0.0, {gap}], size = [3.0, 1.5], divisions = [{}, {}], element = "{element}" }}
-[[bodies]]
-name = "floor"
-rigid = {{ shape = "plane", point = [0.0, 0.0], normal = [0.0, 1.0] }}
-[[boundary]]
-name = "pin"
-body = "block"
-point = [0.0, {gap}]
-displacement = {{ x = 0.0 }}
-[[boundary]]
-name = "load"
-body = "block"
-surface = "top"
-{load}
-[[contact]]
-name = "c"
-slave = {{ body = "block", surface = "bottom" }}
-master = {{ body = "floor" }}
-{extra}
-"#,
-        divisions[0], divisions[1]
-    )
+    [
+        format!("model = \"{model}\"\n"),
+        material_2d(200.0, 0.3),
+        block_body(
+            [0.0, gap],
+            [3.0, 1.5],
+            divisions,
+            &format!(", element = \"{element}\""),
+        ),
+        rigid_plane("floor", [0.0, 0.0], [0.0, 1.0]),
+        named_block_boundary(
+            "pin",
+            &format!("point = [0.0, {gap}]"),
+            "displacement = { x = 0.0 }",
+        ),
+        named_block_boundary("load", r#"surface = "top""#, load),
+        block_contact("c", "bottom", "floor"),
+        format!("{extra}\n"),
+    ]
+    .concat()
 }
 
 #[test]

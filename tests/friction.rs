@@ -2,7 +2,7 @@
 
 mod common;
 
-use common::example;
+use common::{block_body, block_contact, example, material_2d, named_block_boundary, rigid_plane};
 use signorini_solver::{RunOptions, RunOutput, SolveError};
 
 fn solve(text: &str) -> Result<RunOutput, SolveError> {
@@ -27,38 +27,24 @@ fn resultants(o: &RunOutput, step: usize) -> (f64, f64) {
 /// A block on a rigid plane, pressed down by an imposed displacement of its
 /// top, with no support in x: sideways it is held by friction alone.
 fn block(friction: &str, top: &str, left_force: f64, extra: &str) -> String {
-    format!(
-        r#"
-dimension = 2
-[[materials]]
-name = "m"
-young = 100.0
-poisson = 0.3
-[[bodies]]
-name = "block"
-material = "m"
-mesh = {{ generator = "rectangle", origin = [0.0, 0.0], size = [2.0, 1.0], divisions = [8, 4] }}
-[[bodies]]
-name = "floor"
-rigid = {{ shape = "plane", point = [0.0, 0.0], normal = [0.0, 1.0] }}
-[[boundary]]
-name = "press"
-body = "block"
-surface = "top"
-displacement = {top}
-[[boundary]]
-name = "push"
-body = "block"
-surface = "left"
-force = [{left_force}, 0.0]
-[[contact]]
-name = "c"
-slave = {{ body = "block", surface = "bottom" }}
-master = {{ body = "floor" }}
-friction = {friction}
-{extra}
-"#
-    )
+    [
+        material_2d(100.0, 0.3),
+        block_body([0.0, 0.0], [2.0, 1.0], [8, 4], ""),
+        rigid_plane("floor", [0.0, 0.0], [0.0, 1.0]),
+        named_block_boundary(
+            "press",
+            r#"surface = "top""#,
+            &format!("displacement = {top}"),
+        ),
+        named_block_boundary(
+            "push",
+            r#"surface = "left""#,
+            &format!("force = [{left_force}, 0.0]"),
+        ),
+        block_contact("c", "bottom", "floor"),
+        format!("friction = {friction}\n{extra}\n"),
+    ]
+    .concat()
 }
 
 #[test]
@@ -150,17 +136,35 @@ fn zero_friction_equals_the_frictionless_answer() {
     }
 }
 
-#[test]
-fn friction_status_method_and_fixed_point_agree() {
-    let base = block("{ coulomb = 0.4 }", "{ x = 0.004, y = -0.01 }", 0.0, "");
+/// The block with `friction`, its top displaced by `top` and no push, solved
+/// (converged, certified).
+fn pressed(friction: &str, top: &str) -> RunOutput {
+    converged(&block(friction, top, 0.0, ""))
+}
+
+/// The block with `friction`, its top displaced by `top`, solved as it is
+/// and with the `[solver]` line `solver`; asserts that the first is a
+/// partial slip case.
+fn partial_slip_two_ways(friction: &str, top: &str, solver: &str) -> (RunOutput, RunOutput) {
+    let base = block(friction, top, 0.0, "");
     let a = converged(&base);
     let b = converged(&base.replace(
-        "friction = { coulomb = 0.4 }",
-        "friction = { coulomb = 0.4 }\n[solver]\nfriction = \"status\"",
+        &format!("friction = {friction}"),
+        &format!("friction = {friction}\n[solver]\n{solver}"),
     ));
     assert!(
         a.report.steps[0].sticking > 0 && a.report.steps[0].slipping > 0,
         "a partial slip case"
+    );
+    (a, b)
+}
+
+#[test]
+fn friction_status_method_and_fixed_point_agree() {
+    let (a, b) = partial_slip_two_ways(
+        "{ coulomb = 0.4 }",
+        "{ x = 0.004, y = -0.01 }",
+        "friction = \"status\"",
     );
     for (x, y) in a.contact_rows.iter().zip(&b.contact_rows) {
         assert_eq!(x.status, y.status);
@@ -177,20 +181,13 @@ fn friction_status_method_and_fixed_point_agree() {
 
 #[test]
 fn regularised_coulomb_tends_to_coulomb_as_the_slip_stiffness_grows() {
-    let exact = converged(&block(
-        "{ coulomb = 0.4 }",
-        "{ x = 0.004, y = -0.01 }",
-        0.0,
-        "",
-    ));
+    let exact = pressed("{ coulomb = 0.4 }", "{ x = 0.004, y = -0.01 }");
     let mut last = f64::INFINITY;
     for k in [1e2, 1e4, 1e6, 1e8] {
-        let out = converged(&block(
+        let out = pressed(
             &format!("{{ coulomb = 0.4, slip_stiffness = {k:e} }}"),
             "{ x = 0.004, y = -0.01 }",
-            0.0,
-            "",
-        ));
+        );
         let dev = exact
             .contact_rows
             .iter()
@@ -233,18 +230,14 @@ fn load_reversal_reverses_the_friction_and_keeps_the_slip_history() {
         "step 2 slides back: {t2}"
     );
     // The slip history: the total slip at step 2 is that of step 1 plus the increment.
-    let s1: Vec<f64> = out
-        .contact_rows
-        .iter()
-        .filter(|r| r.step == 1)
-        .map(|r| r.slip)
-        .collect();
-    let s2: Vec<f64> = out
-        .contact_rows
-        .iter()
-        .filter(|r| r.step == 2)
-        .map(|r| r.slip)
-        .collect();
+    let slips = |step: usize| -> Vec<f64> {
+        out.contact_rows
+            .iter()
+            .filter(|r| r.step == step)
+            .map(|r| r.slip)
+            .collect()
+    };
+    let (s1, s2) = (slips(1), slips(2));
     assert!(
         s1.iter().all(|&s| s > 0.0) && s2.iter().all(|&s| s < 0.0),
         "{s1:?} {s2:?}"
@@ -344,15 +337,10 @@ fn cyclic_tangential_loading_traces_a_closed_hysteresis_loop() {
 #[test]
 fn tresca_by_projection_equals_tresca_by_statuses() {
     // Pinned in x at the top so that the projection method (no rigid modes) applies.
-    let base = block("{ tresca = 0.12 }", "{ x = 0.003, y = -0.01 }", 0.0, "");
-    let a = converged(&base);
-    let b = converged(&base.replace(
-        "friction = { tresca = 0.12 }",
-        "friction = { tresca = 0.12 }\n[solver]\nmethod = \"mprgp\"",
-    ));
-    assert!(
-        a.report.steps[0].sticking > 0 && a.report.steps[0].slipping > 0,
-        "partial slip"
+    let (a, b) = partial_slip_two_ways(
+        "{ tresca = 0.12 }",
+        "{ x = 0.003, y = -0.01 }",
+        "method = \"mprgp\"",
     );
     assert!(a.contact_rows.iter().all(|r| r.status != "open"));
     assert_eq!(b.report.steps[0].solver["method"], "tresca_mprgp_box");
@@ -387,22 +375,15 @@ fn tresca_by_projection_equals_tresca_by_statuses() {
 /// past μN the tangential reaction μN·|Δs|^ρ rises monotonically to μN.
 #[test]
 fn norton_hoff_tends_to_coulomb_as_rho_goes_to_zero() {
-    let coulomb = converged(&block(
-        "{ coulomb = 0.3 }",
-        "{ x = 0.2, y = -0.01 }",
-        0.0,
-        "",
-    ));
+    let coulomb = pressed("{ coulomb = 0.3 }", "{ x = 0.2, y = -0.01 }");
     let (n, t) = resultants(&coulomb, 1);
     assert!((t.abs() - 0.3 * n).abs() <= 1e-9 * n);
     let mut last = 0.0;
     for rho in [0.2, 0.05, 0.01, 0.001] {
-        let out = converged(&block(
+        let out = pressed(
             &format!("{{ norton_hoff = 0.3, rho = {rho} }}"),
             "{ x = 0.2, y = -0.01 }",
-            0.0,
-            "",
-        ));
+        );
         assert_eq!(out.report.steps[0].solver["method"], "norton_hoff");
         let (n, t) = resultants(&out, 1);
         let ratio = t.abs() / n;

@@ -35,13 +35,10 @@ mesh = {{ generator = "box", origin = [0.0, 0.0, 0.0], size = [1.0, 1.0, 0.5], d
 name = "floor"
 rigid = {{ shape = "plane", point = [0.0, 0.0, 0.0], normal = [0.0, 0.0, 1.0] }}
 {load}
-[[contact]]
-name = "c"
-slave = {{ body = "box", surface = "zmin" }}
-master = {{ body = "floor" }}
-discretization = "node_to_face"
+{}discretization = "node_to_face"
 friction = {friction}
-"#
+"#,
+        common::contact("c", "box", "zmin", "floor")
     )
 }
 

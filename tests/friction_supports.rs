@@ -61,11 +61,7 @@ body = "pad"
 surface = "{top_face}"
 {top}
 {extra}
-[[contact]]
-name = "c"
-slave = {{ body = "pad", surface = "{bottom}" }}
-master = {{ body = "ground" }}
-discretization = "{disc}"
+{}discretization = "{disc}"
 friction = {{ coulomb = {mu} }}
 [solver]
 method = "status"
@@ -75,7 +71,8 @@ friction = "{friction_solver}"
         v(origin),
         v(size),
         v(&point),
-        v(normal)
+        v(normal),
+        common::contact("c", "pad", bottom, "ground")
     )
 }
 

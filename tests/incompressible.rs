@@ -125,11 +125,7 @@ fn hertz_cylinder_at_nu_0_3_both_formulations_agree() {
 #[test]
 fn every_path_uses_the_b_bar_formulation() {
     let text = example("hertz_incompressible.toml").replace("divisions = 160", "divisions = 40");
-    let split = text.replacen(
-        "formulation = \"b_bar\"\n",
-        "formulation = \"b_bar\"\nsubdomains = 3\n",
-        1,
-    );
+    let split = common::with_subdomains(&text, "formulation = \"b_bar\"\n", 3);
     let a = converged(&text, RunOptions::default());
     let b = converged(
         &text,

@@ -64,12 +64,7 @@ fn local(args: &[&str]) -> Output {
 }
 
 fn dir(name: &str) -> PathBuf {
-    let d = Path::new(env!("CARGO_TARGET_TMPDIR"))
-        .join("mpi")
-        .join(name);
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
+    common::fresh_dir("mpi", name)
 }
 
 /// Numeric columns of a CSV file (header skipped, non-numbers dropped).
@@ -150,16 +145,13 @@ fn hertz_split_in_two_under_mpirun_2_equals_the_in_process_run() {
     if !have_mpirun() {
         return;
     }
-    let d = dir("hertz_scene");
-    let text = std::fs::read_to_string(example("hertz2d.toml"))
-        .unwrap()
-        .replace(
-            "material = \"steel\"\nmesh",
-            "material = \"steel\"\nsubdomains = 2\nmesh",
-        );
-    let scene = d.join("hertz_split.toml");
-    std::fs::write(&scene, text).unwrap();
-    compare(scene.to_str().unwrap(), 2, "hertz");
+    let text = std::fs::read_to_string(example("hertz2d.toml")).unwrap();
+    let text = common::with_subdomains(&text, "material = \"steel\"\n", 2);
+    compare(
+        &write_scene("hertz_scene", "hertz_split.toml", &text),
+        2,
+        "hertz",
+    );
 }
 
 #[test]
@@ -221,13 +213,7 @@ fn bad_input_under_mpirun_is_reported_once_with_exit_1() {
         ],
         &[],
     );
-    assert_eq!(
-        out.status.code(),
-        Some(1),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let err = String::from_utf8_lossy(&out.stderr);
+    let err = common::stderr_of_exit(&out, 1);
     assert_eq!(err.matches("materials[1].young").count(), 1, "{err}");
     assert!(!d.join("out").exists());
 }
@@ -237,22 +223,15 @@ fn friction_with_a_split_block_under_mpirun_2_equals_the_in_process_run() {
     if !have_mpirun() {
         return;
     }
-    let d = dir("cattaneo_scene");
-    let text = std::fs::read_to_string(example("cattaneo.toml"))
-        .unwrap()
-        .replace(
-            "name = \"block\"\nmaterial = \"steel\"\n",
-            "name = \"block\"\nmaterial = \"steel\"\nsubdomains = 2\n",
-        );
+    let text = std::fs::read_to_string(example("cattaneo.toml")).unwrap();
+    let text = common::with_subdomains(&text, "name = \"block\"\nmaterial = \"steel\"\n", 2);
     assert!(text.contains("subdomains = 2"));
-    let scene = d.join("cattaneo_split.toml");
-    std::fs::write(&scene, text).unwrap();
-    compare(scene.to_str().unwrap(), 2, "cattaneo");
+    let scene = write_scene("cattaneo_scene", "cattaneo_split.toml", &text);
+    compare(&scene, 2, "cattaneo");
 }
 
 /// Writes an example with its first deformable body split in two METIS parts.
 fn split_example(name: &str, body_line: &str, tag: &str) -> String {
-    let d = dir(&format!("{tag}_scene"));
     let text = std::fs::read_to_string(example(name))
         .unwrap()
         .replace(body_line, &format!("{body_line}\nsubdomains = 2"));
@@ -265,7 +244,12 @@ fn split_example(name: &str, body_line: &str, tag: &str) -> String {
         "file = \"meshes/",
         &format!("file = \"{}/examples/meshes/", env!("CARGO_MANIFEST_DIR")),
     );
-    let scene = d.join(name);
+    write_scene(&format!("{tag}_scene"), name, &text)
+}
+
+/// Writes `text` as the scene `file` in the fresh directory `tag`; its path.
+fn write_scene(tag: &str, file: &str, text: &str) -> String {
+    let scene = dir(tag).join(file);
     std::fs::write(&scene, text).unwrap();
     scene.to_str().unwrap().to_string()
 }
@@ -299,22 +283,16 @@ fn floating_bodies_under_mpirun_2_equal_the_in_process_run() {
     if !have_mpirun() {
         return;
     }
-    let d = dir("floating_scene");
-    let text = std::fs::read_to_string(example("blocks.toml"))
-        .unwrap()
-        .replace(
-            "material = \"rubber\"\nmesh",
-            "material = \"rubber\"\nsubdomains = 2\nmesh",
-        );
+    let text = std::fs::read_to_string(example("blocks.toml")).unwrap();
+    let text = common::with_subdomains(&text, "material = \"rubber\"\n", 2);
     assert!(text.contains("subdomains = 2"));
     let text = if text.contains("[solver]") {
         text.replace("[solver]", "[solver]\nmethod = \"mprgp\"")
     } else {
         format!("{text}\n[solver]\nmethod = \"mprgp\"\n")
     };
-    let scene = d.join("blocks_mprgp.toml");
-    std::fs::write(&scene, text).unwrap();
-    compare(scene.to_str().unwrap(), 2, "floating2d");
+    let scene = write_scene("floating_scene", "blocks_mprgp.toml", &text);
+    compare(&scene, 2, "floating2d");
     let scene = split_example("floating3d.toml", "material = \"aluminium\"", "floating3d");
     compare(&scene, 2, "floating3d");
 }
@@ -329,12 +307,7 @@ fn units_under_mpirun_2_equal_the_other_units_in_process_2d_and_3d() {
         return;
     }
     let d = dir("units");
-    let split = |t: String| {
-        t.replace(
-            "material = \"steel\"\nmesh",
-            "material = \"steel\"\nsubdomains = 2\nmesh",
-        )
-    };
+    let split = |t: String| common::with_subdomains(&t, "material = \"steel\"\n", 2);
     let si = split(hertz_in_units("210e9", 0.01));
     assert!(si.contains("subdomains = 2"));
     let (si_scene, mm_scene) = (d.join("si.toml"), d.join("mm.toml"));

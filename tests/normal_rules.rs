@@ -8,24 +8,12 @@ mod common;
 use std::fmt::Write as _;
 use std::path::PathBuf;
 
-use common::try_run;
+use common::{boundary, elastic_body, material_2d, try_run};
 use signorini_mesh::generators::quarter_disk;
 use signorini_mesh::{CellKind, Mesh};
 use signorini_solver::{RunOptions, RunOutput};
 
 const RULES: [&str; 4] = ["master", "slave", "average", "points"];
-
-/// A fresh scratch directory for one test.
-fn fresh_dir(test: &str) -> PathBuf {
-    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR"))
-        .join("normal_rules")
-        .join(test);
-    if dir.exists() {
-        std::fs::remove_dir_all(&dir).unwrap();
-    }
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
 
 /// A 2D mesh as a Gmsh 2.2 file: its cells (Quad4) and its surfaces as
 /// physical lines named like the mesh's surfaces.
@@ -87,47 +75,45 @@ fn upper_quarter_disk(dir: &std::path::Path, r: f64, divisions: usize, grading: 
 fn two_spheres(dir: &std::path::Path, rule: &str, slave: &str, approach: f64) -> String {
     let lower = upper_quarter_disk(dir, 1.0, 53, 8.0);
     let master = if slave == "upper" { "lower" } else { "upper" };
+    [
+        "model = \"axisymmetric\"\n".to_string(),
+        material_2d(1.0, 0.3),
+        elastic_body(
+            "upper",
+            "{ generator = \"quarter_disk\", center = [0.0, 1.0], radius = 1.0, divisions = 60, grading = 10.0 }",
+        ),
+        elastic_body("lower", &format!("{{ file = \"{}\" }}", lower.display())),
+        clamped_flats(&format!("{{ y = {} }}", -approach), "{ y = 0.0 }"),
+        arcs_in_contact("spheres", slave, master, rule),
+        "path = \"direct\"\n[reference]\nkind = \"hertz_sphere\"\nradius = 0.5\n".to_string(),
+    ]
+    .concat()
+}
+
+/// The boundary conditions "press" of the surface "flat" of the body "upper"
+/// and "hold" of that of "lower": displacements `press` and `hold`.
+fn clamped_flats(press: &str, hold: &str) -> String {
+    let flat = r#"surface = "flat""#;
+    [
+        boundary("press", "upper", flat, &format!("displacement = {press}")),
+        boundary("hold", "lower", flat, &format!("displacement = {hold}")),
+    ]
+    .concat()
+}
+
+/// The node-to-segment contact `name` between the surfaces "arc" of `slave`
+/// and `master` by the normal rule `rule`, solved by the status method.
+fn arcs_in_contact(name: &str, slave: &str, master: &str, rule: &str) -> String {
     format!(
-        r#"
-dimension = 2
-model = "axisymmetric"
-[[materials]]
-name = "m"
-young = 1.0
-poisson = 0.3
-[[bodies]]
-name = "upper"
-material = "m"
-mesh = {{ generator = "quarter_disk", center = [0.0, 1.0], radius = 1.0, divisions = 60, grading = 10.0 }}
-[[bodies]]
-name = "lower"
-material = "m"
-mesh = {{ file = "{}" }}
-[[boundary]]
-name = "press"
-body = "upper"
-surface = "flat"
-displacement = {{ y = {} }}
-[[boundary]]
-name = "hold"
-body = "lower"
-surface = "flat"
-displacement = {{ y = 0.0 }}
-[[contact]]
-name = "spheres"
+        r#"[[contact]]
+name = "{name}"
 slave = {{ body = "{slave}", surface = "arc" }}
 master = {{ body = "{master}", surface = "arc" }}
 discretization = "node_to_segment"
 normal = "{rule}"
 [solver]
 method = "status"
-path = "direct"
-[reference]
-kind = "hertz_sphere"
-radius = 0.5
-"#,
-        lower.display(),
-        -approach
+"#
     )
 }
 
@@ -169,7 +155,7 @@ fn hertz_load(e_star: f64, r: f64, approach: f64) -> f64 {
 /// contact zone.
 #[test]
 fn two_spheres_give_the_hertz_load_with_every_rule_and_either_slave() {
-    let dir = fresh_dir("two_spheres");
+    let dir = common::fresh_dir("normal_rules", "two_spheres");
     let approach = 0.01;
     let e_star = 1.0 / (2.0 * (1.0 - 0.3f64.powi(2)) / 1.0);
     let exact = hertz_load(e_star, 0.5, approach);
@@ -222,43 +208,21 @@ fn two_spheres_give_the_hertz_load_with_every_rule_and_either_slave() {
 /// lower one, mirror images of each other across y = 0: their flat sides
 /// clamped, the upper one moved down by `approach`.
 fn mirrored_half_disks(rule: &str, approach: f64) -> String {
-    format!(
-        r#"
-dimension = 2
-model = "plane_strain"
-[[materials]]
-name = "m"
-young = 1.0
-poisson = 0.3
-[[bodies]]
-name = "upper"
-material = "m"
-mesh = {{ generator = "half_disk", center = [0.0, 1.0], radius = 1.0, divisions = 64, pole = [0.0, -1.0], grading = 6.0 }}
-[[bodies]]
-name = "lower"
-material = "m"
-mesh = {{ generator = "half_disk", center = [0.0, -1.0], radius = 1.0, divisions = 64, pole = [0.0, 1.0], grading = 6.0 }}
-[[boundary]]
-name = "press"
-body = "upper"
-surface = "flat"
-displacement = {{ x = 0.0, y = {} }}
-[[boundary]]
-name = "hold"
-body = "lower"
-surface = "flat"
-displacement = {{ x = 0.0, y = 0.0 }}
-[[contact]]
-name = "disks"
-slave = {{ body = "upper", surface = "arc" }}
-master = {{ body = "lower", surface = "arc" }}
-discretization = "node_to_segment"
-normal = "{rule}"
-[solver]
-method = "status"
-"#,
-        -approach
-    )
+    let half_disk = |y: f64| {
+        format!("{{ generator = \"half_disk\", center = [0.0, {y:?}], radius = 1.0, divisions = 64, pole = [0.0, {:?}], grading = 6.0 }}", -y)
+    };
+    [
+        "model = \"plane_strain\"\n".to_string(),
+        material_2d(1.0, 0.3),
+        elastic_body("upper", &half_disk(1.0)),
+        elastic_body("lower", &half_disk(-1.0)),
+        clamped_flats(
+            &format!("{{ x = 0.0, y = {} }}", -approach),
+            "{ x = 0.0, y = 0.0 }",
+        ),
+        arcs_in_contact("disks", "upper", "lower", rule),
+    ]
+    .concat()
 }
 
 /// A mirror-symmetric pair: the contact line is y = 0 by symmetry, so the

@@ -4,7 +4,10 @@
 
 mod common;
 
-use common::{contact_force, converged, example, max_rel};
+use common::{
+    assert_message, block_body, block_boundary, block_contact, contact_force, converged, example,
+    material_2d, max_rel, rigid_plane,
+};
 use signorini_scene::Method;
 use signorini_solver::{RunOptions, RunOutput};
 
@@ -88,52 +91,27 @@ fn two_pass_node_to_node_contact_drops_the_repeated_pass() {
 #[test]
 fn a_corner_node_against_two_obstacles_keeps_both_constraints() {
     let (e, nu, d) = (100.0f64, 0.3f64, 0.01f64);
-    let text = format!(
-        r#"
-dimension = 2
-[[materials]]
-name = "m"
-young = {e}
-poisson = {nu}
-[[bodies]]
-name = "block"
-material = "m"
-mesh = {{ generator = "rectangle", origin = [0.0, 0.0], size = [1.0, 1.0], divisions = [4, 4] }}
-[[bodies]]
-name = "floor"
-rigid = {{ shape = "plane", point = [0.0, 0.0], normal = [0.0, 1.0] }}
-[[bodies]]
-name = "wall"
-rigid = {{ shape = "plane", point = [0.0, 0.0], normal = [1.0, 0.0] }}
-[[boundary]]
-body = "block"
-surface = "top"
-displacement = {{ y = {dy} }}
-[[boundary]]
-body = "block"
-surface = "right"
-displacement = {{ x = {dy} }}
-[[contact]]
-name = "floor"
-slave = {{ body = "block", surface = "bottom" }}
-master = {{ body = "floor" }}
-[[contact]]
-name = "wall"
-slave = {{ body = "block", surface = "left" }}
-master = {{ body = "wall" }}
-"#,
-        dy = -d
-    );
+    let dy = -d;
+    let text = [
+        material_2d(e, nu),
+        block_body([0.0, 0.0], [1.0, 1.0], [4, 4], ""),
+        rigid_plane("floor", [0.0, 0.0], [0.0, 1.0]),
+        rigid_plane("wall", [0.0, 0.0], [1.0, 0.0]),
+        block_boundary(
+            r#"surface = "top""#,
+            &format!("displacement = {{ y = {dy} }}"),
+        ),
+        block_boundary(
+            r#"surface = "right""#,
+            &format!("displacement = {{ x = {dy} }}"),
+        ),
+        block_contact("floor", "bottom", "floor"),
+        block_contact("wall", "left", "wall"),
+    ]
+    .concat();
     for m in [Method::Status, Method::Mprgp] {
         let out = converged(&text, with(m));
-        assert!(
-            out.report
-                .messages
-                .iter()
-                .any(|msg| msg.contains("1 slave node(s) belong to both")),
-            "{:?}",
-            out.report.messages
-        );
+        assert_message(&out, "1 slave node(s) belong to both");
         // Uniform biaxial compression ε_xx = ε_yy = −d: in plane strain
         // σ = E/((1+ν)(1−2ν)) · (−d) for each normal stress, so the
         // resultant on each unit side is that stress.

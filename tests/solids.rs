@@ -5,7 +5,10 @@
 
 mod common;
 
-use common::{cli_run_ok, converged, example, max_rel};
+use common::{
+    block_body, block_boundary, block_contact, cli_run_ok, converged, example, material_2d,
+    max_rel, rigid_plane, with_subdomains,
+};
 use signorini_scene::SolvePath;
 use signorini_solver::{RunOptions, RunOutput};
 
@@ -153,11 +156,7 @@ fn metis_parts_equal_one_subdomain_in_3d_and_axisymmetric() {
         example("hertz_axi.toml").replace("divisions = 80", "divisions = 24"),
     ];
     for text in scenes {
-        let split = text.replacen(
-            "material = \"steel\"\n",
-            "material = \"steel\"\nsubdomains = 3\n",
-            1,
-        );
+        let split = with_subdomains(&text, "material = \"steel\"\n", 3);
         assert!(split.contains("subdomains = 3"));
         let a = converged(&text, RunOptions::default());
         let b = converged(&split, RunOptions::default());
@@ -176,40 +175,23 @@ fn metis_parts_equal_one_subdomain_in_3d_and_axisymmetric() {
 #[test]
 fn second_order_elements_pass_the_patch_test() {
     for element in ["quad8", "tri6"] {
-        let text = format!(
-            r#"title = "{element} block"
-dimension = 2
-model = "plane_strain"
-[[materials]]
-name = "m"
-young = 200.0
-poisson = 0.25
-[[bodies]]
-name = "block"
-material = "m"
-mesh = {{ generator = "rectangle", origin = [0.0, 0.0], size = [2.0, 1.0], divisions = [5, 3], element = "{element}" }}
-[[bodies]]
-name = "ground"
-rigid = {{ shape = "plane", point = [0.0, 0.0], normal = [0.0, 1.0] }}
-[[boundary]]
-body = "block"
-point = [0.0, 1.0]
-displacement = {{ x = 0.0 }}
-[[boundary]]
-body = "block"
-surface = "top"
-traction = [0.0, -3.0]
-[[contact]]
-name = "c"
-slave = {{ body = "block", surface = "bottom" }}
-master = {{ body = "ground" }}
-[reference]
-kind = "uniform_pressure"
-pressure = 3.0
-[output]
-probes = [[1.0, 1.0]]
-"#
-        );
+        let text = [
+            format!("title = \"{element} block\"\nmodel = \"plane_strain\"\n"),
+            material_2d(200.0, 0.25),
+            block_body(
+                [0.0, 0.0],
+                [2.0, 1.0],
+                [5, 3],
+                &format!(", element = \"{element}\""),
+            ),
+            rigid_plane("ground", [0.0, 0.0], [0.0, 1.0]),
+            block_boundary("point = [0.0, 1.0]", "displacement = { x = 0.0 }"),
+            block_boundary(r#"surface = "top""#, "traction = [0.0, -3.0]"),
+            block_contact("c", "bottom", "ground"),
+            "[reference]\nkind = \"uniform_pressure\"\npressure = 3.0\n".to_string(),
+            "[output]\nprobes = [[1.0, 1.0]]\n".to_string(),
+        ]
+        .concat();
         let out = converged(&text, RunOptions::default());
         assert!(
             rel(&out, "pressure") <= 1e-9,

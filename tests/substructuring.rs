@@ -3,7 +3,9 @@
 
 mod common;
 
-use common::{contact_force, converged_on as solve, example, max_rel};
+use common::{
+    block_body, block_boundary, contact_force, converged_on as solve, example, material_2d, max_rel,
+};
 use signorini_scene::SolvePath;
 use signorini_solver::RunOutput;
 
@@ -25,10 +27,7 @@ fn assert_same(a: &RunOutput, b: &RunOutput, tol: f64) {
 #[test]
 fn hertz_half_disk_split_in_two_equals_the_unsplit_body() {
     let one = example("hertz2d.toml").replace("divisions = 160", "divisions = 96");
-    let two = one.replace(
-        "material = \"steel\"\nmesh",
-        "material = \"steel\"\nsubdomains = 2\nmesh",
-    );
+    let two = common::with_subdomains(&one, "material = \"steel\"\n", 2);
     assert_ne!(one, two);
     let a = solve(&one, SolvePath::Condensed);
     let b = solve(&two, SolvePath::Condensed);
@@ -45,32 +44,17 @@ fn hertz_half_disk_split_in_two_equals_the_unsplit_body() {
 #[test]
 fn glued_interfaces_of_four_parts_transmit_a_linear_patch_exactly() {
     let block = |parts: usize| {
-        format!(
-            r#"
-dimension = 2
-[[materials]]
-name = "m"
-young = 1000.0
-poisson = 0.25
-[[bodies]]
-name = "block"
-material = "m"
-subdomains = {parts}
-mesh = {{ generator = "rectangle", origin = [0.0, 0.0], size = [2.0, 1.0], divisions = [16, 9], element = "tri3" }}
-[[boundary]]
-body = "block"
-surface = "bottom"
-displacement = {{ y = 0.0 }}
-[[boundary]]
-body = "block"
-point = [0.0, 0.0]
-displacement = {{ x = 0.0 }}
-[[boundary]]
-body = "block"
-surface = "top"
-traction = [0.0, -3.0]
-"#
-        )
+        [
+            material_2d(1000.0, 0.25),
+            block_body([0.0, 0.0], [2.0, 1.0], [16, 9], ", element = \"tri3\"").replace(
+                "material = \"m\"\n",
+                &format!("material = \"m\"\nsubdomains = {parts}\n"),
+            ),
+            block_boundary(r#"surface = "bottom""#, "displacement = { y = 0.0 }"),
+            block_boundary("point = [0.0, 0.0]", "displacement = { x = 0.0 }"),
+            block_boundary(r#"surface = "top""#, "traction = [0.0, -3.0]"),
+        ]
+        .concat()
     };
     let a = solve(&block(1), SolvePath::Condensed);
     let b = solve(&block(4), SolvePath::Condensed);

@@ -2,6 +2,10 @@
 //! so not every helper is used by every file).
 #![allow(dead_code)]
 
+mod scene_text;
+#[allow(unused_imports)]
+pub use scene_text::*;
+
 use signorini_comm::Local;
 use signorini_scene::{parse_toml, SolvePath};
 use signorini_solver::{run, RunOptions, RunOutput, SolveError};
@@ -132,4 +136,39 @@ pub fn patch3d_in_pa_and_m() -> String {
         .replace("pressure = 1.0", "pressure = 1e6");
     assert!(si.contains("size = [1e-3, 1e-3, 5e-4]") && si.contains("origin = [0.0, 0.0, 5e-4]"));
     si
+}
+
+/// A fresh, empty scratch directory `group/test` under `CARGO_TARGET_TMPDIR`.
+pub fn fresh_dir(group: &str, test: &str) -> std::path::PathBuf {
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR"))
+        .join(group)
+        .join(test);
+    if dir.exists() {
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// Asserts that a command exited with `code` (showing its stderr otherwise);
+/// returns its stderr.
+pub fn stderr_of_exit(out: &std::process::Output, code: i32) -> String {
+    let err = String::from_utf8_lossy(&out.stderr).into_owned();
+    assert_eq!(out.status.code(), Some(code), "{err}");
+    err
+}
+
+/// Asserts that one of the report's messages contains `needle`.
+pub fn assert_message(out: &RunOutput, needle: &str) {
+    assert!(
+        out.report.messages.iter().any(|m| m.contains(needle)),
+        "{:?}",
+        out.report.messages
+    );
+}
+
+/// `text` with the line `subdomains = n` inserted after the first line
+/// `after` (with its newline): the body of that line split in `n` parts.
+pub fn with_subdomains(text: &str, after: &str, n: usize) -> String {
+    text.replacen(after, &format!("{after}subdomains = {n}\n"), 1)
 }

@@ -78,15 +78,21 @@ pub fn submatrix(
 /// Sparse matrix times vector, y = K x.
 pub fn spmv(k: SparseColMatRef<'_, usize, f64>, x: &[f64]) -> Vec<f64> {
     let mut y = vec![0.0; k.nrows()];
+    for_each_term(k, x, |r, t| y[r] += t);
+    y
+}
+
+/// Calls `f(r, K[r][j] x[j])` for every stored entry of K whose `x[j]` is
+/// not zero, column by column.
+fn for_each_term(k: SparseColMatRef<'_, usize, f64>, x: &[f64], mut f: impl FnMut(usize, f64)) {
     for (j, &xj) in x.iter().enumerate().take(k.ncols()) {
         if xj == 0.0 {
             continue;
         }
         for (&r, &v) in k.row_idx_of_col_raw(j).iter().zip(k.val_of_col(j)) {
-            y[r] += v * xj;
+            f(r, v * xj);
         }
     }
-    y
 }
 
 /// (K x, |K| |x|) in one pass: the product and, entry by entry, the size
@@ -97,15 +103,10 @@ pub fn spmv(k: SparseColMatRef<'_, usize, f64>, x: &[f64]) -> Vec<f64> {
 pub fn spmv_with_magnitude(k: SparseColMatRef<'_, usize, f64>, x: &[f64]) -> (Vec<f64>, Vec<f64>) {
     let mut y = vec![0.0; k.nrows()];
     let mut size = vec![0.0; k.nrows()];
-    for (j, &xj) in x.iter().enumerate().take(k.ncols()) {
-        if xj == 0.0 {
-            continue;
-        }
-        for (&r, &v) in k.row_idx_of_col_raw(j).iter().zip(k.val_of_col(j)) {
-            y[r] += v * xj;
-            size[r] += (v * xj).abs();
-        }
-    }
+    for_each_term(k, x, |r, t| {
+        y[r] += t;
+        size[r] += t.abs();
+    });
     (y, size)
 }
 
@@ -558,6 +559,17 @@ pub fn schur_complement_reference(
 mod tests {
     use super::*;
 
+    /// [`grid`] with its interface: the top row of nodes and two more.
+    fn grid_with_top_interface(
+        nx: usize,
+        ny: usize,
+        shift: f64,
+        more: [usize; 2],
+    ) -> (SparseColMat<usize, f64>, Vec<usize>) {
+        let interface = (0..nx).map(|i| i + nx * (ny - 1)).chain(more).collect();
+        (grid(nx, ny, shift), interface)
+    }
+
     /// 2D grid Laplacian-like SPD matrix (5-point stencil) with an optional
     /// Dirichlet shift on the first row: floating when `shift` is 0.
     fn grid(nx: usize, ny: usize, shift: f64) -> SparseColMat<usize, f64> {
@@ -600,9 +612,8 @@ mod tests {
     #[test]
     fn partial_factorisation_equals_multi_rhs_schur_complement() {
         let (nx, ny) = (12, 9);
-        let k = grid(nx, ny, 3.0);
+        let (k, interface) = grid_with_top_interface(nx, ny, 3.0, [5, 40]);
         let n = nx * ny;
-        let interface: Vec<usize> = (0..nx).map(|i| i + nx * (ny - 1)).chain([5, 40]).collect();
         let f: Vec<f64> = (0..n).map(|i| ((i * 7) % 11) as f64 - 5.0).collect();
         let c = Condensed::new(k.as_ref(), &interface, Par::Seq).unwrap();
         let (s_ref, fp_ref) = schur_complement_reference(k.as_ref(), &interface, &f).unwrap();
@@ -643,9 +654,8 @@ mod tests {
     #[test]
     fn interior_condition_estimate_matches_the_dense_inverse() {
         let (nx, ny) = (11, 8);
-        let k = grid(nx, ny, 0.5);
+        let (k, interface) = grid_with_top_interface(nx, ny, 0.5, [3, 30]);
         let n = nx * ny;
-        let interface: Vec<usize> = (0..nx).map(|i| i + nx * (ny - 1)).chain([3, 30]).collect();
         let c = Condensed::new(k.as_ref(), &interface, Par::Seq).unwrap();
         let est = c.interior_condition_estimate().unwrap();
         let interior: Vec<usize> = (0..n).filter(|i| !interface.contains(i)).collect();

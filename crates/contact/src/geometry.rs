@@ -38,6 +38,7 @@ mod closest;
 mod ray;
 mod search;
 
+use signorini_mesh::vec3::{cross, dot, norm, sub};
 use signorini_mesh::{Mesh, Surface};
 
 use crate::ContactError;
@@ -105,25 +106,19 @@ pub struct ContactPoint {
     pub terms: Vec<Term>,
 }
 
-fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-fn norm(a: [f64; 3]) -> f64 {
-    dot(a, a).sqrt()
-}
+/// The planar trapezoid (0,0) (4,0) (3,2) (1,2) in z = 0 of the tests: its
+/// bilinear map x(ξ, η) is not affine.
+#[cfg(test)]
+const TRAPEZOID: [[f64; 3]; 4] = [
+    [0.0, 0.0, 0.0],
+    [4.0, 0.0, 0.0],
+    [3.0, 2.0, 0.0],
+    [1.0, 2.0, 0.0],
+];
+
 fn unit(a: [f64; 3]) -> Option<[f64; 3]> {
     let l = norm(a);
     (l > 0.0 && l.is_finite()).then(|| [a[0] / l, a[1] / l, a[2] / l])
-}
-fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
 }
 
 /// Tangents of a 3D unit normal n: `t1` is the global axis e_k least aligned

@@ -145,13 +145,7 @@ pub fn check_mesh(mesh: &Mesh, model: Model) -> Result<(), FemError> {
     }
     let n_nodes = mesh.n_nodes();
     for (c, cell) in mesh.cells.iter().enumerate() {
-        if cell.nodes.len() != cell.kind.nodes() {
-            return Err(FemError::Unsupported(format!(
-                "cell {c} ({}) has {} nodes",
-                cell.kind.name(),
-                cell.nodes.len()
-            )));
-        }
+        cell.check_node_count(c).map_err(FemError::Unsupported)?;
         if let Some(&n) = cell.nodes.iter().find(|&&n| n >= n_nodes) {
             return Err(FemError::Unsupported(format!(
                 "cell {c} refers to node {n}; the mesh has {n_nodes} nodes"

@@ -17,6 +17,7 @@
 
 use crate::isoparametric::{GAUSS_2X2, TRI_3};
 use crate::Model;
+use signorini_mesh::vec3::{cross, norm, sub};
 use signorini_mesh::{Facet, Mesh, Surface};
 use std::f64::consts::PI;
 
@@ -114,22 +115,6 @@ fn facet_measures(
         }
     }
     nn
-}
-
-fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-
-fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
-}
-
-fn norm(a: [f64; 3]) -> f64 {
-    (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt()
 }
 
 /// Consistent nodal forces `F_a = t ∫_facet N_a dS` of a constant traction

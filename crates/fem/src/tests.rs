@@ -19,6 +19,24 @@ use signorini_mesh::{CellKind, Mesh};
 const E: f64 = 210e3;
 const NU: f64 = 0.3;
 
+/// The 2D cell kinds.
+const KINDS_2D: [CellKind; 4] = [
+    CellKind::Tri3,
+    CellKind::Quad4,
+    CellKind::Tri6,
+    CellKind::Quad8,
+];
+
+/// Every cell kind.
+const KINDS: [CellKind; 6] = [
+    CellKind::Tri3,
+    CellKind::Quad4,
+    CellKind::Tri6,
+    CellKind::Quad8,
+    CellKind::Tet4,
+    CellKind::Hex8,
+];
+
 fn mat(model: Model) -> Elasticity {
     Elasticity::new(E, NU, model)
 }
@@ -124,6 +142,33 @@ fn solve_patch(
         .zip(exact)
         .fold(0.0f64, |a, (x, y)| a.max((x - y).abs()));
     (u, err, umax)
+}
+
+/// The field `u = u0 + G x` at every node of a 3D mesh `m`, interleaved.
+fn linear_3d(m: &Mesh, u0: [f64; 3], g: [[f64; 3]; 3]) -> Vec<f64> {
+    m.coords
+        .iter()
+        .flat_map(|p| {
+            let mut u = u0;
+            for (i, ui) in u.iter_mut().enumerate() {
+                *ui += (0..3).map(|j| g[i][j] * p[j]).sum::<f64>();
+            }
+            u
+        })
+        .collect()
+}
+
+/// The engineering strain `[xx, yy, zz, γxy, γyz, γxz]` of the displacement
+/// gradient `g`.
+fn strain_3d(g: [[f64; 3]; 3]) -> nalgebra::DVector<f64> {
+    nalgebra::DVector::from_vec(vec![
+        g[0][0],
+        g[1][1],
+        g[2][2],
+        g[0][1] + g[1][0],
+        g[1][2] + g[2][1],
+        g[0][2] + g[2][0],
+    ])
 }
 
 /// The plane field `u = u0 + G x` at every node of `m`, interleaved.

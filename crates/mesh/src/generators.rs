@@ -30,6 +30,14 @@ pub use rectangle::{rectangle, RectSide};
 
 use crate::{Facet, Mesh, MeshError, Surface};
 
+/// Panics unless the grading ratio is finite and positive.
+fn assert_ratio(ratio: f64) {
+    assert!(
+        ratio.is_finite() && ratio > 0.0,
+        "grading ratio must be finite and positive, got {ratio}"
+    );
+}
+
 /// `n + 1` increasing parameters `t_0 = 0 < t_1 < ... < t_n = 1` whose
 /// increments `h_i = t_{i+1} - t_i` are geometric, `h_i = h_0 q^i`, with
 /// `h_{n-1} / h_0 = ratio` (so `q = ratio^(1/(n-1))`): the smallest elements are
@@ -39,10 +47,7 @@ use crate::{Facet, Mesh, MeshError, Surface};
 /// # Panics
 /// If `ratio` is not finite and positive.
 pub fn graded_spacing(n: usize, ratio: f64) -> Vec<f64> {
-    assert!(
-        ratio.is_finite() && ratio > 0.0,
-        "grading ratio must be finite and positive, got {ratio}"
-    );
+    assert_ratio(ratio);
     if n == 0 {
         return vec![0.0];
     }
@@ -62,10 +67,7 @@ pub fn graded_spacing(n: usize, ratio: f64) -> Vec<f64> {
 /// # Panics
 /// If `ratio` is not finite and positive.
 pub fn symmetric_graded_spacing(n: usize, ratio: f64) -> Vec<f64> {
-    assert!(
-        ratio.is_finite() && ratio > 0.0,
-        "grading ratio must be finite and positive, got {ratio}"
-    );
+    assert_ratio(ratio);
     if n == 0 {
         return vec![0.0];
     }
@@ -133,6 +135,50 @@ fn check_ratio(what: &str, r: f64) -> Result<(), MeshError> {
     }
 }
 
+/// What the round generators (disks, hemisphere) check of their arguments:
+/// the generator's name, the least number of divisions and what they divide.
+pub(super) struct Round {
+    name: &'static str,
+    least: usize,
+    along: &'static str,
+}
+
+pub(super) const HALF_DISK: Round = Round::new("half_disk", 4, "the arc");
+pub(super) const QUARTER_DISK: Round = Round::new("quarter_disk", 2, "the arc");
+pub(super) const HEMISPHERE: Round = Round::new("hemisphere", 2, "a quarter meridian");
+
+impl Round {
+    const fn new(name: &'static str, least: usize, along: &'static str) -> Round {
+        Round { name, least, along }
+    }
+
+    /// A finite centre, a positive radius, at least `least` divisions and a
+    /// valid grading ratio.
+    pub(super) fn check(
+        &self,
+        center: &[f64],
+        radius: f64,
+        divisions: usize,
+        grading: f64,
+    ) -> Result<(), MeshError> {
+        let Round { name, least, along } = *self;
+        if !(radius.is_finite() && radius > 0.0) {
+            return Err(MeshError::Invalid(format!(
+                "{name}: radius must be positive, got {radius}"
+            )));
+        }
+        if !center.iter().all(|c| c.is_finite()) {
+            return Err(MeshError::Invalid(format!("{name}: center is not finite")));
+        }
+        if divisions < least {
+            return Err(MeshError::Invalid(format!(
+                "{name}: divisions (elements along {along}) must be at least {least}, got {divisions}"
+            )));
+        }
+        check_ratio(name, grading)
+    }
+}
+
 /// Names the boundary of a 3D mesh: every boundary facet
 /// ([`Mesh::boundary_facets`]) goes to the surface `names[classify(facet nodes)]`.
 fn name_boundary(
@@ -155,28 +201,30 @@ fn name_boundary(
     Ok(())
 }
 
+/// At each corner k of a Hex8 cell, the three corners joined to it by the edges
+/// along the reference axes xi, eta, zeta.
+pub const HEX_CORNER_AXES: [[usize; 3]; 8] = [
+    [1, 3, 4],
+    [0, 2, 5],
+    [3, 1, 6],
+    [2, 0, 7],
+    [5, 7, 0],
+    [4, 6, 1],
+    [7, 5, 2],
+    [6, 4, 3],
+];
+
 /// Determinants of the Jacobian of a Hex8 cell's trilinear map at its 8
 /// corners (positive for a valid, well-oriented cell).
 pub fn hex_corner_jacobians(mesh: &Mesh, cell: usize) -> [f64; 8] {
     let n = &mesh.cells[cell].nodes;
     let x = |k: usize| mesh.coords[n[k]];
-    // at corner k, the three edges along the reference axes xi, eta, zeta
-    const AXES: [[usize; 3]; 8] = [
-        [1, 3, 4],
-        [0, 2, 5],
-        [3, 1, 6],
-        [2, 0, 7],
-        [5, 7, 0],
-        [4, 6, 1],
-        [7, 5, 2],
-        [6, 4, 3],
-    ];
     // sign of the reference axes' directions at each corner (from the corner
     // to its neighbour along xi, eta, zeta)
     const SIGN: [f64; 8] = [1.0, -1.0, 1.0, -1.0, -1.0, 1.0, -1.0, 1.0];
     let mut det = [0.0; 8];
     for k in 0..8 {
-        let e = AXES[k].map(|m| {
+        let e = HEX_CORNER_AXES[k].map(|m| {
             let (a, b) = (x(k), x(m));
             [b[0] - a[0], b[1] - a[1], b[2] - a[2]]
         });

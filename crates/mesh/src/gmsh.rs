@@ -87,6 +87,19 @@ pub fn parse_msh(bytes: &[u8], dim: usize) -> Result<Mesh, MeshError> {
 }
 
 /// The error for a bad file, with message `msg`.
+/// The unsigned integer of the bytes `b` (at most 8) of a binary file, in
+/// its byte order.
+pub fn uint_of_bytes(b: &[u8], big_endian: bool) -> u64 {
+    let mut v = 0u64;
+    let mut push = |x: &u8| v = (v << 8) | u64::from(*x);
+    if big_endian {
+        b.iter().for_each(&mut push);
+    } else {
+        b.iter().rev().for_each(&mut push);
+    }
+    v
+}
+
 fn invalid(msg: String) -> MeshError {
     MeshError::Invalid(msg)
 }

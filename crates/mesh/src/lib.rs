@@ -14,6 +14,7 @@ pub mod generators;
 pub mod gmsh;
 pub mod partition;
 pub mod quadratic;
+pub mod vec3;
 
 use std::collections::BTreeMap;
 
@@ -39,6 +40,19 @@ pub enum CellKind {
     /// Trilinear hexahedron (8 nodes).
     Hex8,
 }
+
+/// Reference coordinates of the corners of a Hex8 cell, in node order
+/// (the cube [−1, 1]³).
+pub const HEX8_REFERENCE_CORNERS: [[f64; 3]; 8] = [
+    [-1.0, -1.0, -1.0],
+    [1.0, -1.0, -1.0],
+    [1.0, 1.0, -1.0],
+    [-1.0, 1.0, -1.0],
+    [-1.0, -1.0, 1.0],
+    [1.0, -1.0, 1.0],
+    [1.0, 1.0, 1.0],
+    [-1.0, 1.0, 1.0],
+];
 
 impl CellKind {
     /// Number of nodes of the cell.
@@ -118,6 +132,21 @@ impl CellKind {
 pub struct Cell {
     pub kind: CellKind,
     pub nodes: Vec<usize>,
+}
+
+impl Cell {
+    /// Checks that cell `c` has as many nodes as its kind: the message
+    /// naming it otherwise.
+    pub fn check_node_count(&self, c: usize) -> Result<(), String> {
+        if self.nodes.len() != self.kind.nodes() {
+            return Err(format!(
+                "cell {c} ({}) has {} nodes",
+                self.kind.name(),
+                self.nodes.len()
+            ));
+        }
+        Ok(())
+    }
 }
 
 /// A boundary facet with the cell it belongs to: a segment in 2D (2 nodes, or
@@ -223,12 +252,12 @@ impl Mesh {
             let (a, b) = (p(0), p(1));
             [b[1] - a[1], -(b[0] - a[0]), 0.0]
         } else if f.nodes.len() == 3 {
-            let (u, v) = (sub3(p(1), p(0)), sub3(p(2), p(0)));
-            let c = cross3(u, v);
+            let (u, v) = (vec3::sub(p(1), p(0)), vec3::sub(p(2), p(0)));
+            let c = vec3::cross(u, v);
             [0.5 * c[0], 0.5 * c[1], 0.5 * c[2]]
         } else {
-            let (u, v) = (sub3(p(2), p(0)), sub3(p(3), p(1)));
-            let c = cross3(u, v);
+            let (u, v) = (vec3::sub(p(2), p(0)), vec3::sub(p(3), p(1)));
+            let c = vec3::cross(u, v);
             [0.5 * c[0], 0.5 * c[1], 0.5 * c[2]]
         };
         let len = (area_vec[0].powi(2) + area_vec[1].powi(2) + area_vec[2].powi(2)).sqrt();
@@ -245,7 +274,7 @@ impl Mesh {
             }
         }
         let c = self.cell_centroid(f.cell);
-        let out = sub3(mid, c);
+        let out = vec3::sub(mid, c);
         if n[0] * out[0] + n[1] * out[1] + n[2] * out[2] < 0.0 {
             n = [-n[0], -n[1], -n[2]];
         }
@@ -308,13 +337,7 @@ impl Mesh {
     /// Checks that every cell has a positive area (counter-clockwise nodes).
     pub fn check(&self) -> Result<(), MeshError> {
         for (c, cell) in self.cells.iter().enumerate() {
-            if cell.nodes.len() != cell.kind.nodes() {
-                return Err(MeshError::Invalid(format!(
-                    "cell {c} ({}) has {} nodes",
-                    cell.kind.name(),
-                    cell.nodes.len()
-                )));
-            }
+            cell.check_node_count(c).map_err(MeshError::Invalid)?;
             if cell.kind.dim() != self.dim {
                 return Err(MeshError::Invalid(format!(
                     "cell {c} is a {} cell in a {}D mesh",
@@ -324,8 +347,8 @@ impl Mesh {
             }
             if cell.kind == CellKind::Tet4 {
                 let p: Vec<[f64; 3]> = cell.nodes.iter().map(|&n| self.coords[n]).collect();
-                let c3 = cross3(sub3(p[2], p[0]), sub3(p[3], p[0]));
-                let v = sub3(p[1], p[0]);
+                let c3 = vec3::cross(vec3::sub(p[2], p[0]), vec3::sub(p[3], p[0]));
+                let v = vec3::sub(p[1], p[0]);
                 let vol = (v[0] * c3[0] + v[1] * c3[1] + v[2] * c3[2]) / 6.0;
                 if vol <= 0.0 || vol.is_nan() {
                     return Err(MeshError::Invalid(format!(
@@ -356,18 +379,6 @@ impl Mesh {
         }
         Ok(())
     }
-}
-
-fn sub3(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-
-fn cross3(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
 }
 
 #[derive(Debug, thiserror::Error)]

@@ -7,6 +7,25 @@
 use crate::{Cell, CellKind, Facet, Mesh, MeshError, Surface};
 use std::collections::HashMap;
 
+/// The node at the middle of the edge `a`-`b`, shared by the cells around the
+/// edge: found in `mids` (keyed by the sorted pair), or pushed onto `coords`.
+pub fn mid_node(
+    coords: &mut Vec<[f64; 3]>,
+    mids: &mut HashMap<(usize, usize), usize>,
+    a: usize,
+    b: usize,
+) -> usize {
+    *mids.entry((a.min(b), a.max(b))).or_insert_with(|| {
+        let (p, q) = (coords[a], coords[b]);
+        coords.push([
+            0.5 * (p[0] + q[0]),
+            0.5 * (p[1] + q[1]),
+            0.5 * (p[2] + q[2]),
+        ]);
+        coords.len() - 1
+    })
+}
+
 /// The second-order kind of a first-order 2D kind: Tri3 → Tri6, Quad4 → Quad8.
 fn second_order_kind(kind: CellKind) -> Option<CellKind> {
     match kind {
@@ -37,8 +56,8 @@ pub fn to_second_order(mesh: &Mesh) -> Result<Mesh, MeshError> {
             mesh.dim
         )));
     }
-    let key = |a: usize, b: usize| (a.min(b), a.max(b));
     let mut coords = mesh.coords.clone();
+    let key = |a: usize, b: usize| (a.min(b), a.max(b));
     let mut mid: HashMap<(usize, usize), usize> = HashMap::new();
     let mut cells = Vec::with_capacity(mesh.cells.len());
     for (c, cell) in mesh.cells.iter().enumerate() {
@@ -48,26 +67,12 @@ pub fn to_second_order(mesh: &Mesh) -> Result<Mesh, MeshError> {
                 cell.kind.name()
             ))
         })?;
-        if cell.nodes.len() != cell.kind.nodes() {
-            return Err(MeshError::Invalid(format!(
-                "to_second_order: cell {c} ({}) has {} nodes",
-                cell.kind.name(),
-                cell.nodes.len()
-            )));
-        }
+        cell.check_node_count(c)
+            .map_err(|m| MeshError::Invalid(format!("to_second_order: {m}")))?;
         let mut nodes = cell.nodes.clone();
         for local in cell.kind.facets() {
             let (a, b) = (cell.nodes[local[0]], cell.nodes[local[1]]);
-            let m = *mid.entry(key(a, b)).or_insert_with(|| {
-                let (p, q) = (coords[a], coords[b]);
-                coords.push([
-                    0.5 * (p[0] + q[0]),
-                    0.5 * (p[1] + q[1]),
-                    0.5 * (p[2] + q[2]),
-                ]);
-                coords.len() - 1
-            });
-            nodes.push(m);
+            nodes.push(mid_node(&mut coords, &mut mid, a, b));
         }
         cells.push(Cell { kind, nodes });
     }
@@ -121,12 +126,19 @@ mod tests {
         uses
     }
 
+    /// A rectangle of `size` from the origin in `divisions` cells of `kind`,
+    /// and that mesh made second-order (checked).
+    fn grid_to_second_order(size: [f64; 2], divisions: [usize; 2], kind: CellKind) -> (Mesh, Mesh) {
+        let first = rectangle([0.0, 0.0], size, divisions, kind, None).unwrap();
+        let second = to_second_order(&first).unwrap();
+        second.check().unwrap();
+        (first, second)
+    }
+
     #[test]
     fn quad_grid_to_quad8() {
         let (nx, ny) = (5, 3);
-        let q4 = rectangle([0.0, 0.0], [2.0, 1.0], [nx, ny], CellKind::Quad4, None).unwrap();
-        let m = to_second_order(&q4).unwrap();
-        m.check().unwrap();
+        let (q4, m) = grid_to_second_order([2.0, 1.0], [nx, ny], CellKind::Quad4);
         assert_eq!(
             m.n_nodes(),
             (nx + 1) * (ny + 1) + nx * (ny + 1) + ny * (nx + 1)
@@ -183,9 +195,7 @@ mod tests {
     #[test]
     fn tri_grid_to_tri6() {
         let (nx, ny) = (4, 3);
-        let t3 = rectangle([0.0, 0.0], [1.0, 1.0], [nx, ny], CellKind::Tri3, None).unwrap();
-        let m = to_second_order(&t3).unwrap();
-        m.check().unwrap();
+        let (t3, m) = grid_to_second_order([1.0, 1.0], [nx, ny], CellKind::Tri3);
         // + one diagonal per quad
         let edges = nx * (ny + 1) + ny * (nx + 1) + nx * ny;
         assert_eq!(m.n_nodes(), (nx + 1) * (ny + 1) + edges);

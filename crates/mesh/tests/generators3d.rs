@@ -1,21 +1,12 @@
 //! The 3D generators: `box_mesh` (Hex8, Tet4) and `hemisphere`.
 
-use signorini_mesh::generators::{box_mesh, hemisphere, hex_corner_jacobians, BoxSide};
-use signorini_mesh::{CellKind, Facet, Mesh};
+use signorini_mesh::generators::{
+    box_mesh, hemisphere, hex_corner_jacobians, BoxSide, HEX_CORNER_AXES,
+};
+use signorini_mesh::vec3::{dot, norm, sub};
+use signorini_mesh::{CellKind, Facet, Mesh, HEX8_REFERENCE_CORNERS};
 use std::collections::HashMap;
 use std::f64::consts::PI;
-
-fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-
-fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-
-fn norm(a: [f64; 3]) -> f64 {
-    dot(a, a).sqrt()
-}
 
 fn det3(a: [f64; 3], b: [f64; 3], c: [f64; 3]) -> f64 {
     a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0])
@@ -25,16 +16,6 @@ fn det3(a: [f64; 3], b: [f64; 3], c: [f64; 3]) -> f64 {
 /// Volume of a Hex8 cell: the integral of the trilinear map's Jacobian by 2x2x2
 /// Gauss points (exact: the Jacobian is at most quadratic in each variable).
 fn hex_volume(m: &Mesh, c: usize) -> f64 {
-    const REF: [[f64; 3]; 8] = [
-        [-1.0, -1.0, -1.0],
-        [1.0, -1.0, -1.0],
-        [1.0, 1.0, -1.0],
-        [-1.0, 1.0, -1.0],
-        [-1.0, -1.0, 1.0],
-        [1.0, -1.0, 1.0],
-        [1.0, 1.0, 1.0],
-        [-1.0, 1.0, 1.0],
-    ];
     let n = &m.cells[c].nodes;
     let g = 1.0 / 3f64.sqrt();
     let mut v = 0.0;
@@ -44,7 +25,7 @@ fn hex_volume(m: &Mesh, c: usize) -> f64 {
     {
         // columns of the Jacobian: dx/dxi_d
         let mut col = [[0.0; 3]; 3];
-        for (k, r) in REF.iter().enumerate() {
+        for (k, r) in HEX8_REFERENCE_CORNERS.iter().enumerate() {
             let x = m.coords[n[k]];
             for d in 0..3 {
                 let mut dn = r[d] / 8.0;
@@ -104,23 +85,13 @@ fn check_surfaces_cover_boundary(m: &Mesh) {
 /// Every corner Jacobian of every cell is positive; returns the smallest one
 /// divided by the product of the three edge lengths at its corner.
 fn min_scaled_jacobian(m: &Mesh) -> f64 {
-    const AXES: [[usize; 3]; 8] = [
-        [1, 3, 4],
-        [0, 2, 5],
-        [3, 1, 6],
-        [2, 0, 7],
-        [5, 7, 0],
-        [4, 6, 1],
-        [7, 5, 2],
-        [6, 4, 3],
-    ];
     let mut worst = f64::INFINITY;
     for c in 0..m.cells.len() {
         let det = hex_corner_jacobians(m, c);
         let n = &m.cells[c].nodes;
         for k in 0..8 {
             assert!(det[k] > 0.0, "cell {c} corner {k}: Jacobian {}", det[k]);
-            let l: f64 = AXES[k]
+            let l: f64 = HEX_CORNER_AXES[k]
                 .iter()
                 .map(|&j| norm(sub(m.coords[n[j]], m.coords[n[k]])))
                 .product();

@@ -181,8 +181,7 @@ mod tests {
 
     #[test]
     fn writes_an_svg_with_every_series_label() {
-        let dir = std::env::temp_dir().join(format!("signorini-plot-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
+        let dir = crate::test_dir("plot");
         let path = dir.join("p.svg");
         let series = vec![
             Series {

@@ -292,33 +292,40 @@ pub fn sliding_block(nodes: &[NodalPressure], mu: f64, applied: Option<f64>) -> 
 mod tests {
     use super::*;
 
+    /// `n` nodes evenly spaced over `[−a, a]`, `node(s, w)` at `s` with its
+    /// trapezoidal weight `w`.
+    fn sampled(a: f64, n: usize, node: impl Fn(f64, f64) -> NodalPressure) -> Vec<NodalPressure> {
+        let h = 2.0 * a / (n - 1) as f64;
+        (0..n)
+            .map(|i| {
+                let s = -a + i as f64 * h;
+                let w = if i == 0 || i == n - 1 { h / 2.0 } else { h };
+                node(s, w)
+            })
+            .collect()
+    }
+
     /// The analytic Cattaneo–Mindlin traction, sampled finely, gives back c.
     #[test]
     fn cattaneo_mindlin_profile_sampled_finely_recovers_the_stick_zone() {
         let (e_star, r, p, mu, ratio) = (0.55, 1.0, 0.004, 0.3, 0.5);
         let (a, p0) = hertz_cylinder_exact(p, e_star, r);
         let c = a * (1.0f64 - ratio).sqrt();
-        let n = 4001;
-        let h = 2.0 * a / (n - 1) as f64;
-        let nodes: Vec<NodalPressure> = (0..n)
-            .map(|i| {
-                let x = -a + i as f64 * h;
-                let w = if i == 0 || i == n - 1 { h / 2.0 } else { h };
-                let pe = p0 * (1.0 - (x / a).powi(2)).max(0.0).sqrt();
-                let mut q = mu * pe;
-                if x.abs() < c {
-                    q -= mu * p0 * (c / a) * (1.0 - (x / c).powi(2)).max(0.0).sqrt();
-                }
-                NodalPressure {
-                    s: x,
-                    force: pe * w,
-                    tributary: w,
-                    pressure: pe,
-                    tangential: -q * w,
-                    stick: x.abs() < c,
-                }
-            })
-            .collect();
+        let nodes = sampled(a, 4001, |x, w| {
+            let pe = p0 * (1.0 - (x / a).powi(2)).max(0.0).sqrt();
+            let mut q = mu * pe;
+            if x.abs() < c {
+                q -= mu * p0 * (c / a) * (1.0 - (x / c).powi(2)).max(0.0).sqrt();
+            }
+            NodalPressure {
+                s: x,
+                force: pe * w,
+                tributary: w,
+                pressure: pe,
+                tangential: -q * w,
+                stick: x.abs() < c,
+            }
+        });
         let rep = cattaneo_mindlin(&nodes, e_star, r, mu);
         let q = &rep.quantities;
         assert!(
@@ -373,15 +380,7 @@ mod tests {
         let (e_star, r, p) = (1.1, 1.0, 0.02);
         let (a, p0) = hertz_cylinder_exact(p, e_star, r);
         assert!((p0 - (p * e_star / (std::f64::consts::PI * r)).sqrt()).abs() <= 1e-14 * p0);
-        let n = 2001;
-        let h = 2.0 * a / (n - 1) as f64;
-        let nodes: Vec<NodalPressure> = (0..n)
-            .map(|i| {
-                let s = -a + i as f64 * h;
-                let w = if i == 0 || i == n - 1 { h / 2.0 } else { h };
-                hertz_node(s, w, p0, a)
-            })
-            .collect();
+        let nodes = sampled(a, 2001, |s, w| hertz_node(s, w, p0, a));
         let rep = hertz_cylinder(&nodes, e_star, r);
         assert!(rep.quantities["p0"].relative_error < 1e-3);
         assert!(rep.quantities["a"].relative_error < 1e-3);

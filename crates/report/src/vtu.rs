@@ -143,8 +143,7 @@ mod tests {
 
     #[test]
     fn a_two_cell_mesh_reads_back_with_its_counts_and_fields() {
-        let dir = std::env::temp_dir().join(format!("signorini-vtu-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
+        let dir = crate::test_dir("vtu");
         let coords = [
             [0.0, 0.0, 0.0],
             [1.0, 0.0, 0.0],

@@ -872,6 +872,27 @@ impl GeneratorCheck<'_> {
     }
 }
 
+/// A circle (2D) or a sphere (3D): `(name, its dimension, the other's
+/// name)`, its centre and its radius.
+fn validate_round(
+    e: &str,
+    (name, own, other): (&str, usize, &str),
+    center: &[f64],
+    radius: f64,
+    dim: usize,
+) -> Result {
+    if dim != own {
+        return Err(invalid(
+            format!("{e}.shape"),
+            format!(
+                "\"{name}\" is a {own}D shape; with dimension = {dim} use \"{other}\" or \"plane\""
+            ),
+        ));
+    }
+    vector(&format!("{e}.center"), center, dim)?;
+    positive(&format!("{e}.radius"), radius)
+}
+
 fn validate_rigid(e: &str, shape: &RigidShape, dim: usize) -> Result {
     match shape {
         RigidShape::Plane { point, normal } => {
@@ -880,24 +901,10 @@ fn validate_rigid(e: &str, shape: &RigidShape, dim: usize) -> Result {
             non_zero(&format!("{e}.normal"), normal)?;
         }
         RigidShape::Circle { center, radius } => {
-            if dim != 2 {
-                return Err(invalid(
-                    format!("{e}.shape"),
-                    "\"circle\" is a 2D shape; with dimension = 3 use \"sphere\" or \"plane\"",
-                ));
-            }
-            vector(&format!("{e}.center"), center, dim)?;
-            positive(&format!("{e}.radius"), *radius)?;
+            validate_round(e, ("circle", 2, "sphere"), center, *radius, dim)?;
         }
         RigidShape::Sphere { center, radius } => {
-            if dim != 3 {
-                return Err(invalid(
-                    format!("{e}.shape"),
-                    "\"sphere\" is a 3D shape; with dimension = 2 use \"circle\" or \"plane\"",
-                ));
-            }
-            vector(&format!("{e}.center"), center, dim)?;
-            positive(&format!("{e}.radius"), *radius)?;
+            validate_round(e, ("sphere", 3, "circle"), center, *radius, dim)?;
         }
     }
     Ok(())

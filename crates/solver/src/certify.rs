@@ -88,21 +88,33 @@ pub(crate) fn certificate_of(
     }
 }
 
+/// What a solved step leaves for its certificate: the solution, the final
+/// gaps, the residuals and the largest displacement.
+#[derive(Clone, Copy)]
+pub(crate) struct StepEvidence<'a> {
+    pub sol: &'a StepSolution,
+    pub gaps: &'a [f64],
+    pub res: &'a Residuals,
+    pub umax: f64,
+}
+
 /// Certificate, contact.csv rows and the step report of one step; updates
 /// the run's convergence.
-#[allow(clippy::too_many_arguments)]
 pub(crate) fn conclude_step(
     sc: &scene::Scene,
     bodies: &[BodyModel],
     points: &[PointModel],
     si: usize,
-    sol: &StepSolution,
-    gaps: &[f64],
-    res: &Residuals,
-    umax: f64,
+    step: &StepEvidence,
     partial: &mut Partial,
     messages: &mut Vec<String>,
 ) {
+    let StepEvidence {
+        sol,
+        gaps,
+        res,
+        umax,
+    } = *step;
     let lambda = &sol.outcome.forces;
     let cert = certificate_of(res, gaps, lambda, sol, umax, sc.solver.tolerance);
     record_convergence(partial, si, sol, &cert);
@@ -340,18 +352,13 @@ pub(crate) fn finish_condensed(
             equilibrium: interior.max(inf_norm(&r_gamma)),
             force_scale: force_scale.max(inf_norm(lambda)),
         };
-        conclude_step(
-            sc,
-            bodies,
-            points,
-            si,
+        let step = StepEvidence {
             sol,
-            &gaps,
-            &res,
+            gaps: &gaps,
+            res: &res,
             umax,
-            &mut partial,
-            messages,
-        );
+        };
+        conclude_step(sc, bodies, points, si, &step, &mut partial, messages);
     }
     let m = points.len();
     partial.u_steps = u_steps;
@@ -375,19 +382,15 @@ struct Findings {
 }
 
 /// Fills the report common to both paths.
-#[allow(clippy::too_many_arguments)]
 pub(crate) fn finish_report(
+    ctx: RunContext,
     mut partial: Partial,
-    sc: &scene::Scene,
-    scene_name: &str,
-    plan: &plan::Plan,
-    model: &partition::ModelData,
-    comm: &dyn Transport,
     mut log: RunLog,
     communication_bytes: u64,
     rank_stats: Vec<RankStats>,
 ) -> Result<RunOutput, SolveError> {
-    let (bodies, points) = (&model.bodies, &model.points);
+    let sc = ctx.sc;
+    let (bodies, points) = (&ctx.model.bodies, &ctx.model.points);
     let friction = partial.friction.as_ref();
     let (contact_force, contacts) = contact_summaries(sc, points, &partial.lambda, friction);
     let no_step = Vec::new();
@@ -418,12 +421,8 @@ pub(crate) fn finish_report(
         reference,
     };
     let report = report_of(
+        ctx,
         partial,
-        sc,
-        scene_name,
-        plan,
-        model,
-        comm,
         log,
         (communication_bytes, rank_stats),
         findings,
@@ -550,16 +549,19 @@ fn body_results(
 /// certificate and what the run found.
 #[allow(clippy::too_many_arguments)]
 fn report_of(
+    ctx: RunContext,
     partial: Partial,
-    sc: &scene::Scene,
-    scene_name: &str,
-    plan: &plan::Plan,
-    model: &partition::ModelData,
-    comm: &dyn Transport,
     log: RunLog,
     ranks: (u64, Vec<RankStats>),
     findings: Findings,
 ) -> Report {
+    let RunContext {
+        sc,
+        scene_name,
+        plan,
+        model,
+        comm,
+    } = ctx;
     let (method, path) = (plan.method, plan.path);
     let RunLog {
         t_total,

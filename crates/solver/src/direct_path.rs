@@ -48,18 +48,13 @@ pub(crate) fn run_direct(
         messages,
     ));
     for (si, (sol, gaps, res, umax)) in solutions.iter().enumerate() {
-        conclude_step(
-            sc,
-            bodies,
-            points,
-            si,
+        let step = StepEvidence {
             sol,
             gaps,
             res,
-            *umax,
-            &mut partial,
-            messages,
-        );
+            umax: *umax,
+        };
+        conclude_step(sc, bodies, points, si, &step, &mut partial, messages);
     }
     partial.u_steps = u_steps;
     partial.dofs = system.n_free;

@@ -68,7 +68,7 @@ use direct_path::*;
 use friction_step::*;
 use model::{BodyModel, FixedPoint, PointModel};
 pub use pipeline::run;
-use pipeline::RunLog;
+use pipeline::{RunContext, RunLog};
 pub use plan::algorithm_of;
 use root::*;
 use subdomain::{CondensedData, RecoveredData, Subdomain, SubdomainSpec};

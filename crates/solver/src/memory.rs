@@ -552,14 +552,7 @@ fn gmsh_nodes(path: &Path) -> Option<f64> {
             .and_then(|b| b.iter().position(|&c| c == b'\n').map(|e| (e, b)))
             .and_then(|(e, b)| b.get(e + 1..e + 5))
             == Some(&[0, 0, 0, 1][..]);
-        let mut v = 0u64;
-        let mut push = |x: &u8| v = (v << 8) | u64::from(*x);
-        if big_endian {
-            raw.iter().for_each(&mut push);
-        } else {
-            raw.iter().rev().for_each(&mut push);
-        }
-        v as f64
+        signorini_mesh::gmsh::uint_of_bytes(raw, big_endian) as f64
     } else {
         let text = String::from_utf8_lossy(&body[..body.len().min(200)]).into_owned();
         let mut numbers = text.split_whitespace().map(|t| t.parse::<f64>().ok());

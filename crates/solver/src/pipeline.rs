@@ -14,6 +14,17 @@ pub(crate) struct RunLog {
     pub stages: Vec<String>,
 }
 
+/// What every stage after the model stage reads of the run: the scene, its
+/// name, the plan, the model and the transport.
+#[derive(Clone, Copy)]
+pub(crate) struct RunContext<'a> {
+    pub sc: &'a scene::Scene,
+    pub scene_name: &'a str,
+    pub plan: &'a plan::Plan,
+    pub model: &'a partition::ModelData,
+    pub comm: &'a dyn Transport,
+}
+
 /// Per-rank figures for the report.
 #[derive(Serialize, Deserialize, Clone, Default)]
 pub(crate) struct RankFigures {
@@ -58,8 +69,15 @@ pub fn run(
     let ranks = if condensed_path { comm.size() } else { 1 };
     let model = partition::model_stage(sc, ranks, &mut log.messages)?;
     log.timings.setup = t.elapsed().as_secs_f64();
+    let ctx = RunContext {
+        sc,
+        scene_name,
+        plan: &plan,
+        model: &model,
+        comm,
+    };
     if !condensed_path {
-        return direct_stage(sc, scene_name, &plan, &model, comm, log);
+        return direct_stage(ctx, log);
     }
     log.stages.push("condense".into());
     let (local, condensed, condense_s) = condense_stage(comm, &model, &mut log.messages);
@@ -85,22 +103,13 @@ pub fn run(
         return Err(SolveError::Internal("root state missing".into()));
     };
     log.timings.contact = contact_s;
-    report_stage(
-        sc, scene_name, &plan, &model, comm, log, state, all, &answer,
-    )
-    .map(Some)
+    report_stage(ctx, log, state, all, &answer).map(Some)
 }
 
 /// The direct path on the root (the other ranks have nothing to do).
-fn direct_stage(
-    sc: &scene::Scene,
-    scene_name: &str,
-    plan: &plan::Plan,
-    model: &partition::ModelData,
-    comm: &dyn Transport,
-    mut log: RunLog,
-) -> Result<Option<RunOutput>, SolveError> {
-    if !comm.is_root() {
+fn direct_stage(ctx: RunContext, mut log: RunLog) -> Result<Option<RunOutput>, SolveError> {
+    let (sc, model) = (ctx.sc, ctx.model);
+    if !ctx.comm.is_root() {
         return Ok(None);
     }
     log.stages.push("contact".into());
@@ -113,7 +122,7 @@ fn direct_stage(
         &mut log.timings,
         &mut log.messages,
     )?;
-    finish_report(partial, sc, scene_name, plan, model, comm, log, 0, vec![]).map(Some)
+    finish_report(ctx, partial, log, 0, vec![]).map(Some)
 }
 
 type Condensed = (Vec<Subdomain>, Result<Vec<CondensedData>, String>, f64);
@@ -241,18 +250,14 @@ fn recover_stage(
 
 /// The root: the recovered fields of every rank, the certificate per step,
 /// the conditioning and the per-rank statistics, into the report.
-#[allow(clippy::too_many_arguments)]
 fn report_stage(
-    sc: &scene::Scene,
-    scene_name: &str,
-    plan: &plan::Plan,
-    model: &partition::ModelData,
-    comm: &dyn Transport,
+    ctx: RunContext,
     mut log: RunLog,
     (steps, data, root_cond): RootState,
     all: Vec<(Vec<RecoveredData>, RankFigures)>,
     answer: &RootAnswer,
 ) -> Result<RunOutput, SolveError> {
+    let (sc, model) = (ctx.sc, ctx.model);
     log.timings.delassus = steps.iter().map(|st| st.operator_s).sum();
     let mut recovered: Vec<RecoveredData> = Vec::new();
     let mut figures = Vec::new();
@@ -296,7 +301,5 @@ fn report_stage(
             bytes_sent: f.bytes_sent,
         })
         .collect();
-    finish_report(
-        partial, sc, scene_name, plan, model, comm, log, bytes, stats,
-    )
+    finish_report(ctx, partial, log, bytes, stats)
 }

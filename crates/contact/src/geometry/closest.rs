@@ -318,6 +318,7 @@ pub(super) fn quad_normal(p: &[[f64; 3]; 4], xi_eta: [f64; 2]) -> Option<[f64; 3
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::geometry::TRAPEZOID;
 
     #[test]
     fn triangle_regions() {
@@ -348,12 +349,7 @@ mod tests {
     #[test]
     fn quad_inverse_map_on_a_trapezoid_and_its_sides() {
         // Planar trapezoid in z = 1: x(ξ, η) is not affine.
-        let p = [
-            [0.0, 0.0, 1.0],
-            [4.0, 0.0, 1.0],
-            [3.0, 2.0, 1.0],
-            [1.0, 2.0, 1.0],
-        ];
+        let p = TRAPEZOID.map(|c| [c[0], c[1], 1.0]);
         let (xi, eta) = (0.3, -0.4);
         let (w, _, _) = bilinear(xi, eta);
         let q = combine(w, &p);

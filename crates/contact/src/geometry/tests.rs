@@ -35,39 +35,37 @@ fn map(w: [f64; 4], p: &[[f64; 3]; 4]) -> [f64; 3] {
     x
 }
 
+/// A mesh of one cell of `kind` on the nodes `coords` in order, with the
+/// surfaces "bottom" and "top" of one facet each (`facets`, in that order).
+fn one_cell(dim: usize, kind: CellKind, coords: Vec<[f64; 3]>, facets: [Vec<usize>; 2]) -> Mesh {
+    let n = coords.len();
+    let mut m = Mesh {
+        dim,
+        coords,
+        cells: vec![Cell {
+            kind,
+            nodes: (0..n).collect(),
+        }],
+        ..Default::default()
+    };
+    for (name, nodes) in ["bottom", "top"].into_iter().zip(facets) {
+        let facets = vec![Facet { nodes, cell: 0 }];
+        m.surfaces.insert(name.into(), Surface { facets });
+    }
+    m
+}
+
 /// One Hex8 cell: `bottom` corners counter-clockwise seen from above, the top
 /// ones `height` above them. Surfaces "bottom" and "top".
 fn hex(bottom: [[f64; 3]; 4], height: f64) -> Mesh {
     let mut coords = bottom.to_vec();
     coords.extend(bottom.iter().map(|p| [p[0], p[1], p[2] + height]));
-    let mut m = Mesh {
-        dim: 3,
+    one_cell(
+        3,
+        CellKind::Hex8,
         coords,
-        cells: vec![Cell {
-            kind: CellKind::Hex8,
-            nodes: (0..8).collect(),
-        }],
-        ..Default::default()
-    };
-    m.surfaces.insert(
-        "bottom".into(),
-        Surface {
-            facets: vec![Facet {
-                nodes: vec![0, 3, 2, 1],
-                cell: 0,
-            }],
-        },
-    );
-    m.surfaces.insert(
-        "top".into(),
-        Surface {
-            facets: vec![Facet {
-                nodes: vec![4, 5, 6, 7],
-                cell: 0,
-            }],
-        },
-    );
-    m
+        [vec![0, 3, 2, 1], vec![4, 5, 6, 7]],
+    )
 }
 
 /// A structured block of nx × ny × 1 Hex8 cells over [0, nx·h] × [0, ny·h],
@@ -159,6 +157,26 @@ fn triangle_surface(points: Vec<[f64; 3]>, tris: &[[usize; 3]], depth: f64) -> M
     m
 }
 
+/// The master geometry of the surface "top" of `mesh`.
+fn top_of(mesh: &Mesh) -> MasterGeometry<'_> {
+    MasterGeometry::Surface {
+        mesh,
+        surface: &mesh.surfaces["top"],
+    }
+}
+
+/// Node-to-segment points of the surface "bottom" of `slave` on `g`, by the
+/// master's normals.
+fn segment_points_on(slave: &Mesh, g: &MasterGeometry) -> Vec<ContactPoint> {
+    node_to_segment(slave, &slave.surfaces["bottom"], g, NormalRule::Master).unwrap()
+}
+
+/// The 2 × 1 rectangle of 4 × 2 Quad4 cells above y = 1, over x ∈ [−1, 1].
+fn rectangle_above_the_origin() -> Mesh {
+    signorini_mesh::generators::rectangle([-1.0, 1.0], [2.0, 1.0], [4, 2], CellKind::Quad4, None)
+        .unwrap()
+}
+
 fn points_by_node(pts: &[ContactPoint]) -> std::collections::BTreeMap<usize, &ContactPoint> {
     pts.iter().map(|p| (p.slave_node, p)).collect()
 }
@@ -190,19 +208,8 @@ fn check_frame(p: &ContactPoint) {
 fn slave_nodes_above_a_flat_trapezoidal_quad_get_the_bilinear_weights_and_gap() {
     // Master top face: the trapezoid (0,0) (4,0) (3,2) (1,2) at z = 1 (nodes
     // 4..7 of the hex), where x(ξ, η) is not affine.
-    let base = [
-        [0.0, 0.0, 0.0],
-        [4.0, 0.0, 0.0],
-        [3.0, 2.0, 0.0],
-        [1.0, 2.0, 0.0],
-    ];
-    let master = hex(base, 1.0);
-    let face = [
-        [0.0, 0.0, 1.0],
-        [4.0, 0.0, 1.0],
-        [3.0, 2.0, 1.0],
-        [1.0, 2.0, 1.0],
-    ];
+    let master = hex(TRAPEZOID, 1.0);
+    let face = TRAPEZOID.map(|c| [c[0], c[1], 1.0]);
     // Slave: a hex whose bottom corners sit 0.05 above x(ξ, η) of the face.
     let gap = 0.05;
     let params = [[-0.5, -0.6], [0.7, -0.5], [0.4, 0.3], [-0.2, 0.9]];
@@ -211,10 +218,7 @@ fn slave_nodes_above_a_flat_trapezoidal_quad_get_the_bilinear_weights_and_gap() 
         [x[0], x[1], x[2] + gap]
     });
     let slave = hex(bottom, 1.0);
-    let g = MasterGeometry::Surface {
-        mesh: &master,
-        surface: &master.surfaces["top"],
-    };
+    let g = top_of(&master);
     for rule in [
         NormalRule::Master,
         NormalRule::Slave,
@@ -334,10 +338,7 @@ fn nodes_beyond_the_free_edge_of_the_master_are_skipped_and_kinks_inside_are_kep
     // ridge projects beyond both faces, on their shared side: kept, clamped on
     // the ridge; the points rule gives the true distance.
     let roof = hex_grid(2, 1, 1.0, |x, _| 1.0 - 0.5 * (x - 1.0).abs());
-    let g = MasterGeometry::Surface {
-        mesh: &roof,
-        surface: &roof.surfaces["top"],
-    };
+    let g = top_of(&roof);
     let slave = triangle_surface(
         vec![[1.0, 0.5, 1.5], [1.1, 0.5, 1.6], [1.0, 0.6, 1.6]],
         &[[0, 2, 1]],
@@ -666,14 +667,7 @@ fn rigid_sphere_and_plane_in_3d() {
 
 #[test]
 fn rigid_disc_in_2d() {
-    let slave = signorini_mesh::generators::rectangle(
-        [-1.0, 1.0],
-        [2.0, 1.0],
-        [4, 2],
-        CellKind::Quad4,
-        None,
-    )
-    .unwrap();
+    let slave = rectangle_above_the_origin();
     let surf = &slave.surfaces["bottom"];
     // The centre's z is ignored in 2D.
     let g = MasterGeometry::Sphere {
@@ -696,55 +690,31 @@ fn rigid_disc_in_2d() {
 /// quadratic edges `[corner, corner, mid]`.
 fn quad8(c: [[f64; 2]; 4], m: [[f64; 2]; 4]) -> Mesh {
     let coords = c.iter().chain(&m).map(|p| [p[0], p[1], 0.0]).collect();
-    let mut mesh = Mesh {
-        dim: 2,
-        coords,
-        cells: vec![Cell {
-            kind: CellKind::Quad8,
-            nodes: (0..8).collect(),
-        }],
-        ..Default::default()
-    };
-    mesh.surfaces.insert(
-        "bottom".into(),
-        Surface {
-            facets: vec![Facet {
-                nodes: vec![0, 1, 4],
-                cell: 0,
-            }],
-        },
-    );
-    mesh.surfaces.insert(
-        "top".into(),
-        Surface {
-            facets: vec![Facet {
-                nodes: vec![2, 3, 6],
-                cell: 0,
-            }],
-        },
-    );
-    mesh
+    one_cell(2, CellKind::Quad8, coords, [vec![0, 1, 4], vec![2, 3, 6]])
+}
+
+/// The unit square as one Quad8, the mid-side node 6 of its top edge at
+/// (0.5, `top_mid_y`).
+fn unit_square_quad8(top_mid_y: f64) -> Mesh {
+    quad8(
+        [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]],
+        [[0.5, 0.0], [1.0, 0.5], [0.5, top_mid_y], [0.0, 0.5]],
+    )
 }
 
 #[test]
 fn quadratic_edges_are_piecewise_linear_through_the_mid_side_node() {
     // Master: the unit square's top edge 2-3, its mid-side node 6 raised to
     // (0.5, 1.1): two straight halves (1,1)–(0.5,1.1) and (0.5,1.1)–(0,1).
-    let master = quad8(
-        [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]],
-        [[0.5, 0.0], [1.0, 0.5], [0.5, 1.1], [0.0, 0.5]],
-    );
+    let master = unit_square_quad8(1.1);
     // Slave: a Quad8 above, bottom edge nodes 0 (0.2, 1.5), 1 (0.9, 1.5) and
     // mid-side 4 (0.55, 1.5) (a straight edge).
     let slave = quad8(
         [[0.2, 1.5], [0.9, 1.5], [0.9, 2.5], [0.2, 2.5]],
         [[0.55, 1.5], [0.9, 2.0], [0.55, 2.5], [0.2, 2.0]],
     );
-    let g = MasterGeometry::Surface {
-        mesh: &master,
-        surface: &master.surfaces["top"],
-    };
-    let pts = node_to_segment(&slave, &slave.surfaces["bottom"], &g, NormalRule::Master).unwrap();
+    let g = top_of(&master);
+    let pts = segment_points_on(&slave, &g);
     let by = points_by_node(&pts);
     // The mid-side node is a contact point like the corners.
     assert_eq!(by.keys().copied().collect::<Vec<_>>(), vec![0, 1, 4]);
@@ -791,19 +761,13 @@ fn quadratic_edges_are_piecewise_linear_through_the_mid_side_node() {
 
     // A straight quadratic edge: a node above x = 0.8 projects on the half
     // (1,1)–(0.5,1) at ξ = 0.4: weights 0.6 (corner 2) and 0.4 (mid 6).
-    let flat = quad8(
-        [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]],
-        [[0.5, 0.0], [1.0, 0.5], [0.5, 1.0], [0.0, 0.5]],
-    );
+    let flat = unit_square_quad8(1.0);
     let slave = quad8(
         [[0.8, 1.25], [1.6, 1.25], [1.6, 2.0], [0.8, 2.0]],
         [[1.2, 1.25], [1.6, 1.6], [1.2, 2.0], [0.8, 1.6]],
     );
-    let g = MasterGeometry::Surface {
-        mesh: &flat,
-        surface: &flat.surfaces["top"],
-    };
-    let pts = node_to_segment(&slave, &slave.surfaces["bottom"], &g, NormalRule::Master).unwrap();
+    let g = top_of(&flat);
+    let pts = segment_points_on(&slave, &g);
     let by = points_by_node(&pts);
     // Node 4 (1.2, 1.25) and node 1 (1.6, 1.25) lie beyond the free end (1, 1).
     assert_eq!(by.keys().copied().collect::<Vec<_>>(), vec![0]);
@@ -872,10 +836,7 @@ fn node_to_node_in_3d_on_matching_meshes() {
     for p in &mut slave.coords {
         p[2] += 1.0 + gap;
     }
-    let g = MasterGeometry::Surface {
-        mesh: &master,
-        surface: &master.surfaces["top"],
-    };
+    let g = top_of(&master);
     for rule in [NormalRule::Master, NormalRule::Slave, NormalRule::Points] {
         let pts = node_to_node(&slave, &slave.surfaces["bottom"], &g, rule).unwrap();
         assert_eq!(pts.len(), 12);
@@ -934,11 +895,8 @@ fn linear_2d_node_to_segment_weights_and_skips() {
         None,
     )
     .unwrap();
-    let g = MasterGeometry::Surface {
-        mesh: &master,
-        surface: &master.surfaces["top"],
-    };
-    let pts = node_to_segment(&slave, &slave.surfaces["bottom"], &g, NormalRule::Master).unwrap();
+    let g = top_of(&master);
+    let pts = segment_points_on(&slave, &g);
     let xs: Vec<f64> = pts.iter().map(|p| p.x[0]).collect();
     assert_eq!(xs, vec![0.0, 0.5, 1.0, 1.5, 2.0]);
     for p in &pts {

@@ -3,18 +3,13 @@
 
 use super::meshes::{boundary_nodes, rect};
 use super::{
-    assert_cell_stress, dense, mat, matvec, norm, solve_dirichlet, solve_patch, tube_errors, E, NU,
+    assert_cell_stress, dense, mat, matvec, norm, solve_dirichlet, solve_patch, tube_errors, E,
+    KINDS_2D, NU,
 };
 use crate::*;
 use signorini_mesh::CellKind;
 use std::f64::consts::PI;
 
-const KINDS_2D: [CellKind; 4] = [
-    CellKind::Tri3,
-    CellKind::Quad4,
-    CellKind::Tri6,
-    CellKind::Quad8,
-];
 const AXI: Model = Model::Axisymmetric;
 
 /// The linear fields of an axisymmetric body in equilibrium without body

@@ -3,8 +3,11 @@
 //! with selective reduced integration, the refusals, a locking-free Lamé
 //! tube at ν = 0.4999, and the stress recovery with `B̄`.
 
-use super::meshes::{boundary_nodes, boxed, rect, single};
-use super::{assert_cell_stress, fixed_at, mat, solve_dirichlet, tube_errors, E, NU};
+use super::meshes::{boundary_nodes, boxed, rect, single, single_2d};
+use super::{
+    assert_cell_stress, fixed_at, linear_2d, linear_3d, mat, solve_dirichlet, strain_3d,
+    tube_errors, E, NU,
+};
 use crate::*;
 use nalgebra::{DMatrix, DVector, SymmetricEigen};
 use signorini_mesh::{CellKind, Mesh};
@@ -48,16 +51,7 @@ fn patch_test_b_bar() {
         let u0 = [3.0e-4, -1.0e-4];
         let m = rect(CellKind::Quad4, [0.5, -0.25], [2.0, 1.0], [5, 4], 0.3);
         let el = bbar(Model::PlaneStrain, nu);
-        let exact: Vec<f64> = m
-            .coords
-            .iter()
-            .flat_map(|p| {
-                [
-                    u0[0] + g[0][0] * p[0] + g[0][1] * p[1],
-                    u0[1] + g[1][0] * p[0] + g[1][1] * p[1],
-                ]
-            })
-            .collect();
+        let exact = linear_2d(&m, u0, g);
         let s = el.d_matrix() * DVector::from_vec(vec![g[0][0], g[1][1], g[0][1] + g[1][0]]);
         let full = [s[0], s[1], nu * (s[0] + s[1]), s[2], 0.0, 0.0];
         patch(&format!("q4 plane strain ν = {nu}"), &m, &el, &exact, &full);
@@ -92,26 +86,8 @@ fn patch_test_b_bar() {
         let u0 = [3.0e-4, -1.0e-4, 2.0e-4];
         let m = boxed(CellKind::Hex8, [2.0, 1.0, 1.5], [4, 3, 3], 0.2);
         let el = bbar(Model::Solid, nu);
-        let exact: Vec<f64> = m
-            .coords
-            .iter()
-            .flat_map(|p| {
-                let mut u = u0;
-                for (i, ui) in u.iter_mut().enumerate() {
-                    *ui += (0..3).map(|j| g[i][j] * p[j]).sum::<f64>();
-                }
-                u
-            })
-            .collect();
-        let eps = DVector::from_vec(vec![
-            g[0][0],
-            g[1][1],
-            g[2][2],
-            g[0][1] + g[1][0],
-            g[1][2] + g[2][1],
-            g[0][2] + g[2][0],
-        ]);
-        let s = el.d_matrix() * eps;
+        let exact = linear_3d(&m, u0, g);
+        let s = el.d_matrix() * strain_3d(g);
         let full = [s[0], s[1], s[2], s[3], s[4], s[5]];
         patch(&format!("hex8 ν = {nu}"), &m, &el, &exact, &full);
     }
@@ -215,39 +191,19 @@ fn b_bar_kernel_and_volumetric_constraints() {
 /// distorted Hex8 they differ.
 #[test]
 fn b_bar_is_selective_reduced_integration() {
-    let para = single(
+    let para = single_2d(
         CellKind::Quad4,
-        vec![
-            [0.2, 0.1, 0.0],
-            [1.5, 0.4, 0.0],
-            [1.9, 1.3, 0.0],
-            [0.6, 1.0, 0.0],
-        ],
+        &[[0.2, 0.1], [1.5, 0.4], [1.9, 1.3], [0.6, 1.0]],
     );
-    let trapezoid = single(
+    let trapezoid = single_2d(
         CellKind::Quad4,
-        vec![
-            [0.0, 0.0, 0.0],
-            [2.0, 0.0, 0.0],
-            [1.4, 1.0, 0.0],
-            [0.6, 1.0, 0.0],
-        ],
+        &[[0.0, 0.0], [2.0, 0.0], [1.4, 1.0], [0.6, 1.0]],
     );
     // a parallelepiped: x = A ξ + c with a full A
     let a = [[0.6, 0.1, 0.05], [0.15, 0.5, -0.1], [0.05, 0.12, 0.7]];
-    let hex_corners = [
-        [-1.0, -1.0, -1.0],
-        [1.0, -1.0, -1.0],
-        [1.0, 1.0, -1.0],
-        [-1.0, 1.0, -1.0],
-        [-1.0, -1.0, 1.0],
-        [1.0, -1.0, 1.0],
-        [1.0, 1.0, 1.0],
-        [-1.0, 1.0, 1.0],
-    ];
     let pped = single(
         CellKind::Hex8,
-        hex_corners
+        crate::isoparametric::reference_corners(CellKind::Hex8)
             .iter()
             .map(|c| {
                 let mut x = [1.0, 2.0, 3.0];

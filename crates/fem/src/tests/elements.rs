@@ -3,17 +3,11 @@
 //! checks and the von Mises stress.
 
 use super::meshes::{boundary_nodes, rect, single};
-use super::{assert_cell_stress, linear_2d, mat, solve_patch, E, NU};
+use super::{assert_cell_stress, linear_2d, mat, solve_patch, E, KINDS, KINDS_2D, NU};
 use crate::*;
 use nalgebra::{DMatrix, DVector, SymmetricEigen};
 use signorini_mesh::CellKind;
 
-const KINDS_2D: [CellKind; 4] = [
-    CellKind::Tri3,
-    CellKind::Quad4,
-    CellKind::Tri6,
-    CellKind::Quad8,
-];
 const PLANE: [Model; 2] = [Model::PlaneStrain, Model::PlaneStress];
 
 #[test]
@@ -74,16 +68,28 @@ fn d_matrix_every_model() {
     }
 }
 
-/// One distorted cell of each kind; in 2D with every x ≥ 0 and one corner on
-/// the axis x = 0 (so the axisymmetric element touches the axis).
-fn one_cell(kind: CellKind) -> signorini_mesh::Mesh {
-    let mid = |p: [f64; 3], q: [f64; 3]| {
-        [
+/// The corners of a 2D cell followed by the middles of its edges (corner k
+/// to corner k + 1), the middle of edge `bent.0` moved by `bent.1` in x.
+fn with_midsides(corners: &[[f64; 3]], bent: (usize, f64)) -> Vec<[f64; 3]> {
+    let n = corners.len();
+    let mids = (0..n).map(|k| {
+        let (p, q) = (corners[k], corners[(k + 1) % n]);
+        let mut m = [
             0.5 * (p[0] + q[0]),
             0.5 * (p[1] + q[1]),
             0.5 * (p[2] + q[2]),
-        ]
-    };
+        ];
+        if k == bent.0 {
+            m[0] += bent.1;
+        }
+        m
+    });
+    corners.iter().copied().chain(mids).collect()
+}
+
+/// One distorted cell of each kind; in 2D with every x ≥ 0 and one corner on
+/// the axis x = 0 (so the axisymmetric element touches the axis).
+fn one_cell(kind: CellKind) -> signorini_mesh::Mesh {
     let tri = [[0.0, 0.1, 0.0], [1.3, 0.0, 0.0], [0.5, 1.2, 0.0]];
     let quad = [
         [0.1, 0.0, 0.0],
@@ -94,33 +100,9 @@ fn one_cell(kind: CellKind) -> signorini_mesh::Mesh {
     let coords = match kind {
         CellKind::Tri3 => tri.to_vec(),
         CellKind::Quad4 => quad.to_vec(),
-        CellKind::Tri6 => {
-            // one slightly curved edge
-            let mut m5 = mid(tri[2], tri[0]);
-            m5[0] += 0.05;
-            vec![
-                tri[0],
-                tri[1],
-                tri[2],
-                mid(tri[0], tri[1]),
-                mid(tri[1], tri[2]),
-                m5,
-            ]
-        }
-        CellKind::Quad8 => {
-            let mut m5 = mid(quad[1], quad[2]);
-            m5[0] += 0.06;
-            vec![
-                quad[0],
-                quad[1],
-                quad[2],
-                quad[3],
-                mid(quad[0], quad[1]),
-                m5,
-                mid(quad[2], quad[3]),
-                mid(quad[3], quad[0]),
-            ]
-        }
+        // one slightly curved edge
+        CellKind::Tri6 => with_midsides(&tri, (2, 0.05)),
+        CellKind::Quad8 => with_midsides(&quad, (1, 0.06)),
         CellKind::Tet4 => vec![
             [0.0, 0.0, 0.0],
             [1.2, 0.1, -0.1],
@@ -150,14 +132,7 @@ fn models_of(kind: CellKind) -> Vec<Model> {
 
 #[test]
 fn element_kernel_is_exactly_the_rigid_modes() {
-    for kind in [
-        CellKind::Tri3,
-        CellKind::Quad4,
-        CellKind::Tri6,
-        CellKind::Quad8,
-        CellKind::Tet4,
-        CellKind::Hex8,
-    ] {
+    for kind in KINDS {
         let m = one_cell(kind);
         for model in models_of(kind) {
             check_mesh(&m, model).unwrap();
@@ -211,14 +186,7 @@ fn element_kernel_is_exactly_the_rigid_modes() {
 
 #[test]
 fn quadrature_weights_sum_to_the_reference_measure() {
-    for kind in [
-        CellKind::Tri3,
-        CellKind::Quad4,
-        CellKind::Tri6,
-        CellKind::Quad8,
-        CellKind::Tet4,
-        CellKind::Hex8,
-    ] {
+    for kind in KINDS {
         let reference = match kind {
             CellKind::Tri3 | CellKind::Tri6 => 0.5,
             CellKind::Quad4 | CellKind::Quad8 => 4.0,

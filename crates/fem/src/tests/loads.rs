@@ -1,13 +1,23 @@
 //! Consistent surface loads and measures for every facet kind and model.
 
-use super::meshes::{boxed, rect, single};
+use super::meshes::{boxed, rect, single, single_2d};
 use crate::*;
-use signorini_mesh::{CellKind, Facet, Surface};
+use signorini_mesh::{CellKind, Facet, Mesh, Surface};
 use std::f64::consts::PI;
 
 fn one_facet(nodes: Vec<usize>) -> Surface {
     Surface {
         facets: vec![Facet { nodes, cell: 0 }],
+    }
+}
+
+/// The consistent load of the traction `t` on `s` sums, component by
+/// component, to `t` times the surface's measure `area` (to 1e-13 `scale`).
+fn assert_resultant(m: &Mesh, s: &Surface, t: &[f64], model: Model, (area, scale): (f64, f64)) {
+    let f = traction_load(m, s, t, model);
+    for (k, tk) in t.iter().enumerate() {
+        let total: f64 = f.iter().skip(k).step_by(t.len()).sum();
+        assert!(close(total, tk * area, scale));
     }
 }
 
@@ -20,14 +30,9 @@ fn segment_loads_plane_and_axisymmetric() {
     // one Q4 cell [ra, rb] × [0, 1]; its bottom edge nodes 0 (r = ra), 1 (r = rb)
     let (ra, rb) = (0.5, 2.0);
     let l = rb - ra;
-    let m = single(
+    let m = single_2d(
         CellKind::Quad4,
-        vec![
-            [ra, 0.0, 0.0],
-            [rb, 0.0, 0.0],
-            [rb, 1.0, 0.0],
-            [ra, 1.0, 0.0],
-        ],
+        &[[ra, 0.0], [rb, 0.0], [rb, 1.0], [ra, 1.0]],
     );
     let s = one_facet(vec![0, 1]);
     let t = [0.25, -3.0];
@@ -64,15 +69,15 @@ fn quadratic_edge_loads() {
     // a straight edge from (ra, 0) to (rb, 0) with its mid-side node at the middle
     let (ra, rb) = (0.5, 2.0);
     let (l, rm) = (rb - ra, 0.5 * (ra + rb));
-    let m = single(
+    let m = single_2d(
         CellKind::Tri6,
-        vec![
-            [ra, 0.0, 0.0],
-            [rb, 0.0, 0.0],
-            [ra, 1.0, 0.0],
-            [rm, 0.0, 0.0],
-            [rm, 0.5, 0.0],
-            [ra, 0.5, 0.0],
+        &[
+            [ra, 0.0],
+            [rb, 0.0],
+            [ra, 1.0],
+            [rm, 0.0],
+            [rm, 0.5],
+            [ra, 0.5],
         ],
     );
     let s = one_facet(vec![0, 1, 3]);
@@ -97,12 +102,7 @@ fn quadratic_edge_loads() {
     }
     let area = surface_measure(&m, &s, Model::Axisymmetric);
     assert!(close(area, PI * (rb * rb - ra * ra), 10.0));
-    let t = [1.0, 2.0];
-    let f = traction_load(&m, &s, &t, Model::Axisymmetric);
-    for (k, tk) in t.iter().enumerate() {
-        let total: f64 = f.iter().skip(k).step_by(2).sum();
-        assert!(close(total, tk * area, 10.0));
-    }
+    assert_resultant(&m, &s, &[1.0, 2.0], Model::Axisymmetric, (area, 10.0));
 }
 
 #[test]
@@ -148,12 +148,7 @@ fn face_loads_3d() {
     let my: f64 = trib.iter().map(|&(n, w)| w * h.coords[n][1]).sum();
     assert!(close(sum, area, 1.0) && close(mx, area * cx, 1.0) && close(my, area * cy, 1.0));
     assert!(close(surface_measure(&h, &bottom, Model::Solid), area, 1.0));
-    let t = [0.5, -1.0, 2.0];
-    let f = traction_load(&h, &bottom, &t, Model::Solid);
-    for (k, tk) in t.iter().enumerate() {
-        let total: f64 = f.iter().skip(k).step_by(3).sum();
-        assert!(close(total, tk * area, 3.0));
-    }
+    assert_resultant(&h, &bottom, &[0.5, -1.0, 2.0], Model::Solid, (area, 3.0));
 }
 
 /// Every surface of meshes of every kind and model: the consistent load of a

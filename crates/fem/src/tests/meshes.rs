@@ -33,26 +33,20 @@ fn mid_nodes(
 ) -> Vec<usize> {
     edges
         .iter()
-        .map(|&(a, b)| {
-            *mids.entry((a.min(b), a.max(b))).or_insert_with(|| {
-                let (p, q) = (coords[a], coords[b]);
-                coords.push([
-                    0.5 * (p[0] + q[0]),
-                    0.5 * (p[1] + q[1]),
-                    0.5 * (p[2] + q[2]),
-                ]);
-                coords.len() - 1
-            })
-        })
+        .map(|&(a, b)| signorini_mesh::quadratic::mid_node(coords, mids, a, b))
         .collect()
 }
 
-/// Names the boundary facets by the side of the box `[lo, hi]` they lie on.
-fn side_surfaces(mesh: &mut Mesh, lo: [f64; 3], hi: [f64; 3], names: &[(&str, usize, bool)]) {
+/// Names the boundary facets by the side of the box `[lo, hi]` they lie on:
+/// `names[axis]` are the names of the low and the high side along `axis`.
+fn side_surfaces(mesh: &mut Mesh, lo: [f64; 3], hi: [f64; 3], names: &[[&str; 2]]) {
     let tol = 1e-9 * mesh.size();
+    let sides: Vec<(&str, usize, bool)> = (names.iter().enumerate())
+        .flat_map(|(axis, [low, high])| [(*low, axis, false), (*high, axis, true)])
+        .collect();
     for f in mesh.boundary_facets() {
         let corners = if mesh.dim == 2 { 2 } else { f.nodes.len() };
-        for &(name, axis, high) in names {
+        for &(name, axis, high) in &sides {
             let v = if high { hi[axis] } else { lo[axis] };
             if f.nodes[..corners]
                 .iter()
@@ -127,12 +121,7 @@ pub fn rect(kind: CellKind, origin: [f64; 2], size: [f64; 2], div: [usize; 2], a
         &mut mesh,
         [origin[0], origin[1], 0.0],
         hi,
-        &[
-            ("bottom", 1, false),
-            ("right", 0, true),
-            ("top", 1, true),
-            ("left", 0, false),
-        ],
+        &[["left", "right"], ["bottom", "top"]],
     );
     mesh.check().unwrap();
     mesh
@@ -179,16 +168,13 @@ pub fn boxed(kind: CellKind, size: [f64; 3], div: [usize; 3], amp: f64) -> Mesh 
                             .collect::<Vec<_>>(),
                     ),
                     CellKind::Tet4 => {
-                        for perm in [
-                            [0, 1, 2],
-                            [0, 2, 1],
-                            [1, 0, 2],
-                            [1, 2, 0],
-                            [2, 0, 1],
-                            [2, 1, 0],
-                        ] {
-                            let b1 = 1 << perm[0];
-                            let b2 = b1 | (1 << perm[1]);
+                        // the paths along the three axes, first and second
+                        // steps in lexicographic order
+                        let paths = (0..3)
+                            .flat_map(|a| (0..3).filter(move |&b| b != a).map(move |b| (a, b)));
+                        for (first, second) in paths {
+                            let b1 = 1 << first;
+                            let b2 = b1 | (1 << second);
                             let mut t = vec![v(0), v(b1), v(b2), v(7)];
                             if tet_volume(&coords, &t) < 0.0 {
                                 t.swap(1, 2);
@@ -206,14 +192,7 @@ pub fn boxed(kind: CellKind, size: [f64; 3], div: [usize; 3], amp: f64) -> Mesh 
         &mut mesh,
         [0.0; 3],
         size,
-        &[
-            ("xmin", 0, false),
-            ("xmax", 0, true),
-            ("ymin", 1, false),
-            ("ymax", 1, true),
-            ("zmin", 2, false),
-            ("zmax", 2, true),
-        ],
+        &[["xmin", "xmax"], ["ymin", "ymax"], ["zmin", "zmax"]],
     );
     mesh.check().unwrap();
     mesh
@@ -236,6 +215,11 @@ pub fn tet_volume(coords: &[[f64; 3]], t: &[usize]) -> f64 {
 pub fn single(kind: CellKind, coords: Vec<[f64; 3]>) -> Mesh {
     let n = coords.len();
     of_cells(kind, coords, vec![(0..n).collect()])
+}
+
+/// One 2D cell of `kind` on the corners `xy` (in the plane z = 0).
+pub fn single_2d(kind: CellKind, xy: &[[f64; 2]]) -> Mesh {
+    single(kind, xy.iter().map(|p| [p[0], p[1], 0.0]).collect())
 }
 
 /// A mesh of cells of `kind` (its dimension) on `coords`, no surfaces.

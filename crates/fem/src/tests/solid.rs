@@ -1,7 +1,10 @@
 //! 3D solids: patch test, uniaxial compression of a box, assembled kernel.
 
 use super::meshes::{boundary_nodes, boxed};
-use super::{assert_cell_stress, dense, mat, matvec, norm, solve_dirichlet, solve_patch, E, NU};
+use super::{
+    assert_cell_stress, dense, linear_3d, mat, matvec, norm, solve_dirichlet, solve_patch,
+    strain_3d, E, NU,
+};
 use crate::*;
 use signorini_mesh::CellKind;
 
@@ -23,29 +26,11 @@ fn patch_test_hex_and_tet() {
         let m = boxed(kind, SIZE, [4, 3, 3], 0.2);
         let boundary = boundary_nodes(&m);
         assert!(m.n_nodes() - boundary.len() >= 6, "{kind:?}");
-        let exact: Vec<f64> = m
-            .coords
-            .iter()
-            .flat_map(|p| {
-                let mut u = u0;
-                for (i, ui) in u.iter_mut().enumerate() {
-                    *ui += (0..3).map(|j| g[i][j] * p[j]).sum::<f64>();
-                }
-                u
-            })
-            .collect();
+        let exact = linear_3d(&m, u0, g);
         let (u, err, umax) = solve_patch(&m, &el, &exact, &boundary);
         assert!(err <= 1e-10 * umax, "{kind:?}: error {err:e}");
         // ε = [xx, yy, zz, γxy, γyz, γxz]
-        let eps = nalgebra::DVector::from_vec(vec![
-            g[0][0],
-            g[1][1],
-            g[2][2],
-            g[0][1] + g[1][0],
-            g[1][2] + g[2][1],
-            g[0][2] + g[2][0],
-        ]);
-        let s = el.d_matrix() * eps;
+        let s = el.d_matrix() * strain_3d(g);
         let smax = s.amax();
         assert_cell_stress(&m, &el, &u, s.as_slice(), 1e-9 * smax, &format!("{kind:?}"));
     }

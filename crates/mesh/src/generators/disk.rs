@@ -2,7 +2,7 @@
 //! ([`quarter_disk`]) for axisymmetric models.
 
 use super::split::{build_2d, EdgeList, TriangleSplit};
-use super::{check_ratio, graded_spacing, symmetric_graded_spacing};
+use super::{graded_spacing, symmetric_graded_spacing, HALF_DISK, QUARTER_DISK};
 use crate::{CellKind, Mesh, MeshError};
 use std::f64::consts::PI;
 
@@ -100,20 +100,7 @@ fn half_disk_quads(
     pole: [f64; 2],
     grading: f64,
 ) -> Result<HalfDiskQuads, MeshError> {
-    if !(radius.is_finite() && radius > 0.0) {
-        return Err(MeshError::Invalid(format!(
-            "half_disk: radius must be positive, got {radius}"
-        )));
-    }
-    if !(center[0].is_finite() && center[1].is_finite()) {
-        return Err(MeshError::Invalid("half_disk: center is not finite".into()));
-    }
-    if divisions < 4 {
-        return Err(MeshError::Invalid(format!(
-            "half_disk: divisions (elements along the arc) must be at least 4, got {divisions}"
-        )));
-    }
-    check_ratio("half_disk", grading)?;
+    HALF_DISK.check(&center, radius, divisions, grading)?;
     let pn = (pole[0] * pole[0] + pole[1] * pole[1]).sqrt();
     if !(pn.is_finite() && pn > 0.0) {
         return Err(MeshError::Invalid(format!(
@@ -390,22 +377,7 @@ pub fn quarter_disk(
     grading: f64,
     kind: CellKind,
 ) -> Result<Mesh, MeshError> {
-    if !(radius.is_finite() && radius > 0.0) {
-        return Err(MeshError::Invalid(format!(
-            "quarter_disk: radius must be positive, got {radius}"
-        )));
-    }
-    if !(center[0].is_finite() && center[1].is_finite()) {
-        return Err(MeshError::Invalid(
-            "quarter_disk: center is not finite".into(),
-        ));
-    }
-    if divisions < 2 {
-        return Err(MeshError::Invalid(format!(
-            "quarter_disk: divisions (elements along the arc) must be at least 2, got {divisions}"
-        )));
-    }
-    check_ratio("quarter_disk", grading)?;
+    QUARTER_DISK.check(&center, radius, divisions, grading)?;
     let half = half_disk_quads(center, radius, 2 * divisions, [0.0, -1.0], grading)?;
     // the axis is the half disk's middle grid line: within rounding of x = c_x,
     // while every other node is at least a fraction of an element away

@@ -1,7 +1,7 @@
 //! The solid half ball of hexahedra ([`hemisphere`], a half cube-sphere O-grid).
 
 use super::{
-    check_ratio, graded_spacing, hex_corner_jacobians, name_boundary, symmetric_graded_spacing,
+    graded_spacing, hex_corner_jacobians, name_boundary, symmetric_graded_spacing, HEMISPHERE,
 };
 use crate::{Cell, CellKind, Mesh, MeshError};
 use std::collections::BTreeMap;
@@ -84,22 +84,7 @@ pub fn hemisphere(
     pole: [f64; 3],
     grading: f64,
 ) -> Result<Mesh, MeshError> {
-    if !(radius.is_finite() && radius > 0.0) {
-        return Err(MeshError::Invalid(format!(
-            "hemisphere: radius must be positive, got {radius}"
-        )));
-    }
-    if !center.iter().all(|c| c.is_finite()) {
-        return Err(MeshError::Invalid(
-            "hemisphere: center is not finite".into(),
-        ));
-    }
-    if divisions < 2 {
-        return Err(MeshError::Invalid(format!(
-            "hemisphere: divisions (elements along a quarter meridian) must be at least 2, got {divisions}"
-        )));
-    }
-    check_ratio("hemisphere", grading)?;
+    HEMISPHERE.check(&center, radius, divisions, grading)?;
     let frame = pole_frame(pole)?;
     let lattice = Lattice::new(divisions, grading);
     let nodes = HemisphereNodes::new(&lattice, grading);

@@ -2,6 +2,7 @@
 //! [`Mesh`]: cells, regions and surfaces.
 
 use super::{cell_kind, facet_corners, invalid, supported_list, type_name, Block, Raw};
+use crate::vec3::{cross, dot, sub};
 use crate::{Cell, CellKind, Facet, Mesh, MeshError, Surface};
 use std::collections::{BTreeMap, HashMap, HashSet};
 
@@ -465,23 +466,4 @@ fn orient(cell: &mut Cell, coords: &[[f64; 3]]) {
         }
     };
     cell.nodes = perm.iter().map(|&i| cell.nodes[i]).collect();
-}
-
-/// `a − b`.
-fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-
-/// The dot product `a · b`.
-fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-
-/// The cross product `a × b`.
-fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
 }

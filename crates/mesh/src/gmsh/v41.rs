@@ -199,14 +199,7 @@ fn node_tags_v41(bytes: &[u8], header: &mshio::MshHeader) -> Option<Vec<u64>> {
             if len > 8 {
                 return Some(0); // skipped
             }
-            let mut v = 0u64;
-            let mut push = |x: &u8| v = (v << 8) | u64::from(*x);
-            if big_endian {
-                b.iter().for_each(&mut push);
-            } else {
-                b.iter().rev().for_each(&mut push);
-            }
-            Some(v)
+            Some(super::uint_of_bytes(b, big_endian))
         };
         let n_blocks = usize::try_from(read(size_t)?).ok()?;
         let n_nodes = usize::try_from(read(size_t)?).ok()?;

@@ -150,14 +150,7 @@ fn a_slave_normal_that_misses_the_master_segments_is_no_contact_point() {
 fn a_slave_normal_parallel_to_a_rigid_obstacle_meets_nothing() {
     // The 2 × 1 rectangle above y = 1: its side x = −1 has the outward
     // normal (−1, 0), parallel to the plane y = 0 and passing above the disc.
-    let slave = signorini_mesh::generators::rectangle(
-        [-1.0, 1.0],
-        [2.0, 1.0],
-        [4, 2],
-        CellKind::Quad4,
-        None,
-    )
-    .unwrap();
+    let slave = rectangle_above_the_origin();
     let plane = MasterGeometry::Plane {
         point: [0.0, 0.0, 0.0],
         normal: [0.0, 1.0, 0.0],

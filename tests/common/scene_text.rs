@@ -1,0 +1,62 @@
+//! Tables of the small 2D test scenes, as TOML text to be joined: the
+//! material "m", the elastic rectangle "block" of it, rigid planes, boundary
+//! conditions and contacts.
+
+/// `dimension = 2` and the material "m".
+pub fn material_2d(young: f64, poisson: f64) -> String {
+    format!(
+        "dimension = 2\n[[materials]]\nname = \"m\"\nyoung = {young:?}\npoisson = {poisson:?}\n"
+    )
+}
+
+/// The rectangle "block" of material "m" from `origin`, of `size`, in
+/// `divisions` cells; `mesh_extra` is appended to its mesh keys (such as
+/// `, element = "tri6"`).
+pub fn block_body(
+    origin: [f64; 2],
+    size: [f64; 2],
+    divisions: [usize; 2],
+    mesh_extra: &str,
+) -> String {
+    elastic_body(
+        "block",
+        &format!("{{ generator = \"rectangle\", origin = {origin:?}, size = {size:?}, divisions = {divisions:?}{mesh_extra} }}"),
+    )
+}
+
+/// The body `name` of material "m" with the mesh entry `mesh` (an inline
+/// table).
+pub fn elastic_body(name: &str, mesh: &str) -> String {
+    format!("[[bodies]]\nname = \"{name}\"\nmaterial = \"m\"\nmesh = {mesh}\n")
+}
+
+/// A rigid plane body `name` through `point` with the outward `normal`.
+pub fn rigid_plane(name: &str, point: [f64; 2], normal: [f64; 2]) -> String {
+    format!("[[bodies]]\nname = \"{name}\"\nrigid = {{ shape = \"plane\", point = {point:?}, normal = {normal:?} }}\n")
+}
+
+/// An unnamed boundary condition of "block": where (`surface = "top"`,
+/// `point = [0.0, 0.0]`) and what (`displacement = { x = 0.0 }`, ...).
+pub fn block_boundary(place: &str, condition: &str) -> String {
+    format!("[[boundary]]\nbody = \"block\"\n{place}\n{condition}\n")
+}
+
+/// The boundary condition `name` of "block" (see [`block_boundary`]).
+pub fn named_block_boundary(name: &str, place: &str, condition: &str) -> String {
+    boundary(name, "block", place, condition)
+}
+
+/// The boundary condition `name` of `body` (see [`block_boundary`]).
+pub fn boundary(name: &str, body: &str, place: &str, condition: &str) -> String {
+    format!("[[boundary]]\nname = \"{name}\"\nbody = \"{body}\"\n{place}\n{condition}\n")
+}
+
+/// The contact `name` of the surface `surface` of `slave` against `master`.
+pub fn contact(name: &str, slave: &str, surface: &str, master: &str) -> String {
+    format!("[[contact]]\nname = \"{name}\"\nslave = {{ body = \"{slave}\", surface = \"{surface}\" }}\nmaster = {{ body = \"{master}\" }}\n")
+}
+
+/// The contact `name` of the surface `surface` of "block" against `master`.
+pub fn block_contact(name: &str, surface: &str, master: &str) -> String {
+    contact(name, "block", surface, master)
+}
