@@ -15,6 +15,11 @@ use crate::{CellKind, Mesh, MeshError};
 
 /// Seed of METIS's random number generator (fixed for reproducible partitions).
 const SEED: Idx = 42;
+
+/// METIS keeps its random number generator in global state: two partitions
+/// computed at once (threads of one process) interleave their draws and
+/// neither is reproducible any more. Every call into METIS holds this lock.
+static METIS: std::sync::Mutex<()> = std::sync::Mutex::new(());
 /// Allowed load imbalance of METIS in thousandths: 30 → parts at most 3 % above
 /// the average size (before the contiguity constraint is enforced).
 const UFACTOR: Idx = 30;
@@ -69,6 +74,8 @@ pub fn partition_cells(mesh: &Mesh, nparts: usize) -> Result<Vec<usize>, MeshErr
             .set_option(option::UFactor(UFACTOR)))
     };
 
+    // A panic elsewhere while holding the lock leaves nothing half-done here.
+    let _metis = METIS.lock().unwrap_or_else(|e| e.into_inner());
     let mut part = vec![0 as Idx; ncells];
     let kway = graph()?
         .part_kway(&mut part)
