@@ -91,12 +91,18 @@ enum Command {
         /// Scene files.
         #[arg(required_unless_present = "suite")]
         scenes: Vec<PathBuf>,
-        /// A built-in suite instead of scene files: `stiff`.
-        #[arg(long, value_parser = ["stiff"], conflicts_with = "scenes")]
+        /// A built-in suite instead of scene files: `stiff`, or `root` (every
+        /// root method on Delassus problems of an elastic layer: DIR/root.csv,
+        /// DIR/root.md, DIR/root_error_vs_time.svg).
+        #[arg(long, value_parser = ["stiff", "root"], conflicts_with = "scenes")]
         suite: Option<String>,
-        /// With --suite: the smaller meshes of the test suite.
+        /// With --suite: the smaller meshes (stiff) or sizes (root) of the test suite.
         #[arg(long, requires = "suite")]
         quick: bool,
+        /// With --suite root: also write each problem as DIR/problems/NAME.npz
+        /// (contact-wise W, q, mu, dim) for other libraries.
+        #[arg(long, requires = "suite")]
+        export: bool,
         /// Refinement factors applied to the generators' divisions.
         #[arg(long, value_delimiter = ',', default_value = "1")]
         levels: Vec<f64>,
@@ -187,11 +193,16 @@ fn command(cli: Cli) -> ExitCode {
             },
         ),
         Command::Bench {
-            suite: Some(_),
+            suite: Some(suite),
             quick,
             out,
+            export,
             ..
-        } => stiff_suite(quick, &out),
+        } => match suite.as_str() {
+            "root" => root_suite(quick, export, &out),
+            _ if export => fail(1, "--export: only with --suite root"),
+            _ => stiff_suite(quick, &out),
+        },
         Command::Bench {
             suite: None,
             quick: true,
@@ -370,6 +381,57 @@ fn bench(
     } else {
         ExitCode::from(2)
     }
+}
+
+/// `signorini bench --suite root`: every root method on the Delassus
+/// problems of an elastic layer (issue 14), one line per run on stderr.
+fn root_suite(quick: bool, export: bool, out: &Path) -> ExitCode {
+    use signorini_rootbench::{problem::Family, run};
+    let problems = out.join("problems");
+    let made = std::fs::create_dir_all(if export { &problems } else { out });
+    if let Err(e) = made {
+        return fail(3, &format!("cannot write {}: {e}", out.display()));
+    }
+    let o = run::SuiteOptions {
+        sizes: if quick {
+            vec![49, 196]
+        } else {
+            vec![49, 196, 784, 2025, 8000]
+        },
+        families: Family::ALL.to_vec(),
+        tolerance: 1e-10,
+        max_iterations: 5000,
+        time_budget: 20.0,
+        repeat: if quick { 1 } else { 3 },
+    };
+    let rows = run::run_suite(&o, export.then_some(problems.as_path()), |r| {
+        eprintln!(
+            "{} {}: {} in {:.4} s, residual {:.1e}, difference {:.1e}",
+            r.problem,
+            r.method,
+            if r.converged {
+                "converged"
+            } else {
+                "NOT converged"
+            },
+            r.time_s,
+            r.residual,
+            r.difference
+        )
+    });
+    let rows = match rows {
+        Ok(rows) => rows,
+        Err(e) => return fail(3, &e),
+    };
+    let written = std::fs::write(out.join("root.csv"), run::csv(&rows))
+        .and_then(|_| std::fs::write(out.join("root.md"), run::markdown(&rows)))
+        .map_err(|e| e.to_string())
+        .and_then(|_| run::error_vs_time_svg(&out.join("root_error_vs_time.svg"), &rows));
+    if let Err(e) = written {
+        return fail(3, &format!("cannot write {}: {e}", out.display()));
+    }
+    print!("{}", run::markdown(&rows));
+    ExitCode::SUCCESS
 }
 
 /// `signorini bench --suite stiff`: every case of the stiff suite in this

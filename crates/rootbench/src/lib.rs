@@ -8,6 +8,7 @@
 
 pub mod layer;
 pub mod problem;
+pub mod run;
 
 pub use layer::{surface_compliance, Layer, SurfaceCompliance};
 pub use problem::{indentation_problem, Indentation, RootProblem};

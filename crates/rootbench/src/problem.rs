@@ -195,6 +195,16 @@ impl Family {
         }
     }
 
+    /// The largest size the suite runs (3D layers and frictional W grow
+    /// fastest: W of 2025 3D contacts has 6075 rows, 290 MB).
+    pub fn max_size(self) -> usize {
+        match self {
+            Family::Lcp2d => 8000,
+            Family::Coulomb2d => 2000,
+            Family::Lcp3d | Family::Coulomb3d => 2025,
+        }
+    }
+
     /// Surface dimension of the layer + 1.
     pub fn layer_dim(self) -> usize {
         match self {

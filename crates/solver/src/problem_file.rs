@@ -256,14 +256,43 @@ fn resolve_layout(shown: &str, raw: &Raw) -> Result<(usize, Vec<usize>), String>
 
 /// Reads a problem; errors name the file and what is wrong.
 pub fn load(path: &Path) -> Result<LocalProblem, String> {
-    let shown = path.display().to_string();
     let raw = if path.extension().is_some_and(|e| e == "npz") {
         read_npz(path)?
     } else {
         read_json(path)?
     };
-    check_values(&shown, &raw.w, &raw.q)?;
-    let (dim, file_row) = resolve_layout(&shown, &raw)?;
+    into_blocks(&path.display().to_string(), raw)
+}
+
+impl LocalProblem {
+    /// A problem given in the contact-wise layout (`dim` rows per contact,
+    /// `mu` per contact or empty), checked as a file would be; `name` is
+    /// the problem's name in messages.
+    pub fn contact_wise(
+        name: &str,
+        w: Mat<f64>,
+        q: Vec<f64>,
+        mu: Vec<f64>,
+        dim: usize,
+    ) -> Result<Self, String> {
+        if w.nrows() != q.len() || w.ncols() != q.len() {
+            return Err(format!("{name}: W must be {0} × {0} to match q", q.len()));
+        }
+        let raw = Raw {
+            w,
+            q,
+            mu: Some(mu),
+            dim: Some(dim as f64),
+            normal_first: false,
+        };
+        into_blocks(name, raw)
+    }
+}
+
+/// Checks a problem and puts its rows in the block layout.
+fn into_blocks(shown: &str, raw: Raw) -> Result<LocalProblem, String> {
+    check_values(shown, &raw.w, &raw.q)?;
+    let (dim, file_row) = resolve_layout(shown, &raw)?;
     let w = Mat::<f64>::from_fn(file_row.len(), file_row.len(), |i, j| {
         raw.w[(file_row[i], file_row[j])]
     });
