@@ -41,8 +41,9 @@ pub struct SuiteOptions {
     /// Relative tolerance of every method.
     pub tolerance: f64,
     pub max_iterations: usize,
-    /// A method slower than this (seconds) on one size is not run on the
-    /// larger ones of its family.
+    /// A method whose time, extrapolated from the previous size as m³
+    /// (dense factorisations), would exceed this (seconds) is not run on the
+    /// larger sizes of its family.
     pub time_budget: f64,
     /// Runs per (problem, method); the median time is reported.
     pub repeat: usize,
@@ -114,7 +115,8 @@ pub fn run_suite(
 ) -> Result<Vec<RootRow>, String> {
     let mut rows = Vec::new();
     for &family in &o.families {
-        let mut too_slow: Vec<String> = Vec::new();
+        // The last (m, time) of each method, to skip the sizes it cannot afford.
+        let mut last: Vec<(String, usize, f64)> = Vec::new();
         for &m in o.sizes.iter().filter(|&&m| m <= family.max_size()) {
             let rp = family.problem(m)?;
             if let Some(dir) = export {
@@ -124,7 +126,13 @@ pub fn run_suite(
             let p = local_problem(&rp)?;
             let mut reference: Option<Vec<f64>> = None;
             for method in methods(family) {
-                if too_slow.contains(&method.name()) {
+                let affordable =
+                    last.iter()
+                        .find(|l| l.0 == method.name())
+                        .is_none_or(|&(_, m0, t0)| {
+                            t0 * (rp.contacts() as f64 / m0 as f64).powi(3) <= o.time_budget
+                        });
+                if !affordable {
                     continue;
                 }
                 let r = method.solve(&p, o)?;
@@ -142,9 +150,8 @@ pub fn run_suite(
                     active_fraction: r.active as f64 / r.m.max(1) as f64,
                     difference: relative_difference(&lambda, reference),
                 };
-                if row.time_s > o.time_budget {
-                    too_slow.push(row.method.clone());
-                }
+                last.retain(|l| l.0 != row.method);
+                last.push((row.method.clone(), row.m, row.time_s));
                 progress(&row);
                 rows.push(row);
             }
