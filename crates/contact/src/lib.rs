@@ -13,6 +13,7 @@
 //! line or finite-element systems (the direct path's KKT solve lives in the
 //! solver).
 
+pub mod active_factor;
 pub mod active_set;
 pub mod augmented_lagrangian;
 pub mod delassus;

@@ -13,6 +13,7 @@ use std::fmt;
 
 use faer::Mat;
 
+use crate::active_factor::ActiveFactor;
 use crate::lcp::{constrained_gaps, gaps, lcp_residual, LcpOptions};
 use crate::solution::{ContactSolution, PolishSolve};
 use crate::status::{status_method, ActiveSetSolve, StatusOptions, StatusVariant};
@@ -148,7 +149,7 @@ pub fn find(name: &str) -> Option<&'static Method> {
 /// the points whose gap is closed (q_p ≤ tolerance × gap scale).
 fn status(p: &Lcp) -> Result<ContactSolution, ContactError> {
     let (w, q, opts) = (p.w, p.q, p.opts);
-    let mut dense = DenseLcp { w, q, solves: 0 };
+    let mut dense = DenseLcp::new(w, q);
     let closed = opts.tolerance * opts.gap_scale;
     let initial = (0..q.len()).filter(|&i| q[i] <= closed).collect();
     let mut out = status_method(
@@ -334,11 +335,26 @@ impl Algorithm {
     }
 }
 
-/// LCP(W, q) as an [`ActiveSetSolve`]: W_AA λ_A = −q_A.
+/// LCP(W, q) as an [`ActiveSetSolve`]: W_AA λ_A = −q_A, the Cholesky
+/// factor of W_AA carried from one active set to the next
+/// ([`ActiveFactor`]); a block that is not safely positive definite goes to
+/// the rank-tested solve.
 pub struct DenseLcp<'a> {
     pub w: &'a Mat<f64>,
     pub q: &'a [f64],
     pub solves: usize,
+    factor: Option<ActiveFactor>,
+}
+
+impl<'a> DenseLcp<'a> {
+    pub fn new(w: &'a Mat<f64>, q: &'a [f64]) -> Self {
+        Self {
+            w,
+            q,
+            solves: 0,
+            factor: None,
+        }
+    }
 }
 
 impl ActiveSetSolve for DenseLcp<'_> {
@@ -346,22 +362,32 @@ impl ActiveSetSolve for DenseLcp<'_> {
         self.q.len()
     }
     fn solve_active(&mut self, active: &[usize]) -> Result<(Vec<f64>, Vec<f64>), ContactError> {
-        use faer::prelude::Solve;
         self.solves += 1;
-        let m = self.q.len();
-        let na = active.len();
-        let mut lambda = vec![0.0; m];
-        if na > 0 {
+        let mut lambda = vec![0.0; self.q.len()];
+        let factor = match self.factor.take() {
+            Some(mut f) => match f.update_to(self.w, active) {
+                true => Some(f),
+                false => ActiveFactor::new(self.w, active),
+            },
+            None => ActiveFactor::new(self.w, active),
+        };
+        if let Some(f) = factor {
+            let rows = f.rows();
+            let rhs = Mat::<f64>::from_fn(rows.len(), 1, |i, _| -self.q[rows[i]]);
+            let x = f.solve(&rhs);
+            for (i, &p) in rows.iter().enumerate() {
+                lambda[p] = x[(i, 0)];
+            }
+            self.factor = Some(f);
+        } else if !active.is_empty() {
+            let na = active.len();
             let a = Mat::<f64>::from_fn(na, na, |i, j| self.w[(active[i], active[j])]);
             let rhs = Mat::<f64>::from_fn(na, 1, |i, _| -self.q[active[i]]);
-            let x = match a.llt(faer::Side::Lower) {
-                Ok(l) => l.solve(&rhs),
-                Err(_) => crate::delassus::solve_checked(
-                    &a,
-                    &rhs,
-                    "W_AA is singular: redundant contact constraints",
-                )?,
-            };
+            let x = crate::delassus::solve_checked(
+                &a,
+                &rhs,
+                "W_AA is singular: redundant contact constraints",
+            )?;
             for (i, &p) in active.iter().enumerate() {
                 lambda[p] = x[(i, 0)];
             }
@@ -382,7 +408,7 @@ fn polish(w: &Mat<f64>, q: &[f64], sol: &mut ContactSolution, opts: &LcpOptions)
     let active: Vec<usize> = (0..q.len())
         .filter(|&p| sol.forces[p] > 1e-14 * lmax)
         .collect();
-    let mut p = DenseLcp { w, q, solves: 0 };
+    let mut p = DenseLcp::new(w, q);
     let Ok((lambda, g)) = p.solve_active(&active) else {
         return;
     };

@@ -1,0 +1,188 @@
+//! The Cholesky factor of the active block W_AA that follows the active set
+//! from one status iteration to the next (seed §3.3): when few statuses
+//! change, removing a row (a rank-one update of the trailing factor) and
+//! appending one (a triangular solve) cost O(n²) each, against n³/3 for a
+//! new factorisation; when the set repeats, the factor is reused as it is.
+//!
+//! With L Lᵀ = W_AA in the order of `rows`:
+//! - removing row k leaves [L₁₁ 0; L₃₁ L₃₃'] with L₃₃' L₃₃'ᵀ = L₃₃ L₃₃ᵀ + l₃₂ l₃₂ᵀ;
+//! - appending row r adds [l; d] with L l = W_A,r and d² = W_rr − lᵀl.
+//!
+//! An update whose new pivot is not safely positive gives up, and the caller
+//! factorises afresh (or falls back to its rank-tested solve).
+
+use faer::linalg::triangular_solve::{
+    solve_lower_triangular_in_place, solve_upper_triangular_in_place,
+};
+use faer::{Mat, Par, Side};
+
+/// L Lᵀ = W restricted to `rows` (in that order).
+#[derive(Debug, Clone)]
+pub struct ActiveFactor {
+    rows: Vec<usize>,
+    l: Mat<f64>,
+}
+
+/// The smallest pivot d² accepted, relative to the diagonal entry it comes
+/// from: below it the block is near singular (redundant constraints) and the
+/// caller's rank test must decide.
+const PIVOT_FLOOR: f64 = 1e-10;
+
+impl ActiveFactor {
+    /// Factorises W on `rows`; `None` if not safely positive definite.
+    pub fn new(w: &Mat<f64>, rows: &[usize]) -> Option<Self> {
+        let n = rows.len();
+        let a = Mat::<f64>::from_fn(n, n, |i, j| w[(rows[i], rows[j])]);
+        let llt = a.llt(Side::Lower).ok()?;
+        let l = llt.L().to_owned();
+        let safe = (0..n).all(|i| l[(i, i)] * l[(i, i)] > PIVOT_FLOOR * a[(i, i)]);
+        safe.then(|| Self {
+            rows: rows.to_vec(),
+            l,
+        })
+    }
+
+    /// The rows of the factor, in its order.
+    pub fn rows(&self) -> &[usize] {
+        &self.rows
+    }
+
+    /// Brings the factor to the set `target` (any order) by row removals
+    /// and appends, if that costs less than a new factorisation; `false`
+    /// (factor unusable) if an update met a pivot that is not safely positive
+    /// or the change is too large.
+    pub fn update_to(&mut self, w: &Mat<f64>, target: &[usize]) -> bool {
+        let n_max = w.nrows();
+        let mut wanted = vec![false; n_max];
+        target.iter().for_each(|&r| wanted[r] = true);
+        let mut present = vec![false; n_max];
+        self.rows.iter().for_each(|&r| present[r] = true);
+        let leaving: Vec<usize> = (0..self.rows.len())
+            .filter(|&k| !wanted[self.rows[k]])
+            .collect();
+        let entering: Vec<usize> = target.iter().copied().filter(|&r| !present[r]).collect();
+        // Each change costs about 2 n² against n³ / 3 for a new factor.
+        let n = target.len().max(self.rows.len()).max(1);
+        if 6 * (leaving.len() + entering.len()) > n {
+            return false;
+        }
+        for &k in leaving.iter().rev() {
+            self.remove(k);
+        }
+        entering.into_iter().all(|r| self.append(w, r))
+    }
+
+    /// Removes the factor's k-th row and column, in place.
+    fn remove(&mut self, k: usize) {
+        let n = self.rows.len();
+        let mut v: Vec<f64> = self.l.col_as_slice(k)[k + 1..n].to_vec();
+        // Shift the columns after k left, and in every column the rows after
+        // k up (column-major: each a contiguous slice).
+        for j in 0..n {
+            if j > k {
+                let col = self.l.col_as_slice(j).to_vec();
+                self.l.col_as_slice_mut(j - 1).copy_from_slice(&col);
+            }
+            let jj = if j > k { j - 1 } else { j };
+            if jj < n - 1 {
+                self.l.col_as_slice_mut(jj).copy_within(k + 1..n, k);
+            }
+        }
+        self.l.truncate(n - 1, n - 1);
+        // Rank-one update of the trailing block (rows and columns ≥ k).
+        for j in 0..v.len() {
+            let col = &mut self.l.col_as_slice_mut(k + j)[k + j..];
+            let ljj = col[0];
+            let r = ljj.hypot(v[j]);
+            let (c, s) = (r / ljj, v[j] / ljj);
+            col[0] = r;
+            for (i, lij) in col.iter_mut().enumerate().skip(1) {
+                let vi = v[j + i];
+                *lij = (*lij + s * vi) / c;
+                v[j + i] = c * vi - s * *lij;
+            }
+        }
+        self.rows.remove(k);
+    }
+
+    /// Appends row r; `false` if its pivot is not safely positive.
+    fn append(&mut self, w: &Mat<f64>, r: usize) -> bool {
+        let n = self.rows.len();
+        let mut col = Mat::<f64>::from_fn(n, 1, |i, _| w[(self.rows[i], r)]);
+        solve_lower_triangular_in_place(self.l.as_ref(), col.as_mut(), Par::Seq);
+        let d2 = w[(r, r)] - (0..n).map(|i| col[(i, 0)] * col[(i, 0)]).sum::<f64>();
+        if !(d2 > PIVOT_FLOOR * w[(r, r)]) {
+            return false;
+        }
+        self.l.resize_with(n + 1, n + 1, |i, j| {
+            if i == n && j < n {
+                col[(j, 0)]
+            } else if i == n && j == n {
+                d2.sqrt()
+            } else {
+                0.0
+            }
+        });
+        self.rows.push(r);
+        true
+    }
+
+    /// Solves W_AA x = b (b and x in the order of [`Self::rows`]).
+    pub fn solve(&self, b: &Mat<f64>) -> Mat<f64> {
+        let mut x = b.to_owned();
+        solve_lower_triangular_in_place(self.l.as_ref(), x.as_mut(), Par::Seq);
+        solve_upper_triangular_in_place(self.l.transpose(), x.as_mut(), Par::Seq);
+        x
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn spd(n: usize) -> Mat<f64> {
+        Mat::<f64>::from_fn(n, n, |i, j| {
+            1.0 / (1.0 + (i as f64 - j as f64).abs()) + if i == j { 2.0 } else { 0.0 }
+        })
+    }
+
+    /// After removals and appends, the factor solves the new block as a
+    /// fresh factorisation does.
+    #[test]
+    fn updated_factor_solves_like_a_new_one() {
+        let w = spd(200);
+        let mut f = ActiveFactor::new(&w, &(0..150).collect::<Vec<_>>()).unwrap();
+        // Rows 0, 1, 3, 70, 149 leave; 160, 171, 199 enter.
+        let target: Vec<usize> = (2..149)
+            .filter(|&r| r != 3 && r != 70)
+            .chain([171, 160, 199])
+            .collect();
+        assert!(f.update_to(&w, &target));
+        let rows = f.rows().to_vec();
+        let mut sorted = rows.clone();
+        sorted.sort_unstable();
+        let mut want = target.clone();
+        want.sort_unstable();
+        assert_eq!(sorted, want);
+        let b = Mat::<f64>::from_fn(rows.len(), 1, |i, _| (i as f64).sin());
+        let x = f.solve(&b);
+        let fresh = ActiveFactor::new(&w, &rows).unwrap().solve(&b);
+        for i in 0..rows.len() {
+            assert!((x[(i, 0)] - fresh[(i, 0)]).abs() <= 1e-12, "{i}");
+        }
+    }
+
+    /// A row that makes the block singular is not appended.
+    #[test]
+    fn a_dependent_row_is_refused() {
+        // Rows 0 and 1 of W are equal: W_{01,01} is singular.
+        let mut w = spd(4);
+        for j in 0..4 {
+            w[(1, j)] = w[(0, j)];
+            w[(j, 1)] = w[(j, 0)];
+        }
+        let mut f = ActiveFactor::new(&w, &[0, 2, 3]).unwrap();
+        assert!(!f.append(&w, 1));
+        assert!(ActiveFactor::new(&w, &[0, 1]).is_none());
+    }
+}
