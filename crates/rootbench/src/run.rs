@@ -164,46 +164,53 @@ fn local_problem(rp: &RootProblem) -> Result<LocalProblem, String> {
     LocalProblem::contact_wise(&rp.name, rp.w.clone(), rp.q.clone(), rp.mu.clone(), rp.dim)
 }
 
+/// The columns of the tables: a header and each row's cells.
+const COLUMNS: [&str; 10] = [
+    "problem",
+    "family",
+    "m",
+    "method",
+    "converged",
+    "iterations",
+    "time_s",
+    "residual",
+    "active_fraction",
+    "difference",
+];
+
+fn cells(r: &RootRow) -> [String; 10] {
+    [
+        r.problem.clone(),
+        r.family.to_string(),
+        r.m.to_string(),
+        r.method.clone(),
+        r.converged.to_string(),
+        r.iterations.to_string(),
+        format!("{:.6}", r.time_s),
+        format!("{:.2e}", r.residual),
+        format!("{:.3}", r.active_fraction),
+        format!("{:.2e}", r.difference),
+    ]
+}
+
 /// The rows as CSV.
 pub fn csv(rows: &[RootRow]) -> String {
-    let mut out = String::from(
-        "problem,family,m,method,converged,iterations,time_s,residual,active_fraction,difference\n",
-    );
+    let mut out = COLUMNS.join(",") + "\n";
     for r in rows {
-        out.push_str(&format!(
-            "{},{},{},{},{},{},{:.6},{:.3e},{:.3},{:.3e}\n",
-            r.problem,
-            r.family,
-            r.m,
-            r.method,
-            r.converged,
-            r.iterations,
-            r.time_s,
-            r.residual,
-            r.active_fraction,
-            r.difference
-        ));
+        out += &(cells(r).join(",") + "\n");
     }
     out
 }
 
-/// The rows as a Markdown table, one line per problem and method.
+/// The rows as a Markdown table.
 pub fn markdown(rows: &[RootRow]) -> String {
-    let mut out = String::from(
-        "| problem | method | converged | iterations | time (s) | residual | difference | in contact |\n|---|---|---|---|---|---|---|---|\n",
+    let mut out = format!(
+        "| {} |\n|{}\n",
+        COLUMNS.join(" | "),
+        "---|".repeat(COLUMNS.len())
     );
     for r in rows {
-        out.push_str(&format!(
-            "| {} | {} | {} | {} | {:.4} | {:.1e} | {:.1e} | {:.0} % |\n",
-            r.problem,
-            r.method,
-            if r.converged { "yes" } else { "**no**" },
-            r.iterations,
-            r.time_s,
-            r.residual,
-            r.difference,
-            100.0 * r.active_fraction
-        ));
+        out += &format!("| {} |\n", cells(r).join(" | "));
     }
     out
 }
