@@ -29,6 +29,7 @@ pub mod penalty;
 pub mod projected_gradient;
 mod reduced;
 pub mod redundancy;
+mod semismooth_newton;
 pub mod smalbe;
 pub mod status;
 pub mod uzawa;
