@@ -67,9 +67,12 @@ impl Dir {
 /// The linearised Alart–Curnier equations at an iterate, one equation per
 /// force row on orthonormal directions (so that dλ = Σ given + Σ coupled):
 /// `given` cᵀ dλ = v; `coupled` d cᵀ dλ + cᵀ (W dλ + G dα) = v (d ≥ 0);
-/// `equilibrium` Gᵀ dλ = v_j.
+/// `equilibrium` Gᵀ dλ = v_j. With `secant`, a slipping point with one
+/// tangential row is linearised on the secant of the projection (see
+/// [`slip_rows`]).
 #[derive(Debug, Default)]
 pub(crate) struct NewtonSystem {
+    pub secant: bool,
     pub given: Vec<(Dir, f64)>,
     pub coupled: Vec<(Dir, f64, f64)>,
     pub equilibrium: Vec<f64>,
@@ -223,7 +226,10 @@ impl<'a> Inner<'a> {
         let y = self.gaps(x);
         let mut f = vec![0.0; n + k];
         if let Some(s) = sys.as_deref_mut() {
-            *s = NewtonSystem::default();
+            *s = NewtonSystem {
+                secant: s.secant,
+                ..NewtonSystem::default()
+            };
         }
         for p in 0..self.layout.n_points() {
             let rn = match scale {
@@ -329,8 +335,19 @@ impl<'a> Inner<'a> {
         let f = self.residual(x, Scale::Newton, Some(sys));
         let psi = merit(&f);
         let (w, g) = (&self.problem.w, &self.problem.g_mat);
-        let Some(dx) = crate::reduced::solve_newton(w, g, sys).or_else(|| sys.solve_full(w, g))
-        else {
+        let solve = |sys: &NewtonSystem| {
+            crate::reduced::solve_newton(w, g, sys).or_else(|| sys.solve_full(w, g))
+        };
+        let mut dx = solve(sys);
+        if dx.is_none() && self.k() > 0 {
+            // Every point that could hold a floating body slips: relinearise
+            // on the secants, which keep their slip coupled to the body.
+            sys.secant = true;
+            self.residual(x, Scale::Newton, Some(sys));
+            dx = solve(sys);
+            sys.secant = false;
+        }
+        let Some(dx) = dx else {
             return Step::Singular;
         };
         let mut t = 1.0;
@@ -421,7 +438,12 @@ impl<'a> Inner<'a> {
 /// dλ_t − a bᵀ dλ_t / ‖z‖ + c a aᵀ (W_t dλ + G_t dα) / ‖z‖ = −F_t give the
 /// component of dλ_t across a, and along â = a/‖a‖ the coupled row with
 /// the compliance (‖z‖ − aᵀb) / (c ‖a‖²) (positive: aᵀb ≤ 1 < ‖z‖). When
-/// a vanishes (one bounded row, or D τ = 0) the rows are the identity.
+/// a vanishes (one bounded row, or D τ = 0) the rows are the identity, or
+/// with `sys.secant` for one row, the projection's secant slope 1/‖z‖
+/// instead of its zero derivative: (1 − 1/‖z‖) dλ_t + c g² (W_t dλ +
+/// G_t dα) / ‖z‖ = −F_t, the compliance (‖z‖ − 1) / (c g²) (a 2D body held
+/// by friction alone, all its points slipping at an iterate, is otherwise
+/// held by nothing: a singular step).
 #[allow(clippy::too_many_arguments)]
 fn slip_rows(
     sys: &mut NewtonSystem,
@@ -438,6 +460,13 @@ fn slip_rows(
     let a = [g[0] * tau[0], if two { g[1] * tau[1] } else { 0.0 }];
     let b = [dinv[0] * tau[0], if two { dinv[1] * tau[1] } else { 0.0 }];
     let na = a[0].hypot(a[1]);
+    if !two && sys.secant {
+        let cg = c * g[0] * g[0];
+        let r = rows[0];
+        sys.coupled
+            .push((Dir::one(r), (nz - 1.0) / cg, -nz * f[r] / cg));
+        return;
+    }
     if !two || na <= 1e-12 * g[0].max(g[1]) {
         for &r in rows {
             sys.given.push((Dir::one(r), -f[r]));
@@ -731,3 +760,6 @@ fn newton_fixed_point(
     );
     Ok(outcome)
 }
+
+#[cfg(test)]
+mod tests;

@@ -38,7 +38,7 @@ pub(crate) fn plan(sc: &scene::Scene, opts: &RunOptions) -> Result<Plan, SolveEr
                 || !(matches!(algorithm, Algorithm::Status(_)) || tresca_by_mprgp))
         {
             return Err(SolveError::Input(format!(
-                "contact \"{}\".friction: friction is solved on path = \"condensed\" by method = \"status\" (with solver.friction = \"fixed_point\" or \"status\"), not by \"{}\" on the {} path",
+                "contact \"{}\".friction: friction is solved on path = \"condensed\" by method = \"status\" (with solver.friction = \"fixed_point\", \"status\" or \"newton\"), not by \"{}\" on the {} path",
                 c.name,
                 algorithm.name(),
                 path.as_str()
