@@ -229,9 +229,14 @@ pub(crate) fn solve_newton(w: &Mat<f64>, g: &Mat<f64>, sys: &NewtonSystem) -> Op
         h[d.rows[1]] += d.c[1] * v;
     }
     let nonzero: Vec<usize> = (0..n).filter(|&i| h[i] != 0.0).collect();
-    let wh: Vec<f64> = (0..n)
-        .map(|i| nonzero.iter().map(|&j| w[(i, j)] * h[j]).sum())
-        .collect();
+    // W h by columns (W is column major).
+    let mut wh = vec![0.0; n];
+    for &j in &nonzero {
+        let col = w.col(j);
+        for (i, v) in wh.iter_mut().enumerate() {
+            *v += col[i] * h[j];
+        }
+    }
     let dirs: Vec<&Dir> = sys.coupled.iter().map(|(d, _, _)| d).collect();
     let mut a = Mat::<f64>::from_fn(nu, nu, |x, y| {
         let (dx, dy) = (dirs[x], dirs[y]);

@@ -504,13 +504,11 @@ enum Step {
 /// Semi-smooth Newton on the Alart–Curnier equations with fixed semi-axes
 /// `thr`, from the forces `start`.
 fn solve_inner(
-    problem: &DelassusProblem,
-    layout: &FrictionLayout,
+    newton: &Newton,
     thr: &[[f64; 2]],
     start: &[f64],
-    opts: &FrictionOptions,
-    dim: usize,
 ) -> Result<(InnerSolve, usize), ContactError> {
+    let (problem, layout, opts, dim) = (newton.problem, newton.layout, newton.opts, newton.dim);
     let inner = Inner::new(problem, layout, thr);
     let (n, k) = (inner.n(), inner.k());
     let mut x = vec![0.0; n + k];
@@ -700,11 +698,31 @@ impl TrescaSolver for Newton<'_> {
     type Thresholds = Vec<[f64; 2]>;
 
     fn solve(&mut self, thr: &Vec<[f64; 2]>, start: &[f64]) -> Result<InnerSolve, ContactError> {
-        let (p, l, o) = (self.problem, self.layout, self.opts);
-        let (solve, iterations) = solve_inner(p, l, thr, start, o, self.dim)?;
+        let (solve, iterations) = solve_inner(self, thr, start)?;
         self.iterations += iterations;
         Ok(solve)
     }
+}
+
+/// The thresholds of the start of the fixed point: every point initially
+/// closed (q_n ≤ 0) stuck, the others free, as the 2D fixed point starts
+/// (§4.3: g = 0 cannot hold a body held by friction); from the bilateral
+/// start of floating bodies (`guessed`), every point stuck. Stuck open
+/// points would couple all 2m tangential rows of the Newton systems.
+fn stuck_thresholds(
+    problem: &DelassusProblem,
+    layout: &FrictionLayout,
+    guessed: bool,
+) -> Vec<[f64; 2]> {
+    (0..layout.n_points())
+        .map(|p| {
+            if guessed || problem.q[p] <= 0.0 {
+                [f64::INFINITY; 2]
+            } else {
+                [0.0; 2]
+            }
+        })
+        .collect()
 }
 
 /// The fixed point on the threshold with the Newton inner solves, from
@@ -727,8 +745,9 @@ fn newton_fixed_point(
                 f.len()
             )))
         }
-        None => first_guess.unwrap_or_else(|| vec![0.0; n]),
+        None => first_guess.clone().unwrap_or_else(|| vec![0.0; n]),
     };
+    let guessed = first_guess.is_some();
     let mut newton = Newton {
         problem,
         layout,
@@ -743,7 +762,7 @@ fn newton_fixed_point(
     }
     let start = match start {
         Some(_) => newton.iterate(forces),
-        None => newton.solve(&vec![[f64::INFINITY; 2]; layout.n_points()], &forces)?,
+        None => newton.solve(&stuck_thresholds(problem, layout, guessed), &forces)?,
     };
     let map = ThresholdMap {
         threshold: &|r, _| layout.thresholds(r),

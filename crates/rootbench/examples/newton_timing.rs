@@ -52,7 +52,11 @@ fn main() {
         let t = Instant::now();
         let out = match (d, method.as_str()) {
             (3, _) => {
-                signorini_contact::friction3d::friction_3d(&mut problem, &layout, None, &opts)
+                let t = Instant::now();
+                let r =
+                    signorini_contact::friction3d::friction_3d(&mut problem, &layout, None, &opts);
+                eprintln!("solve {:.3}", t.elapsed().as_secs_f64());
+                r
             }
             (_, "status") => coulomb_status(&mut problem, &layout, initial, &opts),
             (_, "fp") => coulomb_fixed_point(&mut problem, &layout, initial, None, &opts),

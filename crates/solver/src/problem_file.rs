@@ -221,7 +221,7 @@ fn resolve_layout(shown: &str, raw: &Raw) -> Result<(usize, Vec<usize>), String>
         }
         (None, false) => 1,
     };
-    if n % dim != 0 {
+    if !n.is_multiple_of(dim) {
         return Err(format!(
             "{shown}: with {dim} rows per contact, W and q need a multiple of {dim} rows, have {n}"
         ));
