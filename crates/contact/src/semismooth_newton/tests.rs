@@ -66,15 +66,10 @@ fn newton_agrees_with_the_fixed_point_and_the_status_method_in_2d() {
     let mut seen = [0usize; 3];
     for (m, seed) in [(2, 3), (4, 5), (8, 7), (16, 11), (30, 13)] {
         let (p, layout) = random_2d(m, seed);
-        let initial: Vec<PointStatus> = (0..m)
-            .map(|i| {
-                if p.q[i] <= 0.0 {
-                    PointStatus::Stick
-                } else {
-                    PointStatus::Open
-                }
-            })
-            .collect();
+        // Initially closed points start stuck.
+        let closed = |q: &f64| *q <= 0.0;
+        let start_status = |c| [PointStatus::Open, PointStatus::Stick][c as usize];
+        let initial: Vec<PointStatus> = p.q[..m].iter().map(closed).map(start_status).collect();
         let fresh = || DelassusProblem::from_operator(p.w.clone(), p.q.clone());
         let newton = coulomb_newton(&mut fresh(), &layout, None, &opts()).unwrap();
         let fp =
