@@ -69,7 +69,7 @@ fn sliding_block_sticks_below_mu_n_with_the_exact_reaction() {
 #[test]
 fn sliding_block_driven_past_mu_n_slides_with_reaction_mu_n() {
     for mu in [0.3, 1.0, 2.0] {
-        for solver in ["fixed_point", "status"] {
+        for solver in ["fixed_point", "status", "newton"] {
             let text = block(
                 &format!("{{ coulomb = {mu} }}"),
                 "{ x = 0.2, y = -0.01 }",
@@ -455,4 +455,43 @@ fn force_above_mu_n_under_force_control_is_refused_with_the_numbers() {
         (n - 2.0).abs() <= 1e-9 * 2.0 && (t + 0.5).abs() <= 1e-9,
         "({n}, {t})"
     );
+}
+
+/// The `contact.csv` rows of a CLI run: (step, point, status) and the
+/// normal and tangential forces.
+fn contact_csv(out: &std::path::Path) -> (Vec<String>, Vec<f64>) {
+    let text = std::fs::read_to_string(out.join("contact.csv")).unwrap();
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let col = |name: &str| header.iter().position(|h| *h == name).unwrap();
+    let (step, point, status) = (col("step"), col("point"), col("status"));
+    let (normal, tangential) = (col("normal_force"), col("tangential_force"));
+    let (mut keys, mut forces) = (Vec::new(), Vec::new());
+    for line in lines {
+        let f: Vec<&str> = line.split(',').collect();
+        keys.push(format!("{} {} {}", f[step], f[point], f[status]));
+        forces.push(f[normal].parse().unwrap());
+        forces.push(f[tangential].parse().unwrap());
+    }
+    (keys, forces)
+}
+
+#[test]
+fn newton_gives_the_contact_forces_of_the_default_method_on_the_cattaneo_example() {
+    let dir = std::env::temp_dir().join(format!("signorini-newton-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let scene = dir.join("cattaneo_newton.toml");
+    let text = example("cattaneo.toml") + "\n[solver]\nfriction = \"newton\"\n";
+    std::fs::write(&scene, text).unwrap();
+    common::cli_run_ok(common::example_path("cattaneo.toml"), dir.join("default"));
+    common::cli_run_ok(&scene, dir.join("newton"));
+    let (keys_d, forces_d) = contact_csv(&dir.join("default"));
+    let (keys_n, forces_n) = contact_csv(&dir.join("newton"));
+    assert_eq!(keys_d, keys_n, "steps, points and statuses");
+    assert!(
+        keys_d.iter().any(|k| k.ends_with("slip")) && keys_d.iter().any(|k| k.ends_with("stick"))
+    );
+    let rel = common::max_rel(&forces_d, &forces_n);
+    assert!(rel < 1e-8, "contact forces differ by {rel:e}");
+    let _ = std::fs::remove_dir_all(&dir);
 }

@@ -18,6 +18,9 @@
 //! - [`coulomb_status`]: the status method applied to friction (§4.5), slip
 //!   statuses imposing λ_t = ±μ λ_n directly; the seed warns that it
 //!   converges badly, and the report counts its iterations.
+//! - [`coulomb_newton`]: the same fixed point with each Tresca problem
+//!   solved by the semi-smooth Newton method on the Alart–Curnier equations
+//!   ([`crate::semismooth_newton`], shared with 3D).
 //!
 //! Regularised Coulomb (§4.1.3, elastic slip k_e) is the same problem with
 //! the compliance 1/k_e added to the tangential diagonal of W
@@ -587,6 +590,22 @@ pub fn coulomb_fixed_point(
         name: "fixed point on the threshold",
     };
     solver.fixed_point(start, &map)
+}
+
+/// Coulomb (or Tresca) in 2D by the semi-smooth Newton method on the
+/// Alart–Curnier equations ([`crate::semismooth_newton`]): the fixed point
+/// g ← μ λ_n (§4.3) with each inner Tresca problem solved by Newton steps on
+/// the reduced system of its statuses (a primal–dual active set method)
+/// instead of the status method; statuses open, stick, slip± as the other
+/// 2D methods report them. Started from `start` (the previous step's
+/// forces) or from the solution with every point stuck.
+pub fn coulomb_newton(
+    problem: &mut DelassusProblem,
+    layout: &FrictionLayout,
+    start: Option<&[f64]>,
+    opts: &FrictionOptions,
+) -> Result<FrictionOutcome, ContactError> {
+    crate::semismooth_newton::friction_newton(problem, layout, start, opts, 2)
 }
 
 /// Norton–Hoff friction (seed §4.1.4, eq. 19) at the points whose law is

@@ -1,5 +1,7 @@
 //! The linear system of one status iteration (seed §3.3 for contact, §4.5
-//! for friction), reduced to the forces its statuses leave unknown.
+//! for friction), reduced to the forces its statuses leave unknown; and the
+//! same reduction of a semi-smooth Newton step on the Alart–Curnier
+//! equations ([`solve_newton`], for [`crate::semismooth_newton`]).
 //!
 //! Each force r_i has one equation ([`VarEquation`]): a zero gap (closed or
 //! stuck), a given value (open: 0; Tresca slip: ±g), or a multiple of
@@ -25,6 +27,7 @@ use faer::prelude::Solve;
 use faer::{Mat, Side};
 
 use crate::delassus::VarEquation;
+use crate::semismooth_newton::{Dir, NewtonSystem};
 
 /// How the reduced block was factorised.
 enum Factor {
@@ -177,13 +180,27 @@ fn floating_bodies(
             g_hat[(col, j)] += f * g[(i, j)];
         }
     }
-    let x = factor.solve(&g_u);
+    let e_j: Vec<f64> = (0..k)
+        .map(|j| e[j] - given.iter().map(|&(i, c)| g[(i, j)] * c).sum::<f64>())
+        .collect();
+    schur_on_g(factor, &g_u, &g_hat, y, &e_j)
+}
+
+/// Solves [A G_U; Ĝᵀ 0] (r_U, α) = (A y, e_j) given A's factor and y:
+/// with X = A⁻¹ G_U, (Ĝᵀ X) α = Ĝᵀ y − e_j and r_U = y − X α (the k × k
+/// Schur complement, by a fully pivoted LU; `None` when near singular).
+fn schur_on_g(
+    factor: &Factor,
+    g_u: &Mat<f64>,
+    g_hat: &Mat<f64>,
+    y: Mat<f64>,
+    e_j: &[f64],
+) -> Option<(Mat<f64>, Vec<f64>)> {
+    let k = g_u.ncols();
+    let x = factor.solve(g_u);
     let schur = g_hat.transpose() * &x;
-    let rhs = Mat::<f64>::from_fn(k, 1, |j, _| {
-        let gy: f64 = (0..nu).map(|a| g_hat[(a, j)] * y[(a, 0)]).sum();
-        let e_j = e[j] - given.iter().map(|&(i, c)| g[(i, j)] * c).sum::<f64>();
-        gy - e_j
-    });
+    let gy = g_hat.transpose() * &y;
+    let rhs = Mat::<f64>::from_fn(k, 1, |j, _| gy[(j, 0)] - e_j[j]);
     let lu = schur.full_piv_lu();
     let u = lu.U();
     if !pivots_are_safe((0..k).map(|i| u[(i, i)]), k) {
@@ -192,4 +209,67 @@ fn floating_bodies(
     let alpha = lu.solve(&rhs);
     let r_u = &y - &x * &alpha;
     Some((r_u, (0..k).map(|j| alpha[(j, 0)]).collect()))
+}
+
+/// The semi-smooth Newton system of [`crate::semismooth_newton`] reduced to
+/// its coupled directions E (columns e_a over one or two rows): with h the
+/// given part of dλ, s the coupled amplitudes and d their compliances,
+///
+/// ```text
+///   (Eᵀ W E + diag d) s + Eᵀ G dα = v − Eᵀ W h
+///   Gᵀ E s                      = v_eq − Gᵀ h
+/// ```
+///
+/// symmetric (W symmetric positive definite, d ≥ 0): Cholesky, floating
+/// bodies through the Schur complement on G. Returns dx = (dλ, dα), or
+/// `None` for the caller's full solve.
+pub(crate) fn solve_newton(w: &Mat<f64>, g: &Mat<f64>, sys: &NewtonSystem) -> Option<Vec<f64>> {
+    let (n, k, nu) = (w.nrows(), g.ncols(), sys.coupled.len());
+    let mut h = vec![0.0; n];
+    for (d, v) in &sys.given {
+        h[d.rows[0]] += d.c[0] * v;
+        h[d.rows[1]] += d.c[1] * v;
+    }
+    let nonzero: Vec<usize> = (0..n).filter(|&i| h[i] != 0.0).collect();
+    // W h by columns (W is column major).
+    let mut wh = vec![0.0; n];
+    for &j in &nonzero {
+        let col = w.col(j);
+        for (i, v) in wh.iter_mut().enumerate() {
+            *v += col[i] * h[j];
+        }
+    }
+    let dirs: Vec<&Dir> = sys.coupled.iter().map(|(d, _, _)| d).collect();
+    let mut a = Mat::<f64>::from_fn(nu, nu, |x, y| {
+        let (dx, dy) = (dirs[x], dirs[y]);
+        let row = |l: usize| {
+            dy.c[0] * w[(dx.rows[l], dy.rows[0])] + dy.c[1] * w[(dx.rows[l], dy.rows[1])]
+        };
+        dx.c[0] * row(0) + dx.c[1] * row(1)
+    });
+    for (x, (_, comp, _)) in sys.coupled.iter().enumerate() {
+        a[(x, x)] += comp;
+    }
+    let rhs = Mat::<f64>::from_fn(nu, 1, |x, _| sys.coupled[x].2 - dirs[x].dot(&wh));
+    let factor = factorise(&a, true)?;
+    let y = factor.solve(&rhs);
+    let (s, alpha) = if k == 0 {
+        (y, Vec::new())
+    } else {
+        let g_u = Mat::<f64>::from_fn(nu, k, |x, j| {
+            let d = dirs[x];
+            d.c[0] * g[(d.rows[0], j)] + d.c[1] * g[(d.rows[1], j)]
+        });
+        let e_j: Vec<f64> = (0..k)
+            .map(|j| sys.equilibrium[j] - nonzero.iter().map(|&i| g[(i, j)] * h[i]).sum::<f64>())
+            .collect();
+        schur_on_g(&factor, &g_u, &g_u, y, &e_j)?
+    };
+    let mut dx = h;
+    for (x, d) in dirs.iter().enumerate() {
+        dx[d.rows[0]] += d.c[0] * s[(x, 0)];
+        dx[d.rows[1]] += d.c[1] * s[(x, 0)];
+    }
+    dx.extend(alpha);
+    dx.iter().all(|v| v.is_finite()).then_some(dx)
 }

@@ -60,12 +60,9 @@ fn methods(family: Family) -> Vec<Method> {
         Family::Coulomb2d => vec![
             Method::Friction(FrictionMethod::Status),
             Method::Friction(FrictionMethod::FixedPoint),
+            Method::Friction(FrictionMethod::Newton),
         ],
-        Family::Coulomb3d => FrictionMethod::ALL
-            .into_iter()
-            .filter(|f| f.solves_3d())
-            .map(Method::Friction)
-            .collect(),
+        Family::Coulomb3d => vec![Method::Friction(FrictionMethod::FixedPoint)],
     }
 }
 
@@ -258,8 +255,8 @@ mod tests {
             repeat: 1,
         };
         let rows = run_suite(&o, None, |_| {}).unwrap();
-        // 9 LCP methods twice, 2 + 1 friction methods.
-        assert_eq!(rows.len(), 2 * (2 * 9 + 2 + 1));
+        // 9 LCP methods twice, 3 + 1 friction methods.
+        assert_eq!(rows.len(), 2 * (2 * 9 + 3 + 1));
         for r in &rows {
             let exact = signorini_contact::registry::find(&r.method).is_none_or(|m| m.exact);
             let what = format!(

@@ -692,7 +692,7 @@ pub struct Solver {
     /// ≥ 1 (default 500).
     #[serde(deserialize_with = "crate::serde_impls::max_iterations")]
     pub max_iterations: usize,
-    /// Friction outer loop: `fixed_point` (default) or `status`.
+    /// Friction outer loop: `fixed_point` (default), `status` or `newton`.
     pub friction: FrictionSolver,
     /// Status method: `all` statuses changed at each iteration (default) or a
     /// `single` one (the variant with the convergence proof, seed §3.3).
@@ -853,6 +853,10 @@ pub enum FrictionSolver {
     #[default]
     FixedPoint,
     Status,
+    /// The fixed point on the threshold with each Tresca problem solved by
+    /// the semi-smooth Newton method (2D; in 3D the fixed point already
+    /// does).
+    Newton,
 }
 
 impl FrictionSolver {
@@ -861,6 +865,7 @@ impl FrictionSolver {
         match self {
             FrictionSolver::FixedPoint => "fixed_point",
             FrictionSolver::Status => "status",
+            FrictionSolver::Newton => "newton",
         }
     }
 }

@@ -786,6 +786,9 @@ fn solver_reference_output_checks() {
     .unwrap();
     assert_eq!(s.solver.method, Method::AugmentedLagrangian);
     assert_eq!(s.solver.friction, FrictionSolver::Status);
+    let s = parse_toml(&with("[solver]\nfriction = \"newton\"\n")).unwrap();
+    assert_eq!(s.solver.friction, FrictionSolver::Newton);
+    assert_eq!(s.solver.friction.as_str(), "newton");
 
     let (e, m) = invalid_entry(&with("[reference]\nkind = \"hertz_cylinder\"\n"));
     assert_eq!(e, "reference.radius");

@@ -1,8 +1,8 @@
 //! One load step with friction on the condensed problem (seed §4): the
 //! tangential rows' "gaps" (slip increments, §4.4), the regularised law's
 //! compliance, the choice of the friction algorithm (Tresca status or
-//! projection, Coulomb fixed point or status method, Norton–Hoff, the 3D
-//! semi-smooth Newton method), and the slip history carried to the next step.
+//! projection, Coulomb fixed point, status method or semi-smooth Newton
+//! method, Norton–Hoff, the 3D semi-smooth Newton method), and the slip history carried to the next step.
 
 use super::*;
 use signorini_contact::friction::FrictionOutcome;
@@ -230,9 +230,18 @@ fn solve_friction(
     let retry_from_gaps = history.previous.is_none() && bodies.iter().any(|b| !b.kernel.is_empty());
     let solve_2d = |problem: &mut DelassusProblem, initial: Vec<PointStatus>| -> FrictionSolve {
         let layout = &fr.layout;
+        let newton = input.sc.solver.friction == scene::FrictionSolver::Newton;
         if fr.norton_hoff {
             let out = signorini_contact::friction::norton_hoff(problem, layout, initial, fopts);
             (out, "norton_hoff")
+        } else if newton {
+            let out = coulomb_newton(problem, layout, start.as_deref(), fopts);
+            let name = if all_tresca {
+                "tresca_semismooth_newton"
+            } else {
+                "coulomb_semismooth_newton"
+            };
+            (out, name)
         } else if all_tresca && input.algorithm.friction() == FrictionSupport::TrescaBox {
             (
                 tresca_projection(problem, layout, fopts),

@@ -3,7 +3,8 @@
 //! root algorithm, so that the root solvers can be compared with other
 //! libraries on identical data (DESIGN.md §4): an LCP by any method of the
 //! registry, 2D Coulomb friction by the fixed point on the threshold
-//! (seed §4.3) or the friction status method (§4.5), 3D Coulomb friction by
+//! (seed §4.3), the friction status method (§4.5) or the fixed point with
+//! semi-smooth Newton inner solves, 3D Coulomb friction by
 //! the fixed point with its semi-smooth Newton inner solves.
 
 use std::time::Instant;
@@ -22,21 +23,30 @@ pub enum FrictionMethod {
     FixedPoint,
     /// The friction status method (seed §4.5), 2D.
     Status,
+    /// 2D: the fixed point with semi-smooth Newton inner solves on the
+    /// Alart–Curnier equations (3D's fixed point is that already).
+    Newton,
 }
 
 impl FrictionMethod {
-    pub const ALL: [FrictionMethod; 2] = [FrictionMethod::FixedPoint, FrictionMethod::Status];
+    pub const ALL: [FrictionMethod; 3] = [
+        FrictionMethod::FixedPoint,
+        FrictionMethod::Status,
+        FrictionMethod::Newton,
+    ];
 
     pub fn name(self) -> &'static str {
         match self {
             FrictionMethod::FixedPoint => "fixed_point",
             FrictionMethod::Status => "status",
+            FrictionMethod::Newton => "newton",
         }
     }
 
-    /// Whether it solves 3D problems.
+    /// Whether it solves 3D problems (there the fixed point has Newton
+    /// inner solves: `newton` is `fixed_point`).
     pub fn solves_3d(self) -> bool {
-        self == FrictionMethod::FixedPoint
+        self != FrictionMethod::Status
     }
 
     /// The method of a name, or an error listing the valid ones.
@@ -124,7 +134,7 @@ pub fn solve_friction(
     max_iterations: usize,
     with_lambda: bool,
 ) -> Result<LocalResult, String> {
-    use signorini_contact::friction::{coulomb_fixed_point, coulomb_status};
+    use signorini_contact::friction::{coulomb_fixed_point, coulomb_newton, coulomb_status};
     let mu = p.mu.as_ref().ok_or("no mu")?;
     let (m, d) = (p.contacts(), p.dim);
     if d == 3 && !method.solves_3d() {
@@ -159,6 +169,7 @@ pub fn solve_friction(
     let out = match (d, method) {
         (3, _) => signorini_contact::friction3d::friction_3d(&mut problem, &layout, None, &opts),
         (_, FrictionMethod::Status) => coulomb_status(&mut problem, &layout, initial, &opts),
+        (_, FrictionMethod::Newton) => coulomb_newton(&mut problem, &layout, None, &opts),
         (_, FrictionMethod::FixedPoint) => {
             coulomb_fixed_point(&mut problem, &layout, initial, None, &opts)
         }
@@ -170,6 +181,7 @@ pub fn solve_friction(
         problem: name.to_string(),
         method: match (d, method) {
             (2, FrictionMethod::Status) => "friction_status",
+            (2, FrictionMethod::Newton) => "coulomb_semismooth_newton",
             _ => "coulomb_fixed_point",
         }
         .to_string(),

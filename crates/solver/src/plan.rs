@@ -35,7 +35,7 @@ pub(crate) fn plan(sc: &scene::Scene, opts: &RunOptions) -> Result<Plan, SolveEr
                 || !(algorithm.friction() == FrictionSupport::StatusMethods || tresca_by_box))
         {
             return Err(SolveError::Input(format!(
-                "contact \"{}\".friction: friction is solved on path = \"condensed\" by method = \"status\" (with solver.friction = \"fixed_point\" or \"status\"), not by \"{}\" on the {} path",
+                "contact \"{}\".friction: friction is solved on path = \"condensed\" by method = \"status\" (with solver.friction = \"fixed_point\", \"status\" or \"newton\"), not by \"{}\" on the {} path",
                 c.name,
                 algorithm.name(),
                 path.as_str()

@@ -1,7 +1,8 @@
 //! Tests of [`super`]: the three-dimensional Coulomb friction solver.
 
 use super::*;
-use crate::friction::FrictionLaw;
+use crate::friction::{FrictionLaw, PointStatus};
+use faer::Mat;
 
 fn opts() -> FrictionOptions {
     FrictionOptions {

@@ -1,0 +1,784 @@
+//! Semi-smooth Newton on the Alart–Curnier equations (Alart & Curnier 1991)
+//! for friction with fixed thresholds, 2D and 3D, and the fixed point on
+//! the threshold around it for Coulomb (seed §4.1.2, §4.3).
+//!
+//! Unknowns: the forces λ (normal rows, then each point's one or two
+//! tangential rows, [`FrictionLayout`]) and the rigid-mode amplitudes α of
+//! floating bodies; gaps y = W λ + q + G α. With ρ > 0, D = diag(g1, g2) the
+//! semi-axes of a point's disc / ellipse and c = ρ / max(g_i)², the
+//! projection equations are
+//!
+//! ```text
+//!   normal:      F_n = λ_n − max(0, λ_n − ρ y_n)
+//!   tangential:  F_t = λ_t − D proj_B(z),   z = D⁺ λ_t − c D Δs   (B: unit disc)
+//!   equilibrium: Gᵀ λ = e
+//! ```
+//!
+//! (Δs = y_t, the slip increments; an infinite bound is stuck, Δs = 0.) A
+//! semi-smooth Newton step linearises F on the current statuses, which is a
+//! primal–dual active set step: an open point (λ_n − ρ y_n ≤ 0) has the
+//! identity rows dλ = −λ; a closed normal row and a stuck tangential row
+//! (‖z‖ ≤ 1) the W rows (zero gap); a slipping point (‖z‖ > 1) its force on
+//! the boundary, i.e. with τ the unit tangent of the circle at proj(z) and
+//! a = Dτ, the component of λ_t across a given and the component along a
+//! coupled to the slip with the compliance (‖z‖ − aᵀD⁺τ) / (c ‖a‖²) > 0.
+//! Those rows ([`NewtonSystem`]) are solved by [`crate::reduced`]: the
+//! given rows substituted, the coupled ones (a symmetric block, W plus a
+//! diagonal) by Cholesky, floating bodies through the k × k Schur
+//! complement on G; when that fails or is near singular, the full system by
+//! a fully pivoted LU. An Armijo line search on ½‖F‖² globalises it; without
+//! floating bodies an accelerated projected gradient takes over when the
+//! line search fails.
+//!
+//! As with the 2D projection method ([`crate::friction::tresca_projection`]),
+//! a Tresca point that opens may still carry a tangential force up to its
+//! threshold (Tresca's law does not depend on the normal force); with
+//! Coulomb the threshold of an open point is zero.
+
+use faer::prelude::Solve;
+use faer::Mat;
+
+use crate::delassus::{DelassusProblem, VarEquation};
+use crate::fixed_point::{fixed_point, normal_change, InnerSolve, ThresholdMap, TrescaSolver};
+use crate::friction::{FrictionLayout, FrictionOptions, FrictionOutcome, PointStatus};
+use crate::ContactError;
+
+/// A unit direction over at most two force rows (`c[1] = 0` for one row).
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Dir {
+    pub rows: [usize; 2],
+    pub c: [f64; 2],
+}
+
+impl Dir {
+    fn one(row: usize) -> Self {
+        Self {
+            rows: [row, row],
+            c: [1.0, 0.0],
+        }
+    }
+
+    /// cᵀ v on the direction's rows.
+    pub fn dot(&self, v: &[f64]) -> f64 {
+        self.c[0] * v[self.rows[0]] + self.c[1] * v[self.rows[1]]
+    }
+}
+
+/// The linearised Alart–Curnier equations at an iterate, one equation per
+/// force row on orthonormal directions (so that dλ = Σ given + Σ coupled):
+/// `given` cᵀ dλ = v; `coupled` d cᵀ dλ + cᵀ (W dλ + G dα) = v (d ≥ 0);
+/// `equilibrium` Gᵀ dλ = v_j. With `secant`, a slipping point with one
+/// tangential row is linearised on the secant of the projection (see
+/// [`slip_rows`]).
+#[derive(Debug, Default)]
+pub(crate) struct NewtonSystem {
+    pub secant: bool,
+    pub given: Vec<(Dir, f64)>,
+    pub coupled: Vec<(Dir, f64, f64)>,
+    pub equilibrium: Vec<f64>,
+}
+
+impl NewtonSystem {
+    /// The full (n + k) square system [rows; Gᵀ 0] of the same equations,
+    /// solved by a fully pivoted LU: the fallback of the reduced solve.
+    fn solve_full(&self, w: &Mat<f64>, g: &Mat<f64>) -> Option<Vec<f64>> {
+        let (n, k) = (w.nrows(), g.ncols());
+        let mut jac = Mat::<f64>::zeros(n + k, n + k);
+        let mut rhs = Mat::<f64>::zeros(n + k, 1);
+        let mut row = 0;
+        for (d, v) in &self.given {
+            for l in 0..2 {
+                jac[(row, d.rows[l])] += d.c[l];
+            }
+            rhs[(row, 0)] = *v;
+            row += 1;
+        }
+        for (d, comp, v) in &self.coupled {
+            for l in 0..2 {
+                let (r, cl) = (d.rows[l], d.c[l]);
+                jac[(row, r)] += comp * cl;
+                for col in 0..n {
+                    jac[(row, col)] += cl * w[(r, col)];
+                }
+                for j in 0..k {
+                    jac[(row, n + j)] += cl * g[(r, j)];
+                }
+            }
+            rhs[(row, 0)] = *v;
+            row += 1;
+        }
+        for (j, v) in self.equilibrium.iter().enumerate() {
+            for i in 0..n {
+                jac[(n + j, i)] = g[(i, j)];
+            }
+            rhs[(n + j, 0)] = *v;
+        }
+        let dx = jac.full_piv_lu().solve(&rhs);
+        let dx: Vec<f64> = (0..n + k).map(|i| dx[(i, 0)]).collect();
+        dx.iter().all(|v| v.is_finite()).then_some(dx)
+    }
+}
+
+/// Projection of x on the ellipse (x1/a1)² + (x2/a2)² ≤ 1 (Euclidean; a
+/// semi-axis may be zero, both infinite means no bound).
+fn project_ellipse(x: [f64; 2], a: [f64; 2]) -> [f64; 2] {
+    if a[0].is_infinite() || a[1].is_infinite() {
+        return x;
+    }
+    match (a[0] > 0.0, a[1] > 0.0) {
+        (false, false) => return [0.0, 0.0],
+        (false, true) => return [0.0, x[1].clamp(-a[1], a[1])],
+        (true, false) => return [x[0].clamp(-a[0], a[0]), 0.0],
+        _ => {}
+    }
+    if (x[0] / a[0]).powi(2) + (x[1] / a[1]).powi(2) <= 1.0 {
+        return x;
+    }
+    // f(t) = Σ (a_i x_i / (a_i² + t))² − 1, decreasing and convex on t ≥ 0:
+    // Newton from t = 0 converges monotonically to its root.
+    let mut t = 0.0f64;
+    for _ in 0..200 {
+        let mut f = -1.0;
+        let mut df = 0.0;
+        for i in 0..2 {
+            let d = a[i] * a[i] + t;
+            let v = a[i] * x[i] / d;
+            f += v * v;
+            df -= 2.0 * v * v / d;
+        }
+        let step = -f / df;
+        if !step.is_finite() || step <= 1e-16 * t.max(f64::MIN_POSITIVE) {
+            break;
+        }
+        t += step;
+    }
+    [
+        a[0] * a[0] * x[0] / (a[0] * a[0] + t),
+        a[1] * a[1] * x[1] / (a[1] * a[1] + t),
+    ]
+}
+
+/// The Tresca problem with fixed semi-axes: its rows, thresholds and scales.
+struct Inner<'a> {
+    problem: &'a DelassusProblem,
+    layout: &'a FrictionLayout,
+    /// Semi-axes (g1, g2) per point; infinite: no bound (stuck).
+    thr: &'a [[f64; 2]],
+    /// Newton's projection parameters per row (1 / diagonal of W).
+    rho: Vec<f64>,
+}
+
+/// How a residual is scaled: `Newton` with ρ = 1/W_ii, `Check` with ρ = F/L
+/// (the natural residual relative to the force and length scales).
+#[derive(Clone, Copy, PartialEq)]
+enum Scale {
+    Newton,
+    Check(f64),
+}
+
+impl<'a> Inner<'a> {
+    fn new(problem: &'a DelassusProblem, layout: &'a FrictionLayout, thr: &'a [[f64; 2]]) -> Self {
+        let n = problem.q.len();
+        let rho = (0..n)
+            .map(|i| {
+                let d = problem.w[(i, i)];
+                if d > 0.0 && d.is_finite() {
+                    1.0 / d
+                } else {
+                    1.0
+                }
+            })
+            .collect();
+        Self {
+            problem,
+            layout,
+            thr,
+            rho,
+        }
+    }
+
+    fn n(&self) -> usize {
+        self.problem.q.len()
+    }
+
+    fn k(&self) -> usize {
+        self.problem.g_mat.ncols()
+    }
+
+    /// y = W λ + q + G α.
+    fn gaps(&self, x: &[f64]) -> Vec<f64> {
+        let (n, k) = (self.n(), self.k());
+        let mut y = crate::lcp::gaps(&self.problem.w, &self.problem.q, &x[..n]);
+        for j in 0..k {
+            let a = x[n + j];
+            for (i, yi) in y.iter_mut().enumerate() {
+                *yi += self.problem.g_mat[(i, j)] * a;
+            }
+        }
+        y
+    }
+
+    /// The Alart–Curnier residual F(x) (rows: the n forces, then the k
+    /// equilibrium equations) and, if asked, its linearisation.
+    fn residual(&self, x: &[f64], scale: Scale, mut sys: Option<&mut NewtonSystem>) -> Vec<f64> {
+        let (n, k) = (self.n(), self.k());
+        let gm = &self.problem.g_mat;
+        let y = self.gaps(x);
+        let mut f = vec![0.0; n + k];
+        if let Some(s) = sys.as_deref_mut() {
+            *s = NewtonSystem {
+                secant: s.secant,
+                ..NewtonSystem::default()
+            };
+        }
+        for p in 0..self.layout.n_points() {
+            let rn = match scale {
+                Scale::Newton => self.rho[p],
+                Scale::Check(c) => c,
+            };
+            if x[p] - rn * y[p] > 0.0 {
+                f[p] = rn * y[p];
+                if let Some(s) = sys.as_deref_mut() {
+                    s.coupled.push((Dir::one(p), 0.0, -y[p]));
+                }
+            } else {
+                f[p] = x[p];
+                if let Some(s) = sys.as_deref_mut() {
+                    s.given.push((Dir::one(p), -x[p]));
+                }
+            }
+            let rows = &self.layout.tangent_rows[p];
+            if !rows.is_empty() {
+                let sys = sys.as_deref_mut();
+                self.tangential_residual(x, &y, rows, self.thr[p], scale, &mut f, sys);
+            }
+        }
+        // Equilibrium of the rigid modes: Gᵀ λ = e.
+        for j in 0..k {
+            f[n + j] = (0..n).map(|i| gm[(i, j)] * x[i]).sum::<f64>() - self.problem.e[j];
+            if let Some(s) = sys.as_deref_mut() {
+                s.equilibrium.push(-f[n + j]);
+            }
+        }
+        f
+    }
+
+    /// The Alart–Curnier rows of one point's tangential force λ_t (one or
+    /// two rows) with semi-axes `g`: stuck (Δs = 0) for an infinite bound,
+    /// zero for a zero bound, else, scaled to the unit disc,
+    /// ν = D⁺ λ_t, z = ν − c D Δs, F = λ_t − D proj(z) (seed §4.1.2).
+    #[allow(clippy::too_many_arguments)]
+    fn tangential_residual(
+        &self,
+        x: &[f64],
+        y: &[f64],
+        rows: &[usize],
+        g: [f64; 2],
+        scale: Scale,
+        f: &mut [f64],
+        mut sys: Option<&mut NewtonSystem>,
+    ) {
+        let rt = match scale {
+            Scale::Newton => rows.iter().map(|&r| self.rho[r]).sum::<f64>() / rows.len() as f64,
+            Scale::Check(c) => c,
+        };
+        let gbar = g[..rows.len()].iter().fold(0.0f64, |a, &v| a.max(v));
+        if gbar.is_infinite() || gbar <= 0.0 {
+            for &r in rows {
+                if gbar.is_infinite() {
+                    // No bound: stuck, Δs = 0.
+                    f[r] = rt * y[r];
+                    if let Some(s) = sys.as_deref_mut() {
+                        s.coupled.push((Dir::one(r), 0.0, -y[r]));
+                    }
+                } else {
+                    f[r] = x[r];
+                    if let Some(s) = sys.as_deref_mut() {
+                        s.given.push((Dir::one(r), -x[r]));
+                    }
+                }
+            }
+            return;
+        }
+        let c = rt / (gbar * gbar);
+        let dinv = g.map(|gi| if gi > 0.0 { 1.0 / gi } else { 0.0 });
+        let mut z = [0.0; 2];
+        for (i, &r) in rows.iter().enumerate() {
+            z[i] = dinv[i] * x[r] - c * g[i] * y[r];
+        }
+        let nz = z[0].hypot(z[1]);
+        let pz = if nz <= 1.0 { z } else { [z[0] / nz, z[1] / nz] };
+        for (i, &r) in rows.iter().enumerate() {
+            f[r] = x[r] - g[i] * pz[i];
+        }
+        let Some(sys) = sys else { return };
+        if nz <= 1.0 {
+            // Stuck: zero slip on the rows with a bound, zero force on the others.
+            for (i, &r) in rows.iter().enumerate() {
+                if g[i] > 0.0 {
+                    sys.coupled.push((Dir::one(r), 0.0, -y[r]));
+                } else {
+                    sys.given.push((Dir::one(r), -f[r]));
+                }
+            }
+        } else {
+            slip_rows(sys, rows, g, dinv, pz, nz, c, f);
+        }
+    }
+
+    /// One semi-smooth Newton step from x with an Armijo line search on
+    /// ½‖F‖² (halving the step at most 30 times). The Newton system is solved
+    /// reduced ([`crate::reduced::solve_newton`]), or in full when that fails.
+    fn newton_step(&self, x: &mut Vec<f64>, sys: &mut NewtonSystem) -> Step {
+        let nk = self.n() + self.k();
+        let merit = |f: &[f64]| 0.5 * f.iter().map(|v| v * v).sum::<f64>();
+        let f = self.residual(x, Scale::Newton, Some(sys));
+        let psi = merit(&f);
+        let (w, g) = (&self.problem.w, &self.problem.g_mat);
+        let solve = |sys: &NewtonSystem| {
+            crate::reduced::solve_newton(w, g, sys).or_else(|| sys.solve_full(w, g))
+        };
+        let mut dx = solve(sys);
+        if dx.is_none() && self.k() > 0 {
+            // Every point that could hold a floating body slips: relinearise
+            // on the secants, which keep their slip coupled to the body.
+            sys.secant = true;
+            self.residual(x, Scale::Newton, Some(sys));
+            dx = solve(sys);
+            sys.secant = false;
+        }
+        let Some(dx) = dx else {
+            return Step::Singular;
+        };
+        let mut t = 1.0;
+        for _ in 0..30 {
+            let trial: Vec<f64> = (0..nk).map(|i| x[i] + t * dx[i]).collect();
+            let ft = self.residual(&trial, Scale::Newton, None);
+            if merit(&ft) <= (1.0 - 1e-4 * t) * psi {
+                *x = trial;
+                return Step::Accepted;
+            }
+            t *= 0.5;
+        }
+        Step::Rejected(dx)
+    }
+
+    /// The scaled natural residual: max over the rows of |F_check| / F.
+    fn check(&self, x: &[f64], opts: &FrictionOptions) -> f64 {
+        let n = self.n();
+        let fs = opts
+            .force_scale
+            .max(x[..n].iter().fold(0.0f64, |a, v| a.max(v.abs())))
+            .max(f64::MIN_POSITIVE);
+        let c = fs / opts.gap_scale.max(f64::MIN_POSITIVE);
+        let f = self.residual(x, Scale::Check(c), None);
+        f.iter().fold(0.0f64, |a, v| a.max(v.abs())) / fs
+    }
+
+    /// Accelerated projected gradient (FISTA with adaptive restart) on
+    /// ½ λᵀ W λ + qᵀ λ over the product of half-lines and ellipses; no
+    /// floating body.
+    fn projected_gradient(&self, x: &mut [f64], iterations: usize) {
+        let n = self.n();
+        let m = self.layout.n_points();
+        let w = &self.problem.w;
+        // Gershgorin bound on the largest eigenvalue of W.
+        let lip = (0..n)
+            .map(|i| (0..n).map(|j| w[(i, j)].abs()).sum::<f64>())
+            .fold(0.0f64, f64::max)
+            .max(f64::MIN_POSITIVE);
+        let project = |v: &mut [f64]| {
+            for p in 0..m {
+                v[p] = v[p].max(0.0);
+                match self.layout.tangent_rows[p][..] {
+                    [a, b] => {
+                        let r = project_ellipse([v[a], v[b]], self.thr[p]);
+                        v[a] = r[0];
+                        v[b] = r[1];
+                    }
+                    [a] if self.thr[p][0].is_finite() => {
+                        v[a] = v[a].clamp(-self.thr[p][0], self.thr[p][0]);
+                    }
+                    _ => {}
+                }
+            }
+        };
+        project(x);
+        let mut prev = x.to_vec();
+        let mut ypt = x.to_vec();
+        let mut t = 1.0f64;
+        for _ in 0..iterations {
+            let grad = self.gaps(&ypt);
+            let mut next: Vec<f64> = (0..n).map(|i| ypt[i] - grad[i] / lip).collect();
+            project(&mut next);
+            // Restart when the momentum points uphill.
+            let uphill: f64 = (0..n).map(|i| grad[i] * (next[i] - prev[i])).sum();
+            let t_next = if uphill > 0.0 {
+                1.0
+            } else {
+                0.5 * (1.0 + (1.0 + 4.0 * t * t).sqrt())
+            };
+            let beta = if uphill > 0.0 {
+                0.0
+            } else {
+                (t - 1.0) / t_next
+            };
+            for i in 0..n {
+                ypt[i] = next[i] + beta * (next[i] - prev[i]);
+            }
+            prev = next;
+            t = t_next;
+        }
+        x[..n].copy_from_slice(&prev);
+    }
+}
+
+/// The rows of a slipping point (‖z‖ > 1, u = proj(z) on the unit
+/// circle): with τ ⊥ u, a = D τ, b = D⁺ τ, the linearised equations
+/// dλ_t − a bᵀ dλ_t / ‖z‖ + c a aᵀ (W_t dλ + G_t dα) / ‖z‖ = −F_t give the
+/// component of dλ_t across a, and along â = a/‖a‖ the coupled row with
+/// the compliance (‖z‖ − aᵀb) / (c ‖a‖²) (positive: aᵀb ≤ 1 < ‖z‖). When
+/// a vanishes (one bounded row, or D τ = 0) the rows are the identity, or
+/// with `sys.secant` for one row, the projection's secant slope 1/‖z‖
+/// instead of its zero derivative: (1 − 1/‖z‖) dλ_t + c g² (W_t dλ +
+/// G_t dα) / ‖z‖ = −F_t, the compliance (‖z‖ − 1) / (c g²) (a 2D body held
+/// by friction alone, all its points slipping at an iterate, is otherwise
+/// held by nothing: a singular step).
+#[allow(clippy::too_many_arguments)]
+fn slip_rows(
+    sys: &mut NewtonSystem,
+    rows: &[usize],
+    g: [f64; 2],
+    dinv: [f64; 2],
+    u: [f64; 2],
+    nz: f64,
+    c: f64,
+    f: &[f64],
+) {
+    let tau = [-u[1], u[0]];
+    let two = rows.len() == 2;
+    let a = [g[0] * tau[0], if two { g[1] * tau[1] } else { 0.0 }];
+    let b = [dinv[0] * tau[0], if two { dinv[1] * tau[1] } else { 0.0 }];
+    let na = a[0].hypot(a[1]);
+    if !two && sys.secant {
+        let cg = c * g[0] * g[0];
+        let r = rows[0];
+        sys.coupled
+            .push((Dir::one(r), (nz - 1.0) / cg, -nz * f[r] / cg));
+        return;
+    }
+    if !two || na <= 1e-12 * g[0].max(g[1]) {
+        for &r in rows {
+            sys.given.push((Dir::one(r), -f[r]));
+        }
+        return;
+    }
+    let ah = [a[0] / na, a[1] / na];
+    let across = Dir {
+        rows: [rows[0], rows[1]],
+        c: [-ah[1], ah[0]],
+    };
+    let along = Dir {
+        rows: across.rows,
+        c: ah,
+    };
+    let beta = -across.dot(f);
+    let ab = a[0] * b[0] + a[1] * b[1];
+    let bv = b[0] * across.c[0] + b[1] * across.c[1];
+    let comp = (nz - ab) / (c * na * na);
+    let rhs = -nz * along.dot(f) / (c * na * na) + beta * bv / (c * na);
+    sys.given.push((across, beta));
+    sys.coupled.push((along, comp, rhs));
+}
+
+/// What a Newton step did.
+enum Step {
+    /// A step length decreased the merit: x moved.
+    Accepted,
+    /// No step length did; the Newton direction.
+    Rejected(Vec<f64>),
+    /// The Newton system is singular (a non-finite direction).
+    Singular,
+}
+
+/// Semi-smooth Newton on the Alart–Curnier equations with fixed semi-axes
+/// `thr`, from the forces `start`.
+fn solve_inner(
+    newton: &Newton,
+    thr: &[[f64; 2]],
+    start: &[f64],
+) -> Result<(InnerSolve, usize), ContactError> {
+    let (problem, layout, opts, dim) = (newton.problem, newton.layout, newton.opts, newton.dim);
+    let inner = Inner::new(problem, layout, thr);
+    let (n, k) = (inner.n(), inner.k());
+    let mut x = vec![0.0; n + k];
+    x[..n].copy_from_slice(start);
+    // The rigid-mode amplitudes start from the problem's last solve.
+    if problem.alpha().len() == k {
+        x[n..].copy_from_slice(problem.alpha());
+    }
+    let mut sys = NewtonSystem::default();
+    let mut fallbacks = 0usize;
+    let mut iterations = 0;
+    let mut reason = format!("iteration limit {} reached", opts.max_iterations);
+    let mut converged = false;
+    for it in 0..opts.max_iterations {
+        let res = inner.check(&x, opts);
+        if res <= opts.tolerance {
+            converged = true;
+            reason = format!("natural residual {res:.2e} after {it} Newton iterations");
+            break;
+        }
+        iterations = it + 1;
+        let dx = match inner.newton_step(&mut x, &mut sys) {
+            Step::Accepted => continue,
+            Step::Rejected(dx) => Some(dx),
+            Step::Singular => None,
+        };
+        fallbacks += 1;
+        match dx {
+            // Globalisation: accelerated projected gradient, then Newton again.
+            _ if k == 0 => inner.projected_gradient(&mut x, 200 * fallbacks),
+            // Floating bodies: no projection on the equilibrium; take the
+            // full (non-monotone) Newton step.
+            Some(dx) if fallbacks <= 5 => {
+                x.iter_mut().zip(&dx).for_each(|(xi, d)| *xi += d);
+            }
+            Some(_) => {
+                reason =
+                    "the Newton line search failed repeatedly (floating bodies: no fallback)".into();
+                break;
+            }
+            None => {
+                return Err(ContactError::Singular(
+                    format!("friction {dim}D: singular Newton system (a floating body not held by the contact and friction forces?)"),
+                ))
+            }
+        }
+    }
+    if !converged {
+        let res = inner.check(&x, opts);
+        if res <= opts.tolerance {
+            converged = true;
+            reason = format!("natural residual {res:.2e} after {iterations} Newton iterations");
+        }
+    }
+    let gaps = inner.gaps(&x);
+    x.truncate(n);
+    let solve = InnerSolve {
+        statuses: statuses(layout, &x, &gaps, opts, dim),
+        forces: x,
+        gaps,
+        converged,
+        reason,
+    };
+    Ok((solve, iterations))
+}
+
+/// Statuses: open (λ_n ≤ tol), slip (‖Δs‖ > tol, the force on the boundary
+/// of the disc / ellipse; in 2D slip± by the sign of λ_t), stick otherwise
+/// (in contact, and sticking if the point has friction).
+fn statuses(
+    layout: &FrictionLayout,
+    r: &[f64],
+    g: &[f64],
+    opts: &FrictionOptions,
+    dim: usize,
+) -> Vec<PointStatus> {
+    let lmax = r.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+    let tol_f = opts.tolerance * opts.force_scale.max(lmax);
+    let tol_g = opts.tolerance * opts.gap_scale;
+    (0..layout.n_points())
+        .map(|p| {
+            if r[p] <= tol_f {
+                PointStatus::Open
+            } else {
+                let slip = layout.tangent_rows[p]
+                    .iter()
+                    .map(|&t| g[t] * g[t])
+                    .sum::<f64>();
+                if slip.sqrt() <= tol_g {
+                    PointStatus::Stick
+                } else if dim == 3 {
+                    PointStatus::Slip
+                } else if r[layout.tangent_rows[p][0]] > 0.0 {
+                    PointStatus::SlipPlus
+                } else {
+                    PointStatus::SlipMinus
+                }
+            }
+        })
+        .collect()
+}
+/// Friction by the semi-smooth Newton method (`dim` 2 or 3): Tresca (and
+/// frictionless) points in one solve, Coulomb by the fixed point on the
+/// thresholds g ← μ λ_n (seed §4.3), started from `start` (the previous
+/// step's forces, all rows) or from the solution with every frictional
+/// point stuck (so that a body held by friction alone can start). The fixed
+/// point stops when max |Δλ_n| / max(force_scale, ‖λ‖∞) ≤ tolerance; each
+/// inner problem stops on its scaled natural residual. `iterations` counts
+/// the Newton iterations of all inner solves.
+///
+/// With floating bodies, the rigid-mode amplitudes α used by
+/// [`DelassusProblem::displacement`] are those of a final linear solve with
+/// the statuses found (closed normal rows and stuck tangential rows: zero
+/// gap; other rows: the forces found); if that system is singular (e.g. every
+/// point of a friction-held body slips), α is left from the previous solve.
+pub(crate) fn friction_newton(
+    problem: &mut DelassusProblem,
+    layout: &FrictionLayout,
+    start: Option<&[f64]>,
+    opts: &FrictionOptions,
+    dim: usize,
+) -> Result<FrictionOutcome, ContactError> {
+    let bilateral = match start {
+        None if problem.n_kernel() > 0 => bilateral_start(problem),
+        _ => None,
+    };
+    let out = newton_fixed_point(problem, layout, start, bilateral, opts, dim)?;
+    if problem.n_kernel() > 0 {
+        let mut eqs: Vec<VarEquation> = out.forces.iter().map(|&v| VarEquation::Value(v)).collect();
+        for (p, st) in out.statuses.iter().enumerate() {
+            if *st == PointStatus::Open {
+                continue;
+            }
+            eqs[p] = VarEquation::Gap;
+            if *st == PointStatus::Stick {
+                for &t in &layout.tangent_rows[p] {
+                    eqs[t] = VarEquation::Gap;
+                }
+            }
+        }
+        let _ = problem.solve_equations(&eqs);
+    }
+    Ok(out)
+}
+
+/// The forces (and, kept in `problem`, the rigid-mode amplitudes α) with
+/// every point closed and stuck: the start of the first step of a problem
+/// with floating bodies. From zero forces the Newton method would see a body
+/// whose contacts start open (an initial gap) as held by nothing, a singular
+/// system; closed everywhere, its position is determined, and the points
+/// that come out in tension open in the iterations that follow. `None` when
+/// that system is singular too.
+fn bilateral_start(problem: &mut DelassusProblem) -> Option<Vec<f64>> {
+    let eqs = vec![VarEquation::Gap; problem.q.len()];
+    problem.solve_equations(&eqs).ok().map(|(r, _)| r)
+}
+
+/// The Tresca problems of a fixed point on the threshold (seed §4.3):
+/// the semi-smooth Newton method from the previous forces, counting the
+/// Newton iterations of all solves.
+struct Newton<'a> {
+    problem: &'a DelassusProblem,
+    layout: &'a FrictionLayout,
+    opts: &'a FrictionOptions,
+    iterations: usize,
+    dim: usize,
+}
+
+impl Newton<'_> {
+    /// The iterate of the forces `forces` (no solve): their gaps (rigid-mode
+    /// amplitudes zero) and statuses.
+    fn iterate(&self, forces: Vec<f64>) -> InnerSolve {
+        let mut x = forces.clone();
+        x.resize(forces.len() + self.problem.g_mat.ncols(), 0.0);
+        let gaps = Inner::new(self.problem, self.layout, &[]).gaps(&x);
+        InnerSolve {
+            statuses: statuses(self.layout, &forces, &gaps, self.opts, self.dim),
+            forces,
+            gaps,
+            converged: false,
+            reason: String::new(),
+        }
+    }
+}
+
+impl TrescaSolver for Newton<'_> {
+    type Thresholds = Vec<[f64; 2]>;
+
+    fn solve(&mut self, thr: &Vec<[f64; 2]>, start: &[f64]) -> Result<InnerSolve, ContactError> {
+        let (solve, iterations) = solve_inner(self, thr, start)?;
+        self.iterations += iterations;
+        Ok(solve)
+    }
+}
+
+/// The thresholds of the start of the fixed point: every point initially
+/// closed (q_n ≤ 0) stuck, the others free, as the 2D fixed point starts
+/// (§4.3: g = 0 cannot hold a body held by friction); from the bilateral
+/// start of floating bodies (`guessed`), every point stuck. Stuck open
+/// points would couple all 2m tangential rows of the Newton systems.
+fn stuck_thresholds(
+    problem: &DelassusProblem,
+    layout: &FrictionLayout,
+    guessed: bool,
+) -> Vec<[f64; 2]> {
+    (0..layout.n_points())
+        .map(|p| {
+            if guessed || problem.q[p] <= 0.0 {
+                [f64::INFINITY; 2]
+            } else {
+                [0.0; 2]
+            }
+        })
+        .collect()
+}
+
+/// The fixed point on the threshold with the Newton inner solves, from
+/// `start` (previous step) or `first_guess` (floating bodies) or zero.
+fn newton_fixed_point(
+    problem: &DelassusProblem,
+    layout: &FrictionLayout,
+    start: Option<&[f64]>,
+    first_guess: Option<Vec<f64>>,
+    opts: &FrictionOptions,
+    dim: usize,
+) -> Result<FrictionOutcome, ContactError> {
+    let n = problem.q.len();
+    layout.validate(n, dim)?;
+    let forces = match start {
+        Some(f) if f.len() == n => f.to_vec(),
+        Some(f) => {
+            return Err(ContactError::Geometry(format!(
+                "friction {dim}D: {} start forces for {n} rows",
+                f.len()
+            )))
+        }
+        None => first_guess.clone().unwrap_or_else(|| vec![0.0; n]),
+    };
+    let guessed = first_guess.is_some();
+    let mut newton = Newton {
+        problem,
+        layout,
+        opts,
+        iterations: 0,
+        dim,
+    };
+    if !layout.has_coulomb() {
+        let res = newton.solve(&layout.thresholds(&forces), &forces)?;
+        let (converged, reason) = (res.converged, format!("Tresca: {}", res.reason));
+        return Ok(res.outcome(converged, newton.iterations, Vec::new(), reason, false));
+    }
+    let start = match start {
+        Some(_) => newton.iterate(forces),
+        None => newton.solve(&stuck_thresholds(problem, layout, guessed), &forces)?,
+    };
+    let map = ThresholdMap {
+        threshold: &|r, _| layout.thresholds(r),
+        residual: &normal_change,
+        name: "fixed point on the threshold",
+    };
+    let end = fixed_point(&mut newton, start, &map, opts)?;
+    let outcome = end.last.outcome(
+        end.converged,
+        newton.iterations,
+        end.residuals,
+        end.reason,
+        false,
+    );
+    Ok(outcome)
+}
+
+#[cfg(test)]
+mod tests;

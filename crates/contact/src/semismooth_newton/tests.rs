@@ -1,0 +1,139 @@
+//! The 2D semi-smooth Newton method against the 2D fixed point (status
+//! method inner solves) and the friction status method (seed §4.3, §4.5).
+
+use faer::Mat;
+
+use crate::friction::{
+    coulomb_fixed_point, coulomb_newton, coulomb_status, FrictionLaw, FrictionLayout,
+    FrictionOptions, FrictionOutcome, PointStatus,
+};
+use crate::test_problems::{random_spd, XorShift};
+use crate::DelassusProblem;
+
+fn opts() -> FrictionOptions {
+    FrictionOptions {
+        max_iterations: 200,
+        max_fixed_point: 200,
+        tolerance: 1e-11,
+        force_scale: 1.0,
+        gap_scale: 1.0,
+    }
+}
+
+/// m points in 2D (normal rows 0..m, tangential row m + p), W random SPD,
+/// about half the points pressed, pulled sideways; μ 0.2 to 0.6.
+fn random_2d(m: usize, seed: u64) -> (DelassusProblem, FrictionLayout) {
+    let mut rng = XorShift(seed);
+    let w = random_spd(2 * m, &mut rng);
+    let q: Vec<f64> = (0..2 * m)
+        .map(|i| {
+            if i < m {
+                rng.uniform(-1.0, 0.6)
+            } else {
+                rng.uniform(-0.8, 0.8)
+            }
+        })
+        .collect();
+    let layout = FrictionLayout {
+        tangent_rows: (0..m).map(|p| vec![m + p]).collect(),
+        law: (0..m)
+            .map(|p| FrictionLaw::coulomb(0.2 + 0.1 * (p % 5) as f64))
+            .collect(),
+        shadow: vec![None; m],
+    };
+    (DelassusProblem::from_operator(w, q), layout)
+}
+
+/// The statuses agree and the forces and gaps are within `tol`.
+fn assert_same(a: &FrictionOutcome, b: &FrictionOutcome, tol: f64, what: &str) {
+    assert!(
+        a.converged && b.converged,
+        "{what}: {} / {}",
+        a.stopping_reason,
+        b.stopping_reason
+    );
+    assert_eq!(a.statuses, b.statuses, "{what}");
+    for (i, (x, y)) in a.forces.iter().zip(&b.forces).enumerate() {
+        assert!((x - y).abs() <= tol, "{what}: force {i}: {x} vs {y}");
+    }
+    for (i, (x, y)) in a.gaps.iter().zip(&b.gaps).enumerate() {
+        assert!((x - y).abs() <= tol, "{what}: gap {i}: {x} vs {y}");
+    }
+}
+
+#[test]
+fn newton_agrees_with_the_fixed_point_and_the_status_method_in_2d() {
+    let mut seen = [0usize; 3];
+    for (m, seed) in [(2, 3), (4, 5), (8, 7), (16, 11), (30, 13)] {
+        let (p, layout) = random_2d(m, seed);
+        // Initially closed points start stuck.
+        let closed = |q: &f64| *q <= 0.0;
+        let start_status = |c| [PointStatus::Open, PointStatus::Stick][c as usize];
+        let initial: Vec<PointStatus> = p.q[..m].iter().map(closed).map(start_status).collect();
+        let fresh = || DelassusProblem::from_operator(p.w.clone(), p.q.clone());
+        let newton = coulomb_newton(&mut fresh(), &layout, None, &opts()).unwrap();
+        let fp =
+            coulomb_fixed_point(&mut fresh(), &layout, initial.clone(), None, &opts()).unwrap();
+        let status = coulomb_status(&mut fresh(), &layout, initial, &opts()).unwrap();
+        assert_same(&newton, &fp, 1e-9, &format!("m = {m}, fixed point"));
+        assert_same(&newton, &status, 1e-9, &format!("m = {m}, status method"));
+        for st in &newton.statuses {
+            seen[match st {
+                PointStatus::Open => 0,
+                PointStatus::Stick => 1,
+                _ => 2,
+            }] += 1;
+        }
+    }
+    assert!(seen.iter().all(|&c| c > 0), "open, stick, slip: {seen:?}");
+}
+
+/// Two nodes A, B on a plane joined by a spring along x (k = 2), free in x
+/// (the rigid mode: both translate), held normally (5): A pulled by Q = 1
+/// pressed by 1, B pressed by 5, μ = 0.5: A slips at μ N_A = 0.5 and B holds
+/// the rest, 0.5 < μ N_B = 2.5.
+fn two_nodes_held_by_friction() -> DelassusProblem {
+    let k = 2.0;
+    let s = Mat::<f64>::from_fn(4, 4, |i, j| match (i, j) {
+        (0, 0) | (2, 2) => k,
+        (0, 2) | (2, 0) => -k,
+        (1, 1) | (3, 3) => 5.0,
+        _ => 0.0,
+    });
+    let r = std::f64::consts::FRAC_1_SQRT_2;
+    let kernel = Mat::<f64>::from_fn(4, 1, |i, _| if i % 2 == 0 { r } else { 0.0 });
+    // Rows: normals y_A, y_B; tangents x_A, x_B.
+    let rows = vec![
+        vec![(1, 1.0)],
+        vec![(3, 1.0)],
+        vec![(0, 1.0)],
+        vec![(2, 1.0)],
+    ];
+    DelassusProblem::new(&s, &rows, &[0.0; 4], &[1.0, -1.0, 0.0, -5.0], &kernel).unwrap()
+}
+
+#[test]
+fn newton_holds_a_floating_body_by_friction_like_the_fixed_point() {
+    let layout = FrictionLayout {
+        tangent_rows: vec![vec![2], vec![3]],
+        law: vec![FrictionLaw::coulomb(0.5); 2],
+        shadow: vec![None; 2],
+    };
+    let mut p = two_nodes_held_by_friction();
+    assert_eq!(p.n_kernel(), 1);
+    let newton = coulomb_newton(&mut p, &layout, None, &opts()).unwrap();
+    assert_eq!(
+        newton.statuses,
+        vec![PointStatus::SlipMinus, PointStatus::Stick]
+    );
+    let expected = [1.0, 5.0, -0.5, -0.5];
+    for (i, (x, y)) in newton.forces.iter().zip(expected).enumerate() {
+        assert!((x - y).abs() < 1e-10, "force {i}: {x} vs {y}");
+    }
+    // A slips in +x, against its friction force.
+    assert!(newton.gaps[2] > 1e-3 && newton.gaps[3].abs() < 1e-10);
+    let mut q = two_nodes_held_by_friction();
+    let initial = vec![PointStatus::Stick; 2];
+    let fp = coulomb_fixed_point(&mut q, &layout, initial, None, &opts()).unwrap();
+    assert_same(&newton, &fp, 1e-10, "floating body");
+}
