@@ -317,6 +317,20 @@ impl RankTimings {
     }
 }
 
+/// Writes a CSV file: its header line, then one line per item.
+pub fn write_lines(
+    path: &Path,
+    header: &str,
+    lines: impl IntoIterator<Item = String>,
+) -> std::io::Result<()> {
+    let mut w = std::io::BufWriter::new(std::fs::File::create(path)?);
+    writeln!(w, "{header}")?;
+    for line in lines {
+        writeln!(w, "{line}")?;
+    }
+    w.flush()
+}
+
 /// steps.csv: one row per load step (scales, resultants, slip, statuses).
 pub fn write_steps_csv(path: &Path, steps: &[StepReport]) -> std::io::Result<()> {
     let mut w = std::io::BufWriter::new(std::fs::File::create(path)?);

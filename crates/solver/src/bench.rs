@@ -165,31 +165,30 @@ pub fn write_plots(
             .filter(|s| s.points.iter().any(|(x, y)| *x > 0.0 && *y > 0.0))
             .collect()
     };
-    let err = series(&|r| r.error, &|r| r.total_s);
-    if !err.is_empty() {
-        let p = dir.join("error_vs_time.svg");
-        loglog_svg(
-            &p,
+    let plots = [
+        (
+            "error_vs_time.svg",
             "Error against run time",
             "total run time [s]",
             "max relative error vs reference",
-            &err,
-        )?;
-        written.push(p);
-    }
-    let time = series(&|r| r.condense_s + r.contact_s + r.recover_s, &|r| {
-        r.dofs as f64
-    });
-    if !time.is_empty() {
-        let p = dir.join("time_vs_dofs.svg");
-        loglog_svg(
-            &p,
+            series(&|r| r.error, &|r| r.total_s),
+        ),
+        (
+            "time_vs_dofs.svg",
             "Solve time against DOFs",
             "DOFs",
             "condense + contact + recover [s]",
-            &time,
-        )?;
-        written.push(p);
+            series(&|r| r.condense_s + r.contact_s + r.recover_s, &|r| {
+                r.dofs as f64
+            }),
+        ),
+    ];
+    for (file, title, x_label, y_label, lines) in plots {
+        if !lines.is_empty() {
+            let p = dir.join(file);
+            loglog_svg(&p, title, x_label, y_label, &lines)?;
+            written.push(p);
+        }
     }
     Ok(written)
 }
@@ -251,16 +250,12 @@ fn row(scene: &str, level: f64, r: &signorini_report::Report) -> BenchRow {
 
 /// bench.csv: one line per run.
 pub fn write_csv(path: &std::path::Path, rows: &[BenchRow]) -> std::io::Result<()> {
-    use std::io::Write;
-    let mut w = std::io::BufWriter::new(std::fs::File::create(path)?);
-    writeln!(
-        w,
-        "scene,level,subdomains,method,path,dofs,interface_dofs,contact_points,iterations,converged,assemble_s,condense_s,contact_s,recover_s,total_s,peak_rss_bytes,dense_interface_bytes,error,error_vs_finest,errors"
-    )?;
-    for r in rows {
-        writeln!(
-            w,
-            "{},{},{},{},{},{},{},{},{},{},{:.6},{:.6},{:.6},{:.6},{:.6},{},{},{:.4e},{:.4e},{}",
+    signorini_report::write_lines(
+        path,
+        "scene,level,subdomains,method,path,dofs,interface_dofs,contact_points,iterations,converged,assemble_s,condense_s,contact_s,recover_s,total_s,peak_rss_bytes,dense_interface_bytes,error,error_vs_finest,errors",
+        rows.iter().map(|r| {
+            format!(
+                "{},{},{},{},{},{},{},{},{},{},{:.6},{:.6},{:.6},{:.6},{:.6},{},{},{:.4e},{:.4e},{}",
             r.scene,
             r.level,
             r.subdomains,
@@ -281,7 +276,7 @@ pub fn write_csv(path: &std::path::Path, rows: &[BenchRow]) -> std::io::Result<(
             r.error,
             r.error_vs_finest,
             r.errors
-        )?;
-    }
-    w.flush()
+            )
+        }),
+    )
 }

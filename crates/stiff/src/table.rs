@@ -12,21 +12,17 @@ fn csv_field(s: &str) -> String {
 
 /// stiff.csv: one line per case.
 pub fn write_csv(path: &std::path::Path, rows: &[StiffRow]) -> std::io::Result<()> {
-    use std::io::Write;
-    let mut w = std::io::BufWriter::new(std::fs::File::create(path)?);
-    writeln!(
-        w,
-        "case,family,parameter,method,exit_code,outcome,converged,certificate,tolerance,max_error,errors,iterations,contact_points,active,dofs,time_s,any_nan,verdict"
-    )?;
-    for r in rows {
+    signorini_report::write_lines(
+        path,
+        "case,family,parameter,method,exit_code,outcome,converged,certificate,tolerance,max_error,errors,iterations,contact_points,active,dofs,time_s,any_nan,verdict",
+        rows.iter().map(|r| {
         let errors = r
             .errors
             .iter()
             .map(|e| format!("{}={:.3e}/{:.1e}", e.name, e.error, e.tolerance))
             .collect::<Vec<_>>()
             .join(";");
-        writeln!(
-            w,
+        format!(
             "{},{},{},{},{},{},{},{:.3e},{:.1e},{:.3e},{},{},{},{},{},{:.4},{},{}",
             csv_field(&r.case),
             csv_field(&r.family),
@@ -46,9 +42,9 @@ pub fn write_csv(path: &std::path::Path, rows: &[StiffRow]) -> std::io::Result<(
             r.time_s,
             r.any_nan,
             csv_field(&verdict_text(&r.verdict)),
-        )?;
-    }
-    w.flush()
+        )
+        }),
+    )
 }
 
 /// "passed" or "FAILED: why".
