@@ -99,6 +99,10 @@ enum Command {
         /// With --suite: the smaller meshes (stiff) or sizes (root) of the test suite.
         #[arg(long, requires = "suite")]
         quick: bool,
+        /// With --suite root: the contact points of the problems (each
+        /// family up to its largest size; default 49,196,784,2025,8000).
+        #[arg(long, value_delimiter = ',', requires = "suite")]
+        sizes: Vec<usize>,
         /// With --suite root: also write each problem as DIR/problems/NAME.npz
         /// (contact-wise W, q, mu, dim) for other libraries.
         #[arg(long, requires = "suite")]
@@ -197,10 +201,13 @@ fn command(cli: Cli) -> ExitCode {
             quick,
             out,
             export,
+            sizes,
             ..
         } => match suite.as_str() {
-            "root" => root_suite(quick, export, &out),
-            _ if export => fail(1, "--export: only with --suite root"),
+            "root" => root_suite(quick, export, &sizes, &out),
+            _ if export || !sizes.is_empty() => {
+                fail(1, "--export, --sizes: only with --suite root")
+            }
             _ => stiff_suite(quick, &out),
         },
         Command::Bench {
@@ -385,18 +392,24 @@ fn bench(
 
 /// `signorini bench --suite root`: every root method on the Delassus
 /// problems of an elastic layer (issue 14), one line per run on stderr.
-fn root_suite(quick: bool, export: bool, out: &Path) -> ExitCode {
+fn root_suite(quick: bool, export: bool, sizes: &[usize], out: &Path) -> ExitCode {
     use signorini_rootbench::{problem::Family, run};
+    if let Some(m) = sizes.iter().find(|&&m| !(2..=8192).contains(&m)) {
+        return fail(
+            1,
+            &format!("--sizes: {m} contact points; each size must be in 2..=8192 (W is dense)"),
+        );
+    }
     let problems = out.join("problems");
     let made = std::fs::create_dir_all(if export { &problems } else { out });
     if let Err(e) = made {
         return fail(3, &format!("cannot write {}: {e}", out.display()));
     }
     let o = run::SuiteOptions {
-        sizes: if quick {
-            vec![49, 196]
-        } else {
-            vec![49, 196, 784, 2025, 8000]
+        sizes: match (quick, sizes.is_empty()) {
+            (_, false) => sizes.to_vec(),
+            (true, true) => vec![49, 196],
+            (false, true) => vec![49, 196, 784, 2025, 8000],
         },
         families: Family::ALL.to_vec(),
         tolerance: 1e-10,

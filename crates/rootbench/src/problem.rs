@@ -196,12 +196,11 @@ impl Family {
     }
 
     /// The largest size the suite runs (3D layers and frictional W grow
-    /// fastest: W of 2025 3D contacts has 6075 rows, 290 MB).
+    /// fastest: W of 2025 3D contacts has 6075 rows, 295 MB).
     pub fn max_size(self) -> usize {
         match self {
             Family::Lcp2d => 8000,
-            Family::Coulomb2d => 2000,
-            Family::Lcp3d | Family::Coulomb3d => 2025,
+            Family::Coulomb2d | Family::Lcp3d | Family::Coulomb3d => 2025,
         }
     }
 
