@@ -111,7 +111,9 @@ impl ActiveFactor {
         let mut col = Mat::<f64>::from_fn(n, 1, |i, _| w[(self.rows[i], r)]);
         solve_lower_triangular_in_place(self.l.as_ref(), col.as_mut(), Par::Seq);
         let d2 = w[(r, r)] - (0..n).map(|i| col[(i, 0)] * col[(i, 0)]).sum::<f64>();
-        if !(d2 > PIVOT_FLOOR * w[(r, r)]) {
+        // NaN fails this test too.
+        let safe = d2 > PIVOT_FLOOR * w[(r, r)];
+        if !safe {
             return false;
         }
         self.l.resize_with(n + 1, n + 1, |i, j| {
