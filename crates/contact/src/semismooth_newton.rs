@@ -366,6 +366,28 @@ impl<'a> Inner<'a> {
         Step::Rejected(dx)
     }
 
+    /// The unknowns from the forces `start`, the rigid-mode amplitudes from
+    /// the problem's last solve (zero without one).
+    fn start(&self, start: &[f64]) -> Vec<f64> {
+        let (n, k) = (self.n(), self.k());
+        let mut x = vec![0.0; n + k];
+        x[..n].copy_from_slice(start);
+        if self.problem.alpha().len() == k {
+            x[n..].copy_from_slice(self.problem.alpha());
+        }
+        x
+    }
+
+    /// Why the Newton method stops at `x` after `iterations` iterations, if
+    /// `x` meets the tolerance.
+    fn met(&self, x: &[f64], opts: &FrictionOptions, iterations: usize) -> Option<StopReason> {
+        let residual = self.check(x, opts);
+        (residual <= opts.tolerance).then_some(StopReason::NewtonConverged {
+            residual,
+            iterations,
+        })
+    }
+
     /// The scaled natural residual: max over the rows of |F_check| / F.
     fn check(&self, x: &[f64], opts: &FrictionOptions) -> f64 {
         let n = self.n();
@@ -514,27 +536,16 @@ fn solve_inner(
     let (problem, layout, opts, dim) = (newton.problem, newton.layout, newton.opts, newton.dim);
     let inner = Inner::new(problem, layout, thr);
     let (n, k) = (inner.n(), inner.k());
-    let mut x = vec![0.0; n + k];
-    x[..n].copy_from_slice(start);
-    // The rigid-mode amplitudes start from the problem's last solve.
-    if problem.alpha().len() == k {
-        x[n..].copy_from_slice(problem.alpha());
-    }
+    let mut x = inner.start(start);
     let mut sys = NewtonSystem::default();
     let mut fallbacks = 0usize;
     let mut iterations = 0;
     let mut reason = StopReason::NewtonLimit {
         limit: opts.max_iterations,
     };
-    let mut converged = false;
     for it in 0..opts.max_iterations {
-        let res = inner.check(&x, opts);
-        if res <= opts.tolerance {
-            converged = true;
-            reason = StopReason::NewtonConverged {
-                residual: res,
-                iterations: it,
-            };
+        if let Some(met) = inner.met(&x, opts, it) {
+            reason = met;
             break;
         }
         iterations = it + 1;
@@ -563,16 +574,11 @@ fn solve_inner(
             }
         }
     }
-    if !converged {
-        let res = inner.check(&x, opts);
-        if res <= opts.tolerance {
-            converged = true;
-            reason = StopReason::NewtonConverged {
-                residual: res,
-                iterations,
-            };
-        }
+    let met = |r: &StopReason| matches!(r, StopReason::NewtonConverged { .. });
+    if !met(&reason) {
+        reason = inner.met(&x, opts, iterations).unwrap_or(reason);
     }
+    let converged = met(&reason);
     let gaps = inner.gaps(&x);
     x.truncate(n);
     let solve = InnerSolve {
