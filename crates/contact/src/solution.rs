@@ -1,6 +1,8 @@
-//! What every contact solver returns: the contact forces λ, the gaps g, the
-//! rigid-mode amplitudes α of the floating bodies, and the report of the run
-//! with why it stopped ([`StopReason`]).
+//! What every contact solver (the LCP methods and the friction solvers)
+//! returns: the contact forces λ, the gaps g, the rigid-mode amplitudes α of
+//! the floating bodies, the report of the run with why it stopped
+//! ([`StopReason`]), and with friction the statuses of the points
+//! ([`FrictionTrace`]).
 //!
 //! The reason is data (the numbers each method stops on); it becomes words
 //! only at the output edge, through its [`std::fmt::Display`], which gives the
@@ -47,9 +49,11 @@ impl SolverReport {
 /// The answer of a contact solver to one contact problem.
 #[derive(Debug, Clone)]
 pub struct ContactSolution {
-    /// λ: the normal contact force at each point (compressive ≥ 0).
+    /// λ: the normal contact force at each point (compressive ≥ 0); with
+    /// friction, every row (see [`FrictionTrace`]).
     pub forces: Vec<f64>,
-    /// g = W λ + q (+ G α with floating bodies): the gap at each point.
+    /// g = W λ + q (+ G α with floating bodies): the gap at each point;
+    /// with friction, every row (the tangential ones: slip increments).
     pub gaps: Vec<f64>,
     /// α: the amplitudes of the rigid modes of the floating bodies; empty
     /// without floating bodies (and for the status method, whose active-set
