@@ -19,7 +19,8 @@
 //!   g ← μ λ_n with the change of the normal forces ([`normal_change`]),
 //!   or Norton–Hoff's map with its misfit.
 
-use crate::friction::{FrictionOptions, FrictionOutcome, PointStatus};
+use crate::friction::{FrictionOptions, PointStatus};
+use crate::solution::{ContactSolution, SolverReport, StopReason, ThresholdMapKind};
 use crate::ContactError;
 
 /// One solve of a Tresca problem (fixed thresholds): the forces and gaps of
@@ -31,31 +32,7 @@ pub(crate) struct InnerSolve {
     pub gaps: Vec<f64>,
     pub statuses: Vec<PointStatus>,
     pub converged: bool,
-    pub reason: String,
-}
-
-impl InnerSolve {
-    /// The outcome of a friction solve that ended on this iterate.
-    pub fn outcome(
-        self,
-        converged: bool,
-        iterations: usize,
-        residuals: Vec<f64>,
-        reason: String,
-        cycle_detected: bool,
-    ) -> FrictionOutcome {
-        FrictionOutcome {
-            converged,
-            iterations,
-            fixed_point_iterations: residuals.len(),
-            fixed_point_residuals: residuals,
-            statuses: self.statuses,
-            forces: self.forces,
-            gaps: self.gaps,
-            stopping_reason: reason,
-            cycle_detected,
-        }
-    }
+    pub reason: StopReason,
 }
 
 /// A solver of the Tresca problem with given thresholds (seed §4.1.1), the
@@ -85,10 +62,8 @@ pub(crate) type ResidualFn<'a> = &'a dyn Fn(&[f64], &InnerSolve) -> f64;
 pub(crate) struct ThresholdMap<'a, T> {
     pub threshold: ThresholdFn<'a, T>,
     pub residual: ResidualFn<'a>,
-    /// "fixed point on the threshold", "Norton-Hoff fixed point": the
-    /// stop reasons read "<name> reached after N iterations" / "<name> not
-    /// reached in N iterations".
-    pub name: &'a str,
+    /// Which map: the stop reasons name it.
+    pub kind: ThresholdMapKind,
 }
 
 /// Coulomb's residual (seed §4.3): max |Δλ_n| over the m points between the
@@ -103,7 +78,30 @@ pub(crate) struct FixedPoint {
     pub last: InnerSolve,
     pub residuals: Vec<f64>,
     pub converged: bool,
-    pub reason: String,
+    pub reason: StopReason,
+}
+
+impl FixedPoint {
+    /// The solution of a friction solve by `method` that ended here, after
+    /// `iterations` inner iterations in all (`cycle`: some status loop
+    /// cycled); one fixed-point iteration per residual.
+    pub fn solution(self, method: &str, iterations: usize, cycle: bool) -> ContactSolution {
+        let report = SolverReport {
+            method: method.into(),
+            converged: self.converged,
+            iterations,
+            operator_applications: 0,
+            residual_history: self.residuals,
+            stop: self.reason,
+        };
+        let fixed_point_iterations = report.residual_history.len();
+        let last = self.last;
+        let mut sol = ContactSolution::with_gaps(last.forces, last.gaps, Vec::new(), report);
+        sol.set_points(last.statuses);
+        sol.friction.fixed_point_iterations = fixed_point_iterations;
+        sol.statuses.cycle_detected_at = cycle.then_some(iterations);
+        sol
+    }
 }
 
 /// The fixed point on the threshold (seed §4.3) from the iterate `start`:
@@ -142,17 +140,20 @@ pub(crate) fn fixed_point<S: TrescaSolver>(
             continue;
         }
         if !last.converged {
-            let reason = format!("inner Tresca problem: {}", last.reason);
+            let reason = StopReason::InnerTresca(Box::new(last.reason.clone()));
             return Ok(stop(last, residuals, false, reason));
         }
         if res <= opts.tolerance {
-            let reason = format!("{} reached after {} iterations", map.name, outer + 1);
+            let reason = StopReason::FixedPointReached {
+                map: map.kind,
+                iterations: outer + 1,
+            };
             return Ok(stop(last, residuals, true, reason));
         }
     }
-    let reason = format!(
-        "{} not reached in {} iterations",
-        map.name, opts.max_fixed_point
-    );
+    let reason = StopReason::FixedPointLimit {
+        map: map.kind,
+        limit: opts.max_fixed_point,
+    };
     Ok(stop(last, residuals, false, reason))
 }

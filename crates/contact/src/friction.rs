@@ -34,6 +34,7 @@ use crate::fixed_point::{
     fixed_point, normal_change, FixedPoint, InnerSolve, ThresholdMap, TrescaSolver,
 };
 use crate::lcp::LcpOptions;
+use crate::solution::{ContactSolution, StopReason, ThresholdMapKind};
 use crate::ContactError;
 
 pub mod law;
@@ -71,24 +72,6 @@ pub struct FrictionOptions {
     pub tolerance: f64,
     pub force_scale: f64,
     pub gap_scale: f64,
-}
-
-#[derive(Debug, Clone, Serialize)]
-pub struct FrictionOutcome {
-    pub converged: bool,
-    /// Status solves in all.
-    pub iterations: usize,
-    /// Outer fixed-point iterations (0 for Tresca and the friction status method).
-    pub fixed_point_iterations: usize,
-    /// max |Δλ_n| / F after each fixed-point iteration.
-    pub fixed_point_residuals: Vec<f64>,
-    pub statuses: Vec<PointStatus>,
-    /// All forces (normal rows, then tangential rows).
-    pub forces: Vec<f64>,
-    /// All gaps (normal) and slip increments (tangential).
-    pub gaps: Vec<f64>,
-    pub stopping_reason: String,
-    pub cycle_detected: bool,
 }
 
 fn equations(
@@ -298,12 +281,13 @@ fn status_loop(
     run.iterations += out.iterations;
     run.cycle |= out.cycle_at.is_some();
     let reason = match out.stop {
-        Stop::Converged => format!("statuses repeated after {} status solves", run.iterations),
-        Stop::Cycling => "cycling even with one status change per iteration".into(),
-        Stop::Limit => format!(
-            "iteration limit {} reached with statuses still changing",
-            opts.max_iterations
-        ),
+        Stop::Converged => StopReason::FrictionStatusesRepeated {
+            solves: run.iterations,
+        },
+        Stop::Cycling => StopReason::FrictionCycling,
+        Stop::Limit => StopReason::StatusLimit {
+            limit: opts.max_iterations,
+        },
     };
     let (forces, gaps) = out.solution.unwrap_or_default();
     Ok(InnerSolve {
@@ -343,22 +327,18 @@ impl Run {
         }
     }
 
-    fn finish(self, end: FixedPoint) -> FrictionOutcome {
-        let reason = if self.box_fallbacks > 0 {
-            format!(
-                "{} ({} inner Tresca problem(s) solved by MPRGP on the box after the status method cycled)",
-                end.reason, self.box_fallbacks
-            )
-        } else {
-            end.reason
-        };
-        end.last.outcome(
-            end.converged,
-            self.iterations,
-            end.residuals,
-            reason,
-            self.cycle,
-        )
+    /// The solution by `method` that ended at `end` after this run, with
+    /// the `solves` of the problem so far.
+    fn finish(self, mut end: FixedPoint, method: &str, solves: usize) -> ContactSolution {
+        if self.box_fallbacks > 0 {
+            end.reason = StopReason::BoxFallbacks {
+                before: Box::new(end.reason),
+                count: self.box_fallbacks,
+            };
+        }
+        let mut sol = end.solution(method, self.iterations, self.cycle);
+        sol.report.operator_applications = solves;
+        sol
     }
 }
 
@@ -370,17 +350,23 @@ fn fixed_thresholds(
     initial: Vec<PointStatus>,
     coulomb_ratio: bool,
     opts: &FrictionOptions,
-) -> Result<FrictionOutcome, ContactError> {
+) -> Result<ContactSolution, ContactError> {
     layout.validate(problem.q.len(), 2)?;
     let mut run = Run::new(initial);
     let thresholds = thresholds_from(layout, &vec![0.0; layout.n_points()]);
     let last = status_loop(problem, layout, &mut run, thresholds, coulomb_ratio, opts)?;
-    Ok(run.finish(FixedPoint {
+    let end = FixedPoint {
         converged: last.converged,
         reason: last.reason.clone(),
         residuals: Vec::new(),
         last,
-    }))
+    };
+    let method = if coulomb_ratio {
+        "friction_status"
+    } else {
+        "tresca_status"
+    };
+    Ok(run.finish(end, method, problem.solves))
 }
 
 /// The Tresca problem (fixed thresholds) by the status method.
@@ -389,7 +375,7 @@ pub fn tresca_status(
     layout: &FrictionLayout,
     initial: Vec<PointStatus>,
     opts: &FrictionOptions,
-) -> Result<FrictionOutcome, ContactError> {
+) -> Result<ContactSolution, ContactError> {
     fixed_thresholds(problem, layout, initial, false, opts)
 }
 
@@ -402,22 +388,14 @@ pub fn tresca_projection(
     problem: &DelassusProblem,
     layout: &FrictionLayout,
     opts: &FrictionOptions,
-) -> Result<FrictionOutcome, ContactError> {
+) -> Result<ContactSolution, ContactError> {
     layout.validate(problem.q.len(), 2)?;
     let thr = thresholds_from(layout, &vec![0.0; layout.n_points()]);
-    let (sol, statuses) = tresca_box(problem, layout, &thr, opts)?;
-    let gaps = crate::lcp::gaps(&problem.w, &problem.q, &sol.forces);
-    Ok(FrictionOutcome {
-        converged: sol.report.converged,
-        iterations: sol.report.iterations,
-        fixed_point_iterations: 0,
-        fixed_point_residuals: sol.report.residual_history.clone(),
-        statuses,
-        forces: sol.forces,
-        gaps,
-        stopping_reason: sol.report.stop.to_string(),
-        cycle_detected: false,
-    })
+    let (mut sol, statuses) = tresca_box(problem, layout, &thr, opts)?;
+    sol.gaps = crate::lcp::gaps(&problem.w, &problem.q, &sol.forces);
+    sol.report.method = "tresca_mprgp_box".into();
+    sol.set_points(statuses);
+    Ok(sol)
 }
 
 /// The Tresca problem with the thresholds `thr` (a force per point) as the
@@ -481,7 +459,7 @@ pub fn coulomb_status(
     layout: &FrictionLayout,
     initial: Vec<PointStatus>,
     opts: &FrictionOptions,
-) -> Result<FrictionOutcome, ContactError> {
+) -> Result<ContactSolution, ContactError> {
     fixed_thresholds(problem, layout, initial, true, opts)
 }
 
@@ -527,10 +505,11 @@ impl<'a> StatusTresca<'a> {
         mut self,
         start: InnerSolve,
         map: &ThresholdMap<'_, Vec<f64>>,
-    ) -> Result<FrictionOutcome, ContactError> {
+        method: &str,
+    ) -> Result<ContactSolution, ContactError> {
         let opts = self.opts;
         let end = fixed_point(&mut self, start, map, opts)?;
-        Ok(self.run.finish(end))
+        Ok(self.run.finish(end, method, self.problem.solves))
     }
 }
 
@@ -557,7 +536,7 @@ impl TrescaSolver for StatusTresca<'_> {
             forces: sol.forces,
             statuses,
             converged: true,
-            reason: "solved by MPRGP on the Tresca box".into(),
+            reason: StopReason::TrescaBoxSolved,
         })
     }
 }
@@ -572,7 +551,7 @@ pub fn coulomb_fixed_point(
     initial: Vec<PointStatus>,
     start: Option<&[f64]>,
     opts: &FrictionOptions,
-) -> Result<FrictionOutcome, ContactError> {
+) -> Result<ContactSolution, ContactError> {
     let mut solver = StatusTresca::new(problem, layout, initial, opts)?;
     let start = match start {
         Some(f) => InnerSolve {
@@ -580,16 +559,16 @@ pub fn coulomb_fixed_point(
             gaps: vec![0.0; f.len()],
             statuses: solver.run.statuses.clone(),
             converged: false,
-            reason: String::new(),
+            reason: StopReason::Pending,
         },
         None => solver.stuck()?,
     };
     let map = ThresholdMap {
         threshold: &|r, _| thresholds_from(layout, r),
         residual: &normal_change,
-        name: "fixed point on the threshold",
+        kind: ThresholdMapKind::Coulomb,
     };
-    solver.fixed_point(start, &map)
+    solver.fixed_point(start, &map, "coulomb_fixed_point")
 }
 
 /// Coulomb (or Tresca) in 2D by the semi-smooth Newton method on the
@@ -604,7 +583,7 @@ pub fn coulomb_newton(
     layout: &FrictionLayout,
     start: Option<&[f64]>,
     opts: &FrictionOptions,
-) -> Result<FrictionOutcome, ContactError> {
+) -> Result<ContactSolution, ContactError> {
     crate::semismooth_newton::friction_newton(problem, layout, start, opts, 2)
 }
 
@@ -621,7 +600,7 @@ pub fn norton_hoff(
     layout: &FrictionLayout,
     initial: Vec<PointStatus>,
     opts: &FrictionOptions,
-) -> Result<FrictionOutcome, ContactError> {
+) -> Result<ContactSolution, ContactError> {
     let m = initial.len();
     let mut solver = StatusTresca::new(problem, layout, initial, opts)?;
     let start = solver.stuck()?;
@@ -654,9 +633,9 @@ pub fn norton_hoff(
     let map = ThresholdMap {
         threshold: &threshold,
         residual: &misfit,
-        name: "Norton-Hoff fixed point",
+        kind: ThresholdMapKind::NortonHoff,
     };
-    solver.fixed_point(start, &map)
+    solver.fixed_point(start, &map, "norton_hoff")
 }
 
 #[cfg(test)]
@@ -702,7 +681,7 @@ mod tests {
     /// One point from stick by the Coulomb fixed point (`solve` = 0), the
     /// Coulomb status method (1) with `l`, or the Tresca status method
     /// with the threshold 1.5 (otherwise).
-    fn solve_one(solve: usize, p: &mut DelassusProblem, l: &FrictionLayout) -> FrictionOutcome {
+    fn solve_one(solve: usize, p: &mut DelassusProblem, l: &FrictionLayout) -> ContactSolution {
         match solve {
             0 => coulomb_fixed_point(p, l, vec![PointStatus::Stick], None, &opts()).unwrap(),
             1 => coulomb_status(p, l, vec![PointStatus::Stick], &opts()).unwrap(),
@@ -723,8 +702,8 @@ mod tests {
             let mut p = one_point(3.0, 1.0);
             let l = layout(FrictionLaw::coulomb(0.5));
             let out = solve_one(solve, &mut p, &l);
-            assert!(out.converged, "{}", out.stopping_reason);
-            assert_eq!(out.statuses, vec![PointStatus::Stick]);
+            assert!(out.report.converged, "{}", out.report.stop);
+            assert_eq!(out.friction.points, vec![PointStatus::Stick]);
             assert!(
                 (out.forces[0] - 3.0).abs() < 1e-12 && (out.forces[1] + 1.0).abs() < 1e-12,
                 "{:?}",
@@ -733,8 +712,8 @@ mod tests {
             // Pulled by Q = 2 > μN = 1.5: slips, λ_t = −1.5, slip Q − μN over kt = 0.25 in +x.
             let mut p = one_point(3.0, 2.0);
             let out = solve_one(solve, &mut p, &l);
-            assert!(out.converged);
-            assert_eq!(out.statuses, vec![PointStatus::SlipMinus]);
+            assert!(out.report.converged);
+            assert_eq!(out.friction.points, vec![PointStatus::SlipMinus]);
             assert!((out.forces[1] + 1.5).abs() < 1e-12, "{:?}", out.forces);
             assert!((out.gaps[1] - 0.25).abs() < 1e-12, "slip {}", out.gaps[1]);
             // The friction force opposes the slip.
@@ -753,7 +732,7 @@ mod tests {
             &opts(),
         )
         .unwrap();
-        assert!(out.converged);
+        assert!(out.report.converged);
         assert!((out.forces[0] - 3.0).abs() < 1e-12 && out.forces[1].abs() < 1e-12);
     }
 
@@ -768,8 +747,8 @@ mod tests {
             &opts(),
         )
         .unwrap();
-        assert!(out.converged);
-        assert_eq!(out.statuses, vec![PointStatus::Open]);
+        assert!(out.report.converged);
+        assert_eq!(out.friction.points, vec![PointStatus::Open]);
         assert_eq!(out.forces, vec![0.0, 0.0]);
     }
 }

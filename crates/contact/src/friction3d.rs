@@ -38,8 +38,9 @@
 //! Coulomb the threshold of an open point is zero.
 
 use crate::delassus::DelassusProblem;
-use crate::friction::{FrictionLayout, FrictionOptions, FrictionOutcome};
+use crate::friction::{FrictionLayout, FrictionOptions};
 use crate::ContactError;
+use crate::ContactSolution;
 
 /// Friction in 3D: Tresca (and frictionless) points in one convex solve,
 /// Coulomb by the fixed point on the thresholds g ← μ λ_n (seed §4.3),
@@ -51,7 +52,7 @@ pub fn friction_3d(
     layout: &FrictionLayout,
     start: Option<&[f64]>,
     opts: &FrictionOptions,
-) -> Result<FrictionOutcome, ContactError> {
+) -> Result<ContactSolution, ContactError> {
     crate::semismooth_newton::friction_newton(problem, layout, start, opts, 3)
 }
 

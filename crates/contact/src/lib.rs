@@ -53,4 +53,6 @@ pub enum ContactError {
     Solve(String),
 }
 pub use lcp::{lcp_residual, LcpOptions};
-pub use solution::{ContactSolution, SolverReport, StatusTrace, StopReason};
+pub use solution::{
+    ContactSolution, FrictionTrace, SolverReport, StatusTrace, StopReason, ThresholdMapKind,
+};

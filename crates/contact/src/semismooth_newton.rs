@@ -39,8 +39,11 @@ use faer::prelude::Solve;
 use faer::Mat;
 
 use crate::delassus::{DelassusProblem, VarEquation};
-use crate::fixed_point::{fixed_point, normal_change, InnerSolve, ThresholdMap, TrescaSolver};
-use crate::friction::{FrictionLayout, FrictionOptions, FrictionOutcome, PointStatus};
+use crate::fixed_point::{
+    fixed_point, normal_change, FixedPoint, InnerSolve, ThresholdMap, TrescaSolver,
+};
+use crate::friction::{FrictionLayout, FrictionOptions, PointStatus};
+use crate::solution::{ContactSolution, StopReason, ThresholdMapKind};
 use crate::ContactError;
 
 /// A unit direction over at most two force rows (`c[1] = 0` for one row).
@@ -363,6 +366,28 @@ impl<'a> Inner<'a> {
         Step::Rejected(dx)
     }
 
+    /// The unknowns from the forces `start`, the rigid-mode amplitudes from
+    /// the problem's last solve (zero without one).
+    fn start(&self, start: &[f64]) -> Vec<f64> {
+        let (n, k) = (self.n(), self.k());
+        let mut x = vec![0.0; n + k];
+        x[..n].copy_from_slice(start);
+        if self.problem.alpha().len() == k {
+            x[n..].copy_from_slice(self.problem.alpha());
+        }
+        x
+    }
+
+    /// Why the Newton method stops at `x` after `iterations` iterations, if
+    /// `x` meets the tolerance.
+    fn met(&self, x: &[f64], opts: &FrictionOptions, iterations: usize) -> Option<StopReason> {
+        let residual = self.check(x, opts);
+        (residual <= opts.tolerance).then_some(StopReason::NewtonConverged {
+            residual,
+            iterations,
+        })
+    }
+
     /// The scaled natural residual: max over the rows of |F_check| / F.
     fn check(&self, x: &[f64], opts: &FrictionOptions) -> f64 {
         let n = self.n();
@@ -511,22 +536,16 @@ fn solve_inner(
     let (problem, layout, opts, dim) = (newton.problem, newton.layout, newton.opts, newton.dim);
     let inner = Inner::new(problem, layout, thr);
     let (n, k) = (inner.n(), inner.k());
-    let mut x = vec![0.0; n + k];
-    x[..n].copy_from_slice(start);
-    // The rigid-mode amplitudes start from the problem's last solve.
-    if problem.alpha().len() == k {
-        x[n..].copy_from_slice(problem.alpha());
-    }
+    let mut x = inner.start(start);
     let mut sys = NewtonSystem::default();
     let mut fallbacks = 0usize;
     let mut iterations = 0;
-    let mut reason = format!("iteration limit {} reached", opts.max_iterations);
-    let mut converged = false;
+    let mut reason = StopReason::NewtonLimit {
+        limit: opts.max_iterations,
+    };
     for it in 0..opts.max_iterations {
-        let res = inner.check(&x, opts);
-        if res <= opts.tolerance {
-            converged = true;
-            reason = format!("natural residual {res:.2e} after {it} Newton iterations");
+        if let Some(met) = inner.met(&x, opts, it) {
+            reason = met;
             break;
         }
         iterations = it + 1;
@@ -545,8 +564,7 @@ fn solve_inner(
                 x.iter_mut().zip(&dx).for_each(|(xi, d)| *xi += d);
             }
             Some(_) => {
-                reason =
-                    "the Newton line search failed repeatedly (floating bodies: no fallback)".into();
+                reason = StopReason::NewtonLineSearchFailed;
                 break;
             }
             None => {
@@ -556,13 +574,11 @@ fn solve_inner(
             }
         }
     }
-    if !converged {
-        let res = inner.check(&x, opts);
-        if res <= opts.tolerance {
-            converged = true;
-            reason = format!("natural residual {res:.2e} after {iterations} Newton iterations");
-        }
+    let met = |r: &StopReason| matches!(r, StopReason::NewtonConverged { .. });
+    if !met(&reason) {
+        reason = inner.met(&x, opts, iterations).unwrap_or(reason);
     }
+    let converged = met(&reason);
     let gaps = inner.gaps(&x);
     x.truncate(n);
     let solve = InnerSolve {
@@ -630,15 +646,15 @@ pub(crate) fn friction_newton(
     start: Option<&[f64]>,
     opts: &FrictionOptions,
     dim: usize,
-) -> Result<FrictionOutcome, ContactError> {
+) -> Result<ContactSolution, ContactError> {
     let bilateral = match start {
         None if problem.n_kernel() > 0 => bilateral_start(problem),
         _ => None,
     };
-    let out = newton_fixed_point(problem, layout, start, bilateral, opts, dim)?;
+    let mut out = newton_fixed_point(problem, layout, start, bilateral, opts, dim)?;
     if problem.n_kernel() > 0 {
         let mut eqs: Vec<VarEquation> = out.forces.iter().map(|&v| VarEquation::Value(v)).collect();
-        for (p, st) in out.statuses.iter().enumerate() {
+        for (p, st) in out.friction.points.iter().enumerate() {
             if *st == PointStatus::Open {
                 continue;
             }
@@ -651,6 +667,7 @@ pub(crate) fn friction_newton(
         }
         let _ = problem.solve_equations(&eqs);
     }
+    out.report.operator_applications = problem.solves;
     Ok(out)
 }
 
@@ -689,7 +706,7 @@ impl Newton<'_> {
             forces,
             gaps,
             converged: false,
-            reason: String::new(),
+            reason: StopReason::Pending,
         }
     }
 }
@@ -734,7 +751,7 @@ fn newton_fixed_point(
     first_guess: Option<Vec<f64>>,
     opts: &FrictionOptions,
     dim: usize,
-) -> Result<FrictionOutcome, ContactError> {
+) -> Result<ContactSolution, ContactError> {
     let n = problem.q.len();
     layout.validate(n, dim)?;
     let forces = match start {
@@ -755,10 +772,19 @@ fn newton_fixed_point(
         iterations: 0,
         dim,
     };
+    let tresca = match dim {
+        2 => "tresca_semismooth_newton",
+        _ => "tresca_3d_semismooth_newton",
+    };
     if !layout.has_coulomb() {
-        let res = newton.solve(&layout.thresholds(&forces), &forces)?;
-        let (converged, reason) = (res.converged, format!("Tresca: {}", res.reason));
-        return Ok(res.outcome(converged, newton.iterations, Vec::new(), reason, false));
+        let last = newton.solve(&layout.thresholds(&forces), &forces)?;
+        let end = FixedPoint {
+            converged: last.converged,
+            reason: StopReason::Tresca(Box::new(last.reason.clone())),
+            residuals: Vec::new(),
+            last,
+        };
+        return Ok(end.solution(tresca, newton.iterations, false));
     }
     let start = match start {
         Some(_) => newton.iterate(forces),
@@ -767,17 +793,14 @@ fn newton_fixed_point(
     let map = ThresholdMap {
         threshold: &|r, _| layout.thresholds(r),
         residual: &normal_change,
-        name: "fixed point on the threshold",
+        kind: ThresholdMapKind::Coulomb,
     };
     let end = fixed_point(&mut newton, start, &map, opts)?;
-    let outcome = end.last.outcome(
-        end.converged,
-        newton.iterations,
-        end.residuals,
-        end.reason,
-        false,
-    );
-    Ok(outcome)
+    let coulomb = match dim {
+        2 => "coulomb_semismooth_newton",
+        _ => "coulomb_3d_fixed_point",
+    };
+    Ok(end.solution(coulomb, newton.iterations, false))
 }
 
 #[cfg(test)]

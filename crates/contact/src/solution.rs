@@ -1,16 +1,17 @@
-//! What every contact solver returns: the contact forces λ, the gaps g, the
-//! rigid-mode amplitudes α of the floating bodies, and the report of the run
-//! with why it stopped ([`StopReason`]).
+//! What every contact solver (the LCP methods and the friction solvers)
+//! returns: the contact forces λ, the gaps g, the rigid-mode amplitudes α of
+//! the floating bodies, the report of the run with why it stopped
+//! ([`StopReason`]), and with friction the statuses of the points
+//! ([`FrictionTrace`]).
 //!
 //! The reason is data (the numbers each method stops on); it becomes words
-//! only at the output edge, through its [`fmt::Display`], which gives the
+//! only at the output edge, through its [`std::fmt::Display`], which gives the
 //! texts of `report.json`'s `stopping_reason`.
-
-use std::fmt;
 
 use faer::Mat;
 use serde::Serialize;
 
+use crate::friction::PointStatus;
 use crate::lcp::gaps;
 use crate::status::StatusVariant;
 
@@ -48,9 +49,11 @@ impl SolverReport {
 /// The answer of a contact solver to one contact problem.
 #[derive(Debug, Clone)]
 pub struct ContactSolution {
-    /// λ: the normal contact force at each point (compressive ≥ 0).
+    /// λ: the normal contact force at each point (compressive ≥ 0); with
+    /// friction, every row (see [`FrictionTrace`]).
     pub forces: Vec<f64>,
-    /// g = W λ + q (+ G α with floating bodies): the gap at each point.
+    /// g = W λ + q (+ G α with floating bodies): the gap at each point;
+    /// with friction, every row (the tangential ones: slip increments).
     pub gaps: Vec<f64>,
     /// α: the amplitudes of the rigid modes of the floating bodies; empty
     /// without floating bodies (and for the status method, whose active-set
@@ -62,9 +65,27 @@ pub struct ContactSolution {
     pub report: SolverReport,
     /// How the statuses evolved (status methods; the default otherwise).
     pub statuses: StatusTrace,
+    /// The friction statuses and the fixed point (friction solvers; the
+    /// default otherwise).
+    pub friction: FrictionTrace,
 }
 
-/// The story of the statuses of a status (active set) method.
+/// What a friction solver adds to its solution, whose forces and gaps then
+/// hold every row (normal rows 0..m, then the tangential rows: the forces
+/// and the slip increments), and whose `report.residual_history` holds the
+/// residual after each fixed-point iteration (MPRGP's history for the
+/// Tresca box).
+#[derive(Debug, Clone, Default)]
+pub struct FrictionTrace {
+    /// The status of each of the m contact points.
+    pub points: Vec<PointStatus>,
+    /// Outer fixed-point iterations (0 for Tresca and the friction status
+    /// method).
+    pub fixed_point_iterations: usize,
+}
+
+/// The story of the statuses of a status (active set) method (and of the
+/// friction status method: its cycle flag).
 #[derive(Debug, Clone, Default)]
 pub struct StatusTrace {
     /// Size of the active set at each iteration.
@@ -99,6 +120,7 @@ impl ContactSolution {
             alpha,
             report,
             statuses: StatusTrace::default(),
+            friction: FrictionTrace::default(),
         }
     }
 
@@ -117,6 +139,15 @@ impl ContactSolution {
         )
     }
 
+    /// The friction statuses of the m points, and the points in contact:
+    /// those not open.
+    pub(crate) fn set_points(&mut self, points: Vec<PointStatus>) {
+        self.active = (0..points.len())
+            .filter(|&p| points[p] != PointStatus::Open)
+            .collect();
+        self.friction.points = points;
+    }
+
     /// New forces and their gaps (the points in contact follow the forces).
     pub(crate) fn set_forces(&mut self, forces: Vec<f64>, gaps: Vec<f64>) {
         self.active = positive(&forces);
@@ -131,7 +162,7 @@ fn positive(forces: &[f64]) -> Vec<usize> {
 }
 
 /// Why a contact solver stopped, with the numbers it stopped on. The
-/// [`fmt::Display`] gives the words of `report.json`.
+/// [`std::fmt::Display`] gives the words of `report.json`.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub enum StopReason {
     /// The report is still being filled (never the reason of an answer).
@@ -223,7 +254,8 @@ pub enum StopReason {
     StatusesRepeated { iterations: usize },
     /// The status method cycled even with one status change per iteration.
     Cycling { iteration: usize },
-    /// The status method reached its iteration limit.
+    /// The status method (or the friction status method) reached its
+    /// iteration limit.
     StatusLimit { limit: usize },
     /// The regularised law (seed §3.6) solved exactly: its active set repeated.
     RegularisedSolved {
@@ -256,9 +288,49 @@ pub enum StopReason {
         before: Box<StopReason>,
         by: PolishSolve,
     },
-    /// A friction solver's reason, still in words (the friction solvers do
-    /// not report a [`StopReason`] yet).
-    Friction(String),
+    /// The friction status method (or Tresca's): no status changed after
+    /// `solves` status solves (seed §4.5).
+    FrictionStatusesRepeated { solves: usize },
+    /// The friction status method cycled even with one status change per
+    /// iteration.
+    FrictionCycling,
+    /// A Tresca problem of the fixed point solved by MPRGP on its box (after
+    /// the status method cycled on it).
+    TrescaBoxSolved,
+    /// `before`, with `count` inner Tresca problems solved by MPRGP on the
+    /// box after the status method cycled.
+    BoxFallbacks {
+        before: Box<StopReason>,
+        count: usize,
+    },
+    /// The fixed point on the threshold stopped on an inner Tresca problem
+    /// that was not solved.
+    InnerTresca(Box<StopReason>),
+    /// The fixed point on the threshold (seed §4.3) met the tolerance.
+    FixedPointReached {
+        map: ThresholdMapKind,
+        iterations: usize,
+    },
+    /// The fixed point on the threshold reached its iteration limit.
+    FixedPointLimit { map: ThresholdMapKind, limit: usize },
+    /// The semi-smooth Newton method met the tolerance.
+    NewtonConverged { residual: f64, iterations: usize },
+    /// The semi-smooth Newton method reached its iteration limit.
+    NewtonLimit { limit: usize },
+    /// The semi-smooth Newton method's line search failed repeatedly (with
+    /// floating bodies: no projected-gradient fallback).
+    NewtonLineSearchFailed,
+    /// Tresca friction solved in one solve (no fixed point): its reason.
+    Tresca(Box<StopReason>),
+}
+
+/// Which threshold map a fixed point on the threshold iterates.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ThresholdMapKind {
+    /// Coulomb: g ← μ λ_n.
+    Coulomb,
+    /// Norton–Hoff: g ← μ λ_n |Δs|^ρ.
+    NortonHoff,
 }
 
 /// The residual a method measures.
@@ -365,392 +437,7 @@ pub enum SmalbeStop {
     },
 }
 
-impl fmt::Display for Measure {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(match self {
-            Measure::Natural => "natural residual",
-            Measure::ProjectedGradient => "projected-gradient residual",
-        })
-    }
-}
-
-impl fmt::Display for MprgpSteps {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(
-            f,
-            "{} CG, {} expansion, {} proportioning steps",
-            self.cg, self.expansion, self.proportioning
-        )
-    }
-}
-
-impl fmt::Display for BoxPolish {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(match self {
-            BoxPolish::NotTried => "",
-            BoxPolish::Polished => "; polished on the active set",
-            BoxPolish::LeftTheBox => "; polishing rejected (left the box)",
-            BoxPolish::LargerResidual => "; polishing rejected (larger residual)",
-        })
-    }
-}
-
-impl fmt::Display for PolishSolve {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(match self {
-            PolishSolve::ActiveSet => "solve on the identified active set",
-            PolishSolve::SaddlePoint => "saddle-point solve on the identified active set",
-        })
-    }
-}
-
-impl fmt::Display for UzawaStep {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            UzawaStep::Given { factor } => write!(f, "{factor} / mean diag W"),
-            UzawaStep::PowerIteration { norm } => {
-                write!(f, "1.9 / ‖W‖₂ (power iteration: ‖W‖₂ ≈ {norm:.6e})")
-            }
-            UzawaStep::ZeroOperator => f.write_str("1 (W = 0)"),
-        }
-    }
-}
-
-impl DualDetail {
-    /// What `report.iterations` counts.
-    fn steps(&self) -> &'static str {
-        match self {
-            DualDetail::Uzawa { .. } => "iterations",
-            DualDetail::Augmented { .. } => "outer iterations",
-        }
-    }
-
-    /// The advice at the iteration limit.
-    fn advice(&self) -> &'static str {
-        match self {
-            DualDetail::Uzawa { .. } => "Uzawa converges slowly when W is ill-conditioned",
-            DualDetail::Augmented { .. } => {
-                "a larger augmentation (stiffness option) converges in fewer outer iterations"
-            }
-        }
-    }
-}
-
-impl fmt::Display for DualDetail {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            DualDetail::Uzawa { step, halvings } => {
-                write!(f, "ρ = {step}")?;
-                if *halvings > 0 {
-                    write!(
-                        f,
-                        ", halved {halvings} times because the dual energy increased"
-                    )?;
-                }
-                Ok(())
-            }
-            DualDetail::Augmented {
-                newton_steps,
-                factor,
-                cycles,
-            } => {
-                write!(
-                    f,
-                    "{newton_steps} inner Newton steps, r = {factor} / mean diag W"
-                )?;
-                if *cycles > 0 {
-                    write!(
-                        f,
-                        "; {cycles} inner problems cycled and switched to one status change per step"
-                    )?;
-                }
-                Ok(())
-            }
-        }
-    }
-}
-
-impl fmt::Display for SmalbeProgress {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(
-            f,
-            "after {} outer iterations ({} inner iterations; ρ = {:.3e})",
-            self.outer, self.inner_iterations, self.rho
-        )
-    }
-}
-
-impl fmt::Display for SmalbeStop {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            SmalbeStop::Met {
-                natural,
-                feasibility,
-                tolerance,
-                progress,
-                last_inner,
-            } => write!(
-                f,
-                "SMALBE: natural residual {natural:.3e} and equilibrium residual {feasibility:.3e} ≤ tolerance {tolerance:.3e} {progress}; last inner: {last_inner}"
-            ),
-            SmalbeStop::Settled {
-                progress,
-                tolerance,
-                last_inner,
-            } => write!(
-                f,
-                "SMALBE: the active set settled {progress}; one saddle-point solve on it meets the tolerance {tolerance:.3e}; last inner: {last_inner}"
-            ),
-            SmalbeStop::InnerFailed { outer, inner } => write!(
-                f,
-                "SMALBE outer iteration {outer}: the inner solver did not converge: {inner}"
-            ),
-            SmalbeStop::Exhausted {
-                outer,
-                tolerance,
-                natural,
-                feasibility,
-                rho,
-                last_inner,
-            } => write!(
-                f,
-                "SMALBE: {outer} outer iterations without meeting the tolerance {tolerance:.3e} (natural residual {natural:.3e}, equilibrium residual {feasibility:.3e}, ρ = {rho:.3e}); last inner: {last_inner}"
-            ),
-        }
-    }
-}
-
-impl fmt::Display for StopReason {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        use StopReason::*;
-        match self {
-            Pending => Ok(()),
-            NoContactPoint => f.write_str("no contact point"),
-            ZeroForces { residual } => write!(
-                f,
-                "λ = 0 already satisfies the tolerance (natural residual {residual:.3e}): no point in contact"
-            ),
-            NoPivot => f.write_str("q ≥ 0: λ = 0 solves the LCP (no pivot)"),
-            ResidualMet {
-                residual,
-                tolerance,
-                iterations,
-            } => write!(
-                f,
-                "natural residual {residual:.3e} ≤ tolerance {tolerance:.3e} after {iterations} iterations"
-            ),
-            MprgpConverged { .. } | StartMeetsTolerance { .. } | LinearObjective { .. } => {
-                self.fmt_mprgp(f)
-            }
-            DualConverged { .. } | DualLimit { .. } => self.fmt_dual(f),
-            IterationLimit { .. } | Stagnation { .. } | LineSearchFailed { .. } => {
-                self.fmt_projection(f)
-            }
-            PivotLimit { .. } | Pivoted { .. } | PivotedAboveTolerance { .. } => {
-                self.fmt_lemke(f)
-            }
-            StatusesRepeated { .. } | Cycling { .. } | StatusLimit { .. } => self.fmt_status(f),
-            RegularisedSolved { .. }
-            | NewtonCycling { .. }
-            | ActiveSetLimit { .. }
-            | ByPenalty { .. } => self.fmt_penalty(f),
-            InnerFailed { outer, inner } => write!(
-                f,
-                "inner problem of outer iteration {outer} not solved: {inner}"
-            ),
-            Smalbe(stop) => stop.fmt(f),
-            Polished { before, by } => write!(f, "{before}; polished by one {by}"),
-            Friction(text) => f.write_str(text),
-        }
-    }
-}
-
-impl StopReason {
-    fn fmt_mprgp(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            StopReason::MprgpConverged {
-                measure,
-                residual,
-                tolerance,
-                iterations,
-                steps,
-                norm_w,
-                polish,
-            } => write!(
-                f,
-                "{measure} {residual:.3e} ≤ tolerance {tolerance:.3e} after {iterations} iterations ({steps}; ᾱ = 1.9/‖W‖, ‖W‖ ≈ {norm_w:.6e}){polish}"
-            ),
-            StopReason::StartMeetsTolerance {
-                measure,
-                residual,
-                tolerance,
-                polish,
-            } => write!(
-                f,
-                "the start projected onto the box meets the tolerance: {measure} {residual:.3e} ≤ tolerance {tolerance:.3e}{polish}"
-            ),
-            StopReason::LinearObjective { residual } => write!(
-                f,
-                "W = 0: the linear objective is minimised at the bounds, residual {residual:.3e}"
-            ),
-            _ => unreachable!("not an MPRGP reason"),
-        }
-    }
-
-    fn fmt_dual(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            StopReason::DualConverged {
-                residual,
-                tolerance,
-                iterations,
-                detail,
-            } => write!(
-                f,
-                "natural residual {residual:.3e} ≤ tolerance {tolerance:.1e} after {iterations} {} ({detail})",
-                detail.steps()
-            ),
-            StopReason::DualLimit {
-                limit,
-                residual,
-                tolerance,
-                detail,
-            } => write!(
-                f,
-                "iteration limit {limit} reached: natural residual {residual:.3e} > tolerance {tolerance:.1e} ({detail}); {}",
-                detail.advice()
-            ),
-            _ => unreachable!("not a dual reason"),
-        }
-    }
-
-    fn fmt_projection(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            StopReason::IterationLimit {
-                limit,
-                measure,
-                residual,
-                tolerance,
-                steps,
-            } => {
-                write!(
-                    f,
-                    "iteration limit {limit} reached with {measure} {residual:.3e} above tolerance {tolerance:.3e} (not converged"
-                )?;
-                if let Some(steps) = steps {
-                    write!(f, "; {steps}")?;
-                }
-                f.write_str(")")
-            }
-            StopReason::Stagnation {
-                iteration,
-                measure,
-                residual,
-                tolerance,
-            } => write!(
-                f,
-                "stagnation at iteration {iteration}: no descent direction left at {measure} {residual:.3e} above tolerance {tolerance:.3e} (round-off floor; not converged)"
-            ),
-            StopReason::LineSearchFailed {
-                iteration,
-                residual,
-            } => write!(
-                f,
-                "line search failed at iteration {iteration} (natural residual {residual:.3e})"
-            ),
-            _ => unreachable!("not a projection reason"),
-        }
-    }
-
-    fn fmt_lemke(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            StopReason::PivotLimit { limit, residual } => write!(
-                f,
-                "pivot limit {limit} reached before z0 left the basis (natural residual {residual:.3e}; not converged)"
-            ),
-            StopReason::Pivoted {
-                pivots,
-                residual,
-                tolerance,
-                polished,
-            } => write!(
-                f,
-                "z0 left the basis after {pivots} pivots; natural residual {residual:.3e} ≤ tolerance {tolerance:.3e}{}",
-                if *polished { " after polishing on the active set" } else { "" }
-            ),
-            StopReason::PivotedAboveTolerance {
-                pivots,
-                residual,
-                tolerance,
-            } => write!(
-                f,
-                "z0 left the basis after {pivots} pivots but the natural residual {residual:.3e} is above tolerance {tolerance:.3e} (round-off on an ill-conditioned W; not converged)"
-            ),
-            _ => unreachable!("not a Lemke reason"),
-        }
-    }
-
-    fn fmt_status(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            StopReason::StatusesRepeated { iterations } => {
-                write!(f, "statuses repeated after {iterations} iterations")
-            }
-            StopReason::Cycling { iteration } => write!(
-                f,
-                "cycling: the active set of iteration {iteration} repeats an earlier one even with one status change per iteration (the contact zone is probably meshed too coarsely, seed §3.3)"
-            ),
-            StopReason::StatusLimit { limit } => write!(
-                f,
-                "iteration limit {limit} reached with statuses still changing"
-            ),
-            _ => unreachable!("not a status reason"),
-        }
-    }
-
-    fn fmt_penalty(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            StopReason::RegularisedSolved {
-                active,
-                iterations,
-                cycle_at,
-                penetration,
-            } => {
-                write!(
-                    f,
-                    "regularised law solved exactly: the active set ({active} points) repeated after {iterations} iterations"
-                )?;
-                if let Some(i) = cycle_at {
-                    write!(
-                        f,
-                        " (an active set repeated at iteration {i}: switched to one status change per iteration, least index first)"
-                    )?;
-                }
-                write!(
-                    f,
-                    "; max penetration {penetration:.3e} (O(1/k), seed §3.6)"
-                )
-            }
-            StopReason::NewtonCycling {
-                iteration,
-                tolerance,
-            } => write!(
-                f,
-                "cycling: the active set of iteration {iteration} repeats an earlier one even with one status change per iteration (round-off at the tolerance {tolerance:.1e}?)"
-            ),
-            StopReason::ActiveSetLimit { limit } => write!(
-                f,
-                "iteration limit {limit} reached with the active set still changing"
-            ),
-            StopReason::ByPenalty {
-                status,
-                penetration,
-            } => write!(
-                f,
-                "{status} (constraints imposed by penalty); max penetration {penetration:.3e} (O(1/k))"
-            ),
-            _ => unreachable!("not a penalty reason"),
-        }
-    }
-}
+mod display;
 
 #[cfg(test)]
 mod tests;

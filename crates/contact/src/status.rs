@@ -212,6 +212,7 @@ pub fn status_method(
                 StatusVariant::All
             },
         },
+        friction: Default::default(),
     })
 }
 

@@ -5,7 +5,6 @@
 //! method, Norton–Hoff, the 3D semi-smooth Newton method), and the slip history carried to the next step.
 
 use super::*;
-use signorini_contact::friction::FrictionOutcome;
 
 /// The friction layout of the interface problem, built once per run.
 pub(crate) struct FrictionRows {
@@ -153,33 +152,19 @@ pub(crate) fn friction_step(
         gap_scale: load.length_scale,
     };
     let (out, name) = solve_friction(input, fr, history, &mut problem, &load, &fopts);
-    let out = out.map_err(contact_error)?;
+    let mut out = out.map_err(contact_error)?;
     let friction = friction_state(interface, fr, history, &out, m);
-    let outcome = ContactSolution {
-        forces: out.forces[..m].to_vec(),
-        gaps: out.gaps[..m].to_vec(),
-        alpha: vec![],
-        active: (0..m)
-            .filter(|&p| out.statuses[p] != PointStatus::Open)
-            .collect(),
-        report: SolverReport {
-            method: name.into(),
-            converged: out.converged,
-            iterations: out.iterations,
-            operator_applications: problem.solves,
-            residual_history: out.fixed_point_residuals.clone(),
-            stop: StopReason::Friction(out.stopping_reason.clone()),
-        },
-        statuses: StatusTrace {
-            cycle_detected_at: out.cycle_detected.then_some(out.iterations),
-            ..Default::default()
-        },
-    };
     let u = problem.displacement(&out.forces);
-    history.previous = Some((out.statuses, out.forces));
+    let (forces, gaps) = (out.forces[..m].to_vec(), out.gaps[..m].to_vec());
+    let previous_forces = std::mem::replace(&mut out.forces, forces);
+    history.previous = Some((out.friction.points.clone(), previous_forces));
+    out.gaps = gaps;
+    out.alpha = vec![];
+    out.report.method = name.into();
+    out.report.operator_applications = problem.solves;
     Ok((
         StepSolution {
-            outcome,
+            outcome: out,
             gap0: load.gap0,
             f_scale: load.f_scale,
             length_scale: load.length_scale,
@@ -193,7 +178,7 @@ pub(crate) fn friction_step(
     ))
 }
 
-type FrictionSolve = (Result<FrictionOutcome, ContactError>, &'static str);
+type FrictionSolve = (Result<ContactSolution, ContactError>, &'static str);
 
 /// The friction algorithm of the scene on the step's problem, with its name.
 /// A body held by contact alone starts closed at the first step; if that
@@ -278,12 +263,12 @@ fn friction_state(
     interface: &Interface,
     fr: &FrictionRows,
     history: &mut FrictionHistory,
-    out: &FrictionOutcome,
+    out: &ContactSolution,
     m: usize,
 ) -> FrictionStep {
     let lambda = &out.forces[..m];
     let mut f = FrictionStep {
-        statuses: out.statuses.clone(),
+        statuses: out.friction.points.clone(),
         tangential: vec![0.0; m],
         slip_increment: vec![0.0; m],
         slip_total: vec![0.0; m],

@@ -51,8 +51,7 @@ use signorini_contact::friction3d::friction_3d;
 use signorini_contact::registry::{Algorithm, Constraints, FrictionSupport};
 use signorini_contact::{
     status_method, ActiveSetSolve, ContactError, ContactSolution, DelassusOperator,
-    DelassusProblem, LcpOptions, SolverReport, StatusOptions, StatusTrace, StatusVariant,
-    StopReason,
+    DelassusProblem, LcpOptions, SolverReport, StatusOptions, StatusVariant, StopReason,
 };
 pub use signorini_report::output::{BodyResult, RunOutput, StepFields};
 use signorini_report::{

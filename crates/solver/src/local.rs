@@ -187,18 +187,19 @@ pub fn solve_friction(
         .to_string(),
         m,
         dim: d,
-        converged: out.converged,
-        iterations: out.iterations,
+        converged: out.report.converged,
+        iterations: out.report.iterations,
         operator_applications: problem.solves,
         time_s,
         repeats: 1,
         residual: coulomb_residual(p, &out.forces, &out.gaps, f, gap_scale),
         active: out
-            .statuses
+            .friction
+            .points
             .iter()
             .filter(|s| **s != PointStatus::Open)
             .count(),
-        stopping_reason: out.stopping_reason,
+        stopping_reason: out.report.stop.to_string(),
         lambda: with_lambda.then(|| p.to_file_order(&out.forces)),
     })
 }

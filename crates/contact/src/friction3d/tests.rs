@@ -43,8 +43,8 @@ fn a_point_sticks_below_the_cone_and_slips_on_it_in_any_direction() {
         // Drive 0.02: the stuck reaction s0 / kt = 0.01 < 0.06.
         let mut p = one_point(kn, kt, d, 0.02, theta);
         let out = friction_3d(&mut p, &one_point_layout(law), None, &opts()).unwrap();
-        assert!(out.converged, "{}", out.stopping_reason);
-        assert_eq!(out.statuses, vec![PointStatus::Stick]);
+        assert!(out.report.converged, "{}", out.report.stop);
+        assert_eq!(out.friction.points, vec![PointStatus::Stick]);
         assert!((out.forces[0] - ln).abs() < 1e-12 * ln);
         for (i, di) in dir.iter().enumerate() {
             assert!(
@@ -57,8 +57,8 @@ fn a_point_sticks_below_the_cone_and_slips_on_it_in_any_direction() {
         // Drive 0.2: s0 / kt = 0.1 > 0.06: slips by 0.2 − kt · 0.06 = 0.08.
         let mut p = one_point(kn, kt, d, 0.2, theta);
         let out = friction_3d(&mut p, &one_point_layout(law), None, &opts()).unwrap();
-        assert!(out.converged, "{}", out.stopping_reason);
-        assert_eq!(out.statuses, vec![PointStatus::Slip]);
+        assert!(out.report.converged, "{}", out.report.stop);
+        assert_eq!(out.friction.points, vec![PointStatus::Slip]);
         let lt = [out.forces[1], out.forces[2]];
         let s = [out.gaps[1], out.gaps[2]];
         assert!((lt[0].hypot(lt[1]) - mu * out.forces[0]).abs() < 1e-9 * mu * ln);
@@ -73,7 +73,7 @@ fn a_point_sticks_below_the_cone_and_slips_on_it_in_any_direction() {
         let cross = lt[0] * s[1] - lt[1] * s[0];
         assert!(cross.abs() < 1e-12 * lt[0].hypot(lt[1]) * s[0].hypot(s[1]));
         assert!(lt[0] * s[0] + lt[1] * s[1] < 0.0);
-        assert!(out.fixed_point_residuals.last().unwrap() <= &1e-12);
+        assert!(out.report.residual_history.last().unwrap() <= &1e-12);
     }
 }
 
@@ -87,11 +87,11 @@ fn tresca_point_slips_at_its_threshold() {
         &opts(),
     )
     .unwrap();
-    assert!(out.converged);
-    assert_eq!(out.statuses, vec![PointStatus::Slip]);
+    assert!(out.report.converged);
+    assert_eq!(out.friction.points, vec![PointStatus::Slip]);
     assert!((out.forces[1].hypot(out.forces[2]) - 0.03).abs() < 1e-12);
     assert!((out.gaps[1].hypot(out.gaps[2]) - (0.1 - 2.0 * 0.03)).abs() < 1e-12);
-    assert_eq!(out.fixed_point_iterations, 0);
+    assert_eq!(out.friction.fixed_point_iterations, 0);
 }
 
 /// The elliptic cone: the force on (λ1/μ1)² + (λ2/μ2)² = λ_n², its outward
@@ -114,16 +114,16 @@ fn elliptic_cone_bounds_each_direction_by_its_coefficient() {
     for (theta, mu) in [(0.0, 0.3), (std::f64::consts::FRAC_PI_2, 0.1)] {
         let mut p = one_point(kn, kt, d, 1.0, theta);
         let out = friction_3d(&mut p, &one_point_layout(law), None, &opts()).unwrap();
-        assert!(out.converged, "{}", out.stopping_reason);
-        assert_eq!(out.statuses, vec![PointStatus::Slip]);
+        assert!(out.report.converged, "{}", out.report.stop);
+        assert_eq!(out.friction.points, vec![PointStatus::Slip]);
         let lt = out.forces[1].hypot(out.forces[2]);
         assert!((lt - mu * ln).abs() < 1e-9 * mu * ln, "{:?}", out.forces);
     }
     // A diagonal drive: not along the force, but along the ellipse's normal.
     let mut p = one_point(kn, kt, d, 1.0, std::f64::consts::FRAC_PI_4);
     let out = friction_3d(&mut p, &one_point_layout(law), None, &opts()).unwrap();
-    assert!(out.converged, "{}", out.stopping_reason);
-    assert_eq!(out.statuses, vec![PointStatus::Slip]);
+    assert!(out.report.converged, "{}", out.report.stop);
+    assert_eq!(out.friction.points, vec![PointStatus::Slip]);
     let lt = [out.forces[1], out.forces[2]];
     let s = [out.gaps[1], out.gaps[2]];
     check_ellipse_slip(lt, s, [0.3 * out.forces[0], 0.1 * out.forces[0]]);
@@ -146,8 +146,8 @@ fn a_coupled_point_slips_opposite_to_its_slip() {
             &opts(),
         )
         .unwrap();
-        assert!(out.converged, "{}", out.stopping_reason);
-        assert_eq!(out.statuses, vec![PointStatus::Slip]);
+        assert!(out.report.converged, "{}", out.report.stop);
+        assert_eq!(out.friction.points, vec![PointStatus::Slip]);
         assert!(out.gaps[0].abs() < 1e-12);
         let a = [mu[0] * out.forces[0], mu[1] * out.forces[0]];
         check_ellipse_slip(
@@ -203,7 +203,7 @@ fn random_problem(m: usize, seed: u64) -> (DelassusProblem, FrictionLayout) {
 
 /// Every condition of the law at every point, to `tol` (relative to the
 /// largest force and gap).
-fn check_conditions(out: &FrictionOutcome, layout: &FrictionLayout, tol: f64) {
+fn check_conditions(out: &ContactSolution, layout: &FrictionLayout, tol: f64) {
     let fs = out.forces.iter().fold(1.0f64, |a, v| a.max(v.abs()));
     let gs = out.gaps.iter().fold(1.0f64, |a, v| a.max(v.abs()));
     for (p, (rows, law)) in layout.tangent_rows.iter().zip(&layout.law).enumerate() {
@@ -234,7 +234,7 @@ fn check_conditions(out: &FrictionOutcome, layout: &FrictionLayout, tol: f64) {
             (phi - 1.0) * amin <= tol * fs,
             "point {p}: outside the cone, φ = {phi}"
         );
-        match out.statuses[p] {
+        match out.friction.points[p] {
             PointStatus::Stick => {
                 assert!(s[0].hypot(s[1]) <= tol * gs, "point {p}: stuck slips {s:?}")
             }
@@ -268,9 +268,9 @@ fn random_problems_satisfy_every_condition() {
         let mut o = opts();
         o.tolerance = 1e-10;
         let out = friction_3d(&mut p, &layout, None, &o).unwrap();
-        assert!(out.converged, "m = {m}: {}", out.stopping_reason);
+        assert!(out.report.converged, "m = {m}: {}", out.report.stop);
         check_conditions(&out, &layout, 1e-8);
-        for st in &out.statuses {
+        for st in &out.friction.points {
             match st {
                 PointStatus::Slip => seen_slip += 1,
                 PointStatus::Stick => seen_stick += 1,
@@ -279,8 +279,8 @@ fn random_problems_satisfy_every_condition() {
         }
         // Restarted from its own answer: converges at once to the same forces.
         let again = friction_3d(&mut p, &layout, Some(&out.forces), &o).unwrap();
-        assert!(again.converged);
-        assert!(again.fixed_point_iterations <= 2);
+        assert!(again.report.converged);
+        assert!(again.friction.fixed_point_iterations <= 2);
         for (x, y) in again.forces.iter().zip(&out.forces) {
             assert!((x - y).abs() < 1e-8);
         }
@@ -300,7 +300,7 @@ fn zero_friction_equals_the_frictionless_answer() {
     }
     let mut pf = DelassusProblem::from_operator(p.w.clone(), p.q.clone());
     let out = friction_3d(&mut pf, &layout, None, &opts()).unwrap();
-    assert!(out.converged, "{}", out.stopping_reason);
+    assert!(out.report.converged, "{}", out.report.stop);
     // Frictionless: only the normal rows, W_nn.
     let wn = Mat::<f64>::from_fn(m, m, |i, j| p.w[(i, j)]);
     let mut pn = DelassusProblem::from_operator(wn, p.q[..m].to_vec());
@@ -310,7 +310,7 @@ fn zero_friction_equals_the_frictionless_answer() {
         shadow: Vec::new(),
     };
     let plain = friction_3d(&mut pn, &none, None, &opts()).unwrap();
-    assert!(plain.converged);
+    assert!(plain.report.converged);
     for i in 0..m {
         assert!((out.forces[i] - plain.forces[i]).abs() < 1e-10, "{i}");
         assert!((out.gaps[i] - plain.gaps[i]).abs() < 1e-10, "{i}");
@@ -333,8 +333,8 @@ fn a_floating_body_held_by_friction_alone() {
     assert_eq!(p.n_kernel(), 2);
     let law = FrictionLaw::Coulomb { mu: [0.5, 0.5] };
     let out = friction_3d(&mut p, &one_point_layout(law), None, &opts()).unwrap();
-    assert!(out.converged, "{}", out.stopping_reason);
-    assert_eq!(out.statuses, vec![PointStatus::Stick]);
+    assert!(out.report.converged, "{}", out.report.stop);
+    assert_eq!(out.friction.points, vec![PointStatus::Stick]);
     assert!((out.forces[0] - fn_).abs() < 1e-12);
     assert!((out.forces[1] + fx).abs() < 1e-12 && (out.forces[2] + fy).abs() < 1e-12);
     assert!(out.gaps[1].abs() < 1e-12 && out.gaps[2].abs() < 1e-12);

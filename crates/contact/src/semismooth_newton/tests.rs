@@ -5,10 +5,10 @@ use faer::Mat;
 
 use crate::friction::{
     coulomb_fixed_point, coulomb_newton, coulomb_status, FrictionLaw, FrictionLayout,
-    FrictionOptions, FrictionOutcome, PointStatus,
+    FrictionOptions, PointStatus,
 };
 use crate::test_problems::{random_spd, XorShift};
-use crate::DelassusProblem;
+use crate::{ContactSolution, DelassusProblem};
 
 fn opts() -> FrictionOptions {
     FrictionOptions {
@@ -45,14 +45,14 @@ fn random_2d(m: usize, seed: u64) -> (DelassusProblem, FrictionLayout) {
 }
 
 /// The statuses agree and the forces and gaps are within `tol`.
-fn assert_same(a: &FrictionOutcome, b: &FrictionOutcome, tol: f64, what: &str) {
+fn assert_same(a: &ContactSolution, b: &ContactSolution, tol: f64, what: &str) {
     assert!(
-        a.converged && b.converged,
+        a.report.converged && b.report.converged,
         "{what}: {} / {}",
-        a.stopping_reason,
-        b.stopping_reason
+        a.report.stop,
+        b.report.stop
     );
-    assert_eq!(a.statuses, b.statuses, "{what}");
+    assert_eq!(a.friction.points, b.friction.points, "{what}");
     for (i, (x, y)) in a.forces.iter().zip(&b.forces).enumerate() {
         assert!((x - y).abs() <= tol, "{what}: force {i}: {x} vs {y}");
     }
@@ -77,7 +77,7 @@ fn newton_agrees_with_the_fixed_point_and_the_status_method_in_2d() {
         let status = coulomb_status(&mut fresh(), &layout, initial, &opts()).unwrap();
         assert_same(&newton, &fp, 1e-9, &format!("m = {m}, fixed point"));
         assert_same(&newton, &status, 1e-9, &format!("m = {m}, status method"));
-        for st in &newton.statuses {
+        for st in &newton.friction.points {
             seen[match st {
                 PointStatus::Open => 0,
                 PointStatus::Stick => 1,
@@ -123,7 +123,7 @@ fn newton_holds_a_floating_body_by_friction_like_the_fixed_point() {
     assert_eq!(p.n_kernel(), 1);
     let newton = coulomb_newton(&mut p, &layout, None, &opts()).unwrap();
     assert_eq!(
-        newton.statuses,
+        newton.friction.points,
         vec![PointStatus::SlipMinus, PointStatus::Stick]
     );
     let expected = [1.0, 5.0, -0.5, -0.5];

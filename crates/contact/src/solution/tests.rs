@@ -337,3 +337,85 @@ fn the_reasons_of_smalbe_and_polishing_read_as_before() {
     assert_eq!(json["stopping_reason"], report.stop.to_string());
     assert!(json.get("stop").is_none());
 }
+
+#[test]
+fn the_reasons_of_the_friction_status_method_and_the_fixed_point_read_as_before() {
+    let (solves, max_iterations, boxed) = (7usize, 50usize, 2usize);
+    same(
+        StopReason::FrictionStatusesRepeated { solves },
+        format!("statuses repeated after {} status solves", solves),
+    );
+    same(
+        StopReason::FrictionCycling,
+        "cycling even with one status change per iteration".into(),
+    );
+    same(
+        StopReason::StatusLimit {
+            limit: max_iterations,
+        },
+        format!(
+            "iteration limit {} reached with statuses still changing",
+            max_iterations
+        ),
+    );
+    same(
+        StopReason::TrescaBoxSolved,
+        "solved by MPRGP on the Tresca box".into(),
+    );
+    let inner = StopReason::FrictionCycling;
+    let inner_text = inner.to_string();
+    same(
+        StopReason::InnerTresca(Box::new(inner.clone())),
+        format!("inner Tresca problem: {}", inner_text),
+    );
+    for (map, name) in [
+        (ThresholdMapKind::Coulomb, "fixed point on the threshold"),
+        (ThresholdMapKind::NortonHoff, "Norton-Hoff fixed point"),
+    ] {
+        let reached = StopReason::FixedPointReached { map, iterations: 4 };
+        let reached_text = format!("{} reached after {} iterations", name, 3 + 1);
+        same(reached.clone(), reached_text.clone());
+        same(
+            StopReason::FixedPointLimit {
+                map,
+                limit: max_iterations,
+            },
+            format!("{} not reached in {} iterations", name, max_iterations),
+        );
+        same(
+            StopReason::BoxFallbacks {
+                before: Box::new(reached),
+                count: boxed,
+            },
+            format!(
+                "{} ({} inner Tresca problem(s) solved by MPRGP on the box after the status method cycled)",
+                reached_text, boxed
+            ),
+        );
+    }
+}
+
+#[test]
+fn the_reasons_of_the_semismooth_newton_method_read_as_before() {
+    let (res, it, max_iterations) = (RES, 9usize, 100usize);
+    let converged = StopReason::NewtonConverged {
+        residual: res,
+        iterations: it,
+    };
+    let converged_text = format!("natural residual {res:.2e} after {it} Newton iterations");
+    same(converged.clone(), converged_text.clone());
+    same(
+        StopReason::NewtonLimit {
+            limit: max_iterations,
+        },
+        format!("iteration limit {} reached", max_iterations),
+    );
+    same(
+        StopReason::NewtonLineSearchFailed,
+        "the Newton line search failed repeatedly (floating bodies: no fallback)".into(),
+    );
+    same(
+        StopReason::Tresca(Box::new(converged)),
+        format!("Tresca: {}", converged_text),
+    );
+}
