@@ -66,32 +66,54 @@ impl ActiveFactor {
         if 6 * (leaving.len() + entering.len()) > n {
             return false;
         }
-        for &k in leaving.iter().rev() {
-            self.remove(k);
-        }
+        self.remove(&leaving);
         entering.into_iter().all(|r| self.append(w, r))
     }
 
-    /// Removes the factor's k-th row and column, in place.
-    fn remove(&mut self, k: usize) {
+    /// Removes the factor's rows and columns `leaving` (ascending), in
+    /// place: one compaction of the kept entries, then for each removed k,
+    /// from the last, the rank-one update of the trailing block by the kept
+    /// part of L's column k below the diagonal (a later update touches only
+    /// columns after its k, so every such column is L's original one).
+    fn remove(&mut self, leaving: &[usize]) {
+        if leaving.is_empty() {
+            return;
+        }
         let n = self.rows.len();
-        let mut v: Vec<f64> = self.l.col_as_slice(k)[k + 1..n].to_vec();
-        // Shift the columns after k left, and in every column the rows after
-        // k up (column-major: each a contiguous slice).
-        for j in 0..n {
-            if j > k {
+        let mut gone = vec![false; n];
+        leaving.iter().for_each(|&k| gone[k] = true);
+        let kept: Vec<usize> = (0..n).filter(|&i| !gone[i]).collect();
+        // Each removed k: its position among the kept rows and its vector.
+        let updates: Vec<(usize, Vec<f64>)> = leaving
+            .iter()
+            .map(|&k| {
+                let col = self.l.col_as_slice(k);
+                let at = kept.partition_point(|&i| i < k);
+                (at, kept[at..].iter().map(|&i| col[i]).collect())
+            })
+            .collect();
+        for (jj, &j) in kept.iter().enumerate() {
+            if jj != j {
                 let col = self.l.col_as_slice(j).to_vec();
-                self.l.col_as_slice_mut(j - 1).copy_from_slice(&col);
+                self.l.col_as_slice_mut(jj).copy_from_slice(&col);
             }
-            let jj = if j > k { j - 1 } else { j };
-            if jj < n - 1 {
-                self.l.col_as_slice_mut(jj).copy_within(k + 1..n, k);
+            let col = self.l.col_as_slice_mut(jj);
+            for (ii, &i) in kept.iter().enumerate().skip(jj) {
+                col[ii] = col[i];
             }
         }
-        self.l.truncate(n - 1, n - 1);
-        // Rank-one update of the trailing block (rows and columns ≥ k).
+        let m = kept.len();
+        self.l.truncate(m, m);
+        for (at, mut v) in updates.into_iter().rev() {
+            self.rank_one_update(at, &mut v);
+        }
+        self.rows = kept.iter().map(|&i| self.rows[i]).collect();
+    }
+
+    /// L₃₃ L₃₃ᵀ + v vᵀ on the trailing block from row and column `at`.
+    fn rank_one_update(&mut self, at: usize, v: &mut [f64]) {
         for j in 0..v.len() {
-            let col = &mut self.l.col_as_slice_mut(k + j)[k + j..];
+            let col = &mut self.l.col_as_slice_mut(at + j)[at + j..];
             let ljj = col[0];
             let r = ljj.hypot(v[j]);
             let (c, s) = (r / ljj, v[j] / ljj);
@@ -102,7 +124,6 @@ impl ActiveFactor {
                 v[j + i] = c * vi - s * *lij;
             }
         }
-        self.rows.remove(k);
     }
 
     /// Appends row r; `false` if its pivot is not safely positive.
