@@ -153,14 +153,15 @@ pub(crate) fn root_suite(quick: bool, export: bool, sizes: &[usize], out: &Path)
         Ok(rows) => rows,
         Err(e) => return fail(3, &e),
     };
+    let table = run::markdown(&rows);
     let written = std::fs::write(out.join("root.csv"), run::csv(&rows))
-        .and_then(|_| std::fs::write(out.join("root.md"), run::markdown(&rows)))
+        .and_then(|_| std::fs::write(out.join("root.md"), &table))
         .map_err(|e| e.to_string())
         .and_then(|_| run::error_vs_time_svg(&out.join("root_error_vs_time.svg"), &rows));
     if let Err(e) = written {
         return fail(3, &format!("cannot write {}: {e}", out.display()));
     }
-    print!("{}", run::markdown(&rows));
+    print!("{table}");
     ExitCode::SUCCESS
 }
 

@@ -142,27 +142,6 @@ pub fn indentation_problem(
     }
 }
 
-impl RootProblem {
-    /// The contact-wise row of each row of this project's block layout
-    /// (normal rows 0..m, then the tangential rows of contact 0, 1, … in
-    /// turn): block row k is contact-wise row `order[k]`.
-    pub fn block_order(&self) -> Vec<usize> {
-        let (d, m) = (self.dim, self.contacts());
-        let normals = (0..m).map(|p| p * d);
-        let tangents = (0..m).flat_map(|p| (1..d).map(move |k| p * d + k));
-        normals.chain(tangents).collect()
-    }
-
-    /// W and q in the block layout (see [`Self::block_order`]).
-    pub fn in_blocks(&self) -> (Mat<f64>, Vec<f64>) {
-        let order = self.block_order();
-        let w = Mat::<f64>::from_fn(order.len(), order.len(), |i, j| {
-            self.w[(order[i], order[j])]
-        });
-        (w, order.iter().map(|&i| self.q[i]).collect())
-    }
-}
-
 /// The benchmark's problem families (issue 14): a cylinder (2D) or a sphere
 /// (3D) of radius L on a layer of thickness L/4 (E = 1, ν = 0.3), roughness
 /// heights up to about 4 % of the approach. The approaches and slides were

@@ -9,7 +9,7 @@ use std::path::Path;
 use signorini_contact::registry::{Algorithm, METHODS};
 use signorini_solver::local::{self, FrictionMethod, LocalProblem, LocalResult};
 
-use crate::problem::{Family, RootProblem};
+use crate::problem::Family;
 
 /// One run of one method on one problem.
 #[derive(Debug, Clone)]
@@ -120,14 +120,17 @@ pub fn run_suite(
                 let path = dir.join(format!("{}.npz", rp.name));
                 signorini_solver::problem_file::write_npz(&path, &rp.w, &rp.q, &rp.mu, rp.dim)?;
             }
-            let p = local_problem(&rp)?;
+            let (name, m_contacts) = (rp.name.clone(), rp.contacts());
+            // W goes into the block layout by value: one copy of it at a time
+            // besides the one being reordered (512 MB each at m = 8000).
+            let p = LocalProblem::contact_wise(&rp.name, rp.w, rp.q, rp.mu, rp.dim)?;
             let mut reference: Option<Vec<f64>> = None;
             for method in methods(family) {
                 let affordable =
                     last.iter()
                         .find(|l| l.0 == method.name())
                         .is_none_or(|&(_, m0, t0)| {
-                            t0 * (rp.contacts() as f64 / m0 as f64).powi(3) <= o.time_budget
+                            t0 * (m_contacts as f64 / m0 as f64).powi(3) <= o.time_budget
                         });
                 if !affordable {
                     continue;
@@ -136,7 +139,7 @@ pub fn run_suite(
                 let lambda = r.lambda.clone().unwrap_or_default();
                 let reference = reference.get_or_insert_with(|| lambda.clone());
                 let row = RootRow {
-                    problem: rp.name.clone(),
+                    problem: name.clone(),
                     family: family.name(),
                     m: r.m,
                     method: method.name(),
@@ -155,10 +158,6 @@ pub fn run_suite(
         }
     }
     Ok(rows)
-}
-
-fn local_problem(rp: &RootProblem) -> Result<LocalProblem, String> {
-    LocalProblem::contact_wise(&rp.name, rp.w.clone(), rp.q.clone(), rp.mu.clone(), rp.dim)
 }
 
 /// The columns of the tables: a header and each row's cells.
