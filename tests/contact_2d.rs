@@ -234,3 +234,29 @@ fn condensed_path_equals_direct_path() {
         }
     }
 }
+
+/// A load step starts from the previous step's active set and the factor of
+/// its active block: a step that repeats the load is solved in one status
+/// iteration, and its answer is the first step's.
+#[test]
+fn a_repeated_load_step_starts_from_the_previous_active_set() {
+    let mut text = example("hertz2d.toml");
+    text.push_str("\n[[steps]]\nscale = { press = 1.0 }\n[[steps]]\nscale = { press = 1.0 }\n");
+    let out = solve(&text, SolvePath::Condensed);
+    let (first, second) = (&out.report.steps[0], &out.report.steps[1]);
+    assert!(first.iterations > 1, "{}", first.iterations);
+    assert_eq!(second.iterations, 1);
+    assert_eq!(second.active, first.active);
+    let f = |s: usize| -> Vec<f64> {
+        out.contact_rows
+            .iter()
+            .filter(|r| r.step == s)
+            .map(|r| r.normal_force)
+            .collect()
+    };
+    let (f1, f2) = (f(1), f(2));
+    let scale = f1.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+    for (a, b) in f1.iter().zip(&f2) {
+        assert!((a - b).abs() <= 1e-12 * scale, "{a} vs {b}");
+    }
+}

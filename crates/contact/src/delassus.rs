@@ -17,6 +17,7 @@ use std::sync::Arc;
 use faer::prelude::Solve;
 use faer::{Mat, Side};
 
+use crate::active_factor::{solve_on_active_set, ActiveFactor};
 use crate::status::ActiveSetSolve;
 use crate::ContactError;
 
@@ -70,6 +71,11 @@ pub struct DelassusProblem {
     last_alpha: Vec<f64>,
     /// Number of linear solves with W blocks (for the report).
     pub solves: usize,
+    /// The Cholesky factor of the last active block (no floating body),
+    /// carried to the next status iteration, and by
+    /// [`Self::take_factor`] / [`Self::with_factor`] to the next load step
+    /// (W is the same). Changing `w` must drop it ([`Self::add_compliance`]).
+    factor: Option<ActiveFactor>,
 }
 
 fn orthonormalize(r: &Mat<f64>) -> Result<Mat<f64>, ContactError> {
@@ -163,6 +169,7 @@ impl DelassusOperator {
             e,
             last_alpha: vec![0.0; k],
             solves: 0,
+            factor: None,
         }
     }
 
@@ -282,11 +289,25 @@ impl DelassusProblem {
             q,
             last_alpha: Vec::new(),
             solves: 0,
+            factor: None,
         }
     }
 
     pub fn n_kernel(&self) -> usize {
         self.r.ncols()
+    }
+
+    /// The factor of the last active block, for the next load step's
+    /// problem of the same operator ([`Self::with_factor`]).
+    pub fn take_factor(&mut self) -> Option<ActiveFactor> {
+        self.factor.take()
+    }
+
+    /// Starts from the factor of an earlier problem of the same operator
+    /// (same W): the status method then updates it instead of factorising.
+    pub fn with_factor(mut self, factor: Option<ActiveFactor>) -> Self {
+        self.factor = factor.filter(|f| f.rows().iter().all(|&r| r < self.q.len()));
+        self
     }
 
     /// Interface displacement u = S⁺(F' + Bᵀλ) + R α for forces λ (and the α
@@ -311,6 +332,7 @@ impl DelassusProblem {
     /// Adds a compliance to the diagonal of W (per row): the elastic slip of
     /// a regularised friction law (seed §4.1.3), 1/k_e on tangential rows.
     pub fn add_compliance(&mut self, diag: &[f64]) {
+        self.factor = None;
         for (i, &c) in diag.iter().enumerate() {
             self.w[(i, i)] += c;
         }
@@ -397,6 +419,12 @@ impl ActiveSetSolve for DelassusProblem {
         let m = self.q.len();
         let k = self.r.ncols();
         let na = active.len();
+        if k == 0 {
+            if let Some(lambda) = solve_on_active_set(&mut self.factor, &self.w, &self.q, active) {
+                let g = crate::lcp::gaps(&self.w, &self.q, &lambda);
+                return Ok((lambda, g));
+            }
+        }
         let mut eqs = vec![VarEquation::Value(0.0); m];
         for &p in active {
             eqs[p] = VarEquation::Gap;

@@ -13,7 +13,7 @@ use std::fmt;
 
 use faer::Mat;
 
-use crate::active_factor::ActiveFactor;
+use crate::active_factor::{solve_on_active_set, ActiveFactor};
 use crate::lcp::{constrained_gaps, gaps, lcp_residual, LcpOptions};
 use crate::solution::{ContactSolution, PolishSolve};
 use crate::status::{status_method, ActiveSetSolve, StatusOptions, StatusVariant};
@@ -363,35 +363,24 @@ impl ActiveSetSolve for DenseLcp<'_> {
     }
     fn solve_active(&mut self, active: &[usize]) -> Result<(Vec<f64>, Vec<f64>), ContactError> {
         self.solves += 1;
-        let mut lambda = vec![0.0; self.q.len()];
-        let factor = match self.factor.take() {
-            Some(mut f) => match f.update_to(self.w, active) {
-                true => Some(f),
-                false => ActiveFactor::new(self.w, active),
-            },
-            None => ActiveFactor::new(self.w, active),
+        let lambda = match solve_on_active_set(&mut self.factor, self.w, self.q, active) {
+            Some(lambda) => lambda,
+            None => {
+                let mut lambda = vec![0.0; self.q.len()];
+                let na = active.len();
+                let a = Mat::<f64>::from_fn(na, na, |i, j| self.w[(active[i], active[j])]);
+                let rhs = Mat::<f64>::from_fn(na, 1, |i, _| -self.q[active[i]]);
+                let x = crate::delassus::solve_checked(
+                    &a,
+                    &rhs,
+                    "W_AA is singular: redundant contact constraints",
+                )?;
+                for (i, &p) in active.iter().enumerate() {
+                    lambda[p] = x[(i, 0)];
+                }
+                lambda
+            }
         };
-        if let Some(f) = factor {
-            let rows = f.rows();
-            let rhs = Mat::<f64>::from_fn(rows.len(), 1, |i, _| -self.q[rows[i]]);
-            let x = f.solve(&rhs);
-            for (i, &p) in rows.iter().enumerate() {
-                lambda[p] = x[(i, 0)];
-            }
-            self.factor = Some(f);
-        } else if !active.is_empty() {
-            let na = active.len();
-            let a = Mat::<f64>::from_fn(na, na, |i, j| self.w[(active[i], active[j])]);
-            let rhs = Mat::<f64>::from_fn(na, 1, |i, _| -self.q[active[i]]);
-            let x = crate::delassus::solve_checked(
-                &a,
-                &rhs,
-                "W_AA is singular: redundant contact constraints",
-            )?;
-            for (i, &p) in active.iter().enumerate() {
-                lambda[p] = x[(i, 0)];
-            }
-        }
         let g = gaps(self.w, self.q, &lambda);
         Ok((lambda, g))
     }

@@ -264,6 +264,7 @@ pub(crate) fn solve_root(
     let mut steps = Vec::new();
     let mut u_gamma = Vec::new();
     let mut operator: Option<DelassusOperator> = None;
+    let mut warm = WarmStart::default();
     for (si, st) in scales.iter().enumerate() {
         let t_step = Instant::now();
         let mut operator_s = 0.0;
@@ -273,7 +274,7 @@ pub(crate) fn solve_root(
         })?;
         let (mut step, u) = match (&friction, history.as_mut()) {
             (Some(fr), Some(h)) => friction_step(input, &interface, fr, h, op, load)?,
-            _ => frictionless_step(input, op, load)?,
+            _ => frictionless_step(input, op, load, &mut warm)?,
         };
         step.operator_s = operator_s;
         step.solve_s = t_step.elapsed().as_secs_f64() - operator_s;
@@ -429,13 +430,26 @@ fn step_load(
 
 /// One frictionless step: the chosen algorithm (or the status method) on
 /// the step's problem; returns the step and u_Γ.
+/// What a frictionless status step hands to the next load step: its
+/// active set (the next step's first guess) and the Cholesky factor of
+/// its active block (W does not change over the steps, so the next step
+/// updates that factor instead of factorising).
+#[derive(Default)]
+pub(crate) struct WarmStart {
+    active: Option<Vec<usize>>,
+    factor: Option<signorini_contact::active_factor::ActiveFactor>,
+}
+
 fn frictionless_step(
     input: &RootInput,
     op: &DelassusOperator,
     load: StepLoad,
+    warm: &mut WarmStart,
 ) -> Result<(StepSolution, Vec<f64>), SolveError> {
     let (sc, algorithm, points) = (input.sc, input.algorithm, input.points);
-    let mut problem = op.problem(&load.gap0, &load.fp);
+    let mut problem = op
+        .problem(&load.gap0, &load.fp)
+        .with_factor(warm.factor.take());
     let law_k: Vec<f64> = points
         .iter()
         .map(|p| match sc.contact[p.contact].law {
@@ -468,15 +482,15 @@ fn frictionless_step(
         status_report(&mut outcome, algorithm.name(), problem.solves);
         outcome
     } else {
-        let mut outcome = status_method(
-            &mut problem,
-            &StatusOptions {
-                variant: algorithm.variant(),
-                ..status_options(sc, f_scale, length_scale, &load.gap0)
-            },
-        )
-        .map_err(contact_error)?;
+        let mut opts = status_options(sc, f_scale, length_scale, &load.gap0);
+        opts.variant = algorithm.variant();
+        if let Some(active) = warm.active.take() {
+            opts.initial_active = Some(active);
+        }
+        let mut outcome = status_method(&mut problem, &opts).map_err(contact_error)?;
         status_report(&mut outcome, algorithm.name(), problem.solves);
+        warm.active = Some(outcome.active.clone());
+        warm.factor = problem.take_factor();
         outcome
     };
     let u = problem.displacement(&outcome.forces);
