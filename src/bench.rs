@@ -71,31 +71,7 @@ pub(crate) fn bench(
         return fail(3, &format!("cannot write {}: {e}", out.display()));
     }
     let plots = signorini_solver::bench::write_plots(out, &rows);
-    println!(
-        "| scene | level | subdomains | method | path | DOFs | Γ DOFs | contact pts | iterations | converged | condense s | root s | recover s | total s | error | vs finest |"
-    );
-    println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
-    for r in &rows {
-        println!(
-            "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {:.4} | {:.4} | {:.4} | {:.4} | {:.2e} | {:.2e} |",
-            r.scene,
-            r.level,
-            r.subdomains,
-            r.method,
-            r.path,
-            r.dofs,
-            r.interface_dofs,
-            r.contact_points,
-            r.iterations,
-            if r.converged { "yes" } else { "**no**" },
-            r.condense_s,
-            r.contact_s,
-            r.recover_s,
-            r.total_s,
-            r.error,
-            r.error_vs_finest
-        );
-    }
+    print!("{}", signorini_solver::bench::markdown(&rows));
     match plots {
         Ok(p) => println!("bench.csv and {} plot(s) in {}", p.len(), out.display()),
         Err(e) => println!("bench.csv in {} (no plot: {e})", out.display()),

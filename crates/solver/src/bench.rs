@@ -248,35 +248,134 @@ fn row(scene: &str, level: f64, r: &signorini_report::Report) -> BenchRow {
     }
 }
 
+/// A column of the bench table: its CSV name, its Markdown heading (`None`:
+/// in the CSV only) and its cell.
+type Column = (&'static str, Option<&'static str>, fn(&BenchRow) -> String);
+
+/// The columns of bench.csv and of the printed table, in order: one list
+/// for both, so that they cannot disagree.
+const COLUMNS: &[Column] = &[
+    ("scene", Some("scene"), |r| r.scene.clone()),
+    ("level", Some("level"), |r| r.level.to_string()),
+    ("subdomains", Some("subdomains"), |r| {
+        r.subdomains.to_string()
+    }),
+    ("method", Some("method"), |r| r.method.clone()),
+    ("path", Some("path"), |r| r.path.clone()),
+    ("dofs", Some("DOFs"), |r| r.dofs.to_string()),
+    ("interface_dofs", Some("Γ DOFs"), |r| {
+        r.interface_dofs.to_string()
+    }),
+    ("contact_points", Some("contact pts"), |r| {
+        r.contact_points.to_string()
+    }),
+    ("iterations", Some("iterations"), |r| {
+        r.iterations.to_string()
+    }),
+    ("converged", Some("converged"), |r| r.converged.to_string()),
+    ("assemble_s", None, |r| format!("{:.6}", r.assemble_s)),
+    ("condense_s", Some("condense s"), |r| {
+        format!("{:.6}", r.condense_s)
+    }),
+    ("contact_s", Some("root s"), |r| {
+        format!("{:.6}", r.contact_s)
+    }),
+    ("recover_s", Some("recover s"), |r| {
+        format!("{:.6}", r.recover_s)
+    }),
+    ("total_s", Some("total s"), |r| format!("{:.6}", r.total_s)),
+    ("peak_rss_bytes", None, |r| r.peak_rss_bytes.to_string()),
+    ("dense_interface_bytes", None, |r| {
+        r.dense_interface_bytes.to_string()
+    }),
+    ("error", Some("error"), |r| format!("{:.4e}", r.error)),
+    ("error_vs_finest", Some("vs finest"), |r| {
+        format!("{:.4e}", r.error_vs_finest)
+    }),
+    ("errors", None, |r| r.errors.clone()),
+];
+
 /// bench.csv: one line per run.
 pub fn write_csv(path: &std::path::Path, rows: &[BenchRow]) -> std::io::Result<()> {
+    let header: Vec<&str> = COLUMNS.iter().map(|c| c.0).collect();
     signorini_report::write_lines(
         path,
-        "scene,level,subdomains,method,path,dofs,interface_dofs,contact_points,iterations,converged,assemble_s,condense_s,contact_s,recover_s,total_s,peak_rss_bytes,dense_interface_bytes,error,error_vs_finest,errors",
-        rows.iter().map(|r| {
-            format!(
-                "{},{},{},{},{},{},{},{},{},{},{:.6},{:.6},{:.6},{:.6},{:.6},{},{},{:.4e},{:.4e},{}",
-            r.scene,
-            r.level,
-            r.subdomains,
-            r.method,
-            r.path,
-            r.dofs,
-            r.interface_dofs,
-            r.contact_points,
-            r.iterations,
-            r.converged,
-            r.assemble_s,
-            r.condense_s,
-            r.contact_s,
-            r.recover_s,
-            r.total_s,
-            r.peak_rss_bytes,
-            r.dense_interface_bytes,
-            r.error,
-            r.error_vs_finest,
-            r.errors
-            )
-        }),
+        &header.join(","),
+        rows.iter()
+            .map(|r| COLUMNS.iter().map(|c| c.2(r)).collect::<Vec<_>>().join(",")),
     )
+}
+
+/// The printed table: the Markdown columns of [`COLUMNS`].
+pub fn markdown(rows: &[BenchRow]) -> String {
+    let shown: Vec<&Column> = COLUMNS.iter().filter(|c| c.1.is_some()).collect();
+    let line = |cells: Vec<String>| format!("| {} |\n", cells.join(" | "));
+    let mut out = line(
+        shown
+            .iter()
+            .map(|c| c.1.unwrap_or_default().to_string())
+            .collect(),
+    );
+    out += &line(shown.iter().map(|_| "---".to_string()).collect());
+    for r in rows {
+        out += &line(shown.iter().map(|c| c.2(r)).collect());
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The CSV and the printed table come from one column list: every
+    /// Markdown cell is the CSV cell of the same name.
+    #[test]
+    fn table_and_csv_show_the_same_cells() {
+        let row = BenchRow {
+            scene: "s.toml".into(),
+            level: 2.0,
+            subdomains: 3,
+            method: "status".into(),
+            path: "condensed".into(),
+            dofs: 1234,
+            interface_dofs: 56,
+            contact_points: 7,
+            iterations: 8,
+            converged: true,
+            assemble_s: 0.5,
+            condense_s: 1.25,
+            contact_s: 0.125,
+            recover_s: 0.0625,
+            total_s: 2.0,
+            peak_rss_bytes: 99,
+            dense_interface_bytes: 98,
+            errors: "p0=1e-3".into(),
+            error: 1e-3,
+            error_vs_finest: 2e-3,
+            computed: Vec::new(),
+        };
+        let dir = std::env::temp_dir().join(format!("bench-cells-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("bench.csv");
+        write_csv(&path, std::slice::from_ref(&row)).unwrap();
+        let text = std::fs::read_to_string(&path).unwrap();
+        std::fs::remove_dir_all(&dir).unwrap();
+        let lines: Vec<Vec<&str>> = text.lines().map(|l| l.split(',').collect()).collect();
+        assert_eq!(lines.len(), 2);
+        assert_eq!(lines[0].len(), 20);
+        let csv = |name: &str| lines[1][lines[0].iter().position(|h| *h == name).unwrap()];
+        assert_eq!(csv("total_s"), "2.000000");
+        assert_eq!(csv("interface_dofs"), "56");
+        let table = markdown(std::slice::from_ref(&row));
+        let rows: Vec<Vec<&str>> = table
+            .lines()
+            .map(|l| l.trim_matches('|').split('|').map(str::trim).collect())
+            .collect();
+        assert_eq!(rows.len(), 3);
+        assert_eq!(rows[0].len(), 16);
+        let md = |heading: &str| rows[2][rows[0].iter().position(|h| *h == heading).unwrap()];
+        assert_eq!(md("total s"), csv("total_s"));
+        assert_eq!(md("root s"), csv("contact_s"));
+        assert_eq!(md("Γ DOFs"), "56");
+    }
 }
