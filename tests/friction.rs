@@ -495,3 +495,38 @@ fn newton_gives_the_contact_forces_of_the_default_method_on_the_cattaneo_example
     assert!(rel < 1e-8, "contact forces differ by {rel:e}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// examples/ssnv128.toml (a plate pressed, then pushed sideways below μN,
+/// held in x by friction alone): the friction forces balance the push and
+/// the pressure exactly, part of the face sticks and part slips on the
+/// cone, and the fixed point, the friction status method and the 2D Newton
+/// give the same forces.
+#[test]
+fn ssnv128_like_plate_balances_the_push_by_partial_slip() {
+    let text = example("ssnv128.toml").replace("divisions = [160, 40]", "divisions = [80, 20]");
+    let runs: Vec<RunOutput> = ["fixed_point", "status", "newton"]
+        .iter()
+        .map(|f| converged(&format!("{text}\n[solver]\nfriction = \"{f}\"\n")))
+        .collect();
+    let (n, t) = resultants(&runs[0], 2);
+    assert!((n - 200.0).abs() <= 1e-9 * 200.0, "normal {n}");
+    assert!((t - 150.0).abs() <= 1e-9 * 200.0, "tangential {t}");
+    let step = &runs[0].report.steps[1];
+    assert!(step.sticking > 0 && step.slipping > 0, "{step:?}");
+    for r in runs[0].contact_rows.iter().filter(|r| r.step == 2) {
+        assert!(r.tangential_force.abs() <= r.normal_force * (1.0 + 1e-9) + 1e-9 * 200.0);
+        if r.status == "slip" {
+            assert!((r.tangential_force.abs() - r.normal_force).abs() <= 1e-8 * 200.0);
+        }
+    }
+    for other in &runs[1..] {
+        for (x, y) in runs[0].contact_rows.iter().zip(&other.contact_rows) {
+            assert!(
+                (x.tangential_force - y.tangential_force).abs() <= 1e-6 * 200.0,
+                "{} vs {}",
+                x.tangential_force,
+                y.tangential_force
+            );
+        }
+    }
+}
