@@ -23,10 +23,18 @@ pub struct ActiveFactor {
     l: Mat<f64>,
 }
 
-/// The smallest pivot d² accepted, relative to the diagonal entry it comes
-/// from: below it the block is near singular (redundant constraints) and the
-/// caller's rank test must decide.
-const PIVOT_FLOOR: f64 = 1e-10;
+/// Whether a Cholesky factor's pivots L_ii² are safely positive: each at
+/// least 1e-10 of the diagonal entry A_ii it comes from (L_ii² / A_ii is the
+/// squared sine of the angle, in the metric of A, between row i and the rows
+/// before it, so the test is blind to the rows' scales). Below it the block
+/// is near singular (redundant constraints) and the caller's rank-tested
+/// solve must decide. NaN fails the test.
+pub(crate) fn cholesky_pivots_are_safe(
+    l_diag: impl Iterator<Item = f64>,
+    a_diag: impl Iterator<Item = f64>,
+) -> bool {
+    l_diag.zip(a_diag).all(|(l, a)| l * l > 1e-10 * a)
+}
 
 /// W_AA λ_A = −q_A with the factor carried in `slot` from the previous
 /// active set (updated, or made afresh when the change is large); λ on
@@ -63,7 +71,7 @@ impl ActiveFactor {
         let a = Mat::<f64>::from_fn(n, n, |i, j| w[(rows[i], rows[j])]);
         let llt = a.llt(Side::Lower).ok()?;
         let l = llt.L().to_owned();
-        let safe = (0..n).all(|i| l[(i, i)] * l[(i, i)] > PIVOT_FLOOR * a[(i, i)]);
+        let safe = cholesky_pivots_are_safe((0..n).map(|i| l[(i, i)]), (0..n).map(|i| a[(i, i)]));
         safe.then(|| Self {
             rows: rows.to_vec(),
             l,
@@ -185,9 +193,8 @@ impl ActiveFactor {
             return false;
         };
         let l22 = llt.L();
-        // NaN fails this test too.
-        if !(0..k).all(|i| l22[(i, i)] * l22[(i, i)] > PIVOT_FLOOR * w[(entering[i], entering[i])])
-        {
+        let a_diag = entering.iter().map(|&r| w[(r, r)]);
+        if !cholesky_pivots_are_safe((0..k).map(|i| l22[(i, i)]), a_diag) {
             return false;
         }
         self.l
