@@ -262,3 +262,42 @@ fn vtu_series_reads_back_in_3d() {
         _ => eprintln!("meshio not available: the Python read-back is skipped"),
     }
 }
+
+/// Frictionless contact on a rigid plane: each contact node is condensed on
+/// its normal component alone (one interface DOF per node instead of 3),
+/// and the answer is the direct path's; with friction (tangential rows) the
+/// nodes keep their three components; with METIS parts, nodes shared
+/// between parts stay Cartesian and the answer is unchanged.
+#[test]
+fn frictionless_contact_nodes_are_condensed_on_their_normal_only() {
+    let text = example("hertz3d.toml").replace("divisions = 12", "divisions = 6");
+    let a = converged(&text, RunOptions::default());
+    let b = converged(&text, direct());
+    assert_eq!(a.report.interface_dofs, a.report.contact_points);
+    assert!(a
+        .report
+        .messages
+        .iter()
+        .any(|m| m.contains("condensed on that component alone")));
+    let r = max_rel(
+        &a.bodies[0].last().displacement,
+        &b.bodies[0].last().displacement,
+    );
+    assert!(r <= 1e-9, "displacement differs by {r:e}");
+    let rf = max_rel(&a.report.contact_force, &b.report.contact_force);
+    assert!(rf <= 1e-9, "{rf:e}");
+    let split = with_subdomains(&text, "material = \"steel\"\n", 3);
+    let c = converged(&split, RunOptions::default());
+    assert!(c.report.interface_dofs > a.report.interface_dofs);
+    let r = max_rel(
+        &a.bodies[0].last().displacement,
+        &c.bodies[0].last().displacement,
+    );
+    assert!(r <= 1e-9, "parts: {r:e}");
+    let friction = text.replace(
+        "discretization = \"node_to_face\"",
+        "discretization = \"node_to_face\"\nfriction = { coulomb = 0.3 }",
+    );
+    let d = converged(&friction, RunOptions::default());
+    assert_eq!(d.report.interface_dofs, 3 * d.report.contact_points);
+}

@@ -286,7 +286,7 @@ pub(crate) fn finish_condensed(
     points: &[PointModel],
     specs: &[SubdomainSpec],
     data: &[CondensedData],
-    gamma_of: &[Vec<usize>],
+    (gamma_of, frames): (&[Vec<usize>], &crate::contact_frames::ContactFrames),
     recovered: &[RecoveredData],
     steps: Vec<StepSolution>,
     u_gamma: &[Vec<f64>],
@@ -326,7 +326,7 @@ pub(crate) fn finish_condensed(
         }
         let mut gaps = sol.gap0.clone();
         for (pi, p) in points.iter().enumerate() {
-            for &(b, d, c) in &p.row {
+            for &(b, d, c) in &frames.rotate_row(bodies, &p.row) {
                 if !bodies[b].prescribed[d] {
                     let g = gamma_of[b][d];
                     r_gamma[g] -= c * lambda[pi];

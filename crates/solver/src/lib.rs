@@ -21,6 +21,7 @@ mod certify;
 mod checks;
 mod compare;
 mod conditioning;
+pub mod contact_frames;
 mod direct_path;
 mod friction_step;
 mod kkt;

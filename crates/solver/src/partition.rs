@@ -4,6 +4,7 @@
 //! interface Γ.
 
 use super::*;
+use crate::contact_frames::ContactFrames;
 
 /// What the model and partition stages build, on every rank alike.
 pub(crate) struct ModelData {
@@ -11,7 +12,11 @@ pub(crate) struct ModelData {
     pub points: Vec<PointModel>,
     pub fixed: Vec<FixedPoint>,
     /// Γ index of every body DOF (usize::MAX off Γ), and the size of Γ.
+    /// On a node rotated into its contact frame ([`ContactFrames`]) the DOF
+    /// of component 0 is the normal component, the others are off Γ.
     pub gamma_of: Vec<Vec<usize>>,
+    /// The contact nodes condensed on their normal component only.
+    pub frames: ContactFrames,
     pub n_gamma: usize,
     /// Owner part of every body node.
     pub owner_part: Vec<Vec<usize>>,
@@ -46,7 +51,14 @@ pub(crate) fn model_stage(
             ));
         }
     }
-    let (gamma_of, n_gamma, owner_part) = interface_numbering(sc, &mut bodies, ranks)?;
+    let (gamma_of, n_gamma, owner_part, frames) =
+        interface_numbering(sc, &mut bodies, &points, ranks)?;
+    if frames.count() > 0 {
+        messages.push(format!(
+            "{} contact node(s) constrained along their normal only are condensed on that component alone (one interface DOF each)",
+            frames.count()
+        ));
+    }
     let specs = subdomain::subdomain_specs(&bodies);
     let scales = all_scales(sc, &bodies);
     Ok(ModelData {
@@ -54,6 +66,7 @@ pub(crate) fn model_stage(
         points,
         fixed,
         gamma_of,
+        frames,
         n_gamma,
         owner_part,
         specs,
@@ -107,17 +120,18 @@ pub(crate) fn parts_per_body(sc: &scene::Scene, bodies: &[BodyModel], ranks: usi
 }
 
 /// Partitions the bodies and numbers the interface Γ: the free DOFs of the
-/// nodes on contact surfaces or shared between parts, body by body.
-/// Returns (Γ index of every body DOF, size of Γ, owner part of every node).
+/// nodes on contact surfaces or shared between parts, body by body, a node
+/// rotated into its contact frame by its normal component only. Returns
+/// (Γ index of every body DOF, size of Γ, owner part of every node, frames).
 pub(crate) fn interface_numbering(
     sc: &scene::Scene,
     bodies: &mut [BodyModel],
+    points: &[PointModel],
     ranks: usize,
 ) -> Result<InterfaceNumbering, SolveError> {
     let counts = parts_per_body(sc, bodies, ranks);
-    let mut gamma_of = Vec::new();
     let mut owner = Vec::new();
-    let mut n = 0;
+    let mut shared_all = Vec::new();
     for (b, &k) in bodies.iter_mut().zip(&counts) {
         if k > 1 {
             b.parts = signorini_mesh::partition::partition_cells(&b.mesh, k).map_err(|e| {
@@ -135,19 +149,28 @@ pub(crate) fn interface_numbering(
                 own[v] = own[v].min(b.parts[c]);
             }
         }
+        shared_all.push(shared);
+        owner.push(own);
+    }
+    let frames = ContactFrames::decide(bodies, points, &shared_all);
+    let mut gamma_of = Vec::new();
+    let mut n = 0;
+    for (bi, b) in bodies.iter().enumerate() {
+        let dim = b.mesh.dim;
         let mut g = vec![usize::MAX; b.n_dof];
         for (d, gd) in g.iter_mut().enumerate() {
-            let node = d / b.mesh.dim;
-            if !b.prescribed[d] && (shared[node] || b.contact_node[node]) {
+            let node = d / dim;
+            let on_gamma = shared_all[bi][node] || b.contact_node[node];
+            let rotated_tangent = d % dim != 0 && frames.normal(bi, node).is_some();
+            if !b.prescribed[d] && on_gamma && !rotated_tangent {
                 *gd = n;
                 n += 1;
             }
         }
         gamma_of.push(g);
-        owner.push(own);
     }
-    Ok((gamma_of, n, owner))
+    Ok((gamma_of, n, owner, frames))
 }
 
 /// Γ index of every body DOF, size of Γ, owner part of every body node.
-pub(crate) type InterfaceNumbering = (Vec<Vec<usize>>, usize, Vec<Vec<usize>>);
+pub(crate) type InterfaceNumbering = (Vec<Vec<usize>>, usize, Vec<Vec<usize>>, ContactFrames);

@@ -151,7 +151,8 @@ fn condense_stage(
     let condense = |i: usize, spec: &SubdomainSpec| {
         let b = &model.bodies[spec.body];
         let (gamma, owner) = (&model.gamma_of[spec.body], &model.owner_part[spec.body]);
-        Subdomain::condense(i, spec, b, gamma, owner, par).map_err(|e| {
+        let frames = model.frames.local(spec.body, b.mesh.dim, Some(&spec.nodes));
+        Subdomain::condense(i, spec, b, gamma, owner, frames, par).map_err(|e| {
             format!(
                 "bodies[{}] \"{}\", subdomain {} (rank {}): {e}",
                 b.scene_index,
@@ -223,6 +224,7 @@ fn root_stage(
         specs: &model.specs,
         data: &data,
         gamma_of: &model.gamma_of,
+        frames: &model.frames,
         n_gamma: model.n_gamma,
     };
     let mut cond = conditioning::RootConditioning::default();
@@ -276,7 +278,7 @@ fn report_stage(
         &model.points,
         &model.specs,
         &data,
-        &model.gamma_of,
+        (&model.gamma_of, &model.frames),
         &recovered,
         steps,
         &answer.u_gamma,

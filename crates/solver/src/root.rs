@@ -221,6 +221,7 @@ pub(crate) struct RootInput<'a> {
     pub specs: &'a [SubdomainSpec],
     pub data: &'a [CondensedData],
     pub gamma_of: &'a [Vec<usize>],
+    pub frames: &'a crate::contact_frames::ContactFrames,
     pub n_gamma: usize,
 }
 
@@ -312,7 +313,9 @@ fn assemble_interface(input: &RootInput) -> Interface {
     let mut kernel = Mat::<f64>::zeros(n_gamma, n_kernel);
     let mut col = 0;
     for (bi, b) in bodies.iter().enumerate() {
+        let frames = input.frames.local(bi, b.mesh.dim, None);
         for r in &b.kernel {
+            let r = frames.to_local(r);
             for (d, &g) in input.gamma_of[bi].iter().enumerate() {
                 if g != usize::MAX {
                     kernel[(g, col)] = r[d];
@@ -343,7 +346,10 @@ type RowsOnGamma = (
 fn rows_on_gamma(input: &RootInput) -> RowsOnGamma {
     let (bodies, gamma_of) = (input.bodies, input.gamma_of);
     let to_gamma = |row: &[(usize, usize, f64)]| -> Vec<(usize, f64)> {
-        row.iter()
+        input
+            .frames
+            .rotate_row(bodies, row)
+            .iter()
             .filter(|&&(b, d, _)| !bodies[b].prescribed[d])
             .map(|&(b, d, c)| (gamma_of[b][d], c))
             .collect()

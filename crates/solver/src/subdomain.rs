@@ -15,6 +15,7 @@ use serde::{Deserialize, Serialize};
 use signorini_condense::{spmv, spmv_with_magnitude, submatrix, Condensed};
 use signorini_mesh::Mesh;
 
+use crate::contact_frames::LocalFrames;
 use crate::model::BodyModel;
 
 /// Which cells and nodes of which body a subdomain holds (computed the same
@@ -86,6 +87,7 @@ impl LocalLoads {
         owner_part: &[usize],
         k_local: &SparseColMat<usize, f64>,
         free: &[usize],
+        frames: &LocalFrames,
     ) -> Self {
         let dim = body.mesh.dim;
         let n_local = dim * spec.nodes.len();
@@ -108,6 +110,7 @@ impl LocalLoads {
             let u: Vec<f64> = (0..n_local)
                 .map(|l| load.displacement[spec.body_dof(dim, l)])
                 .collect();
+            let (f, u) = (frames.to_local(&f), frames.to_local(&u));
             let ku = spmv(k_local.as_ref(), &u);
             out.free_load
                 .push(free.iter().map(|&l| f[l] - ku[l]).collect::<Vec<f64>>());
@@ -228,6 +231,9 @@ pub struct Subdomain {
     displacement: Vec<Vec<f64>>,
     /// Per load entry: force_f − K_fp u_p on the free local DOFs.
     free_load: Vec<Vec<f64>>,
+    /// The contact frames of its nodes: K, the loads and the displacements
+    /// above are in the rotated components ũ = Tᵀ u.
+    frames: LocalFrames,
 }
 
 impl Subdomain {
@@ -240,12 +246,16 @@ impl Subdomain {
         body: &BodyModel,
         gamma_of: &[usize],
         owner_part: &[usize],
+        frames: LocalFrames,
         par: Par,
     ) -> Result<(Self, CondensedData), String> {
         let dim = body.mesh.dim;
         let mesh = spec.local_mesh(body);
-        let k_local = signorini_fem::try_assemble_stiffness(&mesh, &body.material)
+        let mut k_local = signorini_fem::try_assemble_stiffness(&mesh, &body.material)
             .map_err(|e| e.to_string())?;
+        if !frames.is_identity() {
+            k_local = frames.rotate_stiffness(k_local.as_ref())?;
+        }
         let n_local = dim * spec.nodes.len();
         let free: Vec<usize> = (0..n_local)
             .filter(|&l| !body.prescribed[spec.body_dof(dim, l)])
@@ -260,7 +270,7 @@ impl Subdomain {
                 gamma.push(g);
             }
         }
-        let loads = LocalLoads::of(spec, body, owner_part, &k_local, &free);
+        let loads = LocalLoads::of(spec, body, owner_part, &k_local, &free, &frames);
         let condensed =
             Condensed::new(k_ff.as_ref(), &interface, par).map_err(|e| e.to_string())?;
         let data = CondensedData::of(id, &condensed, &gamma, &loads.free_load, free.len());
@@ -277,6 +287,7 @@ impl Subdomain {
                 force: loads.force,
                 displacement: loads.displacement,
                 free_load: loads.free_load,
+                frames,
             },
             data,
         ))
@@ -338,7 +349,7 @@ impl Subdomain {
             out.interior_residual.push(interior);
             out.force_scale.push(scale);
             out.gamma_residual.push(gamma_res);
-            out.displacements.push(u);
+            out.displacements.push(self.frames.to_cartesian(&u));
         }
         out
     }

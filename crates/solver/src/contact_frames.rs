@@ -1,0 +1,317 @@
+//! Condensing only what contact needs (issue 15): a contact node whose
+//! constraint rows all act along one direction n (frictionless contact
+//! against a rigid surface, or along a fixed normal) has its DOFs rotated
+//! into the frame (n, t1, t2) before condensation, and only its normal
+//! component ũ_n = n·u is an interface DOF; its tangential components are
+//! interior DOFs of its subdomain. A 3D frictionless contact node then adds
+//! one Γ DOF instead of three.
+//!
+//! With Q = [n t1 t2] (orthonormal) on such a node and the identity
+//! elsewhere, u = T ũ; the subdomain condenses K̃ = Tᵀ K T with the loads
+//! f̃ = Tᵀ f, and recovers u = T ũ. A contact row Σ c·u on the node becomes
+//! (c·n) ũ_n, since c ∥ n. A node is rotated only when nothing else needs
+//! its Cartesian components on Γ: no prescribed DOF, not shared between
+//! subdomains (glue is Cartesian), no tangential (friction) row, and a body
+//! without rigid modes held by contact.
+
+use crate::model::{BodyModel, PointModel};
+
+/// The normal of each rotated node, per body and node (`None`: Cartesian).
+#[derive(Debug, Clone, Default)]
+pub struct ContactFrames {
+    normal: Vec<Vec<Option<[f64; 3]>>>,
+}
+
+/// Two coefficient vectors are parallel when the part of c across n is
+/// below this fraction of |c| (normals of one rigid plane agree to
+/// round-off; those of a curved master differ by far more).
+const PARALLEL: f64 = 1e-9;
+
+impl ContactFrames {
+    /// No rotated node (the direct path, or to turn the reduction off).
+    pub fn none(bodies: &[BodyModel]) -> Self {
+        Self {
+            normal: bodies
+                .iter()
+                .map(|b| vec![None; b.mesh.n_nodes()])
+                .collect(),
+        }
+    }
+
+    /// The nodes whose every constraint row acts along one direction;
+    /// `shared[b][node]`: the node is on the boundary between parts of body b.
+    pub fn decide(bodies: &[BodyModel], points: &[PointModel], shared: &[Vec<bool>]) -> Self {
+        let mut frames = Self::none(bodies);
+        // Per node: the first direction seen, and whether it may rotate.
+        let mut ok: Vec<Vec<bool>> = bodies
+            .iter()
+            .enumerate()
+            .map(|(b, body)| {
+                (0..body.mesh.n_nodes())
+                    .map(|n| {
+                        let dim = body.mesh.dim;
+                        body.kernel.is_empty()
+                            && !shared[b][n]
+                            && (0..dim).all(|d| !body.prescribed[dim * n + d])
+                    })
+                    .collect()
+            })
+            .collect();
+        for p in points {
+            for row in [&p.trow, &p.trow2].into_iter().flatten() {
+                for &(b, d, _) in row {
+                    ok[b][d / bodies[b].mesh.dim] = false;
+                }
+            }
+            for (b, node, c) in node_vectors(bodies, &p.row) {
+                frames.meet(b, node, c, &mut ok[b][node]);
+            }
+        }
+        for (b, nodes) in frames.normal.iter_mut().enumerate() {
+            for (n, slot) in nodes.iter_mut().enumerate() {
+                if !ok[b][n] {
+                    *slot = None;
+                }
+            }
+        }
+        frames
+    }
+
+    /// Records the coefficient vector c of one row on a node: the first
+    /// sets the node's direction, a later one not parallel to it clears `ok`.
+    fn meet(&mut self, b: usize, node: usize, c: [f64; 3], ok: &mut bool) {
+        let len = norm(c);
+        if len.is_nan() || len <= 0.0 {
+            return;
+        }
+        let unit = c.map(|x| x / len);
+        match self.normal[b][node] {
+            None => self.normal[b][node] = Some(unit),
+            Some(n) => {
+                let along = dot(c, n);
+                let across = norm([
+                    c[0] - along * n[0],
+                    c[1] - along * n[1],
+                    c[2] - along * n[2],
+                ]);
+                if across > PARALLEL * len {
+                    *ok = false;
+                }
+            }
+        }
+    }
+
+    /// The normal of body b's node, if it is rotated.
+    pub fn normal(&self, b: usize, node: usize) -> Option<[f64; 3]> {
+        self.normal
+            .get(b)
+            .and_then(|v| v.get(node).copied().flatten())
+    }
+
+    /// How many nodes are rotated.
+    pub fn count(&self) -> usize {
+        self.normal.iter().flatten().filter(|n| n.is_some()).count()
+    }
+
+    /// A row (body, DOF, coefficient) in the rotated components: on a
+    /// rotated node the Cartesian terms merge into one on its component 0
+    /// (the normal), with coefficient c·n.
+    pub fn rotate_row(
+        &self,
+        bodies: &[BodyModel],
+        row: &[(usize, usize, f64)],
+    ) -> Vec<(usize, usize, f64)> {
+        let mut out: Vec<(usize, usize, f64)> = Vec::with_capacity(row.len());
+        for &(b, d, c) in row {
+            let dim = bodies[b].mesh.dim;
+            match self.normal(b, d / dim) {
+                None => out.push((b, d, c)),
+                Some(n) => {
+                    let d0 = d - d % dim;
+                    let v = c * n[d % dim];
+                    match out.iter_mut().find(|e| e.0 == b && e.1 == d0) {
+                        Some(e) => e.2 += v,
+                        None => out.push((b, d0, v)),
+                    }
+                }
+            }
+        }
+        out
+    }
+
+    /// The rotations of body b's nodes `nodes` (all of them: `None`).
+    pub fn local(&self, b: usize, dim: usize, nodes: Option<&[usize]>) -> LocalFrames {
+        LocalFrames {
+            dim,
+            normal: match nodes {
+                Some(nodes) => nodes.iter().map(|&n| self.normal[b][n]).collect(),
+                None => self.normal[b].clone(),
+            },
+        }
+    }
+}
+
+/// The coefficient vector of a row on each node it touches: (body, node, c).
+fn node_vectors(
+    bodies: &[BodyModel],
+    row: &[(usize, usize, f64)],
+) -> Vec<(usize, usize, [f64; 3])> {
+    let mut out: Vec<(usize, usize, [f64; 3])> = Vec::new();
+    for &(b, d, c) in row {
+        let dim = bodies[b].mesh.dim;
+        let node = d / dim;
+        match out.iter_mut().find(|e| e.0 == b && e.1 == node) {
+            Some(e) => e.2[d % dim] += c,
+            None => {
+                let mut v = [0.0; 3];
+                v[d % dim] = c;
+                out.push((b, node, v));
+            }
+        }
+    }
+    out
+}
+
+fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+fn norm(a: [f64; 3]) -> f64 {
+    dot(a, a).sqrt()
+}
+
+/// An orthonormal basis Q (Q[d][k]: component d of column k) whose first
+/// column is the unit vector n: in 2D (n, n⊥), in 3D (n, t1, t2) with t1
+/// across the axis along which n is smallest.
+pub fn basis(n: [f64; 3], dim: usize) -> [[f64; 3]; 3] {
+    let mut q = [[0.0; 3]; 3];
+    if dim == 2 {
+        let t = [-n[1], n[0], 0.0];
+        for d in 0..2 {
+            q[d][0] = n[d];
+            q[d][1] = t[d];
+        }
+        return q;
+    }
+    let axis = (0..3)
+        .min_by(|&a, &b| n[a].abs().total_cmp(&n[b].abs()))
+        .unwrap_or(0);
+    let mut e = [0.0; 3];
+    e[axis] = 1.0;
+    let along = dot(e, n);
+    let t1 = [
+        e[0] - along * n[0],
+        e[1] - along * n[1],
+        e[2] - along * n[2],
+    ];
+    let l = norm(t1);
+    let t1 = t1.map(|x| x / l);
+    let t2 = [
+        n[1] * t1[2] - n[2] * t1[1],
+        n[2] * t1[0] - n[0] * t1[2],
+        n[0] * t1[1] - n[1] * t1[0],
+    ];
+    for d in 0..3 {
+        q[d][0] = n[d];
+        q[d][1] = t1[d];
+        q[d][2] = t2[d];
+    }
+    q
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_basis_is_orthonormal_with_n_first() {
+        for n in [[0.0, 0.0, 1.0], [0.6, 0.0, 0.8], [1.0 / 3f64.sqrt(); 3]] {
+            let q = basis(n, 3);
+            for a in 0..3 {
+                for b in 0..3 {
+                    let ab: f64 = (0..3).map(|d| q[d][a] * q[d][b]).sum();
+                    let want = if a == b { 1.0 } else { 0.0 };
+                    assert!((ab - want).abs() <= 4.0 * f64::EPSILON, "{n:?} {a} {b}");
+                }
+            }
+            assert!((0..3).all(|d| q[d][0] == n[d]));
+        }
+        let q = basis([0.6, 0.8, 0.0], 2);
+        assert_eq!([q[0][1], q[1][1]], [-0.8, 0.6]);
+    }
+}
+
+/// Rotations of one subdomain's local DOFs: the normal of each local node
+/// (`None`: Cartesian), `dim` DOFs per node.
+pub struct LocalFrames {
+    pub dim: usize,
+    pub normal: Vec<Option<[f64; 3]>>,
+}
+
+impl LocalFrames {
+    pub fn is_identity(&self) -> bool {
+        self.normal.iter().all(|n| n.is_none())
+    }
+
+    /// The entries of column l of T (u = T ũ): (row, value).
+    fn t_col(&self, l: usize) -> Vec<(usize, f64)> {
+        let (dim, node, k) = (self.dim, l / self.dim, l % self.dim);
+        match self.normal[node] {
+            None => vec![(l, 1.0)],
+            Some(n) => {
+                let q = basis(n, dim);
+                (0..dim).map(|d| (dim * node + d, q[d][k])).collect()
+            }
+        }
+    }
+
+    /// K̃ = Tᵀ K T (T block diagonal: each entry of K spreads over the
+    /// blocks of its row's and column's nodes).
+    pub fn rotate_stiffness(
+        &self,
+        k: faer::sparse::SparseColMatRef<'_, usize, f64>,
+    ) -> Result<faer::sparse::SparseColMat<usize, f64>, String> {
+        // Tᵀ e_i = row i of T: (column k, Q[d][k]) for the node of i.
+        let t_row = |i: usize| -> Vec<(usize, f64)> {
+            let (dim, node, d) = (self.dim, i / self.dim, i % self.dim);
+            match self.normal[node] {
+                None => vec![(i, 1.0)],
+                Some(n) => {
+                    let q = basis(n, dim);
+                    (0..dim).map(|c| (dim * node + c, q[d][c])).collect()
+                }
+            }
+        };
+        let mut t = Vec::with_capacity(k.compute_nnz());
+        for j in 0..k.ncols() {
+            let tj = t_row(j);
+            for (&i, &v) in k.row_idx_of_col_raw(j).iter().zip(k.val_of_col(j)) {
+                for (a, ta) in t_row(i) {
+                    for &(b, tb) in &tj {
+                        t.push(faer::sparse::Triplet::new(a, b, ta * v * tb));
+                    }
+                }
+            }
+        }
+        faer::sparse::SparseColMat::try_new_from_triplets(k.nrows(), k.ncols(), &t)
+            .map_err(|e| format!("rotating the stiffness into the contact frames: {e:?}"))
+    }
+
+    /// ũ = Tᵀ u.
+    pub fn to_local(&self, u: &[f64]) -> Vec<f64> {
+        (0..u.len())
+            .map(|l| self.t_col(l).iter().map(|&(i, t)| t * u[i]).sum())
+            .collect()
+    }
+
+    /// u = T ũ.
+    pub fn to_cartesian(&self, ut: &[f64]) -> Vec<f64> {
+        let mut u = vec![0.0; ut.len()];
+        for (l, &x) in ut.iter().enumerate() {
+            for (i, t) in self.t_col(l) {
+                u[i] += t * x;
+            }
+        }
+        u
+    }
+}
