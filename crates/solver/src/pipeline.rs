@@ -82,7 +82,7 @@ pub fn run(
             widenings,
         };
         match attempt.solve(log)? {
-            Outcome::Done(out) => return Ok(out),
+            Outcome::Done(out) => return Ok(out.map(|o| *o)),
             Outcome::Widen(w) => {
                 notes.extend(w.notes);
                 zone = Some(w.zone);
@@ -106,7 +106,7 @@ struct Attempt<'a> {
 /// What a solve ends with: the output (on the root), or the zone to solve
 /// again with.
 enum Outcome {
-    Done(Option<RunOutput>),
+    Done(Option<Box<RunOutput>>),
     Widen(model::Widening),
 }
 
@@ -169,7 +169,7 @@ impl Attempt<'_> {
             return Ok(Outcome::Done(None));
         };
         let (partial, (bytes, stats)) = partial?;
-        finish_report(ctx, partial, log, bytes, stats).map(|o| Outcome::Done(Some(o)))
+        finish_report(ctx, partial, log, bytes, stats).map(|o| Outcome::Done(Some(Box::new(o))))
     }
 
     /// The direct path on the root (the other ranks have nothing to do).
@@ -191,7 +191,7 @@ impl Attempt<'_> {
         if let Some(w) = self.check_zone(model, &partial) {
             return Ok(Outcome::Widen(w));
         }
-        finish_report(ctx, partial, log, 0, vec![]).map(|o| Outcome::Done(Some(o)))
+        finish_report(ctx, partial, log, 0, vec![]).map(|o| Outcome::Done(Some(Box::new(o))))
     }
 
     /// The excluded points of the model against the solved displacements:

@@ -101,6 +101,12 @@ pub fn zone_notes(
     let mut notes = Vec::new();
     for (ci, c) in sc.contact.iter().enumerate() {
         let Some(limit) = zone.limit.get(ci).copied().flatten() else {
+            if c.search_distance.is_some() {
+                notes.push(format!(
+                    "contact \"{}\": search_distance does not apply, every slave node is a contact unknown (a body of the pair is held by contact alone, or a solve before widened the zone to every node)",
+                    c.name
+                ));
+            }
             continue;
         };
         let out = excluded.iter().filter(|p| p.contact == ci).count();
@@ -109,7 +115,7 @@ pub fn zone_notes(
         }
         let kept = points.iter().filter(|p| p.contact == ci).count();
         notes.push(format!(
-            "contact \"{}\": search_distance keeps {kept} of {} slave node(s) as contact unknowns (initial gap <= {limit:.3e}: search_distance plus the largest prescribed displacement); the {out} others are interior DOFs, checked after the solve: none penetrates the master",
+            "contact \"{}\": search_distance keeps {kept} of {} slave node(s) as contact unknowns (initial gap <= {limit:.3e}); the {out} others are interior DOFs, checked after the solve: none penetrates the master",
             c.name,
             kept + out
         ));
