@@ -220,3 +220,18 @@ fn a_search_distance_that_is_not_a_positive_length_is_refused() {
         assert!(!dir.join("out").exists(), "{tag}: wrote output");
     }
 }
+
+#[test]
+fn axisymmetric_hertz_with_a_zone_equals_the_full_run() {
+    let text = example("hertz_axi.toml");
+    let full = converged(&text, RunOptions::default());
+    let zoned = converged(
+        &with_zone(&text, "node_to_segment", 0.05),
+        RunOptions::default(),
+    );
+    assert_same_answer(&full, &zoned, 1e-9);
+    let (rf, rz) = (&full.report, &zoned.report);
+    assert!(rz.contact_points * 3 < rf.contact_points * 2);
+    assert!(rz.interface_dofs * 3 < rf.interface_dofs * 2);
+    assert_eq!(zone_notes(&zoned), (1, 0));
+}

@@ -145,12 +145,17 @@ pub fn check_excluded(
     widenings: usize,
 ) -> Option<Widening> {
     // Per contact: (count, lowest gap, largest g0) of the penetrating points.
+    let mut lowest = vec![f64::INFINITY; excluded.len()];
+    for u in u_steps {
+        for (l, g) in lowest
+            .iter_mut()
+            .zip(crate::direct_path::gaps_of(excluded, u))
+        {
+            *l = l.min(g);
+        }
+    }
     let mut hits: std::collections::BTreeMap<usize, (usize, f64, f64)> = Default::default();
-    for p in excluded {
-        let lowest = u_steps
-            .iter()
-            .map(|u| p.gap0 + p.row.iter().map(|&(b, d, c)| c * u[b][d]).sum::<f64>())
-            .fold(f64::INFINITY, f64::min);
+    for (p, &lowest) in excluded.iter().zip(&lowest) {
         if lowest < -tolerance {
             let h = hits.entry(p.contact).or_insert((0, 0.0, 0.0));
             *h = (h.0 + 1, h.1.min(lowest), h.2.max(p.gap0));
