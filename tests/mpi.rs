@@ -378,3 +378,45 @@ fn si_under_mpirun_equals_mm_in_process(
     let r = max_rel(&u_si, &u_mm);
     assert!(r <= 1e-10, "{tag}: displacements differ by {r:e}");
 }
+
+/// A candidate zone too small (`search_distance`, tests/search_distance.rs)
+/// under `mpirun -n 2`, the block split in two: every rank solves again with
+/// the widened zone, the report says so once, and the answer equals the
+/// in-process run's and the run without a zone.
+#[test]
+fn a_zone_widened_under_mpirun_2_equals_the_in_process_run() {
+    if !have_mpirun() {
+        return;
+    }
+    let split = common::with_subdomains(common::PULLED_BLOCK, "material = \"steel\"\n", 2);
+    let zoned = common::with_zone(&split, "node_to_segment", 2e-3);
+    let scene = write_scene("zone_scene", "zone.toml", &zoned);
+    compare(&scene, 2, "zone");
+    let full = write_scene("zone_full_scene", "full.toml", &split);
+    let d = dir("zone_full");
+    let out = local(&["run", &full, "--out", d.to_str().unwrap()]);
+    assert!(out.status.success());
+    let zoned_report = report(
+        &Path::new(env!("CARGO_TARGET_TMPDIR"))
+            .join("mpi")
+            .join("zone")
+            .join("mpi"),
+    );
+    let widened = zoned_report["messages"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|m| m.as_str().unwrap().contains("widened"))
+        .count();
+    assert!(widened >= 1, "{:?}", zoned_report["messages"]);
+    let force = |r: &serde_json::Value| -> Vec<f64> {
+        r["contact_force"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|v| v.as_f64().unwrap())
+            .collect()
+    };
+    let (a, b) = (force(&report(&d)), force(&zoned_report));
+    assert!(max_rel(&a, &b) <= 1e-9, "{a:?} against {b:?}");
+}

@@ -172,3 +172,52 @@ pub fn assert_message(out: &RunOutput, needle: &str) {
 pub fn with_subdomains(text: &str, after: &str, n: usize) -> String {
     text.replacen(after, &format!("{after}subdomains = {n}\n"), 1)
 }
+
+/// `text` with `search_distance = d` added to its (single) `[[contact]]`,
+/// after its `discretization` line.
+pub fn with_zone(text: &str, discretization: &str, d: f64) -> String {
+    let line = format!("discretization = \"{discretization}\"\n");
+    assert!(text.contains(&line), "test bug: no {line:?}");
+    text.replacen(&line, &format!("{line}search_distance = {d}\n"), 1)
+}
+
+/// A block clamped on its top, pulled down by a traction on its bottom onto
+/// a rigid cylinder 10⁻³ below: no prescribed motion, so the zone is the
+/// search distance alone and 2 × 10⁻³ keeps 3 of the bottom nodes, while
+/// the block touches the cylinder on about a fifth of its width.
+pub const PULLED_BLOCK: &str = r#"title = "block pulled onto a rigid cylinder"
+dimension = 2
+model = "plane_strain"
+
+[[materials]]
+name = "steel"
+young = 1.0
+poisson = 0.3
+
+[[bodies]]
+name = "block"
+material = "steel"
+mesh = { generator = "rectangle", origin = [0.0, 0.0], size = [1.0, 0.5], divisions = [40, 10] }
+
+[[bodies]]
+name = "cylinder"
+rigid = { shape = "circle", center = [0.5, -1.001], radius = 1.0 }
+
+[[boundary]]
+name = "clamp"
+body = "block"
+surface = "top"
+displacement = { x = 0.0, y = 0.0 }
+
+[[boundary]]
+name = "pull"
+body = "block"
+surface = "bottom"
+traction = [0.0, -0.02]
+
+[[contact]]
+name = "block-cylinder"
+slave = { body = "block", surface = "bottom" }
+master = { body = "cylinder" }
+discretization = "node_to_segment"
+"#;

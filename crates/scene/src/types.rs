@@ -574,6 +574,12 @@ pub struct Contact {
     /// `"geometric"` (default, from coordinates) or a number (uniform initial gap).
     #[serde(default)]
     pub gap: Gap,
+    /// The candidate zone, a length: slave nodes whose initial gap exceeds
+    /// it plus the largest prescribed displacement of the pair's bodies are
+    /// not contact unknowns (nor interface DOFs). `None` (default): every
+    /// slave node is a candidate. Excluded nodes are checked after the solve.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub search_distance: Option<f64>,
 }
 
 /// `slave` / `master` of a contact pair: `{ body, surface }`.

@@ -473,6 +473,14 @@ impl Scene {
             if let Gap::Uniform(g) = c.gap {
                 finite(&format!("{e}.gap"), g)?;
             }
+            if let Some(d) = c.search_distance {
+                if !(d.is_finite() && d > 0.0) {
+                    return Err(invalid(
+                        format!("{e}.search_distance"),
+                        format!("must be a positive finite length (in the scene's units), got {d}; leave it out to keep every slave node a contact candidate"),
+                    ));
+                }
+            }
         }
         Ok(())
     }

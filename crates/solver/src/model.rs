@@ -15,7 +15,9 @@ use signorini_scene as scene;
 use crate::SolveError;
 
 mod contacts;
-pub use contacts::{build_contacts, eliminate_redundant, FixedPoint};
+mod zone;
+pub use contacts::{build_contacts, eliminate_redundant, ContactSet, FixedPoint};
+pub use zone::{check_excluded, zone_notes, Widening, Zone, MAX_WIDENINGS};
 
 fn input(msg: impl Into<String>) -> SolveError {
     SolveError::Input(msg.into())

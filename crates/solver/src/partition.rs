@@ -11,6 +11,10 @@ pub(crate) struct ModelData {
     pub bodies: Vec<BodyModel>,
     pub points: Vec<PointModel>,
     pub fixed: Vec<FixedPoint>,
+    /// The points outside their contact's candidate zone (`zone`): not
+    /// contact unknowns, checked after the solve.
+    pub excluded: Vec<PointModel>,
+    pub zone: model::Zone,
     /// Γ index of every body DOF (usize::MAX off Γ), and the size of Γ.
     /// On a node rotated into its contact frame ([`ContactFrames`]) the DOF
     /// of component 0 is the normal component, the others are off Γ.
@@ -25,17 +29,28 @@ pub(crate) struct ModelData {
     pub scales: Vec<Vec<Vec<f64>>>,
 }
 
-/// Builds the bodies and the contact points, drops redundant constraints,
-/// partitions the bodies over `ranks` (1 on the direct path) and numbers Γ;
-/// notes what a user should know in `messages`.
+/// Builds the bodies and the contact points (the candidates of `zone`, by
+/// default the scene's), drops redundant constraints, partitions the bodies
+/// over `ranks` (1 on the direct path) and numbers Γ; notes what a user
+/// should know in `messages`.
 pub(crate) fn model_stage(
     sc: &scene::Scene,
     ranks: usize,
+    zone: Option<&model::Zone>,
     messages: &mut Vec<String>,
 ) -> Result<ModelData, SolveError> {
     let mut bodies = model::build_bodies(sc)?;
-    let (mut points, fixed) = model::build_contacts(sc, &mut bodies, messages)?;
+    let scales = all_scales(sc, &bodies);
+    let zone = zone
+        .cloned()
+        .unwrap_or_else(|| model::Zone::of_scene(sc, &bodies, &scales));
+    let model::ContactSet {
+        mut points,
+        fixed,
+        excluded,
+    } = model::build_contacts(sc, &mut bodies, &zone, messages)?;
     messages.extend(model::eliminate_redundant(sc, &mut points));
+    messages.extend(model::zone_notes(sc, &zone, &points, &excluded));
     if !fixed.is_empty() {
         messages.push(format!(
             "{} slave node(s) have every normal DOF prescribed: their gap is known and they are not contact unknowns",
@@ -60,11 +75,12 @@ pub(crate) fn model_stage(
         ));
     }
     let specs = subdomain::subdomain_specs(&bodies);
-    let scales = all_scales(sc, &bodies);
     Ok(ModelData {
         bodies,
         points,
         fixed,
+        excluded,
+        zone,
         gamma_of,
         frames,
         n_gamma,

@@ -45,18 +45,17 @@ type RootState = (
 
 /// Runs a scene on every rank of `comm`. Returns the output on the root,
 /// `None` on the other ranks; an error is returned identically on every rank.
+///
+/// When a contact's candidate zone (`search_distance`) left out a slave node
+/// that penetrates its master in the answer, the run is solved again with
+/// the zone widened (model::check_excluded), and the report says so.
 pub fn run(
     sc: &scene::Scene,
     scene_name: &str,
     opts: &RunOptions,
     comm: &dyn Transport,
 ) -> Result<Option<RunOutput>, SolveError> {
-    let mut log = RunLog {
-        t_total: Instant::now(),
-        timings: Timings::default(),
-        messages: Vec::new(),
-        stages: vec!["mesh".to_string(), "assemble".to_string()],
-    };
+    let t_total = Instant::now();
     let plan = plan::plan(sc, opts)?;
     // Refuse a scene that cannot fit before building anything (the root's
     // verdict on every rank: the machines' memory may differ).
@@ -64,65 +63,155 @@ pub fn run(
         .is_root()
         .then(|| memory::check(sc, plan.path, comm.size()).map(|_| ()));
     wire(broadcast(comm, fits.as_ref()))??;
-    let condensed_path = plan.path == scene::SolvePath::Condensed;
-    let t = Instant::now();
-    let ranks = if condensed_path { comm.size() } else { 1 };
-    let model = partition::model_stage(sc, ranks, &mut log.messages)?;
-    log.timings.setup = t.elapsed().as_secs_f64();
-    let ctx = RunContext {
-        sc,
-        scene_name,
-        plan: &plan,
-        model: &model,
-        comm,
-    };
-    if !condensed_path {
-        return direct_stage(ctx, log);
+    let mut zone = None;
+    let mut notes = Vec::new();
+    let mut widenings = 0;
+    loop {
+        let log = RunLog {
+            t_total,
+            timings: Timings::default(),
+            messages: notes.clone(),
+            stages: vec!["mesh".to_string(), "assemble".to_string()],
+        };
+        let attempt = Attempt {
+            sc,
+            scene_name,
+            plan: &plan,
+            comm,
+            zone: zone.as_ref(),
+            widenings,
+        };
+        match attempt.solve(log)? {
+            Outcome::Done(out) => return Ok(out.map(|o| *o)),
+            Outcome::Widen(w) => {
+                notes.extend(w.notes);
+                zone = Some(w.zone);
+                widenings += 1;
+            }
+        }
     }
-    log.stages.push("condense".into());
-    let (local, condensed, condense_s) = condense_stage(comm, &model, &mut log.messages);
-    let gathered = wire(gather(comm, &condensed))?;
-    let t_root = Instant::now();
-    let (answer, root_state) = root_stage(sc, &plan, &model, gathered);
-    let contact_s = t_root.elapsed().as_secs_f64();
-    let answer: Result<RootAnswer, SolveError> =
-        wire(broadcast(comm, comm.is_root().then_some(&answer)))?;
-    let answer = answer?;
-    let t = Instant::now();
-    let recovered = recover_stage(&model, &local, &answer);
-    let figures = RankFigures {
-        condense_s,
-        recover_s: t.elapsed().as_secs_f64(),
-        peak_rss_bytes: signorini_report::peak_rss_bytes(),
-        bytes_sent: comm.bytes_sent(),
-        subdomains: local.len(),
-    };
-    let gathered = wire(gather(comm, &(recovered, figures)))?;
-    let Some(all) = gathered else { return Ok(None) };
-    let Some(state) = root_state else {
-        return Err(SolveError::Internal("root state missing".into()));
-    };
-    log.timings.contact = contact_s;
-    report_stage(ctx, log, state, all, &answer).map(Some)
 }
 
-/// The direct path on the root (the other ranks have nothing to do).
-fn direct_stage(ctx: RunContext, mut log: RunLog) -> Result<Option<RunOutput>, SolveError> {
-    let (sc, model) = (ctx.sc, ctx.model);
-    if !ctx.comm.is_root() {
-        return Ok(None);
+/// One solve of the run with a candidate zone (`None`: the scene's).
+struct Attempt<'a> {
+    sc: &'a scene::Scene,
+    scene_name: &'a str,
+    plan: &'a plan::Plan,
+    comm: &'a dyn Transport,
+    zone: Option<&'a model::Zone>,
+    /// How many times the zone was widened before this solve.
+    widenings: usize,
+}
+
+/// What a solve ends with: the output (on the root), or the zone to solve
+/// again with.
+enum Outcome {
+    Done(Option<Box<RunOutput>>),
+    Widen(model::Widening),
+}
+
+impl Attempt<'_> {
+    /// Model, then the direct path on the root or the condensed path on
+    /// every rank.
+    fn solve(&self, mut log: RunLog) -> Result<Outcome, SolveError> {
+        let (sc, comm) = (self.sc, self.comm);
+        let condensed_path = self.plan.path == scene::SolvePath::Condensed;
+        let t = Instant::now();
+        let ranks = if condensed_path { comm.size() } else { 1 };
+        let model = partition::model_stage(sc, ranks, self.zone, &mut log.messages)?;
+        log.timings.setup = t.elapsed().as_secs_f64();
+        let ctx = RunContext {
+            sc,
+            scene_name: self.scene_name,
+            plan: self.plan,
+            model: &model,
+            comm,
+        };
+        if !condensed_path {
+            return self.direct_stage(ctx, log);
+        }
+        log.stages.push("condense".into());
+        let (local, condensed, condense_s) = condense_stage(comm, &model, &mut log.messages);
+        let gathered = wire(gather(comm, &condensed))?;
+        let t_root = Instant::now();
+        let (answer, root_state) = root_stage(sc, self.plan, &model, gathered);
+        let contact_s = t_root.elapsed().as_secs_f64();
+        let answer: Result<RootAnswer, SolveError> =
+            wire(broadcast(comm, comm.is_root().then_some(&answer)))?;
+        let answer = answer?;
+        let t = Instant::now();
+        let recovered = recover_stage(&model, &local, &answer);
+        let figures = RankFigures {
+            condense_s,
+            recover_s: t.elapsed().as_secs_f64(),
+            peak_rss_bytes: signorini_report::peak_rss_bytes(),
+            bytes_sent: comm.bytes_sent(),
+            subdomains: local.len(),
+        };
+        let gathered = wire(gather(comm, &(recovered, figures)))?;
+        log.timings.contact = contact_s;
+        let partial = gathered.map(|all| {
+            let state =
+                root_state.ok_or_else(|| SolveError::Internal("root state missing".into()))?;
+            condensed_partial(ctx, &mut log, state, all, &answer)
+        });
+        // The root's verdict on the excluded points, on every rank.
+        let widen = partial
+            .as_ref()
+            .and_then(|p| p.as_ref().ok())
+            .and_then(|(p, _)| self.check_zone(&model, p));
+        let widen: Option<model::Widening> =
+            wire(broadcast(comm, comm.is_root().then_some(&widen)))?;
+        if let Some(w) = widen {
+            return Ok(Outcome::Widen(w));
+        }
+        let Some(partial) = partial else {
+            return Ok(Outcome::Done(None));
+        };
+        let (partial, (bytes, stats)) = partial?;
+        finish_report(ctx, partial, log, bytes, stats).map(|o| Outcome::Done(Some(Box::new(o))))
     }
-    log.stages.push("contact".into());
-    let partial = run_direct(
-        sc,
-        &model.bodies,
-        &model.points,
-        &model.fixed,
-        &model.scales,
-        &mut log.timings,
-        &mut log.messages,
-    )?;
-    finish_report(ctx, partial, log, 0, vec![]).map(Some)
+
+    /// The direct path on the root (the other ranks have nothing to do).
+    fn direct_stage(&self, ctx: RunContext, mut log: RunLog) -> Result<Outcome, SolveError> {
+        let (sc, model) = (ctx.sc, ctx.model);
+        if !ctx.comm.is_root() {
+            return Ok(Outcome::Done(None));
+        }
+        log.stages.push("contact".into());
+        let partial = run_direct(
+            sc,
+            &model.bodies,
+            &model.points,
+            &model.fixed,
+            &model.scales,
+            &mut log.timings,
+            &mut log.messages,
+        )?;
+        if let Some(w) = self.check_zone(model, &partial) {
+            return Ok(Outcome::Widen(w));
+        }
+        finish_report(ctx, partial, log, 0, vec![]).map(|o| Outcome::Done(Some(Box::new(o))))
+    }
+
+    /// The excluded points of the model against the solved displacements:
+    /// the widened zone if one of them penetrates (the penetration tolerance
+    /// of the certificate, in its length scale).
+    fn check_zone(
+        &self,
+        model: &partition::ModelData,
+        partial: &Partial,
+    ) -> Option<model::Widening> {
+        let cert = &partial.certificate;
+        model::check_excluded(
+            self.sc,
+            &model.zone,
+            &model.excluded,
+            &partial.u_steps,
+            cert.tolerance * cert.length_scale,
+            self.widenings,
+        )
+    }
 }
 
 type Condensed = (Vec<Subdomain>, Result<Vec<CondensedData>, String>, f64);
@@ -250,15 +339,16 @@ fn recover_stage(
         .collect()
 }
 
-/// The root: the recovered fields of every rank, the certificate per step,
-/// the conditioning and the per-rank statistics, into the report.
-fn report_stage(
+/// The root: the recovered fields of every rank, the certificate per step
+/// and the conditioning into the run's partial report, with the bytes sent
+/// and the per-rank statistics.
+fn condensed_partial(
     ctx: RunContext,
-    mut log: RunLog,
+    log: &mut RunLog,
     (steps, data, root_cond): RootState,
     all: Vec<(Vec<RecoveredData>, RankFigures)>,
     answer: &RootAnswer,
-) -> Result<RunOutput, SolveError> {
+) -> Result<(Partial, (u64, Vec<RankStats>)), SolveError> {
     let (sc, model) = (ctx.sc, ctx.model);
     log.timings.delassus = steps.iter().map(|st| st.operator_s).sum();
     let mut recovered: Vec<RecoveredData> = Vec::new();
@@ -303,5 +393,5 @@ fn report_stage(
             bytes_sent: f.bytes_sent,
         })
         .collect();
-    finish_report(ctx, partial, log, bytes, stats)
+    Ok((partial, (bytes, stats)))
 }

@@ -7,27 +7,59 @@ use signorini_contact::geometry::{node_to_node_pairing, node_to_segment_pairing}
 use signorini_contact::{ContactPoint, MasterGeometry, NormalRule, TermSide};
 use signorini_scene as scene;
 
-use super::{input, point3, BodyModel, PointModel};
+use super::{input, point3, BodyModel, PointModel, Zone};
 use crate::SolveError;
 use signorini_contact::friction::FrictionLaw;
 
+/// The contact points of a scene: the contact unknowns, the points whose gap
+/// the supports fix, and the points outside the candidate zone.
+pub struct ContactSet {
+    pub points: Vec<PointModel>,
+    pub fixed: Vec<FixedPoint>,
+    /// Points whose initial gap is beyond their contact's zone: not
+    /// unknowns, checked after the solve (see `zone`).
+    pub excluded: Vec<PointModel>,
+}
+
 /// Builds the contact points of every pair, and marks the DOFs of contact
-/// surfaces as interface DOFs of their bodies. Adds to `notes` a note per
-/// pair that left slave nodes out (no master point along their normal).
+/// surfaces as interface DOFs of their bodies: every node of both surfaces,
+/// or, for a contact that `zone` restricts, the nodes of its contact
+/// unknowns' rows only. Adds to `notes` a note per pair that left slave
+/// nodes out (no master point along their normal).
 pub fn build_contacts(
     sc: &scene::Scene,
     bodies: &mut [BodyModel],
+    zone: &Zone,
     notes: &mut Vec<String>,
-) -> Result<(Vec<PointModel>, Vec<FixedPoint>), SolveError> {
-    let mut points = Vec::new();
-    let mut fixed = Vec::new();
+) -> Result<ContactSet, SolveError> {
+    let mut set = ContactSet {
+        points: Vec::new(),
+        fixed: Vec::new(),
+        excluded: Vec::new(),
+    };
     let mut interface_nodes: Vec<Vec<usize>> = vec![Vec::new(); bodies.len()];
     for ci in 0..sc.contact.len() {
-        let pair = contact_pair(sc, bodies, ci, notes, &mut interface_nodes)?;
+        let restricted = zone.restricts(ci);
+        let surfaces = (!restricted).then_some(&mut interface_nodes[..]);
+        let pair = contact_pair(sc, bodies, ci, notes, surfaces)?;
         for p in pair.points {
             match point_model(sc, bodies, &pair.sides, ci, &pair.tributary, p) {
-                PairPoint::Unknown(point) => points.push(*point),
-                PairPoint::Fixed(f) => fixed.push(f),
+                PairPoint::Unknown(point) if zone.includes(ci, point.gap0) => {
+                    if restricted {
+                        for t in &point.point.terms {
+                            let b = match t.side {
+                                TermSide::Slave => pair.sides.slave,
+                                TermSide::Master => pair.sides.master.unwrap_or(usize::MAX),
+                            };
+                            if let Some(nodes) = interface_nodes.get_mut(b) {
+                                nodes.push(t.node);
+                            }
+                        }
+                    }
+                    set.points.push(*point)
+                }
+                PairPoint::Unknown(point) => set.excluded.push(*point),
+                PairPoint::Fixed(f) => set.fixed.push(f),
             }
         }
     }
@@ -36,7 +68,7 @@ pub fn build_contacts(
             bodies[b].contact_node[n] = true;
         }
     }
-    Ok((points, fixed))
+    Ok(set)
 }
 
 /// The contact points of one pair with the slave's tributary measure per
@@ -155,13 +187,14 @@ fn master_geometry<'a>(
 
 /// Pairs the slave surface of contact `ci` with its master: the contact
 /// points, the slave's tributary measures; notes the slave nodes left out
-/// and marks both surfaces' nodes as interface nodes.
+/// and marks both surfaces' nodes as interface nodes (when given
+/// `interface_nodes`).
 fn contact_pair(
     sc: &scene::Scene,
     bodies: &[BodyModel],
     ci: usize,
     notes: &mut Vec<String>,
-    interface_nodes: &mut [Vec<usize>],
+    interface_nodes: Option<&mut [Vec<usize>]>,
 ) -> Result<ContactPair, SolveError> {
     let c = &sc.contact[ci];
     let entry = format!("contact \"{}\"", c.name);
@@ -195,9 +228,11 @@ fn contact_pair(
     let tributary = signorini_fem::tributary_measure(s_mesh, s_surf, bodies[si].material.model)
         .into_iter()
         .collect();
-    interface_nodes[si].extend(s_surf.nodes());
-    if let (Some(mi), MasterGeometry::Surface { surface, .. }) = (mi, &master) {
-        interface_nodes[mi].extend(surface.nodes());
+    if let Some(interface_nodes) = interface_nodes {
+        interface_nodes[si].extend(s_surf.nodes());
+        if let (Some(mi), MasterGeometry::Surface { surface, .. }) = (mi, &master) {
+            interface_nodes[mi].extend(surface.nodes());
+        }
     }
     Ok(ContactPair {
         points: pairing.points,
