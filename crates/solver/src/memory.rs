@@ -599,8 +599,10 @@ pub fn estimate(sc: &scene::Scene, path: scene::SolvePath, ranks: usize) -> Esti
         .count()
         .max(1);
     let body_of = |name: &str| sc.body_index(name).and_then(|i| sizes[i].as_ref());
-    // Contact rows, and contact nodes of each body.
-    let mut contact_nodes = vec![0.0; sc.bodies.len()];
+    // Contact rows, and the interface DOFs contact puts on each body: d per
+    // node, one per slave node condensed on its normal alone (frictionless
+    // against a rigid master, crates/solver/src/contact_frames.rs).
+    let mut contact_dofs = vec![0.0; sc.bodies.len()];
     let mut rows = 0.0;
     for c in &sc.contact {
         let slave = c
@@ -609,11 +611,13 @@ pub fn estimate(sc: &scene::Scene, path: scene::SolvePath, ranks: usize) -> Esti
             .as_deref()
             .and_then(|s| body_of(&c.slave.body).map(|b| b.surface(s)))
             .unwrap_or(0.0);
+        let rigid_master = c.master.surface.is_none();
+        let normal_only = rigid_master && matches!(c.friction, scene::Friction::None);
         if let Some(i) = sc.body_index(&c.slave.body) {
-            contact_nodes[i] += slave;
+            contact_dofs[i] += slave * if normal_only { 1.0 } else { dim as f64 };
         }
         if let (Some(i), Some(s)) = (sc.body_index(&c.master.body), c.master.surface.as_deref()) {
-            contact_nodes[i] += body_of(&c.master.body).map_or(0.0, |b| b.surface(s));
+            contact_dofs[i] += dim as f64 * body_of(&c.master.body).map_or(0.0, |b| b.surface(s));
         }
         let tangential = match c.friction {
             scene::Friction::None => 0.0,
@@ -645,14 +649,13 @@ pub fn estimate(sc: &scene::Scene, path: scene::SolvePath, ranks: usize) -> Esti
         } else {
             0.0
         };
-        let gamma_nodes = (contact_nodes[i] + shared).min(s.nodes);
         let n = d * s.nodes;
         e.nodes += s.nodes;
         e.dofs += n;
-        e.interface_dofs += d * gamma_nodes;
+        e.interface_dofs += (contact_dofs[i] + d * shared).min(n);
         // per part
         let n_part = n / parts;
-        let nb_part = (d * (contact_nodes[i] + 2.0 * shared) / parts).min(n_part);
+        let nb_part = ((contact_dofs[i] + 2.0 * d * shared) / parts).min(n_part);
         let triplets = s.cells * (d * s.per_cell).powi(2);
         let entries = s.nodes * d * d * s.neighbours;
         let per_dof = 8.0 * (12.0 + 5.0 * loads(&b.name));
