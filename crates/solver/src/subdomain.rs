@@ -12,7 +12,7 @@
 use faer::sparse::SparseColMat;
 use faer::Par;
 use serde::{Deserialize, Serialize};
-use signorini_condense::{spmv, spmv_with_magnitude, submatrix, Condensed};
+use signorini_condense::{spmv, spmv_with_magnitude, submatrix, Condensed, FactorStats};
 use signorini_mesh::Mesh;
 
 use crate::model::BodyModel;
@@ -155,6 +155,9 @@ pub struct CondensedData {
     pub fprime: Vec<Vec<f64>>,
     pub dofs: usize,
     pub factor_bytes: usize,
+    /// The factor's ordering, size and flops, and every ordering compared
+    /// (the kept one first).
+    pub factor: Vec<FactorSummary>,
     /// Estimated κ₁(K_II) of the subdomain's interior stiffness (Hager–Higham
     /// on its own factor); `None` without interior DOFs.
     pub k_ii_condition: Option<f64>,
@@ -188,7 +191,34 @@ impl CondensedData {
                 .collect(),
             dofs,
             factor_bytes: condensed.memory_bytes(),
+            factor: condensed
+                .ordering_candidates()
+                .iter()
+                .map(FactorSummary::of)
+                .collect(),
             k_ii_condition: condensed.interior_condition_estimate(),
+        }
+    }
+}
+
+/// A factor's ordering, size and flops, as a subdomain sends them.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct FactorSummary {
+    /// `Ordering::as_str`.
+    pub ordering: String,
+    pub nnz: usize,
+    /// Stored values (8 bytes each).
+    pub values: usize,
+    pub flops: f64,
+}
+
+impl FactorSummary {
+    pub fn of(stats: &FactorStats) -> Self {
+        FactorSummary {
+            ordering: stats.ordering.as_str().to_string(),
+            nnz: stats.nnz,
+            values: stats.values,
+            flops: stats.flops,
         }
     }
 }
