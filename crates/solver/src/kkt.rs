@@ -261,7 +261,8 @@ fn refine(
         let candidate: Vec<f64> = x.iter().zip(&d).map(|(a, b)| a + b).collect();
         let (e, rr) = backward_error(exact, &candidate, b);
         steps += 1;
-        if !(e < berr) {
+        // Stop when a step does not help (also when e is NaN).
+        if e.partial_cmp(&berr) != Some(std::cmp::Ordering::Less) {
             break;
         }
         (x, berr, r) = (candidate, e, rr);
