@@ -78,5 +78,9 @@ fn symmetric_direct_path_equals_condensed_in_3d() {
     assert!(f.candidates[0].flops < f.candidates[1].flops);
     // A box held by contact alone in three rigid modes.
     let floating = direct_equals_condensed(&example("floating3d.toml"), 1e-9);
-    assert!(floating.report.messages.iter().any(|m| m.contains("held by contact")));
+    assert!(floating
+        .report
+        .messages
+        .iter()
+        .any(|m| m.contains("held by contact")));
 }

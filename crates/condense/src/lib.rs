@@ -213,15 +213,15 @@ fn factorise_interface_last(
     Ok((ordered, l_values))
 }
 
-/// The trailing nb × nb block L_BB of the supernodal factor (lower
-/// triangular), read from the supernodes that reach past the interior.
-fn trailing_block(
+/// Calls `f(i, j, L[ni + i][ni + j])` for every stored entry (i ≥ j) of the
+/// trailing nb × nb block L_BB of the supernodal factor (lower triangular),
+/// read from the supernodes that reach past the interior.
+fn for_each_trailing_entry(
     symbolic: &SymbolicCholesky<usize>,
     l_values: &[f64],
     ni: usize,
-    nb: usize,
-) -> Result<Mat<f64>, CondenseError> {
-    let mut l_bb = Mat::<f64>::zeros(nb, nb);
+    mut f: impl FnMut(usize, usize, f64),
+) -> Result<(), CondenseError> {
     let SymbolicCholeskyRaw::Supernodal(sn) = symbolic.raw() else {
         return Err(CondenseError::Factorisation(
             "expected a supernodal factor".into(),
@@ -244,11 +244,24 @@ fn trailing_block(
             }
             for (ii, &i) in rows.iter().enumerate() {
                 if i >= ni && i >= j {
-                    l_bb[(i - ni, j - ni)] = snode.val()[(ii, jj)];
+                    f(i - ni, j - ni, snode.val()[(ii, jj)]);
                 }
             }
         }
     }
+    Ok(())
+}
+
+/// The trailing nb × nb block L_BB of the supernodal factor (lower
+/// triangular), as a dense matrix.
+fn trailing_block(
+    symbolic: &SymbolicCholesky<usize>,
+    l_values: &[f64],
+    ni: usize,
+    nb: usize,
+) -> Result<Mat<f64>, CondenseError> {
+    let mut l_bb = Mat::<f64>::zeros(nb, nb);
+    for_each_trailing_entry(symbolic, l_values, ni, |i, j, v| l_bb[(i, j)] = v)?;
     Ok(l_bb)
 }
 
@@ -290,8 +303,6 @@ pub struct Condensed {
     l_values: Vec<f64>,
     /// Schur complement on the interface (dense, symmetric), in `interface` order.
     pub schur: Mat<f64>,
-    /// The trailing block L_BB of the factor (lower triangular).
-    l_bb: Mat<f64>,
     /// ‖K_II‖₁, the largest absolute column sum of the interior block.
     k_ii_norm1: f64,
     /// The factor's ordering, size and flops.
@@ -332,6 +343,8 @@ impl Condensed {
         drop(ks);
         let l_bb = trailing_block(&ordered.symbolic, &l_values, ni, interface.len())?;
         let schur = schur_from_trailing_block(&l_bb, c, par);
+        // L_BB stays in the factor (`for_each_trailing_entry`): no dense copy.
+        drop(l_bb);
         Ok(Self {
             n,
             interior,
@@ -341,7 +354,6 @@ impl Condensed {
             perm_inv: ordered.inv,
             l_values,
             schur,
-            l_bb,
             k_ii_norm1,
             stats: ordered.stats,
             candidates: ordered.candidates,
@@ -425,16 +437,17 @@ impl Condensed {
         self.lref()
             .l_solve_with_conj(Conj::No, y.as_mut(), self.par, MemStack::new(&mut mem));
         let mut out = vec![0.0; nb];
-        for j in 0..nb {
-            let yj = y[(ni + j, 0)];
-            if yj == 0.0 {
-                continue;
-            }
-            for (i, o) in out.iter_mut().enumerate().skip(j) {
-                *o += self.l_bb[(i, j)] * yj;
-            }
-        }
+        for_each_trailing_entry(&self.symbolic, &self.l_values, ni, |i, j, v| {
+            out[i] += v * y[(ni + j, 0)];
+        })
+        .expect("supernodal, checked in new()");
         out
+    }
+
+    /// Moves the Schur complement out (leaving `schur` empty, 0 × 0): the
+    /// caller that sends it keeps one dense copy instead of two.
+    pub fn take_schur(&mut self) -> Mat<f64> {
+        std::mem::replace(&mut self.schur, Mat::new())
     }
 
     /// Interior recovery: given the load F on all DOFs and the interface
@@ -466,9 +479,9 @@ impl Condensed {
         u
     }
 
-    /// Bytes held by the factor and the dense blocks.
+    /// Bytes held by the factor and the dense Schur complement.
     pub fn memory_bytes(&self) -> usize {
-        8 * (self.l_values.len() + 2 * self.interface.len().pow(2))
+        8 * (self.l_values.len() + self.interface.len().pow(2))
     }
 
     /// The factor's ordering, size and flops.

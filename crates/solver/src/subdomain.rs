@@ -169,18 +169,18 @@ impl CondensedData {
     /// free DOF count and the size and condition of its factor.
     fn of(
         id: usize,
-        condensed: &Condensed,
+        condensed: &mut Condensed,
         gamma: &[usize],
         free_load: &[Vec<f64>],
         dofs: usize,
     ) -> Self {
         let nb = gamma.len();
+        let dense = condensed.take_schur();
         let mut schur = Vec::with_capacity(nb * nb);
         for j in 0..nb {
-            for i in 0..nb {
-                schur.push(condensed.schur[(i, j)]);
-            }
+            schur.extend_from_slice(dense.col_as_slice(j));
         }
+        drop(dense);
         CondensedData {
             id,
             gamma: gamma.to_vec(),
@@ -291,9 +291,9 @@ impl Subdomain {
             }
         }
         let loads = LocalLoads::of(spec, body, owner_part, &k_local, &free);
-        let condensed =
+        let mut condensed =
             Condensed::new(k_ff.as_ref(), &interface, par).map_err(|e| e.to_string())?;
-        let data = CondensedData::of(id, &condensed, &gamma, &loads.free_load, free.len());
+        let data = CondensedData::of(id, &mut condensed, &gamma, &loads.free_load, free.len());
         Ok((
             Self {
                 id,
