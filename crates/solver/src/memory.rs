@@ -26,7 +26,7 @@
 //!   of AMD's), so the 3D term is conservative there. The direct path
 //!   factorises the whole stiffness with its contact constraints by a sparse
 //!   LDLᵀ at each status iteration, in the same ordering and without an
-//!   interface kept last: measured 0.55 times this estimate on the 3D Hertz
+//!   interface kept last: measured 0.45 times this estimate on the 3D Hertz
 //!   sphere (12 000 DOFs), taken as 1 (it was 8 and 6 times with the sparse
 //!   LU it replaced);
 //! * **dense interface**: 8 bytes per entry of S_i (n_b², three copies: the
