@@ -14,7 +14,7 @@
 //! needs fewer factorisation flops ([`FactorStats::flops`]; ties go to AMD).
 //! Measured (README, "3D at scale"): the Hertz sphere at 127k DOFs, 4.0× fewer
 //! flops and half the factor with nested dissection (12k DOFs: 1.8× fewer
-//! flops, condensation 20–35 % faster); the 2D Hertz cylinder at 11k DOFs
+//! flops, 10–15 % less CPU time); the 2D Hertz cylinder at 11k DOFs
 //! (AMD 1.7e8 flops), 1.8× fewer flops but no faster: METIS's ordering and
 //! the second symbolic factor cost what the factorisation saves. Hence the
 //! threshold of 1e9 flops (about 0.1 s of factorisation on 2 cores).
