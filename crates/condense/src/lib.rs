@@ -14,7 +14,8 @@
 //!
 //! [`Condensed::new`] computes S by a partial factorisation (notes §1.4,
 //! "method C"): the whole subdomain matrix is factorised once by a supernodal
-//! Cholesky with the interior ordered first (AMD on K_II) and the interface last,
+//! Cholesky with the interior ordered first (by the cheaper of AMD and nested
+//! dissection on K_II, [`ordering`]) and the interface last,
 //! after shifting K_BB by c·I; then L_BB L_BBᵀ = S + c·I exactly, so S is read
 //! from the trailing dense block. The shift keeps the factorisation valid for a
 //! floating subdomain (singular S). The same factor gives F' and the interior
@@ -26,17 +27,15 @@
 //! condition estimates); it must not know contact, the scene format or MPI.
 
 pub mod conditioning;
+pub mod ordering;
+
+use ordering::OrderedSymbolic;
+pub use ordering::{FactorStats, Ordering, OrderingChoice};
 
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
 use faer::linalg::cholesky::llt::factor::LltRegularization;
-use faer::perm::PermRef;
-use faer::sparse::linalg::amd;
 use faer::sparse::linalg::cholesky::supernodal::SupernodalLltRef;
-use faer::sparse::linalg::cholesky::{
-    factorize_symbolic_cholesky, CholeskySymbolicParams, SymbolicCholesky, SymbolicCholeskyRaw,
-    SymmetricOrdering,
-};
-use faer::sparse::linalg::SupernodalThreshold;
+use faer::sparse::linalg::cholesky::{SymbolicCholesky, SymbolicCholeskyRaw};
 use faer::sparse::{SparseColMat, SparseColMatRef, Triplet};
 use faer::{Accum, Conj, Mat, Par, Side};
 
@@ -184,63 +183,17 @@ fn shifted_interface_last(
         .map_err(|e| CondenseError::Factorisation(format!("{e:?}")))
 }
 
-/// Ordering (forward, inverse): AMD on K_II (the leading ni × ni block of
-/// the renumbered matrix), interface appended in natural order.
-fn interior_first_ordering(
-    ks: SparseColMatRef<'_, usize, f64>,
-    ni: usize,
-) -> Result<(Vec<usize>, Vec<usize>), CondenseError> {
-    let n = ks.nrows();
-    let mut fwd = vec![0usize; n];
-    let mut inv = vec![0usize; n];
-    if ni > 0 {
-        let kii = submatrix(
-            ks,
-            &(0..ni).collect::<Vec<_>>(),
-            &(0..ni).collect::<Vec<_>>(),
-        );
-        let mut mem = MemBuffer::new(amd::order_maybe_unsorted_scratch::<usize>(
-            ni,
-            kii.compute_nnz(),
-        ));
-        amd::order_maybe_unsorted(
-            &mut fwd[..ni],
-            &mut inv[..ni],
-            kii.symbolic(),
-            amd::Control::default(),
-            MemStack::new(&mut mem),
-        )
-        .map_err(|e| CondenseError::Factorisation(format!("AMD: {e:?}")))?;
-    }
-    for i in ni..n {
-        fwd[i] = i;
-        inv[i] = i;
-    }
-    Ok((fwd, inv))
-}
-
-/// The supernodal Cholesky factor (symbolic, values) of the shifted,
-/// renumbered matrix in the ordering (fwd, inv); refused when the final
-/// permutation does not keep the interface (rows ni..n) last.
+/// The supernodal Cholesky factor (ordering and symbolic, values) of the
+/// shifted, renumbered matrix, with the interior ordered by `choice`
+/// ([`ordering`]) and the interface (rows ni..n) kept last.
 fn factorise_interface_last(
     ks: SparseColMatRef<'_, usize, f64>,
-    fwd: &[usize],
-    inv: &[usize],
     ni: usize,
+    choice: OrderingChoice,
     par: Par,
-) -> Result<(SymbolicCholesky<usize>, Vec<f64>), CondenseError> {
-    let n = ks.nrows();
-    let perm = PermRef::new_checked(fwd, inv, n);
-    let symbolic = factorize_symbolic_cholesky(
-        ks.symbolic(),
-        Side::Lower,
-        SymmetricOrdering::Custom(perm),
-        CholeskySymbolicParams {
-            supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SUPERNODAL,
-            ..Default::default()
-        },
-    )
-    .map_err(|e| CondenseError::Factorisation(format!("{e:?}")))?;
+) -> Result<(OrderedSymbolic, Vec<f64>), CondenseError> {
+    let ordered = ordering::order_and_analyse(ks, ni, choice)?;
+    let symbolic = &ordered.symbolic;
     let mut l_values = vec![0.0f64; symbolic.len_val()];
     {
         let mut mem =
@@ -257,27 +210,18 @@ fn factorise_interface_last(
             )
             .map_err(|e| CondenseError::NotPositiveDefinite(format!("{e:?}")))?;
     }
-    // The final permutation must keep the interface last.
-    if let Some(p) = symbolic.perm() {
-        let (f, _) = p.arrays();
-        if (ni..n).any(|i| f[i] != i) {
-            return Err(CondenseError::Factorisation(
-                "the ordering did not keep the interface last".into(),
-            ));
-        }
-    }
-    Ok((symbolic, l_values))
+    Ok((ordered, l_values))
 }
 
-/// The trailing nb × nb block L_BB of the supernodal factor (lower
-/// triangular), read from the supernodes that reach past the interior.
-fn trailing_block(
+/// Calls `f(i, j, L[ni + i][ni + j])` for every stored entry (i ≥ j) of the
+/// trailing nb × nb block L_BB of the supernodal factor (lower triangular),
+/// read from the supernodes that reach past the interior.
+fn for_each_trailing_entry(
     symbolic: &SymbolicCholesky<usize>,
     l_values: &[f64],
     ni: usize,
-    nb: usize,
-) -> Result<Mat<f64>, CondenseError> {
-    let mut l_bb = Mat::<f64>::zeros(nb, nb);
+    mut f: impl FnMut(usize, usize, f64),
+) -> Result<(), CondenseError> {
     let SymbolicCholeskyRaw::Supernodal(sn) = symbolic.raw() else {
         return Err(CondenseError::Factorisation(
             "expected a supernodal factor".into(),
@@ -300,11 +244,24 @@ fn trailing_block(
             }
             for (ii, &i) in rows.iter().enumerate() {
                 if i >= ni && i >= j {
-                    l_bb[(i - ni, j - ni)] = snode.val()[(ii, jj)];
+                    f(i - ni, j - ni, snode.val()[(ii, jj)]);
                 }
             }
         }
     }
+    Ok(())
+}
+
+/// The trailing nb × nb block L_BB of the supernodal factor (lower
+/// triangular), as a dense matrix.
+fn trailing_block(
+    symbolic: &SymbolicCholesky<usize>,
+    l_values: &[f64],
+    ni: usize,
+    nb: usize,
+) -> Result<Mat<f64>, CondenseError> {
+    let mut l_bb = Mat::<f64>::zeros(nb, nb);
+    for_each_trailing_entry(symbolic, l_values, ni, |i, j, v| l_bb[(i, j)] = v)?;
     Ok(l_bb)
 }
 
@@ -346,20 +303,33 @@ pub struct Condensed {
     l_values: Vec<f64>,
     /// Schur complement on the interface (dense, symmetric), in `interface` order.
     pub schur: Mat<f64>,
-    /// The trailing block L_BB of the factor (lower triangular).
-    l_bb: Mat<f64>,
     /// ‖K_II‖₁, the largest absolute column sum of the interior block.
     k_ii_norm1: f64,
+    /// The factor's ordering, size and flops.
+    stats: FactorStats,
+    /// Every ordering tried (the kept one first).
+    candidates: Vec<FactorStats>,
     par: Par,
 }
 
 impl Condensed {
     /// Factorises K (the subdomain stiffness on its free DOFs, both triangles
     /// stored) with the DOFs `interface` ordered last and forms
-    /// S = K_BB − K_BI K_II⁻¹ K_IB (notes §1.4, method C).
+    /// S = K_BB − K_BI K_II⁻¹ K_IB (notes §1.4, method C), the interior
+    /// ordered by the cheaper of AMD and nested dissection ([`ordering`]).
     pub fn new(
         k: SparseColMatRef<'_, usize, f64>,
         interface: &[usize],
+        par: Par,
+    ) -> Result<Self, CondenseError> {
+        Self::with_ordering(k, interface, OrderingChoice::Auto, par)
+    }
+
+    /// [`Condensed::new`] with the interior ordered by `choice`.
+    pub fn with_ordering(
+        k: SparseColMatRef<'_, usize, f64>,
+        interface: &[usize],
+        choice: OrderingChoice,
         par: Par,
     ) -> Result<Self, CondenseError> {
         let n = k.nrows();
@@ -369,21 +339,24 @@ impl Condensed {
         let k_ii_norm1 = interior_norm1(k, &is_b, &interior);
         let c = interface_shift(k, interface);
         let ks = shifted_interface_last(k, &interior, interface, c)?;
-        let (fwd, inv) = interior_first_ordering(ks.as_ref(), ni)?;
-        let (symbolic, l_values) = factorise_interface_last(ks.as_ref(), &fwd, &inv, ni, par)?;
-        let l_bb = trailing_block(&symbolic, &l_values, ni, interface.len())?;
+        let (ordered, l_values) = factorise_interface_last(ks.as_ref(), ni, choice, par)?;
+        drop(ks);
+        let l_bb = trailing_block(&ordered.symbolic, &l_values, ni, interface.len())?;
         let schur = schur_from_trailing_block(&l_bb, c, par);
+        // L_BB stays in the factor (`for_each_trailing_entry`): no dense copy.
+        drop(l_bb);
         Ok(Self {
             n,
             interior,
             interface: interface.to_vec(),
-            symbolic,
-            perm_fwd: fwd,
-            perm_inv: inv,
+            symbolic: ordered.symbolic,
+            perm_fwd: ordered.fwd,
+            perm_inv: ordered.inv,
             l_values,
             schur,
-            l_bb,
             k_ii_norm1,
+            stats: ordered.stats,
+            candidates: ordered.candidates,
             par,
         })
     }
@@ -464,16 +437,17 @@ impl Condensed {
         self.lref()
             .l_solve_with_conj(Conj::No, y.as_mut(), self.par, MemStack::new(&mut mem));
         let mut out = vec![0.0; nb];
-        for j in 0..nb {
-            let yj = y[(ni + j, 0)];
-            if yj == 0.0 {
-                continue;
-            }
-            for (i, o) in out.iter_mut().enumerate().skip(j) {
-                *o += self.l_bb[(i, j)] * yj;
-            }
-        }
+        for_each_trailing_entry(&self.symbolic, &self.l_values, ni, |i, j, v| {
+            out[i] += v * y[(ni + j, 0)];
+        })
+        .expect("supernodal, checked in new()");
         out
+    }
+
+    /// Moves the Schur complement out (leaving `schur` empty, 0 × 0): the
+    /// caller that sends it keeps one dense copy instead of two.
+    pub fn take_schur(&mut self) -> Mat<f64> {
+        std::mem::replace(&mut self.schur, Mat::new())
     }
 
     /// Interior recovery: given the load F on all DOFs and the interface
@@ -505,9 +479,19 @@ impl Condensed {
         u
     }
 
-    /// Bytes held by the factor and the dense blocks.
+    /// Bytes held by the factor and the dense Schur complement.
     pub fn memory_bytes(&self) -> usize {
-        8 * (self.l_values.len() + 2 * self.interface.len().pow(2))
+        8 * (self.l_values.len() + self.interface.len().pow(2))
+    }
+
+    /// The factor's ordering, size and flops.
+    pub fn factor_stats(&self) -> FactorStats {
+        self.stats
+    }
+
+    /// Every ordering compared for this factor, the kept one first.
+    pub fn ordering_candidates(&self) -> &[FactorStats] {
+        &self.candidates
     }
 }
 

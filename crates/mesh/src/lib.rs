@@ -12,6 +12,7 @@
 
 pub mod generators;
 pub mod gmsh;
+pub mod nested_dissection;
 pub mod partition;
 pub mod quadratic;
 pub mod vec3;

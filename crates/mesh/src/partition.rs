@@ -14,12 +14,12 @@ use metis::{option, Graph, Idx};
 use crate::{CellKind, Mesh, MeshError};
 
 /// Seed of METIS's random number generator (fixed for reproducible partitions).
-const SEED: Idx = 42;
+pub(crate) const SEED: Idx = 42;
 
 /// METIS keeps its random number generator in global state: two partitions
 /// computed at once (threads of one process) interleave their draws and
 /// neither is reproducible any more. Every call into METIS holds this lock.
-static METIS: std::sync::Mutex<()> = std::sync::Mutex::new(());
+pub(crate) static METIS: std::sync::Mutex<()> = std::sync::Mutex::new(());
 /// Allowed load imbalance of METIS in thousandths: 30 → parts at most 3 % above
 /// the average size (before the contiguity constraint is enforced).
 const UFACTOR: Idx = 30;

@@ -92,6 +92,51 @@ pub struct Memory {
     pub estimated_bytes: u64,
 }
 
+/// The sparse factorisation of the run (report.json `factorisation`): the
+/// fill-reducing ordering kept, the factor's size and the flops of one
+/// factorisation, summed over the subdomains (condensed path) or of the
+/// KKT matrix (direct path).
+#[derive(Debug, Clone, Default, Serialize)]
+pub struct Factorisation {
+    /// "cholesky": the subdomains' partial LLᵀ with the interface last
+    /// (condensed path); "ldlt": the quasi-definite LDLᵀ of the KKT matrix
+    /// (direct path).
+    pub kind: String,
+    /// "amd" or "nested_dissection" (the cheaper of the two in flops, see the
+    /// README), "mixed" when the subdomains differ.
+    pub ordering: String,
+    /// Entries of the sparse factor L.
+    pub factor_nnz: u64,
+    /// Bytes of the factor's stored values (8 per value; supernodes are
+    /// stored as dense blocks).
+    pub factor_bytes: u64,
+    /// Σ_j c_j² over the columns of L (c_j entries in column j): the flops
+    /// of one numerical factorisation.
+    pub flops: f64,
+    /// Every ordering compared, with the factor it would give (summed over
+    /// the subdomains), the kept one first.
+    pub candidates: Vec<OrderingCandidate>,
+    /// Direct path: numerical factorisations (one per status iteration).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub factorisations: Option<usize>,
+    /// Direct path: iterative refinement steps over all solves (the LDLᵀ is
+    /// of the regularised matrix; refinement recovers the exact solution).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub refinement_steps: Option<usize>,
+    /// Direct path: solves where the LDLᵀ failed or refinement did not
+    /// reach the exact solution, solved by sparse LU instead.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub lu_fallbacks: Option<usize>,
+}
+
+/// One fill-reducing ordering compared for the factorisation.
+#[derive(Debug, Clone, Default, Serialize)]
+pub struct OrderingCandidate {
+    pub ordering: String,
+    pub factor_nnz: u64,
+    pub flops: f64,
+}
+
 /// The contact conditions checked on the final solution, each relative to
 /// the scale of the problem (see the README): equilibrium residual over the
 /// load, penetration and complementarity over the displacement scale,
@@ -202,6 +247,9 @@ pub struct Report {
     pub steps: Vec<StepReport>,
     pub timings_s: Timings,
     pub memory: Memory,
+    /// Ordering, size and flops of the sparse factorisation.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub factorisation: Option<Factorisation>,
     /// Bytes sent between ranks (0 in one process).
     pub communication_bytes: u64,
     /// Per rank: subdomains, condensation and recovery time, peak memory,

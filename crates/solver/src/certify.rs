@@ -270,6 +270,7 @@ pub(crate) fn empty_partial() -> Partial {
         u_steps: vec![],
         dense_interface_bytes: 0,
         factor_bytes: 0,
+        factorisation: None,
         n_gamma: 0,
         dofs: 0,
         solver: serde_json::Value::Null,
@@ -364,12 +365,48 @@ pub(crate) fn finish_condensed(
     partial.u_steps = u_steps;
     partial.dense_interface_bytes = 8 * (n_gamma * n_gamma + m * m) as u64;
     partial.factor_bytes = data.iter().map(|d| d.factor_bytes as u64).sum();
+    partial.factorisation = Some(condensed_factorisation(data));
     partial.n_gamma = n_gamma;
     partial.dofs = bodies
         .iter()
         .map(|b| b.prescribed.iter().filter(|p| !**p).count())
         .sum();
     Ok(partial)
+}
+
+/// The subdomains' factorisations summed: the ordering each kept ("mixed"
+/// when they differ), and per ordering compared the factor it gives.
+fn condensed_factorisation(data: &[CondensedData]) -> signorini_report::Factorisation {
+    let kept: Vec<&FactorSummary> = data.iter().filter_map(|d| d.factor.first()).collect();
+    let ordering = match kept.first() {
+        Some(k) if kept.iter().all(|o| o.ordering == k.ordering) => k.ordering.clone(),
+        Some(_) => "mixed".to_string(),
+        None => String::new(),
+    };
+    let mut candidates: Vec<signorini_report::OrderingCandidate> = Vec::new();
+    for f in data.iter().flat_map(|d| &d.factor) {
+        match candidates.iter_mut().find(|c| c.ordering == f.ordering) {
+            Some(c) => {
+                c.factor_nnz += f.nnz as u64;
+                c.flops += f.flops;
+            }
+            None => candidates.push(signorini_report::OrderingCandidate {
+                ordering: f.ordering.clone(),
+                factor_nnz: f.nnz as u64,
+                flops: f.flops,
+            }),
+        }
+    }
+    candidates.sort_by_key(|c| c.ordering != ordering);
+    signorini_report::Factorisation {
+        kind: "cholesky".into(),
+        ordering,
+        factor_nnz: kept.iter().map(|k| k.nnz as u64).sum(),
+        factor_bytes: kept.iter().map(|k| 8 * k.values as u64).sum(),
+        flops: kept.iter().map(|k| k.flops).sum(),
+        candidates,
+        ..Default::default()
+    }
 }
 
 /// What the run found beyond its steps: the net contact force, each
@@ -596,6 +633,7 @@ fn report_of(
             factor_bytes: partial.factor_bytes,
             estimated_bytes: memory::estimate(sc, path, comm.size()).bytes(),
         },
+        factorisation: partial.factorisation,
         communication_bytes,
         rank_timings_s: signorini_report::RankTimings::of(&rank_stats),
         rank_stats,

@@ -32,18 +32,22 @@ pub(crate) fn run_direct(
         .collect();
     let mut partial = empty_partial();
     let t = Instant::now();
+    let floating = bodies.iter().any(|b| !b.kernel.is_empty());
+    let mut kkt = KktSystem::new(&system.k_global, &rows, floating).map_err(contact_error)?;
     let mut u_steps: Vec<Vec<Vec<f64>>> = Vec::new();
     let mut solutions = Vec::new();
     for (si, st) in scales.iter().enumerate() {
-        let (step, u_full) = direct_step(sc, bodies, points, fixed, &system, &rows, st, si)?;
+        let (step, u_full) = direct_step(sc, bodies, points, fixed, &system, &mut kkt, st, si)?;
         solutions.push(step);
         u_steps.push(u_full);
     }
     timings.contact = t.elapsed().as_secs_f64();
+    partial.factorisation = Some(kkt_factorisation(&kkt));
+    partial.factor_bytes = 8 * kkt.ordered().stats.values as u64;
     // Outside the timed phases: one more sparse Cholesky, of K alone.
     partial.conditioning = Some(conditioning::direct(
         &system.k_global,
-        bodies.iter().any(|b| !b.kernel.is_empty()),
+        floating,
         sc.solver.tolerance,
         messages,
     ));
@@ -59,6 +63,33 @@ pub(crate) fn run_direct(
     partial.u_steps = u_steps;
     partial.dofs = system.n_free;
     Ok(partial)
+}
+
+/// The KKT factorisation of the run for report.json: its ordering, size and
+/// flops (of one factorisation), how many were done, the refinement steps
+/// and the LU fallbacks.
+fn kkt_factorisation(kkt: &KktSystem<'_>) -> signorini_report::Factorisation {
+    let ordered = kkt.ordered();
+    let stats = ordered.stats;
+    signorini_report::Factorisation {
+        kind: "ldlt".into(),
+        ordering: stats.ordering.as_str().into(),
+        factor_nnz: stats.nnz as u64,
+        factor_bytes: 8 * stats.values as u64,
+        flops: stats.flops,
+        candidates: ordered
+            .candidates
+            .iter()
+            .map(|c| signorini_report::OrderingCandidate {
+                ordering: c.ordering.as_str().into(),
+                factor_nnz: c.nnz as u64,
+                flops: c.flops,
+            })
+            .collect(),
+        factorisations: Some(kkt.counts.factorisations),
+        refinement_steps: Some(kkt.counts.refinement_steps),
+        lu_fallbacks: Some(kkt.counts.lu_fallbacks),
+    }
 }
 
 /// The stiffness of the direct path: each body's whole stiffness, and the
@@ -115,7 +146,7 @@ fn direct_step(
     points: &[PointModel],
     fixed: &[FixedPoint],
     system: &DirectSystem,
-    rows: &[Vec<(usize, f64)>],
+    kkt: &mut KktSystem<'_>,
     st: &[Vec<f64>],
     si: usize,
 ) -> Result<(DirectStep, Vec<Vec<f64>>), SolveError> {
@@ -125,7 +156,7 @@ fn direct_step(
     let length_scale = length_scale(bodies, points, &loads.u_p, f_scale);
     let gap0 = step_gaps(sc, bodies, points, fixed, &loads.u_p, length_scale, si)?;
     check_floating(bodies, points, system, &loads, si)?;
-    let mut problem = DirectProblem::new(&system.k_global, &loads.f, rows, &gap0);
+    let mut problem = DirectProblem::new(kkt, &loads.f, &gap0);
     let mut outcome = status_method(
         &mut problem,
         &status_options(sc, f_scale, length_scale, &gap0),

@@ -39,7 +39,7 @@ use std::time::Instant;
 
 use faer::sparse::SparseColMat;
 use faer::Mat;
-use kkt::DirectProblem;
+use kkt::{DirectProblem, KktSystem};
 use serde::{Deserialize, Serialize};
 use signorini_comm::{broadcast, deal, gather, Transport};
 use signorini_condense::{spmv, spmv_with_magnitude, submatrix};
@@ -71,7 +71,7 @@ pub use pipeline::run;
 use pipeline::{RunContext, RunLog};
 pub use plan::algorithm_of;
 use root::*;
-use subdomain::{CondensedData, RecoveredData, Subdomain, SubdomainSpec};
+use subdomain::{CondensedData, FactorSummary, RecoveredData, Subdomain, SubdomainSpec};
 
 /// What went wrong, with the exit code it maps to.
 #[derive(Debug, Clone, thiserror::Error, Serialize, Deserialize)]
@@ -168,6 +168,9 @@ struct Partial {
     u_steps: Vec<Vec<Vec<f64>>>,
     dense_interface_bytes: u64,
     factor_bytes: u64,
+    /// Ordering, size and flops of the factorisation (report.json
+    /// `factorisation`).
+    factorisation: Option<signorini_report::Factorisation>,
     n_gamma: usize,
     dofs: usize,
     solver: serde_json::Value,

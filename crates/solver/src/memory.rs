@@ -20,10 +20,15 @@
 //!   (29 to 49 n^{4/3}), taken as 7 n^{3/2} (with the width of a flat or long
 //!   box instead of a cube's). Its interface rows fill in: about 10 n_b
 //!   entries per interface DOF (measured 8–11 on squares and cubes), at most
-//!   n_I, and the dense trailing block n_b²/2. The direct path factorises the
-//!   whole stiffness with its contact constraints by a sparse LU at each
-//!   status iteration: measured 8.5 (2D) and 6.7 (3D) times the Cholesky
-//!   factor, taken as 8 and 6;
+//!   n_I, and the dense trailing block n_b²/2. Since the interior is ordered
+//!   by the cheaper of AMD and nested dissection (`signorini_condense::ordering`)
+//!   the 3D factor is often smaller (the Hertz sphere at 127 000 DOFs: half
+//!   of AMD's), so the 3D term is conservative there. The direct path
+//!   factorises the whole stiffness with its contact constraints by a sparse
+//!   LDLᵀ at each status iteration, in the same ordering and without an
+//!   interface kept last: measured 0.45 times this estimate on the 3D Hertz
+//!   sphere (12 000 DOFs), taken as 1 (it was 8 and 6 times with the sparse
+//!   LU it replaced);
 //! * **dense interface**: 8 bytes per entry of S_i (n_b², three copies: the
 //!   factorisation's, the one sent to the root, its encoding), of the
 //!   assembled S on Γ (n_Γ², two: S and its factor), of the Delassus operator
@@ -61,8 +66,8 @@ const C3: f64 = 7.0;
 /// Fill of the interface rows of the factor, entries per interface DOF, as a
 /// multiple of the interface DOFs.
 const INTERFACE_FILL: f64 = 10.0;
-/// The direct path's sparse LU against the Cholesky factor (2D, 3D).
-const DIRECT_LU: [f64; 2] = [8.0, 6.0];
+/// The direct path's sparse LDLᵀ against the Cholesky factor (2D, 3D).
+const DIRECT_LDLT: [f64; 2] = [1.0, 1.0];
 
 /// The memory budget set by `--max-memory` (0: the machine's).
 static BUDGET: AtomicU64 = AtomicU64::new(0);
@@ -663,8 +668,8 @@ pub fn estimate(sc: &scene::Scene, path: scene::SolvePath, ranks: usize) -> Esti
         if direct {
             // the stiffness's triplets are kept and copied at each factorisation
             e.sparse += 48.0 * entries;
-            let lu = DIRECT_LU[usize::from(s.dim == 3)];
-            e.factor += 8.0 * lu * factor_entries(n, 0.0, s.dim, n, s.width);
+            let ldlt = DIRECT_LDLT[usize::from(s.dim == 3)];
+            e.factor += 8.0 * ldlt * factor_entries(n, 0.0, s.dim, n, s.width);
         } else {
             e.factor += 8.0 * parts * factor_entries(n_part, nb_part, s.dim, n, s.width);
             subdomain_dense += 3.0 * parts * nb_part * nb_part;

@@ -12,7 +12,7 @@
 use faer::sparse::SparseColMat;
 use faer::Par;
 use serde::{Deserialize, Serialize};
-use signorini_condense::{spmv, spmv_with_magnitude, submatrix, Condensed};
+use signorini_condense::{spmv, spmv_with_magnitude, submatrix, Condensed, FactorStats};
 use signorini_mesh::Mesh;
 
 use crate::contact_frames::LocalFrames;
@@ -158,6 +158,9 @@ pub struct CondensedData {
     pub fprime: Vec<Vec<f64>>,
     pub dofs: usize,
     pub factor_bytes: usize,
+    /// The factor's ordering, size and flops, and every ordering compared
+    /// (the kept one first).
+    pub factor: Vec<FactorSummary>,
     /// Estimated κ₁(K_II) of the subdomain's interior stiffness (Hager–Higham
     /// on its own factor); `None` without interior DOFs.
     pub k_ii_condition: Option<f64>,
@@ -169,18 +172,18 @@ impl CondensedData {
     /// free DOF count and the size and condition of its factor.
     fn of(
         id: usize,
-        condensed: &Condensed,
+        condensed: &mut Condensed,
         gamma: &[usize],
         free_load: &[Vec<f64>],
         dofs: usize,
     ) -> Self {
         let nb = gamma.len();
+        let dense = condensed.take_schur();
         let mut schur = Vec::with_capacity(nb * nb);
         for j in 0..nb {
-            for i in 0..nb {
-                schur.push(condensed.schur[(i, j)]);
-            }
+            schur.extend_from_slice(dense.col_as_slice(j));
         }
+        drop(dense);
         CondensedData {
             id,
             gamma: gamma.to_vec(),
@@ -191,7 +194,34 @@ impl CondensedData {
                 .collect(),
             dofs,
             factor_bytes: condensed.memory_bytes(),
+            factor: condensed
+                .ordering_candidates()
+                .iter()
+                .map(FactorSummary::of)
+                .collect(),
             k_ii_condition: condensed.interior_condition_estimate(),
+        }
+    }
+}
+
+/// A factor's ordering, size and flops, as a subdomain sends them.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct FactorSummary {
+    /// `Ordering::as_str`.
+    pub ordering: String,
+    pub nnz: usize,
+    /// Stored values (8 bytes each).
+    pub values: usize,
+    pub flops: f64,
+}
+
+impl FactorSummary {
+    pub fn of(stats: &FactorStats) -> Self {
+        FactorSummary {
+            ordering: stats.ordering.as_str().to_string(),
+            nnz: stats.nnz,
+            values: stats.values,
+            flops: stats.flops,
         }
     }
 }
@@ -271,9 +301,9 @@ impl Subdomain {
             }
         }
         let loads = LocalLoads::of(spec, body, owner_part, &k_local, &free, &frames);
-        let condensed =
+        let mut condensed =
             Condensed::new(k_ff.as_ref(), &interface, par).map_err(|e| e.to_string())?;
-        let data = CondensedData::of(id, &condensed, &gamma, &loads.free_load, free.len());
+        let data = CondensedData::of(id, &mut condensed, &gamma, &loads.free_load, free.len());
         Ok((
             Self {
                 id,
