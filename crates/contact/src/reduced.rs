@@ -379,20 +379,26 @@ fn reduce_newton(w: &Mat<f64>, sys: &NewtonSystem) -> NewtonReduction {
 fn newton_block(w: &Mat<f64>, sys: &NewtonSystem, red: &NewtonReduction) -> (Mat<f64>, bool) {
     let n = w.nrows();
     let dirs = &red.dirs;
-    let mut a = Mat::<f64>::from_fn(dirs.len(), dirs.len(), |x, y| {
-        let (dx, dy) = (&dirs[x], &dirs[y]);
-        let row = |l: usize| {
-            dy.c[0] * w[(dx.rows[l], dy.rows[0])] + dy.c[1] * w[(dx.rows[l], dy.rows[1])]
-        };
-        dx.c[0] * row(0) + dx.c[1] * row(1)
-    });
+    // W e over all rows, column by column (W is column major).
+    let mut col = vec![0.0; n];
+    let w_dir = |d: &Dir, col: &mut [f64]| {
+        let (c0, c1) = (w.col(d.rows[0]), w.col(d.rows[1]));
+        for (i, v) in col.iter_mut().enumerate() {
+            *v = d.c[0] * c0[i] + d.c[1] * c1[i];
+        }
+    };
+    let mut a = Mat::<f64>::zeros(dirs.len(), dirs.len());
+    for (y, dy) in dirs.iter().enumerate() {
+        w_dir(dy, &mut col);
+        for (x, dx) in dirs.iter().enumerate() {
+            a[(x, y)] = dx.dot(&col);
+        }
+    }
     for (x, (_, comp, _)) in sys.coupled.iter().enumerate() {
         a[(x, x)] += comp;
     }
     for (d, y, f) in &red.dependent {
-        let col: Vec<f64> = (0..n)
-            .map(|i| d.c[0] * w[(i, d.rows[0])] + d.c[1] * w[(i, d.rows[1])])
-            .collect();
+        w_dir(d, &mut col);
         for (x, dx) in dirs.iter().enumerate() {
             a[(x, *y)] += f * dx.dot(&col);
         }
