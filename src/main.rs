@@ -78,7 +78,7 @@ enum Command {
         /// Include the contact forces λ in the JSON line.
         #[arg(long)]
         lambda: bool,
-        /// Frictional problems (with mu): `fixed_point` (default) or `status`.
+        /// Frictional problems (with mu): `fixed_point` (default), `status` (2D) or `newton` (semi-smooth Newton on Coulomb's law).
         #[arg(long, default_value = "fixed_point")]
         friction: String,
         /// Solve N times and report the median time.

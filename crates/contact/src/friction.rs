@@ -572,19 +572,21 @@ pub fn coulomb_fixed_point(
 }
 
 /// Coulomb (or Tresca) in 2D by the semi-smooth Newton method on the
-/// Alart–Curnier equations ([`crate::semismooth_newton`]): the fixed point
-/// g ← μ λ_n (§4.3) with each inner Tresca problem solved by Newton steps on
-/// the reduced system of its statuses (a primal–dual active set method)
-/// instead of the status method; statuses open, stick, slip± as the other
-/// 2D methods report them. Started from `start` (the previous step's
-/// forces) or from the solution with every point stuck.
+/// Alart–Curnier equations ([`crate::semismooth_newton`]): Newton steps on
+/// Coulomb's law itself (threshold μ λ_n of the iterate, no outer fixed
+/// point), each on the reduced system of its statuses (a primal–dual
+/// active set method); where that does not converge, the fixed point
+/// g ← μ λ_n (§4.3) with each inner Tresca problem solved by the same
+/// Newton steps. Statuses open, stick, slip± as the other 2D methods
+/// report them. Started from `start` (the previous step's forces) or zero
+/// (the fixed point: from the solution with every point stuck).
 pub fn coulomb_newton(
     problem: &mut DelassusProblem,
     layout: &FrictionLayout,
     start: Option<&[f64]>,
     opts: &FrictionOptions,
 ) -> Result<ContactSolution, ContactError> {
-    crate::semismooth_newton::friction_newton(problem, layout, start, opts, 2)
+    crate::semismooth_newton::friction_newton(problem, layout, start, opts, 2, true)
 }
 
 /// Norton–Hoff friction (seed §4.1.4, eq. 19) at the points whose law is

@@ -29,8 +29,10 @@
 //! ([`crate::semismooth_newton`], shared with 2D: unknowns the forces and
 //! the rigid-mode amplitudes α, each step on the reduced system of its
 //! statuses, an Armijo line search on ½‖F‖² and, without floating bodies,
-//! an accelerated projected-gradient fallback). Coulomb is the fixed point
-//! on the thresholds g ← μ λ_n (§4.3).
+//! an accelerated projected-gradient fallback). Coulomb is solved by the
+//! same Newton method on Coulomb's law itself (the semi-axes μ_i λ_n of the
+//! iterate, no outer fixed point), falling back to the fixed point on the
+//! thresholds g ← μ λ_n (§4.3) when it does not converge.
 //!
 //! As with the 2D projection method ([`crate::friction::tresca_projection`]),
 //! a Tresca point that opens may still carry a tangential force up to its
@@ -43,17 +45,31 @@ use crate::ContactError;
 use crate::ContactSolution;
 
 /// Friction in 3D: Tresca (and frictionless) points in one convex solve,
-/// Coulomb by the fixed point on the thresholds g ← μ λ_n (seed §4.3),
-/// each inner problem by the semi-smooth Newton method; see
-/// [`crate::semismooth_newton::friction_newton`] for the start, the stops
-/// and the rigid-mode amplitudes of floating bodies.
+/// Coulomb by the semi-smooth Newton method on Coulomb's law itself (no
+/// outer fixed point), and where that does not converge by the fixed point
+/// on the thresholds g ← μ λ_n (seed §4.3, [`coulomb_3d_fixed_point`]);
+/// see [`crate::semismooth_newton::friction_newton`] for the start, the
+/// stops and the rigid-mode amplitudes of floating bodies.
 pub fn friction_3d(
     problem: &mut DelassusProblem,
     layout: &FrictionLayout,
     start: Option<&[f64]>,
     opts: &FrictionOptions,
 ) -> Result<ContactSolution, ContactError> {
-    crate::semismooth_newton::friction_newton(problem, layout, start, opts, 3)
+    crate::semismooth_newton::friction_newton(problem, layout, start, opts, 3, true)
+}
+
+/// Friction in 3D with Coulomb by the fixed point on the thresholds
+/// g ← μ λ_n alone (seed §4.3), each inner Tresca problem by the
+/// semi-smooth Newton method: the reference of [`friction_3d`]'s direct
+/// method, and its fallback.
+pub fn coulomb_3d_fixed_point(
+    problem: &mut DelassusProblem,
+    layout: &FrictionLayout,
+    start: Option<&[f64]>,
+    opts: &FrictionOptions,
+) -> Result<ContactSolution, ContactError> {
+    crate::semismooth_newton::friction_newton(problem, layout, start, opts, 3, false)
 }
 
 #[cfg(test)]

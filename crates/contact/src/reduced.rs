@@ -221,14 +221,131 @@ fn schur_on_g(
 /// ```
 ///
 /// symmetric (W symmetric positive definite, d ≥ 0): Cholesky, floating
-/// bodies through the Schur complement on G. Returns dx = (dλ, dα), or
+/// bodies through the Schur complement on G. Coulomb's law itself adds the
+/// normal forces to slipping rows ([`NewtonSystem`]): a given row f dλ_n
+/// of a given normal row goes to h, of a coupled one (position y) is a
+/// dependent direction, dλ = h + E s + Σ f e s_y =: h + P s; the block is
+/// then Eᵀ W P + diag d (plus the coupled rows' own f dλ_n), by a partially
+/// pivoted LU, and the equilibrium rows Gᵀ P s. Returns dx = (dλ, dα), or
 /// `None` for the caller's full solve.
-pub(crate) fn solve_newton(w: &Mat<f64>, g: &Mat<f64>, sys: &NewtonSystem) -> Option<Vec<f64>> {
-    let (n, k, nu) = (w.nrows(), g.ncols(), sys.coupled.len());
+pub(crate) fn solve_newton(
+    w: &Mat<f64>,
+    g: &Mat<f64>,
+    sys: &NewtonSystem,
+    cache: &mut Option<NewtonFactor>,
+    chord: bool,
+) -> Option<Vec<f64>> {
+    let red = reduce_newton(w, sys);
+    let reuse = chord && cache.as_ref().is_some_and(|c| c.key == red.key);
+    if !reuse {
+        if chord {
+            return None;
+        }
+        let (a, symmetric) = newton_block(w, sys, &red);
+        *cache = None;
+        let factor = factorise(&a, symmetric)?;
+        *cache = Some(NewtonFactor {
+            key: red.key.clone(),
+            factor,
+        });
+    }
+    let factor = &cache.as_ref()?.factor;
+    let y = factor.solve(&red.rhs);
+    let (k, nu) = (g.ncols(), red.dirs.len());
+    let on_g = |d: &Dir, j: usize| d.c[0] * g[(d.rows[0], j)] + d.c[1] * g[(d.rows[1], j)];
+    let (s, alpha) = if k == 0 {
+        (y, Vec::new())
+    } else {
+        let g_u = Mat::<f64>::from_fn(nu, k, |x, j| on_g(&red.dirs[x], j));
+        let mut g_hat = g_u.clone();
+        for (d, y, f) in &red.dependent {
+            for j in 0..k {
+                g_hat[(*y, j)] += f * on_g(d, j);
+            }
+        }
+        let e_j: Vec<f64> = (0..k)
+            .map(|j| {
+                sys.equilibrium[j]
+                    - red
+                        .nonzero
+                        .iter()
+                        .map(|&i| g[(i, j)] * red.h[i])
+                        .sum::<f64>()
+            })
+            .collect();
+        schur_on_g(factor, &g_u, &g_hat, y, &e_j)?
+    };
+    let mut dx = red.h;
+    for (x, d) in red.dirs.iter().enumerate() {
+        dx[d.rows[0]] += d.c[0] * s[(x, 0)];
+        dx[d.rows[1]] += d.c[1] * s[(x, 0)];
+    }
+    for (d, y, f) in &red.dependent {
+        dx[d.rows[0]] += d.c[0] * f * s[(*y, 0)];
+        dx[d.rows[1]] += d.c[1] * f * s[(*y, 0)];
+    }
+    dx.extend(alpha);
+    dx.iter().all(|v| v.is_finite()).then_some(dx)
+}
+
+/// The factor of a reduced Newton block and the structure it was built on
+/// (its coupled and dependent rows, the unknowns of the normal-force
+/// terms): a chord step may reuse it while the structure repeats.
+pub(crate) struct NewtonFactor {
+    key: Vec<usize>,
+    factor: Factor,
+}
+
+impl std::fmt::Debug for NewtonFactor {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "NewtonFactor({} keys)", self.key.len())
+    }
+}
+
+/// The reduction of a Newton system: its coupled directions, dependent
+/// directions (direction, unknown, factor), given part h (its nonzero
+/// rows), right-hand side and structure key.
+struct NewtonReduction {
+    dirs: Vec<Dir>,
+    position: Vec<Option<usize>>,
+    dependent: Vec<(Dir, usize, f64)>,
+    h: Vec<f64>,
+    nonzero: Vec<usize>,
+    rhs: Mat<f64>,
+    key: Vec<usize>,
+}
+
+fn reduce_newton(w: &Mat<f64>, sys: &NewtonSystem) -> NewtonReduction {
+    let n = w.nrows();
+    let dirs: Vec<Dir> = sys.coupled.iter().map(|(d, _, _)| *d).collect();
+    // The unknown of each coupled single row (the normal rows).
+    let mut position = vec![None; n];
+    let mut key = Vec::new();
+    for (x, d) in dirs.iter().enumerate() {
+        if d.rows[0] == d.rows[1] {
+            position[d.rows[0]] = Some(x);
+        }
+        key.extend(d.rows);
+    }
     let mut h = vec![0.0; n];
     for (d, v) in &sys.given {
         h[d.rows[0]] += d.c[0] * v;
         h[d.rows[1]] += d.c[1] * v;
+    }
+    let mut dependent: Vec<(Dir, usize, f64)> = Vec::new();
+    for &(i, r, f) in &sys.given_normal {
+        let d = sys.given[i].0;
+        match position[r] {
+            Some(y) => {
+                dependent.push((d, y, f));
+                key.extend([usize::MAX, d.rows[0], d.rows[1], y]);
+            }
+            None => {
+                let v = f * h[r];
+                h[d.rows[0]] += d.c[0] * v;
+                h[d.rows[1]] += d.c[1] * v;
+            }
+        }
     }
     let nonzero: Vec<usize> = (0..n).filter(|&i| h[i] != 0.0).collect();
     // W h by columns (W is column major).
@@ -239,37 +356,59 @@ pub(crate) fn solve_newton(w: &Mat<f64>, g: &Mat<f64>, sys: &NewtonSystem) -> Op
             *v += col[i] * h[j];
         }
     }
-    let dirs: Vec<&Dir> = sys.coupled.iter().map(|(d, _, _)| d).collect();
-    let mut a = Mat::<f64>::from_fn(nu, nu, |x, y| {
-        let (dx, dy) = (dirs[x], dirs[y]);
-        let row = |l: usize| {
-            dy.c[0] * w[(dx.rows[l], dy.rows[0])] + dy.c[1] * w[(dx.rows[l], dy.rows[1])]
-        };
-        dx.c[0] * row(0) + dx.c[1] * row(1)
-    });
+    let mut rhs = Mat::<f64>::from_fn(dirs.len(), 1, |x, _| sys.coupled[x].2 - dirs[x].dot(&wh));
+    for &(x, r, f) in &sys.coupled_normal {
+        match position[r] {
+            Some(y) => key.extend([usize::MAX - 1, x, y]),
+            None => rhs[(x, 0)] -= f * h[r],
+        }
+    }
+    NewtonReduction {
+        dirs,
+        position,
+        dependent,
+        h,
+        nonzero,
+        rhs,
+        key,
+    }
+}
+
+/// The reduced block Eᵀ W P + diag d (+ the coupled rows' normal-force
+/// terms) and whether it is symmetric.
+fn newton_block(w: &Mat<f64>, sys: &NewtonSystem, red: &NewtonReduction) -> (Mat<f64>, bool) {
+    let n = w.nrows();
+    let dirs = &red.dirs;
+    // W e over all rows, column by column (W is column major).
+    let mut col = vec![0.0; n];
+    let w_dir = |d: &Dir, col: &mut [f64]| {
+        let (c0, c1) = (w.col(d.rows[0]), w.col(d.rows[1]));
+        for (i, v) in col.iter_mut().enumerate() {
+            *v = d.c[0] * c0[i] + d.c[1] * c1[i];
+        }
+    };
+    let mut a = Mat::<f64>::zeros(dirs.len(), dirs.len());
+    for (y, dy) in dirs.iter().enumerate() {
+        w_dir(dy, &mut col);
+        for (x, dx) in dirs.iter().enumerate() {
+            a[(x, y)] = dx.dot(&col);
+        }
+    }
     for (x, (_, comp, _)) in sys.coupled.iter().enumerate() {
         a[(x, x)] += comp;
     }
-    let rhs = Mat::<f64>::from_fn(nu, 1, |x, _| sys.coupled[x].2 - dirs[x].dot(&wh));
-    let factor = factorise(&a, true)?;
-    let y = factor.solve(&rhs);
-    let (s, alpha) = if k == 0 {
-        (y, Vec::new())
-    } else {
-        let g_u = Mat::<f64>::from_fn(nu, k, |x, j| {
-            let d = dirs[x];
-            d.c[0] * g[(d.rows[0], j)] + d.c[1] * g[(d.rows[1], j)]
-        });
-        let e_j: Vec<f64> = (0..k)
-            .map(|j| sys.equilibrium[j] - nonzero.iter().map(|&i| g[(i, j)] * h[i]).sum::<f64>())
-            .collect();
-        schur_on_g(&factor, &g_u, &g_u, y, &e_j)?
-    };
-    let mut dx = h;
-    for (x, d) in dirs.iter().enumerate() {
-        dx[d.rows[0]] += d.c[0] * s[(x, 0)];
-        dx[d.rows[1]] += d.c[1] * s[(x, 0)];
+    for (d, y, f) in &red.dependent {
+        w_dir(d, &mut col);
+        for (x, dx) in dirs.iter().enumerate() {
+            a[(x, *y)] += f * dx.dot(&col);
+        }
     }
-    dx.extend(alpha);
-    dx.iter().all(|v| v.is_finite()).then_some(dx)
+    let mut symmetric = red.dependent.is_empty();
+    for &(x, r, f) in &sys.coupled_normal {
+        if let Some(y) = red.position[r] {
+            a[(x, y)] += f;
+            symmetric = false;
+        }
+    }
+    (a, symmetric)
 }

@@ -1,6 +1,8 @@
 //! Semi-smooth Newton on the Alart–Curnier equations (Alart & Curnier 1991)
-//! for friction with fixed thresholds, 2D and 3D, and the fixed point on
-//! the threshold around it for Coulomb (seed §4.1.2, §4.3).
+//! for friction with fixed thresholds, 2D and 3D; for Coulomb on Coulomb's
+//! law itself (thresholds μ λ_n of the iterate, [`solve_coulomb`]), with
+//! the fixed point on the threshold around the fixed-threshold method as
+//! its fallback (seed §4.1.2, §4.3).
 //!
 //! Unknowns: the forces λ (normal rows, then each point's one or two
 //! tangential rows, [`FrictionLayout`]) and the rigid-mode amplitudes α of
@@ -72,13 +74,21 @@ impl Dir {
 /// `given` cᵀ dλ = v; `coupled` d cᵀ dλ + cᵀ (W dλ + G dα) = v (d ≥ 0);
 /// `equilibrium` Gᵀ dλ = v_j. With `secant`, a slipping point with one
 /// tangential row is linearised on the secant of the projection (see
-/// [`slip_rows`]).
+/// [`slip_rows`]). Coulomb's law (threshold μ λ_n, [`solve_coulomb`]) adds
+/// the normal force dλ_n of a slipping point to its rows: `given_normal`
+/// (i, row, f) makes given equation i cᵀ dλ = v + f dλ_row, and
+/// `coupled_normal` (i, row, f) adds f dλ_row to the left of coupled
+/// equation i (the system is then nonsymmetric).
 #[derive(Debug, Default)]
 pub(crate) struct NewtonSystem {
     pub secant: bool,
     pub given: Vec<(Dir, f64)>,
     pub coupled: Vec<(Dir, f64, f64)>,
     pub equilibrium: Vec<f64>,
+    pub given_normal: Vec<(usize, usize, f64)>,
+    pub coupled_normal: Vec<(usize, usize, f64)>,
+    /// The last factor of the reduced system, for chord steps.
+    pub factor: Option<crate::reduced::NewtonFactor>,
 }
 
 impl NewtonSystem {
@@ -95,6 +105,12 @@ impl NewtonSystem {
             }
             rhs[(row, 0)] = *v;
             row += 1;
+        }
+        for &(i, r, f) in &self.given_normal {
+            jac[(i, r)] -= f;
+        }
+        for &(i, r, f) in &self.coupled_normal {
+            jac[(self.given.len() + i, r)] += f;
         }
         for (d, comp, v) in &self.coupled {
             for l in 0..2 {
@@ -169,6 +185,9 @@ struct Inner<'a> {
     thr: &'a [[f64; 2]],
     /// Newton's projection parameters per row (1 / diagonal of W).
     rho: Vec<f64>,
+    /// Coulomb's law itself: the semi-axes of a Coulomb point are μ_i λ_n
+    /// of the iterate (`thr` holds the other points' bounds).
+    coulomb: bool,
 }
 
 /// How a residual is scaled: `Newton` with ρ = 1/W_ii, `Check` with ρ = F/L
@@ -197,6 +216,20 @@ impl<'a> Inner<'a> {
             layout,
             thr,
             rho,
+            coulomb: false,
+        }
+    }
+
+    /// The semi-axes of point p at x and, for Coulomb's law itself, their
+    /// derivatives in λ_n (μ_i where λ_n > 0).
+    fn bound(&self, p: usize, x: &[f64]) -> ([f64; 2], Option<[f64; 2]>) {
+        let law = &self.layout.law[p];
+        match law.coulomb_mu() {
+            Some(mu) if self.coulomb => {
+                let dg = if x[p] > 0.0 { mu } else { [0.0; 2] };
+                (law.semi_axes(x[p]), Some(dg))
+            }
+            _ => (self.thr[p], None),
         }
     }
 
@@ -231,6 +264,7 @@ impl<'a> Inner<'a> {
         if let Some(s) = sys.as_deref_mut() {
             *s = NewtonSystem {
                 secant: s.secant,
+                factor: s.factor.take(),
                 ..NewtonSystem::default()
             };
         }
@@ -253,7 +287,9 @@ impl<'a> Inner<'a> {
             let rows = &self.layout.tangent_rows[p];
             if !rows.is_empty() {
                 let sys = sys.as_deref_mut();
-                self.tangential_residual(x, &y, rows, self.thr[p], scale, &mut f, sys);
+                let (g, dg) = self.bound(p, x);
+                let normal = dg.map(|dg| (p, dg));
+                self.tangential_residual(x, &y, rows, (g, normal), scale, &mut f, sys);
             }
         }
         // Equilibrium of the rigid modes: Gᵀ λ = e.
@@ -270,13 +306,15 @@ impl<'a> Inner<'a> {
     /// two rows) with semi-axes `g`: stuck (Δs = 0) for an infinite bound,
     /// zero for a zero bound, else, scaled to the unit disc,
     /// ν = D⁺ λ_t, z = ν − c D Δs, F = λ_t − D proj(z) (seed §4.1.2).
+    /// `normal`: Coulomb's law itself, (normal row, ∂g/∂λ_n) (see
+    /// [`slip_rows`]).
     #[allow(clippy::too_many_arguments)]
     fn tangential_residual(
         &self,
         x: &[f64],
         y: &[f64],
         rows: &[usize],
-        g: [f64; 2],
+        (g, normal): ([f64; 2], Option<(usize, [f64; 2])>),
         scale: Scale,
         f: &mut [f64],
         mut sys: Option<&mut NewtonSystem>,
@@ -325,29 +363,48 @@ impl<'a> Inner<'a> {
                 }
             }
         } else {
-            slip_rows(sys, rows, g, dinv, pz, nz, c, f);
+            let coulomb = normal.map(|(p, dg)| (p, [dg[0] * pz[0], dg[1] * pz[1]]));
+            slip_rows(sys, rows, (g, dinv), pz, nz, c, f, coulomb);
         }
     }
 
     /// One semi-smooth Newton step from x with an Armijo line search on
     /// ½‖F‖² (halving the step at most 30 times). The Newton system is solved
     /// reduced ([`crate::reduced::solve_newton`]), or in full when that fails.
+    /// On Coulomb's law itself, while the structure of the reduced system
+    /// repeats, a chord step on the previous factor comes first, kept when
+    /// it halves ‖F‖ (a factorisation saved).
     fn newton_step(&self, x: &mut Vec<f64>, sys: &mut NewtonSystem) -> Step {
         let nk = self.n() + self.k();
         let merit = |f: &[f64]| 0.5 * f.iter().map(|v| v * v).sum::<f64>();
         let f = self.residual(x, Scale::Newton, Some(sys));
         let psi = merit(&f);
         let (w, g) = (&self.problem.w, &self.problem.g_mat);
-        let solve = |sys: &NewtonSystem| {
-            crate::reduced::solve_newton(w, g, sys).or_else(|| sys.solve_full(w, g))
+        let solve = |sys: &mut NewtonSystem, chord: bool| {
+            let mut factor = sys.factor.take();
+            let dx = crate::reduced::solve_newton(w, g, sys, &mut factor, chord);
+            sys.factor = factor;
+            if chord {
+                return dx;
+            }
+            dx.or_else(|| sys.solve_full(w, g))
         };
-        let mut dx = solve(sys);
+        if self.coulomb {
+            if let Some(dx) = solve(sys, true) {
+                let trial: Vec<f64> = (0..nk).map(|i| x[i] + dx[i]).collect();
+                if merit(&self.residual(&trial, Scale::Newton, None)) <= 0.25 * psi {
+                    *x = trial;
+                    return Step::Accepted;
+                }
+            }
+        }
+        let mut dx = solve(sys, false);
         if dx.is_none() && self.k() > 0 {
             // Every point that could hold a floating body slips: relinearise
             // on the secants, which keep their slip coupled to the body.
             sys.secant = true;
             self.residual(x, Scale::Newton, Some(sys));
-            dx = solve(sys);
+            dx = solve(sys, false);
             sys.secant = false;
         }
         let Some(dx) = dx else {
@@ -469,17 +526,37 @@ impl<'a> Inner<'a> {
 /// G_t dα) / ‖z‖ = −F_t, the compliance (‖z‖ − 1) / (c g²) (a 2D body held
 /// by friction alone, all its points slipping at an iterate, is otherwise
 /// held by nothing: a singular step).
+///
+/// Coulomb's law itself (`coulomb` = (normal row, m), m = (∂D/∂λ_n) u, i.e.
+/// μ_i u_i): with D = λ_n diag(μ), u does not depend on λ_n (z = w / λ_n)
+/// and F_t = λ_t − D u gains −m dλ_n; the equations above hold with −F_t
+/// replaced by −F_t + m dλ_n, all linear in F_t: the component across a
+/// (isotropic: the radial one) follows the normal force, and the coupled
+/// row gains a multiple of dλ_n ([`NewtonSystem`]).
 #[allow(clippy::too_many_arguments)]
 fn slip_rows(
     sys: &mut NewtonSystem,
     rows: &[usize],
-    g: [f64; 2],
-    dinv: [f64; 2],
+    (g, dinv): ([f64; 2], [f64; 2]),
     u: [f64; 2],
     nz: f64,
     c: f64,
     f: &[f64],
+    coulomb: Option<(usize, [f64; 2])>,
 ) {
+    let (normal, m) = coulomb.unwrap_or((0, [0.0; 2]));
+    let given = |sys: &mut NewtonSystem, d: Dir, v: f64, fm: f64| {
+        if fm != 0.0 {
+            sys.given_normal.push((sys.given.len(), normal, fm));
+        }
+        sys.given.push((d, v));
+    };
+    let coupled = |sys: &mut NewtonSystem, d: Dir, comp: f64, v: f64, fm: f64| {
+        if fm != 0.0 {
+            sys.coupled_normal.push((sys.coupled.len(), normal, fm));
+        }
+        sys.coupled.push((d, comp, v));
+    };
     let tau = [-u[1], u[0]];
     let two = rows.len() == 2;
     let a = [g[0] * tau[0], if two { g[1] * tau[1] } else { 0.0 }];
@@ -488,13 +565,18 @@ fn slip_rows(
     if !two && sys.secant {
         let cg = c * g[0] * g[0];
         let r = rows[0];
-        sys.coupled
-            .push((Dir::one(r), (nz - 1.0) / cg, -nz * f[r] / cg));
+        coupled(
+            sys,
+            Dir::one(r),
+            (nz - 1.0) / cg,
+            -nz * f[r] / cg,
+            -nz * m[0] / cg,
+        );
         return;
     }
     if !two || na <= 1e-12 * g[0].max(g[1]) {
-        for &r in rows {
-            sys.given.push((Dir::one(r), -f[r]));
+        for (i, &r) in rows.iter().enumerate() {
+            given(sys, Dir::one(r), -f[r], m[i]);
         }
         return;
     }
@@ -507,13 +589,26 @@ fn slip_rows(
         rows: across.rows,
         c: ah,
     };
+    // cᵀ v, zero below its rounding (isotropic: a ⊥ u, b ⊥ â⊥ exactly,
+    // and the system keeps the structure key of its chord steps).
+    let on = |d: &Dir, v: [f64; 2]| {
+        let p = d.c[0] * v[0] + d.c[1] * v[1];
+        let bound = 8.0 * f64::EPSILON * (v[0].abs() + v[1].abs());
+        if p.abs() <= bound {
+            0.0
+        } else {
+            p
+        }
+    };
     let beta = -across.dot(f);
     let ab = a[0] * b[0] + a[1] * b[1];
-    let bv = b[0] * across.c[0] + b[1] * across.c[1];
+    let bv = on(&across, b);
     let comp = (nz - ab) / (c * na * na);
     let rhs = -nz * along.dot(f) / (c * na * na) + beta * bv / (c * na);
-    sys.given.push((across, beta));
-    sys.coupled.push((along, comp, rhs));
+    let kappa = on(&across, m);
+    let eta = nz * on(&along, m) / (c * na * na) + kappa * bv / (c * na);
+    given(sys, across, beta, kappa);
+    coupled(sys, along, comp, rhs, -eta);
 }
 
 /// What a Newton step did.
@@ -527,14 +622,19 @@ enum Step {
 }
 
 /// Semi-smooth Newton on the Alart–Curnier equations with fixed semi-axes
-/// `thr`, from the forces `start`.
+/// `thr`, from the forces `start`; with `coulomb`, on Coulomb's law itself
+/// (the semi-axes of Coulomb points μ_i λ_n of the iterate): no projected
+/// gradient (not a convex program) and a singular system is not an error
+/// but a failure, for the caller's fixed point.
 fn solve_inner(
     newton: &Newton,
     thr: &[[f64; 2]],
     start: &[f64],
+    coulomb: bool,
 ) -> Result<(InnerSolve, usize), ContactError> {
     let (problem, layout, opts, dim) = (newton.problem, newton.layout, newton.opts, newton.dim);
-    let inner = Inner::new(problem, layout, thr);
+    let mut inner = Inner::new(problem, layout, thr);
+    inner.coulomb = coulomb;
     let (n, k) = (inner.n(), inner.k());
     let mut x = inner.start(start);
     let mut sys = NewtonSystem::default();
@@ -557,13 +657,18 @@ fn solve_inner(
         fallbacks += 1;
         match dx {
             // Globalisation: accelerated projected gradient, then Newton again.
-            _ if k == 0 => inner.projected_gradient(&mut x, 200 * fallbacks),
+            _ if k == 0 && !coulomb => inner.projected_gradient(&mut x, 200 * fallbacks),
             // Floating bodies: no projection on the equilibrium; take the
             // full (non-monotone) Newton step.
             Some(dx) if fallbacks <= 5 => {
                 x.iter_mut().zip(&dx).for_each(|(xi, d)| *xi += d);
             }
             Some(_) => {
+                reason = StopReason::NewtonLineSearchFailed;
+                break;
+            }
+            // Coulomb: a singular step fails; the caller's fixed point decides.
+            None if coulomb => {
                 reason = StopReason::NewtonLineSearchFailed;
                 break;
             }
@@ -627,13 +732,16 @@ fn statuses(
         .collect()
 }
 /// Friction by the semi-smooth Newton method (`dim` 2 or 3): Tresca (and
-/// frictionless) points in one solve, Coulomb by the fixed point on the
-/// thresholds g ← μ λ_n (seed §4.3), started from `start` (the previous
-/// step's forces, all rows) or from the solution with every frictional
-/// point stuck (so that a body held by friction alone can start). The fixed
-/// point stops when max |Δλ_n| / max(force_scale, ‖λ‖∞) ≤ tolerance; each
-/// inner problem stops on its scaled natural residual. `iterations` counts
-/// the Newton iterations of all inner solves.
+/// frictionless) points in one solve; Coulomb, with `direct`, by the Newton
+/// method on Coulomb's law itself ([`solve_coulomb`]), and when that does
+/// not converge (or without `direct`) by the fixed point on the thresholds
+/// g ← μ λ_n (seed §4.3), started from `start` (the previous step's forces,
+/// all rows) or from the solution with every frictional point stuck (so
+/// that a body held by friction alone can start). The direct method stops
+/// on its scaled natural residual (cone and complementarity); the fixed
+/// point when max |Δλ_n| / max(force_scale, ‖λ‖∞) ≤ tolerance, each inner
+/// problem on its scaled natural residual. `iterations` counts the Newton
+/// iterations of all solves.
 ///
 /// With floating bodies, the rigid-mode amplitudes α used by
 /// [`DelassusProblem::displacement`] are those of a final linear solve with
@@ -646,12 +754,13 @@ pub(crate) fn friction_newton(
     start: Option<&[f64]>,
     opts: &FrictionOptions,
     dim: usize,
+    direct: bool,
 ) -> Result<ContactSolution, ContactError> {
     let bilateral = match start {
         None if problem.n_kernel() > 0 => bilateral_start(problem),
         _ => None,
     };
-    let mut out = newton_fixed_point(problem, layout, start, bilateral, opts, dim)?;
+    let mut out = newton_fixed_point(problem, layout, start, bilateral, direct, opts, dim)?;
     if problem.n_kernel() > 0 {
         let mut eqs: Vec<VarEquation> = out.forces.iter().map(|&v| VarEquation::Value(v)).collect();
         for (p, st) in out.friction.points.iter().enumerate() {
@@ -715,7 +824,7 @@ impl TrescaSolver for Newton<'_> {
     type Thresholds = Vec<[f64; 2]>;
 
     fn solve(&mut self, thr: &Vec<[f64; 2]>, start: &[f64]) -> Result<InnerSolve, ContactError> {
-        let (solve, iterations) = solve_inner(self, thr, start)?;
+        let (solve, iterations) = solve_inner(self, thr, start, false)?;
         self.iterations += iterations;
         Ok(solve)
     }
@@ -742,13 +851,15 @@ fn stuck_thresholds(
         .collect()
 }
 
-/// The fixed point on the threshold with the Newton inner solves, from
-/// `start` (previous step) or `first_guess` (floating bodies) or zero.
+/// With `direct`, the Newton method on Coulomb's law itself, else (or when
+/// it fails) the fixed point on the threshold with the Newton inner solves,
+/// from `start` (previous step) or `first_guess` (floating bodies) or zero.
 fn newton_fixed_point(
     problem: &DelassusProblem,
     layout: &FrictionLayout,
     start: Option<&[f64]>,
     first_guess: Option<Vec<f64>>,
+    direct: bool,
     opts: &FrictionOptions,
     dim: usize,
 ) -> Result<ContactSolution, ContactError> {
@@ -786,6 +897,11 @@ fn newton_fixed_point(
         };
         return Ok(end.solution(tresca, newton.iterations, false));
     }
+    if direct {
+        if let Some(sol) = solve_coulomb(&mut newton, &forces)? {
+            return Ok(sol);
+        }
+    }
     let start = match start {
         Some(_) => newton.iterate(forces),
         None => newton.solve(&stuck_thresholds(problem, layout, guessed), &forces)?,
@@ -801,6 +917,44 @@ fn newton_fixed_point(
         _ => "coulomb_3d_fixed_point",
     };
     Ok(end.solution(coulomb, newton.iterations, false))
+}
+
+/// The semi-smooth Newton method on Coulomb's law itself (Alart & Curnier
+/// 1991; seed §4.1.2), no outer fixed point: the semi-axes of a Coulomb
+/// point are μ_i λ_n of the iterate (the threshold μ λ_n rather than
+/// μ [λ_n − ρ y_n]₊: the two have the same zeros, and with λ_n the
+/// slipping rows depend on the normal force alone, a substitution in the
+/// reduced system instead of a W row; an open point's λ_n is driven to
+/// zero by its own row, and with it the threshold). Each step linearises
+/// F on the iterate's statuses: open points λ = 0, closed normal rows and
+/// stuck points the W rows, slipping points the force on the boundary of
+/// the disc / ellipse whose radius follows dλ_n ([`slip_rows`]); the
+/// reduced system is nonsymmetric (LU). From `forces`; `None` when it does
+/// not meet the tolerance (the caller's fixed point then decides), never a
+/// non-converged answer.
+fn solve_coulomb(
+    newton: &mut Newton,
+    forces: &[f64],
+) -> Result<Option<ContactSolution>, ContactError> {
+    let thr = newton.layout.thresholds(forces);
+    let (direct, iterations) = solve_inner(newton, &thr, forces, true)?;
+    newton.iterations += iterations;
+    let StopReason::NewtonConverged { residual, .. } = direct.reason else {
+        return Ok(None);
+    };
+    let method = match newton.dim {
+        2 => "coulomb_semismooth_newton",
+        _ => "coulomb_3d_semismooth_newton",
+    };
+    let end = FixedPoint {
+        converged: true,
+        reason: direct.reason.clone(),
+        residuals: vec![residual],
+        last: direct,
+    };
+    let mut sol = end.solution(method, newton.iterations, false);
+    sol.friction.fixed_point_iterations = 0;
+    Ok(Some(sol))
 }
 
 #[cfg(test)]

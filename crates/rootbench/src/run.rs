@@ -62,7 +62,10 @@ fn methods(family: Family) -> Vec<Method> {
             Method::Friction(FrictionMethod::FixedPoint),
             Method::Friction(FrictionMethod::Newton),
         ],
-        Family::Coulomb3d => vec![Method::Friction(FrictionMethod::FixedPoint)],
+        Family::Coulomb3d => vec![
+            Method::Friction(FrictionMethod::FixedPoint),
+            Method::Friction(FrictionMethod::Newton),
+        ],
     }
 }
 
@@ -254,8 +257,8 @@ mod tests {
             repeat: 1,
         };
         let rows = run_suite(&o, None, |_| {}).unwrap();
-        // 9 LCP methods twice, 3 + 1 friction methods.
-        assert_eq!(rows.len(), 2 * (2 * 9 + 3 + 1));
+        // 9 LCP methods twice, 3 + 2 friction methods.
+        assert_eq!(rows.len(), 2 * (2 * 9 + 3 + 2));
         for r in &rows {
             let exact = signorini_contact::registry::find(&r.method).is_none_or(|m| m.exact);
             let what = format!(

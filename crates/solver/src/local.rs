@@ -4,8 +4,9 @@
 //! libraries on identical data (DESIGN.md §4): an LCP by any method of the
 //! registry, 2D Coulomb friction by the fixed point on the threshold
 //! (seed §4.3), the friction status method (§4.5) or the fixed point with
-//! semi-smooth Newton inner solves, 3D Coulomb friction by
-//! the fixed point with its semi-smooth Newton inner solves.
+//! semi-smooth Newton on Coulomb's law itself, 3D Coulomb friction by the
+//! fixed point with its semi-smooth Newton inner solves or the semi-smooth
+//! Newton method on Coulomb's law itself.
 
 use std::time::Instant;
 
@@ -23,8 +24,9 @@ pub enum FrictionMethod {
     FixedPoint,
     /// The friction status method (seed §4.5), 2D.
     Status,
-    /// 2D: the fixed point with semi-smooth Newton inner solves on the
-    /// Alart–Curnier equations (3D's fixed point is that already).
+    /// The semi-smooth Newton method on the Alart–Curnier equations of
+    /// Coulomb's law itself (no outer fixed point; the fixed point with
+    /// Newton inner solves where it fails), 2D and 3D.
     Newton,
 }
 
@@ -44,7 +46,7 @@ impl FrictionMethod {
     }
 
     /// Whether it solves 3D problems (there the fixed point has Newton
-    /// inner solves: `newton` is `fixed_point`).
+    /// inner solves).
     pub fn solves_3d(self) -> bool {
         self != FrictionMethod::Status
     }
@@ -167,7 +169,15 @@ pub fn solve_friction(
     let mut problem = signorini_contact::DelassusProblem::from_operator(p.w.clone(), p.q.clone());
     let t = Instant::now();
     let out = match (d, method) {
-        (3, _) => signorini_contact::friction3d::friction_3d(&mut problem, &layout, None, &opts),
+        (3, FrictionMethod::Newton) => {
+            signorini_contact::friction3d::friction_3d(&mut problem, &layout, None, &opts)
+        }
+        (3, _) => signorini_contact::friction3d::coulomb_3d_fixed_point(
+            &mut problem,
+            &layout,
+            None,
+            &opts,
+        ),
         (_, FrictionMethod::Status) => coulomb_status(&mut problem, &layout, initial, &opts),
         (_, FrictionMethod::Newton) => coulomb_newton(&mut problem, &layout, None, &opts),
         (_, FrictionMethod::FixedPoint) => {
@@ -181,7 +191,7 @@ pub fn solve_friction(
         problem: name.to_string(),
         method: match (d, method) {
             (2, FrictionMethod::Status) => "friction_status",
-            (2, FrictionMethod::Newton) => "coulomb_semismooth_newton",
+            (_, FrictionMethod::Newton) => out.report.method.as_str(),
             _ => "coulomb_fixed_point",
         }
         .to_string(),

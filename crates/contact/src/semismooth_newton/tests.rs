@@ -1,5 +1,6 @@
-//! The 2D semi-smooth Newton method against the 2D fixed point (status
-//! method inner solves) and the friction status method (seed §4.3, §4.5).
+//! The semi-smooth Newton method on Coulomb's law against the fixed point
+//! (2D: status method inner solves, and the friction status method; 3D:
+//! Newton inner solves) (seed §4.3, §4.5).
 
 use faer::Mat;
 
@@ -7,6 +8,7 @@ use crate::friction::{
     coulomb_fixed_point, coulomb_newton, coulomb_status, FrictionLaw, FrictionLayout,
     FrictionOptions, PointStatus,
 };
+use crate::friction3d::{coulomb_3d_fixed_point, friction_3d};
 use crate::test_problems::{random_spd, XorShift};
 use crate::{ContactSolution, DelassusProblem};
 
@@ -72,6 +74,7 @@ fn newton_agrees_with_the_fixed_point_and_the_status_method_in_2d() {
         let initial: Vec<PointStatus> = p.q[..m].iter().map(closed).map(start_status).collect();
         let fresh = || DelassusProblem::from_operator(p.w.clone(), p.q.clone());
         let newton = coulomb_newton(&mut fresh(), &layout, None, &opts()).unwrap();
+        assert_eq!(newton.friction.fixed_point_iterations, 0, "m = {m}: direct");
         let fp =
             coulomb_fixed_point(&mut fresh(), &layout, initial.clone(), None, &opts()).unwrap();
         let status = coulomb_status(&mut fresh(), &layout, initial, &opts()).unwrap();
@@ -136,4 +139,96 @@ fn newton_holds_a_floating_body_by_friction_like_the_fixed_point() {
     let initial = vec![PointStatus::Stick; 2];
     let fp = coulomb_fixed_point(&mut q, &layout, initial, None, &opts()).unwrap();
     assert_same(&newton, &fp, 1e-10, "floating body");
+}
+
+/// m points in 3D (normal rows 0..m, then each point's tangential rows:
+/// two, or one for every fifth point — a support along t2), W random SPD,
+/// about half the points pressed, pulled sideways; μ 0.2 to 0.6, every
+/// third point anisotropic (μ2 = 2 μ1) when `anisotropic`.
+fn random_3d(m: usize, seed: u64, anisotropic: bool) -> (DelassusProblem, FrictionLayout) {
+    let mut rng = XorShift(seed);
+    let mut tangent_rows = Vec::new();
+    let mut next = m;
+    for p in 0..m {
+        let k = if p % 5 == 4 { 1 } else { 2 };
+        tangent_rows.push((next..next + k).collect::<Vec<usize>>());
+        next += k;
+    }
+    let w = random_spd(next, &mut rng);
+    let q: Vec<f64> = (0..next)
+        .map(|i| {
+            if i < m {
+                rng.uniform(-1.0, 0.6)
+            } else {
+                rng.uniform(-0.8, 0.8)
+            }
+        })
+        .collect();
+    let law = (0..m)
+        .map(|p| {
+            let mu = 0.2 + 0.1 * (p % 5) as f64;
+            let mu2 = if anisotropic && p % 3 == 0 {
+                2.0 * mu
+            } else {
+                mu
+            };
+            FrictionLaw::Coulomb { mu: [mu, mu2] }
+        })
+        .collect();
+    let layout = FrictionLayout {
+        tangent_rows,
+        law,
+        shadow: vec![None; m],
+    };
+    (DelassusProblem::from_operator(w, q), layout)
+}
+
+#[test]
+fn newton_on_coulomb_agrees_with_the_fixed_point_in_3d() {
+    let mut seen = [0usize; 3];
+    for (m, seed, anisotropic) in [
+        (2, 3, false),
+        (5, 5, false),
+        (10, 7, true),
+        (20, 11, false),
+        (30, 13, true),
+    ] {
+        let (p, layout) = random_3d(m, seed, anisotropic);
+        let fresh = || DelassusProblem::from_operator(p.w.clone(), p.q.clone());
+        let newton = friction_3d(&mut fresh(), &layout, None, &opts()).unwrap();
+        let fp = coulomb_3d_fixed_point(&mut fresh(), &layout, None, &opts()).unwrap();
+        let what = format!("m = {m}");
+        // The direct method itself converged, no fallback.
+        assert_eq!(
+            newton.report.method, "coulomb_3d_semismooth_newton",
+            "{what}"
+        );
+        assert_eq!(newton.friction.fixed_point_iterations, 0, "{what}");
+        assert_eq!(fp.report.method, "coulomb_3d_fixed_point", "{what}");
+        assert_same(&newton, &fp, 1e-9, &what);
+        for st in &newton.friction.points {
+            seen[match st {
+                PointStatus::Open => 0,
+                PointStatus::Stick => 1,
+                _ => 2,
+            }] += 1;
+        }
+    }
+    assert!(seen.iter().all(|&c| c > 0), "open, stick, slip: {seen:?}");
+}
+
+/// Cut short (two Newton iterations in all), neither the direct method nor
+/// its fixed-point fallback converges, and the solution says so.
+#[test]
+fn newton_on_coulomb_cut_short_is_not_reported_converged() {
+    let (p, layout) = random_3d(30, 13, true);
+    let o = FrictionOptions {
+        max_iterations: 2,
+        max_fixed_point: 2,
+        ..opts()
+    };
+    let mut q = DelassusProblem::from_operator(p.w.clone(), p.q.clone());
+    let out = friction_3d(&mut q, &layout, None, &o).unwrap();
+    assert!(!out.report.converged, "{}", out.report.stop);
+    assert_eq!(out.report.method, "coulomb_3d_fixed_point");
 }
