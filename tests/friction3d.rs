@@ -104,6 +104,11 @@ fn box_dragged_past_the_isotropic_cone_slides_with_reaction_mu_n_in_any_directio
             "drag {drag:?}: T = ({tx}, {ty})"
         );
         assert!(out.report.certificate.dissipation <= 1e-9);
+        // solved by the Newton method on Coulomb's law, and named so
+        assert_eq!(
+            out.report.steps[1].solver["method"], "coulomb_3d_semismooth_newton",
+            "drag {drag:?}"
+        );
         // the same friction in any direction: the same |T|/N up to the
         // sideways slip, which depends on the direction on a square mesh
         let x = converged(

@@ -196,15 +196,15 @@ fn solve_friction(
     let all_tresca = fr.layout.law.iter().all(|l| l.coulomb_mu().is_none());
     let start = history.previous.as_ref().map(|p| p.1.clone());
     if fr.three_d {
-        let name = if all_tresca {
-            "tresca_3d_semismooth_newton"
-        } else {
-            "coulomb_3d_fixed_point"
+        let out = friction_3d(problem, &fr.layout, start.as_deref(), fopts);
+        // Coulomb: the Newton method on Coulomb's law, or its fallback.
+        let newton = matches!(&out, Ok(s) if s.report.method == "coulomb_3d_semismooth_newton");
+        let name = match (all_tresca, newton) {
+            (true, _) => "tresca_3d_semismooth_newton",
+            (false, true) => "coulomb_3d_semismooth_newton",
+            (false, false) => "coulomb_3d_fixed_point",
         };
-        return (
-            friction_3d(problem, &fr.layout, start.as_deref(), fopts),
-            name,
-        );
+        return (out, name);
     }
     let closed = input.sc.solver.tolerance * load.length_scale;
     let initial = history
