@@ -6,6 +6,7 @@ Siconos' own error, and the residual signorini reports (scaled natural map of
 the normal rows plus the cone violation), so that both are judged alike.
 
 Usage: /usr/bin/python3 docs/peers/siconos_root.py DIR/*.npz [--tol 1e-10] [--max-s 60]
+       [--solvers NEWTON_MIN_FBLSA,VI_EG]   (only these; default: every solver listed below)
 Single-threaded BLAS: run with OPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1.
 """
 import json
@@ -71,6 +72,9 @@ def main():
         tol = float(args[args.index("--tol") + 1])
     if "--max-s" in args:
         max_s = float(args[args.index("--max-s") + 1])
+    only = None
+    if "--solvers" in args:
+        only = set(args[args.index("--solvers") + 1].split(","))
     files = [a for a in args if a.endswith(".npz")]
     for path in files:
         d = np.load(path)
@@ -78,6 +82,8 @@ def main():
         mu = d["mu"] if "mu" in d else np.zeros(0)
         names = LCP if dim == 1 or len(mu) == 0 else (FC2D if dim == 2 else FC3D)
         for name in names:
+            if only is not None and name not in only:
+                continue
             if name in SLOW and len(q) // dim > SLOW[name]:
                 print(json.dumps({"problem": path, "solver": name, "note": "skipped: pivoting, too slow at this size"}))
                 continue
