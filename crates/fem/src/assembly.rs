@@ -65,7 +65,82 @@ pub fn try_assemble_stiffness(
 ) -> Result<SparseColMat<usize, f64>, FemError> {
     check_mesh(mesh, mat.model)?;
     check_formulation(mesh, mat)?;
-    let n = mesh.n_nodes() * mesh.dim;
-    let t = try_stiffness_triplets(mesh, mat)?;
-    SparseColMat::try_new_from_triplets(n, n, &t).map_err(|e| FemError::Assembly(format!("{e:?}")))
+    let dim = mesh.dim;
+    let d = formulation_d(mat);
+    let pattern = NodePattern::of(mesh);
+    let (col_ptr, row_idx) = pattern.dof_pattern(dim);
+    let mut values = vec![0.0; row_idx.len()];
+    for (c, cell) in mesh.cells.iter().enumerate() {
+        let ke = stiffness_of(mesh, c, mat, &d)?;
+        for (b, &nb) in cell.nodes.iter().enumerate() {
+            for (a, &na) in cell.nodes.iter().enumerate() {
+                let at = pattern.position(nb, na);
+                for k in 0..dim {
+                    let base = col_ptr[nb * dim + k] + at * dim;
+                    for l in 0..dim {
+                        values[base + l] += ke[(a * dim + l, b * dim + k)];
+                    }
+                }
+            }
+        }
+    }
+    let n = mesh.n_nodes() * dim;
+    let symbolic = faer::sparse::SymbolicSparseColMat::new_checked(n, n, col_ptr, None, row_idx);
+    Ok(SparseColMat::new(symbolic, values))
+}
+
+/// The node graph of a mesh: for each node, the sorted nodes it shares a
+/// cell with (itself included). K's pattern is this graph with each node
+/// expanded to its `dim` DOFs, so the assembly adds every element matrix
+/// into place instead of sorting its triplets.
+struct NodePattern {
+    start: Vec<usize>,
+    neighbours: Vec<usize>,
+}
+
+impl NodePattern {
+    fn of(mesh: &Mesh) -> Self {
+        let mut lists: Vec<Vec<usize>> = vec![Vec::new(); mesh.n_nodes()];
+        for cell in &mesh.cells {
+            for &a in &cell.nodes {
+                lists[a].extend_from_slice(&cell.nodes);
+            }
+        }
+        let mut start = Vec::with_capacity(lists.len() + 1);
+        let mut neighbours = Vec::new();
+        start.push(0);
+        for (n, mut l) in lists.into_iter().enumerate() {
+            l.push(n);
+            l.sort_unstable();
+            l.dedup();
+            neighbours.extend_from_slice(&l);
+            start.push(neighbours.len());
+        }
+        Self { start, neighbours }
+    }
+
+    /// The position of node `m` among the neighbours of node `n`.
+    fn position(&self, n: usize, m: usize) -> usize {
+        let list = &self.neighbours[self.start[n]..self.start[n + 1]];
+        list.binary_search(&m)
+            .expect("the nodes of a cell are neighbours of each other")
+    }
+
+    /// Column pointers and sorted row indices of the DOF matrix.
+    fn dof_pattern(&self, dim: usize) -> (Vec<usize>, Vec<usize>) {
+        let nodes = self.start.len() - 1;
+        let mut col_ptr = Vec::with_capacity(nodes * dim + 1);
+        let mut row_idx = Vec::with_capacity(self.neighbours.len() * dim * dim);
+        col_ptr.push(0);
+        for n in 0..nodes {
+            let list = &self.neighbours[self.start[n]..self.start[n + 1]];
+            for _ in 0..dim {
+                for &m in list {
+                    row_idx.extend((0..dim).map(|l| m * dim + l));
+                }
+                col_ptr.push(row_idx.len());
+            }
+        }
+        (col_ptr, row_idx)
+    }
 }
