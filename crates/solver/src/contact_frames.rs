@@ -223,6 +223,50 @@ pub fn basis(n: [f64; 3], dim: usize) -> [[f64; 3]; 3] {
 mod tests {
     use super::*;
 
+    /// In place (full node blocks) and by triplets (a block cut short), the
+    /// rotated stiffness is the dense Tᵀ K T.
+    #[test]
+    fn the_rotated_stiffness_is_t_transpose_k_t() {
+        use faer::sparse::{SparseColMat, Triplet};
+        let (dim, nodes) = (3, 3);
+        let n = dim * nodes;
+        let value =
+            |i: usize, j: usize| 1.0 / (1.0 + i.abs_diff(j) as f64) + (i == j) as usize as f64;
+        let frames = LocalFrames {
+            dim,
+            normal: vec![None, Some([0.6, 0.0, 0.8]), Some([0.0, 1.0, 0.0])],
+        };
+        // node 0 does not touch node 2: a pattern of full node blocks
+        let coupled = |a: usize, b: usize| a.abs_diff(b) <= 1;
+        for cut in [false, true] {
+            let mut t = Vec::new();
+            for j in 0..n {
+                for i in 0..n {
+                    let dropped = cut && i == 4 && j == 0;
+                    if coupled(i / dim, j / dim) && !dropped {
+                        t.push(Triplet::new(i, j, value(i, j)));
+                    }
+                }
+            }
+            let k = SparseColMat::<usize, f64>::try_new_from_triplets(n, n, &t).unwrap();
+            let dense = k.to_dense();
+            let mut tm = faer::Mat::<f64>::zeros(n, n);
+            for l in 0..n {
+                for (i, v) in frames.t_col(l) {
+                    tm[(i, l)] = v;
+                }
+            }
+            let want = tm.transpose() * &dense * &tm;
+            assert_eq!(frames.has_full_blocks(k.symbolic()), !cut);
+            let got = frames.rotate_stiffness(k).unwrap().to_dense();
+            for i in 0..n {
+                for j in 0..n {
+                    assert!((got[(i, j)] - want[(i, j)]).abs() <= 1e-14, "{cut} {i} {j}");
+                }
+            }
+        }
+    }
+
     #[test]
     fn the_basis_is_orthonormal_with_n_first() {
         for n in [[0.0, 0.0, 1.0], [0.6, 0.0, 0.8], [1.0 / 3f64.sqrt(); 3]] {
@@ -265,9 +309,91 @@ impl LocalFrames {
         }
     }
 
-    /// K̃ = Tᵀ K T (T block diagonal: each entry of K spreads over the
-    /// blocks of its row's and column's nodes).
+    /// K̃ = Tᵀ K T, in place when every rotated node's rows and columns
+    /// form full `dim`-blocks of K's pattern (as the assembly makes them:
+    /// then K̃ has K's pattern), else by [`Self::rotated_copy`].
     pub fn rotate_stiffness(
+        &self,
+        mut k: faer::sparse::SparseColMat<usize, f64>,
+    ) -> Result<faer::sparse::SparseColMat<usize, f64>, String> {
+        if !self.has_full_blocks(k.symbolic()) {
+            return self.rotated_copy(k.as_ref());
+        }
+        let dim = self.dim;
+        let (sym, val) = k.parts_mut();
+        // Rows: each column's block of a rotated node ← Qᵀ block.
+        for j in 0..sym.ncols() {
+            let range = sym.col_range(j);
+            let rows = &sym.row_idx()[range.clone()];
+            let mut p = 0;
+            while p < rows.len() {
+                match self.normal[rows[p] / dim] {
+                    Some(n) if rows[p] % dim == 0 => {
+                        let q = basis(n, dim);
+                        let v = &mut val[range.start + p..range.start + p + dim];
+                        let old = [v[0], v[1], if dim == 3 { v[2] } else { 0.0 }];
+                        for (c, vc) in v.iter_mut().enumerate() {
+                            *vc = (0..dim).map(|d| q[d][c] * old[d]).sum();
+                        }
+                        p += dim;
+                    }
+                    _ => p += 1,
+                }
+            }
+        }
+        // Columns: the dim columns of a rotated node ← (columns) Q.
+        for (node, n) in self.normal.iter().enumerate() {
+            let Some(n) = n else { continue };
+            let q = basis(*n, dim);
+            let starts: Vec<usize> = (0..dim)
+                .map(|c| sym.col_range(dim * node + c).start)
+                .collect();
+            for p in 0..sym.col_range(dim * node).len() {
+                let old: Vec<f64> = starts.iter().map(|&s0| val[s0 + p]).collect();
+                for (c, &s0) in starts.iter().enumerate() {
+                    val[s0 + p] = (0..dim).map(|d| old[d] * q[d][c]).sum();
+                }
+            }
+        }
+        Ok(k)
+    }
+
+    /// Whether every rotated node's `dim` columns share one row pattern in
+    /// which its own rows, where present, come as `dim` consecutive rows.
+    fn has_full_blocks(&self, sym: faer::sparse::SymbolicSparseColMatRef<'_, usize>) -> bool {
+        let dim = self.dim;
+        let rotated = |r: usize| self.normal[r / dim].is_some();
+        let columns_agree = self.normal.iter().enumerate().all(|(node, n)| {
+            n.is_none() || {
+                let first = sym.row_idx_of_col_raw(dim * node);
+                (1..dim).all(|c| sym.row_idx_of_col_raw(dim * node + c) == first)
+            }
+        });
+        columns_agree
+            && (0..sym.ncols()).all(|j| {
+                let rows = sym.row_idx_of_col_raw(j);
+                let mut p = 0;
+                while p < rows.len() {
+                    if rotated(rows[p]) {
+                        let r0 = rows[p];
+                        let whole = r0 % dim == 0
+                            && rows.len() >= p + dim
+                            && (0..dim).all(|l| rows[p + l] == r0 + l);
+                        if !whole {
+                            return false;
+                        }
+                        p += dim;
+                    } else {
+                        p += 1;
+                    }
+                }
+                true
+            })
+    }
+
+    /// K̃ = Tᵀ K T built anew from triplets (T block diagonal: each entry of
+    /// K spreads over the blocks of its row's and column's nodes).
+    fn rotated_copy(
         &self,
         k: faer::sparse::SparseColMatRef<'_, usize, f64>,
     ) -> Result<faer::sparse::SparseColMat<usize, f64>, String> {

@@ -284,7 +284,7 @@ impl Subdomain {
         let mut k_local = signorini_fem::try_assemble_stiffness(&mesh, &body.material)
             .map_err(|e| e.to_string())?;
         if !frames.is_identity() {
-            k_local = frames.rotate_stiffness(k_local.as_ref())?;
+            k_local = frames.rotate_stiffness(k_local)?;
         }
         let n_local = dim * spec.nodes.len();
         let free: Vec<usize> = (0..n_local)
