@@ -327,25 +327,18 @@ pub(crate) fn finish_condensed(
         }
         let mut gaps = sol.gap0.clone();
         for (pi, p) in points.iter().enumerate() {
-            for &(b, d, c) in &frames.rotate_row(bodies, &p.row) {
-                if !bodies[b].prescribed[d] {
-                    let g = gamma_of[b][d];
-                    r_gamma[g] -= c * lambda[pi];
-                    gaps[pi] += c * u_gamma[si][g];
-                }
+            for (g, c) in frames.gamma_row(bodies, gamma_of, &p.row) {
+                r_gamma[g] -= c * lambda[pi];
+                gaps[pi] += c * u_gamma[si][g];
             }
             if let (Some(t), Some(fr)) = (&p.trow, &sol.friction) {
-                for &(b, d, c) in t {
-                    if !bodies[b].prescribed[d] {
-                        r_gamma[gamma_of[b][d]] -= c * fr.tangential[pi];
-                    }
+                for (g, c) in frames.gamma_row(bodies, gamma_of, t) {
+                    r_gamma[g] -= c * fr.tangential[pi];
                 }
             }
             if let (Some(t), Some(fr)) = (&p.trow2, &sol.friction) {
-                for &(b, d, c) in t {
-                    if !bodies[b].prescribed[d] {
-                        r_gamma[gamma_of[b][d]] -= c * fr.tangential2[pi];
-                    }
+                for (g, c) in frames.gamma_row(bodies, gamma_of, t) {
+                    r_gamma[g] -= c * fr.tangential2[pi];
                 }
             }
         }

@@ -139,6 +139,21 @@ impl ContactFrames {
         out
     }
 
+    /// A row (body, DOF, coefficient) on Γ: rotated ([`Self::rotate_row`]),
+    /// prescribed DOFs left out, each DOF by its Γ index in `gamma_of`.
+    pub fn gamma_row(
+        &self,
+        bodies: &[BodyModel],
+        gamma_of: &[Vec<usize>],
+        row: &[(usize, usize, f64)],
+    ) -> Vec<(usize, f64)> {
+        self.rotate_row(bodies, row)
+            .iter()
+            .filter(|&&(b, d, _)| !bodies[b].prescribed[d])
+            .map(|&(b, d, c)| (gamma_of[b][d], c))
+            .collect()
+    }
+
     /// The rotations of body b's nodes `nodes` (all of them: `None`).
     pub fn local(&self, b: usize, dim: usize, nodes: Option<&[usize]>) -> LocalFrames {
         LocalFrames {

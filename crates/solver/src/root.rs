@@ -345,15 +345,7 @@ type RowsOnGamma = (
 /// then the tangential rows t1 (and t2) of each frictional point.
 fn rows_on_gamma(input: &RootInput) -> RowsOnGamma {
     let (bodies, gamma_of) = (input.bodies, input.gamma_of);
-    let to_gamma = |row: &[(usize, usize, f64)]| -> Vec<(usize, f64)> {
-        input
-            .frames
-            .rotate_row(bodies, row)
-            .iter()
-            .filter(|&&(b, d, _)| !bodies[b].prescribed[d])
-            .map(|&(b, d, c)| (gamma_of[b][d], c))
-            .collect()
-    };
+    let to_gamma = |row: &[(usize, usize, f64)]| input.frames.gamma_row(bodies, gamma_of, row);
     let mut rows: Vec<Vec<(usize, f64)>> = input.points.iter().map(|p| to_gamma(&p.row)).collect();
     let m = input.points.len();
     let mut tangent_row = vec![None; m];
@@ -434,8 +426,6 @@ fn step_load(
     })
 }
 
-/// One frictionless step: the chosen algorithm (or the status method) on
-/// the step's problem; returns the step and u_Γ.
 /// What a frictionless status step hands to the next load step: its
 /// active set (the next step's first guess) and the Cholesky factor of
 /// its active block (W does not change over the steps, so the next step
@@ -446,6 +436,8 @@ pub(crate) struct WarmStart {
     factor: Option<signorini_contact::active_factor::ActiveFactor>,
 }
 
+/// One frictionless step: the chosen algorithm (or the status method) on
+/// the step's problem; returns the step and u_Γ.
 fn frictionless_step(
     input: &RootInput,
     op: &DelassusOperator,
