@@ -4,25 +4,11 @@
 mod common;
 
 use common::{
-    block_body, block_boundary, contact_force, converged_on as solve, example, material_2d, max_rel,
+    assert_same, block_body, block_boundary, contact_force, converged_on as solve, example,
+    material_2d, max_rel,
 };
 use signorini_scene::SolvePath;
 use signorini_solver::RunOutput;
-
-/// Displacements of every body and contact forces agree to `tol`.
-fn assert_same(a: &RunOutput, b: &RunOutput, tol: f64) {
-    let fa: Vec<f64> = a.contact_rows.iter().map(|r| r.normal_force).collect();
-    let fb: Vec<f64> = b.contact_rows.iter().map(|r| r.normal_force).collect();
-    assert!(
-        max_rel(&fa, &fb) <= tol,
-        "contact forces differ by {:e}",
-        max_rel(&fa, &fb)
-    );
-    for (x, y) in a.bodies.iter().zip(&b.bodies) {
-        let r = max_rel(&x.last().displacement, &y.last().displacement);
-        assert!(r <= tol, "body {}: displacements differ by {r:e}", x.name);
-    }
-}
 
 #[test]
 fn hertz_half_disk_split_in_two_equals_the_unsplit_body() {

@@ -221,3 +221,18 @@ slave = { body = "block", surface = "bottom" }
 master = { body = "cylinder" }
 discretization = "node_to_segment"
 "#;
+
+/// Displacements of every body and contact forces agree to `tol`.
+pub fn assert_same(a: &RunOutput, b: &RunOutput, tol: f64) {
+    let fa: Vec<f64> = a.contact_rows.iter().map(|r| r.normal_force).collect();
+    let fb: Vec<f64> = b.contact_rows.iter().map(|r| r.normal_force).collect();
+    assert!(
+        max_rel(&fa, &fb) <= tol,
+        "contact forces differ by {:e}",
+        max_rel(&fa, &fb)
+    );
+    for (x, y) in a.bodies.iter().zip(&b.bodies) {
+        let r = max_rel(&x.last().displacement, &y.last().displacement);
+        assert!(r <= tol, "body {}: displacements differ by {r:e}", x.name);
+    }
+}

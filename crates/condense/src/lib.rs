@@ -26,6 +26,7 @@
 //! The condense crate owns the static condensation of one subdomain (and
 //! condition estimates); it must not know contact, the scene format or MPI.
 
+pub mod block_ordering;
 pub mod conditioning;
 pub mod ordering;
 
@@ -254,7 +255,7 @@ fn for_each_trailing_entry(
 
 /// The trailing nb × nb block L_BB of the supernodal factor (lower
 /// triangular), as a dense matrix.
-fn trailing_block(
+pub fn trailing_block(
     symbolic: &SymbolicCholesky<usize>,
     l_values: &[f64],
     ni: usize,

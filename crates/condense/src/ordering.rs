@@ -44,6 +44,11 @@ pub enum Ordering {
     Amd,
     /// Nested dissection (METIS_NodeND).
     NestedDissection,
+    /// Minimum degree on blocks of indistinguishable rows
+    /// ([`crate::block_ordering`]): for matrices of overlapping dense
+    /// blocks (the interface of several subdomains); AMD when the blocks
+    /// are too many.
+    BlockMinimumDegree,
 }
 
 impl Ordering {
@@ -52,6 +57,7 @@ impl Ordering {
         match self {
             Ordering::Amd => "amd",
             Ordering::NestedDissection => "nested_dissection",
+            Ordering::BlockMinimumDegree => "block_minimum_degree",
         }
     }
 }
@@ -220,6 +226,7 @@ pub fn order_and_analyse<T>(
         OrderingChoice::Auto => &[Ordering::Amd, Ordering::NestedDissection],
         OrderingChoice::Only(Ordering::Amd) => &[Ordering::Amd],
         OrderingChoice::Only(Ordering::NestedDissection) => &[Ordering::NestedDissection],
+        OrderingChoice::Only(Ordering::BlockMinimumDegree) => &[Ordering::BlockMinimumDegree],
     };
     let mut best: Option<OrderedSymbolic> = None;
     let mut candidates = Vec::new();
@@ -230,11 +237,24 @@ pub fn order_and_analyse<T>(
         if choice == OrderingChoice::Auto && cheap {
             break;
         }
-        let (mut fwd, mut inv) = match kind {
-            Ordering::Amd => amd_of_graph(&xadj, &adjncy)?,
+        let (mut fwd, mut inv, kind) = match kind {
+            Ordering::Amd => {
+                let (f, i) = amd_of_graph(&xadj, &adjncy)?;
+                (f, i, kind)
+            }
+            Ordering::BlockMinimumDegree => {
+                match crate::block_ordering::block_minimum_degree(&xadj, &adjncy) {
+                    Some((f, i)) => (f, i, kind),
+                    None => {
+                        let (f, i) = amd_of_graph(&xadj, &adjncy)?;
+                        (f, i, Ordering::Amd)
+                    }
+                }
+            }
             Ordering::NestedDissection => {
-                signorini_mesh::nested_dissection::nested_dissection(&xadj, &adjncy)
-                    .map_err(|e| CondenseError::Factorisation(e.to_string()))?
+                let (f, i) = signorini_mesh::nested_dissection::nested_dissection(&xadj, &adjncy)
+                    .map_err(|e| CondenseError::Factorisation(e.to_string()))?;
+                (f, i, kind)
             }
         };
         fwd.extend(n_ordered..n);

@@ -18,6 +18,7 @@ use faer::prelude::Solve;
 use faer::{Mat, Side};
 
 use crate::active_factor::{solve_on_active_set, ActiveFactor};
+use crate::schur_factor::{InterfaceFactorStats, InterfaceStiffness, SchurFactor};
 use crate::status::ActiveSetSolve;
 use crate::ContactError;
 
@@ -45,9 +46,8 @@ pub enum VarEquation {
 /// and e = −Rᵀ F' ([`DelassusOperator::problem`]).
 pub struct DelassusOperator {
     n: usize,
-    llt: faer::linalg::solvers::Llt<f64>,
-    b: Vec<SparseRow>,
-    x: Arc<Mat<f64>>,
+    schur: Arc<SchurFactor>,
+    b: Arc<Vec<SparseRow>>,
     r: Arc<Mat<f64>>,
     w: Mat<f64>,
     g_mat: Mat<f64>,
@@ -56,8 +56,10 @@ pub struct DelassusOperator {
 
 pub struct DelassusProblem {
     n: usize,
-    /// X = S⁺ Bᵀ (n × m), shared with the operator.
-    x: Arc<Mat<f64>>,
+    /// The factor of S and the rows B, shared with the operator (for the
+    /// displacement u = S⁺(F' + Bᵀλ) + Rα; none for a problem given by W).
+    schur: Option<Arc<SchurFactor>>,
+    b: Arc<Vec<SparseRow>>,
     /// u0 = S⁺ F'.
     u0: Vec<f64>,
     /// Orthonormal kernel basis (n × k), shared with the operator.
@@ -110,7 +112,7 @@ impl DelassusOperator {
     /// stiffness `s`, the contact rows `b` (over interface DOFs) and the
     /// kernel `kernel` (n × k, k = 0 without floating bodies).
     pub fn new(s: &Mat<f64>, b: &[SparseRow], kernel: &Mat<f64>) -> Result<Self, ContactError> {
-        Self::build(s, b, kernel, false)
+        Self::of_stiffness(&InterfaceStiffness::Dense(s.clone()), b, kernel, false)
     }
 
     /// As [`DelassusOperator::new`], and estimates the condition number κ₁ of
@@ -122,7 +124,20 @@ impl DelassusOperator {
         b: &[SparseRow],
         kernel: &Mat<f64>,
     ) -> Result<Self, ContactError> {
-        Self::build(s, b, kernel, true)
+        Self::of_stiffness(&InterfaceStiffness::Dense(s.clone()), b, kernel, true)
+    }
+
+    /// Builds the operator from an interface stiffness dense or sparse
+    /// ([`InterfaceStiffness`]; a sparse S is factorised by a sparse
+    /// Cholesky when that is cheaper, [`SchurFactor`]), estimating the
+    /// condition of the matrix factorised when `estimate_condition`.
+    pub fn of_stiffness(
+        s: &InterfaceStiffness,
+        b: &[SparseRow],
+        kernel: &Mat<f64>,
+        estimate_condition: bool,
+    ) -> Result<Self, ContactError> {
+        Self::build(s, b, kernel, estimate_condition)
     }
 
     /// The estimated κ₁ of S (S + ρRRᵀ with floating bodies) when built by
@@ -146,9 +161,7 @@ impl DelassusOperator {
     /// factor of S).
     pub fn problem(&self, gap0: &[f64], f: &[f64]) -> DelassusProblem {
         let (n, k) = (self.n, self.n_kernel());
-        let mut u0m = Mat::<f64>::from_fn(n, 1, |i, _| f[i]);
-        self.llt.solve_in_place(u0m.as_mut());
-        let u0: Vec<f64> = (0..n).map(|i| u0m[(i, 0)]).collect();
+        let u0 = self.schur.solve(f);
         let q: Vec<f64> = self
             .b
             .iter()
@@ -160,7 +173,8 @@ impl DelassusOperator {
             .collect();
         DelassusProblem {
             n,
-            x: Arc::clone(&self.x),
+            schur: Some(Arc::clone(&self.schur)),
+            b: Arc::clone(&self.b),
             u0,
             r: Arc::clone(&self.r),
             w: self.w.clone(),
@@ -174,13 +188,12 @@ impl DelassusOperator {
     }
 
     fn build(
-        s: &Mat<f64>,
+        s: &InterfaceStiffness,
         b: &[SparseRow],
         kernel: &Mat<f64>,
         estimate_condition: bool,
     ) -> Result<Self, ContactError> {
         let n = s.nrows();
-        let m = b.len();
         let k = kernel.ncols();
         let r = if k > 0 {
             orthonormalize(kernel)?
@@ -188,76 +201,47 @@ impl DelassusOperator {
             Mat::zeros(n, 0)
         };
         if k > 0 {
-            // The kernel comes from the supports (the rigid modes they leave
-            // free, by a rank test); check that it is S's: ‖S r‖ must be
-            // round-off next to the stiffness (r orthonormal).
-            let smax = (0..n).fold(0.0f64, |a, i| a.max(s[(i, i)].abs()));
-            let sr = s * &r;
-            let worst = sr.norm_max();
-            if worst.is_nan() || worst > 1e-8 * smax * (n as f64).sqrt() {
-                return Err(ContactError::Singular(format!(
-                    "the rigid modes left free by the supports are not in the kernel of S (‖S r‖ = {worst:.2e} against a stiffness {smax:.2e}): the interface stiffness and the supports disagree"
-                )));
-            }
+            check_kernel(s, &r)?;
         }
-        let mut s_reg = s.clone();
-        if k > 0 {
-            let mean = (0..n).map(|i| s[(i, i)].abs()).sum::<f64>() / n.max(1) as f64;
-            // Any ρ > 0 gives the same answer; the mean diagonal keeps S + ρRRᵀ well scaled.
-            let rho = if mean > 0.0 { mean } else { 1.0 };
-            faer::linalg::matmul::matmul(
-                s_reg.as_mut(),
-                faer::Accum::Add,
-                r.as_ref(),
-                r.transpose(),
-                rho,
-                faer::Par::Seq,
-            );
-        }
-        let llt = s_reg.llt(Side::Lower).map_err(|_| {
-            ContactError::Singular(
-                "the interface stiffness S is not positive definite beyond the rigid modes of the floating bodies: a body is free to move in a way its supports do not prevent".into(),
-            )
-        })?;
-        let s_condition = estimate_condition.then(|| {
-            use signorini_condense::conditioning::{
-                dense_norm1, inverse_norm1_estimate, llt_solve,
-            };
-            dense_norm1(s_reg.as_ref()) * inverse_norm1_estimate(n, |x| llt_solve(&llt, x))
+        let mut contact: Vec<usize> = b.iter().flatten().map(|&(i, _)| i).collect();
+        contact.sort_unstable();
+        contact.dedup();
+        let schur = SchurFactor::new(s, &r, &contact)?;
+        let s_condition = estimate_condition.then(|| schur.condition());
+        let w = schur.delassus(b)?;
+        let g_mat = Mat::<f64>::from_fn(b.len(), k, |p, j| {
+            b[p].iter().map(|&(i, c)| c * r[(i, j)]).sum()
         });
-        let mut x = Mat::<f64>::zeros(n, m);
-        for (p, row) in b.iter().enumerate() {
-            for &(i, c) in row {
-                x[(i, p)] += c;
-            }
-        }
-        llt.solve_in_place(x.as_mut());
-        let mut w = Mat::<f64>::zeros(m, m);
-        for (p, row) in b.iter().enumerate() {
-            for j in 0..m {
-                w[(p, j)] = row.iter().map(|&(i, c)| c * x[(i, j)]).sum();
-            }
-        }
-        for j in 0..m {
-            for i in j + 1..m {
-                let v = 0.5 * (w[(i, j)] + w[(j, i)]);
-                w[(i, j)] = v;
-                w[(j, i)] = v;
-            }
-        }
-        let g_mat =
-            Mat::<f64>::from_fn(m, k, |p, j| b[p].iter().map(|&(i, c)| c * r[(i, j)]).sum());
         Ok(Self {
             n,
-            llt,
-            b: b.to_vec(),
-            x: Arc::new(x),
+            schur: Arc::new(schur),
+            b: Arc::new(b.to_vec()),
             r: Arc::new(r),
             w,
             g_mat,
             s_condition,
         })
     }
+
+    /// How S was factorised (dense or sparse, its size).
+    pub fn interface_factor(&self) -> &InterfaceFactorStats {
+        self.schur.stats()
+    }
+}
+
+/// The kernel comes from the supports (the rigid modes they leave free, by a
+/// rank test); checks that it is S's: ‖S r‖ must be round-off next to the
+/// stiffness (r orthonormal).
+fn check_kernel(s: &InterfaceStiffness, r: &Mat<f64>) -> Result<(), ContactError> {
+    let n = s.nrows();
+    let smax = s.diagonal().iter().fold(0.0f64, |a, d| a.max(d.abs()));
+    let worst = s.mul(r).norm_max();
+    if worst.is_nan() || worst > 1e-8 * smax * (n as f64).sqrt() {
+        return Err(ContactError::Singular(format!(
+            "the rigid modes left free by the supports are not in the kernel of S (‖S r‖ = {worst:.2e} against a stiffness {smax:.2e}): the interface stiffness and the supports disagree"
+        )));
+    }
+    Ok(())
 }
 
 impl DelassusProblem {
@@ -280,7 +264,8 @@ impl DelassusProblem {
         let m = q.len();
         Self {
             n: 0,
-            x: Arc::new(Mat::zeros(0, m)),
+            schur: None,
+            b: Arc::new(Vec::new()),
             u0: Vec::new(),
             r: Arc::new(Mat::zeros(0, 0)),
             g_mat: Mat::zeros(m, 0),
@@ -314,11 +299,15 @@ impl DelassusProblem {
     /// of the last solve).
     pub fn displacement(&self, lambda: &[f64]) -> Vec<f64> {
         let mut u = self.u0.clone();
-        for (p, &l) in lambda.iter().enumerate() {
-            if l != 0.0 {
-                for (i, ui) in u.iter_mut().enumerate() {
-                    *ui += self.x[(i, p)] * l;
+        if let Some(schur) = &self.schur {
+            let mut bt_lambda = vec![0.0; self.n];
+            for (row, &l) in self.b.iter().zip(lambda) {
+                for &(i, c) in row {
+                    bt_lambda[i] += c * l;
                 }
+            }
+            for (ui, d) in u.iter_mut().zip(schur.solve(&bt_lambda)) {
+                *ui += d;
             }
         }
         for (j, &a) in self.last_alpha.iter().enumerate() {

@@ -30,6 +30,7 @@ pub mod projected_gradient;
 mod reduced;
 pub mod redundancy;
 pub mod registry;
+pub mod schur_factor;
 mod semismooth_newton;
 pub mod smalbe;
 pub mod solution;

@@ -127,6 +127,38 @@ pub struct Factorisation {
     /// reach the exact solution, solved by sparse LU instead.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub lu_fallbacks: Option<usize>,
+    /// Condensed path: the root's factorisation of the interface stiffness
+    /// S = Σ S_i.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub interface: Option<InterfaceFactorisation>,
+}
+
+/// The root's factorisation of S on Γ (report.json
+/// `factorisation.interface`): one subdomain's S is dense; several make a
+/// sparse matrix of dense blocks, factorised by a sparse Cholesky unless a
+/// dense one costs fewer flops.
+#[derive(Debug, Clone, Default, Serialize, PartialEq)]
+pub struct InterfaceFactorisation {
+    /// "dense" or "sparse": the factor kept.
+    pub storage: String,
+    /// Interface DOFs n_Γ.
+    pub rows: u64,
+    /// Stored entries of S (both triangles; n_Γ² when dense).
+    pub matrix_nnz: u64,
+    /// Ordering of the sparse factor ("amd" or "nested_dissection"), its
+    /// flops and entries when S was assembled sparse (also when the dense
+    /// factor was kept for costing fewer flops).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub ordering: Option<String>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub sparse_flops: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub sparse_factor_nnz: Option<u64>,
+    /// Bytes of the factor kept.
+    pub factor_bytes: u64,
+    /// Fixing DOFs of the floating bodies' rigid modes (sparse factor; the
+    /// dense one factorises S + ρRRᵀ instead).
+    pub fixing_dofs: u64,
 }
 
 /// One fill-reducing ordering compared for the factorisation.

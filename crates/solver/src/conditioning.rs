@@ -21,6 +21,7 @@ use signorini_condense::conditioning::{
     dense_spd_condition, digits_lost, inverse_norm1_estimate, F64_DIGITS,
 };
 use signorini_contact::delassus::SparseRow;
+use signorini_contact::schur_factor::InterfaceStiffness;
 use signorini_contact::{ContactError, DelassusOperator};
 use signorini_report::Conditioning;
 
@@ -42,22 +43,35 @@ pub(crate) struct RootConditioning {
     /// Notes that are warnings too (they go to the report's messages).
     warnings: Vec<String>,
     done: bool,
+    /// How the first operator factorised S (report.json
+    /// `factorisation.interface`).
+    interface: Option<signorini_report::InterfaceFactorisation>,
+}
+
+impl RootConditioning {
+    /// The interface factorisation of the first operator built.
+    pub(crate) fn interface_factorisation(
+        &self,
+    ) -> Option<signorini_report::InterfaceFactorisation> {
+        self.interface.clone()
+    }
 }
 
 /// `DelassusOperator::new`, and, the first time, the estimates of κ(S)
 /// (from the factorisation `new` makes) and κ(W) (before any slip
 /// compliance is added to W).
 pub(crate) fn delassus_operator(
-    s: &Mat<f64>,
+    s: &InterfaceStiffness,
     rows: &[SparseRow],
     kernel: &Mat<f64>,
     cond: &mut RootConditioning,
 ) -> Result<DelassusOperator, ContactError> {
     if cond.done {
-        return DelassusOperator::new(s, rows, kernel);
+        return DelassusOperator::of_stiffness(s, rows, kernel, false);
     }
-    let p = DelassusOperator::new_with_condition(s, rows, kernel)?;
+    let p = DelassusOperator::of_stiffness(s, rows, kernel, true)?;
     cond.done = true;
+    cond.interface = Some(interface_report(p.interface_factor(), s.nrows()));
     cond.s = p.s_condition();
     if p.n_kernel() > 0 {
         cond.notes.push(format!(
@@ -87,6 +101,22 @@ pub(crate) fn delassus_operator(
         }
     }
     Ok(p)
+}
+
+fn interface_report(
+    st: &signorini_contact::schur_factor::InterfaceFactorStats,
+    rows: usize,
+) -> signorini_report::InterfaceFactorisation {
+    signorini_report::InterfaceFactorisation {
+        storage: st.storage.into(),
+        rows: rows as u64,
+        matrix_nnz: st.matrix_nnz as u64,
+        ordering: st.sparse.map(|f| f.ordering.as_str().to_string()),
+        sparse_flops: st.sparse.map(|f| f.flops),
+        sparse_factor_nnz: st.sparse.map(|f| f.nnz as u64),
+        factor_bytes: st.factor_bytes as u64,
+        fixing_dofs: st.fixing_dofs as u64,
+    }
 }
 
 /// The report's entry on the condensed path, from the subdomains' κ(K_II)
@@ -256,13 +286,25 @@ mod tests {
         let rows: Vec<SparseRow> = vec![vec![(0, 1.0)], vec![(1, 1.0), (2, 1.0)]];
         let kernel = Mat::<f64>::zeros(3, 0);
         let mut cond = RootConditioning::default();
-        let p = delassus_operator(&s, &rows, &kernel, &mut cond).unwrap();
+        let p = delassus_operator(
+            &InterfaceStiffness::Dense(s.clone()),
+            &rows,
+            &kernel,
+            &mut cond,
+        )
+        .unwrap();
         assert_eq!(p.s_condition(), Some(4.0));
         assert!((cond.s.unwrap() - 4.0).abs() < 1e-14);
         assert!((cond.w.unwrap() - 1.0 / 0.75).abs() < 1e-14, "{:?}", cond.w);
         assert!(cond.warnings.is_empty());
         // later steps do not estimate again
-        let p = delassus_operator(&s, &rows, &kernel, &mut cond).unwrap();
+        let p = delassus_operator(
+            &InterfaceStiffness::Dense(s.clone()),
+            &rows,
+            &kernel,
+            &mut cond,
+        )
+        .unwrap();
         assert_eq!(p.s_condition(), None);
         assert!((cond.s.unwrap() - 4.0).abs() < 1e-14);
     }
@@ -272,7 +314,13 @@ mod tests {
         let s = Mat::<f64>::identity(2, 2);
         let rows: Vec<SparseRow> = vec![vec![(0, 1.0)], vec![(0, 1.0)]];
         let mut cond = RootConditioning::default();
-        delassus_operator(&s, &rows, &Mat::zeros(2, 0), &mut cond).unwrap();
+        delassus_operator(
+            &InterfaceStiffness::Dense(s),
+            &rows,
+            &Mat::zeros(2, 0),
+            &mut cond,
+        )
+        .unwrap();
         assert!(cond.w.is_none());
         let mut messages = Vec::new();
         let c = condensed(&[], cond, 1e-10, &mut messages);

@@ -89,6 +89,7 @@ fn kkt_factorisation(kkt: &KktSystem<'_>) -> signorini_report::Factorisation {
         factorisations: Some(kkt.counts.factorisations),
         refinement_steps: Some(kkt.counts.refinement_steps),
         lu_fallbacks: Some(kkt.counts.lu_fallbacks),
+        interface: None,
     }
 }
 

@@ -374,6 +374,14 @@ fn condensed_partial(
         &answer.u_gamma,
         &mut log.messages,
     )?;
+    if let (Some(f), Some(i)) = (
+        partial.factorisation.as_mut(),
+        root_cond.interface_factorisation(),
+    ) {
+        let m = model.points.len() as u64;
+        partial.dense_interface_bytes = i.factor_bytes + 8 * m * m;
+        f.interface = Some(i);
+    }
     partial.conditioning = Some(conditioning::condensed(
         &data,
         root_cond,

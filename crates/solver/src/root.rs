@@ -229,7 +229,7 @@ pub(crate) struct RootInput<'a> {
 /// condensed load F'_i of every load entry, the rigid modes R of the
 /// floating bodies, and the contact rows (normal rows, then tangential).
 pub(crate) struct Interface {
-    pub s: Mat<f64>,
+    pub s: InterfaceStiffness,
     /// Per body, per load entry: its condensed load on Γ at scale 1.
     pub fp_entries: Vec<Vec<Vec<f64>>>,
     pub kernel: Mat<f64>,
@@ -290,18 +290,11 @@ pub(crate) fn solve_root(
 /// (tangential rows after the normal ones, seed eq. 16: the slip [u_t]).
 fn assemble_interface(input: &RootInput) -> Interface {
     let (bodies, n_gamma) = (input.bodies, input.n_gamma);
-    let mut s = Mat::<f64>::zeros(n_gamma, n_gamma);
     let mut fp_entries: Vec<Vec<Vec<f64>>> = bodies
         .iter()
         .map(|b| vec![vec![0.0; n_gamma]; b.loads.len()])
         .collect();
     for d in input.data {
-        let nb = d.gamma.len();
-        for j in 0..nb {
-            for i in 0..nb {
-                s[(d.gamma[i], d.gamma[j])] += d.schur[i + nb * j];
-            }
-        }
         let b = input.specs[d.id].body;
         for (e, f) in d.fprime.iter().enumerate() {
             for (i, v) in f.iter().enumerate() {
@@ -309,6 +302,7 @@ fn assemble_interface(input: &RootInput) -> Interface {
             }
         }
     }
+    let s = interface_stiffness(input.data, n_gamma);
     let n_kernel: usize = bodies.iter().map(|b| b.kernel.len()).sum();
     let mut kernel = Mat::<f64>::zeros(n_gamma, n_kernel);
     let mut col = 0;
@@ -333,6 +327,29 @@ fn assemble_interface(input: &RootInput) -> Interface {
         tangent_row,
         tangent_row2,
     }
+}
+
+/// S = Σ S_i: dense for one subdomain; with several, a sparse matrix of
+/// their dense blocks (factorised sparse or dense by the cost of its
+/// symbolic factor, `signorini_contact::schur_factor`).
+fn interface_stiffness(data: &[CondensedData], n_gamma: usize) -> InterfaceStiffness {
+    if data.len() > 1 {
+        let blocks: Vec<(&[usize], &[f64])> = data
+            .iter()
+            .map(|d| (d.gamma.as_slice(), d.schur.as_slice()))
+            .collect();
+        return InterfaceStiffness::from_blocks(n_gamma, &blocks);
+    }
+    let mut s = Mat::<f64>::zeros(n_gamma, n_gamma);
+    for d in data {
+        let nb = d.gamma.len();
+        for j in 0..nb {
+            for i in 0..nb {
+                s[(d.gamma[i], d.gamma[j])] += d.schur[i + nb * j];
+            }
+        }
+    }
+    InterfaceStiffness::Dense(s)
 }
 
 type RowsOnGamma = (
