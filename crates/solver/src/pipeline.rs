@@ -118,6 +118,7 @@ impl Attempt<'_> {
         let condensed_path = self.plan.path == scene::SolvePath::Condensed;
         let t = Instant::now();
         let ranks = if condensed_path { comm.size() } else { 1 };
+        progress::phase(progress::Phase::Meshing);
         let model = partition::model_stage(sc, ranks, self.zone, &mut log.messages)?;
         log.timings.setup = t.elapsed().as_secs_f64();
         let ctx = RunContext {
@@ -133,6 +134,7 @@ impl Attempt<'_> {
         log.stages.push("condense".into());
         let (local, condensed, condense_s) = condense_stage(comm, &model, &mut log.messages);
         let gathered = wire(gather(comm, &condensed))?;
+        progress::ranks_condensed(gathered.as_ref());
         let t_root = Instant::now();
         let (answer, root_state) = root_stage(sc, self.plan, &model, gathered);
         let contact_s = t_root.elapsed().as_secs_f64();
@@ -140,6 +142,7 @@ impl Attempt<'_> {
             wire(broadcast(comm, comm.is_root().then_some(&answer)))?;
         let answer = answer?;
         let t = Instant::now();
+        progress::phase(progress::Phase::Recovering);
         let recovered = recover_stage(&model, &local, &answer);
         let figures = RankFigures {
             condense_s,
@@ -179,18 +182,21 @@ impl Attempt<'_> {
             return Ok(Outcome::Done(None));
         }
         log.stages.push("contact".into());
-        let partial = run_direct(
-            sc,
-            &model.bodies,
-            &model.points,
-            &model.fixed,
-            &model.scales,
-            &mut log.timings,
-            &mut log.messages,
-        )?;
+        let partial = progress::observed(|| {
+            run_direct(
+                sc,
+                &model.bodies,
+                &model.points,
+                &model.fixed,
+                &model.scales,
+                &mut log.timings,
+                &mut log.messages,
+            )
+        })?;
         if let Some(w) = self.check_zone(model, &partial) {
             return Ok(Outcome::Widen(w));
         }
+        progress::phase(progress::Phase::Certifying);
         finish_report(ctx, partial, log, 0, vec![]).map(|o| Outcome::Done(Some(Box::new(o))))
     }
 
@@ -235,6 +241,7 @@ fn condense_stage(
             comm.size() - specs.len()
         ));
     }
+    progress::phase(progress::Phase::Condensing);
     let t = Instant::now();
     let par = faer::get_global_parallelism();
     let condense = |i: usize, spec: &SubdomainSpec| {
@@ -253,11 +260,14 @@ fn condense_stage(
     };
     let mine: Result<Vec<(Subdomain, CondensedData)>, String> = injected_failure(comm).map_or_else(
         || {
-            specs
-                .iter()
-                .enumerate()
-                .filter(|(i, _)| owner_rank[*i] == comm.rank())
-                .map(|(i, spec)| condense(i, spec))
+            let mine: Vec<usize> = (0..specs.len())
+                .filter(|&i| owner_rank[i] == comm.rank())
+                .collect();
+            (mine.iter().enumerate())
+                .map(|(k, &i)| {
+                    progress::subdomain(k, mine.len(), specs.len());
+                    condense(i, &specs[i])
+                })
                 .collect()
         },
         Err,
@@ -317,7 +327,8 @@ fn root_stage(
         n_gamma: model.n_gamma,
     };
     let mut cond = conditioning::RootConditioning::default();
-    match solve_root(&input, &model.scales, &mut cond) {
+    progress::phase(progress::Phase::Contact);
+    match progress::observed(|| solve_root(&input, &model.scales, &mut cond)) {
         Ok((answer, steps)) => (Ok(answer), Some((steps, data, cond))),
         Err(e) => (Err(e), None),
     }
@@ -350,6 +361,7 @@ fn condensed_partial(
     answer: &RootAnswer,
 ) -> Result<(Partial, (u64, Vec<RankStats>)), SolveError> {
     let (sc, model) = (ctx.sc, ctx.model);
+    progress::phase(progress::Phase::Certifying);
     log.timings.delassus = steps.iter().map(|st| st.operator_s).sum();
     let mut recovered: Vec<RecoveredData> = Vec::new();
     let mut figures = Vec::new();
