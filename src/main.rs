@@ -17,6 +17,7 @@ use clap::{Parser, Subcommand};
 
 mod bench;
 mod local;
+mod progress;
 mod run;
 use signorini_comm::{Local, Transport};
 use signorini_scene::{Method, SolvePath};
@@ -53,6 +54,13 @@ enum Command {
         /// is refused before anything is built.
         #[arg(long, value_name = "SIZE", value_parser = memory_size)]
         max_memory: Option<u64>,
+        /// No progress line. Without it, when stderr is a terminal, the
+        /// run shows its stage, the subdomain being condensed, the load
+        /// step and the contact method's iterations (points in contact,
+        /// residual) on stderr, and each stage's time as it ends (under MPI,
+        /// on the root's terminal). Never in the output files.
+        #[arg(long, short)]
+        quiet: bool,
     },
     /// Parse and validate a scene and estimate its memory, writing nothing.
     Check {
@@ -236,6 +244,7 @@ fn command(cli: Cli) -> ExitCode {
             path,
             out,
             max_memory,
+            quiet,
         } => {
             signorini_solver::memory::set_budget(max_memory);
             let comm = transport();
@@ -245,7 +254,13 @@ fn command(cli: Cli) -> ExitCode {
                     panic!("panic injected on rank {r} (SIGNORINI_INJECT_PANIC)");
                 }
             }
-            run::run(&scene, RunOptions { method, path }, out, comm.as_ref())
+            run::run(
+                &scene,
+                RunOptions { method, path },
+                out,
+                quiet,
+                comm.as_ref(),
+            )
         }
     }
 }
