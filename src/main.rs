@@ -59,8 +59,13 @@ enum Command {
         /// step and the contact method's iterations (points in contact,
         /// residual) on stderr, and each stage's time as it ends (under MPI,
         /// on the root's terminal). Never in the output files.
-        #[arg(long, short)]
+        #[arg(long, short, conflicts_with = "progress")]
         quiet: bool,
+        /// Show the progress line even when stderr is not a terminal (under
+        /// an MPI launcher other than Open MPI's mpirun on this machine, or
+        /// into a file).
+        #[arg(long)]
+        progress: bool,
     },
     /// Parse and validate a scene and estimate its memory, writing nothing.
     Check {
@@ -245,6 +250,7 @@ fn command(cli: Cli) -> ExitCode {
             out,
             max_memory,
             quiet,
+            progress,
         } => {
             signorini_solver::memory::set_budget(max_memory);
             let comm = transport();
@@ -254,11 +260,16 @@ fn command(cli: Cli) -> ExitCode {
                     panic!("panic injected on rank {r} (SIGNORINI_INJECT_PANIC)");
                 }
             }
+            let show = match (quiet, progress) {
+                (true, _) => progress::Show::Never,
+                (false, true) => progress::Show::Always,
+                (false, false) => progress::Show::OnTerminal,
+            };
             run::run(
                 &scene,
                 RunOptions { method, path },
                 out,
-                quiet,
+                show,
                 comm.as_ref(),
             )
         }

@@ -2,8 +2,17 @@
 //! stage, the subdomain being condensed, the load step, the contact
 //! method's iteration with its points in contact and residual) and a line
 //! per finished stage with its time. Nothing when stderr is not a terminal
-//! or with `--quiet`; under MPI on the root only. The report files never
-//! see it (it goes to stderr, and only through indicatif).
+//! or with `--quiet`. The report files never see it (it goes to stderr,
+//! and only through indicatif).
+//!
+//! Under MPI the root alone shows it. A rank's stderr is a pipe to the
+//! launcher, so the root asks whether the launcher's stderr is a terminal
+//! (Linux: its parent's fd 2, as under Open MPI's `mpirun` on the root's
+//! node); `--progress` shows it regardless. The root shows its own
+//! subdomains as it condenses them, and every rank's count when their
+//! condensed data arrive (the transport has collectives only: a live
+//! report from the other ranks would need point-to-point messages polled
+//! by the root during its own condensation).
 //!
 //! The solver's events (signorini_solver::progress) only update a state;
 //! a drawing thread turns it into the status line 10 times a second, so
@@ -21,6 +30,15 @@ use signorini_solver::progress::{Event, Iteration, Observer, Phase};
 /// Redraws of the status line per second (at most).
 const REDRAW_HZ: u8 = 10;
 
+/// When to show the progress (`run --quiet`, `--progress`, neither).
+#[derive(Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Show {
+    Never,
+    /// When stderr is a terminal, or under MPI the launcher's stderr.
+    OnTerminal,
+    Always,
+}
+
 /// What the status line shows.
 struct State {
     /// The stage and when it began.
@@ -31,6 +49,82 @@ struct State {
     detail: Option<&'static str>,
     step: Option<(usize, usize)>,
     iteration: Option<Iteration>,
+    /// On the root under MPI: every rank's condensed subdomains.
+    ranks_done: Option<Vec<usize>>,
+}
+
+impl State {
+    fn new(stage: &'static str) -> Self {
+        Self {
+            stage,
+            since: Instant::now(),
+            subdomain: None,
+            detail: None,
+            step: None,
+            iteration: None,
+            ranks_done: None,
+        }
+    }
+}
+
+/// Whether the MPI launcher that started this process writes its stderr to
+/// a terminal (Linux: the parent's fd 2 is a terminal device).
+fn launcher_on_terminal() -> bool {
+    let parent = std::os::unix::process::parent_id();
+    std::fs::read_link(format!("/proc/{parent}/fd/2")).is_ok_and(|p| {
+        let p = p.to_string_lossy();
+        p.starts_with("/dev/pts/") || p.starts_with("/dev/tty")
+    })
+}
+
+/// stderr as a terminal of 80 columns, when it is a pipe to one (an MPI
+/// launcher's) or `--progress` asks: indicatif draws nothing on a stderr
+/// that is not a terminal.
+#[derive(Debug)]
+struct AnsiStderr;
+
+impl AnsiStderr {
+    fn put(&self, s: &str) -> std::io::Result<()> {
+        std::io::Write::write_all(&mut std::io::stderr(), s.as_bytes())
+    }
+
+    /// Moves the cursor `n` cells (none for 0: CSI 0 A moves one).
+    fn csi(&self, n: usize, direction: char) -> std::io::Result<()> {
+        match n {
+            0 => Ok(()),
+            _ => self.put(&format!("\x1b[{n}{direction}")),
+        }
+    }
+}
+
+impl indicatif::TermLike for AnsiStderr {
+    fn width(&self) -> u16 {
+        80
+    }
+    fn move_cursor_up(&self, n: usize) -> std::io::Result<()> {
+        self.csi(n, 'A')
+    }
+    fn move_cursor_down(&self, n: usize) -> std::io::Result<()> {
+        self.csi(n, 'B')
+    }
+    fn move_cursor_right(&self, n: usize) -> std::io::Result<()> {
+        self.csi(n, 'C')
+    }
+    fn move_cursor_left(&self, n: usize) -> std::io::Result<()> {
+        self.csi(n, 'D')
+    }
+    fn write_line(&self, s: &str) -> std::io::Result<()> {
+        self.put(&format!("{s}\n"))
+    }
+    fn write_str(&self, s: &str) -> std::io::Result<()> {
+        self.put(s)
+    }
+    fn clear_line(&self) -> std::io::Result<()> {
+        self.put("\r\x1b[2K")
+    }
+    fn flush(&self) -> std::io::Result<()> {
+        std::io::Write::flush(&mut std::io::stderr())
+    }
 }
 
 /// The terminal's view of a run, on the root (`ranks`: the run's ranks).
@@ -42,28 +136,31 @@ pub(crate) struct Terminal {
 }
 
 impl Terminal {
-    /// A terminal view, or `None` when stderr is not a terminal, with
-    /// `quiet`, or on a rank other than the root.
-    pub(crate) fn start(quiet: bool, root: bool, ranks: usize) -> Option<Progress> {
-        if quiet || !root || !std::io::stderr().is_terminal() {
+    /// A terminal view, or `None` on a rank other than the root and when
+    /// `show` says not to (`mpi`: started by an MPI launcher).
+    pub(crate) fn start(show: Show, root: bool, mpi: bool, ranks: usize) -> Option<Progress> {
+        let on_terminal = std::io::stderr().is_terminal();
+        let shown = match show {
+            Show::Never => false,
+            Show::OnTerminal => on_terminal || (mpi && launcher_on_terminal()),
+            Show::Always => true,
+        };
+        if !root || !shown {
             return None;
         }
-        let bar =
-            ProgressBar::with_draw_target(None, ProgressDrawTarget::stderr_with_hz(REDRAW_HZ));
+        let target = if on_terminal {
+            ProgressDrawTarget::stderr_with_hz(REDRAW_HZ)
+        } else {
+            ProgressDrawTarget::term_like_with_hz(Box::new(AnsiStderr), REDRAW_HZ)
+        };
+        let bar = ProgressBar::with_draw_target(None, target);
         if let Ok(style) = ProgressStyle::with_template("{spinner} {elapsed:>4} {wide_msg}") {
             bar.set_style(style);
         }
         let view = Arc::new(Terminal {
             bar,
             ranks,
-            state: Mutex::new(State {
-                stage: "reading the scene",
-                since: Instant::now(),
-                subdomain: None,
-                detail: None,
-                step: None,
-                iteration: None,
-            }),
+            state: Mutex::new(State::new("reading the scene")),
             stop: AtomicBool::new(false),
         });
         let drawer = view.clone();
@@ -118,14 +215,20 @@ impl Terminal {
     /// last iteration of the contact method.
     fn summary(&self, s: &State) -> String {
         let mut line = s.stage.to_string();
-        if let Some((_, of, total)) = s.subdomain {
-            line += &match self.ranks {
-                1 => format!(" {of} subdomain(s)"),
-                _ => format!(
-                    " {of} subdomain(s) on rank 0 ({total} on {} ranks)",
-                    self.ranks
-                ),
-            };
+        match (s.subdomain, &s.ranks_done) {
+            (_, Some(done)) => {
+                let per: Vec<String> = (done.iter().enumerate())
+                    .map(|(r, n)| format!("rank {r}: {n}"))
+                    .collect();
+                let total: usize = done.iter().sum();
+                line += &format!(
+                    " {total} subdomain(s) on {} ranks ({})",
+                    done.len(),
+                    per.join(", ")
+                );
+            }
+            (Some((_, of, _)), None) => line += &format!(" {of} subdomain(s)"),
+            (None, None) => {}
         }
         if let Some((_, n)) = s.step {
             line += &format!(", {n} step(s)");
@@ -146,14 +249,7 @@ impl Terminal {
                 let seconds = s.since.elapsed().as_secs_f64();
                 self.bar
                     .println(format!("  {}: {seconds:.1} s", self.summary(&s)));
-                *s = State {
-                    stage,
-                    since: Instant::now(),
-                    subdomain: None,
-                    detail: None,
-                    step: None,
-                    iteration: None,
-                };
+                *s = State::new(stage);
             }
         }
         self.draw();
@@ -176,16 +272,6 @@ impl Observer for Terminal {
         if let Event::Phase(p) = event {
             return self.stage(stage_name(*p));
         }
-        if let Event::RanksCondensed(counts) = event {
-            if self.ranks > 1 {
-                let per: Vec<String> = (counts.iter().enumerate())
-                    .map(|(r, n)| format!("rank {r}: {n}"))
-                    .collect();
-                self.bar
-                    .println(format!("  subdomains condensed: {}", per.join(", ")));
-            }
-            return;
-        }
         let Ok(mut s) = self.state.lock() else {
             return;
         };
@@ -198,7 +284,8 @@ impl Observer for Terminal {
                 (s.step, s.detail, s.iteration) = (Some((step, of)), None, None)
             }
             Event::Iteration(i) => (s.detail, s.iteration) = (None, Some(*i)),
-            Event::Phase(_) | Event::RanksCondensed(_) => {}
+            Event::RanksCondensed(counts) if self.ranks > 1 => s.ranks_done = Some(counts.to_vec()),
+            Event::RanksCondensed(_) | Event::Phase(_) => {}
         }
     }
 }

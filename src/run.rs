@@ -10,7 +10,7 @@ use signorini_scene::SolvePath;
 use signorini_solver::{RunOptions, RunOutput, SolveError};
 
 use crate::fail;
-use crate::progress::{Progress, Terminal};
+use crate::progress::{Progress, Show, Terminal};
 
 pub(crate) fn check(path: &Path, solve_path: Option<SolvePath>) -> ExitCode {
     use signorini_solver::memory;
@@ -48,11 +48,12 @@ pub(crate) fn run(
     path: &Path,
     opts: RunOptions,
     out: Option<PathBuf>,
-    quiet: bool,
+    show: Show,
     comm: &dyn Transport,
 ) -> ExitCode {
     // The progress line ends before anything else is printed.
-    let progress = Terminal::start(quiet, comm.is_root(), comm.size());
+    let mpi = comm.kind() == "mpi";
+    let progress = Terminal::start(show, comm.is_root(), mpi, comm.size());
     let solved = solve_and_write(path, opts, out, progress.as_ref(), comm);
     drop(progress);
     // Every rank meets the same error; rank 0 alone prints it.

@@ -48,15 +48,20 @@ fn command(program: &str) -> Command {
 /// `signorini run cattaneo.toml --out DIR [extra]` on a pseudo-terminal:
 /// everything it wrote to the terminal (stdout and stderr).
 fn run_on_terminal(out: &Path, extra: &str) -> String {
+    on_terminal("", out, extra)
+}
+
+/// `LAUNCHER signorini run cattaneo.toml --out DIR [extra]` on a
+/// pseudo-terminal.
+fn on_terminal(launcher: &str, out: &Path, extra: &str) -> String {
     let cmd = format!(
-        "{BIN} run {} --out {} {extra}",
+        "{launcher} {BIN} run {} --out {} {extra}",
         example_path("cattaneo.toml"),
         out.display()
     );
-    let o = command("script")
-        .args(["-qec", &cmd, "/dev/null"])
-        .output()
-        .unwrap();
+    let mut script = command("script");
+    common::mpi_env(&mut script);
+    let o = script.args(["-qec", &cmd, "/dev/null"]).output().unwrap();
     let text = String::from_utf8_lossy(&o.stdout).into_owned();
     assert!(o.status.success(), "{text}");
     text
@@ -146,4 +151,51 @@ fn run_shows_progress_on_a_terminal_only_and_never_in_its_output_files() {
             assert!(o[name] == *bytes, "{name} differs in {}", other.display());
         }
     }
+}
+
+/// Under `mpirun -n 2` on a terminal the root shows the stages, with every
+/// rank's subdomains once they arrive; with the launcher's stderr piped,
+/// nothing unless `--progress` asks for it.
+#[cfg(feature = "mpi")]
+#[test]
+fn mpirun_shows_progress_on_the_roots_terminal_with_every_ranks_subdomains() {
+    let have_mpirun = Command::new("mpirun")
+        .arg("--version")
+        .output()
+        .is_ok_and(|o| o.status.success());
+    if !have_script() || !have_mpirun {
+        eprintln!("skipped: no `script` or no `mpirun`");
+        return;
+    }
+    let dir = fresh_dir("progress", "mpirun");
+    let text = on_terminal("mpirun -n 2", &dir.join("shown"), "");
+    let condensed = "condensing 2 subdomain(s) on 2 ranks (rank 0: 1, rank 1: 1): ";
+    for line in [condensed, STAGE_LINES[2], STAGE_LINES[3]] {
+        assert!(text.contains(line), "no {line:?} in:\n{text}");
+    }
+    // Once: the root alone prints.
+    assert_eq!(text.matches(STAGE_LINES[3]).count(), 1, "{text}");
+
+    let piped = |extra: &[&str]| {
+        let mut c = command("mpirun");
+        common::mpi_env(&mut c)
+            .args([
+                "-n",
+                "2",
+                BIN,
+                "run",
+                &example_path("cattaneo.toml"),
+                "--out",
+            ])
+            .arg(dir.join("piped"))
+            .args(extra);
+        let o = c.output().unwrap();
+        let err = String::from_utf8_lossy(&o.stderr).into_owned();
+        assert!(o.status.success(), "{err}");
+        err
+    };
+    let err = piped(&[]);
+    assert!(!err.contains("condensing"), "stderr piped, yet:\n{err}");
+    let err = piped(&["--progress"]);
+    assert!(err.contains(condensed), "--progress, yet:\n{err}");
 }

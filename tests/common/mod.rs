@@ -221,3 +221,13 @@ slave = { body = "block", surface = "bottom" }
 master = { body = "cylinder" }
 discretization = "node_to_segment"
 "#;
+
+/// The environment every `mpirun` of the tests runs with: as root in a
+/// container, more ranks than cores, no binding (Open MPI 4 and 5).
+pub fn mpi_env(c: &mut std::process::Command) -> &mut std::process::Command {
+    c.env("OMPI_ALLOW_RUN_AS_ROOT", "1")
+        .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
+        .env("OMPI_MCA_rmaps_base_oversubscribe", "1")
+        .env("PRTE_MCA_rmaps_default_mapping_policy", ":oversubscribe")
+        .env("OMPI_MCA_hwloc_base_binding_policy", "none")
+}

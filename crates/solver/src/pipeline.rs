@@ -273,6 +273,9 @@ fn condense_stage(
         Err,
     );
     let condense_s = t.elapsed().as_secs_f64();
+    if comm.size() > 1 {
+        progress::emit(progress::Event::Detail("waiting for the other ranks"));
+    }
     match mine {
         Ok(v) => {
             let (a, b): (Vec<_>, Vec<_>) = v.into_iter().unzip();
