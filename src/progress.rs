@@ -180,6 +180,7 @@ impl Terminal {
     fn draw(&self) {
         if let Ok(s) = self.state.lock() {
             self.bar.set_message(self.line(&s));
+            self.bar.tick();
         }
     }
 
