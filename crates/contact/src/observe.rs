@@ -85,4 +85,41 @@ mod tests {
         iteration(info);
         assert_eq!(seen.get(), 6);
     }
+
+    /// The status method reports each of its solves: the violated ones
+    /// above the tolerance, the last with none and the answer's active set.
+    #[test]
+    fn the_status_method_reports_each_solve() {
+        use crate::test_problems::{lcp_problem, random_spd, XorShift};
+        use crate::{status_method, StatusOptions, StatusVariant};
+        let mut rng = XorShift(7);
+        let m = 30;
+        let w = random_spd(m, &mut rng);
+        let q: Vec<f64> = (0..m).map(|_| rng.uniform(-1.0, 1.0)).collect();
+        let mut p = lcp_problem(&w, &q);
+        let opts = StatusOptions {
+            variant: StatusVariant::All,
+            max_iterations: 100,
+            tolerance: 1e-12,
+            force_scale: 1.0,
+            gap_scale: 1.0,
+            initial_active: Some(Vec::new()),
+        };
+        let seen: Rc<std::cell::RefCell<Vec<Iteration>>> = Rc::default();
+        let log = seen.clone();
+        let out = observed(
+            move |i: &Iteration| log.borrow_mut().push(*i),
+            || status_method(&mut p, &opts).unwrap(),
+        );
+        let seen = seen.borrow();
+        assert!(out.report.converged && seen.len() > 2, "{seen:?}");
+        assert_eq!(seen.len(), out.report.iterations);
+        for (k, i) in seen.iter().enumerate() {
+            assert_eq!((i.method, i.iteration), ("status", k + 1));
+        }
+        let (last, before) = seen.split_last().unwrap();
+        assert_eq!((last.residual, last.active), (0.0, out.active.len()));
+        assert!(before.iter().all(|i| i.residual > 1.0));
+        assert_eq!(seen[0].active, 0);
+    }
 }
