@@ -169,6 +169,7 @@ fn install_panic_hook() {
             .location()
             .map(|l| format!(" at {}:{}", l.file(), l.line()))
             .unwrap_or_default();
+        progress::clear_line();
         eprintln!("error: internal error: {what}{place} (please report)");
     }));
 }

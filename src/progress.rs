@@ -30,6 +30,17 @@ use signorini_solver::progress::{Event, Iteration, Observer, Phase};
 /// Redraws of the status line per second (at most).
 const REDRAW_HZ: u8 = 10;
 
+/// Whether a status line is on stderr (for the panic hook's message).
+static ACTIVE: AtomicBool = AtomicBool::new(false);
+
+/// Clears the status line, if any, so that a message printed now (the
+/// panic hook's) starts a line of its own.
+pub(crate) fn clear_line() {
+    if ACTIVE.load(Ordering::Relaxed) {
+        let _ = indicatif::TermLike::clear_line(&AnsiStderr);
+    }
+}
+
 /// When to show the progress (`run --quiet`, `--progress`, neither).
 #[derive(Clone, Copy, PartialEq, Eq)]
 pub(crate) enum Show {
@@ -167,19 +178,23 @@ impl Terminal {
         let thread = std::thread::spawn(move || {
             while !drawer.stop.load(Ordering::Relaxed) {
                 drawer.draw();
-                std::thread::sleep(Duration::from_millis(1000 / REDRAW_HZ as u64));
+                std::thread::park_timeout(Duration::from_millis(1000 / REDRAW_HZ as u64));
             }
         });
         signorini_solver::progress::set_observer(Some(view.clone()));
+        ACTIVE.store(true, Ordering::Relaxed);
         Some(Progress {
             view,
             thread: Some(thread),
         })
     }
 
+    /// Redraws the status line (the state's lock is not held while the
+    /// terminal is written to).
     fn draw(&self) {
-        if let Ok(s) = self.state.lock() {
-            self.bar.set_message(self.line(&s));
+        let line = self.state.lock().map(|s| self.line(&s));
+        if let Ok(line) = line {
+            self.bar.set_message(line);
             self.bar.tick();
         }
     }
@@ -245,13 +260,16 @@ impl Terminal {
 
     /// A new stage: the last one's line with its time, then the new one.
     fn stage(&self, stage: &'static str) {
-        if let Ok(mut s) = self.state.lock() {
-            if s.stage != stage {
+        let ended = self.state.lock().ok().and_then(|mut s| {
+            (s.stage != stage).then(|| {
                 let seconds = s.since.elapsed().as_secs_f64();
-                self.bar
-                    .println(format!("  {}: {seconds:.1} s", self.summary(&s)));
+                let line = format!("  {}: {seconds:.1} s", self.summary(&s));
                 *s = State::new(stage);
-            }
+                line
+            })
+        });
+        if let Some(line) = ended {
+            self.bar.println(line);
         }
         self.draw();
     }
@@ -309,9 +327,11 @@ impl Drop for Progress {
         signorini_solver::progress::set_observer(None);
         self.view.stop.store(true, Ordering::Relaxed);
         if let Some(t) = self.thread.take() {
+            t.thread().unpark();
             let _ = t.join();
         }
         self.view.stage("done");
         self.view.bar.finish_and_clear();
+        ACTIVE.store(false, Ordering::Relaxed);
     }
 }

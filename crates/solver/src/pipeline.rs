@@ -331,6 +331,7 @@ fn root_stage(
     };
     let mut cond = conditioning::RootConditioning::default();
     progress::phase(progress::Phase::Contact);
+    progress::emit(progress::Event::Detail("assembling the interface problem"));
     match progress::observed(|| solve_root(&input, &model.scales, &mut cond)) {
         Ok((answer, steps)) => (Ok(answer), Some((steps, data, cond))),
         Err(e) => (Err(e), None),
