@@ -142,7 +142,6 @@ impl Attempt<'_> {
             wire(broadcast(comm, comm.is_root().then_some(&answer)))?;
         let answer = answer?;
         let t = Instant::now();
-        progress::phase(progress::Phase::Recovering);
         let recovered = recover_stage(&model, &local, &answer);
         let figures = RankFigures {
             condense_s,
@@ -344,6 +343,7 @@ fn recover_stage(
     local: &[Subdomain],
     answer: &RootAnswer,
 ) -> Vec<RecoveredData> {
+    progress::phase(progress::Phase::Recovering);
     local
         .iter()
         .map(|s| {
