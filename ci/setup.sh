@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
-# Install the system packages the build and the MPI tests need, only when missing.
+# Install the system packages the build, the MPI tests and the progress test
+# (bsdutils: `script`, a pseudo-terminal) need, only when missing.
 # Idempotent and quiet when everything is already there.
 set -euo pipefail
 
-packages=(libopenmpi-dev openmpi-bin libclang-dev)
+packages=(libopenmpi-dev openmpi-bin libclang-dev bsdutils)
 
 missing=()
 for p in "${packages[@]}"; do

@@ -17,6 +17,7 @@ use clap::{Parser, Subcommand};
 
 mod bench;
 mod local;
+mod progress;
 mod run;
 use signorini_comm::{Local, Transport};
 use signorini_scene::{Method, SolvePath};
@@ -53,6 +54,18 @@ enum Command {
         /// is refused before anything is built.
         #[arg(long, value_name = "SIZE", value_parser = memory_size)]
         max_memory: Option<u64>,
+        /// No progress line. Without it, when stderr is a terminal, the
+        /// run shows its stage, the subdomain being condensed, the load
+        /// step and the contact method's iterations (points in contact,
+        /// residual) on stderr, and each stage's time as it ends (under MPI,
+        /// on the root's terminal). Never in the output files.
+        #[arg(long, short, conflicts_with = "progress")]
+        quiet: bool,
+        /// Show the progress line even when stderr is not a terminal (under
+        /// an MPI launcher other than Open MPI's mpirun on this machine, or
+        /// into a file).
+        #[arg(long)]
+        progress: bool,
     },
     /// Parse and validate a scene and estimate its memory, writing nothing.
     Check {
@@ -156,6 +169,7 @@ fn install_panic_hook() {
             .location()
             .map(|l| format!(" at {}:{}", l.file(), l.line()))
             .unwrap_or_default();
+        progress::clear_line();
         eprintln!("error: internal error: {what}{place} (please report)");
     }));
 }
@@ -236,6 +250,8 @@ fn command(cli: Cli) -> ExitCode {
             path,
             out,
             max_memory,
+            quiet,
+            progress,
         } => {
             signorini_solver::memory::set_budget(max_memory);
             let comm = transport();
@@ -245,7 +261,18 @@ fn command(cli: Cli) -> ExitCode {
                     panic!("panic injected on rank {r} (SIGNORINI_INJECT_PANIC)");
                 }
             }
-            run::run(&scene, RunOptions { method, path }, out, comm.as_ref())
+            let show = match (quiet, progress) {
+                (true, _) => progress::Show::Never,
+                (false, true) => progress::Show::Always,
+                (false, false) => progress::Show::OnTerminal,
+            };
+            run::run(
+                &scene,
+                RunOptions { method, path },
+                out,
+                show,
+                comm.as_ref(),
+            )
         }
     }
 }

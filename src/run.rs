@@ -7,9 +7,10 @@ use std::time::Instant;
 use signorini_comm::Transport;
 use signorini_report::output::{summary, write_outputs, OutputRequest};
 use signorini_scene::SolvePath;
-use signorini_solver::{RunOptions, SolveError};
+use signorini_solver::{RunOptions, RunOutput, SolveError};
 
 use crate::fail;
+use crate::progress::{Progress, Show, Terminal};
 
 pub(crate) fn check(path: &Path, solve_path: Option<SolvePath>) -> ExitCode {
     use signorini_solver::memory;
@@ -47,46 +48,21 @@ pub(crate) fn run(
     path: &Path,
     opts: RunOptions,
     out: Option<PathBuf>,
+    show: Show,
     comm: &dyn Transport,
 ) -> ExitCode {
-    let t0 = Instant::now();
+    // The progress line ends before anything else is printed.
+    let mpi = comm.kind() == "mpi";
+    let progress = Terminal::start(show, comm.is_root(), mpi, comm.size());
+    let solved = solve_and_write(path, opts, out, progress.as_ref(), comm);
+    drop(progress);
     // Every rank meets the same error; rank 0 alone prints it.
-    let root = comm.is_root();
-    let fail = |code: u8, msg: &str| {
-        if root {
-            fail(code, msg)
-        } else {
-            ExitCode::from(code)
-        }
-    };
-    let sc = match signorini_scene::load(path) {
-        Ok(sc) => sc,
-        Err(e) => return fail(1, &e.to_string()),
-    };
-    let setup = t0.elapsed().as_secs_f64();
-    let name = path
-        .file_name()
-        .map(|s| s.to_string_lossy().to_string())
-        .unwrap_or_default();
-    let mut output = match signorini_solver::run(&sc, &name, &opts, comm) {
+    let (dir, output) = match solved {
         Ok(Some(o)) => o,
         Ok(None) => return ExitCode::SUCCESS,
-        Err(SolveError::Input(m)) => return fail(1, &m),
-        Err(e @ SolveError::Internal(_)) => return fail(3, &e.to_string()),
+        Err((code, msg)) if comm.is_root() => return fail(code, &msg),
+        Err((code, _)) => return ExitCode::from(code),
     };
-    let dir = out.unwrap_or_else(|| sc.output.directory_for(path));
-    let t = Instant::now();
-    output.report.timings_s.setup += setup;
-    let request = OutputRequest {
-        dim: sc.dimension as usize,
-        fields: sc.output.fields.clone(),
-    };
-    if let Err(e) = write_outputs(&dir, &request, &mut output, t) {
-        return fail(
-            3,
-            &format!("cannot write the output in {}: {e}", dir.display()),
-        );
-    }
     print!("{}", summary(&dir, &output));
     if output.report.converged {
         ExitCode::SUCCESS
@@ -97,4 +73,43 @@ pub(crate) fn run(
         );
         ExitCode::from(2)
     }
+}
+
+/// Reads, solves and (on the root) writes the output: its directory and
+/// the output, `None` on the other ranks, or the exit code and message.
+fn solve_and_write(
+    path: &Path,
+    opts: RunOptions,
+    out: Option<PathBuf>,
+    progress: Option<&Progress>,
+    comm: &dyn Transport,
+) -> Result<Option<(PathBuf, RunOutput)>, (u8, String)> {
+    let t0 = Instant::now();
+    let sc = signorini_scene::load(path).map_err(|e| (1, e.to_string()))?;
+    let setup = t0.elapsed().as_secs_f64();
+    let name = path
+        .file_name()
+        .map(|s| s.to_string_lossy().to_string())
+        .unwrap_or_default();
+    let mut output = match signorini_solver::run(&sc, &name, &opts, comm) {
+        Ok(Some(o)) => o,
+        Ok(None) => return Ok(None),
+        Err(SolveError::Input(m)) => return Err((1, m)),
+        Err(e @ SolveError::Internal(_)) => return Err((3, e.to_string())),
+    };
+    let dir = out.unwrap_or_else(|| sc.output.directory_for(path));
+    if let Some(p) = progress {
+        p.stage("writing the output");
+    }
+    let t = Instant::now();
+    output.report.timings_s.setup += setup;
+    let request = OutputRequest {
+        dim: sc.dimension as usize,
+        fields: sc.output.fields.clone(),
+    };
+    write_outputs(&dir, &request, &mut output, t).map_err(|e| {
+        let msg = format!("cannot write the output in {}: {e}", dir.display());
+        (3, msg)
+    })?;
+    Ok(Some((dir, output)))
 }

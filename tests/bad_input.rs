@@ -969,12 +969,8 @@ fn an_internal_error_under_mpirun_ends_every_rank() {
         .arg(&scene)
         .arg("--out")
         .arg(dir.join("out"))
-        .env("SIGNORINI_INJECT_PANIC", "1")
-        .env("OMPI_ALLOW_RUN_AS_ROOT", "1")
-        .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
-        .env("OMPI_MCA_rmaps_base_oversubscribe", "1")
-        .env("PRTE_MCA_rmaps_default_mapping_policy", ":oversubscribe")
-        .env("OMPI_MCA_hwloc_base_binding_policy", "none");
+        .env("SIGNORINI_INJECT_PANIC", "1");
+    common::mpi_env(&mut cmd);
     let (out, elapsed) = run_limited(cmd, Duration::from_secs(60));
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(elapsed < Duration::from_secs(60), "a rank hangs: {err}");

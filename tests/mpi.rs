@@ -46,11 +46,7 @@ fn run_limited(mut cmd: Command, limit: Duration) -> Output {
 fn mpirun(np: usize, args: &[&str], env: &[(&str, &str)]) -> Output {
     let mut c = Command::new("mpirun");
     c.arg("-n").arg(np.to_string()).arg(BIN).args(args);
-    c.env("OMPI_ALLOW_RUN_AS_ROOT", "1")
-        .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
-        .env("OMPI_MCA_rmaps_base_oversubscribe", "1")
-        .env("PRTE_MCA_rmaps_default_mapping_policy", ":oversubscribe")
-        .env("OMPI_MCA_hwloc_base_binding_policy", "none");
+    common::mpi_env(&mut c);
     for (k, v) in env {
         c.env(k, v);
     }

@@ -236,3 +236,13 @@ pub fn assert_same(a: &RunOutput, b: &RunOutput, tol: f64) {
         assert!(r <= tol, "body {}: displacements differ by {r:e}", x.name);
     }
 }
+
+/// The environment every `mpirun` of the tests runs with: as root in a
+/// container, more ranks than cores, no binding (Open MPI 4 and 5).
+pub fn mpi_env(c: &mut std::process::Command) -> &mut std::process::Command {
+    c.env("OMPI_ALLOW_RUN_AS_ROOT", "1")
+        .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
+        .env("OMPI_MCA_rmaps_base_oversubscribe", "1")
+        .env("PRTE_MCA_rmaps_default_mapping_policy", ":oversubscribe")
+        .env("OMPI_MCA_hwloc_base_binding_policy", "none")
+}

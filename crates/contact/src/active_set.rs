@@ -84,6 +84,12 @@ pub trait StatusRule {
         statuses: &[Self::Status],
         last: &mut Option<Regular<Self::Status, Self::Solution>>,
     ) -> Option<Fallback<Self::Status>>;
+
+    /// How many points `statuses` hold in contact, for the observer of
+    /// [`crate::observe`] (0 if the rule does not say).
+    fn in_contact(&self, _statuses: &[Self::Status]) -> usize {
+        0
+    }
 }
 
 /// Why the driver stopped.
@@ -145,10 +151,12 @@ pub fn drive<R: StatusRule>(
         let mut changes = rule.violations(iterations, &statuses, &sol)?;
         solution = Some(sol.clone());
         if changes.is_empty() {
+            observe(rule, iterations, &statuses, &changes);
             stop = Stop::Converged;
             break;
         }
         changes.sort_by(|a, b| b.2.total_cmp(&a.2));
+        observe(rule, iterations, &statuses, &changes);
         let mut next = changed(&statuses, &changes, single);
         if seen.contains(&next) {
             cycle_at.get_or_insert(iterations);
@@ -178,6 +186,22 @@ pub fn drive<R: StatusRule>(
         cycle_at,
         one_change: single,
     })
+}
+
+/// Tells the observer (if any) of an iteration: the points in contact and
+/// the largest violation (changes are scaled to the tolerance).
+fn observe<R: StatusRule>(
+    rule: &R,
+    iteration: usize,
+    statuses: &[R::Status],
+    changes: &[Change<R::Status>],
+) {
+    crate::observe::iteration(crate::observe::Iteration {
+        method: "status",
+        iteration,
+        active: rule.in_contact(statuses),
+        residual: changes.first().map_or(0.0, |c| c.2),
+    });
 }
 
 /// `statuses` after `changes` (most violated first): all of them, or with

@@ -255,6 +255,10 @@ impl StatusRule for FrictionRule<'_> {
         next[p] = PointStatus::Stick;
         Some(Fallback::OneChange(next))
     }
+
+    fn in_contact(&self, statuses: &[PointStatus]) -> usize {
+        statuses.iter().filter(|&&s| s != PointStatus::Open).count()
+    }
 }
 
 /// Status iterations with the thresholds `thr` (Tresca values, or μ λ_n of

@@ -25,6 +25,7 @@ pub mod geometry;
 pub mod lcp;
 pub mod lemke;
 pub mod mprgp;
+pub mod observe;
 pub mod penalty;
 pub mod projected_gradient;
 mod reduced;

@@ -436,9 +436,18 @@ impl<'a> Inner<'a> {
     }
 
     /// Why the Newton method stops at `x` after `iterations` iterations, if
-    /// `x` meets the tolerance.
+    /// `x` meets the tolerance; the observer (crate::observe) hears of `x`.
     fn met(&self, x: &[f64], opts: &FrictionOptions, iterations: usize) -> Option<StopReason> {
         let residual = self.check(x, opts);
+        let normal = &x[..self.layout.n_points()];
+        let lmax = normal.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+        let tol_f = opts.tolerance * opts.force_scale.max(lmax);
+        crate::observe::iteration(crate::observe::Iteration {
+            method: "newton",
+            iteration: iterations,
+            active: normal.iter().filter(|&&l| l > tol_f).count(),
+            residual: residual / opts.tolerance.max(f64::MIN_POSITIVE),
+        });
         (residual <= opts.tolerance).then_some(StopReason::NewtonConverged {
             residual,
             iterations,

@@ -153,6 +153,10 @@ impl StatusRule for Signorini<'_> {
             None => None,
         }
     }
+
+    fn in_contact(&self, active: &[bool]) -> usize {
+        active.iter().filter(|&&a| a).count()
+    }
 }
 
 fn active_points(active: &[bool]) -> Vec<usize> {

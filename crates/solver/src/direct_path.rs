@@ -18,6 +18,7 @@ pub(crate) fn run_direct(
     messages: &mut Vec<String>,
 ) -> Result<Partial, SolveError> {
     let t = Instant::now();
+    progress::phase(progress::Phase::Assembling);
     let system = assemble_direct(bodies)?;
     timings.assemble = t.elapsed().as_secs_f64();
     let rows: Vec<Vec<(usize, f64)>> = points
@@ -32,11 +33,13 @@ pub(crate) fn run_direct(
         .collect();
     let mut partial = empty_partial();
     let t = Instant::now();
+    progress::phase(progress::Phase::Contact);
     let floating = bodies.iter().any(|b| !b.kernel.is_empty());
     let mut kkt = KktSystem::new(&system.k_global, &rows, floating).map_err(contact_error)?;
     let mut u_steps: Vec<Vec<Vec<f64>>> = Vec::new();
     let mut solutions = Vec::new();
     for (si, st) in scales.iter().enumerate() {
+        progress::step(si, scales.len());
         let (step, u_full) = direct_step(sc, bodies, points, fixed, &system, &mut kkt, st, si)?;
         solutions.push(step);
         u_steps.push(u_full);

@@ -32,6 +32,7 @@ mod partition;
 mod pipeline;
 mod plan;
 pub mod problem_file;
+pub mod progress;
 mod root;
 pub mod subdomain;
 

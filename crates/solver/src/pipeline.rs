@@ -118,6 +118,7 @@ impl Attempt<'_> {
         let condensed_path = self.plan.path == scene::SolvePath::Condensed;
         let t = Instant::now();
         let ranks = if condensed_path { comm.size() } else { 1 };
+        progress::phase(progress::Phase::Meshing);
         let model = partition::model_stage(sc, ranks, self.zone, &mut log.messages)?;
         log.timings.setup = t.elapsed().as_secs_f64();
         let ctx = RunContext {
@@ -133,6 +134,7 @@ impl Attempt<'_> {
         log.stages.push("condense".into());
         let (local, condensed, condense_s) = condense_stage(comm, &model, &mut log.messages);
         let gathered = wire(gather(comm, &condensed))?;
+        progress::ranks_condensed(gathered.as_ref());
         let t_root = Instant::now();
         let (answer, root_state) = root_stage(sc, self.plan, &model, gathered);
         let contact_s = t_root.elapsed().as_secs_f64();
@@ -179,18 +181,21 @@ impl Attempt<'_> {
             return Ok(Outcome::Done(None));
         }
         log.stages.push("contact".into());
-        let partial = run_direct(
-            sc,
-            &model.bodies,
-            &model.points,
-            &model.fixed,
-            &model.scales,
-            &mut log.timings,
-            &mut log.messages,
-        )?;
+        let partial = progress::observed(|| {
+            run_direct(
+                sc,
+                &model.bodies,
+                &model.points,
+                &model.fixed,
+                &model.scales,
+                &mut log.timings,
+                &mut log.messages,
+            )
+        })?;
         if let Some(w) = self.check_zone(model, &partial) {
             return Ok(Outcome::Widen(w));
         }
+        progress::phase(progress::Phase::Certifying);
         finish_report(ctx, partial, log, 0, vec![]).map(|o| Outcome::Done(Some(Box::new(o))))
     }
 
@@ -235,6 +240,7 @@ fn condense_stage(
             comm.size() - specs.len()
         ));
     }
+    progress::phase(progress::Phase::Condensing);
     let t = Instant::now();
     let par = faer::get_global_parallelism();
     let condense = |i: usize, spec: &SubdomainSpec| {
@@ -253,16 +259,22 @@ fn condense_stage(
     };
     let mine: Result<Vec<(Subdomain, CondensedData)>, String> = injected_failure(comm).map_or_else(
         || {
-            specs
-                .iter()
-                .enumerate()
-                .filter(|(i, _)| owner_rank[*i] == comm.rank())
-                .map(|(i, spec)| condense(i, spec))
+            let mine: Vec<usize> = (0..specs.len())
+                .filter(|&i| owner_rank[i] == comm.rank())
+                .collect();
+            (mine.iter().enumerate())
+                .map(|(k, &i)| {
+                    progress::subdomain(k, mine.len(), specs.len());
+                    condense(i, &specs[i])
+                })
                 .collect()
         },
         Err,
     );
     let condense_s = t.elapsed().as_secs_f64();
+    if comm.size() > 1 {
+        progress::emit(progress::Event::Detail("waiting for the other ranks"));
+    }
     match mine {
         Ok(v) => {
             let (a, b): (Vec<_>, Vec<_>) = v.into_iter().unzip();
@@ -317,7 +329,9 @@ fn root_stage(
         n_gamma: model.n_gamma,
     };
     let mut cond = conditioning::RootConditioning::default();
-    match solve_root(&input, &model.scales, &mut cond) {
+    progress::phase(progress::Phase::Contact);
+    progress::emit(progress::Event::Detail("assembling the interface problem"));
+    match progress::observed(|| solve_root(&input, &model.scales, &mut cond)) {
         Ok((answer, steps)) => (Ok(answer), Some((steps, data, cond))),
         Err(e) => (Err(e), None),
     }
@@ -329,6 +343,7 @@ fn recover_stage(
     local: &[Subdomain],
     answer: &RootAnswer,
 ) -> Vec<RecoveredData> {
+    progress::phase(progress::Phase::Recovering);
     local
         .iter()
         .map(|s| {
@@ -350,6 +365,7 @@ fn condensed_partial(
     answer: &RootAnswer,
 ) -> Result<(Partial, (u64, Vec<RankStats>)), SolveError> {
     let (sc, model) = (ctx.sc, ctx.model);
+    progress::phase(progress::Phase::Certifying);
     log.timings.delassus = steps.iter().map(|st| st.operator_s).sum();
     let mut recovered: Vec<RecoveredData> = Vec::new();
     let mut figures = Vec::new();

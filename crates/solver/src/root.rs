@@ -267,6 +267,7 @@ pub(crate) fn solve_root(
     let mut operator: Option<DelassusOperator> = None;
     let mut warm = WarmStart::default();
     for (si, st) in scales.iter().enumerate() {
+        progress::step(si, scales.len());
         let t_step = Instant::now();
         let mut operator_s = 0.0;
         let load = step_load(input, &interface, st, si)?;
@@ -534,6 +535,7 @@ pub(crate) fn delassus_operator<'a>(
     build: impl FnOnce() -> Result<DelassusOperator, ContactError>,
 ) -> Result<&'a DelassusOperator, SolveError> {
     if slot.is_none() {
+        progress::emit(progress::Event::Detail("Delassus operator"));
         let t = Instant::now();
         *slot = Some(build().map_err(contact_error)?);
         *seconds = t.elapsed().as_secs_f64();

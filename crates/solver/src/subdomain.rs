@@ -281,6 +281,7 @@ impl Subdomain {
     ) -> Result<(Self, CondensedData), String> {
         let dim = body.mesh.dim;
         let mesh = spec.local_mesh(body);
+        crate::progress::emit(crate::progress::Event::Detail("assembling"));
         let mut k_local = signorini_fem::try_assemble_stiffness(&mesh, &body.material)
             .map_err(|e| e.to_string())?;
         if !frames.is_identity() {
@@ -301,6 +302,7 @@ impl Subdomain {
             }
         }
         let loads = LocalLoads::of(spec, body, owner_part, &k_local, &free, &frames);
+        crate::progress::emit(crate::progress::Event::Detail("factorising"));
         let mut condensed =
             Condensed::new(k_ff.as_ref(), &interface, par).map_err(|e| e.to_string())?;
         let data = CondensedData::of(id, &mut condensed, &gamma, &loads.free_load, free.len());

@@ -232,3 +232,37 @@ fn newton_on_coulomb_cut_short_is_not_reported_converged() {
     assert!(!out.report.converged, "{}", out.report.stop);
     assert_eq!(out.report.method, "coulomb_3d_fixed_point");
 }
+
+/// Newton tells an observer (crate::observe) of each iterate: from 0 within
+/// each inner solve, the last within the tolerance, with the points of
+/// positive normal force of the answer in contact.
+#[test]
+fn newton_reports_each_iterate_to_an_observer() {
+    use crate::observe::{observed, Iteration};
+    use std::{cell::RefCell, rc::Rc};
+    let m = 16;
+    let (mut p, layout) = random_2d(m, 11);
+    let seen: Rc<RefCell<Vec<Iteration>>> = Rc::default();
+    let log = seen.clone();
+    let sol = observed(
+        move |i: &Iteration| log.borrow_mut().push(*i),
+        || coulomb_newton(&mut p, &layout, None, &opts()).unwrap(),
+    );
+    let seen = seen.borrow();
+    assert!(sol.report.converged);
+    assert!(seen.len() > 2, "{seen:?}");
+    assert!(seen.iter().all(|i| i.method == "newton"));
+    assert_eq!(seen[0].iteration, 0);
+    assert!(seen
+        .windows(2)
+        .all(|w| w[1].iteration == w[0].iteration + 1 || w[1].iteration == 0));
+    let last = seen[seen.len() - 1];
+    assert!(last.residual <= 1.0 && seen[0].residual > 1.0, "{seen:?}");
+    let lmax = sol.forces[..m].iter().fold(0.0f64, |a, v| a.max(v.abs()));
+    let pressed = sol.forces[..m]
+        .iter()
+        .filter(|&&l| l > opts().tolerance * lmax.max(1.0))
+        .count();
+    assert_eq!(last.active, pressed);
+    assert!(pressed > 0 && pressed < m);
+}
