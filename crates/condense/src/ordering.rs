@@ -99,22 +99,23 @@ pub struct OrderedSymbolic {
     pub candidates: Vec<FactorStats>,
 }
 
-/// The graph of the leading `n_ordered` × `n_ordered` block of a matrix
-/// whose pattern is symmetric (both triangles stored): CSR arrays without
-/// the diagonal.
+/// The graph of the rows `lead` (in that order) of a matrix whose pattern
+/// is symmetric (both triangles stored), `position[r]` the place of row r in
+/// `lead` (usize::MAX for the other rows): CSR arrays without the diagonal.
 fn leading_graph(
     a: SymbolicSparseColMatRef<'_, usize>,
-    n_ordered: usize,
+    lead: &[usize],
+    position: &[usize],
 ) -> (Vec<usize>, Vec<usize>) {
-    let mut xadj = Vec::with_capacity(n_ordered + 1);
+    let mut xadj = Vec::with_capacity(lead.len() + 1);
     let mut adjncy = Vec::new();
     xadj.push(0);
-    for c in 0..n_ordered {
+    for (k, &c) in lead.iter().enumerate() {
         adjncy.extend(
             a.row_idx_of_col_raw(c)
                 .iter()
-                .copied()
-                .filter(|&r| r < n_ordered && r != c),
+                .map(|&r| position[r])
+                .filter(|&p| p != usize::MAX && p != k),
         );
         xadj.push(adjncy.len());
     }
@@ -181,12 +182,12 @@ pub fn factor_stats(symbolic: &SymbolicCholesky<usize>, ordering: Ordering) -> F
 }
 
 /// The supernodal symbolic factor of `a` in the ordering (fwd, inv);
-/// refused when the final permutation does not keep rows n_ordered.. last.
+/// refused when the final permutation does not end with `last`.
 fn symbolic_in(
     a: SymbolicSparseColMatRef<'_, usize>,
     fwd: &[usize],
     inv: &[usize],
-    n_ordered: usize,
+    last: &[usize],
 ) -> Result<SymbolicCholesky<usize>, CondenseError> {
     let n = a.nrows();
     let symbolic = factorize_symbolic_cholesky(
@@ -201,7 +202,7 @@ fn symbolic_in(
     .map_err(|e| CondenseError::Factorisation(format!("{e:?}")))?;
     if let Some(p) = symbolic.perm() {
         let (f, _) = p.arrays();
-        if (n_ordered..n).any(|i| f[i] != i) {
+        if f[n - last.len()..] != *last {
             return Err(CondenseError::Factorisation(
                 "the ordering did not keep the interface last".into(),
             ));
@@ -220,8 +221,28 @@ pub fn order_and_analyse<T>(
     n_ordered: usize,
     choice: OrderingChoice,
 ) -> Result<OrderedSymbolic, CondenseError> {
+    let last: Vec<usize> = (n_ordered..a.nrows()).collect();
+    order_and_analyse_with_last(a, &last, choice)
+}
+
+/// As [`order_and_analyse`] with the rows `last` (distinct, in that order)
+/// eliminated last wherever they are in `a`: the others are ordered by
+/// `choice` (the factor's numbering is `fwd`, ending with `last`).
+pub fn order_and_analyse_with_last<T>(
+    a: SparseColMatRef<'_, usize, T>,
+    last: &[usize],
+    choice: OrderingChoice,
+) -> Result<OrderedSymbolic, CondenseError> {
     let n = a.nrows();
-    let (xadj, adjncy) = leading_graph(a.symbolic(), n_ordered);
+    let mut position = vec![0usize; n];
+    for &r in last {
+        position[r] = usize::MAX;
+    }
+    let lead: Vec<usize> = (0..n).filter(|&r| position[r] != usize::MAX).collect();
+    for (k, &r) in lead.iter().enumerate() {
+        position[r] = k;
+    }
+    let (xadj, adjncy) = leading_graph(a.symbolic(), &lead, &position);
     let kinds: &[Ordering] = match choice {
         OrderingChoice::Auto => &[Ordering::Amd, Ordering::NestedDissection],
         OrderingChoice::Only(Ordering::Amd) => &[Ordering::Amd],
@@ -237,7 +258,7 @@ pub fn order_and_analyse<T>(
         if choice == OrderingChoice::Auto && cheap {
             break;
         }
-        let (mut fwd, mut inv, kind) = match kind {
+        let (fwd, _, kind) = match kind {
             Ordering::Amd => {
                 let (f, i) = amd_of_graph(&xadj, &adjncy)?;
                 (f, i, kind)
@@ -257,9 +278,8 @@ pub fn order_and_analyse<T>(
                 (f, i, kind)
             }
         };
-        fwd.extend(n_ordered..n);
-        inv.extend(n_ordered..n);
-        let symbolic = symbolic_in(a.symbolic(), &fwd, &inv, n_ordered)?;
+        let (fwd, inv) = with_last(&lead, &fwd, last);
+        let symbolic = symbolic_in(a.symbolic(), &fwd, &inv, last)?;
         let stats = factor_stats(&symbolic, kind);
         candidates.push(stats);
         if best.as_ref().is_none_or(|b| stats.flops < b.stats.flops) {
@@ -276,6 +296,21 @@ pub fn order_and_analyse<T>(
     candidates.sort_by_key(|c| c.ordering != best.stats.ordering);
     best.candidates = candidates;
     Ok(best)
+}
+
+/// The whole ordering: `lead[fwd_lead[k]]` for k in order, then `last`;
+/// (forward, inverse).
+fn with_last(lead: &[usize], fwd_lead: &[usize], last: &[usize]) -> (Vec<usize>, Vec<usize>) {
+    let fwd: Vec<usize> = fwd_lead
+        .iter()
+        .map(|&k| lead[k])
+        .chain(last.iter().copied())
+        .collect();
+    let mut inv = vec![0; fwd.len()];
+    for (i, &r) in fwd.iter().enumerate() {
+        inv[r] = i;
+    }
+    (fwd, inv)
 }
 
 #[cfg(test)]

@@ -29,7 +29,9 @@ use faer::linalg::solvers::SolveCore;
 use faer::sparse::linalg::cholesky::{LltRef, SymbolicCholesky};
 use faer::sparse::{SparseColMat, SymbolicSparseColMat};
 use faer::{Conj, Mat, MatMut, Par, Side};
-use signorini_condense::ordering::{order_and_analyse, FactorStats, Ordering, OrderingChoice};
+use signorini_condense::ordering::{
+    order_and_analyse_with_last, FactorStats, Ordering, OrderingChoice,
+};
 
 use crate::delassus::SparseRow;
 use crate::ContactError;
@@ -185,12 +187,9 @@ enum FactorKind {
         symbolic: Box<SymbolicCholesky<usize>>,
         l_values: Vec<f64>,
         fixed: Vec<usize>,
-        /// S is factorised as P S Pᵀ with the contact DOFs last:
-        /// `order[new] = old`, `place[old] = new`.
-        order: Vec<usize>,
-        place: Vec<usize>,
-        /// Contact DOFs (the trailing rows).
-        n_contact: usize,
+        /// The contact DOFs, sorted: eliminated last, in this order (the
+        /// trailing rows of the factor).
+        contact: Vec<usize>,
     },
 }
 
@@ -269,10 +268,12 @@ impl SchurFactor {
             let scale = regularisation_scale(&sparse_diagonal(s));
             std::borrow::Cow::Owned(with_fixed_dofs(s, &fixed, scale))
         };
-        let (order, place, n_contact) = contact_last(n, contact);
-        let s_perm = permuted(&s_fixed, &order, &place);
+        let s_fixed: &SparseColMat<usize, f64> = &s_fixed;
+        let mut contact = contact.to_vec();
+        contact.sort_unstable();
+        contact.dedup();
         let choice = OrderingChoice::Only(Ordering::BlockMinimumDegree);
-        let ordered = order_and_analyse(s_perm.as_ref(), n - n_contact, choice)
+        let ordered = order_and_analyse_with_last(s_fixed.as_ref(), &contact, choice)
             .map_err(|e| ContactError::Solve(format!("interface ordering: {e}")))?;
         let dense_flops = (n as f64).powi(3) / 3.0;
         if ordered.stats.flops > SPARSE_FLOP_RATIO * dense_flops {
@@ -287,7 +288,7 @@ impl SchurFactor {
         symbolic
             .factorize_numeric_llt::<f64>(
                 &mut l_values,
-                s_perm.as_ref(),
+                s_fixed.as_ref(),
                 Side::Lower,
                 LltRegularization::default(),
                 par,
@@ -307,13 +308,11 @@ impl SchurFactor {
                 symbolic,
                 l_values,
                 fixed,
-                order,
-                place,
-                n_contact,
+                contact,
             },
             n,
             stats,
-            norm1: sparse_norm1(&s_perm),
+            norm1: sparse_norm1(s_fixed),
         })
     }
 
@@ -334,7 +333,6 @@ impl SchurFactor {
                 symbolic,
                 l_values,
                 fixed,
-                order,
                 ..
             } => {
                 for j in 0..x.ncols() {
@@ -342,20 +340,16 @@ impl SchurFactor {
                         x[(i, j)] = 0.0;
                     }
                 }
-                let mut y = Mat::<f64>::from_fn(self.n, x.ncols(), |i, j| x[(order[i], j)]);
                 let par = faer::get_global_parallelism();
                 let mut mem =
-                    MemBuffer::new(symbolic.solve_in_place_scratch::<f64>(y.ncols(), par));
+                    MemBuffer::new(symbolic.solve_in_place_scratch::<f64>(x.ncols(), par));
                 LltRef::new(symbolic, l_values).solve_in_place_with_conj(
                     Conj::No,
-                    y.as_mut(),
+                    x.as_mut(),
                     par,
                     MemStack::new(&mut mem),
                 );
                 for j in 0..x.ncols() {
-                    for (i, &o) in order.iter().enumerate() {
-                        x[(o, j)] = y[(i, j)];
-                    }
                     for &i in fixed {
                         x[(i, j)] = 0.0;
                     }
@@ -366,7 +360,7 @@ impl SchurFactor {
 
     /// W = B S⁺ Bᵀ (m × m, symmetric) for the contact rows `b`. Dense
     /// factor: X = S⁺ Bᵀ by blocks of [`W_BLOCK`] columns. Sparse factor
-    /// with the contact DOFs C last: P S̃ Pᵀ = L Lᵀ and B touches only C, so
+    /// with the contact DOFs C eliminated last: P S̃ Pᵀ = L Lᵀ and B touches only C, so
     /// L⁻¹ P Z Bᵀ = [0; L_CC⁻¹ B_C] and W = Yᵀ Y with Y = L_CC⁻¹ B_C: one
     /// dense triangular solve with the trailing block of the factor instead
     /// of m solves with all of it.
@@ -375,21 +369,19 @@ impl SchurFactor {
             symbolic,
             l_values,
             fixed,
-            place,
-            n_contact,
-            ..
+            contact,
         } = &self.kind
         else {
             return Ok(delassus_by_blocks(self, b));
         };
-        let (n, nc, m) = (self.n, *n_contact, b.len());
+        let (n, nc, m) = (self.n, contact.len(), b.len());
         let l_cc = signorini_condense::trailing_block(symbolic, l_values, n - nc, nc)
             .map_err(|e| ContactError::Solve(format!("interface factor: {e}")))?;
         let mut y = Mat::<f64>::zeros(nc, m);
         for (p, row) in b.iter().enumerate() {
             for &(i, c) in row {
-                if fixed.binary_search(&i).is_err() {
-                    y[(place[i] - (n - nc), p)] += c;
+                if let (Err(_), Ok(k)) = (fixed.binary_search(&i), contact.binary_search(&i)) {
+                    y[(k, p)] += c;
                 }
             }
         }
@@ -483,52 +475,6 @@ fn symmetrise(w: &mut Mat<f64>) {
             w[(j, i)] = v;
         }
     }
-}
-
-/// The order putting the `contact` DOFs last (others in their order):
-/// (`order[new] = old`, `place[old] = new`, contact DOFs).
-fn contact_last(n: usize, contact: &[usize]) -> (Vec<usize>, Vec<usize>, usize) {
-    let mut is_contact = vec![false; n];
-    for &i in contact {
-        is_contact[i] = true;
-    }
-    let mut order: Vec<usize> = (0..n).filter(|&i| !is_contact[i]).collect();
-    let n_contact = n - order.len();
-    order.extend((0..n).filter(|&i| is_contact[i]));
-    let mut place = vec![0; n];
-    for (new, &old) in order.iter().enumerate() {
-        place[old] = new;
-    }
-    (order, place, n_contact)
-}
-
-/// P S Pᵀ: entry (place[i], place[j]) = S(i, j).
-fn permuted(
-    s: &SparseColMat<usize, f64>,
-    order: &[usize],
-    place: &[usize],
-) -> SparseColMat<usize, f64> {
-    let n = s.nrows();
-    let mut col_ptr = Vec::with_capacity(n + 1);
-    let mut row_idx = Vec::with_capacity(s.compute_nnz());
-    let mut values = Vec::with_capacity(s.compute_nnz());
-    col_ptr.push(0);
-    let mut column: Vec<(usize, f64)> = Vec::new();
-    for &old in order {
-        column.clear();
-        column.extend(
-            s.row_idx_of_col_raw(old)
-                .iter()
-                .zip(s.val_of_col(old))
-                .map(|(&i, &v)| (place[i], v)),
-        );
-        column.sort_unstable_by_key(|e| e.0);
-        row_idx.extend(column.iter().map(|e| e.0));
-        values.extend(column.iter().map(|e| e.1));
-        col_ptr.push(row_idx.len());
-    }
-    let symbolic = SymbolicSparseColMat::new_checked(n, n, col_ptr, None, row_idx);
-    SparseColMat::new(symbolic, values)
 }
 
 /// ρ for S + ρRRᵀ and the scale of the identity on fixing DOFs: the mean
