@@ -8,7 +8,7 @@ mod common;
 use std::path::Path;
 use std::process::Command;
 
-use common::{cli_run_ok, example, fresh_dir, max_rel, try_run};
+use common::{cli_run_ok, example, fresh_dir, max_rel, try_run, with_zone, PULLED_BLOCK};
 use signorini_solver::{RunOptions, RunOutput};
 
 /// examples/cyclic.toml coarsened, with `n` steps of its load cycle
@@ -289,4 +289,38 @@ fn two_ranks_stream_the_same_steps_as_one_process() {
         &numbers(&dir.join("two/contact.csv")),
     );
     assert!(d <= 1e-10, "contact.csv differs by {d:e}");
+}
+
+/// A candidate zone too small is widened after the first solve and the run
+/// solved again: the streamed files are those of the second solve alone
+/// (one contact.csv row per point and step, as the in-memory run), and the
+/// same as the run without a zone.
+#[test]
+fn a_widened_zone_streams_the_second_solve_alone() {
+    let dir = fresh_dir("streamed", "widened");
+    let small = with_zone(PULLED_BLOCK, "node_to_segment", 2e-3);
+    let kept = try_run(&small, RunOptions::default()).unwrap();
+    assert!(
+        kept.report.messages.iter().any(|m| m.contains("widened")),
+        "no widening: {:?}",
+        kept.report.messages
+    );
+    std::fs::write(dir.join("small.toml"), &small).unwrap();
+    std::fs::write(dir.join("full.toml"), PULLED_BLOCK).unwrap();
+    cli_run_ok(dir.join("small.toml"), dir.join("small"));
+    cli_run_ok(dir.join("full.toml"), dir.join("full"));
+    let rows = lines(&dir.join("small/contact.csv"));
+    assert_eq!(rows.len(), 1 + kept.contact_rows.len());
+    assert_eq!(vtu_files(&dir.join("small")), vtu_files(&dir.join("full")));
+    let hidden = std::fs::read_dir(dir.join("small"))
+        .unwrap()
+        .filter(|e| {
+            e.as_ref()
+                .unwrap()
+                .file_name()
+                .to_string_lossy()
+                .starts_with('.')
+        })
+        .count();
+    assert_eq!(hidden, 0, "the staging directory is left");
 }
