@@ -36,7 +36,7 @@
 //! * **fields**: the displacement three times (recovered, gathered, kept)
 //!   and the stresses of every cell, of two steps (the step that ends and
 //!   the last step's kept for the report: the steps stream to disk, issue
-//!   16), one step's contact rows, and each step's report (2 kB a step).
+//!   16), one step's contact rows, and each step's report (5 kB a step).
 //!
 //! Measured against the peak resident set of the runs it was fitted on
 //! (squares of 100² to 800² quad4, 200² quad8 and tri6, 400² tri3, cubes of
@@ -689,7 +689,7 @@ pub fn estimate(sc: &scene::Scene, path: scene::SolvePath, ranks: usize) -> Esti
     } else {
         8.0 * (subdomain_dense + 2.0 * g * g + 3.0 * m * m + g * m)
     };
-    e.fields += 200.0 * m + steps * 2000.0;
+    e.fields += 200.0 * m + steps * 5000.0;
     e.total = BASE_BYTES + e.sparse + e.factor + e.dense + e.fields;
     e
 }
