@@ -6,6 +6,7 @@ use std::time::Instant;
 
 use signorini_comm::Transport;
 use signorini_report::output::{summary, write_outputs, OutputRequest};
+use signorini_report::stream::FieldWriter;
 use signorini_scene::SolvePath;
 use signorini_solver::{RunOptions, RunOutput, SolveError};
 
@@ -91,23 +92,25 @@ fn solve_and_write(
         .file_name()
         .map(|s| s.to_string_lossy().to_string())
         .unwrap_or_default();
-    let mut output = match signorini_solver::run(&sc, &name, &opts, comm) {
+    let dir = out.unwrap_or_else(|| sc.output.directory_for(path));
+    let request = OutputRequest {
+        dim: sc.dimension as usize,
+        fields: sc.output.fields.clone(),
+    };
+    // Each step's fields go to disk as the step ends (the root alone writes).
+    let mut writer = FieldWriter::new(&dir, request);
+    let mut output = match signorini_solver::run_streamed(&sc, &name, &opts, comm, &mut writer) {
         Ok(Some(o)) => o,
         Ok(None) => return Ok(None),
         Err(SolveError::Input(m)) => return Err((1, m)),
         Err(e @ SolveError::Internal(_)) => return Err((3, e.to_string())),
     };
-    let dir = out.unwrap_or_else(|| sc.output.directory_for(path));
     if let Some(p) = progress {
         p.stage("writing the output");
     }
     let t = Instant::now();
     output.report.timings_s.setup += setup;
-    let request = OutputRequest {
-        dim: sc.dimension as usize,
-        fields: sc.output.fields.clone(),
-    };
-    write_outputs(&dir, &request, &mut output, t).map_err(|e| {
+    write_outputs(&mut writer, &mut output, t).map_err(|e| {
         let msg = format!("cannot write the output in {}: {e}", dir.display());
         (3, msg)
     })?;

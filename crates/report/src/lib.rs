@@ -7,6 +7,7 @@
 pub mod output;
 pub mod plot;
 pub mod reference;
+pub mod stream;
 pub mod vtu;
 
 use std::collections::BTreeMap;
@@ -473,31 +474,41 @@ pub const CONTACT_CSV_HEADER_3D: &str = "step,contact,body,point,x,y,z,gap,norma
 /// Writes contact.csv with the columns of the dimension `dim` (2 or 3).
 pub fn write_contact_csv(path: &Path, rows: &[ContactRow], dim: usize) -> std::io::Result<()> {
     let mut w = std::io::BufWriter::new(std::fs::File::create(path)?);
-    if dim == 3 {
-        writeln!(w, "{CONTACT_CSV_HEADER_3D}")?;
-    } else {
-        writeln!(w, "{CONTACT_CSV_HEADER_2D}")?;
-    }
+    write_contact_header(&mut w, dim)?;
     for r in rows {
-        write!(
-            w,
-            "{},{},{},{},{:e},{:e},",
-            r.step, r.contact, r.body, r.point, r.x[0], r.x[1]
-        )?;
-        if dim == 3 {
-            write!(w, "{:e},", r.x[2])?;
-        }
-        write!(
-            w,
-            "{:e},{:e},{:e},{:e},",
-            r.gap, r.normal_force, r.tangential_force, r.slip
-        )?;
-        if dim == 3 {
-            write!(w, "{:e},{:e},", r.tangential_force_2, r.slip_2)?;
-        }
-        writeln!(w, "{:e},{}", r.pressure, r.status)?;
+        write_contact_row(&mut w, r, dim)?;
     }
     w.flush()
+}
+
+/// The header line of contact.csv in dimension `dim`.
+pub fn write_contact_header(w: &mut impl Write, dim: usize) -> std::io::Result<()> {
+    if dim == 3 {
+        writeln!(w, "{CONTACT_CSV_HEADER_3D}")
+    } else {
+        writeln!(w, "{CONTACT_CSV_HEADER_2D}")
+    }
+}
+
+/// One line of contact.csv in dimension `dim`.
+pub fn write_contact_row(w: &mut impl Write, r: &ContactRow, dim: usize) -> std::io::Result<()> {
+    write!(
+        w,
+        "{},{},{},{},{:e},{:e},",
+        r.step, r.contact, r.body, r.point, r.x[0], r.x[1]
+    )?;
+    if dim == 3 {
+        write!(w, "{:e},", r.x[2])?;
+    }
+    write!(
+        w,
+        "{:e},{:e},{:e},{:e},",
+        r.gap, r.normal_force, r.tangential_force, r.slip
+    )?;
+    if dim == 3 {
+        write!(w, "{:e},{:e},", r.tangential_force_2, r.slip_2)?;
+    }
+    writeln!(w, "{:e},{}", r.pressure, r.status)
 }
 
 pub fn write_report(path: &Path, report: &Report) -> std::io::Result<()> {

@@ -10,6 +10,7 @@ use std::time::Instant;
 use crate::{ContactRow, Report};
 
 /// The fields of one body at one load step.
+#[derive(Clone)]
 pub struct StepFields {
     /// Displacement, `dim` values per node.
     pub displacement: Vec<f64>,
@@ -21,14 +22,17 @@ pub struct StepFields {
     pub von_mises: Vec<f64>,
 }
 
-/// One body's mesh and its fields at every load step.
+/// One body's mesh and its fields at the load steps kept in memory: every
+/// step that writes fields for the library's `run`, the last step alone for
+/// a run that streamed its steps to a [`crate::stream::FieldWriter`].
 pub struct BodyResult {
     pub name: String,
     pub coords: Vec<[f64; 3]>,
     pub cells: Vec<Vec<usize>>,
     /// METIS part of each cell.
     pub parts: Vec<usize>,
-    /// The fields at every load step (at least one).
+    /// The fields at the steps kept (at least one; the last is the last
+    /// load step).
     pub history: Vec<StepFields>,
 }
 
@@ -63,15 +67,17 @@ impl OutputRequest {
     }
 }
 
+/// The files of a run whose steps streamed to `writer` (contact.csv and the
+/// VTU series): moves them into place, then writes steps.csv, friction.svg,
+/// displacement.csv and stress.csv (the last step) and report.json.
 pub fn write_outputs(
-    dir: &Path,
-    request: &OutputRequest,
+    writer: &mut crate::stream::FieldWriter,
     output: &mut RunOutput,
     t: Instant,
 ) -> std::io::Result<()> {
-    std::fs::create_dir_all(dir)?;
+    writer.commit()?;
+    let (dir, request) = (writer.dir(), writer.request());
     let dim = request.dim;
-    crate::write_contact_csv(&dir.join("contact.csv"), &output.contact_rows, dim)?;
     crate::write_steps_csv(&dir.join("steps.csv"), &output.report.steps)?;
     // With friction and several steps: the tangential force against the slip
     // (a hysteresis loop under cyclic loading).
@@ -108,7 +114,6 @@ pub fn write_outputs(
                 .push(format!("no friction plot: {e}"));
         }
     }
-    write_vtu_fields(dir, request, output).map_err(std::io::Error::other)?;
     if request.wants("displacement") {
         let mut w = std::io::BufWriter::new(std::fs::File::create(dir.join("displacement.csv"))?);
         let axes = &["x", "y", "z"][..dim];
@@ -159,111 +164,12 @@ pub fn write_outputs(
             }
         }
     }
+    // The steps streamed during the run are in `output` and `total` already.
     let tim = &mut output.report.timings_s;
-    tim.output = t.elapsed().as_secs_f64();
-    tim.total += tim.setup + tim.output;
+    let written = t.elapsed().as_secs_f64();
+    tim.output += written;
+    tim.total += tim.setup + written;
     crate::write_report(&dir.join("report.json"), &output.report)
-}
-
-/// DIR/<body>_<step>.vtu for every body and load step, and DIR/fields.pvd,
-/// the time series (timestep = step number) that ParaView opens as one
-/// dataset, with the fields that `[output] fields` asks for: displacement;
-/// contact pressure, status (−1 no contact point, 0 open, 1 contact, 2 stick,
-/// 3 slip) and tangential force at the slave nodes; stress (Voigt
-/// [xx, yy, zz, xy, yz, xz]; axisymmetric: x = r, y = z, zz = hoop) and von
-/// Mises per cell; the METIS subdomain of each cell.
-fn write_vtu_fields(dir: &Path, request: &OutputRequest, output: &RunOutput) -> Result<(), String> {
-    use crate::vtu::{write_pvd, write_vtu, PvdEntry, VtuPiece};
-    if request.fields.is_empty() {
-        return Ok(());
-    }
-    let dim = request.dim;
-    let mut entries = Vec::new();
-    for (bi, b) in output.bodies.iter().enumerate() {
-        let n = b.coords.len();
-        let safe: String = b
-            .name
-            .chars()
-            .map(|c| {
-                if c.is_ascii_alphanumeric() || c == '-' || c == '_' {
-                    c
-                } else {
-                    '_'
-                }
-            })
-            .collect();
-        for (si, fields) in b.history.iter().enumerate() {
-            let step = si + 1;
-            let mut point_data = Vec::new();
-            if request.wants("displacement") {
-                let u: Vec<f64> = (0..n)
-                    .flat_map(|i| {
-                        let mut v = [0.0; 3];
-                        v[..dim].copy_from_slice(&fields.displacement[dim * i..dim * (i + 1)]);
-                        v
-                    })
-                    .collect();
-                point_data.push(("displacement".to_string(), 3, u));
-            }
-            if request.wants("contact") {
-                let mut pressure = vec![0.0; n];
-                let mut status = vec![-1.0; n];
-                let mut tangential = vec![0.0; n];
-                for r in output
-                    .contact_rows
-                    .iter()
-                    .filter(|r| r.step == step && r.body == b.name)
-                {
-                    pressure[r.point] = r.pressure;
-                    tangential[r.point] = r.tangential_force;
-                    status[r.point] = match r.status {
-                        "open" => 0.0,
-                        "contact" => 1.0,
-                        "stick" => 2.0,
-                        _ => 3.0,
-                    };
-                }
-                point_data.push(("contact_pressure".to_string(), 1, pressure));
-                point_data.push(("contact_status".to_string(), 1, status));
-                point_data.push(("tangential_force".to_string(), 1, tangential));
-            }
-            let mut cell_data = vec![(
-                "subdomain".to_string(),
-                1,
-                b.parts.iter().map(|&p| p as f64).collect(),
-            )];
-            if request.wants("stress") && !fields.stress.is_empty() {
-                cell_data.push((
-                    "stress".to_string(),
-                    6,
-                    fields
-                        .stress
-                        .iter()
-                        .flat_map(|s| s.iter().copied())
-                        .collect(),
-                ));
-                cell_data.push(("von_mises".to_string(), 1, fields.von_mises.clone()));
-            }
-            let file = format!("{safe}_{step}.vtu");
-            write_vtu(
-                &dir.join(&file),
-                &VtuPiece {
-                    title: format!("{} step {step}", b.name),
-                    dim,
-                    coords: &b.coords,
-                    cells: &b.cells,
-                    point_data,
-                    cell_data,
-                },
-            )?;
-            entries.push(PvdEntry {
-                timestep: step as f64,
-                part: bi,
-                file,
-            });
-        }
-    }
-    write_pvd(&dir.join("fields.pvd"), &entries).map_err(|e| e.to_string())
 }
 
 /// The run in a few lines for the terminal: sizes, per-step iterations,

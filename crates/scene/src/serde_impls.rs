@@ -4,7 +4,7 @@
 //! `de::Error::custom` values, to which the `toml` crate adds the line and column of
 //! the offending value.
 
-use crate::types::{Friction, Gap, Generator, Law, MeshSpec, Subdomains};
+use crate::types::{Friction, Gap, Generator, Law, MeshSpec, OutputSteps, Subdomains};
 use serde::de::{self, DeserializeSeed, MapAccess, SeqAccess, Visitor};
 use serde::ser::SerializeMap;
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
@@ -291,6 +291,105 @@ impl Serialize for Gap {
         match self {
             Gap::Geometric => s.serialize_str("geometric"),
             Gap::Uniform(g) => s.serialize_f64(*g),
+        }
+    }
+}
+
+// ---------------------------------------------------------------- output.steps
+
+const STEPS_EXPECTED: &str = r#"output.steps: expected "all", "last", { every = N } or a list of step numbers such as [1, 5, 10]"#;
+
+/// A whole number (possibly negative: validation names the entry and the
+/// valid range) for `output.steps`.
+fn step_number<E: de::Error>(v: f64) -> Result<i64, E> {
+    if v.is_finite() && v.fract() == 0.0 && v.abs() < i64::MAX as f64 {
+        Ok(v as i64)
+    } else {
+        Err(E::custom(format!(
+            "{STEPS_EXPECTED}; got the number {}",
+            show_f64(v)
+        )))
+    }
+}
+
+/// One entry of a `steps` list or the N of `every`.
+struct StepNumber;
+
+impl<'de> DeserializeSeed<'de> for StepNumber {
+    type Value = i64;
+    fn deserialize<D: Deserializer<'de>>(self, d: D) -> Result<i64, D::Error> {
+        d.deserialize_any(self)
+    }
+}
+
+impl<'de> Visitor<'de> for StepNumber {
+    type Value = i64;
+    fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "a whole step number for `output.steps`")
+    }
+    fn visit_i64<E: de::Error>(self, v: i64) -> Result<i64, E> {
+        Ok(v)
+    }
+    fn visit_u64<E: de::Error>(self, v: u64) -> Result<i64, E> {
+        i64::try_from(v).map_err(|_| E::custom(format!("output.steps: {v} is too large")))
+    }
+    fn visit_f64<E: de::Error>(self, v: f64) -> Result<i64, E> {
+        step_number(v)
+    }
+}
+
+impl<'de> Deserialize<'de> for OutputSteps {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct V;
+        impl<'de> Visitor<'de> for V {
+            type Value = OutputSteps;
+            fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+                f.write_str(STEPS_EXPECTED)
+            }
+            fn visit_str<E: de::Error>(self, v: &str) -> Result<OutputSteps, E> {
+                match v {
+                    "all" => Ok(OutputSteps::All),
+                    "last" => Ok(OutputSteps::Last),
+                    _ => Err(E::custom(format!("{STEPS_EXPECTED}; got \"{v}\""))),
+                }
+            }
+            fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<OutputSteps, A::Error> {
+                let mut out = Vec::new();
+                while let Some(v) = seq.next_element_seed(StepNumber)? {
+                    out.push(v);
+                }
+                Ok(OutputSteps::List(out))
+            }
+            fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<OutputSteps, A::Error> {
+                let mut every = None;
+                while let Some(key) = map.next_key::<String>()? {
+                    if key != "every" {
+                        return Err(de::Error::custom(format!(
+                            "{STEPS_EXPECTED}; unknown key `{key}`"
+                        )));
+                    }
+                    every = Some(map.next_value_seed(StepNumber)?);
+                }
+                every.map(OutputSteps::Every).ok_or_else(|| {
+                    de::Error::custom(format!("{STEPS_EXPECTED}; the table lacks `every`"))
+                })
+            }
+        }
+        d.deserialize_any(V)
+    }
+}
+
+impl Serialize for OutputSteps {
+    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        match self {
+            OutputSteps::All => s.serialize_str("all"),
+            OutputSteps::Last => s.serialize_str("last"),
+            OutputSteps::Every(n) => {
+                let mut m = s.serialize_map(Some(1))?;
+                m.serialize_entry("every", n)?;
+                m.end()
+            }
+            OutputSteps::List(l) => l.serialize(s),
         }
     }
 }

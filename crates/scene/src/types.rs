@@ -935,6 +935,39 @@ pub struct Output {
     pub fields: Vec<String>,
     /// Points whose displacement goes in the report (nearest node of any body).
     pub probes: Vec<Vec<f64>>,
+    /// Which load steps write their fields (VTU pieces); contact.csv and
+    /// steps.csv keep every step.
+    #[serde(skip_serializing_if = "OutputSteps::is_all")]
+    pub steps: OutputSteps,
+}
+
+/// `[output] steps`: the load steps whose fields are written, `"all"` (the
+/// default), `"last"`, `{ every = N }` (steps N, 2N, … and the last) or a
+/// list of 1-based step numbers. Entries are checked by validation
+/// (`output.steps`), against the number of steps.
+#[derive(Debug, Clone, PartialEq, Eq, Default)]
+pub enum OutputSteps {
+    #[default]
+    All,
+    Last,
+    Every(i64),
+    List(Vec<i64>),
+}
+
+impl OutputSteps {
+    pub fn is_all(&self) -> bool {
+        *self == OutputSteps::All
+    }
+
+    /// Whether load step `step` (1-based) of `n` writes its fields.
+    pub fn selects(&self, step: usize, n: usize) -> bool {
+        match self {
+            OutputSteps::All => true,
+            OutputSteps::Last => step == n,
+            OutputSteps::Every(k) => step == n || (*k > 0 && step as i64 % k == 0),
+            OutputSteps::List(l) => l.contains(&(step as i64)),
+        }
+    }
 }
 
 impl Default for Output {
@@ -947,6 +980,7 @@ impl Default for Output {
                 "contact".to_string(),
             ],
             probes: Vec::new(),
+            steps: OutputSteps::All,
         }
     }
 }

@@ -638,6 +638,7 @@ impl Scene {
         for (i, p) in self.output.probes.iter().enumerate() {
             vector(&format!("output.probes[{i}]"), p, dim)?;
         }
+        self.validate_output_steps()?;
         if let Some(d) = &self.output.directory {
             if d.as_os_str().is_empty() {
                 return Err(invalid(
@@ -647,6 +648,45 @@ impl Scene {
             }
         }
         Ok(())
+    }
+}
+
+impl Scene {
+    /// `output.steps`: `every` at least 1; list entries between 1 and the
+    /// number of load steps, each once.
+    fn validate_output_steps(&self) -> Result {
+        let n = self.step_scales().len();
+        match &self.output.steps {
+            OutputSteps::Every(k) if *k < 1 => Err(invalid(
+                "output.steps.every",
+                format!("must be a whole number >= 1 (write the fields of every N-th step and the last), got {k}"),
+            )),
+            OutputSteps::List(l) => {
+                if l.is_empty() {
+                    return Err(invalid(
+                        "output.steps",
+                        "the list is empty; list step numbers from 1 to the number of steps, or write \"last\" (or fields = [] for no field output)",
+                    ));
+                }
+                let mut seen = BTreeSet::new();
+                for (i, &s) in l.iter().enumerate() {
+                    if s < 1 || s as usize > n {
+                        return Err(invalid(
+                            format!("output.steps[{i}]"),
+                            format!("step {s} does not exist: the scene has {n} load step(s), numbered 1 to {n}"),
+                        ));
+                    }
+                    if !seen.insert(s) {
+                        return Err(invalid(
+                            format!("output.steps[{i}]"),
+                            format!("step {s} is listed twice"),
+                        ));
+                    }
+                }
+                Ok(())
+            }
+            _ => Ok(()),
+        }
     }
 }
 

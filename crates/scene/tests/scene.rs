@@ -1083,3 +1083,54 @@ fn a_very_long_line_is_quoted_around_the_error_only() {
     let m = parse_err(&deep);
     assert!(m.len() < 600, "{} characters: {m}", m.len());
 }
+
+/// `[output] steps`: the four forms, which steps each selects, and the
+/// entries refused with the entry named and the valid range.
+#[test]
+fn output_steps_forms_and_checks() {
+    let three = "[[steps]]\nscale = { press = 0.5 }\n[[steps]]\nscale = { press = 1.0 }\n[[steps]]\nscale = { press = 1.5 }\n";
+    let steps = |o: &str| {
+        let s = parse_toml(&with(&format!("{three}[output]\nsteps = {o}\n"))).unwrap();
+        let n = s.step_scales().len();
+        assert_eq!(n, 3);
+        (1..=n)
+            .filter(|&k| s.output.steps.selects(k, n))
+            .collect::<Vec<_>>()
+    };
+    assert_eq!(steps("\"all\""), [1, 2, 3]);
+    assert_eq!(steps("\"last\""), [3]);
+    assert_eq!(steps("{ every = 2 }"), [2, 3]);
+    assert_eq!(steps("{ every = 5 }"), [3]);
+    assert_eq!(steps("[3, 1]"), [1, 3]);
+    let s = parse_toml(&with(three)).unwrap();
+    assert_eq!(s.output.steps, OutputSteps::All, "the default");
+
+    let bad = |o: &str| invalid_entry(&with(&format!("{three}[output]\nsteps = {o}\n")));
+    let (e, m) = bad("[1, 4]");
+    assert_eq!(e, "output.steps[1]");
+    assert!(m.contains("step 4") && m.contains("1 to 3"), "{m}");
+    let (e, m) = bad("[0]");
+    assert_eq!(e, "output.steps[0]");
+    assert!(m.contains("1 to 3"), "{m}");
+    let (e, _) = bad("[-2]");
+    assert_eq!(e, "output.steps[0]");
+    let (e, m) = bad("[2, 2]");
+    assert_eq!(e, "output.steps[1]");
+    assert!(m.contains("twice"), "{m}");
+    let (e, _) = bad("[]");
+    assert_eq!(e, "output.steps");
+    let (e, m) = bad("{ every = 0 }");
+    assert_eq!(e, "output.steps.every");
+    assert!(m.contains(">= 1"), "{m}");
+    for o in ["\"first\"", "[1.5]", "{ each = 2 }", "true"] {
+        let m = parse_err(&with(&format!("{three}[output]\nsteps = {o}\n")));
+        assert!(m.contains("output.steps"), "{o}: {m}");
+    }
+    // JSON round trip keeps the selection.
+    let s = parse_toml(&with(&format!(
+        "{three}[output]\nsteps = {{ every = 2 }}\n"
+    )))
+    .unwrap();
+    let back: Scene = serde_json::from_str(&serde_json::to_string(&s).unwrap()).unwrap();
+    assert_eq!(back.output.steps, OutputSteps::Every(2));
+}

@@ -89,13 +89,14 @@ pub(crate) fn certificate_of(
 }
 
 /// What a solved step leaves for its certificate: the solution, the final
-/// gaps, the residuals and the largest displacement.
+/// gaps, the residuals and the largest displacement; and its load scales.
 #[derive(Clone, Copy)]
 pub(crate) struct StepEvidence<'a> {
     pub sol: &'a StepSolution,
     pub gaps: &'a [f64],
     pub res: &'a Residuals,
     pub umax: f64,
+    pub scale: &'a std::collections::BTreeMap<String, f64>,
 }
 
 /// Certificate, contact.csv rows and the step report of one step; updates
@@ -114,6 +115,7 @@ pub(crate) fn conclude_step(
         gaps,
         res,
         umax,
+        scale,
     } = *step;
     let lambda = &sol.outcome.forces;
     let cert = certificate_of(res, gaps, lambda, sol, umax, sc.solver.tolerance);
@@ -125,7 +127,9 @@ pub(crate) fn conclude_step(
         ));
     }
     push_contact_rows(sc, bodies, points, si, sol, gaps, partial);
-    partial.steps.push(step_report(sc, points, si, sol, &cert));
+    partial
+        .steps
+        .push(step_report(sc, points, scale, sol, &cert));
     if let Some(w) = sol.regularisation.as_ref().and_then(|r| r.warning.clone()) {
         messages.push(format!("step {}: {w}", si + 1));
     }
@@ -205,7 +209,7 @@ fn push_contact_rows(
 fn step_report(
     sc: &scene::Scene,
     points: &[PointModel],
-    si: usize,
+    scale: &std::collections::BTreeMap<String, f64>,
     sol: &StepSolution,
     cert: &Certificate,
 ) -> StepReport {
@@ -236,7 +240,7 @@ fn step_report(
         }
     }
     StepReport {
-        scale: sc.step_scales()[si].clone(),
+        scale: scale.clone(),
         contact_force: net_force(sc.model, step_force),
         normal_force: sum_n,
         tangential_force: sum_t,
@@ -267,7 +271,9 @@ pub(crate) fn empty_partial() -> Partial {
         failure: None,
         contact_rows: vec![],
         lambda: vec![],
-        u_steps: vec![],
+        u_last: vec![],
+        bodies: vec![],
+        excluded_gaps: vec![],
         dense_interface_bytes: 0,
         factor_bytes: 0,
         factorisation: None,
@@ -279,83 +285,71 @@ pub(crate) fn empty_partial() -> Partial {
     }
 }
 
-/// Root: certificates from the residuals the ranks sent back, and the fields.
-#[allow(clippy::too_many_arguments)]
-pub(crate) fn finish_condensed(
-    sc: &scene::Scene,
+/// One step of the condensed path on the root, from the subdomains' recovered
+/// step: the full displacement of every body, the equilibrium residuals
+/// (interior ones as sent; on Γ Σ_i (K_i u_i − f_i)_Γ − Bᵀλ) and the final
+/// gaps g0 + B u_Γ.
+pub(crate) fn condensed_step(
+    ctx: RunContext,
+    sol: &StepSolution,
+    u_gamma: &[f64],
+    recovered: &[RecoveredStep],
+) -> (Vec<f64>, Residuals, Vec<Vec<f64>>) {
+    let model = ctx.model;
+    let (bodies, points, frames) = (&model.bodies, &model.points, &model.frames);
+    let mut u_full: Vec<Vec<f64>> = bodies.iter().map(|b| vec![0.0; b.n_dof]).collect();
+    let lambda = &sol.outcome.forces;
+    let mut r_gamma = vec![0.0; u_gamma.len()];
+    let mut interior = 0.0f64;
+    let mut force_scale = 0.0f64;
+    for r in recovered {
+        let spec = &model.specs[r.id];
+        let dim = bodies[spec.body].mesh.dim;
+        let u = &mut u_full[spec.body];
+        for (l, &n) in spec.nodes.iter().enumerate() {
+            u[dim * n..dim * (n + 1)].copy_from_slice(&r.displacement[dim * l..dim * (l + 1)]);
+        }
+        for &(g, v) in &r.gamma_residual {
+            r_gamma[g] += v;
+        }
+        interior = interior.max(r.interior_residual);
+        force_scale = force_scale.max(r.force_scale);
+    }
+    let mut gaps = sol.gap0.clone();
+    for (pi, p) in points.iter().enumerate() {
+        for (g, c) in frames.gamma_row(bodies, &model.gamma_of, &p.row) {
+            r_gamma[g] -= c * lambda[pi];
+            gaps[pi] += c * u_gamma[g];
+        }
+        if let (Some(t), Some(fr)) = (&p.trow, &sol.friction) {
+            for (g, c) in frames.gamma_row(bodies, &model.gamma_of, t) {
+                r_gamma[g] -= c * fr.tangential[pi];
+            }
+        }
+        if let (Some(t), Some(fr)) = (&p.trow2, &sol.friction) {
+            for (g, c) in frames.gamma_row(bodies, &model.gamma_of, t) {
+                r_gamma[g] -= c * fr.tangential2[pi];
+            }
+        }
+    }
+    let res = Residuals {
+        equilibrium: interior.max(inf_norm(&r_gamma)),
+        force_scale: force_scale.max(inf_norm(lambda)),
+    };
+    (gaps, res, u_full)
+}
+
+/// The sizes of the condensed path for the report: the dense interface
+/// problem, the subdomains' factors and their factorisation, n_Γ and the
+/// free DOFs.
+pub(crate) fn condensed_sizes(
+    partial: &mut Partial,
     bodies: &[BodyModel],
     points: &[PointModel],
-    specs: &[SubdomainSpec],
     data: &[CondensedData],
-    (gamma_of, frames): (&[Vec<usize>], &crate::contact_frames::ContactFrames),
-    recovered: &[RecoveredData],
-    steps: Vec<StepSolution>,
-    u_gamma: &[Vec<f64>],
-    messages: &mut Vec<String>,
-) -> Result<Partial, SolveError> {
-    let n_gamma = u_gamma.first().map(|u| u.len()).unwrap_or(0);
-    let mut partial = empty_partial();
-    // Full displacement of each body at every step.
-    let mut u_steps: Vec<Vec<Vec<f64>>> = steps
-        .iter()
-        .map(|_| bodies.iter().map(|b| vec![0.0; b.n_dof]).collect())
-        .collect();
-    for r in recovered {
-        let b = specs[r.id].body;
-        let dim = r.dim;
-        for (si, u) in r.displacements.iter().enumerate() {
-            for (l, &n) in r.nodes.iter().enumerate() {
-                u_steps[si][b][dim * n..dim * (n + 1)].copy_from_slice(&u[dim * l..dim * (l + 1)]);
-            }
-        }
-    }
-    let umax = u_steps
-        .last()
-        .map_or(0.0, |u| u.iter().fold(0.0f64, |a, ub| a.max(inf_norm(ub))));
-    for (si, sol) in steps.iter().enumerate() {
-        let lambda = &sol.outcome.forces;
-        // Γ residual: Σ_i (K_i u_i − f_i)_Γ − Bᵀλ; interior residuals as sent.
-        let mut r_gamma = vec![0.0; n_gamma];
-        let mut interior = 0.0f64;
-        let mut force_scale = 0.0f64;
-        for r in recovered {
-            for &(g, v) in &r.gamma_residual[si] {
-                r_gamma[g] += v;
-            }
-            interior = interior.max(r.interior_residual[si]);
-            force_scale = force_scale.max(r.force_scale[si]);
-        }
-        let mut gaps = sol.gap0.clone();
-        for (pi, p) in points.iter().enumerate() {
-            for (g, c) in frames.gamma_row(bodies, gamma_of, &p.row) {
-                r_gamma[g] -= c * lambda[pi];
-                gaps[pi] += c * u_gamma[si][g];
-            }
-            if let (Some(t), Some(fr)) = (&p.trow, &sol.friction) {
-                for (g, c) in frames.gamma_row(bodies, gamma_of, t) {
-                    r_gamma[g] -= c * fr.tangential[pi];
-                }
-            }
-            if let (Some(t), Some(fr)) = (&p.trow2, &sol.friction) {
-                for (g, c) in frames.gamma_row(bodies, gamma_of, t) {
-                    r_gamma[g] -= c * fr.tangential2[pi];
-                }
-            }
-        }
-        let res = Residuals {
-            equilibrium: interior.max(inf_norm(&r_gamma)),
-            force_scale: force_scale.max(inf_norm(lambda)),
-        };
-        let step = StepEvidence {
-            sol,
-            gaps: &gaps,
-            res: &res,
-            umax,
-        };
-        conclude_step(sc, bodies, points, si, &step, &mut partial, messages);
-    }
+    n_gamma: usize,
+) {
     let m = points.len();
-    partial.u_steps = u_steps;
     partial.dense_interface_bytes = 8 * (n_gamma * n_gamma + m * m) as u64;
     partial.factor_bytes = data.iter().map(|d| d.factor_bytes as u64).sum();
     partial.factorisation = Some(condensed_factorisation(data));
@@ -364,7 +358,6 @@ pub(crate) fn finish_condensed(
         .iter()
         .map(|b| b.prescribed.iter().filter(|p| !**p).count())
         .sum();
-    Ok(partial)
 }
 
 /// The subdomains' factorisations summed: the ordering each kept ("mixed"
@@ -423,8 +416,7 @@ pub(crate) fn finish_report(
     let (bodies, points) = (&ctx.model.bodies, &ctx.model.points);
     let friction = partial.friction.as_ref();
     let (contact_force, contacts) = contact_summaries(sc, points, &partial.lambda, friction);
-    let no_step = Vec::new();
-    let probes = probes_of(sc, bodies, partial.u_steps.last().unwrap_or(&no_step));
+    let probes = probes_of(sc, bodies, &partial.u_last);
     let reference = match &sc.reference {
         None => None,
         Some(r) => Some(compare_reference(
@@ -442,7 +434,16 @@ pub(crate) fn finish_report(
     if partial.steps.len() > 1 {
         log.stages.push(format!("steps ({})", partial.steps.len()));
     }
-    let results = body_results(bodies, &partial.u_steps, want_stress);
+    let mut results = std::mem::take(&mut partial.bodies);
+    for (r, b) in results.iter_mut().zip(bodies) {
+        if r.history.is_empty() {
+            r.history.push(StepFields {
+                displacement: vec![0.0; b.n_dof],
+                stress: Vec::new(),
+                von_mises: Vec::new(),
+            });
+        }
+    }
     let contact_rows = std::mem::take(&mut partial.contact_rows);
     let findings = Findings {
         contact_force,
@@ -524,54 +525,13 @@ fn probes_of(sc: &scene::Scene, bodies: &[BodyModel], u_full: &[Vec<f64>]) -> Ve
                 body: bodies[bi].name.clone(),
                 node: n,
                 distance: d,
-                displacement: u_full[bi][n * dim..(n + 1) * dim].to_vec(),
+                displacement: u_full
+                    .get(bi)
+                    .map_or(vec![0.0; dim], |u| u[n * dim..(n + 1) * dim].to_vec()),
             });
         }
     }
     probes
-}
-
-/// Each body's mesh and its fields at every step: displacement, and the
-/// cell stresses with their von Mises values when the scene asks for them
-/// (one zero displacement when no step ran).
-fn body_results(
-    bodies: &[BodyModel],
-    u_steps: &[Vec<Vec<f64>>],
-    want_stress: bool,
-) -> Vec<BodyResult> {
-    let mut results = Vec::new();
-    for (bi, b) in bodies.iter().enumerate() {
-        let mut history: Vec<StepFields> = u_steps
-            .iter()
-            .map(|u| {
-                let stress = if want_stress {
-                    signorini_fem::cell_stress(&b.mesh, &b.material, &u[bi])
-                } else {
-                    Vec::new()
-                };
-                StepFields {
-                    von_mises: stress.iter().map(signorini_fem::von_mises).collect(),
-                    displacement: u[bi].clone(),
-                    stress,
-                }
-            })
-            .collect();
-        if history.is_empty() {
-            history.push(StepFields {
-                displacement: vec![0.0; b.n_dof],
-                stress: Vec::new(),
-                von_mises: Vec::new(),
-            });
-        }
-        results.push(BodyResult {
-            name: b.name.clone(),
-            coords: b.mesh.coords.clone(),
-            cells: b.mesh.cells.iter().map(|c| c.nodes.clone()).collect(),
-            parts: b.parts.clone(),
-            history,
-        });
-    }
-    results
 }
 
 /// The report.json of a run: its plan, sizes, steps, timings, memory,

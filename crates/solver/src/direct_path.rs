@@ -7,16 +7,16 @@ use super::*;
 
 /// The direct path on the root: every body's whole sparse stiffness, the
 /// contact constraints added by Lagrange multipliers and the saddle-point
-/// matrix refactorised at each status iteration (seed §3.3).
+/// matrix refactorised at each status iteration (seed §3.3); each step
+/// ended (`steps`) before the next is solved.
 pub(crate) fn run_direct(
-    sc: &scene::Scene,
-    bodies: &[BodyModel],
-    points: &[PointModel],
-    fixed: &[FixedPoint],
-    scales: &[Vec<Vec<f64>>],
+    ctx: RunContext,
+    steps: &mut StepLoop,
     timings: &mut Timings,
     messages: &mut Vec<String>,
-) -> Result<Partial, SolveError> {
+) -> Result<(), SolveError> {
+    let (sc, model) = (ctx.sc, ctx.model);
+    let (bodies, points) = (&model.bodies[..], &model.points[..]);
     let t = Instant::now();
     progress::phase(progress::Phase::Assembling);
     let system = assemble_direct(bodies)?;
@@ -31,41 +31,30 @@ pub(crate) fn run_direct(
                 .collect()
         })
         .collect();
-    let mut partial = empty_partial();
-    let t = Instant::now();
     progress::phase(progress::Phase::Contact);
     let floating = bodies.iter().any(|b| !b.kernel.is_empty());
+    // Outside the timed phases: one more sparse Cholesky, of K alone.
+    let conditioning =
+        conditioning::direct(&system.k_global, floating, sc.solver.tolerance, messages);
+    let t = Instant::now();
     let mut kkt = KktSystem::new(&system.k_global, &rows, floating).map_err(contact_error)?;
-    let mut u_steps: Vec<Vec<Vec<f64>>> = Vec::new();
-    let mut solutions = Vec::new();
-    for (si, st) in scales.iter().enumerate() {
-        progress::step(si, scales.len());
-        let (step, u_full) = direct_step(sc, bodies, points, fixed, &system, &mut kkt, st, si)?;
-        solutions.push(step);
-        u_steps.push(u_full);
+    let mut end_s = 0.0;
+    for (si, st) in model.scales.iter().enumerate() {
+        progress::step(si, model.scales.len());
+        let ((sol, gaps, res), u_full) =
+            direct_step(sc, bodies, points, &model.fixed, &system, &mut kkt, st, si)?;
+        let t_end = Instant::now();
+        steps.end_step(si, &sol, &gaps, &res, u_full, messages)?;
+        end_s += t_end.elapsed().as_secs_f64();
     }
-    timings.contact = t.elapsed().as_secs_f64();
+    timings.contact = t.elapsed().as_secs_f64() - end_s;
+    timings.output += end_s;
+    let partial = &mut steps.partial;
     partial.factorisation = Some(kkt_factorisation(&kkt));
     partial.factor_bytes = 8 * kkt.ordered().stats.values as u64;
-    // Outside the timed phases: one more sparse Cholesky, of K alone.
-    partial.conditioning = Some(conditioning::direct(
-        &system.k_global,
-        floating,
-        sc.solver.tolerance,
-        messages,
-    ));
-    for (si, (sol, gaps, res, umax)) in solutions.iter().enumerate() {
-        let step = StepEvidence {
-            sol,
-            gaps,
-            res,
-            umax: *umax,
-        };
-        conclude_step(sc, bodies, points, si, &step, &mut partial, messages);
-    }
-    partial.u_steps = u_steps;
+    partial.conditioning = Some(conditioning);
     partial.dofs = system.n_free;
-    Ok(partial)
+    Ok(())
 }
 
 /// The KKT factorisation of the run for report.json: its ordering, size and
@@ -138,7 +127,7 @@ fn assemble_direct(bodies: &[BodyModel]) -> Result<DirectSystem, SolveError> {
 
 /// A step's solution with its final gaps, residuals and largest
 /// displacement, as [`conclude_step`] takes them.
-type DirectStep = (StepSolution, Vec<f64>, Residuals, f64);
+type DirectStep = (StepSolution, Vec<f64>, Residuals);
 
 /// One load step of the direct path: the loads on the free DOFs, the
 /// floating bodies' equilibrium checked, the status method on the KKT
@@ -191,8 +180,7 @@ fn direct_step(
         lambda,
     );
     let gaps = gaps_of(points, &u_full);
-    let umax = u_full.iter().fold(0.0f64, |a, u| a.max(inf_norm(u)));
-    Ok(((sol, gaps, res, umax), u_full))
+    Ok(((sol, gaps, res), u_full))
 }
 
 /// Checks that each floating body's loads can be balanced by contact

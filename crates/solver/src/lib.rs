@@ -34,6 +34,7 @@ mod plan;
 pub mod problem_file;
 pub mod progress;
 mod root;
+mod step_end;
 pub mod subdomain;
 
 use std::time::Instant;
@@ -57,6 +58,7 @@ use signorini_contact::{
     DelassusProblem, LcpOptions, SolverReport, StatusOptions, StatusVariant, StopReason,
 };
 pub use signorini_report::output::{BodyResult, RunOutput, StepFields};
+pub use signorini_report::stream::{FieldWriter, StepSink, StepsInMemory};
 use signorini_report::{
     reference, Certificate, ContactRow, ContactSummary, Memory, Probe, RankStats, Regularisation,
     Report, StepReport, Timings,
@@ -69,11 +71,12 @@ use compare::*;
 use direct_path::*;
 use friction_step::*;
 use model::{BodyModel, FixedPoint, PointModel};
-pub use pipeline::run;
+pub use pipeline::{run, run_streamed};
 use pipeline::{RunContext, RunLog};
 pub use plan::algorithm_of;
 use root::*;
-use subdomain::{CondensedData, FactorSummary, RecoveredData, Subdomain, SubdomainSpec};
+use step_end::StepLoop;
+use subdomain::{CondensedData, FactorSummary, RecoveredStep, Subdomain, SubdomainSpec};
 
 /// What went wrong, with the exit code it maps to.
 #[derive(Debug, Clone, thiserror::Error, Serialize, Deserialize)]
@@ -108,13 +111,6 @@ fn contact_error(e: ContactError) -> SolveError {
 
 fn wire<T>(r: Result<T, String>) -> Result<T, SolveError> {
     r.map_err(SolveError::Internal)
-}
-
-/// The root's answer to every rank after the contact solve.
-#[derive(Serialize, Deserialize)]
-struct RootAnswer {
-    /// u_Γ at every step.
-    u_gamma: Vec<Vec<f64>>,
 }
 
 /// One step solved on the root.
@@ -166,8 +162,14 @@ struct Partial {
     failure: Option<String>,
     contact_rows: Vec<ContactRow>,
     lambda: Vec<f64>,
-    /// Full displacement of each body at every step.
-    u_steps: Vec<Vec<Vec<f64>>>,
+    /// Full displacement of each body at the last step.
+    u_last: Vec<Vec<f64>>,
+    /// Each body's mesh, and (once the last step ended) its fields at the
+    /// last step.
+    bodies: Vec<BodyResult>,
+    /// The lowest gap over the steps of each point left out of the contact
+    /// zone (`ModelData::excluded`), for the check that none penetrates.
+    excluded_gaps: Vec<f64>,
     dense_interface_bytes: u64,
     factor_bytes: u64,
     /// Ordering, size and flops of the factorisation (report.json

@@ -1,7 +1,9 @@
 //! A run as a sequence of named stages (DESIGN.md §2): plan → model and
-//! partition → condense (each rank its subdomains) → root: the interface
-//! problem and its contact solve at every step → recover (each rank its
-//! subdomains) → certify and report. Only this module calls the transport
+//! partition → condense (each rank its subdomains) → the load steps, one at
+//! a time: the root's contact solve of the step on Γ, every rank's recovery
+//! of its subdomains at that step, the root's certificate and the step's
+//! fields to the output (step_end.rs) → report. No rank holds more than one
+//! step's per-DOF data (issue 16). Only this module calls the transport
 //! (gather, broadcast, deal).
 
 use super::*;
@@ -35,25 +37,42 @@ pub(crate) struct RankFigures {
     subdomains: usize,
 }
 
-/// What the root keeps of its solve for the report: the step solutions and
-/// the subdomains' condensed data, with the conditioning estimates.
-type RootState = (
-    Vec<StepSolution>,
-    Vec<CondensedData>,
-    conditioning::RootConditioning,
-);
-
-/// Runs a scene on every rank of `comm`. Returns the output on the root,
-/// `None` on the other ranks; an error is returned identically on every rank.
-///
-/// When a contact's candidate zone (`search_distance`) left out a slave node
-/// that penetrates its master in the answer, the run is solved again with
-/// the zone widened (model::check_excluded), and the report says so.
+/// Runs a scene on every rank of `comm`, keeping every step in memory (the
+/// contact rows of every step and the fields of the steps `[output] steps`
+/// selects: `RunOutput::contact_rows`, `BodyResult::history`). Returns the
+/// output on the root, `None` on the other ranks; an error is returned
+/// identically on every rank.
 pub fn run(
     sc: &scene::Scene,
     scene_name: &str,
     opts: &RunOptions,
     comm: &dyn Transport,
+) -> Result<Option<RunOutput>, SolveError> {
+    let mut kept = StepsInMemory::default();
+    let out = run_streamed(sc, scene_name, opts, comm, &mut kept)?;
+    Ok(out.map(|mut o| {
+        kept.fill(&mut o);
+        o
+    }))
+}
+
+/// Runs a scene on every rank of `comm`, handing each load step to `sink` on
+/// the root as it ends (its contact rows, and its fields when `[output]
+/// steps` selects it), so that memory does not grow with the number of
+/// steps. Returns the output on the root (the last step's fields in
+/// `BodyResult::history`, no contact rows), `None` on the other ranks; an
+/// error is returned identically on every rank.
+///
+/// When a contact's candidate zone (`search_distance`) left out a slave node
+/// that penetrates its master in the answer, the run is solved again with
+/// the zone widened (model::check_excluded), and the report says so; the
+/// sink is told to forget the steps of the first solve.
+pub fn run_streamed(
+    sc: &scene::Scene,
+    scene_name: &str,
+    opts: &RunOptions,
+    comm: &dyn Transport,
+    sink: &mut dyn StepSink,
 ) -> Result<Option<RunOutput>, SolveError> {
     let t_total = Instant::now();
     let plan = plan::plan(sc, opts)?;
@@ -81,9 +100,10 @@ pub fn run(
             zone: zone.as_ref(),
             widenings,
         };
-        match attempt.solve(log)? {
+        match attempt.solve(log, sink)? {
             Outcome::Done(out) => return Ok(out.map(|o| *o)),
             Outcome::Widen(w) => {
+                sink.restart();
                 notes.extend(w.notes);
                 zone = Some(w.zone);
                 widenings += 1;
@@ -113,7 +133,7 @@ enum Outcome {
 impl Attempt<'_> {
     /// Model, then the direct path on the root or the condensed path on
     /// every rank.
-    fn solve(&self, mut log: RunLog) -> Result<Outcome, SolveError> {
+    fn solve(&self, mut log: RunLog, sink: &mut dyn StepSink) -> Result<Outcome, SolveError> {
         let (sc, comm) = (self.sc, self.comm);
         let condensed_path = self.plan.path == scene::SolvePath::Condensed;
         let t = Instant::now();
@@ -129,70 +149,61 @@ impl Attempt<'_> {
             comm,
         };
         if !condensed_path {
-            return self.direct_stage(ctx, log);
+            return self.direct_stage(ctx, log, sink);
         }
         log.stages.push("condense".into());
         let (local, condensed, condense_s) = condense_stage(comm, &model, &mut log.messages);
         let gathered = wire(gather(comm, &condensed))?;
         progress::ranks_condensed(gathered.as_ref());
-        let t_root = Instant::now();
-        let (answer, root_state) = root_stage(sc, self.plan, &model, gathered);
-        let contact_s = t_root.elapsed().as_secs_f64();
-        let answer: Result<RootAnswer, SolveError> =
-            wire(broadcast(comm, comm.is_root().then_some(&answer)))?;
-        let answer = answer?;
-        let t = Instant::now();
-        let recovered = recover_stage(&model, &local, &answer);
+        let data = gathered.map(root_data);
+        let mut steps = comm.is_root().then(|| StepLoop::new(sc, &model, sink));
+        let walked = steps_stage(ctx, &local, data, steps.as_mut(), &mut log)?;
         let figures = RankFigures {
             condense_s,
-            recover_s: t.elapsed().as_secs_f64(),
+            recover_s: walked.recover_s,
             peak_rss_bytes: signorini_report::peak_rss_bytes(),
             bytes_sent: comm.bytes_sent(),
             subdomains: local.len(),
         };
-        let gathered = wire(gather(comm, &(recovered, figures)))?;
-        log.timings.contact = contact_s;
-        let partial = gathered.map(|all| {
-            let state =
-                root_state.ok_or_else(|| SolveError::Internal("root state missing".into()))?;
-            condensed_partial(ctx, &mut log, state, all, &answer)
+        let gathered = wire(gather(comm, &figures))?;
+        let partial = match (steps, walked.root) {
+            (Some(steps), Some(root)) => Some(condensed_partial(ctx, &mut log, steps, root)),
+            _ => None,
+        };
+        // The root's verdict (an error that ended it, or the excluded
+        // points), on every rank.
+        let verdict = partial.as_ref().map(|p| match p {
+            Ok(p) => Ok(self.check_zone(&model, p)),
+            Err(e) => Err(e.clone()),
         });
-        // The root's verdict on the excluded points, on every rank.
-        let widen = partial
-            .as_ref()
-            .and_then(|p| p.as_ref().ok())
-            .and_then(|(p, _)| self.check_zone(&model, p));
-        let widen: Option<model::Widening> =
-            wire(broadcast(comm, comm.is_root().then_some(&widen)))?;
-        if let Some(w) = widen {
+        let verdict: Result<Option<model::Widening>, SolveError> =
+            wire(broadcast(comm, verdict.as_ref()))?;
+        if let Some(w) = verdict? {
             return Ok(Outcome::Widen(w));
         }
-        let Some(partial) = partial else {
+        let (Some(partial), Some(figures)) = (partial, gathered) else {
             return Ok(Outcome::Done(None));
         };
-        let (partial, (bytes, stats)) = partial?;
-        finish_report(ctx, partial, log, bytes, stats).map(|o| Outcome::Done(Some(Box::new(o))))
+        let stats = rank_stats(&mut log, &figures);
+        let bytes = figures.iter().map(|f| f.bytes_sent).sum();
+        finish_report(ctx, partial?, log, bytes, stats).map(|o| Outcome::Done(Some(Box::new(o))))
     }
 
     /// The direct path on the root (the other ranks have nothing to do).
-    fn direct_stage(&self, ctx: RunContext, mut log: RunLog) -> Result<Outcome, SolveError> {
-        let (sc, model) = (ctx.sc, ctx.model);
+    fn direct_stage(
+        &self,
+        ctx: RunContext,
+        mut log: RunLog,
+        sink: &mut dyn StepSink,
+    ) -> Result<Outcome, SolveError> {
         if !ctx.comm.is_root() {
             return Ok(Outcome::Done(None));
         }
         log.stages.push("contact".into());
-        let partial = progress::observed(|| {
-            run_direct(
-                sc,
-                &model.bodies,
-                &model.points,
-                &model.fixed,
-                &model.scales,
-                &mut log.timings,
-                &mut log.messages,
-            )
-        })?;
-        if let Some(w) = self.check_zone(model, &partial) {
+        let mut steps = StepLoop::new(ctx.sc, ctx.model, sink);
+        progress::observed(|| run_direct(ctx, &mut steps, &mut log.timings, &mut log.messages))?;
+        let partial = steps.partial;
+        if let Some(w) = self.check_zone(ctx.model, &partial) {
             return Ok(Outcome::Widen(w));
         }
         progress::phase(progress::Phase::Certifying);
@@ -212,7 +223,7 @@ impl Attempt<'_> {
             self.sc,
             &model.zone,
             &model.excluded,
-            &partial.u_steps,
+            &partial.excluded_gaps,
             cert.tolerance * cert.length_scale,
             self.widenings,
         )
@@ -296,116 +307,176 @@ fn injected_failure(comm: &dyn Transport) -> Option<String> {
     })
 }
 
-/// The root: the subdomains' condensed data (or the first error of any
-/// rank) to the contact solve on Γ at every step. Other ranks get `None`
-/// from the gather and answer nothing.
-fn root_stage(
-    sc: &scene::Scene,
-    plan: &plan::Plan,
-    model: &partition::ModelData,
-    gathered: Option<Vec<Result<Vec<CondensedData>, String>>>,
-) -> (Result<RootAnswer, SolveError>, Option<RootState>) {
-    let Some(all) = gathered else {
-        return (Err(SolveError::Internal("no answer".into())), None);
-    };
+/// The root: the subdomains' condensed data in subdomain order, or the
+/// first error of any rank.
+fn root_data(
+    all: Vec<Result<Vec<CondensedData>, String>>,
+) -> Result<Vec<CondensedData>, SolveError> {
     let mut data = Vec::new();
     for r in all {
-        match r {
-            Ok(v) => data.extend(v),
-            Err(e) => return (Err(SolveError::Input(e)), None),
-        }
+        data.extend(r.map_err(SolveError::Input)?);
     }
     data.sort_by_key(|d| d.id);
-    let input = RootInput {
-        sc,
-        algorithm: plan.algorithm,
+    Ok(data)
+}
+
+/// What the load steps leave: this rank's recovery seconds, and on the root
+/// its contact solve state (the condensed data, the conditioning estimates,
+/// the seconds of the contact solves and of the Delassus operator) or the
+/// error that ended the run.
+struct Walked {
+    recover_s: f64,
+    root: Option<Result<RootWalk, SolveError>>,
+}
+
+/// The root's side of the load steps.
+struct RootWalk {
+    data: Vec<CondensedData>,
+    cond: conditioning::RootConditioning,
+    contact_s: f64,
+    delassus_s: f64,
+    output_s: f64,
+}
+
+/// The load steps of the condensed path, one at a time on every rank: the
+/// root solves step k on Γ and broadcasts u_Γ (or the error that ends the
+/// run), every rank recovers its subdomains at step k and sends them back,
+/// and the root ends the step (`steps`: certificate, rows, fields to the
+/// sink) before it solves the next. An error of the root while ending a
+/// step goes to every rank with the next step's broadcast (or the verdict
+/// after the last step).
+fn steps_stage(
+    ctx: RunContext,
+    local: &[Subdomain],
+    data: Option<Result<Vec<CondensedData>, SolveError>>,
+    mut steps: Option<&mut StepLoop>,
+    log: &mut RunLog,
+) -> Result<Walked, SolveError> {
+    let (comm, model) = (ctx.comm, ctx.model);
+    let mut error = None;
+    let data = data.and_then(|d| d.map_err(|e| error = Some(e)).ok());
+    let input = data.as_deref().map(|d| root_input(ctx, d));
+    progress::phase(progress::Phase::Contact);
+    progress::emit(progress::Event::Detail("assembling the interface problem"));
+    let mut root = input
+        .as_ref()
+        .and_then(|i| RootSolve::new(i).map_err(|e| error = Some(e)).ok());
+    let mut cond = conditioning::RootConditioning::default();
+    let (mut recover_s, mut contact_s, mut delassus_s, mut output_s) = (0.0, 0.0, 0.0, 0.0);
+    for (si, st) in model.scales.iter().enumerate() {
+        progress::step(si, model.scales.len());
+        let t = Instant::now();
+        let mut solved = None;
+        let msg = comm.is_root().then(|| match (error.take(), root.as_mut()) {
+            (Some(e), _) => Err(e),
+            (None, None) => Err(SolveError::Internal("the root solve is missing".into())),
+            (None, Some(r)) => progress::observed(|| r.step(si, st, &mut cond)).map(|(sol, u)| {
+                solved = Some(sol);
+                u
+            }),
+        });
+        contact_s += t.elapsed().as_secs_f64();
+        let u_gamma: Result<Vec<f64>, SolveError> = wire(broadcast(comm, msg.as_ref()))?;
+        let u_gamma = u_gamma?;
+        // Steps interleave solve and recovery: one stage, a detail per step.
+        progress::emit(progress::Event::Detail("recovering"));
+        let t = Instant::now();
+        let mine: Vec<RecoveredStep> = local
+            .iter()
+            .map(|s| s.recover_step(&st[model.specs[s.id].body], &u_gamma))
+            .collect();
+        recover_s += t.elapsed().as_secs_f64();
+        let gathered = wire(gather(comm, &mine))?;
+        if let (Some(all), Some(sol), Some(steps)) = (gathered, solved, steps.as_deref_mut()) {
+            let t = Instant::now();
+            let recovered: Vec<RecoveredStep> = all.into_iter().flatten().collect();
+            let (gaps, res, u_full) = condensed_step(ctx, &sol, &u_gamma, &recovered);
+            delassus_s += sol.operator_s;
+            if let Err(e) = steps.end_step(si, &sol, &gaps, &res, u_full, &mut log.messages) {
+                error = Some(e);
+            }
+            output_s += t.elapsed().as_secs_f64();
+        }
+    }
+    let root = comm.is_root().then(|| match (error, data) {
+        (Some(e), _) => Err(e),
+        (None, None) => Err(SolveError::Internal("the root's data is missing".into())),
+        (None, Some(data)) => Ok(RootWalk {
+            data,
+            cond,
+            contact_s,
+            delassus_s,
+            output_s,
+        }),
+    });
+    Ok(Walked { recover_s, root })
+}
+
+/// What the root's solve reads of the run: the scene, the algorithm, the
+/// model and the subdomains' condensed data.
+fn root_input<'a>(ctx: RunContext<'a>, data: &'a [CondensedData]) -> RootInput<'a> {
+    let model = ctx.model;
+    RootInput {
+        sc: ctx.sc,
+        algorithm: ctx.plan.algorithm,
         bodies: &model.bodies,
         points: &model.points,
         fixed: &model.fixed,
         specs: &model.specs,
-        data: &data,
+        data,
         gamma_of: &model.gamma_of,
         frames: &model.frames,
         n_gamma: model.n_gamma,
-    };
-    let mut cond = conditioning::RootConditioning::default();
-    progress::phase(progress::Phase::Contact);
-    progress::emit(progress::Event::Detail("assembling the interface problem"));
-    match progress::observed(|| solve_root(&input, &model.scales, &mut cond)) {
-        Ok((answer, steps)) => (Ok(answer), Some((steps, data, cond))),
-        Err(e) => (Err(e), None),
     }
 }
 
-/// Every rank recovers its subdomains' interiors at every step.
-fn recover_stage(
-    model: &partition::ModelData,
-    local: &[Subdomain],
-    answer: &RootAnswer,
-) -> Vec<RecoveredData> {
-    progress::phase(progress::Phase::Recovering);
-    local
-        .iter()
-        .map(|s| {
-            let b = model.specs[s.id].body;
-            let sc_b: Vec<Vec<f64>> = model.scales.iter().map(|st| st[b].clone()).collect();
-            s.recover(&sc_b, &answer.u_gamma)
-        })
-        .collect()
-}
-
-/// The root: the recovered fields of every rank, the certificate per step
-/// and the conditioning into the run's partial report, with the bytes sent
-/// and the per-rank statistics.
+/// The root: the steps' partial report completed with the sizes, the
+/// conditioning and the timings of the condensed path.
 fn condensed_partial(
     ctx: RunContext,
     log: &mut RunLog,
-    (steps, data, root_cond): RootState,
-    all: Vec<(Vec<RecoveredData>, RankFigures)>,
-    answer: &RootAnswer,
-) -> Result<(Partial, (u64, Vec<RankStats>)), SolveError> {
+    steps: StepLoop,
+    root: Result<RootWalk, SolveError>,
+) -> Result<Partial, SolveError> {
     let (sc, model) = (ctx.sc, ctx.model);
     progress::phase(progress::Phase::Certifying);
-    log.timings.delassus = steps.iter().map(|st| st.operator_s).sum();
-    let mut recovered: Vec<RecoveredData> = Vec::new();
-    let mut figures = Vec::new();
-    for (r, f) in all {
-        recovered.extend(r);
-        figures.push(f);
-    }
-    recovered.sort_by_key(|r| r.id);
+    let root = root?;
+    let mut partial = steps.partial;
     log.stages.push("contact".into());
     log.stages.push("recover".into());
-    log.timings.condense = figures.iter().fold(0.0f64, |a, f| a.max(f.condense_s));
-    log.timings.recover = figures.iter().fold(0.0f64, |a, f| a.max(f.recover_s));
-    let mut partial = finish_condensed(
-        sc,
+    log.timings.contact = root.contact_s;
+    log.timings.delassus = root.delassus_s;
+    log.timings.output += root.output_s;
+    condensed_sizes(
+        &mut partial,
         &model.bodies,
         &model.points,
-        &model.specs,
-        &data,
-        (&model.gamma_of, &model.frames),
-        &recovered,
-        steps,
-        &answer.u_gamma,
-        &mut log.messages,
-    )?;
+        &root.data,
+        model.n_gamma,
+    );
     if let (Some(f), Some(i)) = (
         partial.factorisation.as_mut(),
-        root_cond.interface_factorisation(),
+        root.cond.interface_factorisation(),
     ) {
         let m = model.points.len() as u64;
         partial.dense_interface_bytes = i.factor_bytes + 8 * m * m;
         f.interface = Some(i);
     }
     partial.conditioning = Some(conditioning::condensed(
-        &data,
-        root_cond,
+        &root.data,
+        root.cond,
         sc.solver.tolerance,
         &mut log.messages,
     ));
-    let bytes: u64 = figures.iter().map(|f| f.bytes_sent).sum();
-    let stats: Vec<RankStats> = figures
+    Ok(partial)
+}
+
+/// Per-rank statistics for the report, and the run's condensation and
+/// recovery times (the slowest rank's).
+fn rank_stats(log: &mut RunLog, figures: &[RankFigures]) -> Vec<RankStats> {
+    log.timings.condense = figures.iter().fold(0.0f64, |a, f| a.max(f.condense_s));
+    log.timings.recover = figures.iter().fold(0.0f64, |a, f| a.max(f.recover_s));
+    figures
         .iter()
         .enumerate()
         .map(|(r, f)| RankStats {
@@ -416,6 +487,5 @@ fn condensed_partial(
             peak_rss_bytes: f.peak_rss_bytes,
             bytes_sent: f.bytes_sent,
         })
-        .collect();
-    Ok((partial, (bytes, stats)))
+        .collect()
 }

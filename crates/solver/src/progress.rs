@@ -168,7 +168,7 @@ mod tests {
             at("Phase(Contact)"),
             at("Step { step: 1"),
             at("Iteration"),
-            at("Phase(Recovering)"),
+            at("Detail(\"recovering\")"),
             at("Phase(Certifying)"),
         ];
         assert!(order.iter().all(|p| p.is_some()), "{events:?}");

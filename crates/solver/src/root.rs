@@ -249,41 +249,61 @@ pub(crate) struct StepLoad {
     pub gap0: Vec<f64>,
 }
 
-/// The root's contact solve on the assembled interface problem, step by
-/// step: the Delassus operator built once, then each step's right-hand side
-/// and contact (and friction) solve.
-pub(crate) fn solve_root(
-    input: &RootInput,
-    scales: &[Vec<Vec<f64>>],
-    cond: &mut conditioning::RootConditioning,
-) -> Result<(RootAnswer, Vec<StepSolution>), SolveError> {
-    let interface = assemble_interface(input);
-    let friction = friction_rows(input, &interface)?;
-    let mut history = friction
-        .as_ref()
-        .map(|_| FrictionHistory::new(input.points.len()));
-    let mut steps = Vec::new();
-    let mut u_gamma = Vec::new();
-    let mut operator: Option<DelassusOperator> = None;
-    let mut warm = WarmStart::default();
-    for (si, st) in scales.iter().enumerate() {
-        progress::step(si, scales.len());
+/// The root's contact solve on the assembled interface problem, one load
+/// step at a time ([`RootSolve::step`], so that each step is recovered and
+/// written before the next is solved): the interface assembled and the
+/// friction rows set up once, the Delassus operator built at the first step,
+/// then each step's right-hand side and contact (and friction) solve, with
+/// what a step hands to the next (slip history, warm start).
+pub(crate) struct RootSolve<'a> {
+    input: &'a RootInput<'a>,
+    interface: Interface,
+    friction: Option<FrictionRows>,
+    history: Option<FrictionHistory>,
+    operator: Option<DelassusOperator>,
+    warm: WarmStart,
+}
+
+impl<'a> RootSolve<'a> {
+    pub(crate) fn new(input: &'a RootInput<'a>) -> Result<Self, SolveError> {
+        let interface = assemble_interface(input);
+        let friction = friction_rows(input, &interface)?;
+        let history = friction
+            .as_ref()
+            .map(|_| FrictionHistory::new(input.points.len()));
+        Ok(RootSolve {
+            input,
+            interface,
+            friction,
+            history,
+            operator: None,
+            warm: WarmStart::default(),
+        })
+    }
+
+    /// Load step `si` with the load scales `st` (per body, per load entry):
+    /// the step's solution and u_Γ.
+    pub(crate) fn step(
+        &mut self,
+        si: usize,
+        st: &[Vec<f64>],
+        cond: &mut conditioning::RootConditioning,
+    ) -> Result<(StepSolution, Vec<f64>), SolveError> {
+        let (input, interface) = (self.input, &self.interface);
         let t_step = Instant::now();
         let mut operator_s = 0.0;
-        let load = step_load(input, &interface, st, si)?;
-        let op = delassus_operator(&mut operator, &mut operator_s, || {
+        let load = step_load(input, interface, st, si)?;
+        let op = delassus_operator(&mut self.operator, &mut operator_s, || {
             conditioning::delassus_operator(&interface.s, &interface.rows, &interface.kernel, cond)
         })?;
-        let (mut step, u) = match (&friction, history.as_mut()) {
-            (Some(fr), Some(h)) => friction_step(input, &interface, fr, h, op, load)?,
-            _ => frictionless_step(input, op, load, &mut warm)?,
+        let (mut step, u) = match (&self.friction, self.history.as_mut()) {
+            (Some(fr), Some(h)) => friction_step(input, interface, fr, h, op, load)?,
+            _ => frictionless_step(input, op, load, &mut self.warm)?,
         };
         step.operator_s = operator_s;
         step.solve_s = t_step.elapsed().as_secs_f64() - operator_s;
-        u_gamma.push(u);
-        steps.push(step);
+        Ok((step, u))
     }
-    Ok((RootAnswer { u_gamma }, steps))
 }
 
 /// Assembles S and the condensed load of every entry on Γ from the

@@ -226,22 +226,19 @@ impl FactorSummary {
     }
 }
 
-/// What a subdomain sends back after the recovery of every step.
+/// What a subdomain sends back after the recovery of one load step.
 #[derive(Debug, Clone, Serialize, Deserialize)]
-pub struct RecoveredData {
+pub struct RecoveredStep {
     pub id: usize,
-    /// Per step: the largest residual of K_i u_i − f_i on interior DOFs.
-    pub interior_residual: Vec<f64>,
-    /// Per step: the largest |K_i u_i| or |f_i| entry (scale).
-    pub force_scale: Vec<f64>,
-    /// Per step: K_i u_i − f_i on the interface DOFs, as (Γ index, value).
-    pub gamma_residual: Vec<Vec<(usize, f64)>>,
-    /// Body nodes of the subdomain.
-    pub nodes: Vec<usize>,
-    /// Space dimension (DOFs per node).
-    pub dim: usize,
-    /// Per step: the displacement of the nodes (`dim` values per node).
-    pub displacements: Vec<Vec<f64>>,
+    /// The largest residual of K_i u_i − f_i on interior DOFs.
+    pub interior_residual: f64,
+    /// The largest |K_i u_i| or |f_i| entry (scale).
+    pub force_scale: f64,
+    /// K_i u_i − f_i on the interface DOFs, as (Γ index, value).
+    pub gamma_residual: Vec<(usize, f64)>,
+    /// The displacement of the subdomain's nodes (`SubdomainSpec::nodes`,
+    /// `dim` values per node).
+    pub displacement: Vec<f64>,
 }
 
 /// A condensed subdomain kept by its rank for the recovery.
@@ -325,64 +322,54 @@ impl Subdomain {
         ))
     }
 
-    /// Recovers every step from its interface displacement and reports the
-    /// residuals the root needs for the certificate.
-    pub fn recover(&self, scales: &[Vec<f64>], u_gamma: &[Vec<f64>]) -> RecoveredData {
-        let dim = self.dim;
-        let n_local = dim * self.spec.nodes.len();
-        let mut out = RecoveredData {
-            id: self.id,
-            interior_residual: Vec::new(),
-            force_scale: Vec::new(),
-            gamma_residual: Vec::new(),
-            nodes: self.spec.nodes.clone(),
-            dim,
-            displacements: Vec::new(),
-        };
+    /// Recovers one load step (load scales `s` of the body's entries) from
+    /// its interface displacement `ug` and reports the residuals the root
+    /// needs for the certificate.
+    pub fn recover_step(&self, s: &[f64], ug: &[f64]) -> RecoveredStep {
+        let n_local = self.dim * self.spec.nodes.len();
         let mut is_interface = vec![false; n_local];
         for &i in self.condensed.interface() {
             is_interface[self.free[i]] = true;
         }
-        for (s, ug) in scales.iter().zip(u_gamma) {
-            let combine = |v: &[Vec<f64>], n: usize| {
-                let mut o = vec![0.0; n];
-                for (vb, &sb) in v.iter().zip(s) {
-                    for (oi, x) in o.iter_mut().zip(vb) {
-                        *oi += sb * x;
-                    }
-                }
-                o
-            };
-            let fl = combine(&self.free_load, self.free.len());
-            let f = combine(&self.force, n_local);
-            let mut u = combine(&self.displacement, n_local);
-            let ub: Vec<f64> = self.gamma.iter().map(|&g| ug[g]).collect();
-            let uf = self.condensed.recover(self.k_ff.as_ref(), &fl, &ub);
-            for (i, &l) in self.free.iter().enumerate() {
-                u[l] = uf[i];
-            }
-            // The scale of the residual: the internal forces term by term
-            // (|K||u|), not their sum, which cancels in a stiff body.
-            let (ku, abs_ku) = spmv_with_magnitude(self.k_local.as_ref(), &u);
-            let mut interior = 0.0f64;
-            let mut scale = 0.0f64;
-            let mut gamma_res = Vec::new();
-            let mut gi = 0;
-            for &l in &self.free {
-                let r = ku[l] - f[l];
-                scale = scale.max(abs_ku[l]).max(f[l].abs());
-                if is_interface[l] {
-                    gamma_res.push((self.gamma[gi], r));
-                    gi += 1;
-                } else {
-                    interior = interior.max(r.abs());
+        let combine = |v: &[Vec<f64>], n: usize| {
+            let mut o = vec![0.0; n];
+            for (vb, &sb) in v.iter().zip(s) {
+                for (oi, x) in o.iter_mut().zip(vb) {
+                    *oi += sb * x;
                 }
             }
-            out.interior_residual.push(interior);
-            out.force_scale.push(scale);
-            out.gamma_residual.push(gamma_res);
-            out.displacements.push(self.frames.to_cartesian(&u));
+            o
+        };
+        let fl = combine(&self.free_load, self.free.len());
+        let f = combine(&self.force, n_local);
+        let mut u = combine(&self.displacement, n_local);
+        let ub: Vec<f64> = self.gamma.iter().map(|&g| ug[g]).collect();
+        let uf = self.condensed.recover(self.k_ff.as_ref(), &fl, &ub);
+        for (i, &l) in self.free.iter().enumerate() {
+            u[l] = uf[i];
         }
+        // The scale of the residual: the internal forces term by term
+        // (|K||u|), not their sum, which cancels in a stiff body.
+        let (ku, abs_ku) = spmv_with_magnitude(self.k_local.as_ref(), &u);
+        let mut out = RecoveredStep {
+            id: self.id,
+            interior_residual: 0.0,
+            force_scale: 0.0,
+            gamma_residual: Vec::new(),
+            displacement: Vec::new(),
+        };
+        let mut gi = 0;
+        for &l in &self.free {
+            let r = ku[l] - f[l];
+            out.force_scale = out.force_scale.max(abs_ku[l]).max(f[l].abs());
+            if is_interface[l] {
+                out.gamma_residual.push((self.gamma[gi], r));
+                gi += 1;
+            } else {
+                out.interior_residual = out.interior_residual.max(r.abs());
+            }
+        }
+        out.displacement = self.frames.to_cartesian(&u);
         out
     }
 }

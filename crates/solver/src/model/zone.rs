@@ -131,8 +131,8 @@ pub struct Widening {
 }
 
 /// Checks the excluded points against the recovered displacements
-/// (`u_steps`: per step, per body, every DOF): a point whose gap
-/// g0 + B u falls below −`tolerance` at some step would penetrate. Returns
+/// (`lowest`: each point's lowest gap g0 + B u over the steps): a point
+/// whose gap falls below −`tolerance` at some step would penetrate. Returns
 /// `None` when none does; else the zone widened for each contact concerned
 /// to twice the largest initial gap of its penetrating points (every slave
 /// node once `widenings` reaches [`MAX_WIDENINGS`]), with a note.
@@ -140,22 +140,13 @@ pub fn check_excluded(
     sc: &scene::Scene,
     zone: &Zone,
     excluded: &[PointModel],
-    u_steps: &[Vec<Vec<f64>>],
+    lowest: &[f64],
     tolerance: f64,
     widenings: usize,
 ) -> Option<Widening> {
     // Per contact: (count, lowest gap, largest g0) of the penetrating points.
-    let mut lowest = vec![f64::INFINITY; excluded.len()];
-    for u in u_steps {
-        for (l, g) in lowest
-            .iter_mut()
-            .zip(crate::direct_path::gaps_of(excluded, u))
-        {
-            *l = l.min(g);
-        }
-    }
     let mut hits: std::collections::BTreeMap<usize, (usize, f64, f64)> = Default::default();
-    for (p, &lowest) in excluded.iter().zip(&lowest) {
+    for (p, &lowest) in excluded.iter().zip(lowest) {
         if lowest < -tolerance {
             let h = hits.entry(p.contact).or_insert((0, 0.0, 0.0));
             *h = (h.0 + 1, h.1.min(lowest), h.2.max(p.gap0));

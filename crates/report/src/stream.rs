@@ -1,0 +1,334 @@
+//! The output of a run step by step (issue 16, "many load steps in flat
+//! memory"): at the end of each load step the root hands its contact.csv
+//! rows and, when the scene writes that step's fields (`[output] steps`),
+//! every body's fields to a [`StepSink`], and forgets them. [`FieldWriter`]
+//! streams them to disk (the VTU piece of each body, its `fields.pvd` entry,
+//! the contact.csv lines); [`StepsInMemory`] keeps them (the library's
+//! `run`, for tests and callers that want the whole history).
+//!
+//! A [`FieldWriter`] writes into a staging directory inside the output
+//! directory and moves its files into place only when the run has ended
+//! ([`FieldWriter::commit`]): a run that fails part-way (bad input met at
+//! step k, exit 1) leaves nothing behind, and a run solved again (a widened
+//! candidate zone) starts from an empty stage.
+
+use std::fs::File;
+use std::io::{BufWriter, Write};
+use std::path::{Path, PathBuf};
+
+use crate::output::{BodyResult, OutputRequest, RunOutput, StepFields};
+use crate::vtu::{write_pvd, write_vtu, PvdEntry, VtuPiece};
+use crate::ContactRow;
+
+/// Where the root sends each load step's results as the step ends.
+pub trait StepSink {
+    /// Load step `step` (1-based) ended: its contact.csv rows and, when the
+    /// scene writes this step's fields, every body's fields (`bodies`: the
+    /// bodies' meshes, whose `history` is not read).
+    fn step(
+        &mut self,
+        step: usize,
+        bodies: &[BodyResult],
+        fields: Option<&[StepFields]>,
+        rows: &[ContactRow],
+    ) -> Result<(), String>;
+
+    /// The run starts again from its first step (the candidate zone was
+    /// widened): forget the steps received so far.
+    fn restart(&mut self);
+}
+
+/// Keeps every step in memory: the contact rows, and the fields of the
+/// steps that write them.
+#[derive(Default)]
+pub struct StepsInMemory {
+    pub rows: Vec<ContactRow>,
+    /// Per step that wrote fields: each body's fields.
+    pub fields: Vec<Vec<StepFields>>,
+}
+
+impl StepSink for StepsInMemory {
+    fn step(
+        &mut self,
+        _step: usize,
+        _bodies: &[BodyResult],
+        fields: Option<&[StepFields]>,
+        rows: &[ContactRow],
+    ) -> Result<(), String> {
+        self.rows.extend_from_slice(rows);
+        if let Some(f) = fields {
+            self.fields.push(f.to_vec());
+        }
+        Ok(())
+    }
+
+    fn restart(&mut self) {
+        *self = Self::default();
+    }
+}
+
+impl StepsInMemory {
+    /// Puts the kept steps into the run's output: every contact row, and
+    /// each body's history of fields (left as it is when no step wrote any).
+    pub fn fill(self, output: &mut RunOutput) {
+        output.contact_rows = self.rows;
+        if self.fields.is_empty() {
+            return;
+        }
+        for b in &mut output.bodies {
+            b.history.clear();
+        }
+        for step in self.fields {
+            for (b, f) in output.bodies.iter_mut().zip(step) {
+                b.history.push(f);
+            }
+        }
+    }
+}
+
+/// Streams each step to the output directory: contact.csv line by line,
+/// and the VTU piece of every body at the steps that write fields.
+pub struct FieldWriter {
+    dir: PathBuf,
+    request: OutputRequest,
+    /// The staging directory, once the first step created it.
+    stage: Option<PathBuf>,
+    /// The outermost directory this writer created (removed again, if still
+    /// empty, when the run does not commit).
+    created: Option<PathBuf>,
+    contact: Option<BufWriter<File>>,
+    entries: Vec<PvdEntry>,
+    committed: bool,
+}
+
+impl FieldWriter {
+    /// A writer into `dir` (created at the first step).
+    pub fn new(dir: &Path, request: OutputRequest) -> Self {
+        FieldWriter {
+            dir: dir.to_path_buf(),
+            request,
+            stage: None,
+            created: None,
+            contact: None,
+            entries: Vec::new(),
+            committed: false,
+        }
+    }
+
+    pub fn dir(&self) -> &Path {
+        &self.dir
+    }
+
+    pub fn request(&self) -> &OutputRequest {
+        &self.request
+    }
+
+    /// The staging directory, created with the output directory on first use.
+    fn stage(&mut self) -> std::io::Result<PathBuf> {
+        if let Some(s) = &self.stage {
+            return Ok(s.clone());
+        }
+        if self.created.is_none() {
+            self.created = self
+                .dir
+                .ancestors()
+                .take_while(|a| !a.as_os_str().is_empty() && !a.exists())
+                .last()
+                .map(Path::to_path_buf);
+        }
+        let stage = self
+            .dir
+            .join(format!(".signorini-steps-{}", std::process::id()));
+        std::fs::create_dir_all(&stage)?;
+        self.stage = Some(stage.clone());
+        Ok(stage)
+    }
+
+    /// Writes one step (see [`StepSink::step`]).
+    fn write_step(
+        &mut self,
+        step: usize,
+        bodies: &[BodyResult],
+        fields: Option<&[StepFields]>,
+        rows: &[ContactRow],
+    ) -> Result<(), String> {
+        let stage = self.stage().map_err(|e| e.to_string())?;
+        let dim = self.request.dim;
+        if self.contact.is_none() {
+            let mut w = BufWriter::new(File::create(stage.join("contact.csv")).map_err(err)?);
+            crate::write_contact_header(&mut w, dim).map_err(err)?;
+            self.contact = Some(w);
+        }
+        if let Some(w) = self.contact.as_mut() {
+            for r in rows {
+                crate::write_contact_row(w, r, dim).map_err(err)?;
+            }
+        }
+        if let (Some(fields), false) = (fields, self.request.fields.is_empty()) {
+            for (bi, (b, f)) in bodies.iter().zip(fields).enumerate() {
+                let file = format!("{}_{step}.vtu", file_name(&b.name));
+                write_vtu(
+                    &stage.join(&file),
+                    &vtu_piece(&self.request, b, f, step, rows),
+                )?;
+                self.entries.push(PvdEntry {
+                    timestep: step as f64,
+                    part: bi,
+                    file,
+                });
+            }
+        }
+        Ok(())
+    }
+
+    /// Moves the staged files into the output directory and writes
+    /// `fields.pvd` (body after body, step after step) when any step wrote
+    /// fields; contact.csv is written (its header alone) even when no step
+    /// ran.
+    pub fn commit(&mut self) -> std::io::Result<()> {
+        let stage = self.stage()?;
+        if let Some(mut w) = self.contact.take() {
+            w.flush()?;
+        } else {
+            crate::write_contact_csv(&stage.join("contact.csv"), &[], self.request.dim)?;
+        }
+        for entry in std::fs::read_dir(&stage)? {
+            let entry = entry?;
+            std::fs::rename(entry.path(), self.dir.join(entry.file_name()))?;
+        }
+        std::fs::remove_dir(&stage)?;
+        self.stage = None;
+        self.committed = true;
+        if !self.request.fields.is_empty() {
+            self.entries.sort_by_key(|e| (e.part, e.timestep as u64));
+            write_pvd(&self.dir.join("fields.pvd"), &self.entries)?;
+        }
+        Ok(())
+    }
+}
+
+impl StepSink for FieldWriter {
+    fn step(
+        &mut self,
+        step: usize,
+        bodies: &[BodyResult],
+        fields: Option<&[StepFields]>,
+        rows: &[ContactRow],
+    ) -> Result<(), String> {
+        self.write_step(step, bodies, fields, rows)
+            .map_err(|e| format!("cannot write the output in {}: {e}", self.dir.display()))
+    }
+
+    fn restart(&mut self) {
+        self.contact = None;
+        self.entries.clear();
+        if let Some(stage) = self.stage.take() {
+            let _ = std::fs::remove_dir_all(stage);
+        }
+    }
+}
+
+impl Drop for FieldWriter {
+    /// A run that did not commit leaves nothing: the stage is removed, and
+    /// the directories this writer created if they are empty.
+    fn drop(&mut self) {
+        if self.committed {
+            return;
+        }
+        self.restart();
+        if let Some(top) = &self.created {
+            for d in self.dir.ancestors() {
+                if std::fs::remove_dir(d).is_err() || d == top.as_path() {
+                    break;
+                }
+            }
+        }
+    }
+}
+
+fn err(e: std::io::Error) -> String {
+    e.to_string()
+}
+
+/// A body name as a file name: letters, digits, '-' and '_' kept, the rest '_'.
+fn file_name(name: &str) -> String {
+    name.chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || c == '-' || c == '_' {
+                c
+            } else {
+                '_'
+            }
+        })
+        .collect()
+}
+
+/// The VTU piece of one body at one step with the fields that
+/// `[output] fields` asks for: displacement; contact pressure, status (−1 no
+/// contact point, 0 open, 1 contact, 2 stick, 3 slip) and tangential force at
+/// the slave nodes (from the step's contact rows); stress (Voigt
+/// [xx, yy, zz, xy, yz, xz]; axisymmetric: x = r, y = z, zz = hoop) and von
+/// Mises per cell; the METIS subdomain of each cell.
+fn vtu_piece<'a>(
+    request: &OutputRequest,
+    b: &'a BodyResult,
+    fields: &StepFields,
+    step: usize,
+    rows: &[ContactRow],
+) -> VtuPiece<'a> {
+    let (dim, n) = (request.dim, b.coords.len());
+    let mut point_data = Vec::new();
+    if request.wants("displacement") {
+        let u: Vec<f64> = (0..n)
+            .flat_map(|i| {
+                let mut v = [0.0; 3];
+                v[..dim].copy_from_slice(&fields.displacement[dim * i..dim * (i + 1)]);
+                v
+            })
+            .collect();
+        point_data.push(("displacement".to_string(), 3, u));
+    }
+    if request.wants("contact") {
+        let mut pressure = vec![0.0; n];
+        let mut status = vec![-1.0; n];
+        let mut tangential = vec![0.0; n];
+        for r in rows.iter().filter(|r| r.step == step && r.body == b.name) {
+            pressure[r.point] = r.pressure;
+            tangential[r.point] = r.tangential_force;
+            status[r.point] = match r.status {
+                "open" => 0.0,
+                "contact" => 1.0,
+                "stick" => 2.0,
+                _ => 3.0,
+            };
+        }
+        point_data.push(("contact_pressure".to_string(), 1, pressure));
+        point_data.push(("contact_status".to_string(), 1, status));
+        point_data.push(("tangential_force".to_string(), 1, tangential));
+    }
+    let mut cell_data = vec![(
+        "subdomain".to_string(),
+        1,
+        b.parts.iter().map(|&p| p as f64).collect(),
+    )];
+    if request.wants("stress") && !fields.stress.is_empty() {
+        cell_data.push((
+            "stress".to_string(),
+            6,
+            fields
+                .stress
+                .iter()
+                .flat_map(|s| s.iter().copied())
+                .collect(),
+        ));
+        cell_data.push(("von_mises".to_string(), 1, fields.von_mises.clone()));
+    }
+    VtuPiece {
+        title: format!("{} step {step}", b.name),
+        dim,
+        coords: &b.coords,
+        cells: &b.cells,
+        point_data,
+        cell_data,
+    }
+}
