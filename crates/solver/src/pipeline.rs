@@ -354,13 +354,17 @@ fn steps_stage(
 ) -> Result<Walked, SolveError> {
     let (comm, model) = (ctx.comm, ctx.model);
     let mut error = None;
-    let data = data.and_then(|d| d.map_err(|e| error = Some(e)).ok());
-    let input = data.as_deref().map(|d| root_input(ctx, d));
+    let mut data = data.and_then(|d| d.map_err(|e| error = Some(e)).ok());
     progress::phase(progress::Phase::Contact);
     progress::emit(progress::Event::Detail("assembling the interface problem"));
+    let stiffness = data
+        .as_deref_mut()
+        .map(|d| take_interface_stiffness(d, model.n_gamma));
+    let input = data.as_deref().map(|d| root_input(ctx, d));
     let mut root = input
         .as_ref()
-        .and_then(|i| RootSolve::new(i).map_err(|e| error = Some(e)).ok());
+        .zip(stiffness)
+        .and_then(|(i, s)| RootSolve::new(i, s).map_err(|e| error = Some(e)).ok());
     let mut cond = conditioning::RootConditioning::default();
     let (mut recover_s, mut contact_s, mut delassus_s, mut output_s) = (0.0, 0.0, 0.0, 0.0);
     for (si, st) in model.scales.iter().enumerate() {

@@ -229,7 +229,8 @@ pub(crate) struct RootInput<'a> {
 /// condensed load F'_i of every load entry, the rigid modes R of the
 /// floating bodies, and the contact rows (normal rows, then tangential).
 pub(crate) struct Interface {
-    pub s: InterfaceStiffness,
+    /// S = Σ S_i, until the Delassus operator factorises it.
+    pub s: Option<InterfaceStiffness>,
     /// Per body, per load entry: its condensed load on Γ at scale 1.
     pub fp_entries: Vec<Vec<Vec<f64>>>,
     pub kernel: Mat<f64>,
@@ -265,8 +266,10 @@ pub(crate) struct RootSolve<'a> {
 }
 
 impl<'a> RootSolve<'a> {
-    pub(crate) fn new(input: &'a RootInput<'a>) -> Result<Self, SolveError> {
-        let interface = assemble_interface(input);
+    /// The root's solve of `input`, with S = Σ S_i already assembled
+    /// ([`take_interface_stiffness`]).
+    pub(crate) fn new(input: &'a RootInput<'a>, s: InterfaceStiffness) -> Result<Self, SolveError> {
+        let interface = assemble_interface(input, s);
         let friction = friction_rows(input, &interface)?;
         let history = friction
             .as_ref()
@@ -289,12 +292,20 @@ impl<'a> RootSolve<'a> {
         st: &[Vec<f64>],
         cond: &mut conditioning::RootConditioning,
     ) -> Result<(StepSolution, Vec<f64>), SolveError> {
+        // S is needed once, to build the operator: it leaves memory then.
+        let stiffness = match self.operator {
+            None => self.interface.s.take(),
+            Some(_) => None,
+        };
         let (input, interface) = (self.input, &self.interface);
         let t_step = Instant::now();
         let mut operator_s = 0.0;
         let load = step_load(input, interface, st, si)?;
         let op = delassus_operator(&mut self.operator, &mut operator_s, || {
-            conditioning::delassus_operator(&interface.s, &interface.rows, &interface.kernel, cond)
+            let s = stiffness.ok_or_else(|| {
+                ContactError::Solve("the interface stiffness was already factorised".into())
+            })?;
+            conditioning::delassus_operator(&s, &interface.rows, &interface.kernel, cond)
         })?;
         let (mut step, u) = match (&self.friction, self.history.as_mut()) {
             (Some(fr), Some(h)) => friction_step(input, interface, fr, h, op, load)?,
@@ -309,7 +320,7 @@ impl<'a> RootSolve<'a> {
 /// Assembles S and the condensed load of every entry on Γ from the
 /// subdomains' blocks, the kernel R on Γ, and the contact rows on Γ
 /// (tangential rows after the normal ones, seed eq. 16: the slip [u_t]).
-fn assemble_interface(input: &RootInput) -> Interface {
+fn assemble_interface(input: &RootInput, s: InterfaceStiffness) -> Interface {
     let (bodies, n_gamma) = (input.bodies, input.n_gamma);
     let mut fp_entries: Vec<Vec<Vec<f64>>> = bodies
         .iter()
@@ -323,7 +334,6 @@ fn assemble_interface(input: &RootInput) -> Interface {
             }
         }
     }
-    let s = interface_stiffness(input.data, n_gamma);
     let n_kernel: usize = bodies.iter().map(|b| b.kernel.len()).sum();
     let mut kernel = Mat::<f64>::zeros(n_gamma, n_kernel);
     let mut col = 0;
@@ -341,13 +351,26 @@ fn assemble_interface(input: &RootInput) -> Interface {
     }
     let (rows, tangent_row, tangent_row2) = rows_on_gamma(input);
     Interface {
-        s,
+        s: Some(s),
         fp_entries,
         kernel,
         rows,
         tangent_row,
         tangent_row2,
     }
+}
+
+/// S = Σ S_i, after which the subdomains' blocks S_i leave memory (the
+/// root holds them and S together only while it assembles).
+pub(crate) fn take_interface_stiffness(
+    data: &mut [CondensedData],
+    n_gamma: usize,
+) -> InterfaceStiffness {
+    let s = interface_stiffness(data, n_gamma);
+    for d in data {
+        d.schur = Vec::new();
+    }
+    s
 }
 
 /// S = Σ S_i: dense for one subdomain; with several, a sparse matrix of
