@@ -115,7 +115,11 @@ impl Hardened {
             })
             .collect();
         (0..k)
-            .map(|a| (0..k).map(|b| self.minv[(a, b)] * xi[b] - self.z[(a, b)] * wr[b]).sum())
+            .map(|a| {
+                (0..k)
+                    .map(|b| self.minv[(a, b)] * xi[b] - self.z[(a, b)] * wr[b])
+                    .sum()
+            })
             .collect()
     }
 
@@ -156,9 +160,7 @@ pub fn harden(
     let mut in_h = vec![false; n];
     rows.iter().for_each(|&i| in_h[i] = true);
     let a = Mat::<f64>::from_fn(k, k, |x, y| problem.w[(rows[x], rows[y])]);
-    let m = Mat::<f64>::from_fn(k, k, |x, y| {
-        f64::from(x == y) + roughness[x] * a[(x, y)]
-    });
+    let m = Mat::<f64>::from_fn(k, k, |x, y| f64::from(x == y) + roughness[x] * a[(x, y)]);
     let minv = m.full_piv_lu().solve(&Mat::<f64>::identity(k, k));
     let z = Mat::<f64>::from_fn(k, k, |x, y| minv[(x, y)] * roughness[y]);
     let w_ho = Mat::<f64>::from_fn(k, n, |x, j| {
@@ -233,7 +235,10 @@ mod tests {
         let u = 0.01;
         let r = return_map(&[u], &[0.0], mp, k, q);
         let t = (mp * k + k * q * u) / (k + q);
-        assert!(r.slipped && (r.traction[0] - t).abs() <= tol, "{r:?} vs {t}");
+        assert!(
+            r.slipped && (r.traction[0] - t).abs() <= tol,
+            "{r:?} vs {t}"
+        );
         assert!((r.traction[0] - q * r.slip[0] - mp).abs() <= tol);
         let g = r.slip[0];
         let back = return_map(&[u - 0.004], &[g], mp, k, q);
@@ -253,10 +258,7 @@ mod tests {
         let (k, q, mp) = (1000.0, 400.0, 3.0);
         let g_old = [0.001, -0.002];
         let r = return_map(&[0.02, 0.01], &g_old, mp, k, q);
-        let xi = [
-            r.traction[0] - q * r.slip[0],
-            r.traction[1] - q * r.slip[1],
-        ];
+        let xi = [r.traction[0] - q * r.slip[0], r.traction[1] - q * r.slip[1]];
         assert!((xi[0].hypot(xi[1]) - mp).abs() <= 1e-12 * mp);
         let dg = [r.slip[0] - g_old[0], r.slip[1] - g_old[1]];
         assert!((dg[0] * xi[1] - dg[1] * xi[0]).abs() <= 1e-12 * dg[0].hypot(dg[1]) * mp);
@@ -281,7 +283,10 @@ mod tests {
         let lambda = h.tractions(&[1.0, xi])[0];
         let dg = p.w[(1, 1)] * xi + p.q[1];
         let r = return_map(&[u], &[g_old], mp, k, q);
-        assert!((-lambda - r.traction[0]).abs() <= 1e-9 * mp, "{lambda} {r:?}");
+        assert!(
+            (-lambda - r.traction[0]).abs() <= 1e-9 * mp,
+            "{lambda} {r:?}"
+        );
         assert!((g_old + dg - r.slip[0]).abs() <= 1e-12, "{dg} {r:?}");
     }
 }
