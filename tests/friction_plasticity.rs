@@ -366,3 +366,31 @@ fn bad_roughness_exits_1_naming_the_entry() {
         assert!(!dir.join("out").exists(), "bad input writes nothing");
     }
 }
+
+/// examples/rough_drag.toml through the CLI: steps.csv's tangential force
+/// against the closed forms of the uniform block (the README's table).
+#[test]
+fn rough_drag_example_matches_the_closed_forms_from_the_cli() {
+    let dir = common::fresh_dir("friction_plasticity", "rough_drag");
+    common::cli_run_ok(common::example_path("rough_drag.toml"), &dir);
+    let text = std::fs::read_to_string(dir.join("steps.csv")).unwrap();
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let col = |name: &str| header.iter().position(|h| *h == name).unwrap();
+    let (cu, ct) = (col("scale_drag"), col("tangential_force"));
+    let (length, mut g, mut n) = (2.0, 0.0, 0);
+    for line in lines {
+        let f: Vec<f64> = line.split(',').map(|v| v.parse().unwrap()).collect();
+        let u = f[cu] * U;
+        let rm = return_map(&[u], &[g], MU * P, K_E, Q);
+        g = rm.slip[0];
+        assert_close(
+            &format!("T at u = {u}"),
+            -f[ct],
+            rm.traction[0] * length,
+            MU * P * length,
+        );
+        n += 1;
+    }
+    assert_eq!(n, 10);
+}
