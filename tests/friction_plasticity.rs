@@ -14,7 +14,7 @@
 mod common;
 
 use signorini_contact::friction::kinematic_hardening::return_map;
-use signorini_solver::{RunOptions, RunOutput};
+use signorini_solver::{RunOptions, RunOutput, SolveError};
 
 const K_E: f64 = 100.0;
 const Q: f64 = 25.0;
@@ -393,4 +393,24 @@ fn rough_drag_example_matches_the_closed_forms_from_the_cli() {
         n += 1;
     }
     assert_eq!(n, 10);
+}
+
+/// A rough contact that a rigid motion of a body held by contact alone would
+/// slide (the block pushed by a force, no tangential support) is refused,
+/// naming the entry, rather than solved wrongly.
+#[test]
+fn rough_contact_slid_by_a_rigid_motion_is_refused() {
+    let text = scene(2, &rough(Q), false)
+        .replace("displacement = { x = 0.01 }", "force = [0.1, 0.0]")
+        .replace(
+            "point = [0.0, 0.025]\nforce = [0.1, 0.0]",
+            "point = [0.0, 0.025]\nforce = [0.0, 0.0]",
+        );
+    match common::try_run(&text, RunOptions::default()) {
+        Err(SolveError::Input(m)) => {
+            assert!(m.contains("contact \"c\".friction.roughness"), "{m}")
+        }
+        Err(e) => panic!("{e}"),
+        Ok(_) => panic!("solved"),
+    }
 }

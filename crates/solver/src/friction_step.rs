@@ -158,9 +158,14 @@ fn harden_rough_rows(
     problem: &mut DelassusProblem,
 ) -> Result<Option<Hardened>, SolveError> {
     let (mut rows, mut q, mut slip) = (vec![], vec![], vec![]);
+    let mut entry = String::new();
     for (pi, &qp) in point_roughness(input).iter().enumerate() {
         if qp <= 0.0 {
             continue;
+        }
+        if entry.is_empty() {
+            let name = &input.sc.contact[input.points[pi].contact].name;
+            entry = format!("contact \"{name}\".friction.roughness");
         }
         let along = [
             (interface.tangent_row[pi], history.slip_total[pi]),
@@ -179,7 +184,7 @@ fn harden_rough_rows(
     }
     kinematic_hardening::harden(problem, &rows, &q, &slip)
         .map(Some)
-        .map_err(|e| SolveError::Input(format!("contact.friction.roughness: {e}")))
+        .map_err(|e| SolveError::Input(format!("{entry}: {e}")))
 }
 
 /// One friction step: the problem with the tangential gaps and compliance,

@@ -148,10 +148,15 @@ pub fn harden(
     slip_old: &[f64],
 ) -> Result<Hardened, ContactError> {
     let (n, k) = (problem.w.nrows(), rows.len());
-    let scale = (0..n).fold(0.0f64, |a, i| a.max(problem.w[(i, i)].abs()));
-    let moved = rows.iter().any(|&i| {
-        (0..problem.g_mat.ncols()).any(|j| problem.g_mat[(i, j)].abs() > 1e-12 * scale.max(1.0))
+    // G = B R with R orthonormal: an entry of a hardened row is round-off
+    // against G's largest entry, or a real motion.
+    let g = &problem.g_mat;
+    let g_max = (0..n).fold(0.0f64, |a, i| {
+        (0..g.ncols()).fold(a, |a, j| a.max(g[(i, j)].abs()))
     });
+    let moved = rows
+        .iter()
+        .any(|&i| (0..g.ncols()).any(|j| g[(i, j)].abs() > 1e-10 * g_max));
     if moved {
         return Err(ContactError::Geometry(
             "friction roughness: a rigid motion of a floating body slides a rough contact point; hold the body tangentially (a support) to use roughness".into(),
