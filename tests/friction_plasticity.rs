@@ -414,3 +414,28 @@ fn rough_contact_slid_by_a_rigid_motion_is_refused() {
         Ok(_) => panic!("solved"),
     }
 }
+
+/// The friction status method and the semi-smooth Newton method solve the
+/// rough law as the fixed point does (the slider force obeys Coulomb's law):
+/// the same tangential forces on the example, to 1e-8 μN_i (the solver
+/// tolerance against the drag's force scale).
+#[test]
+fn every_friction_method_solves_the_rough_law_alike() {
+    let text = common::example("rough_drag.toml");
+    let base = converged(&text);
+    for method in ["status", "newton"] {
+        let other = converged(&text.replace(
+            "tolerance = 1e-14",
+            &format!("tolerance = 1e-14\nfriction = \"{method}\""),
+        ));
+        for (a, b) in base.contact_rows.iter().zip(&other.contact_rows) {
+            let scale = MU * a.normal_force.abs().max(P * 0.1);
+            assert!(
+                (a.tangential_force - b.tangential_force).abs() <= 1e-8 * scale,
+                "{method}: {} vs {}",
+                a.tangential_force,
+                b.tangential_force
+            );
+        }
+    }
+}
