@@ -24,7 +24,9 @@
 //!
 //! Regularised Coulomb (§4.1.3, elastic slip k_e) is the same problem with
 //! the compliance 1/k_e added to the tangential diagonal of W
-//! ([`crate::DelassusProblem::add_compliance`]).
+//! ([`crate::DelassusProblem::add_compliance`]); with roughness (seed §6,
+//! linear kinematic hardening of the slip) the rough rows' unknown becomes
+//! the slider force ([`kinematic_hardening`]).
 
 use serde::Serialize;
 
@@ -37,6 +39,7 @@ use crate::lcp::LcpOptions;
 use crate::solution::{ContactSolution, StopReason, ThresholdMapKind};
 use crate::ContactError;
 
+pub mod kinematic_hardening;
 pub mod law;
 pub use law::{FrictionLaw, FrictionLayout};
 

@@ -132,7 +132,7 @@ impl Serialize for Law {
 
 // ---------------------------------------------------------------- friction
 
-const FRICTION_EXPECTED: &str = r#"friction: expected "none", { tresca = <threshold> }, { coulomb = <mu> }, { coulomb = <mu>, slip_stiffness = <k> }, { coulomb = [<mu1>, <mu2>] } or { norton_hoff = <mu>, rho = <r> }"#;
+const FRICTION_EXPECTED: &str = r#"friction: expected "none", { tresca = <threshold> }, { coulomb = <mu> }, { coulomb = <mu>, slip_stiffness = <k> }, { coulomb = <mu>, slip_stiffness = <k>, roughness = <Q> }, { coulomb = [<mu1>, <mu2>] } or { norton_hoff = <mu>, rho = <r> }"#;
 
 impl<'de> Deserialize<'de> for Friction {
     fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
@@ -157,6 +157,7 @@ impl<'de> Deserialize<'de> for Friction {
                 let mut tresca = None;
                 let mut coulomb = None;
                 let mut slip_stiffness = None;
+                let mut roughness = None;
                 let mut norton_hoff = None;
                 let mut rho = None;
                 while let Some(key) = map.next_key::<String>()? {
@@ -168,6 +169,9 @@ impl<'de> Deserialize<'de> for Friction {
                         "slip_stiffness" => {
                             slip_stiffness =
                                 Some(map.next_value_seed(Number("friction.slip_stiffness"))?)
+                        }
+                        "roughness" => {
+                            roughness = Some(map.next_value_seed(Number("friction.roughness"))?)
                         }
                         "norton_hoff" => {
                             norton_hoff = Some(map.next_value_seed(Number("friction.norton_hoff"))?)
@@ -194,6 +198,11 @@ impl<'de> Deserialize<'de> for Friction {
                         "friction: `slip_stiffness` only goes with `coulomb` ({ coulomb = <mu>, slip_stiffness = <k> })",
                     ));
                 }
+                if roughness.is_some() && coulomb.is_none() {
+                    return Err(de::Error::custom(
+                        "friction: `roughness` only goes with `coulomb` and `slip_stiffness` ({ coulomb = <mu>, slip_stiffness = <k>, roughness = <Q> })",
+                    ));
+                }
                 if rho.is_some() && norton_hoff.is_none() {
                     return Err(de::Error::custom(
                         "friction: `rho` only goes with `norton_hoff` ({ norton_hoff = <mu>, rho = <r> })",
@@ -206,6 +215,7 @@ impl<'de> Deserialize<'de> for Friction {
                     return Ok(Friction::Coulomb {
                         coefficient,
                         slip_stiffness,
+                        roughness,
                     });
                 }
                 match (norton_hoff, rho) {
@@ -232,6 +242,7 @@ impl Serialize for Friction {
             Friction::Coulomb {
                 coefficient,
                 slip_stiffness,
+                roughness,
             } => {
                 let mut m = s.serialize_map(None)?;
                 if coefficient.len() == 1 {
@@ -241,6 +252,9 @@ impl Serialize for Friction {
                 }
                 if let Some(k) = slip_stiffness {
                     m.serialize_entry("slip_stiffness", k)?;
+                }
+                if let Some(q) = roughness {
+                    m.serialize_entry("roughness", q)?;
                 }
                 m.end()
             }

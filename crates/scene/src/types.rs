@@ -567,8 +567,9 @@ pub struct Contact {
     #[serde(default)]
     pub law: Law,
     /// `"none"` (default), `{ tresca = g }`, `{ coulomb = mu }`,
-    /// `{ coulomb = mu, slip_stiffness = k }`, `{ coulomb = [mu1, mu2] }`,
-    /// `{ norton_hoff = mu, rho = r }`.
+    /// `{ coulomb = mu, slip_stiffness = k }`,
+    /// `{ coulomb = mu, slip_stiffness = k, roughness = Q }`,
+    /// `{ coulomb = [mu1, mu2] }`, `{ norton_hoff = mu, rho = r }`.
     #[serde(default)]
     pub friction: Friction,
     /// `"geometric"` (default, from coordinates) or a number (uniform initial gap).
@@ -659,10 +660,13 @@ pub enum Friction {
     /// `{ tresca = g }`: given slip threshold g ≥ 0.
     Tresca(f64),
     /// `{ coulomb = mu }`, `{ coulomb = [mu1, mu2] }` (3D anisotropic, elliptic
-    /// cone), optionally `slip_stiffness = k` (regularised).
+    /// cone), optionally `slip_stiffness = k` (regularised, seed §4.1.3) and
+    /// with it `roughness = Q` (the plasticity analogy of seed §6: linear
+    /// kinematic hardening of the slip, threshold ‖t − Q g‖ ≤ μ |t_n|).
     Coulomb {
         coefficient: Vec<f64>,
         slip_stiffness: Option<f64>,
+        roughness: Option<f64>,
     },
     /// `{ norton_hoff = mu, rho = r }`, 0 < r < 1.
     NortonHoff { coefficient: f64, rho: f64 },

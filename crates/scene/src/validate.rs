@@ -698,6 +698,7 @@ fn validate_friction(e: &str, friction: &Friction, dim: usize) -> Result {
         Friction::Coulomb {
             coefficient,
             slip_stiffness,
+            roughness,
         } => {
             let fe = format!("{e}.friction.coulomb");
             match (coefficient.len(), dim) {
@@ -720,6 +721,16 @@ fn validate_friction(e: &str, friction: &Friction, dim: usize) -> Result {
             }
             if let Some(k) = slip_stiffness {
                 positive(&format!("{e}.friction.slip_stiffness"), *k)?;
+            }
+            if let Some(q) = roughness {
+                let re = format!("{e}.friction.roughness");
+                non_negative(&re, *q)?;
+                if slip_stiffness.is_none() {
+                    return Err(invalid(
+                        re,
+                        "the roughness Q (kinematic hardening of the slip, seed §6) needs the asperities' stiffness: give slip_stiffness = <k_e> with it",
+                    ));
+                }
             }
         }
         Friction::NortonHoff { coefficient, rho } => {

@@ -160,7 +160,8 @@ fn json_equivalent_and_round_trips() {
         s.contact[0].friction,
         Friction::Coulomb {
             coefficient: vec![0.3],
-            slip_stiffness: None
+            slip_stiffness: None,
+            roughness: None
         }
     );
     assert_eq!(s.contact[0].gap, Gap::Uniform(0.0));
@@ -685,14 +686,24 @@ fn friction_all_forms() {
         f("friction = { coulomb = 0.3 }"),
         Friction::Coulomb {
             coefficient: vec![0.3],
-            slip_stiffness: None
+            slip_stiffness: None,
+            roughness: None
         }
     );
     assert_eq!(
         f("friction = { coulomb = 0.3, slip_stiffness = 1e4 }"),
         Friction::Coulomb {
             coefficient: vec![0.3],
-            slip_stiffness: Some(1e4)
+            slip_stiffness: Some(1e4),
+            roughness: None
+        }
+    );
+    assert_eq!(
+        f("friction = { coulomb = 0.3, slip_stiffness = 1e4, roughness = 50.0 }"),
+        Friction::Coulomb {
+            coefficient: vec![0.3],
+            slip_stiffness: Some(1e4),
+            roughness: Some(50.0)
         }
     );
     assert_eq!(
@@ -744,7 +755,8 @@ normal = "average"
         s.contact[0].friction,
         Friction::Coulomb {
             coefficient: vec![0.3, 0.1],
-            slip_stiffness: None
+            slip_stiffness: None,
+            roughness: None
         }
     );
     assert_eq!(s.contact[0].discretization, Discretization::Mortar);

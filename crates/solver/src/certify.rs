@@ -77,7 +77,8 @@ pub(crate) fn certificate_of(
         dissipation: sol.friction.as_ref().map_or(0.0, |f| {
             (0..lambda.len()).fold(0.0f64, |a, p| {
                 a.max(
-                    f.tangential[p] * f.slip_increment[p] + f.tangential2[p] * f.slip_increment2[p],
+                    (f.tangential[p] + f.back_force[p]) * f.slip_increment[p]
+                        + (f.tangential2[p] + f.back_force2[p]) * f.slip_increment2[p],
                 )
             }) / (fscale * lscale)
         }),

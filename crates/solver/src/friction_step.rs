@@ -2,9 +2,13 @@
 //! tangential rows' "gaps" (slip increments, §4.4), the regularised law's
 //! compliance, the choice of the friction algorithm (Tresca status or
 //! projection, Coulomb fixed point, status method or semi-smooth Newton
-//! method, Norton–Hoff, the 3D semi-smooth Newton method), and the slip history carried to the next step.
+//! method, Norton–Hoff, the 3D semi-smooth Newton method), the roughness of
+//! the plasticity analogy (seed §6: the rough rows' unknown is the slider
+//! force, [`signorini_contact::friction::kinematic_hardening`]), and the slip
+//! history carried to the next step.
 
 use super::*;
+use signorini_contact::friction::kinematic_hardening::{self, Hardened};
 
 /// The friction layout of the interface problem, built once per run.
 pub(crate) struct FrictionRows {
@@ -130,6 +134,59 @@ fn slip_compliance(input: &RootInput, interface: &Interface) -> Vec<f64> {
     compliance
 }
 
+/// The roughness Q (force per unit slip: the scene's per-area value times
+/// the point's tributary measure) of each point with a tangential unknown
+/// and a rough regularised Coulomb law (seed §6); 0 elsewhere.
+fn point_roughness(input: &RootInput) -> Vec<f64> {
+    let rough = |p: &PointModel| match &input.sc.contact[p.contact].friction {
+        scene::Friction::Coulomb {
+            roughness: Some(q),
+            slip_stiffness: Some(_),
+            ..
+        } if p.trow.is_some() => q * p.tributary,
+        _ => 0.0,
+    };
+    input.points.iter().map(rough).collect()
+}
+
+/// The slider force ξ = t − Q g as the unknown of the rough points'
+/// tangential rows (seed §6); `None` without roughness.
+fn harden_rough_rows(
+    input: &RootInput,
+    interface: &Interface,
+    history: &FrictionHistory,
+    problem: &mut DelassusProblem,
+) -> Result<Option<Hardened>, SolveError> {
+    let (mut rows, mut q, mut slip) = (vec![], vec![], vec![]);
+    let mut entry = String::new();
+    for (pi, &qp) in point_roughness(input).iter().enumerate() {
+        if qp <= 0.0 {
+            continue;
+        }
+        if entry.is_empty() {
+            let name = &input.sc.contact[input.points[pi].contact].name;
+            entry = format!("contact \"{name}\".friction.roughness");
+        }
+        let along = [
+            (interface.tangent_row[pi], history.slip_total[pi]),
+            (interface.tangent_row2[pi], history.slip_total2[pi]),
+        ];
+        for (row, g) in along {
+            if let Some(t) = row {
+                rows.push(t);
+                q.push(qp);
+                slip.push(g);
+            }
+        }
+    }
+    if rows.is_empty() {
+        return Ok(None);
+    }
+    kinematic_hardening::harden(problem, &rows, &q, &slip)
+        .map(Some)
+        .map_err(|e| SolveError::Input(format!("{entry}: {e}")))
+}
+
 /// One friction step: the problem with the tangential gaps and compliance,
 /// solved by the algorithm the scene asks for; returns the step and u_Γ,
 /// and updates the slip history.
@@ -144,6 +201,7 @@ pub(crate) fn friction_step(
     let m = input.points.len();
     let mut problem = op.problem(&tangential_gaps(input, &load, history), &load.fp);
     problem.add_compliance(&slip_compliance(input, interface));
+    let hardened = harden_rough_rows(input, interface, history, &mut problem)?;
     let fopts = FrictionOptions {
         max_iterations: input.sc.solver.max_iterations,
         max_fixed_point: input.sc.solver.max_iterations,
@@ -153,8 +211,16 @@ pub(crate) fn friction_step(
     };
     let (out, name) = solve_friction(input, fr, history, &mut problem, &load, &fopts);
     let mut out = out.map_err(contact_error)?;
-    let friction = friction_state(interface, fr, history, &out, m);
-    let u = problem.displacement(&out.forces);
+    let mut friction = friction_state(interface, fr, history, &out, m);
+    let physical = match &hardened {
+        Some(h) => {
+            let t = h.physical_forces(&out.forces);
+            rough_tractions(interface, &mut friction, &out.forces, &t);
+            t
+        }
+        None => out.forces.clone(),
+    };
+    let u = problem.displacement(&physical);
     let (forces, gaps) = (out.forces[..m].to_vec(), out.gaps[..m].to_vec());
     let previous_forces = std::mem::replace(&mut out.forces, forces);
     history.previous = Some((out.friction.points.clone(), previous_forces));
@@ -256,6 +322,22 @@ fn solve_friction(
     }
 }
 
+/// The rough points' tangential forces: the tractions t (the report, the
+/// equilibrium) in place of the slider forces ξ, whose difference ξ − t = Q g
+/// is kept as the back force (the cone and the dissipation are ξ's).
+fn rough_tractions(interface: &Interface, f: &mut FrictionStep, xi: &[f64], t: &[f64]) {
+    for pi in 0..f.tangential.len() {
+        if let Some(r) = interface.tangent_row[pi] {
+            f.tangential[pi] = t[r];
+            f.back_force[pi] = xi[r] - t[r];
+        }
+        if let Some(r) = interface.tangent_row2[pi] {
+            f.tangential2[pi] = t[r];
+            f.back_force2[pi] = xi[r] - t[r];
+        }
+    }
+}
+
 /// The friction state of the step per point (tangential forces, slip
 /// increments and totals, thresholds, cone excess), and the slip totals
 /// carried to the next step.
@@ -277,6 +359,8 @@ fn friction_state(
         slip_total2: vec![0.0; m],
         threshold: vec![0.0; m],
         cone_excess: vec![0.0; m],
+        back_force: vec![0.0; m],
+        back_force2: vec![0.0; m],
     };
     for (pi, &ln) in lambda.iter().enumerate() {
         if let Some(t) = interface.tangent_row[pi] {

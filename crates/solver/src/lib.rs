@@ -146,8 +146,13 @@ struct FrictionStep {
     threshold: Vec<f64>,
     /// How far the tangential force lies outside its admissible set, in
     /// force (≤ 0 inside): |λ_t| − g in 2D, ‖λ_t‖ − g on the Tresca disc,
-    /// μ₁ (‖(λ_t1/μ₁, λ_t2/μ₂)‖ − λ_n) on the (elliptic) Coulomb cone.
+    /// μ₁ (‖(λ_t1/μ₁, λ_t2/μ₂)‖ − λ_n) on the (elliptic) Coulomb cone;
+    /// with roughness, of the slider force λ_t + Q g (seed §6).
     cone_excess: Vec<f64>,
+    /// The back force Q g of a rough point (seed §6; zero without
+    /// roughness), along t1 and t2: the slider force is λ_t + Q g.
+    back_force: Vec<f64>,
+    back_force2: Vec<f64>,
 }
 
 /// The fraction of the local element size (tributary length) beyond which a

@@ -282,6 +282,7 @@ fn point_friction(friction: &scene::Friction, tributary: f64) -> (FrictionLaw, O
         scene::Friction::Coulomb {
             coefficient,
             slip_stiffness,
+            ..
         } => {
             let mu = coefficient.first().copied().unwrap_or(0.0);
             let mu2 = coefficient.get(1).copied().unwrap_or(mu);
