@@ -100,6 +100,20 @@ impl Transport for Local {
     }
 }
 
+/// The threads of one rank's dense and sparse kernels: `RAYON_NUM_THREADS`
+/// when the user set it to a positive count (`user`), else the rank's share
+/// of the cores it sees, max(1, cores / ranks_on_node), so that ranks
+/// sharing a machine do not oversubscribe its cores (a rank bound to one
+/// core by the launcher sees one core and gets one thread).
+pub fn threads_per_rank(cores: usize, ranks_on_node: usize, user: Option<&str>) -> usize {
+    if let Some(n) = user.and_then(|u| u.trim().parse::<usize>().ok()) {
+        if n > 0 {
+            return n;
+        }
+    }
+    (cores / ranks_on_node.max(1)).max(1)
+}
+
 /// Deals subdomains with estimated costs to `ranks` ranks: each subdomain, in
 /// decreasing cost, goes to the least loaded rank (ties: lowest rank). With as
 /// many ranks as subdomains, subdomain k goes to rank k.
@@ -133,6 +147,17 @@ mod tests {
         assert_eq!(g, vec![vec![1.5, -2.0]]);
         let b: (String, u32) = broadcast(&t, Some(&("x".to_string(), 7))).unwrap();
         assert_eq!(b, ("x".to_string(), 7));
+    }
+
+    #[test]
+    fn a_rank_gets_its_share_of_the_cores_unless_the_user_chose() {
+        assert_eq!(threads_per_rank(8, 2, None), 4);
+        assert_eq!(threads_per_rank(2, 2, None), 1);
+        assert_eq!(threads_per_rank(2, 4, None), 1);
+        assert_eq!(threads_per_rank(1, 1, None), 1);
+        assert_eq!(threads_per_rank(8, 2, Some("3")), 3);
+        assert_eq!(threads_per_rank(8, 2, Some("0")), 4);
+        assert_eq!(threads_per_rank(8, 2, Some("many")), 4);
     }
 
     #[test]

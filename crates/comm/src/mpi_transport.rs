@@ -41,6 +41,11 @@ impl Mpi {
         })
     }
 
+    /// How many ranks share this rank's machine (MPI_COMM_TYPE_SHARED).
+    pub fn ranks_on_this_node(&self) -> usize {
+        self.world.split_shared(self.world.rank()).size() as usize
+    }
+
     /// True when this process was started by an MPI launcher.
     pub fn launched() -> bool {
         [

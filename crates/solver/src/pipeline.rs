@@ -25,14 +25,40 @@ pub(crate) struct RunContext<'a> {
     pub comm: &'a dyn Transport,
 }
 
-/// Per-rank figures for the report.
+/// Per-rank figures for the report (report.json `rank_stats`).
 #[derive(Serialize, Deserialize, Clone, Default)]
 pub(crate) struct RankFigures {
+    threads: usize,
+    setup_s: f64,
     condense_s: f64,
+    contact_s: f64,
     recover_s: f64,
     peak_rss_bytes: u64,
     bytes_sent: u64,
     subdomains: usize,
+    factor_bytes: u64,
+    dense_bytes: u64,
+}
+
+impl RankFigures {
+    /// The sizes of this rank's subdomains: their sparse factors (the kept
+    /// ordering's stored values) and their dense S_i.
+    fn of_condensed(data: &Result<Vec<CondensedData>, String>) -> Self {
+        let data = data.as_deref().unwrap_or_default();
+        let threads = match faer::get_global_parallelism() {
+            faer::Par::Seq => 1,
+            faer::Par::Rayon(n) => n.get(),
+        };
+        Self {
+            threads,
+            subdomains: data.len(),
+            factor_bytes: (data.iter().filter_map(|d| d.factor.first()))
+                .map(|k| 8 * k.values as u64)
+                .sum(),
+            dense_bytes: data.iter().map(|d| 8 * (d.gamma.len() as u64).pow(2)).sum(),
+            ..Self::default()
+        }
+    }
 }
 
 /// What the root keeps of its solve for the report: the step solutions and
@@ -133,7 +159,10 @@ impl Attempt<'_> {
         }
         log.stages.push("condense".into());
         let (local, condensed, condense_s) = condense_stage(comm, &model, &mut log.messages);
+        let sizes = RankFigures::of_condensed(&condensed);
         let gathered = wire(gather(comm, &condensed))?;
+        // Sent: the root keeps the gathered copy, the other ranks none.
+        drop(condensed);
         progress::ranks_condensed(gathered.as_ref());
         let t_root = Instant::now();
         let (answer, root_state) = root_stage(sc, self.plan, &model, gathered);
@@ -144,11 +173,13 @@ impl Attempt<'_> {
         let t = Instant::now();
         let recovered = recover_stage(&model, &local, &answer);
         let figures = RankFigures {
+            setup_s: log.timings.setup,
             condense_s,
+            contact_s: if comm.is_root() { contact_s } else { 0.0 },
             recover_s: t.elapsed().as_secs_f64(),
             peak_rss_bytes: signorini_report::peak_rss_bytes(),
             bytes_sent: comm.bytes_sent(),
-            subdomains: local.len(),
+            ..sizes
         };
         let gathered = wire(gather(comm, &(recovered, figures)))?;
         log.timings.contact = contact_s;
@@ -411,9 +442,14 @@ fn condensed_partial(
         .map(|(r, f)| RankStats {
             rank: r,
             subdomains: f.subdomains,
+            threads: f.threads,
+            setup_s: f.setup_s,
             condense_s: f.condense_s,
+            contact_s: f.contact_s,
             recover_s: f.recover_s,
             peak_rss_bytes: f.peak_rss_bytes,
+            factor_bytes: f.factor_bytes,
+            dense_bytes: f.dense_bytes,
             bytes_sent: f.bytes_sent,
         })
         .collect();
