@@ -25,8 +25,9 @@ pub trait Transport {
     fn is_root(&self) -> bool {
         self.rank() == 0
     }
-    /// Every rank's buffer, on the root (in rank order); `None` elsewhere.
-    fn gather_bytes(&self, local: &[u8]) -> Option<Vec<Vec<u8>>>;
+    /// Every rank's buffer, on the root (in rank order, in one allocation);
+    /// `None` elsewhere.
+    fn gather_bytes(&self, local: Vec<u8>) -> Option<Gathered>;
     /// The root's buffer, on every rank (`data` is read on the root only).
     fn broadcast_bytes(&self, data: Option<&[u8]>) -> Vec<u8>;
     /// Ends every rank at once with `code` (used on panics: never a hang).
@@ -35,6 +36,26 @@ pub trait Transport {
     fn bytes_sent(&self) -> u64;
     /// A name for the report ("local" or "mpi").
     fn kind(&self) -> &'static str;
+}
+
+/// The buffers of every rank, end to end in one allocation (the root keeps
+/// one copy of what the ranks sent, not two).
+#[derive(Debug, Default)]
+pub struct Gathered {
+    pub bytes: Vec<u8>,
+    /// Length of each rank's buffer, in rank order.
+    pub counts: Vec<usize>,
+}
+
+impl Gathered {
+    /// Each rank's buffer, in rank order.
+    pub fn parts(&self) -> impl Iterator<Item = &[u8]> {
+        self.counts.iter().scan(0, |start, &c| {
+            let part = &self.bytes[*start..*start + c];
+            *start += c;
+            Some(part)
+        })
+    }
 }
 
 pub fn encode<T: Serialize>(v: &T) -> Vec<u8> {
@@ -53,11 +74,11 @@ pub fn gather<T: Serialize + DeserializeOwned>(
     t: &dyn Transport,
     local: &T,
 ) -> Result<Option<Vec<T>>, String> {
-    match t.gather_bytes(&encode(local)) {
+    match t.gather_bytes(encode(local)) {
         None => Ok(None),
-        Some(bufs) => bufs
-            .iter()
-            .map(|b| decode(b))
+        Some(all) => all
+            .parts()
+            .map(decode)
             .collect::<Result<Vec<_>, _>>()
             .map(Some),
     }
@@ -83,8 +104,11 @@ impl Transport for Local {
     fn size(&self) -> usize {
         1
     }
-    fn gather_bytes(&self, local: &[u8]) -> Option<Vec<Vec<u8>>> {
-        Some(vec![local.to_vec()])
+    fn gather_bytes(&self, local: Vec<u8>) -> Option<Gathered> {
+        Some(Gathered {
+            counts: vec![local.len()],
+            bytes: local,
+        })
     }
     fn broadcast_bytes(&self, data: Option<&[u8]>) -> Vec<u8> {
         data.map(|d| d.to_vec()).unwrap_or_default()

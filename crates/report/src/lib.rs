@@ -370,6 +370,10 @@ pub struct RankStats {
     pub recover_s: f64,
     /// Peak resident set size of this rank's process (VmHWM).
     pub peak_rss_bytes: u64,
+    /// Its peak resident set size at the end of the model stage: what every
+    /// rank holds of the whole scene (the bodies' meshes, per-DOF vectors
+    /// and loads, the contact points and the partition), before any matrix.
+    pub setup_peak_rss_bytes: u64,
     /// Bytes of the sparse factors of this rank's subdomains (8 per stored
     /// value); summed over the ranks: `factorisation.factor_bytes`.
     pub factor_bytes: u64,

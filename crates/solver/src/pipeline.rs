@@ -34,6 +34,7 @@ pub(crate) struct RankFigures {
     contact_s: f64,
     recover_s: f64,
     peak_rss_bytes: u64,
+    setup_peak_rss_bytes: u64,
     bytes_sent: u64,
     subdomains: usize,
     factor_bytes: u64,
@@ -147,6 +148,7 @@ impl Attempt<'_> {
         progress::phase(progress::Phase::Meshing);
         let model = partition::model_stage(sc, ranks, self.zone, &mut log.messages)?;
         log.timings.setup = t.elapsed().as_secs_f64();
+        let setup_peak_rss_bytes = signorini_report::peak_rss_bytes();
         let ctx = RunContext {
             sc,
             scene_name: self.scene_name,
@@ -178,6 +180,7 @@ impl Attempt<'_> {
             contact_s: if comm.is_root() { contact_s } else { 0.0 },
             recover_s: t.elapsed().as_secs_f64(),
             peak_rss_bytes: signorini_report::peak_rss_bytes(),
+            setup_peak_rss_bytes,
             bytes_sent: comm.bytes_sent(),
             ..sizes
         };
@@ -448,6 +451,7 @@ fn condensed_partial(
             contact_s: f.contact_s,
             recover_s: f.recover_s,
             peak_rss_bytes: f.peak_rss_bytes,
+            setup_peak_rss_bytes: f.setup_peak_rss_bytes,
             factor_bytes: f.factor_bytes,
             dense_bytes: f.dense_bytes,
             bytes_sent: f.bytes_sent,
