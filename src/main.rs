@@ -279,8 +279,10 @@ fn command(cli: Cli) -> ExitCode {
 
 /// MPI when launched by an MPI launcher (and built with `--features mpi`),
 /// else every subdomain in this process. Under MPI each rank gets
-/// cores/ranks threads for faer; Open MPI binds a rank to one core unless
-/// told `--bind-to none`, and then each rank has one thread.
+/// max(1, cores / ranks on its machine) threads for faer, or
+/// RAYON_NUM_THREADS when set (`signorini_comm::threads_per_rank`); Open MPI
+/// binds a rank to one core unless told `--bind-to none`, and then each rank
+/// sees one core and has one thread.
 fn transport() -> Box<dyn Transport> {
     // A build without MPI started by an MPI launcher would run the whole
     // problem once per rank, every copy writing the same output: refuse.
@@ -308,7 +310,9 @@ fn transport() -> Box<dyn Transport> {
             let cores = std::thread::available_parallelism()
                 .map(|n| n.get())
                 .unwrap_or(1);
-            let threads = (cores / m.size()).max(1);
+            let user = std::env::var("RAYON_NUM_THREADS").ok();
+            let threads =
+                signorini_comm::threads_per_rank(cores, m.ranks_on_this_node(), user.as_deref());
             faer::set_global_parallelism(faer::Par::rayon(threads));
             return Box::new(m);
         }

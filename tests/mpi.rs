@@ -416,3 +416,90 @@ fn a_zone_widened_under_mpirun_2_equals_the_in_process_run() {
     let (a, b) = (force(&report(&d)), force(&zoned_report));
     assert!(max_rel(&a, &b) <= 1e-9, "{a:?} against {b:?}");
 }
+
+/// report.json `rank_stats` of a run: one entry per rank.
+fn rank_stats(d: &Path) -> Vec<serde_json::Value> {
+    report(d)["rank_stats"].as_array().unwrap().clone()
+}
+
+fn sum_u64(stats: &[serde_json::Value], key: &str) -> u64 {
+    stats.iter().map(|s| s[key].as_u64().unwrap()).sum()
+}
+
+#[test]
+fn rank_stats_split_the_factors_and_schur_blocks_between_the_ranks() {
+    if !have_mpirun() {
+        return;
+    }
+    let d = dir("rank_stats");
+    let (a, b) = (d.join("local"), d.join("mpi"));
+    let scene = example("stack.toml");
+    let out = local(&["run", &scene, "--out", a.to_str().unwrap()]);
+    assert!(out.status.success());
+    let out = mpirun(2, &["run", &scene, "--out", b.to_str().unwrap()], &[]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let (one, two) = (rank_stats(&a), rank_stats(&b));
+    assert_eq!((one.len(), two.len()), (1, 2));
+    // The factors are the same in one process and on two ranks (the same
+    // subdomains, the same orderings), and sum to the report's.
+    let total = report(&a)["factorisation"]["factor_bytes"]
+        .as_u64()
+        .unwrap();
+    assert_eq!(sum_u64(&one, "factor_bytes"), total);
+    assert_eq!(sum_u64(&two, "factor_bytes"), total);
+    assert_eq!(
+        report(&b)["factorisation"]["factor_bytes"]
+            .as_u64()
+            .unwrap(),
+        total
+    );
+    assert_eq!(sum_u64(&two, "dense_bytes"), sum_u64(&one, "dense_bytes"));
+    assert_eq!(sum_u64(&two, "subdomains"), 5);
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    for (r, s) in two.iter().enumerate() {
+        assert_eq!(s["rank"], r);
+        let f = s["factor_bytes"].as_u64().unwrap();
+        assert!(f > 0 && f < total, "rank {r}: {f} factor bytes of {total}");
+        assert!(s["dense_bytes"].as_u64().unwrap() > 0);
+        let (peak, setup) = (
+            s["peak_rss_bytes"].as_u64().unwrap(),
+            s["setup_peak_rss_bytes"].as_u64().unwrap(),
+        );
+        assert!(setup > 0 && setup <= peak, "rank {r}: {setup} > {peak}");
+        assert!(s["condense_s"].as_f64().unwrap() > 0.0);
+        assert!(s["setup_s"].as_f64().unwrap() > 0.0);
+        // Two ranks on this machine: each its half of the cores.
+        assert_eq!(s["threads"].as_u64().unwrap() as usize, (cores / 2).max(1));
+    }
+    // The interface problem is solved on the root only.
+    assert!(two[0]["contact_s"].as_f64().unwrap() > 0.0);
+    assert_eq!(two[1]["contact_s"].as_f64().unwrap(), 0.0);
+}
+
+#[test]
+fn rayon_num_threads_sets_the_threads_of_every_rank() {
+    if !have_mpirun() {
+        return;
+    }
+    let d = dir("rank_threads");
+    let scene = example("stack.toml");
+    let out = mpirun(
+        2,
+        &["run", &scene, "--out", d.to_str().unwrap()],
+        &[("RAYON_NUM_THREADS", "3")],
+    );
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let stats = rank_stats(&d);
+    assert_eq!(stats.len(), 2);
+    for s in &stats {
+        assert_eq!(s["threads"], 3);
+    }
+}

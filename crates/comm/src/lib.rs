@@ -25,8 +25,9 @@ pub trait Transport {
     fn is_root(&self) -> bool {
         self.rank() == 0
     }
-    /// Every rank's buffer, on the root (in rank order); `None` elsewhere.
-    fn gather_bytes(&self, local: &[u8]) -> Option<Vec<Vec<u8>>>;
+    /// Every rank's buffer, on the root (in rank order, in one allocation);
+    /// `None` elsewhere.
+    fn gather_bytes(&self, local: Vec<u8>) -> Option<Gathered>;
     /// The root's buffer, on every rank (`data` is read on the root only).
     fn broadcast_bytes(&self, data: Option<&[u8]>) -> Vec<u8>;
     /// Ends every rank at once with `code` (used on panics: never a hang).
@@ -35,6 +36,26 @@ pub trait Transport {
     fn bytes_sent(&self) -> u64;
     /// A name for the report ("local" or "mpi").
     fn kind(&self) -> &'static str;
+}
+
+/// The buffers of every rank, end to end in one allocation (the root keeps
+/// one copy of what the ranks sent, not two).
+#[derive(Debug, Default)]
+pub struct Gathered {
+    pub bytes: Vec<u8>,
+    /// Length of each rank's buffer, in rank order.
+    pub counts: Vec<usize>,
+}
+
+impl Gathered {
+    /// Each rank's buffer, in rank order.
+    pub fn parts(&self) -> impl Iterator<Item = &[u8]> {
+        self.counts.iter().scan(0, |start, &c| {
+            let part = &self.bytes[*start..*start + c];
+            *start += c;
+            Some(part)
+        })
+    }
 }
 
 pub fn encode<T: Serialize>(v: &T) -> Vec<u8> {
@@ -53,11 +74,11 @@ pub fn gather<T: Serialize + DeserializeOwned>(
     t: &dyn Transport,
     local: &T,
 ) -> Result<Option<Vec<T>>, String> {
-    match t.gather_bytes(&encode(local)) {
+    match t.gather_bytes(encode(local)) {
         None => Ok(None),
-        Some(bufs) => bufs
-            .iter()
-            .map(|b| decode(b))
+        Some(all) => all
+            .parts()
+            .map(decode)
             .collect::<Result<Vec<_>, _>>()
             .map(Some),
     }
@@ -83,8 +104,11 @@ impl Transport for Local {
     fn size(&self) -> usize {
         1
     }
-    fn gather_bytes(&self, local: &[u8]) -> Option<Vec<Vec<u8>>> {
-        Some(vec![local.to_vec()])
+    fn gather_bytes(&self, local: Vec<u8>) -> Option<Gathered> {
+        Some(Gathered {
+            counts: vec![local.len()],
+            bytes: local,
+        })
     }
     fn broadcast_bytes(&self, data: Option<&[u8]>) -> Vec<u8> {
         data.map(|d| d.to_vec()).unwrap_or_default()
@@ -98,6 +122,20 @@ impl Transport for Local {
     fn kind(&self) -> &'static str {
         "local"
     }
+}
+
+/// The threads of one rank's dense and sparse kernels: `RAYON_NUM_THREADS`
+/// when the user set it to a positive count (`user`), else the rank's share
+/// of the cores it sees, max(1, cores / ranks_on_node), so that ranks
+/// sharing a machine do not oversubscribe its cores (a rank bound to one
+/// core by the launcher sees one core and gets one thread).
+pub fn threads_per_rank(cores: usize, ranks_on_node: usize, user: Option<&str>) -> usize {
+    if let Some(n) = user.and_then(|u| u.trim().parse::<usize>().ok()) {
+        if n > 0 {
+            return n;
+        }
+    }
+    (cores / ranks_on_node.max(1)).max(1)
 }
 
 /// Deals subdomains with estimated costs to `ranks` ranks: each subdomain, in
@@ -133,6 +171,17 @@ mod tests {
         assert_eq!(g, vec![vec![1.5, -2.0]]);
         let b: (String, u32) = broadcast(&t, Some(&("x".to_string(), 7))).unwrap();
         assert_eq!(b, ("x".to_string(), 7));
+    }
+
+    #[test]
+    fn a_rank_gets_its_share_of_the_cores_unless_the_user_chose() {
+        assert_eq!(threads_per_rank(8, 2, None), 4);
+        assert_eq!(threads_per_rank(2, 2, None), 1);
+        assert_eq!(threads_per_rank(2, 4, None), 1);
+        assert_eq!(threads_per_rank(1, 1, None), 1);
+        assert_eq!(threads_per_rank(8, 2, Some("3")), 3);
+        assert_eq!(threads_per_rank(8, 2, Some("0")), 4);
+        assert_eq!(threads_per_rank(8, 2, Some("many")), 4);
     }
 
     #[test]

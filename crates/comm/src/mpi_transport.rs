@@ -10,7 +10,7 @@ use mpi::topology::SimpleCommunicator;
 use mpi::traits::*;
 use mpi::Count;
 
-use crate::Transport;
+use crate::{Gathered, Transport};
 
 pub struct Mpi {
     _universe: mpi::environment::Universe,
@@ -41,6 +41,11 @@ impl Mpi {
         })
     }
 
+    /// How many ranks share this rank's machine (MPI_COMM_TYPE_SHARED).
+    pub fn ranks_on_this_node(&self) -> usize {
+        self.world.split_shared(self.world.rank()).size() as usize
+    }
+
     /// True when this process was started by an MPI launcher.
     pub fn launched() -> bool {
         [
@@ -61,7 +66,7 @@ impl Transport for Mpi {
     fn size(&self) -> usize {
         self.world.size() as usize
     }
-    fn gather_bytes(&self, local: &[u8]) -> Option<Vec<Vec<u8>>> {
+    fn gather_bytes(&self, local: Vec<u8>) -> Option<Gathered> {
         let root = self.world.process_at_rank(0);
         let n = local.len() as Count;
         if self.rank() != 0 {
@@ -82,18 +87,16 @@ impl Transport for Mpi {
             let mut buf = vec![0u8; total as usize];
             {
                 let mut part = PartitionMut::new(&mut buf[..], &counts[..], &displs[..]);
-                root.gather_varcount_into_root(local, &mut part);
+                root.gather_varcount_into_root(&local[..], &mut part);
             }
-            Some(
-                counts
-                    .iter()
-                    .zip(&displs)
-                    .map(|(&c, &d)| buf[d as usize..(d + c) as usize].to_vec())
-                    .collect(),
-            )
+            drop(local);
+            Some(Gathered {
+                bytes: buf,
+                counts: counts.iter().map(|&c| c as usize).collect(),
+            })
         } else {
             root.gather_into(&n);
-            root.gather_varcount_into(local);
+            root.gather_varcount_into(&local[..]);
             None
         }
     }

@@ -354,14 +354,33 @@ pub struct Conditioning {
     pub notes: Vec<String>,
 }
 
-/// What one rank did.
+/// What one rank did (report.json `rank_stats`, condensed path).
 #[derive(Debug, Clone, Serialize)]
 pub struct RankStats {
     pub rank: usize,
     pub subdomains: usize,
+    /// Threads of this rank's dense and sparse kernels (faer): its share of
+    /// the cores of its machine, or RAYON_NUM_THREADS when set.
+    pub threads: usize,
+    /// Seconds of this rank's model stage (meshes, loads, contacts, partition).
+    pub setup_s: f64,
     pub condense_s: f64,
+    /// Seconds of the interface problem and its contact solve (the root
+    /// only; 0 on the other ranks, which wait for its answer).
+    pub contact_s: f64,
     pub recover_s: f64,
+    /// Peak resident set size of this rank's process (VmHWM).
     pub peak_rss_bytes: u64,
+    /// Its peak resident set size at the end of the model stage: what every
+    /// rank holds of the whole scene (the bodies' meshes, per-DOF vectors
+    /// and loads, the contact points and the partition), before any matrix.
+    pub setup_peak_rss_bytes: u64,
+    /// Bytes of the sparse factors of this rank's subdomains (8 per stored
+    /// value); summed over the ranks: `factorisation.factor_bytes`.
+    pub factor_bytes: u64,
+    /// Bytes of the dense Schur complements S_i of this rank's subdomains
+    /// (8 n_b² each).
+    pub dense_bytes: u64,
     pub bytes_sent: u64,
 }
 

@@ -27,14 +27,41 @@ pub(crate) struct RunContext<'a> {
     pub comm: &'a dyn Transport,
 }
 
-/// Per-rank figures for the report.
+/// Per-rank figures for the report (report.json `rank_stats`).
 #[derive(Serialize, Deserialize, Clone, Default)]
 pub(crate) struct RankFigures {
+    threads: usize,
+    setup_s: f64,
     condense_s: f64,
+    contact_s: f64,
     recover_s: f64,
     peak_rss_bytes: u64,
+    setup_peak_rss_bytes: u64,
     bytes_sent: u64,
     subdomains: usize,
+    factor_bytes: u64,
+    dense_bytes: u64,
+}
+
+impl RankFigures {
+    /// The sizes of this rank's subdomains: their sparse factors (the kept
+    /// ordering's stored values) and their dense S_i.
+    fn of_condensed(data: &Result<Vec<CondensedData>, String>) -> Self {
+        let data = data.as_deref().unwrap_or_default();
+        let threads = match faer::get_global_parallelism() {
+            faer::Par::Seq => 1,
+            faer::Par::Rayon(n) => n.get(),
+        };
+        Self {
+            threads,
+            subdomains: data.len(),
+            factor_bytes: (data.iter().filter_map(|d| d.factor.first()))
+                .map(|k| 8 * k.values as u64)
+                .sum(),
+            dense_bytes: data.iter().map(|d| 8 * (d.gamma.len() as u64).pow(2)).sum(),
+            ..Self::default()
+        }
+    }
 }
 
 /// Runs a scene on every rank of `comm`, keeping every step in memory (the
@@ -141,6 +168,7 @@ impl Attempt<'_> {
         progress::phase(progress::Phase::Meshing);
         let model = partition::model_stage(sc, ranks, self.zone, &mut log.messages)?;
         log.timings.setup = t.elapsed().as_secs_f64();
+        let setup_peak_rss_bytes = signorini_report::peak_rss_bytes();
         let ctx = RunContext {
             sc,
             scene_name: self.scene_name,
@@ -153,17 +181,26 @@ impl Attempt<'_> {
         }
         log.stages.push("condense".into());
         let (local, condensed, condense_s) = condense_stage(comm, &model, &mut log.messages);
+        let sizes = RankFigures::of_condensed(&condensed);
         let gathered = wire(gather(comm, &condensed))?;
+        // Sent: the root keeps the gathered copy, the other ranks none.
+        drop(condensed);
         progress::ranks_condensed(gathered.as_ref());
         let data = gathered.map(root_data);
         let mut steps = comm.is_root().then(|| StepLoop::new(sc, &model, sink));
         let walked = steps_stage(ctx, &local, data, steps.as_mut(), &mut log)?;
         let figures = RankFigures {
+            setup_s: log.timings.setup,
             condense_s,
+            contact_s: match &walked.root {
+                Some(Ok(r)) => r.contact_s,
+                _ => 0.0,
+            },
             recover_s: walked.recover_s,
             peak_rss_bytes: signorini_report::peak_rss_bytes(),
+            setup_peak_rss_bytes,
             bytes_sent: comm.bytes_sent(),
-            subdomains: local.len(),
+            ..sizes
         };
         let gathered = wire(gather(comm, &figures))?;
         let partial = match (steps, walked.root) {
@@ -486,9 +523,15 @@ fn rank_stats(log: &mut RunLog, figures: &[RankFigures]) -> Vec<RankStats> {
         .map(|(r, f)| RankStats {
             rank: r,
             subdomains: f.subdomains,
+            threads: f.threads,
+            setup_s: f.setup_s,
             condense_s: f.condense_s,
+            contact_s: f.contact_s,
             recover_s: f.recover_s,
             peak_rss_bytes: f.peak_rss_bytes,
+            setup_peak_rss_bytes: f.setup_peak_rss_bytes,
+            factor_bytes: f.factor_bytes,
+            dense_bytes: f.dense_bytes,
             bytes_sent: f.bytes_sent,
         })
         .collect()
