@@ -27,7 +27,9 @@
 //!
 //! Overlap (Popp et al. §4.1): the master end points are projected onto each
 //! slave segment along n(ξ) (a quadratic equation in ξ); the overlap is an
-//! interval of ξ, integrated with a 4-point Gauss rule, at each point of which
+//! interval of ξ (kept when the master lies in front of the slave within the
+//! search distance, or behind it by less than the slave segment's length),
+//! integrated with a 4-point Gauss rule, at each point of which
 //! the slave point is projected onto the master segment along n(ξ). On flat
 //! interfaces the integrands are polynomials of degree ≤ 2: exact.
 //!
@@ -180,8 +182,9 @@ pub fn mortar_pairing(
         ));
     }
     let reach = search_distance(slave_mesh, master);
-    let normals: BTreeMap<usize, [f64; 3]> =
-        nodal_normals(slave_mesh, slave_surface).into_iter().collect();
+    let normals: BTreeMap<usize, [f64; 3]> = nodal_normals(slave_mesh, slave_surface)
+        .into_iter()
+        .collect();
     let mut d = BTreeMap::<usize, f64>::new();
     let mut m = BTreeMap::<usize, BTreeMap<usize, f64>>::new();
     for f in &slave_surface.facets {
@@ -198,8 +201,14 @@ pub fn mortar_pairing(
 }
 
 /// The overlaps of a slave segment with the master segments that face it
-/// within `reach`.
-fn segment_overlaps(seg: &SlaveSegment, m_mesh: &Mesh, m_surf: &Surface, reach: f64) -> Vec<Overlap> {
+/// within `reach` along the slave normal (a master point behind the slave,
+/// an initial overlap, by less than the segment's length).
+fn segment_overlaps(
+    seg: &SlaveSegment,
+    m_mesh: &Mesh,
+    m_surf: &Surface,
+    reach: f64,
+) -> Vec<Overlap> {
     let mut out = Vec::new();
     let outward = seg.normal(0.5);
     for f in &m_surf.facets {
@@ -219,8 +228,16 @@ fn segment_overlaps(seg: &SlaveSegment, m_mesh: &Mesh, m_surf: &Surface, reach: 
         }
         let mid = 0.5 * (lo + hi);
         let (x, n) = (seg.point(mid), seg.normal(mid));
-        let near = line_parameter(yc, yd, x, n)
-            .is_some_and(|eta| norm(sub(lerp(yc, yd, eta), x)) <= reach);
+        // In front of the slave within the search distance, or behind it
+        // (an initial overlap) by less than the segment's length: not a
+        // master facet on the far side of the slave body.
+        // The overlap's middle must project inside the master segment: the
+        // end points' parameters can straddle the slave segment without
+        // facing it (two normal lines nearly parallel to the master).
+        let near = line_parameter(yc, yd, x, n).is_some_and(|eta| {
+            let along = dot(sub(lerp(yc, yd, eta), x), n) / norm(n);
+            (-SLIVER..=1.0 + SLIVER).contains(&eta) && along <= reach && along >= -seg.length()
+        });
         if near {
             out.push(Overlap {
                 lo,
