@@ -228,6 +228,10 @@ fn mortar_patch_under_mpirun_2_equals_the_in_process_run() {
     };
     let a = run(false, &d.join("local"));
     let b = run(true, &d.join("mpi"));
+    let report = std::fs::read_to_string(d.join("mpi").join("report.json")).unwrap();
+    let report: serde_json::Value = serde_json::from_str(&report).unwrap();
+    assert_eq!(report["ranks"], 2);
+    assert_eq!(report["subdomains"], 2);
     assert_eq!(a.len(), 11);
     assert_eq!(a.len(), b.len());
     for (x, y) in a.iter().zip(&b) {

@@ -306,13 +306,13 @@ fn integrate_segment(
             let eta = eta.clamp(0.0, 1.0);
             let ns = [1.0 - xi, xi];
             let nm = [1.0 - eta, eta];
-            for j in 0..2 {
-                let phi = a[j][0] * ns[0] + a[j][1] * ns[1];
+            for (aj, &sj) in a.iter().zip(&seg.nodes) {
+                let phi = aj[0] * ns[0] + aj[1] * ns[1];
                 // Lumped row: Σ_k ∫Φ_j N_k = ∫Φ_j = D_jj by biorthogonality.
-                *d.entry(seg.nodes[j]).or_insert(0.0) += w * phi;
-                let row = m.entry(seg.nodes[j]).or_default();
-                for l in 0..2 {
-                    *row.entry(o.master[l]).or_insert(0.0) += w * phi * nm[l];
+                *d.entry(sj).or_insert(0.0) += w * phi;
+                let row = m.entry(sj).or_default();
+                for (&ml, nml) in o.master.iter().zip(nm) {
+                    *row.entry(ml).or_insert(0.0) += w * phi * nml;
                 }
             }
         }

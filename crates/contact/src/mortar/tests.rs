@@ -43,13 +43,13 @@ fn partial_dual_basis_is_biorthogonal_on_the_covered_part() {
     }];
     let a = dual_coefficients(&o).unwrap();
     // ∫ Φ_j N_k over [0.3, 0.8] = δ_jk ∫ N_k.
-    for j in 0..2 {
+    for (j, aj) in a.iter().enumerate() {
         for k in 0..2 {
             let (mut pk, mut nk) = (0.0, 0.0);
             for &(t, w) in &GAUSS {
                 let xi = 0.3 + 0.5 * t;
                 let n = [1.0 - xi, xi];
-                let phi = a[j][0] * n[0] + a[j][1] * n[1];
+                let phi = aj[0] * n[0] + aj[1] * n[1];
                 pk += 0.5 * w * phi * n[k];
                 nk += 0.5 * w * n[k];
             }
