@@ -146,7 +146,7 @@ fn tangent_2d(n: [f64; 3]) -> [f64; 3] {
 }
 
 /// (`tangent`, `tangent2`) of a contact point in a mesh of dimension `dim`.
-fn tangents(three_d: bool, n: [f64; 3]) -> ([f64; 3], [f64; 3]) {
+pub(crate) fn tangents(three_d: bool, n: [f64; 3]) -> ([f64; 3], [f64; 3]) {
     if three_d {
         tangent_frame(n)
     } else {

@@ -24,6 +24,7 @@ pub mod friction3d;
 pub mod geometry;
 pub mod lcp;
 pub mod lemke;
+pub mod mortar;
 pub mod mprgp;
 pub mod observe;
 pub mod penalty;

@@ -4,6 +4,7 @@
 //! supports fix, and the constraints that repeat another.
 
 use signorini_contact::geometry::{node_to_node_pairing, node_to_segment_pairing};
+use signorini_contact::mortar::mortar_pairing;
 use signorini_contact::{ContactPoint, MasterGeometry, NormalRule, TermSide};
 use signorini_scene as scene;
 
@@ -85,20 +86,23 @@ struct PairSides {
     master: Option<usize>,
 }
 
-/// Refuses what the contact solver does not support yet: a discretisation
-/// other than node-to-node or node-to-segment, Norton–Hoff friction in 3D.
+/// Refuses what the contact solver does not support yet: mortar in 3D or
+/// in an axisymmetric model, Norton–Hoff friction in 3D.
 fn check_contact_supported(
     sc: &scene::Scene,
     c: &scene::Contact,
     entry: &str,
 ) -> Result<(), SolveError> {
-    match c.discretization {
-        scene::Discretization::NodeToNode | scene::Discretization::NodeToSegment => {}
-        other => {
+    if c.discretization == scene::Discretization::Mortar {
+        if sc.dimension == 3 {
             return Err(input(format!(
-                "{entry}.discretization: \"{}\" is not supported yet (supported: node_to_node, node_to_segment)",
-                other.as_str()
-            )))
+                "{entry}.discretization: \"mortar\" is not supported in 3D yet (supported in 3D: node_to_node, node_to_face)"
+            )));
+        }
+        if sc.model == scene::Model::Axisymmetric {
+            return Err(input(format!(
+                "{entry}.discretization: \"mortar\" is not supported with model = \"axisymmetric\" yet (supported: node_to_node, node_to_segment)"
+            )));
         }
     }
     if sc.dimension == 3 && matches!(c.friction, scene::Friction::NortonHoff { .. }) {
@@ -211,11 +215,18 @@ fn contact_pair(
     let rule = normal_rule(c.normal);
     let mi = body_model(&c.master.body);
     let master = master_geometry(sc, bodies, c, mi, &entry)?;
-    let pairing = match c.discretization {
-        scene::Discretization::NodeToNode => node_to_node_pairing(s_mesh, s_surf, &master, rule),
-        _ => node_to_segment_pairing(s_mesh, s_surf, &master, rule),
-    }
-    .map_err(|e| input(format!("{entry}: {e}")))?;
+    // Mortar rows come with their own measure D_jj (contact::mortar).
+    let (pairing, measure) = match c.discretization {
+        scene::Discretization::NodeToNode => {
+            (node_to_node_pairing(s_mesh, s_surf, &master, rule), None)
+        }
+        scene::Discretization::Mortar => match mortar_pairing(s_mesh, s_surf, &master) {
+            Ok(m) => (Ok(m.pairing), Some(m.measure)),
+            Err(e) => (Err(e), None),
+        },
+        _ => (node_to_segment_pairing(s_mesh, s_surf, &master, rule), None),
+    };
+    let pairing = pairing.map_err(|e| input(format!("{entry}: {e}")))?;
     let dropped = pairing.dropped.note().map(|n| format!("{entry}: {n}"));
     if pairing.points.is_empty() {
         return Err(input(format!(
@@ -225,9 +236,11 @@ fn contact_pair(
         )));
     }
     notes.extend(dropped);
-    let tributary = signorini_fem::tributary_measure(s_mesh, s_surf, bodies[si].material.model)
-        .into_iter()
-        .collect();
+    let tributary = measure.unwrap_or_else(|| {
+        signorini_fem::tributary_measure(s_mesh, s_surf, bodies[si].material.model)
+            .into_iter()
+            .collect()
+    });
     if let Some(interface_nodes) = interface_nodes {
         interface_nodes[si].extend(s_surf.nodes());
         if let (Some(mi), MasterGeometry::Surface { surface, .. }) = (mi, &master) {

@@ -1,0 +1,105 @@
+use super::*;
+use signorini_mesh::generators::rectangle;
+use signorini_mesh::CellKind;
+
+/// Two blocks [0, 1] × [0, 0.5] (master, `nm` elements along x) and
+/// [0, 1] × [0.5 + gap, 1 + gap] (slave, `ns` elements).
+fn blocks(nm: usize, ns: usize, gap: f64) -> (Mesh, Mesh) {
+    let m = rectangle([0.0, 0.0], [1.0, 0.5], [nm, 2], CellKind::Quad4, None).unwrap();
+    let s = rectangle([0.0, 0.5 + gap], [1.0, 0.5], [ns, 2], CellKind::Quad4, None).unwrap();
+    (m, s)
+}
+
+fn pairing(m: &Mesh, s: &Mesh) -> MortarPairing {
+    let master = MasterGeometry::Surface {
+        mesh: m,
+        surface: &m.surfaces["top"],
+    };
+    mortar_pairing(s, &s.surfaces["bottom"], &master).unwrap()
+}
+
+#[test]
+fn full_segment_dual_basis_is_two_n1_minus_n2() {
+    let a = dual_coefficients(&[Overlap {
+        lo: 0.0,
+        hi: 1.0,
+        master: [0, 1],
+    }])
+    .unwrap();
+    let want = [[2.0, -1.0], [-1.0, 2.0]];
+    for j in 0..2 {
+        for k in 0..2 {
+            assert!((a[j][k] - want[j][k]).abs() < 1e-13, "{a:?}");
+        }
+    }
+}
+
+#[test]
+fn partial_dual_basis_is_biorthogonal_on_the_covered_part() {
+    let o = [Overlap {
+        lo: 0.3,
+        hi: 0.8,
+        master: [0, 1],
+    }];
+    let a = dual_coefficients(&o).unwrap();
+    // ∫ Φ_j N_k over [0.3, 0.8] = δ_jk ∫ N_k.
+    for (j, aj) in a.iter().enumerate() {
+        for k in 0..2 {
+            let (mut pk, mut nk) = (0.0, 0.0);
+            for &(t, w) in &GAUSS {
+                let xi = 0.3 + 0.5 * t;
+                let n = [1.0 - xi, xi];
+                let phi = aj[0] * n[0] + aj[1] * n[1];
+                pk += 0.5 * w * phi * n[k];
+                nk += 0.5 * w * n[k];
+            }
+            let want = if j == k { nk } else { 0.0 };
+            assert!((pk - want).abs() < 1e-14, "j {j} k {k}: {pk} vs {want}");
+        }
+    }
+}
+
+#[test]
+fn non_matching_flat_rows_are_consistent() {
+    let gap = 0.01;
+    let (m, s) = blocks(7, 10, gap);
+    let p = pairing(&m, &s);
+    assert_eq!(p.pairing.points.len(), 11);
+    assert_eq!(p.pairing.dropped.total(), 0);
+    let total: f64 = p.measure.values().sum();
+    assert!((total - 1.0).abs() < 1e-13, "Σ D_jj = {total}");
+    for pt in &p.pairing.points {
+        // D_jj = ∫ N_j: 0.1 inside, 0.05 at the ends.
+        let d = p.measure[&pt.slave_node];
+        let end = pt.x[0] < 1e-9 || pt.x[0] > 1.0 - 1e-9;
+        assert!((d - if end { 0.05 } else { 0.1 }).abs() < 1e-14, "{d}");
+        // Σ_l M_jl = D_jj: the master weights sum to −1.
+        let sum: f64 = pt.terms.iter().map(|t| t.weight).sum();
+        assert!(sum.abs() < 1e-13, "row sum {sum}");
+        assert!((pt.gap0 - gap).abs() < 1e-13, "gap0 {}", pt.gap0);
+        assert!((pt.normal[1] - 1.0).abs() < 1e-14);
+    }
+}
+
+#[test]
+fn a_slave_wider_than_the_master_drops_the_uncovered_nodes() {
+    let m = rectangle([0.25, 0.0], [0.5, 0.5], [3, 2], CellKind::Quad4, None).unwrap();
+    let s = rectangle([0.0, 0.5], [1.0, 0.5], [8, 2], CellKind::Quad4, None).unwrap();
+    let p = pairing(&m, &s);
+    // Slave nodes at x = 0.25 … 0.75 (5 of them) carry the covered part.
+    assert_eq!(p.pairing.points.len(), 5);
+    assert_eq!(p.pairing.dropped.off_surface, 4);
+    let total: f64 = p.measure.values().sum();
+    assert!((total - 0.5).abs() < 1e-13, "Σ D_jj = {total}");
+}
+
+#[test]
+fn rigid_masters_are_refused() {
+    let (_, s) = blocks(2, 2, 0.0);
+    let plane = MasterGeometry::Plane {
+        point: [0.0; 3],
+        normal: [0.0, 1.0, 0.0],
+    };
+    let e = mortar_pairing(&s, &s.surfaces["bottom"], &plane).unwrap_err();
+    assert!(e.to_string().contains("deformable master"), "{e}");
+}
