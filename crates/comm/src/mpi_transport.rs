@@ -59,6 +59,18 @@ impl Mpi {
     }
 }
 
+/// The most bytes one rank sends in one collective when `ranks` ranks take
+/// part: the sum over ranks must fit MPI's 32-bit counts and displacements.
+/// `SIGNORINI_MPI_CHUNK_BYTES` lowers it (for testing the rounds).
+fn chunk_bytes(ranks: usize) -> usize {
+    let limit = (i32::MAX as usize) / ranks.max(1);
+    std::env::var("SIGNORINI_MPI_CHUNK_BYTES")
+        .ok()
+        .and_then(|v| v.parse::<usize>().ok())
+        .filter(|&c| c > 0)
+        .map_or(limit, |c| c.min(limit))
+}
+
 impl Transport for Mpi {
     fn rank(&self) -> usize {
         self.world.rank() as usize
@@ -66,16 +78,45 @@ impl Transport for Mpi {
     fn size(&self) -> usize {
         self.world.size() as usize
     }
+    /// In rounds of at most [`chunk_bytes`] per rank, so that no count or
+    /// displacement of `MPI_Gatherv` (32-bit) overflows: a rank's buffer may
+    /// exceed 2 GiB.
     fn gather_bytes(&self, local: Vec<u8>) -> Option<Gathered> {
         let root = self.world.process_at_rank(0);
-        let n = local.len() as Count;
+        let n = local.len() as u64;
         if self.rank() != 0 {
-            self.sent.set(self.sent.get() + local.len() as u64 + 4);
+            self.sent.set(self.sent.get() + n + 8);
         }
+        let mut lengths = vec![0u64; if self.rank() == 0 { self.size() } else { 0 }];
         if self.rank() == 0 {
-            let mut counts = vec![0 as Count; self.size()];
-            root.gather_into_root(&n, &mut counts[..]);
-            let displs: Vec<Count> = counts
+            root.gather_into_root(&n, &mut lengths[..]);
+        } else {
+            root.gather_into(&n);
+        }
+        let mut longest = lengths.iter().copied().max().unwrap_or(0);
+        root.broadcast_into(&mut longest);
+        let chunk = chunk_bytes(self.size());
+        let rounds = longest.div_ceil(chunk as u64) as usize;
+        let piece = |r: usize, len: usize| (r * chunk).min(len)..((r + 1) * chunk).min(len);
+        if self.rank() != 0 {
+            for r in 0..rounds {
+                root.gather_varcount_into(&local[piece(r, local.len())]);
+            }
+            return None;
+        }
+        let counts: Vec<usize> = lengths.iter().map(|&c| c as usize).collect();
+        let starts: Vec<usize> = counts
+            .iter()
+            .scan(0, |acc, &c| {
+                let d = *acc;
+                *acc += c;
+                Some(d)
+            })
+            .collect();
+        let mut buf = vec![0u8; counts.iter().sum()];
+        for r in 0..rounds {
+            let sizes: Vec<Count> = counts.iter().map(|&c| piece(r, c).len() as Count).collect();
+            let displs: Vec<Count> = sizes
                 .iter()
                 .scan(0, |acc, &c| {
                     let d = *acc;
@@ -83,23 +124,21 @@ impl Transport for Mpi {
                     Some(d)
                 })
                 .collect();
-            let total: Count = counts.iter().sum();
-            let mut buf = vec![0u8; total as usize];
+            let mut round = vec![0u8; sizes.iter().map(|&c| c as usize).sum()];
             {
-                let mut part = PartitionMut::new(&mut buf[..], &counts[..], &displs[..]);
-                root.gather_varcount_into_root(&local[..], &mut part);
+                let mut part = PartitionMut::new(&mut round[..], &sizes[..], &displs[..]);
+                root.gather_varcount_into_root(&local[piece(r, local.len())], &mut part);
             }
-            drop(local);
-            Some(Gathered {
-                bytes: buf,
-                counts: counts.iter().map(|&c| c as usize).collect(),
-            })
-        } else {
-            root.gather_into(&n);
-            root.gather_varcount_into(&local[..]);
-            None
+            for (k, &c) in counts.iter().enumerate() {
+                let p = piece(r, c);
+                let (d, len) = (displs[k] as usize, p.len());
+                buf[starts[k] + p.start..starts[k] + p.end].copy_from_slice(&round[d..d + len]);
+            }
         }
+        drop(local);
+        Some(Gathered { bytes: buf, counts })
     }
+    /// In pieces of at most [`chunk_bytes`] (32-bit counts).
     fn broadcast_bytes(&self, data: Option<&[u8]>) -> Vec<u8> {
         let root = self.world.process_at_rank(0);
         let mut bytes = if self.rank() == 0 {
@@ -110,7 +149,9 @@ impl Transport for Mpi {
         let mut len = bytes.len() as u64;
         root.broadcast_into(&mut len);
         bytes.resize(len as usize, 0);
-        root.broadcast_into(&mut bytes[..]);
+        for piece in bytes.chunks_mut(chunk_bytes(1)) {
+            root.broadcast_into(piece);
+        }
         if self.rank() == 0 {
             self.sent
                 .set(self.sent.get() + len * (self.size() as u64 - 1));
