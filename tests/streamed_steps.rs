@@ -153,16 +153,7 @@ fn the_cli_writes_exactly_the_chosen_steps_and_every_csv_row() {
             assert_eq!(lines(&out.join(csv)), lines(&all.join(csv)), "{tag}: {csv}");
         }
         assert_eq!(lines(&out.join("steps.csv")).len(), n + 1);
-        let hidden = std::fs::read_dir(&out)
-            .unwrap()
-            .filter(|e| {
-                e.as_ref()
-                    .unwrap()
-                    .file_name()
-                    .to_string_lossy()
-                    .starts_with('.')
-            })
-            .count();
+        let hidden = hidden_entries(&out);
         assert_eq!(hidden, 0, "{tag}: the staging directory is left");
     }
 }
@@ -312,7 +303,13 @@ fn a_widened_zone_streams_the_second_solve_alone() {
     let rows = lines(&dir.join("small/contact.csv"));
     assert_eq!(rows.len(), 1 + kept.contact_rows.len());
     assert_eq!(vtu_files(&dir.join("small")), vtu_files(&dir.join("full")));
-    let hidden = std::fs::read_dir(dir.join("small"))
+    let hidden = hidden_entries(dir.join("small"));
+    assert_eq!(hidden, 0, "the staging directory is left");
+}
+
+/// Entries of `dir` whose names start with a dot (the staging directory).
+fn hidden_entries(dir: impl AsRef<std::path::Path>) -> usize {
+    std::fs::read_dir(dir)
         .unwrap()
         .filter(|e| {
             e.as_ref()
@@ -321,6 +318,5 @@ fn a_widened_zone_streams_the_second_solve_alone() {
                 .to_string_lossy()
                 .starts_with('.')
         })
-        .count();
-    assert_eq!(hidden, 0, "the staging directory is left");
+        .count()
 }

@@ -59,6 +59,18 @@ impl Mpi {
     }
 }
 
+/// Where each of consecutive pieces of lengths `counts` starts.
+fn offsets<T: Copy + Default + std::ops::Add<Output = T>>(counts: &[T]) -> Vec<T> {
+    counts
+        .iter()
+        .scan(T::default(), |acc, &c| {
+            let start = *acc;
+            *acc = *acc + c;
+            Some(start)
+        })
+        .collect()
+}
+
 /// The most bytes one rank sends in one collective when `ranks` ranks take
 /// part: the sum over ranks must fit MPI's 32-bit counts and displacements.
 /// `SIGNORINI_MPI_CHUNK_BYTES` lowers it (for testing the rounds).
@@ -105,25 +117,11 @@ impl Transport for Mpi {
             return None;
         }
         let counts: Vec<usize> = lengths.iter().map(|&c| c as usize).collect();
-        let starts: Vec<usize> = counts
-            .iter()
-            .scan(0, |acc, &c| {
-                let d = *acc;
-                *acc += c;
-                Some(d)
-            })
-            .collect();
+        let starts = offsets(&counts);
         let mut buf = vec![0u8; counts.iter().sum()];
         for r in 0..rounds {
             let sizes: Vec<Count> = counts.iter().map(|&c| piece(r, c).len() as Count).collect();
-            let displs: Vec<Count> = sizes
-                .iter()
-                .scan(0, |acc, &c| {
-                    let d = *acc;
-                    *acc += c;
-                    Some(d)
-                })
-                .collect();
+            let displs = offsets(&sizes);
             let mut round = vec![0u8; sizes.iter().map(|&c| c as usize).sum()];
             {
                 let mut part = PartitionMut::new(&mut round[..], &sizes[..], &displs[..]);

@@ -137,7 +137,34 @@ impl DelassusOperator {
         kernel: &Mat<f64>,
         estimate_condition: bool,
     ) -> Result<Self, ContactError> {
-        Self::build(s, b, kernel, estimate_condition)
+        let n = s.nrows();
+        let k = kernel.ncols();
+        let r = if k > 0 {
+            orthonormalize(kernel)?
+        } else {
+            Mat::zeros(n, 0)
+        };
+        if k > 0 {
+            check_kernel(s, &r)?;
+        }
+        let mut contact: Vec<usize> = b.iter().flatten().map(|&(i, _)| i).collect();
+        contact.sort_unstable();
+        contact.dedup();
+        let schur = SchurFactor::new(s, &r, &contact)?;
+        let s_condition = estimate_condition.then(|| schur.condition());
+        let w = schur.delassus(b)?;
+        let g_mat = Mat::<f64>::from_fn(b.len(), k, |p, j| {
+            b[p].iter().map(|&(i, c)| c * r[(i, j)]).sum()
+        });
+        Ok(Self {
+            n,
+            schur: Arc::new(schur),
+            b: Arc::new(b.to_vec()),
+            r: Arc::new(r),
+            w,
+            g_mat,
+            s_condition,
+        })
     }
 
     /// The estimated κ₁ of S (S + ρRRᵀ with floating bodies) when built by
@@ -185,42 +212,6 @@ impl DelassusOperator {
             solves: 0,
             factor: None,
         }
-    }
-
-    fn build(
-        s: &InterfaceStiffness,
-        b: &[SparseRow],
-        kernel: &Mat<f64>,
-        estimate_condition: bool,
-    ) -> Result<Self, ContactError> {
-        let n = s.nrows();
-        let k = kernel.ncols();
-        let r = if k > 0 {
-            orthonormalize(kernel)?
-        } else {
-            Mat::zeros(n, 0)
-        };
-        if k > 0 {
-            check_kernel(s, &r)?;
-        }
-        let mut contact: Vec<usize> = b.iter().flatten().map(|&(i, _)| i).collect();
-        contact.sort_unstable();
-        contact.dedup();
-        let schur = SchurFactor::new(s, &r, &contact)?;
-        let s_condition = estimate_condition.then(|| schur.condition());
-        let w = schur.delassus(b)?;
-        let g_mat = Mat::<f64>::from_fn(b.len(), k, |p, j| {
-            b[p].iter().map(|&(i, c)| c * r[(i, j)]).sum()
-        });
-        Ok(Self {
-            n,
-            schur: Arc::new(schur),
-            b: Arc::new(b.to_vec()),
-            r: Arc::new(r),
-            w,
-            g_mat,
-            s_condition,
-        })
     }
 
     /// How S was factorised (dense or sparse, its size).

@@ -26,10 +26,12 @@
 
 use std::path::Path;
 
+mod output;
 mod serde_impls;
 mod types;
 mod validate;
 
+pub use output::*;
 pub use types::*;
 pub use validate::MAX_STEPS;
 

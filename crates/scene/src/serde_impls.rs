@@ -4,7 +4,8 @@
 //! `de::Error::custom` values, to which the `toml` crate adds the line and column of
 //! the offending value.
 
-use crate::types::{Friction, Gap, Generator, Law, MeshSpec, OutputSteps, Subdomains};
+use crate::output::OutputSteps;
+use crate::types::{Friction, Gap, Generator, Law, MeshSpec, Subdomains};
 use serde::de::{self, DeserializeSeed, MapAccess, SeqAccess, Visitor};
 use serde::ser::SerializeMap;
 use serde::{Deserialize, Deserializer, Serialize, Serializer};

@@ -2,6 +2,7 @@
 //! and says what would be valid. Surface names cannot be checked here (meshes do not
 //! exist yet); the solver does that.
 
+use crate::output::*;
 use crate::types::*;
 use crate::SceneError;
 use std::collections::BTreeSet;

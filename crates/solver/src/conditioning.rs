@@ -285,26 +285,15 @@ mod tests {
         let s = Mat::<f64>::from_fn(3, 3, |i, j| if i == j { [1.0, 4.0, 2.0][i] } else { 0.0 });
         let rows: Vec<SparseRow> = vec![vec![(0, 1.0)], vec![(1, 1.0), (2, 1.0)]];
         let kernel = Mat::<f64>::zeros(3, 0);
+        let s = InterfaceStiffness::Dense(s);
         let mut cond = RootConditioning::default();
-        let p = delassus_operator(
-            &InterfaceStiffness::Dense(s.clone()),
-            &rows,
-            &kernel,
-            &mut cond,
-        )
-        .unwrap();
+        let p = delassus_operator(&s, &rows, &kernel, &mut cond).unwrap();
         assert_eq!(p.s_condition(), Some(4.0));
         assert!((cond.s.unwrap() - 4.0).abs() < 1e-14);
         assert!((cond.w.unwrap() - 1.0 / 0.75).abs() < 1e-14, "{:?}", cond.w);
         assert!(cond.warnings.is_empty());
         // later steps do not estimate again
-        let p = delassus_operator(
-            &InterfaceStiffness::Dense(s.clone()),
-            &rows,
-            &kernel,
-            &mut cond,
-        )
-        .unwrap();
+        let p = delassus_operator(&s, &rows, &kernel, &mut cond).unwrap();
         assert_eq!(p.s_condition(), None);
         assert!((cond.s.unwrap() - 4.0).abs() < 1e-14);
     }
