@@ -101,7 +101,16 @@ fn solve_and_write(
     let mut writer = FieldWriter::new(&dir, request);
     let mut output = match signorini_solver::run_streamed(&sc, &name, &opts, comm, &mut writer) {
         Ok(Some(o)) => o,
-        Ok(None) => return Ok(None),
+        // Another rank: its pieces (`[output] pieces`) into place.
+        Ok(None) => {
+            return match writer.commit_pieces() {
+                Ok(()) => Ok(None),
+                Err(e) => Err((
+                    3,
+                    format!("cannot write the output in {}: {e}", dir.display()),
+                )),
+            }
+        }
         Err(SolveError::Input(m)) => return Err((1, m)),
         Err(e @ SolveError::Internal(_)) => return Err((3, e.to_string())),
     };

@@ -5,6 +5,7 @@
 //! analytic references; it must not know the scene format or the solver.
 
 pub mod output;
+pub mod pieces;
 pub mod plot;
 pub mod reference;
 pub mod stream;

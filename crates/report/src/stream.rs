@@ -3,8 +3,10 @@
 //! rows and, when the scene writes that step's fields (`[output] steps`),
 //! every body's fields to a [`StepSink`], and forgets them. [`FieldWriter`]
 //! streams them to disk (the VTU piece of each body, its `fields.pvd` entry,
-//! the contact.csv lines); [`StepsInMemory`] keeps them (the library's
-//! `run`, for tests and callers that want the whole history).
+//! the contact.csv lines; with `[output] pieces`, the subdomains' pieces
+//! and their `.pvtu` index, see [`crate::pieces`]); [`StepsInMemory`] keeps
+//! them (the library's `run`, for tests and callers that want the whole
+//! history).
 //!
 //! A [`FieldWriter`] writes into a staging directory inside the output
 //! directory and moves its files into place only when the run has ended
@@ -17,7 +19,10 @@ use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
 
 use crate::output::{BodyResult, OutputRequest, RunOutput, StepFields};
-use crate::vtu::{write_pvd, write_vtu, PvdEntry, VtuPiece};
+use crate::pieces::{piece_file, ContactFields, NodalContact, SubdomainPiece};
+use crate::vtu::{
+    declared_arrays, write_pvd, write_pvtu, write_vtu, PvdEntry, VtuPiece, NODE_ARRAY,
+};
 use crate::ContactRow;
 
 /// Where the root sends each load step's results as the step ends.
@@ -36,6 +41,16 @@ pub trait StepSink {
     /// The run starts again from its first step (the candidate zone was
     /// widened): forget the steps received so far.
     fn restart(&mut self);
+
+    /// On the root, before the first step, when the ranks write pieces
+    /// (`[output] pieces`): every subdomain as (body, part), whose pieces
+    /// the index of each step that writes fields names.
+    fn pieces_of(&mut self, _subdomains: &[(usize, usize)]) {}
+
+    /// One subdomain's piece at load step `step`, on the rank that owns it.
+    fn piece(&mut self, _step: usize, _piece: &SubdomainPiece) -> Result<(), String> {
+        Ok(())
+    }
 }
 
 /// Keeps every step in memory: the contact rows, and the fields of the
@@ -98,6 +113,11 @@ pub struct FieldWriter {
     created: Option<PathBuf>,
     contact: Option<BufWriter<File>>,
     entries: Vec<PvdEntry>,
+    /// (body, part) of every subdomain whose pieces the index names (the
+    /// root, `[output] pieces`).
+    subdomains: Vec<(usize, usize)>,
+    /// The `.pvtu` indexes written, for `pieces.pvd`.
+    index_entries: Vec<PvdEntry>,
     committed: bool,
 }
 
@@ -111,6 +131,8 @@ impl FieldWriter {
             created: None,
             contact: None,
             entries: Vec::new(),
+            subdomains: Vec::new(),
+            index_entries: Vec::new(),
             committed: false,
         }
     }
@@ -165,26 +187,71 @@ impl FieldWriter {
             }
         }
         if let (Some(fields), false) = (fields, self.request.fields.is_empty()) {
+            let nodal = NodalContact::of_rows(rows, step);
             for (bi, (b, f)) in bodies.iter().zip(fields).enumerate() {
                 let file = format!("{}_{step}.vtu", file_name(&b.name));
-                write_vtu(
-                    &stage.join(&file),
-                    &vtu_piece(&self.request, b, f, step, rows),
-                )?;
+                let contact = ContactFields::of(&nodal, &b.name, b.coords.len(), Some);
+                let piece = vtu_piece(&self.request, b, f, step, &contact);
+                write_vtu(&stage.join(&file), &piece)?;
                 self.entries.push(PvdEntry {
                     timestep: step as f64,
                     part: bi,
                     file,
                 });
+                self.write_index(&stage, step, bi, &b.name, &piece)?;
             }
         }
         Ok(())
     }
 
+    /// The `.pvtu` index of body `bi` at `step` naming its subdomains'
+    /// pieces, with the arrays of its gathered piece `whole` and `node`.
+    fn write_index(
+        &mut self,
+        stage: &Path,
+        step: usize,
+        bi: usize,
+        body: &str,
+        whole: &VtuPiece<'_>,
+    ) -> Result<(), String> {
+        if self.subdomains.is_empty() {
+            return Ok(());
+        }
+        let name = file_name(body);
+        let sources: Vec<String> = (self.subdomains.iter())
+            .filter(|(b, _)| *b == bi)
+            .map(|&(_, part)| piece_file(&name, step, part))
+            .collect();
+        let mut arrays = declared_arrays(whole);
+        arrays[0].push((NODE_ARRAY.to_string(), 1, "UInt64"));
+        let file = format!("{name}_{step}.pvtu");
+        write_pvtu(&stage.join(&file), &arrays, &sources).map_err(err)?;
+        self.index_entries.push(PvdEntry {
+            timestep: step as f64,
+            part: bi,
+            file,
+        });
+        Ok(())
+    }
+
+    /// Writes one subdomain's piece (see [`StepSink::piece`]).
+    fn write_piece(&mut self, step: usize, p: &SubdomainPiece) -> Result<(), String> {
+        let stage = self.stage().map_err(err)?;
+        let file = piece_file(&file_name(&p.mesh.name), step, p.part);
+        let path = stage.join(&file);
+        if let Some(d) = path.parent() {
+            std::fs::create_dir_all(d).map_err(err)?;
+        }
+        let mut piece = vtu_piece(&self.request, &p.mesh, &p.fields, step, &p.contact);
+        piece.node_ids = Some(&p.nodes);
+        piece.title = format!("{} subdomain {}", piece.title, p.part);
+        write_vtu(&path, &piece)
+    }
+
     /// Moves the staged files into the output directory and writes
     /// `fields.pvd` (body after body, step after step) when any step wrote
-    /// fields; contact.csv is written (its header alone) even when no step
-    /// ran.
+    /// fields, and `pieces.pvd` when any step wrote a `.pvtu` index;
+    /// contact.csv is written (its header alone) even when no step ran.
     pub fn commit(&mut self) -> std::io::Result<()> {
         let stage = self.stage()?;
         if let Some(mut w) = self.contact.take() {
@@ -192,17 +259,52 @@ impl FieldWriter {
         } else {
             crate::write_contact_csv(&stage.join("contact.csv"), &[], self.request.dim)?;
         }
-        for entry in std::fs::read_dir(&stage)? {
-            let entry = entry?;
-            std::fs::rename(entry.path(), self.dir.join(entry.file_name()))?;
-        }
-        std::fs::remove_dir(&stage)?;
-        self.stage = None;
-        self.committed = true;
+        self.move_staged(&stage)?;
         if !self.request.fields.is_empty() {
             self.entries.sort_by_key(|e| (e.part, e.timestep as u64));
             write_pvd(&self.dir.join("fields.pvd"), &self.entries)?;
         }
+        if !self.index_entries.is_empty() {
+            self.index_entries
+                .sort_by_key(|e| (e.part, e.timestep as u64));
+            write_pvd(&self.dir.join("pieces.pvd"), &self.index_entries)?;
+        }
+        Ok(())
+    }
+
+    /// On a rank other than the root, once the run has ended: moves the
+    /// pieces it wrote (if any) into `DIR/pieces`.
+    pub fn commit_pieces(&mut self) -> std::io::Result<()> {
+        match self.stage.clone() {
+            Some(stage) => self.move_staged(&stage),
+            None => {
+                self.committed = true;
+                Ok(())
+            }
+        }
+    }
+
+    /// Moves the files of the stage into the output directory (those of its
+    /// `pieces` directory into `DIR/pieces`, beside the other ranks' ones)
+    /// and removes the stage.
+    fn move_staged(&mut self, stage: &Path) -> std::io::Result<()> {
+        for entry in std::fs::read_dir(stage)? {
+            let entry = entry?;
+            let target = self.dir.join(entry.file_name());
+            if entry.file_type()?.is_dir() {
+                std::fs::create_dir_all(&target)?;
+                for file in std::fs::read_dir(entry.path())? {
+                    let file = file?;
+                    std::fs::rename(file.path(), target.join(file.file_name()))?;
+                }
+                std::fs::remove_dir(entry.path())?;
+            } else {
+                std::fs::rename(entry.path(), target)?;
+            }
+        }
+        std::fs::remove_dir(stage)?;
+        self.stage = None;
+        self.committed = true;
         Ok(())
     }
 }
@@ -222,9 +324,25 @@ impl StepSink for FieldWriter {
     fn restart(&mut self) {
         self.contact = None;
         self.entries.clear();
+        self.subdomains.clear();
+        self.index_entries.clear();
         if let Some(stage) = self.stage.take() {
             let _ = std::fs::remove_dir_all(stage);
         }
+    }
+
+    fn pieces_of(&mut self, subdomains: &[(usize, usize)]) {
+        if !self.request.fields.is_empty() {
+            self.subdomains = subdomains.to_vec();
+        }
+    }
+
+    fn piece(&mut self, step: usize, piece: &SubdomainPiece) -> Result<(), String> {
+        if self.request.fields.is_empty() {
+            return Ok(());
+        }
+        self.write_piece(step, piece)
+            .map_err(|e| format!("cannot write the output in {}: {e}", self.dir.display()))
     }
 }
 
@@ -274,7 +392,7 @@ fn vtu_piece<'a>(
     b: &'a BodyResult,
     fields: &StepFields,
     step: usize,
-    rows: &[ContactRow],
+    contact: &ContactFields,
 ) -> VtuPiece<'a> {
     let (dim, n) = (request.dim, b.coords.len());
     let mut point_data = Vec::new();
@@ -289,22 +407,13 @@ fn vtu_piece<'a>(
         point_data.push(("displacement".to_string(), 3, u));
     }
     if request.wants("contact") {
-        let mut pressure = vec![0.0; n];
-        let mut status = vec![-1.0; n];
-        let mut tangential = vec![0.0; n];
-        for r in rows.iter().filter(|r| r.step == step && r.body == b.name) {
-            pressure[r.point] = r.pressure;
-            tangential[r.point] = r.tangential_force;
-            status[r.point] = match r.status {
-                "open" => 0.0,
-                "contact" => 1.0,
-                "stick" => 2.0,
-                _ => 3.0,
-            };
-        }
-        point_data.push(("contact_pressure".to_string(), 1, pressure));
-        point_data.push(("contact_status".to_string(), 1, status));
-        point_data.push(("tangential_force".to_string(), 1, tangential));
+        point_data.push(("contact_pressure".to_string(), 1, contact.pressure.clone()));
+        point_data.push(("contact_status".to_string(), 1, contact.status.clone()));
+        point_data.push((
+            "tangential_force".to_string(),
+            1,
+            contact.tangential.clone(),
+        ));
     }
     let mut cell_data = vec![(
         "subdomain".to_string(),
@@ -330,5 +439,6 @@ fn vtu_piece<'a>(
         cells: &b.cells,
         point_data,
         cell_data,
+        node_ids: None,
     }
 }

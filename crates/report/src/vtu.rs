@@ -1,7 +1,7 @@
 //! VTU output for ParaView, through vtkio (notes §4.2): one unstructured
 //! grid per body with point data (displacement, contact pressure, status,
 //! tangential force) and cell data (stress, von Mises, subdomain), and a
-//! `.pvd` index naming them.
+//! `.pvd` index naming them; a `.pvtu` index of the pieces of one grid.
 
 use std::path::Path;
 
@@ -26,6 +26,9 @@ pub struct VtuPiece<'a> {
     pub point_data: Vec<(String, u32, Vec<f64>)>,
     /// (name, components, values) on the cells.
     pub cell_data: Vec<(String, u32, Vec<f64>)>,
+    /// The point array `node` (UInt64): the body node number of each point
+    /// (a subdomain's piece; `None` for a whole body).
+    pub node_ids: Option<&'a [usize]>,
 }
 
 fn cell_type(dim: usize, n: usize) -> Result<CellType, String> {
@@ -62,6 +65,11 @@ pub fn write_vtu(path: &Path, piece: &VtuPiece<'_>) -> Result<(), String> {
             Attribute::scalars(name.clone(), *comps).with_data(values.clone())
         }
     };
+    let mut point: Vec<Attribute> = piece.point_data.iter().map(attr).collect();
+    if let Some(ids) = piece.node_ids {
+        let ids: Vec<u64> = ids.iter().map(|&n| n as u64).collect();
+        point.push(Attribute::scalars(NODE_ARRAY, 1).with_data(ids));
+    }
     let vtk = Vtk {
         version: Version::new((1, 0)),
         title: piece.title.clone(),
@@ -77,13 +85,67 @@ pub fn write_vtu(path: &Path, piece: &VtuPiece<'_>) -> Result<(), String> {
                 types,
             },
             data: Attributes {
-                point: piece.point_data.iter().map(attr).collect(),
+                point,
                 cell: piece.cell_data.iter().map(attr).collect(),
             },
         }),
     };
     vtk.export(path)
         .map_err(|e| format!("{}: {e}", path.display()))
+}
+
+/// The point array of a piece's body node numbers.
+pub const NODE_ARRAY: &str = "node";
+
+/// The arrays a piece holds, as a `.pvtu` index declares them: (name,
+/// components, VTK type) at the points, then on the cells.
+pub fn declared_arrays(piece: &VtuPiece<'_>) -> [Vec<(String, u32, &'static str)>; 2] {
+    let f64s = |d: &[(String, u32, Vec<f64>)]| -> Vec<(String, u32, &'static str)> {
+        d.iter()
+            .map(|(n, c, _)| (n.clone(), *c, "Float64"))
+            .collect()
+    };
+    let mut point = f64s(&piece.point_data);
+    if piece.node_ids.is_some() {
+        point.push((NODE_ARRAY.to_string(), 1, "UInt64"));
+    }
+    [point, f64s(&piece.cell_data)]
+}
+
+/// A `.pvtu` index (PUnstructuredGrid): the arrays every piece holds
+/// ([`declared_arrays`]), Float64 points, and one `<Piece Source=…/>` per
+/// `.vtu` piece (paths relative to the index).
+pub fn write_pvtu(
+    path: &Path,
+    arrays: &[Vec<(String, u32, &'static str)>; 2],
+    sources: &[String],
+) -> std::io::Result<()> {
+    let mut s = String::from(
+        "<?xml version=\"1.0\"?>\n<VTKFile type=\"PUnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n  <PUnstructuredGrid GhostLevel=\"0\">\n",
+    );
+    for (tag, list) in ["PPointData", "PCellData"].iter().zip(arrays) {
+        s.push_str(&format!("    <{tag}>\n"));
+        for (name, comps, ty) in list {
+            s.push_str(&format!(
+                "      <PDataArray type=\"{ty}\" Name=\"{}\" NumberOfComponents=\"{comps}\"/>\n",
+                xml_escape(name)
+            ));
+        }
+        s.push_str(&format!("    </{tag}>\n"));
+    }
+    s.push_str("    <PPoints>\n      <PDataArray type=\"Float64\" NumberOfComponents=\"3\"/>\n    </PPoints>\n");
+    for src in sources {
+        s.push_str(&format!("    <Piece Source=\"{}\"/>\n", xml_escape(src)));
+    }
+    s.push_str("  </PUnstructuredGrid>\n</VTKFile>\n");
+    std::fs::write(path, s)
+}
+
+fn xml_escape(s: &str) -> String {
+    s.replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
+        .replace('"', "&quot;")
 }
 
 /// One dataset of a `.pvd` collection: a `.vtu` file (path relative to the
@@ -162,6 +224,7 @@ mod tests {
                 ("contact_pressure".into(), 1, vec![1.0; 5]),
             ],
             cell_data: vec![("von_mises".into(), 1, vec![2.0, 3.0])],
+            node_ids: None,
         };
         let path = dir.join("b.vtu");
         write_vtu(&path, &piece).unwrap();

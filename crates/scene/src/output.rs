@@ -66,6 +66,11 @@ pub struct Output {
     /// steps.csv keep every step.
     #[serde(skip_serializing_if = "OutputSteps::is_all")]
     pub steps: OutputSteps,
+    /// Also write each subdomain's VTU piece, by the rank that owns it, with a
+    /// `.pvtu` index per body and step (issue 17; default false: the gathered
+    /// files alone).
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub pieces: bool,
 }
 
 /// `[output] steps`: the load steps whose fields are written, `"all"` (the
@@ -108,6 +113,7 @@ impl Default for Output {
             ],
             probes: Vec::new(),
             steps: OutputSteps::All,
+            pieces: false,
         }
     }
 }

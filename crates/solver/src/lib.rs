@@ -29,6 +29,7 @@ pub mod local;
 pub mod memory;
 pub mod model;
 mod partition;
+mod pieces;
 mod pipeline;
 mod plan;
 pub mod problem_file;

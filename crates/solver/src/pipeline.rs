@@ -41,6 +41,8 @@ pub(crate) struct RankFigures {
     subdomains: usize,
     factor_bytes: u64,
     dense_bytes: u64,
+    /// The first error writing this rank's pieces (`[output] pieces`).
+    output_error: Option<String>,
 }
 
 impl RankFigures {
@@ -187,8 +189,12 @@ impl Attempt<'_> {
         drop(condensed);
         progress::ranks_condensed(gathered.as_ref());
         let data = gathered.map(root_data);
-        let mut steps = comm.is_root().then(|| StepLoop::new(sc, &model, sink));
-        let walked = steps_stage(ctx, &local, data, steps.as_mut(), &mut log)?;
+        // The root's sink ends the steps; every rank's writes its pieces.
+        let (mut steps, other) = match comm.is_root() {
+            true => (Some(StepLoop::new(sc, &model, sink)), None),
+            false => (None, Some(sink)),
+        };
+        let walked = steps_stage(ctx, &local, data, steps.as_mut(), other, &mut log)?;
         let figures = RankFigures {
             setup_s: log.timings.setup,
             condense_s,
@@ -200,11 +206,14 @@ impl Attempt<'_> {
             peak_rss_bytes: signorini_report::peak_rss_bytes(),
             setup_peak_rss_bytes,
             bytes_sent: comm.bytes_sent(),
+            output_error: walked.output_error,
             ..sizes
         };
         let gathered = wire(gather(comm, &figures))?;
-        let partial = match (steps, walked.root) {
-            (Some(steps), Some(root)) => Some(condensed_partial(ctx, &mut log, steps, root)),
+        let output_error = (gathered.iter().flatten()).find_map(|f| f.output_error.clone());
+        let partial = match (steps, walked.root, output_error) {
+            (Some(_), Some(_), Some(e)) => Some(Err(SolveError::Internal(e))),
+            (Some(steps), Some(root), None) => Some(condensed_partial(ctx, &mut log, steps, root)),
             _ => None,
         };
         // The root's verdict (an error that ended it, or the excluded
@@ -238,6 +247,7 @@ impl Attempt<'_> {
         }
         log.stages.push("contact".into());
         let mut steps = StepLoop::new(ctx.sc, ctx.model, sink);
+        steps.all_pieces = true;
         progress::observed(|| run_direct(ctx, &mut steps, &mut log.timings, &mut log.messages))?;
         let partial = steps.partial;
         if let Some(w) = self.check_zone(ctx.model, &partial) {
@@ -357,12 +367,13 @@ fn root_data(
     Ok(data)
 }
 
-/// What the load steps leave: this rank's recovery seconds, and on the root
-/// its contact solve state (the condensed data, the conditioning estimates,
-/// the seconds of the contact solves and of the Delassus operator) or the
-/// error that ended the run.
+/// What the load steps leave: this rank's recovery seconds, the first error
+/// writing its pieces, and on the root its contact solve state (the
+/// condensed data, the conditioning estimates, the seconds of the contact
+/// solves and of the Delassus operator) or the error that ended the run.
 struct Walked {
     recover_s: f64,
+    output_error: Option<String>,
     root: Option<Result<RootWalk, SolveError>>,
 }
 
@@ -379,14 +390,17 @@ struct RootWalk {
 /// root solves step k on Γ and broadcasts u_Γ (or the error that ends the
 /// run), every rank recovers its subdomains at step k and sends them back,
 /// and the root ends the step (`steps`: certificate, rows, fields to the
-/// sink) before it solves the next. An error of the root while ending a
-/// step goes to every rank with the next step's broadcast (or the verdict
-/// after the last step).
+/// sink: the root's, held by `steps`; `other` on another rank) before it
+/// solves the next; then, with `[output] pieces`, every
+/// rank writes the pieces of its subdomains (pieces.rs). An error of the
+/// root while ending a step goes to every rank with the next step's
+/// broadcast (or the verdict after the last step).
 fn steps_stage(
     ctx: RunContext,
     local: &[Subdomain],
     data: Option<Result<Vec<CondensedData>, SolveError>>,
     mut steps: Option<&mut StepLoop>,
+    mut other: Option<&mut dyn StepSink>,
     log: &mut RunLog,
 ) -> Result<Walked, SolveError> {
     let (comm, model) = (ctx.comm, ctx.model);
@@ -404,6 +418,7 @@ fn steps_stage(
         .and_then(|(i, s)| RootSolve::new(i, s).map_err(|e| error = Some(e)).ok());
     let mut cond = conditioning::RootConditioning::default();
     let (mut recover_s, mut contact_s, mut delassus_s, mut output_s) = (0.0, 0.0, 0.0, 0.0);
+    let mut output_error = None;
     for (si, st) in model.scales.iter().enumerate() {
         progress::step(si, model.scales.len());
         let t = Instant::now();
@@ -438,6 +453,18 @@ fn steps_stage(
             }
             output_s += t.elapsed().as_secs_f64();
         }
+        if pieces::wanted(ctx.sc) && ctx.sc.output.steps.selects(si + 1, model.scales.len()) {
+            let nodal = steps.as_deref().map(|s| &s.nodal);
+            let nodal: Vec<_> = wire(broadcast(comm, nodal))?;
+            let sink = match steps.as_deref_mut() {
+                Some(s) => s.sink(),
+                None => other.as_deref_mut().expect("a rank's sink"),
+            };
+            if output_error.is_none() {
+                output_error =
+                    pieces::write_recovered(ctx.sc, model, &mine, si + 1, &nodal, sink).err();
+            }
+        }
     }
     let root = comm.is_root().then(|| match (error, data) {
         (Some(e), _) => Err(e),
@@ -450,7 +477,11 @@ fn steps_stage(
             output_s,
         }),
     });
-    Ok(Walked { recover_s, root })
+    Ok(Walked {
+        recover_s,
+        output_error,
+        root,
+    })
 }
 
 /// What the root's solve reads of the run: the scene, the algorithm, the

@@ -5,7 +5,9 @@
 //! gaps of the points left out of the contact zone; and the last step's
 //! displacement and fields kept for the report (probes, displacement.csv,
 //! stress.csv). Nothing of a step's per-DOF data outlives it otherwise, so
-//! the memory of a run does not grow with its number of steps.
+//! the memory of a run does not grow with its number of steps. With
+//! `[output] pieces`, the step's contact values for the subdomains' pieces
+//! (pieces.rs).
 
 use super::*;
 
@@ -17,6 +19,11 @@ pub(crate) struct StepLoop<'a> {
     /// The scales of every step, for its report.
     scales: Vec<std::collections::BTreeMap<String, f64>>,
     pub partial: Partial,
+    /// The contact values of the last step that wrote fields, for the
+    /// pieces (`[output] pieces`).
+    pub nodal: Vec<signorini_report::pieces::NodalContact>,
+    /// Whether the root writes every subdomain's piece (the direct path).
+    pub all_pieces: bool,
 }
 
 impl<'a> StepLoop<'a> {
@@ -28,13 +35,23 @@ impl<'a> StepLoop<'a> {
         let mut partial = empty_partial();
         partial.bodies = body_meshes(&model.bodies);
         partial.excluded_gaps = vec![f64::INFINITY; model.excluded.len()];
+        if crate::pieces::wanted(sc) {
+            sink.pieces_of(&crate::pieces::subdomains(model));
+        }
         StepLoop {
             sc,
             model,
             sink,
             scales: sc.step_scales(),
             partial,
+            nodal: Vec::new(),
+            all_pieces: false,
         }
+    }
+
+    /// The sink of the run's steps.
+    pub(crate) fn sink(&mut self) -> &mut dyn StepSink {
+        &mut *self.sink
     }
 
     /// Ends load step `si` from its solution `sol`, final gaps, residuals
@@ -87,6 +104,13 @@ impl<'a> StepLoop<'a> {
                 &rows,
             )
             .map_err(SolveError::Internal)?;
+        if selected && crate::pieces::wanted(sc) {
+            self.nodal = signorini_report::pieces::NodalContact::of_rows(&rows, si + 1);
+            if self.all_pieces {
+                crate::pieces::write_all(sc, model, &u_full, si + 1, &self.nodal, self.sink)
+                    .map_err(SolveError::Internal)?;
+            }
+        }
         if let (true, Some(fields)) = (last, fields) {
             for (b, f) in partial.bodies.iter_mut().zip(fields) {
                 b.history = vec![f];

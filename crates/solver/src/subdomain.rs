@@ -42,7 +42,7 @@ impl SubdomainSpec {
 
     /// The subdomain's own mesh: its cells of the body, on its nodes
     /// numbered locally (no surfaces or regions).
-    fn local_mesh(&self, body: &BodyModel) -> Mesh {
+    pub(crate) fn local_mesh(&self, body: &BodyModel) -> Mesh {
         let mut local_of = vec![usize::MAX; body.mesh.n_nodes()];
         for (l, &n) in self.nodes.iter().enumerate() {
             local_of[n] = l;
