@@ -524,3 +524,66 @@ fn rayon_num_threads_sets_the_threads_of_every_rank() {
         assert_eq!(s["threads"], 3);
     }
 }
+
+/// The entries of a directory, sorted.
+fn listing(dir: &Path) -> Vec<String> {
+    let mut v: Vec<String> = std::fs::read_dir(dir)
+        .unwrap_or_else(|e| panic!("{}: {e}", dir.display()))
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    v.sort();
+    v
+}
+
+/// `[output] pieces` under `mpirun -n 2` (issue 17, item 4): each rank
+/// writes the pieces of the subdomains it owns; every `.pvtu` index checks
+/// against its gathered file (arrays, points, displacement, contact and
+/// cell values), and the files are those of the in-process run (one piece
+/// per subdomain, whatever the number of ranks).
+#[test]
+fn pieces_under_mpirun_2_equal_the_gathered_fields_and_the_in_process_files() {
+    if !have_mpirun() {
+        return;
+    }
+    let scene = write_scene("pieces", "stack.toml", &common::stack_pieces(true));
+    let d = Path::new(&scene).parent().unwrap().to_path_buf();
+    let (a, b) = (d.join("local"), d.join("mpi"));
+    let out = local(&["run", &scene, "--out", a.to_str().unwrap()]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let out = mpirun(2, &["run", &scene, "--out", b.to_str().unwrap()], &[]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    common::check_stack_pieces(&b);
+    let stats = rank_stats(&b);
+    assert!(stats.iter().all(|s| s["subdomains"].as_u64().unwrap() > 0));
+    assert_eq!(listing(&a), listing(&b));
+    assert_eq!(listing(&a.join("pieces")), listing(&b.join("pieces")));
+}
+
+/// An output directory that cannot be made (under a regular file) with
+/// `[output] pieces`: every rank fails to write, one message, exit 3,
+/// nothing written beside the file.
+#[test]
+fn pieces_into_a_bad_directory_under_mpirun_write_nothing() {
+    if !have_mpirun() {
+        return;
+    }
+    let scene = write_scene("pieces-bad", "stack.toml", &common::stack_pieces(true));
+    let d = Path::new(&scene).parent().unwrap().to_path_buf();
+    std::fs::write(d.join("file"), "").unwrap();
+    let out = mpirun(
+        2,
+        &["run", &scene, "--out", d.join("file/out").to_str().unwrap()],
+        &[],
+    );
+    let err = common::stderr_of_exit(&out, 3);
+    assert_eq!(err.matches("cannot write the output").count(), 1, "{err}");
+    assert_eq!(listing(&d), vec!["file", "stack.toml"]);
+}

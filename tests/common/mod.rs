@@ -246,3 +246,102 @@ pub fn mpi_env(c: &mut std::process::Command) -> &mut std::process::Command {
         .env("PRTE_MCA_rmaps_default_mapping_policy", ":oversubscribe")
         .env("OMPI_MCA_hwloc_base_binding_policy", "none")
 }
+
+/// The `.pvtu` index of `body` at `step` in the output directory `dir`
+/// against the gathered `<body>_<step>.vtu` (`[output] pieces`): the index
+/// parses, declares the gathered arrays and `node`; each piece it names
+/// exists and holds exactly the declared arrays (names, components, types);
+/// the pieces cover every node of the body, each point at its node's
+/// coordinates with its node's point values (to 1e-12 of each array's
+/// largest value), and their cells are the body's (the same count, and the
+/// same values of each cell array component, sorted). Returns the pieces.
+pub fn check_pieces(dir: &std::path::Path, body: &str, step: usize) -> Vec<String> {
+    use signorini_report::vtu::{read_pvtu, read_vtu, ArrayData};
+    let index = dir.join(format!("{body}_{step}.pvtu"));
+    let (declared, sources) = read_pvtu(&index).unwrap_or_else(|e| panic!("{e}"));
+    let whole = read_vtu(&dir.join(format!("{body}_{step}.vtu"))).unwrap();
+    let decl = |a: &[ArrayData]| -> Vec<(String, u32, String)> {
+        (a.iter())
+            .map(|x| (x.name.clone(), x.components, x.scalar_type.clone()))
+            .collect()
+    };
+    let mut expected = decl(&whole.point_data);
+    expected.push(("node".into(), 1, "U64".into()));
+    assert_eq!(decl(&declared.point_data), expected, "{}", index.display());
+    assert_eq!(decl(&declared.cell_data), decl(&whole.cell_data));
+    assert!(!sources.is_empty());
+    let scale = |a: &ArrayData| {
+        a.values
+            .iter()
+            .fold(f64::MIN_POSITIVE, |m, v| m.max(v.abs()))
+    };
+    let mut seen = vec![false; whole.points.len()];
+    let (mut cells, mut cell_values) = (0, vec![Vec::new(); whole.cell_data.len()]);
+    for s in &sources {
+        let piece = read_vtu(&dir.join(s)).unwrap_or_else(|e| panic!("piece {s}: {e}"));
+        assert_eq!(decl(&piece.point_data), decl(&declared.point_data), "{s}");
+        assert_eq!(decl(&piece.cell_data), decl(&declared.cell_data), "{s}");
+        let node = &piece.point_data.last().unwrap().values;
+        assert_eq!(node.len(), piece.points.len());
+        for (l, &g) in node.iter().enumerate() {
+            let g = g as usize;
+            seen[g] = true;
+            assert_eq!(piece.points[l], whole.points[g], "{s}: point {l}");
+            for (a, b) in whole.point_data.iter().zip(&piece.point_data) {
+                let c = a.components as usize;
+                let (x, y) = (&a.values[c * g..c * (g + 1)], &b.values[c * l..c * (l + 1)]);
+                for (x, y) in x.iter().zip(y) {
+                    assert!((x - y).abs() <= 1e-12 * scale(a), "{s}: {} {x} {y}", a.name);
+                }
+            }
+        }
+        cells += piece.cells;
+        for (v, b) in cell_values.iter_mut().zip(&piece.cell_data) {
+            v.extend_from_slice(&b.values);
+        }
+    }
+    assert!(
+        seen.iter().all(|&s| s),
+        "{body} step {step}: a node in no piece"
+    );
+    assert_eq!(cells, whole.cells);
+    for (a, v) in whole.cell_data.iter().zip(cell_values) {
+        let c = a.components as usize;
+        assert_eq!(v.len(), a.values.len());
+        for k in 0..c {
+            let sorted = |x: &[f64]| {
+                let mut col: Vec<f64> = x.iter().skip(k).step_by(c).copied().collect();
+                col.sort_by(f64::total_cmp);
+                col
+            };
+            for (x, y) in sorted(&a.values).iter().zip(sorted(&v)) {
+                assert!((x - y).abs() <= 1e-12 * scale(a), "{} {x} {y}", a.name);
+            }
+        }
+    }
+    sources
+}
+
+/// examples/stack.toml (roller 1 subdomain, plate and base 2 each) in two
+/// load steps, with `[output] pieces` as given.
+pub fn stack_pieces(pieces: bool) -> String {
+    example("stack.toml").replace("[output]\n", &format!("[output]\npieces = {pieces}\n"))
+        + "\n[[steps]]\nscale = { press = 0.5 }\n\n[[steps]]\nscale = { press = 1.0 }\n"
+}
+
+/// [`check_pieces`] on every body of [`stack_pieces`] at both steps: the
+/// pieces are those of the subdomains, pieces.pvd names the six indexes.
+pub fn check_stack_pieces(out: &std::path::Path) {
+    for step in [1, 2] {
+        for (body, parts) in [("roller", 1), ("plate", 2), ("base", 2)] {
+            let sources = check_pieces(out, body, step);
+            let expected: Vec<String> = (0..parts)
+                .map(|p| format!("pieces/{body}_{step}_s{p}.vtu"))
+                .collect();
+            assert_eq!(sources, expected);
+        }
+    }
+    let pvd = std::fs::read_to_string(out.join("pieces.pvd")).unwrap();
+    assert_eq!(pvd.matches(".pvtu\"/>").count(), 6, "{pvd}");
+    assert_eq!(std::fs::read_dir(out.join("pieces")).unwrap().count(), 10);
+}

@@ -174,29 +174,104 @@ pub fn write_pvd(path: &Path, entries: &[PvdEntry]) -> std::io::Result<()> {
 
 /// Reads a `.vtu` back: (points, cells, point data names, cell data names).
 pub fn read_summary(path: &Path) -> Result<(usize, usize, Vec<String>, Vec<String>), String> {
+    let g = read_vtu(path)?;
+    let names = |a: &[ArrayData]| a.iter().map(|x| x.name.clone()).collect();
+    Ok((
+        g.points.len(),
+        g.cells,
+        names(&g.point_data),
+        names(&g.cell_data),
+    ))
+}
+
+/// A data array read back: its values as f64 (empty for a `.pvtu`
+/// declaration), its components and its type (vtkio's name of it).
+#[derive(Debug, Clone, PartialEq)]
+pub struct ArrayData {
+    pub name: String,
+    pub components: u32,
+    pub scalar_type: String,
+    pub values: Vec<f64>,
+}
+
+/// A `.vtu` grid read back (a `.pvtu` index: its declarations alone).
+#[derive(Debug, Clone, Default)]
+pub struct GridData {
+    pub points: Vec<[f64; 3]>,
+    pub cells: usize,
+    pub point_data: Vec<ArrayData>,
+    pub cell_data: Vec<ArrayData>,
+}
+
+fn arrays_of(attributes: Vec<Attribute>) -> Vec<ArrayData> {
+    (attributes.into_iter())
+        .filter_map(|x| match x {
+            Attribute::DataArray(d) => Some(ArrayData {
+                name: d.name,
+                components: d.elem.num_comp(),
+                scalar_type: format!("{:?}", d.data.scalar_type()),
+                values: d.data.cast_into::<f64>().unwrap_or_default(),
+            }),
+            Attribute::Field { .. } => None,
+        })
+        .collect()
+}
+
+fn import(path: &Path) -> Result<DataSet, String> {
     let vtk = Vtk::import(path).map_err(|e| format!("{}: {e}", path.display()))?;
-    let DataSet::UnstructuredGrid { pieces, .. } = vtk.data else {
-        return Err("not an unstructured grid".into());
+    Ok(vtk.data)
+}
+
+/// Reads a `.vtu` file back (its first piece).
+pub fn read_vtu(path: &Path) -> Result<GridData, String> {
+    let DataSet::UnstructuredGrid { pieces, .. } = import(path)? else {
+        return Err(format!("{}: not an unstructured grid", path.display()));
     };
     let piece = pieces
         .into_iter()
         .next()
         .and_then(|p| p.into_loaded_piece_data(None).ok())
-        .ok_or("no piece")?;
-    let names = |a: &[Attribute]| {
-        a.iter()
-            .filter_map(|x| match x {
-                Attribute::DataArray(d) => Some(d.name.clone()),
-                _ => None,
+        .ok_or_else(|| format!("{}: no piece", path.display()))?;
+    let xyz: Vec<f64> = piece.points.cast_into::<f64>().unwrap_or_default();
+    Ok(GridData {
+        points: xyz.chunks(3).map(|p| [p[0], p[1], p[2]]).collect(),
+        cells: piece.cells.types.len(),
+        point_data: arrays_of(piece.data.point),
+        cell_data: arrays_of(piece.data.cell),
+    })
+}
+
+/// Reads a `.pvtu` index back: its declared arrays (no values) and the
+/// sources of its pieces, as written (relative to the index).
+pub fn read_pvtu(path: &Path) -> Result<(GridData, Vec<String>), String> {
+    let DataSet::UnstructuredGrid { meta, pieces } = import(path)? else {
+        return Err(format!("{}: not an unstructured grid", path.display()));
+    };
+    let Some(vtkio::model::MetaData::UnstructuredGrid { attributes, .. }) = meta.map(|m| *m) else {
+        return Err(format!("{}: not a PUnstructuredGrid", path.display()));
+    };
+    let declared = |a: Vec<vtkio::model::ArrayMetaData>| {
+        a.into_iter()
+            .map(|m| ArrayData {
+                name: m.name,
+                components: m.elem.num_comp(),
+                scalar_type: format!("{:?}", m.scalar_type),
+                values: Vec::new(),
             })
             .collect()
     };
-    Ok((
-        piece.num_points(),
-        piece.cells.types.len(),
-        names(&piece.data.point),
-        names(&piece.data.cell),
-    ))
+    let sources = (pieces.into_iter())
+        .map(|p| match p {
+            vtkio::model::Piece::Source(s, _) => Ok(s),
+            _ => Err(format!("{}: a piece without Source", path.display())),
+        })
+        .collect::<Result<_, _>>()?;
+    let grid = GridData {
+        point_data: declared(attributes.point_data),
+        cell_data: declared(attributes.cell_data),
+        ..GridData::default()
+    };
+    Ok((grid, sources))
 }
 
 #[cfg(test)]
