@@ -8,9 +8,7 @@ mod common;
 use std::path::Path;
 use std::process::Command;
 
-use common::{
-    check_pieces, check_stack_pieces, cli_run_ok, example, fresh_dir, stack_pieces as stack,
-};
+use common::{check_stack_pieces, cli_run_ok, example, fresh_dir, stack_pieces as stack};
 
 fn signorini(args: &[&str]) -> std::process::Output {
     Command::new(env!("CARGO_BIN_EXE_signorini"))
