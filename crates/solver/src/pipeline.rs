@@ -453,18 +453,8 @@ fn steps_stage(
             }
             output_s += t.elapsed().as_secs_f64();
         }
-        if pieces::wanted(ctx.sc) && ctx.sc.output.steps.selects(si + 1, model.scales.len()) {
-            let nodal = steps.as_deref().map(|s| &s.nodal);
-            let nodal: Vec<_> = wire(broadcast(comm, nodal))?;
-            let sink = match steps.as_deref_mut() {
-                Some(s) => s.sink(),
-                None => other.as_deref_mut().expect("a rank's sink"),
-            };
-            if output_error.is_none() {
-                output_error =
-                    pieces::write_recovered(ctx.sc, model, &mine, si + 1, &nodal, sink).err();
-            }
-        }
+        let written = step_pieces(ctx, si, &mine, steps.as_deref_mut(), other.as_deref_mut())?;
+        output_error = output_error.or(written.err());
     }
     let root = comm.is_root().then(|| match (error, data) {
         (Some(e), _) => Err(e),
@@ -482,6 +472,38 @@ fn steps_stage(
         output_error,
         root,
     })
+}
+
+/// `[output] pieces` at load step `si` (when it writes fields): the root
+/// (`steps`) sends the step's contact values, and this rank writes the
+/// pieces of the subdomains it recovered (`mine`) to its sink (the root's,
+/// or `other`). The inner Err: the error writing them (the transport's
+/// ends the run at once).
+fn step_pieces<'s>(
+    ctx: RunContext,
+    si: usize,
+    mine: &[RecoveredStep],
+    mut steps: Option<&mut StepLoop>,
+    other: Option<&mut (dyn StepSink + 's)>,
+) -> Result<Result<(), String>, SolveError> {
+    let (sc, model) = (ctx.sc, ctx.model);
+    if !pieces::wanted(sc) || !sc.output.steps.selects(si + 1, model.scales.len()) {
+        return Ok(Ok(()));
+    }
+    let nodal: Vec<_> = wire(broadcast(ctx.comm, steps.as_deref().map(|s| &s.nodal)))?;
+    let sink = match (steps.as_deref_mut(), other) {
+        (Some(s), _) => s.sink(),
+        (None, Some(o)) => o,
+        (None, None) => return Ok(Err("no sink on this rank".into())),
+    };
+    Ok(pieces::write_recovered(
+        sc,
+        model,
+        mine,
+        si + 1,
+        &nodal,
+        sink,
+    ))
 }
 
 /// What the root's solve reads of the run: the scene, the algorithm, the
