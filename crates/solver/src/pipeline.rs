@@ -483,7 +483,7 @@ fn step_pieces<'s>(
     ctx: RunContext,
     si: usize,
     mine: &[RecoveredStep],
-    mut steps: Option<&mut StepLoop>,
+    steps: Option<&mut StepLoop>,
     other: Option<&mut (dyn StepSink + 's)>,
 ) -> Result<Result<(), String>, SolveError> {
     let (sc, model) = (ctx.sc, ctx.model);
@@ -491,7 +491,7 @@ fn step_pieces<'s>(
         return Ok(Ok(()));
     }
     let nodal: Vec<_> = wire(broadcast(ctx.comm, steps.as_deref().map(|s| &s.nodal)))?;
-    let sink = match (steps.as_deref_mut(), other) {
+    let sink = match (steps, other) {
         (Some(s), _) => s.sink(),
         (None, Some(o)) => o,
         (None, None) => return Ok(Err("no sink on this rank".into())),
