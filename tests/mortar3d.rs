@@ -150,7 +150,10 @@ fn mortar_3d_hertz_between_two_bodies_is_at_least_as_accurate_as_node_to_face() 
         l2_m <= l2_n && l2_m <= 0.07,
         "profile: mortar {l2_m}, node_to_face {l2_n}"
     );
-    assert!(a_m <= a_n && a_m <= 0.027, "a: mortar {a_m}, node_to_face {a_n}");
+    assert!(
+        a_m <= a_n && a_m <= 0.027,
+        "a: mortar {a_m}, node_to_face {a_n}"
+    );
 }
 
 #[test]
@@ -178,7 +181,10 @@ fn mortar_3d_with_coulomb_friction_holds_a_sideways_load() {
     let t: f64 = o.contact_rows.iter().map(|r| r.tangential_force).sum();
     let t2: f64 = o.contact_rows.iter().map(|r| r.tangential_force_2).sum();
     assert!((n - 1.0).abs() <= 1e-9, "normal resultant {n}");
-    assert!((t.abs() - 0.1).abs() <= 1e-9 * 0.1, "tangential resultant {t}");
+    assert!(
+        (t.abs() - 0.1).abs() <= 1e-9 * 0.1,
+        "tangential resultant {t}"
+    );
     assert!(t2.abs() <= 1e-9, "second tangent's resultant {t2}");
     for r in &o.contact_rows {
         let tr = r.tangential_force.hypot(r.tangential_force_2);

@@ -198,7 +198,10 @@ fn face_points(
         // In front within the search distance, or behind by less than the
         // face's diameter, at the clip polygon's centroid.
         let c = poly.iter().fold([0.0; 2], |a, p| {
-            [a[0] + p[0] / poly.len() as f64, a[1] + p[1] / poly.len() as f64]
+            [
+                a[0] + p[0] / poly.len() as f64,
+                a[1] + p[1] / poly.len() as f64,
+            ]
         });
         let xc = face.plane.point(c);
         let (Some((_, gs)), Some((_, gm))) = (

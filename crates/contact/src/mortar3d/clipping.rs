@@ -185,9 +185,8 @@ mod tests {
 
     #[test]
     fn clipping_two_squares_gives_their_intersection() {
-        let sq = |x0: f64, y0: f64, s: f64| {
-            vec![[x0, y0], [x0 + s, y0], [x0 + s, y0 + s], [x0, y0 + s]]
-        };
+        let sq =
+            |x0: f64, y0: f64, s: f64| vec![[x0, y0], [x0 + s, y0], [x0 + s, y0 + s], [x0, y0 + s]];
         let c = clip(&sq(0.0, 0.0, 1.0), &sq(0.5, 0.25, 1.0), 1e-14);
         assert!((signed_area(&c) - 0.375).abs() < 1e-15, "{c:?}");
         // A triangle inside: unchanged; disjoint: empty.

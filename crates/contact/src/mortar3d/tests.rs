@@ -6,7 +6,14 @@ use signorini_mesh::CellKind;
 /// [0, 1]² × [0.5 + gap, 1 + gap] (slave, `ns` × `ns`), of `kind` cells.
 fn boxes(nm: usize, ns: usize, gap: f64, kind: CellKind) -> (Mesh, Mesh) {
     let m = box_mesh([0.0; 3], [1.0, 1.0, 0.5], [nm, nm, 1], kind, None).unwrap();
-    let s = box_mesh([0.0, 0.0, 0.5 + gap], [1.0, 1.0, 0.5], [ns, ns, 1], kind, None).unwrap();
+    let s = box_mesh(
+        [0.0, 0.0, 0.5 + gap],
+        [1.0, 1.0, 0.5],
+        [ns, ns, 1],
+        kind,
+        None,
+    )
+    .unwrap();
     (m, s)
 }
 
@@ -94,8 +101,22 @@ fn a_fully_covered_triangle_has_the_closed_form_dual_basis() {
 
 #[test]
 fn a_slave_wider_than_the_master_keeps_the_covered_nodes_only() {
-    let m = box_mesh([0.25, 0.25, 0.0], [0.5, 0.5, 0.5], [3, 3, 1], CellKind::Hex8, None).unwrap();
-    let s = box_mesh([0.0, 0.0, 0.5], [1.0, 1.0, 0.5], [4, 4, 1], CellKind::Hex8, None).unwrap();
+    let m = box_mesh(
+        [0.25, 0.25, 0.0],
+        [0.5, 0.5, 0.5],
+        [3, 3, 1],
+        CellKind::Hex8,
+        None,
+    )
+    .unwrap();
+    let s = box_mesh(
+        [0.0, 0.0, 0.5],
+        [1.0, 1.0, 0.5],
+        [4, 4, 1],
+        CellKind::Hex8,
+        None,
+    )
+    .unwrap();
     let p = pairing(&m, &s);
     // The covered part is the square [0.25, 0.75]²: the 3 × 3 slave nodes in
     // it (the faces around them are partly covered).
@@ -118,8 +139,9 @@ fn rigid_masters_and_2d_meshes_are_refused() {
     };
     let e = mortar3d_pairing(&s, &s.surfaces["zmin"], &plane).unwrap_err();
     assert!(e.to_string().contains("deformable master"), "{e}");
-    let flat = signorini_mesh::generators::rectangle([0.0; 2], [1.0; 2], [2, 2], CellKind::Quad4, None)
-        .unwrap();
+    let flat =
+        signorini_mesh::generators::rectangle([0.0; 2], [1.0; 2], [2, 2], CellKind::Quad4, None)
+            .unwrap();
     let master = MasterGeometry::Surface {
         mesh: &m,
         surface: &m.surfaces["zmax"],
