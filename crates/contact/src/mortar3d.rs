@@ -238,10 +238,10 @@ fn face_points(
 fn dual_coefficients(points: &[FacePoint], n: usize, area: f64) -> Option<[[f64; 4]; 4]> {
     let (mut me, mut de) = ([[0.0; 4]; 4], [0.0; 4]);
     for p in points {
-        for a in 0..n {
+        for (a, row) in me.iter_mut().enumerate().take(n) {
             de[a] += p.w * p.ns[a];
-            for b in 0..n {
-                me[a][b] += p.w * p.ns[a] * p.ns[b];
+            for (b, mab) in row.iter_mut().enumerate().take(n) {
+                *mab += p.w * p.ns[a] * p.ns[b];
             }
         }
     }

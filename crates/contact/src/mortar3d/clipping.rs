@@ -122,7 +122,7 @@ const TRIANGLE_RULE: [(f64, f64, f64); 7] = [
 const A1: f64 = 0.101_286_507_323_456_34;
 const A2: f64 = 0.470_142_064_105_115_1;
 const W1: f64 = 0.125_939_180_544_827_15;
-const W2: f64 = 0.132_394_152_788_506_18;
+const W2: f64 = 0.132_394_152_788_506_2;
 
 /// Gauss points (in-plane coordinates) and weights (areas) of a convex
 /// polygon: the triangles from its centroid to each side, each with the

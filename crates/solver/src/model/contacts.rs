@@ -94,12 +94,10 @@ fn check_contact_supported(
     c: &scene::Contact,
     entry: &str,
 ) -> Result<(), SolveError> {
-    if c.discretization == scene::Discretization::Mortar {
-        if sc.model == scene::Model::Axisymmetric {
-            return Err(input(format!(
-                "{entry}.discretization: \"mortar\" is not supported with model = \"axisymmetric\" yet (supported: node_to_node, node_to_segment)"
-            )));
-        }
+    if c.discretization == scene::Discretization::Mortar && sc.model == scene::Model::Axisymmetric {
+        return Err(input(format!(
+            "{entry}.discretization: \"mortar\" is not supported with model = \"axisymmetric\" yet (supported: node_to_node, node_to_segment)"
+        )));
     }
     if sc.dimension == 3 && matches!(c.friction, scene::Friction::NortonHoff { .. }) {
         return Err(input(format!(
