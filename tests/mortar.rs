@@ -1,6 +1,7 @@
 //! Mortar contact in 2D (issue 17): the contact patch test on non-matching
 //! meshes, Hertz between two deformable bodies against node-to-segment,
-//! both solution paths, `mpirun -n 2`, friction, and what is refused.
+//! both solution paths, `mpirun -n 2`, friction, and what is refused (3D:
+//! tests/mortar3d.rs).
 
 mod common;
 
@@ -171,12 +172,7 @@ fn input_error(text: &str) -> String {
 }
 
 #[test]
-fn mortar_refuses_3d_axisymmetric_and_rigid_masters() {
-    let m = input_error(&example("patch3d.toml").replace("\"node_to_face\"", "\"mortar\""));
-    assert!(
-        m.contains(".discretization") && m.contains("not supported in 3D"),
-        "{m}"
-    );
+fn mortar_refuses_axisymmetric_and_rigid_masters() {
     let m = input_error(&example("hertz_axi.toml").replace("\"node_to_segment\"", "\"mortar\""));
     assert!(
         m.contains(".discretization") && m.contains("axisymmetric"),

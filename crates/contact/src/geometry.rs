@@ -141,6 +141,42 @@ pub fn tangent_frame(n: [f64; 3]) -> ([f64; 3], [f64; 3]) {
     (t1, cross(n, t1))
 }
 
+/// The R*-tree of a master surface's facet boxes, for a search other than
+/// node-to-face's: mortar's 3D overlap candidates (`crate::mortar3d`).
+pub(crate) struct FacetSearch<'a>(MasterIndex<'a>);
+
+impl<'a> FacetSearch<'a> {
+    pub fn new(mesh: &'a Mesh, surface: &'a Surface) -> Result<Self, ContactError> {
+        MasterIndex::new(mesh, surface).map(FacetSearch)
+    }
+
+    /// The facets (indices in the surface, increasing) whose bounding
+    /// boxes, padded by `pad`, the segment `from`–`to` crosses.
+    pub fn crossed(&self, from: [f64; 3], to: [f64; 3], pad: f64) -> Vec<usize> {
+        self.0.crossed(from, to, pad)
+    }
+}
+
+/// Where the line x − g n meets the 3D face with `nodes` (a triangle, or a
+/// bilinear quadrilateral by Newton's method on its map): the face's shape
+/// functions there, in node order and clamped onto the face, and g; `None`
+/// when the line misses the face (see `ray`). Mortar's 3D integration maps
+/// its points on the auxiliary plane back to the faces with it.
+pub(crate) fn meet_face(
+    mesh: &Mesh,
+    nodes: &[usize],
+    x: [f64; 3],
+    n: [f64; 3],
+) -> Option<([f64; 4], f64)> {
+    let c = |k: usize| mesh.coords[nodes[k]];
+    let (hit, g) = match nodes.len() {
+        3 => ray::triangle(x, n, c(0), c(1), c(2))?,
+        4 => ray::quad(x, n, &[c(0), c(1), c(2), c(3)])?,
+        _ => return None,
+    };
+    Some((hit.weights, g))
+}
+
 fn tangent_2d(n: [f64; 3]) -> [f64; 3] {
     [n[1], -n[0], 0.0]
 }

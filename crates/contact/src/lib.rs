@@ -25,6 +25,7 @@ pub mod geometry;
 pub mod lcp;
 pub mod lemke;
 pub mod mortar;
+pub mod mortar3d;
 pub mod mprgp;
 pub mod observe;
 pub mod penalty;

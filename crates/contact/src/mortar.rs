@@ -320,7 +320,7 @@ fn integrate_segment(
 }
 
 /// The contact points from D and M: one per slave node with D_jj > 0.
-fn mortar_points(
+pub(crate) fn mortar_points(
     slave_mesh: &Mesh,
     normals: &BTreeMap<usize, [f64; 3]>,
     d: &BTreeMap<usize, f64>,
@@ -365,7 +365,7 @@ fn mortar_points(
                 weight: -w,
             });
         }
-        let (tangent, tangent2) = tangents(false, n);
+        let (tangent, tangent2) = tangents(slave_mesh.dim == 3, n);
         out.pairing.points.push(ContactPoint {
             slave_node: s,
             x,

@@ -249,6 +249,22 @@ impl<'a> MasterIndex<'a> {
         best
     }
 
+    /// The facets (their indices in the surface, increasing) of the pieces
+    /// whose bounding boxes, padded by `pad`, the segment `from`–`to`
+    /// crosses: the candidate master faces of a slave face in mortar's 3D
+    /// overlap search (`crate::mortar3d`).
+    pub fn crossed(&self, from: [f64; 3], to: [f64; 3], pad: f64) -> Vec<usize> {
+        let span = AlongSegment { from, to, pad };
+        let mut out: Vec<usize> = self
+            .tree
+            .locate_with_selection_function(span)
+            .map(|obj| self.pieces[obj.data].facet)
+            .collect();
+        out.sort_unstable();
+        out.dedup();
+        out
+    }
+
     /// Where the line x − g n meets piece `i`.
     fn meet(&self, i: usize, x: [f64; 3], n: [f64; 3]) -> Option<(Closest, f64)> {
         let p = &self.pieces[i];

@@ -5,6 +5,7 @@
 
 use signorini_contact::geometry::{node_to_node_pairing, node_to_segment_pairing};
 use signorini_contact::mortar::mortar_pairing;
+use signorini_contact::mortar3d::mortar3d_pairing;
 use signorini_contact::{ContactPoint, MasterGeometry, NormalRule, TermSide};
 use signorini_scene as scene;
 
@@ -86,24 +87,17 @@ struct PairSides {
     master: Option<usize>,
 }
 
-/// Refuses what the contact solver does not support yet: mortar in 3D or
-/// in an axisymmetric model, Norton–Hoff friction in 3D.
+/// Refuses what the contact solver does not support yet: mortar in an
+/// axisymmetric model, Norton–Hoff friction in 3D.
 fn check_contact_supported(
     sc: &scene::Scene,
     c: &scene::Contact,
     entry: &str,
 ) -> Result<(), SolveError> {
-    if c.discretization == scene::Discretization::Mortar {
-        if sc.dimension == 3 {
-            return Err(input(format!(
-                "{entry}.discretization: \"mortar\" is not supported in 3D yet (supported in 3D: node_to_node, node_to_face)"
-            )));
-        }
-        if sc.model == scene::Model::Axisymmetric {
-            return Err(input(format!(
-                "{entry}.discretization: \"mortar\" is not supported with model = \"axisymmetric\" yet (supported: node_to_node, node_to_segment)"
-            )));
-        }
+    if c.discretization == scene::Discretization::Mortar && sc.model == scene::Model::Axisymmetric {
+        return Err(input(format!(
+            "{entry}.discretization: \"mortar\" is not supported with model = \"axisymmetric\" yet (supported: node_to_node, node_to_segment)"
+        )));
     }
     if sc.dimension == 3 && matches!(c.friction, scene::Friction::NortonHoff { .. }) {
         return Err(input(format!(
@@ -215,12 +209,16 @@ fn contact_pair(
     let rule = normal_rule(c.normal);
     let mi = body_model(&c.master.body);
     let master = master_geometry(sc, bodies, c, mi, &entry)?;
-    // Mortar rows come with their own measure D_jj (contact::mortar).
+    // Mortar rows come with their own measure D_jj (contact::mortar, mortar3d).
     let (pairing, measure) = match c.discretization {
         scene::Discretization::NodeToNode => {
             (node_to_node_pairing(s_mesh, s_surf, &master, rule), None)
         }
-        scene::Discretization::Mortar => match mortar_pairing(s_mesh, s_surf, &master) {
+        scene::Discretization::Mortar => match if sc.dimension == 3 {
+            mortar3d_pairing(s_mesh, s_surf, &master)
+        } else {
+            mortar_pairing(s_mesh, s_surf, &master)
+        } {
             Ok(m) => (Ok(m.pairing), Some(m.measure)),
             Err(e) => (Err(e), None),
         },

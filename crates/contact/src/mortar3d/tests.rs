@@ -1,0 +1,151 @@
+use super::*;
+use signorini_mesh::generators::box_mesh;
+use signorini_mesh::CellKind;
+
+/// Two boxes [0, 1]² × [0, 0.5] (master, `nm` × `nm` faces on top) and
+/// [0, 1]² × [0.5 + gap, 1 + gap] (slave, `ns` × `ns`), of `kind` cells.
+fn boxes(nm: usize, ns: usize, gap: f64, kind: CellKind) -> (Mesh, Mesh) {
+    let m = box_mesh([0.0; 3], [1.0, 1.0, 0.5], [nm, nm, 1], kind, None).unwrap();
+    let s = box_mesh(
+        [0.0, 0.0, 0.5 + gap],
+        [1.0, 1.0, 0.5],
+        [ns, ns, 1],
+        kind,
+        None,
+    )
+    .unwrap();
+    (m, s)
+}
+
+fn pairing(m: &Mesh, s: &Mesh) -> MortarPairing {
+    let master = MasterGeometry::Surface {
+        mesh: m,
+        surface: &m.surfaces["zmax"],
+    };
+    mortar3d_pairing(s, &s.surfaces["zmin"], &master).unwrap()
+}
+
+/// Σ D_jj = the area, D_jj = ∫N_j, Σ_l M_jl = D_jj, gap0 = the gap and the
+/// normal +z at every slave node.
+fn check_flat_rows(p: &MortarPairing, nodes: usize, gap: f64, d_of: impl Fn([f64; 3]) -> f64) {
+    assert_eq!(p.pairing.points.len(), nodes);
+    assert_eq!(p.pairing.dropped.total(), 0);
+    let total: f64 = p.measure.values().sum();
+    assert!((total - 1.0).abs() < 1e-13, "Σ D_jj = {total}");
+    for pt in &p.pairing.points {
+        let d = p.measure[&pt.slave_node];
+        assert!((d - d_of(pt.x)).abs() < 1e-14, "D_jj {d} at {:?}", pt.x);
+        let sum: f64 = pt.terms.iter().map(|t| t.weight).sum();
+        assert!(sum.abs() < 1e-13, "row sum {sum}");
+        assert!((pt.gap0 - gap).abs() < 1e-13, "gap0 {}", pt.gap0);
+        assert!((pt.normal[2] - 1.0).abs() < 1e-14);
+    }
+}
+
+#[test]
+fn non_matching_quadrilaterals_give_consistent_rows() {
+    let gap = 0.01;
+    let (m, s) = boxes(5, 7, gap, CellKind::Hex8);
+    let p = pairing(&m, &s);
+    // D_jj = ∫N_j = h², h²/2 on the sides, h²/4 at the corners (h = 1/7).
+    let h2 = 1.0 / 49.0;
+    let d_of = |x: [f64; 3]| {
+        let edge = |v: f64| v < 1e-9 || v > 1.0 - 1e-9;
+        h2 / [1.0, 2.0, 4.0][usize::from(edge(x[0])) + usize::from(edge(x[1]))]
+    };
+    check_flat_rows(&p, 64, gap, d_of);
+}
+
+#[test]
+fn non_matching_triangles_give_consistent_rows() {
+    let gap = -0.002;
+    let (m, s) = boxes(4, 5, gap, CellKind::Tet4);
+    let p = pairing(&m, &s);
+    // Σ D_jj = 1 and D_jj = ∫N_j = (area of the faces around j)/3.
+    let mut want = BTreeMap::<usize, f64>::new();
+    for f in &s.surfaces["zmin"].facets {
+        let (_, area) = s.facet_normal(f);
+        for &v in &f.nodes {
+            *want.entry(v).or_insert(0.0) += area / 3.0;
+        }
+    }
+    let coords = s.coords.clone();
+    let d_of = |x: [f64; 3]| {
+        let k = coords.iter().position(|c| *c == x).unwrap();
+        want[&k]
+    };
+    check_flat_rows(&p, 36, gap, d_of);
+}
+
+#[test]
+fn a_fully_covered_triangle_has_the_closed_form_dual_basis() {
+    // Φ_i = 3N_i − N_j − N_k: A = [[3, −1, −1], ...].
+    let tri = vec![[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]];
+    let points: Vec<FacePoint> = polygon_rule(&tri)
+        .into_iter()
+        .map(|(p, w)| FacePoint {
+            w,
+            ns: [1.0 - p[0] - p[1], p[0], p[1], 0.0],
+            master: 0,
+            nm: [0.0; 4],
+        })
+        .collect();
+    let a = dual_coefficients(&points, 3, 0.5).unwrap();
+    for (j, row) in a.iter().enumerate().take(3) {
+        for (k, &v) in row.iter().enumerate().take(3) {
+            let want = if j == k { 3.0 } else { -1.0 };
+            assert!((v - want).abs() < 1e-12, "{a:?}");
+        }
+    }
+}
+
+#[test]
+fn a_slave_wider_than_the_master_keeps_the_covered_nodes_only() {
+    let m = box_mesh(
+        [0.25, 0.25, 0.0],
+        [0.5, 0.5, 0.5],
+        [3, 3, 1],
+        CellKind::Hex8,
+        None,
+    )
+    .unwrap();
+    let s = box_mesh(
+        [0.0, 0.0, 0.5],
+        [1.0, 1.0, 0.5],
+        [4, 4, 1],
+        CellKind::Hex8,
+        None,
+    )
+    .unwrap();
+    let p = pairing(&m, &s);
+    // The covered part is the square [0.25, 0.75]²: the 3 × 3 slave nodes in
+    // it (the faces around them are partly covered).
+    assert_eq!(p.pairing.points.len(), 9);
+    assert_eq!(p.pairing.dropped.off_surface, 16);
+    let total: f64 = p.measure.values().sum();
+    assert!((total - 0.25).abs() < 1e-13, "Σ D_jj = {total}");
+    for pt in &p.pairing.points {
+        let sum: f64 = pt.terms.iter().map(|t| t.weight).sum();
+        assert!(sum.abs() < 1e-13, "row sum {sum}");
+    }
+}
+
+#[test]
+fn rigid_masters_and_2d_meshes_are_refused() {
+    let (m, s) = boxes(2, 2, 0.0, CellKind::Hex8);
+    let plane = MasterGeometry::Plane {
+        point: [0.0; 3],
+        normal: [0.0, 0.0, 1.0],
+    };
+    let e = mortar3d_pairing(&s, &s.surfaces["zmin"], &plane).unwrap_err();
+    assert!(e.to_string().contains("deformable master"), "{e}");
+    let flat =
+        signorini_mesh::generators::rectangle([0.0; 2], [1.0; 2], [2, 2], CellKind::Quad4, None)
+            .unwrap();
+    let master = MasterGeometry::Surface {
+        mesh: &m,
+        surface: &m.surfaces["zmax"],
+    };
+    let e = mortar3d_pairing(&flat, &flat.surfaces["bottom"], &master).unwrap_err();
+    assert!(e.to_string().contains("3D"), "{e}");
+}
