@@ -18,14 +18,35 @@ fn pairing(m: &Mesh, s: &Mesh) -> MortarPairing {
     mortar_pairing(s, &s.surfaces["bottom"], &master).unwrap()
 }
 
+/// A straight slave edge from (0, 0) to (1, 0) of `count` nodes (outward
+/// normal −y), and a master edge of 2 nodes.
+fn unit_edge(count: usize) -> SlaveEdge {
+    let x = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.5, 0.0, 0.0]];
+    SlaveEdge {
+        edge: edge::Edge {
+            nodes: [0, 1, 2],
+            count,
+            x,
+        },
+        n: [[0.0, -1.0, 0.0]; 3],
+    }
+}
+
+fn overlap(lo: f64, hi: f64) -> Overlap {
+    Overlap {
+        lo,
+        hi,
+        master: edge::Edge {
+            nodes: [0, 1, 0],
+            count: 2,
+            x: [[0.0, -1.0, 0.0], [1.0, -1.0, 0.0], [0.0; 3]],
+        },
+    }
+}
+
 #[test]
 fn full_segment_dual_basis_is_two_n1_minus_n2() {
-    let a = dual_coefficients(&[Overlap {
-        lo: 0.0,
-        hi: 1.0,
-        master: [0, 1],
-    }])
-    .unwrap();
+    let a = dual_coefficients(&unit_edge(2), &[overlap(0.0, 1.0)]).unwrap();
     let want = [[2.0, -1.0], [-1.0, 2.0]];
     for j in 0..2 {
         for k in 0..2 {
@@ -34,27 +55,50 @@ fn full_segment_dual_basis_is_two_n1_minus_n2() {
     }
 }
 
+/// ∫ Φ_j N_k over [lo, hi] = δ_jk ∫ N_k for the dual basis of a
+/// `count`-node edge covered over [lo, hi].
+fn assert_biorthogonal(count: usize, lo: f64, hi: f64) {
+    let seg = unit_edge(count);
+    let o = [overlap(lo, hi)];
+    let a = dual_coefficients(&seg, &o).unwrap();
+    let mut scale = 0.0f64;
+    for (j, aj) in a.iter().enumerate().take(count) {
+        for k in 0..count {
+            let (mut pk, mut nk) = (0.0, 0.0);
+            for (xi, w) in gauss_points(&o[0]) {
+                let n = edge::shape(count, xi);
+                let phi = aj[0] * n[0] + aj[1] * n[1] + aj[2] * n[2];
+                pk += w * phi * n[k];
+                nk += w * n[k];
+            }
+            scale = scale.max(nk.abs()).max(hi - lo);
+            let want = if j == k { nk } else { 0.0 };
+            // M_e's condition number grows as (hi − lo)⁻² on a quadratic edge.
+            assert!(
+                (pk - want).abs() < 1e-13 * scale / (hi - lo).powi(2),
+                "{count} nodes on [{lo}, {hi}], j {j} k {k}: {pk} vs {want}"
+            );
+        }
+    }
+}
+
 #[test]
 fn partial_dual_basis_is_biorthogonal_on_the_covered_part() {
-    let o = [Overlap {
-        lo: 0.3,
-        hi: 0.8,
-        master: [0, 1],
-    }];
-    let a = dual_coefficients(&o).unwrap();
-    // ∫ Φ_j N_k over [0.3, 0.8] = δ_jk ∫ N_k.
-    for (j, aj) in a.iter().enumerate() {
-        for k in 0..2 {
-            let (mut pk, mut nk) = (0.0, 0.0);
-            for &(t, w) in &GAUSS {
-                let xi = 0.3 + 0.5 * t;
-                let n = [1.0 - xi, xi];
-                let phi = aj[0] * n[0] + aj[1] * n[1];
-                pk += 0.5 * w * phi * n[k];
-                nk += 0.5 * w * n[k];
-            }
-            let want = if j == k { nk } else { 0.0 };
-            assert!((pk - want).abs() < 1e-14, "j {j} k {k}: {pk} vs {want}");
+    assert_biorthogonal(2, 0.3, 0.8);
+}
+
+#[test]
+fn quadratic_dual_basis_is_biorthogonal_full_and_partial() {
+    assert_biorthogonal(3, 0.0, 1.0);
+    assert_biorthogonal(3, 0.3, 0.8);
+    assert_biorthogonal(3, 0.0, 0.01);
+    // Full coverage: D_jj = ∫ N_j = 1/6, 1/6, 2/3, and the dual basis is
+    // the closed form A = D M⁻¹ with M = (1/30)[[4, −1, 2], [−1, 4, 2], [2, 2, 16]].
+    let a = dual_coefficients(&unit_edge(3), &[overlap(0.0, 1.0)]).unwrap();
+    let want = [[1.5, 0.5, -0.25], [0.5, 1.5, -0.25], [-1.0, -1.0, 1.5]];
+    for j in 0..3 {
+        for k in 0..3 {
+            assert!((a[j][k] - want[j][k]).abs() < 1e-12, "{a:?}");
         }
     }
 }
