@@ -243,6 +243,86 @@ fn two_cylinders_match_hertz_with_the_combined_curvature() {
     }
 }
 
+fn pressures(o: &RunOutput) -> Vec<f64> {
+    o.contact_rows.iter().map(|r| r.pressure).collect()
+}
+
+/// Every method of the registry on the mortar patch test (the pad is held
+/// by contact alone: SMALBE around every method but the status method) and
+/// on the two cylinders (a non-trivial active set): the status method's
+/// pressures, to round-off for the exact methods (they end with a solve on
+/// the active set they found), and within the deviation the penalty method
+/// reports of itself (≈ 1/k).
+#[test]
+fn every_contact_method_gives_the_mortar_answer() {
+    let cases = [
+        patch_with("mortar", false, "quad4", "quad8"),
+        cylinders("mortar", "quad4"),
+    ];
+    for (c, text) in cases.iter().enumerate() {
+        let text = text.replace(
+            "[[contact]]",
+            "[solver]\nmax_iterations = 100000\npenalty = 1e10\n\n[[contact]]",
+        );
+        let run = |m: Method| {
+            let opts = RunOptions {
+                method: Some(m),
+                path: Some(SolvePath::Condensed),
+            };
+            let o = try_run(&text, opts).unwrap_or_else(|e| panic!("{m:?}: {e}"));
+            assert!(
+                o.report.converged,
+                "case {c}, {m:?}: {:?}",
+                o.report.failure
+            );
+            o
+        };
+        let reference = run(Method::Status);
+        let active = reference.report.steps[0].active;
+        if c == 0 {
+            let (dev, _) = pressure_error(&reference, 1.0);
+            assert!(dev <= 1e-8, "patch: pressure off by {dev:e}");
+        } else {
+            assert!(
+                active > 5 && active < reference.report.contact_points,
+                "{active}"
+            );
+        }
+        for m in Method::ALL.into_iter().filter(|&m| m != Method::Status) {
+            let o = run(m);
+            assert_eq!(o.report.solver["method"], m.as_str());
+            let d = max_rel(&pressures(&o), &pressures(&reference));
+            let tol = match &o.report.steps[0].regularisation {
+                // The penalty method: its own measure of its deviation.
+                Some(r) => {
+                    assert!(r.force_deviation <= 1e-6, "{m:?}: {r:?}");
+                    2.0 * r.force_deviation + 1e-9
+                }
+                None => 1e-9,
+            };
+            eprintln!("case {c} {m:?}: pressures differ by {d:.2e} (tolerance {tol:.1e})");
+            assert!(d <= tol, "case {c}, {m:?}: pressures differ by {d:e}");
+        }
+        // The registry's other entries: the status method with penalty-
+        // imposed constraints (status_penalty) and with single changes.
+        for (extra, name) in [
+            (
+                "constraints = \"penalty\"\npenalty = 1e12",
+                "status_penalty",
+            ),
+            ("status_changes = \"single\"", "status"),
+        ] {
+            let o = converged(
+                &text.replace("penalty = 1e10", extra),
+                RunOptions::default(),
+            );
+            assert_eq!(o.report.solver["method"], name);
+            let d = max_rel(&pressures(&o), &pressures(&reference));
+            assert!(d <= 1e-8, "case {c}, {extra}: pressures differ by {d:e}");
+        }
+    }
+}
+
 #[test]
 fn mortar_with_coulomb_friction_holds_a_sideways_load() {
     // The pad is not pinned in x: the sideways traction 0.1 (a tenth of the
