@@ -323,20 +323,26 @@ fn every_contact_method_gives_the_mortar_answer() {
     }
 }
 
-#[test]
-fn mortar_with_coulomb_friction_holds_a_sideways_load() {
-    // The pad is not pinned in x: the sideways traction 0.1 (a tenth of the
-    // pressure, under μ = 0.3) is carried by friction alone, resultant 0.2.
-    let text = patch("mortar", false)
+/// The patch test (quadratic pad on a linear base) with the pad free in x
+/// and a sideways traction 0.1 (a tenth of the pressure) carried by friction
+/// alone, `friction` on the contact: resultant 0.2.
+fn sideways_patch(friction: &str) -> String {
+    patch_with("mortar", false, "quad4", "quad8")
         .replace(
             "discretization = \"mortar\"\n\n[reference]",
-            "discretization = \"mortar\"\nfriction = { coulomb = 0.3 }\n\n[reference]",
+            &format!("discretization = \"mortar\"\nfriction = {friction}\n\n[reference]"),
         )
         .replace("traction = [0.0, -1.0]", "traction = [0.1, -1.0]")
         .replace(
             "[[boundary]]\nname = \"pin-pad\"\nbody = \"pad\"\npoint = [0.0, 1.0]\ndisplacement = { x = 0.0 }\n",
             "",
-        );
+        )
+}
+
+#[test]
+fn mortar_with_coulomb_friction_holds_a_sideways_load() {
+    // Coulomb μ = 0.3 by each friction solver: the same answer.
+    let text = sideways_patch("{ coulomb = 0.3 }");
     let o = converged_on(&text, SolvePath::Condensed);
     let n: f64 = o.contact_rows.iter().map(|r| r.normal_force).sum();
     let t: f64 = o.contact_rows.iter().map(|r| r.tangential_force).sum();
@@ -356,6 +362,70 @@ fn mortar_with_coulomb_friction_holds_a_sideways_load() {
         "{:?}",
         o.contact_rows
     );
+    let tangential =
+        |o: &RunOutput| -> Vec<f64> { o.contact_rows.iter().map(|r| r.tangential_force).collect() };
+    for solver in ["status", "newton"] {
+        let other = converged_on(
+            &text.replace(
+                "[reference]",
+                &format!("[solver]\nfriction = \"{solver}\"\n\n[reference]"),
+            ),
+            SolvePath::Condensed,
+        );
+        assert_ne!(other.report.solver["method"], o.report.solver["method"]);
+        let dn = max_rel(&common::forces(&other), &common::forces(&o));
+        let dt = max_rel(&tangential(&other), &tangential(&o));
+        assert!(
+            dn <= 1e-8 && dt <= 1e-8,
+            "friction = {solver}: {dn:e} {dt:e}"
+        );
+    }
+}
+
+#[test]
+fn mortar_with_tresca_friction_by_mprgp_equals_the_status_method() {
+    // The pad's top pushed down and sideways (no body held by contact
+    // alone, which the box method cannot solve; every point closed, where
+    // the box and the status method solve the same Tresca problem), with a
+    // Tresca threshold 0.1 (a traction): most points slip, some stick.
+    let text = patch_with("mortar", false, "quad4", "quad8")
+        .replace(
+            "discretization = \"mortar\"\n\n[reference]",
+            "discretization = \"mortar\"\nfriction = { tresca = 0.1 }\n\n[reference]",
+        )
+        .replace(
+            "traction = [0.0, -1.0]",
+            "displacement = { x = 0.002, y = -0.02 }",
+        )
+        .replace(
+            "[[boundary]]\nname = \"pin-pad\"\nbody = \"pad\"\npoint = [0.0, 1.0]\ndisplacement = { x = 0.0 }\n",
+            "",
+        )
+        .replace("[reference]\nkind = \"uniform_pressure\"\npressure = 1.0\n", "");
+    let a = converged_on(&text, SolvePath::Condensed);
+    let b = converged(
+        &text,
+        RunOptions {
+            method: Some(Method::Mprgp),
+            path: Some(SolvePath::Condensed),
+        },
+    );
+    assert_eq!(a.report.solver["method"], "tresca_status");
+    assert_eq!(b.report.solver["method"], "tresca_mprgp_box");
+    common::assert_same(&a, &b, 1e-8);
+    let status = |s: &str| a.contact_rows.iter().filter(|r| r.status == s).count();
+    assert!(status("slip") >= 2 && status("stick") >= 2 && status("open") == 0);
+    for r in &a.contact_rows {
+        // The threshold is a traction: the force bound is 0.1 D_jj.
+        let bound = 0.1 * r.normal_force / r.pressure;
+        assert!(r.tangential_force.abs() <= bound * (1.0 + 1e-9), "{r:?}");
+        if r.status == "slip" {
+            assert!(
+                (r.tangential_force.abs() - bound).abs() <= 1e-9 * bound,
+                "{r:?}"
+            );
+        }
+    }
 }
 
 fn input_error(text: &str) -> String {
@@ -385,11 +455,39 @@ fn mortar_refuses_3d_axisymmetric_and_rigid_masters() {
     );
 }
 
+/// contact.csv of `signorini run scene --out out`, in one process or under
+/// `mpirun -n 2`: its rows' numbers.
+#[cfg(feature = "mpi")]
+fn contact_csv_of_run(mpi: bool, scene: &std::path::Path, out: &std::path::Path) -> Vec<Vec<f64>> {
+    use std::process::Command;
+    let bin = env!("CARGO_BIN_EXE_signorini");
+    let mut c = if mpi {
+        let mut c = Command::new("mpirun");
+        c.args(["-n", "2", bin]);
+        common::mpi_env(&mut c);
+        c
+    } else {
+        Command::new(bin)
+    };
+    let o = c
+        .arg("run")
+        .arg(scene)
+        .arg("--out")
+        .arg(out)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let text = std::fs::read_to_string(out.join("contact.csv")).unwrap();
+    text.lines()
+        .skip(1)
+        .map(|l| l.split(',').filter_map(|v| v.parse().ok()).collect())
+        .collect()
+}
+
 #[cfg(feature = "mpi")]
 #[test]
 fn mortar_patch_under_mpirun_2_equals_the_in_process_run() {
-    use std::process::Command;
-    let ok = Command::new("mpirun")
+    let ok = std::process::Command::new("mpirun")
         .arg("--version")
         .output()
         .is_ok_and(|o| o.status.success());
@@ -398,32 +496,9 @@ fn mortar_patch_under_mpirun_2_equals_the_in_process_run() {
         return;
     }
     let d = common::fresh_dir("mortar", "mpirun2");
-    let run = |mpi: bool, out: &std::path::Path| {
-        let bin = env!("CARGO_BIN_EXE_signorini");
-        let mut c = if mpi {
-            let mut c = Command::new("mpirun");
-            c.args(["-n", "2", bin]);
-            common::mpi_env(&mut c);
-            c
-        } else {
-            Command::new(bin)
-        };
-        let o = c
-            .args(["run", &example_path("mortar_patch.toml"), "--out"])
-            .arg(out)
-            .output()
-            .unwrap();
-        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-        let text = std::fs::read_to_string(out.join("contact.csv")).unwrap();
-        let rows: Vec<Vec<f64>> = text
-            .lines()
-            .skip(1)
-            .map(|l| l.split(',').filter_map(|v| v.parse().ok()).collect())
-            .collect();
-        rows
-    };
-    let a = run(false, &d.join("local"));
-    let b = run(true, &d.join("mpi"));
+    let scene = std::path::PathBuf::from(example_path("mortar_patch.toml"));
+    let a = contact_csv_of_run(false, &scene, &d.join("local"));
+    let b = contact_csv_of_run(true, &scene, &d.join("mpi"));
     let report = std::fs::read_to_string(d.join("mpi").join("report.json")).unwrap();
     let report: serde_json::Value = serde_json::from_str(&report).unwrap();
     assert_eq!(report["ranks"], 2);
@@ -437,5 +512,19 @@ fn mortar_patch_under_mpirun_2_equals_the_in_process_run() {
     for r in &b {
         let p = r[r.len() - 1];
         assert!((p - 1.0).abs() <= 1e-8, "pressure {p}");
+    }
+    // Coulomb friction on quadratic slave edges (the sideways patch test):
+    // the same rows under mpirun.
+    let friction = d.join("friction.toml");
+    std::fs::write(&friction, sideways_patch("{ coulomb = 0.3 }")).unwrap();
+    let a = contact_csv_of_run(false, &friction, &d.join("local-friction"));
+    let b = contact_csv_of_run(true, &friction, &d.join("mpi-friction"));
+    assert_eq!(a.len(), 21);
+    assert_eq!(a.len(), b.len());
+    // step, point, x, y, gap, normal_force, tangential_force, slip, pressure
+    let tangential: f64 = b.iter().map(|r| r[6]).sum();
+    assert!((tangential.abs() - 0.2).abs() <= 1e-9 * 0.2, "{tangential}");
+    for (x, y) in a.iter().zip(&b) {
+        assert!(max_rel(x, y) <= 1e-10, "{x:?} vs {y:?}");
     }
 }
