@@ -126,6 +126,50 @@ fn non_matching_flat_rows_are_consistent() {
 }
 
 #[test]
+fn quadratic_non_matching_flat_rows_are_consistent() {
+    // Quad8 slave (10 edges, mid-side nodes included) on a Tri6 master (7).
+    let gap = 0.01;
+    let m = rectangle([0.0, 0.0], [1.0, 0.5], [7, 2], CellKind::Tri6, None).unwrap();
+    let s = rectangle([0.0, 0.5 + gap], [1.0, 0.5], [10, 2], CellKind::Quad8, None).unwrap();
+    let p = pairing(&m, &s);
+    assert_eq!(p.pairing.points.len(), 21);
+    assert_eq!(p.pairing.dropped.total(), 0);
+    let total: f64 = p.measure.values().sum();
+    assert!((total - 1.0).abs() < 1e-13, "Σ D_jj = {total}");
+    let mids: std::collections::BTreeSet<usize> = s.surfaces["bottom"]
+        .facets
+        .iter()
+        .map(|f| f.nodes[2])
+        .collect();
+    for pt in &p.pairing.points {
+        // D_jj = ∫ N_j: 2h/3 at a mid-side node, h/3 at an inner corner,
+        // h/6 at an end (h = 0.1).
+        let d = p.measure[&pt.slave_node];
+        let end = pt.x[0] < 1e-9 || pt.x[0] > 1.0 - 1e-9;
+        let want = if mids.contains(&pt.slave_node) {
+            0.2 / 3.0
+        } else if end {
+            0.1 / 6.0
+        } else {
+            0.1 / 3.0
+        };
+        assert!((d - want).abs() < 1e-14, "{d} vs {want}");
+        let sum: f64 = pt.terms.iter().map(|t| t.weight).sum();
+        assert!(sum.abs() < 1e-13, "row sum {sum}");
+        assert!((pt.gap0 - gap).abs() < 1e-13, "gap0 {}", pt.gap0);
+        // Master weights reproduce the slave node's abscissa (linear
+        // fields are reproduced on a flat interface).
+        let xm: f64 = pt
+            .terms
+            .iter()
+            .filter(|t| t.side == TermSide::Master)
+            .map(|t| -t.weight * m.coords[t.node][0])
+            .sum();
+        assert!((xm - pt.x[0]).abs() < 1e-13, "{xm} vs {}", pt.x[0]);
+    }
+}
+
+#[test]
 fn a_slave_wider_than_the_master_drops_the_uncovered_nodes() {
     let m = rectangle([0.25, 0.0], [0.5, 0.5], [3, 2], CellKind::Quad4, None).unwrap();
     let s = rectangle([0.0, 0.5], [1.0, 0.5], [8, 2], CellKind::Quad4, None).unwrap();
