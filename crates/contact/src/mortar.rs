@@ -239,7 +239,9 @@ fn inverse_spd(mut m: [[f64; 3]; 3], p: usize) -> Option<[[f64; 3]; 3]> {
     let diagonal = [0, 1, 2].map(|k| m[k][k]);
     for k in 0..p {
         let pivot = m[k][k];
-        if !(pivot > PIVOT_FLOOR * diagonal[k]) || diagonal[k] <= 0.0 {
+        // Also false for a NaN pivot.
+        let sound = pivot > PIVOT_FLOOR * diagonal[k] && diagonal[k] > 0.0;
+        if !sound {
             return None;
         }
         for j in 0..p {
