@@ -191,3 +191,46 @@ fn rigid_masters_are_refused() {
     let e = mortar_pairing(&s, &s.surfaces["bottom"], &plane).unwrap_err();
     assert!(e.to_string().contains("deformable master"), "{e}");
 }
+
+/// The parabola y = 4η(1 − η)·h through (0, 0), (2, 0) with its mid-side
+/// node at (1, h): a curved quadratic edge.
+fn parabola(h: f64) -> edge::Edge {
+    edge::Edge {
+        nodes: [0, 1, 2],
+        count: 3,
+        x: [[0.0, 0.0, 0.0], [2.0, 0.0, 0.0], [1.0, h, 0.0]],
+    }
+}
+
+#[test]
+fn projections_onto_a_curved_quadratic_edge_follow_its_curve() {
+    let e = parabola(1.0);
+    // x(η) = 2η: the vertical line x = 0.5 meets the curve at η = 1/4.
+    let eta = e.parameter_along([0.5, 5.0, 0.0], [0.0, -1.0, 0.0]).unwrap();
+    assert!((eta - 0.25).abs() < 1e-14, "{eta}");
+    let p = e.point(eta);
+    assert!((p[1] - 0.75).abs() < 1e-14, "{p:?}");
+    // Beyond the end: the side is kept (a parameter > 1).
+    let eta = e.parameter_along([2.5, 5.0, 0.0], [0.0, -1.0, 0.0]).unwrap();
+    assert!(eta > 1.0, "{eta}");
+    // A slave edge on the same curve with its exact unit normals at the
+    // nodes: the normal line at the returned ξ passes through y.
+    let unit_normal = |xi: f64| {
+        let t = e.tangent(xi);
+        let l = t[0].hypot(t[1]);
+        [t[1] / l, -t[0] / l, 0.0]
+    };
+    let seg = SlaveEdge {
+        edge: e,
+        n: [unit_normal(0.0), unit_normal(1.0), unit_normal(0.5)],
+    };
+    // Beyond the normal line of the end c1 (along (−2, −1)/√5): ξ > 1.
+    assert!(seg.parameter_of([1.9, -0.4, 0.0]).unwrap() > 1.0);
+    for y in [[0.3, 0.2, 0.0], [1.2, 1.5, 0.0], [1.2, -0.1, 0.0]] {
+        let xi = seg.parameter_of(y).unwrap();
+        assert!((0.0..=1.0).contains(&xi), "y {y:?}: {xi}");
+        let (x, n) = (seg.point(xi), seg.normal(xi));
+        let miss = edge::cross2(sub(x, y), n) / norm(n);
+        assert!(miss.abs() < 1e-13, "y {y:?}: ξ {xi}, off the line by {miss}");
+    }
+}
