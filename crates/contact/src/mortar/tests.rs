@@ -206,12 +206,16 @@ fn parabola(h: f64) -> edge::Edge {
 fn projections_onto_a_curved_quadratic_edge_follow_its_curve() {
     let e = parabola(1.0);
     // x(η) = 2η: the vertical line x = 0.5 meets the curve at η = 1/4.
-    let eta = e.parameter_along([0.5, 5.0, 0.0], [0.0, -1.0, 0.0]).unwrap();
+    let eta = e
+        .parameter_along([0.5, 5.0, 0.0], [0.0, -1.0, 0.0])
+        .unwrap();
     assert!((eta - 0.25).abs() < 1e-14, "{eta}");
     let p = e.point(eta);
     assert!((p[1] - 0.75).abs() < 1e-14, "{p:?}");
     // Beyond the end: the side is kept (a parameter > 1).
-    let eta = e.parameter_along([2.5, 5.0, 0.0], [0.0, -1.0, 0.0]).unwrap();
+    let eta = e
+        .parameter_along([2.5, 5.0, 0.0], [0.0, -1.0, 0.0])
+        .unwrap();
     assert!(eta > 1.0, "{eta}");
     // A slave edge on the same curve with its exact unit normals at the
     // nodes: the normal line at the returned ξ passes through y.
@@ -231,6 +235,9 @@ fn projections_onto_a_curved_quadratic_edge_follow_its_curve() {
         assert!((0.0..=1.0).contains(&xi), "y {y:?}: {xi}");
         let (x, n) = (seg.point(xi), seg.normal(xi));
         let miss = edge::cross2(sub(x, y), n) / norm(n);
-        assert!(miss.abs() < 1e-13, "y {y:?}: ξ {xi}, off the line by {miss}");
+        assert!(
+            miss.abs() < 1e-13,
+            "y {y:?}: ξ {xi}, off the line by {miss}"
+        );
     }
 }
