@@ -1,5 +1,5 @@
-//! Mortar contact in 2D (segment-to-segment, linear slave and master edges)
-//! with dual Lagrange multipliers.
+//! Mortar contact in 2D (segment-to-segment; linear or quadratic slave and
+//! master edges) with dual Lagrange multipliers.
 //!
 //! References: B. Wohlmuth, "A mortar finite element method using dual
 //! spaces for the Lagrange multiplier", SINUM 38 (2000); A. Popp, M. Gee,
@@ -20,18 +20,28 @@
 //! contact normal at node j (the slave's averaged nodal normal, reversed: from
 //! master to slave). The dual basis is biorthogonal to the slave's shape
 //! functions on Γ_c, ∫_Γc Φ_j N_k = δ_jk ∫_Γc N_k, so D is diagonal. On a
-//! fully projected 2-node segment Φ_1 = 2N_1 − N_2, Φ_2 = 2N_2 − N_1; on a
-//! partly projected one the coefficients come from the covered part only,
-//! A_e = D_e M_e⁻¹ (D_e = diag ∫N, M_e = ∫N Nᵀ over the covered part; the
-//! "boundary modification" of Popp et al.), which keeps D_jj = ∫_Γc N_j > 0.
+//! fully projected 2-node segment Φ_1 = 2N_1 − N_2, Φ_2 = 2N_2 − N_1; in
+//! general (a partly projected edge, a 3-node edge) the coefficients come
+//! from the covered part only, A_e = D_e M_e⁻¹ (D_e = diag ∫N, M_e = ∫N Nᵀ
+//! over the covered part; the "boundary modification" of Popp et al.), which
+//! keeps D_jj = ∫_Γc N_j > 0 (on a quadratic edge ∫N = 1/6, 1/6, 2/3 of its
+//! length: every node has a positive measure, see [`edge`]).
+//!
+//! Edges: 2 nodes `[c0, c1]` or 3 `[c0, c1, mid]` (the facets of Quad8 and
+//! Tri6 cells), with their shape functions on ξ ∈ [0, 1]; the geometry is
+//! the edge's own, x(ξ) = Σ N_k(ξ) x_k (curved for a quadratic edge whose
+//! mid-side node is off the chord), dγ = |x'(ξ)| dξ, and the normal field is
+//! interpolated with the same shape functions.
 //!
 //! Overlap (Popp et al. §4.1): the master end points are projected onto each
-//! slave segment along n(ξ) (a quadratic equation in ξ); the overlap is an
-//! interval of ξ (kept when the master lies in front of the slave within the
-//! search distance, or behind it by less than the slave segment's length),
-//! integrated with a 4-point Gauss rule, at each point of which
-//! the slave point is projected onto the master segment along n(ξ). On flat
-//! interfaces the integrands are polynomials of degree ≤ 2: exact.
+//! slave edge along n(ξ) (a quadratic equation in ξ on a 2-node edge, Newton
+//! on a 3-node one); the overlap is an interval of ξ (kept when the master
+//! lies in front of the slave within the search distance, or behind it by
+//! less than the slave edge's length), integrated with a 4-point Gauss rule,
+//! at each point of which the slave point is projected onto the master edge
+//! along n(ξ) (closed form on a straight edge, Newton on a quadratic one). On
+//! flat interfaces the integrands are polynomials of degree ≤ 2 (linear
+//! edges) or ≤ 4 (quadratic edges with centred mid-side nodes): exact.
 //!
 //! Each slave node gives one [`ContactPoint`] whose row is the weighted gap
 //! divided by D_jj: n_j·(u_j − Σ_l (M_jl/D_jj) u_l), gap0 = g̃0_j/D_jj. Its
@@ -53,6 +63,7 @@ use crate::geometry::{
     TermSide,
 };
 use crate::ContactError;
+use edge::{Edge, SlaveEdge};
 
 /// Gauss–Legendre points and weights on [0, 1] (4 points: exact to degree 7).
 const GAUSS: [(f64, f64); 4] = [
@@ -77,81 +88,24 @@ pub struct MortarPairing {
     pub measure: BTreeMap<usize, f64>,
 }
 
-/// One overlap of a slave segment with a master segment: the slave
-/// parameter interval [lo, hi] ⊂ [0, 1] and the master nodes (c, d).
+/// One overlap of a slave edge with a master edge: the slave parameter
+/// interval [lo, hi] ⊂ [0, 1] and the master edge.
 struct Overlap {
     lo: f64,
     hi: f64,
-    master: [usize; 2],
+    master: Edge,
 }
 
-/// A 2-node slave segment: its nodes, end points and outward nodal normals.
-struct SlaveSegment {
-    nodes: [usize; 2],
-    x: [[f64; 3]; 2],
-    n: [[f64; 3]; 2],
+/// The Gauss points (ξ, weight in ξ) of an overlap.
+fn gauss_points(o: &Overlap) -> impl Iterator<Item = (f64, f64)> + '_ {
+    GAUSS
+        .iter()
+        .map(move |&(t, w)| (o.lo + t * (o.hi - o.lo), w * (o.hi - o.lo)))
 }
 
-impl SlaveSegment {
-    fn point(&self, xi: f64) -> [f64; 3] {
-        lerp(self.x[0], self.x[1], xi)
-    }
-
-    fn normal(&self, xi: f64) -> [f64; 3] {
-        lerp(self.n[0], self.n[1], xi)
-    }
-
-    fn length(&self) -> f64 {
-        norm(sub(self.x[1], self.x[0]))
-    }
-
-    /// The slave parameter ξ whose interpolated normal line passes through
-    /// y: cross(x(ξ) − y, n(ξ)) = 0, a quadratic in ξ; the root nearest the
-    /// segment's middle.
-    fn parameter_of(&self, y: [f64; 3]) -> Option<f64> {
-        let r = sub(self.x[0], y);
-        let e = sub(self.x[1], self.x[0]);
-        let dn = sub(self.n[1], self.n[0]);
-        let (c0, c1, c2) = (
-            cross2(r, self.n[0]),
-            cross2(r, dn) + cross2(e, self.n[0]),
-            cross2(e, dn),
-        );
-        let scale = c1.abs().max(c0.abs()).max(f64::MIN_POSITIVE);
-        if c2.abs() <= 1e-12 * scale {
-            return (c1.abs() > 0.0).then(|| -c0 / c1);
-        }
-        let disc = c1 * c1 - 4.0 * c2 * c0;
-        if disc < 0.0 {
-            return None;
-        }
-        let q = -0.5 * (c1 + c1.signum() * disc.sqrt());
-        let roots = [q / c2, if q != 0.0 { c0 / q } else { q / c2 }];
-        roots
-            .into_iter()
-            .min_by(|a, b| (a - 0.5).abs().total_cmp(&(b - 0.5).abs()))
-    }
-}
-
-fn lerp(a: [f64; 3], b: [f64; 3], t: f64) -> [f64; 3] {
-    [0, 1, 2].map(|k| a[k] + t * (b[k] - a[k]))
-}
-
-fn cross2(a: [f64; 3], b: [f64; 3]) -> f64 {
-    a[0] * b[1] - a[1] * b[0]
-}
-
-/// The parameter η ∈ ℝ of the point of the line c–d met by the line
-/// through x along n (None when they are parallel).
-fn line_parameter(c: [f64; 3], d: [f64; 3], x: [f64; 3], n: [f64; 3]) -> Option<f64> {
-    let f = sub(d, c);
-    let den = cross2(f, n);
-    (den.abs() > 1e-14 * norm(f) * norm(n)).then(|| -cross2(sub(c, x), n) / den)
-}
-
-/// The 2D mortar pairing of a slave surface of linear edges with a
-/// deformable master surface of linear edges (see the module
-/// documentation). Slave nodes whose segments do not project onto the
+/// The 2D mortar pairing of a slave surface of linear or quadratic edges
+/// with a deformable master surface of linear or quadratic edges (see the
+/// module documentation). Slave nodes whose edges do not project onto the
 /// master (within the [`search_distance`]) are not contact points; they are
 /// counted as `off_surface` in [`Dropped`].
 pub fn mortar_pairing(
@@ -174,10 +128,10 @@ pub fn mortar_pairing(
             "mortar is implemented in 2D only (in 3D use node_to_face)".into(),
         ));
     }
-    let linear = |s: &Surface| s.facets.iter().all(|f| f.nodes.len() == 2);
-    if !linear(slave_surface) || !linear(m_surf) {
+    let edges = |s: &Surface| s.facets.iter().all(|f| matches!(f.nodes.len(), 2 | 3));
+    if !edges(slave_surface) || !edges(m_surf) {
         return Err(ContactError::Geometry(
-            "mortar is implemented for linear (2-node) edges only, not quadratic ones (use node_to_segment)"
+            "mortar needs edges of 2 nodes (linear) or 3 (quadratic: corner, corner, mid-side)"
                 .into(),
         ));
     }
@@ -185,41 +139,41 @@ pub fn mortar_pairing(
     let normals: BTreeMap<usize, [f64; 3]> = nodal_normals(slave_mesh, slave_surface)
         .into_iter()
         .collect();
+    let masters: Vec<(Edge, [f64; 2])> = m_surf
+        .facets
+        .iter()
+        .map(|f| (Edge::of(m_mesh, f), m_mesh.facet_normal_2d(f).0))
+        .collect();
     let mut d = BTreeMap::<usize, f64>::new();
     let mut m = BTreeMap::<usize, BTreeMap<usize, f64>>::new();
     for f in &slave_surface.facets {
-        let nodes = [f.nodes[0], f.nodes[1]];
-        let seg = SlaveSegment {
-            nodes,
-            x: nodes.map(|k| slave_mesh.coords[k]),
-            n: nodes.map(|k| normals.get(&k).copied().unwrap_or([0.0; 3])),
+        let edge = Edge::of(slave_mesh, f);
+        let seg = SlaveEdge {
+            edge,
+            n: edge
+                .nodes
+                .map(|k| normals.get(&k).copied().unwrap_or([0.0; 3])),
         };
-        let overlaps = segment_overlaps(&seg, m_mesh, m_surf, reach);
-        integrate_segment(&seg, &overlaps, m_mesh, &mut d, &mut m);
+        let overlaps = segment_overlaps(&seg, &masters, reach);
+        integrate_segment(&seg, &overlaps, &mut d, &mut m);
     }
     Ok(mortar_points(slave_mesh, &normals, &d, &m, m_mesh, reach))
 }
 
-/// The overlaps of a slave segment with the master segments that face it
-/// within `reach` along the slave normal (a master point behind the slave,
-/// an initial overlap, by less than the segment's length).
-fn segment_overlaps(
-    seg: &SlaveSegment,
-    m_mesh: &Mesh,
-    m_surf: &Surface,
-    reach: f64,
-) -> Vec<Overlap> {
+/// The overlaps of a slave edge with the master edges (with their outward
+/// chord normals) that face it within `reach` along the slave normal (a
+/// master point behind the slave, an initial overlap, by less than the
+/// edge's length).
+fn segment_overlaps(seg: &SlaveEdge, masters: &[(Edge, [f64; 2])], reach: f64) -> Vec<Overlap> {
     let mut out = Vec::new();
     let outward = seg.normal(0.5);
-    for f in &m_surf.facets {
-        let (c, dn) = (f.nodes[0], f.nodes[1]);
-        let (yc, yd) = (m_mesh.coords[c], m_mesh.coords[dn]);
-        let (nm, _) = m_mesh.facet_normal_2d(f);
-        // The master segment must face the slave.
+    for &(master, nm) in masters {
+        // The master edge must face the slave.
         if nm[0] * outward[0] + nm[1] * outward[1] >= 0.0 {
             continue;
         }
-        let (Some(a), Some(b)) = (seg.parameter_of(yc), seg.parameter_of(yd)) else {
+        let (Some(a), Some(b)) = (seg.parameter_of(master.x[0]), seg.parameter_of(master.x[1]))
+        else {
             continue;
         };
         let (lo, hi) = (a.min(b).max(0.0), a.max(b).min(1.0));
@@ -229,89 +183,107 @@ fn segment_overlaps(
         let mid = 0.5 * (lo + hi);
         let (x, n) = (seg.point(mid), seg.normal(mid));
         // In front of the slave within the search distance, or behind it
-        // (an initial overlap) by less than the segment's length: not a
-        // master facet on the far side of the slave body.
-        // The overlap's middle must project inside the master segment: the
-        // end points' parameters can straddle the slave segment without
+        // (an initial overlap) by less than the edge's length: not a
+        // master edge on the far side of the slave body.
+        // The overlap's middle must project inside the master edge: the
+        // end points' parameters can straddle the slave edge without
         // facing it (two normal lines nearly parallel to the master).
-        let near = line_parameter(yc, yd, x, n).is_some_and(|eta| {
-            let along = dot(sub(lerp(yc, yd, eta), x), n) / norm(n);
-            (-SLIVER..=1.0 + SLIVER).contains(&eta) && along <= reach && along >= -seg.length()
+        let near = master.parameter_along(x, n).is_some_and(|eta| {
+            let along = dot(sub(master.point(eta), x), n) / norm(n);
+            (-SLIVER..=1.0 + SLIVER).contains(&eta) && along <= reach && along >= -seg.edge.chord()
         });
         if near {
-            out.push(Overlap {
-                lo,
-                hi,
-                master: [c, dn],
-            });
+            out.push(Overlap { lo, hi, master });
         }
     }
     out
 }
 
+/// The relative pivot of M_e (to its diagonal entry) below which the
+/// covered part of a slave edge is too short for its dual basis. A 2-node
+/// edge's pivots are at least 1/4 of their diagonal whatever the covered
+/// part; a 3-node edge's smallest falls as (covered fraction)², so covered
+/// parts below about 1e-5 of a quadratic edge are ignored.
+const PIVOT_FLOOR: f64 = 1e-10;
+
 /// The dual basis coefficients A_e = D_e M_e⁻¹ on the covered part of a
-/// slave segment (per unit length), or None when it is too short.
-fn dual_coefficients(overlaps: &[Overlap]) -> Option<[[f64; 2]; 2]> {
-    let (mut me, mut de) = ([[0.0; 2]; 2], [0.0; 2]);
+/// slave edge (Φ_j = Σ_k A_jk N_k), or None when it is too short.
+fn dual_coefficients(seg: &SlaveEdge, overlaps: &[Overlap]) -> Option<[[f64; 3]; 3]> {
+    let p = seg.edge.count;
+    let (mut me, mut de, mut covered) = ([[0.0; 3]; 3], [0.0; 3], 0.0);
     for o in overlaps {
-        for &(t, w) in &GAUSS {
-            let xi = o.lo + t * (o.hi - o.lo);
-            let nn = [1.0 - xi, xi];
-            let w = w * (o.hi - o.lo);
-            for a in 0..2 {
+        covered += o.hi - o.lo;
+        for (xi, w) in gauss_points(o) {
+            let (nn, w) = (seg.edge.shape(xi), w * seg.jacobian(xi));
+            for a in 0..p {
                 de[a] += w * nn[a];
-                for b in 0..2 {
+                for b in 0..p {
                     me[a][b] += w * nn[a] * nn[b];
                 }
             }
         }
     }
-    let covered = de[0] + de[1];
     if covered <= SLIVER {
         return None;
     }
-    let det = me[0][0] * me[1][1] - me[0][1] * me[1][0];
-    // det ≈ covered⁴/12 for a short covered part.
-    if det <= 1e-3 * covered.powi(4) * SLIVER {
-        return None;
-    }
-    let inv = [
-        [me[1][1] / det, -me[0][1] / det],
-        [-me[1][0] / det, me[0][0] / det],
-    ];
-    Some([0, 1].map(|a| [0, 1].map(|b| de[a] * inv[a][b])))
+    let inv = inverse_spd(me, p)?;
+    Some([0, 1, 2].map(|a| [0, 1, 2].map(|b| de[a] * inv[a][b])))
 }
 
-/// Adds a slave segment's contributions to D (diagonal) and M.
+/// The inverse of the symmetric positive definite leading p × p block of m
+/// (Gauss–Jordan), None when a pivot falls below [`PIVOT_FLOOR`] times its
+/// diagonal entry.
+fn inverse_spd(mut m: [[f64; 3]; 3], p: usize) -> Option<[[f64; 3]; 3]> {
+    let mut inv = [[0.0; 3]; 3];
+    (0..p).for_each(|k| inv[k][k] = 1.0);
+    let diagonal = [0, 1, 2].map(|k| m[k][k]);
+    for k in 0..p {
+        let pivot = m[k][k];
+        // Also false for a NaN pivot.
+        let sound = pivot > PIVOT_FLOOR * diagonal[k] && diagonal[k] > 0.0;
+        if !sound {
+            return None;
+        }
+        for j in 0..p {
+            m[k][j] /= pivot;
+            inv[k][j] /= pivot;
+        }
+        for a in (0..p).filter(|&a| a != k) {
+            let f = m[a][k];
+            for j in 0..p {
+                m[a][j] -= f * m[k][j];
+                inv[a][j] -= f * inv[k][j];
+            }
+        }
+    }
+    Some(inv)
+}
+
+/// Adds a slave edge's contributions to D (diagonal) and M.
 fn integrate_segment(
-    seg: &SlaveSegment,
+    seg: &SlaveEdge,
     overlaps: &[Overlap],
-    m_mesh: &Mesh,
     d: &mut BTreeMap<usize, f64>,
     m: &mut BTreeMap<usize, BTreeMap<usize, f64>>,
 ) {
-    let Some(a) = dual_coefficients(overlaps) else {
+    let Some(a) = dual_coefficients(seg, overlaps) else {
         return;
     };
-    let len = seg.length();
     for o in overlaps {
-        let (yc, yd) = (m_mesh.coords[o.master[0]], m_mesh.coords[o.master[1]]);
-        for &(t, w) in &GAUSS {
-            let xi = o.lo + t * (o.hi - o.lo);
-            let w = w * (o.hi - o.lo) * len;
+        for (xi, w) in gauss_points(o) {
+            let w = w * seg.jacobian(xi);
             let (x, n) = (seg.point(xi), seg.normal(xi));
-            let Some(eta) = line_parameter(yc, yd, x, n) else {
+            let Some(eta) = o.master.parameter_along(x, n) else {
                 continue;
             };
-            let eta = eta.clamp(0.0, 1.0);
-            let ns = [1.0 - xi, xi];
-            let nm = [1.0 - eta, eta];
-            for (aj, &sj) in a.iter().zip(&seg.nodes) {
-                let phi = aj[0] * ns[0] + aj[1] * ns[1];
+            let ns = seg.edge.shape(xi);
+            let nm = o.master.shape(eta.clamp(0.0, 1.0));
+            for (aj, &sj) in a.iter().zip(seg.edge.nodes()) {
+                let phi = aj[0] * ns[0] + aj[1] * ns[1] + aj[2] * ns[2];
                 // Lumped row: Σ_k ∫Φ_j N_k = ∫Φ_j = D_jj by biorthogonality.
                 *d.entry(sj).or_insert(0.0) += w * phi;
                 let row = m.entry(sj).or_default();
-                for (&ml, nml) in o.master.iter().zip(nm) {
+                for (&ml, nml) in o.master.nodes().iter().zip(nm) {
                     *row.entry(ml).or_insert(0.0) += w * phi * nml;
                 }
             }
@@ -380,5 +352,6 @@ pub(crate) fn mortar_points(
     out
 }
 
+mod edge;
 #[cfg(test)]
 mod tests;

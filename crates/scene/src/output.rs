@@ -13,6 +13,13 @@ pub struct Reference {
     /// `hertz_sphere`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub radius: Option<f64>,
+    /// Radius of the other body's surface in a two-body Hertz contact
+    /// (optional; hertz_cylinder, hertz_sphere, cattaneo_mindlin): > 0 for
+    /// a convex surface (two cylinders or spheres), < 0 for a concave seat
+    /// wider than the first body. The reference then uses the combined
+    /// radius 1/R = 1/radius + 1/radius2 (see [`Reference::effective_radius`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub radius2: Option<f64>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub pressure: Option<f64>,
     /// Half width of a flat punch.
@@ -21,6 +28,16 @@ pub struct Reference {
     /// Friction coefficient (cattaneo_mindlin, sliding_block).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub friction: Option<f64>,
+}
+
+impl Reference {
+    /// The radius Hertz's formulas take: `radius`, or with `radius2` the
+    /// combined radius R = 1/(1/radius + 1/radius2) (positive once
+    /// validated: a concave seat is wider than the body in it).
+    pub fn effective_radius(&self) -> Option<f64> {
+        let r = self.radius?;
+        Some(self.radius2.map_or(r, |r2| 1.0 / (1.0 / r + 1.0 / r2)))
+    }
 }
 
 /// `reference.kind`.

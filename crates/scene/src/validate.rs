@@ -77,6 +77,39 @@ fn positive(entry: &str, v: f64) -> Result {
     }
 }
 
+/// `reference.radius2`: the other body's radius of a two-body Hertz
+/// contact, finite and non-zero, with `radius`, and for a concave seat
+/// (negative) wider than the body (a positive combined radius).
+fn check_radius2(r: &Reference, v: f64) -> Result {
+    let entry = "reference.radius2";
+    if !matches!(
+        r.kind,
+        ReferenceKind::HertzCylinder | ReferenceKind::HertzSphere | ReferenceKind::CattaneoMindlin
+    ) {
+        return Err(invalid(
+            entry,
+            format!(
+                "is the second radius of a two-body Hertz contact (hertz_cylinder, hertz_sphere, cattaneo_mindlin), not of kind = \"{}\"",
+                r.kind.as_str()
+            ),
+        ));
+    }
+    if !(v.is_finite() && v != 0.0) {
+        return Err(invalid(
+            entry,
+            format!("must be a finite non-zero radius (> 0 convex, < 0 a concave seat), got {v}"),
+        ));
+    }
+    match r.radius {
+        Some(r1) if v < 0.0 && -v <= r1 => Err(invalid(
+            entry,
+            format!("a concave seat (radius2 < 0) must be wider than the body in it: |{v}| <= radius = {r1}"),
+        )),
+        Some(_) => Ok(()),
+        None => Err(invalid(entry, "needs `radius`, the first body's radius")),
+    }
+}
+
 fn non_negative(entry: &str, v: f64) -> Result {
     if v.is_finite() && v >= 0.0 {
         Ok(())
@@ -588,6 +621,9 @@ impl Scene {
         };
         if let Some(v) = r.radius {
             positive("reference.radius", v)?;
+        }
+        if let Some(v) = r.radius2 {
+            check_radius2(r, v)?;
         }
         if let Some(v) = r.half_width {
             positive("reference.half_width", v)?;

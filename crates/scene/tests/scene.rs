@@ -807,6 +807,34 @@ fn solver_reference_output_checks() {
     assert!(m.contains("hertz_cylinder"), "{m}");
     let (e, _) = invalid_entry(&with("[reference]\nkind = \"flat_punch\"\nradius = -1\n"));
     assert_eq!(e, "reference.radius");
+    // Two-body Hertz: the combined radius 1/R = 1/radius + 1/radius2.
+    let s = parse_toml(&with(
+        "[reference]\nkind = \"hertz_cylinder\"\nradius = 1.0\nradius2 = 3.0\n",
+    ))
+    .unwrap();
+    assert_eq!(s.reference.unwrap().effective_radius(), Some(0.75));
+    let s = parse_toml(&with(
+        "[reference]\nkind = \"hertz_cylinder\"\nradius = 1.0\nradius2 = -4.0\n",
+    ))
+    .unwrap();
+    let r = s.reference.unwrap().effective_radius().unwrap();
+    assert!((r - 4.0 / 3.0).abs() < 1e-15, "{r}");
+    for (extra, needle) in [
+        ("radius = 1.0\nradius2 = -1.0", "wider"),
+        ("radius = 1.0\nradius2 = 0.0", "non-zero"),
+        ("radius2 = 2.0", "needs `radius`"),
+    ] {
+        let (e, m) = invalid_entry(&with(&format!(
+            "[reference]\nkind = \"hertz_cylinder\"\n{extra}\n"
+        )));
+        assert_eq!(e, "reference.radius2", "{m}");
+        assert!(m.contains(needle), "{m}");
+    }
+    let (e, m) = invalid_entry(&with(
+        "[reference]\nkind = \"uniform_pressure\"\nradius2 = 2.0\n",
+    ));
+    assert_eq!(e, "reference.radius2");
+    assert!(m.contains("hertz_cylinder"), "{m}");
     let s = parse_toml(&with(
         "[reference]\nkind = \"uniform_pressure\"\npressure = 2.0\n",
     ))

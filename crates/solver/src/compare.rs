@@ -39,7 +39,7 @@ pub(crate) fn compare_reference(
     let e_star =
         || 1.0 / (contact_modulus(sc, &first.slave.body) + contact_modulus(sc, &first.master.body));
     let radius = || {
-        r.radius.ok_or_else(|| {
+        r.effective_radius().ok_or_else(|| {
             SolveError::Input(format!(
                 "reference.radius: {} needs the radius",
                 r.kind.as_str()
