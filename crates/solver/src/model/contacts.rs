@@ -3,7 +3,9 @@
 //! the bodies' DOFs, its gap and friction law; the points whose gap the
 //! supports fix, and the constraints that repeat another.
 
-use signorini_contact::geometry::{node_to_node_pairing, node_to_segment_pairing};
+use signorini_contact::geometry::{
+    contact_element_pairing, node_to_node_pairing, node_to_segment_pairing,
+};
 use signorini_contact::mortar::mortar_pairing;
 use signorini_contact::{ContactPoint, MasterGeometry, NormalRule, TermSide};
 use signorini_scene as scene;
@@ -219,6 +221,9 @@ fn contact_pair(
     let (pairing, measure) = match c.discretization {
         scene::Discretization::NodeToNode => {
             (node_to_node_pairing(s_mesh, s_surf, &master, rule), None)
+        }
+        scene::Discretization::ContactElements => {
+            (contact_element_pairing(s_mesh, s_surf, &master, rule), None)
         }
         scene::Discretization::Mortar => match mortar_pairing(s_mesh, s_surf, &master) {
             Ok(m) => (Ok(m.pairing), Some(m.measure)),
