@@ -161,10 +161,10 @@ fn element_law(e: &ContactElement, h_n: f64, h_t: &[f64], g_old: &[f64]) -> Loca
     let norm = xi.iter().map(|x| x * x).sum::<f64>().sqrt();
     let a = k * k * tau / ((k + q) * norm);
     let b = k * q / (k + q);
-    for i in 0..nt {
-        let ni = xi[i] / norm;
-        for j in 0..nt {
-            let nj = xi[j] / norm;
+    for (i, xi_i) in xi.iter().enumerate() {
+        let ni = xi_i / norm;
+        for (j, xi_j) in xi.iter().enumerate() {
+            let nj = xi_j / norm;
             let delta = f64::from(i == j);
             out.tangent[1 + i][1 + j] = -(b * delta + a * (delta - ni * nj));
         }
