@@ -494,3 +494,28 @@ fn the_example_runs() {
     let csv = std::fs::read_to_string(dir.join("out/contact.csv")).unwrap();
     assert!(csv.lines().count() > 1);
 }
+
+/// With friction, an independent check: as k_n grows the contact elements
+/// tend to the unilateral node-to-node contact with the same regularised
+/// Coulomb law solved by the friction fixed point (seed §4.3), the
+/// difference falling like 1/k_n.
+#[test]
+fn stiff_elements_tend_to_the_unilateral_friction_solver() {
+    let friction = "{ coulomb = 0.2, slip_stiffness = 50.0 }";
+    let uni = format!("discretization = \"node_to_node\"\nfriction = {friction}\n");
+    let uni = converged(&clamped(&blocks(2, 8, 8, &uni), 2));
+    let tangential = |o: &RunOutput| -> Vec<f64> {
+        let r = o.contact_rows.iter();
+        r.flat_map(|r| [r.normal_force, r.tangential_force])
+            .collect()
+    };
+    let mut last = f64::INFINITY;
+    for k_n in [1e4, 1e6] {
+        let el = elements(&format!("{{ penalty = {k_n:?} }}"), friction);
+        let el = converged(&clamped(&blocks(2, 8, 8, &el), 2));
+        let d = common::max_rel(&tangential(&el), &tangential(&uni));
+        assert!(d < last / 50.0, "k_n = {k_n:e}: {d:e} after {last:e}");
+        last = d;
+    }
+    assert!(last <= 1e-4, "{last:e}");
+}
