@@ -519,3 +519,31 @@ fn stiff_elements_tend_to_the_unilateral_friction_solver() {
     }
     assert!(last <= 1e-4, "{last:e}");
 }
+
+/// 3D, dragged diagonally: the elements slip along the drag (the radial
+/// return in the plane), ‖T‖ = μ N; below the threshold T = k_e u A.
+#[test]
+fn drag_3d_diagonal_slips_at_mu_n_along_the_drag() {
+    let f = format!("{{ coulomb = {MU:?}, slip_stiffness = {K_E:?} }}");
+    let d = U / 2f64.sqrt();
+    let text = drag(3, &f, &[0.1, 1.0]);
+    let along = format!("{{ x = {U:?}, y = 0.0 }}");
+    assert!(text.contains(&along));
+    let out = converged(&text.replace(&along, &format!("{{ x = {d:?}, y = {d:?} }}")));
+    let (area, n_total) = (4.0, 4.0 * P);
+    for (step, want) in [(1, K_E * 0.1 * U * area), (2, MU * n_total)] {
+        let rows = out.contact_rows.iter().filter(|r| r.step == step);
+        let (t1, t2) = rows.fold((0.0, 0.0), |(a, b), r| {
+            (a - r.tangential_force, b - r.tangential_force_2)
+        });
+        assert_close(
+            &format!("‖T‖ at step {step}"),
+            t1.hypot(t2),
+            want,
+            MU * n_total,
+        );
+        let statuses = out.contact_rows.iter().filter(|r| r.step == step);
+        let slipping = statuses.filter(|r| r.status == "slip").count();
+        assert_eq!(slipping, if step == 1 { 0 } else { 25 });
+    }
+}
