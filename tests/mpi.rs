@@ -587,3 +587,23 @@ fn pieces_into_a_bad_directory_under_mpirun_write_nothing() {
     assert_eq!(err.matches("cannot write the output").count(), 1, "{err}");
     assert_eq!(listing(&d), vec!["file", "stack.toml"]);
 }
+
+/// Contact elements (seed §7) with friction through two load steps, the
+/// pad on rank 1 and the base on rank 0, then the base split in two as well
+/// (three subdomains on two ranks): the in-process answer.
+#[test]
+fn contact_elements_under_mpirun_2_equal_the_in_process_run() {
+    if !have_mpirun() {
+        return;
+    }
+    compare(&example("contact_elements.toml"), 2, "contact_elements");
+    let text = std::fs::read_to_string(example("contact_elements.toml")).unwrap();
+    let text = common::with_subdomains(&text, "name = \"base\"\nmaterial = \"steel\"\n", 2);
+    assert!(text.contains("subdomains = 2"));
+    let scene = write_scene(
+        "contact_elements_scene",
+        "contact_elements_split.toml",
+        &text,
+    );
+    compare(&scene, 2, "contact_elements_split");
+}

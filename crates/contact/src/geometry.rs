@@ -791,5 +791,73 @@ pub fn node_to_node_pairing(
     })
 }
 
+/// The contact elements of seed §7 between two surfaces whose nodes
+/// coincide: each slave node pairs with the master node at the same place
+/// (within 10⁻⁶ of the slave body's size), as a node-to-node point with a
+/// zero initial gap. A slave node with no coincident master node is an
+/// error naming it (contact elements need two layers of coincident nodes).
+pub fn contact_element_pairing(
+    slave_mesh: &Mesh,
+    slave_surface: &Surface,
+    master: &MasterGeometry<'_>,
+    rule: NormalRule,
+) -> Result<Pairing, ContactError> {
+    let MasterGeometry::Surface { mesh, surface } = master else {
+        return Err(ContactError::Geometry(
+            "contact elements join two deformable bodies: the master must be a deformable body with a surface".into(),
+        ));
+    };
+    check_dims(slave_mesh, master)?;
+    let three_d = is_3d(slave_mesh);
+    let master_normals = nodal_normals(mesh, surface);
+    let nodes = NodeIndex::new(
+        master_normals
+            .iter()
+            .map(|&(m, _)| mesh.coords[m])
+            .collect(),
+    );
+    let scale = slave_mesh.size().max(f64::MIN_POSITIVE);
+    let mut points = Vec::new();
+    for (s, n_s) in nodal_normals(slave_mesh, slave_surface) {
+        let x = slave_mesh.coords[s];
+        let nearest = nodes.nearest(x).map(|i| master_normals[i]);
+        let d = nearest.map_or(f64::INFINITY, |(m, _)| norm(sub(x, mesh.coords[m])));
+        let Some((m, n_m)) = nearest.filter(|_| d <= 1e-6 * scale) else {
+            let at = if three_d {
+                format!("({}, {}, {})", x[0], x[1], x[2])
+            } else {
+                format!("({}, {})", x[0], x[1])
+            };
+            return Err(ContactError::Geometry(format!(
+                "contact elements need coincident nodes: slave node {s} at {at} has no master node within {:.3e} (10⁻⁶ of the body's size; nearest at {d:.3e}); for non-matching meshes use discretization = \"node_to_segment\" or \"mortar\"",
+                1e-6 * scale
+            )));
+        };
+        let xm = mesh.coords[m];
+        let n = choose_normal(rule, n_m, n_s, x, xm, scale);
+        let (tangent, tangent2) = tangents(three_d, n);
+        points.push(ContactPoint {
+            slave_node: s,
+            x,
+            normal: n,
+            tangent,
+            tangent2,
+            gap0: dot(n, sub(x, xm)),
+            terms: vec![
+                slave_term(s),
+                Term {
+                    side: TermSide::Master,
+                    node: m,
+                    weight: -1.0,
+                },
+            ],
+        });
+    }
+    Ok(Pairing {
+        points,
+        dropped: Dropped::default(),
+    })
+}
+
 #[cfg(test)]
 mod tests;

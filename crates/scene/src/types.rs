@@ -558,7 +558,8 @@ pub struct Contact {
     pub slave: ContactSide,
     /// A rigid body (no surface), or a deformable body and its surface.
     pub master: ContactSide,
-    /// `node_to_node` (matching meshes) | `node_to_segment` (default) | `mortar`.
+    /// `node_to_node` (matching meshes) | `node_to_segment` (default) |
+    /// `mortar` | `contact_elements` (coincident nodes, seed §7).
     #[serde(default)]
     pub discretization: Discretization,
     /// Normal rule: `master` (default) | `slave` | `average` | `points`.
@@ -605,6 +606,9 @@ pub enum Discretization {
     #[serde(alias = "node_to_face")]
     NodeToSegment,
     Mortar,
+    /// Zero-thickness contact elements between coincident nodes (seed §7),
+    /// with the regularised law `law = { penalty = k_n }`.
+    ContactElements,
 }
 
 impl Discretization {
@@ -614,6 +618,7 @@ impl Discretization {
             Discretization::NodeToNode => "node_to_node",
             Discretization::NodeToSegment => "node_to_segment",
             Discretization::Mortar => "mortar",
+            Discretization::ContactElements => "contact_elements",
         }
     }
 }

@@ -572,7 +572,10 @@ fn report_of(
         interface_dofs: partial.n_gamma,
         contact_points: model.points.len(),
         converged: partial.converged,
-        method: method.as_str().to_string(),
+        method: match plan.return_mapping {
+            true => RETURN_MAPPING.to_string(),
+            false => method.as_str().to_string(),
+        },
         path: path.as_str().to_string(),
         solver: partial.solver,
         stages,

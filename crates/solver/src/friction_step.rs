@@ -100,6 +100,19 @@ pub(crate) fn friction_rows(
 /// step, so that the tangential rows give slip increments (seed §4.4); in
 /// the order of the rows, t1 then t2 of each point.
 fn tangential_gaps(input: &RootInput, load: &StepLoad, history: &FrictionHistory) -> Vec<f64> {
+    row_gaps(input, load, |pi| {
+        (history.slip_total[pi], history.slip_total2[pi])
+    })
+}
+
+/// The gaps of every row: the normal ones, then, in the order of the rows
+/// (t1 then t2 of each point), the prescribed part of the tangential jump
+/// minus `slip(point)` (along t1, t2).
+pub(crate) fn row_gaps(
+    input: &RootInput,
+    load: &StepLoad,
+    slip: impl Fn(usize) -> (f64, f64),
+) -> Vec<f64> {
     let bodies = input.bodies;
     let mut gap0_all = load.gap0.clone();
     let prescribed = |t: &[(usize, usize, f64)]| -> f64 {
@@ -109,11 +122,12 @@ fn tangential_gaps(input: &RootInput, load: &StepLoad, history: &FrictionHistory
             .sum()
     };
     for (pi, p) in input.points.iter().enumerate() {
+        let (s1, s2) = slip(pi);
         if let Some(t) = &p.trow {
-            gap0_all.push(prescribed(t) - history.slip_total[pi]);
+            gap0_all.push(prescribed(t) - s1);
         }
         if let Some(t) = &p.trow2 {
-            gap0_all.push(prescribed(t) - history.slip_total2[pi]);
+            gap0_all.push(prescribed(t) - s2);
         }
     }
     gap0_all

@@ -513,6 +513,7 @@ fn root_input<'a>(ctx: RunContext<'a>, data: &'a [CondensedData]) -> RootInput<'
     RootInput {
         sc: ctx.sc,
         algorithm: ctx.plan.algorithm,
+        return_mapping: ctx.plan.return_mapping,
         bodies: &model.bodies,
         points: &model.points,
         fixed: &model.fixed,

@@ -9,6 +9,9 @@ pub(crate) struct Plan {
     pub method: scene::Method,
     pub path: scene::SolvePath,
     pub algorithm: Algorithm,
+    /// The contacts are contact elements solved by the return mapping
+    /// (seed §7, [`crate::element_step`]): no `method` applies.
+    pub return_mapping: bool,
 }
 
 /// The method and path of the run (the command line overrides the scene),
@@ -18,6 +21,15 @@ pub(crate) fn plan(sc: &scene::Scene, opts: &RunOptions) -> Result<Plan, SolveEr
     let method = opts.method.unwrap_or(sc.solver.method);
     let path = opts.path.unwrap_or(sc.solver.path);
     let algorithm = algorithm_of(&sc.solver, method);
+    if uses_return_mapping(sc) {
+        check_return_mapping(sc, path)?;
+        return Ok(Plan {
+            method,
+            path,
+            algorithm,
+            return_mapping: true,
+        });
+    }
     if path == scene::SolvePath::Direct && !algorithm.on_active_set() {
         return Err(SolveError::Input(format!(
             "solver.method: the direct path runs the status method with multipliers; \"{}\" runs on path = \"condensed\"",
@@ -55,6 +67,7 @@ pub(crate) fn plan(sc: &scene::Scene, opts: &RunOptions) -> Result<Plan, SolveEr
         method,
         path,
         algorithm,
+        return_mapping: false,
     })
 }
 

@@ -215,6 +215,8 @@ pub(crate) fn status_report(outcome: &mut ContactSolution, method: &str, linear_
 pub(crate) struct RootInput<'a> {
     pub sc: &'a scene::Scene,
     pub algorithm: Algorithm,
+    /// Contact elements solved by the return mapping (seed §7).
+    pub return_mapping: bool,
     pub bodies: &'a [BodyModel],
     pub points: &'a [PointModel],
     pub fixed: &'a [FixedPoint],
@@ -261,6 +263,7 @@ pub(crate) struct RootSolve<'a> {
     interface: Interface,
     friction: Option<FrictionRows>,
     history: Option<FrictionHistory>,
+    elements: Option<ElementHistory>,
     operator: Option<DelassusOperator>,
     warm: WarmStart,
 }
@@ -270,7 +273,13 @@ impl<'a> RootSolve<'a> {
     /// ([`take_interface_stiffness`]).
     pub(crate) fn new(input: &'a RootInput<'a>, s: InterfaceStiffness) -> Result<Self, SolveError> {
         let interface = assemble_interface(input, s);
-        let friction = friction_rows(input, &interface)?;
+        let elements = input
+            .return_mapping
+            .then(|| ElementHistory::new(interface.rows.len()));
+        let friction = match elements {
+            Some(_) => None,
+            None => friction_rows(input, &interface)?,
+        };
         let history = friction
             .as_ref()
             .map(|_| FrictionHistory::new(input.points.len()));
@@ -279,6 +288,7 @@ impl<'a> RootSolve<'a> {
             interface,
             friction,
             history,
+            elements,
             operator: None,
             warm: WarmStart::default(),
         })
@@ -307,8 +317,9 @@ impl<'a> RootSolve<'a> {
             })?;
             conditioning::delassus_operator(&s, &interface.rows, &interface.kernel, cond)
         })?;
-        let (mut step, u) = match (&self.friction, self.history.as_mut()) {
-            (Some(fr), Some(h)) => friction_step(input, interface, fr, h, op, load)?,
+        let (mut step, u) = match (&self.friction, self.history.as_mut(), &mut self.elements) {
+            (_, _, Some(h)) => element_step(input, interface, h, op, load)?,
+            (Some(fr), Some(h), _) => friction_step(input, interface, fr, h, op, load)?,
             _ => frictionless_step(input, op, load, &mut self.warm)?,
         };
         step.operator_s = operator_s;

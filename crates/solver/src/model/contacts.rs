@@ -3,7 +3,9 @@
 //! the bodies' DOFs, its gap and friction law; the points whose gap the
 //! supports fix, and the constraints that repeat another.
 
-use signorini_contact::geometry::{node_to_node_pairing, node_to_segment_pairing};
+use signorini_contact::geometry::{
+    contact_element_pairing, node_to_node_pairing, node_to_segment_pairing,
+};
 use signorini_contact::mortar::mortar_pairing;
 use signorini_contact::mortar3d::mortar3d_pairing;
 use signorini_contact::{ContactPoint, MasterGeometry, NormalRule, TermSide};
@@ -213,6 +215,9 @@ fn contact_pair(
     let (pairing, measure) = match c.discretization {
         scene::Discretization::NodeToNode => {
             (node_to_node_pairing(s_mesh, s_surf, &master, rule), None)
+        }
+        scene::Discretization::ContactElements => {
+            (contact_element_pairing(s_mesh, s_surf, &master, rule), None)
         }
         scene::Discretization::Mortar => match if sc.dimension == 3 {
             mortar3d_pairing(s_mesh, s_surf, &master)
