@@ -234,72 +234,6 @@ pub fn basis(n: [f64; 3], dim: usize) -> [[f64; 3]; 3] {
     q
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// In place (full node blocks) and by triplets (a block cut short), the
-    /// rotated stiffness is the dense Tᵀ K T.
-    #[test]
-    fn the_rotated_stiffness_is_t_transpose_k_t() {
-        use faer::sparse::{SparseColMat, Triplet};
-        let (dim, nodes) = (3, 3);
-        let n = dim * nodes;
-        let value =
-            |i: usize, j: usize| 1.0 / (1.0 + i.abs_diff(j) as f64) + (i == j) as usize as f64;
-        let frames = LocalFrames {
-            dim,
-            normal: vec![None, Some([0.6, 0.0, 0.8]), Some([0.0, 1.0, 0.0])],
-        };
-        // node 0 does not touch node 2: a pattern of full node blocks
-        let coupled = |a: usize, b: usize| a.abs_diff(b) <= 1;
-        for cut in [false, true] {
-            let mut t = Vec::new();
-            for j in 0..n {
-                for i in 0..n {
-                    let dropped = cut && i == 4 && j == 0;
-                    if coupled(i / dim, j / dim) && !dropped {
-                        t.push(Triplet::new(i, j, value(i, j)));
-                    }
-                }
-            }
-            let k = SparseColMat::<usize, f64>::try_new_from_triplets(n, n, &t).unwrap();
-            let dense = k.to_dense();
-            let mut tm = faer::Mat::<f64>::zeros(n, n);
-            for l in 0..n {
-                for (i, v) in frames.t_col(l) {
-                    tm[(i, l)] = v;
-                }
-            }
-            let want = tm.transpose() * &dense * &tm;
-            assert_eq!(frames.has_full_blocks(k.symbolic()), !cut);
-            let got = frames.rotate_stiffness(k).unwrap().to_dense();
-            for i in 0..n {
-                for j in 0..n {
-                    assert!((got[(i, j)] - want[(i, j)]).abs() <= 1e-14, "{cut} {i} {j}");
-                }
-            }
-        }
-    }
-
-    #[test]
-    fn the_basis_is_orthonormal_with_n_first() {
-        for n in [[0.0, 0.0, 1.0], [0.6, 0.0, 0.8], [1.0 / 3f64.sqrt(); 3]] {
-            let q = basis(n, 3);
-            for a in 0..3 {
-                for b in 0..3 {
-                    let ab: f64 = (0..3).map(|d| q[d][a] * q[d][b]).sum();
-                    let want = if a == b { 1.0 } else { 0.0 };
-                    assert!((ab - want).abs() <= 4.0 * f64::EPSILON, "{n:?} {a} {b}");
-                }
-            }
-            assert!((0..3).all(|d| q[d][0] == n[d]));
-        }
-        let q = basis([0.6, 0.8, 0.0], 2);
-        assert_eq!([q[0][1], q[1][1]], [-0.8, 0.6]);
-    }
-}
-
 /// Rotations of one subdomain's local DOFs: the normal of each local node
 /// (`None`: Cartesian), `dim` DOFs per node.
 pub struct LocalFrames {
@@ -454,5 +388,71 @@ impl LocalFrames {
             }
         }
         u
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// In place (full node blocks) and by triplets (a block cut short), the
+    /// rotated stiffness is the dense Tᵀ K T.
+    #[test]
+    fn the_rotated_stiffness_is_t_transpose_k_t() {
+        use faer::sparse::{SparseColMat, Triplet};
+        let (dim, nodes) = (3, 3);
+        let n = dim * nodes;
+        let value =
+            |i: usize, j: usize| 1.0 / (1.0 + i.abs_diff(j) as f64) + (i == j) as usize as f64;
+        let frames = LocalFrames {
+            dim,
+            normal: vec![None, Some([0.6, 0.0, 0.8]), Some([0.0, 1.0, 0.0])],
+        };
+        // node 0 does not touch node 2: a pattern of full node blocks
+        let coupled = |a: usize, b: usize| a.abs_diff(b) <= 1;
+        for cut in [false, true] {
+            let mut t = Vec::new();
+            for j in 0..n {
+                for i in 0..n {
+                    let dropped = cut && i == 4 && j == 0;
+                    if coupled(i / dim, j / dim) && !dropped {
+                        t.push(Triplet::new(i, j, value(i, j)));
+                    }
+                }
+            }
+            let k = SparseColMat::<usize, f64>::try_new_from_triplets(n, n, &t).unwrap();
+            let dense = k.to_dense();
+            let mut tm = faer::Mat::<f64>::zeros(n, n);
+            for l in 0..n {
+                for (i, v) in frames.t_col(l) {
+                    tm[(i, l)] = v;
+                }
+            }
+            let want = tm.transpose() * &dense * &tm;
+            assert_eq!(frames.has_full_blocks(k.symbolic()), !cut);
+            let got = frames.rotate_stiffness(k).unwrap().to_dense();
+            for i in 0..n {
+                for j in 0..n {
+                    assert!((got[(i, j)] - want[(i, j)]).abs() <= 1e-14, "{cut} {i} {j}");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn the_basis_is_orthonormal_with_n_first() {
+        for n in [[0.0, 0.0, 1.0], [0.6, 0.0, 0.8], [1.0 / 3f64.sqrt(); 3]] {
+            let q = basis(n, 3);
+            for a in 0..3 {
+                for b in 0..3 {
+                    let ab: f64 = (0..3).map(|d| q[d][a] * q[d][b]).sum();
+                    let want = if a == b { 1.0 } else { 0.0 };
+                    assert!((ab - want).abs() <= 4.0 * f64::EPSILON, "{n:?} {a} {b}");
+                }
+            }
+            assert!((0..3).all(|d| q[d][0] == n[d]));
+        }
+        let q = basis([0.6, 0.8, 0.0], 2);
+        assert_eq!([q[0][1], q[1][1]], [-0.8, 0.6]);
     }
 }

@@ -50,7 +50,7 @@ fn non_matching_quadrilaterals_give_consistent_rows() {
     // D_jj = ∫N_j = h², h²/2 on the sides, h²/4 at the corners (h = 1/7).
     let h2 = 1.0 / 49.0;
     let d_of = |x: [f64; 3]| {
-        let edge = |v: f64| v < 1e-9 || v > 1.0 - 1e-9;
+        let edge = |v: f64| !(1e-9..=1.0 - 1e-9).contains(&v);
         h2 / [1.0, 2.0, 4.0][usize::from(edge(x[0])) + usize::from(edge(x[1]))]
     };
     check_flat_rows(&p, 64, gap, d_of);
