@@ -449,6 +449,28 @@ fn the_direct_path_and_elliptic_or_norton_hoff_friction_are_refused() {
     assert!(input_error(&ell).contains("elliptic"));
 }
 
+/// A method, in the scene or on the command line, does not apply to the
+/// return mapping: refused naming the entry, never silently ignored.
+#[test]
+fn a_method_other_than_the_default_is_refused() {
+    let text = blocks(2, 8, 8, &elements(&penalty(), "{ coulomb = 0.3 }"));
+    let lemke = text.replace(
+        "tolerance = 1e-12\n",
+        "tolerance = 1e-12\nmethod = \"lemke\"\n",
+    );
+    assert_ne!(lemke, text);
+    assert!(input_error(&lemke).contains("solver.method = \"lemke\""));
+    let opts = RunOptions {
+        method: Some(signorini_scene::Method::Uzawa),
+        ..Default::default()
+    };
+    match common::try_run(&text, opts) {
+        Err(SolveError::Input(m)) => assert!(m.contains("--method uzawa"), "{m}"),
+        Err(e) => panic!("not an input error: {e}"),
+        Ok(_) => panic!("accepted"),
+    }
+}
+
 /// Node-to-node with a penalty law and friction, refused before, runs
 /// through the same solver.
 #[test]

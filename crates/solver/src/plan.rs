@@ -23,6 +23,18 @@ pub(crate) fn plan(sc: &scene::Scene, opts: &RunOptions) -> Result<Plan, SolveEr
     let algorithm = algorithm_of(&sc.solver, method);
     if uses_return_mapping(sc) {
         check_return_mapping(sc, path)?;
+        if let Some(m) = opts.method.filter(|&m| m != scene::Method::Status) {
+            return Err(SolveError::Input(format!(
+                "--method {}: the scene's contacts are contact elements or penalty laws with friction, solved by the return mapping (seed §7); no method applies (leave --method out)",
+                m.as_str()
+            )));
+        }
+        if sc.solver.method != scene::Method::Status {
+            return Err(SolveError::Input(format!(
+                "solver.method = \"{}\": the scene's contacts are contact elements or penalty laws with friction, solved by the return mapping (seed §7); no method applies (remove the key)",
+                sc.solver.method.as_str()
+            )));
+        }
         return Ok(Plan {
             method,
             path,
