@@ -103,6 +103,20 @@ fn gauss_points(o: &Overlap) -> impl Iterator<Item = (f64, f64)> + '_ {
         .map(move |&(t, w)| (o.lo + t * (o.hi - o.lo), w * (o.hi - o.lo)))
 }
 
+/// The master's mesh and surface, or the error of a rigid master (`hint`:
+/// what to use instead).
+pub(crate) fn deformable_master<'a>(
+    master: &MasterGeometry<'a>,
+    hint: &str,
+) -> Result<(&'a Mesh, &'a Surface), ContactError> {
+    match master {
+        MasterGeometry::Surface { mesh, surface } => Ok((mesh, surface)),
+        _ => Err(ContactError::Geometry(format!(
+            "mortar needs a deformable master surface ({hint})"
+        ))),
+    }
+}
+
 /// The 2D mortar pairing of a slave surface of linear or quadratic edges
 /// with a deformable master surface of linear or quadratic edges (see the
 /// module documentation). Slave nodes whose edges do not project onto the
@@ -113,19 +127,11 @@ pub fn mortar_pairing(
     slave_surface: &Surface,
     master: &MasterGeometry<'_>,
 ) -> Result<MortarPairing, ContactError> {
-    let MasterGeometry::Surface {
-        mesh: m_mesh,
-        surface: m_surf,
-    } = master
-    else {
-        return Err(ContactError::Geometry(
-            "mortar needs a deformable master surface (a rigid plane or circle: use node_to_segment)"
-                .into(),
-        ));
-    };
+    let (m_mesh, m_surf) =
+        deformable_master(master, "a rigid plane or circle: use node_to_segment")?;
     if slave_mesh.dim != 2 || m_mesh.dim != 2 {
         return Err(ContactError::Geometry(
-            "mortar is implemented in 2D only (in 3D use node_to_face)".into(),
+            "mortar_pairing needs two 2D meshes (in 3D see mortar3d::mortar3d_pairing)".into(),
         ));
     }
     let edges = |s: &Surface| s.facets.iter().all(|f| matches!(f.nodes.len(), 2 | 3));

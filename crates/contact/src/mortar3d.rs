@@ -125,16 +125,8 @@ pub fn mortar3d_pairing(
     slave_surface: &Surface,
     master: &MasterGeometry<'_>,
 ) -> Result<MortarPairing, ContactError> {
-    let MasterGeometry::Surface {
-        mesh: m_mesh,
-        surface: m_surf,
-    } = master
-    else {
-        return Err(ContactError::Geometry(
-            "mortar needs a deformable master surface (a rigid plane or sphere: use node_to_face)"
-                .into(),
-        ));
-    };
+    let (m_mesh, m_surf) =
+        crate::mortar::deformable_master(master, "a rigid plane or sphere: use node_to_face")?;
     if slave_mesh.dim != 3 || m_mesh.dim != 3 {
         return Err(ContactError::Geometry(
             "mortar3d_pairing needs two 3D meshes (in 2D see mortar::mortar_pairing)".into(),
