@@ -569,3 +569,85 @@ fn drag_3d_diagonal_slips_at_mu_n_along_the_drag() {
         assert_eq!(slipping, if step == 1 { 0 } else { 25 });
     }
 }
+
+/// A 2D block [0, 2] × [y0, y0 + 0.5] of tri3 cells as a Gmsh 2.2 ASCII
+/// file: columns at the abscissae `xs` (shared by both blocks, so the nodes
+/// of the face y = 0.5 coincide), `rows` rows, diagonals one way or the
+/// other; physical lines "bottom", "top", "left", physical surface "block".
+fn gmsh_block(xs: &[f64], y0: f64, rows: usize, flip: bool) -> String {
+    let nx = xs.len();
+    let id = |i: usize, j: usize| 1 + j * nx + i;
+    let mut nodes = String::new();
+    for j in 0..=rows {
+        for (i, x) in xs.iter().enumerate() {
+            let y = y0 + 0.5 * j as f64 / rows as f64;
+            nodes += &format!("{} {x:?} {y:?} 0\n", id(i, j));
+        }
+    }
+    let mut cells = Vec::new();
+    for i in 0..nx - 1 {
+        cells.push(format!("1 2 1 1 {} {}", id(i, 0), id(i + 1, 0)));
+        cells.push(format!("1 2 2 2 {} {}", id(i, rows), id(i + 1, rows)));
+    }
+    for j in 0..rows {
+        cells.push(format!("1 2 3 3 {} {}", id(0, j), id(0, j + 1)));
+        for i in 0..nx - 1 {
+            let (a, b, c, d) = (id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1));
+            let (t1, t2) = if flip ^ (i % 2 == 1) {
+                ((a, b, d), (b, c, d))
+            } else {
+                ((a, b, c), (a, c, d))
+            };
+            cells.push(format!("2 2 4 4 {} {} {}", t1.0, t1.1, t1.2));
+            cells.push(format!("2 2 4 4 {} {} {}", t2.0, t2.1, t2.2));
+        }
+    }
+    let cells: String = cells
+        .iter()
+        .enumerate()
+        .map(|(k, c)| format!("{} {c}\n", k + 1))
+        .collect();
+    format!(
+        "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$PhysicalNames\n4\n1 1 \"bottom\"\n1 2 \"top\"\n1 3 \"left\"\n2 4 \"block\"\n$EndPhysicalNames\n$Nodes\n{}\n{nodes}$EndNodes\n$Elements\n{}\n{cells}$EndElements\n",
+        nx * (rows + 1),
+        cells.lines().count()
+    )
+}
+
+/// Contact elements between two Gmsh meshes (unstructured triangles whose
+/// face nodes coincide, graded so that the tributary lengths differ):
+/// every pressure is p and every jump −p/k_n, the resultant p × 2.
+#[test]
+fn contact_elements_between_two_gmsh_meshes_pass_the_patch_test() {
+    let dir = common::fresh_dir("contact_elements", "gmsh");
+    let xs: Vec<f64> = (0..=9).map(|i| 2.0 * (i as f64 / 9.0).powf(1.4)).collect();
+    let (base, pad) = (dir.join("base.msh"), dir.join("pad.msh"));
+    std::fs::write(&base, gmsh_block(&xs, 0.0, 3, false)).unwrap();
+    std::fs::write(&pad, gmsh_block(&xs, 0.5, 2, true)).unwrap();
+    let text = blocks(2, 8, 8, &elements(&penalty(), "\"none\""));
+    let mut meshes = text.match_indices("mesh = { generator").map(|(i, _)| i);
+    let (i, j) = (meshes.next().unwrap(), meshes.next().unwrap());
+    let line_end = |k: usize| k + text[k..].find('\n').unwrap();
+    let text = format!(
+        "{}mesh = {{ file = {:?} }}{}mesh = {{ file = {:?} }}{}",
+        &text[..i],
+        base.to_str().unwrap(),
+        &text[line_end(i)..j],
+        pad.to_str().unwrap(),
+        &text[line_end(j)..]
+    );
+    let out = converged(&text);
+    assert_eq!(out.contact_rows.len(), xs.len());
+    let mut resultant = 0.0;
+    for r in &out.contact_rows {
+        assert!(
+            (r.pressure - P).abs() <= 1e-9 * P,
+            "pressure {}",
+            r.pressure
+        );
+        let g = -P / K_N;
+        assert!((r.gap - g).abs() <= 1e-9 * g.abs(), "gap {} vs {g}", r.gap);
+        resultant += r.normal_force;
+    }
+    assert!((resultant - 2.0 * P).abs() <= 1e-9 * P, "{resultant}");
+}
