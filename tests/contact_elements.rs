@@ -651,3 +651,77 @@ fn contact_elements_between_two_gmsh_meshes_pass_the_patch_test() {
     }
     assert!((resultant - 2.0 * P).abs() <= 1e-9 * P, "{resultant}");
 }
+
+/// Axisymmetric contact elements (the tributary area of a node is that of
+/// its ring, 2π r ds): every pressure p, every jump −p/k_n, and the
+/// resultant p π R² of the whole disc.
+#[test]
+fn axisymmetric_contact_elements_pass_the_patch_test() {
+    let out = converged(AXI_PATCH);
+    assert_eq!(out.contact_rows.len(), 9);
+    let mut resultant = 0.0;
+    for r in &out.contact_rows {
+        assert!(
+            (r.pressure - P).abs() <= 1e-9 * P,
+            "pressure {}",
+            r.pressure
+        );
+        let g = -P / K_N;
+        assert!((r.gap - g).abs() <= 1e-9 * g.abs(), "gap {} vs {g}", r.gap);
+        resultant += r.normal_force;
+    }
+    let whole = P * std::f64::consts::PI * 2.0 * 2.0;
+    assert!(
+        (resultant - whole).abs() <= 1e-9 * whole,
+        "{resultant} vs {whole}"
+    );
+}
+
+/// Two discs of radius 2 (a soft pad on a steel base) joined by contact
+/// elements with k_n = 1000, the pad pressed by p = 1.
+const AXI_PATCH: &str = r#"title = "axisymmetric contact elements patch"
+dimension = 2
+model = "axisymmetric"
+
+[[materials]]
+name = "steel"
+young = 210.0
+poisson = 0.3
+
+[[materials]]
+name = "soft"
+young = 10.0
+poisson = 0.45
+
+[[bodies]]
+name = "base"
+material = "steel"
+mesh = { generator = "rectangle", origin = [0.0, 0.0], size = [2.0, 0.5], divisions = [8, 2] }
+
+[[bodies]]
+name = "pad"
+material = "soft"
+mesh = { generator = "rectangle", origin = [0.0, 0.5], size = [2.0, 0.5], divisions = [8, 2] }
+
+[[boundary]]
+name = "support"
+body = "base"
+surface = "bottom"
+displacement = { y = 0.0 }
+
+[[boundary]]
+name = "pressure"
+body = "pad"
+surface = "top"
+traction = [0.0, -1.0]
+
+[[contact]]
+name = "joint"
+slave = { body = "pad", surface = "bottom" }
+master = { body = "base", surface = "top" }
+discretization = "contact_elements"
+law = { penalty = 1000.0 }
+
+[solver]
+tolerance = 1e-12
+"#;
