@@ -128,15 +128,22 @@ fn patch_test(dim: usize) {
         (div + 1) * (div + 1)
     };
     assert_eq!(out.contact_rows.len(), n);
+    uniform_pressure_and_jump(&out);
+}
+
+/// Asserts that every contact row has the pressure p and the normal jump
+/// −p/k_n (relative 1e-9); returns the resultant Σ normal_force.
+fn uniform_pressure_and_jump(out: &RunOutput) -> f64 {
+    let g = -P / K_N;
     for r in &out.contact_rows {
         assert!(
             (r.pressure - P).abs() <= 1e-9 * P,
             "pressure {}",
             r.pressure
         );
-        let g = -P / K_N;
         assert!((r.gap - g).abs() <= 1e-9 * g.abs(), "gap {} vs {g}", r.gap);
     }
+    out.contact_rows.iter().map(|r| r.normal_force).sum()
 }
 
 #[test]
@@ -638,17 +645,7 @@ fn contact_elements_between_two_gmsh_meshes_pass_the_patch_test() {
     );
     let out = converged(&text);
     assert_eq!(out.contact_rows.len(), xs.len());
-    let mut resultant = 0.0;
-    for r in &out.contact_rows {
-        assert!(
-            (r.pressure - P).abs() <= 1e-9 * P,
-            "pressure {}",
-            r.pressure
-        );
-        let g = -P / K_N;
-        assert!((r.gap - g).abs() <= 1e-9 * g.abs(), "gap {} vs {g}", r.gap);
-        resultant += r.normal_force;
-    }
+    let resultant = uniform_pressure_and_jump(&out);
     assert!((resultant - 2.0 * P).abs() <= 1e-9 * P, "{resultant}");
 }
 
@@ -659,17 +656,7 @@ fn contact_elements_between_two_gmsh_meshes_pass_the_patch_test() {
 fn axisymmetric_contact_elements_pass_the_patch_test() {
     let out = converged(AXI_PATCH);
     assert_eq!(out.contact_rows.len(), 9);
-    let mut resultant = 0.0;
-    for r in &out.contact_rows {
-        assert!(
-            (r.pressure - P).abs() <= 1e-9 * P,
-            "pressure {}",
-            r.pressure
-        );
-        let g = -P / K_N;
-        assert!((r.gap - g).abs() <= 1e-9 * g.abs(), "gap {} vs {g}", r.gap);
-        resultant += r.normal_force;
-    }
+    let resultant = uniform_pressure_and_jump(&out);
     let whole = P * std::f64::consts::PI * 2.0 * 2.0;
     assert!(
         (resultant - whole).abs() <= 1e-9 * whole,

@@ -345,3 +345,15 @@ pub fn check_stack_pieces(out: &std::path::Path) {
     assert_eq!(pvd.matches(".pvtu\"/>").count(), 6, "{pvd}");
     assert_eq!(std::fs::read_dir(out.join("pieces")).unwrap().count(), 10);
 }
+
+/// The relative errors of Hertz's p0, a and pressure profile (L2) of a
+/// run, and the exact a.
+pub fn hertz_errors(o: &RunOutput) -> (f64, f64, f64, f64) {
+    let q = &o.report.reference.as_ref().unwrap().quantities;
+    (
+        q["p0"].relative_error,
+        q["a"].relative_error,
+        q["profile_l2"].relative_error,
+        q["a"].exact,
+    )
+}

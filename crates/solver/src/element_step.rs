@@ -184,19 +184,7 @@ fn friction_of(
     slip: &[f64],
     m: usize,
 ) -> FrictionStep {
-    let mut f = FrictionStep {
-        statuses: sol.friction.points.clone(),
-        tangential: vec![0.0; m],
-        slip_increment: vec![0.0; m],
-        slip_total: vec![0.0; m],
-        tangential2: vec![0.0; m],
-        slip_increment2: vec![0.0; m],
-        slip_total2: vec![0.0; m],
-        threshold: vec![0.0; m],
-        cone_excess: vec![0.0; m],
-        back_force: vec![0.0; m],
-        back_force2: vec![0.0; m],
-    };
+    let mut f = FrictionStep::zeros(sol.friction.points.clone(), m);
     for (p, e) in elements.iter().enumerate() {
         let ln = sol.forces[p];
         f.threshold[p] = match e.threshold {

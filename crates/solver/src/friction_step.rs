@@ -363,19 +363,7 @@ fn friction_state(
     m: usize,
 ) -> FrictionStep {
     let lambda = &out.forces[..m];
-    let mut f = FrictionStep {
-        statuses: out.friction.points.clone(),
-        tangential: vec![0.0; m],
-        slip_increment: vec![0.0; m],
-        slip_total: vec![0.0; m],
-        tangential2: vec![0.0; m],
-        slip_increment2: vec![0.0; m],
-        slip_total2: vec![0.0; m],
-        threshold: vec![0.0; m],
-        cone_excess: vec![0.0; m],
-        back_force: vec![0.0; m],
-        back_force2: vec![0.0; m],
-    };
+    let mut f = FrictionStep::zeros(out.friction.points.clone(), m);
     for (pi, &ln) in lambda.iter().enumerate() {
         if let Some(t) = interface.tangent_row[pi] {
             f.tangential[pi] = out.forces[t];

@@ -158,6 +158,26 @@ struct FrictionStep {
     back_force2: Vec<f64>,
 }
 
+impl FrictionStep {
+    /// The statuses of `m` points with every force, slip, threshold and
+    /// excess zero, for the step's solver to fill in.
+    fn zeros(statuses: Vec<PointStatus>, m: usize) -> Self {
+        FrictionStep {
+            statuses,
+            tangential: vec![0.0; m],
+            slip_increment: vec![0.0; m],
+            slip_total: vec![0.0; m],
+            tangential2: vec![0.0; m],
+            slip_increment2: vec![0.0; m],
+            slip_total2: vec![0.0; m],
+            threshold: vec![0.0; m],
+            cone_excess: vec![0.0; m],
+            back_force: vec![0.0; m],
+            back_force2: vec![0.0; m],
+        }
+    }
+}
+
 /// The fraction of the local element size (tributary length) beyond which a
 /// penalty penetration is warned about.
 pub const PENETRATION_WARNING_FRACTION: f64 = 0.01;
