@@ -2,6 +2,7 @@
 //! so not every helper is used by every file).
 #![allow(dead_code)]
 
+pub mod bad_scene;
 mod scene_text;
 #[allow(unused_imports)]
 pub use scene_text::*;

@@ -1,0 +1,292 @@
+//! Bad input that would exhaust memory or time, and internal errors
+//! (issue 12, item 5): the memory estimate refuses what cannot fit before
+//! anything is built, `--max-memory` overrides the machine, an internal error
+//! is one line and exit 3 (on every rank under mpirun), and stand-alone
+//! problems and benchmarks that cannot fit are refused.
+
+mod common;
+
+use common::bad_scene::*;
+use std::path::Path;
+use std::process::Command;
+use std::time::{Duration, Instant};
+
+// ---------------------------------------------------------------- item 5
+
+#[test]
+fn an_oversized_rectangle_is_refused_with_the_estimate_before_anything_is_built() {
+    let scene = block_with("divisions = [4, 2]", "divisions = [100000, 100000]");
+    let t = Instant::now();
+    let run = run_scene("oversized_rectangle", Some(&scene), &[]);
+    run.assert_bad_input(&[
+        "memory: the scene needs about",
+        "GiB",
+        "available",
+        "bodies[0].mesh.divisions",
+        "coarser divisions",
+    ]);
+    assert!(t.elapsed() < Duration::from_secs(10), "{:?}", t.elapsed());
+}
+
+#[test]
+fn a_half_disk_of_1e9_divisions_is_refused() {
+    let scene = block_meshed(
+        "{ generator = \"half_disk\", center = [0.0, 1.0], radius = 1.0, divisions = 1e9 }",
+    );
+    let run = run_scene("half_disk_1e9", Some(&scene), &[]);
+    run.assert_bad_input(&["memory: the scene needs about", "bodies[0].mesh.divisions"]);
+}
+
+#[test]
+fn the_3000_square_rectangle_does_not_fit_in_24_gib_and_max_memory_says_so() {
+    let scene = block_with("divisions = [4, 2]", "divisions = [3000, 3000]");
+    let run = run_scene("rectangle_3000", Some(&scene), &["--max-memory", "24G"]);
+    run.assert_bad_input(&[
+        "memory: the scene needs about",
+        "--max-memory is 24 GiB",
+        "or --max-memory",
+    ]);
+}
+
+#[test]
+fn max_memory_overrides_the_machine_both_ways() {
+    // far too little for even the small block
+    let run = run_scene(
+        "max_memory_tiny",
+        Some(BLOCK_ON_PLANE),
+        &["--max-memory", "1M"],
+    );
+    run.assert_bad_input(&["--max-memory is 1 MiB"]);
+    // plenty
+    let run = run_scene(
+        "max_memory_plenty",
+        Some(BLOCK_ON_PLANE),
+        &["--max-memory", "64G"],
+    );
+    assert_eq!(run.output.status.code(), Some(0), "{}", run.describe());
+    // a bad size is a usage error naming the value
+    let run = run_scene(
+        "max_memory_bad",
+        Some(BLOCK_ON_PLANE),
+        &["--max-memory", "lots"],
+    );
+    assert!(!run.output.status.success(), "{}", run.describe());
+    assert!(run.stderr().contains("lots"), "{}", run.describe());
+    run.assert_nothing_written();
+}
+
+#[test]
+fn check_prints_the_memory_estimate_and_refuses_what_cannot_fit() {
+    let dir = fresh_dir("check_memory");
+    let scene = dir.join("scene.toml");
+    std::fs::write(&scene, BLOCK_ON_PLANE).unwrap();
+    let out = Command::new(BIN).arg("check").arg(&scene).output().unwrap();
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(out.status.code(), Some(0), "{text}");
+    assert!(
+        text.contains("memory (condensed path): about") && text.contains("MiB"),
+        "{text}"
+    );
+    std::fs::write(
+        &scene,
+        block_with("divisions = [4, 2]", "divisions = [100000, 100000]"),
+    )
+    .unwrap();
+    let out = Command::new(BIN).arg("check").arg(&scene).output().unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    assert!(err.contains("memory: the scene needs about"), "{err}");
+}
+
+#[test]
+fn every_example_passes_check_with_its_memory_estimate() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples");
+    let mut n = 0;
+    for entry in std::fs::read_dir(&dir).unwrap() {
+        let path = entry.unwrap().path();
+        if path.extension().is_none_or(|e| e != "toml") {
+            continue;
+        }
+        let out = Command::new(BIN).arg("check").arg(&path).output().unwrap();
+        let text = String::from_utf8_lossy(&out.stdout);
+        assert_eq!(
+            out.status.code(),
+            Some(0),
+            "{}: {text}{}",
+            path.display(),
+            String::from_utf8_lossy(&out.stderr)
+        );
+        assert!(text.contains("memory ("), "{}: {text}", path.display());
+        n += 1;
+    }
+    assert!(n >= 10, "{n} examples");
+}
+
+#[test]
+fn the_estimate_is_near_the_measured_peak() {
+    // 150 x 150 quad4 on a plane: about 150 MiB, well above the fixed part
+    let scene = block_with_all(&[
+        ("divisions = [4, 2]", "divisions = [150, 150]"),
+        ("size = [1.0, 0.5]", "size = [1.0, 1.0]"),
+        ("point = [0.0, 0.5]", "point = [0.0, 1.0]"),
+    ]) + "[output]\nfields = []\n";
+    let run = run_scene("estimate_near_peak", Some(&scene), &[]);
+    assert_eq!(run.output.status.code(), Some(0), "{}", run.describe());
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(run.out_dir().join("report.json")).unwrap())
+            .unwrap();
+    let memory = &report["memory"];
+    let estimated = memory["estimated_bytes"].as_f64().unwrap();
+    let peak = memory["peak_rss_bytes"].as_f64().unwrap();
+    if peak > 0.0 {
+        let ratio = estimated / peak;
+        assert!(
+            (0.9..2.0).contains(&ratio),
+            "estimated {estimated:e} bytes, peak {peak:e}: ratio {ratio}"
+        );
+    }
+}
+
+#[test]
+fn an_internal_error_is_one_line_and_exit_3() {
+    let dir = fresh_dir("internal_error");
+    let scene = dir.join("scene.toml");
+    std::fs::write(&scene, BLOCK_ON_PLANE).unwrap();
+    let mut cmd = Command::new(BIN);
+    cmd.arg("run")
+        .arg(&scene)
+        .arg("--out")
+        .arg(dir.join("out"))
+        .env("SIGNORINI_INJECT_PANIC", "0");
+    let (out, _) = run_limited(cmd, Duration::from_secs(60));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(3), "{err}");
+    assert_eq!(err.lines().count(), 1, "{err}");
+    assert!(
+        err.starts_with("error: internal error: panic injected on rank 0")
+            && err.contains("(please report)"),
+        "{err}"
+    );
+    assert!(
+        !err.contains("panicked") && !err.contains("backtrace"),
+        "{err}"
+    );
+    assert!(!dir.join("out").exists());
+}
+
+/// Under MPI a panic on one rank still ends every rank (crates/comm's hook
+/// runs after the one-line message), never a hang.
+#[cfg(feature = "mpi")]
+#[test]
+fn an_internal_error_under_mpirun_ends_every_rank() {
+    let have = Command::new("mpirun")
+        .arg("--version")
+        .output()
+        .is_ok_and(|o| o.status.success());
+    if !have {
+        return;
+    }
+    let dir = fresh_dir("internal_error_mpi");
+    let scene = dir.join("scene.toml");
+    std::fs::write(&scene, BLOCK_ON_PLANE).unwrap();
+    let mut cmd = Command::new("mpirun");
+    cmd.arg("-n")
+        .arg("2")
+        .arg(BIN)
+        .arg("run")
+        .arg(&scene)
+        .arg("--out")
+        .arg(dir.join("out"))
+        .env("SIGNORINI_INJECT_PANIC", "1");
+    common::mpi_env(&mut cmd);
+    let (out, elapsed) = run_limited(cmd, Duration::from_secs(60));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(elapsed < Duration::from_secs(60), "a rank hangs: {err}");
+    assert!(!out.status.success(), "{err}");
+    assert_eq!(
+        err.matches("internal error: panic injected on rank 1")
+            .count(),
+        1,
+        "{err}"
+    );
+    assert!(!err.contains("panicked at"), "{err}");
+    assert!(!dir.join("out").exists());
+}
+
+// ---------------------------------------------------------------- local and bench
+
+#[test]
+fn local_problems_that_lie_about_their_shape_are_refused() {
+    let dir = fresh_dir("local_bad");
+    for (name, text, needle) in [
+        (
+            "ragged.json",
+            r#"{"W": [[2, 1], [1]], "q": [-1, 1]}"#,
+            "W must be 2 × 2",
+        ),
+        (
+            "inf.json",
+            r#"{"W": [[2, 1], [1, 2]], "q": [-1, 1e999]}"#,
+            "out of range",
+        ),
+        (
+            "asym.json",
+            r#"{"W": [[2, 1], [0, 2]], "q": [-1, 1]}"#,
+            "not symmetric",
+        ),
+        (
+            "mu.json",
+            r#"{"W": [[1, 0], [0, 1]], "q": [-1, 1], "mu": [-0.3], "dim": 2}"#,
+            "mu[0]",
+        ),
+        (
+            "ambiguous.json",
+            r#"{"W": [[1, 0], [0, 1]], "q": [-1, 1], "mu": [0.3]}"#,
+            "ambiguous",
+        ),
+        (
+            "truncated.json",
+            r#"{"W": [[2, 1], [1, 2]], "q": [-1,"#,
+            "truncated.json",
+        ),
+        (
+            "garbage.npz",
+            "PK\u{3}\u{4} not a zip",
+            "not a .npz archive",
+        ),
+    ] {
+        let path = dir.join(name);
+        std::fs::write(&path, text).unwrap();
+        let mut cmd = Command::new(BIN);
+        cmd.arg("local").arg(&path);
+        let (out, elapsed) = run_limited(cmd, Duration::from_secs(30));
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(1), "{name}: {err}");
+        assert!(err.contains(needle), "{name}: {err}");
+        assert!(
+            err.lines().count() <= 2 && !err.contains("panicked"),
+            "{name}: {err}"
+        );
+        assert!(elapsed < Duration::from_secs(10), "{name}: {elapsed:?}");
+    }
+}
+
+#[test]
+fn bench_refuses_a_refinement_that_cannot_fit() {
+    let dir = fresh_dir("bench_huge");
+    let scene = dir.join("scene.toml");
+    std::fs::write(&scene, BLOCK_ON_PLANE).unwrap();
+    let mut cmd = Command::new(BIN);
+    cmd.arg("bench")
+        .arg(&scene)
+        .arg("--levels")
+        .arg("1e9")
+        .arg("--out")
+        .arg(dir.join("out"));
+    let (out, elapsed) = run_limited(cmd, Duration::from_secs(60));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    assert!(err.contains("memory: the scene needs about"), "{err}");
+    assert!(elapsed < Duration::from_secs(10), "{elapsed:?}");
+    assert!(!dir.join("out").exists());
+}

@@ -1,0 +1,199 @@
+//! The harness of the bad-input tests (tests/bad_input.rs,
+//! tests/bad_input_limits.rs): a small valid scene to break, and runs of the
+//! real binary on it with or without a time limit.
+
+use std::path::PathBuf;
+use std::process::{Command, Output, Stdio};
+use std::time::{Duration, Instant};
+
+pub const BIN: &str = env!("CARGO_BIN_EXE_signorini");
+
+/// One elastic block (1 x 0.5, 4 x 2 quads) resting on a rigid plane, pinned in
+/// x at its top-left corner and pressed down by a traction on its top. It runs
+/// fine as it is; each test breaks one thing in it.
+pub const BLOCK_ON_PLANE: &str = r#"title = "block on a rigid plane"
+dimension = 2
+model = "plane_strain"
+
+[[materials]]
+name = "steel"
+young = 1.0
+poisson = 0.3
+
+[[bodies]]
+name = "block"
+material = "steel"
+mesh = { generator = "rectangle", origin = [0.0, 0.0], size = [1.0, 0.5], divisions = [4, 2] }
+
+[[bodies]]
+name = "ground"
+rigid = { shape = "plane", point = [0.0, 0.0], normal = [0.0, 1.0] }
+
+[[boundary]]
+name = "pin"
+body = "block"
+point = [0.0, 0.5]
+displacement = { x = 0.0 }
+
+[[boundary]]
+name = "press"
+body = "block"
+surface = "top"
+traction = [0.0, -1.0]
+
+[[contact]]
+name = "block-ground"
+slave = { body = "block", surface = "bottom" }
+master = { body = "ground" }
+discretization = "node_to_segment"
+"#;
+
+/// The pin of `BLOCK_ON_PLANE`, to remove it.
+pub const PIN: &str = r#"[[boundary]]
+name = "pin"
+body = "block"
+point = [0.0, 0.5]
+displacement = { x = 0.0 }
+"#;
+
+/// `BLOCK_ON_PLANE` with `from` replaced by `to`; panics if `from` is absent, so
+/// that a test can never silently run the unmodified (valid) scene.
+pub fn block_with(from: &str, to: &str) -> String {
+    assert!(
+        BLOCK_ON_PLANE.contains(from),
+        "test bug: {from:?} is not in the base scene"
+    );
+    BLOCK_ON_PLANE.replacen(from, to, 1)
+}
+
+/// A fresh, empty directory for one test.
+pub fn fresh_dir(test: &str) -> PathBuf {
+    super::fresh_dir("bad_input", test)
+}
+
+pub struct Run {
+    pub dir: PathBuf,
+    pub output: Output,
+}
+
+impl Run {
+    pub fn stderr(&self) -> String {
+        String::from_utf8_lossy(&self.output.stderr).into_owned()
+    }
+
+    pub fn out_dir(&self) -> PathBuf {
+        self.dir.join("out")
+    }
+
+    pub fn describe(&self) -> String {
+        format!(
+            "exit status {:?}\n--- stdout ---\n{}\n--- stderr ---\n{}",
+            self.output.status.code(),
+            String::from_utf8_lossy(&self.output.stdout),
+            self.stderr()
+        )
+    }
+
+    /// Nothing written: the output directory does not exist.
+    pub fn assert_nothing_written(&self) {
+        assert!(
+            !self.out_dir().exists(),
+            "{} was created for bad input\n{}",
+            self.out_dir().display(),
+            self.describe()
+        );
+    }
+
+    /// Exit code 1, a short non-empty error on stderr containing every one of
+    /// `needles`, and nothing written.
+    pub fn assert_bad_input(&self, needles: &[&str]) {
+        assert_eq!(
+            self.output.status.code(),
+            Some(1),
+            "expected exit code 1 (bad input)\n{}",
+            self.describe()
+        );
+        let err = self.stderr();
+        assert!(
+            !err.trim().is_empty(),
+            "stderr is empty\n{}",
+            self.describe()
+        );
+        assert!(
+            err.len() < 600,
+            "stderr is {} characters long, expected a short message (< 600)\n{}",
+            err.len(),
+            self.describe()
+        );
+        for n in needles {
+            assert!(
+                err.contains(n),
+                "stderr does not mention {n:?}\n{}",
+                self.describe()
+            );
+        }
+        self.assert_nothing_written();
+    }
+}
+
+/// Write `scene` (if any) to DIR/scene.toml and run `signorini run DIR/scene.toml
+/// --out DIR/out EXTRA...`.
+pub fn run_scene(test: &str, scene: Option<&str>, extra: &[&str]) -> Run {
+    let dir = fresh_dir(test);
+    let scene_path = dir.join("scene.toml");
+    if let Some(text) = scene {
+        std::fs::write(&scene_path, text).unwrap();
+    }
+    let output = Command::new(BIN)
+        .arg("run")
+        .arg(&scene_path)
+        .arg("--out")
+        .arg(dir.join("out"))
+        .args(extra)
+        .current_dir(&dir)
+        .output()
+        .expect("cannot start the signorini binary");
+    Run { dir, output }
+}
+
+/// The mesh line of `BLOCK_ON_PLANE`, to swap generators in.
+pub const BLOCK_MESH: &str = "mesh = { generator = \"rectangle\", origin = [0.0, 0.0], size = [1.0, 0.5], divisions = [4, 2] }";
+
+/// `BLOCK_ON_PLANE` with every `(from, to)` replaced (each `from` must be in
+/// it, in turn).
+pub fn block_with_all(edits: &[(&str, &str)]) -> String {
+    edits
+        .iter()
+        .fold(BLOCK_ON_PLANE.to_string(), |s, (from, to)| {
+            assert!(s.contains(from), "test bug: {from:?} is not in the scene");
+            s.replacen(from, to, 1)
+        })
+}
+
+/// `BLOCK_ON_PLANE` with another mesh (a generator table).
+pub fn block_meshed(mesh: &str) -> String {
+    block_with(BLOCK_MESH, &format!("mesh = {mesh}"))
+}
+
+/// Runs the binary with a time limit (a hang is a failure, not a stuck
+/// test), and with `RUST_BACKTRACE=1`, so that a backtrace would show.
+pub fn run_limited(mut cmd: Command, limit: Duration) -> (Output, Duration) {
+    let t = Instant::now();
+    let mut child = cmd
+        .env("RUST_BACKTRACE", "1")
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("cannot start the signorini binary");
+    loop {
+        if child.try_wait().expect("wait").is_some() {
+            return (child.wait_with_output().expect("output"), t.elapsed());
+        }
+        if t.elapsed() > limit {
+            let _ = child.kill();
+            let out = child.wait_with_output().expect("output");
+            return (out, t.elapsed());
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    }
+}
