@@ -300,18 +300,15 @@ fn condense_stage(
     }
     progress::phase(progress::Phase::Condensing);
     let t = Instant::now();
-    let par = faer::get_global_parallelism();
-    let condense = |i: usize, spec: &SubdomainSpec| {
+    let rank = comm.rank();
+    let condense = |i: usize, spec: &SubdomainSpec, par: faer::Par| {
         let b = &model.bodies[spec.body];
         let (gamma, owner) = (&model.gamma_of[spec.body], &model.owner_part[spec.body]);
         let frames = model.frames.local(spec.body, b.mesh.dim, Some(&spec.nodes));
         Subdomain::condense(i, spec, b, gamma, owner, frames, par).map_err(|e| {
             format!(
                 "bodies[{}] \"{}\", subdomain {} (rank {}): {e}",
-                b.scene_index,
-                b.name,
-                spec.part,
-                comm.rank()
+                b.scene_index, b.name, spec.part, rank
             )
         })
     };
@@ -320,12 +317,10 @@ fn condense_stage(
             let mine: Vec<usize> = (0..specs.len())
                 .filter(|&i| owner_rank[i] == comm.rank())
                 .collect();
-            (mine.iter().enumerate())
-                .map(|(k, &i)| {
-                    progress::subdomain(k, mine.len(), specs.len());
-                    condense(i, &specs[i])
-                })
-                .collect()
+            let par = faer::get_global_parallelism();
+            condense_side_by_side(&mine, &costs, specs.len(), par, |i, par| {
+                condense(i, &specs[i], par)
+            })
         },
         Err,
     );
@@ -339,6 +334,89 @@ fn condense_stage(
             (a, Ok(b), condense_s)
         }
         Err(e) => (Vec::new(), Err(e), condense_s),
+    }
+}
+
+/// Condenses this rank's subdomains `mine` (indices of the run's `total`
+/// subdomains, whose costs are `costs`) with the parallelism `par` the rank
+/// has, the results in the order of `mine`.
+/// With several cores and several subdomains none of which outweighs the
+/// others together, they are condensed side by side, one per core, each
+/// factorisation on one core: faer's supernodal Cholesky runs in parallel
+/// only inside its large supernodes, so two factorisations side by side
+/// keep two cores busier than one after the other on two cores each. The
+/// first error stops the others from starting new subdomains.
+fn condense_side_by_side<T: Send>(
+    mine: &[usize],
+    costs: &[f64],
+    total: usize,
+    par: faer::Par,
+    condense: impl Fn(usize, faer::Par) -> Result<T, String> + Sync,
+) -> Result<Vec<T>, String> {
+    let cores = match par {
+        faer::Par::Seq => 1,
+        faer::Par::Rayon(n) => n.get(),
+    };
+    let workers = side_by_side_workers(mine.iter().map(|&i| costs[i]), cores);
+    if workers <= 1 {
+        let each = |(k, &i): (usize, &usize)| {
+            progress::subdomain(k, mine.len(), total);
+            condense(i, par)
+        };
+        return mine.iter().enumerate().map(each).collect();
+    }
+    let par = faer::Par::rayon(cores / workers);
+    let mut order: Vec<usize> = (0..mine.len()).collect();
+    order.sort_by(|&a, &b| costs[mine[b]].total_cmp(&costs[mine[a]]));
+    let next = std::sync::atomic::AtomicUsize::new(0);
+    let failed = std::sync::atomic::AtomicBool::new(false);
+    let slots: Vec<std::sync::Mutex<Option<Result<T, String>>>> =
+        mine.iter().map(|_| std::sync::Mutex::new(None)).collect();
+    let work = |reports: bool| {
+        use std::sync::atomic::Ordering::Relaxed;
+        while !failed.load(Relaxed) {
+            let k = next.fetch_add(1, Relaxed);
+            let Some(&slot) = order.get(k) else { break };
+            if reports {
+                progress::subdomain(k, mine.len(), total);
+            }
+            let out = condense(mine[slot], par);
+            failed.fetch_or(out.is_err(), Relaxed);
+            *slots[slot].lock().unwrap_or_else(|e| e.into_inner()) = Some(out);
+        }
+    };
+    std::thread::scope(|s| {
+        for _ in 1..workers {
+            s.spawn(|| work(false));
+        }
+        work(true);
+    });
+    let done = slots
+        .into_iter()
+        .filter_map(|m| m.into_inner().unwrap_or_else(|e| e.into_inner()));
+    let out: Vec<Result<T, String>> = done.collect();
+    if let Some(e) = out.iter().position(|r| r.is_err()) {
+        return Err(out
+            .into_iter()
+            .nth(e)
+            .and_then(|r| r.err())
+            .unwrap_or_default());
+    }
+    out.into_iter().collect()
+}
+
+/// How many subdomains of these costs to condense side by side on `cores`:
+/// one at a time (with every core) when there is one, one core, or one
+/// subdomain costs more than all the others together (it would run alone
+/// on one core most of the time); else as many as cores and subdomains.
+fn side_by_side_workers(costs: impl Iterator<Item = f64>, cores: usize) -> usize {
+    let costs: Vec<f64> = costs.collect();
+    let largest = costs.iter().copied().fold(0.0, f64::max);
+    let rest = costs.iter().sum::<f64>() - largest;
+    if cores < 2 || costs.len() < 2 || largest > rest {
+        1
+    } else {
+        cores.min(costs.len())
     }
 }
 
@@ -589,4 +667,41 @@ fn rank_stats(log: &mut RunLog, figures: &[RankFigures]) -> Vec<RankStats> {
             bytes_sent: f.bytes_sent,
         })
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// One subdomain, one core, or one subdomain heavier than the others
+    /// together: one at a time; else one per core.
+    #[test]
+    fn subdomains_go_side_by_side_only_when_they_balance() {
+        let w = |c: &[f64], cores| side_by_side_workers(c.iter().copied(), cores);
+        assert_eq!(w(&[5.0], 2), 1);
+        assert_eq!(w(&[1.0, 1.0], 1), 1);
+        assert_eq!(w(&[3.0, 1.0, 1.0], 2), 1);
+        assert_eq!(w(&[2.0, 1.0, 1.0], 2), 2);
+        assert_eq!(w(&[1.0; 8], 4), 4);
+        assert_eq!(w(&[1.0; 3], 8), 3);
+    }
+
+    /// Side by side, the results come back in the order of `mine` and the
+    /// first error is the answer.
+    #[test]
+    fn side_by_side_keeps_the_order_and_the_error() {
+        let par = faer::Par::rayon(2);
+        let mine = [4, 0, 2, 1];
+        let costs = [1.0, 2.0, 3.0, 1.5, 2.5];
+        let out = condense_side_by_side(&mine, &costs, 5, par, |i, _| Ok::<_, String>(10 * i));
+        assert_eq!(out, Ok(vec![40, 0, 20, 10]));
+        let out = condense_side_by_side(&mine, &costs, 5, par, |i, _| {
+            if i == 2 {
+                Err("subdomain 2 failed".to_string())
+            } else {
+                Ok(i)
+            }
+        });
+        assert_eq!(out, Err("subdomain 2 failed".to_string()));
+    }
 }

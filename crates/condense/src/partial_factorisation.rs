@@ -1,0 +1,254 @@
+//! The Schur complement read from a Cholesky factorisation stopped at the
+//! interface (notes §1.4, method C, without its last step).
+//!
+//! With the interior I ordered first and the interface B last, a left-looking
+//! supernodal Cholesky of K first factorises every interior supernode, then
+//! gathers into the trailing block their updates, K_BB − L_BI L_BIᵀ = S,
+//! and only then factorises that block. When the whole interface is in the
+//! last supernode, the gathered block holds S: the factorisation of S (nb³/3
+//! flops) and forming S back from it (L_BB L_BBᵀ, 2·nb³ more by a full
+//! product) are work thrown away — for a body in 8 parts, most of its
+//! condensation. Here the first pivot of the last supernode is made
+//! negative on purpose, K_jj − M with M = 2 K_jj (the pivot is K_jj less a
+//! positive update, so it becomes ≤ −K_jj < 0): the factorisation stops at
+//! the first column of that supernode, after gathering its updates and
+//! before its dense Cholesky writes anything; K_jj is restored by adding M
+//! back (a rounding of ε·M, the size of the rounding already there). The
+//! few interior columns a relaxed supernode may hold are finished by hand
+//! ([`finish_last_supernode`]) and the interface block is set to the
+//! identity, so that the factor is that of [K_II K_IB; K_BI K_BI K_II⁻¹ K_IB + I]:
+//! its L_II and L_BI are those of K, (L⁻¹ P F)_B = F_B − L_BI L_II⁻¹ F_I = F'
+//! and the interior solves are unchanged ([`crate::Condensed`]).
+//!
+//! This relies on how faer 0.24's supernodal Cholesky stops (it reports the
+//! first non-positive pivot of a supernode after gathering the supernode's
+//! updates, before writing it); the tests check S against the plain formula,
+//! and [`schur_by_stopped_factorisation`] returns `None` (the caller then
+//! shifts and factorises the whole matrix) when the interface is split over
+//! several supernodes.
+
+use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::linalg::cholesky::llt::factor::{LltError, LltRegularization};
+use faer::sparse::linalg::cholesky::{SymbolicCholesky, SymbolicCholeskyRaw};
+use faer::sparse::{SparseColMat, SparseColMatRef};
+use faer::{Mat, Par, Side};
+
+use crate::CondenseError;
+
+/// The factor's values and the dense Schur complement S.
+pub(crate) type FactorAndSchur = (Vec<f64>, Mat<f64>);
+
+/// The last supernode of the factor when it holds the whole interface:
+/// its first column `begin` (≤ ni: relaxed supernodes may take a few
+/// interior columns in) and its range in `l_values` (a square block:
+/// nothing is below the last supernode). `None` when the interface is split
+/// over several supernodes.
+fn interface_supernode(
+    symbolic: &SymbolicCholesky<usize>,
+    ni: usize,
+) -> Option<(usize, std::ops::Range<usize>)> {
+    let SymbolicCholeskyRaw::Supernodal(sn) = symbolic.raw() else {
+        return None;
+    };
+    let last = sn.n_supernodes().checked_sub(1)?;
+    let n = symbolic.nrows();
+    let (begin, end) = (sn.supernode_begin()[last], sn.supernode_end()[last]);
+    let ptr = sn.col_ptr_for_val();
+    let (v0, v1) = (ptr[last], ptr[last + 1]);
+    let w = n - begin;
+    (ni < n && begin <= ni && end == n && v1 - v0 == w * w).then_some((begin, v0..v1))
+}
+
+/// The index in `ks.val()` of the diagonal entry of column `j`.
+fn diagonal_position(ks: SparseColMatRef<'_, usize, f64>, j: usize) -> Option<usize> {
+    let rows = ks.row_idx_of_col_raw(j);
+    let start = ks.col_ptr()[j];
+    rows.iter().position(|&r| r == j).map(|p| start + p)
+}
+
+/// Factorises `ks` (interior first, interface ni..n last, symbolic factor
+/// `symbolic` in which the interface rows keep their place) up to its last
+/// supernode and returns the factor's values (with L_BB = I) and the dense
+/// Schur complement S, or `None` when the interface is not in one trailing
+/// supernode. `ks` is left as it was.
+///
+/// The last supernode starts at `begin`; its r = ni − begin interior
+/// columns R are finished here: the gathered block X is the Schur
+/// complement of K on R ∪ B, so L_RR L_RRᵀ = X_RR, L_BR = X_BR L_RR⁻ᵀ and
+/// S = X_BB − L_BR L_BRᵀ (r·nb² flops, r a few columns).
+pub(crate) fn schur_by_stopped_factorisation(
+    ks: &mut SparseColMat<usize, f64>,
+    symbolic: &SymbolicCholesky<usize>,
+    ni: usize,
+    par: Par,
+) -> Result<Option<FactorAndSchur>, CondenseError> {
+    let Some((begin, range)) = interface_supernode(symbolic, ni) else {
+        return Ok(None);
+    };
+    let first = symbolic.perm().map_or(begin, |p| p.arrays().0[begin]);
+    let Some(at) = diagonal_position(ks.as_ref(), first) else {
+        return Ok(None);
+    };
+    let d0 = ks.val()[at];
+    let m = 2.0 * d0.abs().max(f64::MIN_POSITIVE);
+    ks.val_mut()[at] -= m;
+    let mut l_values = vec![0.0f64; symbolic.len_val()];
+    let outcome = factorise(ks.as_ref(), symbolic, &mut l_values, par);
+    ks.val_mut()[at] = d0;
+    match outcome {
+        Err(LltError::NonPositivePivot { index }) if index == begin => {}
+        Err(e) => return Err(CondenseError::NotPositiveDefinite(format!("{e:?}"))),
+        Ok(_) => {
+            return Err(CondenseError::Factorisation(
+                "the factorisation did not stop at the interface".into(),
+            ))
+        }
+    }
+    let w = ks.nrows() - begin;
+    let block = &mut l_values[range];
+    let mut x = Mat::<f64>::from_fn(w, w, |i, j| block[i.max(j) + w * i.min(j)]);
+    x[(0, 0)] += m;
+    let (l, schur) = finish_last_supernode(x, ni - begin, par)?;
+    for j in 0..w {
+        block[w * j..w * (j + 1)].copy_from_slice(l.col_as_slice(j));
+    }
+    Ok(Some((l_values, schur)))
+}
+
+/// The numerical supernodal Cholesky of `ks` into `l_values`.
+fn factorise(
+    ks: SparseColMatRef<'_, usize, f64>,
+    symbolic: &SymbolicCholesky<usize>,
+    l_values: &mut [f64],
+    par: Par,
+) -> Result<(), LltError> {
+    let req = symbolic.factorize_numeric_llt_scratch::<f64>(par, Default::default());
+    let mut mem = MemBuffer::new(req);
+    symbolic
+        .factorize_numeric_llt::<f64>(
+            l_values,
+            ks,
+            Side::Lower,
+            LltRegularization::default(),
+            par,
+            MemStack::new(&mut mem),
+            Default::default(),
+        )
+        .map(|_| ())
+}
+
+/// From the gathered block X on R ∪ B (r interior columns first, symmetric),
+/// the last supernode's values [L_RR 0; L_BR I] and S = X_BB − L_BR L_BRᵀ.
+fn finish_last_supernode(
+    x: Mat<f64>,
+    r: usize,
+    par: Par,
+) -> Result<(Mat<f64>, Mat<f64>), CondenseError> {
+    let w = x.nrows();
+    let nb = w - r;
+    let mut l = Mat::<f64>::zeros(w, w);
+    let mut schur = x.get(r.., r..).to_owned();
+    if r > 0 {
+        let llt = x.get(..r, ..r).llt(Side::Lower).map_err(|e| {
+            CondenseError::NotPositiveDefinite(format!("last interior columns: {e:?}"))
+        })?;
+        let l_rr = llt.L();
+        // L_BRᵀ = L_RR⁻¹ X_RB.
+        let mut l_br_t = x.get(..r, r..).to_owned();
+        faer::linalg::triangular_solve::solve_lower_triangular_in_place(l_rr, l_br_t.as_mut(), par);
+        faer::linalg::matmul::matmul(
+            schur.as_mut(),
+            faer::Accum::Add,
+            l_br_t.transpose(),
+            l_br_t.as_ref(),
+            -1.0,
+            par,
+        );
+        l.get_mut(..r, ..r).copy_from(l_rr);
+        l.get_mut(r.., ..r).copy_from(l_br_t.transpose());
+    }
+    for j in 0..nb {
+        l[(r + j, r + j)] = 1.0;
+        for i in j + 1..nb {
+            let v = 0.5 * (schur[(i, j)] + schur[(j, i)]);
+            schur[(i, j)] = v;
+            schur[(j, i)] = v;
+        }
+    }
+    Ok((l, schur))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::ordering::{order_and_analyse, OrderingChoice};
+    use faer::sparse::Triplet;
+
+    /// A 3D grid matrix (7-point stencil, SPD with a Dirichlet shift on the
+    /// first layer when `held`) with its last `nb` rows as the interface.
+    fn grid3(m: usize, held: bool) -> SparseColMat<usize, f64> {
+        let id = |i: usize, j: usize, k: usize| i + m * (j + m * k);
+        let mut t = Vec::new();
+        for k in 0..m {
+            for j in 0..m {
+                for i in 0..m {
+                    let a = id(i, j, k);
+                    let mut diag = if held && k == 0 { 1.0 } else { 0.0 };
+                    for (b, ok) in [
+                        (a.wrapping_sub(1), i > 0),
+                        (a + 1, i + 1 < m),
+                        (a.wrapping_sub(m), j > 0),
+                        (a + m, j + 1 < m),
+                        (a.wrapping_sub(m * m), k > 0),
+                        (a + m * m, k + 1 < m),
+                    ] {
+                        if ok {
+                            t.push(Triplet::new(a, b, -1.0 - 0.1 * ((a + b) % 3) as f64));
+                            diag += 1.0 + 0.1 * ((a + b) % 3) as f64;
+                        }
+                    }
+                    t.push(Triplet::new(a, a, diag));
+                }
+            }
+        }
+        SparseColMat::try_new_from_triplets(m * m * m, m * m * m, &t).unwrap()
+    }
+
+    /// The stopped factorisation gives S of the plain formula to rounding
+    /// (relative to ‖K‖), held or floating, and leaves the matrix unchanged;
+    /// the factor it leaves solves the interior as the whole factor does.
+    #[test]
+    fn the_stopped_factorisation_gives_the_schur_complement() {
+        let m = 8;
+        for held in [true, false] {
+            let k = grid3(m, held);
+            let n = k.nrows();
+            let nb = m * m;
+            let ni = n - nb;
+            let interface: Vec<usize> = (ni..n).collect();
+            let f: Vec<f64> = vec![0.0; n];
+            // Floating or not, K_II is definite (the interface holds the
+            // grid): the plain formula applies.
+            let (reference, _) =
+                crate::schur_complement_reference(k.as_ref(), &interface, &f).unwrap();
+            let mut ks = k.clone();
+            let ordered = order_and_analyse(ks.as_ref(), ni, OrderingChoice::Auto).unwrap();
+            let stopped =
+                schur_by_stopped_factorisation(&mut ks, &ordered.symbolic, ni, Par::Seq).unwrap();
+            let (_, schur) = stopped.expect("the interface of a grid is one supernode");
+            let (begin, _) = interface_supernode(&ordered.symbolic, ni).unwrap();
+            assert!(
+                begin < ni,
+                "the relaxed supernode holds interior columns too"
+            );
+            assert_eq!(ks.val(), k.val(), "the matrix is restored");
+            let k_norm = k.val().iter().fold(0.0f64, |a, v| a.max(v.abs()));
+            for j in 0..nb {
+                for i in 0..nb {
+                    let d = (schur[(i, j)] - reference[(i, j)]).abs();
+                    assert!(d <= 1e-12 * k_norm, "held {held}: S[{i},{j}] off by {d:e}");
+                }
+            }
+        }
+    }
+}
