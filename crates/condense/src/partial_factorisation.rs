@@ -31,7 +31,7 @@ use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::cholesky::llt::factor::{LltError, LltRegularization};
 use faer::sparse::linalg::cholesky::{SymbolicCholesky, SymbolicCholeskyRaw};
 use faer::sparse::{SparseColMat, SparseColMatRef};
-use faer::{Mat, Par, Side};
+use faer::{Mat, MatMut, Par, Side};
 
 use crate::CondenseError;
 
@@ -105,13 +105,8 @@ pub(crate) fn schur_by_stopped_factorisation(
         }
     }
     let w = ks.nrows() - begin;
-    let block = &mut l_values[range];
-    let mut x = Mat::<f64>::from_fn(w, w, |i, j| block[i.max(j) + w * i.min(j)]);
-    x[(0, 0)] += m;
-    let (l, schur) = finish_last_supernode(x, ni - begin, par)?;
-    for j in 0..w {
-        block[w * j..w * (j + 1)].copy_from_slice(l.col_as_slice(j));
-    }
+    let block = MatMut::from_column_major_slice_mut(&mut l_values[range], w, w);
+    let schur = finish_last_supernode(block, ni - begin, m, par)?;
     Ok(Some((l_values, schur)))
 }
 
@@ -137,24 +132,28 @@ fn factorise(
         .map(|_| ())
 }
 
-/// From the gathered block X on R ∪ B (r interior columns first, symmetric),
-/// the last supernode's values [L_RR 0; L_BR I] and S = X_BB − L_BR L_BRᵀ.
+/// The last supernode X (w × w, its lower triangle the gathered Schur
+/// complement of K on R ∪ B less `m` on its first diagonal entry, the r
+/// interior columns R first) becomes [L_RR 0; L_BR I]; returns
+/// S = X_BB − L_BR L_BRᵀ (symmetric). Only S is a dense copy of nb² values.
 fn finish_last_supernode(
-    x: Mat<f64>,
+    mut x: MatMut<'_, f64>,
     r: usize,
+    m: f64,
     par: Par,
-) -> Result<(Mat<f64>, Mat<f64>), CondenseError> {
+) -> Result<Mat<f64>, CondenseError> {
     let w = x.nrows();
     let nb = w - r;
-    let mut l = Mat::<f64>::zeros(w, w);
-    let mut schur = x.get(r.., r..).to_owned();
+    x[(0, 0)] += m;
+    let mut schur = Mat::<f64>::from_fn(nb, nb, |i, j| x[(r + i.max(j), r + i.min(j))]);
     if r > 0 {
-        let llt = x.get(..r, ..r).llt(Side::Lower).map_err(|e| {
+        let x_rr = Mat::<f64>::from_fn(r, r, |i, j| x[(i.max(j), i.min(j))]);
+        let llt = x_rr.llt(Side::Lower).map_err(|e| {
             CondenseError::NotPositiveDefinite(format!("last interior columns: {e:?}"))
         })?;
         let l_rr = llt.L();
         // L_BRᵀ = L_RR⁻¹ X_RB.
-        let mut l_br_t = x.get(..r, r..).to_owned();
+        let mut l_br_t = x.as_ref().get(r.., ..r).transpose().to_owned();
         faer::linalg::triangular_solve::solve_lower_triangular_in_place(l_rr, l_br_t.as_mut(), par);
         faer::linalg::matmul::matmul(
             schur.as_mut(),
@@ -164,18 +163,24 @@ fn finish_last_supernode(
             -1.0,
             par,
         );
-        l.get_mut(..r, ..r).copy_from(l_rr);
-        l.get_mut(r.., ..r).copy_from(l_br_t.transpose());
+        for j in 0..r {
+            for i in j..r {
+                x[(i, j)] = l_rr[(i, j)];
+            }
+            for i in 0..nb {
+                x[(r + i, j)] = l_br_t[(j, i)];
+            }
+        }
     }
     for j in 0..nb {
-        l[(r + j, r + j)] = 1.0;
-        for i in j + 1..nb {
+        for i in j..nb {
+            x[(r + i, r + j)] = if i == j { 1.0 } else { 0.0 };
             let v = 0.5 * (schur[(i, j)] + schur[(j, i)]);
             schur[(i, j)] = v;
             schur[(j, i)] = v;
         }
     }
-    Ok((l, schur))
+    Ok(schur)
 }
 
 #[cfg(test)]
@@ -226,10 +231,10 @@ mod tests {
             let nb = m * m;
             let ni = n - nb;
             let interface: Vec<usize> = (ni..n).collect();
-            let f: Vec<f64> = vec![0.0; n];
+            let f: Vec<f64> = (0..n).map(|i| ((i * 7) % 5) as f64 - 2.0).collect();
             // Floating or not, K_II is definite (the interface holds the
             // grid): the plain formula applies.
-            let (reference, _) =
+            let (reference, fp_ref) =
                 crate::schur_complement_reference(k.as_ref(), &interface, &f).unwrap();
             let mut ks = k.clone();
             let ordered = order_and_analyse(ks.as_ref(), ni, OrderingChoice::Auto).unwrap();
@@ -248,6 +253,22 @@ mod tests {
                     let d = (schur[(i, j)] - reference[(i, j)]).abs();
                     assert!(d <= 1e-12 * k_norm, "held {held}: S[{i},{j}] off by {d:e}");
                 }
+            }
+            // The factor left behind (its finished interior columns and
+            // L_BB = I) condenses loads and recovers the interior exactly.
+            let c = crate::Condensed::new(k.as_ref(), &interface, Par::Seq).unwrap();
+            let f_norm = f.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+            for (a, b) in c.condensed_load(&f).iter().zip(&fp_ref) {
+                assert!((a - b).abs() <= 1e-12 * f_norm * k_norm, "F' {a} vs {b}");
+            }
+            let u_b: Vec<f64> = (0..nb).map(|j| (j as f64 * 0.3).sin()).collect();
+            let u = c.recover(k.as_ref(), &f, &u_b);
+            let ku = crate::spmv(k.as_ref(), &u);
+            for i in 0..ni {
+                assert!(
+                    (ku[i] - f[i]).abs() <= 1e-10 * f_norm,
+                    "interior equilibrium at {i}"
+                );
             }
         }
     }
