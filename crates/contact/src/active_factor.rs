@@ -11,6 +11,8 @@
 //! An update whose new pivot is not safely positive gives up, and the caller
 //! factorises afresh (or falls back to its rank-tested solve).
 
+use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::linalg::cholesky::llt::factor::{cholesky_in_place, cholesky_in_place_scratch};
 use faer::linalg::triangular_solve::{
     solve_lower_triangular_in_place, solve_upper_triangular_in_place,
 };
@@ -51,7 +53,7 @@ pub fn solve_on_active_set(
         .and_then(|mut f| f.update_to(w, active).then_some(f));
     let factor = match updated {
         Some(f) => f,
-        None => ActiveFactor::new(w, active)?,
+        None => ActiveFactor::new(w, &releases_last(q, active))?,
     };
     let rows = factor.rows();
     let rhs = Mat::<f64>::from_fn(rows.len(), 1, |i, _| -q[rows[i]]);
@@ -64,14 +66,42 @@ pub fn solve_on_active_set(
     Some(lambda)
 }
 
+/// `active` in the order of q, the most penetrating points first (stable:
+/// by index among equal gaps). The points whose gap is nearly closed, at the
+/// edge of the contact zone, are those the status method releases: last in
+/// the factor, their removal touches only a small trailing block.
+fn releases_last(q: &[f64], active: &[usize]) -> Vec<usize> {
+    let mut rows = active.to_vec();
+    rows.sort_by(|&a, &b| q[a].total_cmp(&q[b]));
+    rows
+}
+
 impl ActiveFactor {
     /// Factorises W on `rows`; `None` if not safely positive definite.
     pub fn new(w: &Mat<f64>, rows: &[usize]) -> Option<Self> {
         let n = rows.len();
-        let a = Mat::<f64>::from_fn(n, n, |i, j| w[(rows[i], rows[j])]);
-        let llt = a.llt(Side::Lower).ok()?;
-        let l = llt.L().to_owned();
-        let safe = cholesky_pivots_are_safe((0..n).map(|i| l[(i, i)]), (0..n).map(|i| a[(i, i)]));
+        // The lower triangle of W on `rows`, column by column, factorised in
+        // place (the upper triangle stays zero).
+        let mut l = Mat::<f64>::zeros(n, n);
+        for (j, &c) in rows.iter().enumerate() {
+            let wc = w.col_as_slice(c);
+            for (lij, &r) in l.col_as_slice_mut(j)[j..].iter_mut().zip(&rows[j..]) {
+                *lij = wc[r];
+            }
+        }
+        let par = faer::get_global_parallelism();
+        let mut mem = MemBuffer::new(cholesky_in_place_scratch::<f64>(n, par, Default::default()));
+        let stack = MemStack::new(&mut mem);
+        cholesky_in_place(
+            l.as_mut(),
+            Default::default(),
+            par,
+            stack,
+            Default::default(),
+        )
+        .ok()?;
+        let w_diag = rows.iter().map(|&r| w[(r, r)]);
+        let safe = cholesky_pivots_are_safe((0..n).map(|i| l[(i, i)]), w_diag);
         safe.then(|| Self {
             rows: rows.to_vec(),
             l,
