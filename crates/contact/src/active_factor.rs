@@ -142,13 +142,14 @@ impl ActiveFactor {
     /// part of L's column k below the diagonal (a later update touches only
     /// columns after its k, so every such column is L's original one).
     fn remove(&mut self, leaving: &[usize]) {
-        if leaving.is_empty() {
+        let Some(&first) = leaving.first() else {
             return;
-        }
+        };
         let n = self.rows.len();
         let mut gone = vec![false; n];
         leaving.iter().for_each(|&k| gone[k] = true);
         let kept: Vec<usize> = (0..n).filter(|&i| !gone[i]).collect();
+        let m = kept.len();
         // Each removed k: its position among the kept rows and its vector.
         let updates: Vec<(usize, Vec<f64>)> = leaving
             .iter()
@@ -158,17 +159,17 @@ impl ActiveFactor {
                 (at, kept[at..].iter().map(|&i| col[i]).collect())
             })
             .collect();
+        // Rows before `first` keep their place: in column jj only the rows
+        // from max(jj, first) on move up.
+        let mut moved = vec![0.0; n];
         for (jj, &j) in kept.iter().enumerate() {
-            if jj != j {
-                let col = self.l.col_as_slice(j).to_vec();
-                self.l.col_as_slice_mut(jj).copy_from_slice(&col);
+            let from = jj.max(first);
+            let col = self.l.col_as_slice(j);
+            for (v, &i) in moved[from..m].iter_mut().zip(&kept[from..]) {
+                *v = col[i];
             }
-            let col = self.l.col_as_slice_mut(jj);
-            for (ii, &i) in kept.iter().enumerate().skip(jj) {
-                col[ii] = col[i];
-            }
+            self.l.col_as_slice_mut(jj)[from..m].copy_from_slice(&moved[from..m]);
         }
-        let m = kept.len();
         self.l.truncate(m, m);
         self.rank_one_updates(updates);
         self.rows = kept.iter().map(|&i| self.rows[i]).collect();

@@ -14,7 +14,9 @@ use std::fmt;
 use faer::Mat;
 
 use crate::active_factor::{solve_on_active_set, ActiveFactor};
-use crate::lcp::{constrained_gaps, gaps, lcp_residual, LcpOptions};
+use crate::lcp::{
+    constrained_gaps, gaps, gaps_off_active, lcp_residual, residual_from_gaps, LcpOptions,
+};
 use crate::solution::{ContactSolution, PolishSolve};
 use crate::status::{status_method, ActiveSetSolve, StatusOptions, StatusVariant};
 use crate::{ContactError, DelassusProblem};
@@ -146,7 +148,10 @@ pub fn find(name: &str) -> Option<&'static Method> {
 }
 
 /// The status method on LCP(W, q): W_AA λ_A = −q_A on the active set, from
-/// the points whose gap is closed (q_p ≤ tolerance × gap scale).
+/// the points whose gap is closed (q_p ≤ tolerance × gap scale). The
+/// iterations see the gaps of the inactive points only ([`DenseLcp`]); the
+/// answer's gaps are W λ + q on every point, and its residual history their
+/// natural residual.
 fn status(p: &Lcp) -> Result<ContactSolution, ContactError> {
     let (w, q, opts) = (p.w, p.q, p.opts);
     let mut dense = DenseLcp::new(w, q);
@@ -157,6 +162,9 @@ fn status(p: &Lcp) -> Result<ContactSolution, ContactError> {
         &StatusOptions::from_lcp(p.variant, opts, Some(initial)),
     )?;
     out.report.operator_applications = dense.solves;
+    out.gaps = gaps(w, q, &out.forces);
+    let residual = residual_from_gaps(&out.forces, &out.gaps, opts);
+    out.report.residual_history.push(residual);
     Ok(out)
 }
 
@@ -338,7 +346,8 @@ impl Algorithm {
 /// LCP(W, q) as an [`ActiveSetSolve`]: W_AA λ_A = −q_A, the Cholesky
 /// factor of W_AA carried from one active set to the next
 /// ([`ActiveFactor`]); a block that is not safely positive definite goes to
-/// the rank-tested solve.
+/// the rank-tested solve. The gaps are W λ + q off the active set and 0 on
+/// it, where the solve imposed them (the status rule reads only the former).
 pub struct DenseLcp<'a> {
     pub w: &'a Mat<f64>,
     pub q: &'a [f64],
@@ -381,7 +390,7 @@ impl ActiveSetSolve for DenseLcp<'_> {
                 lambda
             }
         };
-        let g = gaps(self.w, self.q, &lambda);
+        let g = gaps_off_active(self.w, self.q, &lambda, active);
         Ok((lambda, g))
     }
 }
