@@ -210,8 +210,7 @@ pub(crate) fn gaps_into(w: &Mat<f64>, q: &[f64], lambda: &[f64], g: &mut [f64]) 
 
 /// g = W λ + q on the points outside `active` (sorted, and λ zero off it),
 /// 0 on `active`, where the solve imposed it: |I|·|A| products instead of
-/// m·|A|, the inactive points I taken as runs of consecutive indices (whole
-/// slices of W's columns).
+/// m·|A|.
 pub(crate) fn gaps_off_active(
     w: &Mat<f64>,
     q: &[f64],
@@ -219,20 +218,52 @@ pub(crate) fn gaps_off_active(
     active: &[usize],
 ) -> Vec<f64> {
     let m = q.len();
-    let mut runs = Vec::new();
+    let mut inactive = Vec::new();
     let mut start = 0;
     for &p in active.iter().chain(std::iter::once(&m)) {
         if p > start {
-            runs.push(start..p);
+            inactive.push(start..p);
         }
         start = p + 1;
     }
     let mut g = vec![0.0; m];
-    for r in &runs {
+    gaps_on_runs(w, q, lambda, active, &inactive, &mut g);
+    g
+}
+
+/// g_p = W_p λ + q_p for the points p of `points` (sorted), λ being zero
+/// off `active` (sorted); g elsewhere is left as it is.
+pub(crate) fn gaps_on(
+    w: &Mat<f64>,
+    q: &[f64],
+    lambda: &[f64],
+    active: &[usize],
+    points: &[usize],
+    g: &mut [f64],
+) {
+    let mut runs: Vec<Range<usize>> = Vec::new();
+    for &p in points {
+        match runs.last_mut() {
+            Some(r) if r.end == p => r.end += 1,
+            _ => runs.push(p..p + 1),
+        }
+    }
+    gaps_on_runs(w, q, lambda, active, &runs, g);
+}
+
+/// [`gaps_on`] on runs of consecutive points (whole slices of W's columns).
+fn gaps_on_runs(
+    w: &Mat<f64>,
+    q: &[f64],
+    lambda: &[f64],
+    active: &[usize],
+    runs: &[Range<usize>],
+    g: &mut [f64],
+) {
+    for r in runs {
         g[r.clone()].copy_from_slice(&q[r.clone()]);
     }
-    add_columns(w, active, lambda, &runs, &mut g);
-    g
+    add_columns(w, active, lambda, runs, g);
 }
 
 /// y_i += Σ_{j ∈ cols} W_ij x_j for i in `runs`, four columns at a time
@@ -371,7 +402,8 @@ mod tests {
     }
 
     /// The sweeps four columns at a time (with a remainder) give W λ + q to
-    /// round-off, and off the active set only where asked.
+    /// round-off: on every point, off the active set only (0 on it), and
+    /// then on the active set.
     #[test]
     fn gap_sweeps_agree_with_the_definition() {
         for m in [1, 4, 11, 30] {
@@ -380,7 +412,10 @@ mod tests {
             let scale = 1.0 + want.iter().fold(0.0f64, |a, v| a.max(v.abs()));
             let all = gaps(&w, &q, &lambda);
             let off = gaps_off_active(&w, &q, &lambda, &active);
+            let mut on = off.clone();
+            gaps_on(&w, &q, &lambda, &active, &active, &mut on);
             for p in 0..m {
+                assert!((on[p] - want[p]).abs() <= 1e-13 * scale, "m {m}, {p}");
                 assert!((all[p] - want[p]).abs() <= 1e-13 * scale, "m {m}, {p}");
                 let expected = if active.contains(&p) { 0.0 } else { want[p] };
                 assert!((off[p] - expected).abs() <= 1e-13 * scale, "m {m}, {p}");

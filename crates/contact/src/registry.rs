@@ -15,7 +15,7 @@ use faer::Mat;
 
 use crate::active_factor::{solve_on_active_set, ActiveFactor};
 use crate::lcp::{
-    constrained_gaps, gaps, gaps_off_active, lcp_residual, residual_from_gaps, LcpOptions,
+    constrained_gaps, gaps, gaps_off_active, gaps_on, lcp_residual, residual_from_gaps, LcpOptions,
 };
 use crate::solution::{ContactSolution, PolishSolve};
 use crate::status::{status_method, ActiveSetSolve, StatusOptions, StatusVariant};
@@ -162,7 +162,11 @@ fn status(p: &Lcp) -> Result<ContactSolution, ContactError> {
         &StatusOptions::from_lcp(p.variant, opts, Some(initial)),
     )?;
     out.report.operator_applications = dense.solves;
-    out.gaps = gaps(w, q, &out.forces);
+    match &dense.last_active {
+        // The gaps off the set of the last solve are W λ + q already.
+        Some(active) => gaps_on(w, q, &out.forces, active, active, &mut out.gaps),
+        None => out.gaps = gaps(w, q, &out.forces),
+    }
     let residual = residual_from_gaps(&out.forces, &out.gaps, opts);
     out.report.residual_history.push(residual);
     Ok(out)
@@ -353,6 +357,8 @@ pub struct DenseLcp<'a> {
     pub q: &'a [f64],
     pub solves: usize,
     factor: Option<ActiveFactor>,
+    /// The active set of the last solve that succeeded.
+    last_active: Option<Vec<usize>>,
 }
 
 impl<'a> DenseLcp<'a> {
@@ -362,6 +368,7 @@ impl<'a> DenseLcp<'a> {
             q,
             solves: 0,
             factor: None,
+            last_active: None,
         }
     }
 }
@@ -391,6 +398,7 @@ impl ActiveSetSolve for DenseLcp<'_> {
             }
         };
         let g = gaps_off_active(self.w, self.q, &lambda, active);
+        self.last_active = Some(active.to_vec());
         Ok((lambda, g))
     }
 }
@@ -422,5 +430,40 @@ fn polish(w: &Mat<f64>, q: &[f64], sol: &mut ContactSolution, opts: &LcpOptions)
     if feasible && after <= before.max(opts.tolerance) {
         sol.set_forces(clamped, g_clamped);
         sol.report.record_polish(after, PolishSolve::ActiveSet);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::test_problems::{cases, norm_inf, rel_err};
+
+    /// The status method on LCP(W, q) through the registry: the forces of
+    /// the exact solution, the gaps W λ + q on every point (the iterations
+    /// saw only the inactive ones), and the residual of those.
+    #[test]
+    fn status_answers_with_the_gaps_of_every_point() {
+        let opts = LcpOptions {
+            tolerance: 1e-12,
+            ..Default::default()
+        };
+        for case in cases() {
+            let sol = Algorithm::status(StatusVariant::All)
+                .solve(&case.w, &case.q, None, &opts)
+                .unwrap();
+            assert!(sol.report.converged, "{}: {}", case.name, sol.report.stop);
+            assert!(rel_err(&sol.forces, &case.exact) <= 1e-10, "{}", case.name);
+            let want = gaps(&case.w, &case.q, &sol.forces);
+            let scale = norm_inf(&case.q) + norm_inf(&want);
+            for (p, (g, h)) in sol.gaps.iter().zip(&want).enumerate() {
+                assert!((g - h).abs() <= 1e-13 * scale, "{}: point {p}", case.name);
+            }
+            // The same residual as from a product on every point, to round-off.
+            let residual = lcp_residual(&case.w, &case.q, &sol.forces, &opts);
+            let history = &sol.report.residual_history;
+            assert_eq!(history.len(), 1, "{}", case.name);
+            assert!((history[0] - residual).abs() <= 1e-13, "{}", case.name);
+            assert!(history[0] <= opts.tolerance, "{}", case.name);
+        }
     }
 }
