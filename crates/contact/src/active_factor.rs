@@ -13,16 +13,28 @@
 
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::cholesky::llt::factor::{cholesky_in_place, cholesky_in_place_scratch};
+use faer::linalg::matmul::matmul;
 use faer::linalg::triangular_solve::{
     solve_lower_triangular_in_place, solve_upper_triangular_in_place,
 };
-use faer::{Mat, Par, Side};
+use faer::{Accum, Mat, Par, Side};
 
 /// L Lᵀ = W restricted to `rows` (in that order).
 #[derive(Debug, Clone)]
 pub struct ActiveFactor {
     rows: Vec<usize>,
     l: Mat<f64>,
+    forward: Forward,
+}
+
+/// The right-hand side b of the last [`ActiveFactor::solve_reusing`] and its
+/// forward substitution y = L⁻¹ b, still valid on the first `valid` rows
+/// (those before every row an update has touched since).
+#[derive(Debug, Clone, Default)]
+struct Forward {
+    b: Vec<f64>,
+    y: Vec<f64>,
+    valid: usize,
 }
 
 /// Whether a Cholesky factor's pivots L_ii² are safely positive: each at
@@ -55,12 +67,12 @@ pub fn solve_on_active_set(
         Some(f) => f,
         None => ActiveFactor::new(w, &releases_last(q, active))?,
     };
-    let rows = factor.rows();
-    let rhs = Mat::<f64>::from_fn(rows.len(), 1, |i, _| -q[rows[i]]);
-    let x = factor.solve(&rhs);
+    let mut factor = factor;
+    let rhs: Vec<f64> = factor.rows.iter().map(|&p| -q[p]).collect();
+    let x = factor.solve_reusing(&rhs);
     let mut lambda = vec![0.0; q.len()];
-    for (i, &p) in rows.iter().enumerate() {
-        lambda[p] = x[(i, 0)];
+    for (&p, xi) in factor.rows.iter().zip(x) {
+        lambda[p] = xi;
     }
     *slot = Some(factor);
     Some(lambda)
@@ -125,6 +137,7 @@ impl ActiveFactor {
         safe.then(|| Self {
             rows: rows.to_vec(),
             l,
+            forward: Forward::default(),
         })
     }
 
@@ -192,6 +205,7 @@ impl ActiveFactor {
         self.l.truncate(m, m);
         self.rank_one_updates(updates);
         self.rows = kept.iter().map(|&i| self.rows[i]).collect();
+        self.forward.valid = self.forward.valid.min(first);
     }
 
     /// L L ᵀ + Σ v vᵀ for the vectors `updates` (each (at, v): v starts at
@@ -231,9 +245,9 @@ impl ActiveFactor {
         let mut x = Mat::<f64>::from_fn(n, k, |i, j| w[(self.rows[i], entering[j])]);
         solve_lower_triangular_in_place(self.l.as_ref(), x.as_mut(), Par::Seq);
         let mut c = Mat::<f64>::from_fn(k, k, |i, j| w[(entering[i], entering[j])]);
-        faer::linalg::matmul::matmul(
+        matmul(
             c.as_mut(),
-            faer::Accum::Add,
+            Accum::Add,
             x.transpose(),
             x.as_ref(),
             -1.0,
@@ -255,6 +269,35 @@ impl ActiveFactor {
             });
         self.rows.extend_from_slice(entering);
         true
+    }
+
+    /// Solves W_AA x = b like [`Self::solve`], reusing the forward
+    /// substitution y = L⁻¹ b of the previous call on the leading rows where
+    /// neither b nor L changed since: after removals at the tail of the
+    /// factor (and appends) only its trailing rows are substituted again,
+    /// y₂ = L₂₂⁻¹ (b₂ − L₂₁ y₁).
+    pub fn solve_reusing(&mut self, b: &[f64]) -> Vec<f64> {
+        let n = self.rows.len();
+        let f = &mut self.forward;
+        let valid = f.valid.min(n);
+        let keep = (0..valid).find(|&i| f.b[i] != b[i]).unwrap_or(valid);
+        let mut y = Mat::<f64>::zeros(n, 1);
+        let yc = y.col_as_slice_mut(0);
+        yc[..keep].copy_from_slice(&f.y[..keep]);
+        yc[keep..].copy_from_slice(&b[keep..]);
+        let (y1, mut y2) = y.as_mut().split_at_row_mut(keep);
+        let l = self.l.as_ref();
+        let (l21, l22) = (
+            l.submatrix(keep, 0, n - keep, keep),
+            l.submatrix(keep, keep, n - keep, n - keep),
+        );
+        matmul(y2.as_mut(), Accum::Add, l21, y1.as_ref(), -1.0, Par::Seq);
+        solve_lower_triangular_in_place(l22, y2, Par::Seq);
+        f.b = b.to_vec();
+        f.y = y.col_as_slice(0).to_vec();
+        f.valid = n;
+        solve_upper_triangular_in_place(l.transpose(), y.as_mut(), Par::Seq);
+        y.col_as_slice(0).to_vec()
     }
 
     /// Solves W_AA x = b (b and x in the order of [`Self::rows`]).
@@ -355,6 +398,43 @@ mod tests {
         for &i in &active {
             let wl: f64 = active.iter().map(|&j| w[(i, j)] * lambda[j]).sum();
             assert!((wl + q[i]).abs() <= 1e-14 * scale * 12.0, "{i}");
+        }
+    }
+
+    /// The solve that reuses the leading forward substitution agrees with a
+    /// fresh factor's after tail removals (all of y kept), a change of b
+    /// (kept up to it), removals in the middle and appends.
+    #[test]
+    fn reused_forward_substitution_solves_like_a_new_factor() {
+        let w = spd(200);
+        let all: Vec<usize> = (0..200).collect();
+        let b_of = |rows: &[usize], bump: usize| -> Vec<f64> {
+            let b = rows.iter().map(|&r| (r as f64 * 0.3).sin() + 0.1);
+            b.enumerate()
+                .map(|(i, v)| if i == bump { v + 1.0 } else { v })
+                .collect()
+        };
+        let mut f = ActiveFactor::new(&w, &all).unwrap();
+        let middle: Vec<usize> = (0..170)
+            .filter(|r| !(100..104).contains(r))
+            .chain([185, 172, 199])
+            .collect();
+        let steps: [(&[usize], usize); 4] = [
+            (&all, 200),
+            (&all[..170], 200),
+            (&all[..170], 50),
+            (&middle, 200),
+        ];
+        for (target, bump) in steps {
+            assert!(f.update_to(&w, target));
+            let b = b_of(f.rows(), bump);
+            let x = f.solve_reusing(&b);
+            let fresh = ActiveFactor::new(&w, f.rows()).unwrap();
+            let want = fresh.solve(&Mat::<f64>::from_fn(b.len(), 1, |i, _| b[i]));
+            let scale = (0..b.len()).fold(0.0f64, |a, i| a.max(want[(i, 0)].abs()));
+            for (i, xi) in x.iter().enumerate() {
+                assert!((xi - want[(i, 0)]).abs() <= 1e-13 * scale, "{i}");
+            }
         }
     }
 
