@@ -197,7 +197,8 @@ pub(crate) fn check_input(w: &Mat<f64>, q: &[f64], method: &str) -> Result<(), C
 pub(crate) fn matvec(w: &Mat<f64>, x: &[f64], y: &mut [f64]) {
     y.iter_mut().for_each(|v| *v = 0.0);
     let nonzero: Vec<usize> = (0..x.len()).filter(|&j| x[j] != 0.0).collect();
-    add_columns(w, &nonzero, x, &[0..y.len()], y);
+    let every_row = 0..y.len();
+    add_columns(w, &nonzero, x, std::slice::from_ref(&every_row), y);
 }
 
 /// g = W λ + q, into `g`.
