@@ -14,7 +14,9 @@ use std::fmt;
 use faer::Mat;
 
 use crate::active_factor::{solve_on_active_set, ActiveFactor};
-use crate::lcp::{constrained_gaps, gaps, lcp_residual, LcpOptions};
+use crate::lcp::{
+    constrained_gaps, gaps, gaps_off_active, gaps_on, lcp_residual, residual_from_gaps, LcpOptions,
+};
 use crate::solution::{ContactSolution, PolishSolve};
 use crate::status::{status_method, ActiveSetSolve, StatusOptions, StatusVariant};
 use crate::{ContactError, DelassusProblem};
@@ -146,7 +148,10 @@ pub fn find(name: &str) -> Option<&'static Method> {
 }
 
 /// The status method on LCP(W, q): W_AA λ_A = −q_A on the active set, from
-/// the points whose gap is closed (q_p ≤ tolerance × gap scale).
+/// the points whose gap is closed (q_p ≤ tolerance × gap scale). The
+/// iterations see the gaps of the inactive points only ([`DenseLcp`]); the
+/// answer's gaps are W λ + q on every point, and its residual history their
+/// natural residual.
 fn status(p: &Lcp) -> Result<ContactSolution, ContactError> {
     let (w, q, opts) = (p.w, p.q, p.opts);
     let mut dense = DenseLcp::new(w, q);
@@ -157,6 +162,13 @@ fn status(p: &Lcp) -> Result<ContactSolution, ContactError> {
         &StatusOptions::from_lcp(p.variant, opts, Some(initial)),
     )?;
     out.report.operator_applications = dense.solves;
+    match &dense.last_active {
+        // The gaps off the set of the last solve are W λ + q already.
+        Some(active) => gaps_on(w, q, &out.forces, active, active, &mut out.gaps),
+        None => out.gaps = gaps(w, q, &out.forces),
+    }
+    let residual = residual_from_gaps(&out.forces, &out.gaps, opts);
+    out.report.residual_history.push(residual);
     Ok(out)
 }
 
@@ -338,12 +350,15 @@ impl Algorithm {
 /// LCP(W, q) as an [`ActiveSetSolve`]: W_AA λ_A = −q_A, the Cholesky
 /// factor of W_AA carried from one active set to the next
 /// ([`ActiveFactor`]); a block that is not safely positive definite goes to
-/// the rank-tested solve.
+/// the rank-tested solve. The gaps are W λ + q off the active set and 0 on
+/// it, where the solve imposed them (the status rule reads only the former).
 pub struct DenseLcp<'a> {
     pub w: &'a Mat<f64>,
     pub q: &'a [f64],
     pub solves: usize,
     factor: Option<ActiveFactor>,
+    /// The active set of the last solve that succeeded.
+    last_active: Option<Vec<usize>>,
 }
 
 impl<'a> DenseLcp<'a> {
@@ -353,6 +368,7 @@ impl<'a> DenseLcp<'a> {
             q,
             solves: 0,
             factor: None,
+            last_active: None,
         }
     }
 }
@@ -381,7 +397,8 @@ impl ActiveSetSolve for DenseLcp<'_> {
                 lambda
             }
         };
-        let g = gaps(self.w, self.q, &lambda);
+        let g = gaps_off_active(self.w, self.q, &lambda, active);
+        self.last_active = Some(active.to_vec());
         Ok((lambda, g))
     }
 }
@@ -413,5 +430,40 @@ fn polish(w: &Mat<f64>, q: &[f64], sol: &mut ContactSolution, opts: &LcpOptions)
     if feasible && after <= before.max(opts.tolerance) {
         sol.set_forces(clamped, g_clamped);
         sol.report.record_polish(after, PolishSolve::ActiveSet);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::test_problems::{cases, norm_inf, rel_err};
+
+    /// The status method on LCP(W, q) through the registry: the forces of
+    /// the exact solution, the gaps W λ + q on every point (the iterations
+    /// saw only the inactive ones), and the residual of those.
+    #[test]
+    fn status_answers_with_the_gaps_of_every_point() {
+        let opts = LcpOptions {
+            tolerance: 1e-12,
+            ..Default::default()
+        };
+        for case in cases() {
+            let sol = Algorithm::status(StatusVariant::All)
+                .solve(&case.w, &case.q, None, &opts)
+                .unwrap();
+            assert!(sol.report.converged, "{}: {}", case.name, sol.report.stop);
+            assert!(rel_err(&sol.forces, &case.exact) <= 1e-10, "{}", case.name);
+            let want = gaps(&case.w, &case.q, &sol.forces);
+            let scale = norm_inf(&case.q) + norm_inf(&want);
+            for (p, (g, h)) in sol.gaps.iter().zip(&want).enumerate() {
+                assert!((g - h).abs() <= 1e-13 * scale, "{}: point {p}", case.name);
+            }
+            // The same residual as from a product on every point, to round-off.
+            let residual = lcp_residual(&case.w, &case.q, &sol.forces, &opts);
+            let history = &sol.report.residual_history;
+            assert_eq!(history.len(), 1, "{}", case.name);
+            assert!((history[0] - residual).abs() <= 1e-13, "{}", case.name);
+            assert!(history[0] <= opts.tolerance, "{}", case.name);
+        }
     }
 }
