@@ -18,6 +18,7 @@ use faer::prelude::Solve;
 use faer::{Mat, Side};
 
 use crate::active_factor::{solve_on_active_set, ActiveFactor};
+use crate::friction::capacitance::{solve_status_system, StatusFactor};
 use crate::schur_factor::{InterfaceFactorStats, InterfaceStiffness, SchurFactor};
 use crate::status::ActiveSetSolve;
 use crate::ContactError;
@@ -372,6 +373,24 @@ impl DelassusProblem {
         let g = crate::lcp::constrained_gaps(&self.w, &self.q, &self.g_mat, &r, &alpha);
         self.last_alpha = alpha;
         Ok((r, g))
+    }
+
+    /// As [`Self::solve_equations`], with the factor of an earlier status
+    /// iteration's system carried in `factor` and updated by the
+    /// capacitance formula when few equations changed
+    /// ([`crate::friction::capacitance`]; without floating bodies).
+    pub(crate) fn solve_equations_updating(
+        &mut self,
+        eqs: &[VarEquation],
+        factor: &mut Option<StatusFactor>,
+    ) -> Result<(Vec<f64>, Vec<f64>), ContactError> {
+        if self.r.ncols() == 0 {
+            if let Some(out) = solve_status_system(factor, &self.w, &self.q, eqs) {
+                self.solves += 1;
+                return Ok(out);
+            }
+        }
+        self.solve_equations(eqs)
     }
 
     /// The rigid-mode amplitudes α of the last solve.

@@ -39,6 +39,7 @@ use crate::lcp::LcpOptions;
 use crate::solution::{ContactSolution, StopReason, ThresholdMapKind};
 use crate::ContactError;
 
+pub(crate) mod capacitance;
 pub mod kinematic_hardening;
 pub mod law;
 pub use law::{FrictionLaw, FrictionLayout};
@@ -202,6 +203,9 @@ struct FrictionRule<'a> {
     thr: Vec<f64>,
     coulomb_ratio: bool,
     opts: &'a FrictionOptions,
+    /// The factor of an earlier status system, updated from one iteration
+    /// to the next ([`capacitance`]).
+    factor: &'a mut Option<capacitance::StatusFactor>,
 }
 
 impl StatusRule for FrictionRule<'_> {
@@ -210,7 +214,7 @@ impl StatusRule for FrictionRule<'_> {
 
     fn solve(&mut self, statuses: &[PointStatus]) -> Result<Self::Solution, ContactError> {
         let eqs = equations(self.layout, statuses, &self.thr, self.coulomb_ratio);
-        self.problem.solve_equations(&eqs)
+        self.problem.solve_equations_updating(&eqs, self.factor)
     }
 
     fn violations(
@@ -281,6 +285,7 @@ fn status_loop(
         thr,
         coulomb_ratio,
         opts,
+        factor: &mut run.factor,
     };
     let initial = std::mem::take(&mut run.statuses);
     let out = drive(&mut rule, initial, false, opts.max_iterations)?;
@@ -322,6 +327,8 @@ struct Run {
     /// Inner Tresca problems solved by the box QP after the status method
     /// cycled.
     box_fallbacks: usize,
+    /// The factor of the last status system (W does not change in a run).
+    factor: Option<capacitance::StatusFactor>,
 }
 
 impl Run {
@@ -331,6 +338,7 @@ impl Run {
             iterations: 0,
             cycle: false,
             box_fallbacks: 0,
+            factor: None,
         }
     }
 
