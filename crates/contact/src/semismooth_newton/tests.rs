@@ -277,7 +277,7 @@ fn coulomb_system_with_slip() -> (DelassusProblem, NewtonSystem, usize) {
     let thr = layout.thresholds(&vec![0.0; p.q.len()]);
     let mut inner = Inner::new(&p, &layout, &thr);
     inner.coulomb = true;
-    let mut x = inner.start(&vec![0.0; p.q.len()]);
+    let mut x = inner.iterate(inner.start(&vec![0.0; p.q.len()]));
     let mut sys = NewtonSystem::default();
     for _ in 0..2 {
         inner.newton_step(&mut x, &mut sys);
