@@ -561,31 +561,27 @@ fn newton_block(
     red: &NewtonReduction,
     pos: &[usize],
 ) -> (Mat<f64>, bool) {
-    let n = w.nrows();
     let dirs = &red.dirs;
-    // W e over all rows, column by column (W is column major).
-    let mut col = vec![0.0; n];
-    let w_dir = |d: &Dir, col: &mut [f64]| {
-        let (c0, c1) = (w.col(d.rows[0]), w.col(d.rows[1]));
-        for (i, v) in col.iter_mut().enumerate() {
-            *v = d.c[0] * c0[i] + d.c[1] * c1[i];
+    // e_xᵀ W e_y from the columns of W on e_y's rows (W is column major),
+    // read on e_x's rows only.
+    let column = |dy: &Dir, f: f64, a: &mut Mat<f64>, y: usize| {
+        let (c0, c1) = (w.col_as_slice(dy.rows[0]), w.col_as_slice(dy.rows[1]));
+        let (f0, f1) = (f * dy.c[0], f * dy.c[1]);
+        for (x, dx) in dirs.iter().enumerate() {
+            let [r0, r1] = dx.rows;
+            let v = dx.c[0] * (f0 * c0[r0] + f1 * c1[r0]) + dx.c[1] * (f0 * c0[r1] + f1 * c1[r1]);
+            a[(pos[x], y)] += v;
         }
     };
     let mut a = Mat::<f64>::zeros(dirs.len(), dirs.len());
     for (y, dy) in dirs.iter().enumerate() {
-        w_dir(dy, &mut col);
-        for (x, dx) in dirs.iter().enumerate() {
-            a[(pos[x], pos[y])] = dx.dot(&col);
-        }
+        column(dy, 1.0, &mut a, pos[y]);
     }
     for (x, (_, comp, _)) in sys.coupled.iter().enumerate() {
         a[(pos[x], pos[x])] += comp;
     }
     for (d, y, f) in &red.dependent {
-        w_dir(d, &mut col);
-        for (x, dx) in dirs.iter().enumerate() {
-            a[(pos[x], pos[*y])] += f * dx.dot(&col);
-        }
+        column(d, *f, &mut a, pos[*y]);
     }
     let mut symmetric = red.dependent.is_empty();
     for &(x, r, f) in &sys.coupled_normal {
