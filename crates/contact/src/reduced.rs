@@ -323,6 +323,14 @@ fn schur_on_g(
 /// then Eᵀ W P + diag d (plus the coupled rows' own f dλ_n), by a partially
 /// pivoted LU, and the equilibrium rows Gᵀ P s. Returns dx = (dλ, dα), or
 /// `None` for the caller's full solve.
+///
+/// Without floating bodies, the unknowns whose columns carry the
+/// nonsymmetric terms (the normal forces of slipping points, Y) are ordered
+/// last: the rest of the block (O) is symmetric positive definite, and the
+/// block is solved by Cholesky on O and a partially pivoted LU of the
+/// |Y| × |Y| Schur complement ([`Bordered`]), about half the work of an LU
+/// of the whole block; when either factorisation fails or is near
+/// singular, by the LU of the whole block.
 pub(crate) fn solve_newton(
     w: &Mat<f64>,
     g: &Mat<f64>,
@@ -336,12 +344,11 @@ pub(crate) fn solve_newton(
         if chord {
             return None;
         }
-        let (a, symmetric) = newton_block(w, sys, &red);
         *cache = None;
-        let factor = factorise(&a, symmetric)?;
+        let block = NewtonBlock::new(w, sys, &red, g.ncols() == 0);
         *cache = Some(NewtonFactor {
             key: red.key.clone(),
-            factor,
+            factor: block.factorise()?,
         });
     }
     let factor = &cache.as_ref()?.factor;
@@ -351,6 +358,10 @@ pub(crate) fn solve_newton(
     let (s, alpha) = if k == 0 {
         (y, Vec::new())
     } else {
+        // Floating bodies: the whole block's factor, unknowns in order.
+        let BlockFactor::Whole(factor) = factor else {
+            return None;
+        };
         let g_u = Mat::<f64>::from_fn(nu, k, |x, j| on_g(&red.dirs[x], j));
         let mut g_hat = g_u.clone();
         for (d, y, f) in &red.dependent {
@@ -383,12 +394,117 @@ pub(crate) fn solve_newton(
     dx.iter().all(|v| v.is_finite()).then_some(dx)
 }
 
+/// A factorised reduced Newton block.
+enum BlockFactor {
+    /// The whole block (Cholesky when symmetric, else LU), unknowns in order.
+    Whole(Factor),
+    /// The whole block with its unknowns reordered (`order`: the unknown
+    /// at each block position).
+    Permuted(Vec<usize>, Factor),
+    /// Unknowns reordered, O first, then Y.
+    Bordered(Bordered),
+}
+
+impl BlockFactor {
+    fn solve(&self, rhs: &Mat<f64>) -> Mat<f64> {
+        match self {
+            BlockFactor::Whole(f) => f.solve(rhs),
+            BlockFactor::Permuted(order, f) => scatter(&f.solve(&gather(rhs, order)), order),
+            BlockFactor::Bordered(b) => b.solve(rhs),
+        }
+    }
+}
+
+/// The rows of `rhs` in block order (row i: unknown `order[i]`).
+fn gather(rhs: &Mat<f64>, order: &[usize]) -> Mat<f64> {
+    Mat::<f64>::from_fn(order.len(), rhs.ncols(), |i, j| rhs[(order[i], j)])
+}
+
+/// The inverse of [`gather`].
+fn scatter(b: &Mat<f64>, order: &[usize]) -> Mat<f64> {
+    let mut s = Mat::<f64>::zeros(b.nrows(), b.ncols());
+    for (i, &u) in order.iter().enumerate() {
+        for j in 0..b.ncols() {
+            s[(u, j)] = b[(i, j)];
+        }
+    }
+    s
+}
+
+/// The block [A_OO A_OY; A_YO A_YY] (A_OO symmetric positive definite,
+/// A_YO = A_OYᵀ's symmetric part) by Cholesky of A_OO = L Lᵀ and the
+/// Schur complement C = A_YY − A_YO X, X = A_OO⁻¹ A_OY (partially pivoted
+/// LU): s_Y = C⁻¹ (b_Y − A_YO z), s_O = z − X s_Y with z = A_OO⁻¹ b_O.
+struct Bordered {
+    /// The unknown at each block position (O, then Y).
+    order: Vec<usize>,
+    llt: faer::linalg::solvers::Llt<f64>,
+    x: Mat<f64>,
+    a_yo: Mat<f64>,
+    schur: faer::linalg::solvers::PartialPivLu<f64>,
+}
+
+impl Bordered {
+    /// `None` when a factorisation fails or is near singular.
+    fn new(a: &Mat<f64>, order: Vec<usize>, n_o: usize) -> Option<Self> {
+        let nu = a.nrows();
+        let n_y = nu - n_o;
+        let llt = a.submatrix(0, 0, n_o, n_o).llt(Side::Lower).ok()?;
+        let l = llt.L();
+        if !pivots_are_safe((0..n_o).map(|i| l[(i, i)] * l[(i, i)]), n_o) {
+            return None;
+        }
+        let mut x = a.submatrix(0, n_o, n_o, n_y).to_owned();
+        llt.solve_in_place(&mut x);
+        let a_yo = a.submatrix(n_o, 0, n_y, n_o).to_owned();
+        let mut c = a.submatrix(n_o, n_o, n_y, n_y).to_owned();
+        faer::linalg::matmul::matmul(
+            &mut c,
+            faer::Accum::Add,
+            &a_yo,
+            &x,
+            -1.0,
+            faer::get_global_parallelism(),
+        );
+        let schur = c.partial_piv_lu();
+        let u = schur.U();
+        if !pivots_are_safe((0..n_y).map(|i| u[(i, i)]), n_y) {
+            return None;
+        }
+        Some(Self {
+            order,
+            llt,
+            x,
+            a_yo,
+            schur,
+        })
+    }
+
+    fn solve(&self, rhs: &Mat<f64>) -> Mat<f64> {
+        let mut b = gather(rhs, &self.order);
+        let (mut z, mut b_y) = b.as_mut().split_at_row_mut(self.x.nrows());
+        self.llt.solve_in_place(&mut z);
+        b_y -= &self.a_yo * &z;
+        self.schur.solve_in_place(&mut b_y);
+        z -= &self.x * &b_y;
+        scatter(&b, &self.order)
+    }
+}
+
 /// The factor of a reduced Newton block and the structure it was built on
 /// (its coupled and dependent rows, the unknowns of the normal-force
 /// terms): a chord step may reuse it while the structure repeats.
 pub(crate) struct NewtonFactor {
     key: Vec<usize>,
-    factor: Factor,
+    factor: BlockFactor,
+}
+
+impl NewtonFactor {
+    /// Whether the block was factorised bordered ([`Bordered`]).
+    #[cfg(test)]
+    pub(crate) fn is_bordered(&self) -> bool {
+        matches!(self.factor, BlockFactor::Bordered(_))
+    }
 }
 
 impl std::fmt::Debug for NewtonFactor {
@@ -470,38 +586,102 @@ fn reduce_newton(w: &Mat<f64>, sys: &NewtonSystem) -> NewtonReduction {
 }
 
 /// The reduced block Eᵀ W P + diag d (+ the coupled rows' normal-force
-/// terms) and whether it is symmetric.
-fn newton_block(w: &Mat<f64>, sys: &NewtonSystem, red: &NewtonReduction) -> (Mat<f64>, bool) {
-    let n = w.nrows();
+/// terms), its unknowns at the block positions `pos` (O first, then the
+/// `n_y` unknowns Y whose columns carry the nonsymmetric terms, when
+/// reordered) and whether it is symmetric.
+struct NewtonBlock {
+    a: Mat<f64>,
+    order: Vec<usize>,
+    n_y: usize,
+    symmetric: bool,
+}
+
+impl NewtonBlock {
+    /// With `reorder`, the unknowns Y (the columns of the dependent
+    /// directions and of the coupled rows' normal-force terms) last.
+    fn new(w: &Mat<f64>, sys: &NewtonSystem, red: &NewtonReduction, reorder: bool) -> Self {
+        let nu = red.dirs.len();
+        let mut in_y = vec![false; nu];
+        if reorder {
+            for (_, y, _) in &red.dependent {
+                in_y[*y] = true;
+            }
+            for &(_, r, _) in &sys.coupled_normal {
+                if let Some(y) = red.position[r] {
+                    in_y[y] = true;
+                }
+            }
+        }
+        let mut order: Vec<usize> = (0..nu).filter(|&x| !in_y[x]).collect();
+        let n_y = nu - order.len();
+        order.extend((0..nu).filter(|&x| in_y[x]));
+        let mut pos = vec![0; nu];
+        for (i, &x) in order.iter().enumerate() {
+            pos[x] = i;
+        }
+        let (a, symmetric) = newton_block(w, sys, red, &pos);
+        Self {
+            a,
+            order,
+            n_y,
+            symmetric,
+        }
+    }
+
+    /// Bordered when some but not all unknowns are in Y and its
+    /// factorisations hold, else the whole block (in block order, which is
+    /// the unknowns' order without reordering).
+    fn factorise(self) -> Option<BlockFactor> {
+        let nu = self.order.len();
+        if self.n_y > 0 && self.n_y < nu {
+            if let Some(b) = Bordered::new(&self.a, self.order.clone(), nu - self.n_y) {
+                return Some(BlockFactor::Bordered(b));
+            }
+        }
+        let whole = factorise(&self.a, self.symmetric)?;
+        if self.n_y == 0 {
+            // Nothing reordered: O is every unknown, in order.
+            return Some(BlockFactor::Whole(whole));
+        }
+        Some(BlockFactor::Permuted(self.order, whole))
+    }
+}
+
+/// The reduced block Eᵀ W P + diag d (+ the coupled rows' normal-force
+/// terms) with unknown x at row and column `pos[x]`, and whether it is
+/// symmetric.
+fn newton_block(
+    w: &Mat<f64>,
+    sys: &NewtonSystem,
+    red: &NewtonReduction,
+    pos: &[usize],
+) -> (Mat<f64>, bool) {
     let dirs = &red.dirs;
-    // W e over all rows, column by column (W is column major).
-    let mut col = vec![0.0; n];
-    let w_dir = |d: &Dir, col: &mut [f64]| {
-        let (c0, c1) = (w.col(d.rows[0]), w.col(d.rows[1]));
-        for (i, v) in col.iter_mut().enumerate() {
-            *v = d.c[0] * c0[i] + d.c[1] * c1[i];
+    // e_xᵀ W e_y from the columns of W on e_y's rows (W is column major),
+    // read on e_x's rows only.
+    let column = |dy: &Dir, f: f64, a: &mut Mat<f64>, y: usize| {
+        let (c0, c1) = (w.col_as_slice(dy.rows[0]), w.col_as_slice(dy.rows[1]));
+        let (f0, f1) = (f * dy.c[0], f * dy.c[1]);
+        for (x, dx) in dirs.iter().enumerate() {
+            let [r0, r1] = dx.rows;
+            let v = dx.c[0] * (f0 * c0[r0] + f1 * c1[r0]) + dx.c[1] * (f0 * c0[r1] + f1 * c1[r1]);
+            a[(pos[x], y)] += v;
         }
     };
     let mut a = Mat::<f64>::zeros(dirs.len(), dirs.len());
     for (y, dy) in dirs.iter().enumerate() {
-        w_dir(dy, &mut col);
-        for (x, dx) in dirs.iter().enumerate() {
-            a[(x, y)] = dx.dot(&col);
-        }
+        column(dy, 1.0, &mut a, pos[y]);
     }
     for (x, (_, comp, _)) in sys.coupled.iter().enumerate() {
-        a[(x, x)] += comp;
+        a[(pos[x], pos[x])] += comp;
     }
     for (d, y, f) in &red.dependent {
-        w_dir(d, &mut col);
-        for (x, dx) in dirs.iter().enumerate() {
-            a[(x, *y)] += f * dx.dot(&col);
-        }
+        column(d, *f, &mut a, pos[*y]);
     }
     let mut symmetric = red.dependent.is_empty();
     for &(x, r, f) in &sys.coupled_normal {
         if let Some(y) = red.position[r] {
-            a[(x, y)] += f;
+            a[(pos[x], pos[y])] += f;
             symmetric = false;
         }
     }

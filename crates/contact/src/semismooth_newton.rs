@@ -241,12 +241,13 @@ impl<'a> Inner<'a> {
         self.problem.g_mat.ncols()
     }
 
-    /// y = W λ + q + G α.
-    fn gaps(&self, x: &[f64]) -> Vec<f64> {
+    /// W dλ + G dα of d = (dλ, dα) (W column by column, skipping zeros).
+    fn apply(&self, d: &[f64]) -> Vec<f64> {
         let (n, k) = (self.n(), self.k());
-        let mut y = crate::lcp::gaps(&self.problem.w, &self.problem.q, &x[..n]);
+        let mut y = vec![0.0; n];
+        crate::lcp::matvec(&self.problem.w, &d[..n], &mut y);
         for j in 0..k {
-            let a = x[n + j];
+            let a = d[n + j];
             for (i, yi) in y.iter_mut().enumerate() {
                 *yi += self.problem.g_mat[(i, j)] * a;
             }
@@ -254,12 +255,31 @@ impl<'a> Inner<'a> {
         y
     }
 
-    /// The Alart–Curnier residual F(x) (rows: the n forces, then the k
-    /// equilibrium equations) and, if asked, its linearisation.
-    fn residual(&self, x: &[f64], scale: Scale, mut sys: Option<&mut NewtonSystem>) -> Vec<f64> {
+    /// y = W λ + q + G α.
+    fn gaps(&self, x: &[f64]) -> Vec<f64> {
+        let mut y = self.apply(x);
+        y.iter_mut()
+            .zip(&self.problem.q)
+            .for_each(|(yi, qi)| *yi += qi);
+        y
+    }
+
+    /// The iterate x with its gaps computed afresh.
+    fn iterate(&self, x: Vec<f64>) -> Iterate {
+        Iterate {
+            y: self.gaps(&x),
+            x,
+            fresh: true,
+        }
+    }
+
+    /// The Alart–Curnier residual F(x) at the iterate (x, its gaps y) (rows:
+    /// the n forces, then the k equilibrium equations) and, if asked, its
+    /// linearisation.
+    fn residual(&self, it: &Iterate, scale: Scale, mut sys: Option<&mut NewtonSystem>) -> Vec<f64> {
         let (n, k) = (self.n(), self.k());
         let gm = &self.problem.g_mat;
-        let y = self.gaps(x);
+        let (x, y) = (&it.x[..], &it.y[..]);
         let mut f = vec![0.0; n + k];
         if let Some(s) = sys.as_deref_mut() {
             *s = NewtonSystem {
@@ -289,7 +309,7 @@ impl<'a> Inner<'a> {
                 let sys = sys.as_deref_mut();
                 let (g, dg) = self.bound(p, x);
                 let normal = dg.map(|dg| (p, dg));
-                self.tangential_residual(x, &y, rows, (g, normal), scale, &mut f, sys);
+                self.tangential_residual(x, y, rows, (g, normal), scale, &mut f, sys);
             }
         }
         // Equilibrium of the rigid modes: Gᵀ λ = e.
@@ -373,9 +393,9 @@ impl<'a> Inner<'a> {
     /// reduced ([`crate::reduced::solve_newton`]), or in full when that fails.
     /// On Coulomb's law itself, while the structure of the reduced system
     /// repeats, a chord step on the previous factor comes first, kept when
-    /// it halves ‖F‖ (a factorisation saved).
-    fn newton_step(&self, x: &mut Vec<f64>, sys: &mut NewtonSystem) -> Step {
-        let nk = self.n() + self.k();
+    /// it halves ‖F‖ (a factorisation saved). The gaps follow the step
+    /// (y + t W dx, one product with W a direction).
+    fn newton_step(&self, x: &mut Iterate, sys: &mut NewtonSystem) -> Step {
         let merit = |f: &[f64]| 0.5 * f.iter().map(|v| v * v).sum::<f64>();
         let f = self.residual(x, Scale::Newton, Some(sys));
         let psi = merit(&f);
@@ -391,7 +411,7 @@ impl<'a> Inner<'a> {
         };
         if self.coulomb {
             if let Some(dx) = solve(sys, true) {
-                let trial: Vec<f64> = (0..nk).map(|i| x[i] + dx[i]).collect();
+                let trial = x.moved(&dx, &self.apply(&dx), 1.0);
                 if merit(&self.residual(&trial, Scale::Newton, None)) <= 0.25 * psi {
                     *x = trial;
                     return Step::Accepted;
@@ -410,9 +430,10 @@ impl<'a> Inner<'a> {
         let Some(dx) = dx else {
             return Step::Singular;
         };
+        let wdx = self.apply(&dx);
         let mut t = 1.0;
         for _ in 0..30 {
-            let trial: Vec<f64> = (0..nk).map(|i| x[i] + t * dx[i]).collect();
+            let trial = x.moved(&dx, &wdx, t);
             let ft = self.residual(&trial, Scale::Newton, None);
             if merit(&ft) <= (1.0 - 1e-4 * t) * psi {
                 *x = trial;
@@ -436,10 +457,22 @@ impl<'a> Inner<'a> {
     }
 
     /// Why the Newton method stops at `x` after `iterations` iterations, if
-    /// `x` meets the tolerance; the observer (crate::observe) hears of `x`.
-    fn met(&self, x: &[f64], opts: &FrictionOptions, iterations: usize) -> Option<StopReason> {
-        let residual = self.check(x, opts);
-        let normal = &x[..self.layout.n_points()];
+    /// `x` meets the tolerance (on gaps computed afresh: those that followed
+    /// the steps are refreshed first); the observer (crate::observe) hears
+    /// of `x`.
+    fn met(
+        &self,
+        x: &mut Iterate,
+        opts: &FrictionOptions,
+        iterations: usize,
+    ) -> Option<StopReason> {
+        let mut residual = self.check(x, opts);
+        if residual <= opts.tolerance && !x.fresh {
+            x.y = self.gaps(&x.x);
+            x.fresh = true;
+            residual = self.check(x, opts);
+        }
+        let normal = &x.x[..self.layout.n_points()];
         let lmax = normal.iter().fold(0.0f64, |a, v| a.max(v.abs()));
         let tol_f = opts.tolerance * opts.force_scale.max(lmax);
         crate::observe::iteration(crate::observe::Iteration {
@@ -455,11 +488,11 @@ impl<'a> Inner<'a> {
     }
 
     /// The scaled natural residual: max over the rows of |F_check| / F.
-    fn check(&self, x: &[f64], opts: &FrictionOptions) -> f64 {
+    fn check(&self, x: &Iterate, opts: &FrictionOptions) -> f64 {
         let n = self.n();
         let fs = opts
             .force_scale
-            .max(x[..n].iter().fold(0.0f64, |a, v| a.max(v.abs())))
+            .max(x.x[..n].iter().fold(0.0f64, |a, v| a.max(v.abs())))
             .max(f64::MIN_POSITIVE);
         let c = fs / opts.gap_scale.max(f64::MIN_POSITIVE);
         let f = self.residual(x, Scale::Check(c), None);
@@ -620,6 +653,26 @@ fn slip_rows(
     coupled(sys, along, comp, rhs, -eta);
 }
 
+/// An iterate x = (λ, α) and its gaps y = W λ + q + G α, computed afresh
+/// (`fresh`) or followed along the steps.
+struct Iterate {
+    x: Vec<f64>,
+    y: Vec<f64>,
+    fresh: bool,
+}
+
+impl Iterate {
+    /// x + t dx, y + t W dx.
+    fn moved(&self, dx: &[f64], wdx: &[f64], t: f64) -> Iterate {
+        let step = |a: &[f64], d: &[f64]| a.iter().zip(d).map(|(a, d)| a + t * d).collect();
+        Iterate {
+            x: step(&self.x, dx),
+            y: step(&self.y, wdx),
+            fresh: false,
+        }
+    }
+}
+
 /// What a Newton step did.
 enum Step {
     /// A step length decreased the merit: x moved.
@@ -645,7 +698,7 @@ fn solve_inner(
     let mut inner = Inner::new(problem, layout, thr);
     inner.coulomb = coulomb;
     let (n, k) = (inner.n(), inner.k());
-    let mut x = inner.start(start);
+    let mut x = inner.iterate(inner.start(start));
     let mut sys = NewtonSystem::default();
     let mut fallbacks = 0usize;
     let mut iterations = 0;
@@ -653,7 +706,7 @@ fn solve_inner(
         limit: opts.max_iterations,
     };
     for it in 0..opts.max_iterations {
-        if let Some(met) = inner.met(&x, opts, it) {
+        if let Some(met) = inner.met(&mut x, opts, it) {
             reason = met;
             break;
         }
@@ -666,11 +719,15 @@ fn solve_inner(
         fallbacks += 1;
         match dx {
             // Globalisation: accelerated projected gradient, then Newton again.
-            _ if k == 0 && !coulomb => inner.projected_gradient(&mut x, 200 * fallbacks),
+            _ if k == 0 && !coulomb => {
+                inner.projected_gradient(&mut x.x, 200 * fallbacks);
+                x = inner.iterate(x.x);
+            }
             // Floating bodies: no projection on the equilibrium; take the
             // full (non-monotone) Newton step.
             Some(dx) if fallbacks <= 5 => {
-                x.iter_mut().zip(&dx).for_each(|(xi, d)| *xi += d);
+                x.x.iter_mut().zip(&dx).for_each(|(xi, d)| *xi += d);
+                x = inner.iterate(x.x);
             }
             Some(_) => {
                 reason = StopReason::NewtonLineSearchFailed;
@@ -690,10 +747,11 @@ fn solve_inner(
     }
     let met = |r: &StopReason| matches!(r, StopReason::NewtonConverged { .. });
     if !met(&reason) {
-        reason = inner.met(&x, opts, iterations).unwrap_or(reason);
+        reason = inner.met(&mut x, opts, iterations).unwrap_or(reason);
     }
     let converged = met(&reason);
-    let gaps = inner.gaps(&x);
+    let Iterate { mut x, y, fresh } = x;
+    let gaps = if fresh { y } else { inner.gaps(&x) };
     x.truncate(n);
     let solve = InnerSolve {
         statuses: statuses(layout, &x, &gaps, opts, dim),

@@ -10,6 +10,8 @@ use crate::friction::{
 };
 use crate::friction3d::{coulomb_3d_fixed_point, friction_3d};
 use crate::test_problems::{random_spd, XorShift};
+
+use super::{Inner, NewtonSystem, Scale};
 use crate::{ContactSolution, DelassusProblem};
 
 fn opts() -> FrictionOptions {
@@ -265,4 +267,47 @@ fn newton_reports_each_iterate_to_an_observer() {
         .count();
     assert_eq!(last.active, pressed);
     assert!(pressed > 0 && pressed < m);
+}
+
+/// A Newton system on Coulomb's law itself at an iterate with slipping
+/// points (two steps from zero forces on a random 3D problem): its rows and
+/// the problem.
+fn coulomb_system_with_slip() -> (DelassusProblem, NewtonSystem, usize) {
+    let (p, layout) = random_3d(30, 13, true);
+    let thr = layout.thresholds(&vec![0.0; p.q.len()]);
+    let mut inner = Inner::new(&p, &layout, &thr);
+    inner.coulomb = true;
+    let mut x = inner.iterate(inner.start(&vec![0.0; p.q.len()]));
+    let mut sys = NewtonSystem::default();
+    for _ in 0..2 {
+        inner.newton_step(&mut x, &mut sys);
+    }
+    inner.residual(&x, Scale::Newton, Some(&mut sys));
+    let slipping = sys.given_normal.len();
+    sys.factor = None;
+    (p, sys, slipping)
+}
+
+/// The reduced Newton step, bordered (Cholesky on the symmetric unknowns,
+/// LU of the Schur complement on the slipping points' normal forces), is
+/// the step of the full system by a fully pivoted LU; a chord step on the
+/// same structure reuses the factor and gives the same step.
+#[test]
+fn bordered_newton_step_matches_the_full_solve() {
+    let (p, sys, slipping) = coulomb_system_with_slip();
+    assert!(slipping > 0, "no slipping point at the iterate");
+    let (w, g) = (&p.w, &p.g_mat);
+    let mut cache = None;
+    let dx = crate::reduced::solve_newton(w, g, &sys, &mut cache, false).unwrap();
+    assert!(cache.as_ref().unwrap().is_bordered());
+    let full = sys.solve_full(w, g).unwrap();
+    let scale = full.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+    assert!(scale > 0.0);
+    for (i, (a, b)) in dx.iter().zip(&full).enumerate() {
+        assert!((a - b).abs() <= 1e-9 * scale, "row {i}: {a} vs {b}");
+    }
+    let chord = crate::reduced::solve_newton(w, g, &sys, &mut cache, true).unwrap();
+    for (i, (a, b)) in chord.iter().zip(&dx).enumerate() {
+        assert!((a - b).abs() <= 1e-12 * scale, "chord row {i}: {a} vs {b}");
+    }
 }
