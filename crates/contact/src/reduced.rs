@@ -71,14 +71,23 @@ impl BlockFactor {
         let one: Vec<usize> = (0..n).filter(|&i| !modified[i]).collect();
         let two: Vec<usize> = (0..n).filter(|&i| modified[i]).collect();
         let (n1, n2) = (one.len(), two.len());
-        let llt = Mat::<f64>::from_fn(n1, n1, |i, j| a[(one[i], one[j])])
-            .llt(Side::Lower)
-            .ok()?;
-        let a12 = Mat::<f64>::from_fn(n1, n2, |i, j| a[(one[i], two[j])]);
-        let a21 = Mat::<f64>::from_fn(n2, n1, |i, j| a[(two[i], one[j])]);
-        let x = llt.solve(&a12);
-        let a22 = Mat::<f64>::from_fn(n2, n2, |i, j| a[(two[i], two[j])]);
-        let schur = (&a22 - &a21 * &x).partial_piv_lu();
+        let part = |rows: &[usize], cols: &[usize]| {
+            Mat::<f64>::from_fn(rows.len(), cols.len(), |i, j| a[(rows[i], cols[j])])
+        };
+        let llt = part(&one, &one).llt(Side::Lower).ok()?;
+        let mut x = part(&one, &two);
+        llt.solve_in_place(&mut x);
+        let a21 = part(&two, &one);
+        let mut s = part(&two, &two);
+        faer::linalg::matmul::matmul(
+            &mut s,
+            faer::Accum::Add,
+            &a21,
+            &x,
+            -1.0,
+            faer::get_global_parallelism(),
+        );
+        let schur = s.partial_piv_lu();
         let (l, u) = (llt.L(), schur.U());
         let pivots = (0..n1).map(|i| l[(i, i)] * l[(i, i)]);
         let safe = pivots_are_safe(pivots.chain((0..n2).map(|i| u[(i, i)])), n);
@@ -328,7 +337,7 @@ fn schur_on_g(
 /// nonsymmetric terms (the normal forces of slipping points, Y) are ordered
 /// last: the rest of the block (O) is symmetric positive definite, and the
 /// block is solved by Cholesky on O and a partially pivoted LU of the
-/// |Y| × |Y| Schur complement ([`Bordered`]), about half the work of an LU
+/// |Y| × |Y| Schur complement ([`BlockFactor`]), about half the work of an LU
 /// of the whole block; when either factorisation fails or is near
 /// singular, by the LU of the whole block.
 pub(crate) fn solve_newton(
@@ -359,7 +368,7 @@ pub(crate) fn solve_newton(
         (y, Vec::new())
     } else {
         // Floating bodies: the whole block's factor, unknowns in order.
-        let BlockFactor::Whole(factor) = factor else {
+        let NewtonBlockFactor::Whole(factor) = factor else {
             return None;
         };
         let g_u = Mat::<f64>::from_fn(nu, k, |x, j| on_g(&red.dirs[x], j));
@@ -395,22 +404,19 @@ pub(crate) fn solve_newton(
 }
 
 /// A factorised reduced Newton block.
-enum BlockFactor {
+enum NewtonBlockFactor {
     /// The whole block (Cholesky when symmetric, else LU), unknowns in order.
     Whole(Factor),
     /// The whole block with its unknowns reordered (`order`: the unknown
     /// at each block position).
-    Permuted(Vec<usize>, Factor),
-    /// Unknowns reordered, O first, then Y.
-    Bordered(Bordered),
+    Permuted(Vec<usize>, Box<Factor>),
 }
 
-impl BlockFactor {
+impl NewtonBlockFactor {
     fn solve(&self, rhs: &Mat<f64>) -> Mat<f64> {
         match self {
-            BlockFactor::Whole(f) => f.solve(rhs),
-            BlockFactor::Permuted(order, f) => scatter(&f.solve(&gather(rhs, order)), order),
-            BlockFactor::Bordered(b) => b.solve(rhs),
+            NewtonBlockFactor::Whole(f) => f.solve(rhs),
+            NewtonBlockFactor::Permuted(order, f) => scatter(&f.solve(&gather(rhs, order)), order),
         }
     }
 }
@@ -431,79 +437,22 @@ fn scatter(b: &Mat<f64>, order: &[usize]) -> Mat<f64> {
     s
 }
 
-/// The block [A_OO A_OY; A_YO A_YY] (A_OO symmetric positive definite,
-/// A_YO = A_OYᵀ's symmetric part) by Cholesky of A_OO = L Lᵀ and the
-/// Schur complement C = A_YY − A_YO X, X = A_OO⁻¹ A_OY (partially pivoted
-/// LU): s_Y = C⁻¹ (b_Y − A_YO z), s_O = z − X s_Y with z = A_OO⁻¹ b_O.
-struct Bordered {
-    /// The unknown at each block position (O, then Y).
-    order: Vec<usize>,
-    llt: faer::linalg::solvers::Llt<f64>,
-    x: Mat<f64>,
-    a_yo: Mat<f64>,
-    schur: faer::linalg::solvers::PartialPivLu<f64>,
-}
-
-impl Bordered {
-    /// `None` when a factorisation fails or is near singular.
-    fn new(a: &Mat<f64>, order: Vec<usize>, n_o: usize) -> Option<Self> {
-        let nu = a.nrows();
-        let n_y = nu - n_o;
-        let llt = a.submatrix(0, 0, n_o, n_o).llt(Side::Lower).ok()?;
-        let l = llt.L();
-        if !pivots_are_safe((0..n_o).map(|i| l[(i, i)] * l[(i, i)]), n_o) {
-            return None;
-        }
-        let mut x = a.submatrix(0, n_o, n_o, n_y).to_owned();
-        llt.solve_in_place(&mut x);
-        let a_yo = a.submatrix(n_o, 0, n_y, n_o).to_owned();
-        let mut c = a.submatrix(n_o, n_o, n_y, n_y).to_owned();
-        faer::linalg::matmul::matmul(
-            &mut c,
-            faer::Accum::Add,
-            &a_yo,
-            &x,
-            -1.0,
-            faer::get_global_parallelism(),
-        );
-        let schur = c.partial_piv_lu();
-        let u = schur.U();
-        if !pivots_are_safe((0..n_y).map(|i| u[(i, i)]), n_y) {
-            return None;
-        }
-        Some(Self {
-            order,
-            llt,
-            x,
-            a_yo,
-            schur,
-        })
-    }
-
-    fn solve(&self, rhs: &Mat<f64>) -> Mat<f64> {
-        let mut b = gather(rhs, &self.order);
-        let (mut z, mut b_y) = b.as_mut().split_at_row_mut(self.x.nrows());
-        self.llt.solve_in_place(&mut z);
-        b_y -= &self.a_yo * &z;
-        self.schur.solve_in_place(&mut b_y);
-        z -= &self.x * &b_y;
-        scatter(&b, &self.order)
-    }
-}
-
 /// The factor of a reduced Newton block and the structure it was built on
 /// (its coupled and dependent rows, the unknowns of the normal-force
 /// terms): a chord step may reuse it while the structure repeats.
 pub(crate) struct NewtonFactor {
     key: Vec<usize>,
-    factor: BlockFactor,
+    factor: NewtonBlockFactor,
 }
 
 impl NewtonFactor {
-    /// Whether the block was factorised bordered ([`Bordered`]).
+    /// Whether the block was factorised bordered ([`BlockFactor`]).
     #[cfg(test)]
     pub(crate) fn is_bordered(&self) -> bool {
-        matches!(self.factor, BlockFactor::Bordered(_))
+        matches!(
+            &self.factor,
+            NewtonBlockFactor::Permuted(_, f) if matches!(**f, Factor::Block(_))
+        )
     }
 }
 
@@ -631,19 +580,21 @@ impl NewtonBlock {
     /// Bordered when some but not all unknowns are in Y and its
     /// factorisations hold, else the whole block (in block order, which is
     /// the unknowns' order without reordering).
-    fn factorise(self) -> Option<BlockFactor> {
+    fn factorise(self) -> Option<NewtonBlockFactor> {
         let nu = self.order.len();
         if self.n_y > 0 && self.n_y < nu {
-            if let Some(b) = Bordered::new(&self.a, self.order.clone(), nu - self.n_y) {
-                return Some(BlockFactor::Bordered(b));
+            let y: Vec<bool> = (0..nu).map(|i| i >= nu - self.n_y).collect();
+            if let Some(b) = BlockFactor::new(&self.a, &y) {
+                let bordered = Factor::Block(Box::new(b));
+                return Some(NewtonBlockFactor::Permuted(self.order, Box::new(bordered)));
             }
         }
         let whole = factorise(&self.a, self.symmetric)?;
         if self.n_y == 0 {
             // Nothing reordered: O is every unknown, in order.
-            return Some(BlockFactor::Whole(whole));
+            return Some(NewtonBlockFactor::Whole(whole));
         }
-        Some(BlockFactor::Permuted(self.order, whole))
+        Some(NewtonBlockFactor::Permuted(self.order, Box::new(whole)))
     }
 }
 
