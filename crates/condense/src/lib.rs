@@ -218,17 +218,18 @@ fn factorise_interface_last(
 /// supernode) rather than factorising K + c·I_BB whole (S = L_BB L_BBᵀ − c·I).
 fn factor_and_schur(
     k: SparseColMatRef<'_, usize, f64>,
-    mut ks: SparseColMat<usize, f64>,
+    ks: SparseColMat<usize, f64>,
     interface: &[usize],
     symbolic: &SymbolicCholesky<usize>,
     par: Par,
 ) -> Result<(Vec<f64>, Mat<f64>, bool), CondenseError> {
     let ni = ks.nrows() - interface.len();
-    let stopped =
-        partial_factorisation::schur_by_stopped_factorisation(&mut ks, symbolic, ni, par)?;
-    if let Some((l_values, schur)) = stopped {
-        return Ok((l_values, schur, true));
-    }
+    use partial_factorisation::Stopped;
+    let mut ks = match partial_factorisation::schur_by_stopped_factorisation(ks, symbolic, ni, par)?
+    {
+        Stopped::Done(l_values, schur) => return Ok((l_values, schur, true)),
+        Stopped::NotApplicable(ks) => ks,
+    };
     let c = interface_shift(k, interface);
     for j in ni..ks.nrows() {
         let start = ks.col_ptr()[j];
@@ -664,17 +665,17 @@ mod tests {
         let mut is_b = vec![false; 2 * n1];
         interface.iter().for_each(|&b| is_b[b] = true);
         let interior: Vec<usize> = (0..2 * n1).filter(|&i| !is_b[i]).collect();
-        let mut ks = shifted_interface_last(k.as_ref(), &interior, &interface, 0.0).unwrap();
+        let ks = shifted_interface_last(k.as_ref(), &interior, &interface, 0.0).unwrap();
         let ordered = ordering::order_and_analyse(ks.as_ref(), ni, OrderingChoice::Auto).unwrap();
         let stopped = partial_factorisation::schur_by_stopped_factorisation(
-            &mut ks,
+            ks,
             &ordered.symbolic,
             ni,
             Par::Seq,
         )
         .unwrap();
         assert!(
-            stopped.is_none(),
+            matches!(stopped, partial_factorisation::Stopped::NotApplicable(_)),
             "two independent blocks are two supernodes"
         );
         let f: Vec<f64> = (0..2 * n1).map(|i| ((i * 5) % 7) as f64 - 3.0).collect();

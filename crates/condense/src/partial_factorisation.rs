@@ -35,8 +35,13 @@ use faer::{Mat, MatMut, Par, Side};
 
 use crate::CondenseError;
 
-/// The factor's values and the dense Schur complement S.
-pub(crate) type FactorAndSchur = (Vec<f64>, Mat<f64>);
+/// What [`schur_by_stopped_factorisation`] gives back.
+pub(crate) enum Stopped {
+    /// The factor's values (with L_BB = I) and the dense S.
+    Done(Vec<f64>, Mat<f64>),
+    /// The interface is split over several supernodes: the matrix, unchanged.
+    NotApplicable(SparseColMat<usize, f64>),
+}
 
 /// The last supernode of the factor when it holds the whole interface:
 /// its first column `begin` (≤ ni: relaxed supernodes may take a few
@@ -69,32 +74,33 @@ fn diagonal_position(ks: SparseColMatRef<'_, usize, f64>, j: usize) -> Option<us
 /// Factorises `ks` (interior first, interface ni..n last, symbolic factor
 /// `symbolic` in which the interface rows keep their place) up to its last
 /// supernode and returns the factor's values (with L_BB = I) and the dense
-/// Schur complement S, or `None` when the interface is not in one trailing
-/// supernode. `ks` is left as it was.
+/// Schur complement S; `ks` is freed as soon as it is factorised. When the
+/// interface is not in one trailing supernode, `ks` comes back unchanged.
 ///
 /// The last supernode starts at `begin`; its r = ni − begin interior
 /// columns R are finished here: the gathered block X is the Schur
 /// complement of K on R ∪ B, so L_RR L_RRᵀ = X_RR, L_BR = X_BR L_RR⁻ᵀ and
 /// S = X_BB − L_BR L_BRᵀ (r·nb² flops, r a few columns).
 pub(crate) fn schur_by_stopped_factorisation(
-    ks: &mut SparseColMat<usize, f64>,
+    mut ks: SparseColMat<usize, f64>,
     symbolic: &SymbolicCholesky<usize>,
     ni: usize,
     par: Par,
-) -> Result<Option<FactorAndSchur>, CondenseError> {
+) -> Result<Stopped, CondenseError> {
     let Some((begin, range)) = interface_supernode(symbolic, ni) else {
-        return Ok(None);
+        return Ok(Stopped::NotApplicable(ks));
     };
     let first = symbolic.perm().map_or(begin, |p| p.arrays().0[begin]);
     let Some(at) = diagonal_position(ks.as_ref(), first) else {
-        return Ok(None);
+        return Ok(Stopped::NotApplicable(ks));
     };
     let d0 = ks.val()[at];
     let m = 2.0 * d0.abs().max(f64::MIN_POSITIVE);
     ks.val_mut()[at] -= m;
     let mut l_values = vec![0.0f64; symbolic.len_val()];
     let outcome = factorise(ks.as_ref(), symbolic, &mut l_values, par);
-    ks.val_mut()[at] = d0;
+    let w = ks.nrows() - begin;
+    drop(ks);
     match outcome {
         Err(LltError::NonPositivePivot { index }) if index == begin => {}
         Err(e) => return Err(CondenseError::NotPositiveDefinite(format!("{e:?}"))),
@@ -104,10 +110,9 @@ pub(crate) fn schur_by_stopped_factorisation(
             ))
         }
     }
-    let w = ks.nrows() - begin;
     let block = MatMut::from_column_major_slice_mut(&mut l_values[range], w, w);
     let schur = finish_last_supernode(block, ni - begin, m, par)?;
-    Ok(Some((l_values, schur)))
+    Ok(Stopped::Done(l_values, schur))
 }
 
 /// The numerical supernodal Cholesky of `ks` into `l_values`.
@@ -236,17 +241,17 @@ mod tests {
             // grid): the plain formula applies.
             let (reference, fp_ref) =
                 crate::schur_complement_reference(k.as_ref(), &interface, &f).unwrap();
-            let mut ks = k.clone();
-            let ordered = order_and_analyse(ks.as_ref(), ni, OrderingChoice::Auto).unwrap();
+            let ordered = order_and_analyse(k.as_ref(), ni, OrderingChoice::Auto).unwrap();
             let stopped =
-                schur_by_stopped_factorisation(&mut ks, &ordered.symbolic, ni, Par::Seq).unwrap();
-            let (_, schur) = stopped.expect("the interface of a grid is one supernode");
+                schur_by_stopped_factorisation(k.clone(), &ordered.symbolic, ni, Par::Seq).unwrap();
+            let Stopped::Done(_, schur) = stopped else {
+                panic!("the interface of a grid is one supernode");
+            };
             let (begin, _) = interface_supernode(&ordered.symbolic, ni).unwrap();
             assert!(
                 begin < ni,
                 "the relaxed supernode holds interior columns too"
             );
-            assert_eq!(ks.val(), k.val(), "the matrix is restored");
             let k_norm = k.val().iter().fold(0.0f64, |a, v| a.max(v.abs()));
             for j in 0..nb {
                 for i in 0..nb {
