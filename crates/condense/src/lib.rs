@@ -33,11 +33,12 @@ pub mod block_ordering;
 pub mod conditioning;
 pub mod ordering;
 mod partial_factorisation;
+#[cfg(test)]
+mod test_matrices;
 
 pub use ordering::{FactorStats, Ordering, OrderingChoice};
 
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
-use faer::linalg::cholesky::llt::factor::LltRegularization;
 use faer::sparse::linalg::cholesky::supernodal::SupernodalLltRef;
 use faer::sparse::linalg::cholesky::{SymbolicCholesky, SymbolicCholeskyRaw};
 use faer::sparse::{SparseColMat, SparseColMatRef, Triplet};
@@ -195,21 +196,8 @@ fn factorise_interface_last(
     par: Par,
 ) -> Result<Vec<f64>, CondenseError> {
     let mut l_values = vec![0.0f64; symbolic.len_val()];
-    {
-        let mut mem =
-            MemBuffer::new(symbolic.factorize_numeric_llt_scratch::<f64>(par, Default::default()));
-        symbolic
-            .factorize_numeric_llt::<f64>(
-                &mut l_values,
-                ks,
-                Side::Lower,
-                LltRegularization::default(),
-                par,
-                MemStack::new(&mut mem),
-                Default::default(),
-            )
-            .map_err(|e| CondenseError::NotPositiveDefinite(format!("{e:?}")))?;
-    }
+    partial_factorisation::factorise(ks, symbolic, &mut l_values, par)
+        .map_err(|e| CondenseError::NotPositiveDefinite(format!("{e:?}")))?;
     Ok(l_values)
 }
 

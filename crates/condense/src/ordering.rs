@@ -316,38 +316,12 @@ fn with_last(lead: &[usize], fwd_lead: &[usize], last: &[usize]) -> (Vec<usize>,
 #[cfg(test)]
 mod tests {
     use super::*;
-    use faer::sparse::{SparseColMat, Triplet};
-
-    /// Pattern of a 3D grid graph (7-point stencil), values 1.
-    fn grid3(m: usize) -> SparseColMat<usize, f64> {
-        let id = |i: usize, j: usize, k: usize| i + m * (j + m * k);
-        let mut t = Vec::new();
-        for k in 0..m {
-            for j in 0..m {
-                for i in 0..m {
-                    let a = id(i, j, k);
-                    t.push(Triplet::new(a, a, 7.0));
-                    for b in [
-                        (i + 1 < m).then(|| id(i + 1, j, k)),
-                        (j + 1 < m).then(|| id(i, j + 1, k)),
-                        (k + 1 < m).then(|| id(i, j, k + 1)),
-                    ]
-                    .into_iter()
-                    .flatten()
-                    {
-                        t.push(Triplet::new(a, b, -1.0));
-                        t.push(Triplet::new(b, a, -1.0));
-                    }
-                }
-            }
-        }
-        SparseColMat::try_new_from_triplets(m * m * m, m * m * m, &t).unwrap()
-    }
+    use crate::test_matrices::grid3;
 
     #[test]
     fn auto_keeps_the_cheaper_ordering_and_the_trailing_rows_last() {
         let m = 32;
-        let a = grid3(m);
+        let a = grid3(m, true);
         let n = a.nrows();
         let n_ordered = n - m * m; // top layer last
         let auto = order_and_analyse(a.as_ref(), n_ordered, OrderingChoice::Auto).unwrap();
@@ -365,7 +339,7 @@ mod tests {
         assert!(auto.stats.flops >= auto.stats.nnz as f64);
         assert!(auto.stats.values >= auto.stats.nnz);
         // A small problem keeps AMD without calling METIS.
-        let small = grid3(4);
+        let small = grid3(4, true);
         let auto = order_and_analyse(small.as_ref(), 48, OrderingChoice::Auto).unwrap();
         assert_eq!(auto.candidates.len(), 1);
         assert_eq!(auto.stats.ordering, Ordering::Amd);
@@ -381,17 +355,9 @@ mod tests {
         use faer::Par;
         let m = 10;
         for held in [true, false] {
-            let mut a = grid3(m);
+            // Floating: zero row sums (a pure Neumann block).
+            let a = grid3(m, held);
             let n = a.nrows();
-            if !held {
-                // Zero row sums: a floating (pure Neumann) block.
-                for j in 0..n {
-                    let off: f64 = a.val_of_col(j).iter().filter(|v| **v < 0.0).sum();
-                    let rows = a.row_idx_of_col_raw(j).to_vec();
-                    let pos = rows.iter().position(|&r| r == j).unwrap();
-                    a.val_of_col_mut(j)[pos] = -off;
-                }
-            }
             let interface: Vec<usize> = (n - m * m..n).chain([0, 37, 501]).collect();
             let f: Vec<f64> = (0..n).map(|i| ((i * 13) % 7) as f64 - 3.0).collect();
             let amd = Condensed::with_ordering(

@@ -116,7 +116,7 @@ pub(crate) fn schur_by_stopped_factorisation(
 }
 
 /// The numerical supernodal Cholesky of `ks` into `l_values`.
-fn factorise(
+pub(crate) fn factorise(
     ks: SparseColMatRef<'_, usize, f64>,
     symbolic: &SymbolicCholesky<usize>,
     l_values: &mut [f64],
@@ -192,37 +192,7 @@ fn finish_last_supernode(
 mod tests {
     use super::*;
     use crate::ordering::{order_and_analyse, OrderingChoice};
-    use faer::sparse::Triplet;
-
-    /// A 3D grid matrix (7-point stencil, SPD with a Dirichlet shift on the
-    /// first layer when `held`) with its last `nb` rows as the interface.
-    fn grid3(m: usize, held: bool) -> SparseColMat<usize, f64> {
-        let id = |i: usize, j: usize, k: usize| i + m * (j + m * k);
-        let mut t = Vec::new();
-        for k in 0..m {
-            for j in 0..m {
-                for i in 0..m {
-                    let a = id(i, j, k);
-                    let mut diag = if held && k == 0 { 1.0 } else { 0.0 };
-                    for (b, ok) in [
-                        (a.wrapping_sub(1), i > 0),
-                        (a + 1, i + 1 < m),
-                        (a.wrapping_sub(m), j > 0),
-                        (a + m, j + 1 < m),
-                        (a.wrapping_sub(m * m), k > 0),
-                        (a + m * m, k + 1 < m),
-                    ] {
-                        if ok {
-                            t.push(Triplet::new(a, b, -1.0 - 0.1 * ((a + b) % 3) as f64));
-                            diag += 1.0 + 0.1 * ((a + b) % 3) as f64;
-                        }
-                    }
-                    t.push(Triplet::new(a, a, diag));
-                }
-            }
-        }
-        SparseColMat::try_new_from_triplets(m * m * m, m * m * m, &t).unwrap()
-    }
+    use crate::test_matrices::grid3;
 
     /// The stopped factorisation gives S of the plain formula to rounding
     /// (relative to ‖K‖), held or floating, and leaves the matrix unchanged;
