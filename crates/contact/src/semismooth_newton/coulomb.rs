@@ -1,0 +1,232 @@
+//! Friction by the semi-smooth Newton method of [`super`]: the driver
+//! ([`friction_newton`]), Newton on Coulomb's law itself ([`solve_coulomb`],
+//! thresholds μ λ_n of the iterate) and the fixed point on the thresholds
+//! around the fixed-threshold method as its fallback (seed §4.1.2, §4.3).
+
+use super::*;
+
+/// Friction by the semi-smooth Newton method (`dim` 2 or 3): Tresca (and
+/// frictionless) points in one solve; Coulomb, with `direct`, by the Newton
+/// method on Coulomb's law itself ([`solve_coulomb`]), and when that does
+/// not converge (or without `direct`) by the fixed point on the thresholds
+/// g ← μ λ_n (seed §4.3), started from `start` (the previous step's forces,
+/// all rows) or from the solution with every frictional point stuck (so
+/// that a body held by friction alone can start). The direct method stops
+/// on its scaled natural residual (cone and complementarity); the fixed
+/// point when max |Δλ_n| / max(force_scale, ‖λ‖∞) ≤ tolerance, each inner
+/// problem on its scaled natural residual. `iterations` counts the Newton
+/// iterations of all solves.
+///
+/// With floating bodies, the rigid-mode amplitudes α used by
+/// [`DelassusProblem::displacement`] are those of a final linear solve with
+/// the statuses found (closed normal rows and stuck tangential rows: zero
+/// gap; other rows: the forces found); if that system is singular (e.g. every
+/// point of a friction-held body slips), α is left from the previous solve.
+pub(crate) fn friction_newton(
+    problem: &mut DelassusProblem,
+    layout: &FrictionLayout,
+    start: Option<&[f64]>,
+    opts: &FrictionOptions,
+    dim: usize,
+    direct: bool,
+) -> Result<ContactSolution, ContactError> {
+    let bilateral = match start {
+        None if problem.n_kernel() > 0 => bilateral_start(problem),
+        _ => None,
+    };
+    let mut out = newton_fixed_point(problem, layout, start, bilateral, direct, opts, dim)?;
+    if problem.n_kernel() > 0 {
+        let mut eqs: Vec<VarEquation> = out.forces.iter().map(|&v| VarEquation::Value(v)).collect();
+        for (p, st) in out.friction.points.iter().enumerate() {
+            if *st == PointStatus::Open {
+                continue;
+            }
+            eqs[p] = VarEquation::Gap;
+            if *st == PointStatus::Stick {
+                for &t in &layout.tangent_rows[p] {
+                    eqs[t] = VarEquation::Gap;
+                }
+            }
+        }
+        let _ = problem.solve_equations(&eqs);
+    }
+    out.report.operator_applications = problem.solves;
+    Ok(out)
+}
+
+/// The forces (and, kept in `problem`, the rigid-mode amplitudes α) with
+/// every point closed and stuck: the start of the first step of a problem
+/// with floating bodies. From zero forces the Newton method would see a body
+/// whose contacts start open (an initial gap) as held by nothing, a singular
+/// system; closed everywhere, its position is determined, and the points
+/// that come out in tension open in the iterations that follow. `None` when
+/// that system is singular too.
+fn bilateral_start(problem: &mut DelassusProblem) -> Option<Vec<f64>> {
+    let eqs = vec![VarEquation::Gap; problem.q.len()];
+    problem.solve_equations(&eqs).ok().map(|(r, _)| r)
+}
+
+/// The Tresca problems of a fixed point on the threshold (seed §4.3):
+/// the semi-smooth Newton method from the previous forces, counting the
+/// Newton iterations of all solves.
+pub(super) struct Newton<'a> {
+    pub(super) problem: &'a DelassusProblem,
+    pub(super) layout: &'a FrictionLayout,
+    pub(super) opts: &'a FrictionOptions,
+    pub(super) iterations: usize,
+    pub(super) dim: usize,
+}
+
+impl Newton<'_> {
+    /// The iterate of the forces `forces` (no solve): their gaps (rigid-mode
+    /// amplitudes zero) and statuses.
+    fn iterate(&self, forces: Vec<f64>) -> InnerSolve {
+        let mut x = forces.clone();
+        x.resize(forces.len() + self.problem.g_mat.ncols(), 0.0);
+        let gaps = Inner::new(self.problem, self.layout, &[]).gaps(&x);
+        InnerSolve {
+            statuses: statuses(self.layout, &forces, &gaps, self.opts, self.dim),
+            forces,
+            gaps,
+            converged: false,
+            reason: StopReason::Pending,
+        }
+    }
+}
+
+impl TrescaSolver for Newton<'_> {
+    type Thresholds = Vec<[f64; 2]>;
+
+    fn solve(&mut self, thr: &Vec<[f64; 2]>, start: &[f64]) -> Result<InnerSolve, ContactError> {
+        let (solve, iterations) = solve_inner(self, thr, start, false)?;
+        self.iterations += iterations;
+        Ok(solve)
+    }
+}
+
+/// The thresholds of the start of the fixed point: every point initially
+/// closed (q_n ≤ 0) stuck, the others free, as the 2D fixed point starts
+/// (§4.3: g = 0 cannot hold a body held by friction); from the bilateral
+/// start of floating bodies (`guessed`), every point stuck. Stuck open
+/// points would couple all 2m tangential rows of the Newton systems.
+fn stuck_thresholds(
+    problem: &DelassusProblem,
+    layout: &FrictionLayout,
+    guessed: bool,
+) -> Vec<[f64; 2]> {
+    (0..layout.n_points())
+        .map(|p| {
+            if guessed || problem.q[p] <= 0.0 {
+                [f64::INFINITY; 2]
+            } else {
+                [0.0; 2]
+            }
+        })
+        .collect()
+}
+
+/// With `direct`, the Newton method on Coulomb's law itself, else (or when
+/// it fails) the fixed point on the threshold with the Newton inner solves,
+/// from `start` (previous step) or `first_guess` (floating bodies) or zero.
+fn newton_fixed_point(
+    problem: &DelassusProblem,
+    layout: &FrictionLayout,
+    start: Option<&[f64]>,
+    first_guess: Option<Vec<f64>>,
+    direct: bool,
+    opts: &FrictionOptions,
+    dim: usize,
+) -> Result<ContactSolution, ContactError> {
+    let n = problem.q.len();
+    layout.validate(n, dim)?;
+    let forces = match start {
+        Some(f) if f.len() == n => f.to_vec(),
+        Some(f) => {
+            return Err(ContactError::Geometry(format!(
+                "friction {dim}D: {} start forces for {n} rows",
+                f.len()
+            )))
+        }
+        None => first_guess.clone().unwrap_or_else(|| vec![0.0; n]),
+    };
+    let guessed = first_guess.is_some();
+    let mut newton = Newton {
+        problem,
+        layout,
+        opts,
+        iterations: 0,
+        dim,
+    };
+    let tresca = match dim {
+        2 => "tresca_semismooth_newton",
+        _ => "tresca_3d_semismooth_newton",
+    };
+    if !layout.has_coulomb() {
+        let last = newton.solve(&layout.thresholds(&forces), &forces)?;
+        let end = FixedPoint {
+            converged: last.converged,
+            reason: StopReason::Tresca(Box::new(last.reason.clone())),
+            residuals: Vec::new(),
+            last,
+        };
+        return Ok(end.solution(tresca, newton.iterations, false));
+    }
+    if direct {
+        if let Some(sol) = solve_coulomb(&mut newton, &forces)? {
+            return Ok(sol);
+        }
+    }
+    let start = match start {
+        Some(_) => newton.iterate(forces),
+        None => newton.solve(&stuck_thresholds(problem, layout, guessed), &forces)?,
+    };
+    let map = ThresholdMap {
+        threshold: &|r, _| layout.thresholds(r),
+        residual: &normal_change,
+        kind: ThresholdMapKind::Coulomb,
+    };
+    let end = fixed_point(&mut newton, start, &map, opts)?;
+    let coulomb = match dim {
+        2 => "coulomb_semismooth_newton",
+        _ => "coulomb_3d_fixed_point",
+    };
+    Ok(end.solution(coulomb, newton.iterations, false))
+}
+
+/// The semi-smooth Newton method on Coulomb's law itself (Alart & Curnier
+/// 1991; seed §4.1.2), no outer fixed point: the semi-axes of a Coulomb
+/// point are μ_i λ_n of the iterate (the threshold μ λ_n rather than
+/// μ [λ_n − ρ y_n]₊: the two have the same zeros, and with λ_n the
+/// slipping rows depend on the normal force alone, a substitution in the
+/// reduced system instead of a W row; an open point's λ_n is driven to
+/// zero by its own row, and with it the threshold). Each step linearises
+/// F on the iterate's statuses: open points λ = 0, closed normal rows and
+/// stuck points the W rows, slipping points the force on the boundary of
+/// the disc / ellipse whose radius follows dλ_n ([`slip_rows`]); the
+/// reduced system is nonsymmetric (LU). From `forces`; `None` when it does
+/// not meet the tolerance (the caller's fixed point then decides), never a
+/// non-converged answer.
+fn solve_coulomb(
+    newton: &mut Newton,
+    forces: &[f64],
+) -> Result<Option<ContactSolution>, ContactError> {
+    let thr = newton.layout.thresholds(forces);
+    let (direct, iterations) = solve_inner(newton, &thr, forces, true)?;
+    newton.iterations += iterations;
+    let StopReason::NewtonConverged { residual, .. } = direct.reason else {
+        return Ok(None);
+    };
+    let method = match newton.dim {
+        2 => "coulomb_semismooth_newton",
+        _ => "coulomb_3d_semismooth_newton",
+    };
+    let end = FixedPoint {
+        converged: true,
+        reason: direct.reason.clone(),
+        residuals: vec![residual],
+        last: direct,
+    };
+    let mut sol = end.solution(method, newton.iterations, false);
+    sol.friction.fixed_point_iterations = 0;
+    Ok(Some(sol))
+}
