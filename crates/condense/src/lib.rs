@@ -159,12 +159,11 @@ fn interface_shift(k: SparseColMatRef<'_, usize, f64>, interface: &[usize]) -> f
 }
 
 /// K renumbered: interior first (natural), interface last, with every
-/// interface diagonal entry stored (plus `c`: the shifted matrix K + c·I_BB).
-fn shifted_interface_last(
+/// interface diagonal entry stored (so that it can be shifted in place).
+fn interface_last(
     k: SparseColMatRef<'_, usize, f64>,
     interior: &[usize],
     interface: &[usize],
-    c: f64,
 ) -> Result<SparseColMat<usize, f64>, CondenseError> {
     let n = k.nrows();
     let (ni, nb) = (interior.len(), interface.len());
@@ -182,7 +181,7 @@ fn shifted_interface_last(
         }
     }
     for j in 0..nb {
-        t.push(Triplet::new(ni + j, ni + j, c));
+        t.push(Triplet::new(ni + j, ni + j, 0.0));
     }
     SparseColMat::<usize, f64>::try_new_from_triplets(n, n, &t)
         .map_err(|e| CondenseError::Factorisation(format!("{e:?}")))
@@ -220,10 +219,8 @@ fn factor_and_schur(
     };
     let c = interface_shift(k, interface);
     for j in ni..ks.nrows() {
-        let start = ks.col_ptr()[j];
-        let p = ks.row_idx_of_col_raw(j).iter().position(|&r| r == j);
-        let p = p.expect("every interface diagonal entry is stored");
-        ks.val_mut()[start + p] += c;
+        let at = partial_factorisation::diagonal_position(ks.as_ref(), j);
+        ks.val_mut()[at.expect("every interface diagonal entry is stored")] += c;
     }
     let l_values = factorise_interface_last(ks.as_ref(), symbolic, par)?;
     drop(ks);
@@ -358,7 +355,7 @@ impl Condensed {
         let interior: Vec<usize> = (0..n).filter(|&i| !is_b[i]).collect();
         let ni = interior.len();
         let k_ii_norm1 = interior_norm1(k, &is_b, &interior);
-        let ks = shifted_interface_last(k, &interior, interface, 0.0)?;
+        let ks = interface_last(k, &interior, interface)?;
         let ordered = ordering::order_and_analyse(ks.as_ref(), ni, choice)?;
         let (l_values, schur, stopped) =
             factor_and_schur(k, ks, interface, &ordered.symbolic, par)?;
@@ -653,7 +650,7 @@ mod tests {
         let mut is_b = vec![false; 2 * n1];
         interface.iter().for_each(|&b| is_b[b] = true);
         let interior: Vec<usize> = (0..2 * n1).filter(|&i| !is_b[i]).collect();
-        let ks = shifted_interface_last(k.as_ref(), &interior, &interface, 0.0).unwrap();
+        let ks = interface_last(k.as_ref(), &interior, &interface).unwrap();
         let ordered = ordering::order_and_analyse(ks.as_ref(), ni, OrderingChoice::Auto).unwrap();
         let stopped = partial_factorisation::schur_by_stopped_factorisation(
             ks,

@@ -65,7 +65,7 @@ fn interface_supernode(
 }
 
 /// The index in `ks.val()` of the diagonal entry of column `j`.
-fn diagonal_position(ks: SparseColMatRef<'_, usize, f64>, j: usize) -> Option<usize> {
+pub(crate) fn diagonal_position(ks: SparseColMatRef<'_, usize, f64>, j: usize) -> Option<usize> {
     let rows = ks.row_idx_of_col_raw(j);
     let start = ks.col_ptr()[j];
     rows.iter().position(|&r| r == j).map(|p| start + p)

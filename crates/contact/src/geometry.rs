@@ -767,28 +767,41 @@ pub fn node_to_node_pairing(
                 "node_to_node needs matching meshes: slave node {s} at {at} has no master node facing it (nearest is {tangential:.3e} off the normal); use discretization = \"node_to_segment\""
             )));
         }
-        let (tangent, tangent2) = tangents(three_d, n);
-        out.push(ContactPoint {
-            slave_node: s,
-            x,
-            normal: n,
-            tangent,
-            tangent2,
-            gap0: dot(n, d),
-            terms: vec![
-                slave_term(s),
-                Term {
-                    side: TermSide::Master,
-                    node: m,
-                    weight: -1.0,
-                },
-            ],
-        });
+        out.push(node_to_node_point(s, x, m, xm, n, three_d));
     }
     Ok(Pairing {
         points: out,
         dropped,
     })
+}
+
+/// The node-to-node point of slave node `s` at `x` facing master node `m`
+/// at `xm` along the normal `n`: gap₀ = n·(x − xm), g = n·(u_s − u_m).
+fn node_to_node_point(
+    s: usize,
+    x: [f64; 3],
+    m: usize,
+    xm: [f64; 3],
+    n: [f64; 3],
+    three_d: bool,
+) -> ContactPoint {
+    let (tangent, tangent2) = tangents(three_d, n);
+    ContactPoint {
+        slave_node: s,
+        x,
+        normal: n,
+        tangent,
+        tangent2,
+        gap0: dot(n, sub(x, xm)),
+        terms: vec![
+            slave_term(s),
+            Term {
+                side: TermSide::Master,
+                node: m,
+                weight: -1.0,
+            },
+        ],
+    }
 }
 
 /// The contact elements of seed §7 between two surfaces whose nodes
@@ -835,23 +848,7 @@ pub fn contact_element_pairing(
         };
         let xm = mesh.coords[m];
         let n = choose_normal(rule, n_m, n_s, x, xm, scale);
-        let (tangent, tangent2) = tangents(three_d, n);
-        points.push(ContactPoint {
-            slave_node: s,
-            x,
-            normal: n,
-            tangent,
-            tangent2,
-            gap0: dot(n, sub(x, xm)),
-            terms: vec![
-                slave_term(s),
-                Term {
-                    side: TermSide::Master,
-                    node: m,
-                    weight: -1.0,
-                },
-            ],
-        });
+        points.push(node_to_node_point(s, x, m, xm, n, three_d));
     }
     Ok(Pairing {
         points,

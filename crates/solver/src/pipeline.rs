@@ -50,10 +50,7 @@ impl RankFigures {
     /// ordering's stored values) and their dense S_i.
     fn of_condensed(data: &Result<Vec<CondensedData>, String>) -> Self {
         let data = data.as_deref().unwrap_or_default();
-        let threads = match faer::get_global_parallelism() {
-            faer::Par::Seq => 1,
-            faer::Par::Rayon(n) => n.get(),
-        };
+        let threads = faer::get_global_parallelism().degree();
         Self {
             threads,
             subdomains: data.len(),
@@ -353,10 +350,7 @@ fn condense_side_by_side<T: Send>(
     par: faer::Par,
     condense: impl Fn(usize, faer::Par) -> Result<T, String> + Sync,
 ) -> Result<Vec<T>, String> {
-    let cores = match par {
-        faer::Par::Seq => 1,
-        faer::Par::Rayon(n) => n.get(),
-    };
+    let cores = par.degree();
     let workers = side_by_side_workers(mine.iter().map(|&i| costs[i]), cores);
     if workers <= 1 {
         let each = |(k, &i): (usize, &usize)| {
@@ -391,18 +385,12 @@ fn condense_side_by_side<T: Send>(
         }
         work(true);
     });
-    let done = slots
+    // Without an error every slot is filled; with one, the first error in
+    // the order of `mine` is the answer.
+    slots
         .into_iter()
-        .filter_map(|m| m.into_inner().unwrap_or_else(|e| e.into_inner()));
-    let out: Vec<Result<T, String>> = done.collect();
-    if let Some(e) = out.iter().position(|r| r.is_err()) {
-        return Err(out
-            .into_iter()
-            .nth(e)
-            .and_then(|r| r.err())
-            .unwrap_or_default());
-    }
-    out.into_iter().collect()
+        .filter_map(|m| m.into_inner().unwrap_or_else(|e| e.into_inner()))
+        .collect()
 }
 
 /// How many subdomains of these costs to condense side by side on `cores`:

@@ -77,7 +77,8 @@ struct Capacitance {
 impl StatusFactor {
     /// Factorises the reduced system of `eqs`; `None` when the
     /// factorisation fails or is near singular (see [`crate::reduced`]).
-    fn new(w: &Mat<f64>, eqs: &[VarEquation]) -> Option<Self> {
+    /// `w_norm`: ‖W‖₁ when already known (a previous factor of the same W).
+    fn new(w: &Mat<f64>, eqs: &[VarEquation], w_norm: Option<f64>) -> Option<Self> {
         let red = reduce(eqs)?;
         let factor = factorise_reduced(&reduced_block(w, &red), &red)?;
         let mut position = vec![None; eqs.len()];
@@ -100,9 +101,11 @@ impl StatusFactor {
             factor,
             z: Vec::new(),
             z_col: HashMap::new(),
-            w_norm: (0..w.ncols())
-                .map(|j| w.col_as_slice(j).iter().map(|v| v.abs()).sum::<f64>())
-                .fold(0.0, f64::max),
+            w_norm: w_norm.unwrap_or_else(|| {
+                (0..w.ncols())
+                    .map(|j| w.col_as_slice(j).iter().map(|v| v.abs()).sum::<f64>())
+                    .fold(0.0, f64::max)
+            }),
         })
     }
 
@@ -393,6 +396,8 @@ pub(crate) fn solve_status_system(
         *slot = None;
         return None;
     }
+    // The slot holds a factor of this W (one friction solve), if any.
+    let w_norm = slot.as_ref().map(|f| f.w_norm);
     if let Some(f) = slot.as_mut().filter(|f| f.base.len() == eqs.len()) {
         let rows = f.changed_rows(eqs);
         if rows.is_empty() {
@@ -405,7 +410,7 @@ pub(crate) fn solve_status_system(
         }
     }
     *slot = None;
-    let f = StatusFactor::new(w, eqs)?;
+    let f = StatusFactor::new(w, eqs, w_norm)?;
     let out = f.direct(w, q, eqs)?;
     *slot = Some(f);
     Some(out)
