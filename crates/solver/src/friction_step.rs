@@ -295,6 +295,13 @@ fn solve_friction(
     let retry_from_gaps = history.previous.is_none() && bodies.iter().any(|b| !b.kernel.is_empty());
     let solve_2d = |problem: &mut DelassusProblem, initial: Vec<PointStatus>| -> FrictionSolve {
         let layout = &fr.layout;
+        // The status methods from a cold start without floating bodies:
+        // slip predicted from q.
+        let predict = history.previous.is_none() && problem.n_kernel() == 0;
+        let predicted = |problem: &DelassusProblem, initial: Vec<PointStatus>| match predict {
+            true => predicted_statuses(layout, &problem.q, initial, fopts),
+            false => initial,
+        };
         let newton = input.sc.solver.friction == scene::FrictionSolver::Newton;
         if fr.norton_hoff {
             let out = signorini_contact::friction::norton_hoff(problem, layout, initial, fopts);
@@ -314,12 +321,12 @@ fn solve_friction(
             )
         } else if all_tresca {
             (
-                tresca_status(problem, layout, initial, fopts),
+                tresca_status(problem, layout, predicted(problem, initial), fopts),
                 "tresca_status",
             )
         } else if input.sc.solver.friction == scene::FrictionSolver::Status {
             (
-                coulomb_status(problem, layout, initial, fopts),
+                coulomb_status(problem, layout, predicted(problem, initial), fopts),
                 "friction_status",
             )
         } else {

@@ -136,7 +136,9 @@ pub fn solve_friction(
     max_iterations: usize,
     with_lambda: bool,
 ) -> Result<LocalResult, String> {
-    use signorini_contact::friction::{coulomb_fixed_point, coulomb_newton, coulomb_status};
+    use signorini_contact::friction::{
+        coulomb_fixed_point, coulomb_newton, coulomb_status, predicted_statuses,
+    };
     let mu = p.mu.as_ref().ok_or("no mu")?;
     let (m, d) = (p.contacts(), p.dim);
     if d == 3 && !method.solves_3d() {
@@ -178,7 +180,10 @@ pub fn solve_friction(
             None,
             &opts,
         ),
-        (_, FrictionMethod::Status) => coulomb_status(&mut problem, &layout, initial, &opts),
+        (_, FrictionMethod::Status) => {
+            let initial = predicted_statuses(&layout, &p.q, initial, &opts);
+            coulomb_status(&mut problem, &layout, initial, &opts)
+        }
         (_, FrictionMethod::Newton) => coulomb_newton(&mut problem, &layout, None, &opts),
         (_, FrictionMethod::FixedPoint) => {
             coulomb_fixed_point(&mut problem, &layout, initial, None, &opts)
