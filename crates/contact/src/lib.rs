@@ -23,6 +23,7 @@ mod fixed_point;
 pub mod friction;
 pub mod friction3d;
 pub mod geometry;
+mod growing_lu;
 pub mod lcp;
 pub mod lemke;
 pub mod mortar;

@@ -27,10 +27,10 @@
 
 use std::collections::HashMap;
 
-use faer::prelude::Solve;
 use faer::Mat;
 
 use crate::delassus::VarEquation;
+use crate::growing_lu::GrowingLu;
 use crate::reduced::{
     factorise_reduced, pivots_are_safe, reduce, reduced_block, Factor, Reduction,
 };
@@ -64,14 +64,43 @@ pub(crate) struct StatusFactor {
     z_col: HashMap<usize, usize>,
     /// ‖W‖∞ (W symmetric: its largest column sum), for the residual test.
     w_norm: f64,
+    /// The capacitance system of the last update, grown by the next one
+    /// when its rows are among the next one's.
+    last: Option<Capacitance>,
 }
 
 /// The capacitance system of a status vector against the base.
 struct Capacitance {
+    /// The changed rows, in the order of K's rows and columns, and the
+    /// equation each had when K was made.
     rows: Vec<usize>,
+    eqs: Vec<VarEquation>,
     /// Row equilibration of K and its LU.
     scale: Vec<f64>,
-    lu: faer::linalg::solvers::PartialPivLu<f64>,
+    lu: GrowingLu,
+}
+
+impl Capacitance {
+    /// The rows of `rows` not yet in this system, when every row of it is
+    /// among `rows` with the same equation (then K grows by a border);
+    /// `None` otherwise.
+    fn border(&self, eqs: &[VarEquation], rows: &[usize]) -> Option<Vec<usize>> {
+        let mut listed = vec![false; eqs.len()];
+        for &r in rows {
+            listed[r] = true;
+        }
+        let kept = self.rows.iter().zip(&self.eqs);
+        if !kept
+            .clone()
+            .all(|(&r, e)| listed[r] && same_row(&eqs[r], e))
+        {
+            return None;
+        }
+        for &r in &self.rows {
+            listed[r] = false;
+        }
+        Some(rows.iter().copied().filter(|&r| listed[r]).collect())
+    }
 }
 
 impl StatusFactor {
@@ -101,6 +130,7 @@ impl StatusFactor {
             factor,
             z: Vec::new(),
             z_col: HashMap::new(),
+            last: None,
             w_norm: w_norm.unwrap_or_else(|| {
                 (0..w.ncols())
                     .map(|j| w.col_as_slice(j).iter().map(|v| v.abs()).sum::<f64>())
@@ -173,63 +203,123 @@ impl StatusFactor {
         update < fresh && 2.0 * r <= nn.max(1.0)
     }
 
-    /// Makes the columns of Z missing for `rows`.
-    fn extend_z(&mut self, w: &Mat<f64>, rows: &[usize]) {
+    /// Makes the columns of Z missing for `rows` and returns M₀⁻¹ b⁰ (b
+    /// with the rows `rows` zeroed), all in one solve with the base factor.
+    fn extend_z(&mut self, w: &Mat<f64>, rows: &[usize], b: &[f64]) -> Vec<f64> {
         let missing: Vec<usize> = rows
             .iter()
             .copied()
             .filter(|r| !self.z_col.contains_key(r))
             .collect();
-        if missing.is_empty() {
-            return;
-        }
-        let cols: Vec<Vec<(usize, f64)>> = missing.iter().map(|&r| vec![(r, 1.0)]).collect();
+        let mut cols: Vec<Vec<(usize, f64)>> = missing.iter().map(|&r| vec![(r, 1.0)]).collect();
+        cols.push(zeroed_column(b, rows));
         let z = self.base_solve(w, &cols);
         for (j, &r) in missing.iter().enumerate() {
             self.z_col.insert(r, self.z_col.len());
             self.z.extend_from_slice(z.col_as_slice(j));
         }
+        z.col_as_slice(missing.len()).to_vec()
     }
 
-    /// K = N_R Z for the changed rows, equilibrated by rows and factorised;
-    /// `None` when near singular.
+    /// The entries of K = N_R Z on the rows `a` and columns `b` (rows of
+    /// the system).
+    fn entries(&self, w: &Mat<f64>, eqs: &[VarEquation], a: &[usize], b: &[usize]) -> Mat<f64> {
+        let n = eqs.len();
+        let mut k = Mat::<f64>::zeros(a.len(), b.len());
+        for (j, rb) in b.iter().enumerate() {
+            let zb = &self.z[self.z_col[rb] * n..][..n];
+            for (i, &ra) in a.iter().enumerate() {
+                k[(i, j)] = row_apply(w, eqs, ra, |t| zb[t]);
+            }
+        }
+        k
+    }
+
+    /// K = N_R Z for the changed rows, equilibrated by rows and factorised:
+    /// the last update's K grown by a border when its rows are among these
+    /// with the same equations, else made afresh; `None` when near singular.
     fn capacitance(
         &self,
         w: &Mat<f64>,
         eqs: &[VarEquation],
         rows: &[usize],
+        last: Option<Capacitance>,
     ) -> Option<Capacitance> {
-        let (n, r) = (eqs.len(), rows.len());
-        let mut k = Mat::<f64>::zeros(r, r);
-        for (b, rb) in rows.iter().enumerate() {
-            let zb = &self.z[self.z_col[rb] * n..][..n];
-            for (a, &ra) in rows.iter().enumerate() {
-                k[(a, b)] = row_apply(w, eqs, ra, |i| zb[i]);
-            }
-        }
-        let scale: Vec<f64> = (0..r)
-            .map(|a| {
-                let m = (0..r).fold(0.0f64, |m, b| m.max(k[(a, b)].abs()));
-                if m > 0.0 && m.is_finite() {
-                    1.0 / m
-                } else {
-                    1.0
-                }
+        let grown = last.and_then(|c| {
+            let border = c.border(eqs, rows)?;
+            self.grow(w, eqs, c, &border)
+        });
+        grown.or_else(|| {
+            let mut k = self.entries(w, eqs, rows, rows);
+            let scale = equilibrate(k.as_mut());
+            let lu = GrowingLu::new(k.as_ref());
+            pivots_are_safe(lu.pivots(), rows.len()).then(|| Capacitance {
+                rows: rows.to_vec(),
+                eqs: rows.iter().map(|&r| eqs[r]).collect(),
+                scale,
+                lu,
             })
-            .collect();
-        for (a, s) in scale.iter().enumerate() {
-            for b in 0..r {
-                k[(a, b)] *= s;
-            }
-        }
-        let lu = k.partial_piv_lu();
-        let u = lu.U();
-        pivots_are_safe((0..r).map(|i| u[(i, i)]), r).then(|| Capacitance {
-            rows: rows.to_vec(),
-            scale,
-            lu,
         })
     }
+
+    /// `c` grown by the rows and columns `border`; `None` when its pivots
+    /// are not safe.
+    fn grow(
+        &self,
+        w: &Mat<f64>,
+        eqs: &[VarEquation],
+        mut c: Capacitance,
+        border: &[usize],
+    ) -> Option<Capacitance> {
+        if border.is_empty() {
+            return Some(c);
+        }
+        let mut k12 = self.entries(w, eqs, &c.rows, border);
+        for (i, s) in c.scale.iter().enumerate() {
+            for j in 0..border.len() {
+                k12[(i, j)] *= s;
+            }
+        }
+        let mut k2 = self.entries(w, eqs, border, &[&c.rows[..], border].concat());
+        let scale = equilibrate(k2.as_mut());
+        let r = c.rows.len();
+        let (k21, k22) = k2.as_ref().split_at_col(r);
+        c.lu.extend(k12.as_ref(), k21, k22);
+        c.rows.extend_from_slice(border);
+        c.eqs.extend(border.iter().map(|&b| eqs[b]));
+        c.scale.extend(scale);
+        pivots_are_safe(c.lu.pivots(), c.rows.len()).then_some(c)
+    }
+}
+
+/// Scales each row of `k` by the inverse of its largest magnitude (rows
+/// without a finite nonzero entry are left) and returns the scales.
+fn equilibrate(mut k: faer::MatMut<'_, f64>) -> Vec<f64> {
+    let (r, c) = k.shape();
+    (0..r)
+        .map(|a| {
+            let m = (0..c).fold(0.0f64, |m, b| m.max(k[(a, b)].abs()));
+            let s = if m > 0.0 && m.is_finite() {
+                1.0 / m
+            } else {
+                1.0
+            };
+            for b in 0..c {
+                k[(a, b)] *= s;
+            }
+            s
+        })
+        .collect()
+}
+
+/// The column b⁰ (b with the rows `rows` zeroed) as (row, value) pairs.
+fn zeroed_column(b: &[f64], rows: &[usize]) -> Vec<(usize, f64)> {
+    let mut b0 = b.to_vec();
+    for &r in rows {
+        b0[r] = 0.0;
+    }
+    let nonzero = b0.into_iter().enumerate().filter(|e| e.1 != 0.0);
+    nonzero.collect()
 }
 
 /// Row `i` of the system of `eqs` applied to the vector `v` (W_i· v for a
@@ -289,27 +379,32 @@ impl StatusFactor {
         cap: Option<&Capacitance>,
         b: &[f64],
     ) -> Vec<f64> {
-        let n = eqs.len();
         let rows = cap.map_or(&[][..], |c| &c.rows[..]);
-        let mut b0 = b.to_vec();
-        for &r in rows {
-            b0[r] = 0.0;
+        let y = self
+            .base_solve(w, &[zeroed_column(b, rows)])
+            .col_as_slice(0)
+            .to_vec();
+        match cap {
+            Some(cap) => self.correct(w, eqs, cap, b, y),
+            None => y,
         }
-        let col: Vec<(usize, f64)> = b0
-            .iter()
-            .copied()
-            .enumerate()
-            .filter(|e| e.1 != 0.0)
-            .collect();
-        let mut x = self.base_solve(w, &[col]).col_as_slice(0).to_vec();
-        let Some(cap) = cap else {
-            return x;
-        };
+    }
+
+    /// x = y + Z s with (N_R Z) s = b_R − N_R y, from y = M₀⁻¹ b⁰.
+    fn correct(
+        &self,
+        w: &Mat<f64>,
+        eqs: &[VarEquation],
+        cap: &Capacitance,
+        b: &[f64],
+        mut x: Vec<f64>,
+    ) -> Vec<f64> {
+        let (n, rows) = (eqs.len(), &cap.rows);
         let rhs = Mat::<f64>::from_fn(rows.len(), 1, |a, _| {
             let i = rows[a];
             cap.scale[a] * (b[i] - row_apply(w, eqs, i, |k| x[k]))
         });
-        let s = cap.lu.solve(&rhs);
+        let s = cap.lu.solve(rhs.as_ref());
         for (a, ra) in rows.iter().enumerate() {
             let za = &self.z[self.z_col[ra] * n..][..n];
             let sa = s[(a, 0)];
@@ -342,9 +437,11 @@ impl StatusFactor {
         eqs: &[VarEquation],
         rows: &[usize],
     ) -> Option<(Vec<f64>, Vec<f64>)> {
-        self.extend_z(w, rows);
-        let cap = self.capacitance(w, eqs, rows)?;
-        let mut x = self.solve_rhs(w, eqs, Some(&cap), &rhs_of(q, eqs));
+        let b = rhs_of(q, eqs);
+        let y = self.extend_z(w, rows, &b);
+        let last = self.last.take();
+        let cap = self.capacitance(w, eqs, rows, last)?;
+        let mut x = self.correct(w, eqs, &cap, &b, y);
         enforce(eqs, &mut x);
         let mut g = crate::lcp::gaps(w, q, &x);
         for pass in 0..2 {
@@ -357,6 +454,7 @@ impl StatusFactor {
             let qmax = q.iter().fold(0.0f64, |m, v| m.max(v.abs()));
             let eta = worst / (self.w_norm * xmax + qmax).max(f64::MIN_POSITIVE);
             if eta <= BACKWARD_ERROR && x.iter().all(|v| v.is_finite()) {
+                self.last = Some(cap);
                 return Some((x, g));
             }
             if pass == 1 {
