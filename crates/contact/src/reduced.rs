@@ -347,12 +347,13 @@ pub(crate) fn solve_newton(
     cache: &mut Option<NewtonFactor>,
     chord: bool,
 ) -> Option<Vec<f64>> {
-    let red = reduce_newton(w, sys);
+    let mut red = reduce_newton(sys, w.nrows());
     let reuse = chord && cache.as_ref().is_some_and(|c| c.key == red.key);
+    if chord && !reuse {
+        return None;
+    }
+    reduced_rhs(w, sys, &mut red);
     if !reuse {
-        if chord {
-            return None;
-        }
         *cache = None;
         let block = NewtonBlock::new(w, sys, &red, g.ncols() == 0);
         *cache = Some(NewtonFactor {
@@ -475,8 +476,9 @@ struct NewtonReduction {
     key: Vec<usize>,
 }
 
-fn reduce_newton(w: &Mat<f64>, sys: &NewtonSystem) -> NewtonReduction {
-    let n = w.nrows();
+/// The reduction of `sys` over `n` rows but its right-hand side (see
+/// [`reduced_rhs`]): the structure key first, cheap to compare.
+fn reduce_newton(sys: &NewtonSystem, n: usize) -> NewtonReduction {
     let dirs: Vec<Dir> = sys.coupled.iter().map(|(d, _, _)| *d).collect();
     // The unknown of each coupled single row (the normal rows).
     let mut position = vec![None; n];
@@ -508,19 +510,9 @@ fn reduce_newton(w: &Mat<f64>, sys: &NewtonSystem) -> NewtonReduction {
         }
     }
     let nonzero: Vec<usize> = (0..n).filter(|&i| h[i] != 0.0).collect();
-    // W h by columns (W is column major).
-    let mut wh = vec![0.0; n];
-    for &j in &nonzero {
-        let col = w.col(j);
-        for (i, v) in wh.iter_mut().enumerate() {
-            *v += col[i] * h[j];
-        }
-    }
-    let mut rhs = Mat::<f64>::from_fn(dirs.len(), 1, |x, _| sys.coupled[x].2 - dirs[x].dot(&wh));
-    for &(x, r, f) in &sys.coupled_normal {
-        match position[r] {
-            Some(y) => key.extend([usize::MAX - 1, x, y]),
-            None => rhs[(x, 0)] -= f * h[r],
+    for &(x, r, _) in &sys.coupled_normal {
+        if let Some(y) = position[r] {
+            key.extend([usize::MAX - 1, x, y]);
         }
     }
     NewtonReduction {
@@ -529,9 +521,30 @@ fn reduce_newton(w: &Mat<f64>, sys: &NewtonSystem) -> NewtonReduction {
         dependent,
         h,
         nonzero,
-        rhs,
+        rhs: Mat::zeros(0, 1),
         key,
     }
+}
+
+/// The right-hand side of the reduced system: the coupled rows' values
+/// less their W rows on the given part h (and its normal-force terms).
+fn reduced_rhs(w: &Mat<f64>, sys: &NewtonSystem, red: &mut NewtonReduction) {
+    let (dirs, h) = (&red.dirs, &red.h);
+    // W h by columns (W is column major).
+    let mut wh = vec![0.0; w.nrows()];
+    for &j in &red.nonzero {
+        let col = w.col(j);
+        for (i, v) in wh.iter_mut().enumerate() {
+            *v += col[i] * h[j];
+        }
+    }
+    let mut rhs = Mat::<f64>::from_fn(dirs.len(), 1, |x, _| sys.coupled[x].2 - dirs[x].dot(&wh));
+    for &(x, r, f) in &sys.coupled_normal {
+        if red.position[r].is_none() {
+            rhs[(x, 0)] -= f * h[r];
+        }
+    }
+    red.rhs = rhs;
 }
 
 /// The reduced block Eᵀ W P + diag d (+ the coupled rows' normal-force
