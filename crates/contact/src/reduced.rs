@@ -71,8 +71,13 @@ impl BlockFactor {
         let one: Vec<usize> = (0..n).filter(|&i| !modified[i]).collect();
         let two: Vec<usize> = (0..n).filter(|&i| modified[i]).collect();
         let (n1, n2) = (one.len(), two.len());
-        let part = |rows: &[usize], cols: &[usize]| {
-            Mat::<f64>::from_fn(rows.len(), cols.len(), |i, j| a[(rows[i], cols[j])])
+        let part = |rows: &[usize], cols: &[usize]| match (contiguous(rows), contiguous(cols)) {
+            // The Newton blocks: O first, Y last (column copies).
+            (Some(r), Some(c)) => a
+                .as_ref()
+                .submatrix(r, c, rows.len(), cols.len())
+                .to_owned(),
+            _ => Mat::<f64>::from_fn(rows.len(), cols.len(), |i, j| a[(rows[i], cols[j])]),
         };
         let llt = part(&one, &one).llt(Side::Lower).ok()?;
         let mut x = part(&one, &two);
@@ -119,6 +124,15 @@ impl BlockFactor {
         }
         out
     }
+}
+
+/// The first of `idx` when they are consecutive.
+fn contiguous(idx: &[usize]) -> Option<usize> {
+    let first = *idx.first()?;
+    idx.iter()
+        .enumerate()
+        .all(|(k, &i)| i == first + k)
+        .then_some(first)
 }
 
 /// Factorises the reduced block of `red`: by blocks
