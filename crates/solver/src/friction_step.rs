@@ -298,9 +298,12 @@ fn solve_friction(
         // The status methods from a cold start without floating bodies:
         // slip predicted from q.
         let predict = history.previous.is_none() && problem.n_kernel() == 0;
-        let predicted = |problem: &DelassusProblem, initial: Vec<PointStatus>| match predict {
-            true => predicted_statuses(layout, &problem.q, initial, fopts),
-            false => initial,
+        let predicted = |problem: &DelassusProblem, initial: Vec<PointStatus>| {
+            if predict {
+                predicted_statuses(layout, &problem.q, initial, fopts)
+            } else {
+                initial
+            }
         };
         let newton = input.sc.solver.friction == scene::FrictionSolver::Newton;
         if fr.norton_hoff {

@@ -89,11 +89,8 @@ impl Capacitance {
         for &r in rows {
             listed[r] = true;
         }
-        let kept = self.rows.iter().zip(&self.eqs);
-        if !kept
-            .clone()
-            .all(|(&r, e)| listed[r] && same_row(&eqs[r], e))
-        {
+        let mut kept = self.rows.iter().zip(&self.eqs);
+        if !kept.all(|(&r, e)| listed[r] && same_row(&eqs[r], e)) {
             return None;
         }
         for &r in &self.rows {
