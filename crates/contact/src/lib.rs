@@ -16,6 +16,7 @@
 pub mod active_factor;
 pub mod active_set;
 pub mod augmented_lagrangian;
+mod bordered_factor;
 pub mod contact_elements;
 pub mod delassus;
 pub mod equilibrium;
