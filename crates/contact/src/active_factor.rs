@@ -18,8 +18,6 @@
 //! An update whose new pivot is not safely positive gives up, and the caller
 //! factorises afresh (or falls back to its rank-tested solve).
 
-use faer::dyn_stack::{MemBuffer, MemStack};
-use faer::linalg::cholesky::llt::factor::{cholesky_in_place, cholesky_in_place_scratch};
 use faer::linalg::matmul::matmul;
 use faer::linalg::triangular_solve::{
     solve_lower_triangular_in_place, solve_upper_triangular_in_place,
@@ -129,16 +127,7 @@ impl ActiveFactor {
             }
         }
         let par = faer::get_global_parallelism();
-        let mut mem = MemBuffer::new(cholesky_in_place_scratch::<f64>(n, par, Default::default()));
-        let stack = MemStack::new(&mut mem);
-        cholesky_in_place(
-            l.as_mut(),
-            Default::default(),
-            par,
-            stack,
-            Default::default(),
-        )
-        .ok()?;
+        crate::recursive_cholesky::cholesky(l.as_mut(), par).ok()?;
         let w_diag = rows.iter().map(|&r| w[(r, r)]);
         let safe = cholesky_pivots_are_safe((0..n).map(|i| l[(i, i)]), w_diag);
         safe.then(|| Self {

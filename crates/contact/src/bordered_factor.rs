@@ -16,7 +16,7 @@
 //! status iteration reuses its pages instead of faulting in fresh ones
 //! (about 10 % of a 3D Coulomb solve with 2,000 points).
 
-use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
+use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::cholesky::llt;
 use faer::linalg::lu::partial_pivoting as lu;
 use faer::perm::PermRef;
@@ -58,20 +58,15 @@ impl BorderedFactor {
         let n2 = n - n1;
         let mut perm = vec![0usize; n2];
         let mut perm_inv = vec![0usize; n2];
-        let mut mem = MemBuffer::new(StackReq::any_of(&[
-            llt::factor::cholesky_in_place_scratch::<f64>(n1, par, Default::default()),
-            lu::factor::lu_in_place_scratch::<usize, f64>(n2, n2, par, Default::default()),
-        ]));
+        let mut mem = MemBuffer::new(lu::factor::lu_in_place_scratch::<usize, f64>(
+            n2,
+            n2,
+            par,
+            Default::default(),
+        ));
         let mut a = view(&mut buf, n);
         let (mut a11, mut a12, a21, mut a22) = a.rb_mut().split_at_mut(n1, n1);
-        let chol = llt::factor::cholesky_in_place(
-            a11.rb_mut(),
-            Default::default(),
-            par,
-            MemStack::new(&mut mem),
-            Default::default(),
-        );
-        if chol.is_err() {
+        if crate::recursive_cholesky::cholesky(a11.rb_mut(), par).is_err() {
             return Err(FactorFailure::NotPositive(buf));
         }
         llt::solve::solve_in_place_with_conj(

@@ -33,6 +33,7 @@ pub mod mprgp;
 pub mod observe;
 pub mod penalty;
 pub mod projected_gradient;
+mod recursive_cholesky;
 mod reduced;
 pub mod redundancy;
 pub mod registry;
