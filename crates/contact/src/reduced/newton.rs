@@ -346,33 +346,52 @@ fn w_direction<'a>(w: &'a Mat<f64>, d: &Dir, f: f64, mix: &'a mut [f64]) -> (&'a
     (mix, 1.0)
 }
 
-/// The rows and coefficients of the coupled directions in block order.
+/// The rows and coefficients of the coupled directions in block order: the
+/// first row of every direction, and the second rows of those on two rows
+/// (the slipping points' directions along and across their circle).
 struct BlockRows {
-    r0: Vec<usize>,
-    r1: Vec<usize>,
+    r0: Vec<u32>,
     c0: Vec<f64>,
-    c1: Vec<f64>,
+    /// (block row, second row, its coefficient).
+    second: Vec<(usize, usize, f64)>,
 }
 
 impl BlockRows {
     fn new(dirs: &[Dir], order: &[usize]) -> Self {
-        let at = |f: &dyn Fn(&Dir) -> usize| order.iter().map(|&x| f(&dirs[x])).collect();
-        let coef = |l: usize| order.iter().map(|&x| dirs[x].c[l]).collect();
-        Self {
-            r0: at(&|d| d.rows[0]),
-            r1: at(&|d| d.rows[1]),
-            c0: coef(0),
-            c1: coef(1),
+        let mut rows = BlockRows {
+            r0: Vec::with_capacity(order.len()),
+            c0: Vec::with_capacity(order.len()),
+            second: Vec::new(),
+        };
+        for (i, &x) in order.iter().enumerate() {
+            let Dir { rows: [r0, r1], c } = dirs[x];
+            rows.r0.push(r0 as u32);
+            if r0 == r1 {
+                rows.c0.push(c[0] + c[1]);
+            } else {
+                rows.c0.push(c[0]);
+                rows.second.push((i, r1, c[1]));
+            }
         }
+        rows
     }
 
     /// out[i] (= or +=) scale · e_iᵀ col for the block rows i ≥ `top`.
     fn gather(&self, col: &[f64], scale: f64, top: usize, out: &mut [f64], add: bool) {
-        let rows = self.r0[top..].iter().zip(&self.r1[top..]);
-        let coefs = self.c0[top..].iter().zip(&self.c1[top..]);
-        for ((o, (&r0, &r1)), (&c0, &c1)) in out[top..].iter_mut().zip(rows).zip(coefs) {
-            let v = scale * (c0 * col[r0] + c1 * col[r1]);
-            *o = if add { *o + v } else { v };
+        let rows = self.r0[top..].iter().zip(&self.c0[top..]);
+        let out = &mut out[top..];
+        if add {
+            for (o, (&r, &c)) in out.iter_mut().zip(rows) {
+                *o += scale * c * col[r as usize];
+            }
+        } else {
+            for (o, (&r, &c)) in out.iter_mut().zip(rows) {
+                *o = scale * c * col[r as usize];
+            }
+        }
+        let from = self.second.partition_point(|&(i, _, _)| i < top);
+        for &(i, r1, c1) in &self.second[from..] {
+            out[i - top] += scale * c1 * col[r1];
         }
     }
 }
