@@ -42,6 +42,7 @@ mod semismooth_newton;
 pub mod smalbe;
 pub mod solution;
 pub mod status;
+mod threads;
 pub mod uzawa;
 
 #[cfg(test)]

@@ -297,7 +297,7 @@ impl NewtonBlock {
     /// Writes the block into `buf` (column-major, block order); the strictly
     /// upper triangle of its leading `n1` × `n1` block is not written (the
     /// Cholesky reads the lower one). e_xᵀ W e_y from the columns of W on
-    /// e_y's rows, read on e_x's rows.
+    /// e_y's rows, read on e_x's rows; the columns shared between the cores.
     fn fill(
         &self,
         w: &Mat<f64>,
@@ -307,21 +307,29 @@ impl NewtonBlock {
         n1: usize,
     ) {
         let nu = self.order.len();
-        let rows = BlockRows::new(&red.dirs, &self.order);
-        let mut mix = vec![0.0; w.nrows()];
-        for (j, &y) in self.order.iter().enumerate() {
-            let top = if j < n1 { j } else { 0 };
-            let (col, scale) = w_direction(w, &red.dirs[y], 1.0, &mut mix);
-            rows.gather(col, scale, top, &mut buf[j * nu..(j + 1) * nu], false);
-        }
         let pos = &self.pos;
+        let rows = BlockRows::new(&red.dirs, &self.order);
+        // The dependent directions of each block column.
+        let mut dependent: Vec<Vec<(Dir, f64)>> = vec![Vec::new(); nu];
+        for (d, y, f) in &red.dependent {
+            dependent[pos[*y]].push((*d, *f));
+        }
+        let work = (nu * nu + red.dependent.len() * (nu + 2 * w.nrows())) as f64;
+        crate::threads::for_each_chunk(&mut buf[..nu * nu], nu, work, |first, cols| {
+            let mut mix = vec![0.0; w.nrows()];
+            for (k, out) in cols.chunks_exact_mut(nu).enumerate() {
+                let j = first + k;
+                let top = if j < n1 { j } else { 0 };
+                let (col, scale) = w_direction(w, &red.dirs[self.order[j]], 1.0, &mut mix);
+                rows.gather(col, scale, top, out, false);
+                for (d, f) in &dependent[j] {
+                    let (col, scale) = w_direction(w, d, *f, &mut mix);
+                    rows.gather(col, scale, 0, out, true);
+                }
+            }
+        });
         for (x, (_, comp, _)) in sys.coupled.iter().enumerate() {
             buf[pos[x] + pos[x] * nu] += comp;
-        }
-        for (d, y, f) in &red.dependent {
-            let (col, scale) = w_direction(w, d, *f, &mut mix);
-            let j = pos[*y];
-            rows.gather(col, scale, 0, &mut buf[j * nu..(j + 1) * nu], true);
         }
         for &(x, r, f) in &sys.coupled_normal {
             if let Some(y) = red.position[r] {
