@@ -68,36 +68,29 @@ impl InterfaceStiffness {
     /// `gamma` (block index → Γ index), in compressed columns: the pattern
     /// is the union of the blocks' cliques.
     pub fn from_blocks(n: usize, blocks: &[(&[usize], &[f64])]) -> Self {
-        let mut holders: Vec<Vec<(usize, usize)>> = vec![Vec::new(); n];
-        for (b, (gamma, _)) in blocks.iter().enumerate() {
-            for (j, &g) in gamma.iter().enumerate() {
-                holders[g].push((b, j));
-            }
-        }
+        let (holders, patterns, pattern_of) = column_patterns(n, blocks);
         let mut col_ptr = Vec::with_capacity(n + 1);
-        let mut row_idx = Vec::new();
-        let mut values = Vec::new();
-        let mut position = vec![usize::MAX; n];
         col_ptr.push(0);
-        for held in &holders {
-            let start = row_idx.len();
-            for &(b, _) in held {
-                row_idx.extend_from_slice(blocks[b].0);
+        for &p in &pattern_of {
+            col_ptr.push(col_ptr[col_ptr.len() - 1] + patterns[p].len());
+        }
+        let mut row_idx = Vec::with_capacity(col_ptr[n]);
+        let mut values = vec![0.0; col_ptr[n]];
+        let mut position = vec![usize::MAX; n];
+        for (c, held) in holders.iter().enumerate() {
+            let pattern = &patterns[pattern_of[c]];
+            row_idx.extend_from_slice(pattern);
+            for (k, &r) in pattern.iter().enumerate() {
+                position[r] = k;
             }
-            row_idx[start..].sort_unstable();
-            dedup_tail(&mut row_idx, start);
-            values.resize(row_idx.len(), 0.0);
-            for (k, &r) in row_idx[start..].iter().enumerate() {
-                position[r] = start + k;
-            }
+            let column = &mut values[col_ptr[c]..col_ptr[c + 1]];
             for &(b, j) in held {
                 let (gamma, schur) = blocks[b];
                 let nb = gamma.len();
-                for (i, &g) in gamma.iter().enumerate() {
-                    values[position[g]] += schur[i + nb * j];
+                for (&g, &v) in gamma.iter().zip(&schur[nb * j..nb * (j + 1)]) {
+                    column[position[g]] += v;
                 }
             }
-            col_ptr.push(row_idx.len());
         }
         let symbolic = SymbolicSparseColMat::new_checked(n, n, col_ptr, None, row_idx);
         InterfaceStiffness::Sparse(SparseColMat::new(symbolic, values))
@@ -142,16 +135,39 @@ fn sparse_norm1(s: &SparseColMat<usize, f64>) -> f64 {
         .fold(0.0, f64::max)
 }
 
-/// Removes the repeated entries of the sorted `v[start..]`.
-fn dedup_tail(v: &mut Vec<usize>, start: usize) {
-    let mut w = start;
-    for r in start..v.len() {
-        if r == start || v[r] != v[w - 1] {
-            v[w] = v[r];
-            w += 1;
+/// Which blocks hold each Γ DOF ((block, its index there), blocks in
+/// order), and the row pattern of each column: the sorted union of its
+/// holders' Γ DOFs, made once per distinct set of holders (the DOFs of one
+/// face, edge or corner of the decomposition share it) and referred to by
+/// index. Sorting each column's rows instead took seconds for the 8-part
+/// sphere (14,298 columns, 7.7e7 entries).
+type ColumnPatterns = (Vec<Vec<(usize, usize)>>, Vec<Vec<usize>>, Vec<usize>);
+
+fn column_patterns(n: usize, blocks: &[(&[usize], &[f64])]) -> ColumnPatterns {
+    let mut holders: Vec<Vec<(usize, usize)>> = vec![Vec::new(); n];
+    for (b, (gamma, _)) in blocks.iter().enumerate() {
+        for (j, &g) in gamma.iter().enumerate() {
+            holders[g].push((b, j));
         }
     }
-    v.truncate(w);
+    let mut index: std::collections::HashMap<Vec<usize>, usize> = Default::default();
+    let mut patterns: Vec<Vec<usize>> = Vec::new();
+    let mut pattern_of = Vec::with_capacity(n);
+    for held in &holders {
+        let set: Vec<usize> = held.iter().map(|&(b, _)| b).collect();
+        let p = *index.entry(set).or_insert_with_key(|set| {
+            let mut rows: Vec<usize> = set
+                .iter()
+                .flat_map(|&b| blocks[b].0.iter().copied())
+                .collect();
+            rows.sort_unstable();
+            rows.dedup();
+            patterns.push(rows);
+            patterns.len() - 1
+        });
+        pattern_of.push(p);
+    }
+    (holders, patterns, pattern_of)
 }
 
 /// The factor of S that applies a generalised inverse S⁺ (module doc).

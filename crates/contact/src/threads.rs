@@ -31,14 +31,24 @@ where
         return f(0, data);
     }
     let per = groups.div_ceil(threads);
+    let parts: Vec<(usize, &mut [f64])> = data
+        .chunks_mut(per * group)
+        .enumerate()
+        .map(|(k, chunk)| (k * per, chunk))
+        .collect();
+    for_each_part(parts, |(first, chunk)| f(first, chunk));
+}
+
+/// Runs `f` on each part, each on its own thread (the first on this one).
+fn for_each_part<T: Send>(parts: Vec<T>, f: impl Fn(T) + Sync) {
+    let mut parts = parts.into_iter();
+    let Some(mine) = parts.next() else { return };
     std::thread::scope(|s| {
-        let mut chunks = data.chunks_mut(per * group).enumerate();
-        let (_, mine) = chunks.next().expect("at least two groups");
-        for (k, chunk) in chunks {
+        for part in parts {
             let f = &f;
-            s.spawn(move || f(k * per, chunk));
+            s.spawn(move || f(part));
         }
-        f(0, mine);
+        f(mine);
     });
 }
 

@@ -181,9 +181,8 @@ impl Attempt<'_> {
         log.stages.push("condense".into());
         let (local, condensed, condense_s) = condense_stage(comm, &model, &mut log.messages);
         let sizes = RankFigures::of_condensed(&condensed);
-        let gathered = wire(gather(comm, &condensed))?;
-        // Sent: the root keeps the gathered copy, the other ranks none.
-        drop(condensed);
+        // Moved: the root keeps the gathered data, the other ranks none.
+        let gathered = wire(gather(comm, condensed))?;
         progress::ranks_condensed(gathered.as_ref());
         let data = gathered.map(root_data);
         // The root's sink ends the steps; every rank's writes its pieces.
@@ -206,7 +205,7 @@ impl Attempt<'_> {
             output_error: walked.output_error,
             ..sizes
         };
-        let gathered = wire(gather(comm, &figures))?;
+        let gathered = wire(gather(comm, figures))?;
         let output_error = (gathered.iter().flatten()).find_map(|f| f.output_error.clone());
         let partial = match (steps, walked.root, output_error) {
             (Some(_), Some(_), Some(e)) => Some(Err(SolveError::Internal(e))),
@@ -474,6 +473,8 @@ fn steps_stage(
     let mut data = data.and_then(|d| d.map_err(|e| error = Some(e)).ok());
     progress::phase(progress::Phase::Contact);
     progress::emit(progress::Event::Detail("assembling the interface problem"));
+    // Part of the root's contact solve and of its interface operator.
+    let assembling = Instant::now();
     let stiffness = data
         .as_deref_mut()
         .map(|d| take_interface_stiffness(d, model.n_gamma));
@@ -483,7 +484,9 @@ fn steps_stage(
         .zip(stiffness)
         .and_then(|(i, s)| RootSolve::new(i, s).map_err(|e| error = Some(e)).ok());
     let mut cond = conditioning::RootConditioning::default();
-    let (mut recover_s, mut contact_s, mut delassus_s, mut output_s) = (0.0, 0.0, 0.0, 0.0);
+    let assembly_s = assembling.elapsed().as_secs_f64();
+    let (mut recover_s, mut contact_s, mut delassus_s, mut output_s) =
+        (0.0, assembly_s, assembly_s, 0.0);
     let mut output_error = None;
     for (si, st) in model.scales.iter().enumerate() {
         progress::step(si, model.scales.len());
@@ -508,7 +511,7 @@ fn steps_stage(
             .map(|s| s.recover_step(&st[model.specs[s.id].body], &u_gamma))
             .collect();
         recover_s += t.elapsed().as_secs_f64();
-        let gathered = wire(gather(comm, &mine))?;
+        let gathered = wire(gather(comm, mine.clone()))?;
         if let (Some(all), Some(sol), Some(steps)) = (gathered, solved, steps.as_deref_mut()) {
             let t = Instant::now();
             let recovered: Vec<RecoveredStep> = all.into_iter().flatten().collect();
