@@ -12,9 +12,10 @@
 //! (⅓ n₁³ + 2 n₁² n₂ + 2 n₁ n₂² + ⅔ n₂³ flops) overwrites the n × n buffer
 //! as [L \ X; A₂₁ \ L₂U₂]; only the lower triangle of A₁₁ is read. n₁ = n is
 //! a plain Cholesky, n₁ = 0 a plain LU. The buffer comes back with
-//! [`BorderedFactor::into_buffer`], so that the next block of a Newton or
-//! status iteration reuses its pages instead of faulting in fresh ones
-//! (about 10 % of a 3D Coulomb solve with 2,000 points).
+//! [`BorderedFactor::into_buffer`], so that the next block of a Newton
+//! iteration reuses its pages instead of faulting in fresh ones (about 10 %
+//! of a 3D Coulomb solve with 2,000 points). [`crate::reduced::BlockFactor`]
+//! puts the unknowns of a block in this order and back.
 
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::cholesky::llt;

@@ -26,6 +26,7 @@
 use faer::prelude::Solve;
 use faer::{Mat, Side};
 
+use crate::bordered_factor::BorderedFactor;
 use crate::delassus::VarEquation;
 
 mod newton;
@@ -54,15 +55,12 @@ impl Factor {
 /// the normal rows of the slipping points, whose columns carry f W_·t) go
 /// through the Schur complement S = A₂₂ − A₂₁ A₁₁⁻¹ A₁₂ (partially pivoted
 /// LU). ⅓ n₁³ + 2 n₁² n₂ + 2 n₁ n₂² + ⅔ n₂³ flops against ⅔ n³ for the LU
-/// of the whole block.
+/// of the whole block. The unknowns are reordered, 1 first ([`BorderedFactor`]
+/// factorises the block in that order); `order` holds the unknown at each
+/// block position.
 pub(crate) struct BlockFactor {
-    one: Vec<usize>,
-    two: Vec<usize>,
-    llt: faer::linalg::solvers::Llt<f64>,
-    /// A₁₁⁻¹ A₁₂ and A₂₁.
-    x: Mat<f64>,
-    a21: Mat<f64>,
-    schur: faer::linalg::solvers::PartialPivLu<f64>,
+    order: Vec<usize>,
+    factor: BorderedFactor,
 }
 
 impl BlockFactor {
@@ -70,71 +68,37 @@ impl BlockFactor {
     /// U_ii of S) is not safe.
     fn new(a: &Mat<f64>, modified: &[bool]) -> Option<Self> {
         let n = a.nrows();
-        let one: Vec<usize> = (0..n).filter(|&i| !modified[i]).collect();
-        let two: Vec<usize> = (0..n).filter(|&i| modified[i]).collect();
-        let (n1, n2) = (one.len(), two.len());
-        let part = |rows: &[usize], cols: &[usize]| match (contiguous(rows), contiguous(cols)) {
-            // The Newton blocks: O first, Y last (column copies).
-            (Some(r), Some(c)) => a
-                .as_ref()
-                .submatrix(r, c, rows.len(), cols.len())
-                .to_owned(),
-            _ => Mat::<f64>::from_fn(rows.len(), cols.len(), |i, j| a[(rows[i], cols[j])]),
-        };
-        let llt = part(&one, &one).llt(Side::Lower).ok()?;
-        let mut x = part(&one, &two);
-        llt.solve_in_place(&mut x);
-        let a21 = part(&two, &one);
-        let mut s = part(&two, &two);
-        faer::linalg::matmul::matmul(
-            &mut s,
-            faer::Accum::Add,
-            &a21,
-            &x,
-            -1.0,
-            faer::get_global_parallelism(),
-        );
-        let schur = s.partial_piv_lu();
-        let (l, u) = (llt.L(), schur.U());
-        let pivots = (0..n1).map(|i| l[(i, i)] * l[(i, i)]);
-        let safe = pivots_are_safe(pivots.chain((0..n2).map(|i| u[(i, i)])), n);
-        safe.then_some(Self {
-            one,
-            two,
-            llt,
-            x,
-            a21,
-            schur,
-        })
-    }
-
-    /// x₂ = S⁻¹ (b₂ − A₂₁ A₁₁⁻¹ b₁), x₁ = A₁₁⁻¹ b₁ − X x₂.
-    fn solve(&self, rhs: &Mat<f64>) -> Mat<f64> {
-        let c = rhs.ncols();
-        let part = |rows: &[usize]| Mat::<f64>::from_fn(rows.len(), c, |i, j| rhs[(rows[i], j)]);
-        let y1 = self.llt.solve(part(&self.one));
-        let x2 = self.schur.solve(part(&self.two) - &self.a21 * &y1);
-        let x1 = y1 - &self.x * &x2;
-        let mut out = Mat::<f64>::zeros(rhs.nrows(), c);
-        for j in 0..c {
-            for (i, &r) in self.one.iter().enumerate() {
-                out[(r, j)] = x1[(i, j)];
-            }
-            for (i, &r) in self.two.iter().enumerate() {
-                out[(r, j)] = x2[(i, j)];
+        let mut order: Vec<usize> = (0..n).filter(|&i| !modified[i]).collect();
+        let n1 = order.len();
+        order.extend((0..n).filter(|&i| modified[i]));
+        let mut buf = vec![0.0; n * n];
+        for (j, &c) in order.iter().enumerate() {
+            for (i, &r) in order.iter().enumerate() {
+                buf[i + j * n] = a[(r, c)];
             }
         }
-        out
+        let factor = BorderedFactor::new(buf, n, n1).ok()?;
+        Some(Self { order, factor })
     }
-}
 
-/// The first of `idx` when they are consecutive.
-fn contiguous(idx: &[usize]) -> Option<usize> {
-    let first = *idx.first()?;
-    idx.iter()
-        .enumerate()
-        .all(|(k, &i)| i == first + k)
-        .then_some(first)
+    /// A⁻¹ rhs: the rows of rhs in block order, solved, and put back.
+    fn solve(&self, rhs: &Mat<f64>) -> Mat<f64> {
+        let order = &self.order;
+        let mut b = Mat::<f64>::from_fn(order.len(), rhs.ncols(), |i, j| rhs[(order[i], j)]);
+        self.factor.solve_in_place(b.as_mut());
+        let mut x = Mat::<f64>::zeros(b.nrows(), b.ncols());
+        for (i, &u) in order.iter().enumerate() {
+            for j in 0..b.ncols() {
+                x[(u, j)] = b[(i, j)];
+            }
+        }
+        x
+    }
+
+    /// The storage of the factor, for the next block.
+    fn into_buffer(self) -> Vec<f64> {
+        self.factor.into_buffer()
+    }
 }
 
 /// Factorises the reduced block of `red`: by blocks

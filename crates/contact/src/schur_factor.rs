@@ -135,14 +135,16 @@ fn sparse_norm1(s: &SparseColMat<usize, f64>) -> f64 {
         .fold(0.0, f64::max)
 }
 
+/// The holders of each column, the distinct row patterns and each column's
+/// pattern (see [`column_patterns`]).
+type ColumnPatterns = (Vec<Vec<(usize, usize)>>, Vec<Vec<usize>>, Vec<usize>);
+
 /// Which blocks hold each Γ DOF ((block, its index there), blocks in
 /// order), and the row pattern of each column: the sorted union of its
 /// holders' Γ DOFs, made once per distinct set of holders (the DOFs of one
 /// face, edge or corner of the decomposition share it) and referred to by
 /// index. Sorting each column's rows instead took seconds for the 8-part
 /// sphere (14,298 columns, 7.7e7 entries).
-type ColumnPatterns = (Vec<Vec<(usize, usize)>>, Vec<Vec<usize>>, Vec<usize>);
-
 fn column_patterns(n: usize, blocks: &[(&[usize], &[f64])]) -> ColumnPatterns {
     let mut holders: Vec<Vec<(usize, usize)>> = vec![Vec::new(); n];
     for (b, (gamma, _)) in blocks.iter().enumerate() {

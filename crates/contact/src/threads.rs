@@ -3,19 +3,9 @@
 //! are bound by the reading of W and run on one core otherwise while faer's
 //! factorisations use all of them.
 
-use faer::Par;
-
 /// Below this many multiply-adds a loop stays on one thread (starting a
 /// thread costs tens of microseconds).
 const MIN_WORK: f64 = 1e6;
-
-/// The number of threads faer's global parallelism allows.
-fn degree() -> usize {
-    match faer::get_global_parallelism() {
-        Par::Seq => 1,
-        Par::Rayon(n) => n.get(),
-    }
-}
 
 /// Runs `f(first, chunk)` on consecutive chunks of `data` made of whole
 /// groups of `group` entries (`first`: the index of the chunk's first
@@ -26,29 +16,19 @@ where
     F: Fn(usize, &mut [f64]) + Sync,
 {
     let groups = data.len() / group.max(1);
-    let threads = degree().min(groups);
+    let threads = faer::get_global_parallelism().degree().min(groups);
     if threads < 2 || work < MIN_WORK {
         return f(0, data);
     }
     let per = groups.div_ceil(threads);
-    let parts: Vec<(usize, &mut [f64])> = data
-        .chunks_mut(per * group)
-        .enumerate()
-        .map(|(k, chunk)| (k * per, chunk))
-        .collect();
-    for_each_part(parts, |(first, chunk)| f(first, chunk));
-}
-
-/// Runs `f` on each part, each on its own thread (the first on this one).
-fn for_each_part<T: Send>(parts: Vec<T>, f: impl Fn(T) + Sync) {
-    let mut parts = parts.into_iter();
-    let Some(mine) = parts.next() else { return };
     std::thread::scope(|s| {
-        for part in parts {
+        let mut chunks = data.chunks_mut(per * group).enumerate();
+        let (_, mine) = chunks.next().expect("at least two groups");
+        for (k, chunk) in chunks {
             let f = &f;
-            s.spawn(move || f(part));
+            s.spawn(move || f(k * per, chunk));
         }
-        f(mine);
+        f(0, mine);
     });
 }
 

@@ -27,7 +27,7 @@
 
 use faer::Mat;
 
-use super::schur_on_g;
+use super::{schur_on_g, BlockFactor};
 use crate::bordered_factor::{block_buffer, BorderedFactor, FactorFailure};
 use crate::semismooth_newton::{Dir, NewtonSystem};
 
@@ -48,7 +48,7 @@ pub(crate) fn solve_newton(
     }
     reduced_rhs(w, sys, &mut red);
     if !reuse {
-        let storage = cache.take().map(|c| c.factor.factor.into_buffer());
+        let storage = cache.take().map(|c| c.factor.into_buffer());
         let block = NewtonBlock::new(sys, &red, g.ncols() == 0);
         *cache = Some(NewtonFactor {
             key: red.key.clone(),
@@ -62,7 +62,7 @@ pub(crate) fn solve_newton(
     let (s, alpha) = if k == 0 {
         (y, Vec::new())
     } else {
-        // Floating bodies: the unknowns in order (nothing reordered).
+        // Floating bodies: through the k × k Schur complement on G.
         let g_u = Mat::<f64>::from_fn(nu, k, |x, j| on_g(&red.dirs[x], j));
         let mut g_hat = g_u.clone();
         for (d, y, f) in &red.dependent {
@@ -91,34 +91,12 @@ pub(crate) fn solve_newton(
     dx.iter().all(|v| v.is_finite()).then_some(dx)
 }
 
-/// A factorised reduced Newton block, its unknowns reordered (`order`: the
-/// unknown at each block position; the identity without reordering).
-struct NewtonBlockFactor {
-    order: Vec<usize>,
-    factor: BorderedFactor,
-}
-
-impl NewtonBlockFactor {
-    fn solve(&self, rhs: &Mat<f64>) -> Mat<f64> {
-        let order = &self.order;
-        let mut b = Mat::<f64>::from_fn(order.len(), rhs.ncols(), |i, j| rhs[(order[i], j)]);
-        self.factor.solve_in_place(b.as_mut());
-        let mut x = Mat::<f64>::zeros(b.nrows(), b.ncols());
-        for (i, &u) in order.iter().enumerate() {
-            for j in 0..b.ncols() {
-                x[(u, j)] = b[(i, j)];
-            }
-        }
-        x
-    }
-}
-
 /// The factor of a reduced Newton block and the structure it was built on
 /// (its coupled and dependent rows, the unknowns of the normal-force
 /// terms): a chord step may reuse it while the structure repeats.
 pub(crate) struct NewtonFactor {
     key: Vec<usize>,
-    factor: NewtonBlockFactor,
+    factor: BlockFactor,
 }
 
 impl NewtonFactor {
@@ -265,7 +243,7 @@ impl NewtonBlock {
         sys: &NewtonSystem,
         red: &NewtonReduction,
         storage: Vec<f64>,
-    ) -> Option<NewtonBlockFactor> {
+    ) -> Option<BlockFactor> {
         let nu = self.order.len();
         let n1 = match self.n_y {
             0 if self.symmetric => nu,
@@ -287,8 +265,8 @@ impl NewtonBlock {
             .map(|factor| self.with(factor))
     }
 
-    fn with(self, factor: BorderedFactor) -> NewtonBlockFactor {
-        NewtonBlockFactor {
+    fn with(self, factor: BorderedFactor) -> BlockFactor {
+        BlockFactor {
             order: self.order,
             factor,
         }
