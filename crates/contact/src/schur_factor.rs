@@ -25,10 +25,9 @@
 
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::cholesky::llt::factor::LltRegularization;
-use faer::linalg::solvers::SolveCore;
 use faer::sparse::linalg::cholesky::{LltRef, SymbolicCholesky};
 use faer::sparse::{SparseColMat, SymbolicSparseColMat};
-use faer::{Conj, Mat, MatMut, Par, Side};
+use faer::{Conj, Mat, MatMut, MatRef, Par, Side};
 use signorini_condense::ordering::{
     order_and_analyse_with_last, FactorStats, Ordering, OrderingChoice,
 };
@@ -182,7 +181,13 @@ pub struct SchurFactor {
 }
 
 enum FactorKind {
-    Dense(faer::linalg::solvers::Llt<f64>),
+    /// L L^T = P (S + ρRRᵀ) Pᵀ, the lower triangle of `l`; factor row k is
+    /// the Γ DOF `order[k]`, the contact DOFs last in `contact`'s order.
+    Dense {
+        l: Mat<f64>,
+        order: Vec<usize>,
+        contact: Vec<usize>,
+    },
     Sparse {
         symbolic: Box<SymbolicCholesky<usize>>,
         l_values: Vec<f64>,
@@ -209,35 +214,56 @@ impl SchurFactor {
         r: &Mat<f64>,
         contact: &[usize],
     ) -> Result<Self, ContactError> {
+        let mut contact = contact.to_vec();
+        contact.sort_unstable();
+        contact.dedup();
         match s {
-            InterfaceStiffness::Dense(s) => Self::dense(s, r, None),
+            InterfaceStiffness::Dense(s) => Self::dense(s, r, contact, None),
             InterfaceStiffness::Sparse(s) => Self::sparse(s, r, contact),
         }
     }
 
-    /// Dense Cholesky of S + ρRRᵀ (ρ the mean |diagonal|: any ρ > 0 gives
-    /// the same answer, this one keeps the matrix well scaled).
+    /// Dense Cholesky of P (S + ρRRᵀ) Pᵀ with the contact DOFs last (ρ the
+    /// mean |diagonal|: any ρ > 0 gives the same answer, this one keeps the
+    /// matrix well scaled), in place on its lower triangle
+    /// (`recursive_cholesky`).
     fn dense(
         s: &Mat<f64>,
         r: &Mat<f64>,
+        contact: Vec<usize>,
         sparse: Option<(FactorStats, usize)>,
     ) -> Result<Self, ContactError> {
         let n = s.nrows();
-        let mut s_reg = std::borrow::Cow::Borrowed(s);
+        let order = contact_last(n, &contact);
+        let mut l = Mat::<f64>::from_fn(
+            n,
+            n,
+            |i, j| {
+                if i >= j {
+                    s[(order[i], order[j])]
+                } else {
+                    0.0
+                }
+            },
+        );
         if r.ncols() > 0 {
             let rho = regularisation_scale(&(0..n).map(|i| s[(i, i)]).collect::<Vec<_>>());
-            faer::linalg::matmul::matmul(
-                s_reg.to_mut().as_mut(),
+            let r_p = Mat::<f64>::from_fn(n, r.ncols(), |i, j| r[(order[i], j)]);
+            faer::linalg::matmul::triangular::matmul(
+                l.as_mut(),
+                faer::linalg::matmul::triangular::BlockStructure::TriangularLower,
                 faer::Accum::Add,
-                r.as_ref(),
-                r.transpose(),
+                r_p.as_ref(),
+                faer::linalg::matmul::triangular::BlockStructure::Rectangular,
+                r_p.transpose(),
+                faer::linalg::matmul::triangular::BlockStructure::Rectangular,
                 rho,
                 Par::Seq,
             );
         }
-        let s_reg: &Mat<f64> = &s_reg;
-        let norm1 = signorini_condense::conditioning::dense_norm1(s_reg.as_ref());
-        let llt = s_reg.llt(Side::Lower).map_err(|_| not_definite())?;
+        let norm1 = lower_symmetric_norm1(&l);
+        crate::recursive_cholesky::cholesky(l.as_mut(), faer::get_global_parallelism())
+            .map_err(|_| not_definite())?;
         let stats = InterfaceFactorStats {
             storage: "dense",
             matrix_nnz: sparse.map_or(n * n, |(_, nnz)| nnz),
@@ -246,7 +272,7 @@ impl SchurFactor {
             fixing_dofs: 0,
         };
         Ok(Self {
-            kind: FactorKind::Dense(llt),
+            kind: FactorKind::Dense { l, order, contact },
             n,
             stats,
             norm1,
@@ -259,7 +285,7 @@ impl SchurFactor {
     fn sparse(
         s: &SparseColMat<usize, f64>,
         r: &Mat<f64>,
-        contact: &[usize],
+        contact: Vec<usize>,
     ) -> Result<Self, ContactError> {
         let n = s.nrows();
         let fixed = fixing_dofs(r);
@@ -270,16 +296,13 @@ impl SchurFactor {
             std::borrow::Cow::Owned(with_fixed_dofs(s, &fixed, scale))
         };
         let s_fixed: &SparseColMat<usize, f64> = &s_fixed;
-        let mut contact = contact.to_vec();
-        contact.sort_unstable();
-        contact.dedup();
         let choice = OrderingChoice::Only(Ordering::BlockMinimumDegree);
         let ordered = order_and_analyse_with_last(s_fixed.as_ref(), &contact, choice)
             .map_err(|e| ContactError::Solve(format!("interface ordering: {e}")))?;
         let dense_flops = (n as f64).powi(3) / 3.0;
         if ordered.stats.flops > SPARSE_FLOP_RATIO * dense_flops {
             let dense = s.to_dense();
-            return Self::dense(&dense, r, Some((ordered.stats, s.compute_nnz())));
+            return Self::dense(&dense, r, contact, Some((ordered.stats, s.compute_nnz())));
         }
         let symbolic = Box::new(ordered.symbolic);
         let mut l_values = vec![0.0f64; symbolic.len_val()];
@@ -324,7 +347,7 @@ impl SchurFactor {
     /// x ← S⁺ x, column by column.
     pub fn solve_in_place(&self, mut x: MatMut<'_, f64>) {
         match &self.kind {
-            FactorKind::Dense(llt) => llt.solve_in_place_with_conj(Conj::No, x),
+            FactorKind::Dense { l, order, .. } => dense_solve(l, order, x),
             FactorKind::Sparse {
                 symbolic,
                 l_values,
@@ -354,25 +377,33 @@ impl SchurFactor {
         }
     }
 
-    /// W = B S⁺ Bᵀ (m × m, symmetric) for the contact rows `b`. Dense
-    /// factor: X = S⁺ Bᵀ by blocks of [`W_BLOCK`] columns. Sparse factor
-    /// with the contact DOFs C eliminated last: P S̃ Pᵀ = L Lᵀ and B touches only C, so
-    /// L⁻¹ P Z Bᵀ = [0; L_CC⁻¹ B_C] and W = Yᵀ Y with Y = L_CC⁻¹ B_C: one
-    /// dense triangular solve with the trailing block of the factor instead
-    /// of m solves with all of it.
+    /// W = B S⁺ Bᵀ (m × m, symmetric) for the contact rows `b`. The
+    /// contact DOFs C are eliminated last: P S̃ Pᵀ = L Lᵀ (S̃ = S + ρRRᵀ
+    /// dense, S with its fixing DOFs replaced by the identity sparse) and B
+    /// touches only C, so L⁻¹ P Z Bᵀ = [0; L_CC⁻¹ B_C] and W = Yᵀ Y with
+    /// Y = L_CC⁻¹ B_C: one dense triangular solve with the trailing block of
+    /// the factor instead of m solves with all of it.
     pub fn delassus(&self, b: &[SparseRow]) -> Result<Mat<f64>, ContactError> {
-        let FactorKind::Sparse {
-            symbolic,
-            l_values,
-            fixed,
-            contact,
-        } = &self.kind
-        else {
-            return Ok(delassus_by_blocks(self, b));
+        let n = self.n;
+        let trailing;
+        let (l_cc, fixed, contact): (MatRef<'_, f64>, &[usize], &[usize]) = match &self.kind {
+            FactorKind::Sparse {
+                symbolic,
+                l_values,
+                fixed,
+                contact,
+            } => {
+                let nc = contact.len();
+                trailing = signorini_condense::trailing_block(symbolic, l_values, n - nc, nc)
+                    .map_err(|e| ContactError::Solve(format!("interface factor: {e}")))?;
+                (trailing.as_ref(), fixed, contact)
+            }
+            FactorKind::Dense { l, contact, .. } => {
+                let nc = contact.len();
+                (l.as_ref().submatrix(n - nc, n - nc, nc, nc), &[], contact)
+            }
         };
-        let (n, nc, m) = (self.n, contact.len(), b.len());
-        let l_cc = signorini_condense::trailing_block(symbolic, l_values, n - nc, nc)
-            .map_err(|e| ContactError::Solve(format!("interface factor: {e}")))?;
+        let (nc, m) = (contact.len(), b.len());
         let mut y = Mat::<f64>::zeros(nc, m);
         for (p, row) in b.iter().enumerate() {
             for &(i, c) in row {
@@ -382,21 +413,25 @@ impl SchurFactor {
             }
         }
         let par = faer::get_global_parallelism();
-        faer::linalg::triangular_solve::solve_lower_triangular_in_place(
-            l_cc.as_ref(),
-            y.as_mut(),
-            par,
-        );
+        faer::linalg::triangular_solve::solve_lower_triangular_in_place(l_cc, y.as_mut(), par);
         let mut w = Mat::<f64>::zeros(m, m);
-        faer::linalg::matmul::matmul(
+        use faer::linalg::matmul::triangular::{matmul, BlockStructure};
+        matmul(
             w.as_mut(),
+            BlockStructure::TriangularLower,
             faer::Accum::Replace,
             y.transpose(),
+            BlockStructure::Rectangular,
             y.as_ref(),
+            BlockStructure::Rectangular,
             1.0,
             par,
         );
-        symmetrise(&mut w);
+        for j in 0..m {
+            for i in j + 1..m {
+                w[(j, i)] = w[(i, j)];
+            }
+        }
         Ok(w)
     }
 
@@ -415,7 +450,7 @@ impl SchurFactor {
         let inv = inverse_norm1_estimate(self.n, |x| {
             let xm = faer::MatMut::from_column_major_slice_mut(x, self.n, 1);
             match &self.kind {
-                FactorKind::Dense(llt) => llt.solve_in_place_with_conj(Conj::No, xm),
+                FactorKind::Dense { l, order, .. } => dense_solve(l, order, xm),
                 FactorKind::Sparse {
                     symbolic, l_values, ..
                 } => {
@@ -434,43 +469,44 @@ impl SchurFactor {
     }
 }
 
-/// Contact rows per block of right-hand sides when forming W with a dense
-/// factor: X = S⁺ Bᵀ is never held whole (n × m), only n × this many columns.
-const W_BLOCK: usize = 256;
-
-/// W = B S⁺ Bᵀ (symmetrised), by blocks of [`W_BLOCK`] columns of
-/// X = S⁺ Bᵀ.
-fn delassus_by_blocks(schur: &SchurFactor, b: &[SparseRow]) -> Mat<f64> {
-    let (n, m) = (schur.n, b.len());
-    let mut w = Mat::<f64>::zeros(m, m);
-    for c0 in (0..m).step_by(W_BLOCK) {
-        let c1 = (c0 + W_BLOCK).min(m);
-        let mut x = Mat::<f64>::zeros(n, c1 - c0);
-        for (p, row) in b[c0..c1].iter().enumerate() {
-            for &(i, c) in row {
-                x[(i, p)] += c;
-            }
-        }
-        schur.solve_in_place(x.as_mut());
-        for (p, row) in b.iter().enumerate() {
-            for j in c0..c1 {
-                w[(p, j)] = row.iter().map(|&(i, c)| c * x[(i, j - c0)]).sum();
-            }
-        }
-    }
-    symmetrise(&mut w);
-    w
+/// The factor's numbering of the n Γ DOFs: the others in their order, then
+/// the contact DOFs `contact` (sorted) in theirs.
+fn contact_last(n: usize, contact: &[usize]) -> Vec<usize> {
+    let mut order: Vec<usize> = (0..n)
+        .filter(|i| contact.binary_search(i).is_err())
+        .collect();
+    order.extend_from_slice(contact);
+    order
 }
 
-/// (W + Wᵀ)/2 in place.
-fn symmetrise(w: &mut Mat<f64>) {
-    for j in 0..w.ncols() {
-        for i in j + 1..w.nrows() {
-            let v = 0.5 * (w[(i, j)] + w[(j, i)]);
-            w[(i, j)] = v;
-            w[(j, i)] = v;
+/// x ← A⁻¹ x for L Lᵀ = P A Pᵀ, `order` the permutation P (factor row k is
+/// row `order[k]` of A).
+fn dense_solve(l: &Mat<f64>, order: &[usize], mut x: MatMut<'_, f64>) {
+    let mut y = Mat::<f64>::from_fn(order.len(), x.ncols(), |k, j| x[(order[k], j)]);
+    let par = faer::get_global_parallelism();
+    faer::linalg::triangular_solve::solve_lower_triangular_in_place(l.as_ref(), y.as_mut(), par);
+    faer::linalg::triangular_solve::solve_upper_triangular_in_place(l.transpose(), y.as_mut(), par);
+    for (k, &i) in order.iter().enumerate() {
+        for j in 0..x.ncols() {
+            x[(i, j)] = y[(k, j)];
         }
     }
+}
+
+/// ‖A‖₁ of the symmetric A whose lower triangle is that of `a`.
+fn lower_symmetric_norm1(a: &Mat<f64>) -> f64 {
+    let n = a.nrows();
+    let mut sums = vec![0.0f64; n];
+    for j in 0..n {
+        for i in j..n {
+            let v = a[(i, j)].abs();
+            sums[j] += v;
+            if i != j {
+                sums[i] += v;
+            }
+        }
+    }
+    sums.into_iter().fold(0.0, f64::max)
 }
 
 /// ρ for S + ρRRᵀ and the scale of the identity on fixing DOFs: the mean
@@ -560,6 +596,53 @@ mod tests {
 
     /// `parts` cliques of `own + 2 glue` DOFs in a ring (each shares `glue`
     /// DOFs with the next), plus `spring` on the diagonal.
+    /// The dense factor with the contact DOFs last gives the W and the
+    /// solves of the plain formulas B (S + ρRRᵀ)⁻¹ Bᵀ, held (the sparse
+    /// factor's W too) and floating (the kernel of a ring without springs:
+    /// the constants).
+    #[test]
+    fn dense_factor_with_contact_last_gives_the_plain_delassus_operator() {
+        let rows: Vec<SparseRow> =
+            vec![vec![(3, 1.0)], vec![(17, 0.6), (40, -0.8)], vec![(40, 2.0)]];
+        for spring in [0.5, 0.0] {
+            let (n, s, dense) = ring(8, 12, 3, spring);
+            let r = if spring > 0.0 {
+                Mat::<f64>::zeros(n, 0)
+            } else {
+                Mat::<f64>::from_fn(n, 1, |_, _| 1.0 / (n as f64).sqrt())
+            };
+            let factor =
+                SchurFactor::new(&InterfaceStiffness::Dense(dense.clone()), &r, &[40, 3, 17])
+                    .unwrap();
+            let rho = regularisation_scale(&(0..n).map(|i| dense[(i, i)]).collect::<Vec<_>>());
+            let reg = if r.ncols() > 0 {
+                &dense + rho * &r * r.transpose()
+            } else {
+                dense.clone()
+            };
+            let llt = reg.llt(Side::Lower).unwrap();
+            let bt = Mat::<f64>::from_fn(n, rows.len(), |i, p| {
+                rows[p].iter().filter(|e| e.0 == i).map(|e| e.1).sum()
+            });
+            let mut x = bt.clone();
+            faer::linalg::solvers::SolveCore::solve_in_place_with_conj(&llt, Conj::No, x.as_mut());
+            let plain = bt.transpose() * &x;
+            let w = factor.delassus(&rows).unwrap();
+            let scale = plain.norm_max();
+            assert!((&w - &plain).norm_max() <= 1e-12 * scale, "{w:?} {plain:?}");
+            let solved = factor.solve(&(0..n).map(|i| bt[(i, 1)]).collect::<Vec<_>>());
+            let err = (0..n)
+                .map(|i| (solved[i] - x[(i, 1)]).abs())
+                .fold(0.0, f64::max);
+            assert!(err <= 1e-12 * x.norm_max(), "{err}");
+            if spring > 0.0 {
+                let sparse = SchurFactor::new(&s, &r, &[3, 17, 40]).unwrap();
+                assert_eq!(sparse.stats().storage, "sparse");
+                assert!((&sparse.delassus(&rows).unwrap() - &plain).norm_max() <= 1e-12 * scale);
+            }
+        }
+    }
+
     fn ring(
         parts: usize,
         own: usize,
