@@ -29,7 +29,6 @@
 //! The condense crate owns the static condensation of one subdomain (and
 //! condition estimates); it must not know contact, the scene format or MPI.
 
-pub mod block_ordering;
 pub mod conditioning;
 pub mod ordering;
 mod partial_factorisation;

@@ -44,11 +44,6 @@ pub enum Ordering {
     Amd,
     /// Nested dissection (METIS_NodeND).
     NestedDissection,
-    /// Minimum degree on blocks of indistinguishable rows
-    /// ([`crate::block_ordering`]): for matrices of overlapping dense
-    /// blocks (the interface of several subdomains); AMD when the blocks
-    /// are too many.
-    BlockMinimumDegree,
 }
 
 impl Ordering {
@@ -57,7 +52,6 @@ impl Ordering {
         match self {
             Ordering::Amd => "amd",
             Ordering::NestedDissection => "nested_dissection",
-            Ordering::BlockMinimumDegree => "block_minimum_degree",
         }
     }
 }
@@ -247,7 +241,6 @@ pub fn order_and_analyse_with_last<T>(
         OrderingChoice::Auto => &[Ordering::Amd, Ordering::NestedDissection],
         OrderingChoice::Only(Ordering::Amd) => &[Ordering::Amd],
         OrderingChoice::Only(Ordering::NestedDissection) => &[Ordering::NestedDissection],
-        OrderingChoice::Only(Ordering::BlockMinimumDegree) => &[Ordering::BlockMinimumDegree],
     };
     let mut best: Option<OrderedSymbolic> = None;
     let mut candidates = Vec::new();
@@ -262,15 +255,6 @@ pub fn order_and_analyse_with_last<T>(
             Ordering::Amd => {
                 let (f, i) = amd_of_graph(&xadj, &adjncy)?;
                 (f, i, kind)
-            }
-            Ordering::BlockMinimumDegree => {
-                match crate::block_ordering::block_minimum_degree(&xadj, &adjncy) {
-                    Some((f, i)) => (f, i, kind),
-                    None => {
-                        let (f, i) = amd_of_graph(&xadj, &adjncy)?;
-                        (f, i, Ordering::Amd)
-                    }
-                }
             }
             Ordering::NestedDissection => {
                 let (f, i) = signorini_mesh::nested_dissection::nested_dissection(&xadj, &adjncy)

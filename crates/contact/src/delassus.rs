@@ -128,9 +128,9 @@ impl DelassusOperator {
         Self::of_stiffness(&InterfaceStiffness::Dense(s.clone()), b, kernel, true)
     }
 
-    /// Builds the operator from an interface stiffness dense or sparse
-    /// ([`InterfaceStiffness`]; a sparse S is factorised by a sparse
-    /// Cholesky when that is cheaper, [`SchurFactor`]), estimating the
+    /// Builds the operator from an interface stiffness dense or in blocks
+    /// ([`InterfaceStiffness`]; blocks are factorised over the tree of
+    /// subdomains, [`SchurFactor`]), estimating the
     /// condition of the matrix factorised when `estimate_condition`.
     pub fn of_stiffness(
         s: &InterfaceStiffness,
@@ -215,7 +215,7 @@ impl DelassusOperator {
         }
     }
 
-    /// How S was factorised (dense or sparse, its size).
+    /// How S was factorised (dense or over the tree of subdomains, its size).
     pub fn interface_factor(&self) -> &InterfaceFactorStats {
         self.schur.stats()
     }

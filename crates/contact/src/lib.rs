@@ -25,6 +25,7 @@ pub mod friction;
 pub mod friction3d;
 pub mod geometry;
 mod growing_lu;
+pub mod interface_tree;
 pub mod lcp;
 pub mod lemke;
 pub mod mortar;

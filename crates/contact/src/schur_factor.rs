@@ -1,19 +1,18 @@
 //! The interface stiffness S = Σ_i S_i on Γ (seed §1.4, §8.3) and the
 //! factor of it the Delassus operator applies.
 //!
-//! One subdomain's Schur complement S_i is dense on its own interface DOFs;
-//! with several subdomains, S is a sparse matrix of dense blocks: two Γ DOFs
-//! are coupled only when one subdomain holds both (glue DOFs are shared by
-//! two to four subdomains). [`InterfaceStiffness::from_blocks`] assembles it
-//! in compressed columns without the dense n_Γ × n_Γ matrix, and
-//! [`SchurFactor`] factorises it by a supernodal sparse Cholesky (ordering by
-//! `signorini_condense::ordering`, AMD or nested dissection, the cheaper)
-//! unless its symbolic factor shows that a dense Cholesky costs less
-//! ([`SPARSE_FLOP_RATIO`]).
+//! One subdomain's Schur complement S_i is dense on its own interface DOFs:
+//! one subdomain gives a dense S, factorised by a dense Cholesky with the
+//! contact DOFs last. With several, S is a sparse matrix of dense blocks
+//! (two Γ DOFs are coupled only when one subdomain holds both), never
+//! assembled: [`InterfaceStiffness::Blocks`] keeps the blocks and
+//! `interface_tree` factorises S over a tree of the subdomains, the
+//! contact DOFs last too, so that W = B S⁺ Bᵀ = YᵀY needs only the
+//! trailing block L_CC of either factor.
 //!
 //! Floating bodies make S singular with a known kernel R (orthonormal, the
 //! rigid modes on Γ). The dense factor keeps the seed's regularisation
-//! S + ρRRᵀ (its inverse is a generalised inverse of S). The sparse factor
+//! S + ρRRᵀ (its inverse is a generalised inverse of S). The tree factor
 //! cannot add the dense RRᵀ: it uses the generalised inverse of FETI's
 //! "fixing DOFs" (Farhat & Roux; Brzobohatý et al.): k DOFs J chosen so
 //! that R_J is well conditioned (column-pivoted QR of Rᵀ), S̃ = S with the
@@ -23,82 +22,44 @@
 //! gives the same forces and displacements: the equilibrium constraint
 //! Gᵀλ = e and the rigid amplitudes α absorb the difference.
 
-use faer::dyn_stack::{MemBuffer, MemStack};
-use faer::linalg::cholesky::llt::factor::LltRegularization;
-use faer::sparse::linalg::cholesky::{LltRef, SymbolicCholesky};
-use faer::sparse::{SparseColMat, SymbolicSparseColMat};
-use faer::{Conj, Mat, MatMut, MatRef, Par, Side};
-use signorini_condense::ordering::{
-    order_and_analyse_with_last, FactorStats, Ordering, OrderingChoice,
-};
+use faer::{Mat, MatMut, MatRef, Par};
 
 use crate::delassus::SparseRow;
+pub use crate::interface_tree::SchurBlock;
+use crate::interface_tree::TreeFactor;
 use crate::ContactError;
-
-/// The sparse factor is kept when it needs at most this fraction of the
-/// flops of the dense Cholesky (n³/3): a dense factorisation runs at a few
-/// times the flop rate of the supernodal one on the same matrix.
-pub const SPARSE_FLOP_RATIO: f64 = 0.5;
 
 /// The interface stiffness S on Γ, symmetric positive semi-definite.
 pub enum InterfaceStiffness {
     Dense(Mat<f64>),
-    /// Both triangles stored, rows sorted in each column.
-    Sparse(SparseColMat<usize, f64>),
+    /// The subdomains' dense blocks S_i on n Γ DOFs, never assembled
+    /// (factorised over a tree of subdomains, `interface_tree`).
+    Blocks {
+        n: usize,
+        blocks: Vec<SchurBlock>,
+    },
 }
 
 /// How the interface stiffness was factorised, for the report.
 #[derive(Debug, Clone, PartialEq)]
 pub struct InterfaceFactorStats {
-    /// "dense" or "sparse".
+    /// "dense" (one subdomain) or "tree" (several, `interface_tree`).
     pub storage: &'static str,
-    /// Stored entries of S (both triangles).
+    /// Entries of S stored: n_Γ² dense, Σ_i n_i² in the subdomains' blocks.
     pub matrix_nnz: usize,
-    /// The sparse factor's statistics (also when the dense one was kept).
-    pub sparse: Option<FactorStats>,
-    /// Bytes of the factor kept.
+    /// The tree factor's flops and entries.
+    pub tree: Option<(f64, usize)>,
+    /// Bytes of the factor.
     pub factor_bytes: usize,
-    /// The fixing DOFs of the floating bodies' rigid modes (sparse factor).
+    /// The fixing DOFs of the floating bodies' rigid modes (tree factor).
     pub fixing_dofs: usize,
 }
 
 impl InterfaceStiffness {
-    /// Σ_i of the dense blocks `schur` (column-major, nb × nb) on the Γ DOFs
-    /// `gamma` (block index → Γ index), in compressed columns: the pattern
-    /// is the union of the blocks' cliques.
-    pub fn from_blocks(n: usize, blocks: &[(&[usize], &[f64])]) -> Self {
-        let (holders, patterns, pattern_of) = column_patterns(n, blocks);
-        let mut col_ptr = Vec::with_capacity(n + 1);
-        col_ptr.push(0);
-        for &p in &pattern_of {
-            col_ptr.push(col_ptr[col_ptr.len() - 1] + patterns[p].len());
-        }
-        let mut row_idx = Vec::with_capacity(col_ptr[n]);
-        let mut values = vec![0.0; col_ptr[n]];
-        let mut position = vec![usize::MAX; n];
-        for (c, held) in holders.iter().enumerate() {
-            let pattern = &patterns[pattern_of[c]];
-            row_idx.extend_from_slice(pattern);
-            for (k, &r) in pattern.iter().enumerate() {
-                position[r] = k;
-            }
-            let column = &mut values[col_ptr[c]..col_ptr[c + 1]];
-            for &(b, j) in held {
-                let (gamma, schur) = blocks[b];
-                let nb = gamma.len();
-                for (&g, &v) in gamma.iter().zip(&schur[nb * j..nb * (j + 1)]) {
-                    column[position[g]] += v;
-                }
-            }
-        }
-        let symbolic = SymbolicSparseColMat::new_checked(n, n, col_ptr, None, row_idx);
-        InterfaceStiffness::Sparse(SparseColMat::new(symbolic, values))
-    }
-
     pub fn nrows(&self) -> usize {
         match self {
             InterfaceStiffness::Dense(s) => s.nrows(),
-            InterfaceStiffness::Sparse(s) => s.nrows(),
+            InterfaceStiffness::Blocks { n, .. } => *n,
         }
     }
 
@@ -106,7 +67,7 @@ impl InterfaceStiffness {
     pub fn diagonal(&self) -> Vec<f64> {
         match self {
             InterfaceStiffness::Dense(s) => (0..s.nrows()).map(|i| s[(i, i)]).collect(),
-            InterfaceStiffness::Sparse(s) => sparse_diagonal(s),
+            InterfaceStiffness::Blocks { n, blocks } => blocks_diagonal(*n, blocks),
         }
     }
 
@@ -114,61 +75,76 @@ impl InterfaceStiffness {
     pub fn mul(&self, x: &Mat<f64>) -> Mat<f64> {
         match self {
             InterfaceStiffness::Dense(s) => s * x,
-            InterfaceStiffness::Sparse(s) => s * x,
+            InterfaceStiffness::Blocks { n, blocks } => blocks_mul(*n, blocks, x.as_ref()),
         }
     }
 }
 
-fn sparse_diagonal(s: &SparseColMat<usize, f64>) -> Vec<f64> {
-    (0..s.ncols())
-        .map(|j| {
-            let rows = s.row_idx_of_col_raw(j);
-            rows.binary_search(&j).map_or(0.0, |p| s.val_of_col(j)[p])
-        })
-        .collect()
+/// The diagonal of Σ_i S_i.
+fn blocks_diagonal(n: usize, blocks: &[SchurBlock]) -> Vec<f64> {
+    let mut d = vec![0.0; n];
+    for b in blocks {
+        let nb = b.gamma.len();
+        for (i, &g) in b.gamma.iter().enumerate() {
+            d[g] += b.values[i + nb * i];
+        }
+    }
+    d
 }
 
-fn sparse_norm1(s: &SparseColMat<usize, f64>) -> f64 {
-    (0..s.ncols())
-        .map(|j| s.val_of_col(j).iter().map(|v| v.abs()).sum::<f64>())
-        .fold(0.0, f64::max)
-}
-
-/// The holders of each column, the distinct row patterns and each column's
-/// pattern (see [`column_patterns`]).
-type ColumnPatterns = (Vec<Vec<(usize, usize)>>, Vec<Vec<usize>>, Vec<usize>);
-
-/// Which blocks hold each Γ DOF ((block, its index there), blocks in
-/// order), and the row pattern of each column: the sorted union of its
-/// holders' Γ DOFs, made once per distinct set of holders (the DOFs of one
-/// face, edge or corner of the decomposition share it) and referred to by
-/// index. Sorting each column's rows instead took seconds for the 8-part
-/// sphere (14,298 columns, 7.7e7 entries).
-fn column_patterns(n: usize, blocks: &[(&[usize], &[f64])]) -> ColumnPatterns {
+/// ‖S̃‖₁ of S̃ = Σ_i S_i with the rows and columns of `fixed` (sorted)
+/// replaced by `scale`·I: each column added up in a dense accumulator from
+/// the blocks holding it (Σ_i n_i² additions, no assembled S).
+fn blocks_norm1(n: usize, blocks: &[SchurBlock], fixed: &[usize], scale: f64) -> f64 {
     let mut holders: Vec<Vec<(usize, usize)>> = vec![Vec::new(); n];
-    for (b, (gamma, _)) in blocks.iter().enumerate() {
-        for (j, &g) in gamma.iter().enumerate() {
-            holders[g].push((b, j));
+    for (b, block) in blocks.iter().enumerate() {
+        block
+            .gamma
+            .iter()
+            .enumerate()
+            .for_each(|(j, &g)| holders[g].push((b, j)));
+    }
+    let is_fixed = |i: &usize| fixed.binary_search(i).is_ok();
+    let mut acc = vec![0.0f64; n];
+    let mut norm = if fixed.is_empty() { 0.0 } else { scale.abs() };
+    for (_, held) in holders.iter().enumerate().filter(|(c, _)| !is_fixed(c)) {
+        let column = |&(b, j): &(usize, usize)| {
+            let nb = blocks[b].gamma.len();
+            blocks[b]
+                .gamma
+                .iter()
+                .zip(&blocks[b].values[nb * j..nb * (j + 1)])
+        };
+        for (&g, &v) in held.iter().flat_map(column) {
+            acc[g] += v;
+        }
+        let mut sum = 0.0;
+        for (&g, _) in held.iter().flat_map(column) {
+            if !is_fixed(&g) {
+                sum += acc[g].abs();
+            }
+            acc[g] = 0.0;
+        }
+        norm = f64::max(norm, sum);
+    }
+    norm
+}
+
+/// (Σ_i S_i) X, block by block.
+fn blocks_mul(n: usize, blocks: &[SchurBlock], x: MatRef<'_, f64>) -> Mat<f64> {
+    let mut y = Mat::<f64>::zeros(n, x.ncols());
+    for b in blocks {
+        let nb = b.gamma.len();
+        let s = MatRef::from_column_major_slice(&b.values, nb, nb);
+        let xb = Mat::<f64>::from_fn(nb, x.ncols(), |i, j| x[(b.gamma[i], j)]);
+        let yb = s * &xb;
+        for j in 0..x.ncols() {
+            for (i, &g) in b.gamma.iter().enumerate() {
+                y[(g, j)] += yb[(i, j)];
+            }
         }
     }
-    let mut index: std::collections::HashMap<Vec<usize>, usize> = Default::default();
-    let mut patterns: Vec<Vec<usize>> = Vec::new();
-    let mut pattern_of = Vec::with_capacity(n);
-    for held in &holders {
-        let set: Vec<usize> = held.iter().map(|&(b, _)| b).collect();
-        let p = *index.entry(set).or_insert_with_key(|set| {
-            let mut rows: Vec<usize> = set
-                .iter()
-                .flat_map(|&b| blocks[b].0.iter().copied())
-                .collect();
-            rows.sort_unstable();
-            rows.dedup();
-            patterns.push(rows);
-            patterns.len() - 1
-        });
-        pattern_of.push(p);
-    }
-    (holders, patterns, pattern_of)
+    y
 }
 
 /// The factor of S that applies a generalised inverse S⁺ (module doc).
@@ -181,19 +157,13 @@ pub struct SchurFactor {
 }
 
 enum FactorKind {
+    /// Over the tree of subdomains, with the fixing DOFs `fixed` (sorted).
+    Tree { tree: TreeFactor, fixed: Vec<usize> },
     /// L L^T = P (S + ρRRᵀ) Pᵀ, the lower triangle of `l`; factor row k is
     /// the Γ DOF `order[k]`, the contact DOFs last in `contact`'s order.
     Dense {
         l: Mat<f64>,
         order: Vec<usize>,
-        contact: Vec<usize>,
-    },
-    Sparse {
-        symbolic: Box<SymbolicCholesky<usize>>,
-        l_values: Vec<f64>,
-        fixed: Vec<usize>,
-        /// The contact DOFs, sorted: eliminated last, in this order (the
-        /// trailing rows of the factor).
         contact: Vec<usize>,
     },
 }
@@ -218,8 +188,8 @@ impl SchurFactor {
         contact.sort_unstable();
         contact.dedup();
         match s {
-            InterfaceStiffness::Dense(s) => Self::dense(s, r, contact, None),
-            InterfaceStiffness::Sparse(s) => Self::sparse(s, r, contact),
+            InterfaceStiffness::Dense(s) => Self::dense(s, r, contact),
+            InterfaceStiffness::Blocks { n, blocks } => Self::tree(*n, blocks, r, contact),
         }
     }
 
@@ -227,12 +197,7 @@ impl SchurFactor {
     /// mean |diagonal|: any ρ > 0 gives the same answer, this one keeps the
     /// matrix well scaled), in place on its lower triangle
     /// (`recursive_cholesky`).
-    fn dense(
-        s: &Mat<f64>,
-        r: &Mat<f64>,
-        contact: Vec<usize>,
-        sparse: Option<(FactorStats, usize)>,
-    ) -> Result<Self, ContactError> {
+    fn dense(s: &Mat<f64>, r: &Mat<f64>, contact: Vec<usize>) -> Result<Self, ContactError> {
         let n = s.nrows();
         let order = contact_last(n, &contact);
         let mut l = Mat::<f64>::from_fn(
@@ -266,8 +231,8 @@ impl SchurFactor {
             .map_err(|_| not_definite())?;
         let stats = InterfaceFactorStats {
             storage: "dense",
-            matrix_nnz: sparse.map_or(n * n, |(_, nnz)| nnz),
-            sparse: sparse.map(|(st, _)| st),
+            matrix_nnz: n * n,
+            tree: None,
             factor_bytes: 8 * n * n,
             fixing_dofs: 0,
         };
@@ -279,64 +244,31 @@ impl SchurFactor {
         })
     }
 
-    /// Sparse Cholesky of P S̃ Pᵀ (S with the fixing DOFs of the kernel
-    /// replaced by the identity, the contact DOFs last), or the dense factor
-    /// when that costs fewer flops.
-    fn sparse(
-        s: &SparseColMat<usize, f64>,
+    /// The factor of S̃ (S with the fixing DOFs of the kernel replaced by
+    /// the identity) over the tree of subdomains, the contact DOFs last.
+    fn tree(
+        n: usize,
+        blocks: &[SchurBlock],
         r: &Mat<f64>,
         contact: Vec<usize>,
     ) -> Result<Self, ContactError> {
-        let n = s.nrows();
         let fixed = fixing_dofs(r);
-        let s_fixed = if fixed.is_empty() {
-            std::borrow::Cow::Borrowed(s)
-        } else {
-            let scale = regularisation_scale(&sparse_diagonal(s));
-            std::borrow::Cow::Owned(with_fixed_dofs(s, &fixed, scale))
-        };
-        let s_fixed: &SparseColMat<usize, f64> = &s_fixed;
-        let choice = OrderingChoice::Only(Ordering::BlockMinimumDegree);
-        let ordered = order_and_analyse_with_last(s_fixed.as_ref(), &contact, choice)
-            .map_err(|e| ContactError::Solve(format!("interface ordering: {e}")))?;
-        let dense_flops = (n as f64).powi(3) / 3.0;
-        if ordered.stats.flops > SPARSE_FLOP_RATIO * dense_flops {
-            let dense = s.to_dense();
-            return Self::dense(&dense, r, contact, Some((ordered.stats, s.compute_nnz())));
-        }
-        let symbolic = Box::new(ordered.symbolic);
-        let mut l_values = vec![0.0f64; symbolic.len_val()];
-        let par = faer::get_global_parallelism();
-        let mut mem =
-            MemBuffer::new(symbolic.factorize_numeric_llt_scratch::<f64>(par, Default::default()));
-        symbolic
-            .factorize_numeric_llt::<f64>(
-                &mut l_values,
-                s_fixed.as_ref(),
-                Side::Lower,
-                LltRegularization::default(),
-                par,
-                MemStack::new(&mut mem),
-                Default::default(),
-            )
-            .map_err(|_| not_definite())?;
+        let scale = regularisation_scale(&blocks_diagonal(n, blocks));
+        let tree =
+            TreeFactor::new(n, blocks, &contact, &fixed, scale).map_err(|_| not_definite())?;
+        let norm1 = blocks_norm1(n, blocks, &fixed, scale);
         let stats = InterfaceFactorStats {
-            storage: "sparse",
-            matrix_nnz: s.compute_nnz(),
-            sparse: Some(ordered.stats),
-            factor_bytes: 8 * l_values.len(),
+            storage: "tree",
+            matrix_nnz: blocks.iter().map(|b| b.gamma.len().pow(2)).sum(),
+            tree: Some((tree.flops, tree.bytes / 8)),
+            factor_bytes: tree.bytes,
             fixing_dofs: fixed.len(),
         };
         Ok(Self {
-            kind: FactorKind::Sparse {
-                symbolic,
-                l_values,
-                fixed,
-                contact,
-            },
+            kind: FactorKind::Tree { tree, fixed },
             n,
             stats,
-            norm1: sparse_norm1(s_fixed),
+            norm1,
         })
     }
 
@@ -348,85 +280,32 @@ impl SchurFactor {
     pub fn solve_in_place(&self, mut x: MatMut<'_, f64>) {
         match &self.kind {
             FactorKind::Dense { l, order, .. } => dense_solve(l, order, x),
-            FactorKind::Sparse {
-                symbolic,
-                l_values,
-                fixed,
-                ..
-            } => {
-                for j in 0..x.ncols() {
-                    for &i in fixed {
-                        x[(i, j)] = 0.0;
-                    }
-                }
-                let par = faer::get_global_parallelism();
-                let mut mem =
-                    MemBuffer::new(symbolic.solve_in_place_scratch::<f64>(x.ncols(), par));
-                LltRef::new(symbolic, l_values).solve_in_place_with_conj(
-                    Conj::No,
-                    x.as_mut(),
-                    par,
-                    MemStack::new(&mut mem),
-                );
-                for j in 0..x.ncols() {
-                    for &i in fixed {
-                        x[(i, j)] = 0.0;
-                    }
-                }
+            FactorKind::Tree { tree, fixed } => {
+                zero_rows(&mut x, fixed);
+                tree.solve_in_place(x.as_mut(), faer::get_global_parallelism());
+                zero_rows(&mut x, fixed);
             }
         }
     }
 
     /// W = B S⁺ Bᵀ (m × m, symmetric) for the contact rows `b`. The
     /// contact DOFs C are eliminated last: P S̃ Pᵀ = L Lᵀ (S̃ = S + ρRRᵀ
-    /// dense, S with its fixing DOFs replaced by the identity sparse) and B
-    /// touches only C, so L⁻¹ P Z Bᵀ = [0; L_CC⁻¹ B_C] and W = Yᵀ Y with
-    /// Y = L_CC⁻¹ B_C: one dense triangular solve with the trailing block of
-    /// the factor instead of m solves with all of it.
+    /// dense, S with its fixing DOFs replaced by the identity over the tree)
+    /// and B touches only C, so L⁻¹ P Z Bᵀ = [0; L_CC⁻¹ B_C] and W = Yᵀ Y
+    /// with Y = L_CC⁻¹ B_C: one dense triangular solve with the trailing
+    /// block of the factor instead of m solves with all of it.
     pub fn delassus(&self, b: &[SparseRow]) -> Result<Mat<f64>, ContactError> {
-        let n = self.n;
-        let trailing;
-        let (l_cc, fixed, contact): (MatRef<'_, f64>, &[usize], &[usize]) = match &self.kind {
-            FactorKind::Sparse {
-                symbolic,
-                l_values,
-                fixed,
-                contact,
-            } => {
-                let nc = contact.len();
-                trailing = signorini_condense::trailing_block(symbolic, l_values, n - nc, nc)
-                    .map_err(|e| ContactError::Solve(format!("interface factor: {e}")))?;
-                (trailing.as_ref(), fixed, contact)
-            }
-            FactorKind::Dense { l, contact, .. } => {
-                let nc = contact.len();
-                (l.as_ref().submatrix(n - nc, n - nc, nc, nc), &[], contact)
-            }
-        };
-        let (nc, m) = (contact.len(), b.len());
-        let mut y = Mat::<f64>::zeros(nc, m);
-        for (p, row) in b.iter().enumerate() {
-            for &(i, c) in row {
-                if let (Err(_), Ok(k)) = (fixed.binary_search(&i), contact.binary_search(&i)) {
-                    y[(k, p)] += c;
-                }
-            }
-        }
-        let par = faer::get_global_parallelism();
-        faer::linalg::triangular_solve::solve_lower_triangular_in_place(l_cc, y.as_mut(), par);
+        let m = b.len();
         let mut w = Mat::<f64>::zeros(m, m);
-        use faer::linalg::matmul::triangular::{matmul, BlockStructure};
-        matmul(
-            w.as_mut(),
-            BlockStructure::TriangularLower,
-            faer::Accum::Replace,
-            y.transpose(),
-            BlockStructure::Rectangular,
-            y.as_ref(),
-            BlockStructure::Rectangular,
-            1.0,
-            par,
-        );
+        let par = faer::get_global_parallelism();
+        match &self.kind {
+            FactorKind::Dense { l, contact, .. } => {
+                let (n, nc) = (self.n, contact.len());
+                let l_cc = l.as_ref().submatrix(n - nc, n - nc, nc, nc);
+                add_trailing_delassus(&mut w, l_cc, contact, &[], b, par);
+            }
+            FactorKind::Tree { tree, fixed } => tree.add_delassus(&mut w, b, fixed, par),
+        }
         for j in 0..m {
             for i in j + 1..m {
                 w[(j, i)] = w[(i, j)];
@@ -451,21 +330,53 @@ impl SchurFactor {
             let xm = faer::MatMut::from_column_major_slice_mut(x, self.n, 1);
             match &self.kind {
                 FactorKind::Dense { l, order, .. } => dense_solve(l, order, xm),
-                FactorKind::Sparse {
-                    symbolic, l_values, ..
-                } => {
-                    let par = Par::Seq;
-                    let mut mem = MemBuffer::new(symbolic.solve_in_place_scratch::<f64>(1, par));
-                    LltRef::new(symbolic, l_values).solve_in_place_with_conj(
-                        Conj::No,
-                        xm,
-                        par,
-                        MemStack::new(&mut mem),
-                    );
-                }
+                FactorKind::Tree { tree, .. } => tree.solve_in_place(xm, Par::Seq),
             }
         });
         self.norm1 * inv
+    }
+}
+
+/// The lower triangle of W += YᵀY, Y = L_CC⁻¹ B_C (the trailing block
+/// `l_cc` of a factor on the Γ DOFs `dofs`, sorted; entries of B on the
+/// `fixed` DOFs, sorted, dropped: S⁺ = S̃⁻¹ Z).
+pub(crate) fn add_trailing_delassus(
+    w: &mut Mat<f64>,
+    l_cc: MatRef<'_, f64>,
+    dofs: &[usize],
+    fixed: &[usize],
+    b: &[SparseRow],
+    par: Par,
+) {
+    let mut y = Mat::<f64>::zeros(dofs.len(), b.len());
+    for (p, row) in b.iter().enumerate() {
+        for &(i, c) in row {
+            if let (Err(_), Ok(k)) = (fixed.binary_search(&i), dofs.binary_search(&i)) {
+                y[(k, p)] += c;
+            }
+        }
+    }
+    faer::linalg::triangular_solve::solve_lower_triangular_in_place(l_cc, y.as_mut(), par);
+    use faer::linalg::matmul::triangular::{matmul, BlockStructure};
+    matmul(
+        w.as_mut(),
+        BlockStructure::TriangularLower,
+        faer::Accum::Add,
+        y.transpose(),
+        BlockStructure::Rectangular,
+        y.as_ref(),
+        BlockStructure::Rectangular,
+        1.0,
+        par,
+    );
+}
+
+/// Zeroes the rows `rows` of x.
+fn zero_rows(x: &mut MatMut<'_, f64>, rows: &[usize]) {
+    for j in 0..x.ncols() {
+        for &i in rows {
+            x[(i, j)] = 0.0;
+        }
     }
 }
 
@@ -555,33 +466,10 @@ pub fn fixing_dofs(r: &Mat<f64>) -> Vec<usize> {
     chosen
 }
 
-/// S with the rows and columns of `fixed` zeroed and `scale` on their
-/// diagonal (same pattern).
-fn with_fixed_dofs(
-    s: &SparseColMat<usize, f64>,
-    fixed: &[usize],
-    scale: f64,
-) -> SparseColMat<usize, f64> {
-    let mut out = s.clone();
-    let mut is_fixed = vec![false; s.nrows()];
-    for &i in fixed {
-        is_fixed[i] = true;
-    }
-    for j in 0..s.ncols() {
-        let rows = s.row_idx_of_col_raw(j).to_vec();
-        let vals = out.val_of_col_mut(j);
-        for (v, &i) in vals.iter_mut().zip(&rows) {
-            if is_fixed[i] || is_fixed[j] {
-                *v = if i == j { scale } else { 0.0 };
-            }
-        }
-    }
-    out
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use faer::{Conj, Side};
 
     /// The Laplacian of the complete graph on `k` vertices, column-major:
     /// positive semi-definite, kernel the constants.
@@ -594,55 +482,9 @@ mod tests {
             .collect()
     }
 
-    /// `parts` cliques of `own + 2 glue` DOFs in a ring (each shares `glue`
-    /// DOFs with the next), plus `spring` on the diagonal.
-    /// The dense factor with the contact DOFs last gives the W and the
-    /// solves of the plain formulas B (S + ρRRᵀ)⁻¹ Bᵀ, held (the sparse
-    /// factor's W too) and floating (the kernel of a ring without springs:
-    /// the constants).
-    #[test]
-    fn dense_factor_with_contact_last_gives_the_plain_delassus_operator() {
-        let rows: Vec<SparseRow> =
-            vec![vec![(3, 1.0)], vec![(17, 0.6), (40, -0.8)], vec![(40, 2.0)]];
-        for spring in [0.5, 0.0] {
-            let (n, s, dense) = ring(8, 12, 3, spring);
-            let r = if spring > 0.0 {
-                Mat::<f64>::zeros(n, 0)
-            } else {
-                Mat::<f64>::from_fn(n, 1, |_, _| 1.0 / (n as f64).sqrt())
-            };
-            let factor =
-                SchurFactor::new(&InterfaceStiffness::Dense(dense.clone()), &r, &[40, 3, 17])
-                    .unwrap();
-            let rho = regularisation_scale(&(0..n).map(|i| dense[(i, i)]).collect::<Vec<_>>());
-            let reg = if r.ncols() > 0 {
-                &dense + rho * &r * r.transpose()
-            } else {
-                dense.clone()
-            };
-            let llt = reg.llt(Side::Lower).unwrap();
-            let bt = Mat::<f64>::from_fn(n, rows.len(), |i, p| {
-                rows[p].iter().filter(|e| e.0 == i).map(|e| e.1).sum()
-            });
-            let mut x = bt.clone();
-            faer::linalg::solvers::SolveCore::solve_in_place_with_conj(&llt, Conj::No, x.as_mut());
-            let plain = bt.transpose() * &x;
-            let w = factor.delassus(&rows).unwrap();
-            let scale = plain.norm_max();
-            assert!((&w - &plain).norm_max() <= 1e-12 * scale, "{w:?} {plain:?}");
-            let solved = factor.solve(&(0..n).map(|i| bt[(i, 1)]).collect::<Vec<_>>());
-            let err = (0..n)
-                .map(|i| (solved[i] - x[(i, 1)]).abs())
-                .fold(0.0, f64::max);
-            assert!(err <= 1e-12 * x.norm_max(), "{err}");
-            if spring > 0.0 {
-                let sparse = SchurFactor::new(&s, &r, &[3, 17, 40]).unwrap();
-                assert_eq!(sparse.stats().storage, "sparse");
-                assert!((&sparse.delassus(&rows).unwrap() - &plain).norm_max() <= 1e-12 * scale);
-            }
-        }
-    }
-
+    /// A ring of `parts` subdomains, each holding `own` DOFs and `glue`
+    /// DOFs of the next (a clique Laplacian, plus `spring` on the diagonal:
+    /// 0 leaves the constants as kernel): n, the blocks, the dense sum.
     fn ring(
         parts: usize,
         own: usize,
@@ -651,108 +493,208 @@ mod tests {
     ) -> (usize, InterfaceStiffness, Mat<f64>) {
         let per = own + glue;
         let n = parts * per;
-        let mut gammas = Vec::new();
-        let mut values = Vec::new();
-        for p in 0..parts {
-            let next = (p + 1) % parts;
-            let g: Vec<usize> = (0..per)
-                .map(|i| per * p + i)
-                .chain((0..glue).map(|i| per * next + own + i))
-                .collect();
-            let mut v = clique_laplacian(g.len(), 1.0 + p as f64);
-            for i in 0..g.len() {
-                v[i + g.len() * i] += spring;
-            }
-            gammas.push(g);
-            values.push(v);
-        }
-        let blocks: Vec<(&[usize], &[f64])> = gammas
-            .iter()
-            .zip(&values)
-            .map(|(g, v)| (g.as_slice(), v.as_slice()))
+        let blocks: Vec<SchurBlock> = (0..parts)
+            .map(|p| {
+                let next = (p + 1) % parts;
+                let gamma: Vec<usize> = (0..per)
+                    .map(|i| per * p + i)
+                    .chain((0..glue).map(|i| per * next + own + i))
+                    .collect();
+                let mut values = clique_laplacian(gamma.len(), 1.0 + p as f64);
+                for i in 0..gamma.len() {
+                    values[i + gamma.len() * i] += spring;
+                }
+                SchurBlock { gamma, values }
+            })
             .collect();
-        let s = InterfaceStiffness::from_blocks(n, &blocks);
         let mut dense = Mat::<f64>::zeros(n, n);
-        for (g, v) in gammas.iter().zip(&values) {
-            let nb = g.len();
+        for b in &blocks {
+            let nb = b.gamma.len();
             for j in 0..nb {
                 for i in 0..nb {
-                    dense[(g[i], g[j])] += v[i + nb * j];
+                    dense[(b.gamma[i], b.gamma[j])] += b.values[i + nb * j];
                 }
             }
         }
-        (n, s, dense)
+        (n, InterfaceStiffness::Blocks { n, blocks }, dense)
     }
 
+    fn constants(n: usize) -> Mat<f64> {
+        Mat::<f64>::from_fn(n, 1, |_, _| 1.0 / (n as f64).sqrt())
+    }
+
+    fn rows() -> Vec<SparseRow> {
+        vec![vec![(3, 1.0)], vec![(17, 0.6), (40, -0.8)], vec![(40, 2.0)]]
+    }
+
+    /// Bᵀ as a dense n × m matrix.
+    fn b_transpose(n: usize, rows: &[SparseRow]) -> Mat<f64> {
+        Mat::<f64>::from_fn(n, rows.len(), |i, p| {
+            rows[p].iter().filter(|e| e.0 == i).map(|e| e.1).sum()
+        })
+    }
+
+    /// (S + ρRRᵀ)⁻¹ X by faer's Cholesky, ρ as the factor takes it.
+    fn plain_solve(dense: &Mat<f64>, r: &Mat<f64>, x: &Mat<f64>) -> Mat<f64> {
+        let n = dense.nrows();
+        let rho = regularisation_scale(&(0..n).map(|i| dense[(i, i)]).collect::<Vec<_>>());
+        let reg = dense + rho * r * r.transpose();
+        let llt = reg.llt(Side::Lower).unwrap();
+        let mut y = x.clone();
+        faer::linalg::solvers::SolveCore::solve_in_place_with_conj(&llt, Conj::No, y.as_mut());
+        y
+    }
+
+    fn max_diff(a: &[f64], b: &[f64]) -> f64 {
+        a.iter()
+            .zip(b)
+            .map(|(x, y)| (x - y).abs())
+            .fold(0.0, f64::max)
+    }
+
+    /// The blocks multiply, give their diagonal and ‖S̃‖₁ as the dense sum
+    /// does.
     #[test]
-    fn blocks_assemble_to_the_dense_sum() {
+    fn blocks_act_as_their_dense_sum() {
         let (n, s, dense) = ring(6, 4, 2, 0.5);
-        let InterfaceStiffness::Sparse(sp) = &s else {
-            panic!("from_blocks is sparse")
-        };
-        assert_eq!(sp.to_dense(), dense);
-        // each DOF couples with its own clique or two: far from n² entries
-        assert!(
-            sp.compute_nnz() < n * n / 2,
-            "{} of {}",
-            sp.compute_nnz(),
-            n * n
-        );
+        let x = Mat::<f64>::from_fn(n, 2, |i, j| (i + 3 * j) as f64 - 7.0);
+        assert!((s.mul(&x) - &dense * &x).norm_max() <= 1e-12 * (&dense * &x).norm_max());
         assert_eq!(
             s.diagonal(),
             (0..n).map(|i| dense[(i, i)]).collect::<Vec<_>>()
         );
-    }
-
-    #[test]
-    fn sparse_factor_solves_like_the_dense_one_and_a_dense_block_stays_dense() {
-        let (n, s, dense) = ring(8, 12, 3, 0.5);
-        let r = Mat::<f64>::zeros(n, 0);
-        let sparse = SchurFactor::new(&s, &r, &[3, 17, 40]).unwrap();
-        assert_eq!(sparse.stats().storage, "sparse", "{:?}", sparse.stats());
-        let full = SchurFactor::new(&InterfaceStiffness::Dense(dense.clone()), &r, &[]).unwrap();
-        let f: Vec<f64> = (0..n).map(|i| ((i * 7) % 11) as f64 - 5.0).collect();
-        let (a, b) = (sparse.solve(&f), full.solve(&f));
-        let scale = b.iter().fold(0.0f64, |m, x| m.max(x.abs()));
-        assert!(a
-            .iter()
-            .zip(&b)
-            .all(|(x, y)| (x - y).abs() <= 1e-12 * scale));
-        // One block holding every DOF: its sparse factor is dense, kept dense.
-        let k = 30;
-        let g: Vec<usize> = (0..k).collect();
-        let mut v = clique_laplacian(k, 1.0);
-        for i in 0..k {
-            v[i + k * i] += 1.0;
+        let InterfaceStiffness::Blocks { blocks, .. } = &s else {
+            unreachable!()
+        };
+        let want = signorini_condense::conditioning::dense_norm1(dense.as_ref());
+        assert!((blocks_norm1(n, blocks, &[], 1.0) - want).abs() <= 1e-12 * want);
+        // A fixing DOF: its column is scale·e_j, its row leaves the others.
+        let mut fixed = dense.clone();
+        for k in 0..n {
+            fixed[(5, k)] = 0.0;
+            fixed[(k, 5)] = 0.0;
         }
-        let one = InterfaceStiffness::from_blocks(k, &[(&g, &v)]);
-        let f = SchurFactor::new(&one, &Mat::zeros(k, 0), &[]).unwrap();
-        assert_eq!(f.stats().storage, "dense");
-        assert!(f.stats().sparse.is_some(), "the sparse cost was measured");
+        fixed[(5, 5)] = 100.0;
+        let want = signorini_condense::conditioning::dense_norm1(fixed.as_ref());
+        assert!((blocks_norm1(n, blocks, &[5], 100.0) - want).abs() <= 1e-12 * want);
     }
 
+    /// One subdomain's dense S and several subdomains' blocks over the tree
+    /// (an odd number: a group passes a level alone) give the W and the
+    /// solves of the plain formulas B (S + ρRRᵀ)⁻¹ Bᵀ, and the same κ.
     #[test]
-    fn fixing_dofs_give_a_generalised_inverse_of_a_floating_interface() {
-        // No spring: S is singular with the constants as kernel.
-        let (n, s, dense) = ring(8, 12, 3, 0.0);
-        let norm = (n as f64).sqrt();
-        let r = Mat::<f64>::from_fn(n, 1, |_, _| 1.0 / norm);
-        let factor = SchurFactor::new(&s, &r, &[0, 5, 77]).unwrap();
-        assert_eq!(factor.stats().storage, "sparse");
-        assert_eq!(factor.stats().fixing_dofs, 1);
-        // S S⁺ S = S: x = S⁺ S, then S x
+    fn dense_and_tree_factors_give_the_plain_delassus_operator_when_held() {
+        let rows = rows();
+        for parts in [8, 7, 3] {
+            let (n, blocks, dense) = ring(parts, 12, 3, 0.5);
+            let r = Mat::<f64>::zeros(n, 0);
+            let bt = b_transpose(n, &rows);
+            let x = plain_solve(&dense, &r, &bt);
+            let plain = bt.transpose() * &x;
+            let one = SchurFactor::new(&InterfaceStiffness::Dense(dense.clone()), &r, &[40, 3, 17])
+                .unwrap();
+            let tree = SchurFactor::new(&blocks, &r, &[40, 3, 17]).unwrap();
+            assert_eq!(
+                (one.stats().storage, tree.stats().storage),
+                ("dense", "tree")
+            );
+            for f in [&one, &tree] {
+                let w = f.delassus(&rows).unwrap();
+                assert!(
+                    (&w - &plain).norm_max() <= 1e-12 * plain.norm_max(),
+                    "{parts}: {w:?} {plain:?}"
+                );
+                let v: Vec<f64> = (0..n).map(|i| bt[(i, 1)]).collect();
+                let want: Vec<f64> = (0..n).map(|i| x[(i, 1)]).collect();
+                assert!(max_diff(&f.solve(&v), &want) <= 1e-12 * x.norm_max());
+            }
+            let (k1, k2) = (one.condition(), tree.condition());
+            assert!((k1 - k2).abs() <= 1e-6 * k1, "{k1} {k2}");
+        }
+    }
+
+    /// Floating (no spring: the constants are the kernel): the dense factor
+    /// of S + ρRRᵀ gives the plain W; the tree's fixing DOFs give another
+    /// generalised inverse: S S⁺ S = S, S (S⁺ f) = f for a balanced f, and
+    /// its W is B S⁺ Bᵀ.
+    #[test]
+    fn factors_of_a_floating_interface_are_generalised_inverses() {
+        let rows = rows();
+        for parts in [8, 5] {
+            let (n, blocks, dense) = ring(parts, 12, 3, 0.0);
+            let r = constants(n);
+            let bt = b_transpose(n, &rows);
+            let one = SchurFactor::new(&InterfaceStiffness::Dense(dense.clone()), &r, &[3, 17, 40])
+                .unwrap();
+            let plain = bt.transpose() * plain_solve(&dense, &r, &bt);
+            assert!((one.delassus(&rows).unwrap() - &plain).norm_max() <= 1e-12 * plain.norm_max());
+            let tree = SchurFactor::new(&blocks, &r, &[3, 17, 40]).unwrap();
+            assert_eq!(tree.stats().fixing_dofs, 1);
+            for f in [&one, &tree] {
+                let mut x = dense.clone();
+                f.solve_in_place(x.as_mut());
+                let err = (&dense * &x - &dense).norm_max();
+                assert!(err <= 1e-10 * dense.norm_max(), "‖S S⁺ S − S‖ = {err:e}");
+                let mut load: Vec<f64> = (0..n).map(|i| (i % 5) as f64).collect();
+                let mean = load.iter().sum::<f64>() / n as f64;
+                load.iter_mut().for_each(|v| *v -= mean);
+                let u = f.solve(&load);
+                let su = &dense * Mat::<f64>::from_fn(n, 1, |i, _| u[i]);
+                assert!((0..n).all(|i| (su[(i, 0)] - load[i]).abs() <= 1e-10));
+            }
+            let mut x = bt.clone();
+            tree.solve_in_place(x.as_mut());
+            let w = bt.transpose() * &x;
+            let wt = tree.delassus(&rows).unwrap();
+            assert!((&wt - &w).norm_max() <= 1e-12 * w.norm_max());
+        }
+    }
+
+    /// Two bodies (rings sharing no DOF, one floating): the tree stops at
+    /// one group per body; S S⁺ S = S and W = B S⁺ Bᵀ.
+    #[test]
+    fn tree_factor_of_separate_bodies() {
+        let (n1, a, d1) = ring(4, 6, 2, 0.5);
+        let (n2, b, d2) = ring(3, 5, 2, 0.0);
+        let (
+            InterfaceStiffness::Blocks { blocks: a, .. },
+            InterfaceStiffness::Blocks { blocks: b, .. },
+        ) = (a, b)
+        else {
+            unreachable!()
+        };
+        let mut blocks = a;
+        blocks.extend(b.into_iter().map(|mut blk| {
+            blk.gamma.iter_mut().for_each(|g| *g += n1);
+            blk
+        }));
+        let n = n1 + n2;
+        let mut dense = Mat::<f64>::zeros(n, n);
+        dense.as_mut().submatrix_mut(0, 0, n1, n1).copy_from(&d1);
+        dense.as_mut().submatrix_mut(n1, n1, n2, n2).copy_from(&d2);
+        let s = InterfaceStiffness::Blocks { n, blocks };
+        let r = Mat::<f64>::from_fn(n, 1, |i, _| {
+            if i >= n1 {
+                1.0 / (n2 as f64).sqrt()
+            } else {
+                0.0
+            }
+        });
+        let contact = [1, 9, 20, n1 + 2, n1 + 12];
+        let rows: Vec<SparseRow> = contact
+            .iter()
+            .map(|&i| vec![(i, 1.0)])
+            .chain([vec![(1, 0.5), (n1 + 2, -0.5)]])
+            .collect();
+        let f = SchurFactor::new(&s, &r, &contact).unwrap();
         let mut x = dense.clone();
-        factor.solve_in_place(x.as_mut());
-        let sss = &dense * &x;
-        let err = (&sss - &dense).norm_max();
-        assert!(err <= 1e-10 * dense.norm_max(), "‖S S⁺ S − S‖ = {err:e}");
-        // A balanced load: S (S⁺ f) = f
-        let mut f: Vec<f64> = (0..n).map(|i| (i % 5) as f64).collect();
-        let mean = f.iter().sum::<f64>() / n as f64;
-        f.iter_mut().for_each(|v| *v -= mean);
-        let u = factor.solve(&f);
-        let su = &dense * Mat::<f64>::from_fn(n, 1, |i, _| u[i]);
-        assert!((0..n).all(|i| (su[(i, 0)] - f[i]).abs() <= 1e-10));
+        f.solve_in_place(x.as_mut());
+        assert!((&dense * &x - &dense).norm_max() <= 1e-10 * dense.norm_max());
+        let bt = b_transpose(n, &rows);
+        let mut y = bt.clone();
+        f.solve_in_place(y.as_mut());
+        let w = bt.transpose() * &y;
+        assert!((f.delassus(&rows).unwrap() - &w).norm_max() <= 1e-12 * w.norm_max());
     }
 
     #[test]

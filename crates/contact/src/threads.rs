@@ -32,6 +32,42 @@ where
     });
 }
 
+/// `f` of each item, on up to `workers` threads taking the items in turn
+/// (the calling thread one of them); the results in the order of `items`.
+pub(crate) fn map_side_by_side<T, R, F>(items: Vec<T>, workers: usize, f: F) -> Vec<R>
+where
+    T: Send,
+    R: Send,
+    F: Fn(T) -> R + Sync,
+{
+    if workers < 2 || items.len() < 2 {
+        return items.into_iter().map(f).collect();
+    }
+    use std::sync::Mutex;
+    let n = items.len();
+    let queue: Mutex<std::iter::Enumerate<std::vec::IntoIter<T>>> =
+        Mutex::new(items.into_iter().enumerate());
+    let results: Mutex<Vec<Option<R>>> = Mutex::new((0..n).map(|_| None).collect());
+    let work = || loop {
+        let next = queue.lock().unwrap_or_else(|e| e.into_inner()).next();
+        let Some((i, item)) = next else { break };
+        let r = f(item);
+        results.lock().unwrap_or_else(|e| e.into_inner())[i] = Some(r);
+    };
+    std::thread::scope(|s| {
+        for _ in 1..workers.min(n) {
+            s.spawn(work);
+        }
+        work();
+    });
+    results
+        .into_inner()
+        .unwrap_or_else(|e| e.into_inner())
+        .into_iter()
+        .flatten()
+        .collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

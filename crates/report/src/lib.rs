@@ -136,20 +136,18 @@ pub struct Factorisation {
 }
 
 /// The root's factorisation of S on Γ (report.json
-/// `factorisation.interface`): one subdomain's S is dense; several make a
-/// sparse matrix of dense blocks, factorised by a sparse Cholesky unless a
-/// dense one costs fewer flops.
+/// `factorisation.interface`): one subdomain's S is dense; several
+/// subdomains' blocks are factorised over the tree of subdomains
+/// (docs/scene-format.md).
 #[derive(Debug, Clone, Default, Serialize, PartialEq)]
 pub struct InterfaceFactorisation {
-    /// "dense" or "sparse": the factor kept.
+    /// "dense" (one subdomain) or "tree" (several).
     pub storage: String,
     /// Interface DOFs n_Γ.
     pub rows: u64,
-    /// Stored entries of S (both triangles; n_Γ² when dense).
+    /// Stored entries of S: n_Γ² dense, Σ_i n_i² in the subdomains' blocks.
     pub matrix_nnz: u64,
-    /// Ordering of the sparse factor ("amd" or "nested_dissection"), its
-    /// flops and entries when S was assembled sparse (also when the dense
-    /// factor was kept for costing fewer flops).
+    /// The tree factor's ordering ("subdomain_tree"), flops and entries.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub ordering: Option<String>,
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -158,7 +156,7 @@ pub struct InterfaceFactorisation {
     pub sparse_factor_nnz: Option<u64>,
     /// Bytes of the factor kept.
     pub factor_bytes: u64,
-    /// Fixing DOFs of the floating bodies' rigid modes (sparse factor; the
+    /// Fixing DOFs of the floating bodies' rigid modes (tree factor; the
     /// dense one factorises S + ρRRᵀ instead).
     pub fixing_dofs: u64,
 }

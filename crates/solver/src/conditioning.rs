@@ -111,9 +111,9 @@ fn interface_report(
         storage: st.storage.into(),
         rows: rows as u64,
         matrix_nnz: st.matrix_nnz as u64,
-        ordering: st.sparse.map(|f| f.ordering.as_str().to_string()),
-        sparse_flops: st.sparse.map(|f| f.flops),
-        sparse_factor_nnz: st.sparse.map(|f| f.nnz as u64),
+        ordering: st.tree.map(|_| "subdomain_tree".to_string()),
+        sparse_flops: st.tree.map(|(flops, _)| flops),
+        sparse_factor_nnz: st.tree.map(|(_, entries)| entries as u64),
         factor_bytes: st.factor_bytes as u64,
         fixing_dofs: st.fixing_dofs as u64,
     }

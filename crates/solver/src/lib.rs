@@ -54,7 +54,7 @@ use signorini_contact::friction::{
 };
 use signorini_contact::friction3d::friction_3d;
 use signorini_contact::registry::{Algorithm, Constraints, FrictionSupport};
-use signorini_contact::schur_factor::InterfaceStiffness;
+use signorini_contact::schur_factor::{InterfaceStiffness, SchurBlock};
 use signorini_contact::{
     status_method, ActiveSetSolve, ContactError, ContactSolution, DelassusOperator,
     DelassusProblem, LcpOptions, SolverReport, StatusOptions, StatusVariant, StopReason,

@@ -371,29 +371,22 @@ fn assemble_interface(input: &RootInput, s: InterfaceStiffness) -> Interface {
     }
 }
 
-/// S = Σ S_i, after which the subdomains' blocks S_i leave memory (the
-/// root holds them and S together only while it assembles).
+/// S = Σ S_i, taking the subdomains' blocks S_i: dense for one subdomain;
+/// with several, the blocks themselves (factorised over the tree of
+/// subdomains, `signorini_contact::interface_tree`).
 pub(crate) fn take_interface_stiffness(
     data: &mut [CondensedData],
     n_gamma: usize,
 ) -> InterfaceStiffness {
-    let s = interface_stiffness(data, n_gamma);
-    for d in data {
-        d.schur = Vec::new();
-    }
-    s
-}
-
-/// S = Σ S_i: dense for one subdomain; with several, a sparse matrix of
-/// their dense blocks (factorised sparse or dense by the cost of its
-/// symbolic factor, `signorini_contact::schur_factor`).
-fn interface_stiffness(data: &[CondensedData], n_gamma: usize) -> InterfaceStiffness {
     if data.len() > 1 {
-        let blocks: Vec<(&[usize], &[f64])> = data
-            .iter()
-            .map(|d| (d.gamma.as_slice(), d.schur.as_slice()))
+        let blocks = data
+            .iter_mut()
+            .map(|d| SchurBlock {
+                gamma: d.gamma.clone(),
+                values: std::mem::take(&mut d.schur),
+            })
             .collect();
-        return InterfaceStiffness::from_blocks(n_gamma, &blocks);
+        return InterfaceStiffness::Blocks { n: n_gamma, blocks };
     }
     let mut s = Mat::<f64>::zeros(n_gamma, n_gamma);
     for d in data {
@@ -403,6 +396,7 @@ fn interface_stiffness(data: &[CondensedData], n_gamma: usize) -> InterfaceStiff
                 s[(d.gamma[i], d.gamma[j])] += d.schur[i + nb * j];
             }
         }
+        d.schur = Vec::new();
     }
     InterfaceStiffness::Dense(s)
 }
