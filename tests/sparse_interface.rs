@@ -40,7 +40,10 @@ fn sphere_in_8_and_32_parts_equals_the_unsplit_sphere_with_a_tree_factor() {
         assert!(i.factor_bytes < 8 * n * n / 2, "{parts} parts: {i:?}");
         assert_eq!(i.ordering.as_deref(), Some("subdomain_tree"));
         let flops = i.sparse_flops.expect("the tree's flops");
-        assert!(flops > 0.0 && flops < (n as f64).powi(3) / 6.0, "{parts} parts: {i:?}");
+        assert!(
+            flops > 0.0 && flops < (n as f64).powi(3) / 6.0,
+            "{parts} parts: {i:?}"
+        );
         assert_eq!(i.fixing_dofs, 0, "the sphere is held");
         assert_same(&a, &b, 1e-8);
     }
