@@ -111,30 +111,7 @@ impl TreeFactor {
             .iter()
             .filter(|&&i| i < n)
             .for_each(|&i| keep[i] = true);
-        let mut holders = vec![0usize; n];
-        let mut fixing = Fixing {
-            is_fixed: vec![false; n],
-            first_holder: vec![usize::MAX; n],
-            scale,
-        };
-        fixed.iter().for_each(|&d| fixing.is_fixed[d] = true);
-        for (leaf, b) in blocks.iter().enumerate().rev() {
-            for &d in &b.gamma {
-                holders[d] += 1;
-                fixing.first_holder[d] = leaf;
-            }
-        }
-        let mut groups: Vec<Group> = blocks
-            .iter()
-            .enumerate()
-            .map(|(leaf, b)| Group {
-                dofs: b.gamma.clone(),
-                t: Entries::Block {
-                    values: &b.values,
-                    leaf,
-                },
-            })
-            .collect();
+        let (mut groups, mut holders, fixing) = leaves(n, blocks, fixed, scale);
         let mut fronts = Vec::new();
         let mut flops = 0.0;
         while let Some(sets) = pairing(&groups, n) {
@@ -153,17 +130,13 @@ impl TreeFactor {
         let par = faer::get_global_parallelism();
         let mut tops = Vec::with_capacity(groups.len());
         for g in groups {
-            let (front, top, top_flops) =
+            let (front, dofs, mut l, top_flops) =
                 merge_and_eliminate(vec![g], |d, _| !keep[d], &fixing, par)?;
             fronts.extend(front);
-            let mut l = match top.t {
-                Entries::Lower(t) => t,
-                Entries::Block { .. } => unreachable!("a merge leaves a lower triangle"),
-            };
             crate::recursive_cholesky::cholesky(l.as_mut(), par)
                 .map_err(|_| NotPositiveDefinite)?;
             flops += top_flops + (l.nrows() as f64).powi(3) / 3.0;
-            tops.push(Top { dofs: top.dofs, l });
+            tops.push(Top { dofs, l });
         }
         let bytes = 8 * fronts
             .iter()
@@ -240,6 +213,41 @@ fn scatter(x: &mut MatMut<'_, f64>, rows: &[usize], v: &Mat<f64>, add: bool) {
     }
 }
 
+/// The subdomains' blocks as groups (borrowed, not copied), how many hold
+/// each Γ DOF, and the fixing DOFs with the first block holding each.
+fn leaves<'a>(
+    n: usize,
+    blocks: &'a [SchurBlock],
+    fixed: &[usize],
+    scale: f64,
+) -> (Vec<Group<'a>>, Vec<usize>, Fixing) {
+    let mut holders = vec![0usize; n];
+    let mut fixing = Fixing {
+        is_fixed: vec![false; n],
+        first_holder: vec![usize::MAX; n],
+        scale,
+    };
+    fixed.iter().for_each(|&d| fixing.is_fixed[d] = true);
+    for (leaf, b) in blocks.iter().enumerate().rev() {
+        for &d in &b.gamma {
+            holders[d] += 1;
+            fixing.first_holder[d] = leaf;
+        }
+    }
+    let groups = blocks
+        .iter()
+        .enumerate()
+        .map(|(leaf, b)| Group {
+            dofs: b.gamma.clone(),
+            t: Entries::Block {
+                values: &b.values,
+                leaf,
+            },
+        })
+        .collect();
+    (groups, holders, fixing)
+}
+
 /// The groups of one level in sets to merge: pairs sharing the most DOFs
 /// first, each group in one set; a group left over passes on alone. None
 /// when no two groups share a DOF (what is left is one group per body).
@@ -302,7 +310,9 @@ fn merge_level<'a>(
             let g = set.into_iter().next().unwrap_or_else(empty_group);
             return Ok((None, g, 0.0));
         }
-        merge_and_eliminate(set, own, fixing, par)
+        let (front, dofs, t, flops) = merge_and_eliminate(set, own, fixing, par)?;
+        let t = Entries::Lower(t);
+        Ok((front, Group { dofs, t }, flops))
     });
     let mut out = Vec::with_capacity(results.len());
     let mut fronts = Vec::new();
@@ -316,16 +326,19 @@ fn merge_level<'a>(
     Ok((out, fronts, flops))
 }
 
+/// What a merge gives: its front (None when it eliminated nothing), the
+/// DOFs that remain (sorted), the lower triangle T on them, its flops.
+type Merged = (Option<Front>, Vec<usize>, Mat<f64>, f64);
+
 /// Adds the groups of `set` on the union of their DOFs, ordered with the
 /// DOFs `own(dof, groups of the set holding it)` first, and eliminates
-/// those (module doc): the front (None when there is none to eliminate),
-/// the group of what remains, and the flops.
-fn merge_and_eliminate<'a>(
+/// those (module doc).
+fn merge_and_eliminate(
     set: Vec<Group<'_>>,
     own: impl Fn(usize, usize) -> bool,
     fixing: &Fixing,
     par: Par,
-) -> Result<(Option<Front>, Group<'a>, f64), NotPositiveDefinite> {
+) -> Result<Merged, NotPositiveDefinite> {
     let mut union: Vec<usize> = set.iter().flat_map(|g| g.dofs.iter().copied()).collect();
     union.sort_unstable();
     let mut held: Vec<(usize, usize)> = Vec::with_capacity(union.len());
@@ -357,8 +370,7 @@ fn merge_and_eliminate<'a>(
     }
     drop(set);
     if ne == 0 {
-        let t = Entries::Lower(f);
-        return Ok((None, Group { dofs: remaining, t }, 0.0));
+        return Ok((None, remaining, f, 0.0));
     }
     let (mut ee, _, mut re, mut rr) = f.as_mut().split_at_mut(ne, ne);
     crate::recursive_cholesky::cholesky(ee.rb_mut(), par).map_err(|_| NotPositiveDefinite)?;
@@ -383,8 +395,8 @@ fn merge_and_eliminate<'a>(
         eliminated,
         remaining: remaining.clone(),
     };
-    let t = Entries::Lower(rr.rb().to_owned());
-    Ok((Some(front), Group { dofs: remaining, t }, flops))
+    let t = rr.rb().to_owned();
+    Ok((Some(front), remaining, t, flops))
 }
 
 /// Adds the lower triangle of group `g` into that of `f`, its DOF k at
