@@ -113,7 +113,7 @@ impl DelassusOperator {
     /// stiffness `s`, the contact rows `b` (over interface DOFs) and the
     /// kernel `kernel` (n × k, k = 0 without floating bodies).
     pub fn new(s: &Mat<f64>, b: &[SparseRow], kernel: &Mat<f64>) -> Result<Self, ContactError> {
-        Self::of_stiffness(&InterfaceStiffness::Dense(s.clone()), b, kernel, false)
+        Self::of_stiffness(InterfaceStiffness::Dense(s.clone()), b, kernel, false)
     }
 
     /// As [`DelassusOperator::new`], and estimates the condition number κ₁ of
@@ -125,7 +125,7 @@ impl DelassusOperator {
         b: &[SparseRow],
         kernel: &Mat<f64>,
     ) -> Result<Self, ContactError> {
-        Self::of_stiffness(&InterfaceStiffness::Dense(s.clone()), b, kernel, true)
+        Self::of_stiffness(InterfaceStiffness::Dense(s.clone()), b, kernel, true)
     }
 
     /// Builds the operator from an interface stiffness dense or in blocks
@@ -133,7 +133,7 @@ impl DelassusOperator {
     /// subdomains, [`SchurFactor`]), estimating the
     /// condition of the matrix factorised when `estimate_condition`.
     pub fn of_stiffness(
-        s: &InterfaceStiffness,
+        s: InterfaceStiffness,
         b: &[SparseRow],
         kernel: &Mat<f64>,
         estimate_condition: bool,
@@ -146,7 +146,7 @@ impl DelassusOperator {
             Mat::zeros(n, 0)
         };
         if k > 0 {
-            check_kernel(s, &r)?;
+            check_kernel(&s, &r)?;
         }
         let mut contact: Vec<usize> = b.iter().flatten().map(|&(i, _)| i).collect();
         contact.sort_unstable();

@@ -43,16 +43,16 @@ pub struct SchurBlock {
 
 /// A group of subdomains merged so far: the Γ DOFs it still holds and
 /// what S̃ is on them once the group's own glue is gone.
-struct Group<'a> {
+struct Group {
     dofs: Vec<usize>,
-    t: Entries<'a>,
+    t: Entries,
 }
 
 /// A group's matrix: a subdomain's block as it came (column-major, both
 /// triangles, on its Γ DOFs in their order; `leaf` its index), or the lower
 /// triangle of what a merge left.
-enum Entries<'a> {
-    Block { values: &'a [f64], leaf: usize },
+enum Entries {
+    Block { values: Vec<f64>, leaf: usize },
     Lower(Mat<f64>),
 }
 
@@ -101,7 +101,7 @@ impl TreeFactor {
     /// `contact` DOFs last, the `fixed` DOFs (sorted) replaced by `scale`·I.
     pub fn new(
         n: usize,
-        blocks: &[SchurBlock],
+        blocks: Vec<SchurBlock>,
         contact: &[usize],
         fixed: &[usize],
         scale: f64,
@@ -196,7 +196,7 @@ impl TreeFactor {
     }
 }
 
-fn empty_group<'a>() -> Group<'a> {
+fn empty_group() -> Group {
     Group {
         dofs: Vec::new(),
         t: Entries::Lower(Mat::zeros(0, 0)),
@@ -213,14 +213,15 @@ fn scatter(x: &mut MatMut<'_, f64>, rows: &[usize], v: &Mat<f64>, add: bool) {
     }
 }
 
-/// The subdomains' blocks as groups (borrowed, not copied), how many hold
-/// each Γ DOF, and the fixing DOFs with the first block holding each.
-fn leaves<'a>(
+/// The subdomains' blocks as groups (moved, not copied: each leaves memory
+/// once merged), how many hold each Γ DOF, and the fixing DOFs with the
+/// first block holding each.
+fn leaves(
     n: usize,
-    blocks: &'a [SchurBlock],
+    blocks: Vec<SchurBlock>,
     fixed: &[usize],
     scale: f64,
-) -> (Vec<Group<'a>>, Vec<usize>, Fixing) {
+) -> (Vec<Group>, Vec<usize>, Fixing) {
     let mut holders = vec![0usize; n];
     let mut fixing = Fixing {
         is_fixed: vec![false; n],
@@ -235,12 +236,12 @@ fn leaves<'a>(
         }
     }
     let groups = blocks
-        .iter()
+        .into_iter()
         .enumerate()
         .map(|(leaf, b)| Group {
-            dofs: b.gamma.clone(),
+            dofs: b.gamma,
             t: Entries::Block {
-                values: &b.values,
+                values: b.values,
                 leaf,
             },
         })
@@ -285,13 +286,13 @@ fn pairing(groups: &[Group], n: usize) -> Option<Vec<Vec<usize>>> {
 /// Merges each set of groups and eliminates the DOFs no other group holds
 /// (`holders` counts the groups holding each DOF) unless kept; the merges
 /// run side by side, one per core, when there are enough of them.
-fn merge_level<'a>(
-    groups: Vec<Group<'a>>,
+fn merge_level(
+    groups: Vec<Group>,
     sets: Vec<Vec<usize>>,
     holders: &[usize],
     keep: &[bool],
     fixing: &Fixing,
-) -> Result<(Vec<Group<'a>>, Vec<Front>, f64), NotPositiveDefinite> {
+) -> Result<(Vec<Group>, Vec<Front>, f64), NotPositiveDefinite> {
     let mut slots: Vec<Option<Group>> = groups.into_iter().map(Some).collect();
     let sets: Vec<Vec<Group>> = sets
         .iter()
@@ -334,7 +335,7 @@ type Merged = (Option<Front>, Vec<usize>, Mat<f64>, f64);
 /// DOFs `own(dof, groups of the set holding it)` first, and eliminates
 /// those (module doc).
 fn merge_and_eliminate(
-    set: Vec<Group<'_>>,
+    set: Vec<Group>,
     own: impl Fn(usize, usize) -> bool,
     fixing: &Fixing,
     par: Par,

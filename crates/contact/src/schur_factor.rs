@@ -180,7 +180,7 @@ impl SchurFactor {
     /// sparse S is factorised with them last, so that W needs only the
     /// trailing block of the factor, [`Self::delassus`]).
     pub fn new(
-        s: &InterfaceStiffness,
+        s: InterfaceStiffness,
         r: &Mat<f64>,
         contact: &[usize],
     ) -> Result<Self, ContactError> {
@@ -188,8 +188,8 @@ impl SchurFactor {
         contact.sort_unstable();
         contact.dedup();
         match s {
-            InterfaceStiffness::Dense(s) => Self::dense(s, r, contact),
-            InterfaceStiffness::Blocks { n, blocks } => Self::tree(*n, blocks, r, contact),
+            InterfaceStiffness::Dense(s) => Self::dense(&s, r, contact),
+            InterfaceStiffness::Blocks { n, blocks } => Self::tree(n, blocks, r, contact),
         }
     }
 
@@ -248,18 +248,19 @@ impl SchurFactor {
     /// the identity) over the tree of subdomains, the contact DOFs last.
     fn tree(
         n: usize,
-        blocks: &[SchurBlock],
+        blocks: Vec<SchurBlock>,
         r: &Mat<f64>,
         contact: Vec<usize>,
     ) -> Result<Self, ContactError> {
         let fixed = fixing_dofs(r);
-        let scale = regularisation_scale(&blocks_diagonal(n, blocks));
+        let scale = regularisation_scale(&blocks_diagonal(n, &blocks));
+        let norm1 = blocks_norm1(n, &blocks, &fixed, scale);
+        let matrix_nnz = blocks.iter().map(|b| b.gamma.len().pow(2)).sum();
         let tree =
             TreeFactor::new(n, blocks, &contact, &fixed, scale).map_err(|_| not_definite())?;
-        let norm1 = blocks_norm1(n, blocks, &fixed, scale);
         let stats = InterfaceFactorStats {
             storage: "tree",
-            matrix_nnz: blocks.iter().map(|b| b.gamma.len().pow(2)).sum(),
+            matrix_nnz,
             tree: Some((tree.flops, tree.bytes / 8)),
             factor_bytes: tree.bytes,
             fixing_dofs: fixed.len(),
@@ -591,9 +592,9 @@ mod tests {
             let bt = b_transpose(n, &rows);
             let x = plain_solve(&dense, &r, &bt);
             let plain = bt.transpose() * &x;
-            let one = SchurFactor::new(&InterfaceStiffness::Dense(dense.clone()), &r, &[40, 3, 17])
+            let one = SchurFactor::new(InterfaceStiffness::Dense(dense.clone()), &r, &[40, 3, 17])
                 .unwrap();
-            let tree = SchurFactor::new(&blocks, &r, &[40, 3, 17]).unwrap();
+            let tree = SchurFactor::new(blocks, &r, &[40, 3, 17]).unwrap();
             assert_eq!(
                 (one.stats().storage, tree.stats().storage),
                 ("dense", "tree")
@@ -624,11 +625,11 @@ mod tests {
             let (n, blocks, dense) = ring(parts, 12, 3, 0.0);
             let r = constants(n);
             let bt = b_transpose(n, &rows);
-            let one = SchurFactor::new(&InterfaceStiffness::Dense(dense.clone()), &r, &[3, 17, 40])
+            let one = SchurFactor::new(InterfaceStiffness::Dense(dense.clone()), &r, &[3, 17, 40])
                 .unwrap();
             let plain = bt.transpose() * plain_solve(&dense, &r, &bt);
             assert!((one.delassus(&rows).unwrap() - &plain).norm_max() <= 1e-12 * plain.norm_max());
-            let tree = SchurFactor::new(&blocks, &r, &[3, 17, 40]).unwrap();
+            let tree = SchurFactor::new(blocks, &r, &[3, 17, 40]).unwrap();
             assert_eq!(tree.stats().fixing_dofs, 1);
             for f in [&one, &tree] {
                 let mut x = dense.clone();
@@ -686,7 +687,7 @@ mod tests {
             .map(|&i| vec![(i, 1.0)])
             .chain([vec![(1, 0.5), (n1 + 2, -0.5)]])
             .collect();
-        let f = SchurFactor::new(&s, &r, &contact).unwrap();
+        let f = SchurFactor::new(s, &r, &contact).unwrap();
         let mut x = dense.clone();
         f.solve_in_place(x.as_mut());
         assert!((&dense * &x - &dense).norm_max() <= 1e-10 * dense.norm_max());

@@ -61,7 +61,7 @@ impl RootConditioning {
 /// (from the factorisation `new` makes) and κ(W) (before any slip
 /// compliance is added to W).
 pub(crate) fn delassus_operator(
-    s: &InterfaceStiffness,
+    s: InterfaceStiffness,
     rows: &[SparseRow],
     kernel: &Mat<f64>,
     cond: &mut RootConditioning,
@@ -69,9 +69,10 @@ pub(crate) fn delassus_operator(
     if cond.done {
         return DelassusOperator::of_stiffness(s, rows, kernel, false);
     }
+    let n = s.nrows();
     let p = DelassusOperator::of_stiffness(s, rows, kernel, true)?;
     cond.done = true;
-    cond.interface = Some(interface_report(p.interface_factor(), s.nrows()));
+    cond.interface = Some(interface_report(p.interface_factor(), n));
     cond.s = p.s_condition();
     if p.n_kernel() > 0 {
         cond.notes.push(format!(
@@ -285,15 +286,15 @@ mod tests {
         let s = Mat::<f64>::from_fn(3, 3, |i, j| if i == j { [1.0, 4.0, 2.0][i] } else { 0.0 });
         let rows: Vec<SparseRow> = vec![vec![(0, 1.0)], vec![(1, 1.0), (2, 1.0)]];
         let kernel = Mat::<f64>::zeros(3, 0);
-        let s = InterfaceStiffness::Dense(s);
+        let stiffness = || InterfaceStiffness::Dense(s.clone());
         let mut cond = RootConditioning::default();
-        let p = delassus_operator(&s, &rows, &kernel, &mut cond).unwrap();
+        let p = delassus_operator(stiffness(), &rows, &kernel, &mut cond).unwrap();
         assert_eq!(p.s_condition(), Some(4.0));
         assert!((cond.s.unwrap() - 4.0).abs() < 1e-14);
         assert!((cond.w.unwrap() - 1.0 / 0.75).abs() < 1e-14, "{:?}", cond.w);
         assert!(cond.warnings.is_empty());
         // later steps do not estimate again
-        let p = delassus_operator(&s, &rows, &kernel, &mut cond).unwrap();
+        let p = delassus_operator(stiffness(), &rows, &kernel, &mut cond).unwrap();
         assert_eq!(p.s_condition(), None);
         assert!((cond.s.unwrap() - 4.0).abs() < 1e-14);
     }
@@ -304,7 +305,7 @@ mod tests {
         let rows: Vec<SparseRow> = vec![vec![(0, 1.0)], vec![(0, 1.0)]];
         let mut cond = RootConditioning::default();
         delassus_operator(
-            &InterfaceStiffness::Dense(s),
+            InterfaceStiffness::Dense(s),
             &rows,
             &Mat::zeros(2, 0),
             &mut cond,

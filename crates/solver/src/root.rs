@@ -315,7 +315,7 @@ impl<'a> RootSolve<'a> {
             let s = stiffness.ok_or_else(|| {
                 ContactError::Solve("the interface stiffness was already factorised".into())
             })?;
-            conditioning::delassus_operator(&s, &interface.rows, &interface.kernel, cond)
+            conditioning::delassus_operator(s, &interface.rows, &interface.kernel, cond)
         })?;
         let (mut step, u) = match (&self.friction, self.history.as_mut(), &mut self.elements) {
             (_, _, Some(h)) => element_step(input, interface, h, op, load)?,
