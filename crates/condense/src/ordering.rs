@@ -270,29 +270,29 @@ pub fn order_and_analyse_with_last<T>(
     };
     let tried: Vec<OrderedSymbolic> = match choice {
         OrderingChoice::Only(kind) => vec![analyse(kind)?],
-        OrderingChoice::Auto
-            if adjncy.len() >= BOTH_AT_ONCE_EDGES
-                && faer::get_global_parallelism().degree() >= 2 =>
-        {
-            let (amd, nd) = std::thread::scope(|s| {
-                let nd = s.spawn(|| analyse(Ordering::NestedDissection));
-                (analyse(Ordering::Amd), nd.join())
-            });
-            let nd =
-                nd.map_err(|_| CondenseError::Factorisation("nested dissection failed".into()))?;
+        OrderingChoice::Auto => {
+            let at_once =
+                adjncy.len() >= BOTH_AT_ONCE_EDGES && faer::get_global_parallelism().degree() >= 2;
+            let (amd, nd) = if at_once {
+                std::thread::scope(|s| {
+                    let nd = s.spawn(|| analyse(Ordering::NestedDissection));
+                    let amd = analyse(Ordering::Amd);
+                    let nd = nd.join().unwrap_or_else(|_| {
+                        Err(CondenseError::Factorisation(
+                            "nested dissection failed".into(),
+                        ))
+                    });
+                    (amd, Some(nd))
+                })
+            } else {
+                (analyse(Ordering::Amd), None)
+            };
             let amd = amd?;
             if amd.stats.flops < ND_WORTH_TRYING_FLOPS {
                 vec![amd]
             } else {
-                vec![amd, nd?]
-            }
-        }
-        OrderingChoice::Auto => {
-            let amd = analyse(Ordering::Amd)?;
-            if amd.stats.flops < ND_WORTH_TRYING_FLOPS {
-                vec![amd]
-            } else {
-                vec![amd, analyse(Ordering::NestedDissection)?]
+                let nd = nd.unwrap_or_else(|| analyse(Ordering::NestedDissection))?;
+                vec![amd, nd]
             }
         }
     };

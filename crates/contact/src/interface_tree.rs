@@ -181,10 +181,7 @@ impl TreeFactor {
             scatter(&mut x, &f.remaining, &(-update), true);
         }
         for top in &self.tops {
-            let mut xc = gather(&x, &top.dofs);
-            solve_lower_triangular_in_place(top.l.as_ref(), xc.as_mut(), par);
-            solve_upper_triangular_in_place(top.l.transpose(), xc.as_mut(), par);
-            scatter(&mut x, &top.dofs, &xc, false);
+            crate::schur_factor::dense_solve(&top.l, &top.dofs, x.rb_mut(), par);
         }
         for f in self.fronts.iter().rev() {
             let xr = gather(&x, &f.remaining);
@@ -193,13 +190,6 @@ impl TreeFactor {
             solve_upper_triangular_in_place(f.l_ee.transpose(), xe.as_mut(), par);
             scatter(&mut x, &f.eliminated, &xe, false);
         }
-    }
-}
-
-fn empty_group() -> Group {
-    Group {
-        dofs: Vec::new(),
-        t: Entries::Lower(Mat::zeros(0, 0)),
     }
 }
 
@@ -307,10 +297,10 @@ fn merge_level(
     };
     let own = |d: usize, held: usize| held == holders[d] && !keep[d];
     let results = crate::threads::map_side_by_side(sets, workers, |set| {
-        if set.len() == 1 {
-            let g = set.into_iter().next().unwrap_or_else(empty_group);
-            return Ok((None, g, 0.0));
-        }
+        let set = match <[Group; 1]>::try_from(set) {
+            Ok([alone]) => return Ok((None, alone, 0.0)),
+            Err(set) => set,
+        };
         let (front, dofs, t, flops) = merge_and_eliminate(set, own, fixing, par)?;
         let t = Entries::Lower(t);
         Ok((front, Group { dofs, t }, flops))

@@ -176,9 +176,9 @@ fn not_definite() -> ContactError {
 
 impl SchurFactor {
     /// Factorises S, with `r` the orthonormal kernel (n × k, k = 0 without
-    /// floating bodies) and `contact` the Γ DOFs the contact rows touch (a
-    /// sparse S is factorised with them last, so that W needs only the
-    /// trailing block of the factor, [`Self::delassus`]).
+    /// floating bodies) and `contact` the Γ DOFs the contact rows touch
+    /// (eliminated last by either factor, so that W needs only the trailing
+    /// block of the factor, [`Self::delassus`]).
     pub fn new(
         s: InterfaceStiffness,
         r: &Mat<f64>,
@@ -280,7 +280,9 @@ impl SchurFactor {
     /// x ← S⁺ x, column by column.
     pub fn solve_in_place(&self, mut x: MatMut<'_, f64>) {
         match &self.kind {
-            FactorKind::Dense { l, order, .. } => dense_solve(l, order, x),
+            FactorKind::Dense { l, order, .. } => {
+                dense_solve(l, order, x, faer::get_global_parallelism())
+            }
             FactorKind::Tree { tree, fixed } => {
                 zero_rows(&mut x, fixed);
                 tree.solve_in_place(x.as_mut(), faer::get_global_parallelism());
@@ -330,7 +332,7 @@ impl SchurFactor {
         let inv = inverse_norm1_estimate(self.n, |x| {
             let xm = faer::MatMut::from_column_major_slice_mut(x, self.n, 1);
             match &self.kind {
-                FactorKind::Dense { l, order, .. } => dense_solve(l, order, xm),
+                FactorKind::Dense { l, order, .. } => dense_solve(l, order, xm, Par::Seq),
                 FactorKind::Tree { tree, .. } => tree.solve_in_place(xm, Par::Seq),
             }
         });
@@ -391,11 +393,11 @@ fn contact_last(n: usize, contact: &[usize]) -> Vec<usize> {
     order
 }
 
-/// x ← A⁻¹ x for L Lᵀ = P A Pᵀ, `order` the permutation P (factor row k is
-/// row `order[k]` of A).
-fn dense_solve(l: &Mat<f64>, order: &[usize], mut x: MatMut<'_, f64>) {
+/// x_P ← (L Lᵀ)⁻¹ x_P on the rows P = `order` of x (factor row k is row
+/// `order[k]` of x; the other rows are left alone): with P every row,
+/// x ← A⁻¹ x for L Lᵀ = P A Pᵀ.
+pub(crate) fn dense_solve(l: &Mat<f64>, order: &[usize], mut x: MatMut<'_, f64>, par: Par) {
     let mut y = Mat::<f64>::from_fn(order.len(), x.ncols(), |k, j| x[(order[k], j)]);
-    let par = faer::get_global_parallelism();
     faer::linalg::triangular_solve::solve_lower_triangular_in_place(l.as_ref(), y.as_mut(), par);
     faer::linalg::triangular_solve::solve_upper_triangular_in_place(l.transpose(), y.as_mut(), par);
     for (k, &i) in order.iter().enumerate() {
