@@ -21,7 +21,7 @@ pub(crate) fn check(path: &Path, solve_path: Option<SolvePath>) -> ExitCode {
     };
     let solve_path = solve_path.unwrap_or(sc.solver.path);
     // The memory of one process (under mpirun, `run` estimates for its ranks).
-    let estimate = match memory::check(&sc, solve_path, 1) {
+    let estimate = match memory::check(&sc, solve_path, 1, memory::ContactCounts::Surfaces) {
         Ok(e) => e,
         Err(e) => return fail(1, &e.to_string()),
     };

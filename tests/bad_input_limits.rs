@@ -290,3 +290,57 @@ fn bench_refuses_a_refinement_that_cannot_fit() {
     assert!(elapsed < Duration::from_secs(10), "{elapsed:?}");
     assert!(!dir.join("out").exists());
 }
+
+/// The slab of `examples/indent3d.toml` at 60 × 60 × 2 cells (3 721 top
+/// nodes), its candidate zone `zone` (`None`: every top node).
+fn slab_with_zone(zone: Option<&str>) -> String {
+    let path = format!("{}/examples/indent3d.toml", env!("CARGO_MANIFEST_DIR"));
+    let text = std::fs::read_to_string(path).unwrap();
+    assert!(text.contains("divisions = [40, 40, 2]") && text.contains("search_distance = 0.01"));
+    let text = text.replace("divisions = [40, 40, 2]", "divisions = [60, 60, 2]");
+    match zone {
+        Some(d) => text.replace("search_distance = 0.01", &format!("search_distance = {d}")),
+        None => text.replace("search_distance = 0.01\n", ""),
+    }
+}
+
+#[test]
+fn a_candidate_zone_is_counted_in_the_memory_estimate_once_built() {
+    // every top node a contact unknown: a dense interface of 3 721 DOFs,
+    // refused before anything is built
+    let run = run_scene(
+        "zone_none",
+        Some(&slab_with_zone(None)),
+        &["--max-memory", "1G"],
+    );
+    run.assert_bad_input(&["3721 interface DOFs", "--max-memory is 1.0 GiB"]);
+    // a zone of about a hundred nodes fits, and the report's estimate counts it
+    let run = run_scene(
+        "zone_small",
+        Some(&slab_with_zone(Some("0.01"))),
+        &["--max-memory", "1G"],
+    );
+    assert_eq!(run.output.status.code(), Some(0), "{}", run.describe());
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(run.out_dir().join("report.json")).unwrap())
+            .unwrap();
+    let estimated = report["memory"]["estimated_bytes"].as_f64().unwrap();
+    let points = report["contact_points"].as_f64().unwrap();
+    assert!((50.0..400.0).contains(&points), "{points} contact points");
+    assert!(
+        estimated < 0.5 * 1024f64.powi(3),
+        "estimated {estimated} bytes"
+    );
+    // a zone that keeps every node is refused once built, naming its size
+    let run = run_scene(
+        "zone_wide",
+        Some(&slab_with_zone(Some("10.0"))),
+        &["--max-memory", "1G"],
+    );
+    run.assert_bad_input(&["interface DOFs", "--max-memory is 1.0 GiB"]);
+    assert!(
+        !run.stderr().contains(" 0 interface DOFs"),
+        "{}",
+        run.describe()
+    );
+}

@@ -588,7 +588,13 @@ fn report_of(
             peak_rss_bytes: signorini_report::peak_rss_bytes(),
             dense_interface_bytes: partial.dense_interface_bytes,
             factor_bytes: partial.factor_bytes,
-            estimated_bytes: memory::estimate(sc, path, comm.size()).bytes(),
+            estimated_bytes: memory::estimate(
+                sc,
+                path,
+                comm.size(),
+                memory::ContactCounts::Built(&model.kept_contacts(sc.contact.len())),
+            )
+            .bytes(),
         },
         factorisation: partial.factorisation,
         communication_bytes,

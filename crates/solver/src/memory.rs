@@ -216,6 +216,9 @@ pub struct Estimate {
     pub interface_dofs: f64,
     /// Contact rows (normal and tangential).
     pub contact_rows: f64,
+    /// The contacts whose unknowns are not counted yet (a candidate zone
+    /// before the model is built, [`ContactCounts::Surfaces`]).
+    pub uncounted: Vec<String>,
 }
 
 impl Estimate {
@@ -246,8 +249,15 @@ impl Estimate {
         } else {
             format!(" ({})", parts.join(", "))
         };
+        let uncounted = match self.uncounted.as_slice() {
+            [] => String::new(),
+            names => format!(
+                " (without the contact unknowns of {}: counted once its candidate zone, search_distance, is built)",
+                names.join(", ")
+            ),
+        };
         format!(
-            "about {}{parts} for {} nodes, {} DOFs, {} interface DOFs, {} contact rows",
+            "about {}{parts} for {} nodes, {} DOFs, {} interface DOFs, {} contact rows{uncounted}",
             human(self.total),
             count(self.nodes),
             count(self.dofs),
@@ -598,10 +608,38 @@ fn factor_entries(n: f64, nb: f64, dim: usize, body_n: f64, width: f64) -> f64 {
     interior + nb * (INTERFACE_FILL * nb).min(ni) + 0.5 * nb * nb
 }
 
+/// The contact unknowns a contact brings to a run (after its candidate
+/// zone and redundant rows are dropped).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct KeptContact {
+    /// Contact points (one per kept slave node).
+    pub points: f64,
+    /// DOFs of a deformable master that the kept points' rows hold.
+    pub master_dofs: f64,
+}
+
+/// What an estimate knows of the contact unknowns.
+#[derive(Debug, Clone, Copy)]
+pub enum ContactCounts<'a> {
+    /// Nothing is built: a contact brings its whole slave and master
+    /// surfaces, except one with a candidate zone (`search_distance`),
+    /// whose nodes are not known yet and count as none (the estimate after
+    /// the model is built counts them).
+    Surfaces,
+    /// The model is built: per contact of the scene, what it keeps.
+    Built(&'a [KeptContact]),
+}
+
 /// Estimates the peak memory of `signorini run` on this scene, along
-/// `path`, with `ranks` MPI ranks (for `subdomains = "auto"`). Nothing is
-/// built; a Gmsh file's header is read.
-pub fn estimate(sc: &scene::Scene, path: scene::SolvePath, ranks: usize) -> Estimate {
+/// `path`, with `ranks` MPI ranks (for `subdomains = "auto"`), the contact
+/// unknowns counted as `counts` says. Nothing is built; a Gmsh file's header
+/// is read.
+pub fn estimate(
+    sc: &scene::Scene,
+    path: scene::SolvePath,
+    ranks: usize,
+    counts: ContactCounts,
+) -> Estimate {
     let dim = sc.dimension as usize;
     let direct = path == scene::SolvePath::Direct;
     let steps = sc.step_scales().len().max(1) as f64;
@@ -618,20 +656,39 @@ pub fn estimate(sc: &scene::Scene, path: scene::SolvePath, ranks: usize) -> Esti
     // against a rigid master, crates/solver/src/contact_frames.rs).
     let mut contact_dofs = vec![0.0; sc.bodies.len()];
     let mut rows = 0.0;
-    for c in &sc.contact {
-        let slave = c
-            .slave
-            .surface
-            .as_deref()
-            .and_then(|s| body_of(&c.slave.body).map(|b| b.surface(s)))
-            .unwrap_or(0.0);
+    let mut uncounted = Vec::new();
+    for (ci, c) in sc.contact.iter().enumerate() {
+        let surface = |side: &scene::ContactSide| {
+            side.surface
+                .as_deref()
+                .and_then(|s| body_of(&side.body).map(|b| b.surface(s)))
+                .unwrap_or(0.0)
+        };
+        let kept = match counts {
+            ContactCounts::Built(kept) => kept.get(ci).copied(),
+            ContactCounts::Surfaces if c.search_distance.is_some() => None,
+            ContactCounts::Surfaces => Some(KeptContact {
+                points: surface(&c.slave),
+                master_dofs: dim as f64 * surface(&c.master),
+            }),
+        };
+        let KeptContact {
+            points: slave,
+            master_dofs,
+        } = kept.unwrap_or_else(|| {
+            uncounted.push(format!("contact \"{}\"", c.name));
+            KeptContact {
+                points: 0.0,
+                master_dofs: 0.0,
+            }
+        });
         let rigid_master = c.master.surface.is_none();
         let normal_only = rigid_master && matches!(c.friction, scene::Friction::None);
         if let Some(i) = sc.body_index(&c.slave.body) {
             contact_dofs[i] += slave * if normal_only { 1.0 } else { dim as f64 };
         }
-        if let (Some(i), Some(s)) = (sc.body_index(&c.master.body), c.master.surface.as_deref()) {
-            contact_dofs[i] += dim as f64 * body_of(&c.master.body).map_or(0.0, |b| b.surface(s));
+        if let Some(i) = sc.body_index(&c.master.body).filter(|_| !rigid_master) {
+            contact_dofs[i] += master_dofs;
         }
         let tangential = match c.friction {
             scene::Friction::None => 0.0,
@@ -641,6 +698,7 @@ pub fn estimate(sc: &scene::Scene, path: scene::SolvePath, ranks: usize) -> Esti
     }
     let mut e = Estimate {
         contact_rows: rows,
+        uncounted,
         ..Default::default()
     };
     let mut subdomain_dense = 0.0;
@@ -717,8 +775,9 @@ pub fn check(
     sc: &scene::Scene,
     path: scene::SolvePath,
     ranks: usize,
+    counts: ContactCounts,
 ) -> Result<Estimate, SolveError> {
-    let e = estimate(sc, path, ranks);
+    let e = estimate(sc, path, ranks, counts);
     let Some(budget) = budget() else {
         return Ok(e);
     };
@@ -778,183 +837,4 @@ fn suggest(bytes: f64) -> String {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    fn scene(mesh: &str, dim: u8) -> scene::Scene {
-        let (surface, rigid) = if dim == 3 {
-            (
-                "zmin",
-                "rigid = { shape = \"plane\", point = [0.0, 0.0, 0.0], normal = [0.0, 0.0, 1.0] }",
-            )
-        } else {
-            (
-                "bottom",
-                "rigid = { shape = \"plane\", point = [0.0, 0.0], normal = [0.0, 1.0] }",
-            )
-        };
-        scene::parse_toml(&format!(
-            "dimension = {dim}\n[[materials]]\nname = \"s\"\nyoung = 1.0\npoisson = 0.3\n[[bodies]]\nname = \"b\"\nmaterial = \"s\"\nmesh = {mesh}\n[[bodies]]\nname = \"g\"\n{rigid}\n[[contact]]\nname = \"c\"\nslave = {{ body = \"b\", surface = \"{surface}\" }}\nmaster = {{ body = \"g\" }}\n"
-        ))
-        .unwrap()
-    }
-
-    #[test]
-    fn sizes_match_the_generators() {
-        use signorini_mesh::generators as g;
-        use signorini_mesh::CellKind;
-        let close = |what: &str, est: f64, real: usize| {
-            let r = est / real as f64;
-            assert!(
-                (0.97..=1.1).contains(&r),
-                "{what}: estimated {est}, real {real}"
-            );
-        };
-        for (el, kind) in [
-            (scene::Element::Quad4, CellKind::Quad4),
-            (scene::Element::Tri3, CellKind::Tri3),
-            (scene::Element::Quad8, CellKind::Quad8),
-            (scene::Element::Tri6, CellKind::Tri6),
-        ] {
-            let m = g::rectangle([0.0, 0.0], [1.0, 1.0], [7, 3], kind, None).unwrap();
-            let body = scene::Body {
-                name: "b".into(),
-                material: None,
-                subdomains: Default::default(),
-                mesh: Some(scene::MeshSpec::Generator(scene::Generator::Rectangle {
-                    origin: [0.0, 0.0],
-                    size: [1.0, 1.0],
-                    divisions: [7, 3],
-                    element: el,
-                    grading: None,
-                })),
-                rigid: None,
-                formulation: Default::default(),
-            };
-            let s = body_size(&body, 2).unwrap();
-            assert_eq!(s.nodes as usize, m.n_nodes(), "{el:?}");
-            assert_eq!(s.cells as usize, m.cells.len(), "{el:?}");
-            let bottom = m.surface("bottom").unwrap().nodes().len();
-            assert_eq!(s.surface("bottom") as usize, bottom, "{el:?}");
-            for (n, grading) in [(8, 1.0), (40, 1.0), (160, 16.0)] {
-                let m = g::half_disk([0.0, 1.0], 1.0, n, [0.0, -1.0], grading, kind).unwrap();
-                let body = scene::Body {
-                    mesh: Some(scene::MeshSpec::Generator(scene::Generator::HalfDisk {
-                        center: [0.0, 1.0],
-                        radius: 1.0,
-                        divisions: n,
-                        pole: [0.0, -1.0],
-                        grading,
-                        element: el,
-                    })),
-                    ..body.clone()
-                };
-                let s = body_size(&body, 2).unwrap();
-                close(&format!("half_disk {n} {el:?} nodes"), s.nodes, m.n_nodes());
-                close(
-                    &format!("half_disk {n} {el:?} cells"),
-                    s.cells,
-                    m.cells.len(),
-                );
-                let arc = m.surface("arc").unwrap().nodes().len();
-                close(&format!("half_disk {n} {el:?} arc"), s.surface("arc"), arc);
-                let m = g::quarter_disk([0.0, 1.0], 1.0, n, grading, kind).unwrap();
-                let body = scene::Body {
-                    mesh: Some(scene::MeshSpec::Generator(scene::Generator::QuarterDisk {
-                        center: [0.0, 1.0],
-                        radius: 1.0,
-                        divisions: n,
-                        grading,
-                        element: el,
-                    })),
-                    ..body.clone()
-                };
-                let s = body_size(&body, 2).unwrap();
-                close(
-                    &format!("quarter_disk {n} {el:?} nodes"),
-                    s.nodes,
-                    m.n_nodes(),
-                );
-                close(
-                    &format!("quarter_disk {n} {el:?} cells"),
-                    s.cells,
-                    m.cells.len(),
-                );
-            }
-        }
-        for (el, kind) in [
-            (scene::Element::Hex8, CellKind::Hex8),
-            (scene::Element::Tet4, CellKind::Tet4),
-        ] {
-            let m = g::box_mesh([0.0; 3], [1.0; 3], [4, 3, 2], kind, None).unwrap();
-            let sc = scene(
-                &format!("{{ generator = \"box\", origin = [0.0, 0.0, 0.0], size = [1.0, 1.0, 1.0], divisions = [4, 3, 2], element = \"{}\" }}", el.as_str()),
-                3,
-            );
-            let s = body_size(&sc.bodies[0], 3).unwrap();
-            assert_eq!(s.nodes as usize, m.n_nodes());
-            assert_eq!(s.cells as usize, m.cells.len());
-            let zmin = m.surface("zmin").unwrap().nodes().len();
-            assert_eq!(s.surface("zmin") as usize, zmin);
-        }
-        for (n, grading) in [(4, 1.0), (12, 8.0), (20, 1.0)] {
-            let m = g::hemisphere([0.0, 0.0, 1.0], 1.0, n, [0.0, 0.0, -1.0], grading).unwrap();
-            let sc = scene(
-                &format!("{{ generator = \"hemisphere\", center = [0.0, 0.0, 1.0], radius = 1.0, divisions = {n}, grading = {grading:.1} }}"),
-                3,
-            );
-            let s = body_size(&sc.bodies[0], 3).unwrap();
-            close(&format!("hemisphere {n} nodes"), s.nodes, m.n_nodes());
-            close(&format!("hemisphere {n} cells"), s.cells, m.cells.len());
-            let dome = m.surface("dome").unwrap().nodes().len();
-            close(&format!("hemisphere {n} dome"), s.surface("dome"), dome);
-        }
-    }
-
-    #[test]
-    fn the_3000_square_does_not_fit_in_24_gib_and_the_small_ones_do() {
-        let rect = |k: usize| {
-            scene(
-                &format!("{{ generator = \"rectangle\", origin = [0.0, 0.0], size = [1.0, 1.0], divisions = [{k}, {k}] }}"),
-                2,
-            )
-        };
-        let path = scene::SolvePath::Condensed;
-        let big = estimate(&rect(3000), path, 1);
-        assert!(big.total > 24.0 * GIB, "{}", big.describe());
-        assert!(big.total < 200.0 * GIB, "{}", big.describe());
-        // measured peaks (faer 0.24): 400²: 895 MiB, 800²: 3.6 GiB
-        let mid = estimate(&rect(400), path, 1);
-        assert!(
-            (0.9..1.6).contains(&(mid.total / (895.0 * 1024.0 * 1024.0))),
-            "{}",
-            mid.describe()
-        );
-        let small = estimate(&rect(40), path, 1);
-        assert!(small.total < 0.1 * GIB, "{}", small.describe());
-        // no overflow, however large
-        let huge = estimate(&rect(usize::MAX / 2), path, 1);
-        assert!(huge.total.is_finite() && huge.bytes() == u64::MAX);
-    }
-
-    #[test]
-    fn sizes_parse_with_units() {
-        assert_eq!(parse_size("64G").unwrap(), 64 << 30);
-        assert_eq!(parse_size("1.5 GiB").unwrap(), 3 << 29);
-        assert_eq!(parse_size("500m").unwrap(), 500 << 20);
-        assert_eq!(parse_size("2T").unwrap(), 2 << 40);
-        assert_eq!(parse_size("4096").unwrap(), 4096);
-        assert!(parse_size("lots").is_err());
-        assert!(parse_size("-3G").is_err());
-        assert!(parse_size("3 parsecs").is_err());
-        assert!(parse_size("nan").is_err());
-    }
-
-    #[test]
-    fn meminfo_is_read_here() {
-        if std::path::Path::new("/proc/meminfo").exists() {
-            let m = machine_memory().expect("/proc/meminfo has MemAvailable or MemTotal");
-            assert!(m.bytes > 64 << 20, "{m:?}");
-        }
-    }
-}
+mod tests;

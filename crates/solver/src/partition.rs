@@ -29,6 +29,34 @@ pub(crate) struct ModelData {
     pub scales: Vec<Vec<Vec<f64>>>,
 }
 
+impl ModelData {
+    /// What each contact of the scene keeps as unknowns: its contact points
+    /// and the DOFs of a deformable master their rows hold (for the memory
+    /// estimate once the candidate zones are known).
+    pub(crate) fn kept_contacts(&self, contacts: usize) -> Vec<memory::KeptContact> {
+        let mut master: Vec<std::collections::HashSet<(usize, usize)>> =
+            vec![Default::default(); contacts];
+        let mut points = vec![0.0; contacts];
+        for p in &self.points {
+            points[p.contact] += 1.0;
+            let rows = [Some(&p.row), p.trow.as_ref(), p.trow2.as_ref()];
+            for &(body, dof, _) in rows.into_iter().flatten().flatten() {
+                if body != p.slave_body {
+                    master[p.contact].insert((body, dof));
+                }
+            }
+        }
+        points
+            .into_iter()
+            .zip(master)
+            .map(|(points, m)| memory::KeptContact {
+                points,
+                master_dofs: m.len() as f64,
+            })
+            .collect()
+    }
+}
+
 /// Builds the bodies and the contact points (the candidates of `zone`, by
 /// default the scene's), drops redundant constraints, partitions the bodies
 /// over `ranks` (1 on the direct path) and numbers Γ; notes what a user

@@ -104,9 +104,9 @@ pub fn run_streamed(
     let plan = plan::plan(sc, opts)?;
     // Refuse a scene that cannot fit before building anything (the root's
     // verdict on every rank: the machines' memory may differ).
-    let fits = comm
-        .is_root()
-        .then(|| memory::check(sc, plan.path, comm.size()).map(|_| ()));
+    let fits = comm.is_root().then(|| {
+        memory::check(sc, plan.path, comm.size(), memory::ContactCounts::Surfaces).map(|_| ())
+    });
     wire(broadcast(comm, fits.as_ref()))??;
     let mut zone = None;
     let mut notes = Vec::new();
@@ -166,6 +166,18 @@ impl Attempt<'_> {
         let ranks = if condensed_path { comm.size() } else { 1 };
         progress::phase(progress::Phase::Meshing);
         let model = partition::model_stage(sc, ranks, self.zone, &mut log.messages)?;
+        // Again with the contact unknowns the candidate zones kept.
+        let kept = model.kept_contacts(sc.contact.len());
+        let fits = comm.is_root().then(|| {
+            memory::check(
+                sc,
+                self.plan.path,
+                comm.size(),
+                memory::ContactCounts::Built(&kept),
+            )
+            .map(|_| ())
+        });
+        wire(broadcast(comm, fits.as_ref()))??;
         log.timings.setup = t.elapsed().as_secs_f64();
         let setup_peak_rss_bytes = signorini_report::peak_rss_bytes();
         let ctx = RunContext {
