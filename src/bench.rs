@@ -83,6 +83,39 @@ pub(crate) fn bench(
     }
 }
 
+/// `signorini bench --plot CSV...`: the plots of the rows of bench.csv
+/// files, together, into `out`.
+pub(crate) fn plot(csvs: &[PathBuf], out: &Path) -> ExitCode {
+    let mut rows = Vec::new();
+    for p in csvs {
+        let read = std::fs::read_to_string(p)
+            .map_err(|e| e.to_string())
+            .and_then(|text| signorini_solver::bench::read_csv(&text));
+        match read {
+            Ok(r) => rows.extend(r),
+            Err(e) => return fail(1, &format!("--plot {}: {e}", p.display())),
+        }
+    }
+    if rows.is_empty() {
+        return fail(1, "--plot: the files hold no rows");
+    }
+    if let Err(e) = std::fs::create_dir_all(out) {
+        return fail(3, &format!("cannot write {}: {e}", out.display()));
+    }
+    match signorini_solver::bench::write_plots(out, &rows) {
+        Ok(p) => {
+            println!(
+                "{} plot(s) of {} rows in {}",
+                p.len(),
+                rows.len(),
+                out.display()
+            );
+            ExitCode::SUCCESS
+        }
+        Err(e) => fail(3, &format!("cannot draw the plots: {e}")),
+    }
+}
+
 /// `signorini bench --suite root`: every root method on the Delassus
 /// problems of an elastic layer (issue 14), one line per run on stderr.
 pub(crate) fn root_suite(quick: bool, export: bool, sizes: &[usize], out: &Path) -> ExitCode {

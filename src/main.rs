@@ -104,8 +104,12 @@ enum Command {
     /// if a case fails its expectation.
     Bench {
         /// Scene files.
-        #[arg(required_unless_present = "suite")]
+        #[arg(required_unless_present_any = ["suite", "plot"])]
         scenes: Vec<PathBuf>,
+        /// Draw the plots of bench.csv files instead of running (their rows
+        /// together, e.g. levels run separately) into --out.
+        #[arg(long, value_delimiter = ',', value_name = "CSV", conflicts_with_all = ["scenes", "suite"])]
+        plot: Vec<PathBuf>,
         /// A built-in suite instead of scene files: `stiff`, or `root` (every
         /// root method on Delassus problems of an elastic layer: DIR/root.csv,
         /// DIR/root.md, DIR/root_error_vs_time.svg).
@@ -231,6 +235,7 @@ fn command(cli: Cli) -> ExitCode {
             quick: true,
             ..
         } => fail(1, "--quick: only with --suite stiff"),
+        Command::Bench { plot, out, .. } if !plot.is_empty() => bench::plot(&plot, &out),
         Command::Bench {
             scenes,
             levels,

@@ -152,6 +152,12 @@ fn direct_path_reports_the_condition_of_k() {
     let condensed = converged(&hertz(40, "1.0"), RunOptions::default());
     let k_ii = conditioning(&condensed).k_ii.unwrap();
     assert!(k >= k_ii / 3.0, "κ(K) = {k}, κ(K_II) = {k_ii}");
+    // κ(K) costs the direct path a factorisation of its own, timed apart and
+    // counted in the total; the condensed path's estimates reuse its factors.
+    let (td, tc) = (&direct.report.timings_s, &condensed.report.timings_s);
+    assert!(td.conditioning > 0.0 && tc.conditioning == 0.0);
+    let phases = td.setup + td.assemble + td.contact + td.output + td.conditioning;
+    assert!(phases <= td.total, "{td:?}");
     // A floating body (blocks.toml's pad): K is singular, k is null with the reason.
     let o = converged(&example("blocks.toml"), opts);
     let c = conditioning(&o);

@@ -77,6 +77,10 @@ pub struct Timings {
     pub delassus: f64,
     pub recover: f64,
     pub output: f64,
+    /// The condition estimate that needs a factorisation of its own: κ(K)
+    /// on the direct path, one sparse Cholesky of the whole stiffness (0 on
+    /// the condensed path, whose estimates reuse its factors).
+    pub conditioning: f64,
     pub total: f64,
 }
 

@@ -182,6 +182,13 @@ pub fn write_plots(
                 r.dofs as f64
             }),
         ),
+        (
+            "memory_vs_dofs.svg",
+            "Peak memory against DOFs",
+            "DOFs",
+            "peak resident set [MiB]",
+            series(&|r| r.peak_rss_bytes as f64 / MIB, &|r| r.dofs as f64),
+        ),
     ];
     for (file, title, x_label, y_label, lines) in plots {
         if !lines.is_empty() {
@@ -295,6 +302,74 @@ const COLUMNS: &[Column] = &[
     ("errors", None, |r| r.errors.clone()),
 ];
 
+/// Bytes per MiB.
+const MIB: f64 = 1024.0 * 1024.0;
+
+/// The rows of a bench.csv that [`write_csv`] wrote (its header names the
+/// columns, in any order); a malformed file is an error naming the line and
+/// the column. The computed reference quantities are not in the file.
+pub fn read_csv(text: &str) -> Result<Vec<BenchRow>, String> {
+    let mut lines = text
+        .lines()
+        .enumerate()
+        .filter(|(_, l)| !l.trim().is_empty());
+    let (_, head) = lines.next().ok_or("empty file: no header")?;
+    let header: Vec<&str> = head.split(',').map(str::trim).collect();
+    for c in COLUMNS {
+        if !header.contains(&c.0) {
+            return Err(format!("the header has no column \"{}\"", c.0));
+        }
+    }
+    lines
+        .map(|(i, line)| bench_row(&header, line, i + 1))
+        .collect()
+}
+
+/// One line of bench.csv (line number `at`, for errors).
+fn bench_row(header: &[&str], line: &str, at: usize) -> Result<BenchRow, String> {
+    let cells: Vec<&str> = line.split(',').map(str::trim).collect();
+    if cells.len() != header.len() {
+        return Err(format!(
+            "line {at}: {} cells where the header has {}",
+            cells.len(),
+            header.len()
+        ));
+    }
+    let cell = |name: &str| cells[header.iter().position(|h| *h == name).unwrap_or(0)];
+    fn parse<T: std::str::FromStr>(at: usize, name: &str, v: &str) -> Result<T, String> {
+        v.parse()
+            .map_err(|_| format!("line {at}, column \"{name}\": \"{v}\" is not a valid value"))
+    }
+    macro_rules! num {
+        ($name:literal) => {
+            parse(at, $name, cell($name))?
+        };
+    }
+    Ok(BenchRow {
+        scene: cell("scene").to_string(),
+        level: num!("level"),
+        subdomains: num!("subdomains"),
+        method: cell("method").to_string(),
+        path: cell("path").to_string(),
+        dofs: num!("dofs"),
+        interface_dofs: num!("interface_dofs"),
+        contact_points: num!("contact_points"),
+        iterations: num!("iterations"),
+        converged: num!("converged"),
+        assemble_s: num!("assemble_s"),
+        condense_s: num!("condense_s"),
+        contact_s: num!("contact_s"),
+        recover_s: num!("recover_s"),
+        total_s: num!("total_s"),
+        peak_rss_bytes: num!("peak_rss_bytes"),
+        dense_interface_bytes: num!("dense_interface_bytes"),
+        errors: cell("errors").to_string(),
+        error: num!("error"),
+        error_vs_finest: num!("error_vs_finest"),
+        computed: Vec::new(),
+    })
+}
+
 /// bench.csv: one line per run.
 pub fn write_csv(path: &std::path::Path, rows: &[BenchRow]) -> std::io::Result<()> {
     let header: Vec<&str> = COLUMNS.iter().map(|c| c.0).collect();
@@ -377,5 +452,27 @@ mod tests {
         assert_eq!(md("total s"), csv("total_s"));
         assert_eq!(md("root s"), csv("contact_s"));
         assert_eq!(md("Γ DOFs"), "56");
+        // and the CSV reads back to the same row
+        let back = read_csv(&text).unwrap();
+        assert_eq!(back.len(), 1);
+        assert_eq!(format!("{:?}", back[0]), format!("{row:?}"));
+    }
+
+    #[test]
+    fn a_malformed_bench_csv_is_refused_naming_the_line_and_column() {
+        let header = COLUMNS.iter().map(|c| c.0).collect::<Vec<_>>().join(",");
+        let good = "s.toml,1,1,status,direct,10,0,3,2,true,0,0,0.1,0,0.2,1000,0,1e-2,0,p0=1e-2";
+        assert_eq!(read_csv(&format!("{header}\n{good}\n")).unwrap().len(), 1);
+        let bad_dofs = good.replace(",10,0,3,", ",ten,0,3,");
+        let e = read_csv(&format!("{header}\n{good}\n{bad_dofs}\n")).unwrap_err();
+        assert!(
+            e.contains("line 3") && e.contains("\"dofs\"") && e.contains("ten"),
+            "{e}"
+        );
+        let e = read_csv(&format!("{header}\n{good},extra\n")).unwrap_err();
+        assert!(e.contains("line 2") && e.contains("21 cells"), "{e}");
+        let e = read_csv(&header.replace("total_s,", "")).unwrap_err();
+        assert!(e.contains("\"total_s\""), "{e}");
+        assert!(read_csv("").unwrap_err().contains("empty"));
     }
 }
