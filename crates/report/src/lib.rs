@@ -553,6 +553,16 @@ pub fn peak_rss_bytes() -> u64 {
         .unwrap_or(0)
 }
 
+/// Resets the peak resident set size of this process to its current size
+/// (Linux: `5` written to /proc/self/clear_refs), so that
+/// [`peak_rss_bytes`] measures from here: a benchmark running several cases
+/// in one process reports each case's own peak, not the largest so far.
+/// Returns whether the reset was made (not on other systems, nor where
+/// /proc is read-only).
+pub fn reset_peak_rss() -> bool {
+    std::fs::write("/proc/self/clear_refs", "5").is_ok()
+}
+
 /// A directory of this process for the files a unit test writes:
 /// `signorini-{tag}-{pid}` in the system's temporary directory, created.
 #[cfg(test)]
@@ -560,4 +570,23 @@ pub(crate) fn test_dir(tag: &str) -> std::path::PathBuf {
     let dir = std::env::temp_dir().join(format!("signorini-{tag}-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     dir
+}
+
+#[cfg(test)]
+mod peak_tests {
+    use super::*;
+
+    #[test]
+    fn the_peak_is_reset_to_the_current_size() {
+        if !std::path::Path::new("/proc/self/clear_refs").exists() {
+            return; // not Linux: nothing to reset, peak_rss_bytes is 0
+        }
+        let big = std::hint::black_box(vec![1u8; 256 << 20]); // written, so resident
+        let before = peak_rss_bytes();
+        assert!(before >= 256 << 20, "{before}");
+        drop(big);
+        assert!(reset_peak_rss());
+        let after = peak_rss_bytes();
+        assert!(after + (128 << 20) < before, "{before} → {after}");
+    }
 }

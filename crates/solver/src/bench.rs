@@ -79,6 +79,8 @@ pub fn bench(
                         );
                         progress(done - 1, total, &label);
                         let sc = case.scene.refined(level).with_subdomains(n);
+                        // each row's peak memory its own, not the largest so far
+                        signorini_report::reset_peak_rss();
                         let opts = RunOptions {
                             method: Some(method),
                             path: Some(path),
