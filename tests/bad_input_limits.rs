@@ -350,48 +350,36 @@ fn bench_plot_draws_the_rows_of_several_csvs_and_refuses_a_file_that_is_not_one(
     let dir = fresh_dir("bench_plot");
     let scene = dir.join("scene.toml");
     std::fs::write(&scene, BLOCK_ON_PLANE).unwrap();
-    // two benches of one level each, then their plots together
-    for level in ["1", "2"] {
-        let out = Command::new(BIN)
-            .args(["bench", "--levels", level, "--out"])
-            .arg(dir.join(level))
-            .arg(&scene)
+    let bench = |args: &[&str], out: &str| {
+        let run = Command::new(BIN)
+            .arg("bench")
+            .args(args)
+            .arg("--out")
+            .arg(dir.join(out))
             .output()
             .unwrap();
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
+        let err = String::from_utf8_lossy(&run.stderr).into_owned();
+        (run, err)
+    };
+    let scene_arg = scene.to_str().unwrap();
+    // two benches of one level each, then their plots together
+    for level in ["1", "2"] {
+        let (run, err) = bench(&["--levels", level, scene_arg], level);
+        assert!(run.status.success(), "{err}");
     }
     let csvs = format!(
         "{},{}",
         dir.join("1/bench.csv").display(),
         dir.join("2/bench.csv").display()
     );
-    let out = Command::new(BIN)
-        .args(["bench", "--plot", &csvs, "--out"])
-        .arg(dir.join("both"))
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    assert!(String::from_utf8_lossy(&out.stdout).contains("plot(s) of 4 rows"));
+    let (run, err) = bench(&["--plot", &csvs], "both");
+    assert!(run.status.success(), "{err}");
+    assert!(String::from_utf8_lossy(&run.stdout).contains("plot(s) of 4 rows"));
     let memory = std::fs::read_to_string(dir.join("both/memory_vs_dofs.svg")).unwrap();
     assert!(memory.contains("peak resident set [MiB]") && memory.contains("direct"));
     // a scene given as a CSV: exit 1 naming the file, nothing drawn
-    let out = Command::new(BIN)
-        .args(["bench", "--plot"])
-        .arg(&scene)
-        .arg("--out")
-        .arg(dir.join("bad"))
-        .output()
-        .unwrap();
-    let err = String::from_utf8_lossy(&out.stderr);
-    assert_eq!(out.status.code(), Some(1), "{err}");
+    let (run, err) = bench(&["--plot", scene_arg], "bad");
+    assert_eq!(run.status.code(), Some(1), "{err}");
     assert!(
         err.contains("scene.toml") && err.contains("no column"),
         "{err}"
