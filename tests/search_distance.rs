@@ -238,3 +238,37 @@ fn axisymmetric_hertz_with_a_zone_equals_the_full_run() {
     assert!(rz.interface_dofs * 3 < rf.interface_dofs * 2);
     assert_eq!(zone_notes(&zoned), (1, 0));
 }
+
+#[test]
+fn a_widened_zone_that_does_not_fit_is_refused_saying_why() {
+    let dir = common::fresh_dir("search_distance", "widened_memory");
+    let scene = dir.join("scene.toml");
+    std::fs::write(&scene, with_zone(PULLED_BLOCK, "node_to_segment", 2e-3)).unwrap();
+    // the widened zone's estimate, as the report keeps it
+    common::cli_run_ok(&scene, dir.join("free"));
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("free/report.json")).unwrap())
+            .unwrap();
+    let widened = report["memory"]["estimated_bytes"].as_u64().unwrap();
+    let messages = report["messages"].to_string();
+    assert!(
+        messages.contains("solved again with the candidate zone widened"),
+        "{messages}"
+    );
+    // one byte less: the first zone fits, the widened one does not
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_signorini"))
+        .arg("run")
+        .arg(&scene)
+        .arg("--out")
+        .arg(dir.join("tight"))
+        .args(["--max-memory", &(widened - 1).to_string()])
+        .output()
+        .unwrap();
+    let err = common::stderr_of_exit(&out, 1);
+    assert!(
+        err.contains("the candidate zone widened to hold it does not fit")
+            && err.contains("memory: the scene needs about"),
+        "{err}"
+    );
+    assert!(!dir.join("tight").exists());
+}

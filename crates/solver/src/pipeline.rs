@@ -176,6 +176,12 @@ impl Attempt<'_> {
                 memory::ContactCounts::Built(&kept),
             )
             .map(|_| ())
+            .map_err(|e| match (e, self.widenings) {
+                (SolveError::Input(m), 1..) => SolveError::Input(format!(
+                    "an excluded slave node penetrated its master, and the candidate zone widened to hold it does not fit: {m}"
+                )),
+                (e, _) => e,
+            })
         });
         wire(broadcast(comm, fits.as_ref()))??;
         log.timings.setup = t.elapsed().as_secs_f64();
