@@ -5,7 +5,8 @@
 //! estimator (`signorini_condense::conditioning`) on a factorisation the run
 //! makes anyway, except W (one dense Cholesky of the m × m Delassus operator,
 //! once per run, m ≤ [`MAX_W_SIZE`]) and, on the direct path, K (one sparse
-//! Cholesky of the whole stiffness, timed apart: `timings_s.conditioning`).
+//! LDLᵀ of the whole stiffness in the KKT's ordering, timed apart:
+//! `timings_s.conditioning`).
 //!
 //! Condensed path: κ(K_II) per subdomain (computed by the rank that owns it
 //! and sent with its Schur complement), κ(S) from the root's Cholesky of S
@@ -15,7 +16,6 @@
 //! 15.65 − digits_lost, digits_needed = −log10(tolerance); warn when
 //! digits_available < digits_needed.
 
-use faer::sparse::SparseColMat;
 use faer::Mat;
 use signorini_condense::conditioning::{dense_spd_condition, digits_lost, F64_DIGITS};
 use signorini_contact::delassus::SparseRow;
@@ -23,6 +23,7 @@ use signorini_contact::schur_factor::InterfaceStiffness;
 use signorini_contact::{ContactError, DelassusOperator};
 use signorini_report::Conditioning;
 
+use crate::kkt::KktSystem;
 use crate::subdomain::CondensedData;
 
 /// W is estimated by a dense Cholesky only up to this many contact rows
@@ -160,9 +161,10 @@ pub(crate) fn condensed(
 }
 
 /// The report's entry on the direct path: κ(K) of the whole stiffness on the
-/// free DOFs by one sparse Cholesky (none when a body is floating).
+/// free DOFs, by one factorisation of K in the KKT system's ordering
+/// ([`KktSystem::stiffness_condition`]; none when a body is floating).
 pub(crate) fn direct(
-    k: &SparseColMat<usize, f64>,
+    kkt: &mut KktSystem,
     floating: bool,
     tolerance: f64,
     messages: &mut Vec<String>,
@@ -175,9 +177,9 @@ pub(crate) fn direct(
         notes.push("k: a floating body makes K singular".into());
         None
     } else {
-        let est = sparse_spd_condition(k);
+        let est = kkt.stiffness_condition();
         if est.is_none() {
-            notes.push("k: the Cholesky factorisation of K fails (K is singular)".into());
+            notes.push("k: the factorisation of K fails (K is singular)".into());
         }
         est
     };
@@ -189,21 +191,6 @@ pub(crate) fn direct(
     };
     apply_rule(&mut c, &[("K", kappa)], tolerance, messages);
     c
-}
-
-/// κ₁ of a sparse symmetric positive definite matrix (both triangles stored)
-/// by one sparse Cholesky, ordered as condensation orders an interior (the
-/// cheaper of AMD and nested dissection: in 3D a fifth of AMD's flops);
-/// `None` when it fails.
-fn sparse_spd_condition(k: &SparseColMat<usize, f64>) -> Option<f64> {
-    if k.nrows() == 0 {
-        return None;
-    }
-    let par = faer::get_global_parallelism();
-    let factor = signorini_condense::Condensed::new(k.as_ref(), &[], par).ok()?;
-    factor
-        .interior_condition_estimate()
-        .filter(|kappa| kappa.is_finite())
 }
 
 /// Fills the digits and the warning: digits_lost = log10 of the largest
@@ -331,8 +318,12 @@ mod tests {
                 t.push(faer::sparse::Triplet::new(i + 1, i, -1.0));
             }
         }
-        let k = SparseColMat::<usize, f64>::try_new_from_triplets(n, n, &t).unwrap();
-        let est = sparse_spd_condition(&k).unwrap();
+        let k = faer::sparse::SparseColMat::<usize, f64>::try_new_from_triplets(n, n, &t).unwrap();
+        // by the KKT system of the direct path, with two contact rows (inactive
+        // in the estimate: they must not change it)
+        let rows: Vec<SparseRow> = vec![vec![(0, 1.0)], vec![(n - 1, -1.0), (n - 2, 1.0)]];
+        let mut kkt = KktSystem::new(&k, &rows, false).unwrap();
+        let est = kkt.stiffness_condition().unwrap();
         assert!(
             (5000.0 / 3.0..=5000.0 * (1.0 + 1e-9)).contains(&est),
             "{est}"
