@@ -30,7 +30,7 @@
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
 use faer::linalg::cholesky::ldlt::factor::LdltRegularization;
 use faer::prelude::Solve;
-use faer::sparse::linalg::cholesky::LdltRef;
+use faer::sparse::linalg::cholesky::{LdltRef, SymbolicCholesky};
 use faer::sparse::{Argsort, Pair, SparseColMat, SymbolicSparseColMat};
 use faer::{Conj, Mat, MatMut};
 
@@ -137,10 +137,7 @@ impl<'a> KktSystem<'a> {
         let a = self.matrix(&vec![false; m], false).ok()?;
         let par = faer::get_global_parallelism();
         let symbolic = &self.ordered.symbolic;
-        let mut mem = MemBuffer::new(StackReq::any_of(&[
-            symbolic.factorize_numeric_ldlt_scratch::<f64>(par, Default::default()),
-            symbolic.solve_in_place_scratch::<f64>(1, par),
-        ]));
+        let mut mem = ldlt_scratch(symbolic, par);
         let stack = MemStack::new(&mut mem);
         let ldlt = symbolic
             .factorize_numeric_ldlt::<f64>(
@@ -214,10 +211,7 @@ impl<'a> KktSystem<'a> {
         self.counts.factorisations += 1;
         let par = faer::get_global_parallelism();
         let symbolic = &self.ordered.symbolic;
-        let mut mem = MemBuffer::new(StackReq::any_of(&[
-            symbolic.factorize_numeric_ldlt_scratch::<f64>(par, Default::default()),
-            symbolic.solve_in_place_scratch::<f64>(1, par),
-        ]));
+        let mut mem = ldlt_scratch(symbolic, par);
         let stack = MemStack::new(&mut mem);
         let factor = symbolic.factorize_numeric_ldlt::<f64>(
             &mut self.l_values,
@@ -239,6 +233,14 @@ impl<'a> KktSystem<'a> {
         self.counts.lu_fallbacks += 1;
         solve_by_lu(&exact, b)
     }
+}
+
+/// Scratch memory for one numerical LDLᵀ of `symbolic` and its solves.
+fn ldlt_scratch(symbolic: &SymbolicCholesky<usize>, par: faer::Par) -> MemBuffer {
+    MemBuffer::new(StackReq::any_of(&[
+        symbolic.factorize_numeric_ldlt_scratch::<f64>(par, Default::default()),
+        symbolic.solve_in_place_scratch::<f64>(1, par),
+    ]))
 }
 
 /// The (row, column) pairs of the KKT pattern, in the order of
