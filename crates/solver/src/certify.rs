@@ -592,7 +592,7 @@ fn report_of(
                 sc,
                 path,
                 comm.size(),
-                memory::ContactCounts::Built(&model.kept_contacts(sc.contact.len())),
+                memory::ContactCounts::Built(&model.kept),
             )
             .bytes(),
         },

@@ -27,34 +27,34 @@ pub(crate) struct ModelData {
     pub specs: Vec<SubdomainSpec>,
     /// The scale of each load entry of each body at each step.
     pub scales: Vec<Vec<Vec<f64>>>,
+    /// What each contact of the scene keeps as unknowns (the memory
+    /// estimate once the candidate zones are known).
+    pub kept: Vec<memory::KeptContact>,
 }
 
-impl ModelData {
-    /// What each contact of the scene keeps as unknowns: its contact points
-    /// and the DOFs of a deformable master their rows hold (for the memory
-    /// estimate once the candidate zones are known).
-    pub(crate) fn kept_contacts(&self, contacts: usize) -> Vec<memory::KeptContact> {
-        let mut master: Vec<std::collections::HashSet<(usize, usize)>> =
-            vec![Default::default(); contacts];
-        let mut points = vec![0.0; contacts];
-        for p in &self.points {
-            points[p.contact] += 1.0;
-            let rows = [Some(&p.row), p.trow.as_ref(), p.trow2.as_ref()];
-            for &(body, dof, _) in rows.into_iter().flatten().flatten() {
-                if body != p.slave_body {
-                    master[p.contact].insert((body, dof));
-                }
+/// What each of the `contacts` keeps as unknowns: its contact points and
+/// the DOFs of a deformable master their rows hold.
+fn kept_contacts(points_of: &[PointModel], contacts: usize) -> Vec<memory::KeptContact> {
+    let mut master: Vec<std::collections::HashSet<(usize, usize)>> =
+        vec![Default::default(); contacts];
+    let mut points = vec![0.0; contacts];
+    for p in points_of {
+        points[p.contact] += 1.0;
+        let rows = [Some(&p.row), p.trow.as_ref(), p.trow2.as_ref()];
+        for &(body, dof, _) in rows.into_iter().flatten().flatten() {
+            if body != p.slave_body {
+                master[p.contact].insert((body, dof));
             }
         }
-        points
-            .into_iter()
-            .zip(master)
-            .map(|(points, m)| memory::KeptContact {
-                points,
-                master_dofs: m.len() as f64,
-            })
-            .collect()
     }
+    points
+        .into_iter()
+        .zip(master)
+        .map(|(points, m)| memory::KeptContact {
+            points,
+            master_dofs: m.len() as f64,
+        })
+        .collect()
 }
 
 /// Builds the bodies and the contact points (the candidates of `zone`, by
@@ -103,6 +103,7 @@ pub(crate) fn model_stage(
         ));
     }
     let specs = subdomain::subdomain_specs(&bodies);
+    let kept = kept_contacts(&points, sc.contact.len());
     Ok(ModelData {
         bodies,
         points,
@@ -115,6 +116,7 @@ pub(crate) fn model_stage(
         owner_part,
         specs,
         scales,
+        kept,
     })
 }
 

@@ -167,13 +167,12 @@ impl Attempt<'_> {
         progress::phase(progress::Phase::Meshing);
         let model = partition::model_stage(sc, ranks, self.zone, &mut log.messages)?;
         // Again with the contact unknowns the candidate zones kept.
-        let kept = model.kept_contacts(sc.contact.len());
         let fits = comm.is_root().then(|| {
             memory::check(
                 sc,
                 self.plan.path,
                 comm.size(),
-                memory::ContactCounts::Built(&kept),
+                memory::ContactCounts::Built(&model.kept),
             )
             .map(|_| ())
             .map_err(|e| match (e, self.widenings) {
