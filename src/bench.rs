@@ -71,10 +71,14 @@ pub(crate) fn bench(
         return fail(3, &format!("cannot write {}: {e}", out.display()));
     }
     let plots = signorini_solver::bench::write_plots(out, &rows);
-    print!("{}", signorini_solver::bench::markdown(&rows));
+    crate::run::say(&signorini_solver::bench::markdown(&rows));
     match plots {
-        Ok(p) => println!("bench.csv and {} plot(s) in {}", p.len(), out.display()),
-        Err(e) => println!("bench.csv in {} (no plot: {e})", out.display()),
+        Ok(p) => crate::run::say(&format!(
+            "bench.csv and {} plot(s) in {}\n",
+            p.len(),
+            out.display()
+        )),
+        Err(e) => crate::run::say(&format!("bench.csv in {} (no plot: {e})\n", out.display())),
     }
     if rows.iter().all(|r| r.converged) {
         ExitCode::SUCCESS
@@ -88,8 +92,13 @@ pub(crate) fn bench(
 pub(crate) fn plot(csvs: &[PathBuf], out: &Path) -> ExitCode {
     let mut rows = Vec::new();
     for p in csvs {
-        let read = std::fs::read_to_string(p)
+        let read = std::fs::metadata(p)
             .map_err(|e| e.to_string())
+            .and_then(|m| match m.is_file() {
+                true => Ok(()),
+                false => Err("not a regular file".to_string()),
+            })
+            .and_then(|()| std::fs::read_to_string(p).map_err(|e| e.to_string()))
             .and_then(|text| signorini_solver::bench::read_csv(&text));
         match read {
             Ok(r) => rows.extend(r),
@@ -104,12 +113,12 @@ pub(crate) fn plot(csvs: &[PathBuf], out: &Path) -> ExitCode {
     }
     match signorini_solver::bench::write_plots(out, &rows) {
         Ok(p) => {
-            println!(
-                "{} plot(s) of {} rows in {}",
+            crate::run::say(&format!(
+                "{} plot(s) of {} rows in {}\n",
                 p.len(),
                 rows.len(),
                 out.display()
-            );
+            ));
             ExitCode::SUCCESS
         }
         Err(e) => fail(3, &format!("cannot draw the plots: {e}")),
@@ -170,7 +179,7 @@ pub(crate) fn root_suite(quick: bool, export: bool, sizes: &[usize], out: &Path)
     if let Err(e) = written {
         return fail(3, &format!("cannot write {}: {e}", out.display()));
     }
-    print!("{table}");
+    crate::run::say(&table);
     ExitCode::SUCCESS
 }
 
@@ -221,7 +230,7 @@ pub(crate) fn stiff_suite(quick: bool, out: &Path) -> ExitCode {
         rows.push(r);
     }
     let table = stiff::markdown(&rows);
-    println!("{table}");
+    crate::run::say(&format!("{table}\n"));
     if let Err(e) = std::fs::create_dir_all(out)
         .and_then(|_| stiff::write_csv(&out.join("stiff.csv"), &rows))
         .and_then(|_| std::fs::write(out.join("stiff.md"), &table))
@@ -229,13 +238,14 @@ pub(crate) fn stiff_suite(quick: bool, out: &Path) -> ExitCode {
         return fail(3, &format!("cannot write {}: {e}", out.display()));
     }
     let failed: Vec<&stiff::StiffRow> = rows.iter().filter(|r| r.failed()).collect();
-    println!(
-        "{} cases: {} passed, {} failed; stiff.csv, stiff.md and the scenes (stiff/<case>.toml) in {}",
+
+    crate::run::say(&format!(
+        "{} cases: {} passed, {} failed; stiff.csv, stiff.md and the scenes (stiff/<case>.toml) in {}\n",
         rows.len(),
         rows.iter().filter(|r| r.passed()).count(),
         failed.len(),
         out.display()
-    );
+    ));
     if failed.is_empty() {
         ExitCode::SUCCESS
     } else {

@@ -74,7 +74,10 @@ pub(crate) fn local(path: &Path, method: Method, o: LocalOptions) -> ExitCode {
     let result = signorini_solver::local::repeated(o.repeat, solve);
     match result {
         Ok(r) => {
-            println!("{}", serde_json::to_string(&r).unwrap_or_default());
+            crate::run::say(&format!(
+                "{}\n",
+                serde_json::to_string(&r).unwrap_or_default()
+            ));
             if r.converged {
                 ExitCode::SUCCESS
             } else {

@@ -180,7 +180,15 @@ fn install_panic_hook() {
 
 fn main() -> ExitCode {
     install_panic_hook();
-    let cli = Cli::parse();
+    // A bad command line is bad input: exit 1 (clap's own code is 2, which
+    // here means "not converged"); help and version exit 0.
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(e) => {
+            let _ = e.print();
+            return ExitCode::from(u8::from(e.use_stderr()));
+        }
+    };
     // The hook has printed the line; a panic anywhere (in faer's threads too,
     // which hand it to the caller) ends here with exit 3.
     std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| command(cli)))
@@ -326,6 +334,12 @@ fn transport() -> Box<dyn Transport> {
 }
 
 pub(crate) fn fail(code: u8, msg: &str) -> ExitCode {
-    eprintln!("error: {msg}");
+    tell(&format!("error: {msg}"));
     ExitCode::from(code)
+}
+
+/// One line on stderr; a closed stderr loses it, not the exit code.
+pub(crate) fn tell(line: &str) {
+    use std::io::Write;
+    let _ = writeln!(std::io::stderr().lock(), "{line}");
 }

@@ -25,23 +25,23 @@ pub(crate) fn check(path: &Path, solve_path: Option<SolvePath>) -> ExitCode {
         Ok(e) => e,
         Err(e) => return fail(1, &e.to_string()),
     };
-    println!(
-        "{}: valid scene \"{}\" ({} bodies, {} boundary conditions, {} contacts, {} steps)",
+    say(&format!(
+        "{}: valid scene \"{}\" ({} bodies, {} boundary conditions, {} contacts, {} steps)\n",
         path.display(),
         sc.title,
         sc.bodies.len(),
         sc.boundary.len(),
         sc.contact.len(),
         sc.step_scales().len()
-    );
+    ));
     let budget = memory::budget()
         .map(|b| format!("; {} {}", memory::human(b.bytes as f64), b.source))
         .unwrap_or_default();
-    println!(
-        "  memory ({} path): {}{budget}",
+    say(&format!(
+        "  memory ({} path): {}{budget}\n",
         solve_path.as_str(),
         estimate.describe()
-    );
+    ));
     ExitCode::SUCCESS
 }
 
@@ -64,14 +64,14 @@ pub(crate) fn run(
         Err((code, msg)) if comm.is_root() => return fail(code, &msg),
         Err((code, _)) => return ExitCode::from(code),
     };
-    print!("{}", summary(&dir, &output));
+    say(&summary(&dir, &output));
     if output.report.converged {
         ExitCode::SUCCESS
     } else {
-        eprintln!(
+        crate::tell(&format!(
             "not converged: {}",
             output.report.failure.as_deref().unwrap_or("see the report")
-        );
+        ));
         ExitCode::from(2)
     }
 }
@@ -93,6 +93,13 @@ fn solve_and_write(
         .map(|s| s.to_string_lossy().to_string())
         .unwrap_or_default();
     let dir = out.unwrap_or_else(|| sc.output.directory_for(path));
+    // The root checks before solving that it can write the output; every
+    // rank learns its answer (a rank that stopped alone would leave the
+    // others waiting).
+    let usable = comm.is_root().then(|| output_directory_usable(&dir));
+    signorini_comm::broadcast(comm, usable.as_ref())
+        .map_err(|e| (3, e))?
+        .map_err(|m| (1, m))?;
     let request = OutputRequest {
         dim: sc.dimension as usize,
         fields: sc.output.fields.clone(),
@@ -124,4 +131,46 @@ fn solve_and_write(
         (3, msg)
     })?;
     Ok(Some((dir, output)))
+}
+
+/// Whether the output directory `dir` can be created and written, checked
+/// before anything is solved: the error names it and says why, and nothing
+/// is left behind (a probe directory is made and removed).
+fn output_directory_usable(dir: &Path) -> Result<(), String> {
+    let shown = dir.display();
+    let advice = "choose another with --out or [output] directory";
+    let existing = (dir.ancestors())
+        .find(|a| a.as_os_str().is_empty() || a.exists())
+        .unwrap_or(dir);
+    let existing = if existing.as_os_str().is_empty() {
+        Path::new(".")
+    } else {
+        existing
+    };
+    if !existing.is_dir() {
+        let what = match existing == dir {
+            true => "exists".to_string(),
+            false => format!("{} exists", existing.display()),
+        };
+        return Err(format!(
+            "output directory {shown}: {what} and is not a directory; {advice}"
+        ));
+    }
+    let probe = existing.join(format!(".signorini-probe-{}", std::process::id()));
+    std::fs::create_dir(&probe)
+        .and_then(|()| std::fs::remove_dir(&probe))
+        .map_err(|e| {
+            format!(
+                "output directory {shown}: cannot write in {} ({e}); {advice}",
+                existing.display()
+            )
+        })
+}
+
+/// Prints to stdout; a closed or full stdout loses the text, not the run
+/// (its files are written and its exit code stands).
+pub(crate) fn say(text: &str) {
+    use std::io::Write;
+    let mut out = std::io::stdout().lock();
+    let _ = out.write_all(text.as_bytes()).and_then(|()| out.flush());
 }

@@ -53,6 +53,14 @@ use v41::read_v41;
 /// of dimension `dim` (2 or 3). See the module documentation for what becomes
 /// cells, surfaces and regions. Errors name the file.
 pub fn read_msh(path: &Path, dim: usize) -> Result<Mesh, MeshError> {
+    // A device or a pipe has no size: the memory estimate (which reads the
+    // header and the file's size) cannot bound it, and reading may not end.
+    if std::fs::metadata(path).is_ok_and(|m| !m.is_file()) {
+        return Err(MeshError::Invalid(format!(
+            "cannot read Gmsh file {}: not a regular file",
+            path.display()
+        )));
+    }
     let bytes = std::fs::read(path).map_err(|e| {
         MeshError::Invalid(format!("cannot read Gmsh file {}: {e}", path.display()))
     })?;

@@ -14,6 +14,7 @@
 //! step k, exit 1) leaves nothing behind, and a run solved again (a widened
 //! candidate zone) starts from an empty stage.
 
+use signorini_scene::file_stem;
 use std::fs::File;
 use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
@@ -189,7 +190,7 @@ impl FieldWriter {
         if let (Some(fields), false) = (fields, self.request.fields.is_empty()) {
             let nodal = NodalContact::of_rows(rows, step);
             for (bi, (b, f)) in bodies.iter().zip(fields).enumerate() {
-                let file = format!("{}_{step}.vtu", file_name(&b.name));
+                let file = format!("{}_{step}.vtu", file_stem(&b.name));
                 let contact = ContactFields::of(&nodal, &b.name, b.coords.len(), Some);
                 let piece = vtu_piece(&self.request, b, f, step, &contact);
                 write_vtu(&stage.join(&file), &piece)?;
@@ -217,7 +218,7 @@ impl FieldWriter {
         if self.subdomains.is_empty() {
             return Ok(());
         }
-        let name = file_name(body);
+        let name = file_stem(body);
         let sources: Vec<String> = (self.subdomains.iter())
             .filter(|(b, _)| *b == bi)
             .map(|&(_, part)| piece_file(&name, step, part))
@@ -237,7 +238,7 @@ impl FieldWriter {
     /// Writes one subdomain's piece (see [`StepSink::piece`]).
     fn write_piece(&mut self, step: usize, p: &SubdomainPiece) -> Result<(), String> {
         let stage = self.stage().map_err(err)?;
-        let file = piece_file(&file_name(&p.mesh.name), step, p.part);
+        let file = piece_file(&file_stem(&p.mesh.name), step, p.part);
         let path = stage.join(&file);
         if let Some(d) = path.parent() {
             std::fs::create_dir_all(d).map_err(err)?;
@@ -366,19 +367,6 @@ impl Drop for FieldWriter {
 
 fn err(e: std::io::Error) -> String {
     e.to_string()
-}
-
-/// A body name as a file name: letters, digits, '-' and '_' kept, the rest '_'.
-fn file_name(name: &str) -> String {
-    name.chars()
-        .map(|c| {
-            if c.is_ascii_alphanumeric() || c == '-' || c == '_' {
-                c
-            } else {
-                '_'
-            }
-        })
-        .collect()
 }
 
 /// The VTU piece of one body at one step with the fields that

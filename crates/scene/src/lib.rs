@@ -53,6 +53,28 @@ pub enum SceneError {
     Invalid { entry: String, message: String },
 }
 
+/// The most a scene file may hold: a scene is a few kilobytes (meshes are
+/// files of their own), and reading stops here, so that a device or an
+/// endless pipe given as the scene cannot take the machine's memory.
+pub const MAX_SCENE_BYTES: u64 = 64 << 20;
+
+/// The text of a scene file (or pipe), at most [`MAX_SCENE_BYTES`].
+fn read_scene_text(path: &Path) -> Result<String, String> {
+    use std::io::Read;
+    let file = std::fs::File::open(path).map_err(|e| e.to_string())?;
+    let mut text = String::new();
+    (file.take(MAX_SCENE_BYTES + 1))
+        .read_to_string(&mut text)
+        .map_err(|e| e.to_string())?;
+    if text.len() as u64 > MAX_SCENE_BYTES {
+        return Err(format!(
+            "holds more than {} MiB: not a scene file (meshes go in files of their own, `mesh = {{ file = ... }}`)",
+            MAX_SCENE_BYTES >> 20
+        ));
+    }
+    Ok(text)
+}
+
 /// Reads, parses and validates a scene file: `*.json` is read as JSON, anything else
 /// as TOML.
 ///
@@ -61,9 +83,9 @@ pub enum SceneError {
 /// directory. `output.directory` is left as written (relative to the working
 /// directory; see [`Output::directory_for`] for its default).
 pub fn load(path: &Path) -> Result<Scene, SceneError> {
-    let text = std::fs::read_to_string(path).map_err(|e| SceneError::Io {
+    let text = read_scene_text(path).map_err(|message| SceneError::Io {
         path: path.display().to_string(),
-        message: e.to_string(),
+        message,
     })?;
     let is_json = path
         .extension()

@@ -158,3 +158,23 @@ impl Output {
         self.fields.iter().any(|f| f == field)
     }
 }
+
+/// Longest file stem a body's name gives its output files (`<stem>_<step>.vtu`):
+/// well under the 255 bytes a file name may have on common file systems.
+pub const MAX_FILE_STEM: usize = 100;
+
+/// A body's name as the stem of its output files (`<stem>_<step>.vtu`,
+/// `pieces/<stem>_<step>_s<part>.vtu`): ASCII letters, digits, '-' and '_'
+/// kept, anything else '_'. Validation refuses two bodies with one stem, or
+/// a stem longer than [`MAX_FILE_STEM`].
+pub fn file_stem(name: &str) -> String {
+    name.chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || c == '-' || c == '_' {
+                c
+            } else {
+                '_'
+            }
+        })
+        .collect()
+}

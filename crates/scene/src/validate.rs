@@ -5,7 +5,7 @@
 use crate::output::*;
 use crate::types::*;
 use crate::SceneError;
-use std::collections::BTreeSet;
+use std::collections::{BTreeMap, BTreeSet};
 
 mod generators;
 use generators::{validate_rigid, GeneratorCheck};
@@ -40,6 +40,32 @@ fn unique_name<'a>(seen: &mut BTreeSet<&'a str>, e: &str, name: &'a str, what: &
         return Err(invalid(
             format!("{e}.name"),
             format!("\"{name}\" is already the name of another {what}; names must be unique"),
+        ));
+    }
+    Ok(())
+}
+
+/// The output file stem of deformable body `i` ([`crate::file_stem`]): not
+/// too long and not already another body's (`stems`: stem → body index).
+fn file_stem_of(stems: &mut BTreeMap<String, usize>, i: usize, name: &str) -> Result {
+    let e = format!("bodies[{i}].name");
+    let stem = crate::file_stem(name);
+    if stem.len() > crate::MAX_FILE_STEM {
+        return Err(invalid(
+            e,
+            format!(
+                "is {} characters long; a body's name names its output files, so at most {} are allowed",
+                stem.len(),
+                crate::MAX_FILE_STEM
+            ),
+        ));
+    }
+    if let Some(j) = stems.insert(stem.clone(), i) {
+        return Err(invalid(
+            e,
+            format!(
+                "\"{name}\" and bodies[{j}].name would write the same output files ({stem}_<step>.vtu: characters other than letters, digits, '-' and '_' become '_'); rename one"
+            ),
         ));
     }
     Ok(())
@@ -238,9 +264,13 @@ impl Scene {
         let dim = self.dimension as usize;
         let materials: Vec<&str> = self.materials.iter().map(|m| m.name.as_str()).collect();
         let mut seen = BTreeSet::new();
+        let mut stems = BTreeMap::new();
         for (i, b) in self.bodies.iter().enumerate() {
             let e = format!("bodies[{i}]");
             unique_name(&mut seen, &e, &b.name, "body")?;
+            if b.mesh.is_some() {
+                file_stem_of(&mut stems, i, &b.name)?;
+            }
             if let Subdomains::Count(0) = b.subdomains {
                 return Err(invalid(
                     format!("{e}.subdomains"),

@@ -99,8 +99,20 @@ fn read_npy(
     Ok(Some((shape, fortran, data)))
 }
 
+/// Refuses a device or a pipe: reading it may not end, nor fit in memory.
+fn regular_file(path: &Path) -> Result<(), String> {
+    match std::fs::metadata(path) {
+        Ok(m) if !m.is_file() => Err(format!(
+            "cannot read {}: not a regular file",
+            path.display()
+        )),
+        _ => Ok(()),
+    }
+}
+
 fn read_npz(path: &Path) -> Result<Raw, String> {
     let shown = path.display();
+    regular_file(path)?;
     let file = std::fs::File::open(path).map_err(|e| format!("cannot read {shown}: {e}"))?;
     let mut archive =
         zip::ZipArchive::new(file).map_err(|e| format!("{shown}: not a .npz archive ({e})"))?;
@@ -139,6 +151,7 @@ fn read_npz(path: &Path) -> Result<Raw, String> {
 
 fn read_json(path: &Path) -> Result<Raw, String> {
     let shown = path.display();
+    regular_file(path)?;
     let text = std::fs::read_to_string(path).map_err(|e| format!("cannot read {shown}: {e}"))?;
     let p: JsonProblem = serde_json::from_str(&text).map_err(|e| format!("{shown}: {e}"))?;
     let mu = match p.mu {

@@ -1,0 +1,139 @@
+//! The run's surroundings as bad input: an output directory that cannot be
+//! written is refused before solving (exit 1), a bad command-line value is
+//! exit 1 (not clap's 2, which means "not converged"), a device given as a
+//! scene or a mesh is refused instead of read forever, two bodies whose
+//! output files would collide are refused, and a closed or full stdout
+//! loses the summary, not the run.
+
+mod common;
+
+use common::bad_scene::*;
+use std::process::{Command, Stdio};
+use std::time::Duration;
+
+fn block_scene(dir: &std::path::Path) -> std::path::PathBuf {
+    let scene = dir.join("scene.toml");
+    std::fs::write(&scene, BLOCK_ON_PLANE).unwrap();
+    scene
+}
+
+#[test]
+fn an_output_directory_that_is_a_file_is_refused_before_solving() {
+    let dir = fresh_dir("out_is_a_file");
+    let scene = block_scene(&dir);
+    let file = dir.join("out");
+    std::fs::write(&file, "keep me").unwrap();
+    for out in [file.clone(), file.join("sub")] {
+        let run = Command::new(BIN)
+            .args(["run", "-q"])
+            .arg(&scene)
+            .arg("--out")
+            .arg(&out)
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&run.stderr);
+        assert_eq!(run.status.code(), Some(1), "{err}");
+        assert!(err.contains("output directory"), "{err}");
+        assert!(err.contains("exists and is not a directory"), "{err}");
+        assert!(err.contains("--out"), "{err}");
+        assert_eq!(std::fs::read_to_string(&file).unwrap(), "keep me");
+    }
+    let left: Vec<_> = std::fs::read_dir(&dir).unwrap().collect();
+    assert_eq!(left.len(), 2, "only the scene and the file: {left:?}");
+}
+
+#[test]
+fn bad_command_line_values_are_bad_input_and_help_is_not_an_error() {
+    let dir = fresh_dir("bad_flags");
+    let scene = block_scene(&dir);
+    for flags in [
+        ["--max-memory", "garbage"],
+        ["--method", "no_such_method"],
+        ["--path", "sideways"],
+    ] {
+        let run = Command::new(BIN)
+            .arg("run")
+            .arg(&scene)
+            .args(flags)
+            .arg("--out")
+            .arg(dir.join("out"))
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&run.stderr);
+        assert_eq!(run.status.code(), Some(1), "{flags:?}: {err}");
+        assert!(err.contains(flags[0]) && err.contains(flags[1]), "{err}");
+        assert!(!dir.join("out").exists());
+    }
+    let help = Command::new(BIN).args(["run", "--help"]).output().unwrap();
+    assert_eq!(help.status.code(), Some(0));
+    assert!(String::from_utf8_lossy(&help.stdout).contains("--max-memory"));
+}
+
+#[test]
+fn a_device_as_mesh_or_scene_is_refused_not_read_forever() {
+    let mesh = block_meshed("{ file = \"/dev/zero\" }");
+    let dir = fresh_dir("device_mesh");
+    std::fs::write(dir.join("scene.toml"), &mesh).unwrap();
+    let mut cmd = Command::new(BIN);
+    cmd.arg("run")
+        .arg(dir.join("scene.toml"))
+        .arg("--out")
+        .arg(dir.join("out"));
+    let (out, _) = run_limited(cmd, Duration::from_secs(60));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    assert!(
+        err.contains("bodies[0].mesh.file") && err.contains("not a regular file"),
+        "{err}"
+    );
+    assert!(!dir.join("out").exists());
+
+    let mut cmd = Command::new(BIN);
+    cmd.args(["run", "/dev/zero", "--out"]).arg(dir.join("out"));
+    let (out, _) = run_limited(cmd, Duration::from_secs(60));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    assert!(
+        err.contains("/dev/zero") && err.contains("not a scene file"),
+        "{err}"
+    );
+    assert!(!dir.join("out").exists());
+}
+
+#[test]
+fn bodies_whose_output_files_would_collide_or_not_fit_a_file_name_are_refused() {
+    // The block renamed "a/b", and a copy of it named "a_b" beside it.
+    let renamed = BLOCK_ON_PLANE.replace("\"block\"", "\"a/b\"");
+    let second = "\n[[bodies]]\nname = \"a_b\"\nmaterial = \"steel\"\nmesh = { generator = \"rectangle\", origin = [3.0, 0.0], size = [1.0, 0.5], divisions = [2, 1] }\n";
+    let run = run_scene("stem_collision", Some(&format!("{renamed}{second}")), &[]);
+    run.assert_bad_input(&[
+        "bodies[2].name",
+        "bodies[0].name",
+        "a_b_<step>.vtu",
+        "rename",
+    ]);
+
+    let long = "b".repeat(101);
+    let scene = BLOCK_ON_PLANE.replace("\"block\"", &format!("\"{long}\""));
+    let run = run_scene("long_name", Some(&scene), &[]);
+    run.assert_bad_input(&["bodies[0].name", "101 characters", "at most 100"]);
+}
+
+#[test]
+fn a_full_stdout_loses_the_summary_not_the_run() {
+    let dir = fresh_dir("full_stdout");
+    let scene = block_scene(&dir);
+    let run = Command::new(BIN)
+        .args(["run", "-q"])
+        .arg(&scene)
+        .arg("--out")
+        .arg(dir.join("out"))
+        .stdout(Stdio::from(std::fs::File::create("/dev/full").unwrap()))
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&run.stderr);
+    assert_eq!(run.status.code(), Some(0), "{err}");
+    assert!(!err.contains("internal error"), "{err}");
+    let report = std::fs::read_to_string(dir.join("out/report.json")).unwrap();
+    assert!(report.contains("\"converged\": true"), "{report}");
+}
