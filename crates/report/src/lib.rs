@@ -187,8 +187,9 @@ pub struct Certificate {
     /// Dissipation sign: max over slipping points of λ_t Δs (the friction force
     /// must oppose the slip, λ_t Δs ≤ 0), over force × length scales.
     pub dissipation: f64,
-    /// Regularised (penalty) law residual max |λ − k max(0, −g)| over the force
-    /// scale, on the points of a `law = { penalty = k }` contact.
+    /// Regularised (penalty) law residual max |λ − k max(0, −g)| over the
+    /// larger of the force scale and k × the length scale, on the points of
+    /// a `law = { penalty = k }` contact; part of [`Certificate::max`].
     pub law: f64,
     /// The tolerance these were checked against.
     pub tolerance: f64,
@@ -205,6 +206,7 @@ impl Certificate {
             self.tension,
             self.complementarity,
             self.cone,
+            self.law,
         ]
         .into_iter()
         .fold(0.0, f64::max)
@@ -588,5 +590,24 @@ mod peak_tests {
         assert!(reset_peak_rss());
         let after = peak_rss_bytes();
         assert!(after + (128 << 20) < before, "{before} → {after}");
+    }
+}
+
+#[cfg(test)]
+mod certificate_tests {
+    use super::*;
+
+    /// A run converges only when every residual of its certificate is
+    /// within the tolerance: the regularised law's too (it was left out, so a
+    /// penalty-law contact far off its law was reported converged).
+    #[test]
+    fn the_largest_residual_counts_the_law() {
+        let c = Certificate {
+            equilibrium: 1e-15,
+            law: 3e-3,
+            tolerance: 1e-9,
+            ..Default::default()
+        };
+        assert_eq!(c.max(), 3e-3);
     }
 }

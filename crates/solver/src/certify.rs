@@ -53,13 +53,16 @@ pub(crate) fn certificate_of(
     let lscale = sol.length_scale.max(umax).max(f64::MIN_POSITIVE);
     let fscale = sol.f_scale.max(lmax).max(f64::MIN_POSITIVE);
     // Points of a regularised law obey λ = k max(0, −g) instead of g ≥ 0, λ g = 0.
+    // Its residual is over the larger of the force scale and k times the
+    // length scale: a stiff law (k·L ≫ F) is then checked on its gap,
+    // |λ/k − max(0, −g)| / L, which round-off in g cannot blow up by k.
     let unilateral = |p: &usize| sol.law_k.get(*p).is_none_or(|k| *k == 0.0);
     let law = (0..lambda.len())
         .filter(|p| !unilateral(p))
         .fold(0.0f64, |a, p| {
-            a.max((lambda[p] - sol.law_k[p] * (-gaps[p]).max(0.0)).abs())
-        })
-        / fscale;
+            let k = sol.law_k[p];
+            a.max((lambda[p] - k * (-gaps[p]).max(0.0)).abs() / fscale.max(k * lscale))
+        });
     Certificate {
         equilibrium: res.equilibrium / res.force_scale.max(fscale),
         penetration: (0..gaps.len())
