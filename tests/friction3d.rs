@@ -257,3 +257,19 @@ fn regularised_coulomb_tends_to_coulomb_in_3d() {
     }
     assert!(previous <= 1e-4, "k_e = 1e8: error {previous}");
 }
+
+/// An elliptic cone with one zero coefficient is friction along one
+/// direction alone, not a cone: refused when the scene is read, naming the
+/// entry (it was accepted and then ended on a certificate of 3.7e-2, exit 2).
+#[test]
+fn an_elliptic_cone_with_one_zero_coefficient_is_refused() {
+    for mu in ["[0.0, 0.3]", "[0.3, 0.0]"] {
+        let scene = box_scene(&format!("{{ coulomb = {mu} }}"), [0.1, 0.0], None);
+        let err = signorini_scene::parse_toml(&scene).unwrap_err().to_string();
+        assert!(err.contains(".friction.coulomb"), "{err}");
+        assert!(err.contains("both coefficients > 0"), "{err}");
+    }
+    // [0, 0] is frictionless, and solves.
+    let scene = box_scene("{ coulomb = [0.0, 0.0] }", [0.1, 0.0], None);
+    assert!(signorini_scene::parse_toml(&scene).is_ok());
+}

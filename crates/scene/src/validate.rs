@@ -789,6 +789,14 @@ fn validate_friction(e: &str, friction: &Friction, dim: usize) -> Result {
             for mu in coefficient {
                 non_negative(&fe, *mu)?;
             }
+            if coefficient.len() == 2 && coefficient.contains(&0.0) && coefficient != &[0.0, 0.0] {
+                return Err(invalid(
+                    fe,
+                    format!(
+                        "an elliptic cone needs both coefficients > 0, got {coefficient:?}: friction in one tangential direction alone is not a cone; give one coefficient, or two positive ones"
+                    ),
+                ));
+            }
             if let Some(k) = slip_stiffness {
                 positive(&format!("{e}.friction.slip_stiffness"), *k)?;
             }
