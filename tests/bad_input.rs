@@ -589,3 +589,16 @@ fn nan_and_inf_in_a_mesh_name_the_entry() {
         assert!(!run.stderr().contains("null"), "{}", run.describe());
     }
 }
+
+/// A JSON scene's type error names the key, as a TOML scene's does (serde_json
+/// alone gave only a line and column).
+#[test]
+fn a_json_type_error_names_its_key() {
+    let json = r#"{"title": "t", "dimension": 2, "model": "plane_strain",
+        "materials": [{"name": "steel", "young": "x", "poisson": 0.3}]}"#;
+    let err = signorini_scene::parse_json(json).unwrap_err().to_string();
+    assert!(err.contains("`materials[0].young`"), "{err}");
+    assert!(err.contains("expected f64"), "{err}");
+    let at_top = signorini_scene::parse_json("{}").unwrap_err().to_string();
+    assert!(at_top.contains("missing field `dimension`"), "{at_top}");
+}

@@ -176,8 +176,21 @@ fn shorten_snippet(message: &str) -> String {
     out.join("\n")
 }
 
+/// A JSON scene; an error names the key it is at (`materials[0].young`), as
+/// the TOML parser's does.
 fn from_json(text: &str) -> Result<Scene, SceneError> {
-    serde_json::from_str(text).map_err(|e| SceneError::Parse {
-        message: format!("JSON parse error: {e}"),
-    })
+    let parse_error = |message: String| SceneError::Parse {
+        message: format!("JSON parse error{message}"),
+    };
+    let mut de = serde_json::Deserializer::from_str(text);
+    let scene: Scene = serde_path_to_error::deserialize(&mut de).map_err(|e| {
+        let at = match e.path().to_string().as_str() {
+            "." | "" => String::new(),
+            path => format!(" at `{path}`"),
+        };
+        parse_error(format!("{at}: {}", e.inner()))
+    })?;
+    // Trailing characters after the scene are an error, as in from_str.
+    de.end().map_err(|e| parse_error(format!(": {e}")))?;
+    Ok(scene)
 }
