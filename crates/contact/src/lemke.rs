@@ -23,6 +23,13 @@
 //! positive entry the path ends on a ray: for W positive semi-definite
 //! (copositive-plus) this proves that the LCP has no solution.
 //!
+//! The pivoting runs on the problem scaled to unit diagonal and ‖q‖∞ = 1
+//! (W̃ = D W D, q̃ = D q / β, D_ii = W_ii^(−1/2)), and λ = β D λ̃ is scaled
+//! back: the tableau then mixes no units (on W as assembled, the columns of
+//! B⁻¹ hold compliances, stiffnesses and pure numbers side by side, and a
+//! tolerance relative to the largest entry of a column zeroed the pivots of
+//! a stiff material), and the same scene in any units pivots the same way.
+//!
 //! The ratio test is lexicographic (ties in rhsᵢ/colᵢ broken by the rows of
 //! B⁻¹ divided by colᵢ, then by the smallest basic-variable index), with a
 //! relative pivot tolerance, which prevents cycling on degenerate problems
@@ -47,6 +54,12 @@ const PIVOT_TOL: f64 = 1e-11;
 
 /// Relative tolerance for ties in the ratio test.
 const TIE_TOL: f64 = 1e-12;
+
+/// Entries of a column below `ZERO_TOL` × the largest |W̃_ij| of its original
+/// column (1 for a gap column) are zero: relative to the scaled problem
+/// ([`Scaling`], unit diagonal and ‖q̃‖∞ = 1), whose entries are O(1)
+/// whatever the units of W and q.
+const ZERO_TOL: f64 = 1e-14;
 
 /// Lemke's method with covering vector d = 1 (see the module documentation).
 ///
@@ -76,54 +89,11 @@ pub fn lemke(w: &Mat<f64>, q: &[f64], opts: &LcpOptions) -> Result<ContactSoluti
         return Ok(ContactSolution::from_forces(w, q, lambda, report));
     }
     let max_pivots = opts.max_iterations.max(10 * m);
-    let mut tab = Tableau::new(w, q);
-    let z0 = 2 * m;
-
-    // First pivot: z0 enters at the lexicographic minimum of the rows
-    // (q_i, e_i), i.e. the most negative q_i (ties: the largest index, which
-    // keeps every row lexicographically positive).
-    let qmin = q.iter().copied().fold(f64::INFINITY, f64::min);
-    let r = (0..m)
-        .rev()
-        .find(|&i| q[i] <= qmin + TIE_TOL * qmin.abs())
-        .unwrap_or(0);
-    let mut leaving = tab.pivot(r, z0);
-    let mut pivots = 1;
-    let mut solved = false;
-    while pivots < max_pivots {
-        if leaving == z0 {
-            solved = true;
-            break;
-        }
-        // The complement of the variable that left enters.
-        let entering = if leaving < m {
-            leaving + m
-        } else {
-            leaving - m
-        };
-        let Some(row) = tab.ratio_test(entering) else {
-            return Err(ContactError::Singular(format!(
-                "Lemke's method ended on a ray after {pivots} pivots: {} (point {}) can grow without bound, so LCP(W, q) has no solution for this q — W is singular or not positive semi-definite (redundant or inconsistent contact constraints, or a body free to move away from its contacts)",
-                if entering < m { "the gap w" } else { "the force λ" },
-                entering % m
-            )));
-        };
-        leaving = tab.pivot(row, entering);
-        pivots += 1;
-    }
-    if leaving == z0 {
-        solved = true;
-    }
+    let scaling = Scaling::new(w, q);
+    let (scaled, solved, pivots) = pivot_path(&scaling.w, &scaling.q, max_pivots)?;
     report.iterations = pivots;
     report.operator_applications = pivots;
-
-    // Forces of the final basis.
-    let mut lambda = vec![0.0; m];
-    for (i, &b) in tab.basis.iter().enumerate() {
-        if (m..2 * m).contains(&b) {
-            lambda[b - m] = tab.rhs(i).max(0.0);
-        }
-    }
+    let mut lambda = scaling.forces(&scaled);
     let mut polished = false;
     if solved {
         let active: Vec<usize> = (0..m).filter(|&p| lambda[p] > 0.0).collect();
@@ -163,6 +133,103 @@ pub fn lemke(w: &Mat<f64>, q: &[f64], opts: &LcpOptions) -> Result<ContactSoluti
     Ok(ContactSolution::from_forces(w, q, lambda, report))
 }
 
+/// The complementary pivoting path on the scaled LCP(W, q) from z0 entering
+/// at the most negative q_i, at most `max_pivots` pivots: the forces of the
+/// final basis, whether z0 left it (a solution), and the pivots made. A ray
+/// is [`ContactError::Singular`].
+fn pivot_path(
+    w: &Mat<f64>,
+    q: &[f64],
+    max_pivots: usize,
+) -> Result<(Vec<f64>, bool, usize), ContactError> {
+    let m = q.len();
+    let mut tab = Tableau::new(w, q);
+    let z0 = 2 * m;
+    // First pivot: z0 enters at the lexicographic minimum of the rows
+    // (q_i, e_i), i.e. the most negative q_i (ties: the largest index, which
+    // keeps every row lexicographically positive).
+    let qmin = q.iter().copied().fold(f64::INFINITY, f64::min);
+    let r = (0..m)
+        .rev()
+        .find(|&i| q[i] <= qmin + TIE_TOL * qmin.abs())
+        .unwrap_or(0);
+    let mut leaving = tab.pivot(r, z0);
+    let mut pivots = 1;
+    while pivots < max_pivots && leaving != z0 {
+        // The complement of the variable that left enters.
+        let entering = if leaving < m {
+            leaving + m
+        } else {
+            leaving - m
+        };
+        let Some(row) = tab.ratio_test(entering) else {
+            return Err(ContactError::Singular(format!(
+                "Lemke's method ended on a ray after {pivots} pivots: {} (point {}) can grow without bound, so LCP(W, q) has no solution for this q — W is singular or not positive semi-definite (redundant or inconsistent contact constraints, or a body free to move away from its contacts)",
+                if entering < m { "the gap w" } else { "the force λ" },
+                entering % m
+            )));
+        };
+        leaving = tab.pivot(row, entering);
+        pivots += 1;
+    }
+    let mut lambda = vec![0.0; m];
+    for (i, &b) in tab.basis.iter().enumerate() {
+        if (m..2 * m).contains(&b) {
+            lambda[b - m] = tab.rhs(i).max(0.0);
+        }
+    }
+    Ok((lambda, leaving == z0, pivots))
+}
+
+/// The LCP(W, q) in units of the problem: W̃ = D W D with unit diagonal
+/// (D_ii = W_ii^(−1/2)) and q̃ = D q / β with ‖q̃‖∞ = 1 (β = ‖D q‖∞); its
+/// solution λ̃ gives λ = β D λ̃ (w̃ = D w / β: the positive scalings keep
+/// λ ≥ 0, w ≥ 0, λ·w = 0). Replacing W by s W and q by t q leaves W̃ and q̃
+/// unchanged, hence the pivot sequence and the tolerances of the tableau,
+/// which can then be relative to 1. A point with W_ii ≤ 0 (no compliance of
+/// its own) is scaled by the largest diagonal entry.
+struct Scaling {
+    d: Vec<f64>,
+    beta: f64,
+    w: Mat<f64>,
+    q: Vec<f64>,
+}
+
+impl Scaling {
+    fn new(w: &Mat<f64>, q: &[f64]) -> Self {
+        let m = q.len();
+        let dmax = (0..m).map(|i| w[(i, i)]).fold(0.0, f64::max);
+        let d: Vec<f64> = (0..m)
+            .map(|i| {
+                let wii = if w[(i, i)] > 0.0 { w[(i, i)] } else { dmax };
+                if wii > 0.0 {
+                    1.0 / wii.sqrt()
+                } else {
+                    1.0
+                }
+            })
+            .collect();
+        let dq: Vec<f64> = q.iter().zip(&d).map(|(qi, di)| qi * di).collect();
+        let qmax = dq.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+        let beta = if qmax > 0.0 { qmax } else { 1.0 };
+        Self {
+            w: Mat::from_fn(m, m, |i, j| d[i] * w[(i, j)] * d[j]),
+            q: dq.iter().map(|v| v / beta).collect(),
+            d,
+            beta,
+        }
+    }
+
+    /// λ = β D λ̃.
+    fn forces(&self, scaled: &[f64]) -> Vec<f64> {
+        scaled
+            .iter()
+            .zip(&self.d)
+            .map(|(l, di)| self.beta * di * l)
+            .collect()
+    }
+}
+
 /// λ_A = −W_AA⁻¹ q_A on `active`, 0 elsewhere; `None` if the solve fails or
 /// is not finite.
 fn polish(w: &Mat<f64>, q: &[f64], active: &[usize]) -> Option<Vec<f64>> {
@@ -194,7 +261,7 @@ struct Tableau {
     ncols: usize,
     t: Vec<f64>,
     basis: Vec<usize>,
-    /// Scale of each original column (for the absolute zero test).
+    /// Scale of each original column (for the zero test of [`ZERO_TOL`]).
     col_scale: Vec<f64>,
 }
 
@@ -263,7 +330,7 @@ impl Tableau {
     fn ratio_test(&self, c: usize) -> Option<usize> {
         let m = self.m;
         let col_max = (0..m).map(|i| self.at(i, c).abs()).fold(0.0, f64::max);
-        let tol = (PIVOT_TOL * col_max).max(1e-14 * self.col_scale[c]);
+        let tol = (PIVOT_TOL * col_max).max(ZERO_TOL * self.col_scale[c]);
         let rows: Vec<usize> = (0..m)
             .filter(|&i| self.at(i, c) > tol && self.at(i, c) > 0.0)
             .collect();
@@ -320,6 +387,12 @@ mod tests {
     #[test]
     fn lemke_on_redundant_constraints_is_right_or_a_clear_error() {
         redundant_constraints(lemke, true);
+    }
+
+    #[test]
+    fn lemke_pivots_the_same_way_in_any_units() {
+        // Exactly the same pivots: the tableau is that of the scaled problem.
+        scale_invariant(lemke, 0);
     }
 
     #[test]

@@ -784,6 +784,42 @@ pub(crate) mod test_support {
         ));
     }
 
+    /// The same LCP in other units: (s W, t q) for s, t in 1e-12 … 1e12, with
+    /// the force and gap scales of the options scaled alike (t/s, t), has
+    /// the solution (t/s) λ to 1e-8 relatively, converges, and takes the
+    /// same number of iterations as (W, q) within `slack`.
+    pub fn scale_invariant(method: Method, slack: usize) {
+        let mut rng = Rng::new(11);
+        let m = 20;
+        let w = random_spd(m, &mut rng);
+        let q = random_vec(m, &mut rng);
+        let base = method(&w, &q, &tight()).unwrap();
+        assert!(base.report.converged, "{}", base.report.stop);
+        assert!(base.forces.iter().any(|v| *v > 0.0) && base.forces.contains(&0.0));
+        let scales = [1e-12, 1e-6, 1.0, 2.1e11, 1e12];
+        for s in scales {
+            for t in scales {
+                let ws = Mat::<f64>::from_fn(m, m, |i, j| s * w[(i, j)]);
+                let qs: Vec<f64> = q.iter().map(|v| t * v).collect();
+                let opts = LcpOptions {
+                    force_scale: t / s,
+                    gap_scale: t,
+                    ..tight()
+                };
+                let sol = method(&ws, &qs, &opts).unwrap();
+                let what = format!("{} at s = {s:e}, t = {t:e}", sol.report.method);
+                assert!(sol.report.converged, "{what}: {}", sol.report.stop);
+                let back: Vec<f64> = sol.forces.iter().map(|v| v * s / t).collect();
+                assert_close(&back, &base.forces, 1e-8, &what);
+                let (a, b) = (sol.report.iterations, base.report.iterations);
+                assert!(
+                    a.abs_diff(b) <= slack,
+                    "{what}: {a} iterations, {b} in units 1"
+                );
+            }
+        }
+    }
+
     /// A too small iteration budget gives Ok with converged = false.
     pub fn reports_iteration_limit(method: Method, budget: usize) {
         let mut rng = Rng::new(3);
@@ -830,6 +866,12 @@ mod tests {
     fn projection_methods_handle_redundant_constraints() {
         redundant_constraints(projected_gradient, false);
         redundant_constraints(projected_conjugate_gradient, false);
+    }
+
+    #[test]
+    fn projection_methods_do_not_depend_on_the_units() {
+        scale_invariant(projected_gradient, 1);
+        scale_invariant(projected_conjugate_gradient, 1);
     }
 
     #[test]

@@ -149,6 +149,11 @@ mod tests {
     }
 
     #[test]
+    fn uzawa_does_not_depend_on_the_units() {
+        crate::projected_gradient::test_support::scale_invariant(uzawa, 1);
+    }
+
+    #[test]
     fn the_residual_without_a_product_is_lcp_residual() {
         let c = &cases()[1];
         let o = opts();

@@ -189,7 +189,7 @@ pub(crate) fn status_options(
 
 /// The length scale of a step, against which gaps and penetrations are
 /// measured: the largest prescribed displacement, initial gap, or the
-/// displacement ‖F‖/E the largest load gives the stiffest body.
+/// displacement the largest load gives the stiffest body ([`load_displacement`]).
 pub(crate) fn length_scale(
     bodies: &[BodyModel],
     points: &[PointModel],
@@ -198,8 +198,38 @@ pub(crate) fn length_scale(
 ) -> f64 {
     let u_p_scale = u_p.iter().fold(0.0f64, |a, v| a.max(inf_norm(v)));
     let g0_scale = points.iter().fold(0.0f64, |a, p| a.max(p.gap0.abs()));
-    let e_max = bodies.iter().fold(0.0f64, |a, b| a.max(b.material.young));
-    u_p_scale.max(g0_scale).max(f_scale / e_max)
+    let u_f = bodies
+        .iter()
+        .map(|b| load_displacement(b, f_scale))
+        .filter(|u| u.is_finite())
+        .fold(f64::INFINITY, f64::min);
+    let u_f = if u_f.is_finite() { u_f } else { 0.0 };
+    u_p_scale.max(g0_scale).max(u_f)
+}
+
+/// The displacement a force `f` gives body `b`: f/E in the plane models,
+/// whose forces are per unit thickness, and f/(E h) in the axisymmetric
+/// (forces of whole rings) and 3D models, whose forces are forces, h being
+/// the diagonal of the body's bounding box; f/E alone would be an area
+/// there, and the gap tolerances would change with the length unit.
+fn load_displacement(b: &BodyModel, f: f64) -> f64 {
+    let e = b.material.young;
+    let volumic = b.mesh.dim == 3 || b.material.model == signorini_fem::Model::Axisymmetric;
+    if !volumic {
+        return f / e;
+    }
+    let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+    for x in &b.mesh.coords {
+        for k in 0..3 {
+            lo[k] = lo[k].min(x[k]);
+            hi[k] = hi[k].max(x[k]);
+        }
+    }
+    let h = (0..3)
+        .map(|k| (hi[k] - lo[k]).max(0.0).powi(2))
+        .sum::<f64>()
+        .sqrt();
+    f / (e * h)
 }
 
 /// The report of a status-method solve: the method's name as the run
