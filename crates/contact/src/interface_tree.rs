@@ -92,9 +92,13 @@ struct Top {
 }
 
 /// The factorisation met a pivot that is not positive: S̃ is not positive
-/// definite.
+/// definite. `dof` is the Γ DOF of that pivot (S̃ is block diagonal over
+/// the disconnected pieces of Γ, so the DOF lies in a piece that is
+/// singular).
 #[derive(Debug)]
-pub struct NotPositiveDefinite;
+pub struct NotPositiveDefinite {
+    pub dof: usize,
+}
 
 impl TreeFactor {
     /// Factorises S̃ (module doc) of the `blocks` on n Γ DOFs with the
@@ -134,7 +138,7 @@ impl TreeFactor {
                 merge_and_eliminate(vec![g], |d, _| !keep[d], &fixing, par)?;
             fronts.extend(front);
             crate::recursive_cholesky::cholesky(l.as_mut(), par)
-                .map_err(|_| NotPositiveDefinite)?;
+                .map_err(|i| NotPositiveDefinite { dof: dofs[i] })?;
             flops += top_flops + (l.nrows() as f64).powi(3) / 3.0;
             tops.push(Top { dofs, l });
         }
@@ -364,7 +368,8 @@ fn merge_and_eliminate(
         return Ok((None, remaining, f, 0.0));
     }
     let (mut ee, _, mut re, mut rr) = f.as_mut().split_at_mut(ne, ne);
-    crate::recursive_cholesky::cholesky(ee.rb_mut(), par).map_err(|_| NotPositiveDefinite)?;
+    crate::recursive_cholesky::cholesky(ee.rb_mut(), par)
+        .map_err(|i| NotPositiveDefinite { dof: eliminated[i] })?;
     // L_REᵀ = L_EE⁻¹ F_ERᵀ, then T = F_RR − L_RE L_REᵀ (lower triangle).
     solve_lower_triangular_in_place(ee.rb(), re.rb_mut().transpose_mut(), par);
     matmul(

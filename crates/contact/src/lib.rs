@@ -59,6 +59,10 @@ pub enum ContactError {
     Geometry(String),
     #[error("the contact problem is singular: {0}")]
     Singular(String),
+    /// The interface stiffness S is not positive definite beyond the rigid
+    /// modes it was given: the factorisation failed at the Γ DOF `dof`.
+    #[error("the contact problem is singular: the interface stiffness S is not positive definite beyond the rigid modes of the floating bodies (at interface DOF {dof}): a body is free to move in a way its supports do not prevent")]
+    SingularInterface { dof: usize },
     #[error("linear solve failed: {0}")]
     Solve(String),
 }

@@ -168,10 +168,10 @@ enum FactorKind {
     },
 }
 
-fn not_definite() -> ContactError {
-    ContactError::Singular(
-        "the interface stiffness S is not positive definite beyond the rigid modes of the floating bodies: a body is free to move in a way its supports do not prevent".into(),
-    )
+/// S (plus the kernel term) has a pivot that is not positive at Γ DOF
+/// `dof`: a body is free to move beyond the rigid modes it was given.
+fn not_definite(dof: usize) -> ContactError {
+    ContactError::SingularInterface { dof }
 }
 
 impl SchurFactor {
@@ -228,7 +228,7 @@ impl SchurFactor {
         }
         let norm1 = lower_symmetric_norm1(&l);
         crate::recursive_cholesky::cholesky(l.as_mut(), faer::get_global_parallelism())
-            .map_err(|_| not_definite())?;
+            .map_err(|i| not_definite(order[i]))?;
         let stats = InterfaceFactorStats {
             storage: "dense",
             matrix_nnz: n * n,
@@ -257,7 +257,7 @@ impl SchurFactor {
         let norm1 = blocks_norm1(n, &blocks, &fixed, scale);
         let matrix_nnz = blocks.iter().map(|b| b.gamma.len().pow(2)).sum();
         let tree =
-            TreeFactor::new(n, blocks, &contact, &fixed, scale).map_err(|_| not_definite())?;
+            TreeFactor::new(n, blocks, &contact, &fixed, scale).map_err(|e| not_definite(e.dof))?;
         let stats = InterfaceFactorStats {
             storage: "tree",
             matrix_nnz,

@@ -312,6 +312,42 @@ impl Mesh {
         out
     }
 
+    /// The connected parts of the mesh, two cells being connected when they
+    /// share a node: the part of every node (numbered 0.. in order of their
+    /// lowest node; a node of no cell is a part of its own) and their count.
+    pub fn node_components(&self) -> (Vec<usize>, usize) {
+        let n = self.n_nodes();
+        // Union–find over the nodes, each cell joining its nodes.
+        let mut parent: Vec<usize> = (0..n).collect();
+        fn root(parent: &mut [usize], mut v: usize) -> usize {
+            while parent[v] != v {
+                parent[v] = parent[parent[v]];
+                v = parent[v];
+            }
+            v
+        }
+        for cell in &self.cells {
+            if let Some((&first, rest)) = cell.nodes.split_first() {
+                for &v in rest {
+                    let (a, b) = (root(&mut parent, first), root(&mut parent, v));
+                    parent[a.max(b)] = a.min(b);
+                }
+            }
+        }
+        let mut part_of_root = vec![usize::MAX; n];
+        let mut part = vec![0; n];
+        let mut count = 0;
+        for (v, p) in part.iter_mut().enumerate() {
+            let r = root(&mut parent, v);
+            if part_of_root[r] == usize::MAX {
+                part_of_root[r] = count;
+                count += 1;
+            }
+            *p = part_of_root[r];
+        }
+        (part, count)
+    }
+
     /// Index of the node nearest to `p`, with its distance.
     pub fn nearest_node(&self, p: [f64; 3]) -> Option<(usize, f64)> {
         self.coords

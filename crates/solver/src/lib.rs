@@ -108,6 +108,9 @@ fn contact_error(e: ContactError) -> SolveError {
         ContactError::Singular(m) => SolveError::Input(format!(
             "the contact problem is singular: {m}; a body held only by contact needs contacts that can hold every rigid motion its supports leave free"
         )),
+        e @ ContactError::SingularInterface { .. } => SolveError::Input(format!(
+            "{e}; a body held only by contact needs contacts that can hold every rigid motion its supports leave free"
+        )),
         other => SolveError::Internal(other.to_string()),
     }
 }

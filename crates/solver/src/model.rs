@@ -510,44 +510,55 @@ fn fix_axis(mesh: &Mesh, body: &str, supports: &mut Supports) -> Result<(), Solv
     Ok(())
 }
 
-/// The rigid motions r with r = 0 on every prescribed DOF: the null space of
-/// the prescribed rows of the (normalised) rigid-body modes, by a symmetric
-/// eigen decomposition of CᵀC, a rank test scaled by the number of DOFs.
+/// The rigid motions r with r = 0 on every prescribed DOF, part by part of
+/// the mesh (`Mesh::node_components`): a body of k disconnected parts has k
+/// sets of rigid modes, each free unless the supports of its own part hold
+/// it. Each is zero outside its part.
 fn free_rigid_modes(mesh: &Mesh, model: FemModel, prescribed: &[bool]) -> Vec<Vec<f64>> {
-    let mut modes = signorini_fem::rigid_body_modes(mesh, model);
-    for m in modes.iter_mut() {
-        let n = m.iter().map(|v| v * v).sum::<f64>().sqrt();
-        m.iter_mut().for_each(|v| *v /= n);
+    let modes = signorini_fem::rigid_body_modes(mesh, model);
+    let (part, n_parts) = mesh.node_components();
+    let dim = mesh.dim;
+    let mut kernel = Vec::new();
+    for p in 0..n_parts {
+        let dofs: Vec<usize> = (0..prescribed.len())
+            .filter(|&d| part[d / dim] == p)
+            .collect();
+        kernel.extend(free_modes_of_part(&modes, &dofs, prescribed));
     }
-    let k = modes.len();
-    let n_dof = prescribed.len();
+    kernel
+}
+
+/// The rigid motions of one part (its DOFs `dofs`) that vanish on its
+/// prescribed DOFs: the body's modes restricted to the part and
+/// orthonormalised there (thin QR), then the null space of their prescribed
+/// rows C by a symmetric eigen decomposition of CᵀC, a rank test scaled by
+/// the part's number of DOFs. Full-length vectors, zero off the part.
+fn free_modes_of_part(modes: &[Vec<f64>], dofs: &[usize], prescribed: &[bool]) -> Vec<Vec<f64>> {
+    let n = dofs.len();
+    let restricted = Mat::<f64>::from_fn(n, modes.len(), |i, j| modes[j][dofs[i]]);
+    let q = restricted.qr().compute_thin_Q();
+    let k = q.ncols();
     let mut ctc = Mat::<f64>::zeros(k, k);
-    for d in (0..n_dof).filter(|&d| prescribed[d]) {
-        for i in 0..k {
-            for j in 0..k {
-                ctc[(i, j)] += modes[i][d] * modes[j][d];
+    for i in (0..n).filter(|&i| prescribed[dofs[i]]) {
+        for a in 0..k {
+            for b in 0..k {
+                ctc[(a, b)] += q[(i, a)] * q[(i, b)];
             }
         }
     }
     let Ok(eig) = ctc.self_adjoint_eigen(Side::Lower) else {
         return Vec::new();
     };
-    let threshold = 1e-8 / n_dof as f64;
+    let threshold = 1e-8 / n as f64;
     let mut kernel = Vec::new();
-    for j in 0..k {
-        if eig.S()[j] <= threshold {
-            let v: Vec<f64> = (0..k).map(|i| eig.U()[(i, j)]).collect();
-            let r: Vec<f64> = (0..n_dof)
-                .map(|d| {
-                    if prescribed[d] {
-                        0.0
-                    } else {
-                        (0..k).map(|i| v[i] * modes[i][d]).sum()
-                    }
-                })
-                .collect();
-            kernel.push(r);
+    for j in (0..k).filter(|&j| eig.S()[j] <= threshold) {
+        let mut r = vec![0.0; prescribed.len()];
+        for (i, &d) in dofs.iter().enumerate() {
+            if !prescribed[d] {
+                r[d] = (0..k).map(|a| eig.U()[(a, j)] * q[(i, a)]).sum();
+            }
         }
+        kernel.push(r);
     }
     kernel
 }

@@ -343,9 +343,10 @@ impl<'a> RootSolve<'a> {
         let load = step_load(input, interface, st, si)?;
         let op = delassus_operator(&mut self.operator, &mut operator_s, || {
             let s = stiffness.ok_or_else(|| {
-                ContactError::Solve("the interface stiffness was already factorised".into())
+                SolveError::Internal("the interface stiffness was already factorised".into())
             })?;
             conditioning::delassus_operator(s, &interface.rows, &interface.kernel, cond)
+                .map_err(|e| interface_error(input, e))
         })?;
         let (mut step, u) = match (&self.friction, self.history.as_mut(), &mut self.elements) {
             (_, _, Some(h)) => element_step(input, interface, h, op, load)?,
@@ -610,16 +611,34 @@ fn frictionless_step(
 pub(crate) fn delassus_operator<'a>(
     slot: &'a mut Option<DelassusOperator>,
     seconds: &mut f64,
-    build: impl FnOnce() -> Result<DelassusOperator, ContactError>,
+    build: impl FnOnce() -> Result<DelassusOperator, SolveError>,
 ) -> Result<&'a DelassusOperator, SolveError> {
     if slot.is_none() {
         progress::emit(progress::Event::Detail("Delassus operator"));
         let t = Instant::now();
-        *slot = Some(build().map_err(contact_error)?);
+        *slot = Some(build()?);
         *seconds = t.elapsed().as_secs_f64();
     }
     slot.as_ref()
         .ok_or_else(|| SolveError::Internal("the Delassus operator was not built".into()))
+}
+
+/// The error of building the Delassus operator: an interface stiffness S
+/// that is not positive definite beyond the rigid modes is named by the body
+/// that holds the Γ DOF of the failing pivot (S is block diagonal by body,
+/// so that body is one that can move freely); any other as `contact_error`.
+fn interface_error(input: &RootInput, e: ContactError) -> SolveError {
+    let ContactError::SingularInterface { dof } = e else {
+        return contact_error(e);
+    };
+    let Some(b) = (0..input.bodies.len()).find(|&b| input.gamma_of[b].contains(&dof)) else {
+        return contact_error(e);
+    };
+    let body = &input.bodies[b];
+    SolveError::Input(format!(
+        "bodies[{}]: body \"{}\": {e}; a body held only by contact needs contacts that can hold every rigid motion its supports leave free, and parts of a mesh that meet only at a node (or along an edge in 3D) hinge there",
+        body.scene_index, body.name
+    ))
 }
 
 /// The statuses a friction solve starts from at its first step: closed
