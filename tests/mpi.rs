@@ -568,8 +568,8 @@ fn pieces_under_mpirun_2_equal_the_gathered_fields_and_the_in_process_files() {
 }
 
 /// An output directory that cannot be made (under a regular file) with
-/// `[output] pieces`: every rank fails to write, one message, exit 3,
-/// nothing written beside the file.
+/// `[output] pieces`: refused before solving on every rank, one message,
+/// exit 1, nothing written beside the file.
 #[test]
 fn pieces_into_a_bad_directory_under_mpirun_write_nothing() {
     if !have_mpirun() {
@@ -583,8 +583,10 @@ fn pieces_into_a_bad_directory_under_mpirun_write_nothing() {
         &["run", &scene, "--out", d.join("file/out").to_str().unwrap()],
         &[],
     );
-    let err = common::stderr_of_exit(&out, 3);
-    assert_eq!(err.matches("cannot write the output").count(), 1, "{err}");
+    // Refused before solving, on every rank (the root's check is broadcast),
+    // said once.
+    let err = common::stderr_of_exit(&out, 1);
+    assert_eq!(err.matches("is not a directory").count(), 1, "{err}");
     assert_eq!(listing(&d), vec!["file", "stack.toml"]);
 }
 
