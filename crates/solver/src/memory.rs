@@ -61,8 +61,10 @@ use crate::SolveError;
 
 /// Bytes per GiB.
 const GIB: f64 = (1u64 << 30) as f64;
-/// What the process holds before any mesh (code, libraries, buffers).
-const BASE_BYTES: f64 = 16.0 * 1024.0 * 1024.0;
+/// What the process holds before any mesh (code, libraries, buffers, the
+/// threads' stacks): 24 MiB keeps the smallest measured runs (11k-DOF 2D
+/// Hertz, 40 MiB) 1.1 times under their estimate.
+const BASE_BYTES: f64 = 24.0 * 1024.0 * 1024.0;
 /// Entries of the interior factor: `C2 n log₂ n` (2D), `C3 n^{3/2}` (3D, a
 /// compact body; `C3 n (d (ab)^{3/2})^{1/2}` for a box of a ≤ b ≤ c nodes
 /// per side, the same for a cube). C3 was 7 when 3D interiors were ordered
@@ -73,8 +75,10 @@ const BASE_BYTES: f64 = 16.0 * 1024.0 * 1024.0;
 const C2: f64 = 8.0;
 const C3: f64 = 3.5;
 /// Fill of the interface rows of the factor, entries per interface DOF, as a
-/// multiple of the interface DOFs.
-const INTERFACE_FILL: f64 = 10.0;
+/// multiple of the interface DOFs (at most the interior's DOFs). Measured:
+/// 2 to 4 (the Hertz hemisphere's 2 089 contact DOFs at 100k DOFs, the 2D
+/// cylinder in 8 parts); 10 made those estimates 1.5 to 2 times the factor.
+const INTERFACE_FILL: f64 = 5.0;
 /// The direct path's sparse LDLᵀ against the Cholesky factor (2D, 3D).
 const DIRECT_LDLT: [f64; 2] = [1.0, 1.0];
 
@@ -717,12 +721,19 @@ pub fn estimate(
         }
         .clamp(1.0, s.cells.max(1.0));
         // nodes on the cuts between parts (METIS separators): about
-        // 1.25 d (k^{1/d} − 1) n^{(d−1)/d} for k parts of a compact body of n
-        // nodes (the hemisphere of 4 100 nodes: 3.65 n^{2/3} in 8 parts, 6.6
-        // in 32, against 3.75 and 8.1), at least 1.25 n^{(d−1)/d}
+        // 1.25 d (k^{1/d} − 1) c for k parts, c the nodes of one cut across
+        // the body: n^{1/2} in 2D, width² in 3D (n^{2/3} for a compact body:
+        // the hemisphere of 4 100 nodes has 3.65 n^{2/3} in 8 parts, 6.6 in
+        // 32, against 3.75 and 8.1; a flat box a ≤ b ≤ c is cut across its
+        // long sides, a·b nodes), at least 1.25 c
         let shared = if parts > 1.0 {
             let cuts = (1.25 * d * (parts.powf(1.0 / d) - 1.0)).max(1.25);
-            (cuts * s.nodes.powf((d - 1.0) / d)).min(s.nodes)
+            let cut = if s.dim == 3 {
+                s.width * s.width
+            } else {
+                s.nodes.sqrt()
+            };
+            (cuts * cut).min(s.nodes)
         } else {
             0.0
         };
@@ -744,7 +755,8 @@ pub fn estimate(
             e.factor += 8.0 * ldlt * factor_entries(n, 0.0, s.dim, n, s.width);
         } else {
             e.factor += 8.0 * parts * factor_entries(n_part, nb_part, s.dim, n, s.width);
-            subdomain_dense += 3.0 * parts * nb_part * nb_part;
+            // each part's S, held until the interface is assembled
+            subdomain_dense += parts * nb_part * nb_part;
             blocks += parts;
             block_entries += parts * nb_part * nb_part;
         }
@@ -755,12 +767,14 @@ pub fn estimate(
     e.dense = if direct {
         8.0 * 3.0 * m * m
     } else {
-        // one subdomain: S and its factor dense; several: S sparse (values
-        // and indices) and its factor, measured at most as many entries
+        // one subdomain: the factor of S, dense; several: the assembled
+        // interface (values and indices) and its factor, which measured
+        // (3D sphere in 8 and 32 parts, 2D cylinder in 8, slab in 4) at most
+        // 1.2 times the parts' blocks' entries
         let interface = if blocks > 1.0 {
-            4.0 * block_entries
+            1.5 * block_entries
         } else {
-            2.0 * g * g
+            g * g
         };
         8.0 * (subdomain_dense + interface + 3.0 * m * m + g * m.min(256.0))
     };
