@@ -507,6 +507,10 @@ fn sweep() -> Vec<Bad> {
         bad("gmsh_truncated", gmsh(), &["bodies[0].mesh", "part.msh"]).file("part.msh", msh[..msh.len() / 2].to_vec()),
         bad("gmsh_huge_node_count", gmsh(), &["bodies[0].mesh", "part.msh", "announces 99999999999999 nodes"]).file("part.msh", TWO_TRIANGLES_MSH.replace("$Nodes\n4\n", "$Nodes\n99999999999999\n").into_bytes()),
         bad("gmsh_empty", gmsh(), &["bodies[0].mesh", "part.msh"]).file("part.msh", Vec::new()),
+        bad("gmsh_nan_coordinate", gmsh(), &["bodies[0].mesh", "part.msh", "node 3", "not a finite number"]).file("part.msh", TWO_TRIANGLES_MSH.replace("3 1 1 0\n", "3 nan 1 0\n").into_bytes()),
+        // a modulus whose stiffness overflows or underflows double precision
+        bad("young_1e308", block_with("young = 1.0", "young = 1e308"), &["materials[0].young", "outside", "other units"]),
+        bad("young_1e-310", block_with("young = 1.0", "young = 1e-310"), &["materials[0].young", "outside"]),
         // a line of 200 000 characters: the message quotes a window of it
         bad("very_long_line", format!("x = [{}]\n{BLOCK_ON_PLANE}", vec!["1"; 40_000].join(", ")), &["unknown field `x`", "line 1"]),
     ]

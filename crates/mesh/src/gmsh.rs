@@ -91,6 +91,15 @@ pub fn parse_msh(bytes: &[u8], dim: usize) -> Result<Mesh, MeshError> {
             )))
         }
     };
+    if let Some((tag, x)) = raw
+        .nodes
+        .iter()
+        .find(|(_, x)| !x.iter().all(|c| c.is_finite()))
+    {
+        return Err(invalid(format!(
+            "node {tag} has a coordinate that is not a finite number: {x:?}"
+        )));
+    }
     build(raw, dim)
 }
 

@@ -98,6 +98,11 @@ fn known(names: &[&str], what: &str, table: &str) -> String {
     }
 }
 
+/// The Young's moduli a run can represent: products of stiffnesses,
+/// displacements and their squares (energies, Delassus entries) stay within
+/// double precision (1e±308) for lengths of any sane unit.
+const YOUNG_RANGE: (f64, f64) = (1e-100, 1e100);
+
 fn positive(entry: &str, v: f64) -> Result {
     if v.is_finite() && v > 0.0 {
         Ok(())
@@ -250,6 +255,15 @@ impl Scene {
             let e = format!("materials[{i}]");
             unique_name(&mut seen, &e, &m.name, "material")?;
             positive(&format!("{e}.young"), m.young)?;
+            if !(YOUNG_RANGE.0..=YOUNG_RANGE.1).contains(&m.young) {
+                return Err(invalid(
+                    format!("{e}.young"),
+                    format!(
+                        "{} is outside [{:e}, {:e}]: the stiffness, loads and their products would overflow or underflow double precision; choose other units (MPa instead of Pa, mm instead of m)",
+                        m.young, YOUNG_RANGE.0, YOUNG_RANGE.1
+                    ),
+                ));
+            }
             if !(m.poisson.is_finite() && m.poisson > -1.0 && m.poisson < 0.5) {
                 return Err(invalid(
                     format!("{e}.poisson"),
