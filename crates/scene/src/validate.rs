@@ -259,7 +259,7 @@ impl Scene {
                 return Err(invalid(
                     format!("{e}.young"),
                     format!(
-                        "{} is outside [{:e}, {:e}]: the stiffness, loads and their products would overflow or underflow double precision; choose other units (MPa instead of Pa, mm instead of m)",
+                        "{:e} is outside [{:e}, {:e}]: the stiffness, loads and their products would overflow or underflow double precision; choose other units (MPa instead of Pa, mm instead of m)",
                         m.young, YOUNG_RANGE.0, YOUNG_RANGE.1
                     ),
                 ));
