@@ -159,31 +159,45 @@ fn interface_shift(k: SparseColMatRef<'_, usize, f64>, interface: &[usize]) -> f
 
 /// K renumbered: interior first (natural), interface last, with every
 /// interface diagonal entry stored (so that it can be shifted in place).
+/// Built column by column straight into CSC (each column's rows renumbered
+/// and sorted), not through triplets: a third of the memory at that moment
+/// and no global sort.
 fn interface_last(
     k: SparseColMatRef<'_, usize, f64>,
     interior: &[usize],
     interface: &[usize],
 ) -> Result<SparseColMat<usize, f64>, CondenseError> {
     let n = k.nrows();
-    let (ni, nb) = (interior.len(), interface.len());
+    let ni = interior.len();
+    let order: Vec<usize> = interior.iter().chain(interface).copied().collect();
     let mut new_index = vec![0usize; n];
-    for (i, &d) in interior.iter().enumerate() {
+    for (i, &d) in order.iter().enumerate() {
         new_index[d] = i;
     }
-    for (j, &d) in interface.iter().enumerate() {
-        new_index[d] = ni + j;
-    }
-    let mut t = Vec::with_capacity(k.compute_nnz() + nb);
-    for col in 0..n {
-        for (&r, &v) in k.row_idx_of_col_raw(col).iter().zip(k.val_of_col(col)) {
-            t.push(Triplet::new(new_index[r], new_index[col], v));
+    let capacity = k.compute_nnz() + interface.len();
+    let (mut col_ptr, mut row_idx, mut values) = (
+        Vec::with_capacity(n + 1),
+        Vec::with_capacity(capacity),
+        Vec::with_capacity(capacity),
+    );
+    col_ptr.push(0);
+    let mut column: Vec<(usize, f64)> = Vec::new();
+    for (j, &c) in order.iter().enumerate() {
+        column.clear();
+        let rows = k.row_idx_of_col_raw(c).iter().map(|&r| new_index[r]);
+        column.extend(rows.zip(k.val_of_col(c).iter().copied()));
+        if j >= ni && !column.iter().any(|&(r, _)| r == j) {
+            column.push((j, 0.0));
         }
+        column.sort_unstable_by_key(|&(r, _)| r);
+        for w in column.chunk_by(|a, b| a.0 == b.0) {
+            row_idx.push(w[0].0);
+            values.push(w.iter().map(|e| e.1).sum::<f64>());
+        }
+        col_ptr.push(row_idx.len());
     }
-    for j in 0..nb {
-        t.push(Triplet::new(ni + j, ni + j, 0.0));
-    }
-    SparseColMat::<usize, f64>::try_new_from_triplets(n, n, &t)
-        .map_err(|e| CondenseError::Factorisation(format!("{e:?}")))
+    let symbolic = faer::sparse::SymbolicSparseColMat::new_checked(n, n, col_ptr, None, row_idx);
+    Ok(SparseColMat::new(symbolic, values))
 }
 
 /// The values of the supernodal Cholesky factor `symbolic` of the shifted,
