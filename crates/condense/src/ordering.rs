@@ -103,25 +103,44 @@ pub struct OrderedSymbolic {
     pub candidates: Vec<FactorStats>,
 }
 
-/// The graph of the rows `lead` (in that order) of a matrix whose pattern
-/// is symmetric (both triangles stored), `position[r]` the place of row r in
-/// `lead` (usize::MAX for the other rows): CSR arrays without the diagonal.
+/// The graph of the rows `lead` (in that order, ascending) of a matrix with
+/// a symmetric pattern, read from its strictly lower entries (row > column)
+/// and mirrored, so that both triangles or the lower one alone may be
+/// stored; `position[r]` is the place of row r in `lead` (usize::MAX for
+/// the other rows): CSR arrays without the diagonal, each row ascending.
 fn leading_graph(
     a: SymbolicSparseColMatRef<'_, usize>,
     lead: &[usize],
     position: &[usize],
 ) -> (Vec<usize>, Vec<usize>) {
-    let mut xadj = Vec::with_capacity(lead.len() + 1);
-    let mut adjncy = Vec::new();
-    xadj.push(0);
-    for (k, &c) in lead.iter().enumerate() {
-        adjncy.extend(
-            a.row_idx_of_col_raw(c)
-                .iter()
-                .map(|&r| position[r])
-                .filter(|&p| p != usize::MAX && p != k),
-        );
-        xadj.push(adjncy.len());
+    let below = |k: usize| {
+        let c = lead[k];
+        (a.row_idx_of_col_raw(c).iter())
+            .filter(move |&&r| r > c)
+            .map(|&r| position[r])
+            .filter(|&p| p != usize::MAX)
+    };
+    let mut xadj = vec![0usize; lead.len() + 1];
+    for k in 0..lead.len() {
+        for p in below(k) {
+            xadj[k + 1] += 1;
+            xadj[p + 1] += 1;
+        }
+    }
+    for k in 0..lead.len() {
+        xadj[k + 1] += xadj[k];
+    }
+    // Column k appends its lower neighbours to row k and itself to theirs:
+    // every row gets its smaller neighbours first, then its larger ones.
+    let mut next = xadj[..lead.len()].to_vec();
+    let mut adjncy = vec![0usize; xadj[lead.len()]];
+    for k in 0..lead.len() {
+        for p in below(k) {
+            adjncy[next[k]] = p;
+            next[k] += 1;
+            adjncy[next[p]] = k;
+            next[p] += 1;
+        }
     }
     (xadj, adjncy)
 }
@@ -216,7 +235,7 @@ fn symbolic_in(
 }
 
 /// Orders the leading `n_ordered` rows of `a` (symmetric pattern, both
-/// triangles stored) by `choice`, keeps the other rows last in their order,
+/// triangles or the lower one stored) by `choice`, keeps the other rows last in their order,
 /// and returns the supernodal symbolic Cholesky factor of the ordering kept
 /// (module doc: under `Auto`, AMD, or the one with fewer flops when AMD's
 /// factor costs [`ND_WORTH_TRYING_FLOPS`] or more).
@@ -326,6 +345,7 @@ fn with_last(lead: &[usize], fwd_lead: &[usize], last: &[usize]) -> (Vec<usize>,
 mod tests {
     use super::*;
     use crate::test_matrices::grid3;
+    use faer::sparse::{SparseColMat, Triplet};
 
     #[test]
     fn auto_keeps_the_cheaper_ordering_and_the_trailing_rows_last() {
@@ -439,6 +459,36 @@ mod tests {
             for (x, y) in fa.iter().zip(&fn_) {
                 assert!((x - y).abs() <= 1e-12 * f_norm, "F' {x} vs {y}");
             }
+        }
+    }
+
+    /// The lower triangle alone orders as both triangles do: the same
+    /// graph, hence the same orderings and factor.
+    #[test]
+    fn the_lower_triangle_alone_gives_the_same_graph_and_factor() {
+        let a = grid3(9, true);
+        let n = a.nrows();
+        let lower: Vec<Triplet<usize, usize, f64>> = (0..n)
+            .flat_map(|c| {
+                let (rows, vals) = (a.row_idx_of_col_raw(c), a.val_of_col(c));
+                rows.iter()
+                    .zip(vals)
+                    .filter(move |(&r, _)| r >= c)
+                    .map(move |(&r, &v)| Triplet::new(r, c, v))
+                    .collect::<Vec<_>>()
+            })
+            .collect();
+        let l = SparseColMat::try_new_from_triplets(n, n, &lower).unwrap();
+        let lead: Vec<usize> = (0..n - 20).collect();
+        let mut position = vec![usize::MAX; n];
+        lead.iter().enumerate().for_each(|(k, &r)| position[r] = k);
+        let full = leading_graph(a.symbolic(), &lead, &position);
+        assert_eq!(leading_graph(l.symbolic(), &lead, &position), full);
+        assert!(full.1.len() > 4 * lead.len());
+        for choice in [Ordering::Amd, Ordering::NestedDissection] {
+            let f = order_and_analyse(a.as_ref(), n - 20, OrderingChoice::Only(choice)).unwrap();
+            let g = order_and_analyse(l.as_ref(), n - 20, OrderingChoice::Only(choice)).unwrap();
+            assert_eq!((f.fwd, f.stats), (g.fwd, g.stats));
         }
     }
 }
