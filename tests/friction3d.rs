@@ -273,3 +273,36 @@ fn an_elliptic_cone_with_one_zero_coefficient_is_refused() {
     let scene = box_scene("{ coulomb = [0.0, 0.0] }", [0.1, 0.0], None);
     assert!(signorini_scene::parse_toml(&scene).is_ok());
 }
+
+/// One 3D contact point whose fixed point on the threshold leaves the
+/// Newton step of the frictional status no unknown to fill: it ended in an
+/// internal error ("chunk size must be non-zero"); it converges, as the
+/// semi-smooth Newton method does on the same problem.
+#[test]
+fn a_one_point_3d_coulomb_problem_solves_by_the_fixed_point() {
+    let dir = std::env::temp_dir().join(format!("signorini-one-point-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("problem.json");
+    std::fs::write(
+        &path,
+        r#"{"W": [[5.962854287233117, -3.4251439003826314, 0.2294775135860126], [-3.4251439003826314, 4.955101867767738, -1.1370253499553562], [0.2294775135860126, -1.1370253499553562, 2.993911467343311]], "q": [-0.3455746252117428, 3.100763748567835, 1.5976508413735158], "mu": [1.0], "dim": 3}"#,
+    )
+    .unwrap();
+    for friction in ["fixed_point", "newton"] {
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_signorini"))
+            .args(["local", "--friction", friction])
+            .arg(&path)
+            .output()
+            .unwrap();
+        let text = String::from_utf8_lossy(&out.stdout);
+        assert_eq!(
+            out.status.code(),
+            Some(0),
+            "{friction}: {text} {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let r: serde_json::Value = serde_json::from_str(text.trim()).unwrap();
+        assert_eq!(r["converged"], true, "{text}");
+        assert!(r["residual"].as_f64().unwrap() < 1e-9, "{text}");
+    }
+}

@@ -15,6 +15,10 @@ pub(crate) fn for_each_chunk<F>(data: &mut [f64], group: usize, work: f64, f: F)
 where
     F: Fn(usize, &mut [f64]) + Sync,
 {
+    // Nothing to fill (an empty block: `f` would cut it into chunks of 0).
+    if data.is_empty() {
+        return;
+    }
     let groups = data.len() / group.max(1);
     let threads = faer::get_global_parallelism().degree().min(groups);
     if threads < 2 || work < MIN_WORK {
