@@ -347,9 +347,23 @@ fn bench_row(header: &[&str], line: &str, at: usize) -> Result<BenchRow, String>
             parse(at, $name, cell($name))?
         };
     }
+    // Times, errors and sizes: finite, and 0 or within 1e±100 (the plots'
+    // log axes cannot span more; no run measures less or more).
+    macro_rules! real {
+        ($name:literal) => {{
+            let v: f64 = parse(at, $name, cell($name))?;
+            if !(v == 0.0 || (1e-100..=1e100).contains(&v.abs())) {
+                return Err(format!(
+                    "line {at}, column \"{}\": {v:e} is not a value a run measures (0, or 1e-100 to 1e100 in magnitude)",
+                    $name
+                ));
+            }
+            v
+        }};
+    }
     Ok(BenchRow {
         scene: cell("scene").to_string(),
-        level: num!("level"),
+        level: real!("level"),
         subdomains: num!("subdomains"),
         method: cell("method").to_string(),
         path: cell("path").to_string(),
@@ -358,16 +372,16 @@ fn bench_row(header: &[&str], line: &str, at: usize) -> Result<BenchRow, String>
         contact_points: num!("contact_points"),
         iterations: num!("iterations"),
         converged: num!("converged"),
-        assemble_s: num!("assemble_s"),
-        condense_s: num!("condense_s"),
-        contact_s: num!("contact_s"),
-        recover_s: num!("recover_s"),
-        total_s: num!("total_s"),
+        assemble_s: real!("assemble_s"),
+        condense_s: real!("condense_s"),
+        contact_s: real!("contact_s"),
+        recover_s: real!("recover_s"),
+        total_s: real!("total_s"),
         peak_rss_bytes: num!("peak_rss_bytes"),
         dense_interface_bytes: num!("dense_interface_bytes"),
         errors: cell("errors").to_string(),
-        error: num!("error"),
-        error_vs_finest: num!("error_vs_finest"),
+        error: real!("error"),
+        error_vs_finest: real!("error_vs_finest"),
         computed: Vec::new(),
     })
 }
@@ -476,5 +490,12 @@ mod tests {
         let e = read_csv(&header.replace("total_s,", "")).unwrap_err();
         assert!(e.contains("\"total_s\""), "{e}");
         assert!(read_csv("").unwrap_err().contains("empty"));
+        // Values no run measures (they hung the plots' log axes, or made
+        // them fail as an internal error): refused, named.
+        for total in ["1e308", "5e-324", "inf", "NaN"] {
+            let row = good.replace(",0.2,1000,", &format!(",{total},1000,"));
+            let e = read_csv(&format!("{header}\n{row}\n")).unwrap_err();
+            assert!(e.contains("line 2") && e.contains("\"total_s\""), "{e}");
+        }
     }
 }
