@@ -386,3 +386,30 @@ fn bench_plot_draws_the_rows_of_several_csvs_and_refuses_a_file_that_is_not_one(
     );
     assert!(!dir.join("bad").exists());
 }
+
+/// A problem exported by NumPy with an integer `dim` (`np.array(2)` is
+/// int64) and a file named in capitals (`.NPZ`) are read (they were refused:
+/// "expected float64 data", and parsed as JSON).
+#[test]
+fn a_numpy_problem_with_an_integer_dim_or_a_capital_extension_is_read() {
+    let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/local_int_dim.npz");
+    let dir = std::env::temp_dir().join(format!("signorini-npz-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let capital = dir.join("LCP.NPZ");
+    std::fs::copy(&data, &capital).unwrap();
+    for path in [data, capital] {
+        let out = Command::new(BIN).arg("local").arg(&path).output().unwrap();
+        let text = String::from_utf8_lossy(&out.stdout);
+        assert_eq!(
+            out.status.code(),
+            Some(0),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        assert!(
+            text.contains("\"m\":4") && text.contains("\"dim\":2"),
+            "{text}"
+        );
+        assert!(text.contains("\"converged\":true"), "{text}");
+    }
+}

@@ -101,6 +101,16 @@ pub struct LocalResult {
     pub lambda: Option<Vec<f64>>,
 }
 
+/// Whether a method's converged answer solves the LCP: its scaled natural
+/// residual within 1000 times the tolerance. A method's own stop (the
+/// penalty method's repeated active set) can be reached by forces that do
+/// not: on an LCP with no solution the penalty method converged with a
+/// residual of 1.06. The margin keeps what penalty does to a solvable
+/// problem, a deviation ~1/k (1e-8 at its default stiffness).
+fn solves_the_lcp(residual: f64, tolerance: f64) -> bool {
+    residual <= 1e3 * tolerance
+}
+
 /// The Coulomb residual of forces r and gaps g (block layout), scaled: the
 /// natural map of the normal rows |min(λ_n/F, g_n/L)| and, per frictional
 /// point, |λ_t − P(λ_t − (F/L) s)| / F with P the projection on the disc
@@ -251,17 +261,18 @@ pub fn solve(
     let time_s = t.elapsed().as_secs_f64();
     let mut forces = sol.forces.clone();
     forces.resize(p.q.len(), 0.0);
+    let residual = lcp_residual(&w, &q, &sol.forces, &opts);
     Ok(LocalResult {
         problem: name.to_string(),
         method: algorithm.name().to_string(),
         m,
         dim: p.dim,
-        converged: sol.report.converged,
+        converged: sol.report.converged && solves_the_lcp(residual, tolerance),
         iterations: sol.report.iterations,
         operator_applications: sol.report.operator_applications,
         time_s,
         repeats: 1,
-        residual: lcp_residual(&w, &q, &sol.forces, &opts),
+        residual,
         active: sol.forces.iter().filter(|&&l| l > 0.0).count(),
         stopping_reason: sol.report.stop.to_string(),
         lambda: with_lambda.then(|| p.to_file_order(&forces)),
@@ -305,6 +316,20 @@ mod tests {
             let l = r.lambda.unwrap();
             assert!((l[0] - 0.5).abs() <= 1e-12 && l[1] == 0.0, "{a:?}: {l:?}");
         }
+        // The penalty method's converged answer is within 1/k of it.
+        let penalty = Algorithm::by_name("penalty").unwrap();
+        let r = solve("p", &p, penalty, 1e-10, 1000, true).unwrap();
+        assert!(r.converged && r.residual <= 1e-7, "{}", r.residual);
+        // W positive semi-definite of rank 1 and no solution (found by a
+        // robustness sweep): the penalty method's active set repeats, with a
+        // residual of 0.095; that is not converged.
+        std::fs::write(
+            &path,
+            r#"{"W": [[1.408652942488979, -0.7921747294545434, -0.3087110487808439], [-0.7921747294545434, 0.44549000187197535, 0.1736077668041407], [-0.3087110487808439, 0.1736077668041407, 0.0676550687289777]], "q": [0.7540333794321797, -0.6414795084271917, 1.7380087577355086]}"#,
+        )
+        .unwrap();
+        let r = solve("p", &load(&path).unwrap(), penalty, 1e-10, 1000, true).unwrap();
+        assert!(!r.converged && r.residual > 0.01, "{}", r.residual);
         std::fs::write(&path, r#"{"W": [[2, 1], [0, 2]], "q": [-1, 1]}"#).unwrap();
         assert!(load(&path).unwrap_err().contains("not symmetric"));
         std::fs::write(&path, r#"{"W": [[2]], "q": [-1, 1]}"#).unwrap();

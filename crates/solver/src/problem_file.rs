@@ -93,9 +93,14 @@ fn read_npy(
     let npy = npyz::NpyFile::new(&bytes[..]).map_err(|e| format!("{name}.npy: {e}"))?;
     let shape = npy.shape().to_vec();
     let fortran = npy.order() == npyz::Order::Fortran;
-    let data = npy
-        .into_vec::<f64>()
-        .map_err(|e| format!("{name}.npy: expected float64 data ({e})"))?;
+    // float64, or integers (NumPy's default for `np.array(2)`), read as f64.
+    let data = match npy.into_vec::<f64>() {
+        Ok(data) => data,
+        Err(e) => npyz::NpyFile::new(&bytes[..])
+            .and_then(|n| n.into_vec::<i64>())
+            .map(|v| v.into_iter().map(|x| x as f64).collect())
+            .map_err(|_| format!("{name}.npy: expected float64 or integer data ({e})"))?,
+    };
     Ok(Some((shape, fortran, data)))
 }
 
@@ -269,7 +274,10 @@ fn resolve_layout(shown: &str, raw: &Raw) -> Result<(usize, Vec<usize>), String>
 
 /// Reads a problem; errors name the file and what is wrong.
 pub fn load(path: &Path) -> Result<LocalProblem, String> {
-    let raw = if path.extension().is_some_and(|e| e == "npz") {
+    let raw = if path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("npz"))
+    {
         read_npz(path)?
     } else {
         read_json(path)?
