@@ -195,7 +195,22 @@ fn main() -> ExitCode {
         .unwrap_or(ExitCode::from(3))
 }
 
+/// This process's rank as an MPI launcher numbers it (0 when not launched
+/// by one).
+fn launcher_rank() -> usize {
+    ["OMPI_COMM_WORLD_RANK", "PMI_RANK"]
+        .iter()
+        .find_map(|v| std::env::var(v).ok().and_then(|s| s.parse::<usize>().ok()))
+        .unwrap_or(0)
+}
+
 fn command(cli: Cli) -> ExitCode {
+    // `check`, `local` and `bench` are one process's work: under an MPI
+    // launcher the first rank does it once, and the others stop (they
+    // printed and wrote the same files at once).
+    if !matches!(cli.command, Command::Run { .. }) && launcher_rank() > 0 {
+        return ExitCode::SUCCESS;
+    }
     match cli.command {
         Command::Check {
             scene,
@@ -305,11 +320,7 @@ fn transport() -> Box<dyn Transport> {
             .iter()
             .find_map(|v| std::env::var(v).ok().and_then(|s| s.parse::<usize>().ok()));
         if let Some(n) = ranks.filter(|&n| n > 1) {
-            let rank = ["OMPI_COMM_WORLD_RANK", "PMI_RANK"]
-                .iter()
-                .find_map(|v| std::env::var(v).ok().and_then(|s| s.parse::<usize>().ok()))
-                .unwrap_or(0);
-            if rank == 0 {
+            if launcher_rank() == 0 {
                 eprintln!(
                     "error: started on {n} MPI ranks, but this signorini was built without MPI; rebuild with `cargo build --release --features mpi`"
                 );

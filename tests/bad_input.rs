@@ -383,6 +383,10 @@ fn judge(dir: &Path, output: &Output, elapsed: Duration, needles: &[&str]) -> Op
 /// A Gmsh 2.2 file of two triangles with physical names, valid as it is.
 const TWO_TRIANGLES_MSH: &str = "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$PhysicalNames\n2\n1 1 \"bottom\"\n2 2 \"block\"\n$EndPhysicalNames\n$Nodes\n4\n1 0 0 0\n2 1 0 0\n3 1 1 0\n4 0 1 0\n$EndNodes\n$Elements\n3\n1 1 2 1 1 1 2\n2 2 2 2 1 1 2 3\n3 2 2 2 1 1 3 4\n$EndElements\n";
 
+/// Three quads with a hanging node at (1, 0.5): the left quad's edge
+/// (1, 0)–(1, 1) meets the two right quads' half edges, no whole edge.
+const HANGING_NODE_MSH: &str = "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$PhysicalNames\n2\n1 1 \"bottom\"\n2 2 \"block\"\n$EndPhysicalNames\n$Nodes\n8\n1 0 0 0\n2 1 0 0\n3 1 1 0\n4 0 1 0\n5 2 0 0\n6 2 0.5 0\n7 1 0.5 0\n8 2 1 0\n$EndNodes\n$Elements\n5\n1 1 2 1 1 1 2\n2 1 2 1 1 2 5\n3 3 2 2 1 1 2 3 4\n4 3 2 2 1 2 5 6 7\n5 3 2 2 1 7 6 8 3\n$EndElements\n";
+
 fn sweep() -> Vec<Bad> {
     let half = |rest: &str| {
         block_meshed(&format!(
@@ -508,6 +512,8 @@ fn sweep() -> Vec<Bad> {
         bad("gmsh_huge_node_count", gmsh(), &["bodies[0].mesh", "part.msh", "announces 99999999999999 nodes"]).file("part.msh", TWO_TRIANGLES_MSH.replace("$Nodes\n4\n", "$Nodes\n99999999999999\n").into_bytes()),
         bad("gmsh_empty", gmsh(), &["bodies[0].mesh", "part.msh"]).file("part.msh", Vec::new()),
         bad("gmsh_nan_coordinate", gmsh(), &["bodies[0].mesh", "part.msh", "node 3", "not a finite number"]).file("part.msh", TWO_TRIANGLES_MSH.replace("3 1 1 0\n", "3 nan 1 0\n").into_bytes()),
+        // a hanging node: the left quad's right edge against two half edges
+        bad("gmsh_hanging_node", gmsh(), &["bodies[0].mesh", "part.msh", "non-conforming", "share the node at [1.0, 0.0, 0.0]"]).file("part.msh", HANGING_NODE_MSH.as_bytes().to_vec()),
         // a modulus whose stiffness overflows or underflows double precision
         bad("young_1e308", block_with("young = 1.0", "young = 1e308"), &["materials[0].young", "outside", "other units"]),
         bad("young_1e-310", block_with("young = 1.0", "young = 1e-310"), &["materials[0].young", "outside"]),

@@ -345,12 +345,13 @@ fn a_part_that_nothing_holds_is_refused_by_the_body_name() {
     }
 }
 
-/// Two quads of one body that meet at a single node: the clamped one holds
-/// the other's rigid modes but not its rotation about that node (a hinge
-/// that the ground only touches along its normals). The condensed path
-/// refuses S, naming the body.
+/// Two quads of one body that meet at a single node: a hinge, which carries
+/// no continuous displacement across and would leave the second quad free
+/// to turn about that node. Refused when the mesh is read, on both paths,
+/// naming the body's mesh and the shared node (before, the condensed path
+/// refused S and the direct path solved it with a conditioning warning).
 #[test]
-fn a_hinged_part_makes_the_singular_interface_error_name_the_body() {
+fn a_hinged_mesh_is_refused_on_both_paths_naming_the_mesh() {
     let msh = "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$PhysicalNames\n4\n\
                1 1 \"bottom\"\n1 2 \"left\"\n1 3 \"top\"\n2 4 \"body\"\n$EndPhysicalNames\n\
                $Nodes\n7\n1 0 1 0\n2 1 1 0\n3 1 2 0\n4 0 2 0\n5 1 0 0\n6 2 0 0\n7 2 1 0\n$EndNodes\n\
@@ -363,18 +364,21 @@ fn a_hinged_part_makes_the_singular_interface_error_name_the_body() {
     ]
     .concat();
     let text = scene("hinge", 2, msh, &rest);
-    let opts = RunOptions {
-        method: None,
-        path: Some(SolvePath::Condensed),
-    };
-    match try_run(&text, opts) {
-        Err(SolveError::Input(msg)) => {
-            assert!(msg.contains("bodies[0]: body \"block\""), "{msg}");
-            assert!(msg.contains("not positive definite"), "{msg}");
+    for path in [SolvePath::Condensed, SolvePath::Direct] {
+        let opts = RunOptions {
+            method: None,
+            path: Some(path),
+        };
+        match try_run(&text, opts) {
+            Err(SolveError::Input(msg)) => {
+                assert!(msg.contains("bodies[0].mesh"), "{msg}");
+                assert!(msg.contains("share the node at [1.0, 1.0, 0.0]"), "{msg}");
+                assert!(msg.contains("non-conforming"), "{msg}");
+            }
+            other => panic!(
+                "expected an input error, got {:?}",
+                other.map(|o| o.report.converged)
+            ),
         }
-        other => panic!(
-            "expected an input error, got {:?}",
-            other.map(|o| o.report.converged)
-        ),
     }
 }

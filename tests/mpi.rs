@@ -609,3 +609,23 @@ fn contact_elements_under_mpirun_2_equal_the_in_process_run() {
     );
     compare(&scene, 2, "contact_elements_split");
 }
+
+/// `check` and `local` are one process's work: under `mpirun -n 2` they
+/// print once, not once per rank.
+#[test]
+fn check_and_local_under_mpirun_print_once() {
+    if !have_mpirun() {
+        return;
+    }
+    let out = mpirun(2, &["check", &example("stack.toml")], &[]);
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(out.status.code(), Some(0), "{text}");
+    assert_eq!(text.matches("valid scene").count(), 1, "{text}");
+    let d = dir("local_once");
+    let problem = d.join("p.json");
+    std::fs::write(&problem, r#"{"W": [[2, 1], [1, 2]], "q": [-1, 1]}"#).unwrap();
+    let out = mpirun(2, &["local", problem.to_str().unwrap()], &[]);
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(out.status.code(), Some(0), "{text}");
+    assert_eq!(text.lines().count(), 1, "{text}");
+}

@@ -100,7 +100,9 @@ pub fn parse_msh(bytes: &[u8], dim: usize) -> Result<Mesh, MeshError> {
             "node {tag} has a coordinate that is not a finite number: {x:?}"
         )));
     }
-    build(raw, dim)
+    let mesh = build(raw, dim)?;
+    crate::partition::check_conforming(&mesh)?;
+    Ok(mesh)
 }
 
 /// The error for a bad file, with message `msg`.

@@ -347,14 +347,15 @@ fn bench_row(header: &[&str], line: &str, at: usize) -> Result<BenchRow, String>
             parse(at, $name, cell($name))?
         };
     }
-    // Times, errors and sizes: finite, and 0 or within 1e±100 (the plots'
-    // log axes cannot span more; no run measures less or more).
+    // Times, errors and levels: 0 or within 1e±100 (the plots' log axes
+    // cannot span more; no run measures less or more), or NaN (a scene
+    // without a reference has no error; the plots leave it out).
     macro_rules! real {
         ($name:literal) => {{
             let v: f64 = parse(at, $name, cell($name))?;
-            if !(v == 0.0 || (1e-100..=1e100).contains(&v.abs())) {
+            if !(v.is_nan() || v == 0.0 || (1e-100..=1e100).contains(&v.abs())) {
                 return Err(format!(
-                    "line {at}, column \"{}\": {v:e} is not a value a run measures (0, or 1e-100 to 1e100 in magnitude)",
+                    "line {at}, column \"{}\": {v:e} is not a value a run measures (0, 1e-100 to 1e100 in magnitude, or NaN)",
                     $name
                 ));
             }
@@ -492,7 +493,7 @@ mod tests {
         assert!(read_csv("").unwrap_err().contains("empty"));
         // Values no run measures (they hung the plots' log axes, or made
         // them fail as an internal error): refused, named.
-        for total in ["1e308", "5e-324", "inf", "NaN"] {
+        for total in ["1e308", "5e-324", "inf", "-inf"] {
             let row = good.replace(",0.2,1000,", &format!(",{total},1000,"));
             let e = read_csv(&format!("{header}\n{row}\n")).unwrap_err();
             assert!(e.contains("line 2") && e.contains("\"total_s\""), "{e}");
