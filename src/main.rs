@@ -97,6 +97,11 @@ enum Command {
         /// Solve N times and report the median time.
         #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u64).range(1..=1000))]
         repeat: u64,
+        /// The memory the solve may use (default: the machine's available
+        /// memory): a .npz whose arrays unpack to more is refused before
+        /// they are read.
+        #[arg(long, value_name = "SIZE", value_parser = memory_size)]
+        max_memory: Option<u64>,
     },
     /// Time scenes over refinement levels, subdomain counts and paths; writes
     /// DIR/bench.csv and prints a table. With `--suite stiff`: the stiff and
@@ -228,17 +233,21 @@ fn command(cli: Cli) -> ExitCode {
             lambda,
             friction,
             repeat,
-        } => local::local(
-            &problem,
-            method,
-            local::LocalOptions {
-                tolerance,
-                max_iterations,
-                with_lambda: lambda,
-                friction,
-                repeat: repeat as usize,
-            },
-        ),
+            max_memory,
+        } => {
+            signorini_solver::memory::set_budget(max_memory);
+            local::local(
+                &problem,
+                method,
+                local::LocalOptions {
+                    tolerance,
+                    max_iterations,
+                    with_lambda: lambda,
+                    friction,
+                    repeat: repeat as usize,
+                },
+            )
+        }
         Command::Bench {
             suite: Some(suite),
             quick,

@@ -413,3 +413,29 @@ fn a_numpy_problem_with_an_integer_dim_or_a_capital_extension_is_read() {
         assert!(text.contains("\"converged\":true"), "{text}");
     }
 }
+
+/// A .npz whose arrays unpack to more than the solve may hold is refused
+/// before they are read (a 3 MB file of deflated zeros unpacked to 3.2 GB,
+/// then some 10 GB of copies); `local --max-memory` sets the budget.
+#[test]
+fn a_npz_that_unpacks_past_the_budget_is_refused_before_it_is_read() {
+    let dir = std::env::temp_dir().join(format!("signorini-npz-budget-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("big.npz");
+    let n = 1000; // W: 8 MB of f64
+    let w = faer::Mat::<f64>::from_fn(n, n, |i, j| if i == j { 2.0 } else { 0.0 });
+    signorini_solver::problem_file::write_npz(&path, &w, &vec![-1.0; n], &[], 1).unwrap();
+    let run = |budget: &str| {
+        Command::new(BIN)
+            .args(["local", "--max-memory", budget])
+            .arg(&path)
+            .output()
+            .unwrap()
+    };
+    let out = run("16M");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    assert!(err.contains("W.npy unpacks to") && err.contains("16 MiB --max-memory"), "{err}");
+    let out = run("1G");
+    assert_eq!(out.status.code(), Some(0), "{}", String::from_utf8_lossy(&out.stderr));
+}

@@ -75,6 +75,10 @@ struct Raw {
     normal_first: bool,
 }
 
+/// Copies of an array a stand-alone solve holds at once: its bytes, their
+/// f64 values, the dense matrix and the solver's working copies.
+const NPY_COPIES: u64 = 4;
+
 /// Shape, Fortran order, data (float64).
 type NpyArray = (Vec<u64>, bool, Vec<f64>);
 
@@ -87,8 +91,23 @@ fn read_npy(
         Err(zip::result::ZipError::FileNotFound) => return Ok(None),
         Err(e) => return Err(format!("{name}.npy: {e}")),
     };
+    // A few kilobytes of deflated zeros can unpack to gigabytes: the array,
+    // its f64 copy and the solver's dense copies must fit before any is made.
+    let unpacked = file.size();
+    if let Some(b) = crate::memory::budget() {
+        if (NPY_COPIES * unpacked) as f64 > b.bytes as f64 {
+            return Err(format!(
+                "{name}.npy unpacks to {}, and solving it needs about {NPY_COPIES} times that, more than the {} {}",
+                crate::memory::human(unpacked as f64),
+                crate::memory::human(b.bytes as f64),
+                b.source
+            ));
+        }
+    }
     let mut bytes = Vec::new();
-    file.read_to_end(&mut bytes)
+    (&mut file)
+        .take(unpacked)
+        .read_to_end(&mut bytes)
         .map_err(|e| format!("{name}.npy: {e}"))?;
     let npy = npyz::NpyFile::new(&bytes[..]).map_err(|e| format!("{name}.npy: {e}"))?;
     let shape = npy.shape().to_vec();
