@@ -435,7 +435,15 @@ fn a_npz_that_unpacks_past_the_budget_is_refused_before_it_is_read() {
     let out = run("16M");
     let err = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(1), "{err}");
-    assert!(err.contains("W.npy unpacks to") && err.contains("16 MiB --max-memory"), "{err}");
+    assert!(
+        err.contains("W.npy unpacks to") && err.contains("16 MiB --max-memory"),
+        "{err}"
+    );
     let out = run("1G");
-    assert_eq!(out.status.code(), Some(0), "{}", String::from_utf8_lossy(&out.stderr));
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
 }

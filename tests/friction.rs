@@ -530,3 +530,62 @@ fn ssnv128_like_plate_balances_the_push_by_partial_slip() {
         }
     }
 }
+
+/// Norton–Hoff over two load steps: the law holds on the second step's slip
+/// increment, |λ_t| = μ λ_n |Δs|^ρ (the second step was refused as "singular:
+/// the statuses do not hold a floating body", started from the first
+/// step's statuses; found by a robustness sweep).
+#[test]
+fn norton_hoff_over_two_steps_holds_its_law_on_each_increment() {
+    let scene = r#"
+dimension = 2
+model = "plane_strain"
+[[materials]]
+name = "m"
+young = 100.0
+poisson = 0.3
+[[bodies]]
+name = "block"
+material = "m"
+mesh = { generator = "rectangle", origin = [0.0, 0.0], size = [1.0, 0.5], divisions = [8, 4] }
+[[bodies]]
+name = "floor"
+rigid = { shape = "plane", point = [0.0, 0.0], normal = [0.0, 1.0] }
+[[boundary]]
+name = "press"
+body = "block"
+surface = "top"
+displacement = { y = -0.01 }
+[[boundary]]
+name = "drag"
+body = "block"
+surface = "top"
+displacement = { x = 0.02 }
+[[contact]]
+name = "c"
+slave = { body = "block", surface = "bottom" }
+master = { body = "floor" }
+discretization = "node_to_segment"
+friction = { norton_hoff = 0.3, rho = 0.2 }
+[[steps]]
+scale = { press = 1.0, drag = 0.5 }
+[[steps]]
+scale = { press = 1.0, drag = 1.0 }
+"#;
+    let out = common::converged(scene, RunOptions::default());
+    let rows = |step: usize| out.contact_rows.iter().filter(move |r| r.step == step);
+    let mut checked = 0;
+    for (r1, r2) in rows(1).zip(rows(2)) {
+        assert_eq!(r1.point, r2.point);
+        let ds = (r2.slip - r1.slip).abs();
+        if r2.normal_force > 0.0 && ds > 1e-6 {
+            let law = 0.3 * r2.normal_force * ds.powf(0.2);
+            assert!(
+                (r2.tangential_force.abs() - law).abs() <= 1e-6 * law,
+                "{r2:?}"
+            );
+            checked += 1;
+        }
+    }
+    assert!(checked >= 5, "{checked} slipping points");
+}

@@ -307,6 +307,9 @@ fn solve_friction(
         };
         let newton = input.sc.solver.friction == scene::FrictionSolver::Newton;
         if fr.norton_hoff {
+            // From the statuses of the gaps, as at the first step: the
+            // fixed point restarts from the all-stick solution anyway.
+            let initial = initial_statuses(bodies, points, &load.gap0, closed, true);
             let out = signorini_contact::friction::norton_hoff(problem, layout, initial, fopts);
             (out, "norton_hoff")
         } else if newton {
