@@ -712,3 +712,32 @@ law = { penalty = 1000.0 }
 [solver]
 tolerance = 1e-12
 "#;
+
+/// The example's pad dragged, released, pressed 100 times harder, then
+/// unloaded to its first pressure: the last step's Newton, started from the
+/// previous forces, cycled to the iteration limit (found by a robustness
+/// sweep); it restarts from the elastic predictor and ends where the same
+/// state reached by a 10-times load ends (the elements' law is path-free in
+/// the normal direction, and no slip happens after the drag is released).
+#[test]
+fn a_large_unloading_converges_to_the_state_of_a_small_one() {
+    let text = std::fs::read_to_string(common::example_path("contact_elements.toml")).unwrap();
+    let steps = |peak: &str| {
+        let at = text.find("[[steps]]").unwrap();
+        format!(
+            "{}[[steps]]\nscale = {{ pressure = 1.0, drag = 1.0 }}\n[[steps]]\nscale = {{ pressure = 1.0, drag = 0.0 }}\n[[steps]]\nscale = {{ pressure = {peak}, drag = 0.0 }}\n[[steps]]\nscale = {{ pressure = 1.0, drag = 0.0 }}\n",
+            &text[..at]
+        )
+    };
+    let big = converged(&steps("100.0"));
+    let small = converged(&steps("10.0"));
+    assert!(big.report.converged && small.report.converged);
+    let last = |o: &RunOutput| -> Vec<f64> {
+        (o.contact_rows.iter())
+            .filter(|r| r.step == 4)
+            .flat_map(|r| [r.normal_force, r.gap])
+            .collect()
+    };
+    let d = common::max_rel(&last(&big), &last(&small));
+    assert!(d <= 1e-8, "{d}");
+}
