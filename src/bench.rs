@@ -71,14 +71,14 @@ pub(crate) fn bench(
         return fail(3, &format!("cannot write {}: {e}", out.display()));
     }
     let plots = signorini_solver::bench::write_plots(out, &rows);
-    crate::run::say(&signorini_solver::bench::markdown(&rows));
+    crate::say(&signorini_solver::bench::markdown(&rows));
     match plots {
-        Ok(p) => crate::run::say(&format!(
+        Ok(p) => crate::say(&format!(
             "bench.csv and {} plot(s) in {}\n",
             p.len(),
             out.display()
         )),
-        Err(e) => crate::run::say(&format!("bench.csv in {} (no plot: {e})\n", out.display())),
+        Err(e) => crate::say(&format!("bench.csv in {} (no plot: {e})\n", out.display())),
     }
     if rows.iter().all(|r| r.converged) {
         ExitCode::SUCCESS
@@ -92,12 +92,7 @@ pub(crate) fn bench(
 pub(crate) fn plot(csvs: &[PathBuf], out: &Path) -> ExitCode {
     let mut rows = Vec::new();
     for p in csvs {
-        let read = std::fs::metadata(p)
-            .map_err(|e| e.to_string())
-            .and_then(|m| match m.is_file() {
-                true => Ok(()),
-                false => Err("not a regular file".to_string()),
-            })
+        let read = signorini_solver::problem_file::regular_file(p)
             .and_then(|()| std::fs::read_to_string(p).map_err(|e| e.to_string()))
             .and_then(|text| signorini_solver::bench::read_csv(&text));
         match read {
@@ -113,7 +108,7 @@ pub(crate) fn plot(csvs: &[PathBuf], out: &Path) -> ExitCode {
     }
     match signorini_solver::bench::write_plots(out, &rows) {
         Ok(p) => {
-            crate::run::say(&format!(
+            crate::say(&format!(
                 "{} plot(s) of {} rows in {}\n",
                 p.len(),
                 rows.len(),
@@ -179,7 +174,7 @@ pub(crate) fn root_suite(quick: bool, export: bool, sizes: &[usize], out: &Path)
     if let Err(e) = written {
         return fail(3, &format!("cannot write {}: {e}", out.display()));
     }
-    crate::run::say(&table);
+    crate::say(&table);
     ExitCode::SUCCESS
 }
 
@@ -230,7 +225,7 @@ pub(crate) fn stiff_suite(quick: bool, out: &Path) -> ExitCode {
         rows.push(r);
     }
     let table = stiff::markdown(&rows);
-    crate::run::say(&format!("{table}\n"));
+    crate::say(&format!("{table}\n"));
     if let Err(e) = std::fs::create_dir_all(out)
         .and_then(|_| stiff::write_csv(&out.join("stiff.csv"), &rows))
         .and_then(|_| std::fs::write(out.join("stiff.md"), &table))
@@ -238,8 +233,7 @@ pub(crate) fn stiff_suite(quick: bool, out: &Path) -> ExitCode {
         return fail(3, &format!("cannot write {}: {e}", out.display()));
     }
     let failed: Vec<&stiff::StiffRow> = rows.iter().filter(|r| r.failed()).collect();
-
-    crate::run::say(&format!(
+    crate::say(&format!(
         "{} cases: {} passed, {} failed; stiff.csv, stiff.md and the scenes (stiff/<case>.toml) in {}\n",
         rows.len(),
         rows.iter().filter(|r| r.passed()).count(),

@@ -74,7 +74,7 @@ pub(crate) fn local(path: &Path, method: Method, o: LocalOptions) -> ExitCode {
     let result = signorini_solver::local::repeated(o.repeat, solve);
     match result {
         Ok(r) => {
-            crate::run::say(&format!(
+            crate::say(&format!(
                 "{}\n",
                 serde_json::to_string(&r).unwrap_or_default()
             ));

@@ -358,6 +358,14 @@ pub(crate) fn fail(code: u8, msg: &str) -> ExitCode {
     ExitCode::from(code)
 }
 
+/// Prints to stdout; a closed or full stdout loses the text, not the run
+/// (its files are written and its exit code stands).
+pub(crate) fn say(text: &str) {
+    use std::io::Write;
+    let mut out = std::io::stdout().lock();
+    let _ = out.write_all(text.as_bytes()).and_then(|()| out.flush());
+}
+
 /// One line on stderr; a closed stderr loses it, not the exit code.
 pub(crate) fn tell(line: &str) {
     use std::io::Write;

@@ -10,8 +10,8 @@ use signorini_report::stream::FieldWriter;
 use signorini_scene::SolvePath;
 use signorini_solver::{RunOptions, RunOutput, SolveError};
 
-use crate::fail;
 use crate::progress::{Progress, Show, Terminal};
+use crate::{fail, say};
 
 pub(crate) fn check(path: &Path, solve_path: Option<SolvePath>) -> ExitCode {
     use signorini_solver::memory;
@@ -165,12 +165,4 @@ fn output_directory_usable(dir: &Path) -> Result<(), String> {
                 existing.display()
             )
         })
-}
-
-/// Prints to stdout; a closed or full stdout loses the text, not the run
-/// (its files are written and its exit code stands).
-pub(crate) fn say(text: &str) {
-    use std::io::Write;
-    let mut out = std::io::stdout().lock();
-    let _ = out.write_all(text.as_bytes()).and_then(|()| out.flush());
 }

@@ -195,7 +195,6 @@ fn dual_graph(mesh: &Mesh) -> Result<(Vec<Idx>, Vec<Idx>), MeshError> {
     Ok((xadj, adjncy))
 }
 
-/// Whether the vertices `set` (non-empty) induce a connected subgraph.
 /// Refuses cells that share a node without being joined through whole
 /// facets (edges in 2D, faces in 3D) to the cells around it: a
 /// non-conforming mesh (hexahedra against tetrahedra without pyramids,
@@ -245,6 +244,7 @@ pub fn check_conforming(mesh: &Mesh) -> Result<(), MeshError> {
     Ok(())
 }
 
+/// Whether the vertices `set` (non-empty) induce a connected subgraph.
 fn is_connected(xadj: &[Idx], adjncy: &[Idx], set: &[usize]) -> bool {
     let n = xadj.len() - 1;
     let mut inside = vec![false; n];

@@ -192,7 +192,7 @@ impl FieldWriter {
             for (bi, (b, f)) in bodies.iter().zip(fields).enumerate() {
                 let file = format!("{}_{step}.vtu", file_stem(&b.name));
                 let contact = ContactFields::of(&nodal, &b.name, b.coords.len(), Some);
-                let piece = vtu_piece(&self.request, b, f, step, &contact);
+                let piece = vtu_piece(&self.request, b, f, &contact);
                 write_vtu(&stage.join(&file), &piece)?;
                 self.entries.push(PvdEntry {
                     timestep: step as f64,
@@ -243,9 +243,8 @@ impl FieldWriter {
         if let Some(d) = path.parent() {
             std::fs::create_dir_all(d).map_err(err)?;
         }
-        let mut piece = vtu_piece(&self.request, &p.mesh, &p.fields, step, &p.contact);
+        let mut piece = vtu_piece(&self.request, &p.mesh, &p.fields, &p.contact);
         piece.node_ids = Some(&p.nodes);
-        piece.title = format!("{} subdomain {}", piece.title, p.part);
         write_vtu(&path, &piece)
     }
 
@@ -379,7 +378,6 @@ fn vtu_piece<'a>(
     request: &OutputRequest,
     b: &'a BodyResult,
     fields: &StepFields,
-    step: usize,
     contact: &ContactFields,
 ) -> VtuPiece<'a> {
     let (dim, n) = (request.dim, b.coords.len());
@@ -421,7 +419,6 @@ fn vtu_piece<'a>(
         cell_data.push(("von_mises".to_string(), 1, fields.von_mises.clone()));
     }
     VtuPiece {
-        title: format!("{} step {step}", b.name),
         dim,
         coords: &b.coords,
         cells: &b.cells,

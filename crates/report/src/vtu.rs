@@ -13,7 +13,6 @@ use vtkio::Vtk;
 
 /// One body's fields.
 pub struct VtuPiece<'a> {
-    pub title: String,
     /// Space dimension of the mesh (2 or 3): tells a 4-node quadrilateral
     /// from a tetrahedron.
     pub dim: usize,
@@ -373,7 +372,6 @@ mod tests {
         ];
         let cells = vec![vec![0, 1, 2, 3], vec![1, 4, 2]];
         let piece = VtuPiece {
-            title: "t".into(),
             dim: 2,
             coords: &coords,
             cells: &cells,
@@ -397,7 +395,6 @@ mod tests {
         assert_eq!(g.cell_data[0].values, vec![2.0, 3.0]);
         let ids = [7, 1, 9, 3, 1 << 40];
         let with_ids = VtuPiece {
-            title: "t".into(),
             dim: 2,
             coords: &coords,
             cells: &cells,

@@ -124,7 +124,7 @@ fn read_npy(
 }
 
 /// Refuses a device or a pipe: reading it may not end, nor fit in memory.
-fn regular_file(path: &Path) -> Result<(), String> {
+pub fn regular_file(path: &Path) -> Result<(), String> {
     match std::fs::metadata(path) {
         Ok(m) if !m.is_file() => Err(format!(
             "cannot read {}: not a regular file",
