@@ -287,11 +287,13 @@ fn solve_friction(
         return (out, name);
     }
     let closed = input.sc.solver.tolerance * load.length_scale;
-    let initial = history
-        .previous
-        .as_ref()
-        .map(|p| p.0.clone())
-        .unwrap_or_else(|| initial_statuses(bodies, points, &load.gap0, closed, true));
+    // Norton–Hoff starts every step from the statuses of the gaps, as its
+    // first step does (from the previous step's statuses its second step
+    // was refused as singular); its fixed point restarts from stick anyway.
+    let initial = match &history.previous {
+        Some(p) if !fr.norton_hoff => p.0.clone(),
+        _ => initial_statuses(bodies, points, &load.gap0, closed, true),
+    };
     let retry_from_gaps = history.previous.is_none() && bodies.iter().any(|b| !b.kernel.is_empty());
     let solve_2d = |problem: &mut DelassusProblem, initial: Vec<PointStatus>| -> FrictionSolve {
         let layout = &fr.layout;
@@ -307,9 +309,6 @@ fn solve_friction(
         };
         let newton = input.sc.solver.friction == scene::FrictionSolver::Newton;
         if fr.norton_hoff {
-            // From the statuses of the gaps, as at the first step: the
-            // fixed point restarts from the all-stick solution anyway.
-            let initial = initial_statuses(bodies, points, &load.gap0, closed, true);
             let out = signorini_contact::friction::norton_hoff(problem, layout, initial, fopts);
             (out, "norton_hoff")
         } else if newton {
