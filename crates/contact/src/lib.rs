@@ -33,6 +33,7 @@ pub mod mortar3d;
 pub mod mprgp;
 pub mod observe;
 pub mod penalty;
+mod problem_scale;
 pub mod projected_gradient;
 mod recursive_cholesky;
 mod reduced;

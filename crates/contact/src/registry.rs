@@ -17,6 +17,7 @@ use crate::active_factor::{solve_on_active_set, ActiveFactor};
 use crate::lcp::{
     constrained_gaps, gaps, gaps_off_active, gaps_on, lcp_residual, residual_from_gaps, LcpOptions,
 };
+use crate::problem_scale::ProblemScale;
 use crate::solution::{ContactSolution, PolishSolve};
 use crate::status::{status_method, ActiveSetSolve, StatusOptions, StatusVariant};
 use crate::{ContactError, DelassusProblem};
@@ -255,8 +256,27 @@ impl Algorithm {
     /// Solves LCP(W, q). `stiffness` gives the penalty stiffness per point
     /// for the penalty methods (force per unit gap); `None` uses
     /// `opts.stiffness` (default 1e8) / mean diag W. An exact iterative
-    /// method that converged is polished on its active set.
+    /// method that converged is polished on its active set. A problem in
+    /// extreme units is solved in units where W and q are near 1
+    /// ([`ProblemScale`]) and answered in its own.
     pub fn solve(
+        self,
+        w: &Mat<f64>,
+        q: &[f64],
+        stiffness: Option<&[f64]>,
+        opts: &LcpOptions,
+    ) -> Result<ContactSolution, ContactError> {
+        match ProblemScale::of(w, q) {
+            None => self.solve_as_given(w, q, stiffness, opts),
+            Some(scale) => {
+                let (w_s, q_s, k_s, opts_s) = scale.scaled(w, q, stiffness, opts);
+                let sol = self.solve_as_given(&w_s, &q_s, k_s.as_deref(), &opts_s)?;
+                Ok(scale.unscale(sol))
+            }
+        }
+    }
+
+    fn solve_as_given(
         self,
         w: &Mat<f64>,
         q: &[f64],

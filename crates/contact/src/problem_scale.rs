@@ -1,0 +1,246 @@
+//! The units of LCP(W, q), taken out before a method runs when they are
+//! extreme. W is a compliance (length per force) and q a length, so their
+//! magnitudes follow the user's units: a problem in pascals and metres of a
+//! stiff body may have ‖W‖ ~ 1e-120 or ~ 1e120, and a method's products
+//! (the curvature dᵀW d of a descent direction, of order ‖q‖²/‖W‖ · ‖W‖²)
+//! then under- or overflow, and an exact solution looks singular.
+//!
+//! The substitution λ = (s_q / s_W) λ̃, W = s_W W̃, q = s_q q̃ turns
+//! LCP(W, q) into LCP(W̃, q̃) with max |W̃_ij| and max |q̃_i| near 1, and
+//! g = s_q g̃: the same complementarity problem, whose natural residual
+//! (relative to the force and gap scales, which scale with it) is
+//! unchanged. The scales are powers of two, so the substitution and its
+//! inverse are exact in floating point; a problem whose magnitudes are
+//! ordinary is solved as given.
+
+use faer::Mat;
+
+use crate::lcp::LcpOptions;
+use crate::solution::{ContactSolution, DualDetail, StopReason, UzawaStep};
+
+/// Magnitudes within [2^-64, 2^64] are solved as given: the squares and
+/// cubes the methods form stay far from the limits of f64.
+const ORDINARY: f64 = 18446744073709551616.0; // 2^64
+
+/// The power-of-two scales of W and q (both 1 for an ordinary problem).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct ProblemScale {
+    w: f64,
+    q: f64,
+}
+
+/// The power of two nearest `magnitude` (1 for zero or a non-finite value,
+/// which the methods report themselves).
+fn power_of_two(magnitude: f64) -> f64 {
+    if magnitude > 0.0 && magnitude.is_finite() {
+        2f64.powi(magnitude.log2().round() as i32)
+    } else {
+        1.0
+    }
+}
+
+fn ordinary(magnitude: f64) -> bool {
+    magnitude == 0.0 || (1.0 / ORDINARY..=ORDINARY).contains(&magnitude)
+}
+
+impl ProblemScale {
+    /// The scales of LCP(W, q): `None` when both magnitudes are ordinary.
+    pub(crate) fn of(w: &Mat<f64>, q: &[f64]) -> Option<Self> {
+        let mut w_max = 0.0f64;
+        for j in 0..w.ncols() {
+            for i in 0..w.nrows() {
+                w_max = w_max.max(w[(i, j)].abs());
+            }
+        }
+        let q_max = q.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+        if ordinary(w_max) && ordinary(q_max) {
+            return None;
+        }
+        Some(Self {
+            w: power_of_two(w_max),
+            q: power_of_two(q_max),
+        })
+    }
+
+    /// The force unit s_q / s_W.
+    fn force(self) -> f64 {
+        self.q / self.w
+    }
+
+    /// W̃, q̃, the options in the new units (force and gap scales), and the
+    /// penalty stiffness per point (force per unit gap: k̃ = k s_W).
+    pub(crate) fn scaled(
+        self,
+        w: &Mat<f64>,
+        q: &[f64],
+        stiffness: Option<&[f64]>,
+        opts: &LcpOptions,
+    ) -> (Mat<f64>, Vec<f64>, Option<Vec<f64>>, LcpOptions) {
+        let w_s = Mat::from_fn(w.nrows(), w.ncols(), |i, j| w[(i, j)] / self.w);
+        let q_s = q.iter().map(|v| v / self.q).collect();
+        let k_s = stiffness.map(|k| k.iter().map(|v| v * self.w).collect());
+        let opts_s = LcpOptions {
+            force_scale: opts.force_scale / self.force(),
+            gap_scale: opts.gap_scale / self.q,
+            ..opts.clone()
+        };
+        (w_s, q_s, k_s, opts_s)
+    }
+
+    /// The answer of LCP(W̃, q̃) in the units of LCP(W, q).
+    pub(crate) fn unscale(self, mut sol: ContactSolution) -> ContactSolution {
+        let f = self.force();
+        sol.forces.iter_mut().for_each(|v| *v *= f);
+        sol.gaps.iter_mut().for_each(|v| *v *= self.q);
+        sol.report.stop = self.unscale_stop(sol.report.stop);
+        sol
+    }
+
+    /// A stopping reason's dimensional numbers (‖W‖, penetrations) in the
+    /// problem's units; residuals and tolerances are relative and unchanged.
+    fn unscale_stop(self, stop: StopReason) -> StopReason {
+        let inner = |s: Box<StopReason>| Box::new(self.unscale_stop(*s));
+        match stop {
+            StopReason::MprgpConverged {
+                measure,
+                residual,
+                tolerance,
+                iterations,
+                steps,
+                norm_w,
+                polish,
+            } => StopReason::MprgpConverged {
+                measure,
+                residual,
+                tolerance,
+                iterations,
+                steps,
+                norm_w: norm_w * self.w,
+                polish,
+            },
+            StopReason::DualConverged {
+                residual,
+                tolerance,
+                iterations,
+                detail,
+            } => StopReason::DualConverged {
+                residual,
+                tolerance,
+                iterations,
+                detail: self.unscale_dual(detail),
+            },
+            StopReason::DualLimit {
+                limit,
+                residual,
+                tolerance,
+                detail,
+            } => StopReason::DualLimit {
+                limit,
+                residual,
+                tolerance,
+                detail: self.unscale_dual(detail),
+            },
+            StopReason::RegularisedSolved {
+                active,
+                iterations,
+                cycle_at,
+                penetration,
+            } => StopReason::RegularisedSolved {
+                active,
+                iterations,
+                cycle_at,
+                penetration: penetration * self.q,
+            },
+            StopReason::ByPenalty {
+                status,
+                penetration,
+            } => StopReason::ByPenalty {
+                status: inner(status),
+                penetration: penetration * self.q,
+            },
+            StopReason::InnerFailed { outer, inner: i } => StopReason::InnerFailed {
+                outer,
+                inner: inner(i),
+            },
+            StopReason::Polished { before, by } => StopReason::Polished {
+                before: inner(before),
+                by,
+            },
+            other => other,
+        }
+    }
+
+    fn unscale_dual(self, detail: DualDetail) -> DualDetail {
+        match detail {
+            DualDetail::Uzawa {
+                step: UzawaStep::PowerIteration { norm },
+                halvings,
+            } => DualDetail::Uzawa {
+                step: UzawaStep::PowerIteration {
+                    norm: norm * self.w,
+                },
+                halvings,
+            },
+            other => other,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::registry::{Algorithm, METHODS};
+    use crate::test_problems::{cases, rel_err};
+
+    /// Every method of the registry answers LCP(s_W W, s_q q) with
+    /// (s_q / s_W) λ and s_q g, λ the exact forces of LCP(W, q), for units
+    /// 1e±150 on W and q together and apart (without the rescaling the
+    /// projection methods' curvatures under- or overflowed and they called
+    /// the problem singular); the residual is that of the problem as given.
+    #[test]
+    fn every_method_answers_in_the_problems_units() {
+        let opts = LcpOptions {
+            tolerance: 1e-12,
+            max_iterations: 5000,
+            ..Default::default()
+        };
+        let units = [
+            (1e150, 1e150),
+            (1e-150, 1e-150),
+            (1e150, 1.0),
+            (1.0, 1e-150),
+        ];
+        for case in cases().into_iter().filter(|c| c.q.len() <= 20) {
+            for method in METHODS.iter().filter(|m| m.exact) {
+                let alg = Algorithm::by_name(method.name).unwrap();
+                for (s_w, s_q) in units {
+                    let w = Mat::from_fn(case.q.len(), case.q.len(), |i, j| case.w[(i, j)] * s_w);
+                    let q: Vec<f64> = case.q.iter().map(|v| v * s_q).collect();
+                    let opts = LcpOptions {
+                        force_scale: s_q / s_w,
+                        gap_scale: s_q,
+                        ..opts.clone()
+                    };
+                    let what = format!("{} by {} at W×{s_w:e}, q×{s_q:e}", case.name, method.name);
+                    let sol = alg
+                        .solve(&w, &q, None, &opts)
+                        .unwrap_or_else(|e| panic!("{what}: {e}"));
+                    assert!(sol.report.converged, "{what}: {}", sol.report.stop);
+                    let want: Vec<f64> = case.exact.iter().map(|v| v * (s_q / s_w)).collect();
+                    assert!(rel_err(&sol.forces, &want) <= 1e-9, "{what}");
+                    let residual = crate::lcp::lcp_residual(&w, &q, &sol.forces, &opts);
+                    assert!(residual <= 1e-10, "{what}: residual {residual:e}");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn an_ordinary_problem_is_solved_as_given() {
+        let w = Mat::from_fn(2, 2, |i, j| if i == j { 1e-18 } else { 0.0 });
+        assert_eq!(ProblemScale::of(&w, &[1e18, -1.0]), None);
+        let scale = ProblemScale::of(&w, &[1e30, -1.0]).unwrap();
+        assert_eq!(scale.q, 2f64.powi(100));
+        assert_eq!(scale.w, 2f64.powi(-60));
+    }
+}
