@@ -122,3 +122,28 @@ fn projected_gradient_on_hertz_axi_is_the_same_in_m_and_mm() {
         assert_same(&m, &mm, &format!("projected gradient, limit {limit}"));
     }
 }
+
+/// The penalty method's answer is judged against Signorini's conditions,
+/// and the penetration O(1/k) its stiffness allows can exceed their
+/// tolerance: on the pad of `blocks.toml` (held by contact alone) the
+/// default factor 1e8 leaves a penetration of 8.7e-9 of the length scale,
+/// exit 2 with the reason and the remedy; [solver] penalty = 1e11 meets the
+/// tolerance, with the exact total force.
+#[test]
+fn a_penalty_too_soft_for_the_tolerance_says_why_and_what_to_raise() {
+    let (code, report) = run("penalty-blocks", &example("blocks.toml"), "penalty");
+    assert_eq!(code, 2);
+    let failure = report["failure"].as_str().unwrap();
+    assert!(
+        failure.contains("penetration of the penalty method")
+            && failure.contains("raise [solver] penalty"),
+        "{failure}"
+    );
+    let stiff = format!("{}\n[solver]\npenalty = 1e11\n", example("blocks.toml"));
+    let (code, report) = run("penalty-blocks-stiff", &stiff, "penalty");
+    assert_eq!(code, 0, "{}", report["failure"]);
+    let penetration = report["certificate"]["penetration"].as_f64().unwrap();
+    assert!(penetration > 0.0 && penetration <= 1e-9, "{penetration:e}");
+    let force = report["contact_force"][1].as_f64().unwrap();
+    assert!((force - 2.0).abs() <= 1e-9, "resultant {force}");
+}

@@ -7,7 +7,7 @@ use std::io::Write;
 use std::path::Path;
 use std::time::Instant;
 
-use crate::{ContactRow, Report};
+use crate::{Certificate, ContactRow, Report};
 
 /// The fields of one body at one load step.
 #[derive(Clone)]
@@ -201,17 +201,14 @@ pub fn summary(dir: &Path, o: &RunOutput) -> String {
         );
     }
     out += &format!(
-        "  contact force ({}); certificate max {:.2e} (equilibrium {:.1e}, penetration {:.1e}, tension {:.1e}, complementarity {:.1e})\n",
+        "  contact force ({}); certificate max {:.2e} ({})\n",
         r.contact_force
             .iter()
             .map(|f| format!("{f:.6e}"))
             .collect::<Vec<_>>()
             .join(", "),
         r.certificate.max(),
-        r.certificate.equilibrium,
-        r.certificate.penetration,
-        r.certificate.tension,
-        r.certificate.complementarity
+        certificate_terms(&r.certificate)
     );
     let warning = r.conditioning.as_ref().and_then(|c| c.warning.as_ref());
     if let Some(w) = warning {
@@ -234,4 +231,29 @@ pub fn summary(dir: &Path, o: &RunOutput) -> String {
         dir.join("report.json").display()
     );
     out
+}
+
+/// The certificate's terms for the summary line: the four of every run,
+/// then those of friction and of regularised laws where they are not zero.
+fn certificate_terms(c: &Certificate) -> String {
+    let mut terms = vec![
+        ("equilibrium", c.equilibrium),
+        ("penetration", c.penetration),
+        ("tension", c.tension),
+        ("complementarity", c.complementarity),
+    ];
+    terms.extend(
+        [
+            ("cone", c.cone),
+            ("dissipation", c.dissipation),
+            ("law", c.law),
+        ]
+        .into_iter()
+        .filter(|(_, v)| *v != 0.0),
+    );
+    terms
+        .iter()
+        .map(|(name, v)| format!("{name} {v:.1e}"))
+        .collect::<Vec<_>>()
+        .join(", ")
 }

@@ -157,12 +157,26 @@ fn record_convergence(partial: &mut Partial, si: usize, sol: &StepSolution, cert
         ));
     } else if cert.max() > cert.tolerance {
         partial.converged = false;
-        partial.failure.get_or_insert(format!(
+        let mut failure = format!(
             "step {}: the certificate residual {:.3e} exceeds the tolerance {:.1e}",
             si + 1,
             cert.max(),
             cert.tolerance
-        ));
+        );
+        if let Some(r) = &sol.regularisation {
+            let allowed = cert.penetration.max(cert.complementarity);
+            if allowed >= cert.max() {
+                failure += &format!(
+                    ": it is the penetration of the {} method ({:.3e}, over the length scale {:.3e}), the O(1/k) that its stiffness k = [solver] penalty = {:e} times the contact stiffness allows (forces {:.1e} from the exact ones): raise [solver] penalty, or use an exact method",
+                    report.method,
+                    r.max_penetration,
+                    cert.length_scale,
+                    r.stiffness_factor,
+                    r.force_deviation
+                );
+            }
+        }
+        partial.failure.get_or_insert(failure);
     }
 }
 
