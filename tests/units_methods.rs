@@ -118,6 +118,15 @@ fn projected_gradient_on_hertz_axi_is_the_same_in_m_and_mm() {
         );
         if limit == 2000 {
             assert_eq!(m.0, 0, "m: {}", m.1["failure"]);
+        } else {
+            // Out of iterations: exit 2, naming the limit to raise.
+            assert_eq!(m.0, 2);
+            let failure = m.1["failure"].as_str().unwrap();
+            assert!(
+                failure.contains("iteration limit 500")
+                    && failure.contains("raise [solver] max_iterations"),
+                "{failure}"
+            );
         }
         assert_same(&m, &mm, &format!("projected gradient, limit {limit}"));
     }

@@ -404,6 +404,20 @@ pub struct SmalbeProgress {
     pub rho: f64,
 }
 
+impl StopReason {
+    /// A projection or dual method (here or as SMALBE's inner solver) ran
+    /// out of `max_iterations` above the tolerance: more iterations, or a
+    /// method that needs fewer, would go on.
+    pub fn out_of_iterations(&self) -> bool {
+        match self {
+            StopReason::IterationLimit { .. } | StopReason::DualLimit { .. } => true,
+            StopReason::InnerFailed { inner, .. } => inner.out_of_iterations(),
+            StopReason::Smalbe(SmalbeStop::InnerFailed { inner, .. }) => inner.out_of_iterations(),
+            _ => false,
+        }
+    }
+}
+
 /// Why SMALBE stopped.
 #[derive(Debug, Clone, PartialEq)]
 pub enum SmalbeStop {

@@ -149,12 +149,11 @@ fn record_convergence(partial: &mut Partial, si: usize, sol: &StepSolution, cert
     let report = &sol.outcome.report;
     if !report.converged {
         partial.converged = false;
-        partial.failure.get_or_insert(format!(
-            "step {}: {}: {}",
-            si + 1,
-            report.method,
-            report.stop
-        ));
+        let mut failure = format!("step {}: {}: {}", si + 1, report.method, report.stop);
+        if report.stop.out_of_iterations() {
+            failure += "; raise [solver] max_iterations, or use a method that needs fewer iterations (status, mprgp)";
+        }
+        partial.failure.get_or_insert(failure);
     } else if cert.max() > cert.tolerance {
         partial.converged = false;
         let mut failure = format!(
