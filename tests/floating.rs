@@ -7,7 +7,7 @@
 
 mod common;
 
-use common::{assert_message, converged, example, forces, max_rel, try_run};
+use common::{assert_message, converged, converged_on, example, forces, max_rel, try_run};
 use signorini_scene::Method;
 use signorini_solver::{RunOptions, RunOutput, SolveError};
 
@@ -139,4 +139,46 @@ fn the_penalty_method_holds_a_floating_body_and_tends_to_the_exact_answer() {
         last = d;
     }
     assert!(last <= 1e-4, "{last:e}");
+}
+
+/// A plate 1 × 1 × 1e-6, one Hex8 through its thickness, on a rigid plane,
+/// pressed by a uniform traction: held in x and y, its z translation held by
+/// the contact alone. Condensing the bottom face subtracts stiffnesses 1e12
+/// times larger than the plate's (E A / t against E t), and S loses the
+/// rigid mode to round-off: the condensed path refuses, naming the cause
+/// and the direct path (it said "singular" and blamed the supports); the
+/// direct path solves it, the pressure exact.
+#[test]
+fn a_plate_too_thin_to_condense_is_sent_to_the_direct_path() {
+    let plate =
+        "title = \"thin plate\"\ndimension = 3\nmodel = \"solid\"\n\
+         [[materials]]\nname = \"steel\"\nyoung = 210.0\npoisson = 0.3\n\
+         [[bodies]]\nname = \"plate\"\nmaterial = \"steel\"\n\
+         mesh = { generator = \"box\", origin = [0.0, 0.0, 0.0], size = [1.0, 1.0, 1e-6], divisions = [8, 8, 1] }\n\
+         [[bodies]]\nname = \"floor\"\n\
+         rigid = { shape = \"plane\", point = [0.0, 0.0, 0.0], normal = [0.0, 0.0, 1.0] }\n\
+         [[boundary]]\nname = \"px\"\nbody = \"plate\"\nsurface = \"xmin\"\ndisplacement = { x = 0.0 }\n\
+         [[boundary]]\nname = \"py\"\nbody = \"plate\"\nsurface = \"ymin\"\ndisplacement = { y = 0.0 }\n\
+         [[boundary]]\nname = \"pressure\"\nbody = \"plate\"\nsurface = \"zmax\"\ntraction = [0.0, 0.0, -1.0]\n\
+         [[contact]]\nname = \"c\"\nslave = { body = \"plate\", surface = \"zmin\" }\nmaster = { body = \"floor\" }\n\
+         [reference]\nkind = \"uniform_pressure\"\npressure = 1.0\n"
+    .to_string();
+    match try_run(&plate, RunOptions::default()) {
+        Err(SolveError::Input(m)) => assert!(
+            m.contains("lost the body's rigid motions to round-off")
+                && m.contains("solver.path = \"direct\""),
+            "{m}"
+        ),
+        other => panic!(
+            "expected the condensed path to refuse: {:?}",
+            other.map(|o| o.report.converged)
+        ),
+    }
+    let out = converged_on(&plate, signorini_scene::SolvePath::Direct);
+    let p = &out.report.reference.as_ref().unwrap().quantities["pressure"];
+    assert!(
+        p.relative_error <= 1e-9,
+        "pressure error {}",
+        p.relative_error
+    );
 }

@@ -229,9 +229,10 @@ fn check_kernel(s: &InterfaceStiffness, r: &Mat<f64>) -> Result<(), ContactError
     let smax = s.diagonal().iter().fold(0.0f64, |a, d| a.max(d.abs()));
     let worst = s.mul(r).norm_max();
     if worst.is_nan() || worst > 1e-8 * smax * (n as f64).sqrt() {
-        return Err(ContactError::Singular(format!(
-            "the rigid modes left free by the supports are not in the kernel of S (‖S r‖ = {worst:.2e} against a stiffness {smax:.2e}): the interface stiffness and the supports disagree"
-        )));
+        return Err(ContactError::KernelMismatch {
+            residual: worst,
+            stiffness: smax,
+        });
     }
     Ok(())
 }

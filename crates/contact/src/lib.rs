@@ -64,6 +64,11 @@ pub enum ContactError {
     /// modes it was given: the factorisation failed at the Γ DOF `dof`.
     #[error("the contact problem is singular: the interface stiffness S is not positive definite beyond the rigid modes of the floating bodies (at interface DOF {dof}): a body is free to move in a way its supports do not prevent")]
     SingularInterface { dof: usize },
+    /// The rigid modes that the supports leave free are not in the kernel
+    /// of the interface stiffness S: ‖S r‖ = `residual` against the largest
+    /// diagonal entry `stiffness` of S.
+    #[error("the rigid modes left free by the supports are not in the kernel of the interface stiffness S (‖S r‖ = {residual:.2e} against a stiffness {stiffness:.2e})")]
+    KernelMismatch { residual: f64, stiffness: f64 },
     #[error("linear solve failed: {0}")]
     Solve(String),
 }

@@ -111,6 +111,9 @@ fn contact_error(e: ContactError) -> SolveError {
         e @ ContactError::SingularInterface { .. } => SolveError::Input(format!(
             "{e}; a body held only by contact needs contacts that can hold every rigid motion its supports leave free"
         )),
+        e @ ContactError::KernelMismatch { .. } => SolveError::Input(format!(
+            "{e}: the condensation lost the body's rigid motions to round-off. S = K_ΓΓ − K_ΓI K_II⁻¹ K_IΓ is the difference of far larger stiffnesses when a body is very thin or its elements very flat (a plate one element thick, aspect ratio 1e5 or more); solver.path = \"direct\" factorises the whole stiffness and does not condense"
+        )),
         other => SolveError::Internal(other.to_string()),
     }
 }
