@@ -345,6 +345,42 @@ fn a_part_that_nothing_holds_is_refused_by_the_body_name() {
     }
 }
 
+/// A body with no support and no contact at all: refused before anything
+/// is factorised, naming it, on both paths (the condensed path ended on
+/// "K_II is not positive definite" in its subdomain, the direct path said
+/// the body is free to move).
+#[test]
+fn a_body_that_no_contact_touches_is_refused_on_both_paths() {
+    let text = "title = \"loose\"\ndimension = 2\nmodel = \"plane_strain\"\n\
+        [[materials]]\nname = \"m\"\nyoung = 100.0\npoisson = 0.3\n\
+        [[bodies]]\nname = \"block\"\nmaterial = \"m\"\n\
+        mesh = { generator = \"rectangle\", origin = [0.0, 0.0], size = [2.0, 1.0], divisions = [8, 4] }\n\
+        [[bodies]]\nname = \"loose\"\nmaterial = \"m\"\n\
+        mesh = { generator = \"rectangle\", origin = [0.0, 2.0], size = [1.0, 1.0], divisions = [4, 4] }\n\
+        [[bodies]]\nname = \"floor\"\n\
+        rigid = { shape = \"plane\", point = [0.0, 0.0], normal = [0.0, 1.0] }\n\
+        [[boundary]]\nname = \"press\"\nbody = \"block\"\nsurface = \"top\"\n\
+        displacement = { x = 0.0, y = -0.01 }\n\
+        [[contact]]\nname = \"c\"\nslave = { body = \"block\", surface = \"bottom\" }\n\
+        master = { body = \"floor\" }\n";
+    for path in [SolvePath::Condensed, SolvePath::Direct] {
+        let opts = RunOptions {
+            method: None,
+            path: Some(path),
+        };
+        match try_run(text, opts) {
+            Err(SolveError::Input(msg)) => assert!(
+                msg.contains("body \"loose\" is free to move: 3 of its rigid motions"),
+                "{path:?}: {msg}"
+            ),
+            other => panic!(
+                "{path:?}: expected an input error, got {:?}",
+                other.map(|o| o.report.converged)
+            ),
+        }
+    }
+}
+
 /// Two quads of one body that meet at a single node: a hinge, which carries
 /// no continuous displacement across and would leave the second quad free
 /// to turn about that node. Refused when the mesh is read, on both paths,

@@ -17,72 +17,92 @@ pub(crate) fn check_floating_equilibrium(
     resultant: &[Vec<f64>],
     step: usize,
 ) -> Result<(), SolveError> {
+    let friction = points.iter().any(|p| p.trow.is_some());
     for (bi, b) in bodies.iter().enumerate() {
         if b.kernel.is_empty() {
             continue;
         }
-        let k = b.kernel.len();
-        let friction = points.iter().any(|p| p.trow.is_some());
-        let mut gt = Mat::<f64>::zeros(k, points.len() * if friction { 3 } else { 1 });
-        for (pi, p) in points.iter().enumerate() {
-            for &(pb, d, c) in &p.row {
-                if pb == bi {
-                    for (j, r) in b.kernel.iter().enumerate() {
-                        gt[(j, pi)] += c * r[d];
-                    }
-                }
-            }
-            // Tangential forces hold rigid motions too (bounded by friction).
-            for &(pb, d, c) in p.trow.iter().flatten() {
-                if pb == bi {
-                    for (j, r) in b.kernel.iter().enumerate() {
-                        gt[(j, points.len() + pi)] += c * r[d];
-                    }
-                }
-            }
-            for &(pb, d, c) in p.trow2.iter().flatten() {
-                if pb == bi {
-                    for (j, r) in b.kernel.iter().enumerate() {
-                        gt[(j, 2 * points.len() + pi)] += c * r[d];
-                    }
-                }
-            }
-        }
+        let gt = contact_on_rigid_modes(bi, b, points);
         let e = &e_of[bi];
         let fr = &resultant[bi];
         let fmax = inf_norm(e).max(inf_norm(fr));
-        // Rigid motions that no contact can hold: the null space of Gᵀ (rank
-        // test of G Gᵀ, scaled by its largest eigenvalue).
-        let ggt = &gt * gt.transpose();
-        let eig = ggt
-            .self_adjoint_eigen(faer::Side::Lower)
-            .map_err(|e| SolveError::Internal(format!("eigen decomposition of G Gᵀ: {e:?}")))?;
-        let emax = (0..k).fold(0.0f64, |a, j| a.max(eig.S()[j]));
-        let unheld = (0..k)
-            .filter(|&j| eig.S()[j] <= 1e-12 * emax || emax == 0.0)
-            .count();
         // Compressive normal forces alone must balance the load unless
         // friction can help (then the friction solve itself decides).
         let res = if friction { 0.0 } else { nnls(&gt, e).1 };
         if friction {
             check_friction_capacity(b, points, bi, fr, step)?;
         }
-        if unheld > 0 {
-            return Err(SolveError::Input(format!(
-                "bodies[{}]: body \"{}\" is free to move: {unheld} of its rigid motions are prevented neither by a support nor by its contacts (frictionless contact only holds along the normals); add a [[boundary]] displacement that pins it (e.g. a point with x = 0)",
-                b.scene_index, b.name
-            )));
-        }
+        check_held(b, &gt)?;
         if res > 1e-8 * fmax.max(f64::MIN_POSITIVE) {
             return Err(SolveError::Input(format!(
                 "bodies[{}]: body \"{}\" cannot be in equilibrium at step {}: it has no support against {} rigid motion(s), and its external load (resultant {}) cannot be balanced by its contacts, which can only push along their normals; add a [[boundary]] displacement that holds it, or change the load",
                 b.scene_index,
                 b.name,
                 step + 1,
-                k,
+                b.kernel.len(),
                 fmt_vector(fr)
             )));
         }
+    }
+    Ok(())
+}
+
+/// Every rigid motion left free by a body's supports must be one its
+/// contacts can hold, whatever the load: checked once the contact points
+/// are known, before anything is factorised (on the condensed path a body
+/// that no contact touches would otherwise end in a singular K_II).
+pub(crate) fn check_held_by_contacts(
+    bodies: &[BodyModel],
+    points: &[PointModel],
+) -> Result<(), SolveError> {
+    for (bi, b) in bodies.iter().enumerate() {
+        if !b.kernel.is_empty() {
+            check_held(b, &contact_on_rigid_modes(bi, b, points))?;
+        }
+    }
+    Ok(())
+}
+
+/// Gᵀ of a body: the work of each contact force (normal columns 0..m, then
+/// the tangential ones when some point has friction) on each of its free
+/// rigid modes.
+fn contact_on_rigid_modes(bi: usize, b: &BodyModel, points: &[PointModel]) -> Mat<f64> {
+    let friction = points.iter().any(|p| p.trow.is_some());
+    let m = points.len();
+    let mut gt = Mat::<f64>::zeros(b.kernel.len(), m * if friction { 3 } else { 1 });
+    for (pi, p) in points.iter().enumerate() {
+        // Tangential forces hold rigid motions too (bounded by friction).
+        let rows = [Some(&p.row), p.trow.as_ref(), p.trow2.as_ref()];
+        for (block, row) in rows.into_iter().enumerate() {
+            for &(pb, d, c) in row.into_iter().flatten() {
+                if pb == bi {
+                    for (j, r) in b.kernel.iter().enumerate() {
+                        gt[(j, block * m + pi)] += c * r[d];
+                    }
+                }
+            }
+        }
+    }
+    gt
+}
+
+/// Refuses a body with rigid motions that no contact can hold: the null
+/// space of Gᵀ (rank test of G Gᵀ, scaled by its largest eigenvalue).
+fn check_held(b: &BodyModel, gt: &Mat<f64>) -> Result<(), SolveError> {
+    let k = gt.nrows();
+    let ggt = gt * gt.transpose();
+    let eig = ggt
+        .self_adjoint_eigen(faer::Side::Lower)
+        .map_err(|e| SolveError::Internal(format!("eigen decomposition of G Gᵀ: {e:?}")))?;
+    let emax = (0..k).fold(0.0f64, |a, j| a.max(eig.S()[j]));
+    let unheld = (0..k)
+        .filter(|&j| eig.S()[j] <= 1e-12 * emax || emax == 0.0)
+        .count();
+    if unheld > 0 {
+        return Err(SolveError::Input(format!(
+            "bodies[{}]: body \"{}\" is free to move: {unheld} of its rigid motions are prevented neither by a support nor by its contacts (frictionless contact only holds along the normals); add a [[boundary]] displacement that pins it (e.g. a point with x = 0)",
+            b.scene_index, b.name
+        )));
     }
     Ok(())
 }

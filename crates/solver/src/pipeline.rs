@@ -166,6 +166,8 @@ impl Attempt<'_> {
         let ranks = if condensed_path { comm.size() } else { 1 };
         progress::phase(progress::Phase::Meshing);
         let model = partition::model_stage(sc, ranks, self.zone, &mut log.messages)?;
+        // Every rank built the same model: each refuses it alike.
+        check_held_by_contacts(&model.bodies, &model.points)?;
         // Again with the contact unknowns the candidate zones kept.
         let fits = comm.is_root().then(|| {
             memory::check(
