@@ -418,3 +418,46 @@ fn a_hinged_mesh_is_refused_on_both_paths_naming_the_mesh() {
         }
     }
 }
+
+/// Three rectangles in one body (a Gmsh mesh of three pieces), each held in
+/// x on its left side, pressed onto the ground: split into fewer
+/// subdomains than pieces (whole pieces dealt out), as many, and more
+/// (pieces split in proportion to their cells), the condensed path agrees
+/// with the direct path to 1e-9 and each contact carries its piece's load.
+/// It was refused: "the cells do not form one connected piece".
+#[test]
+fn a_body_of_several_pieces_splits_into_subdomains() {
+    let msh = gmsh(
+        2,
+        &[
+            rectangle("a", 0.0, [2.0, 1.0], [4, 2], 1),
+            rectangle("b", 10.0, [1.5, 0.75], [5, 3], 101),
+            rectangle("c", 20.0, [3.0, 1.0], [9, 3], 201),
+        ],
+    );
+    let rest = [
+        on("left_a", "displacement = { x = 0.0 }"),
+        on("left_b", "displacement = { x = 0.0 }"),
+        on("left_c", "displacement = { x = 0.0 }"),
+        on("top_a", "traction = [0.0, -100.0]"),
+        on("top_b", "traction = [30.0, -250.0]"),
+        on("top_c", "traction = [0.0, -10.0]"),
+        on_ground("bottom_a"),
+        on_ground("bottom_b"),
+        on_ground("bottom_c"),
+    ]
+    .concat();
+    for n in [2, 3, 5, 8] {
+        let text = scene(&format!("pieces_{n}"), 2, &msh, &rest).replace(
+            "mesh = { file",
+            &format!("subdomains = {n}\nmesh = {{ file"),
+        );
+        assert!(text.contains(&format!("subdomains = {n}")));
+        condensed_equals_direct(
+            &text,
+            &[("bottom_a", 200.0), ("bottom_b", 375.0), ("bottom_c", 30.0)],
+        );
+        let out = converged_on(&text, SolvePath::Condensed);
+        assert_eq!(out.report.subdomains, n);
+    }
+}

@@ -31,9 +31,11 @@ const UFACTOR: Idx = 30;
 /// reproducibility, `UFactor(30)`). Returns the part of every cell.
 /// `nparts == 1` → all zeros without calling METIS.
 ///
+/// A mesh of several connected pieces is split piece by piece
+/// ([`partition_pieces`]).
+///
 /// Errors (`MeshError::Invalid`): `nparts == 0`, `nparts` greater than the
-/// number of cells, a cell with the wrong number of nodes, a mesh whose cells do
-/// not form one connected piece (no contiguous partition exists), a METIS
+/// number of cells, a cell with the wrong number of nodes, a METIS
 /// failure, or a part that comes out empty or not connected. Both k-way
 /// partitioning and recursive bisection are run; of the usable ones, the one
 /// with fewer interface nodes is returned (k-way on a tie).
@@ -57,12 +59,9 @@ pub fn partition_cells(mesh: &Mesh, nparts: usize) -> Result<Vec<usize>, MeshErr
     })?;
 
     let (xadj, adjncy) = dual_graph(mesh)?;
-    let all: Vec<usize> = (0..ncells).collect();
-    if !is_connected(&xadj, &adjncy, &all) {
-        return Err(MeshError::Invalid(format!(
-            "partition: the {ncells} cells do not form one connected piece \
-             (through shared facets), so they cannot be split into {nparts} connected parts"
-        )));
+    let pieces = connected_pieces(&xadj, &adjncy);
+    if pieces.len() > 1 {
+        return partition_pieces(mesh, &pieces, nparts);
     }
 
     let graph = || -> Result<Graph<'_>, MeshError> {
@@ -94,6 +93,108 @@ pub fn partition_cells(mesh: &Mesh, nparts: usize) -> Result<Vec<usize>, MeshErr
              ({kway_err}; {rec_err})"
         ))),
     }
+}
+
+/// The cells of each connected piece of the dual graph (pieces in the
+/// order of their first cell, cells sorted).
+fn connected_pieces(xadj: &[Idx], adjncy: &[Idx]) -> Vec<Vec<usize>> {
+    let n = xadj.len() - 1;
+    let mut piece_of = vec![usize::MAX; n];
+    let mut pieces: Vec<Vec<usize>> = Vec::new();
+    for start in 0..n {
+        if piece_of[start] != usize::MAX {
+            continue;
+        }
+        let id = pieces.len();
+        piece_of[start] = id;
+        let mut cells = vec![start];
+        let mut queue = VecDeque::from([start]);
+        while let Some(v) = queue.pop_front() {
+            for &w in &adjncy[xadj[v] as usize..xadj[v + 1] as usize] {
+                let w = w as usize;
+                if piece_of[w] == usize::MAX {
+                    piece_of[w] = id;
+                    cells.push(w);
+                    queue.push_back(w);
+                }
+            }
+        }
+        cells.sort_unstable();
+        pieces.push(cells);
+    }
+    pieces
+}
+
+/// A mesh of several connected pieces in `nparts` parts. With at least as
+/// many parts as pieces, each piece gets parts in proportion to its cells
+/// (at least one; largest remainders, then the larger pieces first) and is
+/// split on its own like a connected mesh, so every part is connected.
+/// With fewer parts than pieces, whole pieces are dealt out, the largest
+/// first, each to the part with the fewest cells so far: a part is then
+/// several pieces, which condense as one subdomain as an unsplit body of
+/// several pieces does.
+fn partition_pieces(
+    mesh: &Mesh,
+    pieces: &[Vec<usize>],
+    nparts: usize,
+) -> Result<Vec<usize>, MeshError> {
+    let mut part = vec![0usize; mesh.cells.len()];
+    let mut order: Vec<usize> = (0..pieces.len()).collect();
+    order.sort_by_key(|&p| std::cmp::Reverse(pieces[p].len()));
+    if nparts < pieces.len() {
+        let mut load = vec![0usize; nparts];
+        for &p in &order {
+            let target = (0..nparts).min_by_key(|&q| (load[q], q)).unwrap_or(0);
+            load[target] += pieces[p].len();
+            pieces[p].iter().for_each(|&c| part[c] = target);
+        }
+        return Ok(part);
+    }
+    let counts = parts_per_piece(pieces, &order, nparts);
+    let mut first = 0;
+    for (p, cells) in pieces.iter().enumerate() {
+        let sub = Mesh {
+            dim: mesh.dim,
+            coords: mesh.coords.clone(),
+            cells: cells.iter().map(|&c| mesh.cells[c].clone()).collect(),
+            surfaces: Default::default(),
+            regions: Default::default(),
+        };
+        let within = partition_cells(&sub, counts[p])?;
+        for (&c, q) in cells.iter().zip(within) {
+            part[c] = first + q;
+        }
+        first += counts[p];
+    }
+    Ok(part)
+}
+
+/// How many of `nparts` (≥ pieces) each piece gets: one each, the rest in
+/// proportion to the cells by largest remainders, never more than a
+/// piece's cells.
+fn parts_per_piece(pieces: &[Vec<usize>], order: &[usize], nparts: usize) -> Vec<usize> {
+    let total: usize = pieces.iter().map(Vec::len).sum();
+    let spare = nparts - pieces.len();
+    let share = |p: usize| spare as f64 * pieces[p].len() as f64 / total as f64;
+    let mut counts: Vec<usize> = (0..pieces.len())
+        .map(|p| 1 + (share(p).floor() as usize).min(pieces[p].len() - 1))
+        .collect();
+    let mut by_remainder = order.to_vec();
+    by_remainder.sort_by(|&a, &b| share(b).fract().total_cmp(&share(a).fract()));
+    let mut left = nparts - counts.iter().sum::<usize>();
+    while left > 0 {
+        let before = left;
+        for &p in &by_remainder {
+            if left > 0 && counts[p] < pieces[p].len() {
+                counts[p] += 1;
+                left -= 1;
+            }
+        }
+        if left == before {
+            break;
+        }
+    }
+    counts
 }
 
 /// Of two partitions, the one with fewer interface nodes (the first on a
@@ -453,10 +554,13 @@ mod tests {
         assert!(partition_cells(&empty, 1).is_err());
     }
 
+    /// Two pieces: a 4 × 2 rectangle (8 cells) and a separate quad. In two
+    /// or three parts each piece has its own (the quad one, the rectangle
+    /// the rest, connected); in one part all together; more parts than
+    /// cells are refused as for a connected mesh.
     #[test]
-    fn disconnected_mesh_is_an_error() {
-        let mut mesh = rectangle([0., 0.], [1., 1.], [2, 1], CellKind::Quad4, None).unwrap();
-        // A second, separate quad.
+    fn a_mesh_of_two_pieces_is_split_piece_by_piece() {
+        let mut mesh = rectangle([0., 0.], [2., 1.], [4, 2], CellKind::Quad4, None).unwrap();
         let base = mesh.n_nodes();
         mesh.coords
             .extend([[5., 0., 0.], [6., 0., 0.], [6., 1., 0.], [5., 1., 0.]]);
@@ -464,7 +568,36 @@ mod tests {
             kind: CellKind::Quad4,
             nodes: (base..base + 4).collect(),
         });
-        let err = partition_cells(&mesh, 2).unwrap_err().to_string();
-        assert!(err.contains("connected"), "{err}");
+        let (xadj, adjncy) = dual_graph(&mesh).unwrap();
+        for n in [2, 3, 5] {
+            let parts = partition_cells(&mesh, n).unwrap();
+            let quad = parts[8];
+            assert!(parts[..8].iter().all(|&p| p != quad), "n = {n}: {parts:?}");
+            for p in 0..n {
+                let cells: Vec<usize> = (0..9).filter(|&c| parts[c] == p).collect();
+                assert!(
+                    !cells.is_empty() && is_connected(&xadj, &adjncy, &cells),
+                    "n = {n}: part {p}"
+                );
+            }
+        }
+        assert!(partition_cells(&mesh, 1).unwrap().iter().all(|&p| p == 0));
+        assert!(partition_cells(&mesh, 10).is_err());
+    }
+
+    /// Parts per piece: one each, the rest by largest remainders, never more
+    /// than a piece's cells; fewer parts than pieces deal whole pieces out.
+    #[test]
+    fn pieces_get_parts_in_proportion_to_their_cells() {
+        let pieces = vec![
+            (0..90).collect::<Vec<_>>(),
+            (90..100).collect(),
+            (100..101).collect(),
+        ];
+        let order = [0, 1, 2];
+        assert_eq!(parts_per_piece(&pieces, &order, 3), [1, 1, 1]);
+        assert_eq!(parts_per_piece(&pieces, &order, 13), [10, 2, 1]);
+        let two = vec![(0..3).collect::<Vec<_>>(), (3..4).collect()];
+        assert_eq!(parts_per_piece(&two, &[0, 1], 4), [3, 1]);
     }
 }
