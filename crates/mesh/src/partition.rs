@@ -305,23 +305,10 @@ fn dual_graph(mesh: &Mesh) -> Result<(Vec<Idx>, Vec<Idx>), MeshError> {
 /// test). Disconnected parts, which share no node, are fine.
 pub fn check_conforming(mesh: &Mesh) -> Result<(), MeshError> {
     let (xadj, adjncy) = dual_graph(mesh)?;
-    let ncells = mesh.cells.len();
     // Facet-connected components of the cells.
-    let mut label = vec![usize::MAX; ncells];
-    for start in 0..ncells {
-        if label[start] != usize::MAX {
-            continue;
-        }
-        label[start] = start;
-        let mut queue = VecDeque::from([start]);
-        while let Some(v) = queue.pop_front() {
-            for &w in &adjncy[xadj[v] as usize..xadj[v + 1] as usize] {
-                if label[w as usize] == usize::MAX {
-                    label[w as usize] = start;
-                    queue.push_back(w as usize);
-                }
-            }
-        }
+    let mut label = vec![0usize; mesh.cells.len()];
+    for (id, cells) in connected_pieces(&xadj, &adjncy).iter().enumerate() {
+        cells.iter().for_each(|&c| label[c] = id);
     }
     // A node reached by two components: the witness.
     let mut at_node = vec![usize::MAX; mesh.n_nodes()];
