@@ -5,6 +5,9 @@ use std::collections::BTreeMap;
 
 use crate::{Quantity, ReferenceReport};
 
+mod flat_punch;
+pub use flat_punch::{flat_punch, flat_punch_pressure, PunchShape};
+
 /// Nodal contact data along the contact line: tangential coordinate,
 /// normal force, tributary length and pressure of each contact point.
 pub struct NodalPressure {

@@ -16,8 +16,9 @@ pub(crate) fn contact_modulus(sc: &scene::Scene, body: &str) -> f64 {
 }
 
 /// The comparison of the final contact forces with the scene's analytic
-/// reference (Hertz cylinder or sphere, uniform pressure, Cattaneo–Mindlin,
-/// sliding block); refuses a reference the scene's model does not fit.
+/// reference (Hertz cylinder or sphere, flat punch, uniform pressure,
+/// Cattaneo–Mindlin, sliding block); refuses a reference the scene's model
+/// does not fit.
 pub(crate) fn compare_reference(
     sc: &scene::Scene,
     r: &scene::Reference,
@@ -63,10 +64,13 @@ pub(crate) fn compare_reference(
         scene::ReferenceKind::UniformPressure => Ok(reference::uniform_pressure(&nodes, r.pressure, None)),
         scene::ReferenceKind::CattaneoMindlin => Ok(reference::cattaneo_mindlin(&nodes, e_star(), radius()?, mu()?)),
         scene::ReferenceKind::SlidingBlock => Ok(reference::sliding_block(&nodes, mu()?, None)),
-        other => Err(SolveError::Input(format!(
-            "reference.kind: \"{}\" is not supported yet (supported: hertz_cylinder, hertz_sphere, uniform_pressure, cattaneo_mindlin, sliding_block)",
-            other.as_str()
-        ))),
+        scene::ReferenceKind::FlatPunch => {
+            let shape = match (sc.dimension, sc.model) {
+                (2, m) if m != scene::Model::Axisymmetric => reference::PunchShape::Strip,
+                _ => reference::PunchShape::Circle,
+            };
+            Ok(reference::flat_punch(&nodes, shape, r.half_width))
+        }
     }
 }
 
