@@ -98,91 +98,35 @@ impl ProblemScale {
 
     /// A stopping reason's dimensional numbers (‖W‖, penetrations) in the
     /// problem's units; residuals and tolerances are relative and unchanged.
-    fn unscale_stop(self, stop: StopReason) -> StopReason {
-        let inner = |s: Box<StopReason>| Box::new(self.unscale_stop(*s));
-        match stop {
-            StopReason::MprgpConverged {
-                measure,
-                residual,
-                tolerance,
-                iterations,
-                steps,
-                norm_w,
-                polish,
-            } => StopReason::MprgpConverged {
-                measure,
-                residual,
-                tolerance,
-                iterations,
-                steps,
-                norm_w: norm_w * self.w,
-                polish,
-            },
-            StopReason::DualConverged {
-                residual,
-                tolerance,
-                iterations,
-                detail,
-            } => StopReason::DualConverged {
-                residual,
-                tolerance,
-                iterations,
-                detail: self.unscale_dual(detail),
-            },
-            StopReason::DualLimit {
-                limit,
-                residual,
-                tolerance,
-                detail,
-            } => StopReason::DualLimit {
-                limit,
-                residual,
-                tolerance,
-                detail: self.unscale_dual(detail),
-            },
-            StopReason::RegularisedSolved {
-                active,
-                iterations,
-                cycle_at,
-                penetration,
-            } => StopReason::RegularisedSolved {
-                active,
-                iterations,
-                cycle_at,
-                penetration: penetration * self.q,
-            },
+    fn unscale_stop(self, mut stop: StopReason) -> StopReason {
+        match &mut stop {
+            StopReason::MprgpConverged { norm_w, .. } => *norm_w *= self.w,
+            StopReason::DualConverged { detail, .. } | StopReason::DualLimit { detail, .. } => {
+                if let DualDetail::Uzawa {
+                    step: UzawaStep::PowerIteration { norm },
+                    ..
+                } = detail
+                {
+                    *norm *= self.w;
+                }
+            }
+            StopReason::RegularisedSolved { penetration, .. } => *penetration *= self.q,
             StopReason::ByPenalty {
                 status,
                 penetration,
-            } => StopReason::ByPenalty {
-                status: inner(status),
-                penetration: penetration * self.q,
-            },
-            StopReason::InnerFailed { outer, inner: i } => StopReason::InnerFailed {
-                outer,
-                inner: inner(i),
-            },
-            StopReason::Polished { before, by } => StopReason::Polished {
-                before: inner(before),
-                by,
-            },
-            other => other,
+            } => {
+                *penetration *= self.q;
+                self.unscale_boxed(status);
+            }
+            StopReason::InnerFailed { inner, .. } => self.unscale_boxed(inner),
+            StopReason::Polished { before, .. } => self.unscale_boxed(before),
+            _ => {}
         }
+        stop
     }
 
-    fn unscale_dual(self, detail: DualDetail) -> DualDetail {
-        match detail {
-            DualDetail::Uzawa {
-                step: UzawaStep::PowerIteration { norm },
-                halvings,
-            } => DualDetail::Uzawa {
-                step: UzawaStep::PowerIteration {
-                    norm: norm * self.w,
-                },
-                halvings,
-            },
-            other => other,
-        }
+    fn unscale_boxed(self, stop: &mut Box<StopReason>) {
+        **stop = self.unscale_stop(std::mem::take(&mut **stop));
     }
 }
 

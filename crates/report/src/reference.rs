@@ -97,14 +97,7 @@ fn hertz_quantities(
     q.insert("p0".to_string(), Quantity::new(p0_c, p0));
     q.insert("a".to_string(), Quantity::new(a_mom, a));
     q.insert("a_last_node".to_string(), Quantity::new(a_last, a));
-    q.insert(
-        "profile_l2".to_string(),
-        Quantity {
-            computed: l2,
-            exact: 0.0,
-            relative_error: l2,
-        },
-    );
+    q.insert("profile_l2".to_string(), Quantity::new(l2, 0.0));
     q
 }
 

@@ -85,14 +85,7 @@ pub fn flat_punch(
         q.insert("p_interior_worst".to_string(), Quantity::new(p, pe));
     }
     let l2 = if den > 0.0 { (num / den).sqrt() } else { 0.0 };
-    q.insert(
-        "profile_l2".to_string(),
-        Quantity {
-            computed: l2,
-            exact: 0.0,
-            relative_error: l2,
-        },
-    );
+    q.insert("profile_l2".to_string(), Quantity::new(l2, 0.0));
     if half_width.is_some() {
         q.insert("half_width".to_string(), Quantity::new(extent, b));
     }
