@@ -42,7 +42,7 @@ pub(crate) fn local(path: &Path, method: Method, o: LocalOptions) -> ExitCode {
                 return fail(
                     1,
                     &format!(
-                        "--friction {}: a 2D method; 3D problems are solved by fixed_point or newton",
+                        "--friction {}: a 2D method; 3D problems: fixed_point or newton",
                         f.name()
                     ),
                 )
