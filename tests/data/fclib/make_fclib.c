@@ -5,7 +5,7 @@
  * symbol-table groups).
  *
  * Build (Debian 12: libfclib-dev, libhdf5-dev):
- *   gcc -O2 -Wall -o make_fclib make_fclib.c $(pkg-config --cflags --libs fclib)
+ *   gcc -O2 -Wall -o make_fclib make_fclib.c $(pkg-config --cflags --libs fclib) -lm
  * Normally run by make_fclib.py beside it, which also solves the problems
  * with Siconos and stores its answer as each file's /solution.
  *

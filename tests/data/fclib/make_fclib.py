@@ -14,6 +14,9 @@
 4. Writes broken copies (bad_*.hdf5) for the refusals of `signorini local`.
 
 Usage: /usr/bin/python3 tests/data/fclib/make_fclib.py   (not the pyenv python3)
+Needs Debian's libfclib-dev, libhdf5-dev, python3-siconos, python3-h5py, gcc.
+A rerun writes the same data; the bytes differ (libhdf5 stores the time of
+writing in each dataset's header).
 """
 import os
 import shutil
