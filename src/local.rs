@@ -34,7 +34,7 @@ pub(crate) fn local(path: &Path, method: Method, o: LocalOptions) -> ExitCode {
         if method != Method::Status {
             return fail(
                 1,
-                "--method: frictional local problems are solved by the friction solvers (--friction fixed_point or status)",
+                "--method: frictional local problems are solved by the friction solvers (--friction fixed_point, status or newton)",
             );
         }
         match signorini_solver::local::FrictionMethod::from_name(&o.friction) {
@@ -42,7 +42,7 @@ pub(crate) fn local(path: &Path, method: Method, o: LocalOptions) -> ExitCode {
                 return fail(
                     1,
                     &format!(
-                        "--friction {}: a 2D method; 3D problems are solved by fixed_point",
+                        "--friction {}: a 2D method; 3D problems: fixed_point or newton",
                         f.name()
                     ),
                 )

@@ -78,8 +78,9 @@ enum Command {
         max_memory: Option<u64>,
     },
     /// Solve a stand-alone condensed problem LCP(W, q) given as JSON
-    /// {"W": [[...]], "q": [...]} or NumPy .npz (arrays W, q); prints one JSON
-    /// line of timings and residuals.
+    /// {"W": [[...]], "q": [...]}, NumPy .npz (arrays W, q) or an FCLib
+    /// local problem (.hdf5, .h5); prints one JSON line of timings and
+    /// residuals.
     Local {
         problem: PathBuf,
         #[arg(long, default_value = "status")]
@@ -98,8 +99,8 @@ enum Command {
         #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u64).range(1..=1000))]
         repeat: u64,
         /// The memory the solve may use (default: the machine's available
-        /// memory): a .npz whose arrays unpack to more is refused before
-        /// they are read.
+        /// memory): a .npz whose arrays unpack to more, or an FCLib file
+        /// whose dense W would not fit, is refused before they are read.
         #[arg(long, value_name = "SIZE", value_parser = memory_size)]
         max_memory: Option<u64>,
     },

@@ -24,6 +24,7 @@ mod conditioning;
 pub mod contact_frames;
 mod direct_path;
 mod element_step;
+mod fclib;
 mod friction_step;
 mod kkt;
 pub mod local;

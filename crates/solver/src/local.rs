@@ -99,6 +99,23 @@ pub struct LocalResult {
     pub stopping_reason: String,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub lambda: Option<Vec<f64>>,
+    /// With an FCLib file's `/solution/r` (another solver's forces): the
+    /// distance of ours to them, [`reference_error`].
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub reference_r_error: Option<f64>,
+}
+
+/// The distance of forces (block layout) to the file's reference forces r:
+/// ‖λ − r‖ / max(‖r‖, 1e-12 F), 2-norms, F the force scale max |q| / max
+/// diag W (a zero r, every contact open, is matched by zero forces; forces
+/// 1e-12 F off it read 1).
+pub fn reference_error(p: &LocalProblem, forces: &[f64]) -> Option<f64> {
+    let r = p.reference_r.as_ref()?;
+    let norm = |v: &mut dyn Iterator<Item = f64>| v.map(|x| x * x).sum::<f64>().sqrt();
+    let lambda = p.to_file_order(forces);
+    let diff = norm(&mut lambda.iter().zip(r).map(|(a, b)| a - b));
+    let floor = (1e-12 * scales(p).0).max(f64::MIN_POSITIVE);
+    Some(diff / norm(&mut r.iter().copied()).max(floor))
 }
 
 /// Whether a method's converged answer solves the LCP: its scaled natural
@@ -226,6 +243,7 @@ pub fn solve_friction(
             .count(),
         stopping_reason: out.report.stop.to_string(),
         lambda: with_lambda.then(|| p.to_file_order(&out.forces)),
+        reference_r_error: reference_error(p, &out.forces),
     })
 }
 
@@ -276,6 +294,7 @@ pub fn solve(
         active: sol.forces.iter().filter(|&&l| l > 0.0).count(),
         stopping_reason: sol.report.stop.to_string(),
         lambda: with_lambda.then(|| p.to_file_order(&forces)),
+        reference_r_error: reference_error(p, &forces),
     })
 }
 

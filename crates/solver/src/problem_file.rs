@@ -4,8 +4,9 @@
 //! compared with other libraries on identical data.
 //!
 //! Formats: JSON `{"W": [[...], ...], "q": [...], "mu": [...], "dim": d}`
-//! (W by rows) or a NumPy `.npz` archive with arrays `W` (either order), `q`,
-//! optionally `mu` and `dim` (a scalar). Row layouts:
+//! (W by rows), a NumPy `.npz` archive with arrays `W` (either order), `q`,
+//! optionally `mu` and `dim` (a scalar), or an FCLib local problem (HDF5,
+//! `.hdf5` or `.h5`: `fclib.rs`), contact-wise. Row layouts:
 //! - `dim` = 1, or neither `dim` nor `mu`: an LCP, one row per contact;
 //! - `dim` = 2 or 3: contact-wise rows, [n, t] or [n, t1, t2] per contact
 //!   (the layout of Siconos and FCLib); `mu` has one entry per contact, an
@@ -35,6 +36,9 @@ pub struct LocalProblem {
     pub mu: Option<Vec<f64>>,
     /// The file's row of each block row.
     pub file_row: Vec<usize>,
+    /// Another solver's forces for this problem, in the file's row order
+    /// (an FCLib file's `/solution/r`).
+    pub reference_r: Option<Vec<f64>>,
 }
 
 impl LocalProblem {
@@ -67,17 +71,17 @@ struct JsonProblem {
 }
 
 /// What a file holds before its layout is resolved.
-struct Raw {
-    w: Mat<f64>,
-    q: Vec<f64>,
-    mu: Option<Vec<f64>>,
-    dim: Option<f64>,
-    normal_first: bool,
+pub(crate) struct Raw {
+    pub w: Mat<f64>,
+    pub q: Vec<f64>,
+    pub mu: Option<Vec<f64>>,
+    pub dim: Option<f64>,
+    pub normal_first: bool,
 }
 
 /// Copies of an array a stand-alone solve holds at once: its bytes, their
 /// f64 values, the dense matrix and the solver's working copies.
-const NPY_COPIES: u64 = 4;
+pub(crate) const NPY_COPIES: u64 = 4;
 
 /// Shape, Fortran order, data (float64).
 type NpyArray = (Vec<u64>, bool, Vec<f64>);
@@ -291,17 +295,28 @@ fn resolve_layout(shown: &str, raw: &Raw) -> Result<(usize, Vec<usize>), String>
     Ok((dim, order))
 }
 
-/// Reads a problem; errors name the file and what is wrong.
+/// Reads a problem; errors name the file and what is wrong. The format
+/// follows the extension (any case): `.npz`, `.hdf5` or `.h5` (FCLib), else
+/// JSON.
 pub fn load(path: &Path) -> Result<LocalProblem, String> {
-    let raw = if path
-        .extension()
-        .is_some_and(|e| e.eq_ignore_ascii_case("npz"))
-    {
+    let is = |ext: &str| {
+        path.extension()
+            .is_some_and(|e| e.eq_ignore_ascii_case(ext))
+    };
+    let shown = path.display().to_string();
+    if is("hdf5") || is("h5") {
+        let file = crate::fclib::read(path)?;
+        // Its checks name W, q (vectors/q) and mu (vectors/mu) of /fclib_local.
+        let mut p = into_blocks(&format!("{shown} (/fclib_local)"), file.raw)?;
+        p.reference_r = file.reference_r;
+        return Ok(p);
+    }
+    let raw = if is("npz") {
         read_npz(path)?
     } else {
         read_json(path)?
     };
-    into_blocks(&path.display().to_string(), raw)
+    into_blocks(&shown, raw)
 }
 
 impl LocalProblem {
@@ -344,6 +359,7 @@ fn into_blocks(shown: &str, raw: Raw) -> Result<LocalProblem, String> {
         dim,
         mu,
         file_row,
+        reference_r: None,
     })
 }
 

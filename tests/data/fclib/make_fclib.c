@@ -1,0 +1,271 @@
+/* make_fclib.c: writes the FCLib test problems of tests/fclib.rs with the
+ * FCLib C library itself (fclib_write_local, fclib_write_global,
+ * fclib_write_solution), so that `signorini local` is tested on the files
+ * the real exporter writes (libhdf5's default format: superblock v0,
+ * symbol-table groups).
+ *
+ * Build (Debian 12: libfclib-dev, libhdf5-dev):
+ *   gcc -O2 -Wall -o make_fclib make_fclib.c $(pkg-config --cflags --libs fclib) -lm
+ * Normally run by make_fclib.py beside it, which also solves the problems
+ * with Siconos and stores its answer as each file's /solution.
+ *
+ * Modes:
+ *   make_fclib problems DIR   writes DIR/fc2d_triplet.hdf5 (2D, triplet
+ *                             storage with duplicate entries), fc3d_csc.hdf5
+ *                             (3D, compressed columns), fc3d_csr.hdf5 (the
+ *                             same 3D problem, compressed rows),
+ *                             global.hdf5 (a global problem) and
+ *                             mixed.hdf5 (a local problem with V and R);
+ *                             prints each local problem's manufactured
+ *                             solution as one line "FILE r... u..."
+ *   make_fclib solution FILE  reads r then u (W->m numbers each) on stdin
+ *                             and stores them with fclib_write_solution
+ *   make_fclib merit FILE     prints fclib_merit_local of FILE's /solution
+ *                             (3D only in FCLib)
+ *
+ * The problems are manufactured: W = A Aᵀ + I/2 with A contact-block
+ * bidiagonal (so W is block tridiagonal, symmetric positive definite), and a
+ * chosen solution (r, u) per contact, open, sticking or slipping, with
+ * q = u − W r, so that the answer is known before any solver runs.
+ */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <fclib.h>
+
+enum status { OPEN, STICK, SLIP };
+
+/* A deterministic value in [-1, 1] for entry (i, j). */
+static double pseudo(int i, int j)
+{
+  return sin(1.7 * i + 0.37 * j * j + 0.11 * i * j + 0.5);
+}
+
+/* W = A Aᵀ + I/2, A with blocks on the contact-block diagonal and
+ * subdiagonal; W dense, n × n, row-major. */
+static void make_w(int n, int d, double *w)
+{
+  double *a = calloc((size_t)n * n, sizeof(double));
+  for (int i = 0; i < n; i++)
+    for (int j = 0; j < n; j++)
+    {
+      int bi = i / d, bj = j / d;
+      if (bi == bj) a[i * n + j] = (i == j ? 1.0 : 0.3) * (1.0 + 0.5 * pseudo(i, j));
+      else if (bi == bj + 1) a[i * n + j] = 0.4 * pseudo(i, j);
+    }
+  for (int i = 0; i < n; i++)
+    for (int j = 0; j < n; j++)
+    {
+      double s = (i == j) ? 0.5 : 0.0;
+      for (int k = 0; k < n; k++) s += a[i * n + k] * a[j * n + k];
+      w[i * n + j] = s;
+    }
+  free(a);
+}
+
+/* A solution of Coulomb's law per contact: r, u (n numbers each). */
+static void make_solution(int nc, int d, const enum status *st, const double *mu, double *r, double *u)
+{
+  for (int c = 0; c < nc; c++)
+  {
+    double *rc = r + c * d, *uc = u + c * d;
+    double rn = 1.0 + 0.5 * c, t[2] = {0.8, -0.6};
+    if (d == 2) t[0] = (c % 2) ? -1.0 : 1.0;
+    for (int k = 0; k < d; k++) rc[k] = uc[k] = 0.0;
+    switch (st[c])
+    {
+    case OPEN:
+      uc[0] = 0.3 + 0.1 * c;
+      for (int k = 1; k < d; k++) uc[k] = 0.2 * t[k - 1];
+      break;
+    case STICK: /* inside the cone: |r_T| = 0.4 μ r_N */
+      rc[0] = rn;
+      for (int k = 1; k < d; k++) rc[k] = 0.4 * mu[c] * rn * t[k - 1];
+      break;
+    case SLIP: /* on the cone, opposite the slip u_T */
+      rc[0] = rn;
+      for (int k = 1; k < d; k++)
+      {
+        uc[k] = 0.25 * t[k - 1];
+        rc[k] = -mu[c] * rn * t[k - 1];
+      }
+      break;
+    }
+  }
+}
+
+/* q = u − W r. */
+static void make_q(int n, const double *w, const double *r, const double *u, double *q)
+{
+  for (int i = 0; i < n; i++)
+  {
+    q[i] = u[i];
+    for (int j = 0; j < n; j++) q[i] -= w[i * n + j] * r[j];
+  }
+}
+
+/* W in triplet form (CSparse's: i rows, p columns), each entry with
+ * (i + j) % 4 == 1 split into two (0.25 and 0.75 of it): duplicates that
+ * FCLib and CSparse sum. */
+static struct fclib_matrix *triplet(int n, const double *w)
+{
+  struct fclib_matrix *t = calloc(1, sizeof *t);
+  t->p = malloc(2 * n * n * sizeof(int));
+  t->i = malloc(2 * n * n * sizeof(int));
+  t->x = malloc(2 * n * n * sizeof(double));
+  int k = 0;
+  for (int j = 0; j < n; j++)
+    for (int i = 0; i < n; i++)
+    {
+      double v = w[i * n + j];
+      if (v == 0.0) continue;
+      if ((i + j) % 4 == 1)
+      {
+        t->i[k] = i, t->p[k] = j, t->x[k++] = 0.25 * v;
+        v *= 0.75;
+      }
+      t->i[k] = i, t->p[k] = j, t->x[k++] = v;
+    }
+  t->m = t->n = n;
+  t->nz = t->nzmax = k;
+  return t;
+}
+
+/* W compressed by columns (nz = -1) or by rows (nz = -2). */
+static struct fclib_matrix *compressed(int n, const double *w, int by_rows)
+{
+  struct fclib_matrix *c = calloc(1, sizeof *c);
+  c->p = malloc((n + 1) * sizeof(int));
+  c->i = malloc(n * n * sizeof(int));
+  c->x = malloc(n * n * sizeof(double));
+  int k = 0;
+  for (int a = 0; a < n; a++)
+  {
+    c->p[a] = k;
+    for (int b = 0; b < n; b++)
+    {
+      double v = by_rows ? w[a * n + b] : w[b * n + a];
+      if (v == 0.0) continue;
+      c->i[k] = b, c->x[k++] = v;
+    }
+  }
+  c->p[n] = k;
+  c->m = c->n = n;
+  c->nzmax = k;
+  c->nz = by_rows ? -2 : -1;
+  return c;
+}
+
+static void print_vector(const char *name, int n, const double *v)
+{
+  printf(" %s", name);
+  for (int i = 0; i < n; i++) printf(" %.17g", v[i]);
+}
+
+/* Writes one local problem, and prints its manufactured solution. */
+static int write_local(const char *dir, const char *name, int nc, int d, const enum status *st,
+                       const double *mu, int storage, const char *title)
+{
+  int n = nc * d;
+  double *w = malloc(n * n * sizeof(double)), *q = malloc(n * sizeof(double));
+  double *r = malloc(n * sizeof(double)), *u = malloc(n * sizeof(double));
+  make_w(n, d, w);
+  make_solution(nc, d, st, mu, r, u);
+  make_q(n, w, r, u, q);
+  struct fclib_info info = {(char *)title, "manufactured: W = A A^T + I/2, q = u - W r", "W SPD"};
+  struct fclib_local p = {0};
+  p.W = storage == 0 ? triplet(n, w) : compressed(n, w, storage == 2);
+  p.mu = (double *)mu;
+  p.q = q;
+  p.spacedim = d;
+  p.info = &info;
+  char path[4096];
+  snprintf(path, sizeof path, "%s/%s", dir, name);
+  remove(path);
+  if (!fclib_write_local(&p, path)) return 0;
+  printf("%s", name);
+  print_vector("r", n, r);
+  print_vector("u", n, u);
+  printf("\n");
+  free(w), free(q), free(r), free(u);
+  return 1;
+}
+
+/* A global problem (M v = H r + f, u = Hᵀ v + w): refused by `local`. */
+static int write_global(const char *dir)
+{
+  double m_x[] = {2.0, 2.0, 2.0}, h_x[] = {1.0, 0.5, 1.0}, f[] = {0.0, -1.0, 0.0};
+  double w[] = {0.1, 0.0}, mu[] = {0.3};
+  int m_p[] = {0, 1, 2, 3}, m_i[] = {0, 1, 2}, h_p[] = {0, 2, 3}, h_i[] = {0, 1, 2};
+  struct fclib_matrix m = {3, 3, 3, m_p, m_i, m_x, -1, NULL};
+  struct fclib_matrix h = {3, 3, 2, h_p, h_i, h_x, -1, NULL};
+  struct fclib_global g = {&m, &h, NULL, mu, f, NULL, w, 2, NULL};
+  char path[4096];
+  snprintf(path, sizeof path, "%s/global.hdf5", dir);
+  remove(path);
+  return fclib_write_global(&g, path);
+}
+
+/* A mixed local problem (with V and R): refused by `local`. */
+static int write_mixed(const char *dir)
+{
+  double w_x[] = {1.0, 1.0}, v_x[] = {1.0}, r_x[] = {2.0}, q[] = {-1.0, 0.5}, s[] = {0.2}, mu[] = {0.3};
+  int w_p[] = {0, 1, 2}, w_i[] = {0, 1}, v_p[] = {0, 1}, v_i[] = {0}, r_p[] = {0, 1}, r_i[] = {0};
+  struct fclib_matrix wm = {2, 2, 2, w_p, w_i, w_x, -1, NULL};
+  struct fclib_matrix vm = {1, 2, 1, v_p, v_i, v_x, -1, NULL};
+  struct fclib_matrix rm = {1, 1, 1, r_p, r_i, r_x, -1, NULL};
+  struct fclib_local p = {&wm, &vm, &rm, mu, q, s, 2, NULL};
+  char path[4096];
+  snprintf(path, sizeof path, "%s/mixed.hdf5", dir);
+  remove(path);
+  return fclib_write_local(&p, path);
+}
+
+static int problems(const char *dir)
+{
+  enum status st2[] = {STICK, SLIP, OPEN, SLIP, STICK};
+  double mu2[] = {0.5, 0.3, 0.4, 0.6, 0.2};
+  enum status st3[] = {STICK, SLIP, OPEN, SLIP};
+  double mu3[] = {0.5, 0.3, 0.4, 0.6};
+  return write_local(dir, "fc2d_triplet.hdf5", 5, 2, st2, mu2, 0, "2D: stick, slip, open, slip, stick")
+      && write_local(dir, "fc3d_csc.hdf5", 4, 3, st3, mu3, 1, "3D: stick, slip, open, slip")
+      && write_local(dir, "fc3d_csr.hdf5", 4, 3, st3, mu3, 2, "3D: stick, slip, open, slip")
+      && write_global(dir) && write_mixed(dir);
+}
+
+/* Reads r and u (W->m numbers each) on stdin into FILE's /solution. */
+static int solution(const char *path)
+{
+  struct fclib_local *p = fclib_read_local(path);
+  if (!p) return 0;
+  int n = p->W->m;
+  double *r = malloc(n * sizeof(double)), *u = malloc(n * sizeof(double));
+  for (int i = 0; i < 2 * n; i++)
+    if (scanf("%lf", i < n ? &r[i] : &u[i - n]) != 1) return 0;
+  struct fclib_solution s = {NULL, u, r, NULL};
+  int ok = fclib_write_solution(&s, path);
+  fclib_delete_local(p);
+  free(r), free(u);
+  return ok;
+}
+
+static int merit(const char *path)
+{
+  struct fclib_local *p = fclib_read_local(path);
+  struct fclib_solution *s = fclib_read_solution(path);
+  if (!p || !s) return 0;
+  printf("%.3e\n", fclib_merit_local(p, MERIT_1, s));
+  return 1;
+}
+
+int main(int argc, char **argv)
+{
+  int ok = 0;
+  if (argc == 3 && !strcmp(argv[1], "problems")) ok = problems(argv[2]);
+  else if (argc == 3 && !strcmp(argv[1], "solution")) ok = solution(argv[2]);
+  else if (argc == 3 && !strcmp(argv[1], "merit")) ok = merit(argv[2]);
+  else fprintf(stderr, "usage: make_fclib problems DIR | solution FILE | merit FILE\n");
+  return ok ? 0 : 1;
+}
