@@ -357,3 +357,36 @@ fn the_friction_capacity_check_counts_a_frictionless_wall() {
         "{err}"
     );
 }
+
+/// A block pressed by a displacement of its top (free in x) and pushed
+/// sideways on its left face, held in x by friction alone: under the
+/// friction it carries it converges; pushed past it (3 against
+/// μN ≈ 2 at the last iterate) there is no static equilibrium, the friction
+/// solve stops (exit 2), and the failure says which body and what to do
+/// (it said only that the inner Tresca problem cycled).
+#[test]
+fn a_body_pushed_past_its_friction_under_displacement_control_says_why() {
+    let text = |push: f64| {
+        format!(
+            "dimension = 2\nmodel = \"plane_strain\"\n\
+             [[materials]]\nname = \"m\"\nyoung = 100.0\npoisson = 0.3\n\
+             [[bodies]]\nname = \"block\"\nmaterial = \"m\"\n\
+             mesh = {{ generator = \"rectangle\", origin = [0.0, 0.0], size = [2.0, 1.0], divisions = [8, 4] }}\n\
+             [[bodies]]\nname = \"floor\"\n\
+             rigid = {{ shape = \"plane\", point = [0.0, 0.0], normal = [0.0, 1.0] }}\n\
+             [[boundary]]\nname = \"press\"\nbody = \"block\"\nsurface = \"top\"\ndisplacement = {{ y = -0.01 }}\n\
+             [[boundary]]\nname = \"push\"\nbody = \"block\"\nsurface = \"left\"\ntraction = [{push:e}, 0.0]\n\
+             [[contact]]\nname = \"c\"\nslave = {{ body = \"block\", surface = \"bottom\" }}\n\
+             master = {{ body = \"floor\" }}\nfriction = {{ coulomb = 0.5 }}\n"
+        )
+    };
+    let held = run(&text(1.0));
+    assert!((contact_force(&held, "c")[0] + 1.0).abs() <= 1e-9);
+    let out = try_run(&text(3.0), RunOptions::default()).unwrap();
+    assert!(!out.report.converged);
+    let failure = out.report.failure.unwrap();
+    assert!(
+        failure.contains("body \"block\" is held by friction alone in 1 rigid motion(s)"),
+        "{failure}"
+    );
+}

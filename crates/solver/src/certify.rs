@@ -123,7 +123,15 @@ pub(crate) fn conclude_step(
     } = *step;
     let lambda = &sol.outcome.forces;
     let cert = certificate_of(res, gaps, lambda, sol, umax, sc.solver.tolerance);
+    let first_failure = partial.failure.is_none();
     record_convergence(partial, si, sol, &cert);
+    if let (true, Some(failure), Some(_)) = (first_failure, &mut partial.failure, &sol.friction) {
+        for (name, k) in held_by_friction(bodies, points) {
+            failure.push_str(&format!(
+                "; body \"{name}\" is held by friction alone in {k} rigid motion(s) its supports leave free: a load along them beyond what friction carries (μ times the normal force) has no static equilibrium, and no solver converges on it; impose that motion (a displacement) instead of a force"
+            ));
+        }
+    }
     if let Some(c) = sol.outcome.statuses.cycle_detected_at {
         messages.push(format!(
             "step {}: the status method cycled (flip-flop) at iteration {c}; it fell back to one status change per iteration (seed §3.3)",

@@ -86,18 +86,9 @@ fn contact_on_rigid_modes(bi: usize, b: &BodyModel, points: &[PointModel]) -> Ma
     gt
 }
 
-/// Refuses a body with rigid motions that no contact can hold: the null
-/// space of Gᵀ (rank test of G Gᵀ, scaled by its largest eigenvalue).
+/// Refuses a body with rigid motions that no contact can hold.
 fn check_held(b: &BodyModel, gt: &Mat<f64>) -> Result<(), SolveError> {
-    let k = gt.nrows();
-    let ggt = gt * gt.transpose();
-    let eig = ggt
-        .self_adjoint_eigen(faer::Side::Lower)
-        .map_err(|e| SolveError::Internal(format!("eigen decomposition of G Gᵀ: {e:?}")))?;
-    let emax = (0..k).fold(0.0f64, |a, j| a.max(eig.S()[j]));
-    let unheld = (0..k)
-        .filter(|&j| eig.S()[j] <= 1e-12 * emax || emax == 0.0)
-        .count();
+    let unheld = unheld_modes(gt)?;
     if unheld > 0 {
         return Err(SolveError::Input(format!(
             "bodies[{}]: body \"{}\" is free to move: {unheld} of its rigid motions are prevented neither by a support nor by its contacts (frictionless contact only holds along the normals); add a [[boundary]] displacement that pins it (e.g. a point with x = 0)",
@@ -105,6 +96,43 @@ fn check_held(b: &BodyModel, gt: &Mat<f64>) -> Result<(), SolveError> {
         )));
     }
     Ok(())
+}
+
+/// The rigid motions that the forces of Gᵀ's columns cannot hold: the
+/// dimension of its null space (rank test of G Gᵀ, scaled by its largest
+/// eigenvalue).
+fn unheld_modes(gt: &Mat<f64>) -> Result<usize, SolveError> {
+    let k = gt.nrows();
+    let ggt = gt * gt.transpose();
+    let eig = ggt
+        .self_adjoint_eigen(faer::Side::Lower)
+        .map_err(|e| SolveError::Internal(format!("eigen decomposition of G Gᵀ: {e:?}")))?;
+    let emax = (0..k).fold(0.0f64, |a, j| a.max(eig.S()[j]));
+    Ok((0..k)
+        .filter(|&j| eig.S()[j] <= 1e-12 * emax || emax == 0.0)
+        .count())
+}
+
+/// The bodies whose supports leave rigid motions that only friction holds
+/// (their normal contact forces alone cannot), with how many: a load
+/// along them beyond what friction carries has no static equilibrium.
+pub(crate) fn held_by_friction(
+    bodies: &[BodyModel],
+    points: &[PointModel],
+) -> Vec<(String, usize)> {
+    let m = points.len();
+    bodies
+        .iter()
+        .enumerate()
+        .filter(|(_, b)| !b.kernel.is_empty())
+        .filter_map(|(bi, b)| {
+            let gt = contact_on_rigid_modes(bi, b, points);
+            let normal = gt.subcols(0, m.min(gt.ncols())).to_owned();
+            let by_normal = unheld_modes(&normal).ok()?;
+            let by_all = unheld_modes(&gt).ok()?;
+            (gt.ncols() > m && by_normal > by_all).then(|| (b.name.clone(), by_normal - by_all))
+        })
+        .collect()
 }
 
 /// A floating body whose every contact is frictional and flat (every
