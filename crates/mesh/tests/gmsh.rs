@@ -578,6 +578,55 @@ fn block2d_in_three_formats() {
     same_mesh(&v41, &bin);
 }
 
+/// The 1 × 0.5 block of the files `block2d_partitioned*` and
+/// `block2d_*parametric*` (tests/data, written by Gmsh 4.15 from the sweep's
+/// block with h = 0.25): its four named sides and its region.
+fn check_small_block(m: &Mesh) {
+    assert!((area(m) - 0.5).abs() < 1e-12);
+    assert_eq!(names(&m.surfaces), ["bottom", "left", "right", "top"]);
+    let sides = [
+        ("bottom", 1.0, [0.0, -1.0, 0.0]),
+        ("top", 1.0, [0.0, 1.0, 0.0]),
+        ("left", 0.5, [-1.0, 0.0, 0.0]),
+        ("right", 0.5, [1.0, 0.0, 0.0]),
+    ];
+    for (name, len, n) in sides {
+        assert!((measure(m, name) - len).abs() < 1e-12, "{name}");
+        check_surface(m, name, n);
+    }
+    let facets: usize = m.surfaces.values().map(|s| s.facets.len()).sum();
+    assert_eq!(facets, m.boundary_facets().len());
+    assert_eq!(m.regions["block"].len(), m.cells.len());
+}
+
+#[test]
+fn partitioned_files_keep_their_physical_groups() {
+    // Gmsh's gmsh.model.mesh.partition(n) puts the elements on partition
+    // entities listed in $PartitionedEntities (which mshio skips); their
+    // physical groups were lost and the sides read as one "boundary".
+    for (file, parts) in [
+        ("block2d_partitioned.msh", 2),
+        ("block2d_partitioned_bin.msh", 3), // binary, with ghost cells
+    ] {
+        let m = read_msh(&manifest().join("tests/data").join(file), 2).unwrap();
+        check_small_block(&m);
+        assert!(m.cells.len() > 2 * parts, "{file}");
+    }
+}
+
+#[test]
+fn parametric_nodes_are_read() {
+    // Mesh.SaveParametric = 1: node blocks with parametric coordinates (MSH
+    // 4.1, which mshio refused) or $ParametricNodes (MSH 2.2, "no $Nodes").
+    let data = manifest().join("tests/data");
+    let a = read_msh(&data.join("block2d_parametric.msh"), 2).unwrap();
+    let b = read_msh(&data.join("block2d_parametric_bin.msh"), 2).unwrap();
+    let c = read_msh(&data.join("block2d_v22_parametric.msh"), 2).unwrap();
+    check_small_block(&a);
+    same_mesh(&a, &b);
+    same_mesh(&a, &c);
+}
+
 #[test]
 fn block3d_of_tetrahedra() {
     let m = read_msh(&examples().join("block3d.msh"), 3).unwrap();

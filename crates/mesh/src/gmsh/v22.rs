@@ -32,29 +32,38 @@ pub(super) fn read_v22(bytes: &[u8]) -> Result<Raw, MeshError> {
     })
 }
 
-/// The `$Nodes` section: node tags and coordinates, in file order.
+/// The `$Nodes` section: node tags and coordinates, in file order. A file
+/// saved with `Mesh.SaveParametric = 1` has `$ParametricNodes` instead, whose
+/// lines add the node's entity and parametric coordinates (ignored here).
 fn read_nodes(text: &str) -> Result<Vec<(u64, [f64; 3])>, MeshError> {
-    let lines =
-        section_lines(text, "Nodes").ok_or_else(|| invalid("MSH 2.2: no $Nodes section".into()))?;
-    let count = header_count(&lines, "Nodes")?;
+    let (section, lines) = match section_lines(text, "Nodes") {
+        Some(lines) => ("Nodes", lines),
+        None => (
+            "ParametricNodes",
+            section_lines(text, "ParametricNodes")
+                .ok_or_else(|| invalid("MSH 2.2: no $Nodes section".into()))?,
+        ),
+    };
+    let parametric = section == "ParametricNodes";
+    let count = header_count(&lines, section)?;
     // a count is the file's word: reserve no more than its lines can hold
     let mut nodes = Vec::with_capacity(count.min(lines.len()));
     for line in &lines[1..] {
-        let bad = || invalid(format!("MSH 2.2 $Nodes: bad line \"{line}\""));
+        let bad = || invalid(format!("MSH 2.2 ${section}: bad line \"{line}\""));
         let v: Vec<&str> = line.split_whitespace().collect();
-        if v.len() != 4 {
+        if v.len() != 4 && !(parametric && v.len() >= 6) {
             return Err(bad());
         }
         let tag: u64 = v[0].parse().map_err(|_| bad())?;
         let mut x = [0.0; 3];
-        for (xk, s) in x.iter_mut().zip(&v[1..]) {
+        for (xk, s) in x.iter_mut().zip(&v[1..4]) {
             *xk = s.parse().map_err(|_| bad())?;
         }
         nodes.push((tag, x));
     }
     if nodes.len() != count {
         return Err(invalid(format!(
-            "MSH 2.2 $Nodes announces {count} nodes but lists {}",
+            "MSH 2.2 ${section} announces {count} nodes but lists {}",
             nodes.len()
         )));
     }
