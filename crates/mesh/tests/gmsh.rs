@@ -628,6 +628,23 @@ fn parametric_nodes_are_read() {
 }
 
 #[test]
+fn v22_saved_with_save_all_has_lost_its_groups() {
+    // Gmsh writes every element of a 2.2 file saved with Mesh.SaveAll = 1
+    // with physical tag 0: its named sides were silently replaced by one
+    // "boundary" surface.
+    let e = read_msh(&manifest().join("tests/data/block2d_v22_saveall.msh"), 2)
+        .unwrap_err()
+        .to_string();
+    for part in [
+        "block2d_v22_saveall.msh",
+        "\"bottom\", \"left\", \"right\", \"top\"",
+    ] {
+        assert!(e.contains(part), "{e}");
+    }
+    assert!(e.contains("Mesh.SaveAll") && e.contains("MSH 4.1"), "{e}");
+}
+
+#[test]
 fn block3d_of_tetrahedra() {
     let m = read_msh(&examples().join("block3d.msh"), 3).unwrap();
     assert_eq!(m.n_nodes(), 693);

@@ -41,6 +41,7 @@ pub(super) fn build(raw: Raw, dim: usize) -> Result<Mesh, MeshError> {
         names,
     } = raw;
     let present = check_element_types(&blocks, dim)?;
+    check_groups_kept(&blocks, &names, dim)?;
     let tags = NodeTags::new(&raw_nodes)?;
     let (mut cells, cell_groups) = read_cells(&blocks, dim, &tags)?;
     if cells.is_empty() {
@@ -118,6 +119,34 @@ fn check_element_types(blocks: &[Block], dim: usize) -> Result<BTreeMap<i32, usi
         )));
     }
     Ok(present)
+}
+
+/// A file whose `$PhysicalNames` lists groups of dimension `dim − 1` while
+/// none of its elements belongs to a physical group has lost them: Gmsh
+/// writes MSH 2.2 files so with `Mesh.SaveAll = 1` (physical tag 0 on every
+/// element). An error, rather than the whole boundary as `"boundary"` and a
+/// scene's surfaces not found.
+fn check_groups_kept(blocks: &[Block], names: &Names, dim: usize) -> Result<(), MeshError> {
+    if blocks.iter().any(|b| !b.physical.is_empty()) {
+        return Ok(());
+    }
+    let mut listed: Vec<String> = names
+        .iter()
+        .filter(|((d, _), _)| d + 1 == dim)
+        .map(|(&(d, t), _)| format!("\"{}\"", group_name(names, d, t)))
+        .collect();
+    if listed.is_empty() {
+        return Ok(());
+    }
+    listed.sort_unstable();
+    Err(invalid(format!(
+        "$PhysicalNames lists the physical groups {} of dimension {} but no element of \
+         the file belongs to a physical group (physical tag 0 everywhere), so their \
+         surfaces are lost; Gmsh writes MSH 2.2 files so with Mesh.SaveAll = 1: save \
+         the mesh without Mesh.SaveAll (and a physical group for the body), or as MSH 4.1",
+        listed.join(", "),
+        dim - 1
+    )))
 }
 
 /// Node tags → index in the file's `$Nodes` order.
