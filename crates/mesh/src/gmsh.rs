@@ -35,7 +35,9 @@
 //! entities of `$PartitionedEntities`, which carry the physical groups),
 //! parametric nodes (`Mesh.SaveParametric`: node blocks with parametric
 //! coordinates in 4.1, `$ParametricNodes` in 2.2; those coordinates are
-//! ignored), node tags in any order and up to 2⁶⁴ − 1.
+//! ignored), node tags in any order and up to 2⁶⁴ − 1. One file of a
+//! partitioned mesh saved one file per partition
+//! (`Mesh.PartitionSplitMeshFiles = 1`) is refused: it holds a piece only.
 //!
 //! Pitfalls of `mshio` 0.4.2 handled here: it skips `$PhysicalNames` and
 //! `$PartitionedEntities` (both parsed by hand); it refuses parametric nodes,

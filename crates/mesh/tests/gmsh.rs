@@ -615,6 +615,22 @@ fn partitioned_files_keep_their_physical_groups() {
 }
 
 #[test]
+fn one_file_of_a_partitioned_mesh_saved_per_partition_is_refused() {
+    // Mesh.PartitionSplitMeshFiles = 1 writes one file per partition: one of
+    // them was read as the whole body (a fragment, solved without a word).
+    let e = read_msh(&manifest().join("tests/data/block2d_piece_1_of_2.msh"), 2)
+        .unwrap_err()
+        .to_string();
+    for part in [
+        "partition 1 of",
+        "into 2 parts",
+        "PartitionSplitMeshFiles = 0",
+    ] {
+        assert!(e.contains(part), "{e}");
+    }
+}
+
+#[test]
 fn parametric_nodes_are_read() {
     // Mesh.SaveParametric = 1: node blocks with parametric coordinates (MSH
     // 4.1, which mshio refused) or $ParametricNodes (MSH 2.2, "no $Nodes").

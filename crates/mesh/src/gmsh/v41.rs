@@ -4,7 +4,7 @@
 use super::fields::Fields;
 use super::{invalid, physical_names, type_name, Block, Format, Raw};
 use crate::MeshError;
-use std::collections::HashMap;
+use std::collections::{BTreeSet, HashMap, HashSet};
 
 /// The mesh data of `mshio`'s 4.1 reading.
 type MshData = mshio::MshData<u64, i32, f64>;
@@ -36,7 +36,9 @@ pub(super) fn read_v41(bytes: &[u8], format: &Format) -> Result<Raw, MeshError> 
         .as_ref()
         .ok_or_else(|| invalid("MSH 4.1: no $Elements section".into()))?;
     let mut physicals = entity_physicals(&msh.data);
-    physicals.extend(partitioned_physicals(bytes, size_t)?);
+    let partitioned = read_partitioned(bytes, size_t)?;
+    check_all_partitions(&partitioned, elements)?;
+    physicals.extend(partitioned.physicals);
     let blocks = element_blocks(elements, &physicals)?;
     Ok(Raw {
         nodes,
@@ -178,34 +180,40 @@ fn element_blocks(
     Ok(blocks)
 }
 
-/// Physical tags of the entities of `$PartitionedEntities` (a mesh Gmsh has
-/// partitioned: its elements lie on partition entities, which carry the
-/// physical tags of their parents), by (dimension, entity tag), as
-/// [`entity_physicals`]; none without that section. `mshio` skips it.
-fn partitioned_physicals(
-    bytes: &[u8],
-    size_t: Option<usize>,
-) -> Result<HashMap<(usize, i32), Vec<i32>>, MeshError> {
-    let mut physicals = HashMap::new();
-    let Some(mut f) = Fields::of_section(bytes, "PartitionedEntities", size_t) else {
-        return Ok(physicals);
-    };
-    partitioned_entities(&mut f, &mut physicals)
-        .ok_or_else(|| invalid("MSH 4.1 $PartitionedEntities: cut short or malformed".into()))?;
-    Ok(physicals)
+/// What `$PartitionedEntities` says of a mesh Gmsh has partitioned
+/// (`gmsh.model.mesh.partition`): its elements lie on partition entities,
+/// which carry the physical tags of their parents. `mshio` skips it.
+#[derive(Default)]
+struct Partitioned {
+    /// Number of partitions (0: the file has no such section).
+    parts: usize,
+    /// Tags of the ghost entities.
+    ghosts: HashSet<i32>,
+    /// Physical tags by (dimension, entity tag), as [`entity_physicals`].
+    physicals: HashMap<(usize, i32), Vec<i32>>,
+    /// Partitions of each entity, by (dimension, entity tag).
+    partitions: HashMap<(usize, i32), Vec<i32>>,
 }
 
-/// Reads the body of `$PartitionedEntities`: partition and ghost counts,
-/// then points, curves, surfaces and volumes, each with its tag, parent,
-/// partitions, bounding box (a point: its coordinates), physical tags and
-/// (but points) bounding entities; the physical tags go into `physicals`.
-fn partitioned_entities(
-    f: &mut Fields,
-    physicals: &mut HashMap<(usize, i32), Vec<i32>>,
-) -> Option<()> {
-    f.count()?; // number of partitions
+/// Reads `$PartitionedEntities` (ASCII or binary); empty without it.
+fn read_partitioned(bytes: &[u8], size_t: Option<usize>) -> Result<Partitioned, MeshError> {
+    let mut p = Partitioned::default();
+    let Some(mut f) = Fields::of_section(bytes, "PartitionedEntities", size_t) else {
+        return Ok(p);
+    };
+    partitioned_entities(&mut f, &mut p)
+        .ok_or_else(|| invalid("MSH 4.1 $PartitionedEntities: cut short or malformed".into()))?;
+    Ok(p)
+}
+
+/// Reads the body of `$PartitionedEntities` into `p`: partition and ghost
+/// counts, then points, curves, surfaces and volumes, each with its tag,
+/// parent, partitions, bounding box (a point: its coordinates), physical
+/// tags and (but points) bounding entities.
+fn partitioned_entities(f: &mut Fields, p: &mut Partitioned) -> Option<()> {
+    p.parts = f.count()?;
     for _ in 0..f.count()? {
-        f.int()?; // ghost entity tag
+        p.ghosts.insert(f.int()?);
         f.int()?; // its partition
     }
     let counts = [f.count()?, f.count()?, f.count()?, f.count()?];
@@ -214,25 +222,60 @@ fn partitioned_entities(
             let tag = f.int()?;
             f.int()?; // parent dimension
             f.int()?; // parent tag
-            for _ in 0..f.count()? {
-                f.int()?; // partition
-            }
+            let parts = (0..f.count()?).map(|_| f.int()).collect::<Option<_>>()?;
+            p.partitions.insert((dim, tag), parts);
             f.skip_doubles(if dim == 0 { 3 } else { 6 })?;
             let mut phys = Vec::new();
             for _ in 0..f.count()? {
-                let p = f.int()?.unsigned_abs();
-                phys.push(i32::try_from(p).ok()?);
+                let t = f.int()?.unsigned_abs();
+                phys.push(i32::try_from(t).ok()?);
             }
             if dim > 0 {
                 for _ in 0..f.count()? {
                     f.int()?; // bounding entity
                 }
             }
-            phys.retain(|&p| p != 0);
+            phys.retain(|&t| t != 0);
             phys.sort_unstable();
             phys.dedup();
-            physicals.insert((dim, tag), phys);
+            p.physicals.insert((dim, tag), phys);
         }
     }
     Some(())
+}
+
+/// A partitioned file whose elements of the highest dimension (ghosts
+/// aside) lie in some of its partitions only is one piece of a mesh saved
+/// one file per partition (`Mesh.PartitionSplitMeshFiles = 1`): an error,
+/// since the body would be that fragment.
+fn check_all_partitions(
+    p: &Partitioned,
+    elements: &mshio::Elements<u64, i32>,
+) -> Result<(), MeshError> {
+    let blocks = || {
+        elements
+            .element_blocks
+            .iter()
+            .filter(|b| !b.elements.is_empty())
+    };
+    let Some(top) = blocks().map(|b| b.entity_dim).max() else {
+        return Ok(());
+    };
+    let mut present = BTreeSet::new();
+    for b in blocks().filter(|b| b.entity_dim == top && !p.ghosts.contains(&b.entity_tag)) {
+        let key = (usize::try_from(top).unwrap_or(0), b.entity_tag);
+        present.extend(p.partitions.get(&key).into_iter().flatten().copied());
+    }
+    if p.parts < 2 || present.is_empty() || present.len() >= p.parts {
+        return Ok(());
+    }
+    let list: Vec<String> = present.iter().map(i32::to_string).collect();
+    Err(invalid(format!(
+        "the file holds partition{} {} of a mesh Gmsh partitioned into {} parts and saved \
+         one file per partition (Mesh.PartitionSplitMeshFiles = 1): the body would be that \
+         piece only; save the whole mesh in one file (Mesh.PartitionSplitMeshFiles = 0)",
+        if list.len() > 1 { "s" } else { "" },
+        list.join(", "),
+        p.parts
+    )))
 }
