@@ -441,6 +441,8 @@ fn unsupported_element_type_is_named_and_counted() {
     assert!(e.contains("2 × 10-node tetrahedron (type 11)"), "{e}");
     assert!(e.contains("4-node tetrahedron (type 4)"), "{e}");
     assert!(e.contains("8-node hexahedron (type 5)"), "{e}");
+    // and what to set in Gmsh to get supported cells
+    assert!(e.contains("Mesh.ElementOrder = 1"), "{e}");
 
     // 4.1: four 9-node quadrangles (type 10) in 2D
     let mut text = String::from("$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Nodes\n1 9 1 9\n2 1 0 9\n");
@@ -458,6 +460,7 @@ fn unsupported_element_type_is_named_and_counted() {
     let e = parse_err(&text, 2);
     assert!(e.contains("4 × 9-node quadrangle (type 10)"), "{e}");
     assert!(e.contains("3-node triangle (type 2)"), "{e}");
+    assert!(e.contains("Mesh.SecondOrderIncomplete = 1"), "{e}");
 }
 
 #[test]

@@ -112,10 +112,11 @@ fn check_element_types(blocks: &[Block], dim: usize) -> Result<BTreeMap<i32, usi
     }
     if !unsupported.is_empty() {
         return Err(invalid(format!(
-            "unsupported Gmsh element type{} in a {dim}D mesh: {}; {}",
+            "unsupported Gmsh element type{} in a {dim}D mesh: {}; {}{}",
             if unsupported.len() > 1 { "s" } else { "" },
             count_list(&unsupported),
-            supported_list(dim)
+            supported_list(dim),
+            remedy(&unsupported, dim)
         )));
     }
     Ok(present)
@@ -147,6 +148,28 @@ fn check_groups_kept(blocks: &[Block], names: &Names, dim: usize) -> Result<(), 
         listed.join(", "),
         dim - 1
     )))
+}
+
+/// What to change in Gmsh to get supported cells instead of the
+/// `unsupported` types, when there is such a setting: 8-node instead of
+/// 9-node quadrangles, first-order cells for any other higher order; empty
+/// otherwise (prisms, pyramids).
+fn remedy(unsupported: &BTreeMap<i32, usize>, dim: usize) -> &'static str {
+    let higher_order =
+        |t: i32| super::type_info(t).is_some_and(|(_, d)| d == dim) && !matches!(t, 6 | 7 | 15);
+    if dim == 2 && unsupported.keys().all(|&t| t == 10) {
+        " (Gmsh writes 8-node quadrangles instead of 9-node ones with \
+         Mesh.SecondOrderIncomplete = 1)"
+    } else if unsupported.keys().any(|&t| higher_order(t)) {
+        if dim == 2 {
+            " (mesh with Mesh.ElementOrder = 1, or 2 for 6-node triangles and, with \
+             Mesh.SecondOrderIncomplete = 1, 8-node quadrangles)"
+        } else {
+            " (3D cells are first order only: mesh with Mesh.ElementOrder = 1)"
+        }
+    } else {
+        ""
+    }
 }
 
 /// Node tags → index in the file's `$Nodes` order.
