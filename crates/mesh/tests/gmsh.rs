@@ -215,6 +215,51 @@ fn v22_without_physical_groups_gives_the_boundary() {
 /// Unit cube as one hexahedron, given upside down (negative volume), with
 /// physical quadrangles at z = 0 and z = 1 and no physical names.
 #[test]
+fn v22_tags_up_to_u64_max() {
+    // Node tags up to 2⁶⁴ − 1 were read in $Nodes but refused in $Elements
+    // ("bad line": the element lines were parsed as i64).
+    let big = |t: u64| (u64::MAX - 10 + t).to_string();
+    let mut text = SQUARE_TRI_V22.to_string();
+    for (old, new) in [
+        ("\n1 0 0 0\n", format!("\n{} 0 0 0\n", big(1))),
+        ("\n2 1 0 0\n", format!("\n{} 1 0 0\n", big(2))),
+        ("\n3 1 1 0\n", format!("\n{} 1 1 0\n", big(3))),
+        ("\n4 0 1 0\n", format!("\n{} 0 1 0\n", big(4))),
+        (
+            "1 15 2 0 1 1\n",
+            format!("{} 15 2 0 1 {}\n", big(0), big(1)),
+        ),
+        (
+            "2 1 2 1 1 1 2\n",
+            format!("2 1 2 1 1 {} {}\n", big(1), big(2)),
+        ),
+        (
+            "3 1 2 2 3 3 4\n",
+            format!("3 1 2 2 3 {} {}\n", big(3), big(4)),
+        ),
+        (
+            "4 2 2 3 1 1 2 3\n",
+            format!("4 2 2 3 1 {} {} {}\n", big(1), big(2), big(3)),
+        ),
+        (
+            "5 2 2 3 1 1 4 3\n",
+            format!("5 2 2 3 1 {} {} {}\n", big(1), big(4), big(3)),
+        ),
+    ] {
+        assert!(text.contains(old), "{old}");
+        text = text.replace(old, &new);
+    }
+    same_mesh(&parse(&text, 2), &parse(SQUARE_TRI_V22, 2));
+}
+
+#[test]
+fn a_2d_mesh_read_as_3d_says_so() {
+    let e = parse_err(SQUARE_TRI_V22, 3);
+    assert!(e.contains("no cell of dimension 3"), "{e}");
+    assert!(e.contains("if it is a 2D mesh, set dimension = 2"), "{e}");
+}
+
+#[test]
 fn v22_cube_of_one_hexahedron() {
     let nodes = "$Nodes\n8\n1 0 0 0\n2 1 0 0\n3 0 1 0\n4 1 1 0\n5 0 0 1\n6 1 0 1\n7 0 1 1\n\
                  8 1 1 1\n$EndNodes\n";

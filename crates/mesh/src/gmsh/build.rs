@@ -240,10 +240,18 @@ fn no_cells(present: &BTreeMap<i32, usize>, dim: usize) -> MeshError {
     } else {
         count_list(present)
     };
+    // 2D cells read as a 3D mesh: the file may be a 2D mesh (or the
+    // triangles of a 3D one whose volume has no physical group)
+    let flat = dim == 3 && present.keys().any(|&t| cell_kind(t, 2).is_some());
+    let flat = if flat {
+        "if it is a 2D mesh, set dimension = 2 in the scene; else "
+    } else {
+        ""
+    };
     let what = if dim == 2 { "Surface" } else { "Volume" };
     invalid(format!(
-        "no cell of dimension {dim} in the file (elements found: {found}); note that when \
-         a .geo defines physical groups Gmsh saves only their elements: add a \
+        "no cell of dimension {dim} in the file (elements found: {found}); {flat}note that \
+         when a .geo defines physical groups Gmsh saves only their elements: add a \
          Physical {what} for the body or set Mesh.SaveAll = 1"
     ))
 }

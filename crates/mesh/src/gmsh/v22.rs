@@ -79,27 +79,28 @@ fn read_element_blocks(text: &str) -> Result<Vec<Block>, MeshError> {
     let mut blocks: Vec<Block> = Vec::new();
     for line in &lines[1..] {
         let bad = || invalid(format!("MSH 2.2 $Elements: bad line \"{line}\""));
-        let v: Vec<i64> = line
-            .split_whitespace()
-            .map(|s| s.parse::<i64>())
-            .collect::<Result<_, _>>()
-            .map_err(|_| bad())?;
-        // tag type ntags tags... nodes...
+        // tag type ntags tags... nodes... (tags of elements and nodes up to
+        // 2⁶⁴ − 1, as in $Nodes; the others are ints)
+        let v: Vec<&str> = line.split_whitespace().collect();
         if v.len() < 3 {
             return Err(bad());
         }
-        let gmsh_type = i32::try_from(v[1]).map_err(|_| bad())?;
-        let ntags = usize::try_from(v[2]).map_err(|_| bad())?;
-        if v.len() < 3 + ntags + 1 {
+        let gmsh_type: i32 = v[1].parse().map_err(|_| bad())?;
+        let ntags: usize = v[2].parse().map_err(|_| bad())?;
+        if v.len() < 3 + ntags + 1 || v[0].parse::<u64>().is_err() {
             return Err(bad());
         }
-        let physical = match v.get(3) {
-            Some(&p) if ntags > 0 && p != 0 => vec![i32::try_from(p.abs()).map_err(|_| bad())?],
+        let tags: Vec<i32> = v[3..3 + ntags]
+            .iter()
+            .map(|s| s.parse().map_err(|_| bad()))
+            .collect::<Result<_, _>>()?;
+        let physical = match tags.first() {
+            Some(&p) if p != 0 => vec![p.checked_abs().ok_or_else(bad)?],
             _ => vec![],
         };
         let node_tags: Vec<u64> = v[3 + ntags..]
             .iter()
-            .map(|&n| u64::try_from(n).map_err(|_| bad()))
+            .map(|s| s.parse().map_err(|_| bad()))
             .collect::<Result<_, _>>()?;
         let n_per = node_tags.len();
         let dim = type_info(gmsh_type).map_or(usize::MAX, |(_, d)| d);
