@@ -283,9 +283,15 @@ fn mesh_format(bytes: &[u8]) -> Result<Format, MeshError> {
     let rest = &bytes[start..];
     let rest = rest.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(rest);
     let Some(rest) = rest.strip_prefix(b"$MeshFormat") else {
-        return Err(invalid(
-            "not a Gmsh MSH 2.2 or 4.1 file: it does not start with $MeshFormat".into(),
-        ));
+        // MSH 1.0, which Gmsh still writes (Mesh.MshFileVersion = 1), opens
+        // with $NOD
+        let what = if rest.starts_with(b"$NOD") {
+            "an MSH 1.0 file (it starts with $NOD), which is not supported; convert it \
+             with `gmsh FILE.msh -save -format msh41 -o OUT.msh`"
+        } else {
+            "not a Gmsh MSH 2.2 or 4.1 file: it does not start with $MeshFormat"
+        };
+        return Err(invalid(what.into()));
     };
     let line: Vec<u8> = rest
         .iter()

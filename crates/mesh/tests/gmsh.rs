@@ -253,6 +253,12 @@ fn v22_tags_up_to_u64_max() {
 }
 
 #[test]
+fn msh_1_is_named() {
+    let e = parse_err("$NOD\n1\n1 0 0 0\n$ENDNOD\n$ELM\n0\n$ENDELM\n", 2);
+    assert!(e.contains("MSH 1.0") && e.contains("-format msh41"), "{e}");
+}
+
+#[test]
 fn a_2d_mesh_read_as_3d_says_so() {
     let e = parse_err(SQUARE_TRI_V22, 3);
     assert!(e.contains("no cell of dimension 3"), "{e}");
