@@ -315,16 +315,7 @@ fn mesh_format(bytes: &[u8]) -> Result<Format, MeshError> {
             )))
         }
     };
-    let size_t = match (binary, tokens.next().and_then(|t| t.parse().ok())) {
-        (_, Some(n @ (4 | 8))) => n,
-        (false, _) => 8,
-        (true, _) => {
-            return Err(invalid(format!(
-                "bad $MeshFormat line \"{}\": the data size of a binary file must be 4 or 8",
-                line.trim()
-            )))
-        }
-    };
+    let size_t = data_size(binary, tokens.next(), &line)?;
     // "4.1" and "4.10" are the same version; keep the spelling for messages.
     let version = match version.parse::<f64>() {
         Ok(4.1) => "4.1".to_string(),
@@ -336,6 +327,19 @@ fn mesh_format(bytes: &[u8]) -> Result<Format, MeshError> {
         binary,
         size_t,
     })
+}
+
+/// The size of `size_t` from the third number `token` of the `$MeshFormat`
+/// line `line`: 4 or 8 in a binary file, unused (8) in an ASCII one.
+fn data_size(binary: bool, token: Option<&str>, line: &str) -> Result<usize, MeshError> {
+    match (binary, token.and_then(|t| t.parse().ok())) {
+        (_, Some(n @ (4 | 8))) => Ok(n),
+        (false, _) => Ok(8),
+        (true, _) => Err(invalid(format!(
+            "bad $MeshFormat line \"{}\": the data size of a binary file must be 4 or 8",
+            line.trim()
+        ))),
+    }
 }
 
 /// Finds a section header line `$NAME` (at the start of a line) and returns
