@@ -25,6 +25,9 @@ pub(crate) fn check(path: &Path, solve_path: Option<SolvePath>) -> ExitCode {
         Ok(e) => e,
         Err(e) => return fail(1, &e.to_string()),
     };
+    if let Err(e) = read_file_meshes(&sc) {
+        return fail(1, &e.to_string());
+    }
     say(&format!(
         "{}: valid scene \"{}\" ({} bodies, {} boundary conditions, {} contacts, {} steps)\n",
         path.display(),
@@ -43,6 +46,21 @@ pub(crate) fn check(path: &Path, solve_path: Option<SolvePath>) -> ExitCode {
         estimate.describe()
     ));
     ExitCode::SUCCESS
+}
+
+/// Reads the Gmsh files of the scene's bodies, as `run` would, for their
+/// errors (an unsupported element type, lost physical groups...): `check`
+/// must not call valid a scene whose mesh `run` refuses. Generator meshes
+/// are not built (their parameters are checked with the scene, and their
+/// size is what the memory estimate is for).
+fn read_file_meshes(sc: &signorini_scene::Scene) -> Result<(), SolveError> {
+    for (bi, body) in sc.bodies.iter().enumerate() {
+        if let Some(signorini_scene::MeshSpec::File { .. }) = &body.mesh {
+            let entry = format!("bodies[{bi}]");
+            signorini_solver::model::build_mesh(body, &entry, sc.dimension as usize)?;
+        }
+    }
+    Ok(())
 }
 
 pub(crate) fn run(

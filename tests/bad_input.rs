@@ -230,6 +230,33 @@ fn gmsh_file_with_an_unsupported_element_type_is_named_and_counted() {
 }
 
 #[test]
+fn check_reads_the_gmsh_files_run_would_refuse() {
+    // `check` said "valid scene" (exit 0) for a scene whose Gmsh file `run`
+    // refuses: it did not read file meshes at all.
+    let scene = block_with(
+        "mesh = { generator = \"rectangle\", origin = [0.0, 0.0], size = [1.0, 0.5], divisions = [4, 2] }",
+        "mesh = { file = \"quad9.msh\" }",
+    );
+    let dir = fresh_dir("check_gmsh_unsupported");
+    std::fs::write(dir.join("quad9.msh"), QUAD9_MSH).unwrap();
+    std::fs::write(dir.join("scene.toml"), &scene).unwrap();
+    let output = Command::new(BIN)
+        .arg("check")
+        .arg(dir.join("scene.toml"))
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(1), "{err}");
+    for part in [
+        "bodies[0].mesh",
+        "9-node quadrangle",
+        "SecondOrderIncomplete",
+    ] {
+        assert!(err.contains(part), "{err}");
+    }
+}
+
+#[test]
 fn gmsh_file_without_the_surface_the_scene_names() {
     // the shipped block2d.msh names bottom, top, left, right: not "base"
     let msh = format!("{}/examples/meshes/block2d.msh", env!("CARGO_MANIFEST_DIR"));

@@ -30,15 +30,25 @@
 //! cell (dimension `dim`) or a facet of a physical surface; elements of
 //! dimension higher than `dim` are an error too (a 3D file read as 2D).
 //!
-//! Pitfalls of `mshio` 0.4.2 handled here: it skips `$PhysicalNames` (parsed
-//! by hand for both versions); when the node tags of a 4.1 file are dense it
-//! drops them (`NodeBlock::node_tags` is `None`) and implies
-//! `min_node_tag + running index`, which is wrong for a file whose dense tags
-//! are not in increasing block order, so the tags are read again here from
-//! the `$Nodes` section (ASCII or binary); its error messages end with a hex
-//! dump of the rest of the file, cut off here.
+//! Variants Gmsh writes that are read too: partitioned files
+//! (`gmsh.model.mesh.partition`: the elements of 4.1 files lie on the
+//! entities of `$PartitionedEntities`, which carry the physical groups),
+//! parametric nodes (`Mesh.SaveParametric`: node blocks with parametric
+//! coordinates in 4.1, `$ParametricNodes` in 2.2; those coordinates are
+//! ignored), node tags in any order and up to 2⁶⁴ − 1. One file of a
+//! partitioned mesh saved one file per partition
+//! (`Mesh.PartitionSplitMeshFiles = 1`) is refused: it holds a piece only.
+//!
+//! Pitfalls of `mshio` 0.4.2 handled here: it skips `$PhysicalNames` and
+//! `$PartitionedEntities` (both parsed by hand); it refuses parametric nodes,
+//! and when the node tags of a 4.1 file are dense it drops them and implies
+//! `min_node_tag + running index`, wrong for dense tags not in increasing
+//! block order, so the `$Nodes` section is read here (ASCII or binary,
+//! [`fields`]) and cut out of what `mshio` parses; its error messages end
+//! with a hex dump of the rest of the file, cut off here.
 
 mod build;
+mod fields;
 mod v22;
 mod v41;
 
@@ -76,7 +86,7 @@ pub fn parse_msh(bytes: &[u8], dim: usize) -> Result<Mesh, MeshError> {
     }
     let format = mesh_format(bytes)?;
     let raw = match (format.version.as_str(), format.binary) {
-        ("4.1", _) => read_v41(bytes)?,
+        ("4.1", _) => read_v41(bytes, &format)?,
         (v, false) if v == "2" || v.starts_with("2.") => read_v22(bytes)?,
         (v, true) if v == "2" || v.starts_with("2.") => {
             return Err(invalid(format!(
@@ -260,6 +270,8 @@ struct Raw {
 struct Format {
     version: String,
     binary: bool,
+    /// The size of `size_t` in a binary file (the line's third number).
+    size_t: usize,
 }
 
 /// Reads the `$MeshFormat` line that must start the file.
@@ -271,9 +283,15 @@ fn mesh_format(bytes: &[u8]) -> Result<Format, MeshError> {
     let rest = &bytes[start..];
     let rest = rest.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(rest);
     let Some(rest) = rest.strip_prefix(b"$MeshFormat") else {
-        return Err(invalid(
-            "not a Gmsh MSH 2.2 or 4.1 file: it does not start with $MeshFormat".into(),
-        ));
+        // MSH 1.0, which Gmsh still writes (Mesh.MshFileVersion = 1), opens
+        // with $NOD
+        let what = if rest.starts_with(b"$NOD") {
+            "an MSH 1.0 file (it starts with $NOD), which is not supported; convert it \
+             with `gmsh FILE.msh -save -format msh41 -o OUT.msh`"
+        } else {
+            "not a Gmsh MSH 2.2 or 4.1 file: it does not start with $MeshFormat"
+        };
+        return Err(invalid(what.into()));
     };
     let line: Vec<u8> = rest
         .iter()
@@ -297,18 +315,42 @@ fn mesh_format(bytes: &[u8]) -> Result<Format, MeshError> {
             )))
         }
     };
+    let size_t = data_size(binary, tokens.next(), &line)?;
     // "4.1" and "4.10" are the same version; keep the spelling for messages.
     let version = match version.parse::<f64>() {
         Ok(4.1) => "4.1".to_string(),
         Ok(2.2) => "2.2".to_string(),
         _ => version.to_string(),
     };
-    Ok(Format { version, binary })
+    Ok(Format {
+        version,
+        binary,
+        size_t,
+    })
+}
+
+/// The size of `size_t` from the third number `token` of the `$MeshFormat`
+/// line `line`: 4 or 8 in a binary file, unused (8) in an ASCII one.
+fn data_size(binary: bool, token: Option<&str>, line: &str) -> Result<usize, MeshError> {
+    match (binary, token.and_then(|t| t.parse().ok())) {
+        (_, Some(n @ (4 | 8))) => Ok(n),
+        (false, _) => Ok(8),
+        (true, _) => Err(invalid(format!(
+            "bad $MeshFormat line \"{}\": the data size of a binary file must be 4 or 8",
+            line.trim()
+        ))),
+    }
 }
 
 /// Finds a section header line `$NAME` (at the start of a line) and returns
 /// the offset just after its line break.
 fn find_section(bytes: &[u8], name: &str) -> Option<usize> {
+    find_section_span(bytes, name).map(|(_, after)| after)
+}
+
+/// Finds a section header line `$NAME` (at the start of a line) and returns
+/// the offsets of its `$` and just after its line break.
+fn find_section_span(bytes: &[u8], name: &str) -> Option<(usize, usize)> {
     let pat = format!("${name}");
     let pat = pat.as_bytes();
     let mut from = 0;
@@ -325,7 +367,7 @@ fn find_section(bytes: &[u8], name: &str) -> Option<usize> {
             None
         };
         if let (true, Some(eol)) = (line_start, eol) {
-            return Some(after + eol);
+            return Some((pos, after + eol));
         }
         from = pos + 1;
     }

@@ -215,6 +215,57 @@ fn v22_without_physical_groups_gives_the_boundary() {
 /// Unit cube as one hexahedron, given upside down (negative volume), with
 /// physical quadrangles at z = 0 and z = 1 and no physical names.
 #[test]
+fn v22_tags_up_to_u64_max() {
+    // Node tags up to 2⁶⁴ − 1 were read in $Nodes but refused in $Elements
+    // ("bad line": the element lines were parsed as i64).
+    let big = |t: u64| (u64::MAX - 10 + t).to_string();
+    let mut text = SQUARE_TRI_V22.to_string();
+    for (old, new) in [
+        ("\n1 0 0 0\n", format!("\n{} 0 0 0\n", big(1))),
+        ("\n2 1 0 0\n", format!("\n{} 1 0 0\n", big(2))),
+        ("\n3 1 1 0\n", format!("\n{} 1 1 0\n", big(3))),
+        ("\n4 0 1 0\n", format!("\n{} 0 1 0\n", big(4))),
+        (
+            "1 15 2 0 1 1\n",
+            format!("{} 15 2 0 1 {}\n", big(0), big(1)),
+        ),
+        (
+            "2 1 2 1 1 1 2\n",
+            format!("2 1 2 1 1 {} {}\n", big(1), big(2)),
+        ),
+        (
+            "3 1 2 2 3 3 4\n",
+            format!("3 1 2 2 3 {} {}\n", big(3), big(4)),
+        ),
+        (
+            "4 2 2 3 1 1 2 3\n",
+            format!("4 2 2 3 1 {} {} {}\n", big(1), big(2), big(3)),
+        ),
+        (
+            "5 2 2 3 1 1 4 3\n",
+            format!("5 2 2 3 1 {} {} {}\n", big(1), big(4), big(3)),
+        ),
+    ] {
+        assert!(text.contains(old), "{old}");
+        text = text.replace(old, &new);
+    }
+    same_mesh(&parse(&text, 2), &parse(SQUARE_TRI_V22, 2));
+}
+
+#[test]
+fn msh_1_is_named() {
+    let e = parse_err("$NOD\n1\n1 0 0 0\n$ENDNOD\n$ELM\n0\n$ENDELM\n", 2);
+    assert!(e.contains("MSH 1.0") && e.contains("-format msh41"), "{e}");
+}
+
+#[test]
+fn a_2d_mesh_read_as_3d_says_so() {
+    let e = parse_err(SQUARE_TRI_V22, 3);
+    assert!(e.contains("no cell of dimension 3"), "{e}");
+    assert!(e.contains("if it is a 2D mesh, set dimension = 2"), "{e}");
+}
+
+#[test]
 fn v22_cube_of_one_hexahedron() {
     let nodes = "$Nodes\n8\n1 0 0 0\n2 1 0 0\n3 0 1 0\n4 1 1 0\n5 0 0 1\n6 1 0 1\n7 0 1 1\n\
                  8 1 1 1\n$EndNodes\n";
@@ -441,6 +492,8 @@ fn unsupported_element_type_is_named_and_counted() {
     assert!(e.contains("2 × 10-node tetrahedron (type 11)"), "{e}");
     assert!(e.contains("4-node tetrahedron (type 4)"), "{e}");
     assert!(e.contains("8-node hexahedron (type 5)"), "{e}");
+    // and what to set in Gmsh to get supported cells
+    assert!(e.contains("Mesh.ElementOrder = 1"), "{e}");
 
     // 4.1: four 9-node quadrangles (type 10) in 2D
     let mut text = String::from("$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Nodes\n1 9 1 9\n2 1 0 9\n");
@@ -458,6 +511,7 @@ fn unsupported_element_type_is_named_and_counted() {
     let e = parse_err(&text, 2);
     assert!(e.contains("4 × 9-node quadrangle (type 10)"), "{e}");
     assert!(e.contains("3-node triangle (type 2)"), "{e}");
+    assert!(e.contains("Mesh.SecondOrderIncomplete = 1"), "{e}");
 }
 
 #[test]
@@ -576,6 +630,88 @@ fn block2d_in_three_formats() {
     assert_eq!(v41.boundary_facets().len(), 60);
     same_mesh(&v41, &v22);
     same_mesh(&v41, &bin);
+}
+
+/// The 1 × 0.5 block of the files `block2d_partitioned*` and
+/// `block2d_*parametric*` (tests/data, written by Gmsh 4.15 from the sweep's
+/// block with h = 0.25): its four named sides and its region.
+fn check_small_block(m: &Mesh) {
+    assert!((area(m) - 0.5).abs() < 1e-12);
+    assert_eq!(names(&m.surfaces), ["bottom", "left", "right", "top"]);
+    let sides = [
+        ("bottom", 1.0, [0.0, -1.0, 0.0]),
+        ("top", 1.0, [0.0, 1.0, 0.0]),
+        ("left", 0.5, [-1.0, 0.0, 0.0]),
+        ("right", 0.5, [1.0, 0.0, 0.0]),
+    ];
+    for (name, len, n) in sides {
+        assert!((measure(m, name) - len).abs() < 1e-12, "{name}");
+        check_surface(m, name, n);
+    }
+    let facets: usize = m.surfaces.values().map(|s| s.facets.len()).sum();
+    assert_eq!(facets, m.boundary_facets().len());
+    assert_eq!(m.regions["block"].len(), m.cells.len());
+}
+
+#[test]
+fn partitioned_files_keep_their_physical_groups() {
+    // Gmsh's gmsh.model.mesh.partition(n) puts the elements on partition
+    // entities listed in $PartitionedEntities (which mshio skips); their
+    // physical groups were lost and the sides read as one "boundary".
+    for (file, parts) in [
+        ("block2d_partitioned.msh", 2),
+        ("block2d_partitioned_bin.msh", 3), // binary, with ghost cells
+    ] {
+        let m = read_msh(&manifest().join("tests/data").join(file), 2).unwrap();
+        check_small_block(&m);
+        assert!(m.cells.len() > 2 * parts, "{file}");
+    }
+}
+
+#[test]
+fn one_file_of_a_partitioned_mesh_saved_per_partition_is_refused() {
+    // Mesh.PartitionSplitMeshFiles = 1 writes one file per partition: one of
+    // them was read as the whole body (a fragment, solved without a word).
+    let e = read_msh(&manifest().join("tests/data/block2d_piece_1_of_2.msh"), 2)
+        .unwrap_err()
+        .to_string();
+    for part in [
+        "partition 1 of",
+        "into 2 parts",
+        "PartitionSplitMeshFiles = 0",
+    ] {
+        assert!(e.contains(part), "{e}");
+    }
+}
+
+#[test]
+fn parametric_nodes_are_read() {
+    // Mesh.SaveParametric = 1: node blocks with parametric coordinates (MSH
+    // 4.1, which mshio refused) or $ParametricNodes (MSH 2.2, "no $Nodes").
+    let data = manifest().join("tests/data");
+    let a = read_msh(&data.join("block2d_parametric.msh"), 2).unwrap();
+    let b = read_msh(&data.join("block2d_parametric_bin.msh"), 2).unwrap();
+    let c = read_msh(&data.join("block2d_v22_parametric.msh"), 2).unwrap();
+    check_small_block(&a);
+    same_mesh(&a, &b);
+    same_mesh(&a, &c);
+}
+
+#[test]
+fn v22_saved_with_save_all_has_lost_its_groups() {
+    // Gmsh writes every element of a 2.2 file saved with Mesh.SaveAll = 1
+    // with physical tag 0: its named sides were silently replaced by one
+    // "boundary" surface.
+    let e = read_msh(&manifest().join("tests/data/block2d_v22_saveall.msh"), 2)
+        .unwrap_err()
+        .to_string();
+    for part in [
+        "block2d_v22_saveall.msh",
+        "\"bottom\", \"left\", \"right\", \"top\"",
+    ] {
+        assert!(e.contains(part), "{e}");
+    }
+    assert!(e.contains("Mesh.SaveAll") && e.contains("MSH 4.1"), "{e}");
 }
 
 #[test]

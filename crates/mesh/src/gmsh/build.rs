@@ -41,6 +41,7 @@ pub(super) fn build(raw: Raw, dim: usize) -> Result<Mesh, MeshError> {
         names,
     } = raw;
     let present = check_element_types(&blocks, dim)?;
+    check_groups_kept(&blocks, &names, dim)?;
     let tags = NodeTags::new(&raw_nodes)?;
     let (mut cells, cell_groups) = read_cells(&blocks, dim, &tags)?;
     if cells.is_empty() {
@@ -111,13 +112,64 @@ fn check_element_types(blocks: &[Block], dim: usize) -> Result<BTreeMap<i32, usi
     }
     if !unsupported.is_empty() {
         return Err(invalid(format!(
-            "unsupported Gmsh element type{} in a {dim}D mesh: {}; {}",
+            "unsupported Gmsh element type{} in a {dim}D mesh: {}; {}{}",
             if unsupported.len() > 1 { "s" } else { "" },
             count_list(&unsupported),
-            supported_list(dim)
+            supported_list(dim),
+            remedy(&unsupported, dim)
         )));
     }
     Ok(present)
+}
+
+/// A file whose `$PhysicalNames` lists groups of dimension `dim − 1` while
+/// none of its elements belongs to a physical group has lost them: Gmsh
+/// writes MSH 2.2 files so with `Mesh.SaveAll = 1` (physical tag 0 on every
+/// element). An error, rather than the whole boundary as `"boundary"` and a
+/// scene's surfaces not found.
+fn check_groups_kept(blocks: &[Block], names: &Names, dim: usize) -> Result<(), MeshError> {
+    if blocks.iter().any(|b| !b.physical.is_empty()) {
+        return Ok(());
+    }
+    let mut listed: Vec<String> = names
+        .iter()
+        .filter(|((d, _), _)| d + 1 == dim)
+        .map(|(&(d, t), _)| format!("\"{}\"", group_name(names, d, t)))
+        .collect();
+    if listed.is_empty() {
+        return Ok(());
+    }
+    listed.sort_unstable();
+    Err(invalid(format!(
+        "$PhysicalNames lists the physical groups {} of dimension {} but no element of \
+         the file belongs to a physical group (physical tag 0 everywhere), so their \
+         surfaces are lost; Gmsh writes MSH 2.2 files so with Mesh.SaveAll = 1: save \
+         the mesh without Mesh.SaveAll (and a physical group for the body), or as MSH 4.1",
+        listed.join(", "),
+        dim - 1
+    )))
+}
+
+/// What to change in Gmsh to get supported cells instead of the
+/// `unsupported` types, when there is such a setting: 8-node instead of
+/// 9-node quadrangles, first-order cells for any other higher order; empty
+/// otherwise (prisms, pyramids).
+fn remedy(unsupported: &BTreeMap<i32, usize>, dim: usize) -> &'static str {
+    let higher_order =
+        |t: i32| super::type_info(t).is_some_and(|(_, d)| d == dim) && !matches!(t, 6 | 7 | 15);
+    if dim == 2 && unsupported.keys().all(|&t| t == 10) {
+        " (Gmsh writes 8-node quadrangles instead of 9-node ones with \
+         Mesh.SecondOrderIncomplete = 1)"
+    } else if unsupported.keys().any(|&t| higher_order(t)) {
+        if dim == 2 {
+            " (mesh with Mesh.ElementOrder = 1, or 2 for 6-node triangles and, with \
+             Mesh.SecondOrderIncomplete = 1, 8-node quadrangles)"
+        } else {
+            " (3D cells are first order only: mesh with Mesh.ElementOrder = 1)"
+        }
+    } else {
+        ""
+    }
 }
 
 /// Node tags → index in the file's `$Nodes` order.
@@ -188,10 +240,18 @@ fn no_cells(present: &BTreeMap<i32, usize>, dim: usize) -> MeshError {
     } else {
         count_list(present)
     };
+    // 2D cells read as a 3D mesh: the file may be a 2D mesh (or the
+    // triangles of a 3D one whose volume has no physical group)
+    let flat = dim == 3 && present.keys().any(|&t| cell_kind(t, 2).is_some());
+    let flat = if flat {
+        "if it is a 2D mesh, set dimension = 2 in the scene; else "
+    } else {
+        ""
+    };
     let what = if dim == 2 { "Surface" } else { "Volume" };
     invalid(format!(
-        "no cell of dimension {dim} in the file (elements found: {found}); note that when \
-         a .geo defines physical groups Gmsh saves only their elements: add a \
+        "no cell of dimension {dim} in the file (elements found: {found}); {flat}note that \
+         when a .geo defines physical groups Gmsh saves only their elements: add a \
          Physical {what} for the body or set Mesh.SaveAll = 1"
     ))
 }

@@ -32,29 +32,38 @@ pub(super) fn read_v22(bytes: &[u8]) -> Result<Raw, MeshError> {
     })
 }
 
-/// The `$Nodes` section: node tags and coordinates, in file order.
+/// The `$Nodes` section: node tags and coordinates, in file order. A file
+/// saved with `Mesh.SaveParametric = 1` has `$ParametricNodes` instead, whose
+/// lines add the node's entity and parametric coordinates (ignored here).
 fn read_nodes(text: &str) -> Result<Vec<(u64, [f64; 3])>, MeshError> {
-    let lines =
-        section_lines(text, "Nodes").ok_or_else(|| invalid("MSH 2.2: no $Nodes section".into()))?;
-    let count = header_count(&lines, "Nodes")?;
+    let (section, lines) = match section_lines(text, "Nodes") {
+        Some(lines) => ("Nodes", lines),
+        None => (
+            "ParametricNodes",
+            section_lines(text, "ParametricNodes")
+                .ok_or_else(|| invalid("MSH 2.2: no $Nodes section".into()))?,
+        ),
+    };
+    let parametric = section == "ParametricNodes";
+    let count = header_count(&lines, section)?;
     // a count is the file's word: reserve no more than its lines can hold
     let mut nodes = Vec::with_capacity(count.min(lines.len()));
     for line in &lines[1..] {
-        let bad = || invalid(format!("MSH 2.2 $Nodes: bad line \"{line}\""));
+        let bad = || invalid(format!("MSH 2.2 ${section}: bad line \"{line}\""));
         let v: Vec<&str> = line.split_whitespace().collect();
-        if v.len() != 4 {
+        if v.len() != 4 && !(parametric && v.len() >= 6) {
             return Err(bad());
         }
         let tag: u64 = v[0].parse().map_err(|_| bad())?;
         let mut x = [0.0; 3];
-        for (xk, s) in x.iter_mut().zip(&v[1..]) {
+        for (xk, s) in x.iter_mut().zip(&v[1..4]) {
             *xk = s.parse().map_err(|_| bad())?;
         }
         nodes.push((tag, x));
     }
     if nodes.len() != count {
         return Err(invalid(format!(
-            "MSH 2.2 $Nodes announces {count} nodes but lists {}",
+            "MSH 2.2 ${section} announces {count} nodes but lists {}",
             nodes.len()
         )));
     }
@@ -70,27 +79,28 @@ fn read_element_blocks(text: &str) -> Result<Vec<Block>, MeshError> {
     let mut blocks: Vec<Block> = Vec::new();
     for line in &lines[1..] {
         let bad = || invalid(format!("MSH 2.2 $Elements: bad line \"{line}\""));
-        let v: Vec<i64> = line
-            .split_whitespace()
-            .map(|s| s.parse::<i64>())
-            .collect::<Result<_, _>>()
-            .map_err(|_| bad())?;
-        // tag type ntags tags... nodes...
+        // tag type ntags tags... nodes... (tags of elements and nodes up to
+        // 2⁶⁴ − 1, as in $Nodes; the others are ints)
+        let v: Vec<&str> = line.split_whitespace().collect();
         if v.len() < 3 {
             return Err(bad());
         }
-        let gmsh_type = i32::try_from(v[1]).map_err(|_| bad())?;
-        let ntags = usize::try_from(v[2]).map_err(|_| bad())?;
-        if v.len() < 3 + ntags + 1 {
+        let gmsh_type: i32 = v[1].parse().map_err(|_| bad())?;
+        let ntags: usize = v[2].parse().map_err(|_| bad())?;
+        if v.len() < 3 + ntags + 1 || v[0].parse::<u64>().is_err() {
             return Err(bad());
         }
-        let physical = match v.get(3) {
-            Some(&p) if ntags > 0 && p != 0 => vec![i32::try_from(p.abs()).map_err(|_| bad())?],
+        let tags: Vec<i32> = v[3..3 + ntags]
+            .iter()
+            .map(|s| s.parse().map_err(|_| bad()))
+            .collect::<Result<_, _>>()?;
+        let physical = match tags.first() {
+            Some(&p) if p != 0 => vec![p.checked_abs().ok_or_else(bad)?],
             _ => vec![],
         };
         let node_tags: Vec<u64> = v[3 + ntags..]
             .iter()
-            .map(|&n| u64::try_from(n).map_err(|_| bad()))
+            .map(|s| s.parse().map_err(|_| bad()))
             .collect::<Result<_, _>>()?;
         let n_per = node_tags.len();
         let dim = type_info(gmsh_type).map_or(usize::MAX, |(_, d)| d);
