@@ -122,7 +122,7 @@ pub(super) fn read(f: &Reader) -> Result<FclibProblem, String> {
         f: load,
         reference_v,
     };
-    let (wm, q) = g.condense(&w);
+    let (wm, q) = g.condense(&w, BLOCK);
     g.condense_s = t.elapsed().as_secs_f64();
     let raw = Raw {
         w: wm,
@@ -294,13 +294,13 @@ impl GlobalCondensation {
     }
 
     /// W = Hᵀ M⁻¹ H (symmetrised) and q = Hᵀ M⁻¹ f + w, by blocks of
-    /// [`BLOCK`] columns of H.
-    fn condense(&self, w: &[f64]) -> (Mat<f64>, Vec<f64>) {
+    /// `block` columns of H.
+    fn condense(&self, w: &[f64], block: usize) -> (Mat<f64>, Vec<f64>) {
         let (n, m) = (self.n, self.h.ncols());
         let mut wm = Mat::<f64>::zeros(m, m);
-        let mut x = Mat::<f64>::zeros(n, BLOCK.min(m).max(1));
-        for start in (0..m).step_by(BLOCK) {
-            let b = BLOCK.min(m - start);
+        let mut x = Mat::<f64>::zeros(n, block.min(m).max(1));
+        for start in (0..m).step_by(block) {
+            let b = block.min(m - start);
             x.fill(0.0);
             for c in 0..b {
                 let rows = self.h.row_idx_of_col_raw(start + c).iter();
@@ -363,5 +363,27 @@ impl GlobalCondensation {
             factor_values: self.l_values.len(),
             condense_s: self.condense_s,
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    /// Blocks of any width, dividing m or not, give the same W and q.
+    #[test]
+    fn every_block_width_gives_the_same_condensation() {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../../tests/data/fclib/global3d.hdf5");
+        let p = super::super::read(&path).unwrap();
+        let g = p.global.unwrap();
+        let m = p.raw.q.len();
+        let w: Vec<f64> = vec![0.0; m];
+        let (w1, q1) = g.condense(&w, 1);
+        for block in [5, 12, 64] {
+            let (wb, qb) = g.condense(&w, block);
+            assert!((&wb - &w1).norm_max() <= 1e-15 * w1.norm_max(), "{block}");
+            assert_eq!(qb, q1, "{block}");
+        }
+        // With the file's w: the W and q the problem was given.
+        assert!((&w1 - &p.raw.w).norm_max() <= 1e-15 * w1.norm_max());
     }
 }
