@@ -1,5 +1,5 @@
-//! FCLib local problems (the HDF5 format Siconos and the Frictional Contact
-//! Library exchange problems in) for `signorini local`.
+//! FCLib local and global problems (the HDF5 format Siconos and the
+//! Frictional Contact Library exchange problems in) for `signorini local`.
 //!
 //! A file holds a group `/fclib_local` with `spacedim` (2 or 3), the
 //! Delassus operator `W` as a sparse matrix group (integers `m`, `n`, `nz`,
@@ -12,10 +12,14 @@
 //! compressive, gap g = Wλ + q). An optional `/solution/r` is another
 //! solver's forces, compared with ours in the JSON line.
 //!
+//! A global problem (`/fclib_global`: M, H, f, w, mu) is condensed into a
+//! local one by [`condense_global`], which reads its sparse matrices with
+//! the same reader ([`entries`]).
+//!
 //! What `signorini local` cannot solve is refused, naming the file and the
-//! dataset: a global problem (`/fclib_global`), a mixed one (`V`, `R`), a
-//! `spacedim` other than 2 or 3, a W that is not square, indices out of
-//! range, arrays shorter than their sizes say, a dense W past the memory
+//! dataset: a mixed problem (`V`, `R`), a `spacedim` other than 2 or 3, a
+//! W that is not square, indices out of range, arrays shorter than their
+//! sizes say, a dense W past the memory
 //! budget (checked from `m` before anything of its size is allocated), and
 //! through [`crate::problem_file`]'s checks every other value (finite,
 //! symmetric W, rows a multiple of `spacedim`, μ per contact, finite, ≥ 0).
@@ -50,7 +54,7 @@ pub(crate) fn read(path: &Path) -> Result<FclibProblem, String> {
     regular_file(path)?;
     let shown = path.display().to_string();
     let f = Reader::open(path, &shown)?;
-    if f.refuse_what_is_not_local()? {
+    if f.is_global()? {
         return condense_global::read(&f);
     }
     let dim = spacedim(&f, LOCAL)?;
@@ -325,7 +329,7 @@ impl<'a> Reader<'a> {
 
     /// Whether the file holds a global problem (`/fclib_global`); a mixed
     /// problem, or neither a local nor a global one, is refused.
-    fn refuse_what_is_not_local(&self) -> Result<bool, String> {
+    fn is_global(&self) -> Result<bool, String> {
         let shown = self.shown;
         if self.has_group(GLOBAL)? {
             return Ok(true);

@@ -6,7 +6,8 @@
 //! Formats: JSON `{"W": [[...], ...], "q": [...], "mu": [...], "dim": d}`
 //! (W by rows), a NumPy `.npz` archive with arrays `W` (either order), `q`,
 //! optionally `mu` and `dim` (a scalar), or an FCLib local problem (HDF5,
-//! `.hdf5` or `.h5`: `fclib.rs`), contact-wise. Row layouts:
+//! `.hdf5` or `.h5`: `fclib.rs`), contact-wise, or an FCLib global one
+//! condensed into a local one (`fclib/condense_global.rs`). Row layouts:
 //! - `dim` = 1, or neither `dim` nor `mu`: an LCP, one row per contact;
 //! - `dim` = 2 or 3: contact-wise rows, [n, t] or [n, t1, t2] per contact
 //!   (the layout of Siconos and FCLib); `mu` has one entry per contact, an
