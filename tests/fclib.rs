@@ -1,8 +1,10 @@
-//! `signorini local` on FCLib local problems (HDF5): the files of
-//! tests/data/fclib were written by the FCLib C library
-//! (make_fclib.c: fclib_write_local, fclib_write_solution) and solved by
-//! Siconos (make_fclib.py: fc2d / fc3d NSGS to 1e-14), whose forces are the
-//! files' /solution/r. Both friction solvers must find Siconos' forces, the
+//! `signorini local` on FCLib local and global problems (HDF5): the files
+//! of tests/data/fclib were written by the FCLib C library
+//! (make_fclib.c: fclib_write_local, fclib_write_global,
+//! fclib_write_solution) and solved by Siconos (make_fclib.py: fc2d / fc3d
+//! NSGS to 1e-14; the global ones condensed by NumPy, and in 3D also
+//! gfc3d), whose forces are the files' /solution/r (and velocities
+//! /solution/v). Both friction solvers must find Siconos' forces, the
 //! same problem as .npz and JSON must give the same forces, and whatever
 //! `local` cannot solve is refused (exit 1, naming the file and the
 //! dataset, nothing on stdout).
@@ -211,7 +213,49 @@ fn assert_refused(path: &Path, extra: &[&str], needles: &[&str]) {
 #[test]
 fn what_local_cannot_solve_is_refused_naming_the_dataset() {
     let cases: &[(&str, &[&str])] = &[
-        ("global.hdf5", &["global problem", "/fclib_global"]),
+        (
+            "bad_global_g.hdf5",
+            &["/fclib_global/G has 2 columns", "equality constraints"],
+        ),
+        (
+            "bad_global_indefinite.hdf5",
+            &["/fclib_global/M is not positive definite", "row 0"],
+        ),
+        (
+            "bad_global_asymmetric.hdf5",
+            &["/fclib_global/M is not symmetric", "M[1][0] = 7"],
+        ),
+        (
+            "bad_global_h_rows.hdf5",
+            &["/fclib_global/H is 12 × 12", "/fclib_global/M is 15 × 15"],
+        ),
+        (
+            "bad_global_h_index.hdf5",
+            &["/fclib_global/H/i[3] = 99 is out of range", "0 to 14"],
+        ),
+        (
+            "bad_global_m_index.hdf5",
+            &["/fclib_global/M/p[4] = 15 is out of range", "0 to 14"],
+        ),
+        (
+            "bad_global_f_length.hdf5",
+            &["/fclib_global/vectors/f has 14 entries", "15 rows"],
+        ),
+        (
+            "bad_global_w_nan.hdf5",
+            &["/fclib_global/vectors/w[2] is not finite"],
+        ),
+        ("bad_global_no_h.hdf5", &["no dataset /fclib_global/H/m"]),
+        (
+            "bad_global_spacedim.hdf5",
+            &["/fclib_global/spacedim is 4", "2 or 3"],
+        ),
+        // M and H of 2·10⁹ rows: refused from f's length before anything of
+        // that size is allocated.
+        (
+            "bad_global_huge.hdf5",
+            &["/fclib_global/vectors/f has 15 entries", "2000000000 rows"],
+        ),
         ("mixed.hdf5", &["mixed", "/fclib_local/R"]),
         (
             "bad_spacedim.hdf5",
@@ -283,6 +327,86 @@ fn a_w_past_the_memory_budget_is_refused_before_it_is_allocated() {
         &["--max-memory", "1K"],
         &["/fclib_local/W is 12 × 12", "--max-memory"],
     );
+    assert_refused(
+        &data("global3d.hdf5"),
+        &["--max-memory", "1K"],
+        &[
+            "/fclib_global/H is 15 × 12",
+            "W = H^T M^-1 H is 12 × 12",
+            "--max-memory",
+        ],
+    );
+}
+
+/// make_fclib.c's manufactured velocities of the global problems,
+/// v_i = 0.3 sin(1.7 i + 0.37·25 + 0.55 i + 0.5) (Siconos' to 7e-14).
+fn reference_v(dim: usize) -> Vec<f64> {
+    let n = if dim == 2 { 12 } else { 15 };
+    (0..n)
+        .map(|i| {
+            let i = i as f64;
+            0.3 * (1.7 * i + 0.37 * 25.0 + 0.11 * i * 5.0 + 0.5).sin()
+        })
+        .collect()
+}
+
+/// The global problems (FCLib's fclib_write_global: a chain of springs and
+/// masses, M n × n sparse SPD, H n × m), condensed and solved: Siconos'
+/// forces (its fc2d/fc3d NSGS on NumPy's condensation and, in 3D, its
+/// global gfc3d Newton solver, agreeing to 4e-15) and velocities.
+#[test]
+fn global_problems_are_condensed_and_solved_to_siconos_forces_and_velocities() {
+    for (name, dim, n, nnz_m) in [("global2d.hdf5", 2, 12, 64), ("global3d.hdf5", 3, 15, 117)] {
+        let (r, mu, expected) = reference(dim);
+        for friction in ["fixed_point", "newton"] {
+            let v = solved(&[
+                data(name).as_os_str(),
+                "--friction".as_ref(),
+                friction.as_ref(),
+                "--lambda".as_ref(),
+            ]);
+            let what = format!("{name}, {friction}: {v}");
+            assert_eq!(v["converged"], true, "{what}");
+            assert_eq!(v["m"].as_u64(), Some(mu.len() as u64), "{what}");
+            assert!(v["residual"].as_f64().unwrap() <= 1e-10, "{what}");
+            // Forces within 100 times the tolerance of Siconos', relative
+            // to the largest (the force scale of the problem).
+            let lambda = numbers(&v["lambda"]);
+            assert!(max_rel(&lambda, &r) <= 1e-8, "{what}");
+            assert_eq!(statuses(&lambda, &mu, dim), expected, "{what}");
+            assert!(v["reference_r_error"].as_f64().unwrap() <= 1e-8, "{what}");
+            // v = M⁻¹ (H λ + f) against Siconos' /solution/v.
+            assert!(v["reference_v_error"].as_f64().unwrap() <= 1e-8, "{what}");
+            let g = &v["global"];
+            assert_eq!(g["n"].as_u64(), Some(n), "{what}");
+            assert_eq!(g["nnz_M"].as_u64(), Some(nnz_m), "{what}");
+            assert!(g["condense_s"].as_f64().unwrap() >= 0.0, "{what}");
+        }
+        let p = signorini_solver::problem_file::load(&data(name)).unwrap();
+        let vref = reference_v(dim);
+        let g = p.global.as_ref().unwrap();
+        assert!(max_rel(&g.velocity(&r), &vref) <= 1e-12, "{name}");
+    }
+}
+
+/// The condensed W and q equal NumPy's (dense solves of the same file,
+/// make_fclib.py: NAME_condensed.npz) to 1e-12 relative, and the two
+/// problems give the same forces.
+#[test]
+fn global_condensation_equals_numpys() {
+    for name in ["global2d", "global3d"] {
+        let ours = signorini_solver::problem_file::load(&data(&format!("{name}.hdf5"))).unwrap();
+        let npz = data(&format!("{name}_condensed.npz"));
+        let numpy = signorini_solver::problem_file::load(&npz).unwrap();
+        assert_eq!(ours.file_row, numpy.file_row, "{name}");
+        let dw = (&ours.w - &numpy.w).norm_max();
+        assert!(dw <= 1e-12 * numpy.w.norm_max(), "{name}: {dw:e}");
+        assert!(max_rel(&ours.q, &numpy.q) <= 1e-12, "{name}");
+        let lambda =
+            |path: &Path| numbers(&solved(&[path.as_os_str(), "--lambda".as_ref()])["lambda"]);
+        let (a, b) = (lambda(&data(&format!("{name}.hdf5"))), lambda(&npz));
+        assert!(max_rel(&a, &b) <= 1e-10, "{name}");
+    }
 }
 
 #[test]

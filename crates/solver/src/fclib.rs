@@ -1,5 +1,5 @@
-//! FCLib local problems (the HDF5 format Siconos and the Frictional Contact
-//! Library exchange problems in) for `signorini local`.
+//! FCLib local and global problems (the HDF5 format Siconos and the
+//! Frictional Contact Library exchange problems in) for `signorini local`.
 //!
 //! A file holds a group `/fclib_local` with `spacedim` (2 or 3), the
 //! Delassus operator `W` as a sparse matrix group (integers `m`, `n`, `nz`,
@@ -12,10 +12,14 @@
 //! compressive, gap g = Wλ + q). An optional `/solution/r` is another
 //! solver's forces, compared with ours in the JSON line.
 //!
+//! A global problem (`/fclib_global`: M, H, f, w, mu) is condensed into a
+//! local one by [`condense_global`], which reads its sparse matrices with
+//! the same reader ([`entries`]).
+//!
 //! What `signorini local` cannot solve is refused, naming the file and the
-//! dataset: a global problem (`/fclib_global`), a mixed one (`V`, `R`), a
-//! `spacedim` other than 2 or 3, a W that is not square, indices out of
-//! range, arrays shorter than their sizes say, a dense W past the memory
+//! dataset: a mixed problem (`V`, `R`), a `spacedim` other than 2 or 3, a
+//! W that is not square, indices out of range, arrays shorter than their
+//! sizes say, a dense W past the memory
 //! budget (checked from `m` before anything of its size is allocated), and
 //! through [`crate::problem_file`]'s checks every other value (finite,
 //! symmetric W, rows a multiple of `spacedim`, μ per contact, finite, ≥ 0).
@@ -28,28 +32,32 @@ use hdf5_reader::{Dataset, Datatype, Hdf5File, OpenOptions};
 
 use crate::problem_file::{regular_file, Raw, NPY_COPIES};
 
+mod condense_global;
+pub use condense_global::{GlobalCondensation, GlobalSummary};
+
 const LOCAL: &str = "/fclib_local";
+const GLOBAL: &str = "/fclib_global";
 const W: &str = "/fclib_local/W";
 
-/// An FCLib local problem, before its layout is resolved, and the forces
-/// r of the file's `/solution` (contact-wise, the file's order).
+/// An FCLib problem, before its layout is resolved, and the forces r of
+/// the file's `/solution` (contact-wise, the file's order); a global
+/// problem also gives what its condensation kept ([`GlobalCondensation`]).
 pub(crate) struct FclibProblem {
     pub raw: Raw,
     pub reference_r: Option<Vec<f64>>,
+    pub global: Option<GlobalCondensation>,
 }
 
-/// Reads `/fclib_local` (and `/solution/r`) of an FCLib file.
+/// Reads `/fclib_local` (and `/solution/r`) of an FCLib file, or condenses
+/// its `/fclib_global` ([`condense_global`]).
 pub(crate) fn read(path: &Path) -> Result<FclibProblem, String> {
     regular_file(path)?;
     let shown = path.display().to_string();
     let f = Reader::open(path, &shown)?;
-    f.refuse_what_is_not_local()?;
-    let dim = f.int(&format!("{LOCAL}/spacedim"))?;
-    if !(dim == 2 || dim == 3) {
-        return Err(format!(
-            "{shown}: {LOCAL}/spacedim is {dim}: an FCLib problem has 2 or 3 rows per contact ([n, t] or [n, t1, t2])"
-        ));
+    if f.is_global()? {
+        return condense_global::read(&f);
     }
+    let dim = spacedim(&f, LOCAL)?;
     let m = square_size(&f)?;
     // q first: a W whose m its file cannot back (q holds m numbers) is
     // refused before its dense m × m is allocated.
@@ -61,7 +69,7 @@ pub(crate) fn read(path: &Path) -> Result<FclibProblem, String> {
         ));
     }
     let mu = f.floats(&format!("{LOCAL}/vectors/mu"))?;
-    let reference_r = solution_r(&f, m)?;
+    let reference_r = solution(&f, "r", m, "W has")?;
     let w = read_w(&f, m)?;
     let raw = Raw {
         w,
@@ -70,26 +78,43 @@ pub(crate) fn read(path: &Path) -> Result<FclibProblem, String> {
         dim: Some(dim as f64),
         normal_first: false,
     };
-    Ok(FclibProblem { raw, reference_r })
+    Ok(FclibProblem {
+        raw,
+        reference_r,
+        global: None,
+    })
 }
 
-/// The forces of `/solution/r`, if the file has them.
-fn solution_r(f: &Reader, m: usize) -> Result<Option<Vec<f64>>, String> {
-    if !f.has_group("/solution")? || !f.members("/solution")?.1.iter().any(|d| d == "r") {
+/// `{problem}/spacedim`, 2 or 3.
+fn spacedim(f: &Reader, problem: &str) -> Result<usize, String> {
+    match f.int(&format!("{problem}/spacedim"))? {
+        2 => Ok(2),
+        3 => Ok(3),
+        dim => Err(format!(
+            "{}: {problem}/spacedim is {dim}: an FCLib problem has 2 or 3 rows per contact ([n, t] or [n, t1, t2])",
+            f.shown
+        )),
+    }
+}
+
+/// `/solution/{name}` (forces r, velocities v), if the file has it: `len`
+/// finite numbers (`rows` says whose, in messages: "W has").
+fn solution(f: &Reader, name: &str, len: usize, rows: &str) -> Result<Option<Vec<f64>>, String> {
+    if !f.has_group("/solution")? || !f.members("/solution")?.1.iter().any(|d| d == name) {
         return Ok(None);
     }
-    let r = f.floats("/solution/r")?;
-    if r.len() != m {
+    let v = f.floats(&format!("/solution/{name}"))?;
+    if v.len() != len {
         return Err(format!(
-            "{}: /solution/r has {} entries, W has {m} rows",
+            "{}: /solution/{name} has {} entries, {rows} {len} rows",
             f.shown,
-            r.len()
+            v.len()
         ));
     }
-    if let Some(k) = r.iter().position(|v| !v.is_finite()) {
-        return Err(format!("{}: /solution/r[{k}] is not finite", f.shown));
+    if let Some(k) = v.iter().position(|x| !x.is_finite()) {
+        return Err(format!("{}: /solution/{name}[{k}] is not finite", f.shown));
     }
-    Ok(Some(r))
+    Ok(Some(v))
 }
 
 /// W's order m: W square, and its dense copies within the memory budget.
@@ -101,21 +126,40 @@ fn square_size(f: &Reader) -> Result<usize, String> {
             "{shown}: {W} is {m} × {n} ({W}/m, {W}/n): the Delassus operator of a local problem is square, m × m with m ≥ 0"
         ));
     }
-    let bytes = 8.0 * (m as f64) * (m as f64);
-    if let Some(b) = crate::memory::budget() {
-        if NPY_COPIES as f64 * bytes > b.bytes as f64 {
-            return Err(format!(
-                "{shown}: {W} is {m} × {m}: held dense it takes {}, and solving it needs about {NPY_COPIES} times that, more than the {} {}",
-                crate::memory::human(bytes),
-                crate::memory::human(b.bytes as f64),
-                b.source
-            ));
-        }
-    }
+    dense_within_budget(&format!("{shown}: {W} is {m} × {m}"), m as f64)?;
     usize::try_from(m).map_err(|_| format!("{shown}: {W}/m = {m} is too large"))
 }
 
-/// How W is stored (`W/nz`).
+/// Refuses, with `what` first in the message, a dense m × m matrix whose
+/// copies for a solve ([`NPY_COPIES`]) pass the memory budget.
+fn dense_within_budget(what: &str, m: f64) -> Result<(), String> {
+    let bytes = 8.0 * m * m;
+    match crate::memory::budget() {
+        Some(b) if NPY_COPIES as f64 * bytes > b.bytes as f64 => Err(format!(
+            "{what}: held dense it takes {}, and solving it needs about {NPY_COPIES} times that, more than the {} {}",
+            crate::memory::human(bytes),
+            crate::memory::human(b.bytes as f64),
+            b.source
+        )),
+        _ => Ok(()),
+    }
+}
+
+/// The shape (`m` rows, `n` columns) of the sparse matrix group `group`.
+fn shape(f: &Reader, group: &str) -> Result<(usize, usize), String> {
+    let size = |what: &str| -> Result<usize, String> {
+        let v = f.int(&format!("{group}/{what}"))?;
+        usize::try_from(v).map_err(|_| {
+            format!(
+                "{}: {group}/{what} is {v}: a matrix has 0 or more rows and columns",
+                f.shown
+            )
+        })
+    };
+    Ok((size("m")?, size("n")?))
+}
+
+/// How a sparse matrix is stored (its `nz`).
 #[derive(Clone, Copy)]
 enum Storage {
     Triplet(usize),
@@ -123,98 +167,120 @@ enum Storage {
     Rows,
 }
 
+fn storage(f: &Reader, group: &str) -> Result<Storage, String> {
+    match f.int(&format!("{group}/nz"))? {
+        -1 => Ok(Storage::Columns),
+        -2 => Ok(Storage::Rows),
+        nz if nz >= 0 => usize::try_from(nz)
+            .map(Storage::Triplet)
+            .map_err(|_| format!("{}: {group}/nz = {nz} is too large", f.shown)),
+        nz => Err(format!(
+            "{}: {group}/nz is {nz}: FCLib's storages are nz ≥ 0 (triplets), -1 (compressed columns) or -2 (compressed rows)",
+            f.shown
+        )),
+    }
+}
+
 /// The dense m × m W of the file's sparse one, duplicates summed.
 fn read_w(f: &Reader, m: usize) -> Result<Mat<f64>, String> {
-    let shown = f.shown;
-    let storage = match f.int(&format!("{W}/nz"))? {
-        -1 => Storage::Columns,
-        -2 => Storage::Rows,
-        nz if nz >= 0 => Storage::Triplet(nz as usize),
-        nz => {
-            return Err(format!(
-                "{shown}: {W}/nz is {nz}: FCLib's storages are nz ≥ 0 (triplets), -1 (compressed columns) or -2 (compressed rows)"
-            ))
-        }
-    };
-    let p = f.ints(&format!("{W}/p"))?;
-    let i = f.ints(&format!("{W}/i"))?;
-    let x = f.floats(&format!("{W}/x"))?;
-    if let Some(k) = x.iter().position(|v| !v.is_finite()) {
-        return Err(format!("{shown}: {W}/x[{k}] is not finite"));
-    }
     let mut w = Mat::<f64>::zeros(m, m);
-    let index = |name: &str, k: usize, v: i64| index(shown, m, name, k, v);
+    entries(f, W, (m, m), |i, j, x| w[(i, j)] += x)?;
+    Ok(w)
+}
+
+/// Calls `add(row, column, value)` for every stored entry of the sparse
+/// matrix group `group` of shape (rows, columns), in the file's order
+/// (duplicates are the caller's to sum), once its indices, pointers and
+/// lengths are checked and its values are finite.
+fn entries(
+    f: &Reader,
+    group: &str,
+    (rows, cols): (usize, usize),
+    mut add: impl FnMut(usize, usize, f64),
+) -> Result<(), String> {
+    let shown = f.shown;
+    let storage = storage(f, group)?;
+    let p = f.ints(&format!("{group}/p"))?;
+    let i = f.ints(&format!("{group}/i"))?;
+    let x = f.floats(&format!("{group}/x"))?;
+    if let Some(k) = x.iter().position(|v| !v.is_finite()) {
+        return Err(format!("{shown}: {group}/x[{k}] is not finite"));
+    }
+    let index = |name: &str, k: usize, v: i64, bound: usize, what: &str| {
+        usize::try_from(v).ok().filter(|&v| v < bound).ok_or_else(|| {
+            format!(
+                "{shown}: {group}/{name}[{k}] = {v} is out of range: {group} is {rows} × {cols}, its {what} indices are 0 to {}",
+                bound as i64 - 1
+            )
+        })
+    };
     match storage {
         Storage::Triplet(nz) => {
             for (name, len) in [("i", i.len()), ("p", p.len()), ("x", x.len())] {
                 if len < nz {
                     return Err(format!(
-                        "{shown}: {W}/{name} has {len} entries, {W}/nz says {nz} triplets"
+                        "{shown}: {group}/{name} has {len} entries, {group}/nz says {nz} triplets"
                     ));
                 }
             }
             for k in 0..nz {
-                w[(index("i", k, i[k])?, index("p", k, p[k])?)] += x[k];
+                let row = index("i", k, i[k], rows, "row")?;
+                add(row, index("p", k, p[k], cols, "column")?, x[k]);
             }
         }
         Storage::Columns | Storage::Rows => {
-            let ranges = pointers(shown, &p, m, i.len().min(x.len()))?;
+            let by_columns = matches!(storage, Storage::Columns);
+            let (outer, inner, what) = match by_columns {
+                true => (cols, rows, "row"),
+                false => (rows, cols, "column"),
+            };
+            let ranges = pointers(f, group, &p, outer, i.len().min(x.len()))?;
             for (a, range) in ranges.enumerate() {
                 for k in range {
-                    let b = index("i", k, i[k])?;
-                    let (row, col) = if let Storage::Columns = storage {
-                        (b, a)
-                    } else {
-                        (a, b)
-                    };
-                    w[(row, col)] += x[k];
+                    let b = index("i", k, i[k], inner, what)?;
+                    match by_columns {
+                        true => add(b, a, x[k]),
+                        false => add(a, b, x[k]),
+                    }
                 }
             }
         }
     }
-    Ok(w)
+    Ok(())
 }
 
-/// The entry k of W/`name`, a row or column index of an m × m W.
-fn index(shown: &str, m: usize, name: &str, k: usize, v: i64) -> Result<usize, String> {
-    usize::try_from(v).ok().filter(|&v| v < m).ok_or_else(|| {
-        format!(
-            "{shown}: {W}/{name}[{k}] = {v} is out of range: W is {m} × {m}, its indices are 0 to {}",
-            m.saturating_sub(1)
-        )
-    })
-}
-
-/// The entries of each of the m columns (or rows) of a compressed W:
-/// `p` has m + 1 pointers, non-decreasing, from 0 to at most `len`
-/// (the entries `i` and `x` hold).
+/// The entries of each of the `outer` columns (or rows) of a compressed
+/// matrix: `p` has outer + 1 pointers, non-decreasing, from 0 to at most
+/// `len` (the entries `i` and `x` hold).
 fn pointers<'a>(
-    shown: &str,
+    f: &Reader,
+    group: &str,
     p: &'a [i64],
-    m: usize,
+    outer: usize,
     len: usize,
 ) -> Result<impl Iterator<Item = std::ops::Range<usize>> + 'a, String> {
-    if p.len() != m + 1 {
+    let shown = f.shown;
+    if p.len() != outer + 1 {
         return Err(format!(
-            "{shown}: {W}/p has {} entries, a compressed {m} × {m} W has {} pointers",
+            "{shown}: {group}/p has {} entries, a compressed matrix of {outer} columns (rows, compressed by rows) has {} pointers",
             p.len(),
-            m + 1
+            outer + 1
         ));
     }
-    for k in 0..m {
+    for k in 0..outer {
         if p[k] < 0 || p[k + 1] < p[k] {
             return Err(format!(
-                "{shown}: {W}/p[{k}] = {} and {W}/p[{}] = {}: the pointers must start at 0 or more and never decrease",
+                "{shown}: {group}/p[{k}] = {} and {group}/p[{}] = {}: the pointers must start at 0 or more and never decrease",
                 p[k],
                 k + 1,
                 p[k + 1]
             ));
         }
     }
-    if p[m] as u64 > len as u64 {
+    if p[outer] as u64 > len as u64 {
         return Err(format!(
-            "{shown}: {W}/p[{m}] = {} but {W}/i and {W}/x hold {len} entries",
-            p[m]
+            "{shown}: {group}/p[{outer}] = {} but {group}/i and {group}/x hold {len} entries",
+            p[outer]
         ));
     }
     Ok(p.windows(2).map(|w| w[0] as usize..w[1] as usize))
@@ -261,17 +327,16 @@ impl<'a> Reader<'a> {
             .map_err(|e| self.error(path, e))
     }
 
-    /// A global or mixed problem, or no local one, is refused.
-    fn refuse_what_is_not_local(&self) -> Result<(), String> {
+    /// Whether the file holds a global problem (`/fclib_global`); a mixed
+    /// problem, or neither a local nor a global one, is refused.
+    fn is_global(&self) -> Result<bool, String> {
         let shown = self.shown;
-        if self.has_group("/fclib_global")? {
-            return Err(format!(
-                "{shown}: an FCLib global problem (/fclib_global: M, H, f, w): signorini local solves local problems ({LOCAL}: W, q, mu); condense it first (W = H^T M^-1 H, q = H^T M^-1 f + w)"
-            ));
+        if self.has_group(GLOBAL)? {
+            return Ok(true);
         }
         if !self.has_group(LOCAL)? {
             return Err(format!(
-                "{shown}: no group {LOCAL}: not an FCLib local problem (a group {LOCAL} with spacedim, W and vectors/q, vectors/mu)"
+                "{shown}: no group {LOCAL} or {GLOBAL}: not an FCLib problem (a group {LOCAL} with spacedim, W and vectors/q, vectors/mu, or {GLOBAL} with spacedim, M, H and vectors/f, vectors/w, vectors/mu)"
             ));
         }
         let (groups, _) = self.members(LOCAL)?;
@@ -280,7 +345,7 @@ impl<'a> Reader<'a> {
                 "{shown}: {LOCAL}/{g}: a mixed FCLib problem (with V, R and s: equality constraints besides contact), which signorini local does not solve; give W, q and mu alone"
             ));
         }
-        Ok(())
+        Ok(false)
     }
 
     fn dataset(&self, name: &str) -> Result<Dataset, String> {

@@ -15,6 +15,7 @@ use signorini_contact::friction::{FrictionLaw, FrictionLayout, FrictionOptions, 
 use signorini_contact::lcp::{lcp_residual, LcpOptions};
 use signorini_contact::registry::Algorithm;
 
+pub use crate::fclib::{GlobalCondensation, GlobalSummary};
 pub use crate::problem_file::{load, LocalProblem};
 
 /// The friction solvers of `signorini local --friction`.
@@ -103,6 +104,24 @@ pub struct LocalResult {
     /// distance of ours to them, [`reference_error`].
     #[serde(skip_serializing_if = "Option::is_none")]
     pub reference_r_error: Option<f64>,
+    /// An FCLib global problem, condensed: its sizes and time.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub global: Option<GlobalSummary>,
+    /// With a global problem's `/solution/v`: the distance of the v our
+    /// forces give to it ([`GlobalCondensation::reference_v_error`]).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub reference_v_error: Option<f64>,
+}
+
+/// The global problem's summary and v error for forces (block layout).
+fn global_fields(p: &LocalProblem, forces: &[f64]) -> (Option<GlobalSummary>, Option<f64>) {
+    let Some(g) = p.global.as_ref() else {
+        return (None, None);
+    };
+    (
+        Some(g.summary()),
+        g.reference_v_error(&p.to_file_order(forces)),
+    )
 }
 
 /// The distance of forces (block layout) to the file's reference forces r:
@@ -218,6 +237,7 @@ pub fn solve_friction(
     }
     .map_err(|e| e.to_string())?;
     let time_s = t.elapsed().as_secs_f64();
+    let (global, reference_v_error) = global_fields(p, &out.forces);
     let f = force_scale.max(out.forces.iter().fold(0.0f64, |a, v| a.max(v.abs())));
     Ok(LocalResult {
         problem: name.to_string(),
@@ -244,6 +264,8 @@ pub fn solve_friction(
         stopping_reason: out.report.stop.to_string(),
         lambda: with_lambda.then(|| p.to_file_order(&out.forces)),
         reference_r_error: reference_error(p, &out.forces),
+        global,
+        reference_v_error,
     })
 }
 
@@ -280,6 +302,7 @@ pub fn solve(
     let mut forces = sol.forces.clone();
     forces.resize(p.q.len(), 0.0);
     let residual = lcp_residual(&w, &q, &sol.forces, &opts);
+    let (global, reference_v_error) = global_fields(p, &forces);
     Ok(LocalResult {
         problem: name.to_string(),
         method: algorithm.name().to_string(),
@@ -295,6 +318,8 @@ pub fn solve(
         stopping_reason: sol.report.stop.to_string(),
         lambda: with_lambda.then(|| p.to_file_order(&forces)),
         reference_r_error: reference_error(p, &forces),
+        global,
+        reference_v_error,
     })
 }
 

@@ -6,7 +6,8 @@
 //! Formats: JSON `{"W": [[...], ...], "q": [...], "mu": [...], "dim": d}`
 //! (W by rows), a NumPy `.npz` archive with arrays `W` (either order), `q`,
 //! optionally `mu` and `dim` (a scalar), or an FCLib local problem (HDF5,
-//! `.hdf5` or `.h5`: `fclib.rs`), contact-wise. Row layouts:
+//! `.hdf5` or `.h5`: `fclib.rs`), contact-wise, or an FCLib global one
+//! condensed into a local one (`fclib/condense_global.rs`). Row layouts:
 //! - `dim` = 1, or neither `dim` nor `mu`: an LCP, one row per contact;
 //! - `dim` = 2 or 3: contact-wise rows, [n, t] or [n, t1, t2] per contact
 //!   (the layout of Siconos and FCLib); `mu` has one entry per contact, an
@@ -39,6 +40,8 @@ pub struct LocalProblem {
     /// Another solver's forces for this problem, in the file's row order
     /// (an FCLib file's `/solution/r`).
     pub reference_r: Option<Vec<f64>>,
+    /// An FCLib global problem's condensation (to recover its velocities v).
+    pub global: Option<crate::fclib::GlobalCondensation>,
 }
 
 impl LocalProblem {
@@ -306,9 +309,15 @@ pub fn load(path: &Path) -> Result<LocalProblem, String> {
     let shown = path.display().to_string();
     if is("hdf5") || is("h5") {
         let file = crate::fclib::read(path)?;
-        // Its checks name W, q (vectors/q) and mu (vectors/mu) of /fclib_local.
-        let mut p = into_blocks(&format!("{shown} (/fclib_local)"), file.raw)?;
+        // Its checks name W, q (vectors/q) and mu (vectors/mu) of
+        // /fclib_local, or of the local problem a global one condenses to.
+        let what = match file.global {
+            None => "(/fclib_local)",
+            Some(_) => "(/fclib_global condensed: W = H^T M^-1 H, q = H^T M^-1 f + w)",
+        };
+        let mut p = into_blocks(&format!("{shown} {what}"), file.raw)?;
         p.reference_r = file.reference_r;
+        p.global = file.global;
         return Ok(p);
     }
     let raw = if is("npz") {
@@ -360,6 +369,7 @@ fn into_blocks(shown: &str, raw: Raw) -> Result<LocalProblem, String> {
         mu,
         file_row,
         reference_r: None,
+        global: None,
     })
 }
 

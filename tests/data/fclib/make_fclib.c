@@ -14,12 +14,18 @@
  *                             storage with duplicate entries), fc3d_csc.hdf5
  *                             (3D, compressed columns), fc3d_csr.hdf5 (the
  *                             same 3D problem, compressed rows),
- *                             global.hdf5 (a global problem) and
- *                             mixed.hdf5 (a local problem with V and R);
- *                             prints each local problem's manufactured
- *                             solution as one line "FILE r... u..."
+ *                             global2d.hdf5, global3d.hdf5 (global
+ *                             problems: a chain of springs, M compressed
+ *                             columns and H triplets in 2D, M triplets and H
+ *                             compressed columns in 3D) and mixed.hdf5 (a
+ *                             local problem with V and R); prints each
+ *                             problem's manufactured solution as one line
+ *                             "FILE r... u..." (and "v..." for a global one)
  *   make_fclib solution FILE  reads r then u (W->m numbers each) on stdin
  *                             and stores them with fclib_write_solution
+ *   make_fclib global-solution FILE
+ *                             reads r, u (H->n numbers each) then v (M->m)
+ *                             on stdin into the global problem's /solution
  *   make_fclib merit FILE     prints fclib_merit_local of FILE's /solution
  *                             (3D only in FCLib)
  *
@@ -106,20 +112,20 @@ static void make_q(int n, const double *w, const double *r, const double *u, dou
   }
 }
 
-/* W in triplet form (CSparse's: i rows, p columns), each entry with
- * (i + j) % 4 == 1 split into two (0.25 and 0.75 of it): duplicates that
- * FCLib and CSparse sum. */
-static struct fclib_matrix *triplet(int n, const double *w)
+/* A rows × cols matrix (row-major) in triplet form (CSparse's: i rows, p
+ * columns), each entry with (i + j) % 4 == 1 split into two (0.25 and 0.75
+ * of it): duplicates that FCLib and CSparse sum. */
+static struct fclib_matrix *triplet(int rows, int cols, const double *w)
 {
   struct fclib_matrix *t = calloc(1, sizeof *t);
-  t->p = malloc(2 * n * n * sizeof(int));
-  t->i = malloc(2 * n * n * sizeof(int));
-  t->x = malloc(2 * n * n * sizeof(double));
+  t->p = malloc(2 * rows * cols * sizeof(int));
+  t->i = malloc(2 * rows * cols * sizeof(int));
+  t->x = malloc(2 * rows * cols * sizeof(double));
   int k = 0;
-  for (int j = 0; j < n; j++)
-    for (int i = 0; i < n; i++)
+  for (int j = 0; j < cols; j++)
+    for (int i = 0; i < rows; i++)
     {
-      double v = w[i * n + j];
+      double v = w[i * cols + j];
       if (v == 0.0) continue;
       if ((i + j) % 4 == 1)
       {
@@ -128,31 +134,35 @@ static struct fclib_matrix *triplet(int n, const double *w)
       }
       t->i[k] = i, t->p[k] = j, t->x[k++] = v;
     }
-  t->m = t->n = n;
+  t->m = rows;
+  t->n = cols;
   t->nz = t->nzmax = k;
   return t;
 }
 
-/* W compressed by columns (nz = -1) or by rows (nz = -2). */
-static struct fclib_matrix *compressed(int n, const double *w, int by_rows)
+/* A rows × cols matrix (row-major) compressed by columns (nz = -1) or by
+ * rows (nz = -2). */
+static struct fclib_matrix *compressed(int rows, int cols, const double *w, int by_rows)
 {
   struct fclib_matrix *c = calloc(1, sizeof *c);
-  c->p = malloc((n + 1) * sizeof(int));
-  c->i = malloc(n * n * sizeof(int));
-  c->x = malloc(n * n * sizeof(double));
+  int outer = by_rows ? rows : cols, inner = by_rows ? cols : rows;
+  c->p = malloc((outer + 1) * sizeof(int));
+  c->i = malloc(rows * cols * sizeof(int));
+  c->x = malloc(rows * cols * sizeof(double));
   int k = 0;
-  for (int a = 0; a < n; a++)
+  for (int a = 0; a < outer; a++)
   {
     c->p[a] = k;
-    for (int b = 0; b < n; b++)
+    for (int b = 0; b < inner; b++)
     {
-      double v = by_rows ? w[a * n + b] : w[b * n + a];
+      double v = by_rows ? w[a * cols + b] : w[b * cols + a];
       if (v == 0.0) continue;
       c->i[k] = b, c->x[k++] = v;
     }
   }
-  c->p[n] = k;
-  c->m = c->n = n;
+  c->p[outer] = k;
+  c->m = rows;
+  c->n = cols;
   c->nzmax = k;
   c->nz = by_rows ? -2 : -1;
   return c;
@@ -176,7 +186,7 @@ static int write_local(const char *dir, const char *name, int nc, int d, const e
   make_q(n, w, r, u, q);
   struct fclib_info info = {(char *)title, "manufactured: W = A A^T + I/2, q = u - W r", "W SPD"};
   struct fclib_local p = {0};
-  p.W = storage == 0 ? triplet(n, w) : compressed(n, w, storage == 2);
+  p.W = storage == 0 ? triplet(n, n, w) : compressed(n, n, w, storage == 2);
   p.mu = (double *)mu;
   p.q = q;
   p.spacedim = d;
@@ -193,19 +203,112 @@ static int write_local(const char *dir, const char *name, int nc, int d, const e
   return 1;
 }
 
-/* A global problem (M v = H r + f, u = Hᵀ v + w): refused by `local`. */
-static int write_global(const char *dir)
+/* M of a chain of nn nodes of d DOFs: spring e (stiffness k_e S, S_ab = 1
+ * if a = b, else 0.1) between node e - 1 (the ground for e = 0) and node
+ * e, and a lumped mass 0.2 + 0.05 i on each DOF i: symmetric positive
+ * definite, block tridiagonal; n × n, row-major. */
+static void make_m(int nn, int d, double *m)
 {
-  double m_x[] = {2.0, 2.0, 2.0}, h_x[] = {1.0, 0.5, 1.0}, f[] = {0.0, -1.0, 0.0};
-  double w[] = {0.1, 0.0}, mu[] = {0.3};
-  int m_p[] = {0, 1, 2, 3}, m_i[] = {0, 1, 2}, h_p[] = {0, 2, 3}, h_i[] = {0, 1, 2};
-  struct fclib_matrix m = {3, 3, 3, m_p, m_i, m_x, -1, NULL};
-  struct fclib_matrix h = {3, 3, 2, h_p, h_i, h_x, -1, NULL};
-  struct fclib_global g = {&m, &h, NULL, mu, f, NULL, w, 2, NULL};
+  int n = nn * d;
+  memset(m, 0, (size_t)n * n * sizeof(double));
+  for (int e = 0; e < nn; e++)
+  {
+    double k = 1.0 + 0.5 * pseudo(e, 2 * e + 1);
+    for (int a = 0; a < d; a++)
+      for (int b = 0; b < d; b++)
+      {
+        double s = k * (a == b ? 1.0 : 0.1);
+        int i = e * d + a, j = e * d + b, i0 = i - d, j0 = j - d;
+        m[i * n + j] += s;
+        if (e == 0) continue;
+        m[i0 * n + j0] += s;
+        m[i0 * n + j] -= s;
+        m[i * n + j0] -= s;
+      }
+  }
+  for (int i = 0; i < n; i++) m[i * n + i] += 0.2 + 0.05 * i;
+}
+
+/* The frame of contact c: columns normal, t (2D) or normal, t1, t2 (3D), a
+ * rotation (by θ about z, then φ about x in 3D); d × d, row-major. */
+static void frame(int c, int d, double *f)
+{
+  double th = 0.4 * c + 0.3, ph = 0.25 * c - 0.2, ct = cos(th), st = sin(th);
+  if (d == 2)
+  {
+    f[0] = ct, f[1] = -st, f[2] = st, f[3] = ct;
+    return;
+  }
+  double cp = cos(ph), sp = sin(ph);
+  double rz[9] = {ct, -st, 0, st, ct, 0, 0, 0, 1}, rx[9] = {1, 0, 0, 0, cp, -sp, 0, sp, cp};
+  for (int i = 0; i < 3; i++)
+    for (int j = 0; j < 3; j++)
+    {
+      f[i * 3 + j] = 0.0;
+      for (int k = 0; k < 3; k++) f[i * 3 + j] += rz[i * 3 + k] * rx[k * 3 + j];
+    }
+}
+
+/* H (n × m, row-major): contact c between chain nodes c + 1 (its frame)
+ * and c (-0.3 times its frame). */
+static void make_h(int nc, int d, double *h)
+{
+  int n = (nc + 1) * d, m = nc * d;
+  double f[9];
+  memset(h, 0, (size_t)n * m * sizeof(double));
+  for (int c = 0; c < nc; c++)
+  {
+    frame(c, d, f);
+    for (int a = 0; a < d; a++)
+      for (int k = 0; k < d; k++)
+      {
+        h[((c + 1) * d + a) * m + c * d + k] = f[a * d + k];
+        h[(c * d + a) * m + c * d + k] = -0.3 * f[a * d + k];
+      }
+  }
+}
+
+/* A global problem (M v = H r + f, u = Hᵀ v + w) with a manufactured
+ * solution: r, u per contact as for the local problems, v chosen, then
+ * f = M v − H r and w = u − Hᵀ v. M stored by `m_storage`, H by
+ * `h_storage` (0 triplets, 1 columns, 2 rows). Prints "NAME r... u... v...". */
+static int write_global(const char *dir, const char *name, int nc, int d, const enum status *st,
+                        const double *mu, int m_storage, int h_storage, const char *title)
+{
+  int nn = nc + 1, n = nn * d, m = nc * d;
+  double *mm = malloc(n * n * sizeof(double)), *h = malloc(n * m * sizeof(double));
+  double *r = malloc(m * sizeof(double)), *u = malloc(m * sizeof(double)), *w = malloc(m * sizeof(double));
+  double *v = malloc(n * sizeof(double)), *f = malloc(n * sizeof(double));
+  make_m(nn, d, mm);
+  make_h(nc, d, h);
+  make_solution(nc, d, st, mu, r, u);
+  for (int i = 0; i < n; i++) v[i] = 0.3 * pseudo(i, 5);
+  for (int i = 0; i < n; i++)
+  {
+    f[i] = 0.0;
+    for (int j = 0; j < n; j++) f[i] += mm[i * n + j] * v[j];
+    for (int j = 0; j < m; j++) f[i] -= h[i * m + j] * r[j];
+  }
+  for (int j = 0; j < m; j++)
+  {
+    w[j] = u[j];
+    for (int i = 0; i < n; i++) w[j] -= h[i * m + j] * v[i];
+  }
+  struct fclib_info info = {(char *)title, "manufactured: chain of springs, f = M v - H r, w = u - H^T v", "M SPD"};
+  struct fclib_matrix *ms = m_storage == 0 ? triplet(n, n, mm) : compressed(n, n, mm, m_storage == 2);
+  struct fclib_matrix *hs = h_storage == 0 ? triplet(n, m, h) : compressed(n, m, h, h_storage == 2);
+  struct fclib_global g = {ms, hs, NULL, (double *)mu, f, NULL, w, d, &info};
   char path[4096];
-  snprintf(path, sizeof path, "%s/global.hdf5", dir);
+  snprintf(path, sizeof path, "%s/%s", dir, name);
   remove(path);
-  return fclib_write_global(&g, path);
+  if (!fclib_write_global(&g, path)) return 0;
+  printf("%s", name);
+  print_vector("r", m, r);
+  print_vector("u", m, u);
+  print_vector("v", n, v);
+  printf("\n");
+  free(mm), free(h), free(r), free(u), free(w), free(v), free(f);
+  return 1;
 }
 
 /* A mixed local problem (with V and R): refused by `local`. */
@@ -232,7 +335,9 @@ static int problems(const char *dir)
   return write_local(dir, "fc2d_triplet.hdf5", 5, 2, st2, mu2, 0, "2D: stick, slip, open, slip, stick")
       && write_local(dir, "fc3d_csc.hdf5", 4, 3, st3, mu3, 1, "3D: stick, slip, open, slip")
       && write_local(dir, "fc3d_csr.hdf5", 4, 3, st3, mu3, 2, "3D: stick, slip, open, slip")
-      && write_global(dir) && write_mixed(dir);
+      && write_global(dir, "global2d.hdf5", 5, 2, st2, mu2, 1, 0, "global 2D: stick, slip, open, slip, stick")
+      && write_global(dir, "global3d.hdf5", 4, 3, st3, mu3, 0, 1, "global 3D: stick, slip, open, slip")
+      && write_mixed(dir);
 }
 
 /* Reads r and u (W->m numbers each) on stdin into FILE's /solution. */
@@ -251,6 +356,23 @@ static int solution(const char *path)
   return ok;
 }
 
+/* Reads r, u (H->n numbers each) then v (M->m) on stdin into the global
+ * problem FILE's /solution. */
+static int global_solution(const char *path)
+{
+  struct fclib_global *p = fclib_read_global(path);
+  if (!p) return 0;
+  int m = p->H->n, n = p->M->m;
+  double *r = malloc(m * sizeof(double)), *u = malloc(m * sizeof(double)), *v = malloc(n * sizeof(double));
+  for (int i = 0; i < 2 * m + n; i++)
+    if (scanf("%lf", i < m ? &r[i] : i < 2 * m ? &u[i - m] : &v[i - 2 * m]) != 1) return 0;
+  struct fclib_solution s = {v, u, r, NULL};
+  int ok = fclib_write_solution(&s, path);
+  fclib_delete_global(p);
+  free(r), free(u), free(v);
+  return ok;
+}
+
 static int merit(const char *path)
 {
   struct fclib_local *p = fclib_read_local(path);
@@ -265,7 +387,8 @@ int main(int argc, char **argv)
   int ok = 0;
   if (argc == 3 && !strcmp(argv[1], "problems")) ok = problems(argv[2]);
   else if (argc == 3 && !strcmp(argv[1], "solution")) ok = solution(argv[2]);
+  else if (argc == 3 && !strcmp(argv[1], "global-solution")) ok = global_solution(argv[2]);
   else if (argc == 3 && !strcmp(argv[1], "merit")) ok = merit(argv[2]);
-  else fprintf(stderr, "usage: make_fclib problems DIR | solution FILE | merit FILE\n");
+  else fprintf(stderr, "usage: make_fclib problems DIR | solution FILE | global-solution FILE | merit FILE\n");
   return ok ? 0 : 1;
 }

@@ -8,6 +8,13 @@
    fc2d / fc3d NSGS to 1e-14), checks Siconos' forces against the problem's
    manufactured solution, and stores Siconos' r and u as the file's
    /solution through fclib_write_solution.
+2b. Each global problem likewise: condensed by NumPy (W = H^T M^-1 H,
+   q = H^T M^-1 f + w, dense solves), solved by Siconos' fc2d / fc3d NSGS on
+   that and, in 3D, by Siconos' own global solver (gfc3d, nonsmooth Newton
+   Alart-Curnier on M, H, f, w, no condensation) as a cross-check; its r, u
+   and v = M^-1 (H r + f) are stored as /solution, and NumPy's W and q as
+   NAME_condensed.npz (W, q, mu, dim: a local problem `signorini local`
+   reads) for tests/fclib.rs to compare with its own condensation.
 3. Copies the 3D problem into a file in HDF5's newest format (h5py,
    libver='latest': superblock v3, link messages, v2 object headers; its
    arrays chunked and deflated).
@@ -30,6 +37,7 @@ import siconos.numerics as sn
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 LOCAL = ["fc2d_triplet.hdf5", "fc3d_csc.hdf5", "fc3d_csr.hdf5"]
+GLOBAL = ["global2d.hdf5", "global3d.hdf5"]
 
 
 def build(tmp):
@@ -57,11 +65,8 @@ def dense(g):
     return w
 
 
-def siconos_solve(path):
-    with h5py.File(path, "r") as f:
-        loc = f["fclib_local"]
-        d = int(loc["spacedim"][0])
-        w, q, mu = dense(loc["W"]), loc["vectors/q"][()], loc["vectors/mu"][()]
+def siconos_local(d, w, q, mu):
+    """Siconos' fc2d / fc3d NSGS on u = W r + q, to 1e-14."""
     n = len(q)
     prefix = "SICONOS_FRICTION_2D_" if d == 2 else "SICONOS_FRICTION_3D_"
     so = sn.SolverOptions(getattr(sn, prefix + "NSGS"))
@@ -71,8 +76,57 @@ def siconos_solve(path):
     driver = sn.fc2d_driver if d == 2 else sn.fc3d_driver
     info = driver(sn.FrictionContactProblem(d, n // d, w, q, mu), r, u, so)
     err = so.dparam[sn.SICONOS_DPARAM_RESIDU]
-    assert info == 0 and err < 1e-13, (path, info, err)
+    assert info == 0 and err < 1e-13, (info, err)
     return r, u, err
+
+
+def siconos_solve(path):
+    with h5py.File(path, "r") as f:
+        loc = f["fclib_local"]
+        d = int(loc["spacedim"][0])
+        w, q, mu = dense(loc["W"]), loc["vectors/q"][()], loc["vectors/mu"][()]
+    return siconos_local(d, w, q, mu)
+
+
+def siconos_global_3d(m, h, f, w, mu):
+    """Siconos' global solver (gfc3d, nonsmooth Newton Alart-Curnier on the
+    global problem itself): r, v."""
+    p = sn.GlobalFrictionContactProblem()
+    p.dimension, p.numberOfContacts = 3, len(mu)
+    p.M, p.H, p.q, p.b, p.mu = m, h, f, w, mu
+    so = sn.SolverOptions(sn.SICONOS_GLOBAL_FRICTION_3D_NSN_AC)
+    so.dparam[sn.SICONOS_DPARAM_TOL] = 1e-14
+    so.iparam[sn.SICONOS_IPARAM_MAX_ITER] = 1000
+    r, u, v = np.zeros(len(w)), np.zeros(len(w)), np.zeros(len(f))
+    info = sn.gfc3d_driver(p, r, u, v, so)
+    assert info == 0, info
+    return r, v
+
+
+def solve_global(path, manufactured):
+    """Condenses a global problem with NumPy, solves it with Siconos, writes
+    NAME_condensed.npz and returns r, u, v and a summary line."""
+    with h5py.File(path, "r") as g:
+        gl = g["fclib_global"]
+        d = int(gl["spacedim"][0])
+        m, h = dense(gl["M"]), dense(gl["H"])
+        f, w, mu = gl["vectors/f"][()], gl["vectors/w"][()], gl["vectors/mu"][()]
+    wm = h.T @ np.linalg.solve(m, h)
+    wm = 0.5 * (wm + wm.T)
+    q = h.T @ np.linalg.solve(m, f) + w
+    np.savez(path.replace(".hdf5", "_condensed.npz"), W=wm, q=q, mu=mu, dim=np.array(d))
+    r, u, err = siconos_local(d, wm, q, mu)
+    v = np.linalg.solve(m, h @ r + f)
+    r0, u0, v0 = manufactured
+    gap = max(np.abs(r - r0).max() / np.abs(r0).max(), np.abs(v - v0).max() / np.abs(v0).max())
+    assert gap < 1e-10, (path, gap)
+    line = f"NSGS on NumPy's condensation error {err:.1e}, |(r, v) - manufactured| = {gap:.1e}"
+    if d == 3:
+        rg, vg = siconos_global_3d(m, h, f, w, mu)
+        cross = max(np.abs(rg - r).max() / np.abs(r).max(), np.abs(vg - v).max() / np.abs(v).max())
+        assert cross < 1e-10, (path, cross)
+        line += f", gfc3d NSN_AC (global) differs by {cross:.1e}"
+    return r, u, v, line
 
 
 def store_solutions(exe, manufactured):
@@ -86,6 +140,12 @@ def store_solutions(exe, manufactured):
         subprocess.run([exe, "solution", path], input=text, text=True, check=True)
         merit = subprocess.check_output([exe, "merit", path], text=True).strip() if name == "fc3d_csc.hdf5" else "-"
         print(f"{name}: Siconos NSGS error {err:.1e}, |r - manufactured| / |r| = {gap:.1e}, FCLib merit {merit}")
+    for name in GLOBAL:
+        path = os.path.join(HERE, name)
+        r, u, v, line = solve_global(path, manufactured[name])
+        text = " ".join("%.17g" % x for x in np.concatenate([r, u, v]))
+        subprocess.run([exe, "global-solution", path], input=text, text=True, check=True)
+        print(f"{name}: {line}")
 
 
 def copy_latest(src, dst):
@@ -142,7 +202,32 @@ BAD = [
     ("bad_asymmetric.hdf5", "fc3d_csc.hdf5", set_entry("fclib_local/W/x", 1, 7.0)),
     # W declared 2·10⁹ × 2·10⁹ (its dense copy: 32 EB), its arrays small
     ("bad_huge.hdf5", "fc2d_triplet.hdf5", lambda f: [replace(f, "fclib_local/W/" + k, [2_000_000_000]) for k in "mn"]),
+    # global problems
+    ("bad_global_g.hdf5", "global3d.hdf5", lambda f: add_g(f)),
+    ("bad_global_indefinite.hdf5", "global2d.hdf5", set_entry("fclib_global/M/x", 0, -5.0)),
+    ("bad_global_asymmetric.hdf5", "global2d.hdf5", set_entry("fclib_global/M/x", 1, 7.0)),
+    ("bad_global_h_rows.hdf5", "global3d.hdf5", lambda f: replace(f, "fclib_global/H/m", [12])),
+    ("bad_global_h_index.hdf5", "global3d.hdf5", set_entry("fclib_global/H/i", 3, 99)),
+    ("bad_global_m_index.hdf5", "global3d.hdf5", set_entry("fclib_global/M/p", 4, 15)),
+    ("bad_global_f_length.hdf5", "global3d.hdf5", lambda f: replace(f, "fclib_global/vectors/f", np.ones(14))),
+    ("bad_global_w_nan.hdf5", "global3d.hdf5", set_entry("fclib_global/vectors/w", 2, np.nan)),
+    ("bad_global_no_h.hdf5", "global2d.hdf5", lambda f: f.__delitem__("fclib_global/H")),
+    ("bad_global_spacedim.hdf5", "global2d.hdf5", lambda f: replace(f, "fclib_global/spacedim", [4])),
+    # M and H declared 2·10⁹ rows, f of 15 entries
+    ("bad_global_huge.hdf5", "global3d.hdf5",
+     lambda f: [replace(f, "fclib_global/" + k, [2_000_000_000]) for k in ["M/m", "M/n", "H/m"]]),
 ]
+
+
+def add_g(f):
+    """A G of 2 columns (equality constraints), as fclib_write_global stores a matrix."""
+    g = f.create_group("fclib_global/G")
+    for k, v in [("m", [15]), ("n", [2]), ("nz", [-1]), ("nzmax", [2])]:
+        g.create_dataset(k, data=np.array(v, dtype=np.int32))
+    g.create_dataset("p", data=np.array([0, 1, 2], dtype=np.int32))
+    g.create_dataset("i", data=np.array([0, 3], dtype=np.int32))
+    g.create_dataset("x", data=np.array([1.0, 1.0]))
+    f.create_dataset("fclib_global/vectors/b", data=np.zeros(2))
 
 
 def main():
@@ -152,13 +237,14 @@ def main():
         manufactured = {}
         for line in out.splitlines():
             name, rest = line.split(" r ")
-            r, u = rest.split(" u ")
-            manufactured[name] = (np.array(r.split(), float), np.array(u.split(), float))
+            r, rest = rest.split(" u ")
+            vectors = [r] + rest.split(" v ")
+            manufactured[name] = tuple(np.array(x.split(), float) for x in vectors)
         store_solutions(exe, manufactured)
     copy_latest(os.path.join(HERE, "fc3d_csc.hdf5"), os.path.join(HERE, "fc3d_csc_latest.hdf5"))
     for dst, src, edit in BAD:
         broken(src, dst, edit)
-    print(f"wrote {len(LOCAL)} local problems with Siconos' solutions, a global and a mixed problem, "
+    print(f"wrote {len(LOCAL)} local and {len(GLOBAL)} global problems with Siconos' solutions, a mixed problem, "
           f"fc3d_csc_latest.hdf5 and {len(BAD)} broken files in {HERE}")
 
 

@@ -123,8 +123,9 @@ fn reference_error_is_the_relative_distance_to_the_files_forces() {
     );
 }
 
-/// Damaged files (truncated anywhere, bytes overwritten) are read or
-/// refused, never a panic, a hang or a large allocation.
+/// Damaged files (truncated anywhere, bytes overwritten; local and global
+/// problems) are read or refused, never a panic, a hang or a large
+/// allocation.
 #[test]
 fn damaged_files_are_refused_without_a_panic() {
     let dir = std::env::temp_dir().join(format!("signorini-fclib-bad-{}", std::process::id()));
@@ -137,7 +138,7 @@ fn damaged_files_are_refused_without_a_panic() {
         seed
     };
     let (mut refused, mut read) = (0, 0);
-    for name in ["fc3d_csc.hdf5", "fc3d_csc_latest.hdf5"] {
+    for name in ["fc3d_csc.hdf5", "fc3d_csc_latest.hdf5", "global3d.hdf5"] {
         let good = std::fs::read(data(name)).unwrap();
         let mut cases: Vec<Vec<u8>> = (0..good.len())
             .step_by(64)
@@ -168,4 +169,116 @@ fn damaged_files_are_refused_without_a_panic() {
     }
     // Every truncation is refused; some overwritten bytes change nothing read.
     assert!(refused > 400 && read > 0, "refused {refused}, read {read}");
+}
+
+/// make_fclib.c's M of a chain of `nodes` nodes of d DOFs, row-major.
+fn generator_m(nodes: usize, d: usize) -> Vec<f64> {
+    let n = nodes * d;
+    let mut m = vec![0.0; n * n];
+    for e in 0..nodes {
+        let k = 1.0 + 0.5 * pseudo(e, 2 * e + 1);
+        for a in 0..d {
+            for b in 0..d {
+                let s = k * if a == b { 1.0 } else { 0.1 };
+                let (i, j) = (e * d + a, e * d + b);
+                m[i * n + j] += s;
+                if e > 0 {
+                    let (i0, j0) = (i - d, j - d);
+                    m[i0 * n + j0] += s;
+                    m[i0 * n + j] -= s;
+                    m[i * n + j0] -= s;
+                }
+            }
+        }
+    }
+    for i in 0..n {
+        m[i * n + i] += 0.2 + 0.05 * i as f64;
+    }
+    m
+}
+
+/// make_fclib.c's frame of contact c (columns n, t or n, t1, t2).
+fn generator_frame(c: usize, d: usize) -> Vec<f64> {
+    let (th, ph) = (0.4 * c as f64 + 0.3, 0.25 * c as f64 - 0.2);
+    let (ct, st, cp, sp) = (th.cos(), th.sin(), ph.cos(), ph.sin());
+    if d == 2 {
+        return vec![ct, -st, st, ct];
+    }
+    let rz = [ct, -st, 0.0, st, ct, 0.0, 0.0, 0.0, 1.0];
+    let rx = [1.0, 0.0, 0.0, 0.0, cp, -sp, 0.0, sp, cp];
+    (0..9)
+        .map(|ij| {
+            (0..3)
+                .map(|k| rz[ij / 3 * 3 + k] * rx[k * 3 + ij % 3])
+                .sum()
+        })
+        .collect()
+}
+
+/// make_fclib.c's H (n × m, row-major) of nc contacts.
+fn generator_h(nc: usize, d: usize) -> Vec<f64> {
+    let (n, m) = ((nc + 1) * d, nc * d);
+    let mut h = vec![0.0; n * m];
+    for c in 0..nc {
+        let f = generator_frame(c, d);
+        for a in 0..d {
+            for k in 0..d {
+                h[((c + 1) * d + a) * m + c * d + k] = f[a * d + k];
+                h[(c * d + a) * m + c * d + k] = -0.3 * f[a * d + k];
+            }
+        }
+    }
+    h
+}
+
+/// The global problems' W = Hᵀ M⁻¹ H and q = Hᵀ M⁻¹ f + w (f = M v − H r,
+/// w = u − Hᵀ v of the manufactured solution), by a dense Cholesky of
+/// the generator's M, and the manufactured (r, v).
+fn dense_condensation(d: usize) -> (Vec<f64>, Vec<f64>, Vec<f64>, Vec<f64>) {
+    use faer::prelude::Solve;
+    let nc = if d == 2 { 5 } else { 4 };
+    let (n, m) = ((nc + 1) * d, nc * d);
+    let mm = faer::Mat::<f64>::from_fn(n, n, |i, j| generator_m(nc + 1, d)[i * n + j]);
+    let h = faer::Mat::<f64>::from_fn(n, m, |i, j| generator_h(nc, d)[i * m + j]);
+    let (r, u) = generator_r_u(d);
+    let v: Vec<f64> = (0..n).map(|i| 0.3 * pseudo(i, 5)).collect();
+    let col = |x: &[f64]| faer::Mat::<f64>::from_fn(x.len(), 1, |i, _| x[i]);
+    let f = &mm * col(&v) - &h * col(&r);
+    let w = col(&u) - h.transpose() * col(&v);
+    let llt = mm.llt(faer::Side::Lower).unwrap();
+    let wm = h.transpose() * llt.solve(&h);
+    let q = h.transpose() * llt.solve(&f) + w;
+    let wm = (0..m * m).map(|k| wm[(k / m, k % m)]).collect();
+    (wm, (0..m).map(|i| q[(i, 0)]).collect(), r, v)
+}
+
+#[test]
+fn global_problems_condense_to_the_dense_reference() {
+    for (name, d) in [("global2d.hdf5", 2), ("global3d.hdf5", 3)] {
+        let p = load(&data(name)).unwrap();
+        let (w, q, r, v) = dense_condensation(d);
+        let wmax = w.iter().fold(0.0f64, |a, x| a.max(x.abs()));
+        let qmax = q.iter().fold(0.0f64, |a, x| a.max(x.abs()));
+        let (dw, dq) = (
+            max_diff(&file_order_w(&p), &w),
+            max_diff(&p.to_file_order(&p.q), &q),
+        );
+        assert!(
+            dw <= 1e-12 * wmax && dq <= 1e-12 * qmax,
+            "{name}: {dw:e}, {dq:e}"
+        );
+        // The same factor recovers the manufactured v from the manufactured r.
+        let g = p.global.as_ref().unwrap();
+        let vmax = v.iter().fold(0.0f64, |a, x| a.max(x.abs()));
+        assert!(max_diff(&g.velocity(&r), &v) <= 1e-12 * vmax, "{name}");
+        // Siconos' r and v are the file's /solution: their distance to ours.
+        assert!(g.reference_v_error(&r).unwrap() < 1e-12, "{name}");
+        let s = g.summary();
+        let n = (if d == 2 { 6 } else { 5 }) * d;
+        assert_eq!(
+            (s.n, s.nnz_m),
+            (n, 3 * d * d * (n / d) - 2 * d * d),
+            "{name}"
+        );
+    }
 }
