@@ -186,8 +186,11 @@ pub fn parse_size(text: &str) -> Result<u64, String> {
 /// `bytes` for a person: "850 MiB", "1.5 GiB", "41 GiB", "3.0 TiB".
 pub fn human(bytes: f64) -> String {
     const UNITS: [&str; 3] = ["GiB", "TiB", "PiB"];
+    if bytes < 1024.0 * 1024.0 {
+        return format!("{:.0} KiB", (bytes / 1024.0).ceil());
+    }
     if bytes < GIB {
-        return format!("{:.0} MiB", (bytes / 1024.0 / 1024.0).max(1.0));
+        return format!("{:.0} MiB", bytes / 1024.0 / 1024.0);
     }
     let mut v = bytes / GIB;
     for (i, unit) in UNITS.iter().enumerate() {

@@ -208,3 +208,12 @@ fn the_cuts_of_a_flat_box_in_parts_scale_with_its_thickness() {
     assert!((1.6..=2.0).contains(&(thick / slab)), "{thick} / {slab}");
     assert_eq!(with_parts("[80, 80, 4]", 1).interface_dofs, 0.0);
 }
+
+/// Sizes below a MiB in KiB (a `--max-memory 1K` was said to be 1 MiB).
+#[test]
+fn sizes_below_a_mib_are_said_in_kib() {
+    assert_eq!(human(1024.0), "1 KiB");
+    assert_eq!(human(1500.0), "2 KiB");
+    assert_eq!(human(1024.0 * 1024.0), "1 MiB");
+    assert_eq!(human(3.5 * 1024.0 * 1024.0 * 1024.0), "3.5 GiB");
+}
