@@ -103,18 +103,8 @@ fn solution(f: &Reader, name: &str, len: usize, rows: &str) -> Result<Option<Vec
     if !f.has_group("/solution")? || !f.members("/solution")?.1.iter().any(|d| d == name) {
         return Ok(None);
     }
-    let v = f.floats(&format!("/solution/{name}"))?;
-    if v.len() != len {
-        return Err(format!(
-            "{}: /solution/{name} has {} entries, {rows} {len} rows",
-            f.shown,
-            v.len()
-        ));
-    }
-    if let Some(k) = v.iter().position(|x| !x.is_finite()) {
-        return Err(format!("{}: /solution/{name}[{k}] is not finite", f.shown));
-    }
-    Ok(Some(v))
+    f.finite_vector(&format!("/solution/{name}"), len, rows)
+        .map(Some)
 }
 
 /// W's order m: W square, and its dense copies within the memory budget.
@@ -375,6 +365,23 @@ impl<'a> Reader<'a> {
             "{}: {name} cannot be read: a damaged or truncated file? ({e})",
             self.shown
         )
+    }
+
+    /// The dataset `path`: `len` finite numbers (`whose` says whose rows, in
+    /// messages: "W has").
+    fn finite_vector(&self, path: &str, len: usize, whose: &str) -> Result<Vec<f64>, String> {
+        let v = self.floats(path)?;
+        if v.len() != len {
+            return Err(format!(
+                "{}: {path} has {} entries, {whose} {len} rows",
+                self.shown,
+                v.len()
+            ));
+        }
+        if let Some(k) = v.iter().position(|x| !x.is_finite()) {
+            return Err(format!("{}: {path}[{k}] is not finite", self.shown));
+        }
+        Ok(v)
     }
 
     /// A dataset of numbers (floating point or integer) as f64.

@@ -173,19 +173,7 @@ fn sizes(f: &Reader) -> Result<(usize, usize), String> {
 
 /// `/fclib_global/vectors/{name}`: `len` finite numbers.
 fn vector(f: &Reader, name: &str, len: usize, whose: &str) -> Result<Vec<f64>, String> {
-    let path = format!("{GLOBAL}/vectors/{name}");
-    let v = f.floats(&path)?;
-    if v.len() != len {
-        return Err(format!(
-            "{}: {path} has {} entries, {whose} {len} rows",
-            f.shown,
-            v.len()
-        ));
-    }
-    if let Some(k) = v.iter().position(|x| !x.is_finite()) {
-        return Err(format!("{}: {path}[{k}] is not finite", f.shown));
-    }
-    Ok(v)
+    f.finite_vector(&format!("{GLOBAL}/vectors/{name}"), len, whose)
 }
 
 /// The sparse matrix group `group` of the given shape, duplicates summed.
