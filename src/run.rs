@@ -1,5 +1,6 @@
 //! `signorini check` and `signorini run`.
 
+use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::Instant;
@@ -25,7 +26,9 @@ pub(crate) fn check(path: &Path, solve_path: Option<SolvePath>) -> ExitCode {
         Ok(e) => e,
         Err(e) => return fail(1, &e.to_string()),
     };
-    if let Err(e) = read_file_meshes(&sc) {
+    if let Err(e) = read_file_meshes(&sc)
+        .and_then(|files| signorini_solver::model::check_surface_names(&sc, &files))
+    {
         return fail(1, &e.to_string());
     }
     say(&format!(
@@ -53,14 +56,19 @@ pub(crate) fn check(path: &Path, solve_path: Option<SolvePath>) -> ExitCode {
 /// must not call valid a scene whose mesh `run` refuses. Generator meshes
 /// are not built (their parameters are checked with the scene, and their
 /// size is what the memory estimate is for).
-fn read_file_meshes(sc: &signorini_scene::Scene) -> Result<(), SolveError> {
+/// Returns the surface names of each body read from a file.
+fn read_file_meshes(
+    sc: &signorini_scene::Scene,
+) -> Result<BTreeMap<String, Vec<String>>, SolveError> {
+    let mut surfaces = BTreeMap::new();
     for (bi, body) in sc.bodies.iter().enumerate() {
         if let Some(signorini_scene::MeshSpec::File { .. }) = &body.mesh {
             let entry = format!("bodies[{bi}]");
-            signorini_solver::model::build_mesh(body, &entry, sc.dimension as usize)?;
+            let mesh = signorini_solver::model::build_mesh(body, &entry, sc.dimension as usize)?;
+            surfaces.insert(body.name.clone(), mesh.surfaces.keys().cloned().collect());
         }
     }
-    Ok(())
+    Ok(surfaces)
 }
 
 pub(crate) fn run(

@@ -269,6 +269,45 @@ fn gmsh_file_without_the_surface_the_scene_names() {
     run.assert_bad_input(&["base", "bottom"]);
 }
 
+/// `signorini check` refuses a surface its body's mesh does not have, as
+/// `run` does (it said "valid scene"): a generator's surfaces, and a Gmsh
+/// file's physical groups; exit 1 naming the entry and the valid names.
+#[test]
+fn check_refuses_a_surface_the_mesh_does_not_have() {
+    let msh = format!("{}/examples/meshes/block2d.msh", env!("CARGO_MANIFEST_DIR"));
+    let generated = block_with("surface = \"top\"", "surface = \"lid\"");
+    let from_file = block_with(
+        "mesh = { generator = \"rectangle\", origin = [0.0, 0.0], size = [1.0, 0.5], divisions = [4, 2] }",
+        &format!("mesh = {{ file = \"{msh}\" }}"),
+    )
+    .replace("surface = \"bottom\"", "surface = \"base\"");
+    for (test, scene, needles) in [
+        (
+            "check_generator_surface",
+            generated,
+            ["boundary[", "\"lid\"", "bottom, left, right, top"],
+        ),
+        (
+            "check_gmsh_surface",
+            from_file,
+            ["contact[0].slave.surface", "\"base\"", "bottom"],
+        ),
+    ] {
+        let dir = fresh_dir(test);
+        std::fs::write(dir.join("scene.toml"), &scene).unwrap();
+        let output = Command::new(BIN)
+            .arg("check")
+            .arg(dir.join("scene.toml"))
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&output.stderr);
+        assert_eq!(output.status.code(), Some(1), "{test}: {err}");
+        for needle in needles {
+            assert!(err.contains(needle), "{test}: {needle} in {err}");
+        }
+    }
+}
+
 #[test]
 fn gmsh_file_that_does_not_exist() {
     let scene = block_with(

@@ -370,6 +370,18 @@ fn half_disk_grid(n: f64, grading: f64) -> (f64, f64, f64, f64, f64) {
     (nodes, quads, ns, m, nr)
 }
 
+/// The named surfaces of a body's generator mesh, as the generator names
+/// them (`None` for a Gmsh file or a rigid body): what `check` compares the
+/// scene's surfaces with without building the mesh.
+pub fn generator_surfaces(body: &scene::Body, dim: usize) -> Option<Vec<&'static str>> {
+    match body.mesh.as_ref()? {
+        scene::MeshSpec::Generator(_) => {
+            body_size(body, dim).map(|s| s.surfaces.iter().map(|&(name, _)| name).collect())
+        }
+        scene::MeshSpec::File { .. } => None,
+    }
+}
+
 /// The estimated size of a deformable body's mesh: its generator's counts
 /// in closed form, or a Gmsh file's announced node count.
 fn body_size(body: &scene::Body, dim: usize) -> Option<BodySize> {

@@ -171,6 +171,61 @@ pub fn point3(v: &[f64]) -> [f64; 3] {
     ]
 }
 
+/// Every surface a boundary condition or a contact names must be one of
+/// its body's mesh (`files`: those read from Gmsh files; generators name
+/// theirs), refused as `run` refuses it.
+pub fn check_surface_names(
+    sc: &scene::Scene,
+    files: &std::collections::BTreeMap<String, Vec<String>>,
+) -> Result<(), SolveError> {
+    let dim = sc.dimension as usize;
+    let known = |body: &str| -> Option<Vec<String>> {
+        files.get(body).cloned().or_else(|| {
+            let b = sc.body(body)?;
+            let mut names: Vec<String> = crate::memory::generator_surfaces(b, dim)?
+                .iter()
+                .map(|n| n.to_string())
+                .collect();
+            names.sort();
+            Some(names)
+        })
+    };
+    let named = sc
+        .boundary
+        .iter()
+        .enumerate()
+        .map(|(i, b)| (format!("boundary[{i}].surface"), &b.body, &b.surface))
+        .chain(sc.contact.iter().enumerate().flat_map(|(i, c)| {
+            [
+                (
+                    format!("contact[{i}].slave.surface"),
+                    &c.slave.body,
+                    &c.slave.surface,
+                ),
+                (
+                    format!("contact[{i}].master.surface"),
+                    &c.master.body,
+                    &c.master.surface,
+                ),
+            ]
+        }));
+    for (entry, body, surface) in named {
+        let (Some(surface), Some(names)) = (surface, known(body)) else {
+            continue;
+        };
+        if !names.contains(surface) {
+            return Err(SolveError::Input(format!(
+                "{entry}: body \"{body}\": {}",
+                signorini_mesh::MeshError::UnknownSurface {
+                    name: surface.clone(),
+                    known: names.join(", "),
+                }
+            )));
+        }
+    }
+    Ok(())
+}
+
 /// The mesh of a deformable body: a generator's, or a Gmsh file's (its
 /// physical groups of dimension d−1 are the surfaces).
 pub fn build_mesh(body: &scene::Body, entry: &str, dim: usize) -> Result<Mesh, SolveError> {

@@ -217,3 +217,30 @@ fn sizes_below_a_mib_are_said_in_kib() {
     assert_eq!(human(1024.0 * 1024.0), "1 MiB");
     assert_eq!(human(3.5 * 1024.0 * 1024.0 * 1024.0), "3.5 GiB");
 }
+
+/// `check` compares the scene's surfaces with these lists without building
+/// the mesh: they are the generators' own names, on every shipped example.
+#[test]
+fn generator_surfaces_are_those_the_generators_name() {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples");
+    let mut compared = 0;
+    for entry in std::fs::read_dir(dir).unwrap() {
+        let path = entry.unwrap().path();
+        if path.extension().is_none_or(|e| e != "toml") {
+            continue;
+        }
+        let sc = signorini_scene::load(&path).unwrap();
+        for b in &sc.bodies {
+            let Some(mut names) = generator_surfaces(b, sc.dimension as usize) else {
+                continue;
+            };
+            let mesh = crate::model::build_mesh(b, "body", sc.dimension as usize).unwrap();
+            let mut built: Vec<&str> = mesh.surfaces.keys().map(String::as_str).collect();
+            names.sort();
+            built.sort();
+            assert_eq!(names, built, "{}: body {}", path.display(), b.name);
+            compared += 1;
+        }
+    }
+    assert!(compared >= 10, "{compared} generator bodies compared");
+}
