@@ -209,23 +209,17 @@ fn check_accepts_blocks_and_writes_nothing() {
 /// solver does not support.
 const QUAD9_MSH: &str = "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n9\n1 0 0 0\n2 1 0 0\n3 1 1 0\n4 0 1 0\n5 0.5 0 0\n6 1 0.5 0\n7 0.5 1 0\n8 0 0.5 0\n9 0.5 0.5 0\n$EndNodes\n$Elements\n1\n1 10 2 1 1 1 2 3 4 5 6 7 8 9\n$EndElements\n";
 
+/// `BLOCK_ON_PLANE` meshed by the Gmsh file `file`.
+fn block_from_file(file: &str) -> String {
+    block_meshed(&format!("{{ file = \"{file}\" }}"))
+}
+
 #[test]
 fn gmsh_file_with_an_unsupported_element_type_is_named_and_counted() {
-    let scene = block_with(
-        "mesh = { generator = \"rectangle\", origin = [0.0, 0.0], size = [1.0, 0.5], divisions = [4, 2] }",
-        "mesh = { file = \"quad9.msh\" }",
-    );
-    let dir = fresh_dir("gmsh_unsupported");
-    std::fs::write(dir.join("quad9.msh"), QUAD9_MSH).unwrap();
-    std::fs::write(dir.join("scene.toml"), &scene).unwrap();
-    let output = Command::new(BIN)
-        .arg("run")
-        .arg(dir.join("scene.toml"))
-        .arg("--out")
-        .arg(dir.join("out"))
-        .output()
-        .unwrap();
-    let run = Run { dir, output };
+    let files = [("quad9.msh", QUAD9_MSH)];
+    let dir = scene_dir("gmsh_unsupported", &block_from_file("quad9.msh"), &files);
+    let out = dir.join("out");
+    let run = run_in(dir, "run", &["--out", out.to_str().unwrap()]);
     run.assert_bad_input(&["bodies[0].mesh", "9-node quadrangle", "1"]);
 }
 
@@ -233,38 +227,28 @@ fn gmsh_file_with_an_unsupported_element_type_is_named_and_counted() {
 fn check_reads_the_gmsh_files_run_would_refuse() {
     // `check` said "valid scene" (exit 0) for a scene whose Gmsh file `run`
     // refuses: it did not read file meshes at all.
-    let scene = block_with(
-        "mesh = { generator = \"rectangle\", origin = [0.0, 0.0], size = [1.0, 0.5], divisions = [4, 2] }",
-        "mesh = { file = \"quad9.msh\" }",
+    let files = [("quad9.msh", QUAD9_MSH)];
+    let dir = scene_dir(
+        "check_gmsh_unsupported",
+        &block_from_file("quad9.msh"),
+        &files,
     );
-    let dir = fresh_dir("check_gmsh_unsupported");
-    std::fs::write(dir.join("quad9.msh"), QUAD9_MSH).unwrap();
-    std::fs::write(dir.join("scene.toml"), &scene).unwrap();
-    let output = Command::new(BIN)
-        .arg("check")
-        .arg(dir.join("scene.toml"))
-        .output()
-        .unwrap();
-    let err = String::from_utf8_lossy(&output.stderr);
-    assert_eq!(output.status.code(), Some(1), "{err}");
-    for part in [
+    run_in(dir, "check", &[]).assert_bad_input(&[
         "bodies[0].mesh",
         "9-node quadrangle",
         "SecondOrderIncomplete",
-    ] {
-        assert!(err.contains(part), "{err}");
-    }
+    ]);
+}
+
+/// The shipped block2d.msh: it names bottom, top, left, right.
+fn block2d_msh() -> String {
+    format!("{}/examples/meshes/block2d.msh", env!("CARGO_MANIFEST_DIR"))
 }
 
 #[test]
 fn gmsh_file_without_the_surface_the_scene_names() {
-    // the shipped block2d.msh names bottom, top, left, right: not "base"
-    let msh = format!("{}/examples/meshes/block2d.msh", env!("CARGO_MANIFEST_DIR"));
-    let scene = block_with(
-        "mesh = { generator = \"rectangle\", origin = [0.0, 0.0], size = [1.0, 0.5], divisions = [4, 2] }",
-        &format!("mesh = {{ file = \"{msh}\" }}"),
-    )
-    .replace("surface = \"bottom\"", "surface = \"base\"");
+    let scene =
+        block_from_file(&block2d_msh()).replace("surface = \"bottom\"", "surface = \"base\"");
     let run = run_scene("gmsh_missing_surface", Some(&scene), &[]);
     run.assert_bad_input(&["base", "bottom"]);
 }
@@ -274,47 +258,26 @@ fn gmsh_file_without_the_surface_the_scene_names() {
 /// file's physical groups; exit 1 naming the entry and the valid names.
 #[test]
 fn check_refuses_a_surface_the_mesh_does_not_have() {
-    let msh = format!("{}/examples/meshes/block2d.msh", env!("CARGO_MANIFEST_DIR"));
     let generated = block_with("surface = \"top\"", "surface = \"lid\"");
-    let from_file = block_with(
-        "mesh = { generator = \"rectangle\", origin = [0.0, 0.0], size = [1.0, 0.5], divisions = [4, 2] }",
-        &format!("mesh = {{ file = \"{msh}\" }}"),
-    )
-    .replace("surface = \"bottom\"", "surface = \"base\"");
-    for (test, scene, needles) in [
-        (
-            "check_generator_surface",
-            generated,
-            ["boundary[", "\"lid\"", "bottom, left, right, top"],
-        ),
-        (
-            "check_gmsh_surface",
-            from_file,
-            ["contact[0].slave.surface", "\"base\"", "bottom"],
-        ),
-    ] {
-        let dir = fresh_dir(test);
-        std::fs::write(dir.join("scene.toml"), &scene).unwrap();
-        let output = Command::new(BIN)
-            .arg("check")
-            .arg(dir.join("scene.toml"))
-            .output()
-            .unwrap();
-        let err = String::from_utf8_lossy(&output.stderr);
-        assert_eq!(output.status.code(), Some(1), "{test}: {err}");
-        for needle in needles {
-            assert!(err.contains(needle), "{test}: {needle} in {err}");
-        }
-    }
+    let dir = scene_dir("check_generator_surface", &generated, &[]);
+    run_in(dir, "check", &[]).assert_bad_input(&[
+        "boundary[",
+        "\"lid\"",
+        "bottom, left, right, top",
+    ]);
+    let from_file =
+        block_from_file(&block2d_msh()).replace("surface = \"bottom\"", "surface = \"base\"");
+    let dir = scene_dir("check_gmsh_surface", &from_file, &[]);
+    run_in(dir, "check", &[]).assert_bad_input(&["contact[0].slave.surface", "\"base\"", "bottom"]);
 }
 
 #[test]
 fn gmsh_file_that_does_not_exist() {
-    let scene = block_with(
-        "mesh = { generator = \"rectangle\", origin = [0.0, 0.0], size = [1.0, 0.5], divisions = [4, 2] }",
-        "mesh = { file = \"nowhere.msh\" }",
+    let run = run_scene(
+        "gmsh_missing_file",
+        Some(&block_from_file("nowhere.msh")),
+        &[],
     );
-    let run = run_scene("gmsh_missing_file", Some(&scene), &[]);
     run.assert_bad_input(&["bodies[0].mesh", "nowhere.msh"]);
 }
 

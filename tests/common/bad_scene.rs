@@ -140,15 +140,31 @@ impl Run {
 /// --out DIR/out EXTRA...`.
 pub fn run_scene(test: &str, scene: Option<&str>, extra: &[&str]) -> Run {
     let dir = fresh_dir(test);
-    let scene_path = dir.join("scene.toml");
     if let Some(text) = scene {
-        std::fs::write(&scene_path, text).unwrap();
+        std::fs::write(dir.join("scene.toml"), text).unwrap();
     }
+    let out = dir.join("out");
+    let mut args = vec!["--out", out.to_str().unwrap()];
+    args.extend(extra);
+    run_in(dir, "run", &args)
+}
+
+/// A fresh directory for `test` holding `scene` as scene.toml and each
+/// `(name, text)` of `files` beside it (a mesh the scene reads).
+pub fn scene_dir(test: &str, scene: &str, files: &[(&str, &str)]) -> PathBuf {
+    let dir = fresh_dir(test);
+    std::fs::write(dir.join("scene.toml"), scene).unwrap();
+    for (name, text) in files {
+        std::fs::write(dir.join(name), text).unwrap();
+    }
+    dir
+}
+
+/// Runs `signorini COMMAND DIR/scene.toml EXTRA...` in `dir`.
+pub fn run_in(dir: PathBuf, command: &str, extra: &[&str]) -> Run {
     let output = Command::new(BIN)
-        .arg("run")
-        .arg(&scene_path)
-        .arg("--out")
-        .arg(dir.join("out"))
+        .arg(command)
+        .arg(dir.join("scene.toml"))
         .args(extra)
         .current_dir(&dir)
         .output()
