@@ -313,6 +313,28 @@ fn two_boxes_each_held_by_contact_agree_on_both_paths_in_3d() {
     );
 }
 
+/// Runs `text` on the condensed and the direct path: each must refuse it
+/// as bad input with a message holding every one of `needles`.
+fn refused_on_both_paths(text: &str, needles: &[&str]) {
+    for path in [SolvePath::Condensed, SolvePath::Direct] {
+        let opts = RunOptions {
+            method: None,
+            path: Some(path),
+        };
+        match try_run(text, opts) {
+            Err(SolveError::Input(msg)) => {
+                for needle in needles {
+                    assert!(msg.contains(needle), "{path:?}: {needle} in {msg}");
+                }
+            }
+            other => panic!(
+                "{path:?}: expected an input error, got {:?}",
+                other.map(|o| o.report.converged)
+            ),
+        }
+    }
+}
+
 /// Part b has no support at all: the frictionless ground holds neither its
 /// horizontal translation nor, on its own, part a's support does: a clear
 /// input error naming the body, on both paths.
@@ -327,22 +349,7 @@ fn a_part_that_nothing_holds_is_refused_by_the_body_name() {
     ]
     .concat();
     let text = scene("free_part", 2, &two_rectangles(), &rest);
-    for path in [SolvePath::Condensed, SolvePath::Direct] {
-        let opts = RunOptions {
-            method: None,
-            path: Some(path),
-        };
-        match try_run(&text, opts) {
-            Err(SolveError::Input(msg)) => {
-                assert!(msg.contains("body \"block\""), "{path:?}: {msg}");
-                assert!(msg.contains("free to move"), "{path:?}: {msg}");
-            }
-            other => panic!(
-                "{path:?}: expected an input error, got {:?}",
-                other.map(|o| o.report.converged)
-            ),
-        }
-    }
+    refused_on_both_paths(&text, &["body \"block\"", "free to move"]);
 }
 
 /// A body with no support and no contact at all: refused before anything
@@ -363,22 +370,10 @@ fn a_body_that_no_contact_touches_is_refused_on_both_paths() {
         displacement = { x = 0.0, y = -0.01 }\n\
         [[contact]]\nname = \"c\"\nslave = { body = \"block\", surface = \"bottom\" }\n\
         master = { body = \"floor\" }\n";
-    for path in [SolvePath::Condensed, SolvePath::Direct] {
-        let opts = RunOptions {
-            method: None,
-            path: Some(path),
-        };
-        match try_run(text, opts) {
-            Err(SolveError::Input(msg)) => assert!(
-                msg.contains("body \"loose\" is free to move: 3 of its rigid motions"),
-                "{path:?}: {msg}"
-            ),
-            other => panic!(
-                "{path:?}: expected an input error, got {:?}",
-                other.map(|o| o.report.converged)
-            ),
-        }
-    }
+    refused_on_both_paths(
+        text,
+        &["body \"loose\" is free to move: 3 of its rigid motions"],
+    );
 }
 
 /// Two quads of one body that meet at a single node: a hinge, which carries
@@ -400,23 +395,14 @@ fn a_hinged_mesh_is_refused_on_both_paths_naming_the_mesh() {
     ]
     .concat();
     let text = scene("hinge", 2, msh, &rest);
-    for path in [SolvePath::Condensed, SolvePath::Direct] {
-        let opts = RunOptions {
-            method: None,
-            path: Some(path),
-        };
-        match try_run(&text, opts) {
-            Err(SolveError::Input(msg)) => {
-                assert!(msg.contains("bodies[0].mesh"), "{msg}");
-                assert!(msg.contains("share the node at [1.0, 1.0, 0.0]"), "{msg}");
-                assert!(msg.contains("non-conforming"), "{msg}");
-            }
-            other => panic!(
-                "expected an input error, got {:?}",
-                other.map(|o| o.report.converged)
-            ),
-        }
-    }
+    refused_on_both_paths(
+        &text,
+        &[
+            "bodies[0].mesh",
+            "share the node at [1.0, 1.0, 0.0]",
+            "non-conforming",
+        ],
+    );
 }
 
 /// Three rectangles in one body (a Gmsh mesh of three pieces), each held in
