@@ -48,6 +48,30 @@ pub(crate) struct FclibProblem {
     pub global: Option<GlobalCondensation>,
 }
 
+impl FclibProblem {
+    /// The contact-wise problem W, q, μ of `dim` rows per contact (FCLib's
+    /// layout), with the file's reference forces and, for a global problem,
+    /// its condensation.
+    fn contact_wise(
+        (w, q, mu, dim): (Mat<f64>, Vec<f64>, Vec<f64>, usize),
+        reference_r: Option<Vec<f64>>,
+        global: Option<GlobalCondensation>,
+    ) -> Self {
+        let raw = Raw {
+            w,
+            q,
+            mu: Some(mu),
+            dim: Some(dim as f64),
+            normal_first: false,
+        };
+        Self {
+            raw,
+            reference_r,
+            global,
+        }
+    }
+}
+
 /// Reads `/fclib_local` (and `/solution/r`) of an FCLib file, or condenses
 /// its `/fclib_global` ([`condense_global`]).
 pub(crate) fn read(path: &Path) -> Result<FclibProblem, String> {
@@ -61,28 +85,15 @@ pub(crate) fn read(path: &Path) -> Result<FclibProblem, String> {
     let m = square_size(&f)?;
     // q first: a W whose m its file cannot back (q holds m numbers) is
     // refused before its dense m × m is allocated.
-    let q = f.floats(&format!("{LOCAL}/vectors/q"))?;
-    if q.len() != m {
-        return Err(format!(
-            "{shown}: {LOCAL}/vectors/q has {} entries, W has {m} rows",
-            q.len()
-        ));
-    }
+    let q = f.finite_vector(&format!("{LOCAL}/vectors/q"), m, "W has")?;
     let mu = f.floats(&format!("{LOCAL}/vectors/mu"))?;
     let reference_r = solution(&f, "r", m, "W has")?;
     let w = read_w(&f, m)?;
-    let raw = Raw {
-        w,
-        q,
-        mu: Some(mu),
-        dim: Some(dim as f64),
-        normal_first: false,
-    };
-    Ok(FclibProblem {
-        raw,
+    Ok(FclibProblem::contact_wise(
+        (w, q, mu, dim),
         reference_r,
-        global: None,
-    })
+        None,
+    ))
 }
 
 /// `{problem}/spacedim`, 2 or 3.

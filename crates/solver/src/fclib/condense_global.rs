@@ -43,7 +43,7 @@ use serde::Serialize;
 use super::{
     dense_within_budget, entries, shape, solution, spacedim, FclibProblem, Reader, GLOBAL,
 };
-use crate::problem_file::{Raw, NPY_COPIES};
+use crate::problem_file::NPY_COPIES;
 
 const M: &str = "/fclib_global/M";
 const H: &str = "/fclib_global/H";
@@ -124,18 +124,11 @@ pub(super) fn read(f: &Reader) -> Result<FclibProblem, String> {
     };
     let (wm, q) = g.condense(&w, BLOCK);
     g.condense_s = t.elapsed().as_secs_f64();
-    let raw = Raw {
-        w: wm,
-        q,
-        mu: Some(mu),
-        dim: Some(dim as f64),
-        normal_first: false,
-    };
-    Ok(FclibProblem {
-        raw,
+    Ok(FclibProblem::contact_wise(
+        (wm, q, mu, dim),
         reference_r,
-        global: Some(g),
-    })
+        Some(g),
+    ))
 }
 
 /// A `G` of p ≥ 1 columns (equality constraints) is refused.
