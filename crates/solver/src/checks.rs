@@ -10,6 +10,9 @@ use super::*;
 /// equilibrium: bad input, exit 1, with the unbalanced resultant. `e[bi]` is
 /// computed by the caller from its own load representation (the condensed
 /// load on Γ or the load on the free DOFs: both give the same work on R).
+/// That the contacts can hold every free rigid motion at all does not
+/// depend on the load: [`check_held_by_contacts`] checked it once, before
+/// the solve.
 pub(crate) fn check_floating_equilibrium(
     bodies: &[BodyModel],
     points: &[PointModel],
@@ -32,7 +35,6 @@ pub(crate) fn check_floating_equilibrium(
         if friction {
             check_friction_capacity(b, points, bi, fr, step)?;
         }
-        check_held(b, &gt)?;
         if res > 1e-8 * fmax.max(f64::MIN_POSITIVE) {
             return Err(SolveError::Input(format!(
                 "bodies[{}]: body \"{}\" cannot be in equilibrium at step {}: it has no support against {} rigid motion(s), and its external load (resultant {}) cannot be balanced by its contacts, which can only push along their normals; add a [[boundary]] displacement that holds it, or change the load",
@@ -127,10 +129,9 @@ pub(crate) fn held_by_friction(
         .filter(|(_, b)| !b.kernel.is_empty())
         .filter_map(|(bi, b)| {
             let gt = contact_on_rigid_modes(bi, b, points);
-            let normal = gt.subcols(0, m.min(gt.ncols())).to_owned();
-            let by_normal = unheld_modes(&normal).ok()?;
+            let by_normal = unheld_modes(&gt.subcols(0, m).to_owned()).ok()?;
             let by_all = unheld_modes(&gt).ok()?;
-            (gt.ncols() > m && by_normal > by_all).then(|| (b.name.clone(), by_normal - by_all))
+            (by_normal > by_all).then(|| (b.name.clone(), by_normal - by_all))
         })
         .collect()
 }
