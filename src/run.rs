@@ -55,8 +55,8 @@ pub(crate) fn check(path: &Path, solve_path: Option<SolvePath>) -> ExitCode {
 /// errors (an unsupported element type, lost physical groups...): `check`
 /// must not call valid a scene whose mesh `run` refuses. Generator meshes
 /// are not built (their parameters are checked with the scene, and their
-/// size is what the memory estimate is for).
-/// Returns the surface names of each body read from a file.
+/// size is what the memory estimate is for). Returns the surface names of
+/// each body read from a file, for [`signorini_solver::model::check_surface_names`].
 fn read_file_meshes(
     sc: &signorini_scene::Scene,
 ) -> Result<BTreeMap<String, Vec<String>>, SolveError> {
