@@ -69,7 +69,9 @@ pub(crate) struct ThresholdMap<'a, T> {
 /// Coulomb's residual (seed §4.3): max |Δλ_n| over the m points between the
 /// previous forces and the iterate.
 pub(crate) fn normal_change(previous: &[f64], next: &InnerSolve) -> f64 {
-    (0..next.statuses.len()).fold(0.0f64, |a, p| a.max((next.forces[p] - previous[p]).abs()))
+    (0..next.statuses.len()).fold(0.0f64, |a, p| {
+        crate::norms::nan_max(a, (next.forces[p] - previous[p]).abs())
+    })
 }
 
 /// Where the fixed point stopped: its last iterate, the residual after each
@@ -131,11 +133,17 @@ pub(crate) fn fixed_point<S: TrescaSolver>(
         let next = solver.solve(&thr, &last.forces)?;
         let fscale = opts
             .force_scale
-            .max(next.forces.iter().fold(0.0f64, |a, v| a.max(v.abs())))
+            .max(crate::norms::max_abs(&next.forces))
             .max(f64::MIN_POSITIVE);
         let res = (map.residual)(&last.forces, &next) / fscale;
         residuals.push(res);
         last = next;
+        if res.is_nan() {
+            let reason = StopReason::NonFinite {
+                iteration: outer + 1,
+            };
+            return Ok(stop(last, residuals, false, reason));
+        }
         if !last.converged && outer + 1 < opts.max_fixed_point && res > opts.tolerance {
             continue;
         }

@@ -9,6 +9,7 @@ use std::ops::Range;
 
 use faer::Mat;
 
+use crate::norms::{max_abs, nan_max, natural_map};
 use crate::solution::{ContactSolution, DualDetail, SolverReport, StopReason};
 use crate::ContactError;
 
@@ -76,16 +77,13 @@ pub fn lcp_residual(w: &Mat<f64>, q: &[f64], lambda: &[f64], opts: &LcpOptions) 
 
 /// [`lcp_residual`] from gaps g = W λ + q already computed.
 pub fn residual_from_gaps(lambda: &[f64], g: &[f64], opts: &LcpOptions) -> f64 {
-    let f = opts
-        .force_scale
-        .max(lambda.iter().fold(0.0f64, |a, v| a.max(v.abs())))
-        .max(f64::MIN_POSITIVE);
+    let f = opts.force_scale.max(max_abs(lambda)).max(f64::MIN_POSITIVE);
     let l = opts.gap_scale.max(f64::MIN_POSITIVE);
     lambda
         .iter()
         .zip(g)
-        .map(|(&lp, &gp)| (lp / f).min(gp / l).abs())
-        .fold(0.0, f64::max)
+        .map(|(&lp, &gp)| natural_map(lp / f, gp / l))
+        .fold(0.0, nan_max)
 }
 
 /// [`check_input`], then the solution of the empty problem when m = 0

@@ -31,6 +31,7 @@ pub mod lemke;
 pub mod mortar;
 pub mod mortar3d;
 pub mod mprgp;
+pub mod norms;
 pub mod observe;
 pub mod penalty;
 mod problem_scale;

@@ -177,6 +177,23 @@ fn project_ellipse(x: [f64; 2], a: [f64; 2]) -> [f64; 2] {
     ]
 }
 
+/// The trial z = D⁺ λ_t − c D Δs of a point's rows in the unit disc
+/// (D = diag(g), D⁺ its pseudo-inverse), with c and D⁺.
+fn scaled_trial(
+    x: &[f64],
+    y: &[f64],
+    rows: &[usize],
+    g: [f64; 2],
+    c: f64,
+) -> (f64, [f64; 2], [f64; 2]) {
+    let dinv = g.map(|gi| if gi > 0.0 { 1.0 / gi } else { 0.0 });
+    let mut z = [0.0; 2];
+    for (i, &r) in rows.iter().enumerate() {
+        z[i] = dinv[i] * x[r] - c * g[i] * y[r];
+    }
+    (c, dinv, z)
+}
+
 /// The Tresca problem with fixed semi-axes: its rows, thresholds and scales.
 struct Inner<'a> {
     problem: &'a DelassusProblem,
@@ -344,7 +361,12 @@ impl<'a> Inner<'a> {
             Scale::Check(c) => c,
         };
         let gbar = g[..rows.len()].iter().fold(0.0f64, |a, &v| a.max(v));
-        if gbar.is_infinite() || gbar <= 0.0 {
+        let (c, dinv, z) = scaled_trial(x, y, rows, g, rt / (gbar * gbar));
+        let nz = z[0].hypot(z[1]);
+        // A bound so small that c = ρ/ḡ² or z overflows (μ λ_n of a
+        // round-off λ_n) is a zero bound: the point carries no λ_t.
+        let negligible = !(c.is_finite() && nz.is_finite());
+        if gbar.is_infinite() || gbar <= 0.0 || negligible {
             for &r in rows {
                 if gbar.is_infinite() {
                     // No bound: stuck, Δs = 0.
@@ -361,13 +383,6 @@ impl<'a> Inner<'a> {
             }
             return;
         }
-        let c = rt / (gbar * gbar);
-        let dinv = g.map(|gi| if gi > 0.0 { 1.0 / gi } else { 0.0 });
-        let mut z = [0.0; 2];
-        for (i, &r) in rows.iter().enumerate() {
-            z[i] = dinv[i] * x[r] - c * g[i] * y[r];
-        }
-        let nz = z[0].hypot(z[1]);
         let pz = if nz <= 1.0 { z } else { [z[0] / nz, z[1] / nz] };
         for (i, &r) in rows.iter().enumerate() {
             f[r] = x[r] - g[i] * pz[i];
@@ -458,7 +473,8 @@ impl<'a> Inner<'a> {
 
     /// Why the Newton method stops at `x` after `iterations` iterations, if
     /// `x` meets the tolerance (on gaps computed afresh: those that followed
-    /// the steps are refreshed first); the observer (crate::observe) hears
+    /// the steps are refreshed first), or because `x` became non-finite
+    /// (a NaN residual is never met); the observer (crate::observe) hears
     /// of `x`.
     fn met(
         &self,
@@ -473,7 +489,7 @@ impl<'a> Inner<'a> {
             residual = self.check(x, opts);
         }
         let normal = &x.x[..self.layout.n_points()];
-        let lmax = normal.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+        let lmax = crate::norms::max_abs(normal);
         let tol_f = opts.tolerance * opts.force_scale.max(lmax);
         crate::observe::iteration(crate::observe::Iteration {
             method: "newton",
@@ -481,6 +497,11 @@ impl<'a> Inner<'a> {
             active: normal.iter().filter(|&&l| l > tol_f).count(),
             residual: residual / opts.tolerance.max(f64::MIN_POSITIVE),
         });
+        if residual.is_nan() {
+            return Some(StopReason::NonFinite {
+                iteration: iterations,
+            });
+        }
         (residual <= opts.tolerance).then_some(StopReason::NewtonConverged {
             residual,
             iterations,
@@ -492,11 +513,11 @@ impl<'a> Inner<'a> {
         let n = self.n();
         let fs = opts
             .force_scale
-            .max(x.x[..n].iter().fold(0.0f64, |a, v| a.max(v.abs())))
+            .max(crate::norms::max_abs(&x.x[..n]))
             .max(f64::MIN_POSITIVE);
         let c = fs / opts.gap_scale.max(f64::MIN_POSITIVE);
         let f = self.residual(x, Scale::Check(c), None);
-        f.iter().fold(0.0f64, |a, v| a.max(v.abs())) / fs
+        crate::norms::max_abs(&f) / fs
     }
 
     /// Accelerated projected gradient (FISTA with adaptive restart) on

@@ -320,6 +320,9 @@ pub enum StopReason {
     /// The semi-smooth Newton method's line search failed repeatedly (with
     /// floating bodies: no projected-gradient fallback).
     NewtonLineSearchFailed,
+    /// The iterate became non-finite (NaN) at this iteration: the method's
+    /// linear solves broke down; never an answer (see [`crate::norms`]).
+    NonFinite { iteration: usize },
     /// Tresca friction solved in one solve (no fixed point): its reason.
     Tresca(Box<StopReason>),
 }

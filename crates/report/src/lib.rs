@@ -199,6 +199,8 @@ pub struct Certificate {
 }
 
 impl Certificate {
+    /// The largest residual; NaN when one is NaN (an answer that broke
+    /// down), so that `max() <= tolerance` fails.
     pub fn max(&self) -> f64 {
         [
             self.equilibrium,
@@ -209,7 +211,13 @@ impl Certificate {
             self.law,
         ]
         .into_iter()
-        .fold(0.0, f64::max)
+        .fold(0.0, |a: f64, b| {
+            if a.is_nan() || b.is_nan() {
+                f64::NAN
+            } else {
+                a.max(b)
+            }
+        })
     }
 }
 

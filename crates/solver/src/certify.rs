@@ -2,6 +2,7 @@
 //! DESIGN.md §4, the per-step and per-point rows, and the final report.
 
 use super::*;
+use signorini_contact::norms::nan_max;
 
 /// The contact pressure at every point, its force over its tributary
 /// measure. A point whose consistent tributary measure vanishes — the corner
@@ -61,25 +62,29 @@ pub(crate) fn certificate_of(
         .filter(|p| !unilateral(p))
         .fold(0.0f64, |a, p| {
             let k = sol.law_k[p];
-            a.max((lambda[p] - k * (-gaps[p]).max(0.0)).abs() / fscale.max(k * lscale))
+            nan_max(
+                a,
+                (lambda[p] - k * (-gaps[p]).max(0.0)).abs() / fscale.max(k * lscale),
+            )
         });
     Certificate {
         equilibrium: res.equilibrium / res.force_scale.max(fscale),
         penetration: (0..gaps.len())
             .filter(unilateral)
-            .fold(0.0f64, |a, p| a.max(-gaps[p]))
+            .fold(0.0f64, |a, p| nan_max(a, -gaps[p]))
             / lscale,
-        tension: lambda.iter().fold(0.0f64, |a, &l| a.max(-l)) / fscale,
+        tension: lambda.iter().fold(0.0f64, |a, &l| nan_max(a, -l)) / fscale,
         complementarity: (0..gaps.len())
             .filter(unilateral)
-            .fold(0.0f64, |a, p| a.max((gaps[p] * lambda[p]).abs()))
+            .fold(0.0f64, |a, p| nan_max(a, (gaps[p] * lambda[p]).abs()))
             / (lscale * fscale),
         cone: sol.friction.as_ref().map_or(0.0, |f| {
-            f.cone_excess.iter().fold(0.0f64, |a, &c| a.max(c)) / fscale
+            f.cone_excess.iter().fold(0.0f64, |a, &c| nan_max(a, c)) / fscale
         }),
         dissipation: sol.friction.as_ref().map_or(0.0, |f| {
             (0..lambda.len()).fold(0.0f64, |a, p| {
-                a.max(
+                nan_max(
+                    a,
                     (f.tangential[p] + f.back_force[p]) * f.slip_increment[p]
                         + (f.tangential2[p] + f.back_force2[p]) * f.slip_increment2[p],
                 )
@@ -162,7 +167,7 @@ fn record_convergence(partial: &mut Partial, si: usize, sol: &StepSolution, cert
             failure += "; raise [solver] max_iterations, or use a method that needs fewer iterations (status, mprgp)";
         }
         partial.failure.get_or_insert(failure);
-    } else if cert.max() > cert.tolerance {
+    } else if !(cert.max() <= cert.tolerance) {
         partial.converged = false;
         let mut failure = format!(
             "step {}: the certificate residual {:.3e} exceeds the tolerance {:.1e}",

@@ -101,7 +101,7 @@ pub struct RunOptions {
 }
 
 fn inf_norm(v: &[f64]) -> f64 {
-    v.iter().fold(0.0f64, |m, x| m.max(x.abs()))
+    signorini_contact::norms::max_abs(v)
 }
 
 fn contact_error(e: ContactError) -> SolveError {

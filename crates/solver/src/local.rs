@@ -13,6 +13,7 @@ use std::time::Instant;
 use serde::Serialize;
 use signorini_contact::friction::{FrictionLaw, FrictionLayout, FrictionOptions, PointStatus};
 use signorini_contact::lcp::{lcp_residual, LcpOptions};
+use signorini_contact::norms::{max_abs, nan_max, natural_map};
 use signorini_contact::registry::Algorithm;
 
 pub use crate::fclib::{GlobalCondensation, GlobalSummary};
@@ -157,7 +158,7 @@ pub fn coulomb_residual(p: &LocalProblem, r: &[f64], g: &[f64], f: f64, gap: f64
     let mu = p.mu.as_deref().unwrap_or(&[]);
     let mut worst = 0.0f64;
     for c in 0..m {
-        worst = worst.max((r[c] / f).min(g[c] / gap).abs());
+        worst = nan_max(worst, natural_map(r[c] / f, g[c] / gap));
         let Some(&mu_c) = mu.get(c) else { continue };
         let rows: Vec<usize> = (0..d - 1).map(|k| m + (d - 1) * c + k).collect();
         let trial: Vec<f64> = rows.iter().map(|&t| r[t] - f / gap * g[t]).collect();
@@ -165,7 +166,7 @@ pub fn coulomb_residual(p: &LocalProblem, r: &[f64], g: &[f64], f: f64, gap: f64
         let radius = mu_c * r[c].max(0.0);
         let shrink = if norm > radius { radius / norm } else { 1.0 };
         for (k, &t) in rows.iter().enumerate() {
-            worst = worst.max((r[t] - shrink * trial[k]).abs() / f);
+            worst = nan_max(worst, (r[t] - shrink * trial[k]).abs() / f);
         }
     }
     worst
@@ -238,7 +239,8 @@ pub fn solve_friction(
     .map_err(|e| e.to_string())?;
     let time_s = t.elapsed().as_secs_f64();
     let (global, reference_v_error) = global_fields(p, &out.forces);
-    let f = force_scale.max(out.forces.iter().fold(0.0f64, |a, v| a.max(v.abs())));
+    let f = force_scale.max(max_abs(&out.forces));
+    let residual = coulomb_residual(p, &out.forces, &out.gaps, f, gap_scale);
     Ok(LocalResult {
         problem: name.to_string(),
         method: match (d, method) {
@@ -249,12 +251,12 @@ pub fn solve_friction(
         .to_string(),
         m,
         dim: d,
-        converged: out.report.converged,
+        converged: out.report.converged && solves_the_lcp(residual, tolerance),
         iterations: out.report.iterations,
         operator_applications: problem.solves,
         time_s,
         repeats: 1,
-        residual: coulomb_residual(p, &out.forces, &out.gaps, f, gap_scale),
+        residual,
         active: out
             .friction
             .points

@@ -340,3 +340,30 @@ fn newton_steps_in_recycled_storage_match_the_full_solve() {
         "one block size only: {sizes:?}"
     );
 }
+
+/// A bound μ λ_n of a round-off λ_n (1e-170: ḡ² underflows, c = ρ/ḡ² is
+/// infinite) is a zero bound: the residual is finite and asks λ_t = 0,
+/// where it was NaN — which a stopping test reading f64::max took for zero
+/// (a pile of 64 rigid spheres "converged" to NaN forces).
+#[test]
+fn a_bound_of_round_off_is_a_zero_bound_not_a_nan() {
+    let w = random_spd(3, &mut XorShift(5));
+    let p = DelassusProblem::from_operator(w, vec![-1.0, 0.3, -0.2]);
+    let layout = FrictionLayout {
+        tangent_rows: vec![vec![1, 2]],
+        law: vec![FrictionLaw::coulomb(0.3)],
+        shadow: vec![None],
+    };
+    let x = [1.0, 0.25, -0.5];
+    for (tiny, scale) in [
+        (1e-170, Scale::Check(1.0)),
+        (1e-170, Scale::Newton),
+        (0.0, Scale::Newton),
+    ] {
+        let thr = [[tiny; 2]];
+        let inner = Inner::new(&p, &layout, &thr);
+        let f = inner.residual(&inner.iterate(x.to_vec()), scale, None);
+        assert!(f.iter().all(|v| v.is_finite()), "bound {tiny:e}: {f:?}");
+        assert_eq!(&f[1..], &x[1..], "bound {tiny:e}: λ_t driven to zero");
+    }
+}

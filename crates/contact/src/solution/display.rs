@@ -211,6 +211,10 @@ impl fmt::Display for StopReason {
             NewtonConverged { .. } | NewtonLimit { .. } | NewtonLineSearchFailed => {
                 self.fmt_newton(f)
             }
+            NonFinite { iteration } => write!(
+                f,
+                "the iterate became non-finite (NaN) at iteration {iteration}: the method's linear solves broke down (W singular or badly conditioned); try another method"
+            ),
         }
     }
 }
