@@ -199,6 +199,11 @@ pub struct Certificate {
 }
 
 impl Certificate {
+    /// Whether every residual is within the tolerance (false when one is NaN).
+    pub fn met(&self) -> bool {
+        self.max() <= self.tolerance
+    }
+
     /// The largest residual; NaN when one is NaN (an answer that broke
     /// down), so that `max() <= tolerance` fails.
     pub fn max(&self) -> f64 {

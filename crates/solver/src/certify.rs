@@ -167,7 +167,7 @@ fn record_convergence(partial: &mut Partial, si: usize, sol: &StepSolution, cert
             failure += "; raise [solver] max_iterations, or use a method that needs fewer iterations (status, mprgp)";
         }
         partial.failure.get_or_insert(failure);
-    } else if !(cert.max() <= cert.tolerance) {
+    } else if !cert.met() {
         partial.converged = false;
         let mut failure = format!(
             "step {}: the certificate residual {:.3e} exceeds the tolerance {:.1e}",
@@ -283,7 +283,7 @@ fn step_report(
         active: outcome.active.len(),
         sticking,
         slipping,
-        converged: outcome.report.converged && cert.max() <= cert.tolerance,
+        converged: outcome.report.converged && cert.met(),
         stopping_reason: outcome.report.stop.to_string(),
         active_history: outcome.statuses.active_history.clone(),
         cycle_detected_at: outcome.statuses.cycle_detected_at,
