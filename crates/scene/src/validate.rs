@@ -4,7 +4,7 @@
 
 use crate::output::*;
 use crate::types::*;
-use crate::SceneError;
+use crate::{SceneError, Shown};
 use std::collections::{BTreeMap, BTreeSet};
 
 mod generators;
@@ -107,7 +107,7 @@ fn positive(entry: &str, v: f64) -> Result {
     if v.is_finite() && v > 0.0 {
         Ok(())
     } else {
-        Err(invalid(entry, format!("must be > 0, got {v}")))
+        Err(invalid(entry, format!("must be > 0, got {}", Shown(v))))
     }
 }
 
@@ -131,13 +131,16 @@ fn check_radius2(r: &Reference, v: f64) -> Result {
     if !(v.is_finite() && v != 0.0) {
         return Err(invalid(
             entry,
-            format!("must be a finite non-zero radius (> 0 convex, < 0 a concave seat), got {v}"),
+            format!(
+                "must be a finite non-zero radius (> 0 convex, < 0 a concave seat), got {}",
+                Shown(v)
+            ),
         ));
     }
     match r.radius {
         Some(r1) if v < 0.0 && -v <= r1 => Err(invalid(
             entry,
-            format!("a concave seat (radius2 < 0) must be wider than the body in it: |{v}| <= radius = {r1}"),
+            format!("a concave seat (radius2 < 0) must be wider than the body in it: |{}| <= radius = {}", Shown(v), Shown(r1)),
         )),
         Some(_) => Ok(()),
         None => Err(invalid(entry, "needs `radius`, the first body's radius")),
@@ -148,7 +151,7 @@ fn non_negative(entry: &str, v: f64) -> Result {
     if v.is_finite() && v >= 0.0 {
         Ok(())
     } else {
-        Err(invalid(entry, format!("must be >= 0, got {v}")))
+        Err(invalid(entry, format!("must be >= 0, got {}", Shown(v))))
     }
 }
 
@@ -156,7 +159,10 @@ fn finite(entry: &str, v: f64) -> Result {
     if v.is_finite() {
         Ok(())
     } else {
-        Err(invalid(entry, format!("must be a finite number, got {v}")))
+        Err(invalid(
+            entry,
+            format!("must be a finite number, got {}", Shown(v)),
+        ))
     }
 }
 
@@ -165,7 +171,7 @@ fn finite_all(entry: &str, v: &[f64]) -> Result {
         None => Ok(()),
         Some(i) => Err(invalid(
             entry,
-            format!("component {i} must be a finite number, got {}", v[i]),
+            format!("component {i} must be a finite number, got {}", Shown(v[i])),
         )),
     }
 }
@@ -199,7 +205,10 @@ fn grading_ratio(entry: &str, v: f64) -> Result {
     } else {
         Err(invalid(
             entry,
-            format!("must be >= 1 (largest over smallest element size; 1 = uniform), got {v}"),
+            format!(
+                "must be >= 1 (largest over smallest element size; 1 = uniform), got {}",
+                Shown(v)
+            ),
         ))
     }
 }
@@ -267,7 +276,7 @@ impl Scene {
             if !(m.poisson.is_finite() && m.poisson > -1.0 && m.poisson < 0.5) {
                 return Err(invalid(
                     format!("{e}.poisson"),
-                    format!("must satisfy -1 < poisson < 0.5, got {}", m.poisson),
+                    format!("must satisfy -1 < poisson < 0.5, got {}", Shown(m.poisson)),
                 ));
             }
         }
@@ -558,7 +567,7 @@ impl Scene {
                 if !(d.is_finite() && d > 0.0) {
                     return Err(invalid(
                         format!("{e}.search_distance"),
-                        format!("must be a positive finite length (in the scene's units), got {d}; leave it out to keep every slave node a contact candidate"),
+                        format!("must be a positive finite length (in the scene's units), got {}; leave it out to keep every slave node a contact candidate", Shown(d)),
                     ));
                 }
             }
@@ -644,7 +653,7 @@ impl Scene {
         if !(t.is_finite() && t > 0.0 && t < 1.0) {
             return Err(invalid(
                 "solver.tolerance",
-                format!("must satisfy 0 < tolerance < 1, got {t}"),
+                format!("must satisfy 0 < tolerance < 1, got {}", Shown(t)),
             ));
         }
         if !(self.solver.penalty > 0.0 && self.solver.penalty.is_finite()) {
@@ -652,7 +661,7 @@ impl Scene {
                 "solver.penalty",
                 format!(
                     "must be a positive multiple of the contact stiffness, got {}",
-                    self.solver.penalty
+                    Shown(self.solver.penalty)
                 ),
             ));
         }
@@ -830,7 +839,7 @@ fn validate_friction(e: &str, friction: &Friction, dim: usize) -> Result {
             if !(rho.is_finite() && *rho > 0.0 && *rho < 1.0) {
                 return Err(invalid(
                     format!("{e}.friction.rho"),
-                    format!("must satisfy 0 < rho < 1, got {rho}"),
+                    format!("must satisfy 0 < rho < 1, got {}", Shown(*rho)),
                 ));
             }
         }
