@@ -199,14 +199,38 @@ fn non_zero(entry: &str, v: &[f64]) -> Result {
     }
 }
 
+/// The largest grading ratio: beyond, the smallest elements are lost in the
+/// round-off of the body's coordinates (a hemisphere graded 1e30 has
+/// degenerate cells, 1e100 NaN nodes).
+const MAX_GRADING: f64 = 1e12;
+
 fn grading_ratio(entry: &str, v: f64) -> Result {
-    if v.is_finite() && v >= 1.0 {
+    if (1.0..=MAX_GRADING).contains(&v) {
         Ok(())
     } else {
         Err(invalid(
             entry,
             format!(
-                "must be >= 1 (largest over smallest element size; 1 = uniform), got {}",
+                "must be between 1 and {MAX_GRADING:e} (largest over smallest element size; 1 = uniform; beyond, the smallest elements are lost in the round-off of the coordinates), got {}",
+                Shown(v)
+            ),
+        ))
+    }
+}
+
+/// The largest friction coefficient: μ times a normal force must stay
+/// within double precision (μ = 1e200 overflowed the 3D thresholds).
+const MAX_FRICTION_COEFFICIENT: f64 = 1e100;
+
+fn friction_coefficient(entry: &str, v: f64) -> Result {
+    non_negative(entry, v)?;
+    if v <= MAX_FRICTION_COEFFICIENT {
+        Ok(())
+    } else {
+        Err(invalid(
+            entry,
+            format!(
+                "must be <= {MAX_FRICTION_COEFFICIENT:e} (μ times the normal force would overflow double precision; a contact that must stick is held by any μ above its tangential over normal force), got {}",
                 Shown(v)
             ),
         ))
@@ -810,7 +834,7 @@ fn validate_friction(e: &str, friction: &Friction, dim: usize) -> Result {
                         }
                     }
             for mu in coefficient {
-                non_negative(&fe, *mu)?;
+                friction_coefficient(&fe, *mu)?;
             }
             if coefficient.len() == 2 && coefficient.contains(&0.0) && coefficient != &[0.0, 0.0] {
                 return Err(invalid(
@@ -835,7 +859,7 @@ fn validate_friction(e: &str, friction: &Friction, dim: usize) -> Result {
             }
         }
         Friction::NortonHoff { coefficient, rho } => {
-            non_negative(&format!("{e}.friction.norton_hoff"), *coefficient)?;
+            friction_coefficient(&format!("{e}.friction.norton_hoff"), *coefficient)?;
             if !(rho.is_finite() && *rho > 0.0 && *rho < 1.0) {
                 return Err(invalid(
                     format!("{e}.friction.rho"),
