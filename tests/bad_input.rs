@@ -546,6 +546,18 @@ fn sweep() -> Vec<Bad> {
         // a modulus whose stiffness overflows or underflows double precision
         bad("young_1e308", block_with("young = 1.0", "young = 1e308"), &["materials[0].young", "outside", "other units"]),
         bad("young_1e-310", block_with("young = 1.0", "young = 1e-310"), &["materials[0].young", "outside"]),
+        // extreme numbers are shown as written (1e-300), not as hundreds of
+        // digits; a 3D point has its z (found by a third robustness sweep)
+        bad("grading_1e-300", half("divisions = 8, grading = 1e-300"), &["bodies[0].mesh.grading", "got 1e-300"]),
+        bad("tolerance_1e300", format!("{BLOCK_ON_PLANE}\n[solver]\ntolerance = 1e300\n"), &["solver.tolerance", "got 1e300"]),
+        bad("pin_at_1e300", block_with("point = [0.0, 0.5]", "point = [1e300, 0.5]"), &["boundary[0].point", "no node at (1e300, 0.5)"]),
+        bad("pin_above_a_3d_box", BOX_ON_PLANE.replacen("surface = \"xmin\"", "point = [0.0, 0.0, 0.7]", 1), &["boundary[0].point", "no node at (0, 0, 0.7)", "nearest is (0, 0, 0.5)"]),
+        // inputs that ended in an internal error (exit 3): a grading whose
+        // smallest cells are NaN, μ·λ_n overflowing the 3D thresholds, a plane
+        // normal whose length underflows (found by a third robustness sweep)
+        bad("hemisphere_grading_1e100", hemisphere("divisions = 4, grading = 1e100"), &["bodies[0].mesh.grading", "between 1 and 1e12", "got 1e100"]),
+        bad("coulomb_1e200_in_3d", BOX_ON_PLANE.replacen("master = { body = \"ground\" }", "master = { body = \"ground\" }\nfriction = { coulomb = 1e200 }", 1), &["contact \"box-ground\".friction", "<= 1e100", "got 1e200"]),
+        bad("plane_normal_1e-300", BOX_ON_PLANE.replacen("normal = [0.0, 0.0, 1.0]", "normal = [1e-300, 1e-300, 1e-300]", 1), &["bodies[1].rigid.normal", "normalised"]),
         // a line of 200 000 characters: the message quotes a window of it
         bad("very_long_line", format!("x = [{}]\n{BLOCK_ON_PLANE}", vec!["1"; 40_000].join(", ")), &["unknown field `x`", "line 1"]),
     ]

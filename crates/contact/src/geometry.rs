@@ -750,12 +750,19 @@ pub fn node_to_node_pairing(
             continue;
         }
         let n = choose_normal(rule, n_m, n_s, x, xm, scale);
-        // The facing node must lie along the normal: a tangential offset
-        // means the meshes do not match.
+        // The facing node must lie along the surface's normal: a tangential
+        // offset means the meshes do not match. The points rule's normal
+        // joins the two nodes whatever their offset, so its check takes the
+        // master's normal.
+        let facing = if matches!(rule, NormalRule::Points) {
+            n_m
+        } else {
+            n
+        };
         let tangential = norm([
-            d[0] - dot(d, n) * n[0],
-            d[1] - dot(d, n) * n[1],
-            d[2] - dot(d, n) * n[2],
+            d[0] - dot(d, facing) * facing[0],
+            d[1] - dot(d, facing) * facing[1],
+            d[2] - dot(d, facing) * facing[2],
         ]);
         if tangential > 1e-6 * scale.max(f64::MIN_POSITIVE) {
             let at = if three_d {

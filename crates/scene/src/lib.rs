@@ -32,6 +32,7 @@ mod types;
 mod validate;
 
 pub use output::*;
+pub use serde_impls::Shown;
 pub use types::*;
 pub use validate::MAX_STEPS;
 

@@ -465,12 +465,24 @@ impl Serialize for Subdomains {
 
 // ---------------------------------------------------------------- whole numbers
 
-/// `v` as it would be written in a scene file (`-8`, `8.5`, `1e30`, `NaN`).
-fn show_f64(v: f64) -> String {
-    if v.is_finite() && v.abs() >= 1e15 {
-        format!("{v:e}")
-    } else {
-        format!("{v}")
+/// `v` as it would be written in a scene file (`-8`, `8.5`, `1e30`, `1e-300`,
+/// `NaN`): a few characters, never the hundreds of digits `{}` gives 1e300.
+pub(crate) fn show_f64(v: f64) -> String {
+    Shown(v).to_string()
+}
+
+/// Displays a number of the scene in a message as [`show_f64`] does: in
+/// exponent form when very large or very small, as written otherwise.
+pub struct Shown(pub f64);
+
+impl fmt::Display for Shown {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let v = self.0;
+        if v.is_finite() && (v.abs() >= 1e15 || (v != 0.0 && v.abs() < 1e-5)) {
+            write!(f, "{v:e}")
+        } else {
+            write!(f, "{v}")
+        }
     }
 }
 

@@ -4,7 +4,7 @@
 
 use crate::output::*;
 use crate::types::*;
-use crate::SceneError;
+use crate::{SceneError, Shown};
 use std::collections::{BTreeMap, BTreeSet};
 
 mod generators;
@@ -107,7 +107,7 @@ fn positive(entry: &str, v: f64) -> Result {
     if v.is_finite() && v > 0.0 {
         Ok(())
     } else {
-        Err(invalid(entry, format!("must be > 0, got {v}")))
+        Err(invalid(entry, format!("must be > 0, got {}", Shown(v))))
     }
 }
 
@@ -131,13 +131,16 @@ fn check_radius2(r: &Reference, v: f64) -> Result {
     if !(v.is_finite() && v != 0.0) {
         return Err(invalid(
             entry,
-            format!("must be a finite non-zero radius (> 0 convex, < 0 a concave seat), got {v}"),
+            format!(
+                "must be a finite non-zero radius (> 0 convex, < 0 a concave seat), got {}",
+                Shown(v)
+            ),
         ));
     }
     match r.radius {
         Some(r1) if v < 0.0 && -v <= r1 => Err(invalid(
             entry,
-            format!("a concave seat (radius2 < 0) must be wider than the body in it: |{v}| <= radius = {r1}"),
+            format!("a concave seat (radius2 < 0) must be wider than the body in it: |{}| <= radius = {}", Shown(v), Shown(r1)),
         )),
         Some(_) => Ok(()),
         None => Err(invalid(entry, "needs `radius`, the first body's radius")),
@@ -148,7 +151,7 @@ fn non_negative(entry: &str, v: f64) -> Result {
     if v.is_finite() && v >= 0.0 {
         Ok(())
     } else {
-        Err(invalid(entry, format!("must be >= 0, got {v}")))
+        Err(invalid(entry, format!("must be >= 0, got {}", Shown(v))))
     }
 }
 
@@ -156,7 +159,10 @@ fn finite(entry: &str, v: f64) -> Result {
     if v.is_finite() {
         Ok(())
     } else {
-        Err(invalid(entry, format!("must be a finite number, got {v}")))
+        Err(invalid(
+            entry,
+            format!("must be a finite number, got {}", Shown(v)),
+        ))
     }
 }
 
@@ -165,7 +171,7 @@ fn finite_all(entry: &str, v: &[f64]) -> Result {
         None => Ok(()),
         Some(i) => Err(invalid(
             entry,
-            format!("component {i} must be a finite number, got {}", v[i]),
+            format!("component {i} must be a finite number, got {}", Shown(v[i])),
         )),
     }
 }
@@ -193,13 +199,40 @@ fn non_zero(entry: &str, v: &[f64]) -> Result {
     }
 }
 
+/// The largest grading ratio: beyond, the smallest elements are lost in the
+/// round-off of the body's coordinates (a hemisphere graded 1e30 has
+/// degenerate cells, 1e100 NaN nodes).
+const MAX_GRADING: f64 = 1e12;
+
 fn grading_ratio(entry: &str, v: f64) -> Result {
-    if v.is_finite() && v >= 1.0 {
+    if (1.0..=MAX_GRADING).contains(&v) {
         Ok(())
     } else {
         Err(invalid(
             entry,
-            format!("must be >= 1 (largest over smallest element size; 1 = uniform), got {v}"),
+            format!(
+                "must be between 1 and {MAX_GRADING:e} (largest over smallest element size; 1 = uniform; beyond, the smallest elements are lost in the round-off of the coordinates), got {}",
+                Shown(v)
+            ),
+        ))
+    }
+}
+
+/// The largest friction coefficient: μ times a normal force must stay
+/// within double precision (μ = 1e200 overflowed the 3D thresholds).
+const MAX_FRICTION_COEFFICIENT: f64 = 1e100;
+
+fn friction_coefficient(entry: &str, v: f64) -> Result {
+    non_negative(entry, v)?;
+    if v <= MAX_FRICTION_COEFFICIENT {
+        Ok(())
+    } else {
+        Err(invalid(
+            entry,
+            format!(
+                "must be <= {MAX_FRICTION_COEFFICIENT:e} (μ times the normal force would overflow double precision; a contact that must stick is held by any μ above its tangential over normal force), got {}",
+                Shown(v)
+            ),
         ))
     }
 }
@@ -267,7 +300,7 @@ impl Scene {
             if !(m.poisson.is_finite() && m.poisson > -1.0 && m.poisson < 0.5) {
                 return Err(invalid(
                     format!("{e}.poisson"),
-                    format!("must satisfy -1 < poisson < 0.5, got {}", m.poisson),
+                    format!("must satisfy -1 < poisson < 0.5, got {}", Shown(m.poisson)),
                 ));
             }
         }
@@ -558,7 +591,7 @@ impl Scene {
                 if !(d.is_finite() && d > 0.0) {
                     return Err(invalid(
                         format!("{e}.search_distance"),
-                        format!("must be a positive finite length (in the scene's units), got {d}; leave it out to keep every slave node a contact candidate"),
+                        format!("must be a positive finite length (in the scene's units), got {}; leave it out to keep every slave node a contact candidate", Shown(d)),
                     ));
                 }
             }
@@ -644,7 +677,7 @@ impl Scene {
         if !(t.is_finite() && t > 0.0 && t < 1.0) {
             return Err(invalid(
                 "solver.tolerance",
-                format!("must satisfy 0 < tolerance < 1, got {t}"),
+                format!("must satisfy 0 < tolerance < 1, got {}", Shown(t)),
             ));
         }
         if !(self.solver.penalty > 0.0 && self.solver.penalty.is_finite()) {
@@ -652,7 +685,7 @@ impl Scene {
                 "solver.penalty",
                 format!(
                     "must be a positive multiple of the contact stiffness, got {}",
-                    self.solver.penalty
+                    Shown(self.solver.penalty)
                 ),
             ));
         }
@@ -801,7 +834,7 @@ fn validate_friction(e: &str, friction: &Friction, dim: usize) -> Result {
                         }
                     }
             for mu in coefficient {
-                non_negative(&fe, *mu)?;
+                friction_coefficient(&fe, *mu)?;
             }
             if coefficient.len() == 2 && coefficient.contains(&0.0) && coefficient != &[0.0, 0.0] {
                 return Err(invalid(
@@ -826,11 +859,11 @@ fn validate_friction(e: &str, friction: &Friction, dim: usize) -> Result {
             }
         }
         Friction::NortonHoff { coefficient, rho } => {
-            non_negative(&format!("{e}.friction.norton_hoff"), *coefficient)?;
+            friction_coefficient(&format!("{e}.friction.norton_hoff"), *coefficient)?;
             if !(rho.is_finite() && *rho > 0.0 && *rho < 1.0) {
                 return Err(invalid(
                     format!("{e}.friction.rho"),
-                    format!("must satisfy 0 < rho < 1, got {rho}"),
+                    format!("must satisfy 0 < rho < 1, got {}", Shown(*rho)),
                 ));
             }
         }

@@ -162,6 +162,16 @@ fn grading_side<S>(
         .transpose()
 }
 
+/// The first `dim` coordinates of `x` as `(x, y[, z])` for a message, each
+/// a few characters whatever its size.
+fn point_text(x: &[f64; 3], dim: usize) -> String {
+    let parts: Vec<String> = x[..dim]
+        .iter()
+        .map(|v| scene::Shown(*v).to_string())
+        .collect();
+    format!("({})", parts.join(", "))
+}
+
 /// A point given with `dimension` components, as `[x, y, z]` (z = 0 in 2D).
 pub fn point3(v: &[f64]) -> [f64; 3] {
     [
@@ -338,8 +348,9 @@ fn boundary_nodes(
         if d > 1e-6 * mesh.size() {
             let c = mesh.coords[n];
             return Err(input(format!(
-                "{entry}.point: body \"{body}\" has no node at ({}, {}); the nearest is ({}, {}), {d:e} away",
-                x[0], x[1], c[0], c[1]
+                "{entry}.point: body \"{body}\" has no node at {}; the nearest is {}, {d:e} away",
+                point_text(&x, mesh.dim),
+                point_text(&c, mesh.dim)
             )));
         }
         Ok(vec![n])
@@ -529,8 +540,8 @@ fn prescribe(
                     let x = mesh.coords[n];
                     if !(ov == 0.0 && *v == 0.0) {
                         return Err(input(format!(
-                            "boundary[{li}].displacement: boundary[{other}] already imposes component {} at node ({}, {}) of body \"{}\" with another value or scale",
-                            ["x", "y", "z"][c], x[0], x[1], body
+                            "boundary[{li}].displacement: boundary[{other}] already imposes component {} at node {} of body \"{}\" with another value or scale",
+                            ["x", "y", "z"][c], point_text(&x, dim), body
                         )));
                     }
                 }
@@ -554,8 +565,8 @@ fn fix_axis(mesh: &Mesh, body: &str, supports: &mut Supports) -> Result<(), Solv
             if let Some((other, v)) = supports.set_by[n * dim] {
                 if v != 0.0 {
                     return Err(input(format!(
-                        "boundary[{other}].displacement: imposes x = {v} at node ({}, {}) on the axis of body \"{}\"; in an axisymmetric model the radial displacement on the axis is zero",
-                        x[0], x[1], body
+                        "boundary[{other}].displacement: imposes x = {} at node {} on the axis of body \"{}\"; in an axisymmetric model the radial displacement on the axis is zero",
+                        scene::Shown(v), point_text(x, dim), body
                     )));
                 }
             }

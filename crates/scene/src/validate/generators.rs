@@ -208,12 +208,30 @@ fn validate_round(
     positive(&format!("{e}.radius"), radius)
 }
 
+/// A direction whose length squared is a normal double, so that it can be
+/// made a unit vector ([1e-300, 1e-300, 1e-300] underflows to a zero length
+/// and NaN normals).
+fn normalisable(entry: &str, v: &[f64]) -> Result {
+    let n2: f64 = v.iter().map(|x| x * x).sum();
+    if n2.is_normal() {
+        Ok(())
+    } else {
+        Err(invalid(
+            entry,
+            format!(
+                "its length must be between 1e-150 and 1e150 to be normalised (a direction: [0.0, 1.0] will do), got {v:?}"
+            ),
+        ))
+    }
+}
+
 pub(super) fn validate_rigid(e: &str, shape: &RigidShape, dim: usize) -> Result {
     match shape {
         RigidShape::Plane { point, normal } => {
             vector(&format!("{e}.point"), point, dim)?;
             vector(&format!("{e}.normal"), normal, dim)?;
             non_zero(&format!("{e}.normal"), normal)?;
+            normalisable(&format!("{e}.normal"), normal)?;
         }
         RigidShape::Circle { center, radius } => {
             validate_round(e, ("circle", 2, "sphere"), center, *radius, dim)?;
