@@ -7,10 +7,10 @@ mod common;
 
 use common::{
     block_body, block_boundary, block_contact, cli_run_ok, converged, example, material_2d,
-    max_rel, rigid_plane, with_subdomains,
+    max_rel, rigid_plane, try_run, with_subdomains,
 };
 use signorini_scene::SolvePath;
-use signorini_solver::{RunOptions, RunOutput};
+use signorini_solver::{RunOptions, RunOutput, SolveError};
 
 fn rel(out: &RunOutput, q: &str) -> f64 {
     out.report
@@ -119,6 +119,30 @@ fn gmsh_meshes_pass_the_uniform_pressure_patch_test_in_2d_and_3d() {
             rel(&out, "pressure")
         );
         assert!(rel(&out, "resultant") <= 1e-12, "{name}");
+    }
+}
+
+/// The Gmsh block, free in z, on a plane whose normal is x: its contacts
+/// touch the z translation by round-off only (Gᵀ ~ 1e-17), and the run
+/// "converged" with a contact force of 3.7e18 (certificate 2e-16, relative
+/// to that force). The rank test of Gᵀ now has an absolute scale: refused on
+/// both paths, naming the body.
+#[test]
+fn a_contact_across_the_free_motion_does_not_hold_it() {
+    let text = gmsh_example("gmsh_block3d.toml");
+    assert!(text.contains("normal = [0.0, 0.0, 1.0]"));
+    let text = text.replace("normal = [0.0, 0.0, 1.0]", "normal = [1.0, 0.0, 0.0]");
+    for opts in [RunOptions::default(), direct()] {
+        match try_run(&text, opts.clone()) {
+            Err(SolveError::Input(msg)) => assert!(
+                msg.contains("body \"block\" is free to move: 1 of its rigid motions"),
+                "{msg}"
+            ),
+            other => panic!(
+                "{opts:?}: expected the free motion refused, got {:?}",
+                other.map(|o| (o.report.converged, o.report.contact_force))
+            ),
+        }
     }
 }
 

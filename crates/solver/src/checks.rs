@@ -25,7 +25,7 @@ pub(crate) fn check_floating_equilibrium(
         if b.kernel.is_empty() {
             continue;
         }
-        let gt = contact_on_rigid_modes(bi, b, points);
+        let gt = contact_on_rigid_modes(bi, b, points).gt;
         let e = &e_of[bi];
         let fr = &resultant[bi];
         let fmax = inf_norm(e).max(inf_norm(fr));
@@ -67,30 +67,53 @@ pub(crate) fn check_held_by_contacts(
 
 /// Gᵀ of a body: the work of each contact force (normal columns 0..m, then
 /// the tangential ones when some point has friction) on each of its free
-/// rigid modes.
-fn contact_on_rigid_modes(bi: usize, b: &BodyModel, points: &[PointModel]) -> Mat<f64> {
+/// rigid modes; and the matrix Gᵀ would be if every force pointed along
+/// the motion of its node (Σ |c| ‖r_j(node)‖ per entry): the absolute scale
+/// of its rank test.
+fn contact_on_rigid_modes(bi: usize, b: &BodyModel, points: &[PointModel]) -> HoldingWork {
     let friction = points.iter().any(|p| p.trow.is_some());
     let m = points.len();
+    let dim = b.mesh.dim;
     let mut gt = Mat::<f64>::zeros(b.kernel.len(), m * if friction { 3 } else { 1 });
+    let mut aligned = gt.clone();
     for (pi, p) in points.iter().enumerate() {
         // Tangential forces hold rigid motions too (bounded by friction).
         let rows = [Some(&p.row), p.trow.as_ref(), p.trow2.as_ref()];
         for (block, row) in rows.into_iter().enumerate() {
             for &(pb, d, c) in row.into_iter().flatten() {
                 if pb == bi {
+                    let node = d - d % dim..d - d % dim + dim;
                     for (j, r) in b.kernel.iter().enumerate() {
                         gt[(j, block * m + pi)] += c * r[d];
+                        let motion = r[node.clone()].iter().map(|v| v * v).sum::<f64>();
+                        aligned[(j, block * m + pi)] += c.abs() * motion.sqrt();
                     }
                 }
             }
         }
     }
-    gt
+    HoldingWork { gt, aligned }
+}
+
+/// Gᵀ of a body and its aligned counterpart (see [`contact_on_rigid_modes`]).
+struct HoldingWork {
+    gt: Mat<f64>,
+    aligned: Mat<f64>,
+}
+
+impl HoldingWork {
+    /// The same with the first `cols` columns only (the normal forces).
+    fn normal(&self, cols: usize) -> Self {
+        Self {
+            gt: self.gt.subcols(0, cols).to_owned(),
+            aligned: self.aligned.subcols(0, cols).to_owned(),
+        }
+    }
 }
 
 /// Refuses a body with rigid motions that no contact can hold.
-fn check_held(b: &BodyModel, gt: &Mat<f64>) -> Result<(), SolveError> {
-    let unheld = unheld_modes(gt)?;
+fn check_held(b: &BodyModel, work: &HoldingWork) -> Result<(), SolveError> {
+    let unheld = unheld_modes(work)?;
     if unheld > 0 {
         return Err(SolveError::Input(format!(
             "bodies[{}]: body \"{}\" is free to move: {unheld} of its rigid motions are prevented neither by a support nor by its contacts (frictionless contact only holds along the normals); add a [[boundary]] displacement that pins it (e.g. a point with x = 0)",
@@ -101,17 +124,23 @@ fn check_held(b: &BodyModel, gt: &Mat<f64>) -> Result<(), SolveError> {
 }
 
 /// The rigid motions that the forces of Gᵀ's columns cannot hold: the
-/// dimension of its null space (rank test of G Gᵀ, scaled by its largest
-/// eigenvalue).
-fn unheld_modes(gt: &Mat<f64>) -> Result<usize, SolveError> {
+/// dimension of its null space, by a rank test of G Gᵀ scaled by the
+/// largest of its eigenvalues and of what forces along the motions would
+/// give (‖aligned‖²_F). Relative to its own eigenvalues alone, a single free
+/// motion that the contacts only touch by round-off (a plane whose normal
+/// is across the motion: Gᵀ ~ 1e-17) passed as held, and its equilibrium
+/// was solved with forces of 1e18.
+fn unheld_modes(work: &HoldingWork) -> Result<usize, SolveError> {
+    let gt = &work.gt;
     let k = gt.nrows();
     let ggt = gt * gt.transpose();
     let eig = ggt
         .self_adjoint_eigen(faer::Side::Lower)
         .map_err(|e| SolveError::Internal(format!("eigen decomposition of G Gᵀ: {e:?}")))?;
     let emax = (0..k).fold(0.0f64, |a, j| a.max(eig.S()[j]));
+    let scale = emax.max(work.aligned.squared_norm_l2());
     Ok((0..k)
-        .filter(|&j| eig.S()[j] <= 1e-12 * emax || emax == 0.0)
+        .filter(|&j| eig.S()[j] <= 1e-12 * scale || scale == 0.0)
         .count())
 }
 
@@ -128,9 +157,9 @@ pub(crate) fn held_by_friction(
         .enumerate()
         .filter(|(_, b)| !b.kernel.is_empty())
         .filter_map(|(bi, b)| {
-            let gt = contact_on_rigid_modes(bi, b, points);
-            let by_normal = unheld_modes(&gt.subcols(0, m).to_owned()).ok()?;
-            let by_all = unheld_modes(&gt).ok()?;
+            let work = contact_on_rigid_modes(bi, b, points);
+            let by_normal = unheld_modes(&work.normal(m)).ok()?;
+            let by_all = unheld_modes(&work).ok()?;
             (by_normal > by_all).then(|| (b.name.clone(), by_normal - by_all))
         })
         .collect()
