@@ -176,58 +176,47 @@ pub fn uniform_pressure(
 }
 
 /// Cattaneo–Mindlin partial slip (VALIDATION.md §6): two elastically similar
-/// cylinders (or a cylinder on a half-space of the same material) under a
-/// normal load P, then a tangential load Q < μP: stick zone half-width
-/// c = a sqrt(1 − Q/(μP)); shear traction
+/// cylinders (`Strip`) or spheres (`Circle`, 3D), or one on a half-space of
+/// the same material, under a normal load P, then a tangential load Q < μP:
+/// stick zone half-width c = a (1 − Q/(μP))^k with k = 1/2 (cylinder) or
+/// 1/3 (sphere), a and p0 Hertz's; shear traction
 /// q(x) = μ p0 sqrt(1 − x²/a²) − μ p0 (c/a) sqrt(1 − x²/c²) for |x| < c and
-/// μ p(x) for c ≤ |x| ≤ a. P and Q are the computed resultants.
-pub fn cattaneo_mindlin(nodes: &[NodalPressure], e_star: f64, r: f64, mu: f64) -> ReferenceReport {
+/// μ p(x) for c ≤ |x| ≤ a. P and Q are the computed resultants; `s` of each
+/// node is its coordinate across the contact (cylinder) or its distance from
+/// the centre (sphere).
+pub fn cattaneo_mindlin(
+    nodes: &[NodalPressure],
+    shape: PunchShape,
+    e_star: f64,
+    r: f64,
+    mu: f64,
+) -> ReferenceReport {
     let p_total: f64 = nodes.iter().map(|n| n.force).sum();
     let q_total: f64 = nodes.iter().map(|n| n.tangential).sum::<f64>().abs();
-    let (a, p0) = hertz_cylinder_exact(p_total, e_star, r);
-    let centre = if p_total > 0.0 {
-        nodes.iter().map(|n| n.force * n.s).sum::<f64>() / p_total
-    } else {
-        0.0
+    let (a, p0, exponent) = match shape {
+        PunchShape::Strip => {
+            let (a, p0) = hertz_cylinder_exact(p_total, e_star, r);
+            (a, p0, 0.5)
+        }
+        PunchShape::Circle => {
+            let (a, p0) = hertz_sphere_exact(p_total, e_star, r);
+            (a, p0, 1.0 / 3.0)
+        }
+    };
+    let centre = match shape {
+        PunchShape::Strip if p_total > 0.0 => {
+            nodes.iter().map(|n| n.force * n.s).sum::<f64>() / p_total
+        }
+        _ => 0.0,
     };
     let ratio = if mu * p_total > 0.0 {
         q_total / (mu * p_total)
     } else {
         f64::NAN
     };
-    let c_exact = a * (1.0 - ratio).max(0.0).sqrt();
-    // The stick zone of the computation: from the outermost sticking point to
-    // the next point out (half a spacing beyond), on each side.
-    let mut sorted: Vec<&NodalPressure> = nodes.iter().filter(|n| n.force > 0.0).collect();
-    sorted.sort_by(|x, y| x.s.total_cmp(&y.s));
-    let mut c_computed = 0.0f64;
-    for (i, n) in sorted.iter().enumerate() {
-        if !n.stick {
-            continue;
-        }
-        for j in [i.wrapping_sub(1), i + 1] {
-            if let Some(m) = sorted.get(j) {
-                if !m.stick {
-                    c_computed = c_computed.max(((n.s + m.s) / 2.0 - centre).abs());
-                }
-            }
-        }
-    }
-    let (mut num, mut den) = (0.0, 0.0);
-    for n in nodes.iter().filter(|n| n.tributary > 0.0) {
-        let x = n.s - centre;
-        if x.abs() > a {
-            continue;
-        }
-        let mut q = mu * p0 * (1.0 - (x / a).powi(2)).max(0.0).sqrt();
-        if x.abs() < c_exact {
-            q -= mu * p0 * (c_exact / a) * (1.0 - (x / c_exact).powi(2)).max(0.0).sqrt();
-        }
-        let qc = n.tangential.abs() / n.tributary;
-        num += (qc - q).powi(2) * n.tributary;
-        den += q * q * n.tributary;
-    }
-    let l2 = if den > 0.0 { (num / den).sqrt() } else { 0.0 };
+    let c_exact = a * (1.0 - ratio).max(0.0).powf(exponent);
+    let c_computed = stick_half_width(nodes, centre);
+    let l2 = shear_profile_l2(nodes, centre, mu * p0, a, c_exact);
     let mut qs = BTreeMap::new();
     qs.insert("load".to_string(), Quantity::new(p_total, p_total));
     qs.insert(
@@ -246,14 +235,63 @@ pub fn cattaneo_mindlin(nodes: &[NodalPressure], e_star: f64, r: f64, mu: f64) -
             relative_error: l2,
         },
     );
+    let (body, zone) = match shape {
+        PunchShape::Strip => ("a = sqrt(4PR/(πE*))", "c = a·sqrt(1 − Q/(μP))"),
+        PunchShape::Circle => ("a = (3PR/(4E*))^(1/3)", "c = a·(1 − Q/(μP))^(1/3)"),
+    };
     ReferenceReport {
         kind: "cattaneo_mindlin".into(),
         quantities: qs,
         notes: vec![
-            format!("E* = {e_star:e}, R = {r:e}, μ = {mu}; P and Q are the computed resultants, a = sqrt(4PR/(πE*))"),
+            format!("E* = {e_star:e}, R = {r:e}, μ = {mu}; P and Q are the computed resultants, {body}, {zone}"),
             "needs elastically similar bodies (same E and ν): for an elastic body on a rigid plane the normal and tangential problems couple and the stick zone is off-centre and narrower".into(),
-            "stick_half_width is measured half a node spacing beyond the outermost sticking node".into(),
+            "stick_half_width is measured half a node spacing beyond the outermost sticking node (at the outermost loaded node when no loaded node slips beyond it)".into(),
         ],
+    }
+}
+
+/// The stick zone of the computation, as a distance from `centre`: from the
+/// outermost sticking point to the next loaded point out (half a spacing
+/// beyond), on each side; a sticking point with no loaded point beyond it
+/// reaches the edge of the contact and counts at its own distance.
+fn stick_half_width(nodes: &[NodalPressure], centre: f64) -> f64 {
+    let mut sorted: Vec<&NodalPressure> = nodes.iter().filter(|n| n.force > 0.0).collect();
+    sorted.sort_by(|x, y| x.s.total_cmp(&y.s));
+    let mut c = 0.0f64;
+    for (i, n) in sorted.iter().enumerate().filter(|(_, n)| n.stick) {
+        for j in [i.wrapping_sub(1), i + 1] {
+            match sorted.get(j) {
+                Some(m) if !m.stick => c = c.max(((n.s + m.s) / 2.0 - centre).abs()),
+                Some(_) => {}
+                None => c = c.max((n.s - centre).abs()),
+            }
+        }
+    }
+    c
+}
+
+/// The relative L2 error of the shear traction (tangential force over
+/// tributary measure) against Cattaneo–Mindlin's on |x| ≤ a, with
+/// `mu_p0` = μ p0 and the stick half-width `c`.
+fn shear_profile_l2(nodes: &[NodalPressure], centre: f64, mu_p0: f64, a: f64, c: f64) -> f64 {
+    let (mut num, mut den) = (0.0, 0.0);
+    for n in nodes.iter().filter(|n| n.tributary > 0.0) {
+        let x = n.s - centre;
+        if x.abs() > a {
+            continue;
+        }
+        let mut q = mu_p0 * (1.0 - (x / a).powi(2)).max(0.0).sqrt();
+        if x.abs() < c {
+            q -= mu_p0 * (c / a) * (1.0 - (x / c).powi(2)).max(0.0).sqrt();
+        }
+        let qc = n.tangential.abs() / n.tributary;
+        num += (qc - q).powi(2) * n.tributary;
+        den += q * q * n.tributary;
+    }
+    if den > 0.0 {
+        (num / den).sqrt()
+    } else {
+        0.0
     }
 }
 
@@ -322,7 +360,7 @@ mod tests {
                 stick: x.abs() < c,
             }
         });
-        let rep = cattaneo_mindlin(&nodes, e_star, r, mu);
+        let rep = cattaneo_mindlin(&nodes, PunchShape::Strip, e_star, r, mu);
         let q = &rep.quantities;
         assert!(
             (q["tangential_load_ratio"].computed - ratio).abs() < 1e-3,
@@ -331,6 +369,67 @@ mod tests {
         );
         assert!(q["stick_half_width"].relative_error < 1e-3);
         assert!(q["shear_profile_l2"].relative_error < 1e-2);
+    }
+
+    /// Mindlin's traction on the rings of a sphere's contact (3D: `s` the
+    /// distance from the centre, area 2π r dr) gives back
+    /// c = a (1 − Q/(μP))^(1/3) with the sphere's a, not the cylinder's
+    /// sqrt(1 − Q/(μP)) and a = sqrt(4PR/(πE*)) (2.4 times too small here).
+    #[test]
+    fn cattaneo_mindlin_sphere_rings_sampled_finely_recover_the_stick_zone() {
+        let (e_star, r, p, mu, ratio) = (0.55, 1.0, 0.0009, 0.3, 0.4);
+        let (a, p0) = hertz_sphere_exact(p, e_star, r);
+        let c = a * (1.0f64 - ratio).cbrt();
+        let n = 4000;
+        let h = a / n as f64;
+        let nodes: Vec<NodalPressure> = (0..=n)
+            .map(|i| {
+                let x = i as f64 * h;
+                let (lo, hi) = ((x - h / 2.0).max(0.0), (x + h / 2.0).min(a));
+                let w = std::f64::consts::PI * (hi * hi - lo * lo);
+                let pe = p0 * (1.0 - (x / a).powi(2)).max(0.0).sqrt();
+                let mut q = mu * pe;
+                if x < c {
+                    q -= mu * p0 * (c / a) * (1.0 - (x / c).powi(2)).max(0.0).sqrt();
+                }
+                NodalPressure {
+                    s: x,
+                    force: pe * w,
+                    tributary: w,
+                    pressure: pe,
+                    tangential: q * w,
+                    stick: x < c,
+                }
+            })
+            .collect();
+        let rep = cattaneo_mindlin(&nodes, PunchShape::Circle, e_star, r, mu);
+        let q = &rep.quantities;
+        let ratio_c = q["tangential_load_ratio"].computed;
+        assert!((ratio_c - ratio).abs() < 1e-3, "Q/μP = {ratio_c}");
+        let load = q["load"].computed;
+        let exact = (3.0 * load * r / (4.0 * e_star)).cbrt() * (1.0 - ratio_c).cbrt();
+        let sw = &q["stick_half_width"];
+        assert!(
+            (sw.exact - exact).abs() <= 1e-12 * exact,
+            "{sw:?} vs {exact}"
+        );
+        assert!(sw.relative_error < 1e-3, "{sw:?}");
+        assert!(q["shear_profile_l2"].relative_error < 1e-2);
+    }
+
+    /// Every loaded point sticking: the stick zone reaches the outermost
+    /// one (it was reported as 0, a relative error of 1).
+    #[test]
+    fn cattaneo_mindlin_all_sticking_reaches_the_outermost_loaded_point() {
+        let (e_star, r, a) = (1.0, 1.0, 0.1);
+        let nodes = sampled(a, 21, |s, w| NodalPressure {
+            stick: true,
+            tangential: 1e-3 * w,
+            ..hertz_node(s, w, 1.0, 2.0 * a)
+        });
+        let rep = cattaneo_mindlin(&nodes, PunchShape::Strip, e_star, r, 0.3);
+        let c = rep.quantities["stick_half_width"].computed;
+        assert!((c - a).abs() <= 1e-12 * a, "stick half-width {c} vs {a}");
     }
 
     /// An axisymmetric sampling of the Hertz sphere pressure (rings of area
