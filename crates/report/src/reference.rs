@@ -25,10 +25,11 @@ pub struct NodalPressure {
 
 /// Hertz, cylinder on a plane (VALIDATION.md §1): with P the load per unit
 /// thickness, E* the contact modulus and R the relative radius,
-/// a = sqrt(4PR/(πE*)), p0 = 2P/(πa), p(x) = p0 sqrt(1 − x²/a²).
+/// a = sqrt(4PR/(πE*)), p0 = 2P/(πa) = sqrt(PE*/(πR)) (this form, finite
+/// with no load), p(x) = p0 sqrt(1 − x²/a²).
 pub fn hertz_cylinder_exact(p: f64, e_star: f64, r: f64) -> (f64, f64) {
     let a = (4.0 * p * r / (std::f64::consts::PI * e_star)).sqrt();
-    (a, 2.0 * p / (std::f64::consts::PI * a))
+    (a, (p * e_star / (std::f64::consts::PI * r)).sqrt())
 }
 
 /// Compares the nodal pressures with Hertz: p0 (max nodal pressure), a from
@@ -103,10 +104,11 @@ fn hertz_quantities(
 
 /// Hertz, sphere on a plane (VALIDATION.md §2): with P the total load, E*
 /// the contact modulus and R the relative radius, a = (3PR/(4E*))^(1/3),
-/// p0 = 3P/(2πa²).
+/// p0 = 3P/(2πa²) = (6PE*²/(π³R²))^(1/3) (this form, finite with no load).
 pub fn hertz_sphere_exact(p: f64, e_star: f64, r: f64) -> (f64, f64) {
     let a = (3.0 * p * r / (4.0 * e_star)).cbrt();
-    (a, 3.0 * p / (2.0 * std::f64::consts::PI * a * a))
+    let pi = std::f64::consts::PI;
+    (a, (6.0 * p * e_star * e_star / (pi.powi(3) * r * r)).cbrt())
 }
 
 /// Compares nodal pressures with the Hertz sphere. `s` of each node is its
@@ -430,6 +432,26 @@ mod tests {
         let rep = cattaneo_mindlin(&nodes, PunchShape::Strip, e_star, r, 0.3);
         let c = rep.quantities["stick_half_width"].computed;
         assert!((c - a).abs() <= 1e-12 * a, "stick half-width {c} vs {a}");
+    }
+
+    /// A last step with no contact (unloaded): every Hertz quantity is a
+    /// number, p0 = 0 (2P/(πa) and 3P/(2πa²) were 0/0, null in report.json).
+    #[test]
+    fn hertz_references_without_load_report_zero_not_nan() {
+        let open = [hertz_node(0.0, 0.1, 0.0, 1.0)];
+        for rep in [
+            hertz_cylinder(&open, 1.0, 1.0),
+            hertz_sphere(&open, 1.0, 1.0),
+        ] {
+            for (name, q) in &rep.quantities {
+                assert_eq!((q.exact, q.relative_error), (0.0, 0.0), "{name}: {q:?}");
+            }
+        }
+        let (e_star, r, p) = (1.3, 0.7, 0.02);
+        let (a, p0) = hertz_cylinder_exact(p, e_star, r);
+        assert!((p0 - 2.0 * p / (std::f64::consts::PI * a)).abs() <= 1e-14 * p0);
+        let (a, p0) = hertz_sphere_exact(p, e_star, r);
+        assert!((p0 - 3.0 * p / (2.0 * std::f64::consts::PI * a * a)).abs() <= 1e-14 * p0);
     }
 
     /// An axisymmetric sampling of the Hertz sphere pressure (rings of area
