@@ -131,7 +131,10 @@ fn reference_nodes(
             } else {
                 friction.map_or(0.0, |f| f.tangential[pi])
             },
-            stick: friction.is_some_and(|f| f.statuses[pi] == PointStatus::Stick),
+            // a point whose slip a support prescribes has no friction
+            // unknown (its status is `contact`, as in contact.csv)
+            stick: p.trow.is_some()
+                && friction.is_some_and(|f| f.statuses[pi] == PointStatus::Stick),
         })
         .collect()
 }
