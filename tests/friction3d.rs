@@ -4,7 +4,7 @@
 
 mod common;
 
-use common::{converged, example};
+use common::{converged, example, try_run};
 use signorini_solver::{RunOptions, RunOutput};
 
 /// A 1 × 1 × 0.5 box on the rigid plane z = 0, its top pressed down by
@@ -306,3 +306,97 @@ fn a_one_point_3d_coulomb_problem_solves_by_the_fixed_point() {
         assert!(r["residual"].as_f64().unwrap() < 1e-9, "{text}");
     }
 }
+
+/// Cattaneo–Mindlin for two spheres (VALIDATION.md §6): a hemisphere
+/// pressed on a block of the same material, then moved sideways. Found by a
+/// sweep of unseen scenes: the reference used the cylinder's formulas,
+/// c = a·sqrt(1 − Q/(μP)) with a = sqrt(4PR/(πE*)), 2.4 times smaller than
+/// the sphere's c = a·(1 − Q/(μP))^(1/3), a = (3PR/(4E*))^(1/3).
+#[test]
+fn cattaneo_mindlin_sphere_stick_zone_is_the_sphere_formula() {
+    let out = converged(SPHERE_ON_BLOCK, RunOptions::default());
+    let q = &out.report.reference.as_ref().unwrap().quantities;
+    let (load, ratio) = (q["load"].computed, q["tangential_load_ratio"].computed);
+    assert!(ratio > 0.2 && ratio < 0.6, "partial slip: Q/μP = {ratio}");
+    let e_star = 1.0 / (2.0 * (1.0 - 0.3f64 * 0.3));
+    let c = (3.0 * load / (4.0 * e_star)).cbrt() * (1.0 - ratio).cbrt();
+    let sw = &q["stick_half_width"];
+    assert!((sw.exact - c).abs() <= 1e-12 * c, "{sw:?} vs {c}");
+    assert!(sw.relative_error <= 0.05, "stick half-width {sw:?}");
+    let last = out.report.steps.last().unwrap();
+    assert!(last.sticking > 0 && last.slipping > 0);
+}
+
+/// An axisymmetric model cannot carry a tangential load across the contact:
+/// the reference is refused, naming the models that can.
+#[test]
+fn cattaneo_mindlin_is_refused_in_an_axisymmetric_model() {
+    let text = example("hertz_axi.toml")
+        .replace(
+            "discretization = \"node_to_segment\"",
+            "discretization = \"node_to_segment\"\nfriction = { coulomb = 0.3 }",
+        )
+        .replace("kind = \"hertz_sphere\"", "kind = \"cattaneo_mindlin\"");
+    match try_run(&text, RunOptions::default()) {
+        Err(e) => assert!(e.to_string().contains("axisymmetric"), "{e}"),
+        Ok(_) => panic!("cattaneo_mindlin in an axisymmetric model was accepted"),
+    }
+}
+
+const SPHERE_ON_BLOCK: &str = r#"dimension = 3
+model = "solid"
+[[materials]]
+name = "s"
+young = 1.0
+poisson = 0.3
+[[bodies]]
+name = "sph"
+material = "s"
+mesh = { generator = "hemisphere", center = [0.0, 0.0, 1.0], radius = 1.0, divisions = 12, pole = [0.0, 0.0, -1.0], grading = 10.0 }
+[[bodies]]
+name = "blk"
+material = "s"
+mesh = { generator = "box", origin = [-0.3, -0.3, -0.3], size = [0.6, 0.6, 0.3], divisions = [14, 14, 4], grading = { towards = "zmax", ratio = 6.0 } }
+[[boundary]]
+name = "press"
+body = "sph"
+surface = "flat"
+displacement = { z = -0.01 }
+[[boundary]]
+name = "pull"
+body = "sph"
+surface = "flat"
+displacement = { x = 0.0012 }
+[[boundary]]
+name = "pin"
+body = "sph"
+point = [1.0, 0.0, 1.0]
+displacement = { y = 0.0 }
+[[boundary]]
+name = "pin2"
+body = "sph"
+point = [-1.0, 0.0, 1.0]
+displacement = { y = 0.0 }
+[[boundary]]
+name = "clamp"
+body = "blk"
+surface = "zmin"
+displacement = { x = 0.0, y = 0.0, z = 0.0 }
+[[contact]]
+name = "c"
+slave = { body = "sph", surface = "dome" }
+master = { body = "blk", surface = "zmax" }
+discretization = "node_to_face"
+friction = { coulomb = 0.3 }
+[[steps]]
+scale = { press = 1.0, pull = 0.0 }
+[[steps]]
+scale = { press = 1.0, pull = 1.0 }
+[solver]
+method = "status"
+path = "condensed"
+
+[reference]
+kind = "cattaneo_mindlin"
+radius = 1.0
+"#;

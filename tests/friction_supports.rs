@@ -390,3 +390,84 @@ fn a_body_pushed_past_its_friction_under_displacement_control_says_why() {
         "{failure}"
     );
 }
+
+/// A block dragged past μN by its left face, whose bottom corner is a
+/// contact node: that node's slip is prescribed, so it has no friction
+/// unknown (status `contact`, zero tangential force) and the friction
+/// reaction falls short of μN by μ times its normal force. Found by a sweep
+/// of unseen scenes: the sliding_block reference took that node for a
+/// sticking one, compared the reaction with itself and reported no error;
+/// it now compares it with μN and shows the shortfall.
+#[test]
+fn sliding_block_reference_compares_a_dragged_block_with_mu_n() {
+    let mu = 0.35;
+    let out = run(DRAGGED_BLOCK);
+    let q = &out.report.reference.as_ref().unwrap().quantities;
+    let n = q["normal_load"].computed;
+    let t = &q["tangential_reaction"];
+    assert!(
+        (t.exact - mu * n).abs() <= 1e-12 * n,
+        "{t:?} against μN = {}",
+        mu * n
+    );
+    let last: Vec<_> = out.contact_rows.iter().filter(|r| r.step == 2).collect();
+    let dragged = last
+        .iter()
+        .find(|r| r.status == "contact")
+        .expect("the dragged corner");
+    assert_eq!(dragged.tangential_force, 0.0);
+    assert!(last
+        .iter()
+        .filter(|r| r.normal_force > 0.0)
+        .all(|r| r.status != "stick"));
+    let shortfall = mu * dragged.normal_force;
+    assert!(
+        (t.computed + shortfall - t.exact).abs() <= 1e-9 * t.exact,
+        "reaction {} + μN_corner {shortfall} against μN {}",
+        t.computed,
+        t.exact
+    );
+    assert!(t.relative_error >= 0.01, "{t:?}");
+}
+
+const DRAGGED_BLOCK: &str = r#"dimension = 2
+model = "plane_strain"
+[[materials]]
+name = "m"
+young = 50.0
+poisson = 0.3
+[[bodies]]
+name = "blk"
+material = "m"
+mesh = { generator = "rectangle", origin = [0.0, 0.0], size = [1.0, 0.4], divisions = [10, 4] }
+[[bodies]]
+name = "g"
+rigid = { shape = "plane", point = [0.0, 0.0], normal = [0.0, 1.0] }
+[[boundary]]
+name = "press"
+body = "blk"
+surface = "top"
+traction = [0.0, -2.0]
+[[boundary]]
+name = "drag"
+body = "blk"
+surface = "left"
+displacement = { x = 0.05 }
+[[contact]]
+name = "c"
+slave = { body = "blk", surface = "bottom" }
+master = { body = "g" }
+discretization = "node_to_segment"
+friction = { coulomb = 0.35 }
+[[steps]]
+scale = { press = 1.0, drag = 0.0 }
+[[steps]]
+scale = { drag = 1.0 }
+[solver]
+method = "status"
+path = "condensed"
+
+[reference]
+kind = "sliding_block"
+
+"#;

@@ -25,10 +25,11 @@ pub struct NodalPressure {
 
 /// Hertz, cylinder on a plane (VALIDATION.md §1): with P the load per unit
 /// thickness, E* the contact modulus and R the relative radius,
-/// a = sqrt(4PR/(πE*)), p0 = 2P/(πa), p(x) = p0 sqrt(1 − x²/a²).
+/// a = sqrt(4PR/(πE*)), p0 = 2P/(πa) = sqrt(PE*/(πR)) (this form, finite
+/// with no load), p(x) = p0 sqrt(1 − x²/a²).
 pub fn hertz_cylinder_exact(p: f64, e_star: f64, r: f64) -> (f64, f64) {
     let a = (4.0 * p * r / (std::f64::consts::PI * e_star)).sqrt();
-    (a, 2.0 * p / (std::f64::consts::PI * a))
+    (a, (p * e_star / (std::f64::consts::PI * r)).sqrt())
 }
 
 /// Compares the nodal pressures with Hertz: p0 (max nodal pressure), a from
@@ -103,10 +104,11 @@ fn hertz_quantities(
 
 /// Hertz, sphere on a plane (VALIDATION.md §2): with P the total load, E*
 /// the contact modulus and R the relative radius, a = (3PR/(4E*))^(1/3),
-/// p0 = 3P/(2πa²).
+/// p0 = 3P/(2πa²) = (6PE*²/(π³R²))^(1/3) (this form, finite with no load).
 pub fn hertz_sphere_exact(p: f64, e_star: f64, r: f64) -> (f64, f64) {
     let a = (3.0 * p * r / (4.0 * e_star)).cbrt();
-    (a, 3.0 * p / (2.0 * std::f64::consts::PI * a * a))
+    let pi = std::f64::consts::PI;
+    (a, (6.0 * p * e_star * e_star / (pi.powi(3) * r * r)).cbrt())
 }
 
 /// Compares nodal pressures with the Hertz sphere. `s` of each node is its
@@ -176,44 +178,47 @@ pub fn uniform_pressure(
 }
 
 /// Cattaneo–Mindlin partial slip (VALIDATION.md §6): two elastically similar
-/// cylinders (or a cylinder on a half-space of the same material) under a
-/// normal load P, then a tangential load Q < μP: stick zone half-width
-/// c = a sqrt(1 − Q/(μP)); shear traction
+/// cylinders (`Strip`) or spheres (`Circle`, 3D), or one on a half-space of
+/// the same material, under a normal load P, then a tangential load Q < μP:
+/// stick zone half-width c = a (1 − Q/(μP))^k with k = 1/2 (cylinder) or
+/// 1/3 (sphere), a and p0 Hertz's; shear traction
 /// q(x) = μ p0 sqrt(1 − x²/a²) − μ p0 (c/a) sqrt(1 − x²/c²) for |x| < c and
-/// μ p(x) for c ≤ |x| ≤ a. P and Q are the computed resultants.
-pub fn cattaneo_mindlin(nodes: &[NodalPressure], e_star: f64, r: f64, mu: f64) -> ReferenceReport {
+/// μ p(x) for c ≤ |x| ≤ a. P and Q are the computed resultants; `s` of each
+/// node is its coordinate across the contact (cylinder) or its distance from
+/// the centre (sphere).
+pub fn cattaneo_mindlin(
+    nodes: &[NodalPressure],
+    shape: PunchShape,
+    e_star: f64,
+    r: f64,
+    mu: f64,
+) -> ReferenceReport {
     let p_total: f64 = nodes.iter().map(|n| n.force).sum();
     let q_total: f64 = nodes.iter().map(|n| n.tangential).sum::<f64>().abs();
-    let (a, p0) = hertz_cylinder_exact(p_total, e_star, r);
-    let centre = if p_total > 0.0 {
-        nodes.iter().map(|n| n.force * n.s).sum::<f64>() / p_total
-    } else {
-        0.0
+    let (a, p0, exponent) = match shape {
+        PunchShape::Strip => {
+            let (a, p0) = hertz_cylinder_exact(p_total, e_star, r);
+            (a, p0, 0.5)
+        }
+        PunchShape::Circle => {
+            let (a, p0) = hertz_sphere_exact(p_total, e_star, r);
+            (a, p0, 1.0 / 3.0)
+        }
+    };
+    let centre = match shape {
+        PunchShape::Strip if p_total > 0.0 => {
+            nodes.iter().map(|n| n.force * n.s).sum::<f64>() / p_total
+        }
+        _ => 0.0,
     };
     let ratio = if mu * p_total > 0.0 {
         q_total / (mu * p_total)
     } else {
         f64::NAN
     };
-    let c_exact = a * (1.0 - ratio).max(0.0).sqrt();
-    // The stick zone of the computation: from the outermost sticking point to
-    // the next point out (half a spacing beyond), on each side.
-    let mut sorted: Vec<&NodalPressure> = nodes.iter().filter(|n| n.force > 0.0).collect();
-    sorted.sort_by(|x, y| x.s.total_cmp(&y.s));
-    let mut c_computed = 0.0f64;
-    for (i, n) in sorted.iter().enumerate() {
-        if !n.stick {
-            continue;
-        }
-        for j in [i.wrapping_sub(1), i + 1] {
-            if let Some(m) = sorted.get(j) {
-                if !m.stick {
-                    c_computed = c_computed.max(((n.s + m.s) / 2.0 - centre).abs());
-                }
-            }
-        }
-    }
-    let (l2, no_shear) = shear_profile_l2(nodes, centre, a, c_exact, mu * p0);
+    let c_exact = a * (1.0 - ratio).max(0.0).powf(exponent);
+    let c_computed = stick_half_width(nodes, centre);
+    let (l2, no_shear) = shear_profile_l2(nodes, centre, mu * p0, a, c_exact);
     let mut qs = BTreeMap::new();
     qs.insert("load".to_string(), Quantity::new(p_total, p_total));
     qs.insert(
@@ -232,10 +237,14 @@ pub fn cattaneo_mindlin(nodes: &[NodalPressure], e_star: f64, r: f64, mu: f64) -
             relative_error: l2,
         },
     );
+    let (body, zone) = match shape {
+        PunchShape::Strip => ("a = sqrt(4PR/(πE*))", "c = a·sqrt(1 − Q/(μP))"),
+        PunchShape::Circle => ("a = (3PR/(4E*))^(1/3)", "c = a·(1 − Q/(μP))^(1/3)"),
+    };
     let mut notes = vec![
-        format!("E* = {e_star:e}, R = {r:e}, μ = {mu}; P and Q are the computed resultants, a = sqrt(4PR/(πE*))"),
+        format!("E* = {e_star:e}, R = {r:e}, μ = {mu}; P and Q are the computed resultants, {body}, {zone}"),
         "needs elastically similar bodies (same E and ν): for an elastic body on a rigid plane the normal and tangential problems couple and the stick zone is off-centre and narrower".into(),
-        "stick_half_width is measured half a node spacing beyond the outermost sticking node".into(),
+        "stick_half_width is measured half a node spacing beyond the outermost sticking node (at the outermost loaded node when no loaded node slips beyond it)".into(),
     ];
     if no_shear {
         notes.push("Q/(μP) is round-off: the exact shear vanishes, and shear_profile_l2 is relative to the full-slip profile μp(x)".into());
@@ -247,17 +256,38 @@ pub fn cattaneo_mindlin(nodes: &[NodalPressure], e_star: f64, r: f64, mu: f64) -
     }
 }
 
-/// The relative L2 error on [−a, a] of the computed shear traction against
-/// Cattaneo–Mindlin's (stick zone of half-width c, `mu_p0` = μ p0), and
-/// whether the exact shear vanished: without a tangential load it is zero up
-/// to round-off (norm below 1e-8 of the full-slip profile μp(x)'s), and the
-/// error is relative to μp(x) instead of to that round-off.
+/// The stick zone of the computation, as a distance from `centre`: from the
+/// outermost sticking point to the next loaded point out (half a spacing
+/// beyond), on each side; a sticking point with no loaded point beyond it
+/// reaches the edge of the contact and counts at its own distance.
+fn stick_half_width(nodes: &[NodalPressure], centre: f64) -> f64 {
+    let mut sorted: Vec<&NodalPressure> = nodes.iter().filter(|n| n.force > 0.0).collect();
+    sorted.sort_by(|x, y| x.s.total_cmp(&y.s));
+    let mut c = 0.0f64;
+    for (i, n) in sorted.iter().enumerate().filter(|(_, n)| n.stick) {
+        for j in [i.wrapping_sub(1), i + 1] {
+            match sorted.get(j) {
+                Some(m) if !m.stick => c = c.max(((n.s + m.s) / 2.0 - centre).abs()),
+                Some(_) => {}
+                None => c = c.max((n.s - centre).abs()),
+            }
+        }
+    }
+    c
+}
+
+/// The relative L2 error of the shear traction (tangential force over
+/// tributary measure) against Cattaneo–Mindlin's on |x| ≤ a, with
+/// `mu_p0` = μ p0 and the stick half-width `c`, and whether the exact shear
+/// vanished: without a tangential load it is zero up to round-off (norm
+/// below 1e-8 of the full-slip profile μp(x)'s), and the error is relative
+/// to μp(x) instead of to that round-off.
 fn shear_profile_l2(
     nodes: &[NodalPressure],
     centre: f64,
+    mu_p0: f64,
     a: f64,
     c: f64,
-    mu_p0: f64,
 ) -> (f64, bool) {
     let (mut num, mut den, mut slip) = (0.0, 0.0, 0.0);
     for n in nodes.iter().filter(|n| n.tributary > 0.0) {
@@ -346,7 +376,7 @@ mod tests {
                 stick: x.abs() < c,
             }
         });
-        let rep = cattaneo_mindlin(&nodes, e_star, r, mu);
+        let rep = cattaneo_mindlin(&nodes, PunchShape::Strip, e_star, r, mu);
         let q = &rep.quantities;
         assert!(
             (q["tangential_load_ratio"].computed - ratio).abs() < 1e-3,
@@ -355,6 +385,87 @@ mod tests {
         );
         assert!(q["stick_half_width"].relative_error < 1e-3);
         assert!(q["shear_profile_l2"].relative_error < 1e-2);
+    }
+
+    /// Mindlin's traction on the rings of a sphere's contact (3D: `s` the
+    /// distance from the centre, area 2π r dr) gives back
+    /// c = a (1 − Q/(μP))^(1/3) with the sphere's a, not the cylinder's
+    /// sqrt(1 − Q/(μP)) and a = sqrt(4PR/(πE*)) (2.4 times too small here).
+    #[test]
+    fn cattaneo_mindlin_sphere_rings_sampled_finely_recover_the_stick_zone() {
+        let (e_star, r, p, mu, ratio) = (0.55, 1.0, 0.0009, 0.3, 0.4);
+        let (a, p0) = hertz_sphere_exact(p, e_star, r);
+        let c = a * (1.0f64 - ratio).cbrt();
+        let n = 4000;
+        let h = a / n as f64;
+        let nodes: Vec<NodalPressure> = (0..=n)
+            .map(|i| {
+                let x = i as f64 * h;
+                let (lo, hi) = ((x - h / 2.0).max(0.0), (x + h / 2.0).min(a));
+                let w = std::f64::consts::PI * (hi * hi - lo * lo);
+                let pe = p0 * (1.0 - (x / a).powi(2)).max(0.0).sqrt();
+                let mut q = mu * pe;
+                if x < c {
+                    q -= mu * p0 * (c / a) * (1.0 - (x / c).powi(2)).max(0.0).sqrt();
+                }
+                NodalPressure {
+                    s: x,
+                    force: pe * w,
+                    tributary: w,
+                    pressure: pe,
+                    tangential: q * w,
+                    stick: x < c,
+                }
+            })
+            .collect();
+        let rep = cattaneo_mindlin(&nodes, PunchShape::Circle, e_star, r, mu);
+        let q = &rep.quantities;
+        let ratio_c = q["tangential_load_ratio"].computed;
+        assert!((ratio_c - ratio).abs() < 1e-3, "Q/μP = {ratio_c}");
+        let load = q["load"].computed;
+        let exact = (3.0 * load * r / (4.0 * e_star)).cbrt() * (1.0 - ratio_c).cbrt();
+        let sw = &q["stick_half_width"];
+        assert!(
+            (sw.exact - exact).abs() <= 1e-12 * exact,
+            "{sw:?} vs {exact}"
+        );
+        assert!(sw.relative_error < 1e-3, "{sw:?}");
+        assert!(q["shear_profile_l2"].relative_error < 1e-2);
+    }
+
+    /// Every loaded point sticking: the stick zone reaches the outermost
+    /// one (it was reported as 0, a relative error of 1).
+    #[test]
+    fn cattaneo_mindlin_all_sticking_reaches_the_outermost_loaded_point() {
+        let (e_star, r, a) = (1.0, 1.0, 0.1);
+        let nodes = sampled(a, 21, |s, w| NodalPressure {
+            stick: true,
+            tangential: 1e-3 * w,
+            ..hertz_node(s, w, 1.0, 2.0 * a)
+        });
+        let rep = cattaneo_mindlin(&nodes, PunchShape::Strip, e_star, r, 0.3);
+        let c = rep.quantities["stick_half_width"].computed;
+        assert!((c - a).abs() <= 1e-12 * a, "stick half-width {c} vs {a}");
+    }
+
+    /// A last step with no contact (unloaded): every Hertz quantity is a
+    /// number, p0 = 0 (2P/(πa) and 3P/(2πa²) were 0/0, null in report.json).
+    #[test]
+    fn hertz_references_without_load_report_zero_not_nan() {
+        let open = [hertz_node(0.0, 0.1, 0.0, 1.0)];
+        for rep in [
+            hertz_cylinder(&open, 1.0, 1.0),
+            hertz_sphere(&open, 1.0, 1.0),
+        ] {
+            for (name, q) in &rep.quantities {
+                assert_eq!((q.exact, q.relative_error), (0.0, 0.0), "{name}: {q:?}");
+            }
+        }
+        let (e_star, r, p) = (1.3, 0.7, 0.02);
+        let (a, p0) = hertz_cylinder_exact(p, e_star, r);
+        assert!((p0 - 2.0 * p / (std::f64::consts::PI * a)).abs() <= 1e-14 * p0);
+        let (a, p0) = hertz_sphere_exact(p, e_star, r);
+        assert!((p0 - 3.0 * p / (2.0 * std::f64::consts::PI * a * a)).abs() <= 1e-14 * p0);
     }
 
     /// Without a tangential load the exact shear vanishes: a computed shear of
@@ -376,7 +487,7 @@ mod tests {
                 stick: true,
             }
         });
-        let rep = cattaneo_mindlin(&nodes, e_star, r, mu);
+        let rep = cattaneo_mindlin(&nodes, PunchShape::Strip, e_star, r, mu);
         let l2 = rep.quantities["shear_profile_l2"].relative_error;
         assert!((l2 - 1e-3).abs() < 1e-4, "{l2}");
         assert!(rep.notes.iter().any(|n| n.contains("full-slip")));

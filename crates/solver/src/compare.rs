@@ -62,15 +62,23 @@ pub(crate) fn compare_reference(
             "reference.kind: \"hertz_sphere\" needs model = \"axisymmetric\" or dimension = 3; in plane strain use \"hertz_cylinder\"".into(),
         )),
         scene::ReferenceKind::UniformPressure => Ok(reference::uniform_pressure(&nodes, r.pressure, None)),
-        scene::ReferenceKind::CattaneoMindlin => Ok(reference::cattaneo_mindlin(&nodes, e_star(), radius()?, mu()?)),
-        scene::ReferenceKind::SlidingBlock => Ok(reference::sliding_block(&nodes, mu()?, None)),
-        scene::ReferenceKind::FlatPunch => {
-            let shape = match (sc.dimension, sc.model) {
-                (2, m) if m != scene::Model::Axisymmetric => reference::PunchShape::Strip,
-                _ => reference::PunchShape::Circle,
-            };
-            Ok(reference::flat_punch(&nodes, shape, r.half_width))
+        scene::ReferenceKind::CattaneoMindlin if sc.model == scene::Model::Axisymmetric => Err(SolveError::Input(
+            "reference.kind: \"cattaneo_mindlin\" needs a tangential load across the contact, which an axisymmetric model cannot carry; use plane strain / plane stress (cylinders) or dimension = 3 (spheres)".into(),
+        )),
+        scene::ReferenceKind::CattaneoMindlin => {
+            Ok(reference::cattaneo_mindlin(&nodes, contact_shape(sc), e_star(), radius()?, mu()?))
         }
+        scene::ReferenceKind::SlidingBlock => Ok(reference::sliding_block(&nodes, mu()?, None)),
+        scene::ReferenceKind::FlatPunch => Ok(reference::flat_punch(&nodes, contact_shape(sc), r.half_width)),
+    }
+}
+
+/// The shape of a contact the references see: a strip across the plane
+/// models, a circle about the axis (axisymmetric) or in 3D.
+fn contact_shape(sc: &scene::Scene) -> reference::PunchShape {
+    match (sc.dimension, sc.model) {
+        (2, m) if m != scene::Model::Axisymmetric => reference::PunchShape::Strip,
+        _ => reference::PunchShape::Circle,
     }
 }
 
@@ -123,7 +131,10 @@ fn reference_nodes(
             } else {
                 friction.map_or(0.0, |f| f.tangential[pi])
             },
-            stick: friction.is_some_and(|f| f.statuses[pi] == PointStatus::Stick),
+            // a point whose slip a support prescribes has no friction
+            // unknown (its status is `contact`, as in contact.csv)
+            stick: p.trow.is_some()
+                && friction.is_some_and(|f| f.statuses[pi] == PointStatus::Stick),
         })
         .collect()
 }

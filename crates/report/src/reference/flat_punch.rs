@@ -20,7 +20,8 @@ use crate::{Quantity, ReferenceReport};
 /// The part of the punch face compared with the singular profile.
 const INTERIOR: f64 = 0.8;
 
-/// The punch's shape: a strip (2D) or a circle (axisymmetric, 3D).
+/// The shape of a contact: a strip (2D: a punch, a cylinder) or a circle
+/// (axisymmetric, 3D: a punch, a sphere).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum PunchShape {
     Strip,
