@@ -106,6 +106,13 @@ impl FixedPoint {
     }
 }
 
+/// Outer iterations without a new smallest residual after which the fixed
+/// point stops as stalled: where it converges its residual keeps falling;
+/// where the normal forces are not unique (a pile of rigid bodies, W of
+/// rank 380 in 480 rows) it wandered between 1e-6 and 5e-3 for hundreds of
+/// iterations (and, on a larger pile, broke down after 1 600).
+const STALLED_AFTER: usize = 100;
+
 /// The fixed point on the threshold (seed §4.3) from the iterate `start`:
 /// each outer iteration solves the Tresca problem with the thresholds
 /// `map.threshold` of the previous forces and gaps, until `map.residual`
@@ -122,6 +129,7 @@ pub(crate) fn fixed_point<S: TrescaSolver>(
 ) -> Result<FixedPoint, ContactError> {
     let mut last = start;
     let mut residuals = Vec::new();
+    let mut best = (f64::INFINITY, 0usize);
     let stop = |last, residuals, converged, reason| FixedPoint {
         last,
         residuals,
@@ -141,6 +149,17 @@ pub(crate) fn fixed_point<S: TrescaSolver>(
         if res.is_nan() {
             let reason = StopReason::NonFinite {
                 iteration: outer + 1,
+            };
+            return Ok(stop(last, residuals, false, reason));
+        }
+        if res < best.0 {
+            best = (res, outer + 1);
+        } else if outer + 1 - best.1 >= STALLED_AFTER {
+            let reason = StopReason::FixedPointStalled {
+                map: map.kind,
+                best: best.0,
+                at: best.1,
+                since: outer + 1 - best.1,
             };
             return Ok(stop(last, residuals, false, reason));
         }
@@ -164,4 +183,77 @@ pub(crate) fn fixed_point<S: TrescaSolver>(
         limit: opts.max_fixed_point,
     };
     Ok(stop(last, residuals, false, reason))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// An inner solver whose normal force follows `forces(k)` at its k-th solve.
+    struct Scripted<F: Fn(usize) -> f64> {
+        forces: F,
+        calls: usize,
+    }
+
+    impl<F: Fn(usize) -> f64> TrescaSolver for Scripted<F> {
+        type Thresholds = ();
+        fn solve(&mut self, _: &(), _: &[f64]) -> Result<InnerSolve, ContactError> {
+            self.calls += 1;
+            Ok(InnerSolve {
+                forces: vec![(self.forces)(self.calls)],
+                gaps: vec![0.0],
+                statuses: vec![PointStatus::Stick],
+                converged: true,
+                reason: StopReason::Pending,
+            })
+        }
+    }
+
+    fn run<F: Fn(usize) -> f64>(forces: F) -> (FixedPoint, usize) {
+        let opts = FrictionOptions {
+            max_iterations: 10_000,
+            max_fixed_point: 10_000,
+            tolerance: 1e-10,
+            force_scale: 1.0,
+            gap_scale: 1.0,
+        };
+        let map = ThresholdMap {
+            threshold: &|_, _| (),
+            residual: &normal_change,
+            kind: ThresholdMapKind::Coulomb,
+        };
+        let mut solver = Scripted { forces, calls: 0 };
+        let start = solver.solve(&(), &[]).unwrap();
+        let end = fixed_point(&mut solver, start, &map, &opts).unwrap();
+        (end, solver.calls - 1)
+    }
+
+    /// Forces that wander without approaching a limit stop the fixed point
+    /// as stalled, STALLED_AFTER iterations after its best residual, not at
+    /// the limit of 10 000; forces that converge slowly (halving each
+    /// time) are followed to the tolerance; a NaN stops it at once.
+    #[test]
+    fn a_wandering_fixed_point_stalls_a_converging_one_does_not() {
+        let (end, outer) = run(|k| 1.0 + 0.5 * ((k * 7919) % 13) as f64 / 13.0);
+        assert!(!end.converged);
+        assert!(
+            matches!(end.reason, StopReason::FixedPointStalled { since, .. } if since == STALLED_AFTER),
+            "{:?}",
+            end.reason
+        );
+        assert!(outer <= STALLED_AFTER + 20, "{outer}");
+        let (end, outer) = run(|k| 1.0 + 0.5f64.powi(k as i32));
+        assert!(
+            end.converged && outer > 30,
+            "{:?} after {outer}",
+            end.reason
+        );
+        let (end, outer) = run(|k| if k < 5 { k as f64 } else { f64::NAN });
+        assert!(!end.converged && outer == 4, "{outer}");
+        assert!(
+            matches!(end.reason, StopReason::NonFinite { iteration: 4 }),
+            "{:?}",
+            end.reason
+        );
+    }
 }

@@ -313,6 +313,14 @@ pub enum StopReason {
     },
     /// The fixed point on the threshold reached its iteration limit.
     FixedPointLimit { map: ThresholdMapKind, limit: usize },
+    /// The fixed point on the threshold came no closer than `best` (at
+    /// iteration `at`) in `since` iterations: the map does not contract.
+    FixedPointStalled {
+        map: ThresholdMapKind,
+        best: f64,
+        at: usize,
+        since: usize,
+    },
     /// The semi-smooth Newton method met the tolerance.
     NewtonConverged { residual: f64, iterations: usize },
     /// The semi-smooth Newton method reached its iteration limit.

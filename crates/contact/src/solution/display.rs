@@ -207,6 +207,7 @@ impl fmt::Display for StopReason {
             | InnerTresca(_)
             | FixedPointReached { .. }
             | FixedPointLimit { .. }
+            | FixedPointStalled { .. }
             | Tresca(_) => self.fmt_friction(f),
             NewtonConverged { .. } | NewtonLimit { .. } | NewtonLineSearchFailed => {
                 self.fmt_newton(f)
@@ -436,6 +437,15 @@ impl StopReason {
             StopReason::FixedPointLimit { map, limit } => {
                 write!(f, "{map} not reached in {limit} iterations")
             }
+            StopReason::FixedPointStalled {
+                map,
+                best,
+                at,
+                since,
+            } => write!(
+                f,
+                "{map} stalled: no iterate came closer than {best:.2e} (iteration {at}) in the {since} iterations since; the map does not contract here (normal forces not unique, e.g. a rank-deficient W: try the semi-smooth Newton method, friction = \"newton\")"
+            ),
             StopReason::Tresca(inner) => write!(f, "Tresca: {inner}"),
             _ => unreachable!("not a friction reason"),
         }
