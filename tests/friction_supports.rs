@@ -393,11 +393,12 @@ fn a_body_pushed_past_its_friction_under_displacement_control_says_why() {
 
 /// A block dragged past μN by its left face, whose bottom corner is a
 /// contact node: that node's slip is prescribed, so it has no friction
-/// unknown (status `contact`, zero tangential force) and the friction
-/// reaction falls short of μN by μ times its normal force. Found by a sweep
-/// of unseen scenes: the sliding_block reference took that node for a
-/// sticking one, compared the reaction with itself and reported no error;
-/// it now compares it with μN and shows the shortfall.
+/// unknown; dragged, it slides, and Coulomb's law gives its force −μ λ_n
+/// along the drag (status `slip`), so the friction reaction is μN. Found by
+/// a sweep of unseen scenes: the sliding_block reference took that node for
+/// a sticking one and compared the reaction with itself; then the node had
+/// status `contact` and no force, and the reaction fell short of μN by μ
+/// times its normal force (3.9 %).
 #[test]
 fn sliding_block_reference_compares_a_dragged_block_with_mu_n() {
     let mu = 0.35;
@@ -413,21 +414,41 @@ fn sliding_block_reference_compares_a_dragged_block_with_mu_n() {
     let last: Vec<_> = out.contact_rows.iter().filter(|r| r.step == 2).collect();
     let dragged = last
         .iter()
-        .find(|r| r.status == "contact")
+        .find(|r| r.x[0] == 0.0)
         .expect("the dragged corner");
-    assert_eq!(dragged.tangential_force, 0.0);
+    assert_eq!(dragged.status, "slip");
+    // The tangent of the plane of normal +y is +x: the drag is +x.
+    let expected = -mu * dragged.normal_force;
+    assert!(
+        (dragged.tangential_force - expected).abs() <= 1e-12 * expected.abs(),
+        "{} against −μ N_corner = {expected}",
+        dragged.tangential_force
+    );
+    let drag = 0.05;
+    assert!(
+        (dragged.slip - drag).abs() <= 1e-12 * drag,
+        "{}",
+        dragged.slip
+    );
     assert!(last
         .iter()
         .filter(|r| r.normal_force > 0.0)
-        .all(|r| r.status != "stick"));
-    let shortfall = mu * dragged.normal_force;
+        .all(|r| r.status == "slip"));
     assert!(
-        (t.computed + shortfall - t.exact).abs() <= 1e-9 * t.exact,
-        "reaction {} + μN_corner {shortfall} against μN {}",
+        (t.computed - t.exact).abs() <= 1e-9 * t.exact,
+        "reaction {} against μN {}",
         t.computed,
         t.exact
     );
-    assert!(t.relative_error >= 0.01, "{t:?}");
+    assert!(t.relative_error <= 1e-9, "{t:?}");
+    // Step 1 holds the corner (no drag): it stays in contact, with no force.
+    let held = out
+        .contact_rows
+        .iter()
+        .find(|r| r.step == 1 && r.x[0] == 0.0)
+        .expect("the corner");
+    assert_eq!(held.status, "contact");
+    assert_eq!(held.tangential_force, 0.0);
 }
 
 const DRAGGED_BLOCK: &str = r#"dimension = 2

@@ -254,17 +254,21 @@ fn push_contact_rows(
             tangential_force_2: sol.friction.as_ref().map_or(0.0, |f| f.tangential2[pi]),
             slip_2: sol.friction.as_ref().map_or(0.0, |f| f.slip_total2[pi]),
             pressure: pressure[pi],
-            status: match (
-                sol.outcome.active.binary_search(&pi).is_ok(),
-                &sol.friction,
-                p.trow.is_some(),
-            ) {
-                (false, _, _) => "open",
-                (true, Some(f), true) if f.statuses[pi].is_slip() => "slip",
-                (true, Some(_), true) => "stick",
-                _ => "contact",
-            },
+            status: contact_status(p, pi, sol),
         });
+    }
+}
+
+/// The status of a contact point in contact.csv: open, stick or slip for a
+/// point with friction, else contact (a frictionless point, or one whose
+/// slip a support holds); a point a support drags slides (seed §4).
+fn contact_status(p: &PointModel, pi: usize, sol: &StepSolution) -> &'static str {
+    let active = sol.outcome.active.binary_search(&pi).is_ok();
+    match (active, sol.friction.as_ref().map(|f| f.statuses[pi])) {
+        (false, _) => "open",
+        (true, Some(s)) if s.is_slip() && p.reports_friction(s) => "slip",
+        (true, Some(s)) if p.reports_friction(s) => "stick",
+        _ => "contact",
     }
 }
 
@@ -281,7 +285,7 @@ fn step_report(
     let (outcome, lambda) = (&sol.outcome, &sol.outcome.forces);
     let friction_points = |keep: &dyn Fn(PointStatus) -> bool| match &sol.friction {
         Some(f) => (0..points.len())
-            .filter(|&p| points[p].trow.is_some() && keep(f.statuses[p]))
+            .filter(|&p| points[p].reports_friction(f.statuses[p]) && keep(f.statuses[p]))
             .count(),
         None => 0,
     };
@@ -296,10 +300,12 @@ fn step_report(
         }
         sum_n += lambda[pi];
         sum_t += sol.friction.as_ref().map_or(0.0, |f| f.tangential[pi]);
-        if let (Some(f), true) = (
-            &sol.friction,
-            p.trow.is_some() && outcome.active.binary_search(&pi).is_ok(),
-        ) {
+        let active = outcome.active.binary_search(&pi).is_ok();
+        if let Some(f) = sol
+            .friction
+            .as_ref()
+            .filter(|f| active && p.reports_friction(f.statuses[pi]))
+        {
             slip_sum += f.slip_total[pi];
             slip_count += 1;
         }

@@ -132,7 +132,8 @@ fn reference_nodes(
                 friction.map_or(0.0, |f| f.tangential[pi])
             },
             // a point whose slip a support prescribes has no friction
-            // unknown (its status is `contact`, as in contact.csv)
+            // unknown: held, its status is `contact`; dragged, `slip` (as in
+            // contact.csv)
             stick: p.trow.is_some()
                 && friction.is_some_and(|f| f.statuses[pi] == PointStatus::Stick),
         })

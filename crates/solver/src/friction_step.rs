@@ -115,12 +115,7 @@ pub(crate) fn row_gaps(
 ) -> Vec<f64> {
     let bodies = input.bodies;
     let mut gap0_all = load.gap0.clone();
-    let prescribed = |t: &[(usize, usize, f64)]| -> f64 {
-        t.iter()
-            .filter(|&&(b, d, _)| bodies[b].prescribed[d])
-            .map(|&(b, d, c)| c * load.u_p[b][d])
-            .sum()
-    };
+    let prescribed = |t: &[(usize, usize, f64)]| prescribed_jump(bodies, &load.u_p, t);
     for (pi, p) in input.points.iter().enumerate() {
         let (s1, s2) = slip(pi);
         if let Some(t) = &p.trow {
@@ -226,6 +221,7 @@ pub(crate) fn friction_step(
     let (out, name) = solve_friction(input, fr, history, &mut problem, &load, &fopts);
     let mut out = out.map_err(contact_error)?;
     let mut friction = friction_state(interface, fr, history, &out, m);
+    prescribed_slip_friction(input, &load, history, &mut friction, &out.forces[..m]);
     let physical = match &hardened {
         Some(h) => {
             let t = h.physical_forces(&out.forces);
@@ -401,4 +397,87 @@ fn friction_state(
         f.slip_total2[pi] = history.slip_total2[pi];
     }
     f
+}
+
+/// The slip below which a prescribed slip increment is round-off, relative
+/// to the step's length scale.
+const SLIP_ROUND_OFF: f64 = 64.0 * f64::EPSILON;
+
+/// The friction of the points whose slip a support prescribes (no tangential
+/// row with a free DOF: `model::contacts::free_tangential_rows`). Their slip
+/// is the prescribed motion along their dropped rows, carried in the slip
+/// totals. A support that holds the slip (a symmetry plane) leaves the point
+/// in contact with no friction force: the support reaction holds it. One
+/// that drags it (a non-zero slip increment) makes it slide, and Coulomb's
+/// law (seed §4) gives its force on the boundary of its cone, opposite to
+/// the slip increment. That force acts on prescribed DOFs only: it changes
+/// no free displacement, so it is computed here, at the end of the step.
+fn prescribed_slip_friction(
+    input: &RootInput,
+    load: &StepLoad,
+    history: &mut FrictionHistory,
+    f: &mut FrictionStep,
+    lambda: &[f64],
+) {
+    let round_off = SLIP_ROUND_OFF * load.length_scale;
+    for (pi, p) in input.points.iter().enumerate() {
+        let Some(rows) = &p.prescribed_slip else {
+            continue;
+        };
+        let along = |r: Option<&Vec<(usize, usize, f64)>>| {
+            r.map_or(0.0, |r| prescribed_jump(input.bodies, &load.u_p, r))
+        };
+        let total = [along(Some(&rows.t1)), along(rows.t2.as_ref())];
+        let increment = [
+            total[0] - history.slip_total[pi],
+            total[1] - history.slip_total2[pi],
+        ];
+        (history.slip_total[pi], history.slip_total2[pi]) = (total[0], total[1]);
+        (f.slip_total[pi], f.slip_total2[pi]) = (total[0], total[1]);
+        (f.slip_increment[pi], f.slip_increment2[pi]) = (increment[0], increment[1]);
+        let sliding = lambda[pi] > 0.0 && increment[0].hypot(increment[1]) > round_off;
+        let force = sliding
+            .then(|| sliding_force(p, lambda[pi], increment))
+            .flatten();
+        let Some(force) = force else {
+            if f.statuses[pi].is_slip() {
+                f.statuses[pi] = PointStatus::Stick;
+            }
+            continue;
+        };
+        (f.tangential[pi], f.tangential2[pi]) = (force[0], force[1]);
+        f.threshold[pi] = p.friction.semi_axes(lambda[pi])[0];
+        f.statuses[pi] = match (rows.t2.is_some(), force[0] > 0.0) {
+            (true, _) => PointStatus::Slip,
+            (false, true) => PointStatus::SlipPlus,
+            (false, false) => PointStatus::SlipMinus,
+        };
+    }
+}
+
+/// The tangential jump the prescribed displacements `u_p` give along a row
+/// (its prescribed DOFs only).
+fn prescribed_jump(bodies: &[BodyModel], u_p: &[Vec<f64>], row: &[(usize, usize, f64)]) -> f64 {
+    row.iter()
+        .filter(|&&(b, d, _)| bodies[b].prescribed[d])
+        .map(|&(b, d, c)| c * u_p[b][d])
+        .sum()
+}
+
+/// The friction force of a point sliding by `increment` (along t1, t2) with
+/// normal force `normal` (seed §4): on the boundary of its law's disc or
+/// ellipse (semi-axes a₁, a₂: Tresca g, Coulomb μᵢ λ_n), the point of
+/// maximal dissipation, λ_tᵢ = −aᵢ² Δsᵢ / ‖(a₁ Δs₁, a₂ Δs₂)‖, which is
+/// −a Δs/|Δs| on a disc. `None` for the laws whose force is not a threshold
+/// (Norton–Hoff) or depends on the elastic slip (a slip stiffness).
+fn sliding_force(p: &PointModel, normal: f64, increment: [f64; 2]) -> Option<[f64; 2]> {
+    if p.slip_stiffness.is_some() {
+        return None;
+    }
+    let axes = match p.friction {
+        FrictionLaw::Tresca(_) | FrictionLaw::Coulomb { .. } => p.friction.semi_axes(normal),
+        _ => return None,
+    };
+    let weighted = (axes[0] * increment[0]).hypot(axes[1] * increment[1]);
+    (weighted > 0.0).then(|| [0, 1].map(|k| -axes[k] * axes[k] * increment[k] / weighted))
 }

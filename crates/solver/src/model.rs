@@ -3,7 +3,7 @@
 //! and (in `contacts`) the contact points with their rows over the bodies' DOFs.
 
 use faer::{Mat, Side};
-use signorini_contact::friction::FrictionLaw;
+use signorini_contact::friction::{FrictionLaw, PointStatus};
 use signorini_contact::ContactPoint;
 use signorini_fem::{Elasticity, Formulation as FemFormulation, Model as FemModel};
 use signorini_mesh::generators::{
@@ -109,6 +109,26 @@ pub struct PointModel {
     /// The elastic slip stiffness (force per unit slip) of a regularised
     /// Coulomb law (seed §4.1.3).
     pub slip_stiffness: Option<f64>,
+    /// The tangential rows dropped because a support prescribes every DOF
+    /// of them (`model::contacts::free_tangential_rows`): the slip there is
+    /// known, and a non-zero slip increment makes the point slide (seed §4,
+    /// Coulomb's law), its force evaluated at the end of the step.
+    pub prescribed_slip: Option<PrescribedSlip>,
+}
+
+/// The tangential rows of a contact point whose slip a support prescribes:
+/// the tangent t1 in 2D; t1 and t2 in 3D (both rows without a free DOF).
+pub struct PrescribedSlip {
+    pub t1: Vec<(usize, usize, f64)>,
+    pub t2: Option<Vec<(usize, usize, f64)>>,
+}
+
+impl PointModel {
+    /// Whether the point's friction status (stick, slip) is reported: it has
+    /// a friction unknown, or a support drags it and it slides.
+    pub fn reports_friction(&self, status: PointStatus) -> bool {
+        self.trow.is_some() || (self.prescribed_slip.is_some() && status.is_slip())
+    }
 }
 
 pub fn fem_model(model: scene::Model) -> Result<FemModel, SolveError> {

@@ -11,7 +11,7 @@ use signorini_contact::mortar3d::mortar3d_pairing;
 use signorini_contact::{ContactPoint, MasterGeometry, NormalRule, TermSide};
 use signorini_scene as scene;
 
-use super::{input, point3, BodyModel, PointModel, Zone};
+use super::{input, point3, BodyModel, PointModel, PrescribedSlip, Zone};
 use crate::SolveError;
 use signorini_contact::friction::FrictionLaw;
 
@@ -347,11 +347,12 @@ fn point_model(
     let trow = (friction != FrictionLaw::None).then(|| row_along(&p, sides, dim, p.tangent));
     let trow2 =
         (friction != FrictionLaw::None && dim == 3).then(|| row_along(&p, sides, dim, p.tangent2));
-    let (trow, trow2, friction) = free_tangential_rows(bodies, &mut p, trow, trow2, friction);
+    let rows = free_tangential_rows(bodies, &mut p, trow, trow2, friction);
     PairPoint::Unknown(Box::new(PointModel {
-        trow,
-        trow2,
-        friction,
+        trow: rows.t1,
+        trow2: rows.t2,
+        friction: rows.friction,
+        prescribed_slip: rows.prescribed,
         slip_stiffness,
         contact: ci,
         tributary,
@@ -365,6 +366,16 @@ fn point_model(
 /// A row of B as (body, DOF, coefficient) entries.
 type Row = Vec<(usize, usize, f64)>;
 
+/// The tangential rows of a contact point: those that carry a friction
+/// unknown, its friction law (turned with the frame in 3D), and the rows
+/// dropped because a support prescribes the slip along them.
+struct TangentialRows {
+    t1: Option<Row>,
+    t2: Option<Row>,
+    friction: FrictionLaw,
+    prescribed: Option<PrescribedSlip>,
+}
+
 /// The tangential rows of a contact point that carry a friction unknown.
 ///
 /// A support that prescribes the slave's (and master's) motion along a
@@ -377,14 +388,22 @@ type Row = Vec<(usize, usize, f64)>;
 /// both are dropped; dependent (a node on one symmetry plane), the frame
 /// (t1, t2) is turned about n so that t2 is the prescribed direction, and
 /// only t1, along which the node may slip, keeps a row, with the elliptic
-/// cone's coefficient in that direction (seed §4.1.2).
+/// cone's coefficient in that direction (seed §4.1.2). The dropped rows of a
+/// point with no tangential unknown left are kept as its prescribed slip: a
+/// support that drags it makes it slide (seed §4, Coulomb's law).
 fn free_tangential_rows(
     bodies: &[BodyModel],
     p: &mut ContactPoint,
     t1: Option<Row>,
     t2: Option<Row>,
     friction: FrictionLaw,
-) -> (Option<Row>, Option<Row>, FrictionLaw) {
+) -> TangentialRows {
+    let rows = |t1, t2, prescribed| TangentialRows {
+        t1,
+        t2,
+        friction,
+        prescribed,
+    };
     let free = |r: &Row| -> std::collections::BTreeMap<(usize, usize), f64> {
         let mut m = std::collections::BTreeMap::new();
         for &(b, d, c) in r.iter().filter(|&&(b, d, _)| !bodies[b].prescribed[d]) {
@@ -401,18 +420,30 @@ fn free_tangential_rows(
     let norm2 = |r: &Row| r.iter().map(|e| e.2 * e.2).sum::<f64>();
     let (Some(r1), Some(r2)) = (&t1, &t2) else {
         // 2D: one tangent.
-        let keep = t1.filter(|r| !free(r).is_empty());
-        return (keep, None, friction);
+        return match t1 {
+            Some(r) if free(&r).is_empty() => {
+                rows(None, None, Some(PrescribedSlip { t1: r, t2: None }))
+            }
+            keep => rows(keep, None, None),
+        };
     };
     let (f1, f2) = (free(r1), free(r2));
     let (a, b, c) = (dot(&f1, &f1), dot(&f1, &f2), dot(&f2, &f2));
     let scale = norm2(r1) + norm2(r2);
     let lmin = 0.5 * (a + c - ((a - c).powi(2) + 4.0 * b * b).sqrt());
     if a + c <= 1e-24 * scale {
-        return (None, None, friction);
+        let (r1, r2) = (r1.clone(), r2.clone());
+        return rows(
+            None,
+            None,
+            Some(PrescribedSlip {
+                t1: r1,
+                t2: Some(r2),
+            }),
+        );
     }
     if lmin > 1e-10 * scale {
-        return (t1, t2, friction);
+        return rows(t1, t2, None);
     }
     // (cs, sn): the combination cs t1 + sn t2 with no free DOF.
     let (v1, v2) = if (a - lmin).abs() >= (c - lmin).abs() {
@@ -440,7 +471,12 @@ fn free_tangential_rows(
         }
         other => other,
     };
-    (Some(kept), None, friction)
+    TangentialRows {
+        t1: Some(kept),
+        t2: None,
+        friction,
+        prescribed: None,
+    }
 }
 
 /// A slave node whose normal motion is fully prescribed: its gap follows
