@@ -503,6 +503,7 @@ fn sweep() -> Vec<Bad> {
         bad("inf_in_traction", block_with("traction = [0.0, -1.0]", "traction = [0.0, -inf]"), &["boundary[1].traction", "inf"]),
         bad("nan_in_gap", block_with("discretization = \"node_to_segment\"", "discretization = \"node_to_segment\"\ngap = nan"), &["contact \"block-ground\".gap", "NaN"]),
         bad("nan_in_coulomb", block_with("discretization = \"node_to_segment\"", "discretization = \"node_to_segment\"\nfriction = { coulomb = nan }"), &["contact \"block-ground\".friction.coulomb", "NaN"]),
+        bad("penalty_law_1e-300", block_with("discretization = \"node_to_segment\"", "discretization = \"node_to_segment\"\nlaw = { penalty = 1e-300 }"), &["contact \"block-ground\".law.penalty", "outside", "other units"]),
         bad("inf_in_penalty_law", block_with("discretization = \"node_to_segment\"", "discretization = \"node_to_segment\"\nlaw = { penalty = inf }"), &["contact \"block-ground\".law.penalty", "inf"]),
         bad("nan_in_step_scale", format!("{BLOCK_ON_PLANE}\n[[steps]]\nscale = {{ press = nan }}\n"), &["steps[0].scale.press", "NaN"]),
         bad("nan_in_tolerance", format!("{BLOCK_ON_PLANE}\n[solver]\ntolerance = nan\n"), &["solver.tolerance", "NaN"]),

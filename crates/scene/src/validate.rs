@@ -103,6 +103,22 @@ fn known(names: &[&str], what: &str, table: &str) -> String {
 /// double precision (1e±308) for lengths of any sane unit.
 const YOUNG_RANGE: (f64, f64) = (1e-100, 1e100);
 
+/// A stiffness (Young's modulus, a penalty law's k_n) that is positive and
+/// within [`YOUNG_RANGE`].
+fn representable_stiffness(entry: &str, v: f64) -> Result {
+    positive(entry, v)?;
+    if !(YOUNG_RANGE.0..=YOUNG_RANGE.1).contains(&v) {
+        return Err(invalid(
+            entry,
+            format!(
+                "{:e} is outside [{:e}, {:e}]: the stiffness, loads and their products would overflow or underflow double precision; choose other units (MPa instead of Pa, mm instead of m)",
+                v, YOUNG_RANGE.0, YOUNG_RANGE.1
+            ),
+        ));
+    }
+    Ok(())
+}
+
 fn positive(entry: &str, v: f64) -> Result {
     if v.is_finite() && v > 0.0 {
         Ok(())
@@ -287,16 +303,7 @@ impl Scene {
         for (i, m) in self.materials.iter().enumerate() {
             let e = format!("materials[{i}]");
             unique_name(&mut seen, &e, &m.name, "material")?;
-            positive(&format!("{e}.young"), m.young)?;
-            if !(YOUNG_RANGE.0..=YOUNG_RANGE.1).contains(&m.young) {
-                return Err(invalid(
-                    format!("{e}.young"),
-                    format!(
-                        "{:e} is outside [{:e}, {:e}]: the stiffness, loads and their products would overflow or underflow double precision; choose other units (MPa instead of Pa, mm instead of m)",
-                        m.young, YOUNG_RANGE.0, YOUNG_RANGE.1
-                    ),
-                ));
-            }
+            representable_stiffness(&format!("{e}.young"), m.young)?;
             if !(m.poisson.is_finite() && m.poisson > -1.0 && m.poisson < 0.5) {
                 return Err(invalid(
                     format!("{e}.poisson"),
@@ -581,7 +588,7 @@ impl Scene {
             }
             self.validate_contact_sides(&e, c)?;
             if let Law::Penalty { penalty } = c.law {
-                positive(&format!("{e}.law.penalty"), penalty)?;
+                representable_stiffness(&format!("{e}.law.penalty"), penalty)?;
             }
             validate_friction(&e, &c.friction, dim)?;
             if let Gap::Uniform(g) = c.gap {
