@@ -30,7 +30,8 @@ pub mod loads;
 pub mod stress;
 
 pub use assembly::{
-    assemble_stiffness, stiffness_triplets, try_assemble_stiffness, try_stiffness_triplets,
+    assemble_stiffness, stiffness_triplets, try_assemble_stiffness, try_assemble_stiffness_par,
+    try_stiffness_triplets,
 };
 pub use bbar::{b_bar_matrix, d_matrix_bbar};
 pub use elasticity::{check_material, Elasticity, Formulation, Model};

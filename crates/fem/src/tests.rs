@@ -515,3 +515,36 @@ fn traction_and_tributary_measures() {
         }
     }
 }
+
+/// The element matrices integrated on several threads are added in the
+/// cells' order: K is the same to the last bit as on one thread (a mesh of
+/// several batches per thread, its last batch short), and of two bad cells
+/// in different threads' batches the first in the mesh is named.
+#[test]
+fn assembly_on_threads_equals_one_thread_bit_for_bit() {
+    let m = distorted_rectangle(CellKind::Quad4, 0.1);
+    let big = rectangle([0.0, 0.0], [3.0, 1.0], [61, 23], CellKind::Quad4, None).unwrap();
+    for mesh in [m, big] {
+        let el = mat(Model::PlaneStrain);
+        let one = try_assemble_stiffness(&mesh, &el).unwrap();
+        for threads in [2, 3] {
+            let many = try_assemble_stiffness_par(&mesh, &el, faer::Par::rayon(threads)).unwrap();
+            assert_eq!(one.col_ptr(), many.col_ptr());
+            assert_eq!(one.row_idx(), many.row_idx());
+            let same = (one.val().iter().zip(many.val())).all(|(a, b)| a.to_bits() == b.to_bits());
+            assert!(same, "{threads} threads: K differs from one thread's");
+        }
+    }
+    // Cells 100 and 300 fall in the first batches of two threads.
+    for (bad, named) in [(vec![300], 300), (vec![300, 100], 100)] {
+        let mut m = rectangle([0.0, 0.0], [3.0, 1.0], [61, 23], CellKind::Quad4, None).unwrap();
+        for &c in &bad {
+            m.cells[c].nodes.reverse();
+        }
+        let err = try_assemble_stiffness_par(&m, &mat(Model::PlaneStrain), faer::Par::rayon(2));
+        assert!(
+            matches!(err, Err(FemError::BadJacobian { cell, .. }) if cell == named),
+            "bad cells {bad:?}: {err:?}"
+        );
+    }
+}

@@ -106,7 +106,8 @@ fn assemble_direct(bodies: &[BodyModel]) -> Result<DirectSystem, SolveError> {
     let mut triplets = Vec::new();
     let mut n_free = 0;
     for b in bodies {
-        let k = signorini_fem::try_assemble_stiffness(&b.mesh, &b.material)
+        let par = faer::get_global_parallelism();
+        let k = signorini_fem::try_assemble_stiffness_par(&b.mesh, &b.material, par)
             .map_err(|e| SolveError::Input(format!("bodies[{}].mesh: {e}", b.scene_index)))?;
         let kff = submatrix(k.as_ref(), &b.free, &b.free);
         for j in 0..kff.ncols() {

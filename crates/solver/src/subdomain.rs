@@ -279,7 +279,7 @@ impl Subdomain {
         let dim = body.mesh.dim;
         let mesh = spec.local_mesh(body);
         crate::progress::emit(crate::progress::Event::Detail("assembling"));
-        let mut k_local = signorini_fem::try_assemble_stiffness(&mesh, &body.material)
+        let mut k_local = signorini_fem::try_assemble_stiffness_par(&mesh, &body.material, par)
             .map_err(|e| e.to_string())?;
         if !frames.is_identity() {
             k_local = frames.rotate_stiffness(k_local)?;
