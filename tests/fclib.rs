@@ -2,8 +2,8 @@
 //! of tests/data/fclib were written by the FCLib C library
 //! (make_fclib.c: fclib_write_local, fclib_write_global,
 //! fclib_write_solution) and solved by Siconos (make_fclib.py: fc2d / fc3d
-//! NSGS to 1e-14; the global ones condensed by NumPy, and in 3D also
-//! gfc3d), whose forces are the files' /solution/r (and velocities
+//! NSGS to 1e-14; the global ones condensed by NumPy, and in 3D without
+//! equality constraints also gfc3d), whose forces are the files' /solution/r (and velocities
 //! /solution/v). Both friction solvers must find Siconos' forces, the
 //! same problem as .npz and JSON must give the same forces, and whatever
 //! `local` cannot solve is refused (exit 1, naming the file and the
@@ -214,8 +214,20 @@ fn assert_refused(path: &Path, extra: &[&str], needles: &[&str]) {
 fn what_local_cannot_solve_is_refused_naming_the_dataset() {
     let cases: &[(&str, &[&str])] = &[
         (
-            "bad_global_g.hdf5",
-            &["/fclib_global/G has 2 columns", "equality constraints"],
+            "bad_global_g_dependent.hdf5",
+            &["column 1 of /fclib_global/G depends on the columns before it"],
+        ),
+        (
+            "bad_global_g_rows.hdf5",
+            &["/fclib_global/G is 14 × 2", "/fclib_global/M is 15 × 15"],
+        ),
+        (
+            "bad_global_b_length.hdf5",
+            &["/fclib_global/vectors/b has 3 entries", "G^T has 2 rows"],
+        ),
+        (
+            "bad_global_no_b.hdf5",
+            &["no dataset /fclib_global/vectors/b"],
         ),
         (
             "bad_global_indefinite.hdf5",
@@ -351,12 +363,20 @@ fn reference_v(dim: usize) -> Vec<f64> {
 }
 
 /// The global problems (FCLib's fclib_write_global: a chain of springs and
-/// masses, M n × n sparse SPD, H n × m), condensed and solved: Siconos'
-/// forces (its fc2d/fc3d NSGS on NumPy's condensation and, in 3D, its
-/// global gfc3d Newton solver, agreeing to 4e-15) and velocities.
+/// masses, M n × n sparse SPD, H n × m; global3d_g.hdf5 also with two
+/// equality constraints G, b), condensed and solved: Siconos' forces (its
+/// fc2d/fc3d NSGS on NumPy's condensation and, in 3D without G, its global
+/// gfc3d Newton solver, agreeing to 4e-15) and velocities — with G, the
+/// manufactured ones, which satisfy Gᵀ v + b = 0 (ignoring G moves the
+/// forces: f holds −G λ).
 #[test]
 fn global_problems_are_condensed_and_solved_to_siconos_forces_and_velocities() {
-    for (name, dim, n, nnz_m) in [("global2d.hdf5", 2, 12, 64), ("global3d.hdf5", 3, 15, 117)] {
+    let problems = [
+        ("global2d.hdf5", 2, 12, 64, 0),
+        ("global3d.hdf5", 3, 15, 117, 0),
+        ("global3d_g.hdf5", 3, 15, 117, 2),
+    ];
+    for (name, dim, n, nnz_m, constraints) in problems {
         let (r, mu, expected) = reference(dim);
         for friction in ["fixed_point", "newton"] {
             let v = solved(&[
@@ -380,6 +400,7 @@ fn global_problems_are_condensed_and_solved_to_siconos_forces_and_velocities() {
             let g = &v["global"];
             assert_eq!(g["n"].as_u64(), Some(n), "{what}");
             assert_eq!(g["nnz_M"].as_u64(), Some(nnz_m), "{what}");
+            assert_eq!(g["constraints"].as_u64(), Some(constraints), "{what}");
             assert!(g["condense_s"].as_f64().unwrap() >= 0.0, "{what}");
         }
         let p = signorini_solver::problem_file::load(&data(name)).unwrap();
@@ -394,7 +415,7 @@ fn global_problems_are_condensed_and_solved_to_siconos_forces_and_velocities() {
 /// problems give the same forces.
 #[test]
 fn global_condensation_equals_numpys() {
-    for name in ["global2d", "global3d"] {
+    for name in ["global2d", "global3d", "global3d_g"] {
         let ours = signorini_solver::problem_file::load(&data(&format!("{name}.hdf5"))).unwrap();
         let npz = data(&format!("{name}_condensed.npz"));
         let numpy = signorini_solver::problem_file::load(&npz).unwrap();

@@ -33,6 +33,7 @@ use hdf5_reader::{Dataset, Datatype, Hdf5File, OpenOptions};
 use crate::problem_file::{regular_file, Raw, NPY_COPIES};
 
 mod condense_global;
+mod equality_constraints;
 pub use condense_global::{GlobalCondensation, GlobalSummary};
 
 const LOCAL: &str = "/fclib_local";

@@ -17,7 +17,9 @@
  *                             global2d.hdf5, global3d.hdf5 (global
  *                             problems: a chain of springs, M compressed
  *                             columns and H triplets in 2D, M triplets and H
- *                             compressed columns in 3D) and mixed.hdf5 (a
+ *                             compressed columns in 3D), global3d_g.hdf5
+ *                             (the 3D one with two equality constraints G,
+ *                             b) and mixed.hdf5 (a
  *                             local problem with V and R); prints each
  *                             problem's manufactured solution as one line
  *                             "FILE r... u..." (and "v..." for a global one)
@@ -268,14 +270,31 @@ static void make_h(int nc, int d, double *h)
   }
 }
 
-/* A global problem (M v = H r + f, u = Hᵀ v + w) with a manufactured
- * solution: r, u per contact as for the local problems, v chosen, then
- * f = M v − H r and w = u − Hᵀ v. M stored by `m_storage`, H by
- * `h_storage` (0 triplets, 1 columns, 2 rows). Prints "NAME r... u... v...". */
+/* G (n × p, row-major) of `p` equality constraints: column k ties DOF
+ * 2k + 1 to DOF n − 1 − 2k (weights 1 and −0.5), full column rank. */
+static void make_g(int n, int p, double *g)
+{
+  for (int i = 0; i < n * p; i++) g[i] = 0.0;
+  for (int k = 0; k < p; k++)
+  {
+    g[(2 * k + 1) * p + k] = 1.0;
+    g[(n - 1 - 2 * k) * p + k] = -0.5;
+  }
+}
+
+/* A global problem (M v = H r + G λ + f, Gᵀ v + b = 0, u = Hᵀ v + w) with
+ * a manufactured solution: r, u per contact as for the local problems, v
+ * and λ chosen, then f = M v − H r − G λ, b = −Gᵀ v and w = u − Hᵀ v. M
+ * stored by `m_storage`, H by `h_storage` (0 triplets, 1 columns, 2 rows),
+ * G (`p` columns, none when p = 0) by compressed columns. Prints
+ * "NAME r... u... v...". */
 static int write_global(const char *dir, const char *name, int nc, int d, const enum status *st,
-                        const double *mu, int m_storage, int h_storage, const char *title)
+                        const double *mu, int m_storage, int h_storage, int p, const char *title)
 {
   int nn = nc + 1, n = nn * d, m = nc * d;
+  double *g = malloc((n * p + 1) * sizeof(double)), *lambda = malloc((p + 1) * sizeof(double));
+  double *b = malloc((p + 1) * sizeof(double));
+  make_g(n, p, g);
   double *mm = malloc(n * n * sizeof(double)), *h = malloc(n * m * sizeof(double));
   double *r = malloc(m * sizeof(double)), *u = malloc(m * sizeof(double)), *w = malloc(m * sizeof(double));
   double *v = malloc(n * sizeof(double)), *f = malloc(n * sizeof(double));
@@ -283,11 +302,18 @@ static int write_global(const char *dir, const char *name, int nc, int d, const 
   make_h(nc, d, h);
   make_solution(nc, d, st, mu, r, u);
   for (int i = 0; i < n; i++) v[i] = 0.3 * pseudo(i, 5);
+  for (int k = 0; k < p; k++) lambda[k] = 0.2 * (k + 1);
   for (int i = 0; i < n; i++)
   {
     f[i] = 0.0;
     for (int j = 0; j < n; j++) f[i] += mm[i * n + j] * v[j];
     for (int j = 0; j < m; j++) f[i] -= h[i * m + j] * r[j];
+    for (int k = 0; k < p; k++) f[i] -= g[i * p + k] * lambda[k];
+  }
+  for (int k = 0; k < p; k++)
+  {
+    b[k] = 0.0;
+    for (int i = 0; i < n; i++) b[k] -= g[i * p + k] * v[i];
   }
   for (int j = 0; j < m; j++)
   {
@@ -297,17 +323,18 @@ static int write_global(const char *dir, const char *name, int nc, int d, const 
   struct fclib_info info = {(char *)title, "manufactured: chain of springs, f = M v - H r, w = u - H^T v", "M SPD"};
   struct fclib_matrix *ms = m_storage == 0 ? triplet(n, n, mm) : compressed(n, n, mm, m_storage == 2);
   struct fclib_matrix *hs = h_storage == 0 ? triplet(n, m, h) : compressed(n, m, h, h_storage == 2);
-  struct fclib_global g = {ms, hs, NULL, (double *)mu, f, NULL, w, d, &info};
+  struct fclib_matrix *gs = p > 0 ? compressed(n, p, g, 0) : NULL;
+  struct fclib_global problem = {ms, hs, gs, (double *)mu, f, p > 0 ? b : NULL, w, d, &info};
   char path[4096];
   snprintf(path, sizeof path, "%s/%s", dir, name);
   remove(path);
-  if (!fclib_write_global(&g, path)) return 0;
+  if (!fclib_write_global(&problem, path)) return 0;
   printf("%s", name);
   print_vector("r", m, r);
   print_vector("u", m, u);
   print_vector("v", n, v);
   printf("\n");
-  free(mm), free(h), free(r), free(u), free(w), free(v), free(f);
+  free(mm), free(h), free(r), free(u), free(w), free(v), free(f), free(g), free(lambda), free(b);
   return 1;
 }
 
@@ -335,8 +362,10 @@ static int problems(const char *dir)
   return write_local(dir, "fc2d_triplet.hdf5", 5, 2, st2, mu2, 0, "2D: stick, slip, open, slip, stick")
       && write_local(dir, "fc3d_csc.hdf5", 4, 3, st3, mu3, 1, "3D: stick, slip, open, slip")
       && write_local(dir, "fc3d_csr.hdf5", 4, 3, st3, mu3, 2, "3D: stick, slip, open, slip")
-      && write_global(dir, "global2d.hdf5", 5, 2, st2, mu2, 1, 0, "global 2D: stick, slip, open, slip, stick")
-      && write_global(dir, "global3d.hdf5", 4, 3, st3, mu3, 0, 1, "global 3D: stick, slip, open, slip")
+      && write_global(dir, "global2d.hdf5", 5, 2, st2, mu2, 1, 0, 0, "global 2D: stick, slip, open, slip, stick")
+      && write_global(dir, "global3d.hdf5", 4, 3, st3, mu3, 0, 1, 0, "global 3D: stick, slip, open, slip")
+      && write_global(dir, "global3d_g.hdf5", 4, 3, st3, mu3, 0, 1, 2,
+                      "global 3D with two equality constraints: stick, slip, open, slip")
       && write_mixed(dir);
 }
 

@@ -9,8 +9,9 @@
    manufactured solution, and stores Siconos' r and u as the file's
    /solution through fclib_write_solution.
 2b. Each global problem likewise: condensed by NumPy (W = H^T M^-1 H,
-   q = H^T M^-1 f + w, dense solves), solved by Siconos' fc2d / fc3d NSGS on
-   that and, in 3D, by Siconos' own global solver (gfc3d, nonsmooth Newton
+   q = H^T M^-1 f + w, dense solves; with equality constraints G, b, by
+   dense solves of the KKT matrix [M G; G^T 0]), solved by Siconos' fc2d / fc3d NSGS on
+   that and, in 3D without G, by Siconos' own global solver (gfc3d, nonsmooth Newton
    Alart-Curnier on M, H, f, w, no condensation) as a cross-check; its r, u
    and v = M^-1 (H r + f) are stored as /solution, and NumPy's W and q as
    NAME_condensed.npz (W, q, mu, dim: a local problem `signorini local`
@@ -37,7 +38,7 @@ import siconos.numerics as sn
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 LOCAL = ["fc2d_triplet.hdf5", "fc3d_csc.hdf5", "fc3d_csr.hdf5"]
-GLOBAL = ["global2d.hdf5", "global3d.hdf5"]
+GLOBAL = ["global2d.hdf5", "global3d.hdf5", "global3d_g.hdf5"]
 
 
 def build(tmp):
@@ -111,17 +112,25 @@ def solve_global(path, manufactured):
         d = int(gl["spacedim"][0])
         m, h = dense(gl["M"]), dense(gl["H"])
         f, w, mu = gl["vectors/f"][()], gl["vectors/w"][()], gl["vectors/mu"][()]
-    wm = h.T @ np.linalg.solve(m, h)
+        gm = dense(gl["G"]) if "G" in gl else np.zeros((len(f), 0))
+        b = gl["vectors/b"][()] if "G" in gl else np.zeros(0)
+    n, p = gm.shape
+    # With equality constraints: v solves [M G; G^T 0] [v; -lambda] = [H r + f; -b].
+    kkt = np.block([[m, gm], [gm.T, np.zeros((p, p))]])
+    solve_v = lambda rhs, rhs_b: np.linalg.solve(kkt, np.concatenate([rhs, rhs_b]))[:n]
+    wm = h.T @ np.column_stack([solve_v(h[:, j], np.zeros(p)) for j in range(h.shape[1])])
     wm = 0.5 * (wm + wm.T)
-    q = h.T @ np.linalg.solve(m, f) + w
+    q = h.T @ solve_v(f, -b) + w
     np.savez(path.replace(".hdf5", "_condensed.npz"), W=wm, q=q, mu=mu, dim=np.array(d))
     r, u, err = siconos_local(d, wm, q, mu)
-    v = np.linalg.solve(m, h @ r + f)
+    v = solve_v(h @ r + f, -b)
     r0, u0, v0 = manufactured
     gap = max(np.abs(r - r0).max() / np.abs(r0).max(), np.abs(v - v0).max() / np.abs(v0).max())
     assert gap < 1e-10, (path, gap)
     line = f"NSGS on NumPy's condensation error {err:.1e}, |(r, v) - manufactured| = {gap:.1e}"
-    if d == 3:
+    if p > 0:
+        line += f", |G^T v + b| = {np.abs(gm.T @ v + b).max():.1e} (gfc3d has no G)"
+    elif d == 3:
         rg, vg = siconos_global_3d(m, h, f, w, mu)
         cross = max(np.abs(rg - r).max() / np.abs(r).max(), np.abs(vg - v).max() / np.abs(v).max())
         assert cross < 1e-10, (path, cross)
@@ -203,7 +212,10 @@ BAD = [
     # W declared 2·10⁹ × 2·10⁹ (its dense copy: 32 EB), its arrays small
     ("bad_huge.hdf5", "fc2d_triplet.hdf5", lambda f: [replace(f, "fclib_local/W/" + k, [2_000_000_000]) for k in "mn"]),
     # global problems
-    ("bad_global_g.hdf5", "global3d.hdf5", lambda f: add_g(f)),
+    ("bad_global_g_dependent.hdf5", "global3d_g.hdf5", lambda f: add_g(f, [1, 1])),
+    ("bad_global_g_rows.hdf5", "global3d_g.hdf5", lambda f: replace(f, "fclib_global/G/m", [14])),
+    ("bad_global_b_length.hdf5", "global3d_g.hdf5", lambda f: replace(f, "fclib_global/vectors/b", np.ones(3))),
+    ("bad_global_no_b.hdf5", "global3d_g.hdf5", lambda f: f.__delitem__("fclib_global/vectors/b")),
     ("bad_global_indefinite.hdf5", "global2d.hdf5", set_entry("fclib_global/M/x", 0, -5.0)),
     ("bad_global_asymmetric.hdf5", "global2d.hdf5", set_entry("fclib_global/M/x", 1, 7.0)),
     ("bad_global_h_rows.hdf5", "global3d.hdf5", lambda f: replace(f, "fclib_global/H/m", [12])),
@@ -219,15 +231,17 @@ BAD = [
 ]
 
 
-def add_g(f):
-    """A G of 2 columns (equality constraints), as fclib_write_global stores a matrix."""
+def add_g(f, rows):
+    """G replaced by columns e_rows[k] (compressed columns, as fclib_write_global
+    stores a matrix): equal rows make its columns linearly dependent."""
+    del f["fclib_global/G"]
     g = f.create_group("fclib_global/G")
-    for k, v in [("m", [15]), ("n", [2]), ("nz", [-1]), ("nzmax", [2])]:
-        g.create_dataset(k, data=np.array(v, dtype=np.int32))
-    g.create_dataset("p", data=np.array([0, 1, 2], dtype=np.int32))
-    g.create_dataset("i", data=np.array([0, 3], dtype=np.int32))
-    g.create_dataset("x", data=np.array([1.0, 1.0]))
-    f.create_dataset("fclib_global/vectors/b", data=np.zeros(2))
+    k = len(rows)
+    for name, v in [("m", [15]), ("n", [k]), ("nz", [-1]), ("nzmax", [k])]:
+        g.create_dataset(name, data=np.array(v, dtype=np.int32))
+    g.create_dataset("p", data=np.arange(k + 1, dtype=np.int32))
+    g.create_dataset("i", data=np.array(rows, dtype=np.int32))
+    g.create_dataset("x", data=np.ones(k))
 
 
 def main():

@@ -24,12 +24,14 @@
 //! `/solution/v` when it has one.
 //!
 //! Equality constraints (`G` with p ≥ 1 columns, `vectors/b`: M v = H r +
-//! G λ + f, Gᵀ v + b = 0) are refused: their KKT system is not condensed
-//! here. Refused too, naming the dataset: `spacedim` other than 2 or 3, M
-//! not square, H without n rows, `f` or `w` of the wrong length or not
-//! finite, M not symmetric (both triangles are stored) or not positive
-//! definite, and, before anything of its size is allocated, a dense W or a
-//! factor of M past the memory budget.
+//! G λ + f, Gᵀ v + b = 0) are eliminated with the same factor of M
+//! ([`super::equality_constraints`]): W and q are then those of v
+//! restricted to Gᵀ v + b = 0, and v satisfies the constraints. Refused,
+//! naming the dataset: `spacedim` other than 2 or 3, M not square, H or G
+//! without n rows, `f`, `w` or `b` of the wrong length or not finite, M not
+//! symmetric (both triangles are stored) or not positive definite, a column
+//! of G that depends on the others, and, before anything of its size is
+//! allocated, a dense W, M⁻¹ G or a factor of M past the memory budget.
 
 use std::time::Instant;
 
@@ -40,6 +42,7 @@ use faer::sparse::{SparseColMat, Triplet};
 use faer::{Conj, Mat, MatMut, Side};
 use serde::Serialize;
 
+use super::equality_constraints::EqualityConstraints;
 use super::{
     dense_within_budget, entries, shape, solution, spacedim, FclibProblem, Reader, GLOBAL,
 };
@@ -62,6 +65,7 @@ pub struct GlobalCondensation {
     l_values: Vec<f64>,
     h: SparseColMat<usize, f64>,
     f: Vec<f64>,
+    equality: Option<EqualityConstraints>,
     reference_v: Option<Vec<f64>>,
 }
 
@@ -84,6 +88,8 @@ pub struct GlobalSummary {
     /// Stored entries of H.
     #[serde(rename = "nnz_H")]
     pub nnz_h: usize,
+    /// Equality constraints (columns of G), eliminated.
+    pub constraints: usize,
     /// Stored values of M's Cholesky factor.
     pub factor_values: usize,
     /// Time to factorise M and form W and q.
@@ -94,8 +100,8 @@ pub struct GlobalSummary {
 pub(super) fn read(f: &Reader) -> Result<FclibProblem, String> {
     let shown = f.shown;
     let dim = spacedim(f, GLOBAL)?;
-    refuse_constraints(f)?;
     let (n, m) = sizes(f)?;
+    let p = constraint_count(f, n)?;
     // The vectors first: n and m are backed by arrays the file holds
     // before anything of their size (pointers, W) is allocated.
     let load = vector(f, "f", n, "M has")?;
@@ -105,13 +111,21 @@ pub(super) fn read(f: &Reader) -> Result<FclibProblem, String> {
         m as f64,
     )?;
     let mu = f.floats(&format!("{GLOBAL}/vectors/mu"))?;
+    let b = match p {
+        0 => Vec::new(),
+        _ => vector(f, "b", p, "one per column of G: G^T has")?,
+    };
     let mass = sparse(f, M, (n, n))?;
     check_symmetric(shown, &mass)?;
     let h = sparse(f, H, (n, m))?;
+    let constraints = match p {
+        0 => None,
+        _ => Some(sparse(f, G, (n, p))?),
+    };
     let reference_r = solution(f, "r", m, "H has")?;
     let reference_v = solution(f, "v", n, "M has")?;
     let t = Instant::now();
-    let (symbolic, l_values) = factorise(shown, &mass, m)?;
+    let (symbolic, l_values) = factorise(shown, &mass, m, p)?;
     let mut g = GlobalCondensation {
         n,
         nnz_m: mass.compute_nnz(),
@@ -120,8 +134,13 @@ pub(super) fn read(f: &Reader) -> Result<FclibProblem, String> {
         l_values,
         h,
         f: load,
+        equality: None,
         reference_v,
     };
+    if let Some(gm) = constraints {
+        let solve = |x: MatMut<'_, f64>| g.solve_in_place(x);
+        g.equality = Some(EqualityConstraints::new(shown, G, gm, b, solve)?);
+    }
     let (wm, q) = g.condense(&w, BLOCK);
     g.condense_s = t.elapsed().as_secs_f64();
     Ok(FclibProblem::contact_wise(
@@ -131,19 +150,26 @@ pub(super) fn read(f: &Reader) -> Result<FclibProblem, String> {
     ))
 }
 
-/// A `G` of p ≥ 1 columns (equality constraints) is refused.
-fn refuse_constraints(f: &Reader) -> Result<(), String> {
+/// The columns p of `G` (0 without one): its rows must be M's n, and p
+/// at most n (more constraints than unknowns are dependent).
+fn constraint_count(f: &Reader, n: usize) -> Result<usize, String> {
     if !f.has_group(G)? {
-        return Ok(());
+        return Ok(0);
     }
-    let (_, p) = shape(f, G)?;
-    if p == 0 {
-        return Ok(());
+    let (rows, p) = shape(f, G)?;
+    if p > 0 && rows != n {
+        return Err(format!(
+            "{}: {G} is {rows} × {p} ({G}/m, {G}/n) but {M} is {n} × {n}: G has a row per row of M",
+            f.shown
+        ));
     }
-    Err(format!(
-        "{}: {G} has {p} columns: equality constraints (M v = H r + G lambda + f, G^T v + b = 0), which signorini local does not condense; give M, H, f, w and mu alone",
-        f.shown
-    ))
+    if p > n {
+        return Err(format!(
+            "{}: {G} has {p} columns, more equality constraints than the {n} unknowns of {M}: some depend on the others",
+            f.shown
+        ));
+    }
+    Ok(p)
 }
 
 /// (n, m): M is n × n, H is n × m.
@@ -207,18 +233,19 @@ fn factorise(
     shown: &str,
     mass: &SparseColMat<usize, f64>,
     m: usize,
+    p: usize,
 ) -> Result<(SymbolicCholesky<usize>, Vec<f64>), String> {
     use signorini_condense::ordering::{order_and_analyse, OrderingChoice};
     let n = mass.nrows();
     let ordered = order_and_analyse(mass.as_ref(), n, OrderingChoice::Auto)
         .map_err(|e| format!("{shown}: {M} cannot be ordered for its factorisation ({e})"))?;
     let values = ordered.symbolic.len_val();
-    let bytes = 8.0 * (values as f64 + (n * BLOCK.min(m)) as f64)
+    let bytes = 8.0 * (values as f64 + (n * BLOCK.min(m)) as f64 + (n as f64) * (p as f64))
         + (NPY_COPIES * 8) as f64 * (m as f64) * (m as f64);
     if let Some(b) = crate::memory::budget() {
         if bytes > b.bytes as f64 {
             return Err(format!(
-                "{shown}: {M} ({n} × {n}) has a Cholesky factor of {values} values: with W it takes {}, more than the {} {}",
+                "{shown}: {M} ({n} × {n}) has a Cholesky factor of {values} values: with W (and M^-1 G) it takes {}, more than the {} {}",
                 crate::memory::human(bytes),
                 crate::memory::human(b.bytes as f64),
                 b.source
@@ -266,16 +293,9 @@ impl GlobalCondensation {
         );
     }
 
-    /// H_{:,i}ᵀ y.
-    fn h_column_dot(&self, i: usize, y: impl Fn(usize) -> f64) -> f64 {
-        let rows = self.h.row_idx_of_col_raw(i).iter();
-        rows.zip(self.h.val_of_col(i))
-            .map(|(&k, &v)| v * y(k))
-            .sum()
-    }
-
     /// W = Hᵀ M⁻¹ H (symmetrised) and q = Hᵀ M⁻¹ f + w, by blocks of
-    /// `block` columns of H.
+    /// `block` columns of H; with equality constraints, W and q of v
+    /// restricted to them ([`EqualityConstraints`]).
     fn condense(&self, w: &[f64], block: usize) -> (Mat<f64>, Vec<f64>) {
         let (n, m) = (self.n, self.h.ncols());
         let mut wm = Mat::<f64>::zeros(m, m);
@@ -290,11 +310,11 @@ impl GlobalCondensation {
                 }
             }
             self.solve_in_place(x.as_mut().subcols_mut(0, b));
-            for c in 0..b {
-                for i in 0..m {
-                    wm[(i, start + c)] = self.h_column_dot(i, |k| x[(k, c)]);
-                }
-            }
+            let hx = transpose_times(&self.h, x.as_ref().subcols(0, b));
+            wm.as_mut().subcols_mut(start, b).copy_from(&hx);
+        }
+        if let Some(e) = &self.equality {
+            e.reduce_delassus(&self.h, &mut wm);
         }
         for j in 0..m {
             for i in j + 1..m {
@@ -303,15 +323,15 @@ impl GlobalCondensation {
                 wm[(j, i)] = mean;
             }
         }
-        let mut y = Mat::<f64>::from_fn(n, 1, |k, _| self.f[k]);
-        self.solve_in_place(y.as_mut());
-        let q = (0..m)
-            .map(|i| self.h_column_dot(i, |k| y[(k, 0)]) + w[i])
-            .collect();
+        let v0 = self.velocity(&[]);
+        let hv = transpose_times(&self.h, faer::MatRef::from_column_major_slice(&v0, n, 1));
+        let q = (0..m).map(|i| hv[(i, 0)] + w[i]).collect();
         (wm, q)
     }
 
-    /// v = M⁻¹ (H r + f) for forces r (contact-wise, the file's order).
+    /// v = M⁻¹ (H r + f) for forces r (contact-wise, the file's order; a
+    /// shorter r is completed by zeros), with equality constraints the v
+    /// that also satisfies Gᵀ v + b = 0 (M v = H r + G λ + f).
     pub fn velocity(&self, r: &[f64]) -> Vec<f64> {
         let mut v = Mat::<f64>::from_fn(self.n, 1, |k, _| self.f[k]);
         for (i, &ri) in r.iter().enumerate().take(self.h.ncols()) {
@@ -321,7 +341,11 @@ impl GlobalCondensation {
             }
         }
         self.solve_in_place(v.as_mut());
-        (0..self.n).map(|k| v[(k, 0)]).collect()
+        let mut v: Vec<f64> = (0..self.n).map(|k| v[(k, 0)]).collect();
+        if let Some(e) = &self.equality {
+            e.project(&mut v);
+        }
+        v
     }
 
     /// With the file's `/solution/v`: ‖v − v_ref‖₂ / ‖v_ref‖₂ (the floor
@@ -341,10 +365,21 @@ impl GlobalCondensation {
             n: self.n,
             nnz_m: self.nnz_m,
             nnz_h: self.h.compute_nnz(),
+            constraints: self.equality.as_ref().map_or(0, |e| e.len()),
             factor_values: self.l_values.len(),
             condense_s: self.condense_s,
         }
     }
+}
+
+/// Aᵀ X for a sparse A (n × k) and a dense X (n × c): k × c.
+pub(super) fn transpose_times(a: &SparseColMat<usize, f64>, x: faer::MatRef<'_, f64>) -> Mat<f64> {
+    Mat::<f64>::from_fn(a.ncols(), x.ncols(), |k, c| {
+        let rows = a.row_idx_of_col_raw(k).iter();
+        rows.zip(a.val_of_col(k))
+            .map(|(&i, &v)| v * x[(i, c)])
+            .sum()
+    })
 }
 
 #[cfg(test)]
