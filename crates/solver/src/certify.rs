@@ -241,6 +241,9 @@ fn push_contact_rows(
     let lambda = &sol.outcome.forces;
     let pressure = nodal_pressures(points, lambda);
     for (pi, p) in points.iter().enumerate() {
+        // an open point carries no pressure, also one without a measure of
+        // its own that nodal_pressures gives its neighbour's
+        let open = sol.outcome.active.binary_search(&pi).is_err();
         partial.contact_rows.push(ContactRow {
             step: si + 1,
             contact: sc.contact[p.contact].name.clone(),
@@ -253,7 +256,7 @@ fn push_contact_rows(
             slip: sol.friction.as_ref().map_or(0.0, |f| f.slip_total[pi]),
             tangential_force_2: sol.friction.as_ref().map_or(0.0, |f| f.tangential2[pi]),
             slip_2: sol.friction.as_ref().map_or(0.0, |f| f.slip_total2[pi]),
-            pressure: pressure[pi],
+            pressure: if open { 0.0 } else { pressure[pi] },
             status: contact_status(p, pi, sol),
         });
     }
