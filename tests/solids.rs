@@ -7,7 +7,7 @@ mod common;
 
 use common::{
     block_body, block_boundary, block_contact, cli_run_ok, converged, example, material_2d,
-    max_rel, rigid_plane, try_run, with_subdomains,
+    max_rel, named_block_boundary, rigid_plane, try_run, with_subdomains,
 };
 use signorini_scene::SolvePath;
 use signorini_solver::{RunOptions, RunOutput, SolveError};
@@ -128,36 +128,15 @@ fn hertz_sphere_axisymmetric_quadratic_coarse_arc_has_a_finite_pole_pressure() {
 /// pressure, 9.65e-3.
 #[test]
 fn an_open_axis_corner_of_a_quadratic_block_has_no_pressure() {
-    let text = r#"
-dimension = 2
-model = "axisymmetric"
-[[materials]]
-name = "steel"
-young = 1.0
-poisson = 0.3
-[[bodies]]
-name = "block"
-material = "steel"
-mesh = { generator = "rectangle", origin = [0.0, 0.0], size = [2.0, 1.0], divisions = [30, 15], element = "quad8" }
-[[bodies]]
-name = "ground"
-rigid = { shape = "plane", point = [0.0, 0.0], normal = [0.0, 1.0] }
-[[boundary]]
-name = "press"
-body = "block"
-surface = "top"
-displacement = { y = -0.01 }
-[[contact]]
-name = "c"
-slave = { body = "block", surface = "bottom" }
-master = { body = "ground" }
-friction = { tresca = 0.001 }
-[[steps]]
-scale = { press = 0.5 }
-[[steps]]
-scale = { press = 1.0 }
-"#;
-    let out = converged(text, RunOptions::default());
+    let text = "model = \"axisymmetric\"\n".to_string()
+        + &material_2d(1.0, 0.3)
+        + &block_body([0.0, 0.0], [2.0, 1.0], [30, 15], ", element = \"quad8\"")
+        + &rigid_plane("ground", [0.0, 0.0], [0.0, 1.0])
+        + &named_block_boundary("press", "surface = \"top\"", "displacement = { y = -0.01 }")
+        + &block_contact("c", "bottom", "ground")
+        + "friction = { tresca = 0.001 }\n"
+        + "[[steps]]\nscale = { press = 0.5 }\n[[steps]]\nscale = { press = 1.0 }\n";
+    let out = converged(&text, RunOptions::default());
     let axis: Vec<_> = out.contact_rows.iter().filter(|r| r.x[0] == 0.0).collect();
     assert_eq!(axis.len(), 2);
     assert_eq!(axis[1].status, "open", "{:?}", axis[1]);
