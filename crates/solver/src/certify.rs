@@ -295,12 +295,15 @@ fn step_report(
     let sticking = friction_points(&|s| s == PointStatus::Stick);
     let slipping = friction_points(&|s| s.is_slip());
     let mut step_force = vec![0.0f64; sc.dimension as usize];
+    let mut tangential_resultant = [0.0f64; 3];
     let (mut sum_n, mut sum_t, mut slip_sum, mut slip_count) = (0.0f64, 0.0f64, 0.0f64, 0usize);
     for (pi, p) in points.iter().enumerate() {
         let force = point_force(p, pi, lambda[pi], sol.friction.as_ref());
         for (f, fk) in step_force.iter_mut().zip(force) {
             *f += fk;
         }
+        let t = point_force(p, pi, 0.0, sol.friction.as_ref());
+        (0..3).for_each(|k| tangential_resultant[k] += t[k]);
         sum_n += lambda[pi];
         sum_t += sol.friction.as_ref().map_or(0.0, |f| f.tangential[pi]);
         let active = outcome.active.binary_search(&pi).is_ok();
@@ -318,6 +321,7 @@ fn step_report(
         contact_force: net_force(sc.model, step_force),
         normal_force: sum_n,
         tangential_force: sum_t,
+        tangential_resultant,
         mean_slip: if slip_count > 0 {
             slip_sum / slip_count as f64
         } else {
@@ -499,6 +503,7 @@ pub(crate) fn finish_report(
             points,
             &partial.lambda,
             partial.friction.as_ref(),
+            &partial.steps,
         )?),
     };
     let want_stress = sc.output.wants("stress");

@@ -25,6 +25,7 @@ pub(crate) fn compare_reference(
     points: &[PointModel],
     lambda: &[f64],
     friction: Option<&FrictionStep>,
+    steps: &[StepReport],
 ) -> Result<signorini_report::ReferenceReport, SolveError> {
     let Some(pmax) = (0..points.len()).max_by(|&a, &b| lambda[a].total_cmp(&lambda[b])) else {
         return Err(SolveError::Input(
@@ -66,7 +67,12 @@ pub(crate) fn compare_reference(
             "reference.kind: \"cattaneo_mindlin\" needs a tangential load across the contact, which an axisymmetric model cannot carry; use plane strain / plane stress (cylinders) or dimension = 3 (spheres)".into(),
         )),
         scene::ReferenceKind::CattaneoMindlin => {
-            Ok(reference::cattaneo_mindlin(&nodes, contact_shape(sc), e_star(), radius()?, mu()?))
+            // the tangential load of the earlier steps, along the final one
+            let history: Vec<f64> = steps[..steps.len().saturating_sub(1)]
+                .iter()
+                .map(|st| (0..3).map(|k| st.tangential_resultant[k] * direction[k]).sum())
+                .collect();
+            Ok(reference::cattaneo_mindlin(&nodes, contact_shape(sc), e_star(), radius()?, mu()?, &history))
         }
         scene::ReferenceKind::SlidingBlock => Ok(reference::sliding_block(&nodes, mu()?, None)),
         scene::ReferenceKind::FlatPunch => Ok(reference::flat_punch(&nodes, contact_shape(sc), r.half_width)),
