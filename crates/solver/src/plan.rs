@@ -18,6 +18,7 @@ pub(crate) struct Plan {
 /// refused with the entry and what would be valid when they cannot run the
 /// scene's contacts.
 pub(crate) fn plan(sc: &scene::Scene, opts: &RunOptions) -> Result<Plan, SolveError> {
+    crate::compare::check_reference(sc)?;
     let method = opts.method.unwrap_or(sc.solver.method);
     let path = opts.path.unwrap_or(sc.solver.path);
     let algorithm = algorithm_of(&sc.solver, method);
@@ -81,6 +82,14 @@ pub(crate) fn plan(sc: &scene::Scene, opts: &RunOptions) -> Result<Plan, SolveEr
         algorithm,
         return_mapping: false,
     })
+}
+
+/// What `signorini check` asks of the solver: the checks `run` makes of the
+/// scene's method, path and reference before it builds anything (the
+/// command line's `--path` overriding the scene's).
+pub fn check_plan(sc: &scene::Scene, path: Option<scene::SolvePath>) -> Result<(), SolveError> {
+    let opts = RunOptions { method: None, path };
+    plan(sc, &opts).map(|_| ())
 }
 
 /// The contact algorithm of a scene's `[solver]` with the method `method`:
