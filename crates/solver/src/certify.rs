@@ -88,6 +88,9 @@ pub(crate) fn certificate_of(
     let lmax = inf_norm(lambda);
     let lscale = sol.length_scale.max(umax).max(f64::MIN_POSITIVE);
     let fscale = sol.f_scale.max(lmax).max(f64::MIN_POSITIVE);
+    // the scale of a work, not 0 when both are the smallest double (a step
+    // with no load: 0/0 made its certificate NaN, never converged)
+    let wscale = (lscale * fscale).max(f64::MIN_POSITIVE);
     // Points of a regularised law obey λ = k max(0, −g) instead of g ≥ 0, λ g = 0.
     // Its residual is over the larger of the force scale and k times the
     // length scale: a stiff law (k·L ≫ F) is then checked on its gap,
@@ -112,7 +115,7 @@ pub(crate) fn certificate_of(
         complementarity: (0..gaps.len())
             .filter(unilateral)
             .fold(0.0f64, |a, p| nan_max(a, (gaps[p] * lambda[p]).abs()))
-            / (lscale * fscale),
+            / wscale,
         cone: sol.friction.as_ref().map_or(0.0, |f| {
             f.cone_excess.iter().fold(0.0f64, |a, &c| nan_max(a, c)) / fscale
         }),
@@ -123,7 +126,7 @@ pub(crate) fn certificate_of(
                     (f.tangential[p] + f.back_force[p]) * f.slip_increment[p]
                         + (f.tangential2[p] + f.back_force2[p]) * f.slip_increment2[p],
                 )
-            }) / (fscale * lscale)
+            }) / wscale
         }),
         law,
         tolerance: tolerance.max(1e-9),
