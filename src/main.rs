@@ -141,7 +141,8 @@ enum Command {
         /// Contact algorithms to run (the direct path runs the status method only).
         #[arg(long, value_delimiter = ',', default_value = "status")]
         methods: Vec<Method>,
-        /// Paths to run.
+        /// Paths to run (beside the condensed path, the direct one is left
+        /// out of scenes with friction or contact elements, which it cannot run).
         #[arg(long, value_delimiter = ',', default_value = "condensed,direct")]
         paths: Vec<SolvePath>,
         /// Output directory.

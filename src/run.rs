@@ -20,6 +20,9 @@ pub(crate) fn check(path: &Path, solve_path: Option<SolvePath>) -> ExitCode {
         Ok(sc) => sc,
         Err(e) => return fail(1, &e.to_string()),
     };
+    if let Err(e) = signorini_solver::check_plan(&sc, solve_path) {
+        return fail(1, &e.to_string());
+    }
     let solve_path = solve_path.unwrap_or(sc.solver.path);
     // The memory of one process (under mpirun, `run` estimates for its ranks).
     let estimate = match memory::check(&sc, solve_path, 1, memory::ContactCounts::Surfaces) {

@@ -271,6 +271,72 @@ fn check_refuses_a_surface_the_mesh_does_not_have() {
     run_in(dir, "check", &[]).assert_bad_input(&["contact[0].slave.surface", "\"base\"", "bottom"]);
 }
 
+/// `signorini check` refuses what `run` refuses before it builds anything,
+/// and `run` refuses a reference the scene's model cannot be compared with
+/// before solving (found by a fourth robustness sweep: check said "valid
+/// scene" for friction on the direct path and for a reference of another
+/// model, which run refused at once, or only after the whole solve; and for
+/// mortar or contact elements against a rigid master and the friction status
+/// method in 3D, which run refused once it had built the model).
+#[test]
+fn check_and_run_refuse_the_solver_choice_and_reference_up_front() {
+    let friction = block_with(
+        "discretization = \"node_to_segment\"\n",
+        "discretization = \"node_to_segment\"\nfriction = { coulomb = 0.3 }\n",
+    );
+    let direct = format!("{friction}\n[solver]\npath = \"direct\"\n");
+    let needles = ["contact \"block-ground\".friction", "path = \"condensed\""];
+    for command in ["check", "run"] {
+        let dir = scene_dir(&format!("check_plan_direct_{command}"), &direct, &[]);
+        run_in(dir, command, &[]).assert_bad_input(&needles);
+    }
+    let dir = scene_dir("check_plan_direct_flag", &friction, &[]);
+    run_in(dir, "check", &["--path", "direct"]).assert_bad_input(&needles);
+    let sphere = format!("{BLOCK_ON_PLANE}\n[reference]\nkind = \"hertz_sphere\"\nradius = 1.0\n");
+    let sliding = format!("{BLOCK_ON_PLANE}\n[reference]\nkind = \"sliding_block\"\n");
+    let discretized = |d: &str| block_with("\"node_to_segment\"", d);
+    let friction_status_3d = BOX_ON_PLANE.replacen(
+        "master = { body = \"ground\" }",
+        "master = { body = \"ground\" }\nfriction = { coulomb = 0.3 }\n[solver]\nfriction = \"status\"",
+        1,
+    );
+    let cases = [
+        ("sphere", sphere, ["reference.kind", "\"hertz_cylinder\""]),
+        (
+            "sliding",
+            sliding,
+            ["reference.friction", "sliding_block needs μ"],
+        ),
+        (
+            "mortar_rigid",
+            discretized("\"mortar\""),
+            [
+                "contact \"block-ground\"",
+                "mortar needs a deformable master",
+            ],
+        ),
+        (
+            "elements_rigid",
+            discretized("\"contact_elements\"\nlaw = { penalty = 1e3 }"),
+            [
+                "contact \"block-ground\"",
+                "contact elements join two deformable bodies",
+            ],
+        ),
+        (
+            "friction_status_3d",
+            friction_status_3d,
+            ["solver.friction", "2D only"],
+        ),
+    ];
+    for (name, scene, needles) in cases {
+        for command in ["check", "run"] {
+            let dir = scene_dir(&format!("check_reference_{name}_{command}"), &scene, &[]);
+            run_in(dir, command, &[]).assert_bad_input(&needles);
+        }
+    }
+}
+
 #[test]
 fn gmsh_file_that_does_not_exist() {
     let run = run_scene(

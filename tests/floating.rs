@@ -182,3 +182,39 @@ fn a_plate_too_thin_to_condense_is_sent_to_the_direct_path() {
         p.relative_error
     );
 }
+
+/// A pad held by contact alone, loaded then unloaded to no load at all
+/// (found by a fourth robustness sweep): with no load, no prescribed
+/// displacement and no initial gap, the certificate's force and length
+/// scales are both the smallest double, their product underflowed to 0 and
+/// the complementarity 0/0 was NaN: 'the certificate residual NaN exceeds the
+/// tolerance', exit 2, on both paths and every method. The unloaded step is
+/// solved: no force, no displacement.
+#[test]
+fn a_pad_unloaded_to_no_load_is_solved_with_no_force() {
+    let text = example("blocks.toml")
+        + "\n[[steps]]\nscale = { pressure = 1.0 }\n[[steps]]\nscale = { pressure = 0.0 }\n";
+    for (opts, what) in [
+        (with(Method::Status), "status"),
+        (with(Method::Mprgp), "mprgp"),
+        (
+            RunOptions {
+                method: None,
+                path: Some(signorini_scene::SolvePath::Direct),
+            },
+            "direct",
+        ),
+    ] {
+        let out = converged(&text, opts);
+        let c = &out.report.certificate;
+        assert_eq!(c.complementarity, 0.0, "{what}: {c:?}");
+        let last = out.contact_rows.iter().filter(|r| r.step == 2);
+        assert!(last.clone().count() == 17 && last.clone().all(|r| r.normal_force == 0.0));
+        assert!(displacements(&out).iter().all(|u| *u == 0.0), "{what}");
+        let first = out.contact_rows.iter().filter(|r| r.step == 1);
+        assert!(
+            first.clone().all(|r| (r.pressure - 1.0).abs() <= 1e-9),
+            "{what}"
+        );
+    }
+}

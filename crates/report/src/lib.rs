@@ -26,6 +26,10 @@ pub struct StepReport {
     /// Sum of the normal and of the tangential contact forces.
     pub normal_force: f64,
     pub tangential_force: f64,
+    /// The vector sum of the tangential contact forces (not in report.json:
+    /// the load history of the Cattaneo–Mindlin reference).
+    #[serde(skip)]
+    pub tangential_resultant: [f64; 3],
     /// Mean total slip of the frictional contact points in contact.
     pub mean_slip: f64,
     pub iterations: usize,

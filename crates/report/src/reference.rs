@@ -6,6 +6,7 @@ use std::collections::BTreeMap;
 use crate::{Quantity, ReferenceReport};
 
 mod flat_punch;
+mod masing;
 pub use flat_punch::{flat_punch, flat_punch_pressure, PunchShape};
 
 /// Nodal contact data along the contact line: tangential coordinate,
@@ -185,16 +186,21 @@ pub fn uniform_pressure(
 /// q(x) = μ p0 sqrt(1 − x²/a²) − μ p0 (c/a) sqrt(1 − x²/c²) for |x| < c and
 /// μ p(x) for c ≤ |x| ≤ a. P and Q are the computed resultants; `s` of each
 /// node is its coordinate across the contact (cylinder) or its distance from
-/// the centre (sphere).
+/// the centre (sphere). `history` holds the tangential resultants of the
+/// steps before the last, along the final tangential load (positive that
+/// way): a load that did not only grow (unloading, reversal) is compared
+/// with Mindlin and Deresiewicz's solution by Masing's rules (`masing.rs`).
 pub fn cattaneo_mindlin(
     nodes: &[NodalPressure],
     shape: PunchShape,
     e_star: f64,
     r: f64,
     mu: f64,
+    history: &[f64],
 ) -> ReferenceReport {
     let p_total: f64 = nodes.iter().map(|n| n.force).sum();
-    let q_total: f64 = nodes.iter().map(|n| n.tangential).sum::<f64>().abs();
+    let q_signed: f64 = nodes.iter().map(|n| n.tangential).sum();
+    let q_total = q_signed.abs();
     let (a, p0, exponent) = match shape {
         PunchShape::Strip => {
             let (a, p0) = hertz_cylinder_exact(p_total, e_star, r);
@@ -216,9 +222,12 @@ pub fn cattaneo_mindlin(
     } else {
         f64::NAN
     };
-    let c_exact = a * (1.0 - ratio).max(0.0).powf(exponent);
+    let turning = masing::turning_points(&[history, &[q_total]].concat());
+    let branches = masing::branches(&turning, a, mu * p_total, exponent);
+    let c_exact = branches.last().map_or(a, |b| b.c);
     let c_computed = stick_half_width(nodes, centre);
-    let (l2, no_shear) = shear_profile_l2(nodes, centre, mu * p0, a, c_exact);
+    let sign = if q_signed < 0.0 { -1.0 } else { 1.0 };
+    let (l2, no_shear) = shear_profile_l2(nodes, centre, sign, mu * p0, a, &branches);
     let mut qs = BTreeMap::new();
     qs.insert("load".to_string(), Quantity::new(p_total, p_total));
     qs.insert(
@@ -246,6 +255,9 @@ pub fn cattaneo_mindlin(
         "needs elastically similar bodies (same E and ν): for an elastic body on a rigid plane the normal and tangential problems couple and the stick zone is off-centre and narrower".into(),
         "stick_half_width is measured half a node spacing beyond the outermost sticking node (at the outermost loaded node when no loaded node slips beyond it)".into(),
     ];
+    if turning.len() > 2 {
+        notes.push(format!("the tangential load was not monotone: after Mindlin and Deresiewicz by Masing's rules, from the turning points Q = [{}] along the final load (each branch after a reversal adds twice Cattaneo's correction of its load change, c = a·(1 − |ΔQ|/(2μP))^{exponent:.3}); stick_half_width is the last branch's c", turning.iter().map(|q| format!("{q:.3e}")).collect::<Vec<_>>().join(", ")));
+    }
     if no_shear {
         notes.push("Q/(μP) is round-off: the exact shear vanishes, and shear_profile_l2 is relative to the full-slip profile μp(x)".into());
     }
@@ -277,17 +289,19 @@ fn stick_half_width(nodes: &[NodalPressure], centre: f64) -> f64 {
 }
 
 /// The relative L2 error of the shear traction (tangential force over
-/// tributary measure) against Cattaneo–Mindlin's on |x| ≤ a, with
-/// `mu_p0` = μ p0 and the stick half-width `c`, and whether the exact shear
+/// tributary measure, times `sign` to point along the final tangential
+/// load) against that of the load history's `branches` on |x| ≤ a, with
+/// `mu_p0` = μ p0, and whether the exact shear
 /// vanished: without a tangential load it is zero up to round-off (norm
 /// below 1e-8 of the full-slip profile μp(x)'s), and the error is relative
 /// to μp(x) instead of to that round-off.
 fn shear_profile_l2(
     nodes: &[NodalPressure],
     centre: f64,
+    sign: f64,
     mu_p0: f64,
     a: f64,
-    c: f64,
+    branches: &[masing::Branch],
 ) -> (f64, bool) {
     let (mut num, mut den, mut slip) = (0.0, 0.0, 0.0);
     for n in nodes.iter().filter(|n| n.tributary > 0.0) {
@@ -296,11 +310,8 @@ fn shear_profile_l2(
             continue;
         }
         let full = mu_p0 * (1.0 - (x / a).powi(2)).max(0.0).sqrt();
-        let mut q = full;
-        if x.abs() < c {
-            q -= mu_p0 * (c / a) * (1.0 - (x / c).powi(2)).max(0.0).sqrt();
-        }
-        let qc = n.tangential.abs() / n.tributary;
+        let q = masing::shear(branches, x, mu_p0, a);
+        let qc = sign * n.tangential / n.tributary;
         num += (qc - q).powi(2) * n.tributary;
         den += q * q * n.tributary;
         slip += full * full * n.tributary;
@@ -376,7 +387,7 @@ mod tests {
                 stick: x.abs() < c,
             }
         });
-        let rep = cattaneo_mindlin(&nodes, PunchShape::Strip, e_star, r, mu);
+        let rep = cattaneo_mindlin(&nodes, PunchShape::Strip, e_star, r, mu, &[]);
         let q = &rep.quantities;
         assert!(
             (q["tangential_load_ratio"].computed - ratio).abs() < 1e-3,
@@ -418,7 +429,7 @@ mod tests {
                 }
             })
             .collect();
-        let rep = cattaneo_mindlin(&nodes, PunchShape::Circle, e_star, r, mu);
+        let rep = cattaneo_mindlin(&nodes, PunchShape::Circle, e_star, r, mu, &[]);
         let q = &rep.quantities;
         let ratio_c = q["tangential_load_ratio"].computed;
         assert!((ratio_c - ratio).abs() < 1e-3, "Q/μP = {ratio_c}");
@@ -443,7 +454,7 @@ mod tests {
             tangential: 1e-3 * w,
             ..hertz_node(s, w, 1.0, 2.0 * a)
         });
-        let rep = cattaneo_mindlin(&nodes, PunchShape::Strip, e_star, r, 0.3);
+        let rep = cattaneo_mindlin(&nodes, PunchShape::Strip, e_star, r, 0.3, &[]);
         let c = rep.quantities["stick_half_width"].computed;
         assert!((c - a).abs() <= 1e-12 * a, "stick half-width {c} vs {a}");
     }
@@ -487,7 +498,7 @@ mod tests {
                 stick: true,
             }
         });
-        let rep = cattaneo_mindlin(&nodes, PunchShape::Strip, e_star, r, mu);
+        let rep = cattaneo_mindlin(&nodes, PunchShape::Strip, e_star, r, mu, &[]);
         let l2 = rep.quantities["shear_profile_l2"].relative_error;
         assert!((l2 - 1e-3).abs() < 1e-4, "{l2}");
         assert!(rep.notes.iter().any(|n| n.contains("full-slip")));

@@ -88,6 +88,9 @@ pub(crate) fn certificate_of(
     let lmax = inf_norm(lambda);
     let lscale = sol.length_scale.max(umax).max(f64::MIN_POSITIVE);
     let fscale = sol.f_scale.max(lmax).max(f64::MIN_POSITIVE);
+    // the scale of a work, not 0 when both are the smallest double (a step
+    // with no load: 0/0 made its certificate NaN, never converged)
+    let wscale = (lscale * fscale).max(f64::MIN_POSITIVE);
     // Points of a regularised law obey λ = k max(0, −g) instead of g ≥ 0, λ g = 0.
     // Its residual is over the larger of the force scale and k times the
     // length scale: a stiff law (k·L ≫ F) is then checked on its gap,
@@ -112,7 +115,7 @@ pub(crate) fn certificate_of(
         complementarity: (0..gaps.len())
             .filter(unilateral)
             .fold(0.0f64, |a, p| nan_max(a, (gaps[p] * lambda[p]).abs()))
-            / (lscale * fscale),
+            / wscale,
         cone: sol.friction.as_ref().map_or(0.0, |f| {
             f.cone_excess.iter().fold(0.0f64, |a, &c| nan_max(a, c)) / fscale
         }),
@@ -123,7 +126,7 @@ pub(crate) fn certificate_of(
                     (f.tangential[p] + f.back_force[p]) * f.slip_increment[p]
                         + (f.tangential2[p] + f.back_force2[p]) * f.slip_increment2[p],
                 )
-            }) / (fscale * lscale)
+            }) / wscale
         }),
         law,
         tolerance: tolerance.max(1e-9),
@@ -241,6 +244,9 @@ fn push_contact_rows(
     let lambda = &sol.outcome.forces;
     let pressure = nodal_pressures(points, lambda);
     for (pi, p) in points.iter().enumerate() {
+        // an open point carries no pressure, also one without a measure of
+        // its own that nodal_pressures gives its neighbour's
+        let open = sol.outcome.active.binary_search(&pi).is_err();
         partial.contact_rows.push(ContactRow {
             step: si + 1,
             contact: sc.contact[p.contact].name.clone(),
@@ -253,7 +259,7 @@ fn push_contact_rows(
             slip: sol.friction.as_ref().map_or(0.0, |f| f.slip_total[pi]),
             tangential_force_2: sol.friction.as_ref().map_or(0.0, |f| f.tangential2[pi]),
             slip_2: sol.friction.as_ref().map_or(0.0, |f| f.slip_total2[pi]),
-            pressure: pressure[pi],
+            pressure: if open { 0.0 } else { pressure[pi] },
             status: contact_status(p, pi, sol),
         });
     }
@@ -292,12 +298,15 @@ fn step_report(
     let sticking = friction_points(&|s| s == PointStatus::Stick);
     let slipping = friction_points(&|s| s.is_slip());
     let mut step_force = vec![0.0f64; sc.dimension as usize];
+    let mut tangential_resultant = [0.0f64; 3];
     let (mut sum_n, mut sum_t, mut slip_sum, mut slip_count) = (0.0f64, 0.0f64, 0.0f64, 0usize);
     for (pi, p) in points.iter().enumerate() {
         let force = point_force(p, pi, lambda[pi], sol.friction.as_ref());
         for (f, fk) in step_force.iter_mut().zip(force) {
             *f += fk;
         }
+        let t = point_force(p, pi, 0.0, sol.friction.as_ref());
+        (0..3).for_each(|k| tangential_resultant[k] += t[k]);
         sum_n += lambda[pi];
         sum_t += sol.friction.as_ref().map_or(0.0, |f| f.tangential[pi]);
         let active = outcome.active.binary_search(&pi).is_ok();
@@ -315,6 +324,7 @@ fn step_report(
         contact_force: net_force(sc.model, step_force),
         normal_force: sum_n,
         tangential_force: sum_t,
+        tangential_resultant,
         mean_slip: if slip_count > 0 {
             slip_sum / slip_count as f64
         } else {
@@ -496,6 +506,7 @@ pub(crate) fn finish_report(
             points,
             &partial.lambda,
             partial.friction.as_ref(),
+            &partial.steps,
         )?),
     };
     let want_stress = sc.output.wants("stress");

@@ -25,6 +25,7 @@ pub(crate) fn compare_reference(
     points: &[PointModel],
     lambda: &[f64],
     friction: Option<&FrictionStep>,
+    steps: &[StepReport],
 ) -> Result<signorini_report::ReferenceReport, SolveError> {
     let Some(pmax) = (0..points.len()).max_by(|&a, &b| lambda[a].total_cmp(&lambda[b])) else {
         return Err(SolveError::Input(
@@ -33,6 +34,7 @@ pub(crate) fn compare_reference(
     };
     let direction = tangential_direction(points, friction, points[pmax].point.tangent);
     let nodes = reference_nodes(sc, points, lambda, friction, pmax, direction);
+    check_reference(sc)?;
     let first = sc
         .contact
         .first()
@@ -49,28 +51,83 @@ pub(crate) fn compare_reference(
     };
     let mu = || reference_mu(r, first, &points[pmax].point, direction);
     match r.kind {
-        scene::ReferenceKind::HertzCylinder if sc.dimension == 2 && sc.model != scene::Model::Axisymmetric => {
+        scene::ReferenceKind::HertzCylinder => {
             Ok(reference::hertz_cylinder(&nodes, e_star(), radius()?))
         }
-        scene::ReferenceKind::HertzCylinder => Err(SolveError::Input(
-            "reference.kind: \"hertz_cylinder\" is a plane strain / plane stress reference; for a sphere (3D or axisymmetric) use \"hertz_sphere\"".into(),
-        )),
-        scene::ReferenceKind::HertzSphere if sc.model == scene::Model::Axisymmetric || sc.dimension == 3 => {
+        scene::ReferenceKind::HertzSphere => {
             Ok(reference::hertz_sphere(&nodes, e_star(), radius()?))
         }
-        scene::ReferenceKind::HertzSphere => Err(SolveError::Input(
-            "reference.kind: \"hertz_sphere\" needs model = \"axisymmetric\" or dimension = 3; in plane strain use \"hertz_cylinder\"".into(),
-        )),
-        scene::ReferenceKind::UniformPressure => Ok(reference::uniform_pressure(&nodes, r.pressure, None)),
-        scene::ReferenceKind::CattaneoMindlin if sc.model == scene::Model::Axisymmetric => Err(SolveError::Input(
-            "reference.kind: \"cattaneo_mindlin\" needs a tangential load across the contact, which an axisymmetric model cannot carry; use plane strain / plane stress (cylinders) or dimension = 3 (spheres)".into(),
-        )),
+        scene::ReferenceKind::UniformPressure => {
+            Ok(reference::uniform_pressure(&nodes, r.pressure, None))
+        }
         scene::ReferenceKind::CattaneoMindlin => {
-            Ok(reference::cattaneo_mindlin(&nodes, contact_shape(sc), e_star(), radius()?, mu()?))
+            // the tangential load of the earlier steps, along the final one
+            let history: Vec<f64> = steps[..steps.len().saturating_sub(1)]
+                .iter()
+                .map(|st| {
+                    (0..3)
+                        .map(|k| st.tangential_resultant[k] * direction[k])
+                        .sum()
+                })
+                .collect();
+            Ok(reference::cattaneo_mindlin(
+                &nodes,
+                contact_shape(sc),
+                e_star(),
+                radius()?,
+                mu()?,
+                &history,
+            ))
         }
         scene::ReferenceKind::SlidingBlock => Ok(reference::sliding_block(&nodes, mu()?, None)),
-        scene::ReferenceKind::FlatPunch => Ok(reference::flat_punch(&nodes, contact_shape(sc), r.half_width)),
+        scene::ReferenceKind::FlatPunch => Ok(reference::flat_punch(
+            &nodes,
+            contact_shape(sc),
+            r.half_width,
+        )),
     }
+}
+
+/// Refuses, before anything is solved, a reference the scene cannot be
+/// compared with: no contact, a kind of another model (a cylinder's in an
+/// axisymmetric or 3D model, a sphere's in a plane one, Cattaneo–Mindlin
+/// about an axis), or without the radius or μ it needs (found by a fourth
+/// robustness sweep: these were refused once the run had solved, and
+/// `signorini check` called such scenes valid).
+pub(crate) fn check_reference(sc: &scene::Scene) -> Result<(), SolveError> {
+    let Some(r) = &sc.reference else {
+        return Ok(());
+    };
+    let refuse = |m: &str| Err(SolveError::Input(m.to_string()));
+    let Some(first) = sc.contact.first() else {
+        return refuse("reference: needs a [[contact]]");
+    };
+    let plane = sc.dimension == 2 && sc.model != scene::Model::Axisymmetric;
+    use scene::ReferenceKind as K;
+    match r.kind {
+        K::HertzCylinder if !plane => return refuse("reference.kind: \"hertz_cylinder\" is a plane strain / plane stress reference; for a sphere (3D or axisymmetric) use \"hertz_sphere\""),
+        K::HertzSphere if plane => return refuse("reference.kind: \"hertz_sphere\" needs model = \"axisymmetric\" or dimension = 3; in plane strain use \"hertz_cylinder\""),
+        K::CattaneoMindlin if sc.model == scene::Model::Axisymmetric => return refuse("reference.kind: \"cattaneo_mindlin\" needs a tangential load across the contact, which an axisymmetric model cannot carry; use plane strain / plane stress (cylinders) or dimension = 3 (spheres)"),
+        _ => {}
+    }
+    let needs_radius = matches!(
+        r.kind,
+        K::HertzCylinder | K::HertzSphere | K::CattaneoMindlin
+    );
+    if needs_radius && r.effective_radius().is_none() {
+        return Err(SolveError::Input(format!(
+            "reference.radius: {} needs the radius",
+            r.kind.as_str()
+        )));
+    }
+    let coulomb = matches!(&first.friction, scene::Friction::Coulomb { coefficient, .. } if matches!(coefficient.len(), 1 | 2));
+    if matches!(r.kind, K::CattaneoMindlin | K::SlidingBlock) && r.friction.is_none() && !coulomb {
+        return Err(SolveError::Input(format!(
+            "reference.friction: {} needs μ (or a Coulomb contact)",
+            r.kind.as_str()
+        )));
+    }
+    Ok(())
 }
 
 /// The shape of a contact the references see: a strip across the plane

@@ -37,8 +37,8 @@ impl FrictionHistory {
 }
 
 /// The friction layout (`None` without a tangential row), and the
-/// combinations refused: the friction status method in 3D, Norton–Hoff
-/// mixed with Tresca or Coulomb.
+/// combination refused: Norton–Hoff mixed with Tresca or Coulomb (the
+/// friction status method in 3D is refused by `plan`).
 pub(crate) fn friction_rows(
     input: &RootInput,
     interface: &Interface,
@@ -50,11 +50,6 @@ pub(crate) fn friction_rows(
     }
     let m = points.len();
     let three_d = sc.dimension == 3;
-    if three_d && sc.solver.friction == scene::FrictionSolver::Status {
-        return Err(SolveError::Input(
-            "solver.friction: the friction status method (seed §4.5) is 2D only; in 3D friction is solved by the fixed point on the threshold (friction = \"fixed_point\", the default)".into(),
-        ));
-    }
     let is_norton_hoff = |p: &PointModel| matches!(p.friction, FrictionLaw::NortonHoff { .. });
     let norton_hoff = points.iter().any(is_norton_hoff);
     let mixed = points.iter().any(|p| {

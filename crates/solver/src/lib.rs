@@ -77,7 +77,7 @@ use friction_step::*;
 use model::{BodyModel, FixedPoint, PointModel};
 pub use pipeline::{run, run_streamed};
 use pipeline::{RunContext, RunLog};
-pub use plan::algorithm_of;
+pub use plan::{algorithm_of, check_plan};
 use root::*;
 use step_end::StepLoop;
 use subdomain::{CondensedData, FactorSummary, RecoveredStep, Subdomain, SubdomainSpec};

@@ -16,6 +16,7 @@ use crate::SolveError;
 
 mod contacts;
 mod zone;
+pub(crate) use contacts::check_contact_supported;
 pub use contacts::{build_contacts, eliminate_redundant, ContactSet, FixedPoint};
 pub use zone::{check_excluded, zone_notes, Widening, Zone, MAX_WIDENINGS};
 

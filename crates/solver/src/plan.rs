@@ -18,6 +18,7 @@ pub(crate) struct Plan {
 /// refused with the entry and what would be valid when they cannot run the
 /// scene's contacts.
 pub(crate) fn plan(sc: &scene::Scene, opts: &RunOptions) -> Result<Plan, SolveError> {
+    check_supported(sc)?;
     let method = opts.method.unwrap_or(sc.solver.method);
     let path = opts.path.unwrap_or(sc.solver.path);
     let algorithm = algorithm_of(&sc.solver, method);
@@ -81,6 +82,36 @@ pub(crate) fn plan(sc: &scene::Scene, opts: &RunOptions) -> Result<Plan, SolveEr
         algorithm,
         return_mapping: false,
     })
+}
+
+/// What the solver refuses of a scene from the scene alone, before anything
+/// is built (found by a fourth robustness sweep: these were refused while the
+/// model was built or after the solve, and `check` called such scenes valid):
+/// each contact's discretization, friction and master
+/// (`model::check_contact_supported`), the friction status method in 3D,
+/// and the reference against the model (`compare::check_reference`).
+fn check_supported(sc: &scene::Scene) -> Result<(), SolveError> {
+    for c in &sc.contact {
+        crate::model::check_contact_supported(sc, c, &format!("contact \"{}\"", c.name))?;
+    }
+    let frictional = sc
+        .contact
+        .iter()
+        .any(|c| c.friction != scene::Friction::None);
+    if frictional && sc.dimension == 3 && sc.solver.friction == scene::FrictionSolver::Status {
+        return Err(SolveError::Input(
+            "solver.friction: the friction status method (seed §4.5) is 2D only; in 3D friction is solved by the fixed point on the threshold (friction = \"fixed_point\", the default)".into(),
+        ));
+    }
+    crate::compare::check_reference(sc)
+}
+
+/// What `signorini check` asks of the solver: the checks `run` makes of the
+/// scene's method, path and reference before it builds anything (the
+/// command line's `--path` overriding the scene's).
+pub fn check_plan(sc: &scene::Scene, path: Option<scene::SolvePath>) -> Result<(), SolveError> {
+    let opts = RunOptions { method: None, path };
+    plan(sc, &opts).map(|_| ())
 }
 
 /// The contact algorithm of a scene's `[solver]` with the method `method`:

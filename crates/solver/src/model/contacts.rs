@@ -90,8 +90,10 @@ struct PairSides {
 }
 
 /// Refuses what the contact solver does not support yet: mortar in an
-/// axisymmetric model, Norton–Hoff friction in 3D.
-fn check_contact_supported(
+/// axisymmetric model, Norton–Hoff friction in 3D, and mortar or contact
+/// elements against a rigid master (from the scene alone: `plan` asks it
+/// before anything is built, so that `check` refuses it too).
+pub(crate) fn check_contact_supported(
     sc: &scene::Scene,
     c: &scene::Contact,
     entry: &str,
@@ -104,6 +106,22 @@ fn check_contact_supported(
     if sc.dimension == 3 && matches!(c.friction, scene::Friction::NortonHoff { .. }) {
         return Err(input(format!(
             "{entry}.friction: Norton-Hoff friction is not supported in 3D yet (supported in 3D: tresca, coulomb with one or two coefficients, slip_stiffness)"
+        )));
+    }
+    let rigid_master = sc.body(&c.master.body).is_some_and(|b| b.rigid.is_some());
+    if rigid_master && c.discretization == scene::Discretization::Mortar {
+        let (shape, instead) = if sc.dimension == 3 {
+            ("sphere", "node_to_face")
+        } else {
+            ("circle", "node_to_segment")
+        };
+        return Err(input(format!(
+            "{entry}: mortar needs a deformable master surface (a rigid plane or {shape}: use {instead})"
+        )));
+    }
+    if rigid_master && c.discretization == scene::Discretization::ContactElements {
+        return Err(input(format!(
+            "{entry}: contact elements join two deformable bodies: the master must be a deformable body with a surface"
         )));
     }
     Ok(())
