@@ -391,6 +391,37 @@ fn a_body_pushed_past_its_friction_under_displacement_control_says_why() {
     );
 }
 
+/// The same block pushed within its friction (1 against μN ≈ 2), each
+/// friction solver cut off by `max_iterations = 1`: exit 2 saying to raise
+/// the limit. Found by the fifth robustness sweep: the failure had no advice
+/// but the note above, which blames a load beyond friction (and said so on
+/// a first step with no tangential load at all).
+#[test]
+fn a_friction_step_out_of_iterations_says_to_raise_the_limit() {
+    let text = "dimension = 2\nmodel = \"plane_strain\"\n\
+         [[materials]]\nname = \"m\"\nyoung = 100.0\npoisson = 0.3\n\
+         [[bodies]]\nname = \"block\"\nmaterial = \"m\"\n\
+         mesh = { generator = \"rectangle\", origin = [0.0, 0.0], size = [2.0, 1.0], divisions = [8, 4] }\n\
+         [[bodies]]\nname = \"floor\"\n\
+         rigid = { shape = \"plane\", point = [0.0, 0.0], normal = [0.0, 1.0] }\n\
+         [[boundary]]\nname = \"press\"\nbody = \"block\"\nsurface = \"top\"\ndisplacement = { y = -0.01 }\n\
+         [[boundary]]\nname = \"push\"\nbody = \"block\"\nsurface = \"left\"\ntraction = [1.0, 0.0]\n\
+         [[contact]]\nname = \"c\"\nslave = { body = \"block\", surface = \"bottom\" }\n\
+         master = { body = \"floor\" }\nfriction = { coulomb = 0.5 }\n";
+    for friction in ["fixed_point", "status"] {
+        let scene = format!("{text}[solver]\nmax_iterations = 1\nfriction = \"{friction}\"\n");
+        let out = try_run(&scene, RunOptions::default()).unwrap();
+        assert!(!out.report.converged, "{friction}");
+        let failure = out.report.failure.unwrap();
+        assert!(
+            failure.contains("iteration limit 1 reached")
+                && failure.ends_with("; raise [solver] max_iterations")
+                && !failure.contains("held by friction alone"),
+            "{friction}: {failure}"
+        );
+    }
+}
+
 /// A block dragged past μN by its left face, whose bottom corner is a
 /// contact node: that node's slip is prescribed, so it has no friction
 /// unknown; dragged, it slides, and Coulomb's law gives its force −μ λ_n

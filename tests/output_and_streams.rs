@@ -137,3 +137,69 @@ fn a_full_stdout_loses_the_summary_not_the_run() {
     let report = std::fs::read_to_string(dir.join("out/report.json")).unwrap();
     assert!(report.contains("\"converged\": true"), "{report}");
 }
+
+/// The files in `dir` and `dir/pieces`, sorted.
+fn listing(dir: &std::path::Path) -> Vec<String> {
+    let mut names: Vec<String> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().to_string())
+        .collect();
+    if let Ok(pieces) = std::fs::read_dir(dir.join("pieces")) {
+        names
+            .extend(pieces.map(|e| format!("pieces/{}", e.unwrap().file_name().to_string_lossy())));
+    }
+    names.sort();
+    names
+}
+
+/// A run into the directory of an earlier one with more steps, pieces and
+/// fields removes the earlier files it does not write again, and nothing
+/// else. Found by the fifth robustness sweep: after a 3-step run, a 1-step
+/// run with `fields = []` left the earlier fields.pvd (naming the earlier
+/// VTU files), displacement.csv, stress.csv and pieces beside its report,
+/// so ParaView and scripts read the earlier answer.
+#[test]
+fn a_run_removes_the_files_an_earlier_run_left_that_it_does_not_write() {
+    let dir = fresh_dir("stale_outputs");
+    let out = dir.join("out");
+    let three = dir.join("three.toml");
+    let steps = "[[steps]]\nscale = { press = 1.0 }\n".repeat(3);
+    std::fs::write(
+        &three,
+        format!("{BLOCK_ON_PLANE}\n{steps}\n[output]\npieces = true\n"),
+    )
+    .unwrap();
+    common::cli_run_ok(&three, &out);
+    assert_eq!(
+        listing(&out).len(),
+        3 + 3 * 2 + 3 + 5,
+        "{:?}",
+        listing(&out)
+    );
+    std::fs::write(out.join("notes.txt"), "mine").unwrap();
+    std::fs::write(out.join("other_2.vtu"), "mine").unwrap();
+    let one = dir.join("one.toml");
+    std::fs::write(&one, format!("{BLOCK_ON_PLANE}\n[output]\nfields = []\n")).unwrap();
+    common::cli_run_ok(&one, &out);
+    assert_eq!(
+        listing(&out),
+        [
+            "contact.csv",
+            "notes.txt",
+            "other_2.vtu",
+            "report.json",
+            "steps.csv"
+        ]
+    );
+    let report = std::fs::read_to_string(out.join("report.json")).unwrap();
+    assert!(
+        report.contains("removed 13 file(s) an earlier run left in"),
+        "{report}"
+    );
+    // Fields again, one step: its VTU file and series alone.
+    std::fs::write(&one, BLOCK_ON_PLANE).unwrap();
+    common::cli_run_ok(&one, &out);
+    let pvd = std::fs::read_to_string(out.join("fields.pvd")).unwrap();
+    assert_eq!(pvd.matches("<DataSet").count(), 1, "{pvd}");
+    assert!(listing(&out).contains(&"block_1.vtu".to_string()));
+}

@@ -427,6 +427,24 @@ impl StopReason {
             _ => false,
         }
     }
+
+    /// Any method stopped by its iteration limit (`[solver]
+    /// max_iterations`): the status methods, the semi-smooth Newton method,
+    /// the fixed point on the threshold and the regularised law's active
+    /// set (also as the fixed point's inner Tresca solver), besides the
+    /// projection and dual methods of [`Self::out_of_iterations`].
+    pub fn iteration_limit(&self) -> bool {
+        match self {
+            StopReason::StatusLimit { .. }
+            | StopReason::NewtonLimit { .. }
+            | StopReason::FixedPointLimit { .. }
+            | StopReason::ActiveSetLimit { .. } => true,
+            StopReason::InnerTresca(inner) | StopReason::BoxFallbacks { before: inner, .. } => {
+                inner.iteration_limit()
+            }
+            other => other.out_of_iterations(),
+        }
+    }
 }
 
 /// Why SMALBE stopped.

@@ -8,6 +8,7 @@ pub mod output;
 pub mod pieces;
 pub mod plot;
 pub mod reference;
+pub mod stale;
 pub mod stream;
 pub mod vtu;
 

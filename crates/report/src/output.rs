@@ -76,6 +76,7 @@ pub fn write_outputs(
     t: Instant,
 ) -> std::io::Result<()> {
     writer.commit()?;
+    let mut written = writer.written();
     let (dir, request) = (writer.dir(), writer.request());
     let dim = request.dim;
     crate::write_steps_csv(&dir.join("steps.csv"), &output.report.steps)?;
@@ -112,9 +113,12 @@ pub fn write_outputs(
                 .report
                 .messages
                 .push(format!("no friction plot: {e}"));
+        } else {
+            written.insert("friction.svg".into());
         }
     }
     if request.wants("displacement") {
+        written.insert("displacement.csv".into());
         let mut w = std::io::BufWriter::new(std::fs::File::create(dir.join("displacement.csv"))?);
         let axes = &["x", "y", "z"][..dim];
         let header: Vec<String> = axes
@@ -137,6 +141,7 @@ pub fn write_outputs(
         }
     }
     if request.wants("stress") {
+        written.insert("stress.csv".into());
         // Voigt [xx, yy, zz, xy, yz, xz]; 2D keeps its historical columns
         // (axisymmetric: x = r, y = z, szz = the hoop stress σ_θθ).
         let mut w = std::io::BufWriter::new(std::fs::File::create(dir.join("stress.csv"))?);
@@ -164,12 +169,43 @@ pub fn write_outputs(
             }
         }
     }
+    remove_earlier(dir, &written, output);
     // The steps streamed during the run are in `output` and `total` already.
     let tim = &mut output.report.timings_s;
     let written = t.elapsed().as_secs_f64();
     tim.output += written;
     tim.total += tim.setup + written;
     crate::write_report(&dir.join("report.json"), &output.report)
+}
+
+/// Removes what an earlier run left in `dir` that this run did not write
+/// again ([`crate::stale`]), saying so in the report's messages.
+fn remove_earlier(dir: &Path, written: &std::collections::BTreeSet<String>, o: &mut RunOutput) {
+    let stems: Vec<String> = (o.bodies.iter())
+        .map(|b| signorini_scene::file_stem(&b.name))
+        .collect();
+    let message = match crate::stale::remove_stale(dir, &stems, written) {
+        Ok(removed) if removed.is_empty() => return,
+        Ok(removed) => {
+            let shown: Vec<&str> = removed.iter().take(6).map(String::as_str).collect();
+            let more = if removed.len() > shown.len() {
+                ", …"
+            } else {
+                ""
+            };
+            format!(
+                "removed {} file(s) an earlier run left in {} that this run does not write: {}{more}",
+                removed.len(),
+                dir.display(),
+                shown.join(", ")
+            )
+        }
+        Err(e) => format!(
+            "files an earlier run left in {} may remain (cannot remove them: {e})",
+            dir.display()
+        ),
+    };
+    o.report.messages.push(message);
 }
 
 /// The run in a few lines for the terminal: sizes, per-step iterations,

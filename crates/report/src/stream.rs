@@ -119,6 +119,8 @@ pub struct FieldWriter {
     subdomains: Vec<(usize, usize)>,
     /// The `.pvtu` indexes written, for `pieces.pvd`.
     index_entries: Vec<PvdEntry>,
+    /// The pieces those indexes name (`pieces/…`, whichever rank writes them).
+    sources: Vec<String>,
     committed: bool,
 }
 
@@ -134,6 +136,7 @@ impl FieldWriter {
             entries: Vec::new(),
             subdomains: Vec::new(),
             index_entries: Vec::new(),
+            sources: Vec::new(),
             committed: false,
         }
     }
@@ -227,6 +230,7 @@ impl FieldWriter {
         arrays[0].push((NODE_ARRAY.to_string(), 1, "UInt64"));
         let file = format!("{name}_{step}.pvtu");
         write_pvtu(&stage.join(&file), &arrays, &sources).map_err(err)?;
+        self.sources.extend(sources);
         self.index_entries.push(PvdEntry {
             timestep: step as f64,
             part: bi,
@@ -270,6 +274,24 @@ impl FieldWriter {
             write_pvd(&self.dir.join("pieces.pvd"), &self.index_entries)?;
         }
         Ok(())
+    }
+
+    /// The files of the output directory that the steps wrote (relative
+    /// to it): the bodies' VTU files, their `.pvtu` indexes, the pieces
+    /// these name and the `.pvd` series.
+    pub fn written(&self) -> std::collections::BTreeSet<String> {
+        let mut files: std::collections::BTreeSet<String> = (self.entries.iter())
+            .chain(&self.index_entries)
+            .map(|e| e.file.clone())
+            .chain(self.sources.iter().cloned())
+            .collect();
+        if !self.request.fields.is_empty() {
+            files.insert("fields.pvd".into());
+        }
+        if !self.index_entries.is_empty() {
+            files.insert("pieces.pvd".into());
+        }
+        files
     }
 
     /// On a rank other than the root, once the run has ended: moves the
@@ -326,6 +348,7 @@ impl StepSink for FieldWriter {
         self.entries.clear();
         self.subdomains.clear();
         self.index_entries.clear();
+        self.sources.clear();
         if let Some(stage) = self.stage.take() {
             let _ = std::fs::remove_dir_all(stage);
         }

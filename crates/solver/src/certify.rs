@@ -168,7 +168,13 @@ pub(crate) fn conclude_step(
     let cert = certificate_of(res, gaps, lambda, sol, umax, sc.solver.tolerance);
     let first_failure = partial.failure.is_none();
     record_convergence(partial, si, sol, &cert);
-    if let (true, Some(failure), Some(_)) = (first_failure, &mut partial.failure, &sol.friction) {
+    // A step stopped by its iteration limit says to raise it: the note
+    // would blame a load that may well be within friction (a first step
+    // with no tangential load at all).
+    let limited = sol.outcome.report.stop.iteration_limit();
+    if let (true, false, Some(failure), Some(_)) =
+        (first_failure, limited, &mut partial.failure, &sol.friction)
+    {
         for (name, k) in held_by_friction(bodies, points) {
             failure.push_str(&format!(
                 "; body \"{name}\" is held by friction alone in {k} rigid motion(s) its supports leave free: a load along them beyond what friction carries (μ times the normal force) has no static equilibrium, and no solver converges on it; impose that motion (a displacement) instead of a force"
@@ -203,6 +209,8 @@ fn record_convergence(partial: &mut Partial, si: usize, sol: &StepSolution, cert
         let mut failure = format!("step {}: {}: {}", si + 1, report.method, report.stop);
         if report.stop.out_of_iterations() {
             failure += "; raise [solver] max_iterations, or use a method that needs fewer iterations (status, mprgp)";
+        } else if report.stop.iteration_limit() {
+            failure += "; raise [solver] max_iterations";
         }
         partial.failure.get_or_insert(failure);
     } else if !cert.met() {
