@@ -400,3 +400,60 @@ path = "condensed"
 kind = "cattaneo_mindlin"
 radius = 1.0
 "#;
+
+/// Norton–Hoff in 3D (seed §4.1.4, eq. 19, isotropic in the tangent plane):
+/// on the box pressed, then dragged along (0.06, 0.08), every point in
+/// contact carries |λ_t| = μ λ_n ‖Δs‖^ρ opposite to its slip increment Δs
+/// over the step, and the resultant rises to Coulomb's μN as ρ → 0. At
+/// some ρ (0.05 here) the fixed point of the first step, pressed without
+/// drag (Poisson slips of 1e-4 and less), cycles between stick and slip:
+/// it stops as stalled and says why, never converged.
+#[test]
+fn norton_hoff_in_3d_holds_its_law_and_tends_to_coulomb() {
+    let drag = [0.06, 0.08];
+    let stalled = try_run(
+        &box_scene("{ norton_hoff = 0.3, rho = 0.05 }", drag, None),
+        RunOptions::default(),
+    );
+    let stalled = stalled.expect("solved, converged or not");
+    assert!(!stalled.report.converged);
+    let reason = stalled.report.steps[0].solver["stopping_reason"].to_string();
+    assert!(
+        reason.contains("alternate between stick and slip"),
+        "{reason}"
+    );
+    let mut last = 0.0;
+    for rho in [0.2, 0.1, 0.01, 0.001] {
+        let friction = format!("{{ norton_hoff = 0.3, rho = {rho} }}");
+        let out = converged(&box_scene(&friction, drag, None), RunOptions::default());
+        assert_eq!(out.report.steps[1].solver["method"], "norton_hoff_3d");
+        let (n, tx, ty) = resultants(&out);
+        let ratio = tx.hypot(ty) / n;
+        assert!(
+            ratio > last && ratio < 0.3,
+            "ρ = {rho}: |T|/N = {ratio} (previous {last})"
+        );
+        last = ratio;
+        let rows = |step: usize| out.contact_rows.iter().filter(move |r| r.step == step);
+        let mut checked = 0;
+        for (r1, r2) in rows(1).zip(rows(2)) {
+            assert_eq!(r1.point, r2.point);
+            let ds = [r2.slip - r1.slip, r2.slip_2 - r1.slip_2];
+            let (ds_norm, lt) = (
+                ds[0].hypot(ds[1]),
+                [r2.tangential_force, r2.tangential_force_2],
+            );
+            if r2.normal_force <= 0.0 || ds_norm <= 1e-6 {
+                continue;
+            }
+            let law = 0.3 * r2.normal_force * ds_norm.powf(rho);
+            let lt_norm = lt[0].hypot(lt[1]);
+            assert!((lt_norm - law).abs() <= 1e-6 * law, "ρ = {rho}: {r2:?}");
+            let cosine = (lt[0] * ds[0] + lt[1] * ds[1]) / (lt_norm * ds_norm);
+            assert!(cosine <= -1.0 + 1e-9, "ρ = {rho}: {r2:?}");
+            checked += 1;
+        }
+        assert_eq!(checked, 16, "ρ = {rho}: slipping points");
+    }
+    assert!((last - 0.3).abs() <= 0.003, "ρ = 0.001: |T|/N = {last}");
+}

@@ -648,7 +648,12 @@ pub fn coulomb_newton(
 /// fixed point on that slip-dependent threshold, each inner problem a Tresca
 /// problem (as §4.3 does for Coulomb); the map g → μ λ_n |Δs(g)|^ρ contracts
 /// at a rate of order ρ. Started from the all-stick solution; it stops when
-/// λ_t + g(Δs) sign(Δs) vanishes at every point in contact.
+/// λ_t + g(Δs) sign(Δs) vanishes at every point in contact. A slip below
+/// 1e-14 times the length scale is no slip: g is then that floor's
+/// threshold, and such a point satisfies the law when |λ_t| ≤ g (a law
+/// steep at zero slip, ρ small, needs slips far below round-off to carry
+/// a force; without this the fixed point cycled on a block pressed
+/// without drag, its Poisson slips tiny).
 pub fn norton_hoff(
     problem: &mut DelassusProblem,
     layout: &FrictionLayout,
@@ -678,9 +683,16 @@ pub fn norton_hoff(
             let (Some(t), Some(gp)) = (layout.tangent_row(p), law(r, g, p)) else {
                 continue;
             };
-            if *st != PointStatus::Open {
-                worst = worst.max((r[t] + gp * g[t].signum()).abs());
+            if *st == PointStatus::Open {
+                continue;
             }
+            // A slip below the floor is no slip: the law then asks the
+            // force within the floor's threshold, not opposed to a slip.
+            let off = match g[t].abs() <= s_min {
+                true => (r[t].abs() - gp).max(0.0),
+                false => (r[t] + gp * g[t].signum()).abs(),
+            };
+            worst = worst.max(off);
         }
         worst
     };

@@ -821,6 +821,7 @@ fn statuses(
 }
 
 mod coulomb;
+mod norton_hoff;
 pub(crate) use coulomb::friction_newton;
 use coulomb::Newton;
 

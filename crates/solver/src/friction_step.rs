@@ -270,10 +270,11 @@ fn solve_friction(
         let out = friction_3d(problem, &fr.layout, start.as_deref(), fopts);
         // Coulomb: the Newton method on Coulomb's law, or its fallback.
         let newton = matches!(&out, Ok(s) if s.report.method == "coulomb_3d_semismooth_newton");
-        let name = match (all_tresca, newton) {
-            (true, _) => "tresca_3d_semismooth_newton",
-            (false, true) => "coulomb_3d_semismooth_newton",
-            (false, false) => "coulomb_3d_fixed_point",
+        let name = match (fr.norton_hoff, all_tresca, newton) {
+            (true, _, _) => "norton_hoff_3d",
+            (false, true, _) => "tresca_3d_semismooth_newton",
+            (false, false, true) => "coulomb_3d_semismooth_newton",
+            (false, false, false) => "coulomb_3d_fixed_point",
         };
         return (out, name);
     }

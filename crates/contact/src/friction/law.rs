@@ -29,7 +29,8 @@ pub enum FrictionLaw {
     Tresca(f64),
     /// Coulomb (§4.1.2): (λ_t1/μ1)² + (λ_t2/μ2)² ≤ λ_n².
     Coulomb { mu: [f64; 2] },
-    /// Norton–Hoff (§4.1.4): λ_t = −μ λ_n |Δs|^(ρ−1) Δs, 0 < ρ < 1 (2D).
+    /// Norton–Hoff (§4.1.4): λ_t = −μ λ_n ‖Δs‖^(ρ−1) Δs, 0 < ρ < 1 (in 3D
+    /// isotropic in the tangent plane).
     NortonHoff { mu: f64, rho: f64 },
 }
 
@@ -114,6 +115,12 @@ impl FrictionLayout {
             .any(|(l, t)| !t.is_empty() && l.coulomb_mu().is_some())
     }
 
+    /// Whether a point with tangential rows has a Norton–Hoff law.
+    pub fn has_norton_hoff(&self) -> bool {
+        let nh = |l: &FrictionLaw| matches!(l, FrictionLaw::NortonHoff { .. });
+        (self.law.iter().zip(&self.tangent_rows)).any(|(l, t)| !t.is_empty() && nh(l))
+    }
+
     /// The semi-axes of each point's admissible set of tangential forces,
     /// Coulomb ones from the normal forces `r` ([`FrictionLaw::semi_axes`]).
     pub fn thresholds(&self, r: &[f64]) -> Vec<[f64; 2]> {
@@ -124,7 +131,7 @@ impl FrictionLayout {
     /// Checks the layout of a problem with `n_rows` rows in dimension `dim`
     /// (2 or 3): one law per point, at most dim − 1 tangential rows per
     /// point, every row owned by exactly one point, admissible parameters
-    /// (Norton–Hoff in 2D only).
+    /// (Norton–Hoff 0 < ρ < 1).
     pub fn validate(&self, n_rows: usize, dim: usize) -> Result<(), ContactError> {
         let m = self.n_points();
         let bad = |what: String| Err(ContactError::Geometry(format!("friction {dim}D: {what}")));
@@ -161,9 +168,6 @@ impl FrictionLayout {
                 return bad(format!(
                     "point {p} has a negative or non-finite friction parameter"
                 ));
-            }
-            if dim == 3 && matches!(law, FrictionLaw::NortonHoff { .. }) {
-                return bad(format!("point {p} has Norton-Hoff friction (2D only)"));
             }
         }
         Ok(())

@@ -161,6 +161,11 @@ fn newton_fixed_point(
         2 => "tresca_semismooth_newton",
         _ => "tresca_3d_semismooth_newton",
     };
+    if layout.has_norton_hoff() {
+        // As in 2D, every step from the solution with the closed points stuck.
+        let stuck = newton.solve(&stuck_thresholds(problem, layout, guessed), &forces)?;
+        return super::norton_hoff::norton_hoff_fixed_point(&mut newton, stuck);
+    }
     if !layout.has_coulomb() {
         let last = newton.solve(&layout.thresholds(&forces), &forces)?;
         let end = FixedPoint {

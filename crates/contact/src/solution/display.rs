@@ -442,10 +442,16 @@ impl StopReason {
                 best,
                 at,
                 since,
-            } => write!(
-                f,
-                "{map} stalled: no iterate came closer than {best:.2e} (iteration {at}) in the {since} iterations since; the map does not contract here (normal forces not unique, e.g. a rank-deficient W: try the semi-smooth Newton method, friction = \"newton\")"
-            ),
+            } => {
+                let why = match map {
+                    ThresholdMapKind::NortonHoff => "points whose slip is near zero alternate between stick and slip, where the law is steep: a larger rho, or a load that makes them slip",
+                    _ => "normal forces not unique, e.g. a rank-deficient W: try the semi-smooth Newton method, friction = \"newton\"",
+                };
+                write!(
+                    f,
+                    "{map} stalled: no iterate came closer than {best:.2e} (iteration {at}) in the {since} iterations since; the map does not contract here ({why})"
+                )
+            }
             StopReason::Tresca(inner) => write!(f, "Tresca: {inner}"),
             _ => unreachable!("not a friction reason"),
         }

@@ -103,11 +103,6 @@ pub(crate) fn check_contact_supported(
             "{entry}.discretization: \"mortar\" is not supported with model = \"axisymmetric\" yet (supported: node_to_node, node_to_segment)"
         )));
     }
-    if sc.dimension == 3 && matches!(c.friction, scene::Friction::NortonHoff { .. }) {
-        return Err(input(format!(
-            "{entry}.friction: Norton-Hoff friction is not supported in 3D yet (supported in 3D: tresca, coulomb with one or two coefficients, slip_stiffness)"
-        )));
-    }
     let rigid_master = sc.body(&c.master.body).is_some_and(|b| b.rigid.is_some());
     if rigid_master && c.discretization == scene::Discretization::Mortar {
         let (shape, instead) = if sc.dimension == 3 {
