@@ -648,12 +648,8 @@ pub fn coulomb_newton(
 /// fixed point on that slip-dependent threshold, each inner problem a Tresca
 /// problem (as §4.3 does for Coulomb); the map g → μ λ_n |Δs(g)|^ρ contracts
 /// at a rate of order ρ. Started from the all-stick solution; it stops when
-/// λ_t + g(Δs) sign(Δs) vanishes at every point in contact. A slip below
-/// 1e-14 times the length scale is no slip: g is then that floor's
-/// threshold, and such a point satisfies the law when |λ_t| ≤ g (a law
-/// steep at zero slip, ρ small, needs slips far below round-off to carry
-/// a force; without this the fixed point cycled on a block pressed
-/// without drag, its Poisson slips tiny).
+/// the law's misfit ([`NortonHoffLaw::misfit`]) vanishes at every point in
+/// contact.
 pub fn norton_hoff(
     problem: &mut DelassusProblem,
     layout: &FrictionLayout,
@@ -663,45 +659,82 @@ pub fn norton_hoff(
     let m = initial.len();
     let mut solver = StatusTresca::new(problem, layout, initial, opts)?;
     let start = solver.stuck()?;
-    let s_min = 1e-14 * opts.gap_scale.max(f64::MIN_POSITIVE);
-    let law = |r: &[f64], g: &[f64], p: usize| -> Option<f64> {
-        let t = layout.tangent_row(p)?;
-        let FrictionLaw::NortonHoff { mu, rho } = layout.law[p] else {
-            return None;
-        };
-        Some(mu * r[p].max(0.0) * g[t].abs().max(s_min).powf(rho))
-    };
+    let law = NortonHoffLaw::new(layout, opts);
     let threshold = |r: &[f64], g: &[f64]| {
         (0..m)
-            .map(|p| law(r, g, p).unwrap_or(f64::INFINITY))
+            .map(|p| law.threshold(r, g, p).unwrap_or(f64::INFINITY))
             .collect()
     };
-    let misfit = |_: &[f64], it: &InnerSolve| {
-        let (r, g) = (&it.forces, &it.gaps);
-        let mut worst = 0.0f64;
-        for (p, st) in it.statuses.iter().enumerate() {
-            let (Some(t), Some(gp)) = (layout.tangent_row(p), law(r, g, p)) else {
-                continue;
-            };
-            if *st == PointStatus::Open {
-                continue;
-            }
-            // A slip below the floor is no slip: the law then asks the
-            // force within the floor's threshold, not opposed to a slip.
-            let off = match g[t].abs() <= s_min {
-                true => (r[t].abs() - gp).max(0.0),
-                false => (r[t] + gp * g[t].signum()).abs(),
-            };
-            worst = worst.max(off);
-        }
-        worst
-    };
+    let misfit = |_: &[f64], it: &InnerSolve| law.misfit(it);
     let map = ThresholdMap {
         threshold: &threshold,
         residual: &misfit,
         kind: ThresholdMapKind::NortonHoff,
     };
     solver.fixed_point(start, &map, "norton_hoff")
+}
+
+/// Norton–Hoff's law at the points of a layout, in 2D (one tangential row)
+/// and 3D (two, isotropic in the tangent plane: ‖λ_t‖ = μ λ_n ‖Δs‖^ρ
+/// opposing Δs). A slip below 1e-14 times the length scale is no slip: the
+/// threshold is then the floor's μ λ_n (1e-14 L)^ρ, and such a point
+/// satisfies the law when its force lies within it (a law steep at zero
+/// slip, ρ small, needs slips far below round-off to carry a force; a block
+/// pressed without drag, its Poisson slips tiny and none at the middle,
+/// stalled when a stuck point was asked to oppose a slip of zero).
+pub(crate) struct NortonHoffLaw<'a> {
+    layout: &'a FrictionLayout,
+    /// The slip below which a point does not slip.
+    s_min: f64,
+}
+
+impl<'a> NortonHoffLaw<'a> {
+    pub(crate) fn new(layout: &'a FrictionLayout, opts: &FrictionOptions) -> Self {
+        let s_min = 1e-14 * opts.gap_scale.max(f64::MIN_POSITIVE);
+        Self { layout, s_min }
+    }
+
+    /// (μ λ_n, ρ, ‖Δs‖ floored) of point p, when it has tangential rows and
+    /// a Norton–Hoff law.
+    fn at(&self, r: &[f64], g: &[f64], p: usize) -> Option<(f64, f64, f64)> {
+        let FrictionLaw::NortonHoff { mu, rho } = self.layout.law[p] else {
+            return None;
+        };
+        let rows = &self.layout.tangent_rows[p];
+        let slip = rows.iter().map(|&t| g[t] * g[t]).sum::<f64>().sqrt();
+        (!rows.is_empty()).then_some((mu * r[p].max(0.0), rho, slip.max(self.s_min)))
+    }
+
+    /// The threshold μ λ_n ‖Δs‖^ρ of point p from the forces r and gaps g.
+    pub(crate) fn threshold(&self, r: &[f64], g: &[f64], p: usize) -> Option<f64> {
+        self.at(r, g, p)
+            .map(|(bound, rho, slip)| bound * slip.powf(rho))
+    }
+
+    /// The largest ‖λ_t + μ λ_n ‖Δs‖^(ρ−1) Δs‖ over the points in contact
+    /// (below the slip floor: how far ‖λ_t‖ passes the floor's threshold).
+    pub(crate) fn misfit(&self, it: &InnerSolve) -> f64 {
+        let (r, g) = (&it.forces, &it.gaps);
+        let closed = (0..it.statuses.len()).filter(|&p| it.statuses[p] != PointStatus::Open);
+        closed.fold(0.0f64, |worst, p| {
+            let Some((bound, rho, slip)) = self.at(r, g, p) else {
+                return worst;
+            };
+            let rows = &self.layout.tangent_rows[p];
+            let off = match slip <= self.s_min {
+                true => {
+                    let force = rows.iter().map(|&t| r[t] * r[t]).sum::<f64>().sqrt();
+                    (force - bound * self.s_min.powf(rho)).max(0.0)
+                }
+                false => {
+                    let scale = bound * slip.powf(rho - 1.0);
+                    let off = rows.iter().map(|&t| (r[t] + scale * g[t]).powi(2));
+                    off.sum::<f64>().sqrt()
+                }
+            };
+            crate::norms::nan_max(worst, off)
+        })
+    }
 }
 
 #[cfg(test)]
