@@ -7,7 +7,7 @@
 
 mod common;
 
-use common::{converged, converged_on, example, example_path, hertz_errors, max_rel, try_run};
+use common::{converged, converged_on, example, hertz_errors, max_rel, try_run};
 use signorini_scene::{Method, SolvePath};
 use signorini_solver::{RunOptions, RunOutput, SolveError};
 
@@ -490,7 +490,7 @@ fn mortar_patch_under_mpirun_2_equals_the_in_process_run() {
         return;
     }
     let d = common::fresh_dir("mortar", "mpirun2");
-    let scene = std::path::PathBuf::from(example_path("mortar_patch.toml"));
+    let scene = std::path::PathBuf::from(common::example_path("mortar_patch.toml"));
     let a = contact_csv_of_run(false, &scene, &d.join("local"));
     let b = contact_csv_of_run(true, &scene, &d.join("mpi"));
     let report = std::fs::read_to_string(d.join("mpi").join("report.json")).unwrap();

@@ -6,9 +6,7 @@
 
 mod common;
 
-use common::{
-    converged, converged_on, example, example_path, forces, hertz_errors, max_rel, try_run,
-};
+use common::{converged, converged_on, example, forces, hertz_errors, max_rel, try_run};
 use signorini_scene::{Method, SolvePath};
 use signorini_solver::{RunOptions, RunOutput, SolveError};
 
@@ -281,7 +279,7 @@ fn mortar_3d_patch_under_mpirun_2_equals_the_in_process_run() {
             Command::new(bin)
         };
         let o = c
-            .args(["run", &example_path("mortar_patch3d.toml"), "--out"])
+            .args(["run", &common::example_path("mortar_patch3d.toml"), "--out"])
             .arg(out)
             .output()
             .unwrap();
