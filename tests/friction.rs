@@ -639,3 +639,29 @@ fn norton_hoff_over_two_steps_holds_its_law_on_each_increment() {
         );
     }
 }
+
+/// A pad held by contact alone with friction, pressed then unloaded to no
+/// load at all (found by a fourth robustness sweep): the unloaded step's
+/// force and length scales were its own round-off (2.5e-32 and 6.7e-16), the
+/// inner Tresca problem cycled on forces of 1e-32 and the run ended with
+/// exit 2 ("cycling even with one status change per iteration", certificate
+/// tension 1.0). A friction step's scales are now at least those of the
+/// steps before: the unloaded step is solved, with no force left.
+#[test]
+fn a_pad_with_friction_unloaded_to_no_load_is_solved_with_no_force() {
+    let text = example("blocks.toml").replace(
+        "discretization = \"node_to_node\"",
+        "discretization = \"node_to_node\"\nfriction = { coulomb = 0.3 }",
+    )
+        + "\n[[steps]]\nscale = { pressure = 1.0 }\n[[steps]]\nscale = { pressure = 0.0 }\n";
+    let out = converged(&text);
+    let force = |step: usize| {
+        out.contact_rows
+            .iter()
+            .filter(|r| r.step == step)
+            .map(|r| r.normal_force.abs().max(r.tangential_force.abs()))
+            .fold(0.0, f64::max)
+    };
+    assert!(force(1) > 0.1, "pressed: {}", force(1));
+    assert!(force(2) <= 1e-12 * force(1), "unloaded: {}", force(2));
+}

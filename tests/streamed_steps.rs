@@ -225,6 +225,7 @@ fn an_error_at_a_later_step_leaves_nothing_behind() {
 /// Under `mpirun -n 2` (one body per rank) the steps go one at a time
 /// through the transport: the same chosen pieces and the same contact.csv
 /// as in one process.
+#[cfg(feature = "mpi")]
 #[test]
 fn two_ranks_stream_the_same_steps_as_one_process() {
     let has_mpi = Command::new("mpirun")

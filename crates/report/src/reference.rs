@@ -246,6 +246,27 @@ pub fn cattaneo_mindlin(
             relative_error: l2,
         },
     );
+    let notes = cattaneo_notes(shape, [e_star, r, mu], &turning, no_shear);
+    ReferenceReport {
+        kind: "cattaneo_mindlin".into(),
+        quantities: qs,
+        notes,
+    }
+}
+
+/// The notes of [`cattaneo_mindlin`]: its data and formulas, what it
+/// needs, how the stick zone is measured, and the load history's turning
+/// points when the load was not monotone.
+fn cattaneo_notes(
+    shape: PunchShape,
+    [e_star, r, mu]: [f64; 3],
+    turning: &[f64],
+    no_shear: bool,
+) -> Vec<String> {
+    let exponent = match shape {
+        PunchShape::Strip => 0.5,
+        PunchShape::Circle => 1.0 / 3.0,
+    };
     let (body, zone) = match shape {
         PunchShape::Strip => ("a = sqrt(4PR/(πE*))", "c = a·sqrt(1 − Q/(μP))"),
         PunchShape::Circle => ("a = (3PR/(4E*))^(1/3)", "c = a·(1 − Q/(μP))^(1/3)"),
@@ -261,11 +282,7 @@ pub fn cattaneo_mindlin(
     if no_shear {
         notes.push("Q/(μP) is round-off: the exact shear vanishes, and shear_profile_l2 is relative to the full-slip profile μp(x)".into());
     }
-    ReferenceReport {
-        kind: "cattaneo_mindlin".into(),
-        quantities: qs,
-        notes,
-    }
+    notes
 }
 
 /// The stick zone of the computation, as a distance from `centre`: from the

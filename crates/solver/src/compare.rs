@@ -60,25 +60,14 @@ pub(crate) fn compare_reference(
         scene::ReferenceKind::UniformPressure => {
             Ok(reference::uniform_pressure(&nodes, r.pressure, None))
         }
-        scene::ReferenceKind::CattaneoMindlin => {
-            // the tangential load of the earlier steps, along the final one
-            let history: Vec<f64> = steps[..steps.len().saturating_sub(1)]
-                .iter()
-                .map(|st| {
-                    (0..3)
-                        .map(|k| st.tangential_resultant[k] * direction[k])
-                        .sum()
-                })
-                .collect();
-            Ok(reference::cattaneo_mindlin(
-                &nodes,
-                contact_shape(sc),
-                e_star(),
-                radius()?,
-                mu()?,
-                &history,
-            ))
-        }
+        scene::ReferenceKind::CattaneoMindlin => Ok(reference::cattaneo_mindlin(
+            &nodes,
+            contact_shape(sc),
+            e_star(),
+            radius()?,
+            mu()?,
+            &tangential_history(steps, direction),
+        )),
         scene::ReferenceKind::SlidingBlock => Ok(reference::sliding_block(&nodes, mu()?, None)),
         scene::ReferenceKind::FlatPunch => Ok(reference::flat_punch(
             &nodes,
@@ -86,6 +75,19 @@ pub(crate) fn compare_reference(
             r.half_width,
         )),
     }
+}
+
+/// The tangential load of the steps before the last, along the final one
+/// (`direction`): the load history of the Cattaneo–Mindlin reference.
+fn tangential_history(steps: &[StepReport], direction: [f64; 3]) -> Vec<f64> {
+    steps[..steps.len().saturating_sub(1)]
+        .iter()
+        .map(|st| {
+            (0..3)
+                .map(|k| st.tangential_resultant[k] * direction[k])
+                .sum()
+        })
+        .collect()
 }
 
 /// Refuses, before anything is solved, a reference the scene cannot be

@@ -24,6 +24,8 @@ pub(crate) struct FrictionHistory {
     slip_total: Vec<f64>,
     slip_total2: Vec<f64>,
     previous: Option<(Vec<PointStatus>, Vec<f64>)>,
+    /// The largest force and length scales of the steps so far.
+    scales: (f64, f64),
 }
 
 impl FrictionHistory {
@@ -32,7 +34,21 @@ impl FrictionHistory {
             slip_total: vec![0.0; m],
             slip_total2: vec![0.0; m],
             previous: None,
+            scales: (0.0, 0.0),
         }
+    }
+
+    /// The step's load with its force and length scales at least those of
+    /// the steps before: the slips and stresses left by them stay, and a step
+    /// unloaded to no load is judged against them, not against its own
+    /// round-off.
+    fn scaled(&mut self, mut load: StepLoad) -> StepLoad {
+        self.scales = (
+            self.scales.0.max(load.f_scale),
+            self.scales.1.max(load.length_scale),
+        );
+        (load.f_scale, load.length_scale) = self.scales;
+        load
     }
 }
 
@@ -203,6 +219,7 @@ pub(crate) fn friction_step(
     load: StepLoad,
 ) -> Result<(StepSolution, Vec<f64>), SolveError> {
     let m = input.points.len();
+    let load = history.scaled(load);
     let mut problem = op.problem(&tangential_gaps(input, &load, history), &load.fp);
     problem.add_compliance(&slip_compliance(input, interface));
     let hardened = harden_rough_rows(input, interface, history, &mut problem)?;
