@@ -240,6 +240,30 @@ fn check_reads_the_gmsh_files_run_would_refuse() {
     ]);
 }
 
+/// `BLOCK_ON_PLANE`'s block as two quadrangles stacked at y = 0.25 that do
+/// not share their nodes there (nodes 3, 4 and 5, 6 at the same places): a
+/// Gmsh mesh of two surfaces not made coherent.
+const UNJOINED_MSH: &str = "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$PhysicalNames\n3\n1 1 \"bottom\"\n1 2 \"top\"\n2 3 \"block\"\n$EndPhysicalNames\n$Nodes\n8\n1 0 0 0\n2 1 0 0\n3 1 0.25 0\n4 0 0.25 0\n5 0 0.25 0\n6 1 0.25 0\n7 1 0.5 0\n8 0 0.5 0\n$EndNodes\n$Elements\n4\n1 1 2 1 1 1 2\n2 1 2 2 2 7 8\n3 3 2 3 3 1 2 3 4\n4 3 2 3 3 5 6 7 8\n$EndElements\n";
+
+/// A body whose Gmsh mesh has distinct nodes at the same place is free to
+/// move because its parts are not joined: the refusal says so, with the
+/// first pair and how to merge them. Found by the fifth robustness sweep:
+/// it advised only to pin the body, which would have left the two parts
+/// unjoined (solved as one body in two pieces).
+#[test]
+fn a_free_body_whose_mesh_has_unjoined_parts_says_so() {
+    let files = [("unjoined.msh", UNJOINED_MSH)];
+    let dir = scene_dir("gmsh_unjoined", &block_from_file("unjoined.msh"), &files);
+    let out = dir.join("out");
+    let run = run_in(dir, "run", &["--out", out.to_str().unwrap()]);
+    run.assert_bad_input(&[
+        "bodies[0]",
+        "is free to move",
+        "its mesh has 2 pair(s) of distinct nodes at the same place (the first: nodes 2 and 5 at (1, 0.25))",
+        "Coherence Mesh",
+    ]);
+}
+
 /// The shipped block2d.msh: it names bottom, top, left, right.
 fn block2d_msh() -> String {
     format!("{}/examples/meshes/block2d.msh", env!("CARGO_MANIFEST_DIR"))
