@@ -243,7 +243,7 @@ fn check_reads_the_gmsh_files_run_would_refuse() {
 /// `BLOCK_ON_PLANE`'s block as two quadrangles stacked at y = 0.25 that do
 /// not share their nodes there (nodes 3, 4 and 5, 6 at the same places): a
 /// Gmsh mesh of two surfaces not made coherent.
-const UNJOINED_MSH: &str = "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$PhysicalNames\n3\n1 1 \"bottom\"\n1 2 \"top\"\n2 3 \"block\"\n$EndPhysicalNames\n$Nodes\n8\n1 0 0 0\n2 1 0 0\n3 1 0.25 0\n4 0 0.25 0\n5 0 0.25 0\n6 1 0.25 0\n7 1 0.5 0\n8 0 0.5 0\n$EndNodes\n$Elements\n4\n1 1 2 1 1 1 2\n2 1 2 2 2 7 8\n3 3 2 3 3 1 2 3 4\n4 3 2 3 3 5 6 7 8\n$EndElements\n";
+const UNJOINED_MSH: &str = "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$PhysicalNames\n4\n1 1 \"bottom\"\n1 2 \"top\"\n2 3 \"block\"\n1 4 \"left\"\n$EndPhysicalNames\n$Nodes\n8\n1 0 0 0\n2 1 0 0\n3 1 0.25 0\n4 0 0.25 0\n5 0 0.25 0\n6 1 0.25 0\n7 1 0.5 0\n8 0 0.5 0\n$EndNodes\n$Elements\n6\n1 1 2 1 1 1 2\n2 1 2 2 2 7 8\n3 3 2 3 3 1 2 3 4\n4 3 2 3 3 5 6 7 8\n5 1 2 4 4 4 1\n6 1 2 4 4 8 5\n$EndElements\n";
 
 /// A body whose Gmsh mesh has distinct nodes at the same place is free to
 /// move because its parts are not joined: the refusal says so, with the
@@ -262,6 +262,33 @@ fn a_free_body_whose_mesh_has_unjoined_parts_says_so() {
         "its mesh has 2 pair(s) of distinct nodes at the same place (the first: nodes 2 and 5 at (1, 0.25))",
         "Coherence Mesh",
     ]);
+}
+
+/// The same mesh held on its left side and pressed by a displacement of its
+/// top: both parts are held, the upper one moves down alone and the contact
+/// carries nothing. It runs (a body may have separate pieces), and the
+/// report's messages say that its parts are not joined.
+#[test]
+fn a_held_body_whose_mesh_has_unjoined_parts_is_noted() {
+    let scene = block_from_file("unjoined.msh")
+        .replace(PIN, "[[boundary]]\nname = \"left\"\nbody = \"block\"\nsurface = \"left\"\ndisplacement = { x = 0.0 }\n")
+        .replace("traction = [0.0, -1.0]", "displacement = { y = -0.001 }");
+    assert!(scene.contains("surface = \"left\"") && scene.contains("y = -0.001"));
+    let dir = scene_dir(
+        "gmsh_unjoined_held",
+        &scene,
+        &[("unjoined.msh", UNJOINED_MSH)],
+    );
+    let out = dir.join("out");
+    let run = run_in(dir, "run", &["--out", out.to_str().unwrap()]);
+    assert_eq!(run.output.status.code(), Some(0), "{}", run.stderr());
+    let report = std::fs::read_to_string(out.join("report.json")).unwrap();
+    assert!(
+        report.contains(
+            "body \\\"block\\\": its mesh has 2 pair(s) of distinct nodes at the same place"
+        ),
+        "{report}"
+    );
 }
 
 /// The shipped block2d.msh: it names bottom, top, left, right.

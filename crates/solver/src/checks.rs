@@ -120,28 +120,28 @@ fn check_held(b: &BodyModel, work: &HoldingWork) -> Result<(), SolveError> {
             b.scene_index,
             b.name,
             unjoined(&b.mesh)
+                .map(|u| format!(". But first: {u}"))
+                .unwrap_or_default()
         )));
     }
     Ok(())
 }
 
-/// What to say of a free body whose mesh has distinct nodes at the same
-/// place: its cells on either side are not joined, so its parts move apart
-/// (a pin would not make them one solid).
-fn unjoined(mesh: &signorini_mesh::Mesh) -> String {
+/// What to say of a body whose mesh has distinct nodes at the same place:
+/// its cells on either side are not joined, so its parts move apart (a pin
+/// would not make them one solid); `None` when it has none.
+pub(crate) fn unjoined(mesh: &signorini_mesh::Mesh) -> Option<String> {
     let pairs = mesh.coincident_nodes();
-    let Some(&(a, b)) = pairs.first() else {
-        return String::new();
-    };
+    let &(a, b) = pairs.first()?;
     let x = mesh.coords[a];
     let at = match mesh.dim {
         3 => format!("({}, {}, {})", x[0], x[1], x[2]),
         _ => format!("({}, {})", x[0], x[1]),
     };
-    format!(
-        ". But first: its mesh has {} pair(s) of distinct nodes at the same place (the first: nodes {a} and {b} at {at}), so the cells on either side are not joined and its parts move apart; if they are one solid, merge those nodes (Gmsh: Coherence Mesh, or fragment the geometry before meshing), or make each part its own body with a contact between them",
+    Some(format!(
+        "its mesh has {} pair(s) of distinct nodes at the same place (the first: nodes {a} and {b} at {at}), so the cells on either side are not joined and its parts move apart; if they are one solid, merge those nodes (Gmsh: Coherence Mesh, or fragment the geometry before meshing), or make each part its own body with a contact between them",
         pairs.len()
-    )
+    ))
 }
 
 /// The rigid motions that the forces of Gᵀ's columns cannot hold: the

@@ -86,6 +86,9 @@ pub(crate) fn model_stage(
         ));
     }
     for b in &bodies {
+        if let Some(u) = crate::checks::unjoined(&b.mesh) {
+            messages.push(format!("body \"{}\": {u}", b.name));
+        }
         if !b.kernel.is_empty() {
             messages.push(format!(
                 "body \"{}\" is held by contact in {} rigid motion(s): solved with the equilibrium of its rigid modes as a constraint (no artificial spring)",
