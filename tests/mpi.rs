@@ -622,6 +622,30 @@ fn bad_input_at_a_later_step_with_pieces_under_mpirun_leaves_no_directory() {
     }
 }
 
+/// `subdomains = "auto"` on a body of 2 cells under mpirun -n 3: 2 parts,
+/// the third rank idle, the in-process answer. Found by the fifth
+/// robustness sweep: it was refused (exit 1, "cannot split 2 cells into 3
+/// non-empty parts"), though it runs in process and "auto" is meant to fit
+/// the ranks.
+#[test]
+fn auto_subdomains_on_a_body_with_fewer_cells_than_ranks() {
+    if !have_mpirun() {
+        return;
+    }
+    let text = common::bad_scene::BLOCK_ON_PLANE
+        .replace("divisions = [4, 2]", "divisions = [2, 1]")
+        .replace(
+            "name = \"block\"\nmaterial = \"steel\"\n",
+            "name = \"block\"\nmaterial = \"steel\"\nsubdomains = \"auto\"\n",
+        );
+    assert!(text.contains("divisions = [2, 1]") && text.contains("\"auto\""));
+    let scene = write_scene("auto-few-cells-scene", "block.toml", &text);
+    compare(&scene, 3, "auto-few-cells");
+    let mpi = Path::new(env!("CARGO_TARGET_TMPDIR")).join("mpi/auto-few-cells/mpi");
+    let r = report(&mpi);
+    assert_eq!(r["subdomains"], 2);
+}
+
 /// Contact elements (seed §7) with friction through two load steps, the
 /// pad on rank 1 and the base on rank 0, then the base split in two as well
 /// (three subdomains on two ranks): the in-process answer.
