@@ -572,7 +572,7 @@ fn sweep() -> Vec<Bad> {
         bad("dimension_four", block_with("dimension = 2", "dimension = 4"), &["dimension", "2 or 3"]),
         bad("max_iterations_negative", format!("{BLOCK_ON_PLANE}\n[solver]\nmax_iterations = -3\n"), &["solver.max_iterations", "got -3"]),
         bad("subdomains_negative", block_with("name = \"block\"\nmaterial", "name = \"block\"\nsubdomains = -2\nmaterial"), &["subdomains", "-2"]),
-        bad("subdomains_more_than_cells", block_with("name = \"block\"\nmaterial", "name = \"block\"\nsubdomains = 1000000000\nmaterial"), &["bodies[0].subdomains", "8 cells"]),
+        bad("subdomains_more_than_cells", block_with("name = \"block\"\nmaterial", "name = \"block\"\nsubdomains = 1000000000\nmaterial"), &["bodies[0].subdomains", "8 cells", "give at most 8, or \"auto\""]),
         // structure: unknown keys, missing bodies, wrong references
         bad("unknown_top_level_key", format!("frobnicate = 1\n{BLOCK_ON_PLANE}"), &["frobnicate", "line 1"]),
         bad("unknown_generator_key", block_with("divisions = [4, 2]", "divisions = [4, 2], radus = 1.0"), &["radus"]),
