@@ -126,6 +126,16 @@ fn solve_and_write(
     // rank learns its answer (a rank that stopped alone would leave the
     // others waiting).
     let usable = comm.is_root().then(|| output_directory_usable(&dir));
+    // What the run creates of `dir`'s path (nothing exists yet: every rank
+    // waits for the broadcast below before it writes).
+    let created = (comm.is_root())
+        .then(|| {
+            (dir.ancestors())
+                .take_while(|a| !a.as_os_str().is_empty() && !a.exists())
+                .last()
+                .map(Path::to_path_buf)
+        })
+        .flatten();
     signorini_comm::broadcast(comm, usable.as_ref())
         .map_err(|e| (3, e))?
         .map_err(|m| (1, m))?;
@@ -147,8 +157,14 @@ fn solve_and_write(
                 )),
             }
         }
-        Err(SolveError::Input(m)) => return Err((1, m)),
-        Err(e @ SolveError::Internal(_)) => return Err((3, e.to_string())),
+        Err(e) => {
+            drop(writer);
+            remove_created(comm, &dir, created.as_deref());
+            return Err(match e {
+                SolveError::Input(m) => (1, m),
+                e @ SolveError::Internal(_) => (3, e.to_string()),
+            });
+        }
     };
     if let Some(p) = progress {
         p.stage("writing the output");
@@ -160,6 +176,24 @@ fn solve_and_write(
         (3, msg)
     })?;
     Ok(Some((dir, output)))
+}
+
+/// After a run that failed on every rank alike: once every rank has
+/// removed what it staged (the gather waits for them), the root removes the
+/// directories the run created for `dir`, from `dir` up to `top`, if they
+/// are empty. A rank's own writer cannot: under mpirun another rank's stage
+/// may still be in them when it tries (an error at a later step with
+/// `[output] pieces` left the empty directories behind).
+fn remove_created(comm: &dyn Transport, dir: &Path, top: Option<&Path>) {
+    let _ = signorini_comm::gather(comm, ());
+    let Some(top) = top else {
+        return;
+    };
+    for d in dir.ancestors() {
+        if std::fs::remove_dir(d).is_err() || d == top {
+            break;
+        }
+    }
 }
 
 /// Whether the output directory `dir` can be created and written, checked

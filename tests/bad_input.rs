@@ -240,6 +240,57 @@ fn check_reads_the_gmsh_files_run_would_refuse() {
     ]);
 }
 
+/// `BLOCK_ON_PLANE`'s block as two quadrangles stacked at y = 0.25 that do
+/// not share their nodes there (nodes 3, 4 and 5, 6 at the same places): a
+/// Gmsh mesh of two surfaces not made coherent.
+const UNJOINED_MSH: &str = "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$PhysicalNames\n4\n1 1 \"bottom\"\n1 2 \"top\"\n2 3 \"block\"\n1 4 \"left\"\n$EndPhysicalNames\n$Nodes\n8\n1 0 0 0\n2 1 0 0\n3 1 0.25 0\n4 0 0.25 0\n5 0 0.25 0\n6 1 0.25 0\n7 1 0.5 0\n8 0 0.5 0\n$EndNodes\n$Elements\n6\n1 1 2 1 1 1 2\n2 1 2 2 2 7 8\n3 3 2 3 3 1 2 3 4\n4 3 2 3 3 5 6 7 8\n5 1 2 4 4 4 1\n6 1 2 4 4 8 5\n$EndElements\n";
+
+/// A body whose Gmsh mesh has distinct nodes at the same place is free to
+/// move because its parts are not joined: the refusal says so, with the
+/// first pair and how to merge them. Found by the fifth robustness sweep:
+/// it advised only to pin the body, which would have left the two parts
+/// unjoined (solved as one body in two pieces).
+#[test]
+fn a_free_body_whose_mesh_has_unjoined_parts_says_so() {
+    let files = [("unjoined.msh", UNJOINED_MSH)];
+    let dir = scene_dir("gmsh_unjoined", &block_from_file("unjoined.msh"), &files);
+    let out = dir.join("out");
+    let run = run_in(dir, "run", &["--out", out.to_str().unwrap()]);
+    run.assert_bad_input(&[
+        "bodies[0]",
+        "is free to move",
+        "its mesh has 2 pair(s) of distinct nodes at the same place (the first: nodes 2 and 5 at (1, 0.25))",
+        "Coherence Mesh",
+    ]);
+}
+
+/// The same mesh held on its left side and pressed by a displacement of its
+/// top: both parts are held, the upper one moves down alone and the contact
+/// carries nothing. It runs (a body may have separate pieces), and the
+/// report's messages say that its parts are not joined.
+#[test]
+fn a_held_body_whose_mesh_has_unjoined_parts_is_noted() {
+    let scene = block_from_file("unjoined.msh")
+        .replace(PIN, "[[boundary]]\nname = \"left\"\nbody = \"block\"\nsurface = \"left\"\ndisplacement = { x = 0.0 }\n")
+        .replace("traction = [0.0, -1.0]", "displacement = { y = -0.001 }");
+    assert!(scene.contains("surface = \"left\"") && scene.contains("y = -0.001"));
+    let dir = scene_dir(
+        "gmsh_unjoined_held",
+        &scene,
+        &[("unjoined.msh", UNJOINED_MSH)],
+    );
+    let out = dir.join("out");
+    let run = run_in(dir, "run", &["--out", out.to_str().unwrap()]);
+    assert_eq!(run.output.status.code(), Some(0), "{}", run.stderr());
+    let report = std::fs::read_to_string(out.join("report.json")).unwrap();
+    assert!(
+        report.contains(
+            "body \\\"block\\\": its mesh has 2 pair(s) of distinct nodes at the same place"
+        ),
+        "{report}"
+    );
+}
+
 /// The shipped block2d.msh: it names bottom, top, left, right.
 fn block2d_msh() -> String {
     format!("{}/examples/meshes/block2d.msh", env!("CARGO_MANIFEST_DIR"))
@@ -587,7 +638,7 @@ fn sweep() -> Vec<Bad> {
         bad("dimension_four", block_with("dimension = 2", "dimension = 4"), &["dimension", "2 or 3"]),
         bad("max_iterations_negative", format!("{BLOCK_ON_PLANE}\n[solver]\nmax_iterations = -3\n"), &["solver.max_iterations", "got -3"]),
         bad("subdomains_negative", block_with("name = \"block\"\nmaterial", "name = \"block\"\nsubdomains = -2\nmaterial"), &["subdomains", "-2"]),
-        bad("subdomains_more_than_cells", block_with("name = \"block\"\nmaterial", "name = \"block\"\nsubdomains = 1000000000\nmaterial"), &["bodies[0].subdomains", "8 cells"]),
+        bad("subdomains_more_than_cells", block_with("name = \"block\"\nmaterial", "name = \"block\"\nsubdomains = 1000000000\nmaterial"), &["bodies[0].subdomains", "8 cells", "give at most 8, or \"auto\""]),
         // structure: unknown keys, missing bodies, wrong references
         bad("unknown_top_level_key", format!("frobnicate = 1\n{BLOCK_ON_PLANE}"), &["frobnicate", "line 1"]),
         bad("unknown_generator_key", block_with("divisions = [4, 2]", "divisions = [4, 2], radus = 1.0"), &["radus"]),

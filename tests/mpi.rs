@@ -590,6 +590,62 @@ fn pieces_into_a_bad_directory_under_mpirun_write_nothing() {
     assert_eq!(listing(&d), vec!["file", "stack.toml"]);
 }
 
+/// Bad input met at a later step (the pad of examples/blocks.toml, held by
+/// contact alone, pulled off its base at step 2) with `[output] pieces`
+/// under mpirun -n 2 and 3: exit 1, one message, and nothing written, not
+/// even the nested output directories the run created. Found by the fifth
+/// robustness sweep: `out/a/b` were left behind (empty) under mpirun, where
+/// the in-process run removes them: each rank's writer removed only what it
+/// had created, while another rank's stage was still in them.
+#[test]
+fn bad_input_at_a_later_step_with_pieces_under_mpirun_leaves_no_directory() {
+    if !have_mpirun() {
+        return;
+    }
+    let text = std::fs::read_to_string(example("blocks.toml")).unwrap()
+        + "\n[[steps]]\nscale = { pressure = 1.0 }\n\n[[steps]]\nscale = { pressure = -1.0 }\n";
+    let text = text.replace("[output]", "[output]\npieces = true");
+    let text = common::with_subdomains(&text, "name = \"pad\"\nmaterial = \"rubber\"\n", 2);
+    assert!(text.contains("pieces = true") && text.contains("subdomains = 2"));
+    let scene = write_scene("later-bad", "blocks.toml", &text);
+    let d = Path::new(&scene).parent().unwrap().to_path_buf();
+    for np in [2, 3] {
+        let out = d.join("out").join("a").join("b");
+        let run = mpirun(np, &["run", &scene, "--out", out.to_str().unwrap()], &[]);
+        let err = common::stderr_of_exit(&run, 1);
+        assert_eq!(
+            err.matches("cannot be in equilibrium at step 2").count(),
+            1,
+            "{err}"
+        );
+        assert_eq!(listing(&d), vec!["blocks.toml"], "-n {np}");
+    }
+}
+
+/// `subdomains = "auto"` on a body of 2 cells under mpirun -n 3: 2 parts,
+/// the third rank idle, the in-process answer. Found by the fifth
+/// robustness sweep: it was refused (exit 1, "cannot split 2 cells into 3
+/// non-empty parts"), though it runs in process and "auto" is meant to fit
+/// the ranks.
+#[test]
+fn auto_subdomains_on_a_body_with_fewer_cells_than_ranks() {
+    if !have_mpirun() {
+        return;
+    }
+    let text = common::bad_scene::BLOCK_ON_PLANE
+        .replace("divisions = [4, 2]", "divisions = [2, 1]")
+        .replace(
+            "name = \"block\"\nmaterial = \"steel\"\n",
+            "name = \"block\"\nmaterial = \"steel\"\nsubdomains = \"auto\"\n",
+        );
+    assert!(text.contains("divisions = [2, 1]") && text.contains("\"auto\""));
+    let scene = write_scene("auto-few-cells-scene", "block.toml", &text);
+    compare(&scene, 3, "auto-few-cells");
+    let mpi = Path::new(env!("CARGO_TARGET_TMPDIR")).join("mpi/auto-few-cells/mpi");
+    let r = report(&mpi);
+    assert_eq!(r["subdomains"], 2);
+}
+
 /// Contact elements (seed §7) with friction through two load steps, the
 /// pad on rank 1 and the base on rank 0, then the base split in two as well
 /// (three subdomains on two ranks): the in-process answer.

@@ -203,3 +203,65 @@ fn a_run_removes_the_files_an_earlier_run_left_that_it_does_not_write() {
     assert_eq!(pvd.matches("<DataSet").count(), 1, "{pvd}");
     assert!(listing(&out).contains(&"block_1.vtu".to_string()));
 }
+
+/// The columns `names` of every row of a CSV file, by header name.
+fn csv_columns(path: &std::path::Path, names: &[&str]) -> Vec<Vec<String>> {
+    let text = std::fs::read_to_string(path).unwrap();
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let at: Vec<usize> = (names.iter())
+        .map(|n| {
+            header
+                .iter()
+                .position(|h| h == n)
+                .unwrap_or_else(|| panic!("no {n}: {header:?}"))
+        })
+        .collect();
+    lines
+        .map(|l| {
+            let f: Vec<&str> = l.split(',').collect();
+            at.iter().map(|&i| f[i].to_string()).collect()
+        })
+        .collect()
+}
+
+/// steps.csv in 3D has the whole resultant and the second tangent, as
+/// contact.csv does: each step's force_z is the report's, and equals the
+/// sum of contact.csv's normal forces on the plane z = 0; its
+/// tangential_force_2 is the sum of contact.csv's. Found by the fifth
+/// robustness sweep: force_z was missing (a 3D box pressed on a plane had
+/// no normal resultant in steps.csv), and the tangential sum and the mean
+/// slip were along the first tangent alone (dragged along y, the box showed
+/// a tangential force of 0.035 for 0.22).
+#[test]
+fn steps_csv_in_3d_has_the_z_resultant_and_the_second_tangent() {
+    let dir = fresh_dir("steps_csv_3d");
+    let out = dir.join("out");
+    common::cli_run_ok(common::example_path("sliding3d.toml"), &out);
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("report.json")).unwrap()).unwrap();
+    let steps = csv_columns(
+        &out.join("steps.csv"),
+        &["step", "force_z", "tangential_force_2"],
+    );
+    let rows = csv_columns(
+        &out.join("contact.csv"),
+        &["step", "normal_force", "tangential_force_2"],
+    );
+    assert_eq!(steps.len(), 3);
+    let num = |s: &str| s.parse::<f64>().unwrap();
+    for (i, s) in steps.iter().enumerate() {
+        let of_step = rows.iter().filter(|r| r[0] == s[0]);
+        let (n, t2) = of_step.fold((0.0, 0.0), |(n, t), r| (n + num(&r[1]), t + num(&r[2])));
+        let z = report["steps"][i]["contact_force"][2].as_f64().unwrap();
+        assert_eq!(num(&s[1]), z, "step {}", i + 1);
+        assert!(
+            (z - n).abs() <= 1e-12 * n,
+            "step {}: {z} against {n}",
+            i + 1
+        );
+        assert!((num(&s[2]) - t2).abs() <= 1e-12 * n, "step {}", i + 1);
+    }
+    // The last step drags along y (the second tangent): about -0.218.
+    assert!(num(&steps[2][2]) < -0.2, "{:?}", steps[2]);
+}

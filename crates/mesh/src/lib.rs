@@ -213,6 +213,30 @@ impl Mesh {
         (0..3).map(|k| (hi[k] - lo[k]).powi(2)).sum::<f64>().sqrt()
     }
 
+    /// Pairs of distinct nodes at the same place (within 1e-9 of the mesh
+    /// size), each pair once, the smaller node first, in order: the cells
+    /// on either side of them are not joined (a Gmsh mesh of parts that
+    /// were not made coherent).
+    pub fn coincident_nodes(&self) -> Vec<(usize, usize)> {
+        let tol = 1e-9 * self.size();
+        let mut order: Vec<usize> = (0..self.coords.len()).collect();
+        order.sort_by(|&a, &b| self.coords[a][0].total_cmp(&self.coords[b][0]));
+        let mut pairs = Vec::new();
+        for (i, &a) in order.iter().enumerate() {
+            for &b in &order[i + 1..] {
+                let (pa, pb) = (self.coords[a], self.coords[b]);
+                if pb[0] - pa[0] > tol {
+                    break;
+                }
+                if (0..3).all(|k| (pa[k] - pb[k]).abs() <= tol) {
+                    pairs.push((a.min(b), a.max(b)));
+                }
+            }
+        }
+        pairs.sort_unstable();
+        pairs
+    }
+
     /// Centroid of a cell.
     pub fn cell_centroid(&self, c: usize) -> [f64; 3] {
         let cell = &self.cells[c];
@@ -424,4 +448,31 @@ pub enum MeshError {
     UnknownSurface { name: String, known: String },
     #[error("{0}")]
     Invalid(String),
+}
+
+#[cfg(test)]
+mod coincident_tests {
+    use super::*;
+
+    #[test]
+    fn coincident_nodes_are_found_once_within_a_relative_tolerance() {
+        let mut mesh = Mesh {
+            dim: 2,
+            coords: vec![
+                [0.0, 0.0, 0.0],
+                [1.0, 0.0, 0.0],
+                [1.0, 1.0, 0.0],
+                [1.0 + 1e-12, 1.0, 0.0],
+                [0.0, 1.0, 0.0],
+                [1.0, 1.0 - 1e-12, 0.0],
+            ],
+            cells: vec![],
+            surfaces: BTreeMap::new(),
+            regions: BTreeMap::new(),
+        };
+        assert_eq!(mesh.coincident_nodes(), vec![(2, 3), (2, 5), (3, 5)]);
+        mesh.coords[3][0] = 1.0 + 1e-6;
+        mesh.coords[5][1] = 1.0 - 1e-6;
+        assert!(mesh.coincident_nodes().is_empty());
+    }
 }

@@ -48,7 +48,7 @@ pub fn partition_cells(mesh: &Mesh, nparts: usize) -> Result<Vec<usize>, MeshErr
     }
     if nparts > ncells {
         return Err(MeshError::Invalid(format!(
-            "partition: cannot split {ncells} cells into {nparts} non-empty parts"
+            "partition: cannot split {ncells} cells into {nparts} non-empty parts: give at most {ncells}, or \"auto\""
         )));
     }
     if nparts == 1 {

@@ -33,6 +33,12 @@ pub struct StepReport {
     pub tangential_resultant: [f64; 3],
     /// Mean total slip of the frictional contact points in contact.
     pub mean_slip: f64,
+    /// 3D: the same sum and mean along the second tangent (contact.csv's
+    /// `tangential_force_2`, `slip_2`); absent in 2D.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub tangential_force_2: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub mean_slip_2: Option<f64>,
     pub iterations: usize,
     pub active: usize,
     pub sticking: usize,
@@ -462,21 +468,35 @@ pub fn write_steps_csv(path: &Path, steps: &[StepReport]) -> std::io::Result<()>
         .map(|s| s.scale.keys().collect())
         .unwrap_or_default();
     let scale_cols: String = names.iter().map(|n| format!(",scale_{n}")).collect();
-    writeln!(w, "step{scale_cols},force_x,force_y,normal_force,tangential_force,mean_slip,active,sticking,slipping,iterations")?;
+    // 3D adds the z resultant and the second tangent, as contact.csv does.
+    let dim3 = steps.first().is_some_and(|s| s.contact_force.len() == 3);
+    let (z, t2, s2) = match dim3 {
+        true => (",force_z", ",tangential_force_2", ",mean_slip_2"),
+        false => ("", "", ""),
+    };
+    writeln!(w, "step{scale_cols},force_x,force_y{z},normal_force,tangential_force{t2},mean_slip{s2},active,sticking,slipping,iterations")?;
     for (i, s) in steps.iter().enumerate() {
         let sc: String = names
             .iter()
             .map(|n| format!(",{}", s.scale.get(*n).copied().unwrap_or(0.0)))
             .collect();
+        let f = |k: usize| s.contact_force.get(k).copied().unwrap_or(0.0);
+        let third = |x: Option<f64>| match dim3 {
+            true => format!(",{:e}", x.unwrap_or(0.0)),
+            false => String::new(),
+        };
         writeln!(
             w,
-            "{}{sc},{:e},{:e},{:e},{:e},{:e},{},{},{},{}",
+            "{}{sc},{:e},{:e}{},{:e},{:e}{},{:e}{},{},{},{},{}",
             i + 1,
-            s.contact_force.first().copied().unwrap_or(0.0),
-            s.contact_force.get(1).copied().unwrap_or(0.0),
+            f(0),
+            f(1),
+            third(Some(f(2))),
             s.normal_force,
             s.tangential_force,
+            third(s.tangential_force_2),
             s.mean_slip,
+            third(s.mean_slip_2),
             s.active,
             s.sticking,
             s.slipping,

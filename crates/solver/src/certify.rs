@@ -307,7 +307,6 @@ fn step_report(
     let slipping = friction_points(&|s| s.is_slip());
     let mut step_force = vec![0.0f64; sc.dimension as usize];
     let mut tangential_resultant = [0.0f64; 3];
-    let (mut sum_n, mut sum_t, mut slip_sum, mut slip_count) = (0.0f64, 0.0f64, 0.0f64, 0usize);
     for (pi, p) in points.iter().enumerate() {
         let force = point_force(p, pi, lambda[pi], sol.friction.as_ref());
         for (f, fk) in step_force.iter_mut().zip(force) {
@@ -315,29 +314,18 @@ fn step_report(
         }
         let t = point_force(p, pi, 0.0, sol.friction.as_ref());
         (0..3).for_each(|k| tangential_resultant[k] += t[k]);
-        sum_n += lambda[pi];
-        sum_t += sol.friction.as_ref().map_or(0.0, |f| f.tangential[pi]);
-        let active = outcome.active.binary_search(&pi).is_ok();
-        if let Some(f) = sol
-            .friction
-            .as_ref()
-            .filter(|f| active && p.reports_friction(f.statuses[pi]))
-        {
-            slip_sum += f.slip_total[pi];
-            slip_count += 1;
-        }
     }
+    let sums = FrictionSums::of(points, sol);
+    let in_3d = |x: f64| (sc.dimension == 3).then_some(x);
     StepReport {
         scale: scale.clone(),
         contact_force: net_force(sc.model, step_force),
-        normal_force: sum_n,
-        tangential_force: sum_t,
+        normal_force: lambda[..points.len()].iter().sum(),
+        tangential_force: sums.tangential[0],
+        tangential_force_2: in_3d(sums.tangential[1]),
         tangential_resultant,
-        mean_slip: if slip_count > 0 {
-            slip_sum / slip_count as f64
-        } else {
-            0.0
-        },
+        mean_slip: sums.mean_slip(0),
+        mean_slip_2: in_3d(sums.mean_slip(1)),
         iterations: outcome.report.iterations,
         active: outcome.active.len(),
         sticking,
@@ -349,6 +337,48 @@ fn step_report(
         solver: serde_json::to_value(&outcome.report).unwrap_or_default(),
         regularisation: sol.regularisation.clone(),
         solve_s: sol.solve_s,
+    }
+}
+
+/// A step's sums over its contact points along the two tangents (the
+/// second 0 in 2D): the tangential forces, and the total slips of the
+/// active points with friction, with their count.
+struct FrictionSums {
+    tangential: [f64; 2],
+    slip: [f64; 2],
+    slipping_points: usize,
+}
+
+impl FrictionSums {
+    fn of(points: &[PointModel], sol: &StepSolution) -> Self {
+        let mut sums = FrictionSums {
+            tangential: [0.0; 2],
+            slip: [0.0; 2],
+            slipping_points: 0,
+        };
+        let Some(f) = &sol.friction else {
+            return sums;
+        };
+        for (pi, p) in points.iter().enumerate() {
+            sums.tangential[0] += f.tangential[pi];
+            sums.tangential[1] += f.tangential2[pi];
+            let active = sol.outcome.active.binary_search(&pi).is_ok();
+            if active && p.reports_friction(f.statuses[pi]) {
+                sums.slip[0] += f.slip_total[pi];
+                sums.slip[1] += f.slip_total2[pi];
+                sums.slipping_points += 1;
+            }
+        }
+        sums
+    }
+
+    /// The mean total slip along tangent `k` of the active points with
+    /// friction (0 without any).
+    fn mean_slip(&self, k: usize) -> f64 {
+        match self.slipping_points {
+            0 => 0.0,
+            n => self.slip[k] / n as f64,
+        }
     }
 }
 

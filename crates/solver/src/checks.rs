@@ -116,11 +116,32 @@ fn check_held(b: &BodyModel, work: &HoldingWork) -> Result<(), SolveError> {
     let unheld = unheld_modes(work)?;
     if unheld > 0 {
         return Err(SolveError::Input(format!(
-            "bodies[{}]: body \"{}\" is free to move: {unheld} of its rigid motions are prevented neither by a support nor by its contacts (frictionless contact only holds along the normals); add a [[boundary]] displacement that pins it (e.g. a point with x = 0)",
-            b.scene_index, b.name
+            "bodies[{}]: body \"{}\" is free to move: {unheld} of its rigid motions are prevented neither by a support nor by its contacts (frictionless contact only holds along the normals); add a [[boundary]] displacement that pins it (e.g. a point with x = 0){}",
+            b.scene_index,
+            b.name,
+            unjoined(&b.mesh)
+                .map(|u| format!(". But first: {u}"))
+                .unwrap_or_default()
         )));
     }
     Ok(())
+}
+
+/// What to say of a body whose mesh has distinct nodes at the same place:
+/// its cells on either side are not joined, so its parts move apart (a pin
+/// would not make them one solid); `None` when it has none.
+pub(crate) fn unjoined(mesh: &signorini_mesh::Mesh) -> Option<String> {
+    let pairs = mesh.coincident_nodes();
+    let &(a, b) = pairs.first()?;
+    let x = mesh.coords[a];
+    let at = match mesh.dim {
+        3 => format!("({}, {}, {})", x[0], x[1], x[2]),
+        _ => format!("({}, {})", x[0], x[1]),
+    };
+    Some(format!(
+        "its mesh has {} pair(s) of distinct nodes at the same place (the first: nodes {a} and {b} at {at}), so the cells on either side are not joined and its parts move apart; if they are one solid, merge those nodes (Gmsh: Coherence Mesh, or fragment the geometry before meshing), or make each part its own body with a contact between them",
+        pairs.len()
+    ))
 }
 
 /// The rigid motions that the forces of Gᵀ's columns cannot hold: the

@@ -56,6 +56,9 @@ impl RootConditioning {
     }
 }
 
+/// The note for a W singular by the choice of generalised inverse.
+const FIXING_DOFS_W: &str = "w: not estimated: with floating bodies in several subdomains, W is formed with the generalised inverse of S by fixing DOFs (zero on them), singular when a contact DOF is a fixing DOF whatever the contact rows; the forces do not depend on that choice";
+
 /// `DelassusOperator::new`, and, the first time, the estimates of κ(S)
 /// (from the factorisation `new` makes) and κ(W) (before any slip
 /// compliance is added to W).
@@ -88,6 +91,10 @@ pub(crate) fn delassus_operator(
     } else {
         match dense_spd_condition(p.w().as_ref()) {
             Some(k) if k * f64::EPSILON < 1.0 => cond.w = Some(k),
+            // W = B S⁺ Bᵀ through the fixing DOFs' generalised inverse,
+            // zero on them: singular when a contact DOF is one of them,
+            // whatever the contact rows.
+            _ if p.interface_factor().fixing_dofs > 0 => cond.notes.push(FIXING_DOFS_W.into()),
             Some(k) => {
                 cond.warnings.push(format!(
                     "W is singular: redundant contact constraints (κ₁(W) ≈ {k:.1e} ≥ 1/ε); w is left out of digits_lost"

@@ -86,6 +86,9 @@ pub(crate) fn model_stage(
         ));
     }
     for b in &bodies {
+        if let Some(u) = crate::checks::unjoined(&b.mesh) {
+            messages.push(format!("body \"{}\": {u}", b.name));
+        }
         if !b.kernel.is_empty() {
             messages.push(format!(
                 "body \"{}\" is held by contact in {} rigid motion(s): solved with the equilibrium of its rigid modes as a constraint (no artificial spring)",
@@ -153,13 +156,14 @@ pub(crate) fn parts_per_body(sc: &scene::Scene, bodies: &[BodyModel], ranks: usi
     let mut given = 0;
     for (k, &i) in auto.iter().enumerate() {
         let share = if k + 1 == auto.len() {
-            spare - given
+            spare.saturating_sub(given)
         } else {
             ((spare as f64 * bodies[i].mesh.cells.len() as f64 / cells.max(1) as f64).round()
                 as usize)
                 .max(1)
         };
-        out[i] = share.max(1);
+        // No more parts than cells: the ranks left over idle.
+        out[i] = share.clamp(1, bodies[i].mesh.cells.len().max(1));
         given += out[i];
     }
     out

@@ -307,7 +307,7 @@ fn condense_stage(
     let owner_rank = deal(&costs, comm.size());
     if comm.size() > specs.len() && comm.is_root() {
         messages.push(format!(
-            "{} ranks for {} subdomains: {} ranks idle (use subdomains = \"auto\" to split bodies over every rank)",
+            "{} ranks for {} subdomains: {} ranks idle (use subdomains = \"auto\" to split bodies over every rank; an \"auto\" body gets no more parts than it has cells)",
             comm.size(),
             specs.len(),
             comm.size() - specs.len()
