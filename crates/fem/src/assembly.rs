@@ -24,7 +24,6 @@ pub fn try_stiffness_triplets(
     mat: &Elasticity,
 ) -> Result<Vec<Triplet<usize, usize, f64>>, FemError> {
     let dim = mesh.dim;
-    let d = formulation_d(mat);
     let cap: usize = mesh
         .cells
         .iter()
@@ -32,11 +31,11 @@ pub fn try_stiffness_triplets(
         .sum();
     let mut t = Vec::with_capacity(cap);
     let mut dofs = Vec::new();
-    for (c, cell) in mesh.cells.iter().enumerate() {
-        let ke = stiffness_of(mesh, c, mat, &d)?;
+    for_each_element_matrix(mesh, mat, Par::Seq, |c, ke| {
         dofs.clear();
         dofs.extend(
-            cell.nodes
+            mesh.cells[c]
+                .nodes
                 .iter()
                 .flat_map(|&n| (0..dim).map(move |k| n * dim + k)),
         );
@@ -45,7 +44,7 @@ pub fn try_stiffness_triplets(
                 t.push(Triplet::new(gi, gj, ke[(i, j)]));
             }
         }
-    }
+    })?;
     Ok(t)
 }
 
