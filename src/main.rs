@@ -1,4 +1,4 @@
-//! The `signorini` command line: `run` and `check` (SCENE.md, "Commands").
+//! The `signorini` command line: `run`, `check`, `local`, `bench` and `docs`.
 //! No numerics here: the pipeline is `signorini_solver::run`.
 //!
 //! Under `mpirun` (built with the cargo feature `mpi`) every rank runs the
@@ -13,12 +13,14 @@
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-use clap::{Parser, Subcommand};
+use clap::{CommandFactory, Parser, Subcommand};
 
 mod bench;
+mod docs;
 mod local;
 mod progress;
 mod run;
+mod validation;
 use signorini_comm::{Local, Transport};
 use signorini_scene::{Method, SolvePath};
 use signorini_solver::RunOptions;
@@ -106,7 +108,7 @@ enum Command {
     },
     /// Time scenes over refinement levels, subdomain counts and paths; writes
     /// DIR/bench.csv and prints a table. With `--suite stiff`: the stiff and
-    /// extreme cases (VALIDATION.md §8), DIR/stiff.csv and DIR/stiff.md, exit 1
+    /// extreme cases, DIR/stiff.csv and DIR/stiff.md, exit 1
     /// if a case fails its expectation.
     Bench {
         /// Scene files.
@@ -151,6 +153,37 @@ enum Command {
         /// As for `run`: the memory each run may use.
         #[arg(long, value_name = "SIZE", value_parser = memory_size)]
         max_memory: Option<u64>,
+    },
+    /// Generate the documentation that a run of this build measures: the
+    /// validation and examples tables, the command-line reference.
+    Docs {
+        #[command(subcommand)]
+        what: Docs,
+    },
+}
+
+#[derive(Subcommand)]
+enum Docs {
+    /// Run every scene of the examples directory at its shipped size and
+    /// write OUT/README.md (each benchmark with a reference: the quantities
+    /// compared, computed, exact and their relative error) and
+    /// OUT/examples.md (each example: what it solves, DOFs, Γ DOFs,
+    /// iterations, its largest error). No timings. Exit 2 if an example
+    /// does not converge (the tables are written and say so).
+    Validation {
+        /// The directory of the scenes (*.toml).
+        #[arg(long, default_value = "examples")]
+        examples: PathBuf,
+        /// Output directory.
+        #[arg(long, default_value = "docs/validation")]
+        out: PathBuf,
+    },
+    /// Print every command's --help as one Markdown file (the command-line
+    /// reference, docs/reference/cli.md).
+    Cli {
+        /// Write it to this file instead of printing it.
+        #[arg(long, value_name = "FILE")]
+        out: Option<PathBuf>,
     },
 }
 
@@ -212,13 +245,19 @@ fn launcher_rank() -> usize {
 }
 
 fn command(cli: Cli) -> ExitCode {
-    // `check`, `local` and `bench` are one process's work: under an MPI
+    // `check`, `local`, `bench` and `docs` are one process's work: under an MPI
     // launcher the first rank does it once, and the others stop (they
     // printed and wrote the same files at once).
     if !matches!(cli.command, Command::Run { .. }) && launcher_rank() > 0 {
         return ExitCode::SUCCESS;
     }
     match cli.command {
+        Command::Docs {
+            what: Docs::Validation { examples, out },
+        } => validation::validation(&examples, &out),
+        Command::Docs {
+            what: Docs::Cli { out },
+        } => docs::write_or_print(&docs::cli_reference(Cli::command()), out.as_deref()),
         Command::Check {
             scene,
             path,
