@@ -67,6 +67,12 @@ pub(crate) fn write_or_print(text: &str, out: Option<&Path>) -> ExitCode {
     };
     match made.and_then(|()| std::fs::write(out, text)) {
         Ok(()) => ExitCode::SUCCESS,
-        Err(e) => fail(3, &format!("cannot write {}: {e}", out.display())),
+        Err(e) => fail(
+            1,
+            &format!(
+                "--out {}: cannot write it ({e}); give a file in a directory that can be created and written",
+                out.display()
+            ),
+        ),
     }
 }

@@ -9,6 +9,7 @@ use std::process::ExitCode;
 
 use signorini_comm::Local;
 use signorini_report::Report;
+use signorini_scene::Scene;
 use signorini_solver::{RunOptions, SolveError};
 
 use crate::{fail, tell};
@@ -83,47 +84,46 @@ struct ExampleRun {
 
 /// Runs every example of `examples` (*.toml, in name order) and writes
 /// `out/README.md` and `out/examples.md`. Exit 1 (nothing written) when an
-/// example cannot be read or run; 2 (tables written) when one does not
-/// converge.
+/// example cannot be read or run, or `out` cannot be written; 2 (tables
+/// written) when one does not converge.
 pub(crate) fn validation(examples: &Path, out: &Path) -> ExitCode {
-    let files = match scene_files(examples) {
-        Ok(f) if f.is_empty() => return fail(
-            1,
-            &format!(
-                "--examples {}: no *.toml scene in it; give the repository's examples directory",
-                examples.display()
-            ),
-        ),
-        Ok(f) => f,
-        Err(e) => return fail(1, &format!("--examples {}: {e}", examples.display())),
+    let scenes = match load_examples(examples) {
+        Ok(s) => s,
+        Err(e) => return fail(1, &e),
     };
-    let mut runs = Vec::with_capacity(files.len());
-    for (i, path) in files.iter().enumerate() {
-        match run_example(path) {
+    let total = scenes.len();
+    let mut runs = Vec::with_capacity(total);
+    for (i, (file, sc)) in scenes.into_iter().enumerate() {
+        match run_example(file, &sc) {
             Ok(r) => {
                 tell(&format!(
                     "[{}/{}] {}: {}, {} iterations",
                     i + 1,
-                    files.len(),
+                    total,
                     r.file,
-                    if r.report.converged {
-                        "converged"
-                    } else {
-                        "NOT converged"
+                    match r.report.converged {
+                        true => "converged",
+                        false => "NOT converged",
                     },
                     iterations(&r.report)
                 ));
                 runs.push(r);
             }
-            Err(SolveError::Input(m)) => return fail(1, &format!("{}: {m}", path.display())),
-            Err(e) => return fail(3, &format!("{}: {e}", path.display())),
+            Err((file, SolveError::Input(m))) => return fail(1, &format!("{file}: {m}")),
+            Err((file, e)) => return fail(3, &format!("{file}: {e}")),
         }
     }
     let written = std::fs::create_dir_all(out)
         .and_then(|()| std::fs::write(out.join("README.md"), validation_markdown(&runs)))
         .and_then(|()| std::fs::write(out.join("examples.md"), examples_markdown(&runs)));
     if let Err(e) = written {
-        return fail(3, &format!("cannot write {}: {e}", out.display()));
+        return fail(
+            1,
+            &format!(
+                "--out {}: cannot write the tables there ({e}); give a directory that can be created and written",
+                out.display()
+            ),
+        );
     }
     crate::say(&format!(
         "{} examples run; README.md and examples.md in {}\n",
@@ -137,27 +137,42 @@ pub(crate) fn validation(examples: &Path, out: &Path) -> ExitCode {
     }
 }
 
-/// The *.toml files of `dir`, sorted by name.
-fn scene_files(dir: &Path) -> Result<Vec<PathBuf>, String> {
-    let entries = std::fs::read_dir(dir).map_err(|e| e.to_string())?;
+/// Every *.toml scene of `dir` in name order, read and validated before
+/// anything runs: an error names the directory or the scene.
+fn load_examples(dir: &Path) -> Result<Vec<(String, Scene)>, String> {
+    let shown = dir.display();
+    let entries = std::fs::read_dir(dir).map_err(|e| {
+        format!("--examples {shown}: cannot read it as a directory ({e}); give the directory of the scenes, the repository's examples")
+    })?;
     let mut files: Vec<PathBuf> = entries
         .filter_map(|e| e.ok().map(|e| e.path()))
         .filter(|p| p.is_file() && p.extension().is_some_and(|x| x == "toml"))
         .collect();
+    if files.is_empty() {
+        return Err(format!(
+            "--examples {shown}: no *.toml scene in it; give the directory of the scenes, the repository's examples"
+        ));
+    }
     files.sort();
-    Ok(files)
+    (files.iter())
+        .map(|path| {
+            let file = path.file_name().unwrap_or_default().to_string_lossy();
+            signorini_scene::load(path)
+                .map(|sc| (file.to_string(), sc))
+                .map_err(|e| format!("{}: {e}", path.display()))
+        })
+        .collect()
 }
 
 /// Runs one example in this process as `signorini run` would (its own
-/// method and path), keeping its report and compared quantities.
-fn run_example(path: &Path) -> Result<ExampleRun, SolveError> {
-    let file = path
-        .file_name()
-        .map(|s| s.to_string_lossy().to_string())
-        .unwrap_or_default();
-    let sc = signorini_scene::load(path).map_err(|e| SolveError::Input(e.to_string()))?;
-    let out = signorini_solver::run(&sc, &file, &RunOptions::default(), &Local)?
-        .ok_or_else(|| SolveError::Internal("no output in process".into()))?;
+/// method and path), keeping its report and compared quantities; an error
+/// comes with the example's name.
+fn run_example(file: String, sc: &Scene) -> Result<ExampleRun, (String, SolveError)> {
+    let out = match signorini_solver::run(sc, &file, &RunOptions::default(), &Local) {
+        Ok(Some(out)) => out,
+        Ok(None) => return Err((file, SolveError::Internal("no output in process".into()))),
+        Err(e) => return Err((file, e)),
+    };
     let report = out.report;
     let (kind, source, quantities) = match (&report.reference, resultant_checks(&file)) {
         (Some(rf), _) => (

@@ -124,10 +124,8 @@ fn compare_tables(name: &str, committed: &str, fresh: &str, tolerance: f64) -> V
                 (tx.iter().zip(&ty)).find_map(|(p, q)| token_difference(p, q, tolerance))
             };
             if let Some(why) = why {
-                found.push(format!(
-                    "{at} (row \"{}\"), column \"{column}\": {why}",
-                    ca[0]
-                ));
+                let row = ca[..ca.len().min(2)].join(" | ");
+                found.push(format!("{at} (row \"{row}\"), column \"{column}\": {why}"));
             }
         }
     }
@@ -145,7 +143,7 @@ fn the_table_comparison_accepts_round_off_and_names_a_real_difference() {
     let found = compare_tables("t.md", committed, &far, 1e-3);
     assert_eq!(found.len(), 1, "{found:?}");
     assert!(
-        found[0].starts_with("t.md:5 (row \"a.toml\"), column \"error\"")
+        found[0].starts_with("t.md:5 (row \"a.toml | 120\"), column \"error\"")
             && found[0].contains("2.216e-3")
             && found[0].contains("2.3e-3"),
         "{}",
@@ -217,6 +215,59 @@ fn the_validation_and_examples_tables_agree_with_a_fresh_run() {
         }
     }
     let _ = std::fs::remove_dir_all(&out);
+}
+
+/// Bad input to `docs validation` and `docs cli`: exit 1, the entry named,
+/// nothing written.
+#[test]
+fn docs_refuses_a_missing_examples_directory_a_bad_scene_and_an_unwritable_out() {
+    let dir = scratch("bad");
+    let out = dir.join("tables");
+    let validation = |examples: &Path, out: &Path| {
+        let o = signorini()
+            .args(["docs", "validation", "--examples"])
+            .arg(examples)
+            .arg("--out")
+            .arg(out)
+            .output()
+            .unwrap();
+        (
+            o.status.code(),
+            String::from_utf8_lossy(&o.stderr).to_string(),
+        )
+    };
+    let (code, e) = validation(&dir.join("none"), &out);
+    assert_eq!(code, Some(1), "{e}");
+    assert!(e.contains("--examples") && e.contains("none"), "{e}");
+    let empty = dir.join("empty");
+    std::fs::create_dir_all(&empty).unwrap();
+    let (code, e) = validation(&empty, &out);
+    assert_eq!(code, Some(1), "{e}");
+    assert!(e.contains("no *.toml scene"), "{e}");
+    // a bad scene beside a good one: named, and no table written
+    let mixed = dir.join("mixed");
+    std::fs::create_dir_all(&mixed).unwrap();
+    std::fs::copy(root().join("examples/blocks.toml"), mixed.join("a.toml")).unwrap();
+    std::fs::write(mixed.join("b.toml"), "dimension = 4\n").unwrap();
+    let (code, e) = validation(&mixed, &out);
+    assert_eq!(code, Some(1), "{e}");
+    assert!(e.contains("b.toml") && e.contains("dimension"), "{e}");
+    assert!(!out.exists(), "nothing is written");
+    // --out under a regular file
+    let file = dir.join("file");
+    std::fs::write(&file, "").unwrap();
+    let (code, e) = validation(&root().join("examples"), &file.join("tables"));
+    assert_eq!(code, Some(1), "{e}");
+    assert!(e.contains("--out"), "{e}");
+    let o = signorini()
+        .args(["docs", "cli", "--out"])
+        .arg(file.join("cli.md"))
+        .output()
+        .unwrap();
+    let e = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(1), "{e}");
+    assert!(e.contains("--out") && e.contains("cli.md"), "{e}");
+    let _ = std::fs::remove_dir_all(&dir);
 }
 
 // ---------------------------------------------------------------------------
