@@ -53,7 +53,8 @@ fn source_of(kind: &str) -> &'static str {
         "flat_punch" => "Johnson, Contact Mechanics (1985), §2.8 (strip), §3.8 (circular)",
         "uniform_pressure" => "contact patch test: Taylor & Papadopoulos (1991)",
         "cattaneo_mindlin" => {
-            "Cattaneo (1938), Mindlin (1949); Johnson, Contact Mechanics (1985), §7.2"
+            "Cattaneo (1938), Mindlin (1949); Johnson, Contact Mechanics (1985), §7.2; \
+             a reversed load: Mindlin & Deresiewicz (1953) by Masing's rules"
         }
         "sliding_block" => "Coulomb's law: every point slips, the reaction is μN",
         _ => "the scene's [reference]",
