@@ -297,7 +297,7 @@ fn preamble(title: &str, what: &str) -> String {
          command and fails when a number of a fresh run and of this file differ by \
          more than a relative {RELATIVE_TOLERANCE:e} (integers exactly, every other \
          cell as text); relative errors below {ROUND_OFF:e} are round-off and shown \
-         as such. No timings are listed: see docs/bench for those.\n\n\
+         as such. No timings are listed (`signorini bench` measures those).\n\n\
          The generated documents and the commands that regenerate them, from the \
          repository's root, after a change that moves their numbers:\n\n\
          ```sh\n\

@@ -2,6 +2,22 @@
 //! tables (docs/validation) agree with a fresh run of the examples, the
 //! command-line reference (docs/reference/cli.md) with the binary's help,
 //! and the tutorials (docs/tutorial/*.md) run.
+//!
+//! What a tutorial runs, in the order of the file, in a scratch directory
+//! where the repository's examples are `examples/`:
+//! - a block with the info string `toml file=NAME.toml` is written to
+//!   NAME.toml (a relative path, no `..`);
+//! - each line of a `sh` block is one command, run by `sh -c` in that
+//!   directory (so a `cd` lasts one line; a line ending in `\` goes on with
+//!   the next); `signorini` is the binary under test (not `cargo run`);
+//!   lines starting with `mpirun` run only in a build with the `mpi` feature
+//!   where mpirun exists; `#` lines and empty lines are skipped; each must
+//!   exit 0 (`|| true` for a command shown failing);
+//! - every other block (`toml` without `file=`, `text`, `console`, ...) is
+//!   prose.
+//!
+//! A failure names the tutorial and the line of the command, with its
+//! stdout and stderr.
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
