@@ -26,10 +26,14 @@ use signorini_scene::{Method, SolvePath};
 use signorini_solver::RunOptions;
 
 #[derive(Parser)]
+// term_width = 0: the help is never wrapped, whatever the terminal and
+// whether a dependency turns clap's `wrap_help` on (it does in a workspace
+// build), so that every build prints the same help as docs/reference/cli.md.
 #[command(
     name = "signorini",
     version,
-    about = "Unilateral contact between linear elastic solids by static condensation"
+    about = "Unilateral contact between linear elastic solids by static condensation",
+    term_width = 0
 )]
 struct Cli {
     #[command(subcommand)]
