@@ -19,8 +19,8 @@ pub(crate) fn cli_reference(cli: clap::Command) -> String {
          {REGENERATE} -->\n\n\
          What `signorini --help` and each command's `--help` print, generated from \
          the binary by `signorini docs cli`; `cargo test --release --test docs` fails \
-         when this file and the binary disagree. Exit codes, the scene and the \
-         report: [../scene-format.md](../scene-format.md).\n"
+         when this file and the binary disagree. The scene, the report and the \
+         exit codes are described beside it, in docs/reference.\n"
     );
     let name = cli.get_name().to_string();
     section(&cli, &cli, &[name], &mut text);
