@@ -2,6 +2,7 @@
 //! DESIGN.md §4, the per-step and per-point rows, and the final report.
 
 use super::*;
+use crate::reactions::{step_contacts, step_reactions};
 use signorini_contact::norms::nan_max;
 
 /// The contact pressure at every point, its force over its tributary
@@ -188,9 +189,10 @@ pub(crate) fn conclude_step(
         ));
     }
     push_contact_rows(sc, bodies, points, si, sol, gaps, partial);
-    partial
-        .steps
-        .push(step_report(sc, points, scale, sol, &cert));
+    let mut report = step_report(sc, points, scale, sol, &cert);
+    let friction = sol.friction.as_ref();
+    report.reactions = step_reactions(sc, bodies, points, &res.support, lambda, friction);
+    partial.steps.push(report);
     if let Some(w) = sol.regularisation.as_ref().and_then(|r| r.warning.clone()) {
         messages.push(format!("step {}: {w}", si + 1));
     }
@@ -269,6 +271,9 @@ fn push_contact_rows(
             slip_2: sol.friction.as_ref().map_or(0.0, |f| f.slip_total2[pi]),
             pressure: if open { 0.0 } else { pressure[pi] },
             status: contact_status(p, pi, sol),
+            normal: p.point.normal,
+            tangent: p.point.tangent,
+            tangent2: p.point.tangent2,
         });
     }
 }
@@ -337,6 +342,8 @@ fn step_report(
         solver: serde_json::to_value(&outcome.report).unwrap_or_default(),
         regularisation: sol.regularisation.clone(),
         solve_s: sol.solve_s,
+        reactions: Vec::new(),
+        contacts: step_contacts(sc, points, lambda, sol.friction.as_ref()),
     }
 }
 
@@ -421,8 +428,10 @@ pub(crate) fn condensed_step(
     let mut r_gamma = vec![0.0; u_gamma.len()];
     let mut interior = 0.0f64;
     let mut force_scale = 0.0f64;
+    let mut support = Vec::new();
     for r in recovered {
         let spec = &model.specs[r.id];
+        support.extend(r.support_residual.iter().map(|&(d, v)| (spec.body, d, v)));
         let dim = bodies[spec.body].mesh.dim;
         let u = &mut u_full[spec.body];
         for (l, &n) in spec.nodes.iter().enumerate() {
@@ -454,6 +463,7 @@ pub(crate) fn condensed_step(
     let res = Residuals {
         equilibrium: interior.max(inf_norm(&r_gamma)),
         force_scale: force_scale.max(inf_norm(lambda)),
+        support,
     };
     (gaps, res, u_full)
 }
