@@ -139,6 +139,26 @@ fn compare_with(scene: &str, np: usize, tag: &str, env: &[(&str, &str)]) {
         "{tag}: displacements differ by {:e}",
         max_rel(&ua, &ub)
     );
+    let reactions = reaction_columns(&a.join("steps.csv"));
+    let reactions: Vec<&str> = reactions.iter().map(String::as_str).collect();
+    assert!(!reactions.is_empty(), "{tag}: no reaction in steps.csv");
+    let ra = numbers(&a.join("steps.csv"), &reactions);
+    let rb = numbers(&b.join("steps.csv"), &reactions);
+    assert!(
+        max_rel(&ra, &rb) <= 1e-10,
+        "{tag}: reactions differ by {:e}",
+        max_rel(&ra, &rb)
+    );
+}
+
+/// The reaction and moment columns of a steps.csv.
+fn reaction_columns(path: &Path) -> Vec<String> {
+    let text = std::fs::read_to_string(path).unwrap();
+    let header = text.lines().next().unwrap();
+    (header.split(','))
+        .filter(|c| c.starts_with("reaction_") || c.starts_with("moment_"))
+        .map(str::to_string)
+        .collect()
 }
 
 #[test]
