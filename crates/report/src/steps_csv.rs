@@ -120,3 +120,70 @@ fn field(s: &str) -> String {
         s.to_string()
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn step(reactions: Vec<Reaction>, contacts: Vec<StepContact>) -> StepReport {
+        StepReport {
+            scale: [("press".to_string(), 1.0)].into(),
+            contact_force: vec![0.0, 3.0],
+            normal_force: 3.0,
+            tangential_force: 0.5,
+            tangential_resultant: [0.0; 3],
+            mean_slip: 0.0,
+            tangential_force_2: None,
+            mean_slip_2: None,
+            iterations: 2,
+            active: 4,
+            sticking: 0,
+            slipping: 0,
+            converged: true,
+            stopping_reason: String::new(),
+            active_history: Vec::new(),
+            cycle_detected_at: None,
+            solver: serde_json::Value::Null,
+            regularisation: None,
+            solve_s: 0.0,
+            reactions,
+            contacts,
+        }
+    }
+
+    /// The groups follow the columns of every run, in entry order; a name
+    /// holding a comma is one quoted field.
+    #[test]
+    fn reactions_and_contacts_are_column_groups_after_the_iterations() {
+        let reaction = Reaction {
+            boundary: "press".into(),
+            body: "pad".into(),
+            force: vec![0.25, -3.0],
+            moment: Some(vec![1.5]),
+            moment_about: Some(vec![0.0, 0.0]),
+        };
+        let contact = |name: &str, n: f64, t: f64| StepContact {
+            name: name.into(),
+            normal_force: n,
+            tangential_force: t,
+            tangential_force_2: None,
+            force: vec![t, n],
+        };
+        let s = step(
+            vec![reaction],
+            vec![contact("a", 1.0, 0.5), contact("b,c", 2.0, 0.0)],
+        );
+        let path = crate::test_dir("steps_csv").join("steps.csv");
+        write_steps_csv(&path, &[s]).unwrap();
+        let text = std::fs::read_to_string(&path).unwrap();
+        let mut lines = text.lines();
+        assert_eq!(
+            lines.next().unwrap(),
+            "step,scale_press,force_x,force_y,normal_force,tangential_force,mean_slip,active,sticking,slipping,iterations,reaction_x_press,reaction_y_press,moment_z_press,normal_force_a,tangential_force_a,\"normal_force_b,c\",\"tangential_force_b,c\""
+        );
+        assert_eq!(
+            lines.next().unwrap(),
+            "1,1,0e0,3e0,3e0,5e-1,0e0,4,0,0,2,2.5e-1,-3e0,1.5e0,1e0,5e-1,2e0,0e0"
+        );
+    }
+}
