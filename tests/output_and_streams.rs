@@ -388,7 +388,7 @@ fn the_moment_of_a_reaction_balances_the_contact_forces_and_moves_with_its_point
         ("sliding3d.toml", "box", [0.3f64, -0.2, 0.7]),
         ("flat_punch.toml", "punch", [0.25, 1.5, 0.0]),
     ] {
-        let text = common::example(&name);
+        let text = common::example(name);
         let out = common::converged(&text, RunOptions::default());
         let sc = signorini_scene::parse_toml(&text).unwrap();
         let dim = sc.dimension as usize;
