@@ -543,8 +543,8 @@ pub(crate) fn finish_report(
 ) -> Result<RunOutput, SolveError> {
     let sc = ctx.sc;
     let (bodies, points) = (&ctx.model.bodies, &ctx.model.points);
-    let friction = partial.friction.as_ref();
-    let (contact_force, contacts) = contact_summaries(sc, points, &partial.lambda, friction);
+    let (contact_force, contacts) =
+        contact_summaries(sc, points, &partial.lambda, partial.steps.last());
     let probes = probes_of(sc, bodies, &partial.u_last);
     let reference = match &sc.reference {
         None => None,
@@ -596,23 +596,24 @@ pub(crate) fn finish_report(
 }
 
 /// The net contact force and each contact's summary (its points, active
-/// points and net force) from the final contact forces.
+/// points and net force) at the last step: its report's resultants
+/// (zeros without a step), and its final contact forces `lambda`.
 fn contact_summaries(
     sc: &scene::Scene,
     points: &[PointModel],
     lambda: &[f64],
-    friction: Option<&FrictionStep>,
+    last: Option<&StepReport>,
 ) -> (Vec<f64>, Vec<ContactSummary>) {
     let dim = sc.dimension as usize;
-    let mut contact_force = vec![0.0; dim];
     let mut summaries: Vec<ContactSummary> = sc
         .contact
         .iter()
-        .map(|c| ContactSummary {
+        .enumerate()
+        .map(|(ci, c)| ContactSummary {
             name: c.name.clone(),
             points: 0,
             active: 0,
-            force: vec![0.0; dim],
+            force: last.map_or(vec![0.0; dim], |s| s.contacts[ci].force.clone()),
         })
         .collect();
     for (pi, p) in points.iter().enumerate() {
@@ -621,20 +622,9 @@ fn contact_summaries(
         if lambda[pi] != 0.0 {
             s.active += 1;
         }
-        let force = point_force(p, pi, lambda[pi], friction);
-        for (k, total) in contact_force.iter_mut().enumerate() {
-            s.force[k] += force[k];
-            *total += force[k];
-        }
     }
-    let summaries = summaries
-        .into_iter()
-        .map(|c| ContactSummary {
-            force: net_force(sc.model, c.force),
-            ..c
-        })
-        .collect();
-    (net_force(sc.model, contact_force), summaries)
+    let contact_force = last.map_or(vec![0.0; dim], |s| s.contact_force.clone());
+    (contact_force, summaries)
 }
 
 /// The displacement at the mesh node nearest each probe point of the scene,
