@@ -70,7 +70,7 @@ fn hertz_cylinder_on_a_rigid_plane_from_the_command_line() {
     let mut lines = csv.lines();
     assert_eq!(
         lines.next().unwrap(),
-        "step,contact,body,point,x,y,gap,normal_force,tangential_force,slip,pressure,status"
+        "step,contact,body,point,x,y,gap,normal_force,tangential_force,slip,pressure,status,n_x,n_y,t1_x,t1_y"
     );
     assert_eq!(
         lines.count() as u64,

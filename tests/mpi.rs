@@ -139,6 +139,35 @@ fn compare_with(scene: &str, np: usize, tag: &str, env: &[(&str, &str)]) {
         "{tag}: displacements differ by {:e}",
         max_rel(&ua, &ub)
     );
+    let reactions = reaction_columns(&a.join("steps.csv"));
+    let reactions: Vec<&str> = reactions.iter().map(String::as_str).collect();
+    assert!(!reactions.is_empty(), "{tag}: no reaction in steps.csv");
+    let ra = numbers(&a.join("steps.csv"), &reactions);
+    let rb = numbers(&b.join("steps.csv"), &reactions);
+    // relative to the largest reaction or contact force: a support that
+    // carries nothing has a reaction of round-off on both runs
+    let scale = (ra
+        .iter()
+        .chain(&numbers(&a.join("steps.csv"), &["normal_force"])))
+    .fold(0.0f64, |m, v| m.max(v.abs()));
+    let differ = ra
+        .iter()
+        .zip(&rb)
+        .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
+    assert!(
+        differ <= 1e-10 * scale,
+        "{tag}: reactions differ by {differ:e} (scale {scale:e})"
+    );
+}
+
+/// The reaction and moment columns of a steps.csv.
+fn reaction_columns(path: &Path) -> Vec<String> {
+    let text = std::fs::read_to_string(path).unwrap();
+    let header = text.lines().next().unwrap();
+    (header.split(','))
+        .filter(|c| c.starts_with("reaction_") || c.starts_with("moment_"))
+        .map(str::to_string)
+        .collect()
 }
 
 #[test]

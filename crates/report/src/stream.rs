@@ -423,6 +423,12 @@ fn vtu_piece<'a>(
             1,
             contact.tangential.clone(),
         ));
+        point_data.push((
+            "tangential_force_vector".to_string(),
+            3,
+            contact.tangential_vector.clone(),
+        ));
+        point_data.push(("slip_vector".to_string(), 3, contact.slip_vector.clone()));
     }
     let mut cell_data = vec![(
         "subdomain".to_string(),

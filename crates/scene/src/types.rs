@@ -526,6 +526,10 @@ pub struct Boundary {
     /// Resultant force, spread uniformly over the surface.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub force: Option<Vec<f64>>,
+    /// With `displacement`: the point about which the moment of the entry's
+    /// reaction is reported (`dimension` components; default the origin).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub moment_about: Option<Vec<f64>>,
 }
 
 /// `displacement = { x, y, z }`: components given are imposed, others free.

@@ -509,6 +509,9 @@ impl Scene {
             if let Some(f) = &bc.force {
                 vector(&format!("{e}.force"), f, dim)?;
             }
+            if let Some(p) = &bc.moment_about {
+                self.validate_moment_about(&format!("{e}.moment_about"), bc, p)?;
+            }
             if let Some(d) = &bc.displacement {
                 let de = format!("{e}.displacement");
                 if d.x.is_none() && d.y.is_none() && d.z.is_none() {
@@ -532,6 +535,25 @@ impl Scene {
             }
         }
         Ok(())
+    }
+
+    /// `moment_about` of a boundary entry: a point of `dimension` finite
+    /// coordinates, on a prescribed displacement (the only entry with a
+    /// reaction), not in an axisymmetric model (a ring's reaction is axial).
+    fn validate_moment_about(&self, e: &str, bc: &Boundary, p: &[f64]) -> Result {
+        if bc.displacement.is_none() {
+            return Err(invalid(
+                e,
+                "is the point of the reaction's moment, and only a `displacement` entry has a reaction; remove it, or give `displacement`",
+            ));
+        }
+        if self.model == Model::Axisymmetric {
+            return Err(invalid(
+                e,
+                "an axisymmetric reaction is the axial force of a whole ring, with no moment; remove it",
+            ));
+        }
+        vector(e, p, self.dimension as usize)
     }
 
     /// The body named `name` must exist and be deformable.

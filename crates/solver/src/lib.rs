@@ -36,6 +36,7 @@ mod pipeline;
 mod plan;
 pub mod problem_file;
 pub mod progress;
+mod reactions;
 mod root;
 mod step_end;
 pub mod subdomain;
@@ -225,4 +226,7 @@ struct Residuals {
     equilibrium: f64,
     /// Largest internal or external force entry.
     force_scale: f64,
+    /// K u − f on the prescribed DOFs, as (body, DOF, value); a DOF shared
+    /// by subdomains appears once per subdomain, their values to be summed.
+    support: Vec<(usize, usize, f64)>,
 }

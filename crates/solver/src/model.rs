@@ -41,6 +41,10 @@ pub struct BodyModel {
     pub material: Elasticity,
     pub n_dof: usize,
     pub prescribed: Vec<bool>,
+    /// The boundary entry (index in `scene.boundary`) that prescribes each
+    /// DOF, whose reaction it counts in (the last entry that names it);
+    /// `None` for a free DOF and for the axis of an axisymmetric model.
+    pub support_of: Vec<Option<usize>>,
     /// Free DOFs (full indices), in order.
     pub free: Vec<usize>,
     /// Full DOF → position in `free` (usize::MAX for a prescribed DOF).
@@ -424,6 +428,11 @@ fn build_body(sc: &scene::Scene, bi: usize, model: FemModel) -> Result<BodyModel
         fix_axis(&mesh, &body.name, &mut supports)?;
     }
     let prescribed = supports.prescribed;
+    let support_of = supports
+        .set_by
+        .iter()
+        .map(|s| s.map(|(li, _)| li))
+        .collect();
     let free: Vec<usize> = (0..n_dof).filter(|&d| !prescribed[d]).collect();
     let mut free_index = vec![usize::MAX; n_dof];
     for (i, &d) in free.iter().enumerate() {
@@ -439,6 +448,7 @@ fn build_body(sc: &scene::Scene, bi: usize, model: FemModel) -> Result<BodyModel
         material,
         n_dof,
         prescribed,
+        support_of,
         free,
         free_index,
         loads,
