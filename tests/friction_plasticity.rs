@@ -1,4 +1,4 @@
-//! Friction by analogy with plasticity (seed §6): the regularised Coulomb
+//! Friction by analogy with plasticity (course notes §6): the regularised Coulomb
 //! law with roughness, linear kinematic hardening of the slip. A thin, very
 //! stiff block under a uniform pressure p on a rigid plane, its top dragged
 //! by a prescribed tangential displacement u through load steps: loading,

@@ -1,5 +1,5 @@
 //! Fill-reducing ordering of a sparse symmetric matrix with some trailing
-//! rows kept last (the interface of a subdomain, notes §1.4 and §1.8), and
+//! rows kept last (the interface of a subdomain, docs/architecture.md, "Libraries"), and
 //! the symbolic supernodal Cholesky factor it gives.
 //!
 //! Two orderings of the leading `n_ordered` rows are available: approximate

@@ -1,5 +1,5 @@
-//! The run report (SCENE.md, "The report"): report.json, contact.csv, and the
-//! analytic references a run is compared with (VALIDATION.md).
+//! The run report (docs/reference/scene-format.md, "The report"): report.json, contact.csv, and the
+//! analytic references a run is compared with (docs/theory/validation-cases.md).
 //!
 //! The report crate owns the output files, the terminal summary and the
 //! analytic references; it must not know the scene format or the solver.
@@ -153,7 +153,7 @@ pub struct Factorisation {
 /// The root's factorisation of S on Γ (report.json
 /// `factorisation.interface`): one subdomain's S is dense; several
 /// subdomains' blocks are factorised over the tree of subdomains
-/// (docs/scene-format.md).
+/// (docs/reference/scene-format.md).
 #[derive(Debug, Clone, Default, Serialize, PartialEq)]
 pub struct InterfaceFactorisation {
     /// "dense" (one subdomain) or "tree" (several).
@@ -304,7 +304,7 @@ pub struct Report {
     /// The contact algorithm's account of the last step (iterations, operator
     /// applications, residual history, stopping reason).
     pub solver: serde_json::Value,
-    /// Which stages ran (DESIGN.md §5).
+    /// Which stages ran (docs/architecture.md).
     pub stages: Vec<String>,
     pub steps: Vec<StepReport>,
     pub timings_s: Timings,
@@ -525,12 +525,12 @@ pub struct ContactRow {
     pub status: &'static str,
 }
 
-/// The header of contact.csv in 2D (SCENE.md).
+/// The header of contact.csv in 2D (docs/reference/scene-format.md).
 pub const CONTACT_CSV_HEADER_2D: &str =
     "step,contact,body,point,x,y,gap,normal_force,tangential_force,slip,pressure,status";
 
 /// The header of contact.csv in 3D: 2D's with `z`, `tangential_force_2` and
-/// `slip_2` (SCENE.md).
+/// `slip_2` (docs/reference/scene-format.md).
 pub const CONTACT_CSV_HEADER_3D: &str = "step,contact,body,point,x,y,z,gap,normal_force,tangential_force,slip,tangential_force_2,slip_2,pressure,status";
 
 /// Writes contact.csv with the columns of the dimension `dim` (2 or 3).
