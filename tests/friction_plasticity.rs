@@ -368,7 +368,7 @@ fn bad_roughness_exits_1_naming_the_entry() {
 }
 
 /// examples/rough_drag.toml through the CLI: steps.csv's tangential force
-/// against the closed forms of the uniform block (the README's table).
+/// against the closed forms of the uniform block (docs/theory/friction.md's table).
 #[test]
 fn rough_drag_example_matches_the_closed_forms_from_the_cli() {
     let dir = common::fresh_dir("friction_plasticity", "rough_drag");

@@ -119,8 +119,8 @@ pub struct Factorisation {
     /// (condensed path); "ldlt": the quasi-definite LDLᵀ of the KKT matrix
     /// (direct path).
     pub kind: String,
-    /// "amd" or "nested_dissection" (the cheaper of the two in flops, see the
-    /// README), "mixed" when the subdomains differ.
+    /// "amd" or "nested_dissection" (the cheaper of the two in flops, see
+    /// docs/performance/scale-3d.md), "mixed" when the subdomains differ.
     pub ordering: String,
     /// Entries of the sparse factor L.
     pub factor_nnz: u64,
@@ -185,7 +185,7 @@ pub struct OrderingCandidate {
 }
 
 /// The contact conditions checked on the final solution, each relative to
-/// the scale of the problem (see the README): equilibrium residual over the
+/// the scale of the problem (see docs/theory/contact-problem.md): equilibrium residual over the
 /// load, penetration and complementarity over the displacement scale,
 /// tension over the force scale, cone violation over μλ_n.
 #[derive(Debug, Clone, Default, Serialize)]
