@@ -1,4 +1,4 @@
-//! The `signorini` command line: `run` and `check` (SCENE.md, "Commands").
+//! The `signorini` command line: `run` and `check` (docs/reference/scene-format.md, "Commands").
 //! No numerics here: the pipeline is `signorini_solver::run`.
 //!
 //! Under `mpirun` (built with the cargo feature `mpi`) every rank runs the
@@ -112,7 +112,7 @@ enum Command {
     },
     /// Time scenes over refinement levels, subdomain counts and paths; writes
     /// DIR/bench.csv and prints a table. With `--suite stiff`: the stiff and
-    /// extreme cases (VALIDATION.md §8), DIR/stiff.csv and DIR/stiff.md, exit 1
+    /// extreme cases (docs/theory/validation-cases.md §8), DIR/stiff.csv and DIR/stiff.md, exit 1
     /// if a case fails its expectation.
     Bench {
         /// Scene files.

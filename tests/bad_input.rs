@@ -1,4 +1,4 @@
-//! Bad input is rejected up front (SCENE.md, "Commands"): `signorini run` exits
+//! Bad input is rejected up front (docs/reference/scene-format.md, "Commands"): `signorini run` exits
 //! with code 1, prints one short error on stderr that names the offending entry
 //! or key, and writes nothing, not even the output directory.
 //!
@@ -399,7 +399,7 @@ fn gmsh_file_that_does_not_exist() {
 }
 
 // ============================================================================
-// Issue 12, items 5 and 6: no input crashes, hangs or allocates without a
+// No input crashes, hangs or allocates without a
 // check, and every message names the key.
 // ============================================================================
 

@@ -1,6 +1,6 @@
 //! `signorini run examples/hertz2d.toml` as a user runs it: the report has
-//! every key of SCENE.md and Hertz's p0 and a within 2 % and 3 %
-//! (VALIDATION.md §1).
+//! every key of docs/reference/scene-format.md and Hertz's p0 and a within 2 % and 3 %
+//! (docs/theory/validation-cases.md §1).
 
 mod common;
 

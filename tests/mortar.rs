@@ -1,4 +1,4 @@
-//! Mortar contact in 2D (issue 17): the contact patch test on non-matching
+//! Mortar contact in 2D: the contact patch test on non-matching
 //! meshes with linear and quadratic edges, Hertz between two deformable
 //! bodies against node-to-segment (a cylinder on a block, two cylinders),
 //! every contact method, both solution paths, `mpirun -n 2`, friction, and

@@ -1,4 +1,4 @@
-//! Mortar contact in 3D (issue 17): the contact patch test on non-matching
+//! Mortar contact in 3D: the contact patch test on non-matching
 //! meshes of quadrilateral and triangular faces, both bodies as slave,
 //! against node-to-face; Hertz between a sphere and a block against
 //! node-to-face; both solution paths, every algorithm, `mpirun -n 2`,

@@ -1,5 +1,5 @@
 //! `mpirun -n 2` (and 3) against the in-process run: one subdomain per rank,
-//! the same answer (VALIDATION.md §7), errors printed once, no hang.
+//! the same answer (docs/theory/validation-cases.md §7), errors printed once, no hang.
 //! Built only with the cargo feature `mpi` (ci/test.sh builds with it).
 #![cfg(feature = "mpi")]
 
@@ -321,7 +321,7 @@ fn axisymmetric_hertz_split_in_two_under_mpirun_2_equals_the_in_process_run() {
     compare(&scene, 2, "axi");
 }
 
-/// Bodies held by contact alone (issue 7) under `mpirun -n 2`: the 2D pad of
+/// Bodies held by contact alone under `mpirun -n 2`: the 2D pad of
 /// blocks.toml split in two METIS parts, solved by SMALBE (mprgp), and the
 /// 3D floating box split in two, equal the in-process runs.
 #[test]
@@ -564,7 +564,7 @@ fn listing(dir: &Path) -> Vec<String> {
     v
 }
 
-/// `[output] pieces` under `mpirun -n 2` (issue 17, item 4): each rank
+/// `[output] pieces` under `mpirun -n 2`: each rank
 /// writes the pieces of the subdomains it owns; every `.pvtu` index checks
 /// against its gathered file (arrays, points, displacement, contact and
 /// cell values), and the files are those of the in-process run (one piece
@@ -675,7 +675,7 @@ fn auto_subdomains_on_a_body_with_fewer_cells_than_ranks() {
     assert_eq!(r["subdomains"], 2);
 }
 
-/// Contact elements (seed §7) with friction through two load steps, the
+/// Contact elements (course notes §7) with friction through two load steps, the
 /// pad on rank 1 and the base on rank 0, then the base split in two as well
 /// (three subdomains on two ranks): the in-process answer.
 #[test]

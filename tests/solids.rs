@@ -1,5 +1,5 @@
 //! 3D and axisymmetric solids, second-order 2D elements and Gmsh meshes
-//! (VALIDATION.md §2, §3, §7): Hertz spheres against the formulas, the 3D
+//! (docs/theory/validation-cases.md §2, §3, §7): Hertz spheres against the formulas, the 3D
 //! patch test, condensed = direct and one subdomain = METIS parts in 3D and
 //! axisymmetric, and the VTU series read back.
 

@@ -1,5 +1,5 @@
-//! The run report (SCENE.md, "The report"): report.json, contact.csv, and the
-//! analytic references a run is compared with (VALIDATION.md).
+//! The run report (docs/reference/scene-format.md, "The report"): report.json, contact.csv, and the
+//! analytic references a run is compared with (docs/theory/validation-cases.md).
 //!
 //! The report crate owns the output files, the terminal summary and the
 //! analytic references; it must not know the scene format or the solver.
@@ -164,8 +164,8 @@ pub struct Factorisation {
     /// (condensed path); "ldlt": the quasi-definite LDLᵀ of the KKT matrix
     /// (direct path).
     pub kind: String,
-    /// "amd" or "nested_dissection" (the cheaper of the two in flops, see the
-    /// README), "mixed" when the subdomains differ.
+    /// "amd" or "nested_dissection" (the cheaper of the two in flops, see
+    /// docs/performance/scale-3d.md), "mixed" when the subdomains differ.
     pub ordering: String,
     /// Entries of the sparse factor L.
     pub factor_nnz: u64,
@@ -198,7 +198,7 @@ pub struct Factorisation {
 /// The root's factorisation of S on Γ (report.json
 /// `factorisation.interface`): one subdomain's S is dense; several
 /// subdomains' blocks are factorised over the tree of subdomains
-/// (docs/scene-format.md).
+/// (docs/reference/scene-format.md).
 #[derive(Debug, Clone, Default, Serialize, PartialEq)]
 pub struct InterfaceFactorisation {
     /// "dense" (one subdomain) or "tree" (several).
@@ -230,7 +230,7 @@ pub struct OrderingCandidate {
 }
 
 /// The contact conditions checked on the final solution, each relative to
-/// the scale of the problem (see the README): equilibrium residual over the
+/// the scale of the problem (see docs/theory/contact-problem.md): equilibrium residual over the
 /// load, penetration and complementarity over the displacement scale,
 /// tension over the force scale, cone violation over μλ_n.
 #[derive(Debug, Clone, Default, Serialize)]
@@ -349,7 +349,7 @@ pub struct Report {
     /// The contact algorithm's account of the last step (iterations, operator
     /// applications, residual history, stopping reason).
     pub solver: serde_json::Value,
-    /// Which stages ran (DESIGN.md §5).
+    /// Which stages ran (docs/architecture.md).
     pub stages: Vec<String>,
     pub steps: Vec<StepReport>,
     pub timings_s: Timings,
@@ -548,13 +548,13 @@ impl ContactRow {
     }
 }
 
-/// The header of contact.csv in 2D (docs/scene-format.md), up to `status`;
+/// The header of contact.csv in 2D (docs/reference/scene-format.md), up to `status`;
 /// the frame's columns [`CONTACT_CSV_FRAME_2D`] follow.
 pub const CONTACT_CSV_HEADER_2D: &str =
     "step,contact,body,point,x,y,gap,normal_force,tangential_force,slip,pressure,status";
 
 /// The header of contact.csv in 3D: 2D's with `z`, `tangential_force_2` and
-/// `slip_2` (docs/scene-format.md), up to `status`; the frame's columns
+/// `slip_2` (docs/reference/scene-format.md), up to `status`; the frame's columns
 /// [`CONTACT_CSV_FRAME_3D`] follow.
 pub const CONTACT_CSV_HEADER_3D: &str = "step,contact,body,point,x,y,z,gap,normal_force,tangential_force,slip,tangential_force_2,slip_2,pressure,status";
 

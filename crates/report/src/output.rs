@@ -1,4 +1,4 @@
-//! The output files of a run (SCENE.md, "Output"): contact.csv, steps.csv,
+//! The output files of a run (docs/reference/scene-format.md, "Output"): contact.csv, steps.csv,
 //! friction.svg, displacement.csv, stress.csv, the VTU series and
 //! report.json, and the run's summary for the terminal. The run's fields come
 //! in [`RunOutput`]; what the scene asks for, in [`OutputRequest`].

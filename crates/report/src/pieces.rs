@@ -1,4 +1,4 @@
-//! Per-subdomain VTU pieces (issue 17, `[output] pieces = true`): at every
+//! Per-subdomain VTU pieces (`[output] pieces = true`): at every
 //! step that writes fields, the rank that owns a subdomain writes its piece
 //! `DIR/pieces/<body>_<step>_s<part>.vtu` (the subdomain's cells and nodes,
 //! the same arrays as the gathered `<body>_<step>.vtu`, and the point array

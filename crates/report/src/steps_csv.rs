@@ -3,7 +3,7 @@
 //! the mean slip, the counts and the iterations), then a group per
 //! prescribed-displacement boundary entry (its reaction and moment) and a
 //! group per contact pair (its normal and tangential sums), named after
-//! the entry (docs/scene-format.md).
+//! the entry (docs/reference/scene-format.md).
 
 use std::io::Write;
 use std::path::Path;

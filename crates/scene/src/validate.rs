@@ -1,4 +1,4 @@
-//! `Scene::validate`: the semantic checks of `SCENE.md`. Every error names the entry
+//! `Scene::validate`: the semantic checks of `docs/reference/scene-format.md`. Every error names the entry
 //! and says what would be valid. Surface names cannot be checked here (meshes do not
 //! exist yet); the solver does that.
 
@@ -882,7 +882,7 @@ fn validate_friction(e: &str, friction: &Friction, dim: usize) -> Result {
                 if slip_stiffness.is_none() {
                     return Err(invalid(
                         re,
-                        "the roughness Q (kinematic hardening of the slip, seed §6) needs the asperities' stiffness: give slip_stiffness = <k_e> with it",
+                        "the roughness Q (kinematic hardening of the slip, course notes §6) needs the asperities' stiffness: give slip_stiffness = <k_e> with it",
                     ));
                 }
             }

@@ -1,4 +1,4 @@
-//! The scene format of SCENE.md: parsing, defaults and error messages.
+//! The scene format of docs/reference/scene-format.md: parsing, defaults and error messages.
 
 use signorini_scene::*;
 use std::path::Path;

@@ -1,5 +1,5 @@
 //! From a step's contact solution to its report: the certificate of
-//! DESIGN.md §4, the per-step and per-point rows, and the final report.
+//! docs/theory/algorithms.md, the per-step and per-point rows, and the final report.
 
 use super::*;
 use crate::reactions::{step_contacts, step_reactions};
@@ -76,7 +76,7 @@ fn nearest_in_contact(
         .map(|(qi, _)| qi)
 }
 
-/// The certificate of DESIGN.md §4 at one step, from the equilibrium
+/// The certificate of docs/theory/algorithms.md at one step, from the equilibrium
 /// residual and the final gaps and forces.
 pub(crate) fn certificate_of(
     res: &Residuals,
@@ -184,7 +184,7 @@ pub(crate) fn conclude_step(
     }
     if let Some(c) = sol.outcome.statuses.cycle_detected_at {
         messages.push(format!(
-            "step {}: the status method cycled (flip-flop) at iteration {c}; it fell back to one status change per iteration (seed §3.3)",
+            "step {}: the status method cycled (flip-flop) at iteration {c}; it fell back to one status change per iteration (course notes §3.3)",
             si + 1
         ));
     }
@@ -280,7 +280,7 @@ fn push_contact_rows(
 
 /// The status of a contact point in contact.csv: open, stick or slip for a
 /// point with friction, else contact (a frictionless point, or one whose
-/// slip a support holds); a point a support drags slides (seed §4).
+/// slip a support holds); a point a support drags slides (course notes §4).
 fn contact_status(p: &PointModel, pi: usize, sol: &StepSolution) -> &'static str {
     let active = sol.outcome.active.binary_search(&pi).is_ok();
     match (active, sol.friction.as_ref().map(|f| f.statuses[pi])) {

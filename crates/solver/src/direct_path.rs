@@ -1,13 +1,13 @@
 //! The direct path: the status method on the whole sparse stiffness with
 //! the contact constraints as Lagrange multipliers (a finite-element KKT
-//! solve refactorised at each status iteration, seed §3.3), to check and to
+//! solve refactorised at each status iteration, course notes §3.3), to check and to
 //! benchmark condensation.
 
 use super::*;
 
 /// The direct path on the root: every body's whole sparse stiffness, the
 /// contact constraints added by Lagrange multipliers and the saddle-point
-/// matrix refactorised at each status iteration (seed §3.3); each step
+/// matrix refactorised at each status iteration (course notes §3.3); each step
 /// ended (`steps`) before the next is solved.
 pub(crate) fn run_direct(
     ctx: RunContext,

@@ -1,4 +1,4 @@
-//! One load step of the contact elements of seed §7 on the condensed
+//! One load step of the contact elements of course notes §7 on the condensed
 //! problem: the run picks this solve for `discretization =
 //! "contact_elements"`, and for any contact with a regularised normal law
 //! (`law = { penalty }`) and friction: each point is an element with the
@@ -29,7 +29,7 @@ pub(crate) fn check_return_mapping(
     sc: &scene::Scene,
     path: scene::SolvePath,
 ) -> Result<(), SolveError> {
-    let why = "the contact elements' return mapping (seed §7)";
+    let why = "the contact elements' return mapping (course notes §7)";
     if path == scene::SolvePath::Direct {
         return Err(SolveError::Input(format!(
             "solver.path: {why} runs on path = \"condensed\", not \"direct\""
@@ -41,7 +41,7 @@ pub(crate) fn check_return_mapping(
             let what = if c.discretization == scene::Discretization::ContactElements {
                 "discretization = \"contact_elements\" needs a regularised normal law"
             } else {
-                "the scene's contacts are solved by the contact elements' return mapping (seed §7), which needs a regularised normal law on every contact"
+                "the scene's contacts are solved by the contact elements' return mapping (course notes §7), which needs a regularised normal law on every contact"
             };
             return Err(SolveError::Input(format!(
                 "{entry}.law: {what}: give law = {{ penalty = <k_n> }} (normal stiffness per unit area)"

@@ -109,14 +109,14 @@ pub struct PointModel {
     pub trow2: Option<Vec<(usize, usize, f64)>>,
     /// The friction law of the point's contact, per point: the Tresca
     /// threshold as a force (g × tributary length), or μ (in 3D, along t1
-    /// and t2: the elliptic cone of seed §4.1.2).
+    /// and t2: the elliptic cone of course notes §4.1.2).
     pub friction: FrictionLaw,
     /// The elastic slip stiffness (force per unit slip) of a regularised
-    /// Coulomb law (seed §4.1.3).
+    /// Coulomb law (course notes §4.1.3).
     pub slip_stiffness: Option<f64>,
     /// The tangential rows dropped because a support prescribes every DOF
     /// of them (`model::contacts::free_tangential_rows`): the slip there is
-    /// known, and a non-zero slip increment makes the point slide (seed §4,
+    /// known, and a non-zero slip increment makes the point slide (course notes §4,
     /// Coulomb's law), its force evaluated at the end of the step.
     pub prescribed_slip: Option<PrescribedSlip>,
 }

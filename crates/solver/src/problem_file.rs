@@ -1,4 +1,4 @@
-//! The stand-alone problem file of `signorini local` (DESIGN.md §4): a
+//! The stand-alone problem file of `signorini local` (docs/theory/algorithms.md): a
 //! Delassus operator W (dense, symmetric), its free gaps q and, for
 //! friction, a coefficient μ per contact, so that the root solvers can be
 //! compared with other libraries on identical data.

@@ -1,4 +1,4 @@
-//! What a step's supports and contacts carry (docs/scene-format.md,
+//! What a step's supports and contacts carry (docs/reference/scene-format.md,
 //! "steps.csv" and the report's steps): the reaction of every
 //! prescribed-displacement boundary entry, and the sums of every contact
 //! pair.

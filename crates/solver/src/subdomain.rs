@@ -1,6 +1,6 @@
 //! One subdomain (a body, or a METIS part of one), owned by one rank: it
 //! assembles its stiffness K_i from its own cells, factorises it once with its
-//! interface last, sends S_i and F'_i to the root (seed §8.2–8.3), and later
+//! interface last, sends S_i and F'_i to the root (course notes §8.2–8.3), and later
 //! recovers its interior from the interface displacement.
 //!
 //! The interface of a subdomain holds its free DOFs on the nodes it shares

@@ -1,19 +1,19 @@
-//! Friction by analogy with plasticity (seed §6): elastic asperities and
+//! Friction by analogy with plasticity (course notes §6): elastic asperities and
 //! roughness, i.e. the regularised Coulomb law (§4.1.3) with linear
 //! kinematic hardening of the slip.
 //!
 //! The tangential jump splits into the asperities' elastic part and the
-//! irreversible slip g (seed eq. 20), [u_t] = [u_t]^a + g, with the state
+//! irreversible slip g (course notes eq. 20), [u_t] = [u_t]^a + g, with the state
 //! laws (eqs. 21, 22) t = P [u_t]^a = k_e ([u_t] − g) (P = k_e, the
 //! `slip_stiffness`) and the back force X = Q g (Q, the `roughness`). The
 //! threshold is Coulomb's (eq. 23) on the force relative to the back force,
 //!
 //!   f(t, X) = ‖t − Q g‖ − μ |t_n| ≤ 0,
 //!
-//! and the flow is non-associated (seed fig. 15): ġ = γ̇ (t − Q g)/‖t − Q g‖,
+//! and the flow is non-associated (course notes fig. 15): ġ = γ̇ (t − Q g)/‖t − Q g‖,
 //! γ̇ ≥ 0, γ̇ f = 0 (the slip goes along the force, not normal to the cone,
 //! whose normal has a component along t_n). Q = 0 is the regularised law.
-//! Eq. 23 as the seed prints it reads ‖F_t‖ alone: with F_t^g = Q g it is the
+//! Eq. 23 as the course notes print it reads ‖F_t‖ alone: with F_t^g = Q g it is the
 //! threshold of the force conjugate to the slip, F_t − F_t^g, as in
 //! plasticity with linear kinematic hardening.
 //!
@@ -24,7 +24,7 @@
 //!
 //! On the condensed problem the point's unknown is taken as the slider force
 //! ξ = t − Q g instead of t ([`harden`]): with the slip increments Δg as the
-//! tangential gaps (seed §4.4) and the compliance 1/k_e already on W's
+//! tangential gaps (course notes §4.4) and the compliance 1/k_e already on W's
 //! tangential diagonal, ξ and Δg obey Coulomb's law exactly as the
 //! regularised law's force and slip do, so every friction solver of the
 //! crate (the fixed point on the normal forces, the status and Newton
@@ -57,7 +57,7 @@ pub struct ReturnMap {
 }
 
 /// The closed-form return mapping of linear kinematic hardening at one
-/// point (seed §6, see the module doc): the tangential jump `jump` ([u_t],
+/// point (course notes §6, see the module doc): the tangential jump `jump` ([u_t],
 /// one or two components), the slip `slip_old` at the start of the step, the
 /// threshold `mu_tn` = μ |t_n| and the stiffnesses k_e, Q (per unit area or
 /// nodal, the same for all three).

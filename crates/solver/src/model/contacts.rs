@@ -295,7 +295,7 @@ fn row_along(p: &ContactPoint, sides: &PairSides, dim: usize, direction: [f64; 3
 }
 
 /// The friction law of a contact at one of its points, and the slip
-/// stiffness of a regularised law (seed §4.1.3): a Tresca threshold and a
+/// stiffness of a regularised law (course notes §4.1.3): a Tresca threshold and a
 /// slip stiffness scale with the point's tributary measure.
 fn point_friction(friction: &scene::Friction, tributary: f64) -> (FrictionLaw, Option<f64>) {
     match friction {
@@ -401,9 +401,9 @@ struct TangentialRows {
 /// both are dropped; dependent (a node on one symmetry plane), the frame
 /// (t1, t2) is turned about n so that t2 is the prescribed direction, and
 /// only t1, along which the node may slip, keeps a row, with the elliptic
-/// cone's coefficient in that direction (seed §4.1.2). The dropped rows of a
+/// cone's coefficient in that direction (course notes §4.1.2). The dropped rows of a
 /// point with no tangential unknown left are kept as its prescribed slip: a
-/// support that drags it makes it slide (seed §4, Coulomb's law).
+/// support that drags it makes it slide (course notes §4, Coulomb's law).
 fn free_tangential_rows(
     bodies: &[BodyModel],
     p: &mut ContactPoint,
