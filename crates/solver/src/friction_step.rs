@@ -236,7 +236,7 @@ pub(crate) fn friction_step(
     prescribed_slip_friction(input, &load, history, &mut friction, &out.forces[..m]);
     let physical = match &hardened {
         Some(h) => {
-            let t = h.physical_forces(&out.forces);
+            let t = h.physical_forces(&mut problem, &out.forces);
             rough_tractions(interface, &mut friction, &out.forces, &t);
             t
         }
