@@ -869,9 +869,14 @@ fn a_damaged_npz_member_names_the_file() {
     let mut npz = numpy_problem();
     let magic = npz.windows(6).position(|w| w == b"\x93NUMPY").unwrap();
     npz[magic + 1] = b'X';
-    // W.npy is the first member: its local header at 0, its size at 22.
-    let size = u32::from_le_bytes(npz[22..26].try_into().unwrap()) as usize;
-    let crc = crc32(&npz[magic..magic + size]).to_le_bytes();
+    // W.npy is the first member (stored, its sizes in a zip64 field): its
+    // data ends where the next member's local header starts.
+    let end = magic
+        + npz[magic..]
+            .windows(4)
+            .position(|w| w == b"PK\x03\x04")
+            .unwrap();
+    let crc = crc32(&npz[magic..end]).to_le_bytes();
     npz[14..18].copy_from_slice(&crc);
     let central = npz.windows(4).position(|w| w == b"PK\x01\x02").unwrap();
     npz[central + 16..central + 20].copy_from_slice(&crc);

@@ -312,12 +312,21 @@ fn rough_friction_3d_loads_unloads_and_reverses_on_the_closed_forms() {
 /// points' normal rows and slide them, and the contact holds them (the back
 /// forces Q g as springs on the turn). Refused before; it solves, on the
 /// same closed forms (resultants, every point's return mapping, the
-/// reversal), in 2D and 3D.
+/// reversal), in 2D. In 3D the 3D friction solvers do not reach the
+/// tolerance on the problem the elimination leaves: refused, naming the
+/// entry, rather than iterated for minutes.
 #[test]
 fn rough_drag_of_a_block_free_to_turn_about_its_top_follows_the_closed_forms() {
-    for dim in [2, 3] {
-        let text = free_to_turn(&scene(dim, &rough(Q), false));
-        drag_of_the_scene_follows_the_closed_forms(dim, &text);
+    let text = free_to_turn(&scene(2, &rough(Q), false));
+    drag_of_the_scene_follows_the_closed_forms(2, &text);
+    let text = free_to_turn(&scene(3, &rough(Q), false));
+    match common::try_run(&text, RunOptions::default()) {
+        Err(SolveError::Input(m)) => assert!(
+            m.contains("contact \"c\".friction.roughness: in 3D a rigid motion"),
+            "{m}"
+        ),
+        Err(e) => panic!("{e}"),
+        Ok(_) => panic!("solved"),
     }
 }
 

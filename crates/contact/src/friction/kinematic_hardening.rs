@@ -160,6 +160,11 @@ impl Hardened {
             .collect()
     }
 
+    /// Whether rigid modes that slide rough points were eliminated.
+    pub fn holds_modes(&self) -> bool {
+        self.held.is_some()
+    }
+
     /// The forces of the original problem: `r` with the hardened rows' ξ
     /// replaced by the tractions t. When modes were eliminated, gives
     /// `problem` back all of them with their amplitudes (for
