@@ -249,11 +249,15 @@ pub fn harden(
     Ok(hardened)
 }
 
+/// The bases (V1, V2) of the modes that do not and that do move the
+/// hardened rows.
+type ModeSplit = (Mat<f64>, Mat<f64>);
+
 /// The modes split by whether they move the hardened rows (`in_h`): `None`
 /// when none does (G_h = 0 to round-off against G's largest entry), else
 /// orthonormal V1 (G_h V1 = 0) and V2 (the rest). Refused: a mode that
 /// moves hardened rows and no other row.
-fn split_modes(g: &Mat<f64>, in_h: &[bool]) -> Result<Option<(Mat<f64>, Mat<f64>)>, ContactError> {
+fn split_modes(g: &Mat<f64>, in_h: &[bool]) -> Result<Option<ModeSplit>, ContactError> {
     let (m, k) = (g.nrows(), g.ncols());
     let g_max = (0..m).fold(0.0f64, |a, i| (0..k).fold(a, |a, j| a.max(g[(i, j)].abs())));
     let tol = 1e-10 * g_max * (m as f64).sqrt();
