@@ -58,7 +58,7 @@ enum Command {
         /// Memory the run may use, e.g. 64G, 500M (powers of 1024), instead
         /// of the machine's available memory: a scene estimated to need more
         /// is refused before anything is built.
-        #[arg(long, value_name = "SIZE", value_parser = memory_size)]
+        #[arg(long, value_name = "SIZE", value_parser = memory_size, allow_hyphen_values = true)]
         max_memory: Option<u64>,
         /// No progress line. Without it, when stderr is a terminal, the
         /// run shows its stage, the subdomain being condensed, the load
@@ -80,7 +80,7 @@ enum Command {
         #[arg(long)]
         path: Option<SolvePath>,
         /// As for `run`: the memory the run may use.
-        #[arg(long, value_name = "SIZE", value_parser = memory_size)]
+        #[arg(long, value_name = "SIZE", value_parser = memory_size, allow_hyphen_values = true)]
         max_memory: Option<u64>,
     },
     /// Solve a stand-alone condensed problem LCP(W, q) given as JSON
@@ -93,7 +93,7 @@ enum Command {
         method: Method,
         #[arg(long, default_value_t = 1e-10)]
         tolerance: f64,
-        #[arg(long, default_value_t = 10_000)]
+        #[arg(long, default_value_t = 10_000, value_parser = at_least_one)]
         max_iterations: usize,
         /// Include the contact forces λ in the JSON line.
         #[arg(long)]
@@ -107,7 +107,7 @@ enum Command {
         /// The memory the solve may use (default: the machine's available
         /// memory): a .npz whose arrays unpack to more, or an FCLib file
         /// whose dense W would not fit, is refused before they are read.
-        #[arg(long, value_name = "SIZE", value_parser = memory_size)]
+        #[arg(long, value_name = "SIZE", value_parser = memory_size, allow_hyphen_values = true)]
         max_memory: Option<u64>,
     },
     /// Time scenes over refinement levels, subdomain counts and paths; writes
@@ -155,7 +155,7 @@ enum Command {
         #[arg(long, default_value = "out/bench")]
         out: PathBuf,
         /// As for `run`: the memory each run may use.
-        #[arg(long, value_name = "SIZE", value_parser = memory_size)]
+        #[arg(long, value_name = "SIZE", value_parser = memory_size, allow_hyphen_values = true)]
         max_memory: Option<u64>,
     },
     /// Generate the documentation that a run of this build measures: the
@@ -193,6 +193,15 @@ enum Docs {
 
 fn memory_size(text: &str) -> Result<u64, String> {
     signorini_solver::memory::parse_size(text)
+}
+
+/// A count of at least 1 (an iteration limit).
+fn at_least_one(text: &str) -> Result<usize, String> {
+    match text.trim().parse::<usize>() {
+        Ok(0) => Err("must be at least 1, got 0".into()),
+        Ok(n) => Ok(n),
+        Err(_) => Err(format!("expected a whole number >= 1, got \"{text}\"")),
+    }
 }
 
 /// A panic is a bug: one line on stderr and exit 3, never a backtrace (set

@@ -394,6 +394,20 @@ impl DelassusProblem {
         self.solve_equations(eqs)
     }
 
+    /// The orthonormal basis R (n × k) of the floating bodies' modes.
+    pub(crate) fn kernel_basis(&self) -> &Mat<f64> {
+        &self.r
+    }
+
+    /// Replaces the modes' basis (n × k') by combinations of it, α reset to
+    /// zero: a transformed problem that eliminated some modes, or its
+    /// return to all of them before [`Self::displacement`].
+    pub(crate) fn set_kernel_basis(&mut self, r: Mat<f64>) {
+        self.last_alpha = vec![0.0; r.ncols()];
+        self.r = Arc::new(r);
+        self.factor = None;
+    }
+
     /// The rigid-mode amplitudes α of the last solve.
     pub fn alpha(&self) -> &[f64] {
         &self.last_alpha

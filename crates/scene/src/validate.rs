@@ -673,7 +673,7 @@ impl Scene {
             return Err(invalid(
                 "steps",
                 format!(
-                    "{} load steps, at most {MAX_STEPS} (each is a contact solve, kept in memory and written as one VTU file per body); use fewer, larger steps",
+                    "{} load steps, at most {MAX_STEPS} (each is a contact solve, a row of steps.csv and of report.json, and by default one VTU file per body); use fewer, larger steps",
                     self.steps.len()
                 ),
             ));
@@ -879,6 +879,10 @@ fn validate_friction(e: &str, friction: &Friction, dim: usize) -> Result {
             if let Some(q) = roughness {
                 let re = format!("{e}.friction.roughness");
                 non_negative(&re, *q)?;
+                // Q = 0 is the regularised law; else a stiffness as k_n is.
+                if *q != 0.0 {
+                    representable_stiffness(&re, *q)?;
+                }
                 if slip_stiffness.is_none() {
                     return Err(invalid(
                         re,

@@ -82,6 +82,40 @@ impl ElementHistory {
     }
 }
 
+/// How many times the bodies' own stiffness at a point, 1/W_ii, an
+/// element's k_n A may be: beyond it the Newton matrix of the return mapping
+/// (I + W K_e) keeps fewer digits than its solve checks (1e-8), and a
+/// stiffer element joins the bodies no more rigidly.
+const ELEMENT_STIFFNESS_RATIO: f64 = 1e7;
+
+/// Refuses a contact's `law.penalty` whose elements are stiffer than
+/// [`ELEMENT_STIFFNESS_RATIO`] times the bodies at some point (the Delassus
+/// operator `w`: before any solve), with the largest penalty that is not.
+fn check_element_stiffness(
+    input: &RootInput,
+    elements: &[ContactElement],
+    w: &faer::Mat<f64>,
+) -> Result<(), SolveError> {
+    for (ci, c) in input.sc.contact.iter().enumerate() {
+        let scene::Law::Penalty { penalty } = c.law else {
+            continue;
+        };
+        let ratio = (input.points.iter().zip(elements))
+            .filter(|(p, _)| p.contact == ci)
+            .map(|(_, e)| e.normal_stiffness * w[(e.normal_row, e.normal_row)])
+            .fold(0.0f64, f64::max);
+        if ratio > ELEMENT_STIFFNESS_RATIO {
+            return Err(SolveError::Input(format!(
+                "contact \"{}\".law.penalty: {} makes its elements {ratio:.1e} times stiffer than the bodies they join (1/W_ii at a point), more than the {ELEMENT_STIFFNESS_RATIO:e} double precision can solve; give law.penalty <= {:.2e} (a stiffer element joins the bodies no more rigidly)",
+                c.name,
+                scene::Shown(penalty),
+                penalty * ELEMENT_STIFFNESS_RATIO / ratio
+            )));
+        }
+    }
+    Ok(())
+}
+
 /// Each contact point as an element: its rows, k_n A, k_t A (the contact's
 /// slip_stiffness, else k_t = k_n), Q A, and its threshold.
 fn elements(input: &RootInput, interface: &Interface) -> Vec<ContactElement> {
@@ -136,6 +170,7 @@ pub(crate) fn element_step(
     let gap0 = row_gaps(input, &load, |_| (0.0, 0.0));
     let mut problem = op.problem(&gap0, &load.fp);
     let elements = elements(input, interface);
+    check_element_stiffness(input, &elements, &problem.w)?;
     let opts = ElementOptions {
         max_iterations: input.sc.solver.max_iterations,
         tolerance: input.sc.solver.tolerance,

@@ -202,9 +202,17 @@ fn harden_rough_rows(
     if rows.is_empty() {
         return Ok(None);
     }
-    kinematic_hardening::harden(problem, &rows, &q, &slip)
-        .map(Some)
-        .map_err(|e| SolveError::Input(format!("{entry}: {e}")))
+    let hardened = kinematic_hardening::harden(problem, &rows, &q, &slip)
+        .map_err(|e| SolveError::Input(format!("{entry}: {e}")))?;
+    // The eliminated modes leave a W whose rank-k term (the modes' spring)
+    // dwarfs the bodies' compliance: the 2D status methods solve it, the 3D
+    // fixed point's inner iterations do not reach the tolerance.
+    if hardened.holds_modes() && input.sc.dimension == 3 {
+        return Err(SolveError::Input(format!(
+            "{entry}: in 3D a rigid motion of a body held by contact alone that slides rough contact points (a block free to turn about its top) is not supported; hold the body so that no rigid motion slides them (a support that keeps it from turning), or solve it in 2D"
+        )));
+    }
+    Ok(Some(hardened))
 }
 
 /// One friction step: the problem with the tangential gaps and compliance,
@@ -236,7 +244,7 @@ pub(crate) fn friction_step(
     prescribed_slip_friction(input, &load, history, &mut friction, &out.forces[..m]);
     let physical = match &hardened {
         Some(h) => {
-            let t = h.physical_forces(&out.forces);
+            let t = h.physical_forces(&mut problem, &out.forces);
             rough_tractions(interface, &mut friction, &out.forces, &t);
             t
         }

@@ -90,7 +90,8 @@ struct PairSides {
 }
 
 /// Refuses what the contact solver does not support yet: mortar in an
-/// axisymmetric model, Norton–Hoff friction in 3D, and mortar or contact
+/// axisymmetric model or with a normal rule it does not use, Norton–Hoff
+/// friction in 3D, and mortar or contact
 /// elements against a rigid master (from the scene alone: `plan` asks it
 /// before anything is built, so that `check` refuses it too).
 pub(crate) fn check_contact_supported(
@@ -101,6 +102,12 @@ pub(crate) fn check_contact_supported(
     if c.discretization == scene::Discretization::Mortar && sc.model == scene::Model::Axisymmetric {
         return Err(input(format!(
             "{entry}.discretization: \"mortar\" is not supported with model = \"axisymmetric\" yet (supported: node_to_node, node_to_segment)"
+        )));
+    }
+    if c.discretization == scene::Discretization::Mortar && c.normal != scene::NormalRule::Master {
+        return Err(input(format!(
+            "{entry}.normal: \"{}\" is not used by mortar, whose normal is the slave's averaged nodal normal (reversed); leave the key out (its default \"master\"), or use node_to_segment for the rules master, slave, average, points",
+            c.normal.as_str()
         )));
     }
     let rigid_master = sc.body(&c.master.body).is_some_and(|b| b.rigid.is_some());
