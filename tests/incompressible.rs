@@ -244,16 +244,11 @@ fn b_bar_refusals_name_the_entry() {
         "{e}"
     );
     // a Gmsh mesh of tetrahedra: the solver names the entry and the cell
-    let tets = example("gmsh_block3d.toml")
-        .replace(
-            "file = \"meshes/",
-            &format!("file = \"{}/examples/meshes/", env!("CARGO_MANIFEST_DIR")),
-        )
-        .replacen(
-            "material = \"steel\"\n",
-            "material = \"steel\"\nformulation = \"b_bar\"\n",
-            1,
-        );
+    let tets = common::example_with_meshes("gmsh_block3d.toml").replacen(
+        "material = \"steel\"\n",
+        "material = \"steel\"\nformulation = \"b_bar\"\n",
+        1,
+    );
     assert!(tets.contains("b_bar"));
     match try_run(&tets, RunOptions::default()) {
         Err(SolveError::Input(e)) => {

@@ -278,17 +278,11 @@ fn friction_with_a_split_block_under_mpirun_2_equals_the_in_process_run() {
 
 /// Writes an example with its first deformable body split in two METIS parts.
 fn split_example(name: &str, body_line: &str, tag: &str) -> String {
-    let text = std::fs::read_to_string(example(name))
-        .unwrap()
+    let text = common::example_with_meshes(name)
         .replace(body_line, &format!("{body_line}\nsubdomains = 2"));
     assert!(
         text.contains("subdomains = 2"),
         "{name}: no line {body_line:?}"
-    );
-    // the Gmsh examples name their mesh relative to the scene
-    let text = text.replace(
-        "file = \"meshes/",
-        &format!("file = \"{}/examples/meshes/", env!("CARGO_MANIFEST_DIR")),
     );
     write_scene(&format!("{tag}_scene"), name, &text)
 }

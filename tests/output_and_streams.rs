@@ -335,7 +335,8 @@ fn reaction_balance(
 fn the_reaction_of_a_pressed_face_is_the_contact_force_it_transmits() {
     let mut checked = Vec::new();
     for name in shipped_examples() {
-        let sc = signorini_scene::parse_toml(&common::example(&name)).unwrap();
+        let text = common::example_with_meshes(&name);
+        let sc = signorini_scene::parse_toml(&text).unwrap();
         let bodies = pressed_bodies(&sc);
         if bodies.is_empty() {
             continue;
@@ -345,7 +346,7 @@ fn the_reaction_of_a_pressed_face_is_the_contact_force_it_transmits() {
                 method: None,
                 path: Some(path),
             };
-            let out = match common::try_run(&common::example(&name), opts) {
+            let out = match common::try_run(&text, opts) {
                 Ok(out) => out,
                 // friction and contact elements: condensed path only
                 Err(SolveError::Input(_)) if path == SolvePath::Direct => continue,

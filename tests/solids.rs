@@ -21,15 +21,6 @@ fn rel(out: &RunOutput, q: &str) -> f64 {
         .relative_error
 }
 
-/// A Gmsh example with its mesh path made absolute (the scene is parsed from
-/// text, without its directory).
-fn gmsh_example(name: &str) -> String {
-    example(name).replace(
-        "file = \"meshes/",
-        &format!("file = \"{}/examples/meshes/", env!("CARGO_MANIFEST_DIR")),
-    )
-}
-
 fn direct() -> RunOptions {
     RunOptions {
         path: Some(SolvePath::Direct),
@@ -169,7 +160,7 @@ fn patch_test_3d_non_matching_boxes_reports_the_deviation_with_an_exact_resultan
 #[test]
 fn gmsh_meshes_pass_the_uniform_pressure_patch_test_in_2d_and_3d() {
     for name in ["gmsh_block.toml", "gmsh_block3d.toml"] {
-        let out = converged(&gmsh_example(name), RunOptions::default());
+        let out = converged(&common::example_with_meshes(name), RunOptions::default());
         assert!(
             rel(&out, "pressure") <= 1e-9,
             "{name}: {}",
@@ -186,7 +177,7 @@ fn gmsh_meshes_pass_the_uniform_pressure_patch_test_in_2d_and_3d() {
 /// both paths, naming the body.
 #[test]
 fn a_contact_across_the_free_motion_does_not_hold_it() {
-    let text = gmsh_example("gmsh_block3d.toml");
+    let text = common::example_with_meshes("gmsh_block3d.toml");
     assert!(text.contains("normal = [0.0, 0.0, 1.0]"));
     let text = text.replace("normal = [0.0, 0.0, 1.0]", "normal = [1.0, 0.0, 0.0]");
     for opts in [RunOptions::default(), direct()] {
@@ -208,7 +199,7 @@ fn condensed_equals_direct_in_3d_and_axisymmetric() {
     let scenes = [
         example("patch3d.toml"),
         example("hertz_axi.toml").replace("divisions = 80", "divisions = 24"),
-        gmsh_example("gmsh_block3d.toml"),
+        common::example_with_meshes("gmsh_block3d.toml"),
     ];
     for text in scenes {
         let a = converged(&text, RunOptions::default());
@@ -233,7 +224,7 @@ fn condensed_equals_direct_in_3d_and_axisymmetric() {
 #[test]
 fn metis_parts_equal_one_subdomain_in_3d_and_axisymmetric() {
     let scenes = [
-        gmsh_example("gmsh_block3d.toml"),
+        common::example_with_meshes("gmsh_block3d.toml"),
         example("hertz_axi.toml").replace("divisions = 80", "divisions = 24"),
     ];
     for text in scenes {

@@ -21,6 +21,16 @@ pub fn example(name: &str) -> String {
     std::fs::read_to_string(example_path(name)).unwrap()
 }
 
+/// The text of a shipped example with its mesh paths made absolute, for a
+/// scene parsed from text without its directory (the Gmsh examples name
+/// their meshes relative to the scene).
+pub fn example_with_meshes(name: &str) -> String {
+    example(name).replace(
+        "file = \"meshes/",
+        &format!("file = \"{}/examples/meshes/", env!("CARGO_MANIFEST_DIR")),
+    )
+}
+
 /// Runs a scene given as TOML text in one process.
 pub fn try_run(text: &str, opts: RunOptions) -> Result<RunOutput, SolveError> {
     let sc = parse_toml(text).unwrap_or_else(|e| panic!("scene: {e}"));
