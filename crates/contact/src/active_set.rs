@@ -85,6 +85,17 @@ pub trait StatusRule {
         last: &mut Option<Regular<Self::Status, Self::Solution>>,
     ) -> Option<Fallback<Self::Status>>;
 
+    /// Statuses from a method that cannot cycle (complementary pivoting),
+    /// to leave a cycle met from `statuses` in one step: the driver goes on
+    /// from them, checking them like any other. `None` when the rule has no
+    /// such method (the driver then changes one status per iteration).
+    fn leave_cycle(
+        &mut self,
+        _statuses: &[Self::Status],
+    ) -> Result<Option<Vec<Self::Status>>, ContactError> {
+        Ok(None)
+    }
+
     /// How many points `statuses` hold in contact, for the observer of
     /// [`crate::observe`] (0 if the rule does not say).
     fn in_contact(&self, _statuses: &[Self::Status]) -> usize {
@@ -118,6 +129,9 @@ pub struct Driven<S, Sol> {
     pub cycle_at: Option<usize>,
     /// Whether the run ended with one change per iteration.
     pub one_change: bool,
+    /// Iteration at which a cycle was left by [`StatusRule::leave_cycle`],
+    /// if one was.
+    pub left_cycle_at: Option<usize>,
 }
 
 /// The status method loop (seed §3.3, §4.5) from `statuses`, at most
@@ -131,6 +145,7 @@ pub fn drive<R: StatusRule>(
 ) -> Result<Driven<R::Status, R::Solution>, ContactError> {
     let mut seen: HashSet<Vec<R::Status>> = HashSet::new();
     let (mut single, mut cycle_at, mut solution) = (one_change, None, None);
+    let mut left_cycle_at = None;
     let mut last: Option<Regular<R::Status, R::Solution>> = None;
     let (mut iterations, mut stop) = (0, Stop::Limit);
     while iterations < max_iterations {
@@ -166,10 +181,19 @@ pub fn drive<R: StatusRule>(
                 stop = Stop::Cycling;
                 break;
             }
-            // Flip-flop: fall back to one change per iteration (seed §3.3).
-            single = true;
             seen.clear();
-            next = changed(&statuses, &changes, true);
+            match left_cycle_at {
+                None => match rule.leave_cycle(&statuses)? {
+                    // Leave the cycle by a step that cannot cycle, once.
+                    Some(pivoted) => (next, left_cycle_at) = (pivoted, Some(iterations)),
+                    None => single = true,
+                },
+                Some(_) => single = true,
+            }
+            if single {
+                // Flip-flop: one change per iteration (seed §3.3).
+                next = changed(&statuses, &changes, true);
+            }
         }
         last = Some(Regular {
             statuses: std::mem::replace(&mut statuses, next),
@@ -185,6 +209,7 @@ pub fn drive<R: StatusRule>(
         solution,
         cycle_at,
         one_change: single,
+        left_cycle_at,
     })
 }
 

@@ -181,11 +181,17 @@ pub(crate) fn conclude_step(
             ));
         }
     }
-    if let Some(c) = sol.outcome.statuses.cycle_detected_at {
-        messages.push(format!(
+    let statuses = &sol.outcome.statuses;
+    match (statuses.cycle_detected_at, statuses.cycle_left_by_pivoting_at) {
+        (Some(c), Some(l)) if statuses.variant_used == StatusVariant::All => messages.push(format!(
+            "step {}: the status method cycled (flip-flop) at iteration {c}; it left the cycle at iteration {l} by complementary pivoting (Lemke's method), which cannot cycle",
+            si + 1
+        )),
+        (Some(c), _) => messages.push(format!(
             "step {}: the status method cycled (flip-flop) at iteration {c}; it fell back to one status change per iteration (seed §3.3)",
             si + 1
-        ));
+        )),
+        _ => {}
     }
     push_contact_rows(sc, bodies, points, si, sol, gaps, partial);
     partial
@@ -206,12 +212,13 @@ fn record_convergence(partial: &mut Partial, si: usize, sol: &StepSolution, cert
     let report = &sol.outcome.report;
     if !report.converged {
         partial.converged = false;
-        let mut failure = format!("step {}: {}: {}", si + 1, report.method, report.stop);
-        if report.stop.out_of_iterations() {
-            failure += "; raise [solver] max_iterations, or use a method that needs fewer iterations (status, mprgp)";
-        } else if report.stop.iteration_limit() {
-            failure += "; raise [solver] max_iterations";
-        }
+        let failure = format!(
+            "step {}: {}: {}{}",
+            si + 1,
+            report.method,
+            report.stop,
+            failure_advice(report, cert.tolerance)
+        );
         partial.failure.get_or_insert(failure);
     } else if !cert.met() {
         partial.converged = false;
@@ -236,6 +243,65 @@ fn record_convergence(partial: &mut Partial, si: usize, sol: &StepSolution, cert
         }
         partial.failure.get_or_insert(failure);
     }
+}
+
+/// What to do after a solver that did not converge: a method that can help
+/// (never the one that failed), and raising `[solver] max_iterations` only
+/// when it can help: never after a cycle of the statuses, and after a
+/// projection or dual method only when the rate of its last iterations
+/// would reach the tolerance within ten times as many.
+pub(crate) fn failure_advice(report: &SolverReport, tolerance: f64) -> String {
+    let stop = &report.stop;
+    if matches!(
+        stop,
+        StopReason::Cycling { .. } | StopReason::StatusLimit { .. }
+    ) {
+        return "; use method = \"lemke\" (complementary pivoting: a finite number of pivots, it cannot cycle); raising [solver] max_iterations does not help statuses that cycle".into();
+    }
+    if !stop.out_of_iterations() {
+        return if stop.iteration_limit() {
+            "; raise [solver] max_iterations".into()
+        } else {
+            String::new()
+        };
+    }
+    let others: Vec<&str> = ["status", "lemke"]
+        .into_iter()
+        .filter(|m| *m != report.method)
+        .collect();
+    let mut advice = format!(
+        "; use method = \"{}\" (exact in a finite number of steps)",
+        others.join("\" or \"")
+    );
+    let history = &report.residual_history;
+    match iterations_to_tolerance(history, tolerance) {
+        Some(more) if more <= 10 * history.len() => advice += &format!(
+            ", or raise [solver] max_iterations (at the rate of the last iterations, about {more} more)"
+        ),
+        None if history.len() < 5 => advice += ", or raise [solver] max_iterations",
+        _ => {}
+    }
+    advice
+}
+
+/// How many more iterations a residual history needs to reach `tolerance`
+/// at the mean rate of its last fifth; `None` when it did not fall there
+/// (or is too short to tell).
+fn iterations_to_tolerance(history: &[f64], tolerance: f64) -> Option<usize> {
+    let n = history.len();
+    if n < 5 {
+        return None;
+    }
+    let k = n / 5;
+    let (before, last) = (history[n - 1 - k], history[n - 1]);
+    if !(last.is_finite() && before.is_finite() && last > 0.0 && last < before) {
+        return None;
+    }
+    if last <= tolerance {
+        return Some(0);
+    }
+    let rate = (last / before).ln() / k as f64;
+    Some(((tolerance / last).ln() / rate).ceil() as usize)
 }
 
 /// The contact.csv rows of a step: each point's gap, forces, slip,
