@@ -153,7 +153,9 @@ pub(crate) fn pivoted_active_set(
     }
     let largest = sol.forces.iter().fold(0.0f64, |a, f| a.max(f.abs()));
     let zero = opts.tolerance * opts.force_scale.max(largest);
-    Ok(Some((0..q.len()).filter(|&p| sol.forces[p] > zero).collect()))
+    Ok(Some(
+        (0..q.len()).filter(|&p| sol.forces[p] > zero).collect(),
+    ))
 }
 
 /// The complementary pivoting path on the scaled LCP(W, q) from z0 entering

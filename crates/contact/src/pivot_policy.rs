@@ -68,8 +68,7 @@ pub(crate) fn safe_cholesky(a: &Mat<f64>) -> Option<faer::linalg::solvers::Llt<f
     let n = a.nrows();
     let llt = a.llt(Side::Lower).ok()?;
     let l = llt.L();
-    cholesky_pivots_are_safe((0..n).map(|i| l[(i, i)]), (0..n).map(|i| a[(i, i)]), n)
-        .then_some(llt)
+    cholesky_pivots_are_safe((0..n).map(|i| l[(i, i)]), (0..n).map(|i| a[(i, i)]), n).then_some(llt)
 }
 
 /// Solves a symmetric system by a Cholesky factor with safe pivots, else by
@@ -163,7 +162,10 @@ mod tests {
         let lu = dependent.partial_piv_lu();
         assert!(!pivots_are_safe((0..3).map(|i| lu.U()[(i, i)]), 3));
         let err = solve_symmetric_checked(&dependent, &rhs, "W_AA").unwrap_err();
-        assert!(err.to_string().contains("rank deficient by 1 of 3"), "{err}");
+        assert!(
+            err.to_string().contains("rank deficient by 1 of 3"),
+            "{err}"
+        );
         let x = solve_symmetric_checked(&regular, &rhs, "W_AA").unwrap();
         let r = &regular * &x - &rhs;
         assert!(r.norm_max() <= 1e3 * f64::EPSILON * 6.0 * x.norm_max());

@@ -29,12 +29,10 @@ use std::collections::HashMap;
 
 use faer::Mat;
 
-use crate::pivot_policy::pivots_are_safe;
 use crate::delassus::VarEquation;
 use crate::growing_lu::GrowingLu;
-use crate::reduced::{
-    factorise_reduced, reduce, reduced_block, Factor, Reduction,
-};
+use crate::pivot_policy::pivots_are_safe;
+use crate::reduced::{factorise_reduced, reduce, reduced_block, Factor, Reduction};
 
 /// Whether two equations have the same row of M (they may differ in their
 /// right-hand side: a given value).
