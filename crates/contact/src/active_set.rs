@@ -10,9 +10,12 @@
 //! - the iteration with its limit;
 //! - the seen-set of status vectors: a status vector that comes back is a
 //!   cycle (a flip-flop at the edge of a coarse contact zone, §3.3);
-//! - the switch to one status change per iteration, the most violated first
-//!   (the variant of §3.3 with the convergence proof), when changing every
-//!   violated status at once cycles; cycling again then stops the method;
+//! - the way out of a cycle met when changing every violated status at once:
+//!   first, once, the statuses of a method that cannot cycle when the rule
+//!   has one ([`StatusRule::leave_cycle`]: complementary pivoting for normal
+//!   contact), then the switch to one status change per iteration, the most
+//!   violated first (the variant of §3.3 with the convergence proof);
+//!   cycling then stops the method;
 //! - the singular-system fallback: the driver keeps the last statuses that
 //!   gave a regular system, and when a status vector gives a singular one
 //!   (a floating body no longer held) it asks the rule where to go from there;

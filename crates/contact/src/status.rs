@@ -8,8 +8,12 @@
 //! The seed proves convergence only when one status changes per iteration
 //! ([`StatusVariant::Single`]); changing all at once ([`StatusVariant::All`])
 //! is faster in practice but may flip-flop at the edge of a coarse contact
-//! zone. Cycling is detected (an active set seen before) and reported; the
-//! `All` variant then falls back to `Single`. The loop itself (iterations,
+//! zone, or on a stiff body pressed into a soft one (a Delassus operator
+//! far from diagonal dominance). Cycling is detected (an active set seen
+//! before) and reported; the `All` variant then leaves the cycle once by
+//! the active set of complementary pivoting (Lemke's method, which cannot
+//! cycle; [`ActiveSetSolve::pivoted_active_set`]) and goes on from it, and
+//! falls back to `Single` when there is no such solve or it cycles again. The loop itself (iterations,
 //! seen-set, fallbacks, stopping reasons) is the driver of
 //! [`crate::active_set`]; this module is its rule for normal contact.
 //!
