@@ -310,7 +310,7 @@ fn mortar_3d_patch_under_mpirun_2_equals_the_in_process_run() {
     }
 }
 
-/// tests/data/assembly/assembly.toml on the fine meshes (21 264 DOFs): a
+/// tests/data/assembly/assembly.toml on the fine meshes (21 243 DOFs): a
 /// steel cylinder pressing a steel block into a rubber pad, the block-pad
 /// pair given from `slave` ("block" or "pad") with `discretization` and
 /// `slave_choice`.
@@ -345,8 +345,8 @@ fn block_pad(text: &str) -> (f64, Vec<String>) {
 }
 
 /// The answer depends on which side of the stiff/soft pair is the slave
-/// (measured on these meshes: mortar 212.2 N with the steel block as slave
-/// against 236.1 N with the rubber pad; node-to-face 219.1 against 201.3 N):
+/// (measured on these meshes: mortar 212.4 N with the steel block as slave
+/// against 236.4 N with the rubber pad; node-to-face 219.3 against 201.3 N):
 /// the block as slave draws a warning naming the pad, and
 /// `slave_choice = "auto"` makes the pad the slave from either spelling, so
 /// that both give one force; the default method converges on every variant.
@@ -374,7 +374,7 @@ fn the_slave_of_a_stiff_block_on_a_rubber_pad_is_chosen_by_the_rule_and_warned_a
             (from_block - from_pad).abs() <= tolerance * from_pad,
             "{discretization}: {from_block} vs {from_pad}"
         );
-        // Not the block-slave answer: mortar 236.1 N against 212.2 N.
+        // Not the block-slave answer: mortar 236.4 N against 212.4 N.
         if discretization == "mortar" {
             assert!(
                 (from_pad - given).abs() > 0.05 * given,
