@@ -383,3 +383,15 @@ fn the_slave_of_a_stiff_block_on_a_rubber_pad_is_chosen_by_the_rule_and_warned_a
         }
     }
 }
+
+/// A slave choice other than "given" or "auto" is refused, naming the key
+/// and what would be valid.
+#[test]
+fn an_unknown_slave_choice_is_refused_naming_the_valid_ones() {
+    let text = assembly("block", "mortar", "maybe");
+    let err = signorini_scene::parse_toml(&text).unwrap_err().to_string();
+    assert!(
+        err.contains("slave_choice = \"maybe\"") && err.contains("expected `given` or `auto`"),
+        "{err}"
+    );
+}
