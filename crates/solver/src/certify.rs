@@ -188,7 +188,7 @@ pub(crate) fn conclude_step(
             si + 1
         )),
         (Some(c), _) => messages.push(format!(
-            "step {}: the status method cycled (flip-flop) at iteration {c}; it fell back to one status change per iteration (seed §3.3)",
+            "step {}: the status method cycled (flip-flop) at iteration {c}; it fell back to one status change per iteration, the most violated first",
             si + 1
         )),
         _ => {}
