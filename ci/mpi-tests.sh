@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The README's cluster command on this machine: `mpirun -n 2` on the stack
+# The cluster command of docs/tutorial/04-mpi-and-large-models.md on this machine: `mpirun -n 2` on the stack
 # example, one subdomain per rank, checked against the in-process run by
 # tests/mpi.rs (which cargo test runs with --features mpi); here from the CLI.
 set -euo pipefail

@@ -121,7 +121,7 @@ pub(crate) fn plot(csvs: &[PathBuf], out: &Path) -> ExitCode {
 }
 
 /// `signorini bench --suite root`: every root method on the Delassus
-/// problems of an elastic layer (issue 14), one line per run on stderr.
+/// problems of an elastic layer, one line per run on stderr.
 pub(crate) fn root_suite(quick: bool, export: bool, sizes: &[usize], out: &Path) -> ExitCode {
     use signorini_rootbench::{problem::Family, run};
     if let Some(m) = sizes.iter().find(|&&m| !(2..=8192).contains(&m)) {

@@ -1,4 +1,4 @@
-//! The `signorini` command line: `run` and `check` (SCENE.md, "Commands").
+//! The `signorini` command line: `run` and `check` (docs/reference/scene-format.md, "Commands").
 //! No numerics here: the pipeline is `signorini_solver::run`.
 //!
 //! Under `mpirun` (built with the cargo feature `mpi`) every rank runs the
@@ -13,21 +13,27 @@
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-use clap::{Parser, Subcommand};
+use clap::{CommandFactory, Parser, Subcommand};
 
 mod bench;
+mod docs;
 mod local;
 mod progress;
 mod run;
+mod validation;
 use signorini_comm::{Local, Transport};
 use signorini_scene::{Method, SolvePath};
 use signorini_solver::RunOptions;
 
 #[derive(Parser)]
+// term_width = 0: the help is never wrapped, whatever the terminal and
+// whether a dependency turns clap's `wrap_help` on (it does in a workspace
+// build), so that every build prints the same help as docs/reference/cli.md.
 #[command(
     name = "signorini",
     version,
-    about = "Unilateral contact between linear elastic solids by static condensation"
+    about = "Unilateral contact between linear elastic solids by static condensation",
+    term_width = 0
 )]
 struct Cli {
     #[command(subcommand)]
@@ -52,7 +58,7 @@ enum Command {
         /// Memory the run may use, e.g. 64G, 500M (powers of 1024), instead
         /// of the machine's available memory: a scene estimated to need more
         /// is refused before anything is built.
-        #[arg(long, value_name = "SIZE", value_parser = memory_size)]
+        #[arg(long, value_name = "SIZE", value_parser = memory_size, allow_hyphen_values = true)]
         max_memory: Option<u64>,
         /// No progress line. Without it, when stderr is a terminal, the
         /// run shows its stage, the subdomain being condensed, the load
@@ -74,7 +80,7 @@ enum Command {
         #[arg(long)]
         path: Option<SolvePath>,
         /// As for `run`: the memory the run may use.
-        #[arg(long, value_name = "SIZE", value_parser = memory_size)]
+        #[arg(long, value_name = "SIZE", value_parser = memory_size, allow_hyphen_values = true)]
         max_memory: Option<u64>,
     },
     /// Solve a stand-alone condensed problem LCP(W, q) given as JSON
@@ -87,7 +93,7 @@ enum Command {
         method: Method,
         #[arg(long, default_value_t = 1e-10)]
         tolerance: f64,
-        #[arg(long, default_value_t = 10_000)]
+        #[arg(long, default_value_t = 10_000, value_parser = at_least_one)]
         max_iterations: usize,
         /// Include the contact forces λ in the JSON line.
         #[arg(long)]
@@ -101,12 +107,12 @@ enum Command {
         /// The memory the solve may use (default: the machine's available
         /// memory): a .npz whose arrays unpack to more, or an FCLib file
         /// whose dense W would not fit, is refused before they are read.
-        #[arg(long, value_name = "SIZE", value_parser = memory_size)]
+        #[arg(long, value_name = "SIZE", value_parser = memory_size, allow_hyphen_values = true)]
         max_memory: Option<u64>,
     },
     /// Time scenes over refinement levels, subdomain counts and paths; writes
     /// DIR/bench.csv and prints a table. With `--suite stiff`: the stiff and
-    /// extreme cases (VALIDATION.md §8), DIR/stiff.csv and DIR/stiff.md, exit 1
+    /// extreme cases (docs/theory/validation-cases.md §8), DIR/stiff.csv and DIR/stiff.md, exit 1
     /// if a case fails its expectation.
     Bench {
         /// Scene files.
@@ -149,13 +155,53 @@ enum Command {
         #[arg(long, default_value = "out/bench")]
         out: PathBuf,
         /// As for `run`: the memory each run may use.
-        #[arg(long, value_name = "SIZE", value_parser = memory_size)]
+        #[arg(long, value_name = "SIZE", value_parser = memory_size, allow_hyphen_values = true)]
         max_memory: Option<u64>,
+    },
+    /// Generate the documentation that a run of this build measures: the
+    /// validation and examples tables, the command-line reference.
+    Docs {
+        #[command(subcommand)]
+        what: Docs,
+    },
+}
+
+#[derive(Subcommand)]
+enum Docs {
+    /// Run every scene of the examples directory at its shipped size and
+    /// write OUT/README.md (each benchmark with a reference: the quantities
+    /// compared, computed, exact and their relative error) and
+    /// OUT/examples.md (each example: what it solves, DOFs, Γ DOFs,
+    /// iterations, its largest error). No timings. Exit 2 if an example
+    /// does not converge (the tables are written and say so).
+    Validation {
+        /// The directory of the scenes (*.toml).
+        #[arg(long, default_value = "examples")]
+        examples: PathBuf,
+        /// Output directory.
+        #[arg(long, default_value = "docs/validation")]
+        out: PathBuf,
+    },
+    /// Print every command's --help as one Markdown file (the command-line
+    /// reference, docs/reference/cli.md).
+    Cli {
+        /// Write it to this file instead of printing it.
+        #[arg(long, value_name = "FILE")]
+        out: Option<PathBuf>,
     },
 }
 
 fn memory_size(text: &str) -> Result<u64, String> {
     signorini_solver::memory::parse_size(text)
+}
+
+/// A count of at least 1 (an iteration limit).
+fn at_least_one(text: &str) -> Result<usize, String> {
+    match text.trim().parse::<usize>() {
+        Ok(0) => Err("must be at least 1, got 0".into()),
+        Ok(n) => Ok(n),
+        Err(_) => Err(format!("expected a whole number >= 1, got \"{text}\"")),
+    }
 }
 
 /// A panic is a bug: one line on stderr and exit 3, never a backtrace (set
@@ -212,13 +258,19 @@ fn launcher_rank() -> usize {
 }
 
 fn command(cli: Cli) -> ExitCode {
-    // `check`, `local` and `bench` are one process's work: under an MPI
+    // `check`, `local`, `bench` and `docs` are one process's work: under an MPI
     // launcher the first rank does it once, and the others stop (they
     // printed and wrote the same files at once).
     if !matches!(cli.command, Command::Run { .. }) && launcher_rank() > 0 {
         return ExitCode::SUCCESS;
     }
     match cli.command {
+        Command::Docs {
+            what: Docs::Validation { examples, out },
+        } => validation::validation(&examples, &out),
+        Command::Docs {
+            what: Docs::Cli { out },
+        } => docs::write_or_print(&docs::cli_reference(Cli::command()), out.as_deref()),
         Command::Check {
             scene,
             path,

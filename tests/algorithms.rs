@@ -1,5 +1,5 @@
 //! The course's algorithm family on the same condensed problem
-//! (VALIDATION.md §7): every exact method equals the status method; the
+//! (docs/theory/validation-cases.md §7): every exact method equals the status method; the
 //! penalty methods converge to it as their stiffness grows.
 
 mod common;
@@ -161,7 +161,7 @@ fn status_variants_and_penalty_imposed_constraints_agree_with_the_default() {
     assert!(single.report.steps[0].iterations > reference.report.steps[0].iterations);
 }
 
-/// The regularised law of seed §3.6, pressure = k × penetration: a block of
+/// The regularised law of course notes §3.6, pressure = k × penetration: a block of
 /// height H whose top is pushed down by d onto a rigid plane through that law
 /// is a spring E'/H in series with k: the penetration is
 /// δ = (E'/H) d / (k + E'/H) and the pressure k δ, exactly (uniform state).

@@ -1,5 +1,5 @@
 //! Bad input that would exhaust memory or time, and internal errors
-//! (issue 12, item 5): the memory estimate refuses what cannot fit before
+//!: the memory estimate refuses what cannot fit before
 //! anything is built, `--max-memory` overrides the machine, an internal error
 //! is one line and exit 3 (on every rank under mpirun), and stand-alone
 //! problems and benchmarks that cannot fit are refused.

@@ -1,7 +1,7 @@
-//! Condition estimates in the report (issue 7, item 3): κ₁ of K_II, S and W
+//! Condition estimates in the report: κ₁ of K_II, S and W
 //! by the Hager–Higham estimator, and the warning when the tolerance asks for
-//! more digits than the worst conditioned operator leaves (README, "The
-//! report"; docs/scene-format.md).
+//! more digits than the worst conditioned operator leaves (docs/reference/outputs.md;
+//! docs/reference/scene-format.md).
 
 mod common;
 

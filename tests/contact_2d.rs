@@ -1,5 +1,5 @@
 //! End-to-end 2D frictionless contact against closed-form answers
-//! (VALIDATION.md §1, §3, §7), through the same pipeline as `signorini run`.
+//! (docs/theory/validation-cases.md §1, §3, §7), through the same pipeline as `signorini run`.
 
 mod common;
 
@@ -199,7 +199,7 @@ fn every_normal_rule_passes_the_flat_patch_test() {
     }
 }
 
-/// VALIDATION.md §7: the condensed and direct paths solve the same
+/// docs/theory/validation-cases.md §7: the condensed and direct paths solve the same
 /// discretisation: same active set, displacements and forces to 1e-9.
 #[test]
 fn condensed_path_equals_direct_path() {

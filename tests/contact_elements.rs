@@ -1,4 +1,4 @@
-//! Contact elements (seed §7): zero-thickness elements between the
+//! Contact elements (course notes §7): zero-thickness elements between the
 //! coincident nodes of two blocks, with the regularised normal law
 //! λ_n = k_n A max(0, −g_n) and friction, solved by the return mapping and
 //! Newton's method (`signorini_contact::contact_elements`).
@@ -6,7 +6,7 @@
 //! - the same answer as node-to-node with the same laws, and (frictionless)
 //!   as the independent `method = "penalty"`;
 //! - a stiff pad pressed by p and dragged by u on a stiff base: stick
-//!   T = k_t u A, slip T = μ N, Tresca T = g A, roughness (seed §6)
+//!   T = k_t u A, slip T = μ N, Tresca T = g A, roughness (course notes §6)
 //!   T = μ N k_e/(k_e + Q) + k_e Q/(k_e + Q) u A, elastic unloading;
 //! - bad input: no penalty law, non-coincident nodes, the direct path; a
 //!   Newton that stops short exits 2.
@@ -196,7 +196,7 @@ fn same_as_node_to_node(dim: usize) {
         let mut nn = clamped(&blocks(dim, div, div, &nn), dim);
         if friction == "\"none\"" {
             // Frictionless, node-to-node with a penalty law is the
-            // independent regularised solver of seed §3.6.
+            // independent regularised solver of course notes §3.6.
             nn = nn.replace(
                 "tolerance = 1e-12\n",
                 "tolerance = 1e-12\nmethod = \"penalty\"\n",
@@ -526,7 +526,7 @@ fn the_example_runs() {
 
 /// With friction, an independent check: as k_n grows the contact elements
 /// tend to the unilateral node-to-node contact with the same regularised
-/// Coulomb law solved by the friction fixed point (seed §4.3), the
+/// Coulomb law solved by the friction fixed point (course notes §4.3), the
 /// difference falling like 1/k_n.
 #[test]
 fn stiff_elements_tend_to_the_unilateral_friction_solver() {

@@ -1,4 +1,4 @@
-//! The direct path's symmetric factorisation (issue 15, item 5): the KKT
+//! The direct path's symmetric factorisation: the KKT
 //! matrix is factorised by a quasi-definite LDLᵀ with the condensation's
 //! ordering rule and refined to the exact solution, so it must give the
 //! condensed path's answer, on held and floating bodies, in 2D and 3D, with

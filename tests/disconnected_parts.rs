@@ -1,4 +1,4 @@
-//! A body whose mesh has disconnected parts (issue D6): each part has its own
+//! A body whose mesh has disconnected parts: each part has its own
 //! rigid modes, held or left free by its own supports, so the condensed path
 //! must give each part its own floating-body treatment. Condensed and direct
 //! paths agree, the contact carries the load, and a part that nothing holds

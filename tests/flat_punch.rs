@@ -1,4 +1,4 @@
-//! The flat punch (VALIDATION.md §4): a punch of half-width b much stiffer
+//! The flat punch (docs/theory/validation-cases.md §4): a punch of half-width b much stiffer
 //! than the block it is pressed into gives the pressure of a rigid punch on
 //! a half-space, P / (π sqrt(b² − x²)) in plane strain and
 //! P / (2π b sqrt(b² − r²)) for the circular punch of the axisymmetric

@@ -1,9 +1,9 @@
-//! Bodies held by contact alone (issue 7, item 1; DESIGN.md §3): no
+//! Bodies held by contact alone (docs/theory/contact-problem.md): no
 //! Dirichlet condition on some rigid motions, no artificial spring. The
 //! status method solves the saddle-point systems with the equilibrium of the
 //! rigid modes, every other method runs inside SMALBE (contact::smalbe) with
 //! that equilibrium as the equality; all must give the same answer, and the
-//! uniform-pressure patch test (VALIDATION.md §3) exactly.
+//! uniform-pressure patch test (docs/theory/validation-cases.md §3) exactly.
 
 mod common;
 

@@ -1,4 +1,4 @@
-//! Coulomb friction on the condensed problem (VALIDATION.md §5, §7; seed §4).
+//! Coulomb friction on the condensed problem (docs/theory/validation-cases.md §5, §7; course notes §4).
 
 mod common;
 
@@ -256,7 +256,7 @@ fn a_tangential_force_above_mu_n_has_no_equilibrium_and_says_so() {
     }
 }
 
-/// VALIDATION.md §6 on the shipped example: the stick zone of two elastically
+/// docs/theory/validation-cases.md §6 on the shipped example: the stick zone of two elastically
 /// similar bodies is a·sqrt(1 − Q/(μP)) within 5 %.
 #[test]
 fn cattaneo_mindlin_stick_zone_matches_the_analytic_half_width() {
@@ -364,7 +364,7 @@ fn cyclic_tangential_loading_traces_a_closed_hysteresis_loop() {
     assert!((s[1].mean_slip - s[3].mean_slip).abs() > 0.5 * s[1].mean_slip.abs());
 }
 
-/// Tresca (seed §4.1.1) by the projection method (box-constrained MPRGP on
+/// Tresca (course notes §4.1.1) by the projection method (box-constrained MPRGP on
 /// the forces) and by the status method: the same answer where the contact
 /// is closed everywhere, partly sticking and partly slipping.
 #[test]
@@ -404,7 +404,7 @@ fn tresca_by_projection_equals_tresca_by_statuses() {
     }
 }
 
-/// Norton–Hoff (seed §4.1.4) tends to Coulomb as ρ → 0: on a block driven
+/// Norton–Hoff (course notes §4.1.4) tends to Coulomb as ρ → 0: on a block driven
 /// past μN the tangential reaction μN·|Δs|^ρ rises monotonically to μN.
 #[test]
 fn norton_hoff_tends_to_coulomb_as_rho_goes_to_zero() {
@@ -458,7 +458,7 @@ fn tiny_loads_give_the_scaled_answer() {
 }
 
 /// Under force control a block pushed past μN has no equilibrium
-/// (VALIDATION.md §5): bad input naming the body and both forces, not a
+/// (docs/theory/validation-cases.md §5): bad input naming the body and both forces, not a
 /// failing solve.
 #[test]
 fn force_above_mu_n_under_force_control_is_refused_with_the_numbers() {

@@ -1,4 +1,4 @@
-//! Friction in 3D (seed §4.1.1–4.1.2, §4.3; VALIDATION.md §5): two tangents
+//! Friction in 3D (course notes §4.1.1–4.1.2, §4.3; docs/theory/validation-cases.md §5): two tangents
 //! per contact point, the Tresca disc, the isotropic and the elliptic
 //! Coulomb cone, on a box on a rigid plane.
 
@@ -227,7 +227,7 @@ fn force_above_mu_n_under_force_control_is_refused_in_3d() {
     }
 }
 
-/// Regularised Coulomb (elastic slip k_e, seed §4.1.3) in 3D tends to
+/// Regularised Coulomb (elastic slip k_e, course notes §4.1.3) in 3D tends to
 /// Coulomb as k_e grows; a soft k_e lets the box move with less friction
 /// mobilised at the same drag.
 #[test]
@@ -307,7 +307,7 @@ fn a_one_point_3d_coulomb_problem_solves_by_the_fixed_point() {
     }
 }
 
-/// Cattaneo–Mindlin for two spheres (VALIDATION.md §6): a hemisphere
+/// Cattaneo–Mindlin for two spheres (docs/theory/validation-cases.md §6): a hemisphere
 /// pressed on a block of the same material, then moved sideways. Found by a
 /// sweep of unseen scenes: the reference used the cylinder's formulas,
 /// c = a·sqrt(1 − Q/(μP)) with a = sqrt(4PR/(πE*)), 2.4 times smaller than
@@ -401,7 +401,7 @@ kind = "cattaneo_mindlin"
 radius = 1.0
 "#;
 
-/// Norton–Hoff in 3D (seed §4.1.4, eq. 19, isotropic in the tangent plane):
+/// Norton–Hoff in 3D (course notes §4.1.4, eq. 19, isotropic in the tangent plane):
 /// on the box pressed, then dragged along (0.06, 0.08), every point in
 /// contact carries |λ_t| = μ λ_n ‖Δs‖^ρ opposite to its slip increment Δs
 /// over the step, and the resultant rises to Coulomb's μN as ρ → 0. At

@@ -1,5 +1,5 @@
 //! Friction where supports meet contacts, and bodies held by friction whose
-//! contacts start open (issue 12, items 2–4 and 8):
+//! contacts start open:
 //! - a tangential row whose slip a support prescribes (a symmetry plane, the
 //!   axis r = 0) carries a support reaction, not a friction unknown: half
 //!   and quarter models with symmetry planes give the full model's forces;

@@ -1,6 +1,6 @@
 //! `signorini run examples/hertz2d.toml` as a user runs it: the report has
-//! every key of SCENE.md and Hertz's p0 and a within 2 % and 3 %
-//! (VALIDATION.md §1).
+//! every key of docs/reference/scene-format.md and Hertz's p0 and a within 2 % and 3 %
+//! (docs/theory/validation-cases.md §1).
 
 mod common;
 
@@ -70,7 +70,7 @@ fn hertz_cylinder_on_a_rigid_plane_from_the_command_line() {
     let mut lines = csv.lines();
     assert_eq!(
         lines.next().unwrap(),
-        "step,contact,body,point,x,y,gap,normal_force,tangential_force,slip,pressure,status"
+        "step,contact,body,point,x,y,gap,normal_force,tangential_force,slip,pressure,status,n_x,n_y,t1_x,t1_y"
     );
     assert_eq!(
         lines.count() as u64,

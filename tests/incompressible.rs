@@ -1,4 +1,4 @@
-//! Near incompressibility (issue 7, item 5): quad4 and hex8 lock as ν → 0.5
+//! Near incompressibility: quad4 and hex8 lock as ν → 0.5
 //! in plane strain, axisymmetric and 3D models; `formulation = "b_bar"` (the
 //! mean-dilatation B-bar method, Hughes 1980) cures it. Hertz contact at
 //! ν = 0.4999 against the reference (E* = E/(1−ν²)), with the displacement

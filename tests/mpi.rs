@@ -1,5 +1,5 @@
 //! `mpirun -n 2` (and 3) against the in-process run: one subdomain per rank,
-//! the same answer (VALIDATION.md §7), errors printed once, no hang.
+//! the same answer (docs/theory/validation-cases.md §7), errors printed once, no hang.
 //! Built only with the cargo feature `mpi` (ci/test.sh builds with it).
 #![cfg(feature = "mpi")]
 
@@ -139,6 +139,35 @@ fn compare_with(scene: &str, np: usize, tag: &str, env: &[(&str, &str)]) {
         "{tag}: displacements differ by {:e}",
         max_rel(&ua, &ub)
     );
+    let reactions = reaction_columns(&a.join("steps.csv"));
+    let reactions: Vec<&str> = reactions.iter().map(String::as_str).collect();
+    assert!(!reactions.is_empty(), "{tag}: no reaction in steps.csv");
+    let ra = numbers(&a.join("steps.csv"), &reactions);
+    let rb = numbers(&b.join("steps.csv"), &reactions);
+    // relative to the largest reaction or contact force: a support that
+    // carries nothing has a reaction of round-off on both runs
+    let scale = (ra
+        .iter()
+        .chain(&numbers(&a.join("steps.csv"), &["normal_force"])))
+    .fold(0.0f64, |m, v| m.max(v.abs()));
+    let differ = ra
+        .iter()
+        .zip(&rb)
+        .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
+    assert!(
+        differ <= 1e-10 * scale,
+        "{tag}: reactions differ by {differ:e} (scale {scale:e})"
+    );
+}
+
+/// The reaction and moment columns of a steps.csv.
+fn reaction_columns(path: &Path) -> Vec<String> {
+    let text = std::fs::read_to_string(path).unwrap();
+    let header = text.lines().next().unwrap();
+    (header.split(','))
+        .filter(|c| c.starts_with("reaction_") || c.starts_with("moment_"))
+        .map(str::to_string)
+        .collect()
 }
 
 #[test]
@@ -292,7 +321,7 @@ fn axisymmetric_hertz_split_in_two_under_mpirun_2_equals_the_in_process_run() {
     compare(&scene, 2, "axi");
 }
 
-/// Bodies held by contact alone (issue 7) under `mpirun -n 2`: the 2D pad of
+/// Bodies held by contact alone under `mpirun -n 2`: the 2D pad of
 /// blocks.toml split in two METIS parts, solved by SMALBE (mprgp), and the
 /// 3D floating box split in two, equal the in-process runs.
 #[test]
@@ -535,7 +564,7 @@ fn listing(dir: &Path) -> Vec<String> {
     v
 }
 
-/// `[output] pieces` under `mpirun -n 2` (issue 17, item 4): each rank
+/// `[output] pieces` under `mpirun -n 2`: each rank
 /// writes the pieces of the subdomains it owns; every `.pvtu` index checks
 /// against its gathered file (arrays, points, displacement, contact and
 /// cell values), and the files are those of the in-process run (one piece
@@ -646,7 +675,7 @@ fn auto_subdomains_on_a_body_with_fewer_cells_than_ranks() {
     assert_eq!(r["subdomains"], 2);
 }
 
-/// Contact elements (seed §7) with friction through two load steps, the
+/// Contact elements (course notes §7) with friction through two load steps, the
 /// pad on rank 1 and the base on rank 0, then the base split in two as well
 /// (three subdomains on two ranks): the in-process answer.
 #[test]

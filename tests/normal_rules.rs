@@ -1,7 +1,7 @@
-//! The four normal rules of seed §2.4 (Fig. 3) on curved and mirror-symmetric
+//! The four normal rules of course notes §2.4 (Fig. 3) on curved and mirror-symmetric
 //! two-body problems: node-to-segment pairs a slave node with the master
 //! point its normal ray hits, within a search distance, and drops the nodes
-//! that hit nothing (issue 12, item 1).
+//! that hit nothing.
 
 mod common;
 
@@ -142,12 +142,12 @@ fn load_and_reach(out: &RunOutput) -> (f64, f64) {
 }
 
 /// Hertz's load of two spheres of relative radius `r` pressed by `approach`
-/// (VALIDATION.md §2): P = 4/3 E* √r δ^{3/2}.
+/// (docs/theory/validation-cases.md §2): P = 4/3 E* √r δ^{3/2}.
 fn hertz_load(e_star: f64, r: f64, approach: f64) -> f64 {
     4.0 / 3.0 * e_star * r.sqrt() * approach.powf(1.5)
 }
 
-/// Issue 12: with normal = "slave", nodes near the upper sphere's equator
+/// With normal = "slave", nodes near the upper sphere's equator
 /// took the closest master point with their own (nearly horizontal) normal,
 /// a gap near zero, and became active with 85 times the load (4.6e-2 against
 /// 5.4e-4, active nodes out to |x| = 0.995). Each rule must give Hertz's
@@ -227,7 +227,7 @@ fn mirrored_half_disks(rule: &str, approach: f64) -> String {
 
 /// A mirror-symmetric pair: the contact line is y = 0 by symmetry, so the
 /// four rules must give the same load (they differ only by the small-strain
-/// gap along their normals); before issue 12's fix, "slave" gave a load
+/// gap along their normals); before the bounded pairing, "slave" gave a load
 /// dominated by spurious pairs near the equators.
 #[test]
 fn mirror_symmetric_half_disks_give_the_same_load_with_every_rule() {

@@ -8,6 +8,8 @@
 mod common;
 
 use common::bad_scene::*;
+use signorini_scene::SolvePath;
+use signorini_solver::{RunOptions, SolveError};
 use std::process::{Command, Stdio};
 use std::time::Duration;
 
@@ -264,4 +266,283 @@ fn steps_csv_in_3d_has_the_z_resultant_and_the_second_tangent() {
     }
     // The last step drags along y (the second tangent): about -0.218.
     assert!(num(&steps[2][2]) < -0.2, "{:?}", steps[2]);
+}
+
+/// The scenes of examples/, by file name, sorted.
+fn shipped_examples() -> Vec<String> {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("examples");
+    let mut names: Vec<String> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n.ends_with(".toml"))
+        .collect();
+    names.sort();
+    names
+}
+
+/// The bodies of a scene held by prescribed displacements alone (no force
+/// or traction entry): their reactions balance their contact forces.
+fn pressed_bodies(sc: &signorini_scene::Scene) -> Vec<String> {
+    sc.bodies
+        .iter()
+        .filter(|b| b.is_deformable())
+        .filter(|b| {
+            let mut entries = sc.boundary.iter().filter(|e| e.body == b.name).peekable();
+            entries.peek().is_some() && entries.all(|e| e.displacement.is_some())
+        })
+        .map(|b| b.name.clone())
+        .collect()
+}
+
+/// At every step, the reactions on `body` plus the contact forces on it
+/// (as slave, minus as master) vanish, relative to the largest contact
+/// resultant of the step; returns the largest relative residual.
+fn reaction_balance(
+    sc: &signorini_scene::Scene,
+    out: &signorini_solver::RunOutput,
+    body: &str,
+) -> f64 {
+    let mut worst = 0.0f64;
+    for step in &out.report.steps {
+        let dim = step.contacts[0].force.len();
+        let mut sum = vec![0.0; dim];
+        for r in step.reactions.iter().filter(|r| r.body == body) {
+            (0..dim).for_each(|k| sum[k] += r.force[k]);
+        }
+        let mut scale = 0.0f64;
+        for (c, entry) in step.contacts.iter().zip(&sc.contact) {
+            assert_eq!(c.name, entry.name);
+            let sign = match (entry.slave.body == body, entry.master.body == body) {
+                (true, false) => 1.0,
+                (false, true) => -1.0,
+                _ => 0.0,
+            };
+            (0..dim).for_each(|k| sum[k] += sign * c.force[k]);
+            scale = c.force.iter().fold(scale, |m, f| m.max(f.abs()));
+        }
+        let residual = sum.iter().fold(0.0f64, |m, f| m.max(f.abs()));
+        worst = worst.max(residual / scale.max(f64::MIN_POSITIVE));
+    }
+    worst
+}
+
+/// The reaction of a pressed face is the contact force it transmits: on
+/// every shipped example, each body held by prescribed displacements alone
+/// has Σ reactions + its contact force = 0 to 1e-8 of the contact force at
+/// every step, on the condensed path and (where the scene allows it) the
+/// direct one; 2D, axisymmetric (whole rings) and 3D among them.
+#[test]
+fn the_reaction_of_a_pressed_face_is_the_contact_force_it_transmits() {
+    let mut checked = Vec::new();
+    for name in shipped_examples() {
+        let sc = signorini_scene::parse_toml(&common::example(&name)).unwrap();
+        let bodies = pressed_bodies(&sc);
+        if bodies.is_empty() {
+            continue;
+        }
+        for path in [SolvePath::Condensed, SolvePath::Direct] {
+            let opts = RunOptions {
+                method: None,
+                path: Some(path),
+            };
+            let out = match common::try_run(&common::example(&name), opts) {
+                Ok(out) => out,
+                // friction and contact elements: condensed path only
+                Err(SolveError::Input(_)) if path == SolvePath::Direct => continue,
+                Err(e) => panic!("{name}: {e}"),
+            };
+            assert!(out.report.converged, "{name}: {:?}", out.report.failure);
+            for body in &bodies {
+                let r = reaction_balance(&sc, &out, body);
+                assert!(r <= 1e-8, "{name} {path:?} {body}: {r:e}");
+                checked.push(format!("{name} {path:?} {body}"));
+            }
+        }
+    }
+    for expected in [
+        "hertz2d.toml Condensed cylinder",
+        "hertz2d.toml Direct cylinder",
+        "hertz_axi.toml Condensed sphere",
+        "hertz_axi.toml Direct sphere",
+        "hertz3d.toml Direct sphere",
+        "flat_punch.toml Condensed punch",
+        "sliding3d.toml Condensed box",
+        "cyclic.toml Condensed block",
+        "stack.toml Condensed roller",
+    ] {
+        assert!(
+            checked.iter().any(|c| c == expected),
+            "{expected}: {checked:?}"
+        );
+    }
+}
+
+/// The moment of a reaction: about `moment_about` it is the moment about
+/// the origin minus p × F, and about the origin it balances the moments
+/// of the contact forces at their points (contact.csv's positions, forces
+/// and frame): examples/sliding3d.toml (3D, friction) and
+/// examples/flat_punch.toml (2D).
+#[test]
+fn the_moment_of_a_reaction_balances_the_contact_forces_and_moves_with_its_point() {
+    for (name, body, p) in [
+        ("sliding3d.toml", "box", [0.3f64, -0.2, 0.7]),
+        ("flat_punch.toml", "punch", [0.25, 1.5, 0.0]),
+    ] {
+        let text = common::example(name);
+        let out = common::converged(&text, RunOptions::default());
+        let sc = signorini_scene::parse_toml(&text).unwrap();
+        let dim = sc.dimension as usize;
+        let last = out.report.steps.len();
+        let step = out.report.steps.last().unwrap();
+        let cross = |r: [f64; 3], f: [f64; 3]| {
+            [
+                r[1] * f[2] - r[2] * f[1],
+                r[2] * f[0] - r[0] * f[2],
+                r[0] * f[1] - r[1] * f[0],
+            ]
+        };
+        let mut contact = [0.0f64; 3];
+        let mut lever = p.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+        for row in out
+            .contact_rows
+            .iter()
+            .filter(|r| r.step == last && r.body == body)
+        {
+            let t = row.tangential_vector();
+            let f = [0, 1, 2].map(|k| row.normal_force * row.normal[k] + t[k]);
+            let m = cross(row.x, f);
+            (0..3).for_each(|k| contact[k] += m[k]);
+            lever = row.x.iter().fold(lever, |m, x| m.max(x.abs()));
+        }
+        let axes = if dim == 2 { 2..3 } else { 0..3 };
+        let mut reaction = [0.0f64; 3];
+        let mut force = [0.0f64; 3];
+        for r in step.reactions.iter().filter(|r| r.body == body) {
+            assert_eq!(r.moment_about.as_deref(), Some(&[0.0; 3][..dim]));
+            let m = r.moment.as_ref().unwrap();
+            for (k, a) in axes.clone().enumerate() {
+                reaction[a] += m[k];
+            }
+            (0..dim).for_each(|k| force[k] += r.force[k]);
+        }
+        // a moment's scale: the force times the largest lever
+        let scale = lever * force.iter().fold(0.0f64, |m, f| m.max(f.abs()));
+        assert!(scale > 0.0, "{name}");
+        for a in axes.clone() {
+            assert!(
+                (reaction[a] + contact[a]).abs() <= 1e-8 * scale,
+                "{name} axis {a}: {reaction:?} {contact:?}"
+            );
+        }
+        // The same scene with every entry of the body about p.
+        let about = format!("moment_about = {:?}\n", &p[..dim]);
+        let moved = text.replace(
+            &format!("body = \"{body}\"\n"),
+            &format!("body = \"{body}\"\n{about}"),
+        );
+        let moved = signorini_scene::parse_toml(&moved).unwrap();
+        let moved_out = signorini_solver::run(
+            &moved,
+            "test",
+            &RunOptions::default(),
+            &signorini_comm::Local,
+        )
+        .unwrap()
+        .unwrap();
+        let shift = cross(p, force);
+        let mut about_p = [0.0f64; 3];
+        for r in &moved_out.report.steps.last().unwrap().reactions {
+            if r.body == body {
+                assert_eq!(r.moment_about.as_deref(), Some(&p[..dim]));
+                for (k, a) in axes.clone().enumerate() {
+                    about_p[a] += r.moment.as_ref().unwrap()[k];
+                }
+            }
+        }
+        for a in axes {
+            let expected = reaction[a] - shift[a];
+            assert!(
+                (about_p[a] - expected).abs() <= 1e-10 * scale,
+                "{name} axis {a}: {about_p:?} against {expected}"
+            );
+            assert!(expected.abs() > 1e-3 * scale, "{name} axis {a}: {expected}");
+        }
+    }
+}
+
+/// steps.csv has a column group per contact pair, named after it: read
+/// back, each step's normal and tangential sums add up to the step's
+/// totals and equal the report's, and the terminal lists each contact and
+/// reaction. examples/stack.toml (three pairs, 2D) and
+/// examples/sliding3d.toml (friction, the second tangent, 3D).
+#[test]
+fn steps_csv_has_each_contact_and_reaction_summing_to_the_totals() {
+    let dir = fresh_dir("steps_csv_contacts");
+    for (scene, contacts, tangents) in [
+        (
+            "stack.toml",
+            &["roller-plate", "plate-base", "base-floor"][..],
+            1,
+        ),
+        ("sliding3d.toml", &["box-floor"][..], 2),
+    ] {
+        let out = dir.join(scene);
+        let run = common::cli_run_ok(common::example_path(scene), &out);
+        let stdout = String::from_utf8_lossy(&run.stdout);
+        let report: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(out.join("report.json")).unwrap())
+                .unwrap();
+        let mut names = vec!["normal_force".to_string(), "tangential_force".to_string()];
+        if tangents == 2 {
+            names.push("tangential_force_2".into());
+        }
+        let mut columns = names.clone();
+        for c in contacts {
+            assert!(stdout.contains(&format!("contact \"{c}\"")), "{stdout}");
+            columns.extend(names.iter().map(|n| format!("{n}_{c}")));
+        }
+        let refs: Vec<&str> = columns.iter().map(String::as_str).collect();
+        let rows = csv_columns(&out.join("steps.csv"), &refs);
+        assert_eq!(rows.len(), report["steps"].as_array().unwrap().len());
+        let num = |s: &str| s.parse::<f64>().unwrap();
+        for (i, row) in rows.iter().enumerate() {
+            let total_normal = num(&row[0]);
+            assert!(total_normal > 0.0, "{scene} step {}", i + 1);
+            for (k, n) in names.iter().enumerate() {
+                let parts: Vec<f64> = (0..contacts.len())
+                    .map(|c| num(&row[names.len() * (c + 1) + k]))
+                    .collect();
+                let sum: f64 = parts.iter().sum();
+                assert!(
+                    (sum - num(&row[k])).abs() <= 1e-12 * total_normal,
+                    "{scene} step {} {n}: {parts:?} against {}",
+                    i + 1,
+                    row[k]
+                );
+                for (c, part) in parts.iter().enumerate() {
+                    let json = report["steps"][i]["contacts"][c][n].as_f64().unwrap();
+                    assert!(
+                        (part - json).abs() <= 1e-15 * total_normal,
+                        "{scene} step {} {n}: {part} against {json}",
+                        i + 1
+                    );
+                }
+            }
+        }
+        let reactions = report["steps"][0]["reactions"].as_array().unwrap();
+        assert!(!reactions.is_empty());
+        for r in reactions {
+            let name = r["boundary"].as_str().unwrap();
+            assert!(stdout.contains(&format!("reaction \"{name}\"")), "{stdout}");
+            let rows = csv_columns(&out.join("steps.csv"), &[&format!("reaction_y_{name}")]);
+            let json = r["force"][1].as_f64().unwrap();
+            assert!((num(&rows[0][0]) - json).abs() <= 4.0 * f64::EPSILON * json.abs());
+        }
+    }
+    // sliding3d drags along y at its last step: its contact carries it.
+    let rows = csv_columns(
+        &dir.join("sliding3d.toml").join("steps.csv"),
+        &["tangential_force_2_box-floor"],
+    );
+    assert!(rows[2][0].parse::<f64>().unwrap() < -0.2, "{rows:?}");
 }

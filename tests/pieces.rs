@@ -1,4 +1,4 @@
-//! `[output] pieces` (issue 17, item 4): each subdomain's VTU piece with a
+//! `[output] pieces`: each subdomain's VTU piece with a
 //! `.pvtu` index per body and step, beside the gathered files, which stay
 //! byte for byte as without it. In one process (condensed and direct
 //! paths) here; under `mpirun -n 2` in tests/mpi.rs.

@@ -1,4 +1,4 @@
-//! `signorini run`'s progress (issue 16, item 2): on a terminal, the stages
+//! `signorini run`'s progress: on a terminal, the stages
 //! with their subdomains and steps on stderr; nothing with `--quiet` or when
 //! stderr is not a terminal; and the output files the same either way.
 //!

@@ -1,5 +1,5 @@
-//! Redundant constraints and slave nodes shared by two contacts (issue 7,
-//! item 4): detected and reported, exact duplicates eliminated (the problem
+//! Redundant constraints and slave nodes shared by two contacts:
+//! detected and reported, exact duplicates eliminated (the problem
 //! is unchanged), never a NaN or a silent singular solve.
 
 mod common;

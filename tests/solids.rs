@@ -1,5 +1,5 @@
 //! 3D and axisymmetric solids, second-order 2D elements and Gmsh meshes
-//! (VALIDATION.md §2, §3, §7): Hertz spheres against the formulas, the 3D
+//! (docs/theory/validation-cases.md §2, §3, §7): Hertz spheres against the formulas, the 3D
 //! patch test, condensed = direct and one subdomain = METIS parts in 3D and
 //! axisymmetric, and the VTU series read back.
 
@@ -317,7 +317,9 @@ fn vtu_series_reads_back_in_3d() {
             "displacement",
             "contact_pressure",
             "contact_status",
-            "tangential_force"
+            "tangential_force",
+            "tangential_force_vector",
+            "slip_vector"
         ]
     );
     assert_eq!(cd, ["subdomain", "stress", "von_mises"]);
@@ -381,4 +383,117 @@ fn frictionless_contact_nodes_are_condensed_on_their_normal_only() {
     );
     let d = converged(&friction, RunOptions::default());
     assert_eq!(d.report.interface_dofs, 3 * d.report.contact_points);
+}
+
+/// The value of point array `name` of a grid read back, `components` per
+/// point.
+fn point_array(g: &signorini_report::vtu::GridData, name: &str, components: u32) -> Vec<f64> {
+    let a = (g.point_data.iter())
+        .find(|a| a.name == name)
+        .unwrap_or_else(|| panic!("no {name}"));
+    assert_eq!(a.components, components, "{name}");
+    a.values.clone()
+}
+
+/// Friction in ParaView: the VTU files carry the tangential force and the
+/// slip as 3-vectors in global coordinates. examples/indent3d.toml with
+/// Coulomb friction (a rigid sphere: the normals turn from point to point),
+/// its slab in two subdomains with pieces: read back with vtkio, at every
+/// contact point of contact.csv the tangential vector is orthogonal to the
+/// point's normal, its norm is sqrt(t1² + t2²) of contact.csv, and it is
+/// t1 t_1 + t2 t_2 with the frame contact.csv gives; the slip vector
+/// likewise; every subdomain's piece holds the gathered file's values at
+/// its nodes, and the .pvtu index declares both arrays.
+#[test]
+fn the_vtu_files_carry_the_friction_force_and_slip_as_global_vectors() {
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("solids_friction_vectors");
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let text = example("indent3d.toml")
+        .replace("divisions = [40, 40, 2]", "divisions = [16, 16, 2]")
+        .replace(
+            "search_distance = 0.01\n",
+            "search_distance = 0.01\nfriction = { coulomb = 0.3 }\n",
+        )
+        .replace(
+            "material = \"steel\"\n",
+            "material = \"steel\"\nsubdomains = 2\n",
+        )
+        + "\n[output]\npieces = true\n";
+    assert!(text.contains("coulomb") && text.contains("subdomains = 2"));
+    let scene = dir.join("indent_friction.toml");
+    std::fs::write(&scene, text).unwrap();
+    let out = dir.join("out");
+    cli_run_ok(&scene, &out);
+    let gathered = signorini_report::vtu::read_vtu(&out.join("slab_1.vtu")).unwrap();
+    let tv = point_array(&gathered, "tangential_force_vector", 3);
+    let sv = point_array(&gathered, "slip_vector", 3);
+    let csv = std::fs::read_to_string(out.join("contact.csv")).unwrap();
+    let mut lines = csv.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let col = |n: &str| header.iter().position(|h| *h == n).unwrap();
+    let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
+    let num = |r: &Vec<&str>, n: &str| r[col(n)].parse::<f64>().unwrap();
+    let vec3 = |r: &Vec<&str>, p: &str| ["x", "y", "z"].map(|a| num(r, &format!("{p}_{a}")));
+    let dot = |a: [f64; 3], b: &[f64]| (0..3).map(|k| a[k] * b[k]).sum::<f64>();
+    let norm = |v: &[f64]| v.iter().map(|x| x * x).sum::<f64>().sqrt();
+    let largest = rows
+        .iter()
+        .fold(0.0f64, |m, r| m.max(num(r, "normal_force")));
+    let mut with_friction = 0;
+    for r in &rows {
+        let node = r[col("point")].parse::<usize>().unwrap();
+        let (n, t1, t2) = (vec3(r, "n"), vec3(r, "t1"), vec3(r, "t2"));
+        for (v, a, b) in [
+            (
+                &tv[3 * node..3 * node + 3],
+                "tangential_force",
+                "tangential_force_2",
+            ),
+            (&sv[3 * node..3 * node + 3], "slip", "slip_2"),
+        ] {
+            let (a, b) = (num(r, a), num(r, b));
+            let size = (a * a + b * b).sqrt();
+            let scale = size.max(1e-14 * largest);
+            assert!(
+                dot(n, v).abs() <= 1e-12 * scale,
+                "{node}: {v:?} against n {n:?}"
+            );
+            assert!(
+                (norm(v) - size).abs() <= 1e-12 * scale,
+                "{node}: |{v:?}| against {size}"
+            );
+            for k in 0..3 {
+                let framed = a * t1[k] + b * t2[k];
+                assert!((v[k] - framed).abs() <= 1e-12 * scale, "{node}: {v:?}");
+            }
+        }
+        // a curved master: normals that are not the slab's z axis
+        if norm(&tv[3 * node..3 * node + 3]) > 1e-3 * largest && n[2].abs() < 1.0 - 1e-6 {
+            with_friction += 1;
+        }
+    }
+    assert!(
+        with_friction >= 2,
+        "{with_friction} tilted points with friction"
+    );
+    let (index, sources) = signorini_report::vtu::read_pvtu(&out.join("slab_1.pvtu")).unwrap();
+    for name in ["tangential_force_vector", "slip_vector"] {
+        let a = index.point_data.iter().find(|a| a.name == name).unwrap();
+        assert_eq!(a.components, 3, "{name}");
+    }
+    assert_eq!(sources.len(), 2);
+    for s in sources {
+        let piece = signorini_report::vtu::read_vtu(&out.join(s)).unwrap();
+        let nodes = point_array(&piece, signorini_report::vtu::NODE_ARRAY, 1);
+        let (ptv, psv) = (
+            point_array(&piece, "tangential_force_vector", 3),
+            point_array(&piece, "slip_vector", 3),
+        );
+        for (i, &node) in nodes.iter().enumerate() {
+            let node = node as usize;
+            assert_eq!(ptv[3 * i..3 * i + 3], tv[3 * node..3 * node + 3]);
+            assert_eq!(psv[3 * i..3 * i + 3], sv[3 * node..3 * node + 3]);
+        }
+    }
 }

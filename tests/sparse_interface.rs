@@ -1,4 +1,4 @@
-//! The interface of many subdomains (issue 15, item 2; seed §8.3): S = Σ S_i
+//! The interface of many subdomains (course notes §8.3): S = Σ S_i
 //! never assembled, factorised over a tree of the subdomains (their dense
 //! blocks merged two by two, the glue eliminated at each merge), floating
 //! bodies by fixing DOFs instead of S + ρRRᵀ. Each run must equal the

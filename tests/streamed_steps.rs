@@ -1,4 +1,4 @@
-//! Many load steps in flat memory (issue 16, item 3): each step's fields
+//! Many load steps in flat memory: each step's fields
 //! stream to disk as the step ends, `[output] steps` chooses which steps
 //! write them, and a long cyclic run gives, at a chosen step, the fields of
 //! the run that keeps every step.

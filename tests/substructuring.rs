@@ -1,5 +1,5 @@
-//! Substructuring in one process (seed §8.3): bodies split into METIS parts
-//! glue exactly and reproduce the unsplit solution (VALIDATION.md §7).
+//! Substructuring in one process (course notes §8.3): bodies split into METIS parts
+//! glue exactly and reproduce the unsplit solution (docs/theory/validation-cases.md §7).
 
 mod common;
 

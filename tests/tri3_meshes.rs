@@ -1,4 +1,4 @@
-//! Hertz with `element = "tri3"` on the generated disks (VALIDATION.md §1-2):
+//! Hertz with `element = "tri3"` on the generated disks (docs/theory/validation-cases.md §1-2):
 //! the half disk (plane strain) and the quarter disk (axisymmetric) give p0
 //! within 2 %, like quad4, and a smooth pressure at the pole. Their quads were
 //! cut in two along mirrored diagonals on either side of the pole, which set

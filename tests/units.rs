@@ -1,4 +1,4 @@
-//! Units (issue 7, VALIDATION.md §8): the same scene in Pa and m and in MPa
+//! Units (docs/theory/validation-cases.md §8): the same scene in Pa and m and in MPa
 //! and mm gives the same answer after conversion (forces per unit thickness
 //! ×1000 from N/mm to N/m in plane strain, displacements ×1/1000), to 1e-10,
 //! because every tolerance of the solver is relative to the problem's own

@@ -5,7 +5,7 @@ out = []
 out.append(f'''# A stack of {n} steel blocks (1 x 1 x {h} m, hex8, {nx} x {nx} x {nz} cells each)
 # on a rigid floor, the top face of the top block pressed down by 0.1 mm:
 # a 3D multi-body assembly for the per-rank memory and time figures of the
-# README ("Ranks: memory and time per rank"). Every block rests on the one
+# docs/performance/subdomains.md ("Ranks: memory and time per rank"). Every block rests on the one
 # below (node_to_face, matching meshes), pinned in x and y at two corners;
 # the blocks between the top and the floor are held in z by contact alone.
 #

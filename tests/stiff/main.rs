@@ -1,4 +1,4 @@
-//! The stiff and extreme cases of VALIDATION.md §8 (issue 7): the quick suite
+//! The stiff and extreme cases of docs/theory/validation-cases.md §8: the quick suite
 //! of `signorini bench --suite stiff --quick` (crates/stiff/cases.toml),
 //! run once in process and asserted over the whole suite — no NaN anywhere, no
 //! `converged: true` with a certificate above its tolerance, every case meets
@@ -209,7 +209,7 @@ fn penalty_deviation_falls_like_one_over_k_until_round_off() {
 }
 
 /// Friction: held by friction alone, μ ≥ 1 and load reversal reproduce the
-/// exact reactions (equilibrium, VALIDATION.md §5) at every step.
+/// exact reactions (equilibrium, docs/theory/validation-cases.md §5) at every step.
 #[test]
 fn friction_reactions_are_exact_through_reversal_and_at_large_mu() {
     for r in family("held_by_friction") {

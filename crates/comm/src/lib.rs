@@ -1,5 +1,5 @@
 //! The transport between the ranks that own subdomains and the root that
-//! solves the interface problem (DESIGN.md §1–2). The pipeline is written once
+//! solves the interface problem (docs/architecture.md). The pipeline is written once
 //! against [`Transport`]; [`Local`] runs every subdomain in one process (no
 //! system packages needed), `Mpi` (cargo feature `mpi`, rsmpi) runs one rank
 //! per process under `mpirun`. Nothing else in the workspace knows MPI exists.

@@ -1,7 +1,7 @@
 //! The MPI transport (rsmpi 0.8), one process per rank. Variable-size
 //! buffers travel by `gather_varcount` after a gather of their lengths
-//! (notes §2.2). A panic on any rank calls `MPI_Abort`, so that the other
-//! ranks do not wait forever in a collective (notes §2.5, pitfall 6).
+//! (docs/architecture.md, "Libraries"). A panic on any rank calls `MPI_Abort`, so that the other
+//! ranks do not wait forever in a collective (docs/architecture.md, "Libraries").
 
 use std::cell::Cell;
 

@@ -1,4 +1,4 @@
-//! Static condensation of one subdomain on its interface (seed §8.2).
+//! Static condensation of one subdomain on its interface (course notes §8.2).
 //!
 //! The subdomain's DOFs are split into interior DOFs I and interface DOFs B
 //! (every DOF on a contact surface, or shared with another subdomain). With
@@ -12,7 +12,7 @@
 //! S u_B = F'_B + r_B with the Schur complement S = K_BB − K_BI K_II⁻¹ K_IB and
 //! the condensed load F' = F_B − K_BI K_II⁻¹ F_I.
 //!
-//! [`Condensed::new`] computes S by a partial factorisation (notes §1.4,
+//! [`Condensed::new`] computes S by a partial factorisation (docs/architecture.md, "Libraries",
 //! "method C"): the whole subdomain matrix is factorised by a supernodal
 //! Cholesky with the interior ordered first (by the cheaper of AMD and nested
 //! dissection on K_II, [`ordering`]) and the interface last, stopped once the
@@ -348,7 +348,7 @@ pub struct Condensed {
 impl Condensed {
     /// Factorises K (the subdomain stiffness on its free DOFs, both triangles
     /// stored) with the DOFs `interface` ordered last and forms
-    /// S = K_BB − K_BI K_II⁻¹ K_IB (notes §1.4, method C), the interior
+    /// S = K_BB − K_BI K_II⁻¹ K_IB (docs/architecture.md, "Libraries"), the interior
     /// ordered by the cheaper of AMD and nested dissection ([`ordering`]).
     pub fn new(
         k: SparseColMatRef<'_, usize, f64>,
@@ -536,7 +536,7 @@ impl Condensed {
 }
 
 /// The plain formula S = K_BB − K_BI K_II⁻¹ K_IB and F' = F_B − K_BI K_II⁻¹ F_I
-/// by a sparse Cholesky of K_II and multi-right-hand-side solves (notes §1.4,
+/// by a sparse Cholesky of K_II and multi-right-hand-side solves (docs/architecture.md, "Libraries",
 /// "method A"): the reference against which [`Condensed`] is tested.
 pub fn schur_complement_reference(
     k: SparseColMatRef<'_, usize, f64>,

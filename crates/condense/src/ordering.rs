@@ -1,5 +1,5 @@
 //! Fill-reducing ordering of a sparse symmetric matrix with some trailing
-//! rows kept last (the interface of a subdomain, notes §1.4 and §1.8), and
+//! rows kept last (the interface of a subdomain, docs/architecture.md, "Libraries"), and
 //! the symbolic supernodal Cholesky factor it gives.
 //!
 //! Two orderings of the leading `n_ordered` rows are available: approximate
@@ -12,7 +12,7 @@
 //! [`ND_WORTH_TRYING_FLOPS`] it also orders by nested dissection, builds both
 //! symbolic factors (cheap: no floating-point work) and keeps the one that
 //! needs fewer factorisation flops ([`FactorStats::flops`]; ties go to AMD).
-//! Measured (README, "3D at scale"): the Hertz sphere at 127k DOFs, 4.0× fewer
+//! Measured (docs/performance/scale-3d.md): the Hertz sphere at 127k DOFs, 4.0× fewer
 //! flops and half the factor with nested dissection (12k DOFs: 1.8× fewer
 //! flops, 10–15 % less CPU time); the 2D Hertz cylinder at 11k DOFs
 //! (AMD 1.7e8 flops), 1.8× fewer flops but no faster: METIS's ordering and

@@ -1,5 +1,5 @@
 //! The Schur complement read from a Cholesky factorisation stopped at the
-//! interface (notes §1.4, method C, without its last step).
+//! interface (docs/architecture.md, "Libraries": the Schur complement read from a partial factorisation, without its last step).
 //!
 //! With the interior I ordered first and the interface B last, a left-looking
 //! supernodal Cholesky of K first factorises every interior supernode, then

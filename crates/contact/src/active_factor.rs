@@ -1,5 +1,5 @@
 //! The Cholesky factor of the active block W_AA that follows the active set
-//! from one status iteration to the next (seed §3.3): when few statuses
+//! from one status iteration to the next (course notes §3.3): when few statuses
 //! change, removing a row (a rank-one update of the trailing factor) and
 //! appending one (a triangular solve) cost O(n²) each, against n³/3 for a
 //! new factorisation; when the set repeats, the factor is reused as it is.

@@ -1,4 +1,4 @@
-//! One driver for the status (active set) method: seed §3.3 for
+//! One driver for the status (active set) method: course notes §3.3 for
 //! frictionless contact, §4.5 for friction.
 //!
 //! Each iteration imposes the equations of the current statuses, solves, and
@@ -137,7 +137,7 @@ pub struct Driven<S, Sol> {
     pub left_cycle_at: Option<usize>,
 }
 
-/// The status method loop (seed §3.3, §4.5) from `statuses`, at most
+/// The status method loop (course notes §3.3, §4.5) from `statuses`, at most
 /// `max_iterations` solves; with `one_change` only the most violated status
 /// changes per iteration from the start.
 pub fn drive<R: StatusRule>(
@@ -194,7 +194,7 @@ pub fn drive<R: StatusRule>(
                 Some(_) => single = true,
             }
             if single {
-                // Flip-flop: one change per iteration (seed §3.3).
+                // Flip-flop: one change per iteration (course notes §3.3).
                 next = changed(&statuses, &changes, true);
             }
         }

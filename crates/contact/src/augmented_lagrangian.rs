@@ -1,10 +1,10 @@
-//! The augmented Lagrangian method (seed §3.4: "méthode mixte entre pénalité
+//! The augmented Lagrangian method (course notes §3.4: "méthode mixte entre pénalité
 //! et multiplicateur de Lagrange"), in the contact forces.
 //!
 //! In the displacements, the augmented Lagrangian of the contact problem
 //! with penalty r and multiplier λ_k is minimised in u, then the multiplier
 //! is updated: λ_{k+1} = max(0, λ_k − r g(u_{k+1})). With the displacements
-//! eliminated (S u = F' + Bᵀλ, g = Wλ + q, DESIGN.md §3) the inner
+//! eliminated (S u = F' + Bᵀλ, g = Wλ + q, docs/theory/contact-problem.md) the inner
 //! minimisation and the update become one piecewise-linear equation in the
 //! forces:
 //!
@@ -12,7 +12,7 @@
 //!   λ_{k+1} = max(0, λ_k − r (W λ_{k+1} + q)),
 //! ```
 //!
-//! i.e. λ_{k+1} solves LCP(W + I/r, q − λ_k/r): a penalty problem (seed §3.6
+//! i.e. λ_{k+1} solves LCP(W + I/r, q − λ_k/r): a penalty problem (course notes §3.6
 //! with k = r, see [`crate::penalty`]) whose penetration is corrected by the
 //! previous multiplier. It is the proximal-point iteration on the dual
 //! energy, λ_{k+1} = argmin_{λ≥0} ½λᵀWλ + qᵀλ + ‖λ − λ_k‖²/(2r): it

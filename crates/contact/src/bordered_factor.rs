@@ -1,5 +1,5 @@
 //! A dense square block factorised in its own storage, for the reduced
-//! systems of friction (seed §4.5 status iterations, §4.1.2 Newton steps):
+//! systems of friction (course notes §4.5 status iterations, §4.1.2 Newton steps):
 //! their leading n₁ × n₁ block A₁₁ (the unknowns whose columns carry only W
 //! and compliances) is symmetric positive definite, the trailing n₂ rows and
 //! columns (the normal forces of slipping points, whose columns also carry

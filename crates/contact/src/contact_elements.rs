@@ -1,4 +1,4 @@
-//! Contact elements (seed §7): zero-thickness elements between two layers
+//! Contact elements (course notes §7): zero-thickness elements between two layers
 //! of coincident nodes, each carrying the regularised laws of §3.6 (normal)
 //! and §4.1.3 / §6 (friction, with elastic asperities and roughness),
 //! solved "like plasticity": a return mapping at each element and Newton's

@@ -1,4 +1,4 @@
-//! The condensed contact problem in the forces alone (DESIGN.md §3).
+//! The condensed contact problem in the forces alone (docs/theory/contact-problem.md).
 //!
 //! On the interface Γ: S u = F' + Bᵀ λ, g = g0 + B u. With S factorised once,
 //! the Delassus operator W = B S⁻¹ Bᵀ and q = g0 + B S⁻¹ F' give g = W λ + q,
@@ -38,7 +38,7 @@ pub enum VarEquation {
     Ratio { of: usize, factor: f64 },
 }
 
-/// The Delassus operator of a run, W = B S⁺ Bᵀ (seed §3.1.3), with what
+/// The Delassus operator of a run, W = B S⁺ Bᵀ (course notes §3.1.3), with what
 /// every load step needs of it: the Cholesky factor of S (S + ρRRᵀ with
 /// floating bodies), X = S⁺ Bᵀ, the orthonormal kernel R and G = B R. S, B
 /// and R do not change over the steps: it is built once per run (one
@@ -312,7 +312,7 @@ impl DelassusProblem {
     }
 
     /// Adds a compliance to the diagonal of W (per row): the elastic slip of
-    /// a regularised friction law (seed §4.1.3), 1/k_e on tangential rows.
+    /// a regularised friction law (course notes §4.1.3), 1/k_e on tangential rows.
     pub fn add_compliance(&mut self, diag: &[f64]) {
         self.factor = None;
         for (i, &c) in diag.iter().enumerate() {
@@ -392,6 +392,20 @@ impl DelassusProblem {
             }
         }
         self.solve_equations(eqs)
+    }
+
+    /// The orthonormal basis R (n × k) of the floating bodies' modes.
+    pub(crate) fn kernel_basis(&self) -> &Mat<f64> {
+        &self.r
+    }
+
+    /// Replaces the modes' basis (n × k') by combinations of it, α reset to
+    /// zero: a transformed problem that eliminated some modes, or its
+    /// return to all of them before [`Self::displacement`].
+    pub(crate) fn set_kernel_basis(&mut self, r: Mat<f64>) {
+        self.last_alpha = vec![0.0; r.ncols()];
+        self.r = Arc::new(r);
+        self.factor = None;
     }
 
     /// The rigid-mode amplitudes α of the last solve.

@@ -1,8 +1,8 @@
-//! The fixed point on the slip threshold (seed §4.3), one driver for 2D and
+//! The fixed point on the slip threshold (course notes §4.3), one driver for 2D and
 //! 3D friction.
 //!
 //! With the thresholds g fixed, friction is a Tresca problem (a convex
-//! program on the condensed problem, seed §4.1.1). Coulomb's law makes the
+//! program on the condensed problem, course notes §4.1.1). Coulomb's law makes the
 //! threshold depend on the normal force, g = μ λ_n (§4.1.2): the fixed point
 //!
 //! g⁽ᵏ⁺¹⁾ ← μ λ_n(g⁽ᵏ⁾)
@@ -35,7 +35,7 @@ pub(crate) struct InnerSolve {
     pub reason: StopReason,
 }
 
-/// A solver of the Tresca problem with given thresholds (seed §4.1.1), the
+/// A solver of the Tresca problem with given thresholds (course notes §4.1.1), the
 /// inner problem of the fixed point.
 pub(crate) trait TrescaSolver {
     /// The thresholds of the points (2D: a force per point; 3D: the
@@ -66,7 +66,7 @@ pub(crate) struct ThresholdMap<'a, T> {
     pub kind: ThresholdMapKind,
 }
 
-/// Coulomb's residual (seed §4.3): max |Δλ_n| over the m points between the
+/// Coulomb's residual (course notes §4.3): max |Δλ_n| over the m points between the
 /// previous forces and the iterate.
 pub(crate) fn normal_change(previous: &[f64], next: &InnerSolve) -> f64 {
     (0..next.statuses.len()).fold(0.0f64, |a, p| {
@@ -113,7 +113,7 @@ impl FixedPoint {
 /// iterations (and, on a larger pile, broke down after 1 600).
 const STALLED_AFTER: usize = 100;
 
-/// The fixed point on the threshold (seed §4.3) from the iterate `start`:
+/// The fixed point on the threshold (course notes §4.3) from the iterate `start`:
 /// each outer iteration solves the Tresca problem with the thresholds
 /// `map.threshold` of the previous forces and gaps, until `map.residual`
 /// relative to the force scale max(force_scale, ‖λ‖∞) meets the tolerance.

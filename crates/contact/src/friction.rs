@@ -1,7 +1,7 @@
-//! Friction on the condensed problem (seed §4), 2D: each frictional contact
+//! Friction on the condensed problem (course notes §4), 2D: each frictional contact
 //! point has a normal force λ_n (row of B) and a tangential force λ_t (row of
 //! T); the "gap" of a tangential row is the slip increment Δs of the slave
-//! relative to the master along t since the previous load step (seed §4.4:
+//! relative to the master along t since the previous load step (course notes §4.4:
 //! the conditions hold on the totals, the slip on the increments).
 //!
 //! Laws, with the threshold g (Tresca, §4.1.1) or μ λ_n (Coulomb, §4.1.2):
@@ -16,7 +16,7 @@
 //!   solution with every contact point stuck (so that a body held by friction
 //!   alone can start: §4.3 notes that g = 0 cannot).
 //! - [`coulomb_status`]: the status method applied to friction (§4.5), slip
-//!   statuses imposing λ_t = ±μ λ_n directly; the seed warns that it
+//!   statuses imposing λ_t = ±μ λ_n directly; the course notes warn that it
 //!   converges badly, and the report counts its iterations.
 //! - [`coulomb_newton`]: the same fixed point with each Tresca problem
 //!   solved by the semi-smooth Newton method on the Alart–Curnier equations
@@ -24,7 +24,7 @@
 //!
 //! Regularised Coulomb (§4.1.3, elastic slip k_e) is the same problem with
 //! the compliance 1/k_e added to the tangential diagonal of W
-//! ([`crate::DelassusProblem::add_compliance`]); with roughness (seed §6,
+//! ([`crate::DelassusProblem::add_compliance`]); with roughness (course notes §6,
 //! linear kinematic hardening of the slip) the rough rows' unknown becomes
 //! the slider force ([`kinematic_hardening`]).
 
@@ -228,7 +228,7 @@ fn updates(
     out
 }
 
-/// The status rule of friction (seed §4.5, and the Tresca problems of
+/// The status rule of friction (course notes §4.5, and the Tresca problems of
 /// §4.3) over the [`crate::active_set`] driver: statuses open, stick, slip±,
 /// one equation per force variable ([`equations`]), the changes of
 /// [`updates`].
@@ -431,7 +431,7 @@ pub fn tresca_status(
     fixed_thresholds(problem, layout, initial, false, opts)
 }
 
-/// Tresca by a projection method (seed §3.2 on the forces; Dostál's MPRGP for
+/// Tresca by a projection method (course notes §3.2 on the forces; Dostál's MPRGP for
 /// simple bounds): min ½ rᵀ W r + qᵀ r over λ_n ≥ 0, −g ≤ λ_t ≤ g. Unlike the
 /// status method, the box lets an open point carry a tangential force up to
 /// its threshold (Tresca's law does not depend on the normal force); on
@@ -503,7 +503,7 @@ fn tresca_box(
     Ok((sol, statuses))
 }
 
-/// The status method applied to friction (seed §4.5): slipping Coulomb
+/// The status method applied to friction (course notes §4.5): slipping Coulomb
 /// points impose λ_t = ±μ λ_n in the same linear system as the contact
 /// conditions; statuses change until they repeat.
 pub fn coulomb_status(
@@ -515,7 +515,7 @@ pub fn coulomb_status(
     fixed_thresholds(problem, layout, initial, true, opts)
 }
 
-/// The 2D Tresca problems of a fixed point on the threshold (seed §4.3):
+/// The 2D Tresca problems of a fixed point on the threshold (course notes §4.3):
 /// the status method, from the statuses of the previous inner problem.
 struct StatusTresca<'a> {
     problem: &'a mut DelassusProblem,
@@ -593,7 +593,7 @@ impl TrescaSolver for StatusTresca<'_> {
     }
 }
 
-/// Coulomb by fixed point on the threshold g ← μ λ_n (seed §4.3), stopping
+/// Coulomb by fixed point on the threshold g ← μ λ_n (course notes §4.3), stopping
 /// when the normal forces no longer change. Without `start` (the previous
 /// step's forces), the first threshold comes from the solution in which
 /// every point initially closed sticks.
@@ -641,7 +641,7 @@ pub fn coulomb_newton(
     crate::semismooth_newton::friction_newton(problem, layout, start, opts, 2, true)
 }
 
-/// Norton–Hoff friction (seed §4.1.4, eq. 19) at the points whose law is
+/// Norton–Hoff friction (course notes §4.1.4, eq. 19) at the points whose law is
 /// [`FrictionLaw::NortonHoff`] (the others stuck): λ_t = −μ λ_n |Δs|^(ρ−1) Δs, 0 < ρ < 1, i.e. a slip
 /// with the tangential force of magnitude g = μ λ_n |Δs|^ρ opposing it (the
 /// slip measured in the scene's length unit; Coulomb as ρ → 0). Solved as a

@@ -1,4 +1,4 @@
-//! Friction in 3D on the condensed problem (seed §4.1.1, §4.1.2, §4.3): each
+//! Friction in 3D on the condensed problem (course notes §4.1.1, §4.1.2, §4.3): each
 //! frictional contact point has a normal force λ_n and a tangential force
 //! λ_t = (λ_t1, λ_t2) in its tangent plane; the "gaps" of the two tangential
 //! rows are the components (Δs1, Δs2) of the slip increment of the slave
@@ -47,7 +47,7 @@ use crate::ContactSolution;
 /// Friction in 3D: Tresca (and frictionless) points in one convex solve,
 /// Coulomb by the semi-smooth Newton method on Coulomb's law itself (no
 /// outer fixed point), and where that does not converge by the fixed point
-/// on the thresholds g ← μ λ_n (seed §4.3, [`coulomb_3d_fixed_point`]);
+/// on the thresholds g ← μ λ_n (course notes §4.3, [`coulomb_3d_fixed_point`]);
 /// see [`crate::semismooth_newton::friction_newton`] for the start, the
 /// stops and the rigid-mode amplitudes of floating bodies.
 pub fn friction_3d(
@@ -60,7 +60,7 @@ pub fn friction_3d(
 }
 
 /// Friction in 3D with Coulomb by the fixed point on the thresholds
-/// g ← μ λ_n alone (seed §4.3), each inner Tresca problem by the
+/// g ← μ λ_n alone (course notes §4.3), each inner Tresca problem by the
 /// semi-smooth Newton method: the reference of [`friction_3d`]'s direct
 /// method, and its fallback.
 pub fn coulomb_3d_fixed_point(

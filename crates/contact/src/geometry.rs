@@ -1,16 +1,16 @@
-//! Contact points of a contact pair (seed §2.4 and §3.1.2), in 2D and 3D.
+//! Contact points of a contact pair (course notes §2.4 and §3.1.2), in 2D and 3D.
 //!
 //! Each slave node is a contact point (the mid-side nodes of second-order
 //! slave edges included). Its normal n (unit, from master to slave) follows
-//! the rule of seed Fig. 3: the master's normal, the slave's (reversed), their
+//! the rule of course notes Fig. 3: the master's normal, the slave's (reversed), their
 //! average, or the direction joining the two points at rest. Its initial gap
-//! is g0 = n · (x_slave − x_master) (seed eq. 10, j = g0) with x_master the
+//! is g0 = n · (x_slave − x_master) (course notes eq. 10, j = g0) with x_master the
 //! closest point of the master (master and points rules) or the point where
 //! the line through x_slave along n meets a master facet facing it (slave and
 //! average rules); a node with no such point within the search distance
 //! (half the smaller body) is not a contact point, and [`Pairing`] counts it
 //! (see [`node_to_segment_pairing`]). The row of B is n·(u_slave − Σ N_i u_i) with
-//! N_i the master's shape functions at that point (seed §3.1.2, Fig. 6:
+//! N_i the master's shape functions at that point (course notes §3.1.2, Fig. 6:
 //! ½(u_A + u_B) at a mid-segment projection); they sum to 1.
 //!
 //! Master surfaces:
@@ -44,7 +44,7 @@ use signorini_mesh::{Mesh, Surface};
 use crate::ContactError;
 use search::{is_3d, MasterIndex, NodeIndex};
 
-/// Rule that chooses the contact normal (seed §2.4, Fig. 3).
+/// Rule that chooses the contact normal (course notes §2.4, Fig. 3).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum NormalRule {
     Master,
@@ -302,7 +302,7 @@ pub const SEARCH_FRACTION: f64 = 0.5;
 /// Why so: the pairing itself is decided by the normal rule (the slave and
 /// average rules take the master facet the normal meets, facing the node);
 /// the search distance only keeps a node from being paired across the model.
-/// A pair half a body apart has no common normal in the sense of seed §2.4
+/// A pair half a body apart has no common normal in the sense of course notes §2.4
 /// ("le jeu se doit d'être petit", the two normals must be close), and its
 /// gap cannot close in a small-perturbation solution. A tighter bound, in
 /// element sizes, would be a risk: a node left out is not held at all, and
@@ -539,7 +539,7 @@ fn surface_point(index: &MasterIndex<'_>, hit: &search::Hit) -> MasterPoint {
 }
 
 /// The contact normal and the master point of slave node `s` at x (outward
-/// normal `n_s`) by the rule (seed §2.4, Fig. 3):
+/// normal `n_s`) by the rule (course notes §2.4, Fig. 3):
 /// - master: the closest master point and the master's normal there;
 /// - points: the closest master point, n along the two points;
 /// - slave: n = −n_s, the master point where the line x − g n meets the
@@ -598,7 +598,7 @@ fn pair(
     Ok(paired.ok_or(Unpaired::Missed))
 }
 
-/// Node-to-segment contact points (seed §3.1.2, Fig. 6), in 2D and 3D (where
+/// Node-to-segment contact points (course notes §3.1.2, Fig. 6), in 2D and 3D (where
 /// it is node-to-face, [`node_to_face`] is the same function): each slave
 /// node is paired with a point of the master surface (or of the rigid plane
 /// or sphere) by the normal rule (see [`pair`]); the row's master weights
@@ -689,7 +689,7 @@ pub fn node_to_face(
     node_to_segment(slave_mesh, slave_surface, master, rule)
 }
 
-/// Node-to-node contact points for matching meshes (seed §3.1.2, Fig. 4), in
+/// Node-to-node contact points for matching meshes (course notes §3.1.2, Fig. 4), in
 /// 2D and 3D: each slave node faces the nearest master node (R*-tree search;
 /// ties to the lowest node number); the pair must coincide within a relative
 /// tolerance (10⁻⁶) of the slave body's size unless a gap separates them
@@ -811,7 +811,7 @@ fn node_to_node_point(
     }
 }
 
-/// The contact elements of seed §7 between two surfaces whose nodes
+/// The contact elements of course notes §7 between two surfaces whose nodes
 /// coincide: each slave node pairs with the master node at the same place
 /// (within 10⁻⁶ of the slave body's size), as a node-to-node point with a
 /// zero initial gap. A slave node with no coincident master node is an

@@ -1,4 +1,4 @@
-//! The factor of S = Σ_i S_i (seed §1.4, §8.3) over a tree of subdomains:
+//! The factor of S = Σ_i S_i (course notes §8.3; docs/architecture.md, "Libraries") over a tree of subdomains:
 //! a multifrontal Cholesky whose fronts are the subdomains' dense Schur
 //! complements, merged two by two.
 //!

@@ -1,5 +1,5 @@
 //! What every contact algorithm on the condensed problem shares: the LCP in
-//! the contact forces (DESIGN.md §3), λ ≥ 0, w = W λ + q ≥ 0, λ·w = 0, with
+//! the contact forces (docs/theory/contact-problem.md), λ ≥ 0, w = W λ + q ≥ 0, λ·w = 0, with
 //! W the Delassus operator (symmetric positive definite, or semi-definite
 //! with redundant constraints) and q the gaps of the unconstrained solution;
 //! the stopping test and the starts the methods share. What a method returns
@@ -105,7 +105,7 @@ pub(crate) enum DualStart {
     Iterate { report: SolverReport, r0: f64 },
 }
 
-/// The start shared by the dual methods of seed §3.2: checks the input,
+/// The start shared by the dual methods of course notes §3.2: checks the input,
 /// answers the empty problem and a λ = 0 that already satisfies the
 /// tolerance, and otherwise gives the report to iterate with.
 pub(crate) fn dual_start(

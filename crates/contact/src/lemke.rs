@@ -1,6 +1,6 @@
-//! Lemke's complementary pivoting (seed §3.4: "méthode directe de pivotage
+//! Lemke's complementary pivoting (course notes §3.4: "méthode directe de pivotage
 //! où les conditions unilatérales sont prises en compte pendant la
-//! factorisation"; DESIGN.md §4) for the frictionless LCP(W, q),
+//! factorisation"; docs/theory/algorithms.md) for the frictionless LCP(W, q),
 //!
 //! ```text
 //! λ ≥ 0,   w = W λ + q ≥ 0,   λ·w = 0.

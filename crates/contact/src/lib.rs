@@ -2,10 +2,10 @@
 //! algorithms that solve the contact problem, on the condensed problem
 //! (Delassus operator) or on the whole sparse stiffness (direct path).
 //!
-//! Conventions (DESIGN.md §3): the normal n points from master to slave; the
+//! Conventions (docs/theory/contact-problem.md): the normal n points from master to slave; the
 //! gap is g = g0 + B u with B the row operator n·(u_slave − u_master
 //! interpolated); non-penetration g ≥ 0; the contact force λ ≥ 0 is the
-//! compressive normal force on the slave (the seed's F_n = −λ ≤ 0, §2.1);
+//! compressive normal force on the slave (the course notes' F_n = −λ ≤ 0, §2.1);
 //! complementarity λ g = 0.
 //!
 //! The contact crate owns the contact geometry (module `geometry`) and the

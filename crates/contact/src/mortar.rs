@@ -5,7 +5,7 @@
 //! spaces for the Lagrange multiplier", SINUM 38 (2000); A. Popp, M. Gee,
 //! W. Wall, "A finite deformation mortar contact formulation using a
 //! primal–dual active set strategy", IJNME 79 (2009), §3–4; the project's
-//! notes `shared/notes/mortar.md`.
+//! docs/theory/mortar.md.
 //!
 //! The multiplier λ_j of slave node j is a pressure with shape function Φ_j.
 //! Over the part Γ_c of the slave surface that projects onto the master:

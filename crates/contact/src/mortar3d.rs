@@ -7,7 +7,7 @@
 //! A. Popp, M. Gitterle, M. Gee, W. Wall, "A dual mortar approach for 3D
 //! finite deformation contact with consistent linearization", IJNME 83
 //! (2010) §3–4; B. Wohlmuth, SINUM 38 (2000); the project's notes
-//! `shared/notes/mortar.md`.
+//! docs/theory/mortar.md.
 //!
 //! The operators are those of the 2D module, over the slave surface Γ_c
 //! that faces the master:

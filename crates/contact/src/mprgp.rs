@@ -8,11 +8,11 @@
 //! ```
 //!
 //! with l_i ∈ [−∞, ∞), u_i ∈ (−∞, ∞], l_i ≤ u_i (l_i = u_i fixes x_i) and W
-//! symmetric positive semi-definite. The projection methods of the seed
+//! symmetric positive semi-definite. The projection methods of the course notes
 //! (§3.2) work on the forces because their bounds are simple there; two
 //! problems of the contact solver have this form:
 //!
-//! - the frictionless LCP(W, q) of DESIGN.md §3 is the box (0, ∞): x = λ the
+//! - the frictionless LCP(W, q) of docs/theory/contact-problem.md is the box (0, ∞): x = λ the
 //!   contact forces, g = w the gaps ([`mprgp`], [`mprgp_from`]);
 //! - Tresca friction, normal forces λ_n ≥ 0 and tangential forces
 //!   −s ≤ λ_t ≤ s with the Tresca threshold s ([`mprgp_box`], called by

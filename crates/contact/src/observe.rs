@@ -1,5 +1,5 @@
 //! An observer of the iterative contact methods: each iteration of the
-//! status driver ([`crate::active_set::drive`], seed §3.3 and §4.5) and of
+//! status driver ([`crate::active_set::drive`], course notes §3.3 and §4.5) and of
 //! the semi-smooth Newton method on the friction law reports what it is at,
 //! so that a caller can show a long solve's progress.
 //!

@@ -1,7 +1,7 @@
-//! The regularised contact law (seed §3.6) and the status method with the
-//! active constraints imposed by penalty (seed §3.3).
+//! The regularised contact law (course notes §3.6) and the status method with the
+//! active constraints imposed by penalty (course notes §3.3).
 //!
-//! # Regularised law (seed §3.6)
+//! # Regularised law (course notes §3.6)
 //!
 //! A finite normal stiffness k_p (force per length) replaces the rigid
 //! non-penetration: a penetration −g_p is allowed ("écrasement des
@@ -38,7 +38,7 @@
 //! max(−g) = max(λ_p/k_p) is O(1/k). [`penetration_warning`] flags a
 //! penetration that is a sizeable fraction of the element size.
 //!
-//! # Status method with penalty (seed §3.3)
+//! # Status method with penalty (course notes §3.3)
 //!
 //! Step 1 of the status method imposes g_p = 0 on the active points "par
 //! multiplicateur de Lagrange ou par pénalité". [`status_with_penalty`] is the
@@ -67,7 +67,7 @@ pub fn uniform_stiffness(w: &Mat<f64>, factor: f64) -> Vec<f64> {
     vec![factor / d; w.nrows()]
 }
 
-/// Solves the regularised contact law λ = K max(0, −(Wλ + q)) of seed §3.6
+/// Solves the regularised contact law λ = K max(0, −(Wλ + q)) of course notes §3.6
 /// exactly, by the active-set Newton iteration on (W_AA + K_A⁻¹) λ_A = −q_A
 /// starting from A = {p : q_p < 0} (see the module documentation).
 ///
@@ -114,7 +114,7 @@ pub fn penalty(
     Ok(ContactSolution::from_forces(w, q, out.lambda, report))
 }
 
-/// The status method of seed §3.3 with the active constraints imposed by a
+/// The status method of course notes §3.3 with the active constraints imposed by a
 /// penalty of stiffness `k` (per point) instead of Lagrange multipliers:
 /// on the active set, (W_AA + K_A⁻¹) λ_A = −q_A; an active point whose
 /// force is a tension is released, an inactive point that penetrates is
@@ -182,7 +182,7 @@ pub fn status_with_penalty(
 
 /// A message naming the worst point when some penetration −g_p exceeds
 /// `fraction` × `element_size[p]` (the penalty is too soft for the mesh:
-/// raise k, seed §3.6); `None` otherwise. Points with a non-finite gap or a
+/// raise k, course notes §3.6); `None` otherwise. Points with a non-finite gap or a
 /// non-positive element size are skipped.
 pub fn penetration_warning(g: &[f64], element_size: &[f64], fraction: f64) -> Option<String> {
     debug_assert_eq!(g.len(), element_size.len());
@@ -203,7 +203,7 @@ pub fn penetration_warning(g: &[f64], element_size: &[f64], fraction: f64) -> Op
             .filter(|(&gp, &h)| h > 0.0 && -gp > fraction * h)
             .count();
         format!(
-            "penetration {:.3e} at contact point {p} is {:.1}% of its element size {:.3e} (threshold {:.1}%, {count} point(s) above it): the penalty stiffness is too low for this mesh (seed §3.6)",
+            "penetration {:.3e} at contact point {p} is {:.1}% of its element size {:.3e} (threshold {:.1}%, {count} point(s) above it): the penalty stiffness is too low for this mesh (course notes §3.6)",
             -g[p],
             100.0 * ratio,
             element_size[p],

@@ -1,4 +1,4 @@
-//! Projection methods on the forces (seed §3.2, DESIGN.md §4): the projected
+//! Projection methods on the forces (course notes §3.2, docs/theory/algorithms.md): the projected
 //! gradient and the projected conjugate gradient for the frictionless
 //! LCP(W, q),
 //!
@@ -12,7 +12,7 @@
 //! min f(λ) = ½ λᵀ W λ + qᵀ λ   subject to   λ ≥ 0,
 //! ```
 //!
-//! whose gradient is the gap, ∇f(λ) = W λ + q = w. The seed (§3.2) projects
+//! whose gradient is the gap, ∇f(λ) = W λ + q = w. The course notes (§3.2) project
 //! the displacements onto H = {B u ≥ j}, which needs B diagonalised; on the
 //! forces the bounds are simple (λ_p ≥ 0) and the projection is the clamp
 //! P(λ)_p = max(λ_p, 0).
@@ -38,7 +38,7 @@ use crate::ContactError;
 /// Armijo constant of the sufficient-decrease test on the projection arc.
 const ARMIJO: f64 = 1e-4;
 
-/// Projected gradient (seed §3.2) on the forces.
+/// Projected gradient (course notes §3.2) on the forces.
 ///
 /// Iteration k, with g = W λᵏ + q (the gaps) and the free part of the
 /// residual r = −g restricted to the points that may move (r_p = 0 where
@@ -303,7 +303,7 @@ impl<'a> Projection<'a> {
     }
 }
 
-/// Projected conjugate gradient (seed §3.2 with CG in place of the gradient;
+/// Projected conjugate gradient (course notes §3.2 with CG in place of the gradient;
 /// Polyak's method with projection, in the spirit of Moré & Toraldo).
 ///
 /// The free set F = {p : λ_p > 0 or g_p < 0} (points that may move; its
@@ -580,7 +580,7 @@ pub(crate) mod test_support {
         }
     }
 
-    /// The status method (seed §3.3) on (W, q): the reference answer.
+    /// The status method (course notes §3.3) on (W, q): the reference answer.
     pub fn reference(w: &Mat<f64>, q: &[f64]) -> Vec<f64> {
         status_solution(w, q, 1e-14)
     }

@@ -1,5 +1,5 @@
 //! The dense Cholesky factorisation of the root's SPD blocks (W_AA of the
-//! status method, seed §3.3; the symmetric part of the friction blocks,
+//! status method, course notes §3.3; the symmetric part of the friction blocks,
 //! §4.5), right-looking and recursive: with A split at about n/2,
 //!
 //! ```text

@@ -1,4 +1,4 @@
-//! The linear system of one status iteration (seed §3.3 for contact, §4.5
+//! The linear system of one status iteration (course notes §3.3 for contact, §4.5
 //! for friction), reduced to the forces its statuses leave unknown; and the
 //! same reduction of a semi-smooth Newton step on the Alart–Curnier
 //! equations ([`solve_newton`], for [`crate::semismooth_newton`]).

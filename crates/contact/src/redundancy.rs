@@ -1,4 +1,4 @@
-//! Redundant contact constraints (issue 7, item 4).
+//! Redundant contact constraints.
 //!
 //! Two contact points whose gap rows are parallel and point the same way,
 //! g₁ = a₁ + c₁ r·u and g₂ = a₂ + c₂ r·u with c₁, c₂ > 0, are one constraint:

@@ -1,4 +1,4 @@
-//! The contact solvers on the condensed problem LCP(W, q) (DESIGN.md §4),
+//! The contact solvers on the condensed problem LCP(W, q) (docs/theory/algorithms.md),
 //! chosen by name: one table ([`METHODS`]) that the scene's plan, the
 //! pipeline's root solve, `signorini local` and the benchmarks read, so that
 //! no other place branches on a method's name.
@@ -28,14 +28,14 @@ use crate::{ContactError, DelassusProblem};
 pub enum FrictionSupport {
     /// Frictionless contact only.
     None,
-    /// Tresca and Coulomb friction by the status methods of seed §4 (the
+    /// Tresca and Coulomb friction by the status methods of course notes §4 (the
     /// Coulomb fixed point, the friction status method).
     StatusMethods,
     /// Tresca friction only, as a box-constrained QP (MPRGP for simple bounds).
     TrescaBox,
 }
 
-/// How the status method imposes the constraints of its active set (seed §3.3).
+/// How the status method imposes the constraints of its active set (course notes §3.3).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Constraints {
     Multipliers,
@@ -307,7 +307,7 @@ impl Algorithm {
     /// [`crate::smalbe`]) by SMALBE with this method as the bound-constrained
     /// inner solver (warm-started where it can be, as MPRGP in Dostál's
     /// SMALBE-M). The penalty methods solve their regularised law,
-    /// LCP(W + K⁻¹, q) with K the penalty stiffness per point (seed §3.6),
+    /// LCP(W + K⁻¹, q) with K the penalty stiffness per point (course notes §3.6),
     /// exactly inside SMALBE (the status method); their gaps are those of W.
     pub fn solve_constrained(
         self,

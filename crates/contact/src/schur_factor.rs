@@ -1,4 +1,4 @@
-//! The interface stiffness S = Σ_i S_i on Γ (seed §1.4, §8.3) and the
+//! The interface stiffness S = Σ_i S_i on Γ (course notes §8.3; docs/architecture.md, "Libraries") and the
 //! factor of it the Delassus operator applies.
 //!
 //! One subdomain's Schur complement S_i is dense on its own interface DOFs:
@@ -11,7 +11,7 @@
 //! trailing block L_CC of either factor.
 //!
 //! Floating bodies make S singular with a known kernel R (orthonormal, the
-//! rigid modes on Γ). The dense factor keeps the seed's regularisation
+//! rigid modes on Γ). The dense factor keeps the regularisation
 //! S + ρRRᵀ (its inverse is a generalised inverse of S). The tree factor
 //! cannot add the dense RRᵀ: it uses the generalised inverse of FETI's
 //! "fixing DOFs" (Farhat & Roux; Brzobohatý et al.): k DOFs J chosen so

@@ -2,7 +2,7 @@
 //! for friction with fixed thresholds, 2D and 3D; for Coulomb on Coulomb's
 //! law itself (thresholds μ λ_n of the iterate, `coulomb::solve_coulomb`), with
 //! the fixed point on the threshold around the fixed-threshold method as
-//! its fallback (seed §4.1.2, §4.3).
+//! its fallback (course notes §4.1.2, §4.3).
 //!
 //! Unknowns: the forces λ (normal rows, then each point's one or two
 //! tangential rows, [`FrictionLayout`]) and the rigid-mode amplitudes α of
@@ -342,7 +342,7 @@ impl<'a> Inner<'a> {
     /// The Alart–Curnier rows of one point's tangential force λ_t (one or
     /// two rows) with semi-axes `g`: stuck (Δs = 0) for an infinite bound,
     /// zero for a zero bound, else, scaled to the unit disc,
-    /// ν = D⁺ λ_t, z = ν − c D Δs, F = λ_t − D proj(z) (seed §4.1.2).
+    /// ν = D⁺ λ_t, z = ν − c D Δs, F = λ_t − D proj(z) (course notes §4.1.2).
     /// `normal`: Coulomb's law itself, (normal row, ∂g/∂λ_n) (see
     /// [`slip_rows`]).
     #[allow(clippy::too_many_arguments)]

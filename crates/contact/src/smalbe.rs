@@ -5,7 +5,7 @@
 //! dual problem of TFETI, Dostál, Horák & Kučera 2006).
 //!
 //! A floating body makes the interface stiffness S singular with kernel R
-//! (DESIGN.md §3, [`crate::delassus`]). Its contact forces must balance its
+//! (docs/theory/contact-problem.md, [`crate::delassus`]). Its contact forces must balance its
 //! load on every rigid mode, Rᵀ(F' + Bᵀλ) = 0, i.e. Gᵀλ = e with G = B R and
 //! e = −Rᵀ F'; the problem in the forces is the quadratic programme
 //!
@@ -15,7 +15,7 @@
 //!
 //! whose KKT conditions are the Signorini conditions with the gaps
 //! g = W λ + q + G α ≥ 0, λ ≥ 0, λ·g = 0: α, the multiplier of the equality,
-//! is the amplitude of the rigid motion of the body (seed §3.2 for the
+//! is the amplitude of the rigid motion of the body (course notes §3.2 for the
 //! projection methods on the forces, §3.4 for the augmented Lagrangian).
 //!
 //! SMALBE keeps the bound constraints in the inner problem and treats the

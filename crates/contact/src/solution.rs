@@ -253,14 +253,14 @@ pub enum StopReason {
         residual: f64,
         tolerance: f64,
     },
-    /// The status method: no status changed (seed §3.3).
+    /// The status method: no status changed (course notes §3.3).
     StatusesRepeated { iterations: usize },
     /// The status method cycled even with one status change per iteration.
     Cycling { iteration: usize },
     /// The status method (or the friction status method) reached its
     /// iteration limit.
     StatusLimit { limit: usize },
-    /// The regularised law (seed §3.6) solved exactly: its active set repeated.
+    /// The regularised law (course notes §3.6) solved exactly: its active set repeated.
     RegularisedSolved {
         active: usize,
         iterations: usize,
@@ -292,7 +292,7 @@ pub enum StopReason {
         by: PolishSolve,
     },
     /// The friction status method (or Tresca's): no status changed after
-    /// `solves` status solves (seed §4.5).
+    /// `solves` status solves (course notes §4.5).
     FrictionStatusesRepeated { solves: usize },
     /// The friction status method cycled even with one status change per
     /// iteration.
@@ -309,7 +309,7 @@ pub enum StopReason {
     /// The fixed point on the threshold stopped on an inner Tresca problem
     /// that was not solved.
     InnerTresca(Box<StopReason>),
-    /// The fixed point on the threshold (seed §4.3) met the tolerance.
+    /// The fixed point on the threshold (course notes §4.3) met the tolerance.
     FixedPointReached {
         map: ThresholdMapKind,
         iterations: usize,

@@ -1,11 +1,11 @@
-//! The status (active set) method, seed §3.3.
+//! The status (active set) method, course notes §3.3.
 //!
 //! 1. impose g_p = 0 on the points of the active set A (by Lagrange
 //!    multipliers), 2. solve, 3. check the statuses: a point of A whose force
 //!    λ_p is a tension (λ_p < 0) is released; a point outside A that
 //!    penetrates (g_p < 0) is imposed. Loop on 2–3 until the statuses repeat.
 //!
-//! The seed proves convergence only when one status changes per iteration
+//! The course notes prove convergence only when one status changes per iteration
 //! ([`StatusVariant::Single`]); changing all at once ([`StatusVariant::All`])
 //! is faster in practice but may flip-flop at the edge of a coarse contact
 //! zone, or on a stiff body pressed into a soft one (a Delassus operator
@@ -92,7 +92,7 @@ impl StatusOptions {
     }
 }
 
-/// The rule of seed §3.3 over the [`crate::active_set`] driver: a point's
+/// The rule of course notes §3.3 over the [`crate::active_set`] driver: a point's
 /// status is whether it is active (g_p = 0 imposed); an active point in
 /// tension is released, an inactive point that penetrates is imposed.
 struct Signorini<'a> {
@@ -199,7 +199,7 @@ fn active_points(active: &[bool]) -> Vec<usize> {
     (0..active.len()).filter(|&p| active[p]).collect()
 }
 
-/// Runs the status method of seed §3.3 on `problem`. The answer's
+/// Runs the status method of course notes §3.3 on `problem`. The answer's
 /// `active` is the last active set, its report counts one operator
 /// application per iteration (one linear solve) and has no residual
 /// history; `method` is "status".

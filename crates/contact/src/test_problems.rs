@@ -67,7 +67,7 @@ pub fn lcp_problem(w: &Mat<f64>, q: &[f64]) -> DelassusProblem {
     p
 }
 
-/// The forces of LCP(W, q) by the status method (seed §3.3, all statuses
+/// The forces of LCP(W, q) by the status method (course notes §3.3, all statuses
 /// at once) to the relative `tolerance`; asserts that it converged.
 pub fn status_solution(w: &Mat<f64>, q: &[f64], tolerance: f64) -> Vec<f64> {
     let m = q.len();
@@ -88,7 +88,7 @@ pub fn status_solution(w: &Mat<f64>, q: &[f64], tolerance: f64) -> Vec<f64> {
     out.forces
 }
 
-/// The exact solution by the status method (seed §3.3).
+/// The exact solution by the status method (course notes §3.3).
 pub fn exact_solution(w: &Mat<f64>, q: &[f64]) -> Vec<f64> {
     status_solution(w, q, 1e-13)
         .iter()

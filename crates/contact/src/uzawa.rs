@@ -1,8 +1,8 @@
 //! Uzawa's algorithm on the dual problem: the method of Lagrange multipliers
-//! of seed §3.4 ("le problème unilatéral est reporté sur les efforts par
+//! of course notes §3.4 ("le problème unilatéral est reporté sur les efforts par
 //! dualisation").
 //!
-//! Eliminating the displacements (S u = F' + Bᵀλ, DESIGN.md §3) leaves the
+//! Eliminating the displacements (S u = F' + Bᵀλ, docs/theory/contact-problem.md) leaves the
 //! dual problem in the contact forces alone,
 //!
 //! ```text

@@ -8,7 +8,7 @@
 //! displacement formulation asks for `div u ≈ 0` at every Gauss point: a
 //! bilinear Q4 or trilinear Hex8 field meets that many constraints only by
 //! hardly moving (locking; the contact patch of a Hertz cylinder comes out
-//! 25 % too narrow at ν = 0.4999, see the README). B-bar keeps the
+//! 25 % too narrow at ν = 0.4999, see docs/theory/elements.md). B-bar keeps the
 //! deviatoric part of `B` and replaces its volumetric part by the element
 //! mean, so the incompressibility is enforced once per element:
 //!

@@ -2,7 +2,7 @@
 //! §3.1.1, "Discrétisation éléments finis": `u = Σ φ_i u_i`, and §3.1.3: the
 //! discrete energy `½ uᵀ K u − uᵀ F` gives `K u = F`).
 //!
-//! Conventions (DESIGN.md §3): small strain, linear elastic, isotropic (E, ν);
+//! Conventions (docs/theory/contact-problem.md): small strain, linear elastic, isotropic (E, ν);
 //! any consistent set of units. Models ([`Model`]): 2D plane strain and plane
 //! stress (thickness 1), axisymmetric (`x = r ≥ 0`, `y = z`, every integral
 //! weighted by `2π r`: stiffness, forces and measures of the full 360° ring),

@@ -1,4 +1,4 @@
-//! Structured mesh generators (SCENE.md, "Mesh generators").
+//! Structured mesh generators (docs/reference/scene-format.md, "Mesh generators").
 //!
 //! Every generator names its boundary parts; those names are the surfaces of the
 //! body. `grading` is the ratio of the largest to the smallest element size along

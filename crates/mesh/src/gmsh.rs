@@ -405,7 +405,32 @@ fn physical_names(bytes: &[u8]) -> Result<HashMap<(usize, i32), String>, MeshErr
             .strip_prefix('"')
             .and_then(|n| n.strip_suffix('"'))
             .unwrap_or(name);
-        names.insert((d, tag.abs()), name.to_string());
+        if let Some(before) = names.insert((d, tag.abs()), name.to_string()) {
+            return Err(invalid(format!(
+                "$PhysicalNames names the physical group of dimension {d} and tag {} twice \
+                 (\"{before}\" and \"{name}\"): give each group one name",
+                tag.abs()
+            )));
+        }
     }
+    check_names_unique(&names)?;
     Ok(names)
+}
+
+/// Two physical groups of one dimension under one name would be read as one
+/// surface or region: refused, naming both tags.
+fn check_names_unique(names: &HashMap<(usize, i32), String>) -> Result<(), MeshError> {
+    let mut seen: HashMap<(usize, &str), i32> = HashMap::new();
+    let mut sorted: Vec<_> = names.iter().filter(|(_, n)| !n.is_empty()).collect();
+    sorted.sort();
+    for (&(d, tag), name) in sorted {
+        if let Some(first) = seen.insert((d, name.as_str()), tag) {
+            return Err(invalid(format!(
+                "$PhysicalNames names two physical groups of dimension {d} \"{name}\" \
+                 (tags {first} and {tag}): they would be read as one group; give them \
+                 different names, or make them one physical group in Gmsh"
+            )));
+        }
+    }
+    Ok(())
 }

@@ -1,5 +1,5 @@
 //! Meshes of the deformable bodies: nodes, cells, and the named boundary
-//! surfaces that loads and contact pairs refer to (SCENE.md, "Mesh generators").
+//! surfaces that loads and contact pairs refer to (docs/reference/scene-format.md, "Mesh generators").
 //!
 //! Coordinates are stored as `[f64; 3]` whatever the dimension (z = 0 in 2D), so
 //! that 2D and 3D share one type. A surface is a list of boundary facets (2-node

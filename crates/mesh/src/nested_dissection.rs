@@ -7,7 +7,7 @@
 //! the larger fill a minimum-degree ordering leaves on such meshes.
 //!
 //! `metis` 0.2 does not wrap `METIS_NodeND`; it is called through `metis-sys`
-//! (the same vendored METIS, notes §3), holding the lock that every METIS
+//! (the same vendored METIS, docs/architecture.md, "Libraries"), holding the lock that every METIS
 //! call in this crate holds ([`crate::partition`]), with a fixed seed.
 //! METIS compresses vertices with identical adjacency (the `dim` DOFs of a
 //! node) before ordering (its default `METIS_OPTION_COMPRESS`), so a DOF graph

@@ -1,7 +1,7 @@
 //! The Tri3 meshes of the disks: `half_disk` is the mirror image of itself
 //! about the pole's radius, and every node of the arc has the same kind of star
 //! (the pole included), so that no node of a contact zone at the pole is set
-//! apart from its neighbours (VALIDATION.md §1-2).
+//! apart from its neighbours (docs/theory/validation-cases.md §1-2).
 
 use signorini_mesh::generators::{box_mesh, half_disk, quarter_disk, rectangle, BoxSide, RectSide};
 use signorini_mesh::{CellKind, Mesh};

@@ -1,5 +1,5 @@
-//! The run report (SCENE.md, "The report"): report.json, contact.csv, and the
-//! analytic references a run is compared with (VALIDATION.md).
+//! The run report (docs/reference/scene-format.md, "The report"): report.json, contact.csv, and the
+//! analytic references a run is compared with (docs/theory/validation-cases.md).
 //!
 //! The report crate owns the output files, the terminal summary and the
 //! analytic references; it must not know the scene format or the solver.
@@ -9,6 +9,7 @@ pub mod pieces;
 pub mod plot;
 pub mod reference;
 pub mod stale;
+mod steps_csv;
 pub mod stream;
 pub mod vtu;
 
@@ -17,6 +18,7 @@ use std::io::Write;
 use std::path::Path;
 
 use serde::Serialize;
+pub use steps_csv::write_steps_csv;
 
 /// One load step of the run.
 #[derive(Debug, Clone, Serialize)]
@@ -58,6 +60,49 @@ pub struct StepReport {
     /// right-hand side and the algorithm; the Delassus operator, built once
     /// per run, is `timings_s.delassus`).
     pub solve_s: f64,
+    /// The reaction of every prescribed-displacement boundary entry, in
+    /// scene order.
+    pub reactions: Vec<Reaction>,
+    /// Every contact pair's sums, in scene order.
+    pub contacts: Vec<StepContact>,
+}
+
+/// The reaction of one prescribed-displacement boundary entry at one step:
+/// the force its support exerts on the body, K u − f − Bᵀλ summed over the
+/// DOFs it prescribes (external forces and contact forces on those DOFs
+/// taken out), and its moment.
+#[derive(Debug, Clone, Serialize, PartialEq)]
+pub struct Reaction {
+    /// The entry's `name`, or `boundary[i]` when it has none.
+    pub boundary: String,
+    pub body: String,
+    /// The resultant force (axisymmetric: that of the whole ring, axial
+    /// alone).
+    pub force: Vec<f64>,
+    /// Σ (x − moment_about) × the nodal reactions: [M_z] in 2D,
+    /// [M_x, M_y, M_z] in 3D; absent in an axisymmetric model.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub moment: Option<Vec<f64>>,
+    /// The point of the moment: the entry's `moment_about`, default the
+    /// origin.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub moment_about: Option<Vec<f64>>,
+}
+
+/// One contact pair at one step: its sums over its points.
+#[derive(Debug, Clone, Serialize, PartialEq)]
+pub struct StepContact {
+    pub name: String,
+    /// Σ of its points' normal forces (≥ 0 in compression).
+    pub normal_force: f64,
+    /// Σ of its points' tangential forces along their first tangent.
+    pub tangential_force: f64,
+    /// 3D: along their second tangent.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub tangential_force_2: Option<f64>,
+    /// The resultant force of its masters on its slaves (normal and
+    /// friction parts; axisymmetric: axial alone).
+    pub force: Vec<f64>,
 }
 
 /// How far a penalty (regularised) solution is from the exact unilateral one.
@@ -119,8 +164,8 @@ pub struct Factorisation {
     /// (condensed path); "ldlt": the quasi-definite LDLᵀ of the KKT matrix
     /// (direct path).
     pub kind: String,
-    /// "amd" or "nested_dissection" (the cheaper of the two in flops, see the
-    /// README), "mixed" when the subdomains differ.
+    /// "amd" or "nested_dissection" (the cheaper of the two in flops, see
+    /// docs/performance/scale-3d.md), "mixed" when the subdomains differ.
     pub ordering: String,
     /// Entries of the sparse factor L.
     pub factor_nnz: u64,
@@ -153,7 +198,7 @@ pub struct Factorisation {
 /// The root's factorisation of S on Γ (report.json
 /// `factorisation.interface`): one subdomain's S is dense; several
 /// subdomains' blocks are factorised over the tree of subdomains
-/// (docs/scene-format.md).
+/// (docs/reference/scene-format.md).
 #[derive(Debug, Clone, Default, Serialize, PartialEq)]
 pub struct InterfaceFactorisation {
     /// "dense" (one subdomain) or "tree" (several).
@@ -185,7 +230,7 @@ pub struct OrderingCandidate {
 }
 
 /// The contact conditions checked on the final solution, each relative to
-/// the scale of the problem (see the README): equilibrium residual over the
+/// the scale of the problem (see docs/theory/contact-problem.md): equilibrium residual over the
 /// load, penetration and complementarity over the displacement scale,
 /// tension over the force scale, cone violation over μλ_n.
 #[derive(Debug, Clone, Default, Serialize)]
@@ -304,7 +349,7 @@ pub struct Report {
     /// The contact algorithm's account of the last step (iterations, operator
     /// applications, residual history, stopping reason).
     pub solver: serde_json::Value,
-    /// Which stages ran (DESIGN.md §5).
+    /// Which stages ran (docs/architecture.md).
     pub stages: Vec<String>,
     pub steps: Vec<StepReport>,
     pub timings_s: Timings,
@@ -460,52 +505,6 @@ pub fn write_lines(
     w.flush()
 }
 
-/// steps.csv: one row per load step (scales, resultants, slip, statuses).
-pub fn write_steps_csv(path: &Path, steps: &[StepReport]) -> std::io::Result<()> {
-    let mut w = std::io::BufWriter::new(std::fs::File::create(path)?);
-    let names: Vec<&String> = steps
-        .first()
-        .map(|s| s.scale.keys().collect())
-        .unwrap_or_default();
-    let scale_cols: String = names.iter().map(|n| format!(",scale_{n}")).collect();
-    // 3D adds the z resultant and the second tangent, as contact.csv does.
-    let dim3 = steps.first().is_some_and(|s| s.contact_force.len() == 3);
-    let (z, t2, s2) = match dim3 {
-        true => (",force_z", ",tangential_force_2", ",mean_slip_2"),
-        false => ("", "", ""),
-    };
-    writeln!(w, "step{scale_cols},force_x,force_y{z},normal_force,tangential_force{t2},mean_slip{s2},active,sticking,slipping,iterations")?;
-    for (i, s) in steps.iter().enumerate() {
-        let sc: String = names
-            .iter()
-            .map(|n| format!(",{}", s.scale.get(*n).copied().unwrap_or(0.0)))
-            .collect();
-        let f = |k: usize| s.contact_force.get(k).copied().unwrap_or(0.0);
-        let third = |x: Option<f64>| match dim3 {
-            true => format!(",{:e}", x.unwrap_or(0.0)),
-            false => String::new(),
-        };
-        writeln!(
-            w,
-            "{}{sc},{:e},{:e}{},{:e},{:e}{},{:e}{},{},{},{},{}",
-            i + 1,
-            f(0),
-            f(1),
-            third(Some(f(2))),
-            s.normal_force,
-            s.tangential_force,
-            third(s.tangential_force_2),
-            s.mean_slip,
-            third(s.mean_slip_2),
-            s.active,
-            s.sticking,
-            s.slipping,
-            s.iterations
-        )?;
-    }
-    w.flush()
-}
-
 /// One row of contact.csv.
 #[derive(Debug, Clone)]
 pub struct ContactRow {
@@ -523,15 +522,48 @@ pub struct ContactRow {
     pub slip_2: f64,
     pub pressure: f64,
     pub status: &'static str,
+    /// The point's frame in global coordinates: the normal n (from the
+    /// master towards the slave, the direction of `normal_force` on the
+    /// slave), the tangent t1 of `tangential_force` and `slip`, and in 3D
+    /// the tangent t2 of `tangential_force_2` and `slip_2` (n, t1, t2
+    /// right-handed; zero in 2D).
+    pub normal: [f64; 3],
+    pub tangent: [f64; 3],
+    pub tangent2: [f64; 3],
 }
 
-/// The header of contact.csv in 2D (SCENE.md).
+impl ContactRow {
+    /// The tangential force as a vector in global coordinates,
+    /// `tangential_force` t1 + `tangential_force_2` t2.
+    pub fn tangential_vector(&self) -> [f64; 3] {
+        [0, 1, 2].map(|k| {
+            self.tangential_force * self.tangent[k] + self.tangential_force_2 * self.tangent2[k]
+        })
+    }
+
+    /// The total slip as a vector in global coordinates, `slip` t1 +
+    /// `slip_2` t2.
+    pub fn slip_vector(&self) -> [f64; 3] {
+        [0, 1, 2].map(|k| self.slip * self.tangent[k] + self.slip_2 * self.tangent2[k])
+    }
+}
+
+/// The header of contact.csv in 2D (docs/reference/scene-format.md), up to `status`;
+/// the frame's columns [`CONTACT_CSV_FRAME_2D`] follow.
 pub const CONTACT_CSV_HEADER_2D: &str =
     "step,contact,body,point,x,y,gap,normal_force,tangential_force,slip,pressure,status";
 
 /// The header of contact.csv in 3D: 2D's with `z`, `tangential_force_2` and
-/// `slip_2` (SCENE.md).
+/// `slip_2` (docs/reference/scene-format.md), up to `status`; the frame's columns
+/// [`CONTACT_CSV_FRAME_3D`] follow.
 pub const CONTACT_CSV_HEADER_3D: &str = "step,contact,body,point,x,y,z,gap,normal_force,tangential_force,slip,tangential_force_2,slip_2,pressure,status";
+
+/// The columns after `status` in 2D: each point's normal and tangent in
+/// global coordinates.
+pub const CONTACT_CSV_FRAME_2D: &str = "n_x,n_y,t1_x,t1_y";
+
+/// The columns after `status` in 3D: each point's normal and tangents.
+pub const CONTACT_CSV_FRAME_3D: &str = "n_x,n_y,n_z,t1_x,t1_y,t1_z,t2_x,t2_y,t2_z";
 
 /// Writes contact.csv with the columns of the dimension `dim` (2 or 3).
 pub fn write_contact_csv(path: &Path, rows: &[ContactRow], dim: usize) -> std::io::Result<()> {
@@ -546,9 +578,9 @@ pub fn write_contact_csv(path: &Path, rows: &[ContactRow], dim: usize) -> std::i
 /// The header line of contact.csv in dimension `dim`.
 pub fn write_contact_header(w: &mut impl Write, dim: usize) -> std::io::Result<()> {
     if dim == 3 {
-        writeln!(w, "{CONTACT_CSV_HEADER_3D}")
+        writeln!(w, "{CONTACT_CSV_HEADER_3D},{CONTACT_CSV_FRAME_3D}")
     } else {
-        writeln!(w, "{CONTACT_CSV_HEADER_2D}")
+        writeln!(w, "{CONTACT_CSV_HEADER_2D},{CONTACT_CSV_FRAME_2D}")
     }
 }
 
@@ -570,7 +602,17 @@ pub fn write_contact_row(w: &mut impl Write, r: &ContactRow, dim: usize) -> std:
     if dim == 3 {
         write!(w, "{:e},{:e},", r.tangential_force_2, r.slip_2)?;
     }
-    writeln!(w, "{:e},{}", r.pressure, r.status)
+    write!(w, "{:e},{}", r.pressure, r.status)?;
+    let vectors: &[&[f64; 3]] = match dim {
+        3 => &[&r.normal, &r.tangent, &r.tangent2],
+        _ => &[&r.normal, &r.tangent],
+    };
+    for v in vectors {
+        for x in &v[..dim] {
+            write!(w, ",{x:e}")?;
+        }
+    }
+    writeln!(w)
 }
 
 pub fn write_report(path: &Path, report: &Report) -> std::io::Result<()> {

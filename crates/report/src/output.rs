@@ -1,4 +1,4 @@
-//! The output files of a run (SCENE.md, "Output"): contact.csv, steps.csv,
+//! The output files of a run (docs/reference/scene-format.md, "Output"): contact.csv, steps.csv,
 //! friction.svg, displacement.csv, stress.csv, the VTU series and
 //! report.json, and the run's summary for the terminal. The run's fields come
 //! in [`RunOutput`]; what the scene asks for, in [`OutputRequest`].
@@ -246,6 +246,9 @@ pub fn summary(dir: &Path, o: &RunOutput) -> String {
         r.certificate.max(),
         certificate_terms(&r.certificate)
     );
+    if let Some(last) = r.steps.last() {
+        out += &carried(last, r.steps.len());
+    }
     let warning = r.conditioning.as_ref().and_then(|c| c.warning.as_ref());
     if let Some(w) = warning {
         out += &format!("  warning: {w}\n");
@@ -266,6 +269,47 @@ pub fn summary(dir: &Path, o: &RunOutput) -> String {
         r.timings_s.total,
         dir.join("report.json").display()
     );
+    out
+}
+
+/// The summary's lines of what the supports and the contacts carry at the
+/// last step (`n`: the number of steps): each reaction's force and moment,
+/// each contact's normal and tangential sums.
+fn carried(last: &crate::StepReport, n: usize) -> String {
+    let at = if n > 1 {
+        format!(" at step {n}")
+    } else {
+        String::new()
+    };
+    let list = |v: &[f64]| {
+        v.iter()
+            .map(|f| format!("{f:.6e}"))
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    let mut out = String::new();
+    for re in &last.reactions {
+        let moment = match &re.moment {
+            Some(m) => format!(", moment ({})", list(m)),
+            None => String::new(),
+        };
+        out += &format!(
+            "  reaction \"{}\" on {}{at}: force ({}){moment}\n",
+            re.boundary,
+            re.body,
+            list(&re.force)
+        );
+    }
+    for c in &last.contacts {
+        let t2 = match c.tangential_force_2 {
+            Some(t) => format!(", {t:.6e}"),
+            None => String::new(),
+        };
+        out += &format!(
+            "  contact \"{}\"{at}: normal force {:.6e}, tangential force {:.6e}{t2}\n",
+            c.name, c.normal_force, c.tangential_force
+        );
+    }
     out
 }
 

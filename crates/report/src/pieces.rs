@@ -1,4 +1,4 @@
-//! Per-subdomain VTU pieces (issue 17, `[output] pieces = true`): at every
+//! Per-subdomain VTU pieces (`[output] pieces = true`): at every
 //! step that writes fields, the rank that owns a subdomain writes its piece
 //! `DIR/pieces/<body>_<step>_s<part>.vtu` (the subdomain's cells and nodes,
 //! the same arrays as the gathered `<body>_<step>.vtu`, and the point array
@@ -23,6 +23,10 @@ pub struct NodalContact {
     pub tangential_force: f64,
     /// −1 no contact point, 0 open, 1 contact, 2 stick, 3 slip.
     pub status: f64,
+    /// The tangential force and the total slip in global coordinates
+    /// ([`ContactRow::tangential_vector`], [`ContactRow::slip_vector`]).
+    pub tangential_vector: [f64; 3],
+    pub slip_vector: [f64; 3],
 }
 
 impl NodalContact {
@@ -41,17 +45,22 @@ impl NodalContact {
                     "stick" => 2.0,
                     _ => 3.0,
                 },
+                tangential_vector: r.tangential_vector(),
+                slip_vector: r.slip_vector(),
             })
             .collect()
     }
 }
 
 /// The contact point arrays of a grid: pressure, status and tangential force
-/// per point (0, −1 and 0 away from the contact points).
+/// per point (0, −1 and 0 away from the contact points), and the tangential
+/// force and slip as global 3-vectors (zero away from them).
 pub struct ContactFields {
     pub pressure: Vec<f64>,
     pub status: Vec<f64>,
     pub tangential: Vec<f64>,
+    pub tangential_vector: Vec<f64>,
+    pub slip_vector: Vec<f64>,
 }
 
 impl ContactFields {
@@ -67,12 +76,16 @@ impl ContactFields {
             pressure: vec![0.0; n],
             status: vec![-1.0; n],
             tangential: vec![0.0; n],
+            tangential_vector: vec![0.0; 3 * n],
+            slip_vector: vec![0.0; 3 * n],
         };
         for c in nodal.iter().filter(|c| c.body == body) {
             if let Some(i) = point_of(c.point) {
                 f.pressure[i] = c.pressure;
                 f.status[i] = c.status;
                 f.tangential[i] = c.tangential_force;
+                f.tangential_vector[3 * i..3 * i + 3].copy_from_slice(&c.tangential_vector);
+                f.slip_vector[3 * i..3 * i + 3].copy_from_slice(&c.slip_vector);
             }
         }
         f
@@ -112,6 +125,8 @@ mod tests {
                 pressure: 2.5,
                 tangential_force: -1.0,
                 status: 3.0,
+                tangential_vector: [0.0, -1.0, 0.0],
+                slip_vector: [0.0, 2.0, 0.0],
             },
             NodalContact {
                 body: "b".into(),
@@ -119,6 +134,8 @@ mod tests {
                 pressure: 9.0,
                 tangential_force: 9.0,
                 status: 1.0,
+                tangential_vector: [9.0; 3],
+                slip_vector: [9.0; 3],
             },
         ];
         let nodes = [3usize, 7, 9];
@@ -126,6 +143,8 @@ mod tests {
         assert_eq!(f.pressure, vec![0.0, 2.5, 0.0]);
         assert_eq!(f.status, vec![-1.0, 3.0, -1.0]);
         assert_eq!(f.tangential, vec![0.0, -1.0, 0.0]);
+        assert_eq!(f.tangential_vector[3..6], [0.0, -1.0, 0.0]);
+        assert_eq!(f.slip_vector, [0., 0., 0., 0., 2., 0., 0., 0., 0.]);
         assert_eq!(piece_file("top", 2, 1), "pieces/top_2_s1.vtu");
     }
 }

@@ -1,4 +1,4 @@
-//! Analytic references (VALIDATION.md). Each takes the computed load, so the
+//! Analytic references (docs/theory/validation-cases.md). Each takes the computed load, so the
 //! error shown is that of the contact solution, not of the load.
 
 use std::collections::BTreeMap;
@@ -24,7 +24,7 @@ pub struct NodalPressure {
     pub stick: bool,
 }
 
-/// Hertz, cylinder on a plane (VALIDATION.md §1): with P the load per unit
+/// Hertz, cylinder on a plane (docs/theory/validation-cases.md §1): with P the load per unit
 /// thickness, E* the contact modulus and R the relative radius,
 /// a = sqrt(4PR/(πE*)), p0 = 2P/(πa) = sqrt(PE*/(πR)) (this form, finite
 /// with no load), p(x) = p0 sqrt(1 − x²/a²).
@@ -103,7 +103,7 @@ fn hertz_quantities(
     q
 }
 
-/// Hertz, sphere on a plane (VALIDATION.md §2): with P the total load, E*
+/// Hertz, sphere on a plane (docs/theory/validation-cases.md §2): with P the total load, E*
 /// the contact modulus and R the relative radius, a = (3PR/(4E*))^(1/3),
 /// p0 = 3P/(2πa²) = (6PE*²/(π³R²))^(1/3) (this form, finite with no load).
 pub fn hertz_sphere_exact(p: f64, e_star: f64, r: f64) -> (f64, f64) {
@@ -141,7 +141,7 @@ pub fn hertz_sphere(nodes: &[NodalPressure], e_star: f64, r: f64) -> ReferenceRe
     }
 }
 
-/// Uniform pressure (VALIDATION.md §3): every contact point carries the
+/// Uniform pressure (docs/theory/validation-cases.md §3): every contact point carries the
 /// pressure p. `exact_pressure` is the applied traction when known, else the
 /// mean pressure P / L over the slave surface.
 pub fn uniform_pressure(
@@ -178,7 +178,7 @@ pub fn uniform_pressure(
     }
 }
 
-/// Cattaneo–Mindlin partial slip (VALIDATION.md §6): two elastically similar
+/// Cattaneo–Mindlin partial slip (docs/theory/validation-cases.md §6): two elastically similar
 /// cylinders (`Strip`) or spheres (`Circle`, 3D), or one on a half-space of
 /// the same material, under a normal load P, then a tangential load Q < μP:
 /// stick zone half-width c = a (1 − Q/(μP))^k with k = 1/2 (cylinder) or
@@ -339,7 +339,7 @@ fn shear_profile_l2(
     (l2, no_shear && slip > 0.0)
 }
 
-/// Block on a plane with Coulomb friction (VALIDATION.md §5): when every
+/// Block on a plane with Coulomb friction (docs/theory/validation-cases.md §5): when every
 /// contact point slips the tangential reaction is μN; when it sticks, the
 /// applied tangential load `applied` (if known).
 pub fn sliding_block(nodes: &[NodalPressure], mu: f64, applied: Option<f64>) -> ReferenceReport {

@@ -1,4 +1,4 @@
-//! The output of a run step by step (issue 16, "many load steps in flat
+//! The output of a run step by step ("many load steps in flat
 //! memory"): at the end of each load step the root hands its contact.csv
 //! rows and, when the scene writes that step's fields (`[output] steps`),
 //! every body's fields to a [`StepSink`], and forgets them. [`FieldWriter`]
@@ -423,6 +423,12 @@ fn vtu_piece<'a>(
             1,
             contact.tangential.clone(),
         ));
+        point_data.push((
+            "tangential_force_vector".to_string(),
+            3,
+            contact.tangential_vector.clone(),
+        ));
+        point_data.push(("slip_vector".to_string(), 3, contact.slip_vector.clone()));
     }
     let mut cell_data = vec![(
         "subdomain".to_string(),

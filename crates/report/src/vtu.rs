@@ -1,4 +1,4 @@
-//! VTU output for ParaView (notes §4.2; written here, streamed, and read
+//! VTU output for ParaView (docs/architecture.md, "Libraries"; written here, streamed, and read
 //! back through vtkio): one unstructured
 //! grid per body with point data (displacement, contact pressure, status,
 //! tangential force) and cell data (stress, von Mises, subdomain), and a

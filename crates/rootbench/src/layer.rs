@@ -1,6 +1,6 @@
 //! The surface compliance of an elastic layer on a rigid base, periodic along
 //! its surface, computed by this project's finite elements: the Delassus
-//! operator of contact points on that surface (DESIGN.md §4, seed §2.3:
+//! operator of contact points on that surface (docs/theory/algorithms.md, course notes §2.3:
 //! W = B K⁻¹ Bᵀ).
 //!
 //! The layer is the cell [0, L] × [−H, 0] (2D, plane strain, Quad4) or

@@ -1,4 +1,4 @@
-//! The root-solver benchmark (issue 14): Delassus problems W, q (μ) of a
+//! The root-solver benchmark: Delassus problems W, q (μ) of a
 //! rigid indenter on an elastic layer, built by this project's finite
 //! elements ([`layer`], [`problem`]), on which every root algorithm runs.
 //!

@@ -1,14 +1,14 @@
 //! Delassus problems of a rigid indenter pressed (and, with friction, slid)
 //! on the periodic elastic layer of [`crate::layer`]: the condensed contact
 //! problems on which the root solvers are compared with each other and with
-//! other libraries (issue 14).
+//! other libraries.
 //!
 //! The indenter is a paraboloid of radius R (a cylinder in 2D) with a slight
 //! roughness (a sum of waves fixed once for all sizes, a few per cent of
 //! the approach), pressed by δ into the layer and, for the frictional problems,
 //! moved by δ_t along x. The rows follow the exchange layout of Siconos and
 //! FCLib: contact-wise, [n] (an LCP), [n, t] (2D) or [n, t1, t2] (3D) per
-//! contact point. Conventions (DESIGN.md §3): the normal points from the
+//! contact point. Conventions (docs/theory/contact-problem.md): the normal points from the
 //! indenter (master) into the layer (slave), λ_n ≥ 0 is compressive, the
 //! gap is g = W λ + q; the tangential "gap" is the slip increment of the
 //! layer relative to the indenter.
@@ -142,7 +142,7 @@ pub fn indentation_problem(
     }
 }
 
-/// The benchmark's problem families (issue 14): a cylinder (2D) or a sphere
+/// The benchmark's problem families: a cylinder (2D) or a sphere
 /// (3D) of radius L on a layer of thickness L/4 (E = 1, ν = 0.3), roughness
 /// heights up to about 4 % of the approach. The approaches and slides were
 /// chosen (2D m = 400–1000, 3D m = 256–900) for about 45 % of the points in

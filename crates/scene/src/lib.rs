@@ -1,4 +1,4 @@
-//! The scene format of `SCENE.md` (version 1): serde schema, parsing and validation.
+//! The scene format of `docs/reference/scene-format.md` (version 1): serde schema, parsing and validation.
 //!
 //! A scene is one TOML file (JSON with the same structure is accepted). It is the
 //! user's contract: unknown keys are an error that names the key and its line, and

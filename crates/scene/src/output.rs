@@ -84,7 +84,7 @@ pub struct Output {
     #[serde(skip_serializing_if = "OutputSteps::is_all")]
     pub steps: OutputSteps,
     /// Also write each subdomain's VTU piece, by the rank that owns it, with a
-    /// `.pvtu` index per body and step (issue 17; default false: the gathered
+    /// `.pvtu` index per body and step (default false: the gathered
     /// files alone).
     #[serde(skip_serializing_if = "std::ops::Not::not")]
     pub pieces: bool,

@@ -150,7 +150,7 @@ impl Scene {
     }
 
     /// The scale of every *named* boundary entry at every load step, after applying
-    /// the rule of `SCENE.md`: loads not named in a step keep their previous scale
+    /// the rule of `docs/reference/scene-format.md`: loads not named in a step keep their previous scale
     /// (first step: 1). With no `[[steps]]`, one step with every scale 1. Unnamed
     /// boundary entries are always at scale 1.
     pub fn step_scales(&self) -> Vec<BTreeMap<String, f64>> {
@@ -526,6 +526,10 @@ pub struct Boundary {
     /// Resultant force, spread uniformly over the surface.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub force: Option<Vec<f64>>,
+    /// With `displacement`: the point about which the moment of the entry's
+    /// reaction is reported (`dimension` components; default the origin).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub moment_about: Option<Vec<f64>>,
 }
 
 /// `displacement = { x, y, z }`: components given are imposed, others free.
@@ -559,7 +563,7 @@ pub struct Contact {
     /// A rigid body (no surface), or a deformable body and its surface.
     pub master: ContactSide,
     /// `node_to_node` (matching meshes) | `node_to_segment` (default) |
-    /// `mortar` | `contact_elements` (coincident nodes, seed §7).
+    /// `mortar` | `contact_elements` (coincident nodes, course notes §7).
     #[serde(default)]
     pub discretization: Discretization,
     /// Normal rule: `master` (default) | `slave` | `average` | `points`.
@@ -629,7 +633,7 @@ pub enum Discretization {
     #[serde(alias = "node_to_face")]
     NodeToSegment,
     Mortar,
-    /// Zero-thickness contact elements between coincident nodes (seed §7),
+    /// Zero-thickness contact elements between coincident nodes (course notes §7),
     /// with the regularised law `law = { penalty = k_n }`.
     ContactElements,
 }
@@ -689,8 +693,8 @@ pub enum Friction {
     /// `{ tresca = g }`: given slip threshold g ≥ 0.
     Tresca(f64),
     /// `{ coulomb = mu }`, `{ coulomb = [mu1, mu2] }` (3D anisotropic, elliptic
-    /// cone), optionally `slip_stiffness = k` (regularised, seed §4.1.3) and
-    /// with it `roughness = Q` (the plasticity analogy of seed §6: linear
+    /// cone), optionally `slip_stiffness = k` (regularised, course notes §4.1.3) and
+    /// with it `roughness = Q` (the plasticity analogy of course notes §6: linear
     /// kinematic hardening of the slip, threshold ‖t − Q g‖ ≤ μ |t_n|).
     Coulomb {
         coefficient: Vec<f64>,
@@ -734,10 +738,10 @@ pub struct Solver {
     /// Friction outer loop: `fixed_point` (default), `status` or `newton`.
     pub friction: FrictionSolver,
     /// Status method: `all` statuses changed at each iteration (default) or a
-    /// `single` one (the variant with the convergence proof, seed §3.3).
+    /// `single` one (the variant with the convergence proof, course notes §3.3).
     pub status_changes: StatusChanges,
     /// Status method: impose the active constraints by `multipliers`
-    /// (default) or by `penalty` (seed §3.3, step 1).
+    /// (default) or by `penalty` (course notes §3.3, step 1).
     pub constraints: Constraints,
     /// Penalty stiffness of `method = "penalty"` and of the penalty-imposed
     /// status method, as a multiple of the contact stiffness 1/mean diag(W)
@@ -790,12 +794,12 @@ pub enum Method {
     Uzawa,
     AugmentedLagrangian,
     Penalty,
-    /// Projected conjugate gradient (an addition to SCENE.md's list).
+    /// Projected conjugate gradient (an addition to docs/reference/scene-format.md's list).
     ProjectedConjugateGradient,
 }
 
 impl Method {
-    /// Every method, in the order of `SCENE.md`, then the additions.
+    /// Every method, in the order of `docs/reference/scene-format.md`, then the additions.
     pub const ALL: [Method; 8] = [
         Method::Status,
         Method::Lemke,

@@ -1,4 +1,4 @@
-//! `Scene::validate`: the semantic checks of `SCENE.md`. Every error names the entry
+//! `Scene::validate`: the semantic checks of `docs/reference/scene-format.md`. Every error names the entry
 //! and says what would be valid. Surface names cannot be checked here (meshes do not
 //! exist yet); the solver does that.
 
@@ -509,6 +509,9 @@ impl Scene {
             if let Some(f) = &bc.force {
                 vector(&format!("{e}.force"), f, dim)?;
             }
+            if let Some(p) = &bc.moment_about {
+                self.validate_moment_about(&format!("{e}.moment_about"), bc, p)?;
+            }
             if let Some(d) = &bc.displacement {
                 let de = format!("{e}.displacement");
                 if d.x.is_none() && d.y.is_none() && d.z.is_none() {
@@ -532,6 +535,25 @@ impl Scene {
             }
         }
         Ok(())
+    }
+
+    /// `moment_about` of a boundary entry: a point of `dimension` finite
+    /// coordinates, on a prescribed displacement (the only entry with a
+    /// reaction), not in an axisymmetric model (a ring's reaction is axial).
+    fn validate_moment_about(&self, e: &str, bc: &Boundary, p: &[f64]) -> Result {
+        if bc.displacement.is_none() {
+            return Err(invalid(
+                e,
+                "is the point of the reaction's moment, and only a `displacement` entry has a reaction; remove it, or give `displacement`",
+            ));
+        }
+        if self.model == Model::Axisymmetric {
+            return Err(invalid(
+                e,
+                "an axisymmetric reaction is the axial force of a whole ring, with no moment; remove it",
+            ));
+        }
+        vector(e, p, self.dimension as usize)
     }
 
     /// The body named `name` must exist and be deformable.
@@ -651,7 +673,7 @@ impl Scene {
             return Err(invalid(
                 "steps",
                 format!(
-                    "{} load steps, at most {MAX_STEPS} (each is a contact solve, kept in memory and written as one VTU file per body); use fewer, larger steps",
+                    "{} load steps, at most {MAX_STEPS} (each is a contact solve, a row of steps.csv and of report.json, and by default one VTU file per body); use fewer, larger steps",
                     self.steps.len()
                 ),
             ));
@@ -857,10 +879,14 @@ fn validate_friction(e: &str, friction: &Friction, dim: usize) -> Result {
             if let Some(q) = roughness {
                 let re = format!("{e}.friction.roughness");
                 non_negative(&re, *q)?;
+                // Q = 0 is the regularised law; else a stiffness as k_n is.
+                if *q != 0.0 {
+                    representable_stiffness(&re, *q)?;
+                }
                 if slip_stiffness.is_none() {
                     return Err(invalid(
                         re,
-                        "the roughness Q (kinematic hardening of the slip, seed §6) needs the asperities' stiffness: give slip_stiffness = <k_e> with it",
+                        "the roughness Q (kinematic hardening of the slip, course notes §6) needs the asperities' stiffness: give slip_stiffness = <k_e> with it",
                     ));
                 }
             }

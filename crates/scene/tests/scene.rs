@@ -1,4 +1,4 @@
-//! The scene format of SCENE.md: parsing, defaults and error messages.
+//! The scene format of docs/reference/scene-format.md: parsing, defaults and error messages.
 
 use signorini_scene::*;
 use std::path::Path;
@@ -515,6 +515,40 @@ fn boundary_checks() {
     );
     let (e, _) = invalid_entry(&text);
     assert_eq!(e, "boundary[1].name");
+}
+
+/// `moment_about`: a point of `dimension` finite coordinates, on a
+/// displacement entry only, not in an axisymmetric model.
+#[test]
+fn moment_about_checks() {
+    let about = |p: &str| {
+        BASE.replace(
+            "displacement = { y = -0.01 }",
+            &format!("displacement = {{ y = -0.01 }}\nmoment_about = {p}"),
+        )
+    };
+    let s = parse_toml(&about("[0.5, 0.25]")).unwrap();
+    assert_eq!(s.boundary[0].moment_about, Some(vec![0.5, 0.25]));
+    assert_eq!(parse_toml(BASE).unwrap().boundary[0].moment_about, None);
+    let (e, m) = invalid_entry(&about("[0.5, 0.25, 1.0]"));
+    assert_eq!(e, "boundary[0].moment_about");
+    assert!(m.contains("needs 2 components"), "{m}");
+    let (e, _) = invalid_entry(&about("[0.5, nan]"));
+    assert_eq!(e, "boundary[0].moment_about");
+    let (e, m) = invalid_entry(
+        &about("[0.5, 0.25]").replace("displacement = { y = -0.01 }", "traction = [0.0, -1.0]"),
+    );
+    assert_eq!(e, "boundary[0].moment_about");
+    assert!(
+        m.contains("only a `displacement` entry has a reaction"),
+        "{m}"
+    );
+    let (e, m) = invalid_entry(&about("[0.5, 0.25]").replace(
+        "dimension = 2\n",
+        "dimension = 2\nmodel = \"axisymmetric\"\n",
+    ));
+    assert_eq!(e, "boundary[0].moment_about");
+    assert!(m.contains("axisymmetric"), "{m}");
 }
 
 #[test]

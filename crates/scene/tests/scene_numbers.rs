@@ -1,5 +1,5 @@
 //! The scene format: numbers that serde would reject or lose name their key
-//! and their value (issue 12, item 6), step limits and the output steps.
+//! and their value, step limits and the output steps.
 
 mod common;
 

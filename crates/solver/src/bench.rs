@@ -1,5 +1,5 @@
 //! `signorini bench`: a scene over refinement levels, subdomain counts and
-//! paths, each run timed per phase with its errors (DESIGN.md §6: speed is
+//! paths, each run timed per phase with its errors (docs/architecture.md: speed is
 //! measured here and in `cargo bench`, never in timed unit tests).
 
 use serde::Serialize;

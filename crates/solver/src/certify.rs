@@ -1,7 +1,8 @@
 //! From a step's contact solution to its report: the certificate of
-//! DESIGN.md §4, the per-step and per-point rows, and the final report.
+//! docs/theory/algorithms.md, the per-step and per-point rows, and the final report.
 
 use super::*;
+use crate::reactions::{step_contacts, step_reactions};
 use signorini_contact::norms::nan_max;
 
 /// The contact pressure at every point, its force over its tributary
@@ -75,7 +76,7 @@ fn nearest_in_contact(
         .map(|(qi, _)| qi)
 }
 
-/// The certificate of DESIGN.md §4 at one step, from the equilibrium
+/// The certificate of docs/theory/algorithms.md at one step, from the equilibrium
 /// residual and the final gaps and forces.
 pub(crate) fn certificate_of(
     res: &Residuals,
@@ -194,9 +195,10 @@ pub(crate) fn conclude_step(
         _ => {}
     }
     push_contact_rows(sc, bodies, points, si, sol, gaps, partial);
-    partial
-        .steps
-        .push(step_report(sc, points, scale, sol, &cert));
+    let mut report = step_report(sc, points, scale, sol, &cert);
+    let friction = sol.friction.as_ref();
+    report.reactions = step_reactions(sc, bodies, points, &res.support, lambda, friction);
+    partial.steps.push(report);
     if let Some(w) = sol.regularisation.as_ref().and_then(|r| r.warning.clone()) {
         messages.push(format!("step {}: {w}", si + 1));
     }
@@ -341,13 +343,16 @@ fn push_contact_rows(
             slip_2: sol.friction.as_ref().map_or(0.0, |f| f.slip_total2[pi]),
             pressure: if open { 0.0 } else { pressure[pi] },
             status: contact_status(p, pi, sol),
+            normal: p.point.normal,
+            tangent: p.point.tangent,
+            tangent2: p.point.tangent2,
         });
     }
 }
 
 /// The status of a contact point in contact.csv: open, stick or slip for a
 /// point with friction, else contact (a frictionless point, or one whose
-/// slip a support holds); a point a support drags slides (seed §4).
+/// slip a support holds); a point a support drags slides (course notes §4).
 fn contact_status(p: &PointModel, pi: usize, sol: &StepSolution) -> &'static str {
     let active = sol.outcome.active.binary_search(&pi).is_ok();
     match (active, sol.friction.as_ref().map(|f| f.statuses[pi])) {
@@ -409,6 +414,8 @@ fn step_report(
         solver: serde_json::to_value(&outcome.report).unwrap_or_default(),
         regularisation: sol.regularisation.clone(),
         solve_s: sol.solve_s,
+        reactions: Vec::new(),
+        contacts: step_contacts(sc, points, lambda, sol.friction.as_ref()),
     }
 }
 
@@ -493,8 +500,10 @@ pub(crate) fn condensed_step(
     let mut r_gamma = vec![0.0; u_gamma.len()];
     let mut interior = 0.0f64;
     let mut force_scale = 0.0f64;
+    let mut support = Vec::new();
     for r in recovered {
         let spec = &model.specs[r.id];
+        support.extend(r.support_residual.iter().map(|&(d, v)| (spec.body, d, v)));
         let dim = bodies[spec.body].mesh.dim;
         let u = &mut u_full[spec.body];
         for (l, &n) in spec.nodes.iter().enumerate() {
@@ -526,6 +535,7 @@ pub(crate) fn condensed_step(
     let res = Residuals {
         equilibrium: interior.max(inf_norm(&r_gamma)),
         force_scale: force_scale.max(inf_norm(lambda)),
+        support,
     };
     (gaps, res, u_full)
 }
@@ -605,8 +615,8 @@ pub(crate) fn finish_report(
 ) -> Result<RunOutput, SolveError> {
     let sc = ctx.sc;
     let (bodies, points) = (&ctx.model.bodies, &ctx.model.points);
-    let friction = partial.friction.as_ref();
-    let (contact_force, contacts) = contact_summaries(sc, points, &partial.lambda, friction);
+    let (contact_force, contacts) =
+        contact_summaries(sc, points, &partial.lambda, partial.steps.last());
     let probes = probes_of(sc, bodies, &partial.u_last);
     let reference = match &sc.reference {
         None => None,
@@ -658,23 +668,24 @@ pub(crate) fn finish_report(
 }
 
 /// The net contact force and each contact's summary (its points, active
-/// points and net force) from the final contact forces.
+/// points and net force) at the last step: its report's resultants
+/// (zeros without a step), and its final contact forces `lambda`.
 fn contact_summaries(
     sc: &scene::Scene,
     points: &[PointModel],
     lambda: &[f64],
-    friction: Option<&FrictionStep>,
+    last: Option<&StepReport>,
 ) -> (Vec<f64>, Vec<ContactSummary>) {
     let dim = sc.dimension as usize;
-    let mut contact_force = vec![0.0; dim];
     let mut summaries: Vec<ContactSummary> = sc
         .contact
         .iter()
-        .map(|c| ContactSummary {
+        .enumerate()
+        .map(|(ci, c)| ContactSummary {
             name: c.name.clone(),
             points: 0,
             active: 0,
-            force: vec![0.0; dim],
+            force: last.map_or(vec![0.0; dim], |s| s.contacts[ci].force.clone()),
         })
         .collect();
     for (pi, p) in points.iter().enumerate() {
@@ -683,20 +694,9 @@ fn contact_summaries(
         if lambda[pi] != 0.0 {
             s.active += 1;
         }
-        let force = point_force(p, pi, lambda[pi], friction);
-        for (k, total) in contact_force.iter_mut().enumerate() {
-            s.force[k] += force[k];
-            *total += force[k];
-        }
     }
-    let summaries = summaries
-        .into_iter()
-        .map(|c| ContactSummary {
-            force: net_force(sc.model, c.force),
-            ..c
-        })
-        .collect();
-    (net_force(sc.model, contact_force), summaries)
+    let contact_force = last.map_or(vec![0.0; dim], |s| s.contact_force.clone());
+    (contact_force, summaries)
 }
 
 /// The displacement at the mesh node nearest each probe point of the scene,

@@ -190,7 +190,7 @@ pub(crate) fn held_by_friction(
 /// contact point of the body, as slave or as master, with the same normal
 /// seen from the body), free to translate along that normal and along the
 /// tangential part R_t of its load resultant R, needs ‖R_t‖ ≤ μ |R·n|
-/// (VALIDATION.md §5: under force control a body pushed past its friction
+/// (docs/theory/validation-cases.md §5: under force control a body pushed past its friction
 /// has no static equilibrium). Exit 1 with the numbers otherwise, instead of
 /// a failing friction solve. When any contact of the body is frictionless,
 /// or pushes along another direction, that contact may carry the rest: the

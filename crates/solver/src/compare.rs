@@ -1,4 +1,4 @@
-//! The comparison of a run with its analytic reference (VALIDATION.md):
+//! The comparison of a run with its analytic reference (docs/theory/validation-cases.md):
 //! the nodal pressures and forces handed to `signorini_report::reference`.
 
 use super::*;

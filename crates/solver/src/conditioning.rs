@@ -1,5 +1,5 @@
 //! Condition estimates for the report (report.json `conditioning`, see
-//! [`signorini_report::Conditioning`] and the README, "The report").
+//! [`signorini_report::Conditioning`] and docs/reference/outputs.md).
 //!
 //! Every estimate is κ₁ = ‖A‖₁ ‖A⁻¹‖₁ with ‖A⁻¹‖₁ from the Hager–Higham
 //! estimator (`signorini_condense::conditioning`) on a factorisation the run

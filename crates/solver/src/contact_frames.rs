@@ -1,4 +1,4 @@
-//! Condensing only what contact needs (issue 15): a contact node whose
+//! Condensing only what contact needs: a contact node whose
 //! constraint rows all act along one direction n (frictionless contact
 //! against a rigid surface, or along a fixed normal) has its DOFs rotated
 //! into the frame (n, t1, t2) before condensation, and only its normal

@@ -1,13 +1,13 @@
 //! The direct path: the status method on the whole sparse stiffness with
 //! the contact constraints as Lagrange multipliers (a finite-element KKT
-//! solve refactorised at each status iteration, seed §3.3), to check and to
+//! solve refactorised at each status iteration, course notes §3.3), to check and to
 //! benchmark condensation.
 
 use super::*;
 
 /// The direct path on the root: every body's whole sparse stiffness, the
 /// contact constraints added by Lagrange multipliers and the saddle-point
-/// matrix refactorised at each status iteration (seed §3.3); each step
+/// matrix refactorised at each status iteration (course notes §3.3); each step
 /// ended (`steps`) before the next is solved.
 pub(crate) fn run_direct(
     ctx: RunContext,
@@ -291,7 +291,7 @@ pub(crate) fn gaps_of(points: &[PointModel], u_full: &[Vec<f64>]) -> Vec<f64> {
 }
 
 /// Equilibrium residual of the direct path on the free DOFs of every body:
-/// K u − f − Bᵀλ.
+/// K u − f − Bᵀλ; and K u − f on the prescribed ones (the reactions).
 pub(crate) fn direct_residuals(
     bodies: &[BodyModel],
     k_full: &[SparseColMat<usize, f64>],
@@ -308,8 +308,14 @@ pub(crate) fn direct_residuals(
     }
     let mut eq = 0.0f64;
     let mut scale = 0.0f64;
+    let mut support = Vec::new();
     for (bi, b) in bodies.iter().enumerate() {
         let (ku, abs_ku) = spmv_with_magnitude(k_full[bi].as_ref(), &u_full[bi]);
+        support.extend(
+            (0..b.n_dof)
+                .filter(|&d| b.prescribed[d])
+                .map(|d| (bi, d, ku[d] - forces[bi][d])),
+        );
         for d in (0..b.n_dof).filter(|&d| !b.prescribed[d]) {
             eq = eq.max((ku[d] - forces[bi][d] - contact_force[bi][d]).abs());
             scale = scale
@@ -321,5 +327,6 @@ pub(crate) fn direct_residuals(
     Residuals {
         equilibrium: eq,
         force_scale: scale,
+        support,
     }
 }

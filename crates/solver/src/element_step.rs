@@ -1,4 +1,4 @@
-//! One load step of the contact elements of seed §7 on the condensed
+//! One load step of the contact elements of course notes §7 on the condensed
 //! problem: the run picks this solve for `discretization =
 //! "contact_elements"`, and for any contact with a regularised normal law
 //! (`law = { penalty }`) and friction: each point is an element with the
@@ -29,7 +29,7 @@ pub(crate) fn check_return_mapping(
     sc: &scene::Scene,
     path: scene::SolvePath,
 ) -> Result<(), SolveError> {
-    let why = "the contact elements' return mapping (seed §7)";
+    let why = "the contact elements' return mapping (course notes §7)";
     if path == scene::SolvePath::Direct {
         return Err(SolveError::Input(format!(
             "solver.path: {why} runs on path = \"condensed\", not \"direct\""
@@ -41,7 +41,7 @@ pub(crate) fn check_return_mapping(
             let what = if c.discretization == scene::Discretization::ContactElements {
                 "discretization = \"contact_elements\" needs a regularised normal law"
             } else {
-                "the scene's contacts are solved by the contact elements' return mapping (seed §7), which needs a regularised normal law on every contact"
+                "the scene's contacts are solved by the contact elements' return mapping (course notes §7), which needs a regularised normal law on every contact"
             };
             return Err(SolveError::Input(format!(
                 "{entry}.law: {what}: give law = {{ penalty = <k_n> }} (normal stiffness per unit area)"
@@ -80,6 +80,40 @@ impl ElementHistory {
             forces: None,
         }
     }
+}
+
+/// How many times the bodies' own stiffness at a point, 1/W_ii, an
+/// element's k_n A may be: beyond it the Newton matrix of the return mapping
+/// (I + W K_e) keeps fewer digits than its solve checks (1e-8), and a
+/// stiffer element joins the bodies no more rigidly.
+const ELEMENT_STIFFNESS_RATIO: f64 = 1e7;
+
+/// Refuses a contact's `law.penalty` whose elements are stiffer than
+/// [`ELEMENT_STIFFNESS_RATIO`] times the bodies at some point (the Delassus
+/// operator `w`: before any solve), with the largest penalty that is not.
+fn check_element_stiffness(
+    input: &RootInput,
+    elements: &[ContactElement],
+    w: &faer::Mat<f64>,
+) -> Result<(), SolveError> {
+    for (ci, c) in input.sc.contact.iter().enumerate() {
+        let scene::Law::Penalty { penalty } = c.law else {
+            continue;
+        };
+        let ratio = (input.points.iter().zip(elements))
+            .filter(|(p, _)| p.contact == ci)
+            .map(|(_, e)| e.normal_stiffness * w[(e.normal_row, e.normal_row)])
+            .fold(0.0f64, f64::max);
+        if ratio > ELEMENT_STIFFNESS_RATIO {
+            return Err(SolveError::Input(format!(
+                "contact \"{}\".law.penalty: {} makes its elements {ratio:.1e} times stiffer than the bodies they join (1/W_ii at a point), more than the {ELEMENT_STIFFNESS_RATIO:e} double precision can solve; give law.penalty <= {:.2e} (a stiffer element joins the bodies no more rigidly)",
+                c.name,
+                scene::Shown(penalty),
+                penalty * ELEMENT_STIFFNESS_RATIO / ratio
+            )));
+        }
+    }
+    Ok(())
 }
 
 /// Each contact point as an element: its rows, k_n A, k_t A (the contact's
@@ -136,6 +170,7 @@ pub(crate) fn element_step(
     let gap0 = row_gaps(input, &load, |_| (0.0, 0.0));
     let mut problem = op.problem(&gap0, &load.fp);
     let elements = elements(input, interface);
+    check_element_stiffness(input, &elements, &problem.w)?;
     let opts = ElementOptions {
         max_iterations: input.sc.solver.max_iterations,
         tolerance: input.sc.solver.tolerance,

@@ -1,9 +1,9 @@
-//! One load step with friction on the condensed problem (seed §4): the
+//! One load step with friction on the condensed problem (course notes §4): the
 //! tangential rows' "gaps" (slip increments, §4.4), the regularised law's
 //! compliance, the choice of the friction algorithm (Tresca status or
 //! projection, Coulomb fixed point, status method or semi-smooth Newton
 //! method, Norton–Hoff, the 3D semi-smooth Newton method), the roughness of
-//! the plasticity analogy (seed §6: the rough rows' unknown is the slider
+//! the plasticity analogy (course notes §6: the rough rows' unknown is the slider
 //! force, [`signorini_contact::friction::kinematic_hardening`]), and the slip
 //! history carried to the next step.
 
@@ -108,7 +108,7 @@ pub(crate) fn friction_rows(
 
 /// The gaps of every row: the normal ones, then the tangential "gaps": the
 /// prescribed part of the slip minus the slip at the end of the previous
-/// step, so that the tangential rows give slip increments (seed §4.4); in
+/// step, so that the tangential rows give slip increments (course notes §4.4); in
 /// the order of the rows, t1 then t2 of each point.
 fn tangential_gaps(input: &RootInput, load: &StepLoad, history: &FrictionHistory) -> Vec<f64> {
     row_gaps(input, load, |pi| {
@@ -140,7 +140,7 @@ pub(crate) fn row_gaps(
 }
 
 /// The elastic slip compliance 1/k_e of a regularised law on the diagonal
-/// of W's tangential rows (seed §4.1.3).
+/// of W's tangential rows (course notes §4.1.3).
 fn slip_compliance(input: &RootInput, interface: &Interface) -> Vec<f64> {
     let mut compliance = vec![0.0; interface.rows.len()];
     for (pi, p) in input.points.iter().enumerate() {
@@ -156,7 +156,7 @@ fn slip_compliance(input: &RootInput, interface: &Interface) -> Vec<f64> {
 
 /// The roughness Q (force per unit slip: the scene's per-area value times
 /// the point's tributary measure) of each point with a tangential unknown
-/// and a rough regularised Coulomb law (seed §6); 0 elsewhere.
+/// and a rough regularised Coulomb law (course notes §6); 0 elsewhere.
 fn point_roughness(input: &RootInput) -> Vec<f64> {
     let rough = |p: &PointModel| match &input.sc.contact[p.contact].friction {
         scene::Friction::Coulomb {
@@ -170,7 +170,7 @@ fn point_roughness(input: &RootInput) -> Vec<f64> {
 }
 
 /// The slider force ξ = t − Q g as the unknown of the rough points'
-/// tangential rows (seed §6); `None` without roughness.
+/// tangential rows (course notes §6); `None` without roughness.
 fn harden_rough_rows(
     input: &RootInput,
     interface: &Interface,
@@ -202,9 +202,17 @@ fn harden_rough_rows(
     if rows.is_empty() {
         return Ok(None);
     }
-    kinematic_hardening::harden(problem, &rows, &q, &slip)
-        .map(Some)
-        .map_err(|e| SolveError::Input(format!("{entry}: {e}")))
+    let hardened = kinematic_hardening::harden(problem, &rows, &q, &slip)
+        .map_err(|e| SolveError::Input(format!("{entry}: {e}")))?;
+    // The eliminated modes leave a W whose rank-k term (the modes' spring)
+    // dwarfs the bodies' compliance: the 2D status methods solve it, the 3D
+    // fixed point's inner iterations do not reach the tolerance.
+    if hardened.holds_modes() && input.sc.dimension == 3 {
+        return Err(SolveError::Input(format!(
+            "{entry}: in 3D a rigid motion of a body held by contact alone that slides rough contact points (a block free to turn about its top) is not supported; hold the body so that no rigid motion slides them (a support that keeps it from turning), or solve it in 2D"
+        )));
+    }
+    Ok(Some(hardened))
 }
 
 /// One friction step: the problem with the tangential gaps and compliance,
@@ -236,7 +244,7 @@ pub(crate) fn friction_step(
     prescribed_slip_friction(input, &load, history, &mut friction, &out.forces[..m]);
     let physical = match &hardened {
         Some(h) => {
-            let t = h.physical_forces(&out.forces);
+            let t = h.physical_forces(&mut problem, &out.forces);
             rough_tractions(interface, &mut friction, &out.forces, &t);
             t
         }
@@ -422,7 +430,7 @@ const SLIP_ROUND_OFF: f64 = 64.0 * f64::EPSILON;
 /// totals. A support that holds the slip (a symmetry plane) leaves the point
 /// in contact with no friction force: the support reaction holds it. One
 /// that drags it (a non-zero slip increment) makes it slide, and Coulomb's
-/// law (seed §4) gives its force on the boundary of its cone, opposite to
+/// law (course notes §4) gives its force on the boundary of its cone, opposite to
 /// the slip increment. That force acts on prescribed DOFs only: it changes
 /// no free displacement, so it is computed here, at the end of the step.
 fn prescribed_slip_friction(
@@ -478,7 +486,7 @@ fn prescribed_jump(bodies: &[BodyModel], u_p: &[Vec<f64>], row: &[(usize, usize,
 }
 
 /// The friction force of a point sliding by `increment` (along t1, t2) with
-/// normal force `normal` (seed §4): on the boundary of its law's disc or
+/// normal force `normal` (course notes §4): on the boundary of its law's disc or
 /// ellipse (semi-axes a₁, a₂: Tresca g, Coulomb μᵢ λ_n), the point of
 /// maximal dissipation, λ_tᵢ = −aᵢ² Δsᵢ / ‖(a₁ Δs₁, a₂ Δs₂)‖, which is
 /// −a Δs/|Δs| on a disc. `None` for the laws whose force is not a threshold

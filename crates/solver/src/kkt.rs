@@ -1,5 +1,5 @@
 //! The direct path: the contact problem on the whole sparse stiffness,
-//! refactorised at each status iteration as seed §3.3 describes ("il faut
+//! refactorised at each status iteration as course notes §3.3 describes ("il faut
 //! procéder à une factorisation de la matrice de raideur globale à chaque
 //! itération"). For checking the condensed path and for benchmarking it.
 //!

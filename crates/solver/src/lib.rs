@@ -1,6 +1,6 @@
-//! The pipeline of DESIGN.md §1: scene → meshes → subdomains (a body, or a
+//! The pipeline of docs/architecture.md: scene → meshes → subdomains (a body, or a
 //! METIS part of one), each condensed on its interface by the rank that owns
-//! it (seed §8.2–8.3) → root: assembled interface problem, contact geometry,
+//! it (course notes §8.2–8.3) → root: assembled interface problem, contact geometry,
 //! contact algorithm → every rank recovers its interiors → report.
 //!
 //! The pipeline is written once against [`signorini_comm::Transport`]: in one
@@ -9,7 +9,7 @@
 //!
 //! The direct path (`path = "direct"`) solves the same contact problem on the
 //! whole sparse stiffness on the root, refactorised at each status iteration
-//! (seed §3.3), for checking and benchmarking the condensed path.
+//! (course notes §3.3), for checking and benchmarking the condensed path.
 //!
 //! The solver crate owns the pipeline (`pipeline.rs`: plan → model and
 //! partition → condense → root → recover → certify and report) and is the only
@@ -36,6 +36,7 @@ mod pipeline;
 mod plan;
 pub mod problem_file;
 pub mod progress;
+mod reactions;
 mod root;
 mod step_end;
 pub mod subdomain;
@@ -157,9 +158,9 @@ struct FrictionStep {
     /// How far the tangential force lies outside its admissible set, in
     /// force (≤ 0 inside): |λ_t| − g in 2D, ‖λ_t‖ − g on the Tresca disc,
     /// μ₁ (‖(λ_t1/μ₁, λ_t2/μ₂)‖ − λ_n) on the (elliptic) Coulomb cone;
-    /// with roughness, of the slider force λ_t + Q g (seed §6).
+    /// with roughness, of the slider force λ_t + Q g (course notes §6).
     cone_excess: Vec<f64>,
-    /// The back force Q g of a rough point (seed §6; zero without
+    /// The back force Q g of a rough point (course notes §6; zero without
     /// roughness), along t1 and t2: the slider force is λ_t + Q g.
     back_force: Vec<f64>,
     back_force2: Vec<f64>,
@@ -225,4 +226,7 @@ struct Residuals {
     equilibrium: f64,
     /// Largest internal or external force entry.
     force_scale: f64,
+    /// K u − f on the prescribed DOFs, as (body, DOF, value); a DOF shared
+    /// by subdomains appears once per subdomain, their values to be summed.
+    support: Vec<(usize, usize, f64)>,
 }

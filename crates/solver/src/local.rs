@@ -1,9 +1,9 @@
 //! `signorini local PROBLEM`: a stand-alone condensed contact problem (the
 //! file format and its row layouts: [`crate::problem_file`]) solved by any
 //! root algorithm, so that the root solvers can be compared with other
-//! libraries on identical data (DESIGN.md §4): an LCP by any method of the
+//! libraries on identical data (docs/theory/algorithms.md): an LCP by any method of the
 //! registry, 2D Coulomb friction by the fixed point on the threshold
-//! (seed §4.3), the friction status method (§4.5) or the fixed point with
+//! (course notes §4.3), the friction status method (§4.5) or the fixed point with
 //! semi-smooth Newton on Coulomb's law itself, 3D Coulomb friction by the
 //! fixed point with its semi-smooth Newton inner solves or the semi-smooth
 //! Newton method on Coulomb's law itself.
@@ -22,9 +22,9 @@ pub use crate::problem_file::{load, LocalProblem};
 /// The friction solvers of `signorini local --friction`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum FrictionMethod {
-    /// The fixed point on the threshold (seed §4.3), 2D and 3D.
+    /// The fixed point on the threshold (course notes §4.3), 2D and 3D.
     FixedPoint,
-    /// The friction status method (seed §4.5), 2D.
+    /// The friction status method (course notes §4.5), 2D.
     Status,
     /// The semi-smooth Newton method on the Alart–Curnier equations of
     /// Coulomb's law itself (no outer fixed point; the fixed point with
@@ -173,7 +173,7 @@ pub fn coulomb_residual(p: &LocalProblem, r: &[f64], g: &[f64], f: f64, gap: f64
 }
 
 /// Solves a frictional local problem: 2D by the fixed point on the
-/// threshold (seed §4.3) or the friction status method (§4.5), 3D by the
+/// threshold (course notes §4.3) or the friction status method (§4.5), 3D by the
 /// fixed point with semi-smooth Newton inner solves.
 pub fn solve_friction(
     name: &str,

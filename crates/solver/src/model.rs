@@ -42,6 +42,10 @@ pub struct BodyModel {
     pub material: Elasticity,
     pub n_dof: usize,
     pub prescribed: Vec<bool>,
+    /// The boundary entry (index in `scene.boundary`) that prescribes each
+    /// DOF, whose reaction it counts in (the last entry that names it);
+    /// `None` for a free DOF and for the axis of an axisymmetric model.
+    pub support_of: Vec<Option<usize>>,
     /// Free DOFs (full indices), in order.
     pub free: Vec<usize>,
     /// Full DOF → position in `free` (usize::MAX for a prescribed DOF).
@@ -106,14 +110,14 @@ pub struct PointModel {
     pub trow2: Option<Vec<(usize, usize, f64)>>,
     /// The friction law of the point's contact, per point: the Tresca
     /// threshold as a force (g × tributary length), or μ (in 3D, along t1
-    /// and t2: the elliptic cone of seed §4.1.2).
+    /// and t2: the elliptic cone of course notes §4.1.2).
     pub friction: FrictionLaw,
     /// The elastic slip stiffness (force per unit slip) of a regularised
-    /// Coulomb law (seed §4.1.3).
+    /// Coulomb law (course notes §4.1.3).
     pub slip_stiffness: Option<f64>,
     /// The tangential rows dropped because a support prescribes every DOF
     /// of them (`model::contacts::free_tangential_rows`): the slip there is
-    /// known, and a non-zero slip increment makes the point slide (seed §4,
+    /// known, and a non-zero slip increment makes the point slide (course notes §4,
     /// Coulomb's law), its force evaluated at the end of the step.
     pub prescribed_slip: Option<PrescribedSlip>,
 }
@@ -425,6 +429,11 @@ fn build_body(sc: &scene::Scene, bi: usize, model: FemModel) -> Result<BodyModel
         fix_axis(&mesh, &body.name, &mut supports)?;
     }
     let prescribed = supports.prescribed;
+    let support_of = supports
+        .set_by
+        .iter()
+        .map(|s| s.map(|(li, _)| li))
+        .collect();
     let free: Vec<usize> = (0..n_dof).filter(|&d| !prescribed[d]).collect();
     let mut free_index = vec![usize::MAX; n_dof];
     for (i, &d) in free.iter().enumerate() {
@@ -440,6 +449,7 @@ fn build_body(sc: &scene::Scene, bi: usize, model: FemModel) -> Result<BodyModel
         material,
         n_dof,
         prescribed,
+        support_of,
         free,
         free_index,
         loads,

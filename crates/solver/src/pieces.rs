@@ -1,4 +1,4 @@
-//! `[output] pieces` (issue 17): the VTU piece of every subdomain at each
+//! `[output] pieces`: the VTU piece of every subdomain at each
 //! step that writes fields, beside the gathered `<body>_<step>.vtu`. On the
 //! condensed path the rank that owns a subdomain writes its piece from its
 //! own recovery (its displacement, its cells' stresses computed there) and

@@ -1,9 +1,9 @@
-//! A run as a sequence of named stages (DESIGN.md §2): plan → model and
+//! A run as a sequence of named stages (docs/architecture.md): plan → model and
 //! partition → condense (each rank its subdomains) → the load steps, one at
 //! a time: the root's contact solve of the step on Γ, every rank's recovery
 //! of its subdomains at that step, the root's certificate and the step's
 //! fields to the output (step_end.rs) → report. No rank holds more than one
-//! step's per-DOF data (issue 16). Only this module calls the transport
+//! step's per-DOF data. Only this module calls the transport
 //! (gather, broadcast, deal).
 
 use super::*;

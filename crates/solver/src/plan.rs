@@ -10,7 +10,7 @@ pub(crate) struct Plan {
     pub path: scene::SolvePath,
     pub algorithm: Algorithm,
     /// The contacts are contact elements solved by the return mapping
-    /// (seed §7, [`crate::element_step`]): no `method` applies.
+    /// (course notes §7, [`crate::element_step`]): no `method` applies.
     pub return_mapping: bool,
 }
 
@@ -26,13 +26,19 @@ pub(crate) fn plan(sc: &scene::Scene, opts: &RunOptions) -> Result<Plan, SolveEr
         check_return_mapping(sc, path)?;
         if let Some(m) = opts.method.filter(|&m| m != scene::Method::Status) {
             return Err(SolveError::Input(format!(
-                "--method {}: the scene's contacts are contact elements or penalty laws with friction, solved by the return mapping (seed §7); no method applies (leave --method out)",
+                "--method {}: the scene's contacts are contact elements or penalty laws with friction, solved by the return mapping (course notes §7); no method applies (leave --method out)",
                 m.as_str()
+            )));
+        }
+        if sc.solver.friction != scene::Solver::default().friction {
+            return Err(SolveError::Input(format!(
+                "solver.friction = \"{}\": the scene's contacts are contact elements or penalty laws with friction, solved by the return mapping (seed §7); no friction method applies (remove the key)",
+                sc.solver.friction.as_str()
             )));
         }
         if sc.solver.method != scene::Method::Status {
             return Err(SolveError::Input(format!(
-                "solver.method = \"{}\": the scene's contacts are contact elements or penalty laws with friction, solved by the return mapping (seed §7); no method applies (remove the key)",
+                "solver.method = \"{}\": the scene's contacts are contact elements or penalty laws with friction, solved by the return mapping (course notes §7); no method applies (remove the key)",
                 sc.solver.method.as_str()
             )));
         }
@@ -100,7 +106,7 @@ fn check_supported(sc: &scene::Scene) -> Result<(), SolveError> {
         .any(|c| c.friction != scene::Friction::None);
     if frictional && sc.dimension == 3 && sc.solver.friction == scene::FrictionSolver::Status {
         return Err(SolveError::Input(
-            "solver.friction: the friction status method (seed §4.5) is 2D only; in 3D friction is solved by the fixed point on the threshold (friction = \"fixed_point\", the default)".into(),
+            "solver.friction: the friction status method (course notes §4.5) is 2D only; in 3D friction is solved by the fixed point on the threshold (friction = \"fixed_point\", the default)".into(),
         ));
     }
     crate::compare::check_reference(sc)

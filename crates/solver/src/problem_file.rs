@@ -1,4 +1,4 @@
-//! The stand-alone problem file of `signorini local` (DESIGN.md §4): a
+//! The stand-alone problem file of `signorini local` (docs/theory/algorithms.md): a
 //! Delassus operator W (dense, symmetric), its free gaps q and, for
 //! friction, a coefficient μ per contact, so that the root solvers can be
 //! compared with other libraries on identical data.
@@ -91,12 +91,39 @@ type NpyArray = (Vec<u64>, bool, Vec<f64>);
 
 fn read_npy(
     archive: &mut zip::ZipArchive<std::fs::File>,
+    shown: &str,
     name: &str,
 ) -> Result<Option<NpyArray>, String> {
-    let mut file = match archive.by_name(&format!("{name}.npy")) {
+    let Some(bytes) = read_member(archive, shown, &format!("{name}.npy"))? else {
+        return Ok(None);
+    };
+    let member = format!("{shown}: {name}.npy");
+    let npy = npyz::NpyFile::new(&bytes[..]).map_err(|e| format!("{member}: {e}"))?;
+    let shape = npy.shape().to_vec();
+    let fortran = npy.order() == npyz::Order::Fortran;
+    // float64, or integers (NumPy's default for `np.array(2)`), read as f64.
+    let data = match npy.into_vec::<f64>() {
+        Ok(data) => data,
+        Err(e) => npyz::NpyFile::new(&bytes[..])
+            .and_then(|n| n.into_vec::<i64>())
+            .map(|v| v.into_iter().map(|x| x as f64).collect())
+            .map_err(|_| format!("{member}: expected float64 or integer data ({e})"))?,
+    };
+    Ok(Some((shape, fortran, data)))
+}
+
+/// The bytes of the archive's member `member`, or `None` if it has none;
+/// refused when they would not fit in memory, or when their CRC-32 is not
+/// the one the archive records (a damaged file never gives an answer).
+fn read_member(
+    archive: &mut zip::ZipArchive<std::fs::File>,
+    shown: &str,
+    member: &str,
+) -> Result<Option<Vec<u8>>, String> {
+    let mut file = match archive.by_name(member) {
         Ok(f) => f,
         Err(zip::result::ZipError::FileNotFound) => return Ok(None),
-        Err(e) => return Err(format!("{name}.npy: {e}")),
+        Err(e) => return Err(format!("{shown}: {member}: {e}")),
     };
     // A few kilobytes of deflated zeros can unpack to gigabytes: the array,
     // its f64 copy and the solver's dense copies must fit before any is made.
@@ -104,7 +131,7 @@ fn read_npy(
     if let Some(b) = crate::memory::budget() {
         if (NPY_COPIES * unpacked) as f64 > b.bytes as f64 {
             return Err(format!(
-                "{name}.npy unpacks to {}, and solving it needs about {NPY_COPIES} times that, more than the {} {}",
+                "{shown}: {member} unpacks to {}, and solving it needs about {NPY_COPIES} times that, more than the {} {}",
                 crate::memory::human(unpacked as f64),
                 crate::memory::human(b.bytes as f64),
                 b.source
@@ -115,19 +142,60 @@ fn read_npy(
     (&mut file)
         .take(unpacked)
         .read_to_end(&mut bytes)
-        .map_err(|e| format!("{name}.npy: {e}"))?;
-    let npy = npyz::NpyFile::new(&bytes[..]).map_err(|e| format!("{name}.npy: {e}"))?;
-    let shape = npy.shape().to_vec();
-    let fortran = npy.order() == npyz::Order::Fortran;
-    // float64, or integers (NumPy's default for `np.array(2)`), read as f64.
-    let data = match npy.into_vec::<f64>() {
-        Ok(data) => data,
-        Err(e) => npyz::NpyFile::new(&bytes[..])
-            .and_then(|n| n.into_vec::<i64>())
-            .map(|v| v.into_iter().map(|x| x as f64).collect())
-            .map_err(|_| format!("{name}.npy: expected float64 or integer data ({e})"))?,
-    };
-    Ok(Some((shape, fortran, data)))
+        .map_err(|e| format!("{shown}: {member} is damaged ({e})"))?;
+    if bytes.len() as u64 != unpacked {
+        return Err(format!(
+            "{shown}: {member} is damaged: it holds {} bytes, the archive records {unpacked}",
+            bytes.len()
+        ));
+    }
+    check_crc(shown, member, crc32fast::hash(&bytes), file.crc32())?;
+    Ok(Some(bytes))
+}
+
+/// Refuses a member whose CRC-32 `computed` is not the `recorded` one.
+fn check_crc(shown: &str, member: &str, computed: u32, recorded: u32) -> Result<(), String> {
+    if computed == recorded {
+        return Ok(());
+    }
+    Err(format!(
+        "{shown}: {member} is damaged: its CRC-32 is {computed:08x}, the archive records {recorded:08x} (the file was altered after it was written); write it again"
+    ))
+}
+
+/// Checks the CRC-32 of the members other than `read` (those [`read_member`]
+/// checked), streaming them: no member of a damaged archive is trusted.
+fn check_other_members(
+    archive: &mut zip::ZipArchive<std::fs::File>,
+    shown: &str,
+    read: &[&str],
+) -> Result<(), String> {
+    /// Hashes what is written to it.
+    struct Crc(crc32fast::Hasher);
+    impl Write for Crc {
+        fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+            self.0.update(buf);
+            Ok(buf.len())
+        }
+        fn flush(&mut self) -> std::io::Result<()> {
+            Ok(())
+        }
+    }
+    for i in 0..archive.len() {
+        let mut file = archive
+            .by_index(i)
+            .map_err(|e| format!("{shown}: member {i}: {e}"))?;
+        let member = String::from_utf8_lossy(file.name_raw()).into_owned();
+        if read.contains(&member.as_str()) || file.is_dir() {
+            continue;
+        }
+        let mut crc = Crc(crc32fast::Hasher::new());
+        let size = file.size();
+        std::io::copy(&mut (&mut file).take(size), &mut crc)
+            .map_err(|e| format!("{shown}: {member} is damaged ({e})"))?;
+        check_crc(shown, &member, crc.0.finalize(), file.crc32())?;
+    }
+    Ok(())
 }
 
 /// Refuses a device or a pipe: reading it may not end, nor fit in memory.
@@ -147,14 +215,22 @@ fn read_npz(path: &Path) -> Result<Raw, String> {
     let file = std::fs::File::open(path).map_err(|e| format!("cannot read {shown}: {e}"))?;
     let mut archive =
         zip::ZipArchive::new(file).map_err(|e| format!("{shown}: not a .npz archive ({e})"))?;
-    let (ws, wf, wd) = read_npy(&mut archive, "W")?.ok_or(format!("{shown}: no array named W"))?;
-    let (qs, _, qd) = read_npy(&mut archive, "q")?.ok_or(format!("{shown}: no array named q"))?;
-    let mu = read_npy(&mut archive, "mu")?.map(|(_, _, d)| d);
-    let dim = match read_npy(&mut archive, "dim")? {
+    let shown = shown.to_string();
+    let (ws, wf, wd) =
+        read_npy(&mut archive, &shown, "W")?.ok_or(format!("{shown}: no array named W"))?;
+    let (qs, _, qd) =
+        read_npy(&mut archive, &shown, "q")?.ok_or(format!("{shown}: no array named q"))?;
+    let mu = read_npy(&mut archive, &shown, "mu")?.map(|(_, _, d)| d);
+    let dim = match read_npy(&mut archive, &shown, "dim")? {
         None => None,
         Some((_, _, d)) if d.len() == 1 => Some(d[0]),
         Some((s, _, _)) => return Err(format!("{shown}: dim must be one number, has shape {s:?}")),
     };
+    check_other_members(
+        &mut archive,
+        &shown,
+        &["W.npy", "q.npy", "mu.npy", "dim.npy"],
+    )?;
     if ws.len() != 2 || ws[0] != ws[1] {
         return Err(format!("{shown}: W must be square, has shape {ws:?}"));
     }
@@ -184,7 +260,13 @@ fn read_json(path: &Path) -> Result<Raw, String> {
     let shown = path.display();
     regular_file(path)?;
     let text = std::fs::read_to_string(path).map_err(|e| format!("cannot read {shown}: {e}"))?;
-    let p: JsonProblem = serde_json::from_str(&text).map_err(|e| format!("{shown}: {e}"))?;
+    let p: JsonProblem = serde_json::from_str(&text).map_err(|e| {
+        if e.is_syntax() || e.is_eof() {
+            format!("{shown}: not a JSON problem ({e}); {FORMATS}")
+        } else {
+            format!("{shown}: {e}")
+        }
+    })?;
     let mu = match p.mu {
         None => None,
         Some(v) => Some(
@@ -298,6 +380,9 @@ fn resolve_layout(shown: &str, raw: &Raw) -> Result<(usize, Vec<usize>), String>
     Ok((dim, order))
 }
 
+/// The formats [`load`] reads, for its messages.
+const FORMATS: &str = "a problem file is JSON, NumPy .npz or FCLib .hdf5/.h5 (by its extension)";
+
 /// Reads a problem; errors name the file and what is wrong. The format
 /// follows the extension (any case): `.npz`, `.hdf5` or `.h5` (FCLib), else
 /// JSON.
@@ -319,6 +404,11 @@ pub fn load(path: &Path) -> Result<LocalProblem, String> {
         p.reference_r = file.reference_r;
         p.global = file.global;
         return Ok(p);
+    }
+    if is("toml") {
+        return Err(format!(
+            "{shown}: a .toml file is a scene, solved by `signorini run`; {FORMATS}"
+        ));
     }
     let raw = if is("npz") {
         read_npz(path)?

@@ -13,7 +13,7 @@ use std::sync::{Arc, RwLock};
 
 pub use signorini_contact::observe::Iteration;
 
-/// A stage of the run (DESIGN.md §2).
+/// A stage of the run (docs/architecture.md).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Phase {
     /// Meshes, models and the contact search.

@@ -1,6 +1,6 @@
 //! The root solve of the condensed path: S and F' of every subdomain
 //! assembled on Γ, the Delassus operator built once, and each load step's
-//! contact problem solved by the chosen algorithm (seed §3–4).
+//! contact problem solved by the chosen algorithm (course notes §3–4).
 
 use super::*;
 
@@ -245,7 +245,7 @@ pub(crate) fn status_report(outcome: &mut ContactSolution, method: &str, linear_
 pub(crate) struct RootInput<'a> {
     pub sc: &'a scene::Scene,
     pub algorithm: Algorithm,
-    /// Contact elements solved by the return mapping (seed §7).
+    /// Contact elements solved by the return mapping (course notes §7).
     pub return_mapping: bool,
     pub bodies: &'a [BodyModel],
     pub points: &'a [PointModel],
@@ -361,7 +361,7 @@ impl<'a> RootSolve<'a> {
 
 /// Assembles S and the condensed load of every entry on Γ from the
 /// subdomains' blocks, the kernel R on Γ, and the contact rows on Γ
-/// (tangential rows after the normal ones, seed eq. 16: the slip [u_t]).
+/// (tangential rows after the normal ones, course notes eq. 16: the slip [u_t]).
 fn assemble_interface(input: &RootInput, s: InterfaceStiffness) -> Interface {
     let (bodies, n_gamma) = (input.bodies, input.n_gamma);
     let mut fp_entries: Vec<Vec<Vec<f64>>> = bodies

@@ -1,4 +1,4 @@
-//! The end of each load step on the root, on both paths (issue 16, "many
+//! The end of each load step on the root, on both paths ("many
 //! load steps in flat memory"): the step's certificate, report and contact
 //! rows; its fields (displacement, and stresses when asked for) handed to
 //! the run's [`StepSink`] when `[output] steps` selects the step; the lowest

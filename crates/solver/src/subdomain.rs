@@ -1,6 +1,6 @@
 //! One subdomain (a body, or a METIS part of one), owned by one rank: it
 //! assembles its stiffness K_i from its own cells, factorises it once with its
-//! interface last, sends S_i and F'_i to the root (seed §8.2–8.3), and later
+//! interface last, sends S_i and F'_i to the root (course notes §8.2–8.3), and later
 //! recovers its interior from the interface displacement.
 //!
 //! The interface of a subdomain holds its free DOFs on the nodes it shares
@@ -239,6 +239,10 @@ pub struct RecoveredStep {
     /// The displacement of the subdomain's nodes (`SubdomainSpec::nodes`,
     /// `dim` values per node).
     pub displacement: Vec<f64>,
+    /// K_i u_i − f_i on its prescribed DOFs, as (body DOF, value): the
+    /// supports' share of the reactions (Cartesian: a node with a prescribed
+    /// DOF is never rotated into a contact frame).
+    pub support_residual: Vec<(usize, f64)>,
 }
 
 /// A condensed subdomain kept by its rank for the recovery.
@@ -357,6 +361,7 @@ impl Subdomain {
             force_scale: 0.0,
             gamma_residual: Vec::new(),
             displacement: Vec::new(),
+            support_residual: Vec::new(),
         };
         let mut gi = 0;
         for &l in &self.free {
@@ -369,7 +374,21 @@ impl Subdomain {
                 out.interior_residual = out.interior_residual.max(r.abs());
             }
         }
+        out.support_residual = self.support_residual(&ku, &f);
         out.displacement = self.frames.to_cartesian(&u);
         out
+    }
+
+    /// K_i u_i − f_i on the prescribed local DOFs (`ku`, `f`: on every
+    /// local DOF), as (body DOF, value).
+    fn support_residual(&self, ku: &[f64], f: &[f64]) -> Vec<(usize, f64)> {
+        let mut is_free = vec![false; ku.len()];
+        for &l in &self.free {
+            is_free[l] = true;
+        }
+        (0..ku.len())
+            .filter(|&l| !is_free[l])
+            .map(|l| (self.spec.body_dof(self.dim, l), ku[l] - f[l]))
+            .collect()
     }
 }

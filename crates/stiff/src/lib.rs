@@ -1,4 +1,4 @@
-//! The stiff and extreme cases of VALIDATION.md §8 (issue 7) as data: each
+//! The stiff and extreme cases of docs/theory/validation-cases.md §8 as data: each
 //! case is a real scene (TOML text parsed and validated by the scene crate,
 //! as `signorini run` does), run in process through [`signorini_solver::run`], with an
 //! expectation — it solves (converged, certificate within its tolerance) and
@@ -11,7 +11,7 @@
 //! expectation met.
 //!
 //! References are exact wherever the discretisation reproduces the answer
-//! (uniform states: VALIDATION.md §3 patch tests, §5 sliding block,
+//! (uniform states: docs/theory/validation-cases.md §3 patch tests, §5 sliding block,
 //! equilibrium of a body held by contact or friction, the closed form of the
 //! regularised law); their tolerance is round-off, scaled by an estimate of the
 //! problem's conditioning ([`roundoff`]), relative to the load of the case.

@@ -1,4 +1,4 @@
-//! The status system of one iteration of the friction status method (seed
+//! The status system of one iteration of the friction status method (course notes
 //! §4.5) solved with the factor of an earlier iteration's system, by the
 //! capacitance (Sherman–Morrison–Woodbury) formula on the rows whose
 //! equation changed.

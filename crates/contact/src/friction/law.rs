@@ -1,9 +1,9 @@
 //! The friction law of a contact point and the layout of the friction rows,
-//! one type each for 2D and 3D (seed §4.1).
+//! one type each for 2D and 3D (course notes §4.1).
 
 use crate::ContactError;
 
-/// The friction law of one contact point (seed §4.1).
+/// The friction law of one contact point (course notes §4.1).
 ///
 /// One Coulomb variant carries the coefficients along the two tangents,
 /// (λ_t1/μ1)² + (λ_t2/μ2)² ≤ λ_n² (the elliptic cone of §4.1.2; μ1 = μ2 is

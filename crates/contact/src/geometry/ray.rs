@@ -1,10 +1,10 @@
 //! Where the line through a slave node along a contact normal meets a
-//! primitive of the master surface (seed §2.4, Fig. 3: with the slave's or
+//! primitive of the master surface (course notes §2.4, Fig. 3: with the slave's or
 //! the average normal, the master point paired with a slave node is the one
 //! its normal points at, not the closest one).
 //!
 //! The line is x_m = x − g n (n unit, from master to slave), so that the
-//! parameter g of the meeting point is the initial gap n · (x − x_m) (seed
+//! parameter g of the meeting point is the initial gap n · (x − x_m) (course notes
 //! eq. 10, j = g0): positive when the master is ahead of the slave node along
 //! −n, negative for an initial overlap. Each function returns `None` when the
 //! line is parallel to the primitive or meets its plane outside it by more

@@ -1,7 +1,7 @@
 //! Friction by the semi-smooth Newton method of [`super`]: the driver
 //! ([`friction_newton`]), Newton on Coulomb's law itself ([`solve_coulomb`],
 //! thresholds μ λ_n of the iterate) and the fixed point on the thresholds
-//! around the fixed-threshold method as its fallback (seed §4.1.2, §4.3).
+//! around the fixed-threshold method as its fallback (course notes §4.1.2, §4.3).
 
 use super::*;
 
@@ -9,7 +9,7 @@ use super::*;
 /// frictionless) points in one solve; Coulomb, with `direct`, by the Newton
 /// method on Coulomb's law itself ([`solve_coulomb`]), and when that does
 /// not converge (or without `direct`) by the fixed point on the thresholds
-/// g ← μ λ_n (seed §4.3), started from `start` (the previous step's forces,
+/// g ← μ λ_n (course notes §4.3), started from `start` (the previous step's forces,
 /// all rows) or from the solution with every frictional point stuck (so
 /// that a body held by friction alone can start). The direct method stops
 /// on its scaled natural residual (cone and complementarity); the fixed
@@ -66,7 +66,7 @@ fn bilateral_start(problem: &mut DelassusProblem) -> Option<Vec<f64>> {
     problem.solve_equations(&eqs).ok().map(|(r, _)| r)
 }
 
-/// The Tresca problems of a fixed point on the threshold (seed §4.3):
+/// The Tresca problems of a fixed point on the threshold (course notes §4.3):
 /// the semi-smooth Newton method from the previous forces, counting the
 /// Newton iterations of all solves.
 pub(super) struct Newton<'a> {
@@ -199,7 +199,7 @@ fn newton_fixed_point(
 }
 
 /// The semi-smooth Newton method on Coulomb's law itself (Alart & Curnier
-/// 1991; seed §4.1.2), no outer fixed point: the semi-axes of a Coulomb
+/// 1991; course notes §4.1.2), no outer fixed point: the semi-axes of a Coulomb
 /// point are μ_i λ_n of the iterate (the threshold μ λ_n rather than
 /// μ [λ_n − ρ y_n]₊: the two have the same zeros, and with λ_n the
 /// slipping rows depend on the normal force alone, a substitution in the

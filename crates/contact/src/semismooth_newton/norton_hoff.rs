@@ -1,4 +1,4 @@
-//! Norton–Hoff friction in 3D (seed §4.1.4, eq. 19) by the fixed point on
+//! Norton–Hoff friction in 3D (course notes §4.1.4, eq. 19) by the fixed point on
 //! its slip-dependent threshold, each inner Tresca problem by the
 //! semi-smooth Newton method of [`super`].
 //!

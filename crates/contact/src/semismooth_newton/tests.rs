@@ -1,6 +1,6 @@
 //! The semi-smooth Newton method on Coulomb's law against the fixed point
 //! (2D: status method inner solves, and the friction status method; 3D:
-//! Newton inner solves) (seed §4.3, §4.5).
+//! Newton inner solves) (course notes §4.3, §4.5).
 
 use faer::Mat;
 

@@ -351,7 +351,7 @@ impl StopReason {
             }
             StopReason::Cycling { iteration } => write!(
                 f,
-                "cycling: the active set of iteration {iteration} repeats an earlier one even with one status change per iteration (the contact zone is probably meshed too coarsely, seed §3.3)"
+                "cycling: the active set of iteration {iteration} repeats an earlier one even with one status change per iteration (the contact zone is probably meshed too coarsely, course notes §3.3)"
             ),
             StopReason::StatusLimit { limit } => write!(
                 f,
@@ -381,7 +381,7 @@ impl StopReason {
                 }
                 write!(
                     f,
-                    "; max penetration {penetration:.3e} (O(1/k), seed §3.6)"
+                    "; max penetration {penetration:.3e} (O(1/k), course notes §3.6)"
                 )
             }
             StopReason::NewtonCycling {

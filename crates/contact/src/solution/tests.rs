@@ -231,7 +231,7 @@ fn the_reasons_of_the_status_and_penalty_methods_read_as_before() {
     );
     same(
         StopReason::Cycling { iteration: iterations },
-        format!("cycling: the active set of iteration {iterations} repeats an earlier one even with one status change per iteration (the contact zone is probably meshed too coarsely, seed §3.3)"),
+        format!("cycling: the active set of iteration {iterations} repeats an earlier one even with one status change per iteration (the contact zone is probably meshed too coarsely, course notes §3.3)"),
     );
     same(
         StopReason::StatusLimit { limit: 50 },
@@ -248,7 +248,7 @@ fn the_reasons_of_the_status_and_penalty_methods_read_as_before() {
         same(
             StopReason::RegularisedSolved { active: 6, iterations: 5, cycle_at, penetration: pen },
             format!(
-                "regularised law solved exactly: the active set ({} points) repeated after {} iterations{}; max penetration {pen:.3e} (O(1/k), seed §3.6)",
+                "regularised law solved exactly: the active set ({} points) repeated after {} iterations{}; max penetration {pen:.3e} (O(1/k), course notes §3.6)",
                 6, 5, note
             ),
         );

@@ -8,7 +8,7 @@
 //! the line is in 2 or 4 of their triangles where its neighbours are in 3
 //! (alternating the diagonals, the "criss-cross" pattern, makes every other
 //! node so). On the axis of a disk that node is the pole: its contact force
-//! came out 8-14 % high (Hertz p0 as much too, VALIDATION.md §1-2), and
+//! came out 8-14 % high (Hertz p0 as much too, docs/theory/validation-cases.md §1-2), and
 //! criss-cross made the pressure zig-zag by as much. The disks are therefore
 //! cut [`TriangleSplit::Crossed`]: four triangles about each quadrilateral's
 //! centre, which is the mirror image of itself with its quadrilateral, so that

@@ -41,6 +41,9 @@ pub(super) fn build(raw: Raw, dim: usize) -> Result<Mesh, MeshError> {
         names,
     } = raw;
     let present = check_element_types(&blocks, dim)?;
+    if present.is_empty() {
+        return Err(no_cells(&present, dim));
+    }
     check_groups_kept(&blocks, &names, dim)?;
     let tags = NodeTags::new(&raw_nodes)?;
     let (mut cells, cell_groups) = read_cells(&blocks, dim, &tags)?;
@@ -235,11 +238,13 @@ fn read_cells<'a>(
 /// The error for a file without cells of dimension `dim`, listing the
 /// elements `present` and the likely cause (physical groups without the body).
 fn no_cells(present: &BTreeMap<i32, usize>, dim: usize) -> MeshError {
-    let found = if present.is_empty() {
-        "none".to_string()
-    } else {
-        count_list(present)
-    };
+    if present.is_empty() {
+        return invalid(format!(
+            "the file has no elements: it holds no mesh (mesh the geometry in Gmsh, \
+             e.g. gmsh -{dim} file.geo, and give the .msh it writes)"
+        ));
+    }
+    let found = count_list(present);
     // 2D cells read as a 3D mesh: the file may be a 2D mesh (or the
     // triangles of a 3D one whose volume has no physical group)
     let flat = dim == 3 && present.keys().any(|&t| cell_kind(t, 2).is_some());

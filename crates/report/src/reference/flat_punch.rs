@@ -1,4 +1,4 @@
-//! Rigid flat punch on an elastic half-space (VALIDATION.md §4; Johnson,
+//! Rigid flat punch on an elastic half-space (docs/theory/validation-cases.md §4; Johnson,
 //! *Contact Mechanics*, §2.8 and §3.8): a flat-ended rigid punch of
 //! half-width b pressed by a load P.
 //! - 2D (plane strain or stress, P per unit thickness):
@@ -7,7 +7,7 @@
 //!   p(r) = P / (2π b sqrt(b² − r²)), r < b.
 //!
 //! The pressure is singular at the edges, where no mesh resolves it: the
-//! profile is compared away from them, on |x| ≤ 0.8 b, as VALIDATION.md
+//! profile is compared away from them, on |x| ≤ 0.8 b, as docs/theory/validation-cases.md
 //! asks. The profile does not depend on the elastic constants, only on P
 //! and b: a punch much stiffer than the half-space (E_punch ≥ 1000 E)
 //! approximates the rigid one.

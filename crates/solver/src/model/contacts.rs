@@ -90,7 +90,8 @@ struct PairSides {
 }
 
 /// Refuses what the contact solver does not support yet: mortar in an
-/// axisymmetric model, Norton–Hoff friction in 3D, and mortar or contact
+/// axisymmetric model or with a normal rule it does not use, Norton–Hoff
+/// friction in 3D, and mortar or contact
 /// elements against a rigid master (from the scene alone: `plan` asks it
 /// before anything is built, so that `check` refuses it too).
 pub(crate) fn check_contact_supported(
@@ -101,6 +102,12 @@ pub(crate) fn check_contact_supported(
     if c.discretization == scene::Discretization::Mortar && sc.model == scene::Model::Axisymmetric {
         return Err(input(format!(
             "{entry}.discretization: \"mortar\" is not supported with model = \"axisymmetric\" yet (supported: node_to_node, node_to_segment)"
+        )));
+    }
+    if c.discretization == scene::Discretization::Mortar && c.normal != scene::NormalRule::Master {
+        return Err(input(format!(
+            "{entry}.normal: \"{}\" is not used by mortar, whose normal is the slave's averaged nodal normal (reversed); leave the key out (its default \"master\"), or use node_to_segment for the rules master, slave, average, points",
+            c.normal.as_str()
         )));
     }
     let rigid_master = sc.body(&c.master.body).is_some_and(|b| b.rigid.is_some());
@@ -301,7 +308,7 @@ fn row_along(p: &ContactPoint, sides: &PairSides, dim: usize, direction: [f64; 3
 }
 
 /// The friction law of a contact at one of its points, and the slip
-/// stiffness of a regularised law (seed §4.1.3): a Tresca threshold and a
+/// stiffness of a regularised law (course notes §4.1.3): a Tresca threshold and a
 /// slip stiffness scale with the point's tributary measure.
 fn point_friction(friction: &scene::Friction, tributary: f64) -> (FrictionLaw, Option<f64>) {
     match friction {
@@ -407,9 +414,9 @@ struct TangentialRows {
 /// both are dropped; dependent (a node on one symmetry plane), the frame
 /// (t1, t2) is turned about n so that t2 is the prescribed direction, and
 /// only t1, along which the node may slip, keeps a row, with the elliptic
-/// cone's coefficient in that direction (seed §4.1.2). The dropped rows of a
+/// cone's coefficient in that direction (course notes §4.1.2). The dropped rows of a
 /// point with no tangential unknown left are kept as its prescribed slip: a
-/// support that drags it makes it slide (seed §4, Coulomb's law).
+/// support that drags it makes it slide (course notes §4, Coulomb's law).
 fn free_tangential_rows(
     bodies: &[BodyModel],
     p: &mut ContactPoint,

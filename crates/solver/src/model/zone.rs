@@ -7,7 +7,7 @@
 //! L = search_distance + the largest prescribed displacement of the pair's
 //! deformable bodies over the steps
 //! is neither a contact unknown nor an interface DOF: it becomes an interior
-//! DOF of its subdomain (seed §8.2, the condensation is exact whatever the
+//! DOF of its subdomain (course notes §8.2, the condensation is exact whatever the
 //! interface). Its contact point is kept aside ([`ZonePoints::excluded`]);
 //! after the solve its gap g = g0 + B u is computed with the recovered
 //! displacement, and a node that would penetrate (g < −tolerance × the

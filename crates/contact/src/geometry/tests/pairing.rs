@@ -1,4 +1,4 @@
-//! The bounded pairing of issue 12: with the slave (or average) normal, a
+//! The bounded pairing: with the slave (or average) normal, a
 //! slave node is paired with the master point its normal line meets, or is
 //! not a contact point; every rule leaves out nodes beyond the search
 //! distance. 2D (segments, rigid plane and disc) and 3D (bilinear quads,
