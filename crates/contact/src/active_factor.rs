@@ -24,6 +24,8 @@ use faer::linalg::triangular_solve::{
 };
 use faer::{Accum, Mat, Par, Side};
 
+use crate::pivot_policy::cholesky_pivots_are_safe;
+
 /// L Lᵀ = W restricted to `rows` (in that order).
 #[derive(Debug, Clone)]
 pub struct ActiveFactor {
@@ -40,19 +42,6 @@ struct Forward {
     b: Vec<f64>,
     y: Vec<f64>,
     valid: usize,
-}
-
-/// Whether a Cholesky factor's pivots L_ii² are safely positive: each at
-/// least 1e-10 of the diagonal entry A_ii it comes from (L_ii² / A_ii is the
-/// squared sine of the angle, in the metric of A, between row i and the rows
-/// before it, so the test is blind to the rows' scales). Below it the block
-/// is near singular (redundant constraints) and the caller's rank-tested
-/// solve must decide. NaN fails the test.
-pub(crate) fn cholesky_pivots_are_safe(
-    l_diag: impl Iterator<Item = f64>,
-    a_diag: impl Iterator<Item = f64>,
-) -> bool {
-    l_diag.zip(a_diag).all(|(l, a)| l * l > 1e-10 * a)
 }
 
 /// W_AA λ_A = −q_A with the factor carried in `slot` from the previous
@@ -129,7 +118,7 @@ impl ActiveFactor {
         let par = faer::get_global_parallelism();
         crate::recursive_cholesky::cholesky(l.as_mut(), par).ok()?;
         let w_diag = rows.iter().map(|&r| w[(r, r)]);
-        let safe = cholesky_pivots_are_safe((0..n).map(|i| l[(i, i)]), w_diag);
+        let safe = cholesky_pivots_are_safe((0..n).map(|i| l[(i, i)]), w_diag, n);
         safe.then(|| Self {
             rows: rows.to_vec(),
             l,
@@ -255,7 +244,7 @@ impl ActiveFactor {
         };
         let l22 = llt.L();
         let a_diag = entering.iter().map(|&r| w[(r, r)]);
-        if !cholesky_pivots_are_safe((0..k).map(|i| l22[(i, i)]), a_diag) {
+        if !cholesky_pivots_are_safe((0..k).map(|i| l22[(i, i)]), a_diag, n + k) {
             return false;
         }
         self.l

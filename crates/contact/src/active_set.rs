@@ -10,9 +10,12 @@
 //! - the iteration with its limit;
 //! - the seen-set of status vectors: a status vector that comes back is a
 //!   cycle (a flip-flop at the edge of a coarse contact zone, §3.3);
-//! - the switch to one status change per iteration, the most violated first
-//!   (the variant of §3.3 with the convergence proof), when changing every
-//!   violated status at once cycles; cycling again then stops the method;
+//! - the way out of a cycle met when changing every violated status at once:
+//!   first, once, the statuses of a method that cannot cycle when the rule
+//!   has one ([`StatusRule::leave_cycle`]: complementary pivoting for normal
+//!   contact), then the switch to one status change per iteration, the most
+//!   violated first (the variant of §3.3 with the convergence proof);
+//!   cycling then stops the method;
 //! - the singular-system fallback: the driver keeps the last statuses that
 //!   gave a regular system, and when a status vector gives a singular one
 //!   (a floating body no longer held) it asks the rule where to go from there;
@@ -85,6 +88,17 @@ pub trait StatusRule {
         last: &mut Option<Regular<Self::Status, Self::Solution>>,
     ) -> Option<Fallback<Self::Status>>;
 
+    /// Statuses from a method that cannot cycle (complementary pivoting),
+    /// to leave a cycle met from `statuses` in one step: the driver goes on
+    /// from them, checking them like any other. `None` when the rule has no
+    /// such method (the driver then changes one status per iteration).
+    fn leave_cycle(
+        &mut self,
+        _statuses: &[Self::Status],
+    ) -> Result<Option<Vec<Self::Status>>, ContactError> {
+        Ok(None)
+    }
+
     /// How many points `statuses` hold in contact, for the observer of
     /// [`crate::observe`] (0 if the rule does not say).
     fn in_contact(&self, _statuses: &[Self::Status]) -> usize {
@@ -118,6 +132,9 @@ pub struct Driven<S, Sol> {
     pub cycle_at: Option<usize>,
     /// Whether the run ended with one change per iteration.
     pub one_change: bool,
+    /// Iteration at which a cycle was left by [`StatusRule::leave_cycle`],
+    /// if one was.
+    pub left_cycle_at: Option<usize>,
 }
 
 /// The status method loop (course notes §3.3, §4.5) from `statuses`, at most
@@ -131,6 +148,7 @@ pub fn drive<R: StatusRule>(
 ) -> Result<Driven<R::Status, R::Solution>, ContactError> {
     let mut seen: HashSet<Vec<R::Status>> = HashSet::new();
     let (mut single, mut cycle_at, mut solution) = (one_change, None, None);
+    let mut left_cycle_at = None;
     let mut last: Option<Regular<R::Status, R::Solution>> = None;
     let (mut iterations, mut stop) = (0, Stop::Limit);
     while iterations < max_iterations {
@@ -166,10 +184,19 @@ pub fn drive<R: StatusRule>(
                 stop = Stop::Cycling;
                 break;
             }
-            // Flip-flop: fall back to one change per iteration (course notes §3.3).
-            single = true;
             seen.clear();
-            next = changed(&statuses, &changes, true);
+            match left_cycle_at {
+                None => match rule.leave_cycle(&statuses)? {
+                    // Leave the cycle by a step that cannot cycle, once.
+                    Some(pivoted) => (next, left_cycle_at) = (pivoted, Some(iterations)),
+                    None => single = true,
+                },
+                Some(_) => single = true,
+            }
+            if single {
+                // Flip-flop: one change per iteration (course notes §3.3).
+                next = changed(&statuses, &changes, true);
+            }
         }
         last = Some(Regular {
             statuses: std::mem::replace(&mut statuses, next),
@@ -185,6 +212,7 @@ pub fn drive<R: StatusRule>(
         solution,
         cycle_at,
         one_change: single,
+        left_cycle_at,
     })
 }
 

@@ -26,7 +26,7 @@ use faer::reborrow::{Reborrow, ReborrowMut};
 use faer::Mat;
 use faer::{Accum, Conj, MatMut, MatRef};
 
-use crate::reduced::pivots_are_safe;
+use crate::pivot_policy::pivots_are_safe;
 
 /// Why a block was not factorised; the buffer is given back either way.
 pub(crate) enum FactorFailure {

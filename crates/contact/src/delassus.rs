@@ -14,11 +14,11 @@
 
 use std::sync::Arc;
 
-use faer::prelude::Solve;
-use faer::{Mat, Side};
+use faer::Mat;
 
 use crate::active_factor::{solve_on_active_set, ActiveFactor};
 use crate::friction::capacitance::{solve_status_system, StatusFactor};
+use crate::pivot_policy::{is_rank_deficient, solve_checked, solve_symmetric_checked};
 use crate::schur_factor::{InterfaceFactorStats, InterfaceStiffness, SchurFactor};
 use crate::status::ActiveSetSolve;
 use crate::ContactError;
@@ -426,6 +426,15 @@ impl ActiveSetSolve for DelassusProblem {
         self.q.len()
     }
 
+    /// Lemke's method on LCP(W, q), with the equilibrium of the floating
+    /// bodies' rigid modes when there are any.
+    fn pivoted_active_set(
+        &mut self,
+        opts: &crate::lcp::LcpOptions,
+    ) -> Result<Option<Vec<usize>>, ContactError> {
+        crate::lemke::pivoted_active_set(&self.w, &self.q, (&self.g_mat, &self.e), opts)
+    }
+
     /// Solves W_AA λ_A = −q_A (no floating body) or the saddle-point system
     /// [W_AA G_A; G_Aᵀ 0][λ_A; α] = [−q_A; e].
     fn solve_active(&mut self, active: &[usize]) -> Result<(Vec<f64>, Vec<f64>), ContactError> {
@@ -455,17 +464,14 @@ impl ActiveSetSolve for DelassusProblem {
         if na + k > 0 {
             let (a, rhs) = saddle_point_system(&self.w, &self.q, &self.g_mat, &self.e, active);
             let sol = if k == 0 {
-                match a.llt(Side::Lower) {
-                    Ok(llt) => llt.solve(&rhs),
-                    Err(_) => solve_checked(&a, &rhs, "W_AA (redundant contact constraints?)")?,
-                }
+                solve_symmetric_checked(&a, &rhs, "W_AA (redundant contact constraints?)")?
             } else {
                 solve_checked(&a, &rhs, "the active contacts do not hold a floating body").map_err(
                     |e| {
                         // Tell redundant constraints (W_AA itself singular)
                         // from contacts that cannot hold a rigid motion.
                         let waa = a.submatrix(0, 0, na, na).to_owned();
-                        if na > 0 && rank_deficiency(&scaled_lu(&waa).0).is_some() {
+                        if is_rank_deficient(&waa) {
                             ContactError::Singular(
                                 "W_AA is singular: the active contact constraints are linearly dependent (redundant constraints)".into(),
                             )
@@ -516,74 +522,6 @@ pub(crate) fn saddle_point_system(
         rhs[(na + j, 0)] = e[j];
     }
     (a, rhs)
-}
-
-/// Dense solve by full-pivoting LU, rejecting a (numerically) singular
-/// matrix with a rank test, never returning the huge or NaN "solution" of a
-/// singular system: the matrix is first scaled symmetrically to unit row
-/// maxima (D A D, D_i = 1/sqrt(max_j |a_ij|), so that the compliance block W
-/// and the dimensionless rigid-mode block G compare in any units), then the
-/// smallest pivot of U must exceed 100 · n · ε times the largest (full
-/// pivoting orders the pivots by decreasing size). A backward-error test
-/// alone cannot see singularity: LU is backward stable on singular matrices
-/// too.
-pub(crate) fn solve_checked(
-    a: &Mat<f64>,
-    rhs: &Mat<f64>,
-    what: &str,
-) -> Result<Mat<f64>, ContactError> {
-    let n = a.nrows();
-    let (lu, d) = scaled_lu(a);
-    if let Some((deficiency, ratio)) = rank_deficiency(&lu) {
-        return Err(ContactError::Singular(format!(
-            "{what} (rank deficient by {deficiency} of {n}: smallest pivot {ratio:.1e} of the largest)"
-        )));
-    }
-    let srhs = Mat::<f64>::from_fn(n, rhs.ncols(), |i, j| d[i] * rhs[(i, j)]);
-    let y = lu.solve(&srhs);
-    let x = Mat::<f64>::from_fn(n, rhs.ncols(), |i, j| d[i] * y[(i, j)]);
-    if !x.norm_max().is_finite() {
-        return Err(ContactError::Singular(what.to_string()));
-    }
-    Ok(x)
-}
-
-/// The full-pivoting LU of D A D, D_i = 1/sqrt(max_j |a_ij|) (see
-/// [`solve_checked`]), and D.
-fn scaled_lu(a: &Mat<f64>) -> (faer::linalg::solvers::FullPivLu<f64>, Vec<f64>) {
-    let n = a.nrows();
-    let d: Vec<f64> = (0..n)
-        .map(|i| {
-            let m = (0..n).fold(0.0f64, |m, j| m.max(a[(i, j)].abs()));
-            if m > 0.0 && m.is_finite() {
-                1.0 / m.sqrt()
-            } else {
-                1.0
-            }
-        })
-        .collect();
-    let scaled = Mat::<f64>::from_fn(n, n, |i, j| d[i] * a[(i, j)] * d[j]);
-    (scaled.full_piv_lu(), d)
-}
-
-/// The rank test of [`solve_checked`]: `Some((pivots at or below
-/// 100 · n · ε × the largest, smallest/largest))` when singular.
-fn rank_deficiency(lu: &faer::linalg::solvers::FullPivLu<f64>) -> Option<(usize, f64)> {
-    let u = lu.U();
-    let n = u.nrows();
-    let pivots: Vec<f64> = (0..n).map(|i| u[(i, i)].abs()).collect();
-    let pmax = pivots.iter().fold(0.0f64, |m, &p| m.max(p));
-    let pmin = pivots.iter().fold(f64::INFINITY, |m, &p| m.min(p));
-    let threshold = 100.0 * n as f64 * f64::EPSILON * pmax;
-    if n > 0 && (pmin.is_nan() || pmin <= threshold) {
-        let deficiency = pivots
-            .iter()
-            .filter(|&&p| p.is_nan() || p <= threshold)
-            .count();
-        Some((deficiency, pmin / pmax.max(f64::MIN_POSITIVE)))
-    } else {
-        None
-    }
 }
 
 #[cfg(test)]

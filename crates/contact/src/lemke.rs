@@ -40,8 +40,7 @@
 //! W_AA λ_A = −q_A (faer Cholesky, full-pivoting LU as fallback); the polished
 //! forces are kept if their natural residual is not worse.
 
-use faer::prelude::Solve;
-use faer::{Mat, Side};
+use faer::Mat;
 
 use crate::lcp::{checked_or_empty, lcp_residual, LcpOptions};
 use crate::projected_gradient::clamp;
@@ -131,6 +130,32 @@ pub fn lemke(w: &Mat<f64>, q: &[f64], opts: &LcpOptions) -> Result<ContactSoluti
         }
     };
     Ok(ContactSolution::from_forces(w, q, lambda, report))
+}
+
+/// The points with a force in the solution of LCP(W, q) by [`lemke`], with
+/// the equilibrium Gᵀλ = e of floating bodies when G has columns (SMALBE
+/// with Lemke's method inside, [`crate::smalbe`]): the way out of a cycle
+/// of the status method, whose next iteration solves on this set and checks
+/// it. `None` when the method did not converge.
+pub(crate) fn pivoted_active_set(
+    w: &Mat<f64>,
+    q: &[f64],
+    (g, e): (&Mat<f64>, &[f64]),
+    opts: &LcpOptions,
+) -> Result<Option<Vec<usize>>, ContactError> {
+    let sol = if g.ncols() == 0 {
+        lemke(w, q, opts)?
+    } else {
+        crate::smalbe::smalbe(w, q, g, e, opts, |wi, qi, _, o| lemke(wi, qi, o))?
+    };
+    if !sol.report.converged {
+        return Ok(None);
+    }
+    let largest = sol.forces.iter().fold(0.0f64, |a, f| a.max(f.abs()));
+    let zero = opts.tolerance * opts.force_scale.max(largest);
+    Ok(Some(
+        (0..q.len()).filter(|&p| sol.forces[p] > zero).collect(),
+    ))
 }
 
 /// The complementary pivoting path on the scaled LCP(W, q) from z0 entering
@@ -241,10 +266,7 @@ fn polish(w: &Mat<f64>, q: &[f64], active: &[usize]) -> Option<Vec<f64>> {
     }
     let a = Mat::<f64>::from_fn(na, na, |i, j| w[(active[i], active[j])]);
     let rhs = Mat::<f64>::from_fn(na, 1, |i, _| -q[active[i]]);
-    let x = match a.llt(Side::Lower) {
-        Ok(llt) => llt.solve(&rhs),
-        Err(_) => a.full_piv_lu().solve(&rhs),
-    };
+    let x = crate::pivot_policy::solve_symmetric_checked(&a, &rhs, "W_AA").ok()?;
     for (i, &p) in active.iter().enumerate() {
         if !x[(i, 0)].is_finite() {
             return None;

@@ -34,6 +34,7 @@ pub mod mprgp;
 pub mod norms;
 pub mod observe;
 pub mod penalty;
+mod pivot_policy;
 mod problem_scale;
 pub mod projected_gradient;
 mod recursive_cholesky;

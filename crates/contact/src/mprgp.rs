@@ -623,7 +623,6 @@ impl<'a> Mprgp<'a> {
     /// a residual ≤ `res`; returns the residual of the kept x and a note for
     /// the stopping reason.
     fn polish(&mut self, res: f64) -> (f64, BoxPolish) {
-        use faer::prelude::Solve;
         let (w, q, n) = (self.w, self.q, self.x.len());
         let free: Vec<usize> = (0..n)
             .filter(|&i| self.bounds.is_free(i, self.x[i]))
@@ -645,10 +644,9 @@ impl<'a> Mprgp<'a> {
                 .sum();
             -(q[i] + bound_part)
         });
-        let sol = match wff.llt(faer::Side::Lower) {
-            Ok(llt) => llt.solve(&rhs),
-            Err(_) => wff.full_piv_lu().solve(&rhs),
-        };
+        // A singular block leaves NaN, refused below as leaving the box.
+        let sol = crate::pivot_policy::solve_symmetric_checked(&wff, &rhs, "W_FF")
+            .unwrap_or_else(|_| Mat::from_fn(nf, 1, |_, _| f64::NAN));
         self.report.operator_applications += 2; // the block solve and the residual
         let mut y = self.x.clone();
         for (k, &i) in free.iter().enumerate() {

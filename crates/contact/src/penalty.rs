@@ -53,8 +53,7 @@
 
 use std::collections::HashSet;
 
-use faer::prelude::Solve;
-use faer::{Mat, Side};
+use faer::Mat;
 
 use crate::lcp::{check_input, gaps, mean_diag, residual_from_gaps, LcpOptions};
 use crate::solution::{ContactSolution, SolverReport, StopReason};
@@ -283,10 +282,9 @@ fn solve_block(
         w[(active[i], active[j])] + if i == j { c[active[i]] } else { 0.0 }
     });
     let rhs = Mat::<f64>::from_fn(na, 1, |i, _| -q[active[i]]);
-    let sol = match a.llt(Side::Lower) {
-        Ok(llt) => llt.solve(&rhs),
-        Err(_) => a.full_piv_lu().solve(&rhs),
-    };
+    // A singular block leaves NaN forces, refused below.
+    let sol = crate::pivot_policy::solve_symmetric_checked(&a, &rhs, "W_AA + K_A⁻¹")
+        .unwrap_or_else(|_| Mat::from_fn(na, 1, |_, _| f64::NAN));
     for (i, &p) in active.iter().enumerate() {
         lambda[p] = sol[(i, 0)];
     }

@@ -28,6 +28,7 @@ use faer::{Mat, Side};
 
 use crate::bordered_factor::BorderedFactor;
 use crate::delassus::VarEquation;
+use crate::pivot_policy::{cholesky_pivots_are_safe, pivots_are_safe};
 
 mod newton;
 pub(crate) use newton::{solve_newton, NewtonFactor};
@@ -121,32 +122,16 @@ pub(crate) fn factorise_reduced(a: &Mat<f64>, red: &Reduction) -> Option<Factor>
     factorise(a, red.dependent.is_empty())
 }
 
-/// The pivots of a factorisation are trusted when the smallest exceeds
-/// 1e3 · n · ε times the largest (the full solve's rank test uses 100 · n · ε
-/// on a full-pivoting LU; a partial-pivoting LU is not rank revealing, so
-/// the fast path steps aside earlier).
-pub(crate) fn pivots_are_safe(diag: impl Iterator<Item = f64>, n: usize) -> bool {
-    let (mut lo, mut hi) = (f64::INFINITY, 0.0f64);
-    for d in diag {
-        let d = d.abs();
-        lo = lo.min(d);
-        hi = hi.max(d);
-    }
-    n == 0 || (lo.is_finite() && hi.is_finite() && lo > 1e3 * n as f64 * f64::EPSILON * hi)
-}
-
 /// Factorises the reduced block: Cholesky when symmetric, LU otherwise;
 /// `None` when it fails or is near singular.
 pub(crate) fn factorise(a: &Mat<f64>, symmetric: bool) -> Option<Factor> {
     let n = a.nrows();
     if symmetric {
         if let Ok(llt) = a.llt(Side::Lower) {
-            // Pivots of LLᵀ are L_ii².
             let l = llt.L();
-            if pivots_are_safe((0..n).map(|i| l[(i, i)] * l[(i, i)]), n) {
-                return Some(Factor::Llt(llt));
-            }
-            return None;
+            let a_diag = (0..n).map(|i| a[(i, i)]);
+            return cholesky_pivots_are_safe((0..n).map(|i| l[(i, i)]), a_diag, n)
+                .then_some(Factor::Llt(llt));
         }
     }
     let lu = a.partial_piv_lu();

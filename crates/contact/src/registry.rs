@@ -397,6 +397,13 @@ impl ActiveSetSolve for DenseLcp<'_> {
     fn n_points(&self) -> usize {
         self.q.len()
     }
+    fn pivoted_active_set(
+        &mut self,
+        opts: &crate::lcp::LcpOptions,
+    ) -> Result<Option<Vec<usize>>, ContactError> {
+        let none = Mat::<f64>::zeros(self.q.len(), 0);
+        crate::lemke::pivoted_active_set(self.w, self.q, (&none, &[]), opts)
+    }
     fn solve_active(&mut self, active: &[usize]) -> Result<(Vec<f64>, Vec<f64>), ContactError> {
         self.solves += 1;
         let lambda = match solve_on_active_set(&mut self.factor, self.w, self.q, active) {
@@ -406,7 +413,7 @@ impl ActiveSetSolve for DenseLcp<'_> {
                 let na = active.len();
                 let a = Mat::<f64>::from_fn(na, na, |i, j| self.w[(active[i], active[j])]);
                 let rhs = Mat::<f64>::from_fn(na, 1, |i, _| -self.q[active[i]]);
-                let x = crate::delassus::solve_checked(
+                let x = crate::pivot_policy::solve_checked(
                     &a,
                     &rhs,
                     "W_AA is singular: redundant contact constraints",

@@ -93,6 +93,9 @@ pub struct StatusTrace {
     /// Iteration at which a cycle was first detected (the fallback to one
     /// status change per iteration), if any.
     pub cycle_detected_at: Option<usize>,
+    /// Iteration at which the cycle was left by complementary pivoting
+    /// (Lemke's method on the LCP, which cannot cycle), if it was.
+    pub cycle_left_by_pivoting_at: Option<usize>,
     /// The variant the method ended with.
     pub variant_used: StatusVariant,
 }

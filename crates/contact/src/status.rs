@@ -8,8 +8,12 @@
 //! The course notes prove convergence only when one status changes per iteration
 //! ([`StatusVariant::Single`]); changing all at once ([`StatusVariant::All`])
 //! is faster in practice but may flip-flop at the edge of a coarse contact
-//! zone. Cycling is detected (an active set seen before) and reported; the
-//! `All` variant then falls back to `Single`. The loop itself (iterations,
+//! zone, or on a stiff body pressed into a soft one (a Delassus operator
+//! far from diagonal dominance). Cycling is detected (an active set seen
+//! before) and reported; the `All` variant then leaves the cycle once by
+//! the active set of complementary pivoting (Lemke's method, which cannot
+//! cycle; [`ActiveSetSolve::pivoted_active_set`]) and goes on from it, and
+//! falls back to `Single` when there is no such solve or it cycles again. The loop itself (iterations,
 //! seen-set, fallbacks, stopping reasons) is the driver of
 //! [`crate::active_set`]; this module is its rule for normal contact.
 //!
@@ -29,6 +33,17 @@ pub trait ActiveSetSolve {
     /// With g_p = 0 imposed for p in `active` (sorted) and λ_p = 0 elsewhere,
     /// returns (λ, g) for every point.
     fn solve_active(&mut self, active: &[usize]) -> Result<(Vec<f64>, Vec<f64>), ContactError>;
+
+    /// The active set (sorted) of the solution found by complementary
+    /// pivoting (Lemke's method), which cannot cycle: the status method's
+    /// way out of a cycle. `None` when the problem has no such solve (the
+    /// status method then changes one status per iteration).
+    fn pivoted_active_set(
+        &mut self,
+        _opts: &crate::lcp::LcpOptions,
+    ) -> Result<Option<Vec<usize>>, ContactError> {
+        Ok(None)
+    }
 }
 
 /// How many statuses change per iteration of the status method.
@@ -154,6 +169,27 @@ impl StatusRule for Signorini<'_> {
         }
     }
 
+    /// Lemke's method on the problem's LCP, when it has one: its active set
+    /// is the solution's up to round-off, which the next iteration checks.
+    fn leave_cycle(&mut self, active: &[bool]) -> Result<Option<Vec<bool>>, ContactError> {
+        let o = self.opts;
+        let lcp = crate::lcp::LcpOptions {
+            tolerance: o.tolerance,
+            max_iterations: o.max_iterations,
+            force_scale: o.force_scale,
+            gap_scale: o.gap_scale,
+            stiffness: None,
+        };
+        let Some(set) = self.problem.pivoted_active_set(&lcp)? else {
+            return Ok(None);
+        };
+        let mut next = vec![false; active.len()];
+        for p in set {
+            next[p] = true;
+        }
+        Ok(Some(next))
+    }
+
     fn in_contact(&self, active: &[bool]) -> usize {
         active.iter().filter(|&&a| a).count()
     }
@@ -210,6 +246,7 @@ pub fn status_method(
         statuses: StatusTrace {
             active_history: rule.history,
             cycle_detected_at: out.cycle_at,
+            cycle_left_by_pivoting_at: out.left_cycle_at,
             variant_used: if out.one_change {
                 StatusVariant::Single
             } else {
@@ -278,6 +315,55 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// A symmetric positive definite W on which every violated status
+    /// changing at once cycles from every point active: the fourth
+    /// iteration's next active set is one already solved.
+    fn cycling_lcp() -> (Mat<f64>, Vec<f64>) {
+        let v = [[13.0, 13.0, -7.0], [13.0, 14.0, -5.0], [-7.0, -5.0, 9.0]];
+        (Mat::from_fn(3, 3, |i, j| v[i][j]), vec![-3.0, -1.0, 4.0])
+    }
+
+    /// The LCP of [`cycling_lcp`] without a pivoting solve.
+    struct NoPivoting<'a>(crate::registry::DenseLcp<'a>);
+
+    impl ActiveSetSolve for NoPivoting<'_> {
+        fn n_points(&self) -> usize {
+            self.0.n_points()
+        }
+        fn solve_active(&mut self, a: &[usize]) -> Result<(Vec<f64>, Vec<f64>), ContactError> {
+            self.0.solve_active(a)
+        }
+    }
+
+    #[test]
+    fn a_cycle_of_the_statuses_is_left_by_complementary_pivoting() {
+        let (w, q) = cycling_lcp();
+        let exact = brute_force(&w, &q);
+        let scale = exact.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+        let check = |out: &ContactSolution| {
+            assert!(out.report.converged, "{}", out.report.stop);
+            for (a, b) in out.forces.iter().zip(&exact) {
+                assert!((a - b).abs() <= 1e-12 * scale, "{a} vs {b}");
+            }
+        };
+        // With Lemke's method: one cycle, left at once, every status
+        // changing at each iteration to the end.
+        let mut lcp = crate::registry::DenseLcp::new(&w, &q);
+        let out = status_method(&mut lcp, &opts(StatusVariant::All)).unwrap();
+        check(&out);
+        assert_eq!(out.statuses.cycle_detected_at, Some(4));
+        assert_eq!(out.statuses.cycle_left_by_pivoting_at, Some(4));
+        assert_eq!(out.statuses.variant_used, StatusVariant::All);
+        assert_eq!(out.report.iterations, 5);
+        // Without it: the same cycle, then one change per iteration.
+        let mut lcp = NoPivoting(crate::registry::DenseLcp::new(&w, &q));
+        let out = status_method(&mut lcp, &opts(StatusVariant::All)).unwrap();
+        check(&out);
+        assert_eq!(out.statuses.cycle_detected_at, Some(4));
+        assert_eq!(out.statuses.cycle_left_by_pivoting_at, None);
+        assert_eq!(out.statuses.variant_used, StatusVariant::Single);
     }
 
     #[test]

@@ -587,6 +587,29 @@ pub struct Contact {
     /// slave node is a candidate. Excluded nodes are checked after the solve.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub search_distance: Option<f64>,
+    /// `"given"` (default): `slave` is the slave side; `"auto"`: the slave
+    /// is the softer side of the pair (lower E/(1 − ν²)), or the finer when
+    /// the two moduli are within 10 %.
+    #[serde(default, skip_serializing_if = "SlaveChoice::is_given")]
+    pub slave_choice: SlaveChoice,
+}
+
+/// `contact.slave_choice`: which side of a pair is the slave.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum SlaveChoice {
+    /// The side written as `slave`.
+    #[default]
+    Given,
+    /// The softer side, or the finer one between equally stiff sides.
+    Auto,
+}
+
+impl SlaveChoice {
+    /// Whether this is the default, the side written as `slave`.
+    pub fn is_given(&self) -> bool {
+        *self == SlaveChoice::Given
+    }
 }
 
 /// `slave` / `master` of a contact pair: `{ body, surface }`.

@@ -182,11 +182,17 @@ pub(crate) fn conclude_step(
             ));
         }
     }
-    if let Some(c) = sol.outcome.statuses.cycle_detected_at {
-        messages.push(format!(
-            "step {}: the status method cycled (flip-flop) at iteration {c}; it fell back to one status change per iteration (course notes §3.3)",
+    let statuses = &sol.outcome.statuses;
+    match (statuses.cycle_detected_at, statuses.cycle_left_by_pivoting_at) {
+        (Some(c), Some(l)) if statuses.variant_used == StatusVariant::All => messages.push(format!(
+            "step {}: the status method cycled (flip-flop) at iteration {c}; it left the cycle at iteration {l} by complementary pivoting (Lemke's method), which cannot cycle",
             si + 1
-        ));
+        )),
+        (Some(c), _) => messages.push(format!(
+            "step {}: the status method cycled (flip-flop) at iteration {c}; it fell back to one status change per iteration, the most violated first",
+            si + 1
+        )),
+        _ => {}
     }
     push_contact_rows(sc, bodies, points, si, sol, gaps, partial);
     let mut report = step_report(sc, points, scale, sol, &cert);
@@ -208,12 +214,13 @@ fn record_convergence(partial: &mut Partial, si: usize, sol: &StepSolution, cert
     let report = &sol.outcome.report;
     if !report.converged {
         partial.converged = false;
-        let mut failure = format!("step {}: {}: {}", si + 1, report.method, report.stop);
-        if report.stop.out_of_iterations() {
-            failure += "; raise [solver] max_iterations, or use a method that needs fewer iterations (status, mprgp)";
-        } else if report.stop.iteration_limit() {
-            failure += "; raise [solver] max_iterations";
-        }
+        let failure = format!(
+            "step {}: {}: {}{}",
+            si + 1,
+            report.method,
+            report.stop,
+            failure_advice(report, cert.tolerance, sol.friction.is_none())
+        );
         partial.failure.get_or_insert(failure);
     } else if !cert.met() {
         partial.converged = false;
@@ -238,6 +245,71 @@ fn record_convergence(partial: &mut Partial, si: usize, sol: &StepSolution, cert
         }
         partial.failure.get_or_insert(failure);
     }
+}
+
+/// What to do after a solver that did not converge: a method that can help
+/// (never the one that failed; Lemke's method after the frictionless status
+/// method), and raising `[solver] max_iterations` only when it can help:
+/// never after a cycle of the statuses, and after a
+/// projection or dual method only when the rate of its last iterations
+/// would reach the tolerance within ten times as many.
+pub(crate) fn failure_advice(report: &SolverReport, tolerance: f64, frictionless: bool) -> String {
+    const LEMKE: &str =
+        "; use method = \"lemke\" (complementary pivoting: a finite number of pivots, it cannot cycle)";
+    match report.stop {
+        StopReason::Cycling { .. } => {
+            return format!(
+                "{LEMKE}; raising [solver] max_iterations does not help statuses that cycle"
+            )
+        }
+        StopReason::StatusLimit { .. } if frictionless => return LEMKE.into(),
+        _ => {}
+    }
+    let stop = &report.stop;
+    if !stop.out_of_iterations() {
+        return if stop.iteration_limit() {
+            "; raise [solver] max_iterations".into()
+        } else {
+            String::new()
+        };
+    }
+    let others: Vec<&str> = ["status", "lemke"]
+        .into_iter()
+        .filter(|m| *m != report.method)
+        .collect();
+    let mut advice = format!(
+        "; use method = \"{}\" (exact in a finite number of steps)",
+        others.join("\" or \"")
+    );
+    let history = &report.residual_history;
+    match iterations_to_tolerance(history, tolerance) {
+        Some(more) if more <= 10 * history.len() => advice += &format!(
+            ", or raise [solver] max_iterations (at the rate of the last iterations, about {more} more)"
+        ),
+        None if history.len() < 5 => advice += ", or raise [solver] max_iterations",
+        _ => {}
+    }
+    advice
+}
+
+/// How many more iterations a residual history needs to reach `tolerance`
+/// at the mean rate of its last fifth; `None` when it did not fall there
+/// (or is too short to tell).
+fn iterations_to_tolerance(history: &[f64], tolerance: f64) -> Option<usize> {
+    let n = history.len();
+    if n < 5 {
+        return None;
+    }
+    let k = n / 5;
+    let (before, last) = (history[n - 1 - k], history[n - 1]);
+    if !(last.is_finite() && before.is_finite() && last > 0.0 && last < before) {
+        return None;
+    }
+    if last <= tolerance {
+        return Some(0);
+    }
+    let rate = (last / before).ln() / k as f64;
+    Some(((tolerance / last).ln() / rate).ceil() as usize)
 }
 
 /// The contact.csv rows of a step: each point's gap, forces, slip,
@@ -727,5 +799,76 @@ fn report_of(
         conditioning: partial.conditioning,
         messages,
         failure: partial.failure,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use signorini_contact::solution::Measure;
+
+    fn report(method: &str, stop: StopReason, residual_history: Vec<f64>) -> SolverReport {
+        SolverReport {
+            method: method.into(),
+            stop,
+            residual_history,
+            ..Default::default()
+        }
+    }
+
+    fn out_of_iterations(limit: usize) -> StopReason {
+        StopReason::IterationLimit {
+            limit,
+            measure: Measure::Natural,
+            residual: 1e-6,
+            tolerance: 1e-10,
+            steps: None,
+        }
+    }
+
+    #[test]
+    fn the_advice_names_a_method_that_can_help_and_raising_the_limit_only_when_it_can() {
+        // The status method's statuses cycled: Lemke, never the limit.
+        let cycled = failure_advice(
+            &report("status", StopReason::Cycling { iteration: 40 }, vec![]),
+            1e-10,
+            true,
+        );
+        assert!(cycled.contains("method = \"lemke\""), "{cycled}");
+        assert!(cycled.contains("does not help"), "{cycled}");
+        assert!(!cycled.contains("method = \"status\""), "{cycled}");
+        // MPRGP stalled at 1e-6 over its last fifth: the exact methods
+        // other than itself, no limit to raise.
+        let flat = vec![1e-6; 100];
+        let stalled = failure_advice(&report("mprgp", out_of_iterations(100), flat), 1e-10, true);
+        assert_eq!(
+            stalled,
+            "; use method = \"status\" or \"lemke\" (exact in a finite number of steps)"
+        );
+        // A residual falling by 10× per 20 iterations from 1e-2: 1.1e-7 at
+        // iteration 99; 2e-10 needs 20 log10(1.1e-7 / 2e-10) = 54.98 more,
+        // within ten times as many.
+        let falling: Vec<f64> = (0..100)
+            .map(|i| 1e-2 * 10f64.powf(-i as f64 / 20.0))
+            .collect();
+        let more = failure_advice(
+            &report("projected_gradient", out_of_iterations(100), falling),
+            2e-10,
+            true,
+        );
+        assert!(more.contains("\"status\" or \"lemke\""), "{more}");
+        assert!(
+            more.ends_with(
+                "raise [solver] max_iterations (at the rate of the last iterations, about 55 more)"
+            ),
+            "{more}"
+        );
+        // The status method of friction at its limit: raise it (no Lemke).
+        let friction = failure_advice(
+            &report("status", StopReason::StatusLimit { limit: 1 }, vec![]),
+            1e-10,
+            false,
+        );
+        assert_eq!(friction, "; raise [solver] max_iterations");
     }
 }

@@ -15,6 +15,7 @@ use signorini_scene as scene;
 use crate::SolveError;
 
 mod contacts;
+mod slave_choice;
 mod zone;
 pub(crate) use contacts::check_contact_supported;
 pub use contacts::{build_contacts, eliminate_redundant, ContactSet, FixedPoint};

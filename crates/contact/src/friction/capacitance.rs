@@ -31,9 +31,8 @@ use faer::Mat;
 
 use crate::delassus::VarEquation;
 use crate::growing_lu::GrowingLu;
-use crate::reduced::{
-    factorise_reduced, pivots_are_safe, reduce, reduced_block, Factor, Reduction,
-};
+use crate::pivot_policy::pivots_are_safe;
+use crate::reduced::{factorise_reduced, reduce, reduced_block, Factor, Reduction};
 
 /// Whether two equations have the same row of M (they may differ in their
 /// right-hand side: a given value).

@@ -216,7 +216,13 @@ fn contact_pair(
     notes: &mut Vec<String>,
     interface_nodes: Option<&mut [Vec<usize>]>,
 ) -> Result<ContactPair, SolveError> {
-    let c = &sc.contact[ci];
+    let (chosen, note) = super::slave_choice::chosen_sides(
+        &sc.contact[ci],
+        |name| bodies.iter().find(|b| b.name == name),
+        |b, s| b.mesh.surface(s).ok(),
+    );
+    notes.extend(note);
+    let c = &chosen;
     let entry = format!("contact \"{}\"", c.name);
     check_contact_supported(sc, c, &entry)?;
     let body_model = |name: &str| bodies.iter().position(|b| b.name == name);
