@@ -58,6 +58,11 @@ pub struct StepReport {
     /// right-hand side and the algorithm; the Delassus operator, built once
     /// per run, is `timings_s.delassus`).
     pub solve_s: f64,
+    /// The method that solved this step (`solver.method`, repeated here).
+    pub method: String,
+    /// When `method` took over from another method: that method and why it
+    /// stopped; `null` otherwise.
+    pub fallback: Option<String>,
 }
 
 /// How far a penalty (regularised) solution is from the exact unilateral one.
@@ -460,6 +465,16 @@ pub fn write_lines(
     w.flush()
 }
 
+/// A CSV field of free text: quoted (inner quotes doubled) when it holds a
+/// comma, a quote or a line break.
+fn csv_text(text: &str) -> String {
+    if text.contains([',', '"', '\n', '\r']) {
+        format!("\"{}\"", text.replace('"', "\"\""))
+    } else {
+        text.to_string()
+    }
+}
+
 /// steps.csv: one row per load step (scales, resultants, slip, statuses).
 pub fn write_steps_csv(path: &Path, steps: &[StepReport]) -> std::io::Result<()> {
     let mut w = std::io::BufWriter::new(std::fs::File::create(path)?);
@@ -474,7 +489,7 @@ pub fn write_steps_csv(path: &Path, steps: &[StepReport]) -> std::io::Result<()>
         true => (",force_z", ",tangential_force_2", ",mean_slip_2"),
         false => ("", "", ""),
     };
-    writeln!(w, "step{scale_cols},force_x,force_y{z},normal_force,tangential_force{t2},mean_slip{s2},active,sticking,slipping,iterations")?;
+    writeln!(w, "step{scale_cols},force_x,force_y{z},normal_force,tangential_force{t2},mean_slip{s2},active,sticking,slipping,iterations,method,fallback")?;
     for (i, s) in steps.iter().enumerate() {
         let sc: String = names
             .iter()
@@ -487,7 +502,7 @@ pub fn write_steps_csv(path: &Path, steps: &[StepReport]) -> std::io::Result<()>
         };
         writeln!(
             w,
-            "{}{sc},{:e},{:e}{},{:e},{:e}{},{:e}{},{},{},{},{}",
+            "{}{sc},{:e},{:e}{},{:e},{:e}{},{:e}{},{},{},{},{},{},{}",
             i + 1,
             f(0),
             f(1),
@@ -500,7 +515,9 @@ pub fn write_steps_csv(path: &Path, steps: &[StepReport]) -> std::io::Result<()>
             s.active,
             s.sticking,
             s.slipping,
-            s.iterations
+            s.iterations,
+            s.method,
+            csv_text(s.fallback.as_deref().unwrap_or(""))
         )?;
     }
     w.flush()
