@@ -457,3 +457,175 @@ fn norton_hoff_in_3d_holds_its_law_and_tends_to_coulomb() {
     }
     assert!((last - 0.3).abs() <= 0.003, "ρ = 0.001: |T|/N = {last}");
 }
+
+/// examples/assembly3d.toml (a steel cylinder pressing a steel block into a
+/// rubber pad, Gmsh tet4 meshes, mortar, Coulomb μ = 0.3 on both contacts)
+/// with its mesh paths made absolute, the load of its third step,
+/// `displacement = { x = 0.1 }`, replaced by `drag` (a displacement, or a
+/// force with the cylinder then held sideways by friction alone) and, with
+/// `swap`, the other body of each contact as slave.
+fn assembly(drag: &str, swap: bool) -> String {
+    let dir = format!("file = \"{}/examples/meshes/", env!("CARGO_MANIFEST_DIR"));
+    let mut text = example("assembly3d.toml")
+        .replace("file = \"meshes/", &dir)
+        .replace("displacement = { x = 0.1 }", drag);
+    if swap {
+        for (upper, lower) in [("cylinder", "block"), ("block", "pad")] {
+            let pair = |s: &str, m: &str, ss: &str, ms: &str| {
+                format!("slave = {{ body = \"{s}\", surface = \"{ss}\" }}\nmaster = {{ body = \"{m}\", surface = \"{ms}\" }}")
+            };
+            let before = pair(upper, lower, "bottom", "top");
+            assert!(text.contains(&before), "{before}");
+            text = text.replace(&before, &pair(lower, upper, "top", "bottom"));
+        }
+    }
+    text
+}
+
+/// The normal force and the tangential force (x, y) of a contact at the
+/// last step, on its slave.
+fn contact_nt(out: &RunOutput, name: &str) -> (f64, [f64; 2]) {
+    let f = common::contact_force(out, name);
+    (f[2].abs(), [f[0], f[1]])
+}
+
+/// The mean x displacement of a body at the last step.
+fn mean_x(out: &RunOutput, body: &str) -> f64 {
+    let b = out.bodies.iter().find(|b| b.name == body).unwrap();
+    let u = &b.last().displacement;
+    let n = u.len() / 3;
+    (0..n).map(|i| u[3 * i]).sum::<f64>() / n as f64
+}
+
+/// Each step of an assembly run names the method that solved it, the same
+/// as its solver report, and a fallback only with the method that gave way.
+fn methods_named(out: &RunOutput) {
+    for (i, s) in out.report.steps.iter().enumerate() {
+        assert_eq!(s.solver["method"], s.method.as_str(), "step {}", i + 1);
+        assert!(s.method.starts_with("coulomb_3d_"), "{}", s.method);
+        if let Some(f) = &s.fallback {
+            assert!(
+                f.starts_with("coulomb_3d_semismooth_newton stopped: "),
+                "{f}"
+            );
+            assert_eq!(s.method, "coulomb_3d_fixed_point");
+        }
+    }
+}
+
+/// The assembly dragged 0.1 mm (the case that ended with exit 1, 'singular
+/// Newton system'): solved, with both slave choices, the tangential force of
+/// each contact between that of the 0.07 mm drag and μ N, equal and opposite
+/// at the two contacts of the block (held by them alone), against the drag
+/// on the cylinder, and the cylinder moving further along the drag than the
+/// block.
+#[test]
+fn a_stiff_block_on_a_soft_pad_dragged_0_1_mm_solves_between_the_known_bounds() {
+    for swap in [false, true] {
+        let small = converged(
+            &assembly("displacement = { x = 0.07 }", swap),
+            RunOptions::default(),
+        );
+        let out = converged(
+            &assembly("displacement = { x = 0.1 }", swap),
+            RunOptions::default(),
+        );
+        methods_named(&out);
+        let sign = if swap { -1.0 } else { 1.0 };
+        let (n, t) = contact_nt(&out, "cylinder-block");
+        let (_, t_small) = contact_nt(&small, "cylinder-block");
+        let (n2, t2) = contact_nt(&out, "block-pad");
+        let tn = t[0].hypot(t[1]);
+        assert!(
+            sign * t[0] < 0.0,
+            "{t:?}: friction on the cylinder against the drag"
+        );
+        assert!(
+            tn > t_small[0].hypot(t_small[1]) && tn < 0.3 * n,
+            "{tn} vs {t_small:?}, μN {}",
+            0.3 * n
+        );
+        assert!(t2[0].hypot(t2[1]) < 0.3 * n2, "{t2:?} {n2}");
+        // the block's equilibrium: the same resultant through both contacts
+        let scale = n.max(n2);
+        assert!((t[0] - t2[0]).abs() <= 1e-8 * scale, "{t:?} {t2:?}");
+        assert!((n - n2).abs() <= 1e-8 * scale, "{n} {n2}");
+        assert!(mean_x(&out, "cylinder") > mean_x(&out, "block") && mean_x(&out, "block") > 0.0);
+    }
+}
+
+/// The assembly with its cylinder pushed sideways by `push` (its top held
+/// along y and pressed 0.2 mm along z in one step, free along x: held along
+/// x by friction alone), then pushed at step 2.
+fn pushed_assembly(push: f64) -> String {
+    let two_presses =
+        "[[steps]]\nscale = { press = 1.0, drag = 0.0 }\n\n[[steps]]\nscale = { press = 2.0 }\n";
+    let text = assembly(&format!("force = [{push}, 0.0, 0.0]"), false);
+    assert!(text.contains(two_presses));
+    text.replace(
+        two_presses,
+        "[[steps]]\nscale = { press = 2.0, drag = 0.0 }\n",
+    )
+}
+
+/// The cylinder pushed sideways from 10 % to 85 % of μ N (N of the press
+/// alone): solved, the push carried whole through both contacts (the
+/// cylinder's and the block's equilibrium) within μ N of each at the normal
+/// force reached, and both bodies moving along the push, the cylinder
+/// further.
+#[test]
+fn a_sideways_push_below_mu_n_is_held_by_friction() {
+    // the normal force of each contact once pressed (step 1 of every run)
+    let n = 313.1;
+    for fraction in [0.1, 0.5, 0.85] {
+        let push = fraction * 0.3 * n;
+        let out = converged(&pushed_assembly(push), RunOptions::default());
+        let pressed = out.report.steps[0].normal_force / 2.0;
+        assert!((pressed - n).abs() <= 1e-3 * n, "{pressed}");
+        methods_named(&out);
+        for contact in ["cylinder-block", "block-pad"] {
+            let (nc, t) = contact_nt(&out, contact);
+            let at = format!("{contact}, {fraction} μN: {t:?}, N {nc}");
+            assert!((t[0] + push).abs() <= 1e-8 * n, "{at}");
+            // y is held by the cylinder's support: a mesh's asymmetry only
+            assert!(t[1].abs() <= 1e-3 * nc && push <= 0.3 * nc, "{at}");
+        }
+        let (uc, ub) = (mean_x(&out, "cylinder"), mean_x(&out, "block"));
+        assert!(uc > ub && ub > 0.0, "{uc} {ub}");
+    }
+}
+
+/// A 100 N push, beyond μ N (about 94 N): no static equilibrium. Exit 2
+/// (not converged, not bad input) with a message that names the step, the
+/// body, its load, what friction can hold and the contact; step 1 solved.
+#[test]
+fn a_push_beyond_mu_n_says_friction_cannot_hold_it() {
+    let out = try_run(&pushed_assembly(100.0), RunOptions::default())
+        .unwrap_or_else(|e| panic!("a valid scene is not bad input: {e}"));
+    assert!(!out.report.converged && out.report.steps[0].converged);
+    let n = out.report.steps[0].normal_force / 2.0;
+    assert!(100.0 > 0.3 * n, "{n}");
+    let failure = out.report.failure.clone().unwrap_or_default();
+    let needles = [
+        "step 2: coulomb_3d_",
+        "the load friction cannot hold",
+        "body \"cylinder\"",
+        "1.0000e2",
+        "over contact(s) \"cylinder-block\"",
+    ];
+    for needle in needles {
+        assert!(failure.contains(needle), "{needle} in {failure}");
+    }
+    let holds: f64 = failure
+        .rsplit("\"cylinder-block\", ")
+        .next()
+        .and_then(|t| t.split(':').next())
+        .and_then(|v| v.parse().ok())
+        .unwrap_or_else(|| panic!("{failure}"));
+    assert!(
+        holds < 100.0 && holds > 0.9 * 0.3 * n,
+        "{holds} vs μN {}",
+        0.3 * n
+    );
+    methods_named(&out);
+}

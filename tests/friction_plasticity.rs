@@ -426,7 +426,11 @@ fn rough_drag_example_matches_the_closed_forms_from_the_cli() {
     let (cu, ct) = (col("scale_drag"), col("tangential_force"));
     let (length, mut g, mut n) = (2.0, 0.0, 0);
     for line in lines {
-        let f: Vec<f64> = line.split(',').map(|v| v.parse().unwrap()).collect();
+        // the numeric columns (method and fallback are text)
+        let f: Vec<f64> = line
+            .split(',')
+            .map(|v| v.parse().unwrap_or(f64::NAN))
+            .collect();
         let u = f[cu] * U;
         let rm = return_map(&[u], &[g], MU * P, K_E, Q);
         g = rm.slip[0];

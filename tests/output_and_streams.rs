@@ -266,6 +266,16 @@ fn steps_csv_in_3d_has_the_z_resultant_and_the_second_tangent() {
     }
     // The last step drags along y (the second tangent): about -0.218.
     assert!(num(&steps[2][2]) < -0.2, "{:?}", steps[2]);
+    // The method of each step, as report.json's step entry says (appended
+    // columns): the Newton method on Coulomb's law, no fallback.
+    let methods = csv_columns(&out.join("steps.csv"), &["method", "fallback"]);
+    for (i, m) in methods.iter().enumerate() {
+        let step = &report["steps"][i];
+        assert_eq!(m[0], step["method"].as_str().unwrap(), "step {}", i + 1);
+        assert_eq!(step["method"], step["solver"]["method"]);
+        assert_eq!(m[0], "coulomb_3d_semismooth_newton");
+        assert!(m[1].is_empty() && step["fallback"].is_null(), "{m:?}");
+    }
 }
 
 /// The scenes of examples/, by file name, sorted.

@@ -40,6 +40,7 @@ use crate::solution::{ContactSolution, StopReason, ThresholdMapKind};
 use crate::ContactError;
 
 pub(crate) mod capacitance;
+pub mod holding;
 pub mod kinematic_hardening;
 pub mod law;
 pub use law::{FrictionLaw, FrictionLayout};

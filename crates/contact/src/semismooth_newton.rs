@@ -95,6 +95,15 @@ impl NewtonSystem {
     /// The full (n + k) square system [rows; Gᵀ 0] of the same equations,
     /// solved by a fully pivoted LU: the fallback of the reduced solve.
     fn solve_full(&self, w: &Mat<f64>, g: &Mat<f64>) -> Option<Vec<f64>> {
+        let (jac, rhs) = self.full_system(w, g);
+        let dx = jac.full_piv_lu().solve(&rhs);
+        let dx: Vec<f64> = (0..jac.nrows()).map(|i| dx[(i, 0)]).collect();
+        dx.iter().all(|v| v.is_finite()).then_some(dx)
+    }
+
+    /// The matrix and right-hand side of the full (n + k) square system
+    /// [rows; Gᵀ 0] of the equations.
+    fn full_system(&self, w: &Mat<f64>, g: &Mat<f64>) -> (Mat<f64>, Mat<f64>) {
         let (n, k) = (w.nrows(), g.ncols());
         let mut jac = Mat::<f64>::zeros(n + k, n + k);
         let mut rhs = Mat::<f64>::zeros(n + k, 1);
@@ -132,9 +141,7 @@ impl NewtonSystem {
             }
             rhs[(n + j, 0)] = *v;
         }
-        let dx = jac.full_piv_lu().solve(&rhs);
-        let dx: Vec<f64> = (0..n + k).map(|i| dx[(i, 0)]).collect();
-        dx.iter().all(|v| v.is_finite()).then_some(dx)
+        (jac, rhs)
     }
 }
 
@@ -404,14 +411,17 @@ impl<'a> Inner<'a> {
     }
 
     /// One semi-smooth Newton step from x with an Armijo line search on
-    /// ½‖F‖² (halving the step at most 30 times). The Newton system is solved
-    /// reduced ([`crate::reduced::solve_newton`]), or in full when that fails.
-    /// On Coulomb's law itself, while the structure of the reduced system
-    /// repeats, a chord step on the previous factor comes first, kept when
-    /// it halves ‖F‖ (a factorisation saved). The gaps follow the step
-    /// (y + t W dx, one product with W a direction).
+    /// ½‖F‖² ([`Inner::line_search`]). The Newton system is solved reduced
+    /// ([`crate::reduced::solve_newton`]), or in full when that fails; with
+    /// floating bodies, when it is singular, on the secants of the slipping
+    /// points; when it is still singular, or its direction fails the line
+    /// search (with floating bodies or on Coulomb's law itself, where no
+    /// projected gradient follows), by the least-change steps
+    /// ([`least_change`]). On Coulomb's law itself, while the structure of
+    /// the reduced system repeats, a chord step on the previous factor comes
+    /// first, kept when it halves ‖F‖ (a factorisation saved). The gaps
+    /// follow the step (y + t W dx, one product with W a direction).
     fn newton_step(&self, x: &mut Iterate, sys: &mut NewtonSystem) -> Step {
-        let merit = |f: &[f64]| 0.5 * f.iter().map(|v| v * v).sum::<f64>();
         let f = self.residual(x, Scale::Newton, Some(sys));
         let psi = merit(&f);
         let (w, g) = (&self.problem.w, &self.problem.g_mat);
@@ -442,21 +452,38 @@ impl<'a> Inner<'a> {
             dx = solve(sys, false);
             sys.secant = false;
         }
-        let Some(dx) = dx else {
-            return Step::Singular;
-        };
-        let wdx = self.apply(&dx);
+        if let Some(dx) = &dx {
+            if self.line_search(x, dx, psi) {
+                return Step::Accepted;
+            }
+        }
+        if dx.is_none() || self.k() > 0 || self.coulomb {
+            let jac = self.difference_jacobian(x, &f);
+            for weight in least_change::LEAST_CHANGE_WEIGHTS {
+                let step = least_change::least_change_step(&jac, &f, weight);
+                if step.is_some_and(|d| self.line_search(x, &d, psi)) {
+                    return Step::Accepted;
+                }
+            }
+        }
+        dx.map_or(Step::Singular, Step::Rejected)
+    }
+
+    /// The Armijo line search on ½‖F‖² along dx from x (merit `psi`),
+    /// halving the step at most 30 times: whether a step was taken.
+    fn line_search(&self, x: &mut Iterate, dx: &[f64], psi: f64) -> bool {
+        let wdx = self.apply(dx);
         let mut t = 1.0;
         for _ in 0..30 {
-            let trial = x.moved(&dx, &wdx, t);
+            let trial = x.moved(dx, &wdx, t);
             let ft = self.residual(&trial, Scale::Newton, None);
             if merit(&ft) <= (1.0 - 1e-4 * t) * psi {
                 *x = trial;
-                return Step::Accepted;
+                return true;
             }
             t *= 0.5;
         }
-        Step::Rejected(dx)
+        false
     }
 
     /// The unknowns from the forces `start`, the rigid-mode amplitudes from
@@ -583,12 +610,13 @@ impl<'a> Inner<'a> {
 /// dλ_t − a bᵀ dλ_t / ‖z‖ + c a aᵀ (W_t dλ + G_t dα) / ‖z‖ = −F_t give the
 /// component of dλ_t across a, and along â = a/‖a‖ the coupled row with
 /// the compliance (‖z‖ − aᵀb) / (c ‖a‖²) (positive: aᵀb ≤ 1 < ‖z‖). When
-/// a vanishes (one bounded row, or D τ = 0) the rows are the identity, or
-/// with `sys.secant` for one row, the projection's secant slope 1/‖z‖
-/// instead of its zero derivative: (1 − 1/‖z‖) dλ_t + c g² (W_t dλ +
-/// G_t dα) / ‖z‖ = −F_t, the compliance (‖z‖ − 1) / (c g²) (a 2D body held
-/// by friction alone, all its points slipping at an iterate, is otherwise
-/// held by nothing: a singular step).
+/// a vanishes (one bounded row, or D τ = 0) the rows are the identity.
+/// With `sys.secant`, every row of the point is linearised on the
+/// projection's secant slope 1/‖z‖ instead of its derivative (zero across
+/// the boundary): (1 − 1/‖z‖) dλ_ti + c g_i² (W_ti dλ + G_ti dα) / ‖z‖ =
+/// −F_ti, the compliance (‖z‖ − 1) / (c g_i²) (a body held by friction
+/// alone, all its points slipping at an iterate, is otherwise held by
+/// nothing along their slip: a singular step).
 ///
 /// Coulomb's law itself (`coulomb` = (normal row, m), m = (∂D/∂λ_n) u, i.e.
 /// μ_i u_i): with D = λ_n diag(μ), u does not depend on λ_n (z = w / λ_n)
@@ -625,16 +653,16 @@ fn slip_rows(
     let a = [g[0] * tau[0], if two { g[1] * tau[1] } else { 0.0 }];
     let b = [dinv[0] * tau[0], if two { dinv[1] * tau[1] } else { 0.0 }];
     let na = a[0].hypot(a[1]);
-    if !two && sys.secant {
-        let cg = c * g[0] * g[0];
-        let r = rows[0];
-        coupled(
-            sys,
-            Dir::one(r),
-            (nz - 1.0) / cg,
-            -nz * f[r] / cg,
-            -nz * m[0] / cg,
-        );
+    if sys.secant {
+        for (i, &r) in rows.iter().enumerate() {
+            let cg = c * g[i] * g[i];
+            if cg > 0.0 && cg.is_finite() {
+                let (comp, v, fm) = ((nz - 1.0) / cg, -nz * f[r] / cg, -nz * m[i] / cg);
+                coupled(sys, Dir::one(r), comp, v, fm);
+            } else {
+                given(sys, Dir::one(r), -f[r], m[i]);
+            }
+        }
         return;
     }
     if !two || na <= 1e-12 * g[0].max(g[1]) {
@@ -672,6 +700,11 @@ fn slip_rows(
     let eta = nz * on(&along, m) / (c * na * na) + kappa * bv / (c * na);
     given(sys, across, beta, kappa);
     coupled(sys, along, comp, rhs, -eta);
+}
+
+/// The merit ½‖F‖² of a residual.
+fn merit(f: &[f64]) -> f64 {
+    0.5 * f.iter().map(|v| v * v).sum::<f64>()
 }
 
 /// An iterate x = (λ, α) and its gaps y = W λ + q + G α, computed afresh
@@ -755,14 +788,11 @@ fn solve_inner(
                 break;
             }
             // Coulomb: a singular step fails; the caller's fixed point decides.
-            None if coulomb => {
-                reason = StopReason::NewtonLineSearchFailed;
-                break;
-            }
+            // No finite step, not even a least-change one: a non-finite
+            // entry in the system; the caller's fallback decides.
             None => {
-                return Err(ContactError::Singular(
-                    format!("friction {dim}D: singular Newton system (a floating body not held by the contact and friction forces?)"),
-                ))
+                reason = StopReason::NonFinite { iteration: it + 1 };
+                break;
             }
         }
     }
@@ -821,6 +851,7 @@ fn statuses(
 }
 
 mod coulomb;
+mod least_change;
 mod norton_hoff;
 pub(crate) use coulomb::friction_newton;
 use coulomb::Newton;

@@ -82,6 +82,10 @@ pub struct FrictionTrace {
     /// Outer fixed-point iterations (0 for Tresca and the friction status
     /// method).
     pub fixed_point_iterations: usize,
+    /// When the method that answers took over from another one, that one
+    /// and why it stopped (3D Coulomb: the semi-smooth Newton method on
+    /// Coulomb's law, then the fixed point on the threshold).
+    pub fallback: Option<String>,
 }
 
 /// The story of the statuses of a status (active set) method (and of the
@@ -336,6 +340,17 @@ pub enum StopReason {
     NonFinite { iteration: usize },
     /// Tresca friction solved in one solve (no fixed point): its reason.
     Tresca(Box<StopReason>),
+    /// A rigid motion of a floating body (column `mode` of G) is loaded
+    /// beyond what friction can hold: the load along it not carried by the
+    /// normal forces, `load`, exceeds `capacity`, the most the tangential
+    /// forces can carry along it with their bounds (Σ μ λ_n ‖G_t‖) at the
+    /// normal forces reached; no static equilibrium
+    /// ([`crate::friction::holding`]).
+    FrictionOverload {
+        mode: usize,
+        load: f64,
+        capacity: f64,
+    },
 }
 
 /// Which threshold map a fixed point on the threshold iterates.
@@ -419,6 +434,20 @@ pub struct SmalbeProgress {
 }
 
 impl StopReason {
+    /// The overloaded rigid motion (mode, load, capacity) when friction
+    /// cannot hold a floating body, also as the fixed point's inner reason.
+    pub fn friction_overload(&self) -> Option<(usize, f64, f64)> {
+        match self {
+            StopReason::FrictionOverload {
+                mode,
+                load,
+                capacity,
+            } => Some((*mode, *load, *capacity)),
+            StopReason::InnerTresca(inner) => inner.friction_overload(),
+            _ => None,
+        }
+    }
+
     /// A projection or dual method (here or as SMALBE's inner solver) ran
     /// out of `max_iterations` above the tolerance: more iterations, or a
     /// method that needs fewer, would go on.

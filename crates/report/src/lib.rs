@@ -65,6 +65,11 @@ pub struct StepReport {
     pub reactions: Vec<Reaction>,
     /// Every contact pair's sums, in scene order.
     pub contacts: Vec<StepContact>,
+    /// The method that solved this step (`solver.method`, repeated here).
+    pub method: String,
+    /// When `method` took over from another method: that method and why it
+    /// stopped; `null` otherwise.
+    pub fallback: Option<String>,
 }
 
 /// The reaction of one prescribed-displacement boundary entry at one step:

@@ -230,11 +230,15 @@ pub fn summary(dir: &Path, o: &RunOutput) -> String {
     );
     for (i, s) in r.steps.iter().enumerate() {
         out += &format!(
-            "  step {}: {} iterations, {} active\n",
+            "  step {}: {} iterations, {} active, by {}\n",
             i + 1,
             s.iterations,
-            s.active
+            s.active,
+            s.method
         );
+        if let Some(f) = &s.fallback {
+            out += &format!("    (after {f})\n");
+        }
     }
     out += &format!(
         "  contact force ({}); certificate max {:.2e} ({})\n",

@@ -1,6 +1,7 @@
 //! steps.csv: one row per load step. The columns of every run first (the
 //! scales, the contact resultant, the sums of normal and tangential forces,
-//! the mean slip, the counts and the iterations), then a group per
+//! the mean slip, the counts, the iterations, the method that solved the
+//! step and the one it took over from), then a group per
 //! prescribed-displacement boundary entry (its reaction and moment) and a
 //! group per contact pair (its normal and tangential sums), named after
 //! the entry (docs/reference/scene-format.md).
@@ -26,7 +27,7 @@ pub fn write_steps_csv(path: &Path, steps: &[StepReport]) -> std::io::Result<()>
         false => ("", "", ""),
     };
     let groups: String = steps.first().map_or(String::new(), group_header);
-    writeln!(w, "step{scale_cols},force_x,force_y{z},normal_force,tangential_force{t2},mean_slip{s2},active,sticking,slipping,iterations{groups}")?;
+    writeln!(w, "step{scale_cols},force_x,force_y{z},normal_force,tangential_force{t2},mean_slip{s2},active,sticking,slipping,iterations,method,fallback{groups}")?;
     for (i, s) in steps.iter().enumerate() {
         let sc: String = names
             .iter()
@@ -39,7 +40,7 @@ pub fn write_steps_csv(path: &Path, steps: &[StepReport]) -> std::io::Result<()>
         };
         writeln!(
             w,
-            "{}{sc},{:e},{:e}{},{:e},{:e}{},{:e}{},{},{},{},{}{}",
+            "{}{sc},{:e},{:e}{},{:e},{:e}{},{:e}{},{},{},{},{},{},{}{}",
             i + 1,
             f(0),
             f(1),
@@ -53,6 +54,8 @@ pub fn write_steps_csv(path: &Path, steps: &[StepReport]) -> std::io::Result<()>
             s.sticking,
             s.slipping,
             s.iterations,
+            s.method,
+            field(s.fallback.as_deref().unwrap_or("")),
             group_values(s)
         )?;
     }
@@ -148,10 +151,13 @@ mod tests {
             solve_s: 0.0,
             reactions,
             contacts,
+            method: "coulomb_3d_fixed_point".into(),
+            fallback: Some("coulomb_3d_semismooth_newton: stalled, residual 1e-2".into()),
         }
     }
 
-    /// The groups follow the columns of every run, in entry order; a name
+    /// The groups follow the columns of every run (the method and its
+    /// fallback last among them), in entry order; a name or a fallback
     /// holding a comma is one quoted field.
     #[test]
     fn reactions_and_contacts_are_column_groups_after_the_iterations() {
@@ -179,11 +185,11 @@ mod tests {
         let mut lines = text.lines();
         assert_eq!(
             lines.next().unwrap(),
-            "step,scale_press,force_x,force_y,normal_force,tangential_force,mean_slip,active,sticking,slipping,iterations,reaction_x_press,reaction_y_press,moment_z_press,normal_force_a,tangential_force_a,\"normal_force_b,c\",\"tangential_force_b,c\""
+            "step,scale_press,force_x,force_y,normal_force,tangential_force,mean_slip,active,sticking,slipping,iterations,method,fallback,reaction_x_press,reaction_y_press,moment_z_press,normal_force_a,tangential_force_a,\"normal_force_b,c\",\"tangential_force_b,c\""
         );
         assert_eq!(
             lines.next().unwrap(),
-            "1,1,0e0,3e0,3e0,5e-1,0e0,4,0,0,2,2.5e-1,-3e0,1.5e0,1e0,5e-1,2e0,0e0"
+            "1,1,0e0,3e0,3e0,5e-1,0e0,4,0,0,2,coulomb_3d_fixed_point,\"coulomb_3d_semismooth_newton: stalled, residual 1e-2\",2.5e-1,-3e0,1.5e0,1e0,5e-1,2e0,0e0"
         );
     }
 }

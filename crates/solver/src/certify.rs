@@ -172,7 +172,18 @@ pub(crate) fn conclude_step(
     // A step stopped by its iteration limit says to raise it: the note
     // would blame a load that may well be within friction (a first step
     // with no tangential load at all).
-    let limited = sol.outcome.report.stop.iteration_limit();
+    let overload = sol.outcome.report.stop.friction_overload();
+    if let (true, Some(o)) = (first_failure, overload) {
+        let method = sol.outcome.report.method.as_str();
+        partial.failure = Some(friction_overload_message(
+            sc,
+            (bodies, points),
+            (si, method),
+            &sol.outcome.forces,
+            o,
+        ));
+    }
+    let limited = sol.outcome.report.stop.iteration_limit() || overload.is_some();
     if let (true, false, Some(failure), Some(_)) =
         (first_failure, limited, &mut partial.failure, &sol.friction)
     {
@@ -412,6 +423,8 @@ fn step_report(
         active_history: outcome.statuses.active_history.clone(),
         cycle_detected_at: outcome.statuses.cycle_detected_at,
         solver: serde_json::to_value(&outcome.report).unwrap_or_default(),
+        method: outcome.report.method.clone(),
+        fallback: outcome.friction.fallback.clone(),
         regularisation: sol.regularisation.clone(),
         solve_s: sol.solve_s,
         reactions: Vec::new(),

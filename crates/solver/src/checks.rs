@@ -262,3 +262,53 @@ pub(crate) fn fmt_vector(v: &[f64]) -> String {
     let parts: Vec<String> = v.iter().map(|x| format!("{x:e}")).collect();
     format!("({})", parts.join(", "))
 }
+
+/// The failure of a step whose load friction cannot hold
+/// ([`signorini_contact::StopReason::FrictionOverload`]): the floating body
+/// of rigid mode `mode` (the columns of G: the bodies' kernels in body
+/// order), the frictional contacts that act on it, what their friction can
+/// hold, the sum of μ λ_n of their points at the normal forces `lambda`,
+/// and its tangential load, that sum times the ratio of the mode's load to
+/// its capacity (for a translation, its force along it).
+pub(crate) fn friction_overload_message(
+    sc: &scene::Scene,
+    (bodies, points): (&[BodyModel], &[PointModel]),
+    (step, method): (usize, &str),
+    lambda: &[f64],
+    (mode, load, capacity): (usize, f64, f64),
+) -> String {
+    let mut first = 0;
+    let found = bodies.iter().position(|b| {
+        first += b.kernel.len();
+        mode < first
+    });
+    let Some(bi) = found else {
+        let reason = signorini_contact::StopReason::FrictionOverload {
+            mode,
+            load,
+            capacity,
+        };
+        return format!("step {}: {method} stopped: {reason}", step + 1);
+    };
+    let mut contacts: Vec<&str> = Vec::new();
+    let mut holds = 0.0;
+    let on_body = |p: &&PointModel| p.slave_body == bi || p.row.iter().any(|&(pb, _, _)| pb == bi);
+    for (pi, p) in points
+        .iter()
+        .enumerate()
+        .filter(|(_, p)| p.trow.is_some() && on_body(p))
+    {
+        let name = sc.contact[p.contact].name.as_str();
+        if !contacts.contains(&name) {
+            contacts.push(name);
+        }
+        holds += p.friction.semi_axes(lambda[pi])[0];
+    }
+    format!(
+        "step {}: {method} stopped: the load friction cannot hold: body \"{}\" is held by its contacts alone along a rigid motion its supports leave free, and its tangential load along it, {:.4e}, exceeds what the friction of its contact points can hold, the sum of μ λ_n over contact(s) \"{}\", {holds:.4e}: no static equilibrium exists; impose that motion (a displacement) instead of a force, or keep the load below μ N",
+        step + 1,
+        bodies[bi].name,
+        holds * load / capacity.max(f64::MIN_POSITIVE),
+        contacts.join("\", \"")
+    )
+}

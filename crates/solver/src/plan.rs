@@ -32,7 +32,7 @@ pub(crate) fn plan(sc: &scene::Scene, opts: &RunOptions) -> Result<Plan, SolveEr
         }
         if sc.solver.friction != scene::Solver::default().friction {
             return Err(SolveError::Input(format!(
-                "solver.friction = \"{}\": the scene's contacts are contact elements or penalty laws with friction, solved by the return mapping (seed §7); no friction method applies (remove the key)",
+                "solver.friction = \"{}\": the scene's contacts are contact elements or penalty laws with friction, solved by the return mapping (course notes §7); no friction method applies (remove the key)",
                 sc.solver.friction.as_str()
             )));
         }

@@ -4,6 +4,7 @@
 //! around the fixed-threshold method as its fallback (course notes §4.1.2, §4.3).
 
 use super::*;
+use crate::friction::holding::friction_overload;
 
 /// Friction by the semi-smooth Newton method (`dim` 2 or 3): Tresca (and
 /// frictionless) points in one solve; Coulomb, with `direct`, by the Newton
@@ -75,6 +76,10 @@ pub(super) struct Newton<'a> {
     pub(super) opts: &'a FrictionOptions,
     pub(super) iterations: usize,
     pub(super) dim: usize,
+    /// Whether the forces the next thresholds come from are those of a
+    /// converged solve (of this step's Tresca problem, or of the previous
+    /// step): their normal forces are then in equilibrium.
+    pub(super) trusted: bool,
 }
 
 impl Newton<'_> {
@@ -97,9 +102,23 @@ impl Newton<'_> {
 impl TrescaSolver for Newton<'_> {
     type Thresholds = Vec<[f64; 2]>;
 
+    /// Coulomb thresholds from forces in equilibrium (`trusted`) that cannot
+    /// hold a floating body end the fixed point: the start returned, not
+    /// converged, with the overload as its reason
+    /// ([`crate::friction::holding`]).
     fn solve(&mut self, thr: &Vec<[f64; 2]>, start: &[f64]) -> Result<InnerSolve, ContactError> {
+        if self.trusted && !self.layout.has_norton_hoff() {
+            let overload = friction_overload(self.problem, self.layout, start, thr);
+            if let Some(reason) = overload {
+                return Ok(InnerSolve {
+                    reason,
+                    ..self.iterate(start.to_vec())
+                });
+            }
+        }
         let (solve, iterations) = solve_inner(self, thr, start, false)?;
         self.iterations += iterations;
+        self.trusted = solve.converged;
         Ok(solve)
     }
 }
@@ -156,6 +175,7 @@ fn newton_fixed_point(
         opts,
         iterations: 0,
         dim,
+        trusted: false,
     };
     let tresca = match dim {
         2 => "tresca_semismooth_newton",
@@ -176,13 +196,23 @@ fn newton_fixed_point(
         };
         return Ok(end.solution(tresca, newton.iterations, false));
     }
+    let direct_name = match dim {
+        2 => "coulomb_semismooth_newton",
+        _ => "coulomb_3d_semismooth_newton",
+    };
+    let mut fallback = None;
     if direct {
-        if let Some(sol) = solve_coulomb(&mut newton, &forces)? {
-            return Ok(sol);
-        }
+        let failed = match solve_coulomb(&mut newton, &forces)? {
+            Ok(sol) => return Ok(sol),
+            Err(failed) => failed,
+        };
+        fallback = Some(format!("{direct_name} stopped: {}", failed.reason));
     }
     let start = match start {
-        Some(_) => newton.iterate(forces),
+        Some(_) => {
+            newton.trusted = true;
+            newton.iterate(forces)
+        }
         None => newton.solve(&stuck_thresholds(problem, layout, guessed), &forces)?,
     };
     let map = ThresholdMap {
@@ -195,7 +225,9 @@ fn newton_fixed_point(
         2 => "coulomb_semismooth_newton",
         _ => "coulomb_3d_fixed_point",
     };
-    Ok(end.solution(coulomb, newton.iterations, false))
+    let mut sol = end.solution(coulomb, newton.iterations, false);
+    sol.friction.fallback = fallback;
+    Ok(sol)
 }
 
 /// The semi-smooth Newton method on Coulomb's law itself (Alart & Curnier
@@ -208,18 +240,18 @@ fn newton_fixed_point(
 /// F on the iterate's statuses: open points λ = 0, closed normal rows and
 /// stuck points the W rows, slipping points the force on the boundary of
 /// the disc / ellipse whose radius follows dλ_n ([`slip_rows`]); the
-/// reduced system is nonsymmetric (LU). From `forces`; `None` when it does
-/// not meet the tolerance (the caller's fixed point then decides), never a
-/// non-converged answer.
+/// reduced system is nonsymmetric (LU). From `forces`; its last iterate
+/// (and why it stopped) when it does not meet the tolerance (the caller's
+/// fixed point then decides), never a non-converged answer.
 fn solve_coulomb(
     newton: &mut Newton,
     forces: &[f64],
-) -> Result<Option<ContactSolution>, ContactError> {
+) -> Result<Result<ContactSolution, InnerSolve>, ContactError> {
     let thr = newton.layout.thresholds(forces);
     let (direct, iterations) = solve_inner(newton, &thr, forces, true)?;
     newton.iterations += iterations;
     let StopReason::NewtonConverged { residual, .. } = direct.reason else {
-        return Ok(None);
+        return Ok(Err(direct));
     };
     let method = match newton.dim {
         2 => "coulomb_semismooth_newton",
@@ -233,5 +265,5 @@ fn solve_coulomb(
     };
     let mut sol = end.solution(method, newton.iterations, false);
     sol.friction.fixed_point_iterations = 0;
-    Ok(Some(sol))
+    Ok(Ok(sol))
 }

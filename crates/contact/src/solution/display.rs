@@ -216,6 +216,14 @@ impl fmt::Display for StopReason {
                 f,
                 "the iterate became non-finite (NaN) at iteration {iteration}: the method's linear solves broke down (W singular or badly conditioned); try another method"
             ),
+            FrictionOverload {
+                mode,
+                load,
+                capacity,
+            } => write!(
+                f,
+                "the load along rigid motion {mode} of the floating bodies, {load:.4e}, exceeds what friction can hold along it, {capacity:.4e} (μ λ_n summed over its contact points): no static equilibrium"
+            ),
         }
     }
 }
