@@ -59,7 +59,7 @@ pub fn augmented_lagrangian(
 ) -> Result<ContactSolution, ContactError> {
     let m = q.len();
     let (mut report, r0) = match dual_start(w, q, opts, "augmented_lagrangian")? {
-        DualStart::Done(solution) => return Ok(solution),
+        DualStart::Done(solution) => return Ok(*solution),
         DualStart::Iterate { report, r0 } => (report, r0),
     };
     let mut lambda = vec![0.0; m];

@@ -100,7 +100,7 @@ pub(crate) fn checked_or_empty(
 /// How a dual method (Uzawa, augmented Lagrangian) starts from λ = 0.
 pub(crate) enum DualStart {
     /// Nothing to iterate: the empty problem, or λ = 0 already within tolerance.
-    Done(ContactSolution),
+    Done(Box<ContactSolution>),
     /// Iterate from λ = 0 with this report; `r0` is the residual of λ = 0.
     Iterate { report: SolverReport, r0: f64 },
 }
@@ -115,7 +115,7 @@ pub(crate) fn dual_start(
     method: &str,
 ) -> Result<DualStart, ContactError> {
     if let Some(empty) = checked_or_empty(w, q, method)? {
-        return Ok(DualStart::Done(empty));
+        return Ok(DualStart::Done(Box::new(empty)));
     }
     let mut report = SolverReport {
         method: method.into(),
@@ -126,9 +126,9 @@ pub(crate) fn dual_start(
     if r0 <= opts.tolerance {
         report.converged = true;
         report.stop = StopReason::ZeroForces { residual: r0 };
-        return Ok(DualStart::Done(ContactSolution::from_forces(
+        return Ok(DualStart::Done(Box::new(ContactSolution::from_forces(
             w, q, lambda, report,
-        )));
+        ))));
     }
     Ok(DualStart::Iterate { report, r0 })
 }

@@ -47,7 +47,7 @@ use crate::ContactError;
 pub fn uzawa(w: &Mat<f64>, q: &[f64], opts: &LcpOptions) -> Result<ContactSolution, ContactError> {
     let m = q.len();
     let (mut report, r0) = match dual_start(w, q, opts, "uzawa")? {
-        DualStart::Done(solution) => return Ok(solution),
+        DualStart::Done(solution) => return Ok(*solution),
         DualStart::Iterate { report, r0 } => (report, r0),
     };
     let mut lambda = vec![0.0; m];
