@@ -465,10 +465,8 @@ fn norton_hoff_in_3d_holds_its_law_and_tends_to_coulomb() {
 /// force with the cylinder then held sideways by friction alone) and, with
 /// `swap`, the other body of each contact as slave.
 fn assembly(drag: &str, swap: bool) -> String {
-    let dir = format!("file = \"{}/examples/meshes/", env!("CARGO_MANIFEST_DIR"));
-    let mut text = example("assembly3d.toml")
-        .replace("file = \"meshes/", &dir)
-        .replace("displacement = { x = 0.1 }", drag);
+    let mut text =
+        common::example_with_meshes("assembly3d.toml").replace("displacement = { x = 0.1 }", drag);
     if swap {
         for (upper, lower) in [("cylinder", "block"), ("block", "pad")] {
             let pair = |s: &str, m: &str, ss: &str, ms: &str| {
