@@ -18,7 +18,7 @@ use std::io::Write;
 use std::path::Path;
 
 use serde::Serialize;
-pub use steps_csv::write_steps_csv;
+pub use steps_csv::{csv_field, write_steps_csv};
 
 /// One load step of the run.
 #[derive(Debug, Clone, Serialize)]

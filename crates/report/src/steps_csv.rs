@@ -55,7 +55,7 @@ pub fn write_steps_csv(path: &Path, steps: &[StepReport]) -> std::io::Result<()>
             s.slipping,
             s.iterations,
             s.method,
-            field(s.fallback.as_deref().unwrap_or("")),
+            csv_field(s.fallback.as_deref().unwrap_or("")),
             group_values(s)
         )?;
     }
@@ -70,17 +70,17 @@ fn group_header(s: &StepReport) -> String {
     let mut out = String::new();
     for r in &s.reactions {
         for a in &AXES[..r.force.len()] {
-            out += &format!(",{}", field(&format!("reaction_{a}_{}", r.boundary)));
+            out += &format!(",{}", csv_field(&format!("reaction_{a}_{}", r.boundary)));
         }
         for a in moment_axes(r) {
-            out += &format!(",{}", field(&format!("moment_{a}_{}", r.boundary)));
+            out += &format!(",{}", csv_field(&format!("moment_{a}_{}", r.boundary)));
         }
     }
     for c in &s.contacts {
-        out += &format!(",{}", field(&format!("normal_force_{}", c.name)));
-        out += &format!(",{}", field(&format!("tangential_force_{}", c.name)));
+        out += &format!(",{}", csv_field(&format!("normal_force_{}", c.name)));
+        out += &format!(",{}", csv_field(&format!("tangential_force_{}", c.name)));
         if c.tangential_force_2.is_some() {
-            out += &format!(",{}", field(&format!("tangential_force_2_{}", c.name)));
+            out += &format!(",{}", csv_field(&format!("tangential_force_2_{}", c.name)));
         }
     }
     out
@@ -116,7 +116,7 @@ fn contact_values(c: &StepContact) -> Vec<f64> {
 
 /// A CSV field: quoted (its quotes doubled) when it holds a comma, a quote
 /// or a line break, as is.
-fn field(s: &str) -> String {
+pub fn csv_field(s: &str) -> String {
     if s.contains([',', '"', '\n', '\r']) {
         format!("\"{}\"", s.replace('"', "\"\""))
     } else {

@@ -1,14 +1,7 @@
 //! The suite's table: stiff.csv and stiff.md.
 
 use crate::{StiffRow, Verdict};
-
-fn csv_field(s: &str) -> String {
-    if s.contains([',', '"', '\n']) {
-        format!("\"{}\"", s.replace('"', "\"\""))
-    } else {
-        s.to_string()
-    }
-}
+use signorini_report::csv_field;
 
 /// stiff.csv: one line per case.
 pub fn write_csv(path: &std::path::Path, rows: &[StiffRow]) -> std::io::Result<()> {
