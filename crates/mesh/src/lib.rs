@@ -192,6 +192,19 @@ pub struct Mesh {
     pub regions: BTreeMap<String, Vec<usize>>,
 }
 
+/// The corners (lo, hi) of the smallest box holding `points` (lo = +∞,
+/// hi = −∞ where there are none).
+pub fn bounding_box<'a>(points: impl IntoIterator<Item = &'a [f64; 3]>) -> ([f64; 3], [f64; 3]) {
+    let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+    for p in points {
+        for k in 0..3 {
+            lo[k] = lo[k].min(p[k]);
+            hi[k] = hi[k].max(p[k]);
+        }
+    }
+    (lo, hi)
+}
+
 impl Mesh {
     pub fn n_nodes(&self) -> usize {
         self.coords.len()
@@ -199,17 +212,10 @@ impl Mesh {
 
     /// Diameter of the bounding box: the body's length scale.
     pub fn size(&self) -> f64 {
-        let mut lo = [f64::INFINITY; 3];
-        let mut hi = [f64::NEG_INFINITY; 3];
-        for p in &self.coords {
-            for k in 0..3 {
-                lo[k] = lo[k].min(p[k]);
-                hi[k] = hi[k].max(p[k]);
-            }
-        }
         if self.coords.is_empty() {
             return 0.0;
         }
+        let (lo, hi) = bounding_box(&self.coords);
         (0..3).map(|k| (hi[k] - lo[k]).powi(2)).sum::<f64>().sqrt()
     }
 

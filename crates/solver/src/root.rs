@@ -218,18 +218,7 @@ fn load_displacement(b: &BodyModel, f: f64) -> f64 {
     if !volumic {
         return f / e;
     }
-    let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
-    for x in &b.mesh.coords {
-        for k in 0..3 {
-            lo[k] = lo[k].min(x[k]);
-            hi[k] = hi[k].max(x[k]);
-        }
-    }
-    let h = (0..3)
-        .map(|k| (hi[k] - lo[k]).max(0.0).powi(2))
-        .sum::<f64>()
-        .sqrt();
-    f / (e * h)
+    f / (e * b.mesh.size())
 }
 
 /// The report of a status-method solve: the method's name as the run

@@ -64,14 +64,8 @@ struct Bounds {
 impl Bounds {
     /// The bounding box of a surface's nodes, widened by 1 % of its diagonal.
     fn of(body: &BodyModel, surface: &Surface) -> Self {
-        let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
-        for n in surface.nodes() {
-            let x = &body.mesh.coords[n];
-            for k in 0..3 {
-                lo[k] = lo[k].min(x[k]);
-                hi[k] = hi[k].max(x[k]);
-            }
-        }
+        let (lo, hi) =
+            signorini_mesh::bounding_box(surface.nodes().into_iter().map(|n| &body.mesh.coords[n]));
         let d = (0..3).map(|k| (hi[k] - lo[k]).powi(2)).sum::<f64>().sqrt();
         Self {
             lo: lo.map(|v| v - 0.01 * d),
