@@ -5,7 +5,7 @@
 
 mod common;
 
-use common::{example_path as example, hertz_in_units, max_rel, patch3d_in_pa_and_m};
+use common::{example_path as example, hertz_in_units, listing, max_rel, patch3d_in_pa_and_m};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
 use std::time::{Duration, Instant};
@@ -546,16 +546,6 @@ fn rayon_num_threads_sets_the_threads_of_every_rank() {
     for s in &stats {
         assert_eq!(s["threads"], 3);
     }
-}
-
-/// The entries of a directory, sorted.
-fn listing(dir: &Path) -> Vec<String> {
-    let mut v: Vec<String> = std::fs::read_dir(dir)
-        .unwrap_or_else(|e| panic!("{}: {e}", dir.display()))
-        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-        .collect();
-    v.sort();
-    v
 }
 
 /// `[output] pieces` under `mpirun -n 2`: each rank

@@ -142,13 +142,13 @@ fn a_full_stdout_loses_the_summary_not_the_run() {
 
 /// The files in `dir` and `dir/pieces`, sorted.
 fn listing(dir: &std::path::Path) -> Vec<String> {
-    let mut names: Vec<String> = std::fs::read_dir(dir)
-        .unwrap()
-        .map(|e| e.unwrap().file_name().to_string_lossy().to_string())
-        .collect();
-    if let Ok(pieces) = std::fs::read_dir(dir.join("pieces")) {
-        names
-            .extend(pieces.map(|e| format!("pieces/{}", e.unwrap().file_name().to_string_lossy())));
+    let mut names = common::listing(dir);
+    if dir.join("pieces").is_dir() {
+        names.extend(
+            common::listing(&dir.join("pieces"))
+                .iter()
+                .map(|n| format!("pieces/{n}")),
+        );
     }
     names.sort();
     names
@@ -281,12 +281,8 @@ fn steps_csv_in_3d_has_the_z_resultant_and_the_second_tangent() {
 /// The scenes of examples/, by file name, sorted.
 fn shipped_examples() -> Vec<String> {
     let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("examples");
-    let mut names: Vec<String> = std::fs::read_dir(dir)
-        .unwrap()
-        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-        .filter(|n| n.ends_with(".toml"))
-        .collect();
-    names.sort();
+    let mut names = common::listing(&dir);
+    names.retain(|n| n.ends_with(".toml"));
     names
 }
 

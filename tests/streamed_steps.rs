@@ -90,12 +90,8 @@ fn selected_steps_of_a_long_cyclic_run_equal_the_all_steps_run() {
 
 /// The .vtu files of a directory, sorted.
 fn vtu_files(dir: &Path) -> Vec<String> {
-    let mut v: Vec<String> = std::fs::read_dir(dir)
-        .unwrap()
-        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-        .filter(|f| f.ends_with(".vtu"))
-        .collect();
-    v.sort();
+    let mut v = common::listing(dir);
+    v.retain(|f| f.ends_with(".vtu"));
     v
 }
 

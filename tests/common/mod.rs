@@ -31,6 +31,16 @@ pub fn example_with_meshes(name: &str) -> String {
     )
 }
 
+/// The names of a directory's entries, sorted.
+pub fn listing(dir: &std::path::Path) -> Vec<String> {
+    let mut names: Vec<String> = std::fs::read_dir(dir)
+        .unwrap_or_else(|e| panic!("{}: {e}", dir.display()))
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    names
+}
+
 /// Runs a scene given as TOML text in one process.
 pub fn try_run(text: &str, opts: RunOptions) -> Result<RunOutput, SolveError> {
     let sc = parse_toml(text).unwrap_or_else(|e| panic!("scene: {e}"));
