@@ -20,7 +20,7 @@
 //!   converges badly, and the report counts its iterations.
 //! - [`coulomb_newton`]: the same fixed point with each Tresca problem
 //!   solved by the semi-smooth Newton method on the Alart–Curnier equations
-//!   ([`crate::semismooth_newton`], shared with 3D).
+//!   ([`crate::friction::semismooth_newton`], shared with 3D).
 //!
 //! Regularised Coulomb (§4.1.3, elastic slip k_e) is the same problem with
 //! the compliance 1/k_e added to the tangential diagonal of W
@@ -32,7 +32,7 @@ use serde::Serialize;
 
 use crate::active_set::{drive, scaled_tolerances, Change, Fallback, Regular, StatusRule, Stop};
 use crate::delassus::{DelassusProblem, VarEquation};
-use crate::fixed_point::{
+use crate::friction::fixed_point::{
     fixed_point, normal_change, FixedPoint, InnerSolve, ThresholdMap, TrescaSolver,
 };
 use crate::lcp::LcpOptions;
@@ -40,9 +40,12 @@ use crate::solution::{ContactSolution, StopReason, ThresholdMapKind};
 use crate::ContactError;
 
 pub(crate) mod capacitance;
+pub(crate) mod fixed_point;
+pub mod friction3d;
 pub mod holding;
 pub mod kinematic_hardening;
 pub mod law;
+pub(crate) mod semismooth_newton;
 pub use law::{FrictionLaw, FrictionLayout};
 
 /// Status of a contact point.
@@ -483,7 +486,7 @@ fn tresca_box(
         gap_scale: opts.gap_scale,
         stiffness: None,
     };
-    let sol = crate::mprgp::mprgp_box(&problem.w, &problem.q, &lower, &upper, &lcp_opts)?;
+    let sol = crate::lcp::mprgp::mprgp_box(&problem.w, &problem.q, &lower, &upper, &lcp_opts)?;
     let tol = opts.tolerance
         * opts
             .force_scale
@@ -625,7 +628,7 @@ pub fn coulomb_fixed_point(
 }
 
 /// Coulomb (or Tresca) in 2D by the semi-smooth Newton method on the
-/// Alart–Curnier equations ([`crate::semismooth_newton`]): Newton steps on
+/// Alart–Curnier equations ([`crate::friction::semismooth_newton`]): Newton steps on
 /// Coulomb's law itself (threshold μ λ_n of the iterate, no outer fixed
 /// point), each on the reduced system of its statuses (a primal–dual
 /// active set method); where that does not converge, the fixed point
@@ -639,7 +642,7 @@ pub fn coulomb_newton(
     start: Option<&[f64]>,
     opts: &FrictionOptions,
 ) -> Result<ContactSolution, ContactError> {
-    crate::semismooth_newton::friction_newton(problem, layout, start, opts, 2, true)
+    crate::friction::semismooth_newton::friction_newton(problem, layout, start, opts, 2, true)
 }
 
 /// Norton–Hoff friction (course notes §4.1.4, eq. 19) at the points whose law is

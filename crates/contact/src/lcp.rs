@@ -5,6 +5,14 @@
 //! the stopping test and the starts the methods share. What a method returns
 //! is in [`crate::solution`].
 
+pub mod augmented_lagrangian;
+pub mod lemke;
+pub mod mprgp;
+pub mod penalty;
+pub mod projected_gradient;
+pub mod smalbe;
+pub mod uzawa;
+
 use std::ops::Range;
 
 use faer::Mat;

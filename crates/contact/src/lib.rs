@@ -15,46 +15,35 @@
 
 pub mod active_factor;
 pub mod active_set;
-pub mod augmented_lagrangian;
 mod bordered_factor;
 pub mod contact_elements;
 pub mod delassus;
 pub mod equilibrium;
-mod fixed_point;
 pub mod friction;
-pub mod friction3d;
 pub mod geometry;
 mod growing_lu;
 pub mod interface_tree;
 pub mod lcp;
-pub mod lemke;
 pub mod mortar;
 pub mod mortar3d;
-pub mod mprgp;
 pub mod norms;
 pub mod observe;
-pub mod penalty;
 mod pivot_policy;
 mod problem_scale;
-pub mod projected_gradient;
 mod recursive_cholesky;
 mod reduced;
 pub mod redundancy;
 pub mod registry;
 pub mod schur_factor;
-mod semismooth_newton;
-pub mod smalbe;
 pub mod solution;
-pub mod status;
 mod threads;
-pub mod uzawa;
 
 #[cfg(test)]
 pub(crate) mod test_problems;
 
+pub use active_set::signorini::{status_method, ActiveSetSolve, StatusOptions, StatusVariant};
 pub use delassus::{DelassusOperator, DelassusProblem};
 pub use geometry::{ContactPoint, MasterGeometry, NormalRule, Term, TermSide};
-pub use status::{status_method, ActiveSetSolve, StatusOptions, StatusVariant};
 
 #[derive(Debug, thiserror::Error)]
 pub enum ContactError {

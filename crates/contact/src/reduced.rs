@@ -1,7 +1,7 @@
 //! The linear system of one status iteration (course notes §3.3 for contact, §4.5
 //! for friction), reduced to the forces its statuses leave unknown; and the
 //! same reduction of a semi-smooth Newton step on the Alart–Curnier
-//! equations ([`solve_newton`], for [`crate::semismooth_newton`]).
+//! equations ([`solve_newton`], for [`crate::friction::semismooth_newton`]).
 //!
 //! Each force r_i has one equation ([`VarEquation`]): a zero gap (closed or
 //! stuck), a given value (open: 0; Tresca slip: ±g), or a multiple of

@@ -11,9 +11,9 @@
 use faer::Mat;
 use serde::Serialize;
 
+use crate::active_set::signorini::StatusVariant;
 use crate::friction::PointStatus;
 use crate::lcp::gaps;
-use crate::status::StatusVariant;
 
 /// What a method says about its run (`report.json` → `solver`).
 #[derive(Debug, Clone, Default, Serialize)]

@@ -219,9 +219,9 @@ pub fn solve_friction(
     let t = Instant::now();
     let out = match (d, method) {
         (3, FrictionMethod::Newton) => {
-            signorini_contact::friction3d::friction_3d(&mut problem, &layout, None, &opts)
+            signorini_contact::friction::friction3d::friction_3d(&mut problem, &layout, None, &opts)
         }
-        (3, _) => signorini_contact::friction3d::coulomb_3d_fixed_point(
+        (3, _) => signorini_contact::friction::friction3d::coulomb_3d_fixed_point(
             &mut problem,
             &layout,
             None,

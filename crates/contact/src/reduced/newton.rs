@@ -1,4 +1,4 @@
-//! The semi-smooth Newton system of [`crate::semismooth_newton`] reduced to
+//! The semi-smooth Newton system of [`crate::friction::semismooth_newton`] reduced to
 //! its coupled directions E (columns e_a over one or two rows): with h the
 //! given part of dλ, s the coupled amplitudes and d their compliances,
 //!
@@ -29,7 +29,7 @@ use faer::Mat;
 
 use super::{schur_on_g, BlockFactor};
 use crate::bordered_factor::{block_buffer, BorderedFactor, FactorFailure};
-use crate::semismooth_newton::{Dir, NewtonSystem};
+use crate::friction::semismooth_newton::{Dir, NewtonSystem};
 
 /// Solves the reduced Newton system of `sys` (see the module); with `chord`,
 /// only with the cached factor of the same structure. Returns dx = (dλ, dα),

@@ -55,9 +55,9 @@ use std::collections::HashSet;
 
 use faer::Mat;
 
+use crate::active_set::signorini::{status_method, ActiveSetSolve, StatusOptions, StatusVariant};
 use crate::lcp::{check_input, gaps, mean_diag, residual_from_gaps, LcpOptions};
 use crate::solution::{ContactSolution, SolverReport, StopReason};
-use crate::status::{status_method, ActiveSetSolve, StatusOptions, StatusVariant};
 use crate::ContactError;
 
 /// A uniform stiffness k_p = factor / mean diag(W): `factor` times the mean

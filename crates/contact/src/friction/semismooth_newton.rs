@@ -41,7 +41,7 @@ use faer::prelude::Solve;
 use faer::Mat;
 
 use crate::delassus::{DelassusProblem, VarEquation};
-use crate::fixed_point::{
+use crate::friction::fixed_point::{
     fixed_point, normal_change, FixedPoint, InnerSolve, ThresholdMap, TrescaSolver,
 };
 use crate::friction::{FrictionLayout, FrictionOptions, PointStatus};

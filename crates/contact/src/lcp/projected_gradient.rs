@@ -23,8 +23,8 @@
 //! round-off in the recursively updated gradient cannot fake convergence).
 //!
 //! The helpers at the end of this file (input checks, products with W, the
-//! residual from a known gradient) are shared with [`crate::lemke`] and
-//! [`crate::mprgp`].
+//! residual from a known gradient) are shared with [`crate::lcp::lemke`] and
+//! [`crate::lcp::mprgp`].
 
 use faer::Mat;
 
