@@ -28,8 +28,6 @@
 //! linear kinematic hardening of the slip) the rough rows' unknown becomes
 //! the slider force ([`kinematic_hardening`]).
 
-use serde::Serialize;
-
 use crate::active_set::{drive, scaled_tolerances, Change, Fallback, Regular, StatusRule, Stop};
 use crate::delassus::{DelassusProblem, VarEquation};
 use crate::friction::fixed_point::{
@@ -44,43 +42,10 @@ pub(crate) mod fixed_point;
 pub mod friction3d;
 pub mod holding;
 pub mod kinematic_hardening;
-pub mod law;
 pub(crate) mod semismooth_newton;
-pub use law::{FrictionLaw, FrictionLayout};
-
-/// Status of a contact point.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize)]
-#[serde(rename_all = "snake_case")]
-pub enum PointStatus {
-    Open,
-    /// In contact; sticking if the point has friction.
-    Stick,
-    /// Slipping with λ_t = +threshold (the slip increment is negative).
-    SlipPlus,
-    /// Slipping with λ_t = −threshold.
-    SlipMinus,
-    /// 3D: slipping in the tangent plane, the tangential force on the
-    /// boundary of the disc / ellipse and opposing the slip.
-    Slip,
-}
-
-impl PointStatus {
-    pub fn is_slip(self) -> bool {
-        matches!(
-            self,
-            PointStatus::SlipPlus | PointStatus::SlipMinus | PointStatus::Slip
-        )
-    }
-}
-
-#[derive(Debug, Clone)]
-pub struct FrictionOptions {
-    pub max_iterations: usize,
-    pub max_fixed_point: usize,
-    pub tolerance: f64,
-    pub force_scale: f64,
-    pub gap_scale: f64,
-}
+pub use crate::law::{FrictionLaw, FrictionLayout};
+pub use crate::options::FrictionOptions;
+pub use crate::solution::PointStatus;
 
 fn equations(
     layout: &FrictionLayout,

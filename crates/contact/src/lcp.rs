@@ -49,6 +49,15 @@ impl Default for LcpOptions {
     }
 }
 
+impl ContactSolution {
+    /// The solution with forces λ of LCP(W, q): its gaps W λ + q and the
+    /// points with a positive force.
+    pub fn from_forces(w: &Mat<f64>, q: &[f64], forces: Vec<f64>, report: SolverReport) -> Self {
+        let gaps = gaps(w, q, &forces);
+        Self::with_gaps(forces, gaps, Vec::new(), report)
+    }
+}
+
 /// w = W λ + q (column by column, skipping the zero forces: few points are
 /// in contact).
 pub fn gaps(w: &Mat<f64>, q: &[f64], lambda: &[f64]) -> Vec<f64> {
