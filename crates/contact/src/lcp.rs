@@ -10,6 +10,7 @@ pub mod lemke;
 pub mod mprgp;
 pub mod penalty;
 pub mod projected_gradient;
+pub(crate) mod regularised;
 pub mod smalbe;
 pub mod uzawa;
 
@@ -56,6 +57,14 @@ impl ContactSolution {
         let gaps = gaps(w, q, &forces);
         Self::with_gaps(forces, gaps, Vec::new(), report)
     }
+}
+
+/// max(λ, 0) entry by entry (removes −0.0 and round-off below zero).
+pub(crate) fn clamp(mut lambda: Vec<f64>) -> Vec<f64> {
+    for v in &mut lambda {
+        *v = if *v > 0.0 { *v } else { 0.0 };
+    }
+    lambda
 }
 
 /// w = W λ + q (column by column, skipping the zero forces: few points are

@@ -34,7 +34,7 @@
 
 use faer::Mat;
 
-use crate::lcp::penalty::regularised_newton;
+use crate::lcp::regularised::regularised_newton;
 use crate::lcp::{
     dual_converged, dual_limit, dual_start, mean_diag, residual_from_gaps, DualStart, LcpOptions,
 };

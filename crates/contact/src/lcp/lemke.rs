@@ -42,7 +42,7 @@
 
 use faer::Mat;
 
-use crate::lcp::projected_gradient::clamp;
+use crate::lcp::clamp;
 use crate::lcp::{checked_or_empty, lcp_residual, LcpOptions};
 use crate::solution::{ContactSolution, SolverReport, StopReason};
 use crate::ContactError;

@@ -64,7 +64,7 @@
 
 use faer::Mat;
 
-use crate::lcp::projected_gradient::clamp;
+use crate::lcp::clamp;
 use crate::lcp::{check_input, dot, gaps, gaps_into, matvec, spectral_norm_estimate, LcpOptions};
 use crate::solution::{BoxPolish, ContactSolution, Measure, MprgpSteps, SolverReport, StopReason};
 use crate::ContactError;
