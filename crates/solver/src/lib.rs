@@ -50,11 +50,7 @@ use serde::{Deserialize, Serialize};
 use signorini_comm::{broadcast, deal, gather, Transport};
 use signorini_condense::{spmv, spmv_with_magnitude, submatrix};
 use signorini_contact::equilibrium::nnls;
-use signorini_contact::friction::friction3d::friction_3d;
-use signorini_contact::friction::{
-    coulomb_fixed_point, coulomb_newton, coulomb_status, predicted_statuses, tresca_projection,
-    tresca_status, FrictionLaw, FrictionLayout, FrictionOptions, PointStatus,
-};
+use signorini_contact::friction::{FrictionLaw, FrictionLayout, FrictionOptions, PointStatus};
 use signorini_contact::registry::{Algorithm, Constraints, FrictionSupport};
 use signorini_contact::schur_factor::{InterfaceStiffness, SchurBlock};
 use signorini_contact::{
