@@ -40,7 +40,8 @@
 //! Coulomb the threshold of an open point is zero.
 
 use crate::delassus::DelassusProblem;
-use crate::friction::{FrictionLayout, FrictionOptions};
+use crate::law::FrictionLayout;
+use crate::options::FrictionOptions;
 use crate::ContactError;
 use crate::ContactSolution;
 

@@ -44,9 +44,10 @@ use crate::delassus::{DelassusProblem, VarEquation};
 use crate::friction::fixed_point::{
     fixed_point, normal_change, FixedPoint, InnerSolve, ThresholdMap, TrescaSolver,
 };
-use crate::friction::{FrictionLayout, FrictionOptions, PointStatus};
 use crate::law::cone::project_ellipse;
-use crate::solution::{ContactSolution, StopReason, ThresholdMapKind};
+use crate::law::FrictionLayout;
+use crate::options::FrictionOptions;
+use crate::solution::{ContactSolution, PointStatus, StopReason, ThresholdMapKind};
 use crate::ContactError;
 
 /// A unit direction over at most two force rows (`c[1] = 0` for one row).
