@@ -23,7 +23,7 @@ mod run;
 mod validation;
 use signorini_comm::{Local, Transport};
 use signorini_scene::{Method, SolvePath};
-use signorini_solver::RunOptions;
+use signorini_solver::{RunEnvironment, RunOptions};
 
 #[derive(Parser)]
 // term_width = 0: the help is never wrapped, whatever the terminal and
@@ -276,8 +276,7 @@ fn command(cli: Cli) -> ExitCode {
             path,
             max_memory,
         } => {
-            signorini_solver::memory::set_budget(max_memory);
-            run::check(&scene, path)
+            run::check(&scene, path, budget(max_memory))
         }
         Command::Local {
             problem,
@@ -289,11 +288,11 @@ fn command(cli: Cli) -> ExitCode {
             repeat,
             max_memory,
         } => {
-            signorini_solver::memory::set_budget(max_memory);
             local::local(
                 &problem,
                 method,
                 local::LocalOptions {
+                    budget: budget(max_memory),
                     tolerance,
                     max_iterations,
                     with_lambda: lambda,
@@ -332,8 +331,8 @@ fn command(cli: Cli) -> ExitCode {
             max_memory,
             ..
         } => {
-            signorini_solver::memory::set_budget(max_memory);
-            bench::bench(&scenes, &levels, &subdomains, &methods, &paths, &out)
+            let env = environment(max_memory);
+            bench::bench(&scenes, &levels, &subdomains, &methods, &paths, &env, &out)
         }
         Command::Run {
             scene,
@@ -344,7 +343,7 @@ fn command(cli: Cli) -> ExitCode {
             quiet,
             progress,
         } => {
-            signorini_solver::memory::set_budget(max_memory);
+            let env = environment(max_memory);
             let comm = transport();
             // For the tests of the panic path: a panic on that rank.
             if let Ok(r) = std::env::var("SIGNORINI_INJECT_PANIC") {
@@ -360,11 +359,24 @@ fn command(cli: Cli) -> ExitCode {
             run::run(
                 &scene,
                 RunOptions { method, path },
+                &env,
                 out,
                 show,
                 comm.as_ref(),
             )
         }
+    }
+}
+
+/// The memory a command may use: `--max-memory`, else the machine's.
+fn budget(max_memory: Option<u64>) -> Option<signorini_solver::memory::Budget> {
+    signorini_report::budget::budget(max_memory)
+}
+
+/// What a run gets from this process: the memory it may use.
+fn environment(max_memory: Option<u64>) -> RunEnvironment {
+    RunEnvironment {
+        budget: budget(max_memory),
     }
 }
 

@@ -6,6 +6,7 @@
 
 pub mod output;
 pub mod pieces;
+pub mod budget;
 pub mod plot;
 pub mod reference;
 pub mod stale;

@@ -1,7 +1,19 @@
 //! From a step's contact solution to its report: the certificate of
 //! docs/theory/algorithms.md, the per-step and per-point rows, and the final report.
 
-use super::*;
+use crate::checks::{friction_overload_message, held_by_friction};
+use crate::compare::compare_reference;
+use crate::element_step::RETURN_MAPPING;
+use crate::model::{BodyModel, PointModel};
+use crate::pipeline::{RunContext, RunLog};
+use crate::root::{net_force, point_force};
+use crate::subdomain::{CondensedData, FactorSummary, RecoveredStep};
+use crate::{Partial, Residuals, SolveError, StepSolution, inf_norm, memory, model};
+use signorini_contact::friction::PointStatus;
+use signorini_contact::{SolverReport, StatusVariant, StopReason};
+use signorini_report::output::{RunOutput, StepFields};
+use signorini_report::{Certificate, ContactRow, ContactSummary, Memory, Probe, RankStats, Report, StepReport, Timings};
+use signorini_scene as scene;
 use crate::reactions::{step_contacts, step_reactions};
 use signorini_contact::norms::nan_max;
 

@@ -7,7 +7,12 @@
 //! [`signorini_contact::contact_elements`]; the slip history g goes from
 //! step to step.
 
-use super::*;
+use crate::friction_step::row_gaps;
+use crate::root::{Interface, RootInput, StepLoad};
+use crate::{FrictionStep, SolveError, StepSolution, contact_error};
+use signorini_contact::friction::{FrictionLaw, PointStatus};
+use signorini_contact::{ContactSolution, DelassusOperator};
+use signorini_scene as scene;
 use signorini_contact::contact_elements::{self, ContactElement, ElementOptions, SlipThreshold};
 
 /// The run's method (report.json `method`) when it solves contact elements.

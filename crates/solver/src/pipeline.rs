@@ -6,7 +6,22 @@
 //! step's per-DOF data. Only this module calls the transport
 //! (gather, broadcast, deal).
 
-use super::*;
+use crate::certify::{condensed_sizes, condensed_step, finish_report};
+use crate::checks::check_held_by_contacts;
+use crate::direct_path::run_direct;
+use crate::root::{RootInput, RootSolve, take_interface_stiffness};
+use crate::step_end::StepLoop;
+use crate::subdomain::{CondensedData, RecoveredStep, Subdomain, SubdomainSpec};
+use crate::{Partial, RunEnvironment, RunOptions, SolveError, conditioning, memory, model, partition, pieces, plan, progress, wire};
+use serde::{Deserialize, Serialize};
+use signorini_comm::{Transport, broadcast, deal, gather};
+use signorini_report::output::RunOutput;
+use signorini_report::stream::{StepSink, StepsInMemory};
+use signorini_report::{RankStats, Timings};
+use signorini_scene as scene;
+use std::time::Instant;
+
+use crate::timing::timed;
 
 /// What a run keeps for its report as it goes.
 pub(crate) struct RunLog {
@@ -65,17 +80,28 @@ impl RankFigures {
 
 /// Runs a scene on every rank of `comm`, keeping every step in memory (the
 /// contact rows of every step and the fields of the steps `[output] steps`
-/// selects: `RunOutput::contact_rows`, `BodyResult::history`). Returns the
-/// output on the root, `None` on the other ranks; an error is returned
-/// identically on every rank.
+/// selects: `RunOutput::contact_rows`, `BodyResult::history`), within the
+/// machine's memory. Returns the output on the root, `None` on the other
+/// ranks; an error is returned identically on every rank.
 pub fn run(
     sc: &scene::Scene,
     scene_name: &str,
     opts: &RunOptions,
     comm: &dyn Transport,
 ) -> Result<Option<RunOutput>, SolveError> {
+    run_with(sc, scene_name, opts, &RunEnvironment::machine(), comm)
+}
+
+/// [`run`] with what the process gives the run ([`RunEnvironment`]).
+pub fn run_with(
+    sc: &scene::Scene,
+    scene_name: &str,
+    opts: &RunOptions,
+    env: &RunEnvironment,
+    comm: &dyn Transport,
+) -> Result<Option<RunOutput>, SolveError> {
     let mut kept = StepsInMemory::default();
-    let out = run_streamed(sc, scene_name, opts, comm, &mut kept)?;
+    let out = run_streamed(sc, scene_name, opts, env, comm, &mut kept)?;
     Ok(out.map(|mut o| {
         kept.fill(&mut o);
         o
@@ -97,6 +123,7 @@ pub fn run_streamed(
     sc: &scene::Scene,
     scene_name: &str,
     opts: &RunOptions,
+    env: &RunEnvironment,
     comm: &dyn Transport,
     sink: &mut dyn StepSink,
 ) -> Result<Option<RunOutput>, SolveError> {
@@ -105,7 +132,13 @@ pub fn run_streamed(
     // Refuse a scene that cannot fit before building anything (the root's
     // verdict on every rank: the machines' memory may differ).
     let fits = comm.is_root().then(|| {
-        memory::check(sc, plan.path, comm.size(), memory::ContactCounts::Surfaces).map(|_| ())
+        memory::check(
+            sc,
+            (plan.path, comm.size()),
+            memory::ContactCounts::Surfaces,
+            env.budget,
+        )
+        .map(|_| ())
     });
     wire(broadcast(comm, fits.as_ref()))??;
     let mut zone = None;
@@ -125,6 +158,7 @@ pub fn run_streamed(
             comm,
             zone: zone.as_ref(),
             widenings,
+            budget: env.budget,
         };
         match attempt.solve(log, sink)? {
             Outcome::Done(out) => return Ok(out.map(|o| *o)),
@@ -147,6 +181,8 @@ struct Attempt<'a> {
     zone: Option<&'a model::Zone>,
     /// How many times the zone was widened before this solve.
     widenings: usize,
+    /// The memory the run may use.
+    budget: Option<memory::Budget>,
 }
 
 /// What a solve ends with: the output (on the root), or the zone to solve
@@ -162,30 +198,31 @@ impl Attempt<'_> {
     fn solve(&self, mut log: RunLog, sink: &mut dyn StepSink) -> Result<Outcome, SolveError> {
         let (sc, comm) = (self.sc, self.comm);
         let condensed_path = self.plan.path == scene::SolvePath::Condensed;
-        let t = Instant::now();
         let ranks = if condensed_path { comm.size() } else { 1 };
-        progress::phase(progress::Phase::Meshing);
-        let model = partition::model_stage(sc, ranks, self.zone, &mut log.messages)?;
-        // Every rank built the same model: each refuses it alike.
-        check_held_by_contacts(&model.bodies, &model.points)?;
-        // Again with the contact unknowns the candidate zones kept.
-        let fits = comm.is_root().then(|| {
-            memory::check(
-                sc,
-                self.plan.path,
-                comm.size(),
-                memory::ContactCounts::Built(&model.kept),
-            )
-            .map(|_| ())
-            .map_err(|e| match (e, self.widenings) {
-                (SolveError::Input(m), 1..) => SolveError::Input(format!(
-                    "an excluded slave node penetrated its master, and the candidate zone widened to hold it does not fit: {m}"
-                )),
-                (e, _) => e,
-            })
-        });
-        wire(broadcast(comm, fits.as_ref()))??;
-        log.timings.setup = t.elapsed().as_secs_f64();
+        let model = timed(&mut log.timings.setup, || -> Result<_, SolveError> {
+            progress::phase(progress::Phase::Meshing);
+            let model = partition::model_stage(sc, ranks, self.zone, &mut log.messages)?;
+            // Every rank built the same model: each refuses it alike.
+            check_held_by_contacts(&model.bodies, &model.points)?;
+            // Again with the contact unknowns the candidate zones kept.
+            let fits = comm.is_root().then(|| {
+                memory::check(
+                    sc,
+                    (self.plan.path, comm.size()),
+                    memory::ContactCounts::Built(&model.kept),
+                    self.budget,
+                )
+                .map(|_| ())
+                .map_err(|e| match (e, self.widenings) {
+                    (SolveError::Input(m), 1..) => SolveError::Input(format!(
+                        "an excluded slave node penetrated its master, and the candidate zone widened to hold it does not fit: {m}"
+                    )),
+                    (e, _) => e,
+                })
+            });
+            wire(broadcast(comm, fits.as_ref()))??;
+            Ok(model)
+        })?;
         let setup_peak_rss_bytes = signorini_report::peak_rss_bytes();
         let ctx = RunContext {
             sc,
@@ -314,7 +351,7 @@ fn condense_stage(
         ));
     }
     progress::phase(progress::Phase::Condensing);
-    let t = Instant::now();
+    let mut condense_s = 0.0;
     let rank = comm.rank();
     let condense = |i: usize, spec: &SubdomainSpec, par: faer::Par| {
         let b = &model.bodies[spec.body];
@@ -327,19 +364,20 @@ fn condense_stage(
             )
         })
     };
-    let mine: Result<Vec<(Subdomain, CondensedData)>, String> = injected_failure(comm).map_or_else(
-        || {
-            let mine: Vec<usize> = (0..specs.len())
-                .filter(|&i| owner_rank[i] == comm.rank())
-                .collect();
-            let par = faer::get_global_parallelism();
-            condense_side_by_side(&mine, &costs, specs.len(), par, |i, par| {
-                condense(i, &specs[i], par)
-            })
-        },
-        Err,
-    );
-    let condense_s = t.elapsed().as_secs_f64();
+    let mine: Result<Vec<(Subdomain, CondensedData)>, String> = timed(&mut condense_s, || {
+        injected_failure(comm).map_or_else(
+            || {
+                let mine: Vec<usize> = (0..specs.len())
+                    .filter(|&i| owner_rank[i] == comm.rank())
+                    .collect();
+                let par = faer::get_global_parallelism();
+                condense_side_by_side(&mine, &costs, specs.len(), par, |i, par| {
+                    condense(i, &specs[i], par)
+                })
+            },
+            Err,
+        )
+    });
     if comm.size() > 1 {
         progress::emit(progress::Event::Detail("waiting for the other ranks"));
     }
@@ -518,53 +556,56 @@ fn steps_stage(
     progress::phase(progress::Phase::Contact);
     progress::emit(progress::Event::Detail("assembling the interface problem"));
     // Part of the root's contact solve and of its interface operator.
-    let assembling = Instant::now();
-    let stiffness = data
-        .as_deref_mut()
-        .map(|d| take_interface_stiffness(d, model.n_gamma));
-    let input = data.as_deref().map(|d| root_input(ctx, d));
-    let mut root = input
-        .as_ref()
-        .zip(stiffness)
-        .and_then(|(i, s)| RootSolve::new(i, s).map_err(|e| error = Some(e)).ok());
+    let mut assembly_s = 0.0;
+    let (input, stiffness) = timed(&mut assembly_s, || {
+        let stiffness = data
+            .as_deref_mut()
+            .map(|d| take_interface_stiffness(d, model.n_gamma));
+        (data.as_deref().map(|d| root_input(ctx, d)), stiffness)
+    });
+    let mut root = timed(&mut assembly_s, || {
+        input
+            .as_ref()
+            .zip(stiffness)
+            .and_then(|(i, s)| RootSolve::new(i, s).map_err(|e| error = Some(e)).ok())
+    });
     let mut cond = conditioning::RootConditioning::default();
-    let assembly_s = assembling.elapsed().as_secs_f64();
     let (mut recover_s, mut contact_s, mut delassus_s, mut output_s) =
         (0.0, assembly_s, assembly_s, 0.0);
     let mut output_error = None;
     for (si, st) in model.scales.iter().enumerate() {
         progress::step(si, model.scales.len());
-        let t = Instant::now();
         let mut solved = None;
-        let msg = comm.is_root().then(|| match (error.take(), root.as_mut()) {
-            (Some(e), _) => Err(e),
-            (None, None) => Err(SolveError::Internal("the root solve is missing".into())),
-            (None, Some(r)) => progress::observed(|| r.step(si, st, &mut cond)).map(|(sol, u)| {
-                solved = Some(sol);
-                u
-            }),
+        let msg = timed(&mut contact_s, || {
+            comm.is_root().then(|| match (error.take(), root.as_mut()) {
+                (Some(e), _) => Err(e),
+                (None, None) => Err(SolveError::Internal("the root solve is missing".into())),
+                (None, Some(r)) => progress::observed(|| r.step(si, st, &mut cond)).map(|(sol, u)| {
+                    solved = Some(sol);
+                    u
+                }),
+            })
         });
-        contact_s += t.elapsed().as_secs_f64();
         let u_gamma: Result<Vec<f64>, SolveError> = wire(broadcast(comm, msg.as_ref()))?;
         let u_gamma = u_gamma?;
         // Steps interleave solve and recovery: one stage, a detail per step.
         progress::emit(progress::Event::Detail("recovering"));
-        let t = Instant::now();
-        let mine: Vec<RecoveredStep> = local
-            .iter()
-            .map(|s| s.recover_step(&st[model.specs[s.id].body], &u_gamma))
-            .collect();
-        recover_s += t.elapsed().as_secs_f64();
+        let mine: Vec<RecoveredStep> = timed(&mut recover_s, || {
+            local
+                .iter()
+                .map(|s| s.recover_step(&st[model.specs[s.id].body], &u_gamma))
+                .collect()
+        });
         let gathered = wire(gather(comm, mine.clone()))?;
         if let (Some(all), Some(sol), Some(steps)) = (gathered, solved, steps.as_deref_mut()) {
-            let t = Instant::now();
-            let recovered: Vec<RecoveredStep> = all.into_iter().flatten().collect();
-            let (gaps, res, u_full) = condensed_step(ctx, &sol, &u_gamma, &recovered);
             delassus_s += sol.operator_s;
-            if let Err(e) = steps.end_step(si, &sol, &gaps, &res, u_full, &mut log.messages) {
-                error = Some(e);
-            }
-            output_s += t.elapsed().as_secs_f64();
+            timed(&mut output_s, || {
+                let recovered: Vec<RecoveredStep> = all.into_iter().flatten().collect();
+                let (gaps, res, u_full) = condensed_step(ctx, &sol, &u_gamma, &recovered);
+                if let Err(e) = steps.end_step(si, &sol, &gaps, &res, u_full, &mut log.messages) {
+                    error = Some(e);
+                }
+            });
         }
         let written = step_pieces(ctx, si, &mine, steps.as_deref_mut(), other.as_deref_mut())?;
         output_error = output_error.or(written.err());

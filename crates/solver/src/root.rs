@@ -2,7 +2,21 @@
 //! assembled on Γ, the Delassus operator built once, and each load step's
 //! contact problem solved by the chosen algorithm (course notes §3–4).
 
-use super::*;
+use crate::checks::check_floating_equilibrium;
+use crate::element_step::{ElementHistory, element_step};
+use crate::friction_step::{FrictionHistory, FrictionRows, friction_rows, friction_step};
+use crate::model::{BodyModel, FixedPoint, PointModel};
+use crate::subdomain::{CondensedData, SubdomainSpec};
+use crate::timing::timed;
+use crate::{FrictionStep, PENETRATION_WARNING_FRACTION, SolveError, StepSolution, conditioning, contact_error, inf_norm, progress};
+use faer::Mat;
+use signorini_contact::friction::PointStatus;
+use signorini_contact::registry::Algorithm;
+use signorini_contact::schur_factor::{InterfaceStiffness, SchurBlock};
+use signorini_contact::{ActiveSetSolve, ContactError, ContactSolution, DelassusOperator, DelassusProblem, LcpOptions, SolverReport, StatusOptions, StatusVariant, StopReason, status_method};
+use signorini_report::Regularisation;
+use signorini_scene as scene;
+use std::time::Instant;
 
 /// The force that the master exerts on the slave at contact point `pi`,
 /// λ_n n + λ_t1 t1 + λ_t2 t2 (the tangential parts from `friction`, zero
@@ -280,11 +294,20 @@ pub(crate) struct StepLoad {
 pub(crate) struct RootSolve<'a> {
     input: &'a RootInput<'a>,
     interface: Interface,
-    friction: Option<FrictionRows>,
-    history: Option<FrictionHistory>,
-    elements: Option<ElementHistory>,
+    kind: StepKind,
     operator: Option<DelassusOperator>,
-    warm: WarmStart,
+}
+
+/// How the root solves every step of a run, chosen once from the contacts,
+/// with what a step hands to the next.
+enum StepKind {
+    /// Contact elements, or penalty laws with friction: the return mapping
+    /// (course notes §7), with each contact row's slip history.
+    ReturnMapping(ElementHistory),
+    /// Friction: its rows on Γ and each point's slip history.
+    Friction(FrictionRows, FrictionHistory),
+    /// Frictionless contact, warm-started from the last step's answer.
+    Frictionless(WarmStart),
 }
 
 impl<'a> RootSolve<'a> {
@@ -292,24 +315,19 @@ impl<'a> RootSolve<'a> {
     /// ([`take_interface_stiffness`]).
     pub(crate) fn new(input: &'a RootInput<'a>, s: InterfaceStiffness) -> Result<Self, SolveError> {
         let interface = assemble_interface(input, s);
-        let elements = input
-            .return_mapping
-            .then(|| ElementHistory::new(interface.rows.len()));
-        let friction = match elements {
-            Some(_) => None,
-            None => friction_rows(input, &interface)?,
+        let kind = if input.return_mapping {
+            StepKind::ReturnMapping(ElementHistory::new(interface.rows.len()))
+        } else {
+            match friction_rows(input, &interface)? {
+                Some(rows) => StepKind::Friction(rows, FrictionHistory::new(input.points.len())),
+                None => StepKind::Frictionless(WarmStart::default()),
+            }
         };
-        let history = friction
-            .as_ref()
-            .map(|_| FrictionHistory::new(input.points.len()));
         Ok(RootSolve {
             input,
             interface,
-            friction,
-            history,
-            elements,
+            kind,
             operator: None,
-            warm: WarmStart::default(),
         })
     }
 
@@ -337,10 +355,10 @@ impl<'a> RootSolve<'a> {
             conditioning::delassus_operator(s, &interface.rows, &interface.kernel, cond)
                 .map_err(|e| interface_error(input, e))
         })?;
-        let (mut step, u) = match (&self.friction, self.history.as_mut(), &mut self.elements) {
-            (_, _, Some(h)) => element_step(input, interface, h, op, load)?,
-            (Some(fr), Some(h), _) => friction_step(input, interface, fr, h, op, load)?,
-            _ => frictionless_step(input, op, load, &mut self.warm)?,
+        let (mut step, u) = match &mut self.kind {
+            StepKind::ReturnMapping(h) => element_step(input, interface, h, op, load)?,
+            StepKind::Friction(fr, h) => friction_step(input, interface, fr, h, op, load)?,
+            StepKind::Frictionless(warm) => frictionless_step(input, op, load, warm)?,
         };
         step.operator_s = operator_s;
         step.solve_s = t_step.elapsed().as_secs_f64() - operator_s;
@@ -604,9 +622,7 @@ pub(crate) fn delassus_operator<'a>(
 ) -> Result<&'a DelassusOperator, SolveError> {
     if slot.is_none() {
         progress::emit(progress::Event::Detail("Delassus operator"));
-        let t = Instant::now();
-        *slot = Some(build()?);
-        *seconds = t.elapsed().as_secs_f64();
+        *slot = Some(timed(seconds, build)?);
     }
     slot.as_ref()
         .ok_or_else(|| SolveError::Internal("the Delassus operator was not built".into()))
