@@ -275,9 +275,7 @@ fn command(cli: Cli) -> ExitCode {
             scene,
             path,
             max_memory,
-        } => {
-            run::check(&scene, path, budget(max_memory))
-        }
+        } => run::check(&scene, path, budget(max_memory)),
         Command::Local {
             problem,
             method,
@@ -287,20 +285,18 @@ fn command(cli: Cli) -> ExitCode {
             friction,
             repeat,
             max_memory,
-        } => {
-            local::local(
-                &problem,
-                method,
-                local::LocalOptions {
-                    budget: budget(max_memory),
-                    tolerance,
-                    max_iterations,
-                    with_lambda: lambda,
-                    friction,
-                    repeat: repeat as usize,
-                },
-            )
-        }
+        } => local::local(
+            &problem,
+            method,
+            local::LocalOptions {
+                budget: budget(max_memory),
+                tolerance,
+                max_iterations,
+                with_lambda: lambda,
+                friction,
+                repeat: repeat as usize,
+            },
+        ),
         Command::Bench {
             suite: Some(suite),
             quick,

@@ -15,7 +15,11 @@ use signorini_solver::{RunEnvironment, RunOptions, RunOutput, SolveError};
 use crate::progress::{Progress, Show, Terminal};
 use crate::{fail, say};
 
-pub(crate) fn check(path: &Path, solve_path: Option<SolvePath>, budget: Option<Budget>) -> ExitCode {
+pub(crate) fn check(
+    path: &Path,
+    solve_path: Option<SolvePath>,
+    budget: Option<Budget>,
+) -> ExitCode {
     use signorini_solver::memory;
     let sc = match signorini_scene::load(path) {
         Ok(sc) => sc,
@@ -148,7 +152,8 @@ fn solve_and_write(
     };
     // Each step's fields go to disk as the step ends (the root alone writes).
     let mut writer = FieldWriter::new(&dir, request);
-    let mut output = match signorini_solver::run_streamed(&sc, &name, &opts, env, comm, &mut writer) {
+    let mut output = match signorini_solver::run_streamed(&sc, &name, &opts, env, comm, &mut writer)
+    {
         Ok(Some(o)) => o,
         // Another rank: its pieces (`[output] pieces`) into place.
         Ok(None) => {

@@ -156,7 +156,11 @@ fn the_same_problem_as_npz_or_json_gives_the_same_forces() {
         ("fc3d_csc.hdf5", "fixed_point"),
         ("fc3d_csc.hdf5", "newton"),
     ] {
-        let p = signorini_problems::problem_file::load(&data(name), signorini_report::budget::machine_memory()).unwrap();
+        let p = signorini_problems::problem_file::load(
+            &data(name),
+            signorini_report::budget::machine_memory(),
+        )
+        .unwrap();
         let (w, q, mu) = (
             file_order_w(&p),
             p.to_file_order(&p.q),
@@ -403,7 +407,11 @@ fn global_problems_are_condensed_and_solved_to_siconos_forces_and_velocities() {
             assert_eq!(g["constraints"].as_u64(), Some(constraints), "{what}");
             assert!(g["condense_s"].as_f64().unwrap() >= 0.0, "{what}");
         }
-        let p = signorini_problems::problem_file::load(&data(name), signorini_report::budget::machine_memory()).unwrap();
+        let p = signorini_problems::problem_file::load(
+            &data(name),
+            signorini_report::budget::machine_memory(),
+        )
+        .unwrap();
         let vref = reference_v(dim);
         let g = p.global.as_ref().unwrap();
         assert!(max_rel(&g.velocity(&r), &vref) <= 1e-12, "{name}");
@@ -416,9 +424,17 @@ fn global_problems_are_condensed_and_solved_to_siconos_forces_and_velocities() {
 #[test]
 fn global_condensation_equals_numpys() {
     for name in ["global2d", "global3d", "global3d_g"] {
-        let ours = signorini_problems::problem_file::load(&data(&format!("{name}.hdf5")), signorini_report::budget::machine_memory()).unwrap();
+        let ours = signorini_problems::problem_file::load(
+            &data(&format!("{name}.hdf5")),
+            signorini_report::budget::machine_memory(),
+        )
+        .unwrap();
         let npz = data(&format!("{name}_condensed.npz"));
-        let numpy = signorini_problems::problem_file::load(&npz, signorini_report::budget::machine_memory()).unwrap();
+        let numpy = signorini_problems::problem_file::load(
+            &npz,
+            signorini_report::budget::machine_memory(),
+        )
+        .unwrap();
         assert_eq!(ours.file_row, numpy.file_row, "{name}");
         let dw = (&ours.w - &numpy.w).norm_max();
         assert!(dw <= 1e-12 * numpy.w.norm_max(), "{name}: {dw:e}");

@@ -375,10 +375,20 @@ mod tests {
             r#"{"W": [[1.408652942488979, -0.7921747294545434, -0.3087110487808439], [-0.7921747294545434, 0.44549000187197535, 0.1736077668041407], [-0.3087110487808439, 0.1736077668041407, 0.0676550687289777]], "q": [0.7540333794321797, -0.6414795084271917, 1.7380087577355086]}"#,
         )
         .unwrap();
-        let r = solve("p", &load(&path, machine_memory()).unwrap(), penalty, 1e-10, 1000, true).unwrap();
+        let r = solve(
+            "p",
+            &load(&path, machine_memory()).unwrap(),
+            penalty,
+            1e-10,
+            1000,
+            true,
+        )
+        .unwrap();
         assert!(!r.converged && r.residual > 0.01, "{}", r.residual);
         std::fs::write(&path, r#"{"W": [[2, 1], [0, 2]], "q": [-1, 1]}"#).unwrap();
-        assert!(load(&path, machine_memory()).unwrap_err().contains("not symmetric"));
+        assert!(load(&path, machine_memory())
+            .unwrap_err()
+            .contains("not symmetric"));
         std::fs::write(&path, r#"{"W": [[2]], "q": [-1, 1]}"#).unwrap();
         assert!(load(&path, machine_memory()).unwrap_err().contains("2 × 2"));
     }
@@ -463,7 +473,9 @@ mod tests {
             .unwrap();
         z.write_all(&npy(&[3], false, &q)).unwrap();
         z.finish().unwrap();
-        assert!(load(&bad, machine_memory()).unwrap_err().contains("no array named W"));
+        assert!(load(&bad, machine_memory())
+            .unwrap_err()
+            .contains("no array named W"));
     }
 
     /// Shapes are the file's word: a header that lies about them (or that

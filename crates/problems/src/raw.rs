@@ -29,4 +29,3 @@ pub fn regular_file(path: &Path) -> Result<(), String> {
         _ => Ok(()),
     }
 }
-

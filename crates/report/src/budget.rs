@@ -121,4 +121,3 @@ pub fn human(bytes: f64) -> String {
     }
     unreachable!()
 }
-

@@ -4,9 +4,9 @@
 //! The report crate owns the output files, the terminal summary and the
 //! analytic references; it must not know the scene format or the solver.
 
+pub mod budget;
 pub mod output;
 pub mod pieces;
-pub mod budget;
 pub mod plot;
 pub mod reference;
 pub mod stale;

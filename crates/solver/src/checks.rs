@@ -3,7 +3,7 @@
 //! contact under force control, within what friction can hold.
 
 use crate::model::{BodyModel, PointModel};
-use crate::{SolveError, inf_norm};
+use crate::{inf_norm, SolveError};
 use faer::Mat;
 use signorini_contact::equilibrium::nnls;
 use signorini_contact::friction::FrictionLaw;

@@ -6,7 +6,7 @@ use crate::model::PointModel;
 use crate::root::point_force;
 use crate::{FrictionStep, SolveError};
 use signorini_contact::friction::PointStatus;
-use signorini_report::{StepReport, reference};
+use signorini_report::{reference, StepReport};
 use signorini_scene as scene;
 
 pub(crate) fn contact_modulus(sc: &scene::Scene, body: &str) -> f64 {

@@ -10,7 +10,7 @@ use crate::pipeline::RunContext;
 use crate::root::{body_step, length_scale, resultant, status_options, status_report, step_gaps};
 use crate::step_end::StepLoop;
 use crate::timing::timed;
-use crate::{Residuals, SolveError, StepSolution, conditioning, contact_error, inf_norm, progress};
+use crate::{conditioning, contact_error, inf_norm, progress, Residuals, SolveError, StepSolution};
 use faer::sparse::SparseColMat;
 use signorini_condense::{spmv, spmv_with_magnitude, submatrix};
 use signorini_contact::status_method;

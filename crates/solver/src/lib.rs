@@ -35,8 +35,8 @@ pub mod progress;
 mod reactions;
 mod root;
 mod step_end;
-mod timing;
 pub mod subdomain;
+mod timing;
 
 use serde::{Deserialize, Serialize};
 use signorini_contact::friction::PointStatus;

@@ -8,11 +8,11 @@
 
 use crate::partition;
 use crate::subdomain::{RecoveredStep, SubdomainSpec};
+use partition::ModelData;
 use signorini_report::output::{BodyResult, StepFields};
+use signorini_report::pieces::{ContactFields, NodalContact, SubdomainPiece};
 use signorini_report::stream::StepSink;
 use signorini_scene as scene;
-use partition::ModelData;
-use signorini_report::pieces::{ContactFields, NodalContact, SubdomainPiece};
 
 /// Whether the scene writes pieces (`[output] pieces`, with some field).
 pub(crate) fn wanted(sc: &scene::Scene) -> bool {

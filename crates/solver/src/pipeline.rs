@@ -9,12 +9,15 @@
 use crate::certify::{condensed_sizes, condensed_step, finish_report};
 use crate::checks::check_held_by_contacts;
 use crate::direct_path::run_direct;
-use crate::root::{RootInput, RootSolve, take_interface_stiffness};
+use crate::root::{take_interface_stiffness, RootInput, RootSolve};
 use crate::step_end::StepLoop;
 use crate::subdomain::{CondensedData, RecoveredStep, Subdomain, SubdomainSpec};
-use crate::{Partial, RunEnvironment, RunOptions, SolveError, conditioning, memory, model, partition, pieces, plan, progress, wire};
+use crate::{
+    conditioning, memory, model, partition, pieces, plan, progress, wire, Partial, RunEnvironment,
+    RunOptions, SolveError,
+};
 use serde::{Deserialize, Serialize};
-use signorini_comm::{Transport, broadcast, deal, gather};
+use signorini_comm::{broadcast, deal, gather, Transport};
 use signorini_report::output::RunOutput;
 use signorini_report::stream::{StepSink, StepsInMemory};
 use signorini_report::{RankStats, Timings};
@@ -580,10 +583,12 @@ fn steps_stage(
             comm.is_root().then(|| match (error.take(), root.as_mut()) {
                 (Some(e), _) => Err(e),
                 (None, None) => Err(SolveError::Internal("the root solve is missing".into())),
-                (None, Some(r)) => progress::observed(|| r.step(si, st, &mut cond)).map(|(sol, u)| {
-                    solved = Some(sol);
-                    u
-                }),
+                (None, Some(r)) => {
+                    progress::observed(|| r.step(si, st, &mut cond)).map(|(sol, u)| {
+                        solved = Some(sol);
+                        u
+                    })
+                }
             })
         });
         let u_gamma: Result<Vec<f64>, SolveError> = wire(broadcast(comm, msg.as_ref()))?;

@@ -4,8 +4,8 @@
 
 use crate::element_step::{check_return_mapping, uses_return_mapping};
 use crate::{RunOptions, SolveError};
-use signorini_contact::StatusVariant;
 use signorini_contact::registry::{Algorithm, Constraints, FrictionSupport};
+use signorini_contact::StatusVariant;
 use signorini_scene as scene;
 
 /// The checked choices of a run.

@@ -3,17 +3,23 @@
 //! contact problem solved by the chosen algorithm (course notes §3–4).
 
 use crate::checks::check_floating_equilibrium;
-use crate::element_step::{ElementHistory, element_step};
-use crate::friction_step::{FrictionHistory, FrictionRows, friction_rows, friction_step};
+use crate::element_step::{element_step, ElementHistory};
+use crate::friction_step::{friction_rows, friction_step, FrictionHistory, FrictionRows};
 use crate::model::{BodyModel, FixedPoint, PointModel};
 use crate::subdomain::{CondensedData, SubdomainSpec};
 use crate::timing::timed;
-use crate::{FrictionStep, PENETRATION_WARNING_FRACTION, SolveError, StepSolution, conditioning, contact_error, inf_norm, progress};
+use crate::{
+    conditioning, contact_error, inf_norm, progress, FrictionStep, SolveError, StepSolution,
+    PENETRATION_WARNING_FRACTION,
+};
 use faer::Mat;
 use signorini_contact::friction::PointStatus;
 use signorini_contact::registry::Algorithm;
 use signorini_contact::schur_factor::{InterfaceStiffness, SchurBlock};
-use signorini_contact::{ActiveSetSolve, ContactError, ContactSolution, DelassusOperator, DelassusProblem, LcpOptions, SolverReport, StatusOptions, StatusVariant, StopReason, status_method};
+use signorini_contact::{
+    status_method, ActiveSetSolve, ContactError, ContactSolution, DelassusOperator,
+    DelassusProblem, LcpOptions, SolverReport, StatusOptions, StatusVariant, StopReason,
+};
 use signorini_report::Regularisation;
 use signorini_scene as scene;
 use std::time::Instant;

@@ -9,9 +9,9 @@
 //! `[output] pieces`, the step's contact values for the subdomains' pieces
 //! (pieces.rs).
 
-use crate::certify::{StepEvidence, conclude_step, empty_partial};
+use crate::certify::{conclude_step, empty_partial, StepEvidence};
 use crate::model::BodyModel;
-use crate::{Partial, Residuals, SolveError, StepSolution, inf_norm, partition};
+use crate::{inf_norm, partition, Partial, Residuals, SolveError, StepSolution};
 use signorini_report::output::{BodyResult, StepFields};
 use signorini_report::stream::StepSink;
 use signorini_scene as scene;

@@ -511,19 +511,45 @@ mod tests {
         let both = [scene::SolvePath::Condensed, scene::SolvePath::Direct];
         let status = [scene::Method::Status];
         let machine = RunEnvironment::machine();
-        let rows = bench(&[case(text)], &[1.0], &[1], &status, &both, &machine, |_, _, _| {}).unwrap();
+        let rows = bench(
+            &[case(text)],
+            &[1.0],
+            &[1],
+            &status,
+            &both,
+            &machine,
+            |_, _, _| {},
+        )
+        .unwrap();
         let paths: Vec<&str> = rows.iter().map(|r| r.path.as_str()).collect();
         assert_eq!(paths, ["condensed"]);
         assert!(rows[0].converged);
         let direct = [scene::SolvePath::Direct];
-        match bench(&[case(text)], &[1.0], &[1], &status, &direct, &machine, |_, _, _| {}) {
+        match bench(
+            &[case(text)],
+            &[1.0],
+            &[1],
+            &status,
+            &direct,
+            &machine,
+            |_, _, _| {},
+        ) {
             Err(SolveError::Input(m)) => assert!(m.contains("contact \"c\".friction"), "{m}"),
             other => panic!("{:?}", other.map(|r| r.len())),
         }
         // frictionless, both paths run
         let text = text.replace("friction = { coulomb = 0.3 }\n", "");
         let text = text.replace("{ x = 0.01, y = -0.01 }", "{ x = 0.0, y = -0.01 }");
-        let rows = bench(&[case(&text)], &[1.0], &[1], &status, &both, &machine, |_, _, _| {}).unwrap();
+        let rows = bench(
+            &[case(&text)],
+            &[1.0],
+            &[1],
+            &status,
+            &both,
+            &machine,
+            |_, _, _| {},
+        )
+        .unwrap();
         assert_eq!(rows.len(), 2);
     }
 
