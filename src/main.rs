@@ -369,10 +369,12 @@ fn budget(max_memory: Option<u64>) -> Option<signorini_solver::memory::Budget> {
     signorini_report::budget::budget(max_memory)
 }
 
-/// What a run gets from this process: the memory it may use.
+/// What a run gets from this process: the memory it may use (the progress
+/// line, if any, is added by `run::run`).
 fn environment(max_memory: Option<u64>) -> RunEnvironment {
     RunEnvironment {
         budget: budget(max_memory),
+        observer: None,
     }
 }
 

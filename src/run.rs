@@ -91,7 +91,11 @@ pub(crate) fn run(
     // The progress line ends before anything else is printed.
     let mpi = comm.kind() == "mpi";
     let progress = Terminal::start(show, comm.is_root(), mpi, comm.size());
-    let solved = solve_and_write(path, (opts, env), out, progress.as_ref(), comm);
+    let env = RunEnvironment {
+        observer: progress.as_ref().map(Progress::observer),
+        ..env.clone()
+    };
+    let solved = solve_and_write(path, (opts, &env), out, progress.as_ref(), comm);
     drop(progress);
     // Every rank meets the same error; rank 0 alone prints it.
     let (dir, output) = match solved {

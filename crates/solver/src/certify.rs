@@ -770,6 +770,7 @@ fn report_of(
         plan,
         model,
         comm,
+        ..
     } = ctx;
     let (method, path) = (plan.method, plan.path);
     let RunLog {

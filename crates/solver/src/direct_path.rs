@@ -7,10 +7,11 @@ use crate::checks::check_floating_equilibrium;
 use crate::kkt::{DirectProblem, KktSystem};
 use crate::model::{BodyModel, FixedPoint, PointModel};
 use crate::pipeline::RunContext;
+use crate::progress::Phase;
 use crate::root::{body_step, length_scale, resultant, status_options, status_report, step_gaps};
 use crate::step_end::StepLoop;
 use crate::timing::timed;
-use crate::{conditioning, contact_error, inf_norm, progress, Residuals, SolveError, StepSolution};
+use crate::{conditioning, contact_error, inf_norm, Residuals, SolveError, StepSolution};
 use faer::sparse::SparseColMat;
 use signorini_condense::{spmv, spmv_with_magnitude, submatrix};
 use signorini_contact::status_method;
@@ -30,7 +31,7 @@ pub(crate) fn run_direct(
 ) -> Result<(), SolveError> {
     let (sc, model) = (ctx.sc, ctx.model);
     let (bodies, points) = (&model.bodies[..], &model.points[..]);
-    progress::phase(progress::Phase::Assembling);
+    ctx.progress.phase(Phase::Assembling);
     let system = timed(&mut timings.assemble, || assemble_direct(bodies))?;
     let rows: Vec<Vec<(usize, f64)>> = points
         .iter()
@@ -42,7 +43,7 @@ pub(crate) fn run_direct(
                 .collect()
         })
         .collect();
-    progress::phase(progress::Phase::Contact);
+    ctx.progress.phase(Phase::Contact);
     let floating = bodies.iter().any(|b| !b.kernel.is_empty());
     let mut kkt = timed(&mut timings.contact, || {
         KktSystem::new(&system.k_global, &rows, floating).map_err(contact_error)
@@ -52,7 +53,7 @@ pub(crate) fn run_direct(
         conditioning::direct(&mut kkt, floating, sc.solver.tolerance, messages)
     });
     for (si, st) in model.scales.iter().enumerate() {
-        progress::step(si, model.scales.len());
+        ctx.progress.step(si, model.scales.len());
         let ((sol, gaps, res), u_full) = timed(&mut timings.contact, || {
             direct_step(sc, bodies, points, &model.fixed, &system, &mut kkt, st, si)
         })?;

@@ -38,6 +38,8 @@ mod step_end;
 pub mod subdomain;
 mod timing;
 
+use std::sync::Arc;
+
 use serde::{Deserialize, Serialize};
 use signorini_contact::friction::PointStatus;
 use signorini_contact::{ContactError, ContactSolution};
@@ -68,19 +70,22 @@ pub struct RunOptions {
 }
 
 /// What the process that starts a run gives it besides the scene and the
-/// options (the command line's `--max-memory`).
-#[derive(Debug, Clone, Default)]
+/// options: the command line's `--max-memory` and its progress line.
+#[derive(Clone, Default)]
 pub struct RunEnvironment {
     /// The memory the run may use: a scene estimated above it is refused
     /// before anything is built (`None`: unknown, nothing is refused).
     pub budget: Option<memory::Budget>,
+    /// Who hears of the run's progress on this rank (`None`: nobody).
+    pub observer: Option<Arc<dyn progress::Observer>>,
 }
 
 impl RunEnvironment {
-    /// The machine's memory ([`memory::machine_memory`]).
+    /// The machine's memory ([`memory::machine_memory`]), no observer.
     pub fn machine() -> Self {
         Self {
             budget: memory::machine_memory(),
+            observer: None,
         }
     }
 }

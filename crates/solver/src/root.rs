@@ -6,10 +6,11 @@ use crate::checks::check_floating_equilibrium;
 use crate::element_step::{element_step, ElementHistory};
 use crate::friction_step::{friction_rows, friction_step, FrictionHistory, FrictionRows};
 use crate::model::{BodyModel, FixedPoint, PointModel};
+use crate::progress::{Event, Progress};
 use crate::subdomain::{CondensedData, SubdomainSpec};
 use crate::timing::timed;
 use crate::{
-    conditioning, contact_error, inf_norm, progress, FrictionStep, SolveError, StepSolution,
+    conditioning, contact_error, inf_norm, FrictionStep, SolveError, StepSolution,
     PENETRATION_WARNING_FRACTION,
 };
 use faer::Mat;
@@ -253,6 +254,8 @@ pub(crate) fn status_report(outcome: &mut ContactSolution, method: &str, linear_
 /// and the subdomains' condensed data on Γ.
 pub(crate) struct RootInput<'a> {
     pub sc: &'a scene::Scene,
+    /// Who hears of the run's progress.
+    pub progress: &'a Progress,
     pub algorithm: Algorithm,
     /// Contact elements solved by the return mapping (course notes §7).
     pub return_mapping: bool,
@@ -354,7 +357,7 @@ impl<'a> RootSolve<'a> {
         let t_step = Instant::now();
         let mut operator_s = 0.0;
         let load = step_load(input, interface, st, si)?;
-        let op = delassus_operator(&mut self.operator, &mut operator_s, || {
+        let op = delassus_operator(&mut self.operator, &mut operator_s, input.progress, || {
             let s = stiffness.ok_or_else(|| {
                 SolveError::Internal("the interface stiffness was already factorised".into())
             })?;
@@ -624,10 +627,11 @@ fn frictionless_step(
 pub(crate) fn delassus_operator<'a>(
     slot: &'a mut Option<DelassusOperator>,
     seconds: &mut f64,
+    progress: &Progress,
     build: impl FnOnce() -> Result<DelassusOperator, SolveError>,
 ) -> Result<&'a DelassusOperator, SolveError> {
     if slot.is_none() {
-        progress::emit(progress::Event::Detail("Delassus operator"));
+        progress.emit(Event::Detail("Delassus operator"));
         *slot = Some(timed(seconds, build)?);
     }
     slot.as_ref()
