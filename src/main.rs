@@ -410,6 +410,10 @@ fn transport() -> Box<dyn Transport> {
             let user = std::env::var("RAYON_NUM_THREADS").ok();
             let threads =
                 signorini_comm::threads_per_rank(cores, m.ranks_on_this_node(), user.as_deref());
+            // The one process-wide setting kept: faer's parallelism is global
+            // by faer's design (every factorisation of the process shares its
+            // thread pool), and a rank's share of the machine's cores is the
+            // process's, set once here before any run.
             faer::set_global_parallelism(faer::Par::rayon(threads));
             return Box::new(m);
         }
