@@ -7,11 +7,17 @@
 //! force, [`signorini_contact::friction::kinematic_hardening`]), and the slip
 //! history carried to the next step.
 
-use super::*;
+use crate::model::{BodyModel, PointModel};
+use crate::root::{initial_statuses, Interface, RootInput, StepLoad};
+use crate::{contact_error, FrictionStep, SolveError, StepSolution};
 use signorini_contact::friction::driver::{
     solve_friction as solve_friction_by, FrictionMethod, FrictionSolver, FrictionStart,
 };
 use signorini_contact::friction::kinematic_hardening::{self, Hardened};
+use signorini_contact::friction::{FrictionLaw, FrictionLayout, FrictionOptions, PointStatus};
+use signorini_contact::registry::FrictionSupport;
+use signorini_contact::{ContactError, ContactSolution, DelassusOperator, DelassusProblem};
+use signorini_scene as scene;
 
 /// The friction layout of the interface problem, built once per run.
 pub(crate) struct FrictionRows {
