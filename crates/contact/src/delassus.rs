@@ -16,9 +16,9 @@ use std::sync::Arc;
 
 use faer::Mat;
 
-use crate::active_factor::{solve_on_active_set, ActiveFactor};
+use signorini_linalg::active_factor::{solve_on_active_set, ActiveFactor};
 use crate::friction::capacitance::{solve_status_system, StatusFactor};
-use crate::pivot_policy::{is_rank_deficient, solve_checked, solve_symmetric_checked};
+use signorini_linalg::pivot_policy::{is_rank_deficient, solve_checked, solve_symmetric_checked};
 use crate::schur_factor::{InterfaceFactorStats, InterfaceStiffness, SchurFactor};
 use crate::status::ActiveSetSolve;
 use crate::ContactError;

@@ -137,7 +137,7 @@ impl TreeFactor {
             let (front, dofs, mut l, top_flops) =
                 merge_and_eliminate(vec![g], |d, _| !keep[d], &fixing, par)?;
             fronts.extend(front);
-            crate::recursive_cholesky::cholesky(l.as_mut(), par)
+            signorini_linalg::recursive_cholesky::cholesky(l.as_mut(), par)
                 .map_err(|i| NotPositiveDefinite { dof: dofs[i] })?;
             flops += top_flops + (l.nrows() as f64).powi(3) / 3.0;
             tops.push(Top { dofs, l });
@@ -300,7 +300,7 @@ fn merge_level(
         (1, global)
     };
     let own = |d: usize, held: usize| held == holders[d] && !keep[d];
-    let results = crate::threads::map_side_by_side(sets, workers, |set| {
+    let results = signorini_linalg::threads::map_side_by_side(sets, workers, |set| {
         let set = match <[Group; 1]>::try_from(set) {
             Ok([alone]) => return Ok((None, alone, 0.0)),
             Err(set) => set,
@@ -368,7 +368,7 @@ fn merge_and_eliminate(
         return Ok((None, remaining, f, 0.0));
     }
     let (mut ee, _, mut re, mut rr) = f.as_mut().split_at_mut(ne, ne);
-    crate::recursive_cholesky::cholesky(ee.rb_mut(), par)
+    signorini_linalg::recursive_cholesky::cholesky(ee.rb_mut(), par)
         .map_err(|i| NotPositiveDefinite { dof: eliminated[i] })?;
     // L_REᵀ = L_EE⁻¹ F_ERᵀ, then T = F_RR − L_RE L_REᵀ (lower triangle).
     solve_lower_triangular_in_place(ee.rb(), re.rb_mut().transpose_mut(), par);

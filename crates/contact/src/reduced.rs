@@ -26,9 +26,9 @@
 use faer::prelude::Solve;
 use faer::{Mat, Side};
 
-use crate::bordered_factor::BorderedFactor;
+use signorini_linalg::bordered_factor::BorderedFactor;
 use crate::delassus::VarEquation;
-use crate::pivot_policy::{cholesky_pivots_are_safe, pivots_are_safe};
+use signorini_linalg::pivot_policy::{cholesky_pivots_are_safe, pivots_are_safe};
 
 mod newton;
 pub(crate) use newton::{solve_newton, NewtonFactor};

@@ -227,7 +227,7 @@ impl SchurFactor {
             );
         }
         let norm1 = lower_symmetric_norm1(&l);
-        crate::recursive_cholesky::cholesky(l.as_mut(), faer::get_global_parallelism())
+        signorini_linalg::recursive_cholesky::cholesky(l.as_mut(), faer::get_global_parallelism())
             .map_err(|i| not_definite(order[i]))?;
         let stats = InterfaceFactorStats {
             storage: "dense",

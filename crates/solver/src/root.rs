@@ -519,7 +519,7 @@ fn step_load(
 #[derive(Default)]
 pub(crate) struct WarmStart {
     active: Option<Vec<usize>>,
-    factor: Option<signorini_contact::active_factor::ActiveFactor>,
+    factor: Option<signorini_linalg::active_factor::ActiveFactor>,
 }
 
 /// One frictionless step: the chosen algorithm (or the status method) on

@@ -30,8 +30,8 @@ use std::collections::HashMap;
 use faer::Mat;
 
 use crate::delassus::VarEquation;
-use crate::growing_lu::GrowingLu;
-use crate::pivot_policy::pivots_are_safe;
+use signorini_linalg::growing_lu::GrowingLu;
+use signorini_linalg::pivot_policy::pivots_are_safe;
 use crate::reduced::{factorise_reduced, reduce, reduced_block, Factor, Reduction};
 
 /// Whether two equations have the same row of M (they may differ in their
