@@ -19,24 +19,11 @@ use faer::Mat;
 use signorini_linalg::active_factor::{solve_on_active_set, ActiveFactor};
 use crate::friction::capacitance::{solve_status_system, StatusFactor};
 use signorini_linalg::pivot_policy::{is_rank_deficient, solve_checked, solve_symmetric_checked};
+use signorini_linalg::reduced::VarEquation;
+use signorini_linalg::sparse::SparseRow;
 use crate::schur_factor::{InterfaceFactorStats, InterfaceStiffness, SchurFactor};
 use crate::status::ActiveSetSolve;
 use crate::ContactError;
-
-/// A sparse row over the interface DOFs: (index, coefficient).
-pub type SparseRow = Vec<(usize, f64)>;
-
-/// The equation that determines one contact force in
-/// [`DelassusProblem::solve_equations`].
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum VarEquation {
-    /// Its gap (normal) or slip increment (tangential) is zero: contact, stick.
-    Gap,
-    /// It has a given value: 0 when open, ±g when slipping under Tresca.
-    Value(f64),
-    /// It is `factor` times force `of`: ±μ λ_n when slipping under Coulomb.
-    Ratio { of: usize, factor: f64 },
-}
 
 /// The Delassus operator of a run, W = B S⁺ Bᵀ (course notes §3.1.3), with what
 /// every load step needs of it: the Cholesky factor of S (S + ρRRᵀ with
@@ -330,7 +317,7 @@ impl DelassusProblem {
     ) -> Result<(Vec<f64>, Vec<f64>), ContactError> {
         self.solves += 1;
         if let Some((r, alpha)) =
-            crate::reduced::solve_reduced(&self.w, &self.q, &self.g_mat, &self.e, eqs)
+            signorini_linalg::reduced::solve_reduced(&self.w, &self.q, &self.g_mat, &self.e, eqs)
         {
             let g = crate::lcp::constrained_gaps(&self.w, &self.q, &self.g_mat, &r, &alpha);
             self.last_alpha = alpha;
@@ -453,7 +440,7 @@ impl ActiveSetSolve for DelassusProblem {
             eqs[p] = VarEquation::Gap;
         }
         if let Some((lambda, alpha)) =
-            crate::reduced::solve_reduced(&self.w, &self.q, &self.g_mat, &self.e, &eqs)
+            signorini_linalg::reduced::solve_reduced(&self.w, &self.q, &self.g_mat, &self.e, &eqs)
         {
             let g = crate::lcp::constrained_gaps(&self.w, &self.q, &self.g_mat, &lambda, &alpha);
             self.last_alpha = alpha;
@@ -476,7 +463,7 @@ impl ActiveSetSolve for DelassusProblem {
                                 "W_AA is singular: the active contact constraints are linearly dependent (redundant constraints)".into(),
                             )
                         } else {
-                            e
+                            e.into()
                         }
                     },
                 )?

@@ -31,7 +31,8 @@
 use serde::Serialize;
 
 use crate::active_set::{drive, scaled_tolerances, Change, Fallback, Regular, StatusRule, Stop};
-use crate::delassus::{DelassusProblem, VarEquation};
+use crate::delassus::DelassusProblem;
+use signorini_linalg::reduced::VarEquation;
 use crate::fixed_point::{
     fixed_point, normal_change, FixedPoint, InnerSolve, ThresholdMap, TrescaSolver,
 };

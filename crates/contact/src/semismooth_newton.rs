@@ -40,7 +40,8 @@
 use faer::prelude::Solve;
 use faer::Mat;
 
-use crate::delassus::{DelassusProblem, VarEquation};
+use crate::delassus::DelassusProblem;
+use signorini_linalg::reduced::VarEquation;
 use crate::fixed_point::{
     fixed_point, normal_change, FixedPoint, InnerSolve, ThresholdMap, TrescaSolver,
 };

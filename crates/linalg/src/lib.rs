@@ -9,6 +9,8 @@ pub mod bordered_factor;
 pub mod growing_lu;
 pub mod pivot_policy;
 pub mod recursive_cholesky;
+pub mod reduced;
+pub mod sparse;
 pub mod threads;
 
 /// A factorisation or solve that the pivot policy rejects.

@@ -18,7 +18,7 @@
 
 use faer::Mat;
 use signorini_condense::conditioning::{dense_spd_condition, digits_lost, F64_DIGITS};
-use signorini_contact::delassus::SparseRow;
+use signorini_linalg::sparse::SparseRow;
 use signorini_contact::schur_factor::InterfaceStiffness;
 use signorini_contact::{ContactError, DelassusOperator};
 use signorini_report::Conditioning;

@@ -37,7 +37,7 @@ use faer::{Conj, Mat, MatMut};
 use signorini_condense::conditioning::inverse_norm1_estimate;
 use signorini_condense::ordering::{order_and_analyse, OrderedSymbolic, OrderingChoice};
 use signorini_condense::spmv_with_magnitude;
-use signorini_contact::delassus::SparseRow;
+use signorini_linalg::sparse::SparseRow;
 use signorini_contact::ActiveSetSolve;
 use signorini_contact::ContactError;
 

@@ -27,7 +27,7 @@
 
 use faer::Mat;
 
-use super::{schur_on_g, BlockFactor};
+use signorini_linalg::reduced::{schur_on_g, BlockFactor};
 use signorini_linalg::bordered_factor::{block_buffer, BorderedFactor, FactorFailure};
 use crate::semismooth_newton::{Dir, NewtonSystem};
 
