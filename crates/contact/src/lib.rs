@@ -22,7 +22,6 @@ mod fixed_point;
 pub mod friction;
 pub mod friction3d;
 pub mod geometry;
-pub mod interface_tree;
 pub mod lcp;
 pub mod lemke;
 pub mod mortar;
@@ -36,7 +35,6 @@ pub mod projected_gradient;
 mod reduced;
 pub mod redundancy;
 pub mod registry;
-pub mod schur_factor;
 mod semismooth_newton;
 pub mod smalbe;
 pub mod solution;
@@ -73,6 +71,15 @@ impl From<signorini_linalg::LinalgError> for ContactError {
     fn from(e: signorini_linalg::LinalgError) -> Self {
         match e {
             signorini_linalg::LinalgError::Singular(what) => ContactError::Singular(what),
+            signorini_linalg::LinalgError::NotPositiveDefinite { index } => {
+                ContactError::SingularInterface { dof: index }
+            }
+            signorini_linalg::LinalgError::NotKernel { residual, scale } => {
+                ContactError::KernelMismatch {
+                    residual,
+                    stiffness: scale,
+                }
+            }
         }
     }
 }

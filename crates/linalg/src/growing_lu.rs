@@ -55,12 +55,7 @@ impl GrowingLu {
 
     /// Appends the border of K: K₁₂ (old rows, new columns), K₂₁ (new rows,
     /// old columns) and K₂₂.
-    pub fn extend(
-        &mut self,
-        k12: MatRef<'_, f64>,
-        k21: MatRef<'_, f64>,
-        k22: MatRef<'_, f64>,
-    ) {
+    pub fn extend(&mut self, k12: MatRef<'_, f64>, k21: MatRef<'_, f64>, k22: MatRef<'_, f64>) {
         let (r, a) = (self.dim(), k22.nrows());
         // X = L⁻¹ P K₁₂ and Yᵀ = U⁻ᵀ K₂₁ᵀ.
         let mut x = Mat::<f64>::from_fn(r, a, |i, j| k12[(self.perm[i], j)]);

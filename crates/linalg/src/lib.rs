@@ -6,6 +6,7 @@
 
 pub mod active_factor;
 pub mod bordered_factor;
+pub mod conditioning;
 pub mod growing_lu;
 pub mod pivot_policy;
 pub mod recursive_cholesky;
@@ -20,4 +21,20 @@ pub enum LinalgError {
     /// rank deficiency.
     #[error("singular matrix: {0}")]
     Singular(String),
+    /// A symmetric matrix meant to be positive definite (beyond a given
+    /// kernel) has a pivot that is not positive at row `index`.
+    #[error("the matrix is not positive definite (pivot at row {index})")]
+    NotPositiveDefinite { index: usize },
+    /// The given kernel R is not in the kernel of the matrix A: ‖A r‖ =
+    /// `residual` against its largest diagonal entry `scale`.
+    #[error("the given kernel is not the matrix's (‖A r‖ = {residual:.2e} against {scale:.2e})")]
+    NotKernel { residual: f64, scale: f64 },
+}
+
+/// A generalised inverse A⁺ of a symmetric positive semi-definite matrix A
+/// (A A⁺ A = A), held as a factor: the interface stiffness's, which the
+/// Delassus operator applies.
+pub trait GeneralisedInverse: Send + Sync {
+    /// A⁺ v.
+    fn solve(&self, v: &[f64]) -> Vec<f64>;
 }

@@ -29,10 +29,7 @@ pub fn pivot_floor(n: usize) -> f64 {
 /// The pivots at or below [`pivot_floor`]`(n)` times the largest (NaN and
 /// infinite pivots count as such), with the ratio of the smallest to the
 /// largest; `None` when every pivot is safe.
-pub fn deficient_pivots(
-    pivots: impl Iterator<Item = f64>,
-    n: usize,
-) -> Option<(usize, f64)> {
+pub fn deficient_pivots(pivots: impl Iterator<Item = f64>, n: usize) -> Option<(usize, f64)> {
     let pivots: Vec<f64> = pivots.map(f64::abs).collect();
     let hi = pivots.iter().fold(0.0f64, |m, &p| m.max(p));
     let lo = pivots.iter().fold(f64::INFINITY, |m, &p| m.min(p));
@@ -92,11 +89,7 @@ pub fn solve_symmetric_checked(
 /// compare in any units), then its pivots must be safe (full pivoting
 /// orders them by decreasing size). A backward-error test alone cannot see
 /// singularity: LU is backward stable on singular matrices too.
-pub fn solve_checked(
-    a: &Mat<f64>,
-    rhs: &Mat<f64>,
-    what: &str,
-) -> Result<Mat<f64>, LinalgError> {
+pub fn solve_checked(a: &Mat<f64>, rhs: &Mat<f64>, what: &str) -> Result<Mat<f64>, LinalgError> {
     let n = a.nrows();
     let (lu, d) = scaled_lu(a);
     if let Some((deficiency, ratio)) = rank_deficiency(&lu) {

@@ -48,6 +48,7 @@ use faer::Mat;
 use kkt::{DirectProblem, KktSystem};
 use serde::{Deserialize, Serialize};
 use signorini_comm::{broadcast, deal, gather, Transport};
+use signorini_condense::interface::{InterfaceStiffness, SchurBlock};
 use signorini_condense::{spmv, spmv_with_magnitude, submatrix};
 use signorini_contact::equilibrium::nnls;
 use signorini_contact::friction::{
@@ -56,7 +57,6 @@ use signorini_contact::friction::{
 };
 use signorini_contact::friction3d::friction_3d;
 use signorini_contact::registry::{Algorithm, Constraints, FrictionSupport};
-use signorini_contact::schur_factor::{InterfaceStiffness, SchurBlock};
 use signorini_contact::{
     status_method, ActiveSetSolve, ContactError, ContactSolution, DelassusOperator,
     DelassusProblem, LcpOptions, SolverReport, StatusOptions, StatusVariant, StopReason,

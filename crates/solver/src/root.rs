@@ -393,7 +393,7 @@ fn assemble_interface(input: &RootInput, s: InterfaceStiffness) -> Interface {
 
 /// S = Σ S_i, taking the subdomains' blocks S_i: dense for one subdomain;
 /// with several, the blocks themselves (factorised over the tree of
-/// subdomains, `signorini_contact::interface_tree`).
+/// subdomains, `signorini_condense::interface`).
 pub(crate) fn take_interface_stiffness(
     data: &mut [CondensedData],
     n_gamma: usize,

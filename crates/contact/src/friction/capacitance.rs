@@ -554,7 +554,9 @@ mod tests {
 
     fn fresh(w: &Mat<f64>, q: &[f64], eqs: &[VarEquation]) -> Vec<f64> {
         let g = Mat::<f64>::zeros(q.len(), 0);
-        signorini_linalg::reduced::solve_reduced(w, q, &g, &[], eqs).unwrap().0
+        signorini_linalg::reduced::solve_reduced(w, q, &g, &[], eqs)
+            .unwrap()
+            .0
     }
 
     /// From a base factor, each later status vector (points closing,

@@ -27,9 +27,9 @@
 
 use faer::Mat;
 
-use signorini_linalg::reduced::{schur_on_g, BlockFactor};
-use signorini_linalg::bordered_factor::{block_buffer, BorderedFactor, FactorFailure};
 use crate::semismooth_newton::{Dir, NewtonSystem};
+use signorini_linalg::bordered_factor::{block_buffer, BorderedFactor, FactorFailure};
+use signorini_linalg::reduced::{schur_on_g, BlockFactor};
 
 /// Solves the reduced Newton system of `sys` (see the module); with `chord`,
 /// only with the cached factor of the same structure. Returns dx = (dλ, dα),

@@ -22,7 +22,7 @@
 //! assembled (the blocks are added into the fronts).
 //!
 //! Floating bodies: the fixing DOFs J of their kernel (FETI's generalised
-//! inverse, `schur_factor` module doc) have their rows and columns dropped
+//! inverse, `interface` module doc) have their rows and columns dropped
 //! from every block and `scale` on their diagonal: S̃, factorised the same
 //! way; S⁺ = S̃⁻¹ Z.
 
@@ -33,7 +33,7 @@ use faer::linalg::triangular_solve::{
 use faer::reborrow::{Reborrow, ReborrowMut};
 use faer::{Accum, Mat, MatMut, Par};
 
-use crate::delassus::SparseRow;
+use signorini_linalg::sparse::SparseRow;
 
 /// One subdomain's Schur complement: dense (column-major) on its Γ DOFs.
 pub struct SchurBlock {
@@ -158,7 +158,7 @@ impl TreeFactor {
     /// The lower triangle of W += B S⁺ Bᵀ for the contact rows `b`
     /// (module doc: Σ YᵀY over the top groups, Y = L_CC⁻¹ B_C), the
     /// entries of B on the `fixed` DOFs dropped (S⁺ = S̃⁻¹ Z).
-    pub(crate) fn add_delassus(
+    pub(super) fn add_delassus(
         &self,
         w: &mut Mat<f64>,
         b: &[SparseRow],
@@ -166,7 +166,7 @@ impl TreeFactor {
         par: Par,
     ) {
         for top in &self.tops {
-            crate::schur_factor::add_trailing_delassus(w, top.l.as_ref(), &top.dofs, fixed, b, par);
+            super::add_trailing_delassus(w, top.l.as_ref(), &top.dofs, fixed, b, par);
         }
     }
 
@@ -185,7 +185,7 @@ impl TreeFactor {
             scatter(&mut x, &f.remaining, &(-update), true);
         }
         for top in &self.tops {
-            crate::schur_factor::dense_solve(&top.l, &top.dofs, x.rb_mut(), par);
+            super::dense_solve(&top.l, &top.dofs, x.rb_mut(), par);
         }
         for f in self.fronts.iter().rev() {
             let xr = gather(&x, &f.remaining);
