@@ -8,6 +8,7 @@ pub mod active_factor;
 pub mod bordered_factor;
 pub mod conditioning;
 pub mod growing_lu;
+pub mod ordered_cholesky;
 pub mod pivot_policy;
 pub mod recursive_cholesky;
 pub mod reduced;

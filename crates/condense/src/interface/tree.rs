@@ -33,6 +33,7 @@ use faer::linalg::triangular_solve::{
 use faer::reborrow::{Reborrow, ReborrowMut};
 use faer::{Accum, Mat, MatMut, Par};
 
+use signorini_linalg::ordered_cholesky::{add_trailing_delassus, dense_solve};
 use signorini_linalg::sparse::SparseRow;
 
 /// One subdomain's Schur complement: dense (column-major) on its Γ DOFs.
@@ -166,7 +167,7 @@ impl TreeFactor {
         par: Par,
     ) {
         for top in &self.tops {
-            super::add_trailing_delassus(w, top.l.as_ref(), &top.dofs, fixed, b, par);
+            add_trailing_delassus(w, top.l.as_ref(), &top.dofs, fixed, b, par);
         }
     }
 
@@ -185,7 +186,7 @@ impl TreeFactor {
             scatter(&mut x, &f.remaining, &(-update), true);
         }
         for top in &self.tops {
-            super::dense_solve(&top.l, &top.dofs, x.rb_mut(), par);
+            dense_solve(&top.l, &top.dofs, x.rb_mut(), par);
         }
         for f in self.fronts.iter().rev() {
             let xr = gather(&x, &f.remaining);
