@@ -67,8 +67,8 @@ impl Factor {
 /// factorises the block in that order); `order` holds the unknown at each
 /// block position.
 pub struct BlockFactor {
-    order: Vec<usize>,
-    factor: BorderedFactor,
+    pub order: Vec<usize>,
+    pub factor: BorderedFactor,
 }
 
 impl BlockFactor {
@@ -90,7 +90,7 @@ impl BlockFactor {
     }
 
     /// A⁻¹ rhs: the rows of rhs in block order, solved, and put back.
-    fn solve(&self, rhs: &Mat<f64>) -> Mat<f64> {
+    pub fn solve(&self, rhs: &Mat<f64>) -> Mat<f64> {
         let order = &self.order;
         let mut b = Mat::<f64>::from_fn(order.len(), rhs.ncols(), |i, j| rhs[(order[i], j)]);
         self.factor.solve_in_place(b.as_mut());
@@ -104,7 +104,7 @@ impl BlockFactor {
     }
 
     /// The storage of the factor, for the next block.
-    fn into_buffer(self) -> Vec<f64> {
+    pub fn into_buffer(self) -> Vec<f64> {
         self.factor.into_buffer()
     }
 }
