@@ -31,13 +31,14 @@
 use serde::Serialize;
 
 use crate::active_set::{drive, scaled_tolerances, Change, Fallback, Regular, StatusRule, Stop};
-use crate::delassus::{DelassusProblem, VarEquation};
+use crate::delassus::DelassusProblem;
 use crate::fixed_point::{
     fixed_point, normal_change, FixedPoint, InnerSolve, ThresholdMap, TrescaSolver,
 };
 use crate::lcp::LcpOptions;
 use crate::solution::{ContactSolution, StopReason, ThresholdMapKind};
 use crate::ContactError;
+use signorini_linalg::reduced::VarEquation;
 
 pub(crate) mod capacitance;
 pub mod holding;

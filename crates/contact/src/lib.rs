@@ -13,10 +13,8 @@
 //! line or finite-element systems (the direct path's KKT solve lives in the
 //! solver).
 
-pub mod active_factor;
 pub mod active_set;
 pub mod augmented_lagrangian;
-mod bordered_factor;
 pub mod contact_elements;
 pub mod delassus;
 pub mod equilibrium;
@@ -24,8 +22,6 @@ mod fixed_point;
 pub mod friction;
 pub mod friction3d;
 pub mod geometry;
-mod growing_lu;
-pub mod interface_tree;
 pub mod lcp;
 pub mod lemke;
 pub mod mortar;
@@ -34,19 +30,15 @@ pub mod mprgp;
 pub mod norms;
 pub mod observe;
 pub mod penalty;
-mod pivot_policy;
 mod problem_scale;
 pub mod projected_gradient;
-mod recursive_cholesky;
 mod reduced;
 pub mod redundancy;
 pub mod registry;
-pub mod schur_factor;
 mod semismooth_newton;
 pub mod smalbe;
 pub mod solution;
 pub mod status;
-mod threads;
 pub mod uzawa;
 
 #[cfg(test)]
@@ -73,6 +65,23 @@ pub enum ContactError {
     KernelMismatch { residual: f64, stiffness: f64 },
     #[error("linear solve failed: {0}")]
     Solve(String),
+}
+
+impl From<signorini_linalg::LinalgError> for ContactError {
+    fn from(e: signorini_linalg::LinalgError) -> Self {
+        match e {
+            signorini_linalg::LinalgError::Singular(what) => ContactError::Singular(what),
+            signorini_linalg::LinalgError::NotPositiveDefinite { index } => {
+                ContactError::SingularInterface { dof: index }
+            }
+            signorini_linalg::LinalgError::NotKernel { residual, scale } => {
+                ContactError::KernelMismatch {
+                    residual,
+                    stiffness: scale,
+                }
+            }
+        }
+    }
 }
 pub use lcp::{lcp_residual, LcpOptions};
 pub use solution::{

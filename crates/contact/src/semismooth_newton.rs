@@ -40,13 +40,14 @@
 use faer::prelude::Solve;
 use faer::Mat;
 
-use crate::delassus::{DelassusProblem, VarEquation};
+use crate::delassus::DelassusProblem;
 use crate::fixed_point::{
     fixed_point, normal_change, FixedPoint, InnerSolve, ThresholdMap, TrescaSolver,
 };
 use crate::friction::{FrictionLayout, FrictionOptions, PointStatus};
 use crate::solution::{ContactSolution, StopReason, ThresholdMapKind};
 use crate::ContactError;
+use signorini_linalg::reduced::VarEquation;
 
 /// A unit direction over at most two force rows (`c[1] = 0` for one row).
 #[derive(Debug, Clone, Copy)]

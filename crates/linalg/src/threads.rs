@@ -11,7 +11,7 @@ const MIN_WORK: f64 = 1e6;
 /// groups of `group` entries (`first`: the index of the chunk's first
 /// group), one chunk per thread when `work` multiply-adds are worth it,
 /// else `f(0, data)`.
-pub(crate) fn for_each_chunk<F>(data: &mut [f64], group: usize, work: f64, f: F)
+pub fn for_each_chunk<F>(data: &mut [f64], group: usize, work: f64, f: F)
 where
     F: Fn(usize, &mut [f64]) + Sync,
 {
@@ -38,7 +38,7 @@ where
 
 /// `f` of each item, on up to `workers` threads taking the items in turn
 /// (the calling thread one of them); the results in the order of `items`.
-pub(crate) fn map_side_by_side<T, R, F>(items: Vec<T>, workers: usize, f: F) -> Vec<R>
+pub fn map_side_by_side<T, R, F>(items: Vec<T>, workers: usize, f: F) -> Vec<R>
 where
     T: Send,
     R: Send,

@@ -27,7 +27,7 @@ use faer::{Accum, Mat, MatRef, Par};
 /// P K = L U of a square K (L unit lower, U upper; row i of P K is row
 /// `perm[i]` of K).
 #[derive(Debug, Clone)]
-pub(crate) struct GrowingLu {
+pub struct GrowingLu {
     l: Mat<f64>,
     u: Mat<f64>,
     perm: Vec<usize>,
@@ -35,7 +35,7 @@ pub(crate) struct GrowingLu {
 
 impl GrowingLu {
     /// The LU factorisation of `k` with partial pivoting.
-    pub(crate) fn new(k: MatRef<'_, f64>) -> Self {
+    pub fn new(k: MatRef<'_, f64>) -> Self {
         let lu = k.partial_piv_lu();
         Self {
             l: lu.L().to_owned(),
@@ -44,23 +44,18 @@ impl GrowingLu {
         }
     }
 
-    pub(crate) fn dim(&self) -> usize {
+    pub fn dim(&self) -> usize {
         self.perm.len()
     }
 
     /// The diagonal of U (the pivots).
-    pub(crate) fn pivots(&self) -> impl Iterator<Item = f64> + '_ {
+    pub fn pivots(&self) -> impl Iterator<Item = f64> + '_ {
         (0..self.dim()).map(|i| self.u[(i, i)])
     }
 
     /// Appends the border of K: K₁₂ (old rows, new columns), K₂₁ (new rows,
     /// old columns) and K₂₂.
-    pub(crate) fn extend(
-        &mut self,
-        k12: MatRef<'_, f64>,
-        k21: MatRef<'_, f64>,
-        k22: MatRef<'_, f64>,
-    ) {
+    pub fn extend(&mut self, k12: MatRef<'_, f64>, k21: MatRef<'_, f64>, k22: MatRef<'_, f64>) {
         let (r, a) = (self.dim(), k22.nrows());
         // X = L⁻¹ P K₁₂ and Yᵀ = U⁻ᵀ K₂₁ᵀ.
         let mut x = Mat::<f64>::from_fn(r, a, |i, j| k12[(self.perm[i], j)]);
@@ -97,7 +92,7 @@ impl GrowingLu {
     }
 
     /// K⁻¹ b.
-    pub(crate) fn solve(&self, b: MatRef<'_, f64>) -> Mat<f64> {
+    pub fn solve(&self, b: MatRef<'_, f64>) -> Mat<f64> {
         let mut x = Mat::<f64>::from_fn(b.nrows(), b.ncols(), |i, j| b[(self.perm[i], j)]);
         solve_unit_lower_triangular_in_place(self.l.as_ref(), x.as_mut(), Par::Seq);
         solve_upper_triangular_in_place(self.u.as_ref(), x.as_mut(), Par::Seq);

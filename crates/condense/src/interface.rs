@@ -6,7 +6,7 @@
 //! contact DOFs last. With several, S is a sparse matrix of dense blocks
 //! (two Γ DOFs are coupled only when one subdomain holds both), never
 //! assembled: [`InterfaceStiffness::Blocks`] keeps the blocks and
-//! `interface_tree` factorises S over a tree of the subdomains, the
+//! `interface::tree` factorises S over a tree of the subdomains, the
 //! contact DOFs last too, so that W = B S⁺ Bᵀ = YᵀY needs only the
 //! trailing block L_CC of either factor.
 //!
@@ -24,16 +24,19 @@
 
 use faer::{Mat, MatMut, MatRef, Par};
 
-use crate::delassus::SparseRow;
-pub use crate::interface_tree::SchurBlock;
-use crate::interface_tree::TreeFactor;
-use crate::ContactError;
+use signorini_linalg::ordered_cholesky::{add_trailing_delassus, dense_solve};
+use signorini_linalg::sparse::SparseRow;
+use signorini_linalg::LinalgError;
+
+mod tree;
+pub use tree::SchurBlock;
+use tree::TreeFactor;
 
 /// The interface stiffness S on Γ, symmetric positive semi-definite.
 pub enum InterfaceStiffness {
     Dense(Mat<f64>),
     /// The subdomains' dense blocks S_i on n Γ DOFs, never assembled
-    /// (factorised over a tree of subdomains, `interface_tree`).
+    /// (factorised over a tree of subdomains, `tree`).
     Blocks {
         n: usize,
         blocks: Vec<SchurBlock>,
@@ -43,7 +46,7 @@ pub enum InterfaceStiffness {
 /// How the interface stiffness was factorised, for the report.
 #[derive(Debug, Clone, PartialEq)]
 pub struct InterfaceFactorStats {
-    /// "dense" (one subdomain) or "tree" (several, `interface_tree`).
+    /// "dense" (one subdomain) or "tree" (several, `tree`).
     pub storage: &'static str,
     /// Entries of S stored: n_Γ² dense, Σ_i n_i² in the subdomains' blocks.
     pub matrix_nnz: usize,
@@ -170,8 +173,8 @@ enum FactorKind {
 
 /// S (plus the kernel term) has a pivot that is not positive at Γ DOF
 /// `dof`: a body is free to move beyond the rigid modes it was given.
-fn not_definite(dof: usize) -> ContactError {
-    ContactError::SingularInterface { dof }
+fn not_definite(dof: usize) -> LinalgError {
+    LinalgError::NotPositiveDefinite { index: dof }
 }
 
 impl SchurFactor {
@@ -183,7 +186,7 @@ impl SchurFactor {
         s: InterfaceStiffness,
         r: &Mat<f64>,
         contact: &[usize],
-    ) -> Result<Self, ContactError> {
+    ) -> Result<Self, LinalgError> {
         let mut contact = contact.to_vec();
         contact.sort_unstable();
         contact.dedup();
@@ -197,7 +200,7 @@ impl SchurFactor {
     /// mean |diagonal|: any ρ > 0 gives the same answer, this one keeps the
     /// matrix well scaled), in place on its lower triangle
     /// (`recursive_cholesky`).
-    fn dense(s: &Mat<f64>, r: &Mat<f64>, contact: Vec<usize>) -> Result<Self, ContactError> {
+    fn dense(s: &Mat<f64>, r: &Mat<f64>, contact: Vec<usize>) -> Result<Self, LinalgError> {
         let n = s.nrows();
         let order = contact_last(n, &contact);
         let mut l = Mat::<f64>::from_fn(
@@ -227,7 +230,7 @@ impl SchurFactor {
             );
         }
         let norm1 = lower_symmetric_norm1(&l);
-        crate::recursive_cholesky::cholesky(l.as_mut(), faer::get_global_parallelism())
+        signorini_linalg::recursive_cholesky::cholesky(l.as_mut(), faer::get_global_parallelism())
             .map_err(|i| not_definite(order[i]))?;
         let stats = InterfaceFactorStats {
             storage: "dense",
@@ -251,7 +254,7 @@ impl SchurFactor {
         blocks: Vec<SchurBlock>,
         r: &Mat<f64>,
         contact: Vec<usize>,
-    ) -> Result<Self, ContactError> {
+    ) -> Result<Self, LinalgError> {
         let fixed = fixing_dofs(r);
         let scale = regularisation_scale(&blocks_diagonal(n, &blocks));
         let norm1 = blocks_norm1(n, &blocks, &fixed, scale);
@@ -297,7 +300,7 @@ impl SchurFactor {
     /// and B touches only C, so L⁻¹ P Z Bᵀ = [0; L_CC⁻¹ B_C] and W = Yᵀ Y
     /// with Y = L_CC⁻¹ B_C: one dense triangular solve with the trailing
     /// block of the factor instead of m solves with all of it.
-    pub fn delassus(&self, b: &[SparseRow]) -> Result<Mat<f64>, ContactError> {
+    pub fn delassus(&self, b: &[SparseRow]) -> Result<Mat<f64>, LinalgError> {
         let m = b.len();
         let mut w = Mat::<f64>::zeros(m, m);
         let par = faer::get_global_parallelism();
@@ -328,7 +331,7 @@ impl SchurFactor {
     /// solves with the factor). With fixing DOFs, the solve is that of S̃
     /// itself (its rows on J are the scaled identity).
     pub fn condition(&self) -> f64 {
-        use signorini_condense::conditioning::inverse_norm1_estimate;
+        use signorini_linalg::conditioning::inverse_norm1_estimate;
         let inv = inverse_norm1_estimate(self.n, |x| {
             let xm = faer::MatMut::from_column_major_slice_mut(x, self.n, 1);
             match &self.kind {
@@ -340,38 +343,101 @@ impl SchurFactor {
     }
 }
 
-/// The lower triangle of W += YᵀY, Y = L_CC⁻¹ B_C (the trailing block
-/// `l_cc` of a factor on the Γ DOFs `dofs`, sorted; entries of B on the
-/// `fixed` DOFs, sorted, dropped: S⁺ = S̃⁻¹ Z).
-pub(crate) fn add_trailing_delassus(
-    w: &mut Mat<f64>,
-    l_cc: MatRef<'_, f64>,
-    dofs: &[usize],
-    fixed: &[usize],
-    b: &[SparseRow],
-    par: Par,
-) {
-    let mut y = Mat::<f64>::zeros(dofs.len(), b.len());
-    for (p, row) in b.iter().enumerate() {
-        for &(i, c) in row {
-            if let (Err(_), Ok(k)) = (fixed.binary_search(&i), dofs.binary_search(&i)) {
-                y[(k, p)] += c;
+impl signorini_linalg::GeneralisedInverse for SchurFactor {
+    fn solve(&self, v: &[f64]) -> Vec<f64> {
+        SchurFactor::solve(self, v)
+    }
+}
+
+/// What the Delassus operator W = B S⁺ Bᵀ is made of: the factor of S,
+/// the orthonormal kernel R, W itself and, when asked for, κ₁ of the
+/// matrix factorised.
+pub struct InterfaceOperator {
+    pub factor: SchurFactor,
+    /// The rigid modes of the floating bodies on Γ, orthonormal (n × k).
+    pub r: Mat<f64>,
+    pub w: Mat<f64>,
+    pub s_condition: Option<f64>,
+}
+
+impl InterfaceOperator {
+    /// Factorises S with the kernel `kernel` (n × k, k = 0 without floating
+    /// bodies; checked to be S's) and the contact DOFs of the rows `b` last,
+    /// and forms W; estimates the condition of the matrix factorised when
+    /// `estimate_condition` (a dozen O(n²) solves beside the factorisation).
+    pub fn new(
+        s: InterfaceStiffness,
+        b: &[SparseRow],
+        kernel: &Mat<f64>,
+        estimate_condition: bool,
+    ) -> Result<Self, LinalgError> {
+        let n = s.nrows();
+        let r = if kernel.ncols() > 0 {
+            orthonormalize(kernel)?
+        } else {
+            Mat::zeros(n, 0)
+        };
+        if r.ncols() > 0 {
+            check_kernel(&s, &r)?;
+        }
+        let mut contact: Vec<usize> = b.iter().flatten().map(|&(i, _)| i).collect();
+        contact.sort_unstable();
+        contact.dedup();
+        let factor = SchurFactor::new(s, &r, &contact)?;
+        let s_condition = estimate_condition.then(|| factor.condition());
+        let w = factor.delassus(b)?;
+        Ok(Self {
+            factor,
+            r,
+            w,
+            s_condition,
+        })
+    }
+}
+
+/// The columns of `r` made orthonormal (twice-repeated Gram–Schmidt);
+/// rejects columns that are linearly dependent.
+fn orthonormalize(r: &Mat<f64>) -> Result<Mat<f64>, LinalgError> {
+    let (n, k) = (r.nrows(), r.ncols());
+    let mut q = r.clone();
+    for j in 0..k {
+        for _pass in 0..2 {
+            for i in 0..j {
+                let d: f64 = (0..n).map(|t| q[(t, i)] * q[(t, j)]).sum();
+                for t in 0..n {
+                    q[(t, j)] -= d * q[(t, i)];
+                }
             }
         }
+        let nn: f64 = (0..n).map(|t| q[(t, j)].powi(2)).sum::<f64>().sqrt();
+        let orig: f64 = (0..n).map(|t| r[(t, j)].powi(2)).sum::<f64>().sqrt();
+        if nn <= 1e-10 * orig.max(f64::MIN_POSITIVE) {
+            return Err(LinalgError::Singular(
+                "the rigid modes of the floating bodies are linearly dependent on the interface"
+                    .into(),
+            ));
+        }
+        for t in 0..n {
+            q[(t, j)] /= nn;
+        }
     }
-    faer::linalg::triangular_solve::solve_lower_triangular_in_place(l_cc, y.as_mut(), par);
-    use faer::linalg::matmul::triangular::{matmul, BlockStructure};
-    matmul(
-        w.as_mut(),
-        BlockStructure::TriangularLower,
-        faer::Accum::Add,
-        y.transpose(),
-        BlockStructure::Rectangular,
-        y.as_ref(),
-        BlockStructure::Rectangular,
-        1.0,
-        par,
-    );
+    Ok(q)
+}
+
+/// The kernel comes from the supports (the rigid modes they leave free, by a
+/// rank test); checks that it is S's: ‖S r‖ must be round-off next to the
+/// stiffness (r orthonormal).
+fn check_kernel(s: &InterfaceStiffness, r: &Mat<f64>) -> Result<(), LinalgError> {
+    let n = s.nrows();
+    let smax = s.diagonal().iter().fold(0.0f64, |a, d| a.max(d.abs()));
+    let worst = s.mul(r).norm_max();
+    if worst.is_nan() || worst > 1e-8 * smax * (n as f64).sqrt() {
+        return Err(LinalgError::NotKernel {
+            residual: worst,
+            scale: smax,
+        });
+    }
+    Ok(())
 }
 
 /// Zeroes the rows `rows` of x.
@@ -391,20 +457,6 @@ fn contact_last(n: usize, contact: &[usize]) -> Vec<usize> {
         .collect();
     order.extend_from_slice(contact);
     order
-}
-
-/// x_P ← (L Lᵀ)⁻¹ x_P on the rows P = `order` of x (factor row k is row
-/// `order[k]` of x; the other rows are left alone): with P every row,
-/// x ← A⁻¹ x for L Lᵀ = P A Pᵀ.
-pub(crate) fn dense_solve(l: &Mat<f64>, order: &[usize], mut x: MatMut<'_, f64>, par: Par) {
-    let mut y = Mat::<f64>::from_fn(order.len(), x.ncols(), |k, j| x[(order[k], j)]);
-    faer::linalg::triangular_solve::solve_lower_triangular_in_place(l.as_ref(), y.as_mut(), par);
-    faer::linalg::triangular_solve::solve_upper_triangular_in_place(l.transpose(), y.as_mut(), par);
-    for (k, &i) in order.iter().enumerate() {
-        for j in 0..x.ncols() {
-            x[(i, j)] = y[(k, j)];
-        }
-    }
 }
 
 /// ‖A‖₁ of the symmetric A whose lower triangle is that of `a`.
@@ -569,7 +621,7 @@ mod tests {
         let InterfaceStiffness::Blocks { blocks, .. } = &s else {
             unreachable!()
         };
-        let want = signorini_condense::conditioning::dense_norm1(dense.as_ref());
+        let want = signorini_linalg::conditioning::dense_norm1(dense.as_ref());
         assert!((blocks_norm1(n, blocks, &[], 1.0) - want).abs() <= 1e-12 * want);
         // A fixing DOF: its column is scale·e_j, its row leaves the others.
         let mut fixed = dense.clone();
@@ -578,7 +630,7 @@ mod tests {
             fixed[(k, 5)] = 0.0;
         }
         fixed[(5, 5)] = 100.0;
-        let want = signorini_condense::conditioning::dense_norm1(fixed.as_ref());
+        let want = signorini_linalg::conditioning::dense_norm1(fixed.as_ref());
         assert!((blocks_norm1(n, blocks, &[5], 100.0) - want).abs() <= 1e-12 * want);
     }
 

@@ -26,7 +26,7 @@ const BASE: usize = 256;
 /// Overwrites the lower triangle of `a` (SPD; its strictly upper triangle is
 /// not read) with L, L Lᵀ = A. `Err(i)`: the pivot of row i is not
 /// positive (A is not positive definite); `a` is then partly overwritten.
-pub(crate) fn cholesky(mut a: MatMut<'_, f64>, par: Par) -> Result<(), usize> {
+pub fn cholesky(mut a: MatMut<'_, f64>, par: Par) -> Result<(), usize> {
     let n = a.nrows();
     if n <= BASE {
         let mut mem = MemBuffer::new(cholesky_in_place_scratch::<f64>(n, par, Default::default()));

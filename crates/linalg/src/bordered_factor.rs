@@ -29,7 +29,7 @@ use faer::{Accum, Conj, MatMut, MatRef};
 use crate::pivot_policy::pivots_are_safe;
 
 /// Why a block was not factorised; the buffer is given back either way.
-pub(crate) enum FactorFailure {
+pub enum FactorFailure {
     /// A₁₁ is not positive definite (a Cholesky pivot ≤ 0).
     NotPositive(Vec<f64>),
     /// A pivot (L_ii² of A₁₁, U_ii of S) is below 1e3 · n · ε times the
@@ -38,7 +38,7 @@ pub(crate) enum FactorFailure {
 }
 
 /// The factor of an n × n block with an SPD leading n₁ × n₁ block.
-pub(crate) struct BorderedFactor {
+pub struct BorderedFactor {
     buf: Vec<f64>,
     n: usize,
     n1: usize,
@@ -54,7 +54,7 @@ fn view(buf: &mut [f64], n: usize) -> MatMut<'_, f64> {
 impl BorderedFactor {
     /// Factorises the n × n block stored column-major in `buf` (at least n²
     /// entries), its first `n1` unknowns the SPD block.
-    pub(crate) fn new(mut buf: Vec<f64>, n: usize, n1: usize) -> Result<Self, FactorFailure> {
+    pub fn new(mut buf: Vec<f64>, n: usize, n1: usize) -> Result<Self, FactorFailure> {
         let par = faer::get_global_parallelism();
         let n2 = n - n1;
         let mut perm = vec![0usize; n2];
@@ -100,14 +100,13 @@ impl BorderedFactor {
     }
 
     /// Whether the block has both an SPD part and a bordered part.
-    #[cfg(test)]
-    pub(crate) fn is_bordered(&self) -> bool {
+    pub fn is_bordered(&self) -> bool {
         self.n1 > 0 && self.n1 < self.n
     }
 
     /// Solves A x = rhs in place: y₁ = A₁₁⁻¹ b₁, x₂ = S⁻¹ (b₂ − A₂₁ y₁),
     /// x₁ = y₁ − X x₂.
-    pub(crate) fn solve_in_place(&self, rhs: MatMut<'_, f64>) {
+    pub fn solve_in_place(&self, rhs: MatMut<'_, f64>) {
         let par = faer::get_global_parallelism();
         let (n, n1) = (self.n, self.n1);
         let a = MatRef::from_column_major_slice(&self.buf[..n * n], n, n);
@@ -143,21 +142,21 @@ impl BorderedFactor {
 
     /// x = A⁻¹ rhs.
     #[cfg(test)]
-    pub(crate) fn solve(&self, rhs: &Mat<f64>) -> Mat<f64> {
+    pub fn solve(&self, rhs: &Mat<f64>) -> Mat<f64> {
         let mut x = rhs.clone();
         self.solve_in_place(x.as_mut());
         x
     }
 
     /// The storage, for the next block.
-    pub(crate) fn into_buffer(self) -> Vec<f64> {
+    pub fn into_buffer(self) -> Vec<f64> {
         self.buf
     }
 }
 
 /// `buf` with room for an n × n block (its old pages kept); its entries are
 /// left as they were.
-pub(crate) fn block_buffer(mut buf: Vec<f64>, n: usize) -> Vec<f64> {
+pub fn block_buffer(mut buf: Vec<f64>, n: usize) -> Vec<f64> {
     buf.resize(n * n, 0.0);
     buf
 }

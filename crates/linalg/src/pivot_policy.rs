@@ -19,20 +19,17 @@
 use faer::prelude::Solve;
 use faer::{Mat, Side};
 
-use crate::ContactError;
+use crate::LinalgError;
 
 /// The relative pivot floor of a factorisation of order n: 1e3 · n · ε.
-pub(crate) fn pivot_floor(n: usize) -> f64 {
+pub fn pivot_floor(n: usize) -> f64 {
     1e3 * n as f64 * f64::EPSILON
 }
 
 /// The pivots at or below [`pivot_floor`]`(n)` times the largest (NaN and
 /// infinite pivots count as such), with the ratio of the smallest to the
 /// largest; `None` when every pivot is safe.
-pub(crate) fn deficient_pivots(
-    pivots: impl Iterator<Item = f64>,
-    n: usize,
-) -> Option<(usize, f64)> {
+pub fn deficient_pivots(pivots: impl Iterator<Item = f64>, n: usize) -> Option<(usize, f64)> {
     let pivots: Vec<f64> = pivots.map(f64::abs).collect();
     let hi = pivots.iter().fold(0.0f64, |m, &p| m.max(p));
     let lo = pivots.iter().fold(f64::INFINITY, |m, &p| m.min(p));
@@ -44,7 +41,7 @@ pub(crate) fn deficient_pivots(
 
 /// Whether every pivot of a factorisation of order `n` is safe
 /// ([`deficient_pivots`] finds none).
-pub(crate) fn pivots_are_safe(pivots: impl Iterator<Item = f64>, n: usize) -> bool {
+pub fn pivots_are_safe(pivots: impl Iterator<Item = f64>, n: usize) -> bool {
     deficient_pivots(pivots, n).is_none()
 }
 
@@ -53,7 +50,7 @@ pub(crate) fn pivots_are_safe(pivots: impl Iterator<Item = f64>, n: usize) -> bo
 /// safe: the pivots L_ii² / A_ii of the matrix scaled to unit diagonal,
 /// whose largest is its first, 1, so that rows appended to a factor are
 /// judged alone. NaN fails.
-pub(crate) fn cholesky_pivots_are_safe(
+pub fn cholesky_pivots_are_safe(
     l_diag: impl Iterator<Item = f64>,
     a_diag: impl Iterator<Item = f64>,
     n: usize,
@@ -64,7 +61,7 @@ pub(crate) fn cholesky_pivots_are_safe(
 
 /// The Cholesky factor of a symmetric `a` whose pivots are safe; `None` when
 /// it is not positive definite or near singular.
-pub(crate) fn safe_cholesky(a: &Mat<f64>) -> Option<faer::linalg::solvers::Llt<f64>> {
+pub fn safe_cholesky(a: &Mat<f64>) -> Option<faer::linalg::solvers::Llt<f64>> {
     let n = a.nrows();
     let llt = a.llt(Side::Lower).ok()?;
     let l = llt.L();
@@ -73,11 +70,11 @@ pub(crate) fn safe_cholesky(a: &Mat<f64>) -> Option<faer::linalg::solvers::Llt<f
 
 /// Solves a symmetric system by a Cholesky factor with safe pivots, else by
 /// [`solve_checked`] (which rejects a singular matrix naming `what`).
-pub(crate) fn solve_symmetric_checked(
+pub fn solve_symmetric_checked(
     a: &Mat<f64>,
     rhs: &Mat<f64>,
     what: &str,
-) -> Result<Mat<f64>, ContactError> {
+) -> Result<Mat<f64>, LinalgError> {
     match safe_cholesky(a) {
         Some(llt) => Ok(llt.solve(rhs)),
         None => solve_checked(a, rhs, what),
@@ -92,15 +89,11 @@ pub(crate) fn solve_symmetric_checked(
 /// compare in any units), then its pivots must be safe (full pivoting
 /// orders them by decreasing size). A backward-error test alone cannot see
 /// singularity: LU is backward stable on singular matrices too.
-pub(crate) fn solve_checked(
-    a: &Mat<f64>,
-    rhs: &Mat<f64>,
-    what: &str,
-) -> Result<Mat<f64>, ContactError> {
+pub fn solve_checked(a: &Mat<f64>, rhs: &Mat<f64>, what: &str) -> Result<Mat<f64>, LinalgError> {
     let n = a.nrows();
     let (lu, d) = scaled_lu(a);
     if let Some((deficiency, ratio)) = rank_deficiency(&lu) {
-        return Err(ContactError::Singular(format!(
+        return Err(LinalgError::Singular(format!(
             "{what} (rank deficient by {deficiency} of {n}: smallest pivot {ratio:.1e} of the largest)"
         )));
     }
@@ -108,13 +101,13 @@ pub(crate) fn solve_checked(
     let y = lu.solve(&srhs);
     let x = Mat::<f64>::from_fn(n, rhs.ncols(), |i, j| d[i] * y[(i, j)]);
     if !x.norm_max().is_finite() {
-        return Err(ContactError::Singular(what.to_string()));
+        return Err(LinalgError::Singular(what.to_string()));
     }
     Ok(x)
 }
 
 /// Whether `a` is singular by the rank test of [`solve_checked`].
-pub(crate) fn is_rank_deficient(a: &Mat<f64>) -> bool {
+pub fn is_rank_deficient(a: &Mat<f64>) -> bool {
     a.nrows() > 0 && rank_deficiency(&scaled_lu(a).0).is_some()
 }
 

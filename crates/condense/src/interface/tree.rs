@@ -22,7 +22,7 @@
 //! assembled (the blocks are added into the fronts).
 //!
 //! Floating bodies: the fixing DOFs J of their kernel (FETI's generalised
-//! inverse, `schur_factor` module doc) have their rows and columns dropped
+//! inverse, `interface` module doc) have their rows and columns dropped
 //! from every block and `scale` on their diagonal: S̃, factorised the same
 //! way; S⁺ = S̃⁻¹ Z.
 
@@ -33,7 +33,8 @@ use faer::linalg::triangular_solve::{
 use faer::reborrow::{Reborrow, ReborrowMut};
 use faer::{Accum, Mat, MatMut, Par};
 
-use crate::delassus::SparseRow;
+use signorini_linalg::ordered_cholesky::{add_trailing_delassus, dense_solve};
+use signorini_linalg::sparse::SparseRow;
 
 /// One subdomain's Schur complement: dense (column-major) on its Γ DOFs.
 pub struct SchurBlock {
@@ -137,7 +138,7 @@ impl TreeFactor {
             let (front, dofs, mut l, top_flops) =
                 merge_and_eliminate(vec![g], |d, _| !keep[d], &fixing, par)?;
             fronts.extend(front);
-            crate::recursive_cholesky::cholesky(l.as_mut(), par)
+            signorini_linalg::recursive_cholesky::cholesky(l.as_mut(), par)
                 .map_err(|i| NotPositiveDefinite { dof: dofs[i] })?;
             flops += top_flops + (l.nrows() as f64).powi(3) / 3.0;
             tops.push(Top { dofs, l });
@@ -158,7 +159,7 @@ impl TreeFactor {
     /// The lower triangle of W += B S⁺ Bᵀ for the contact rows `b`
     /// (module doc: Σ YᵀY over the top groups, Y = L_CC⁻¹ B_C), the
     /// entries of B on the `fixed` DOFs dropped (S⁺ = S̃⁻¹ Z).
-    pub(crate) fn add_delassus(
+    pub(super) fn add_delassus(
         &self,
         w: &mut Mat<f64>,
         b: &[SparseRow],
@@ -166,7 +167,7 @@ impl TreeFactor {
         par: Par,
     ) {
         for top in &self.tops {
-            crate::schur_factor::add_trailing_delassus(w, top.l.as_ref(), &top.dofs, fixed, b, par);
+            add_trailing_delassus(w, top.l.as_ref(), &top.dofs, fixed, b, par);
         }
     }
 
@@ -185,7 +186,7 @@ impl TreeFactor {
             scatter(&mut x, &f.remaining, &(-update), true);
         }
         for top in &self.tops {
-            crate::schur_factor::dense_solve(&top.l, &top.dofs, x.rb_mut(), par);
+            dense_solve(&top.l, &top.dofs, x.rb_mut(), par);
         }
         for f in self.fronts.iter().rev() {
             let xr = gather(&x, &f.remaining);
@@ -300,7 +301,7 @@ fn merge_level(
         (1, global)
     };
     let own = |d: usize, held: usize| held == holders[d] && !keep[d];
-    let results = crate::threads::map_side_by_side(sets, workers, |set| {
+    let results = signorini_linalg::threads::map_side_by_side(sets, workers, |set| {
         let set = match <[Group; 1]>::try_from(set) {
             Ok([alone]) => return Ok((None, alone, 0.0)),
             Err(set) => set,
@@ -368,7 +369,7 @@ fn merge_and_eliminate(
         return Ok((None, remaining, f, 0.0));
     }
     let (mut ee, _, mut re, mut rr) = f.as_mut().split_at_mut(ne, ne);
-    crate::recursive_cholesky::cholesky(ee.rb_mut(), par)
+    signorini_linalg::recursive_cholesky::cholesky(ee.rb_mut(), par)
         .map_err(|i| NotPositiveDefinite { dof: eliminated[i] })?;
     // L_REᵀ = L_EE⁻¹ F_ERᵀ, then T = F_RR − L_RE L_REᵀ (lower triangle).
     solve_lower_triangular_in_place(ee.rb(), re.rb_mut().transpose_mut(), par);
