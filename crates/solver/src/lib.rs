@@ -78,6 +78,9 @@ pub struct RunEnvironment {
     pub budget: Option<memory::Budget>,
     /// Who hears of the run's progress on this rank (`None`: nobody).
     pub observer: Option<Arc<dyn progress::Observer>>,
+    /// A rank that fails its condensation on purpose, for the tests of the
+    /// MPI path's error handling (the command line's SIGNORINI_FAIL_RANK).
+    pub fail_rank: Option<usize>,
 }
 
 impl RunEnvironment {
@@ -86,6 +89,7 @@ impl RunEnvironment {
         Self {
             budget: memory::machine_memory(),
             observer: None,
+            fail_rank: None,
         }
     }
 }
