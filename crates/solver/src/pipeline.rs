@@ -10,11 +10,12 @@ use crate::certify::{condensed_sizes, condensed_step, finish_report};
 use crate::checks::check_held_by_contacts;
 use crate::direct_path::run_direct;
 use crate::root::{take_interface_stiffness, RootInput, RootSolve};
+use crate::step::Partial;
 use crate::step_end::StepLoop;
 use crate::subdomain::{CondensedData, RecoveredStep, Subdomain, SubdomainSpec};
 use crate::{
-    conditioning, memory, model, partition, pieces, plan, wire, Partial, RunEnvironment,
-    RunOptions, SolveError,
+    conditioning, memory, model, partition, pieces, plan, wire, RunEnvironment, RunOptions,
+    SolveError,
 };
 use serde::{Deserialize, Serialize};
 use signorini_comm::{broadcast, deal, gather, Transport};
