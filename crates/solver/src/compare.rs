@@ -4,7 +4,8 @@
 use crate::certify::nodal_pressures;
 use crate::model::PointModel;
 use crate::root::point_force;
-use crate::{FrictionStep, SolveError};
+use crate::step::FrictionStep;
+use crate::SolveError;
 use signorini_contact::friction::PointStatus;
 use signorini_report::{reference, StepReport};
 use signorini_scene as scene;

@@ -9,7 +9,8 @@
 
 use crate::model::{BodyModel, PointModel};
 use crate::root::{initial_statuses, Interface, RootInput, StepLoad};
-use crate::{contact_error, FrictionStep, SolveError, StepSolution};
+use crate::step::{FrictionStep, StepSolution};
+use crate::{contact_error, SolveError};
 use signorini_contact::friction::kinematic_hardening::{self, Hardened};
 use signorini_contact::friction::{
     coulomb_fixed_point, coulomb_newton, coulomb_status, predicted_statuses, tresca_projection,

@@ -7,12 +7,10 @@ use crate::element_step::{element_step, ElementHistory};
 use crate::friction_step::{friction_rows, friction_step, FrictionHistory, FrictionRows};
 use crate::model::{BodyModel, FixedPoint, PointModel};
 use crate::progress::{Event, Progress};
+use crate::step::{FrictionStep, StepSolution};
 use crate::subdomain::{CondensedData, SubdomainSpec};
 use crate::timing::timed;
-use crate::{
-    conditioning, contact_error, inf_norm, FrictionStep, SolveError, StepSolution,
-    PENETRATION_WARNING_FRACTION,
-};
+use crate::{conditioning, contact_error, inf_norm, SolveError, PENETRATION_WARNING_FRACTION};
 use faer::Mat;
 use signorini_condense::interface::{InterfaceStiffness, SchurBlock};
 use signorini_contact::friction::PointStatus;

@@ -11,7 +11,8 @@
 
 use crate::certify::{conclude_step, empty_partial, StepEvidence};
 use crate::model::BodyModel;
-use crate::{inf_norm, partition, Partial, Residuals, SolveError, StepSolution};
+use crate::step::{Partial, Residuals, StepSolution};
+use crate::{inf_norm, partition, SolveError};
 use signorini_report::output::{BodyResult, StepFields};
 use signorini_report::stream::StepSink;
 use signorini_scene as scene;
