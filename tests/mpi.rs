@@ -337,7 +337,7 @@ fn floating_bodies_under_mpirun_2_equal_the_in_process_run() {
     compare(&scene, 2, "floating3d");
 }
 
-/// The units test (tests/units.rs) across the two transports: Hertz in Pa
+/// The units test (tests/integration/units.rs) across the two transports: Hertz in Pa
 /// and m split over two ranks by `mpirun -n 2` equals Hertz in MPa and mm
 /// (the same two subdomains) in one process, and likewise the 3D two-box
 /// patch, after conversion, to 1e-10.
@@ -419,7 +419,7 @@ fn si_under_mpirun_equals_mm_in_process(
     assert!(r <= 1e-10, "{tag}: displacements differ by {r:e}");
 }
 
-/// A candidate zone too small (`search_distance`, tests/search_distance.rs)
+/// A candidate zone too small (`search_distance`, tests/integration/search_distance.rs)
 /// under `mpirun -n 2`, the block split in two: every rank solves again with
 /// the widened zone, the report says so once, and the answer equals the
 /// in-process run's and the run without a zone.

@@ -1,5 +1,5 @@
-//! The harness of the bad-input tests (tests/bad_input.rs,
-//! tests/bad_input_limits.rs): a small valid scene to break, and runs of the
+//! The harness of the bad-input tests (tests/integration/bad_input.rs,
+//! tests/integration/bad_input_limits.rs): a small valid scene to break, and runs of the
 //! real binary on it with or without a time limit.
 
 use std::path::PathBuf;
