@@ -9,15 +9,12 @@ use common::{
     try_run,
 };
 use signorini_scene::Method;
-use signorini_solver::{RunOptions, RunOutput, SolveError};
+use signorini_solver::{RunOutput, SolveError};
 
 fn run_with(text: &str, method: Method) -> Result<RunOutput, SolveError> {
     try_run(
         text,
-        RunOptions {
-            method: Some(method),
-            path: None,
-        },
+        common::with_method(method),
     )
 }
 
@@ -212,7 +209,7 @@ fn regularised_law_gives_the_closed_form_penetration() {
 
 #[test]
 fn a_method_stopped_by_its_iteration_limit_exits_2_with_its_residuals() {
-    let out = std::process::Command::new(env!("CARGO_BIN_EXE_signorini"))
+    let out = std::process::Command::new(common::BIN)
         .args([
             "run",
             &format!("{}/examples/hertz2d.toml", env!("CARGO_MANIFEST_DIR")),

@@ -7,7 +7,11 @@
 
 use crate::common;
 
-use common::bad_scene::*;
+use common::bad_scene::{
+    block_meshed, block_with, block_with_all, fresh_dir, run_in, run_scene, scene_dir, BLOCK_MESH,
+    BLOCK_ON_PLANE, PIN,
+};
+use common::{run_limited, BIN};
 use std::path::Path;
 use std::process::{Command, Output};
 use std::time::Duration;

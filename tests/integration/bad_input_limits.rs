@@ -6,7 +6,10 @@
 
 use crate::common;
 
-use common::bad_scene::*;
+use common::bad_scene::{
+    block_meshed, block_with, block_with_all, fresh_dir, run_scene, BLOCK_ON_PLANE,
+};
+use common::{run_limited, BIN};
 use std::path::Path;
 use std::process::Command;
 use std::time::{Duration, Instant};
@@ -179,26 +182,18 @@ fn an_internal_error_is_one_line_and_exit_3() {
 #[cfg(feature = "mpi")]
 #[test]
 fn an_internal_error_under_mpirun_ends_every_rank() {
-    let have = Command::new("mpirun")
-        .arg("--version")
-        .output()
-        .is_ok_and(|o| o.status.success());
-    if !have {
+    if !common::have_mpirun() {
         return;
     }
     let dir = fresh_dir("internal_error_mpi");
     let scene = dir.join("scene.toml");
     std::fs::write(&scene, BLOCK_ON_PLANE).unwrap();
-    let mut cmd = Command::new("mpirun");
-    cmd.arg("-n")
-        .arg("2")
-        .arg(BIN)
-        .arg("run")
+    let mut cmd = common::mpirun(2);
+    cmd.arg("run")
         .arg(&scene)
         .arg("--out")
         .arg(dir.join("out"))
         .env("SIGNORINI_INJECT_PANIC", "1");
-    common::mpi_env(&mut cmd);
     let (out, elapsed) = run_limited(cmd, Duration::from_secs(60));
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(elapsed < Duration::from_secs(60), "a rank hangs: {err}");
@@ -393,8 +388,7 @@ fn bench_plot_draws_the_rows_of_several_csvs_and_refuses_a_file_that_is_not_one(
 #[test]
 fn a_numpy_problem_with_an_integer_dim_or_a_capital_extension_is_read() {
     let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/local_int_dim.npz");
-    let dir = std::env::temp_dir().join(format!("signorini-npz-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = fresh_dir("npz_capital");
     let capital = dir.join("LCP.NPZ");
     std::fs::copy(&data, &capital).unwrap();
     for path in [data, capital] {
@@ -419,8 +413,7 @@ fn a_numpy_problem_with_an_integer_dim_or_a_capital_extension_is_read() {
 /// then some 10 GB of copies); `local --max-memory` sets the budget.
 #[test]
 fn a_npz_that_unpacks_past_the_budget_is_refused_before_it_is_read() {
-    let dir = std::env::temp_dir().join(format!("signorini-npz-budget-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = fresh_dir("npz_budget");
     let path = dir.join("big.npz");
     let n = 1000; // W: 8 MB of f64
     let w = faer::Mat::<f64>::from_fn(n, n, |i, j| if i == j { 2.0 } else { 0.0 });

@@ -13,6 +13,7 @@
 
 use crate::common;
 
+use common::input_error;
 use signorini_solver::{RunOptions, RunOutput, SolveError};
 
 const P: f64 = 1.0;
@@ -20,14 +21,6 @@ const K_N: f64 = 1000.0;
 
 fn converged(text: &str) -> RunOutput {
     common::converged(text, RunOptions::default())
-}
-
-fn input_error(text: &str) -> String {
-    match common::try_run(text, RunOptions::default()) {
-        Err(SolveError::Input(m)) => m,
-        Err(e) => panic!("not an input error: {e}"),
-        Ok(_) => panic!("accepted"),
-    }
 }
 
 /// Two blocks (a soft pad on a steel base, ν ≠ 0) sharing the face y = 0.5
@@ -501,13 +494,7 @@ fn a_newton_stopped_short_exits_2() {
     let dir = common::fresh_dir("contact_elements", "newton_short");
     let scene = dir.join("scene.toml");
     std::fs::write(&scene, text).unwrap();
-    let out = std::process::Command::new(env!("CARGO_BIN_EXE_signorini"))
-        .arg("run")
-        .arg(&scene)
-        .arg("--out")
-        .arg(dir.join("out"))
-        .output()
-        .unwrap();
+    let out = common::cli_run(&scene, dir.join("out"));
     let err = common::stderr_of_exit(&out, 2);
     assert!(!err.is_empty());
 }

@@ -11,8 +11,7 @@
 
 use crate::common;
 
-use common::bad_scene::{run_limited, BIN};
-use common::max_rel;
+use common::{max_rel, run_limited, BIN};
 use std::ffi::OsStr;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};

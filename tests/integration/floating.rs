@@ -7,16 +7,11 @@
 
 use crate::common;
 
-use common::{assert_message, converged, converged_on, example, forces, max_rel, try_run};
+use common::{
+    assert_message, converged, converged_on, example, forces, max_rel, try_run, with_method,
+};
 use signorini_scene::Method;
 use signorini_solver::{RunOptions, RunOutput, SolveError};
-
-fn with(method: Method) -> RunOptions {
-    RunOptions {
-        method: Some(method),
-        path: None,
-    }
-}
 
 fn displacements(o: &RunOutput) -> Vec<f64> {
     o.bodies
@@ -51,11 +46,11 @@ fn floating_box_3d(t: f64) -> String {
 /// Every method on one scene: converged, the certificate met, and forces
 /// and displacements equal to the status method's.
 fn every_method_equals_the_status_method(text: &str, what: &str) {
-    let reference = converged(text, with(Method::Status));
+    let reference = converged(text, with_method(Method::Status));
     let f0 = forces(&reference);
     let u0 = displacements(&reference);
     for m in EXACT {
-        let out = converged(text, with(m));
+        let out = converged(text, with_method(m));
         let df = max_rel(&forces(&out), &f0);
         let du = max_rel(&displacements(&out), &u0);
         assert!(df <= 1e-9, "{what}, {m:?}: forces differ by {df:e}");
@@ -87,7 +82,7 @@ fn a_pad_held_by_contact_alone_is_solved_by_every_method_in_2d() {
 #[test]
 fn a_box_held_by_contact_alone_in_three_rigid_modes_is_solved_by_every_method_in_3d() {
     let text = floating_box_3d(-0.5);
-    let out = converged(&text, with(Method::Status));
+    let out = converged(&text, with_method(Method::Status));
     assert_message(&out, "held by contact in 3 rigid motion(s)");
     every_method_equals_the_status_method(&text, "box 3D");
 }
@@ -98,7 +93,7 @@ fn a_box_held_by_contact_alone_in_three_rigid_modes_is_solved_by_every_method_in
 fn a_floating_box_pulled_off_its_support_is_refused_by_name() {
     let text = floating_box_3d(0.5);
     for m in [Method::Status, Method::Mprgp] {
-        match try_run(&text, with(m)) {
+        match try_run(&text, with_method(m)) {
             Err(SolveError::Input(msg)) => {
                 assert!(msg.contains("\"box\""), "{msg}");
                 assert!(
@@ -119,7 +114,7 @@ fn a_floating_box_pulled_off_its_support_is_refused_by_name() {
 #[test]
 fn the_penalty_method_holds_a_floating_body_and_tends_to_the_exact_answer() {
     let text = example("blocks.toml");
-    let exact = forces(&converged(&text, with(Method::Status)));
+    let exact = forces(&converged(&text, with_method(Method::Status)));
     let mut last = f64::INFINITY;
     for factor in [1e2, 1e4, 1e6] {
         let t = text.replace("[solver]", &format!("[solver]\npenalty = {factor:e}"));
@@ -128,7 +123,7 @@ fn the_penalty_method_holds_a_floating_body_and_tends_to_the_exact_answer() {
         } else {
             format!("{t}\n[solver]\npenalty = {factor:e}\n")
         };
-        let out = try_run(&t, with(Method::Penalty)).unwrap();
+        let out = try_run(&t, with_method(Method::Penalty)).unwrap();
         let reg = out.report.steps[0].regularisation.as_ref().unwrap();
         let d = max_rel(&forces(&out), &exact);
         // The report's deviation is the same measure, relative to the exact
@@ -195,8 +190,8 @@ fn a_pad_unloaded_to_no_load_is_solved_with_no_force() {
     let text = example("blocks.toml")
         + "\n[[steps]]\nscale = { pressure = 1.0 }\n[[steps]]\nscale = { pressure = 0.0 }\n";
     for (opts, what) in [
-        (with(Method::Status), "status"),
-        (with(Method::Mprgp), "mprgp"),
+        (with_method(Method::Status), "status"),
+        (with_method(Method::Mprgp), "mprgp"),
         (
             RunOptions {
                 method: None,

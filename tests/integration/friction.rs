@@ -511,8 +511,7 @@ fn contact_csv(out: &std::path::Path) -> (Vec<String>, Vec<f64>) {
 
 #[test]
 fn newton_gives_the_contact_forces_of_the_default_method_on_the_cattaneo_example() {
-    let dir = std::env::temp_dir().join(format!("signorini-newton-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = common::fresh_dir("friction", "newton");
     let scene = dir.join("cattaneo_newton.toml");
     let text = example("cattaneo.toml") + "\n[solver]\nfriction = \"newton\"\n";
     std::fs::write(&scene, text).unwrap();

@@ -280,8 +280,7 @@ fn an_elliptic_cone_with_one_zero_coefficient_is_refused() {
 /// semi-smooth Newton method does on the same problem.
 #[test]
 fn a_one_point_3d_coulomb_problem_solves_by_the_fixed_point() {
-    let dir = std::env::temp_dir().join(format!("signorini-one-point-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = common::fresh_dir("friction3d", "one_point");
     let path = dir.join("problem.json");
     std::fs::write(
         &path,
@@ -289,7 +288,7 @@ fn a_one_point_3d_coulomb_problem_solves_by_the_fixed_point() {
     )
     .unwrap();
     for friction in ["fixed_point", "newton"] {
-        let out = std::process::Command::new(env!("CARGO_BIN_EXE_signorini"))
+        let out = std::process::Command::new(common::BIN)
             .args(["local", "--friction", friction])
             .arg(&path)
             .output()

@@ -400,13 +400,7 @@ fn bad_roughness_exits_1_naming_the_entry() {
     ] {
         let path = dir.join("scene.toml");
         std::fs::write(&path, scene(2, &friction, false)).unwrap();
-        let out = std::process::Command::new(env!("CARGO_BIN_EXE_signorini"))
-            .arg("run")
-            .arg(&path)
-            .arg("--out")
-            .arg(dir.join("out"))
-            .output()
-            .unwrap();
+        let out = common::cli_run(&path, dir.join("out"));
         let err = common::stderr_of_exit(&out, 1);
         assert!(err.contains(needle), "{friction}: {err}");
         assert!(!dir.join("out").exists(), "bad input writes nothing");

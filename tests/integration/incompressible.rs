@@ -275,13 +275,7 @@ fn b_bar_in_plane_stress_exits_with_bad_input() {
             .replace("model = \"plane_strain\"", "model = \"plane_stress\""),
     )
     .unwrap();
-    let out = std::process::Command::new(env!("CARGO_BIN_EXE_signorini"))
-        .arg("run")
-        .arg(&scene)
-        .arg("--out")
-        .arg(dir.join("out"))
-        .output()
-        .unwrap();
+    let out = common::cli_run(&scene, dir.join("out"));
     let err = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(1), "{err}");
     assert!(err.contains("bodies[0].formulation"), "{err}");

@@ -7,9 +7,11 @@
 
 use crate::common;
 
-use common::{converged, converged_on, example, hertz_errors, max_rel, try_run};
+use common::{
+    converged, converged_on, example, hertz_errors, input_error, max_rel, pressure_error, try_run,
+};
 use signorini_scene::{Method, SolvePath};
-use signorini_solver::{RunOptions, RunOutput, SolveError};
+use signorini_solver::{RunOptions, RunOutput};
 
 /// examples/mortar_patch.toml (soft pad, 10 elements along the interface,
 /// slave; steel base, 7 elements, master) with `discretization`; with
@@ -45,16 +47,6 @@ fn patch_with(discretization: &str, stiff_slave: bool, base: &str, pad: &str) ->
             "divisions = [10, 4] }",
             &format!("divisions = [10, 4], element = \"{pad}\" }}"),
         )
-}
-
-/// The largest relative deviation of the contact pressures from `p`, and
-/// the resultant of the normal forces.
-fn pressure_error(o: &RunOutput, p: f64) -> (f64, f64) {
-    let dev = o
-        .contact_rows
-        .iter()
-        .fold(0.0f64, |m, r| m.max((r.pressure - p).abs() / p));
-    (dev, o.contact_rows.iter().map(|r| r.normal_force).sum())
 }
 
 #[test]
@@ -427,14 +419,6 @@ fn mortar_with_tresca_friction_by_mprgp_equals_the_status_method() {
     }
 }
 
-fn input_error(text: &str) -> String {
-    match try_run(text, RunOptions::default()) {
-        Err(SolveError::Input(m)) => m,
-        Err(e) => panic!("not an input error: {e}"),
-        Ok(_) => panic!("accepted"),
-    }
-}
-
 #[test]
 fn mortar_refuses_axisymmetric_and_rigid_masters() {
     let m = input_error(&example("hertz_axi.toml").replace("\"node_to_segment\"", "\"mortar\""));
@@ -449,50 +433,16 @@ fn mortar_refuses_axisymmetric_and_rigid_masters() {
     );
 }
 
-/// contact.csv of `signorini run scene --out out`, in one process or under
-/// `mpirun -n 2`: its rows' numbers.
-#[cfg(feature = "mpi")]
-fn contact_csv_of_run(mpi: bool, scene: &std::path::Path, out: &std::path::Path) -> Vec<Vec<f64>> {
-    use std::process::Command;
-    let bin = env!("CARGO_BIN_EXE_signorini");
-    let mut c = if mpi {
-        let mut c = Command::new("mpirun");
-        c.args(["-n", "2", bin]);
-        common::mpi_env(&mut c);
-        c
-    } else {
-        Command::new(bin)
-    };
-    let o = c
-        .arg("run")
-        .arg(scene)
-        .arg("--out")
-        .arg(out)
-        .output()
-        .unwrap();
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let text = std::fs::read_to_string(out.join("contact.csv")).unwrap();
-    text.lines()
-        .skip(1)
-        .map(|l| l.split(',').filter_map(|v| v.parse().ok()).collect())
-        .collect()
-}
-
 #[cfg(feature = "mpi")]
 #[test]
 fn mortar_patch_under_mpirun_2_equals_the_in_process_run() {
-    let ok = std::process::Command::new("mpirun")
-        .arg("--version")
-        .output()
-        .is_ok_and(|o| o.status.success());
-    if !ok {
-        assert!(std::env::var_os("CI").is_none(), "mpirun is missing on CI");
+    if !common::have_mpirun() {
         return;
     }
     let d = common::fresh_dir("mortar", "mpirun2");
     let scene = std::path::PathBuf::from(common::example_path("mortar_patch.toml"));
-    let a = contact_csv_of_run(false, &scene, &d.join("local"));
-    let b = contact_csv_of_run(true, &scene, &d.join("mpi"));
+    let a = common::contact_csv_of_run(false, &scene, &d.join("local"));
+    let b = common::contact_csv_of_run(true, &scene, &d.join("mpi"));
     let report = std::fs::read_to_string(d.join("mpi").join("report.json")).unwrap();
     let report: serde_json::Value = serde_json::from_str(&report).unwrap();
     assert_eq!(report["ranks"], 2);
@@ -511,8 +461,8 @@ fn mortar_patch_under_mpirun_2_equals_the_in_process_run() {
     // the same rows under mpirun.
     let friction = d.join("friction.toml");
     std::fs::write(&friction, sideways_patch("{ coulomb = 0.3 }")).unwrap();
-    let a = contact_csv_of_run(false, &friction, &d.join("local-friction"));
-    let b = contact_csv_of_run(true, &friction, &d.join("mpi-friction"));
+    let a = common::contact_csv_of_run(false, &friction, &d.join("local-friction"));
+    let b = common::contact_csv_of_run(true, &friction, &d.join("mpi-friction"));
     assert_eq!(a.len(), 21);
     assert_eq!(a.len(), b.len());
     // step, point, x, y, gap, normal_force, tangential_force, slip, pressure

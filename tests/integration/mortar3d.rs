@@ -6,9 +6,11 @@
 
 use crate::common;
 
-use common::{converged, converged_on, example, forces, hertz_errors, max_rel, try_run};
+use common::{
+    converged, converged_on, example, forces, hertz_errors, input_error, max_rel, pressure_error,
+};
 use signorini_scene::{Method, SolvePath};
-use signorini_solver::{RunOptions, RunOutput, SolveError};
+use signorini_solver::RunOptions;
 
 /// examples/mortar_patch3d.toml (soft pad, 7×7 faces on the interface,
 /// slave; steel base, 5×5, master) with `discretization`; with
@@ -42,15 +44,6 @@ fn patch(discretization: &str, stiff_slave: bool, tet4: bool) -> String {
     t
 }
 
-/// The largest relative deviation of the contact pressures from `p`, and
-/// the resultant of the normal forces.
-fn pressure_error(o: &RunOutput, p: f64) -> (f64, f64) {
-    let dev = o
-        .contact_rows
-        .iter()
-        .fold(0.0f64, |m, r| m.max((r.pressure - p).abs() / p));
-    (dev, o.contact_rows.iter().map(|r| r.normal_force).sum())
-}
 
 #[test]
 fn mortar_3d_passes_the_patch_test_on_non_matching_meshes_and_node_to_face_does_not() {
@@ -95,10 +88,7 @@ fn mortar_3d_condensed_and_direct_paths_and_every_method_agree() {
         assert!(dev <= 1e-8, "direct path: pressure off by {dev:e}");
         let f0 = forces(&a);
         for m in Method::ALL.into_iter().filter(|&m| m != Method::Penalty) {
-            let opts = RunOptions {
-                method: Some(m),
-                path: None,
-            };
+            let opts = common::with_method(m);
             let o = converged(&text, opts);
             let df = max_rel(&forces(&o), &f0);
             assert!(df <= 1e-9, "{m:?}: forces differ by {df:e}");
@@ -238,14 +228,6 @@ fn mortar_3d_with_coulomb_friction_holds_a_sideways_load() {
     );
 }
 
-fn input_error(text: &str) -> String {
-    match try_run(text, RunOptions::default()) {
-        Err(SolveError::Input(m)) => m,
-        Err(e) => panic!("not an input error: {e}"),
-        Ok(_) => panic!("accepted"),
-    }
-}
-
 #[test]
 fn mortar_3d_refuses_rigid_masters() {
     let m = input_error(&example("hertz3d.toml").replace("\"node_to_face\"", "\"mortar\""));
@@ -258,40 +240,12 @@ fn mortar_3d_refuses_rigid_masters() {
 #[cfg(feature = "mpi")]
 #[test]
 fn mortar_3d_patch_under_mpirun_2_equals_the_in_process_run() {
-    use std::process::Command;
-    let ok = Command::new("mpirun")
-        .arg("--version")
-        .output()
-        .is_ok_and(|o| o.status.success());
-    if !ok {
-        assert!(std::env::var_os("CI").is_none(), "mpirun is missing on CI");
+    if !common::have_mpirun() {
         return;
     }
     let d = common::fresh_dir("mortar3d", "mpirun2");
-    let run = |mpi: bool, out: &std::path::Path| {
-        let bin = env!("CARGO_BIN_EXE_signorini");
-        let mut c = if mpi {
-            let mut c = Command::new("mpirun");
-            c.args(["-n", "2", bin]);
-            common::mpi_env(&mut c);
-            c
-        } else {
-            Command::new(bin)
-        };
-        let o = c
-            .args(["run", &common::example_path("mortar_patch3d.toml"), "--out"])
-            .arg(out)
-            .output()
-            .unwrap();
-        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-        let text = std::fs::read_to_string(out.join("contact.csv")).unwrap();
-        let rows: Vec<Vec<f64>> = text
-            .lines()
-            .skip(1)
-            .map(|l| l.split(',').filter_map(|v| v.parse().ok()).collect())
-            .collect();
-        rows
-    };
+    let scene = common::example_path("mortar_patch3d.toml");
+    let run = |mpi: bool, out: &std::path::Path| common::contact_csv_of_run(mpi, &scene, out);
     let a = run(false, &d.join("local"));
     let b = run(true, &d.join("mpi"));
     let report = std::fs::read_to_string(d.join("mpi").join("report.json")).unwrap();

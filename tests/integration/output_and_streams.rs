@@ -7,7 +7,8 @@
 
 use crate::common;
 
-use common::bad_scene::*;
+use common::bad_scene::{block_meshed, fresh_dir, run_scene, BLOCK_ON_PLANE};
+use common::{run_limited, BIN};
 use signorini_scene::SolvePath;
 use signorini_solver::{RunOptions, SolveError};
 use std::process::{Command, Stdio};

@@ -5,27 +5,14 @@
 
 use crate::common;
 
-use std::path::Path;
-use std::process::Command;
+use common::{
+    check_stack_pieces, cli_run, cli_run_ok, example, fresh_dir, listing, signorini,
+    stack_pieces as stack,
+};
 
-use common::{check_stack_pieces, cli_run_ok, example, fresh_dir, stack_pieces as stack};
 
-fn signorini(args: &[&str]) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_signorini"))
-        .args(args)
-        .output()
-        .unwrap()
-}
 
-/// The files of a directory, sorted (hidden ones too).
-fn listing(dir: &Path) -> Vec<String> {
-    let mut v: Vec<String> = std::fs::read_dir(dir)
-        .unwrap()
-        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-        .collect();
-    v.sort();
-    v
-}
+
 
 #[test]
 fn pieces_in_one_process_equal_the_gathered_fields_which_do_not_change() {
@@ -85,12 +72,7 @@ fn errors_leave_no_pieces_behind() {
         let scene = dir.join(format!("{tag}.toml"));
         std::fs::write(&scene, text).unwrap();
         let out = dir.join(tag).join("out");
-        let o = signorini(&[
-            "run",
-            scene.to_str().unwrap(),
-            "--out",
-            out.to_str().unwrap(),
-        ]);
+        let o = cli_run(&scene, &out);
         let err = String::from_utf8_lossy(&o.stderr);
         assert_eq!(o.status.code(), Some(1), "{tag}: {err}");
         assert!(err.contains(says), "{tag}: {err}");

@@ -13,9 +13,7 @@ use std::collections::BTreeMap;
 use std::path::Path;
 use std::process::Command;
 
-use common::{example_path, fresh_dir};
-
-const BIN: &str = env!("CARGO_BIN_EXE_signorini");
+use common::{example_path, fresh_dir, BIN};
 
 /// The stage lines of a run of examples/cattaneo.toml (two subdomains, two
 /// load steps): the subdomains and the steps are facts of the scene.
@@ -27,14 +25,7 @@ const STAGE_LINES: [&str; 4] = [
 ];
 
 fn have_script() -> bool {
-    let ok = Command::new("script")
-        .arg("--version")
-        .output()
-        .is_ok_and(|o| o.status.success());
-    if !ok && std::env::var_os("CI").is_some() {
-        panic!("`script` (util-linux) is missing on CI: ci/setup.sh must install bsdutils");
-    }
-    ok
+    common::have_program("script", "ci/setup.sh must install bsdutils (util-linux)")
 }
 
 /// One thread for faer (through rayon), so that two runs give the same
@@ -159,11 +150,7 @@ fn run_shows_progress_on_a_terminal_only_and_never_in_its_output_files() {
 #[cfg(feature = "mpi")]
 #[test]
 fn mpirun_shows_progress_on_the_roots_terminal_with_every_ranks_subdomains() {
-    let have_mpirun = Command::new("mpirun")
-        .arg("--version")
-        .output()
-        .is_ok_and(|o| o.status.success());
-    if !have_script() || !have_mpirun {
+    if !have_script() || !common::have_mpirun() {
         eprintln!("skipped: no `script` or no `mpirun`");
         return;
     }

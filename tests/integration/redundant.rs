@@ -6,17 +6,10 @@ use crate::common;
 
 use common::{
     assert_message, block_body, block_boundary, block_contact, contact_force, converged, example,
-    material_2d, max_rel, rigid_plane,
+    material_2d, max_rel, rigid_plane, with_method,
 };
 use signorini_scene::Method;
-use signorini_solver::{RunOptions, RunOutput};
-
-fn with(method: Method) -> RunOptions {
-    RunOptions {
-        method: Some(method),
-        path: None,
-    }
-}
+use signorini_solver::RunOutput;
 
 /// The contact block of examples/blocks.toml.
 fn blocks_contact(text: &str) -> (usize, usize) {
@@ -44,9 +37,9 @@ fn pad_base_forces(o: &RunOutput) -> Vec<f64> {
 }
 
 fn check_same_as_single_pair(text: &str, what: &str) {
-    let single = converged(&example("blocks.toml"), with(Method::Status));
+    let single = converged(&example("blocks.toml"), with_method(Method::Status));
     for m in [Method::Status, Method::Mprgp, Method::Lemke] {
-        let out = converged(text, with(m));
+        let out = converged(text, with_method(m));
         assert!(
             out.report
                 .messages
@@ -110,7 +103,7 @@ fn a_corner_node_against_two_obstacles_keeps_both_constraints() {
     ]
     .concat();
     for m in [Method::Status, Method::Mprgp] {
-        let out = converged(&text, with(m));
+        let out = converged(&text, with_method(m));
         assert_message(&out, "1 slave node(s) belong to both");
         // Uniform biaxial compression ε_xx = ε_yy = −d: in plane strain
         // σ = E/((1+ν)(1−2ν)) · (−d) for each normal stress, so the

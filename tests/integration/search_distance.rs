@@ -206,13 +206,7 @@ fn a_search_distance_that_is_not_a_positive_length_is_refused() {
             &format!("discretization = \"node_to_segment\"\nsearch_distance = {v}\n"),
         );
         std::fs::write(&scene, text).unwrap();
-        let out = std::process::Command::new(env!("CARGO_BIN_EXE_signorini"))
-            .arg("run")
-            .arg(&scene)
-            .arg("--out")
-            .arg(dir.join("out"))
-            .output()
-            .unwrap();
+        let out = common::cli_run(&scene, dir.join("out"));
         let err = String::from_utf8_lossy(&out.stderr);
         assert_eq!(out.status.code(), Some(1), "{tag}: {err}");
         assert!(
@@ -256,7 +250,7 @@ fn a_widened_zone_that_does_not_fit_is_refused_saying_why() {
         "{messages}"
     );
     // one byte less: the first zone fits, the widened one does not
-    let out = std::process::Command::new(env!("CARGO_BIN_EXE_signorini"))
+    let out = std::process::Command::new(common::BIN)
         .arg("run")
         .arg(&scene)
         .arg("--out")

@@ -6,9 +6,8 @@
 use crate::common;
 
 use std::path::Path;
-use std::process::Command;
 
-use common::{cli_run_ok, example, fresh_dir, max_rel, try_run, with_zone, PULLED_BLOCK};
+use common::{cli_run, cli_run_ok, example, fresh_dir, max_rel, try_run, with_zone, PULLED_BLOCK};
 use signorini_solver::{RunOptions, RunOutput};
 
 /// examples/cyclic.toml coarsened, with `n` steps of its load cycle
@@ -154,13 +153,6 @@ fn the_cli_writes_exactly_the_chosen_steps_and_every_csv_row() {
     }
 }
 
-fn signorini(args: &[&str]) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_signorini"))
-        .args(args)
-        .output()
-        .unwrap()
-}
-
 /// A step list naming a step that does not exist, or a zero interval: exit
 /// 1, a message naming the entry and the valid steps, nothing written.
 #[test]
@@ -180,12 +172,7 @@ fn steps_out_of_range_are_refused_by_name_and_nothing_is_written() {
         let scene = dir.join(format!("{tag}.toml"));
         std::fs::write(&scene, cyclic(12, output)).unwrap();
         let out = dir.join(tag).join("out");
-        let o = signorini(&[
-            "run",
-            scene.to_str().unwrap(),
-            "--out",
-            out.to_str().unwrap(),
-        ]);
+        let o = cli_run(&scene, &out);
         let err = String::from_utf8_lossy(&o.stderr);
         assert_eq!(o.status.code(), Some(1), "{tag}: {err}");
         assert!(err.contains(entry) && err.contains(valid), "{tag}: {err}");
@@ -206,12 +193,7 @@ fn an_error_at_a_later_step_leaves_nothing_behind() {
     let scene = dir.join("late.toml");
     std::fs::write(&scene, text).unwrap();
     let out = dir.join("nested").join("out");
-    let o = signorini(&[
-        "run",
-        scene.to_str().unwrap(),
-        "--out",
-        out.to_str().unwrap(),
-    ]);
+    let o = cli_run(&scene, &out);
     let err = String::from_utf8_lossy(&o.stderr);
     assert_eq!(o.status.code(), Some(1), "{err}");
     assert!(err.contains("step 2"), "{err}");
@@ -224,11 +206,7 @@ fn an_error_at_a_later_step_leaves_nothing_behind() {
 #[cfg(feature = "mpi")]
 #[test]
 fn two_ranks_stream_the_same_steps_as_one_process() {
-    let has_mpi = Command::new("mpirun")
-        .arg("--version")
-        .output()
-        .is_ok_and(|o| o.status.success());
-    if !has_mpi {
+    if !common::have_mpirun() {
         eprintln!("mpirun missing: skipped");
         return;
     }
@@ -236,16 +214,11 @@ fn two_ranks_stream_the_same_steps_as_one_process() {
     let scene = dir.join("c.toml");
     std::fs::write(&scene, cyclic(10, "steps = [4, 9]")).unwrap();
     cli_run_ok(&scene, dir.join("one"));
-    let o = Command::new("mpirun")
-        .args(["-n", "2", env!("CARGO_BIN_EXE_signorini"), "run"])
+    let o = common::mpirun(2)
+        .arg("run")
         .arg(&scene)
         .arg("--out")
         .arg(dir.join("two"))
-        .env("OMPI_ALLOW_RUN_AS_ROOT", "1")
-        .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
-        .env("OMPI_MCA_rmaps_base_oversubscribe", "1")
-        .env("PRTE_MCA_rmaps_default_mapping_policy", ":oversubscribe")
-        .env("OMPI_MCA_hwloc_base_binding_policy", "none")
         .output()
         .unwrap();
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));

@@ -14,16 +14,17 @@ use serde_json::Value;
 /// `signorini run <scene> --method <method>` on `text` in a fresh directory:
 /// (exit code, report.json).
 fn run(test: &str, text: &str, method: &str) -> (i32, Value) {
-    let dir = std::env::temp_dir().join(format!("signorini-{test}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = common::fresh_dir("units_methods", test);
     let scene = dir.join("scene.toml");
     std::fs::write(&scene, text).unwrap();
-    let out = std::process::Command::new(env!("CARGO_BIN_EXE_signorini"))
-        .args(["run", scene.to_str().unwrap(), "--method", method, "--out"])
-        .arg(dir.join("out"))
-        .output()
-        .unwrap();
+    let out = common::signorini(&[
+        "run",
+        scene.to_str().unwrap(),
+        "--method",
+        method,
+        "--out",
+        dir.join("out").to_str().unwrap(),
+    ]);
     let report = std::fs::read_to_string(dir.join("out/report.json")).unwrap_or_else(|e| {
         panic!(
             "{test}: no report ({e}): {}",
