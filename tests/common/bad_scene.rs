@@ -2,8 +2,8 @@
 //! tests/integration/bad_input_limits.rs): a small valid scene to break, and runs of the
 //! real binary on it with or without a time limit.
 
-use std::path::PathBuf;
 use super::BIN;
+use std::path::PathBuf;
 use std::process::{Command, Output};
 
 /// One elastic block (1 x 0.5, 4 x 2 quads) resting on a rigid plane, pinned in

@@ -12,10 +12,7 @@ use signorini_scene::Method;
 use signorini_solver::{RunOutput, SolveError};
 
 fn run_with(text: &str, method: Method) -> Result<RunOutput, SolveError> {
-    try_run(
-        text,
-        common::with_method(method),
-    )
+    try_run(text, common::with_method(method))
 }
 
 /// A supported block pressed on a rigid plane with a gap profile that leaves

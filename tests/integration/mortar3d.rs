@@ -44,7 +44,6 @@ fn patch(discretization: &str, stiff_slave: bool, tet4: bool) -> String {
     t
 }
 
-
 #[test]
 fn mortar_3d_passes_the_patch_test_on_non_matching_meshes_and_node_to_face_does_not() {
     // Traction 1 over the unit square: the resultant is 1. Node-to-face on

@@ -10,10 +10,6 @@ use common::{
     stack_pieces as stack,
 };
 
-
-
-
-
 #[test]
 fn pieces_in_one_process_equal_the_gathered_fields_which_do_not_change() {
     let dir = fresh_dir("pieces", "local");
