@@ -244,10 +244,7 @@ const TOL: f64 = 1e-4;
 /// same size, joined by contact elements; the pad's top pressed by p and
 /// dragged along x by the steps' scales of u (with a node at mid-height).
 fn drag(dim: usize, friction: &str, scales: &[f64]) -> String {
-    let steps: String = scales
-        .iter()
-        .map(|s| format!("[[steps]]\nscale = {{ drag = {s:?}, hold = {s:?} }}\n"))
-        .collect();
+    let steps = common::drag_steps(&scales);
     let (model, mesh, top, bottom, traction, clamp, mid): (_, fn(f64) -> String, _, _, _, _, _) =
         if dim == 2 {
             (
@@ -279,6 +276,7 @@ fn drag(dim: usize, friction: &str, scales: &[f64]) -> String {
     } else {
         format!("{{ x = {U:?}, y = 0.0 }}")
     };
+    let boundaries = common::press_drag_hold("pad", top, &traction, &drag, &mid);
     format!(
         r#"dimension = {dim}
 model = "{model}"
@@ -299,22 +297,7 @@ name = "clamp"
 body = "base"
 surface = "{bottom}"
 displacement = {clamp}
-[[boundary]]
-name = "press"
-body = "pad"
-surface = "{top}"
-traction = {traction}
-[[boundary]]
-name = "drag"
-body = "pad"
-surface = "{top}"
-displacement = {drag}
-[[boundary]]
-name = "hold"
-body = "pad"
-point = {mid}
-displacement = {drag}
-[[contact]]
+{boundaries}[[contact]]
 name = "joint"
 slave = {{ body = "pad", surface = "{bottom}" }}
 master = {{ body = "base", surface = "{top}" }}

@@ -30,10 +30,7 @@ const SCALES: [f64; 9] = [0.1, 0.2, 1.0, 1.5, 1.3, 1.1, 0.95, 0.5, -1.0];
 /// by the traction p and dragged along x (and y in 3D when `diagonal`) by
 /// its top and a node at mid-height of its side.
 fn scene(dim: usize, friction: &str, diagonal: bool) -> String {
-    let steps: String = SCALES
-        .iter()
-        .map(|s| format!("[[steps]]\nscale = {{ drag = {s:?}, hold = {s:?} }}\n"))
-        .collect();
+    let steps = common::drag_steps(&SCALES);
     let (mesh, top, bottom, normal, traction, drag) = if dim == 2 {
         (
             r#"{ generator = "rectangle", origin = [0.0, 0.0], size = [2.0, 0.05], divisions = [20, 2] }"#,
@@ -72,6 +69,7 @@ fn scene(dim: usize, friction: &str, diagonal: bool) -> String {
             "[0.0, 1.0, 0.025]",
         )
     };
+    let boundaries = common::press_drag_hold("block", top, &traction, &drag, &mid);
     format!(
         r#"dimension = {dim}
 model = "{model}"
@@ -86,22 +84,7 @@ mesh = {mesh}
 [[bodies]]
 name = "floor"
 rigid = {{ shape = "plane", point = {origin}, normal = {normal} }}
-[[boundary]]
-name = "press"
-body = "block"
-surface = "{top}"
-traction = {traction}
-[[boundary]]
-name = "drag"
-body = "block"
-surface = "{top}"
-displacement = {drag}
-[[boundary]]
-name = "hold"
-body = "block"
-point = {mid}
-displacement = {drag}
-[[contact]]
+{boundaries}[[contact]]
 name = "c"
 slave = {{ body = "block", surface = "{bottom}" }}
 master = {{ body = "floor" }}
