@@ -244,7 +244,7 @@ const TOL: f64 = 1e-4;
 /// same size, joined by contact elements; the pad's top pressed by p and
 /// dragged along x by the steps' scales of u (with a node at mid-height).
 fn drag(dim: usize, friction: &str, scales: &[f64]) -> String {
-    let steps = common::drag_steps(&scales);
+    let steps = common::drag_steps(scales);
     let (model, mesh, top, bottom, traction, clamp, mid): (_, fn(f64) -> String, _, _, _, _, _) =
         if dim == 2 {
             (

@@ -69,7 +69,7 @@ fn scene(dim: usize, friction: &str, diagonal: bool) -> String {
             "[0.0, 1.0, 0.025]",
         )
     };
-    let boundaries = common::press_drag_hold("block", top, &traction, &drag, &mid);
+    let boundaries = common::press_drag_hold("block", top, &traction, &drag, mid);
     format!(
         r#"dimension = {dim}
 model = "{model}"
