@@ -23,13 +23,10 @@ pub mod equilibrium;
 mod fixed_point;
 pub mod friction;
 pub mod friction3d;
-pub mod geometry;
 mod growing_lu;
 pub mod interface_tree;
 pub mod lcp;
 pub mod lemke;
-pub mod mortar;
-pub mod mortar3d;
 pub mod mprgp;
 pub mod norms;
 pub mod observe;
@@ -39,7 +36,6 @@ mod problem_scale;
 pub mod projected_gradient;
 mod recursive_cholesky;
 mod reduced;
-pub mod redundancy;
 pub mod registry;
 pub mod schur_factor;
 mod semismooth_newton;
@@ -53,7 +49,6 @@ pub mod uzawa;
 pub(crate) mod test_problems;
 
 pub use delassus::{DelassusOperator, DelassusProblem};
-pub use geometry::{ContactPoint, MasterGeometry, NormalRule, Term, TermSide};
 pub use status::{status_method, ActiveSetSolve, StatusOptions, StatusVariant};
 
 #[derive(Debug, thiserror::Error)]

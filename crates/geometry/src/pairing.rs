@@ -34,15 +34,12 @@
 //! zero. In 3D (`tangent`, `tangent2`, `normal`) is a right-handed
 //! orthonormal frame built from n alone, see [`tangent_frame`].
 
-mod closest;
-mod ray;
-mod search;
-
 use signorini_mesh::vec3::{cross, dot, norm, sub};
 use signorini_mesh::{Mesh, Surface};
 
-use crate::ContactError;
-use search::{is_3d, MasterIndex, NodeIndex};
+use crate::GeometryError;
+use crate::search::{self, is_3d, MasterIndex, NodeIndex};
+use crate::ray;
 
 /// Rule that chooses the contact normal (course notes §2.4, Fig. 3).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -109,14 +106,14 @@ pub struct ContactPoint {
 /// The planar trapezoid (0,0) (4,0) (3,2) (1,2) in z = 0 of the tests: its
 /// bilinear map x(ξ, η) is not affine.
 #[cfg(test)]
-const TRAPEZOID: [[f64; 3]; 4] = [
+pub(crate) const TRAPEZOID: [[f64; 3]; 4] = [
     [0.0, 0.0, 0.0],
     [4.0, 0.0, 0.0],
     [3.0, 2.0, 0.0],
     [1.0, 2.0, 0.0],
 ];
 
-fn unit(a: [f64; 3]) -> Option<[f64; 3]> {
+pub(crate) fn unit(a: [f64; 3]) -> Option<[f64; 3]> {
     let l = norm(a);
     (l > 0.0 && l.is_finite()).then(|| [a[0] / l, a[1] / l, a[2] / l])
 }
@@ -146,7 +143,7 @@ pub fn tangent_frame(n: [f64; 3]) -> ([f64; 3], [f64; 3]) {
 pub(crate) struct FacetSearch<'a>(MasterIndex<'a>);
 
 impl<'a> FacetSearch<'a> {
-    pub fn new(mesh: &'a Mesh, surface: &'a Surface) -> Result<Self, ContactError> {
+    pub fn new(mesh: &'a Mesh, surface: &'a Surface) -> Result<Self, GeometryError> {
         MasterIndex::new(mesh, surface).map(FacetSearch)
     }
 
@@ -263,10 +260,10 @@ fn choose_normal(
     }
 }
 
-fn check_dims(slave_mesh: &Mesh, master: &MasterGeometry<'_>) -> Result<(), ContactError> {
+fn check_dims(slave_mesh: &Mesh, master: &MasterGeometry<'_>) -> Result<(), GeometryError> {
     if let MasterGeometry::Surface { mesh, .. } = master {
         if is_3d(mesh) != is_3d(slave_mesh) {
-            return Err(ContactError::Geometry(format!(
+            return Err(GeometryError(format!(
                 "the slave mesh is {}D and the master mesh {}D",
                 if is_3d(slave_mesh) { 3 } else { 2 },
                 if is_3d(mesh) { 3 } else { 2 },
@@ -275,7 +272,7 @@ fn check_dims(slave_mesh: &Mesh, master: &MasterGeometry<'_>) -> Result<(), Cont
     }
     if let MasterGeometry::Sphere { radius, .. } = master {
         if !(*radius > 0.0 && radius.is_finite()) {
-            return Err(ContactError::Geometry(format!(
+            return Err(GeometryError(format!(
                 "the rigid sphere's radius must be positive and finite, not {radius}"
             )));
         }
@@ -403,7 +400,7 @@ enum MasterSide<'a> {
 }
 
 impl<'a> MasterSide<'a> {
-    fn new(master: &MasterGeometry<'a>) -> Result<Self, ContactError> {
+    fn new(master: &MasterGeometry<'a>) -> Result<Self, GeometryError> {
         Ok(match master {
             MasterGeometry::Plane { point, normal } => MasterSide::Plane {
                 point: *point,
@@ -416,7 +413,7 @@ impl<'a> MasterSide<'a> {
             MasterGeometry::Surface { mesh, surface } => {
                 let index = MasterIndex::new(mesh, surface)?;
                 if index.pieces.is_empty() {
-                    return Err(ContactError::Geometry(
+                    return Err(GeometryError(
                         "the master surface has no facet".into(),
                     ));
                 }
@@ -434,7 +431,7 @@ impl<'a> MasterSide<'a> {
         s: usize,
         x: [f64; 3],
         three_d: bool,
-    ) -> Result<(MasterPoint, f64, bool), ContactError> {
+    ) -> Result<(MasterPoint, f64, bool), GeometryError> {
         Ok(match self {
             MasterSide::Plane { point, normal } => {
                 let d = dot(sub(x, *point), *normal);
@@ -448,7 +445,7 @@ impl<'a> MasterSide<'a> {
             MasterSide::Sphere { center, radius } => {
                 let c = [center[0], center[1], if three_d { center[2] } else { x[2] }];
                 let Some(n_m) = unit(sub(x, c)) else {
-                    return Err(ContactError::Geometry(format!(
+                    return Err(GeometryError(format!(
                         "slave node {s} is at the centre of the rigid sphere: its normal is undefined"
                     )));
                 };
@@ -558,7 +555,7 @@ fn pair(
     (s, x, n_s): (usize, [f64; 3], [f64; 3]),
     reach: f64,
     (three_d, scale): (bool, f64),
-) -> Result<Result<([f64; 3], MasterPoint), Unpaired>, ContactError> {
+) -> Result<Result<([f64; 3], MasterPoint), Unpaired>, GeometryError> {
     let (near, dist, off) = side.closest(s, x, three_d)?;
     if dist > reach {
         return Ok(Err(Unpaired::Far));
@@ -609,7 +606,7 @@ pub fn node_to_segment(
     slave_surface: &Surface,
     master: &MasterGeometry<'_>,
     rule: NormalRule,
-) -> Result<Vec<ContactPoint>, ContactError> {
+) -> Result<Vec<ContactPoint>, GeometryError> {
     node_to_segment_pairing(slave_mesh, slave_surface, master, rule).map(|p| p.points)
 }
 
@@ -639,7 +636,7 @@ pub fn node_to_segment_pairing(
     slave_surface: &Surface,
     master: &MasterGeometry<'_>,
     rule: NormalRule,
-) -> Result<Pairing, ContactError> {
+) -> Result<Pairing, GeometryError> {
     check_dims(slave_mesh, master)?;
     let three_d = is_3d(slave_mesh);
     let slave_normals = nodal_normals(slave_mesh, slave_surface);
@@ -685,7 +682,7 @@ pub fn node_to_face(
     slave_surface: &Surface,
     master: &MasterGeometry<'_>,
     rule: NormalRule,
-) -> Result<Vec<ContactPoint>, ContactError> {
+) -> Result<Vec<ContactPoint>, GeometryError> {
     node_to_segment(slave_mesh, slave_surface, master, rule)
 }
 
@@ -699,7 +696,7 @@ pub fn node_to_node(
     slave_surface: &Surface,
     master: &MasterGeometry<'_>,
     rule: NormalRule,
-) -> Result<Vec<ContactPoint>, ContactError> {
+) -> Result<Vec<ContactPoint>, GeometryError> {
     node_to_node_pairing(slave_mesh, slave_surface, master, rule).map(|p| p.points)
 }
 
@@ -711,7 +708,7 @@ pub fn node_to_node_pairing(
     slave_surface: &Surface,
     master: &MasterGeometry<'_>,
     rule: NormalRule,
-) -> Result<Pairing, ContactError> {
+) -> Result<Pairing, GeometryError> {
     let (mesh, surface) = match master {
         MasterGeometry::Plane { .. } | MasterGeometry::Sphere { .. } => {
             // Against a rigid obstacle, node-to-node and node-to-segment coincide.
@@ -739,7 +736,7 @@ pub fn node_to_node_pairing(
     for (s, n_s) in slave_normals {
         let x = slave_mesh.coords[s];
         let Some((m, n_m)) = nodes.nearest(x).map(|i| master_normals[i]) else {
-            return Err(ContactError::Geometry(
+            return Err(GeometryError(
                 "the master surface has no node".into(),
             ));
         };
@@ -770,7 +767,7 @@ pub fn node_to_node_pairing(
             } else {
                 format!("({:.6}, {:.6})", x[0], x[1])
             };
-            return Err(ContactError::Geometry(format!(
+            return Err(GeometryError(format!(
                 "node_to_node needs matching meshes: slave node {s} at {at} has no master node facing it (nearest is {tangential:.3e} off the normal); use discretization = \"node_to_segment\""
             )));
         }
@@ -821,9 +818,9 @@ pub fn contact_element_pairing(
     slave_surface: &Surface,
     master: &MasterGeometry<'_>,
     rule: NormalRule,
-) -> Result<Pairing, ContactError> {
+) -> Result<Pairing, GeometryError> {
     let MasterGeometry::Surface { mesh, surface } = master else {
-        return Err(ContactError::Geometry(
+        return Err(GeometryError(
             "contact elements join two deformable bodies: the master must be a deformable body with a surface".into(),
         ));
     };
@@ -848,7 +845,7 @@ pub fn contact_element_pairing(
             } else {
                 format!("({}, {})", x[0], x[1])
             };
-            return Err(ContactError::Geometry(format!(
+            return Err(GeometryError(format!(
                 "contact elements need coincident nodes: slave node {s} at {at} has no master node within {:.3e} (10⁻⁶ of the body's size; nearest at {d:.3e}); for non-matching meshes use discretization = \"node_to_segment\" or \"mortar\"",
                 1e-6 * scale
             )));

@@ -58,11 +58,11 @@ use signorini_mesh::vec3::{dot, norm, sub};
 use signorini_mesh::{Mesh, Surface};
 use std::collections::BTreeMap;
 
-use crate::geometry::{
+use crate::pairing::{
     nodal_normals, search_distance, tangents, ContactPoint, Dropped, MasterGeometry, Pairing, Term,
     TermSide,
 };
-use crate::ContactError;
+use crate::GeometryError;
 use edge::{Edge, SlaveEdge};
 
 /// Gauss–Legendre points and weights on [0, 1] (4 points: exact to degree 7).
@@ -108,10 +108,10 @@ fn gauss_points(o: &Overlap) -> impl Iterator<Item = (f64, f64)> + '_ {
 pub(crate) fn deformable_master<'a>(
     master: &MasterGeometry<'a>,
     hint: &str,
-) -> Result<(&'a Mesh, &'a Surface), ContactError> {
+) -> Result<(&'a Mesh, &'a Surface), GeometryError> {
     match master {
         MasterGeometry::Surface { mesh, surface } => Ok((mesh, surface)),
-        _ => Err(ContactError::Geometry(format!(
+        _ => Err(GeometryError(format!(
             "mortar needs a deformable master surface ({hint})"
         ))),
     }
@@ -126,17 +126,17 @@ pub fn mortar_pairing(
     slave_mesh: &Mesh,
     slave_surface: &Surface,
     master: &MasterGeometry<'_>,
-) -> Result<MortarPairing, ContactError> {
+) -> Result<MortarPairing, GeometryError> {
     let (m_mesh, m_surf) =
         deformable_master(master, "a rigid plane or circle: use node_to_segment")?;
     if slave_mesh.dim != 2 || m_mesh.dim != 2 {
-        return Err(ContactError::Geometry(
+        return Err(GeometryError(
             "mortar_pairing needs two 2D meshes (in 3D see mortar3d::mortar3d_pairing)".into(),
         ));
     }
     let edges = |s: &Surface| s.facets.iter().all(|f| matches!(f.nodes.len(), 2 | 3));
     if !edges(slave_surface) || !edges(m_surf) {
-        return Err(ContactError::Geometry(
+        return Err(GeometryError(
             "mortar needs edges of 2 nodes (linear) or 3 (quadratic: corner, corner, mid-side)"
                 .into(),
         ));

@@ -1,4 +1,4 @@
-use super::search::MasterIndex;
+use crate::search::MasterIndex;
 use super::*;
 use signorini_mesh::{Cell, CellKind, Facet};
 
