@@ -61,7 +61,7 @@ use signorini_contact::{
     status_method, ActiveSetSolve, ContactError, ContactSolution, DelassusOperator,
     DelassusProblem, LcpOptions, SolverReport, StatusOptions, StatusVariant, StopReason,
 };
-pub use signorini_report::output::{BodyResult, RunOutput, StepFields};
+pub use signorini_report::results::{BodyResult, RunOutput, StepFields};
 pub use signorini_report::stream::{FieldWriter, StepSink, StepsInMemory};
 use signorini_report::{
     reference, Certificate, ContactRow, ContactSummary, Memory, Probe, RankStats, Regularisation,

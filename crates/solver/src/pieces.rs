@@ -45,6 +45,7 @@ fn subdomain_piece(
     SubdomainPiece {
         mesh: BodyResult {
             name: body.name.clone(),
+            file_stem: scene::file_stem(&body.name),
             coords: mesh.coords,
             cells: mesh.cells.into_iter().map(|c| c.nodes).collect(),
             parts: vec![spec.part; spec.cells.len()],

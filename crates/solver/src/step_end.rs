@@ -127,6 +127,7 @@ fn body_meshes(bodies: &[BodyModel]) -> Vec<BodyResult> {
         .iter()
         .map(|b| BodyResult {
             name: b.name.clone(),
+            file_stem: scene::file_stem(&b.name),
             coords: b.mesh.coords.clone(),
             cells: b.mesh.cells.iter().map(|c| c.nodes.clone()).collect(),
             parts: b.parts.clone(),
