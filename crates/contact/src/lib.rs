@@ -1,6 +1,7 @@
-//! Contact: geometry (contact points, normals, gaps, the rows of B) and the
-//! algorithms that solve the contact problem, on the condensed problem
-//! (Delassus operator) or on the whole sparse stiffness (direct path).
+//! Contact: the algorithms that solve the contact problem, on the condensed
+//! problem (Delassus operator) or on the whole sparse stiffness (direct
+//! path). The contact points, normals, gaps and rows of B are the geometry
+//! crate's (`signorini-geometry`).
 //!
 //! Conventions (docs/theory/contact-problem.md): the normal n points from master to slave; the
 //! gap is g = g0 + B u with B the row operator n·(u_slave − u_master
@@ -8,10 +9,9 @@
 //! compressive normal force on the slave (the course notes' F_n = −λ ≤ 0, §2.1);
 //! complementarity λ g = 0.
 //!
-//! The contact crate owns the contact geometry (module `geometry`) and the
-//! algebra on W, q (G, e); it must not know the scene format, MPI, the command
-//! line or finite-element systems (the direct path's KKT solve lives in the
-//! solver).
+//! The contact crate owns the algebra on W, q (G, e); it must not know the
+//! contact geometry, the scene format, MPI, the command line or
+//! finite-element systems (the direct path's KKT solve lives in the solver).
 
 pub mod active_factor;
 pub mod active_set;

@@ -56,8 +56,8 @@ use signorini_mesh::vec3::{dot, norm, sub};
 use signorini_mesh::{Mesh, Surface};
 use std::collections::BTreeMap;
 
-use crate::pairing::{meet_face, nodal_normals, search_distance, FacetSearch, MasterGeometry};
 use crate::mortar::{mortar_points, MortarPairing};
+use crate::pairing::{meet_face, nodal_normals, search_distance, FacetSearch, MasterGeometry};
 use crate::GeometryError;
 use clipping::{clip, counter_clockwise, polygon_rule, signed_area, AuxPlane, Point2};
 

@@ -37,9 +37,9 @@
 use signorini_mesh::vec3::{cross, dot, norm, sub};
 use signorini_mesh::{Mesh, Surface};
 
-use crate::GeometryError;
-use crate::search::{self, is_3d, MasterIndex, NodeIndex};
 use crate::ray;
+use crate::search::{self, is_3d, MasterIndex, NodeIndex};
+use crate::GeometryError;
 
 /// Rule that chooses the contact normal (course notes §2.4, Fig. 3).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -413,9 +413,7 @@ impl<'a> MasterSide<'a> {
             MasterGeometry::Surface { mesh, surface } => {
                 let index = MasterIndex::new(mesh, surface)?;
                 if index.pieces.is_empty() {
-                    return Err(GeometryError(
-                        "the master surface has no facet".into(),
-                    ));
+                    return Err(GeometryError("the master surface has no facet".into()));
                 }
                 MasterSide::Surface(index)
             }
@@ -736,9 +734,7 @@ pub fn node_to_node_pairing(
     for (s, n_s) in slave_normals {
         let x = slave_mesh.coords[s];
         let Some((m, n_m)) = nodes.nearest(x).map(|i| master_normals[i]) else {
-            return Err(GeometryError(
-                "the master surface has no node".into(),
-            ));
+            return Err(GeometryError("the master surface has no node".into()));
         };
         let xm = mesh.coords[m];
         let d = sub(x, xm);

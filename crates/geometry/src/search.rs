@@ -22,8 +22,8 @@ use signorini_mesh::{Facet, Mesh, Surface};
 use crate::closest::{self, Closest};
 use crate::pairing::unit;
 use crate::ray;
-use signorini_mesh::vec3::{dot, norm, sub};
 use crate::GeometryError;
+use signorini_mesh::vec3::{dot, norm, sub};
 
 type Boxed = GeomWithData<Rectangle<[f64; 3]>, usize>;
 

@@ -18,8 +18,8 @@ use std::fs::File;
 use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
 
-use crate::results::{BodyResult, OutputRequest, RunOutput, StepFields};
 use crate::pieces::{piece_file, ContactFields, NodalContact, SubdomainPiece};
+use crate::results::{BodyResult, OutputRequest, RunOutput, StepFields};
 use crate::vtu::{
     declared_arrays, write_pvd, write_pvtu, write_vtu, PvdEntry, VtuPiece, NODE_ARRAY,
 };

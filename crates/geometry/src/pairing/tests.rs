@@ -1,5 +1,5 @@
-use crate::search::MasterIndex;
 use super::*;
+use crate::search::MasterIndex;
 use signorini_mesh::{Cell, CellKind, Facet};
 
 const TOL: f64 = 1e-12;
