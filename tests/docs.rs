@@ -798,6 +798,9 @@ fn the_crate_graph_check_names_an_extra_dependency_a_stale_row_and_a_cycle() {
         .iter()
         .find(|f| f.starts_with("the table has a cycle"))
         .unwrap();
-    assert!(cycle.ends_with("contact -> fem -> mesh -> contact"), "{cycle}");
+    assert!(
+        cycle.ends_with("contact -> fem -> mesh -> contact"),
+        "{cycle}"
+    );
     assert!(documented_graph("# no table\n").is_err());
 }

@@ -56,7 +56,7 @@ use signorini_mesh::vec3::{dot, norm, sub};
 use signorini_mesh::{Mesh, Surface};
 use std::collections::BTreeMap;
 
-use crate::mortar::{mortar_points, MortarPairing};
+use crate::mortar::{mortar_master, mortar_points, MortarInput, MortarPairing};
 use crate::pairing::{meet_face, nodal_normals, search_distance, FacetSearch, MasterGeometry};
 use crate::GeometryError;
 use clipping::{clip, counter_clockwise, polygon_rule, signed_area, AuxPlane, Point2};
@@ -125,20 +125,14 @@ pub fn mortar3d_pairing(
     slave_surface: &Surface,
     master: &MasterGeometry<'_>,
 ) -> Result<MortarPairing, GeometryError> {
-    let (m_mesh, m_surf) =
-        crate::mortar::deformable_master(master, "a rigid plane or sphere: use node_to_face")?;
-    if slave_mesh.dim != 3 || m_mesh.dim != 3 {
-        return Err(GeometryError(
-            "mortar3d_pairing needs two 3D meshes (in 2D see mortar::mortar_pairing)".into(),
-        ));
-    }
-    let linear = |s: &Surface| s.facets.iter().all(|f| matches!(f.nodes.len(), 3 | 4));
-    if !linear(slave_surface) || !linear(m_surf) {
-        return Err(GeometryError(
-            "mortar in 3D is implemented for linear faces only (3-node triangles, 4-node quadrilaterals), not quadratic ones (use node_to_face)"
-                .into(),
-        ));
-    }
+    let input = MortarInput {
+        dim: 3,
+        facet_nodes: [3, 4],
+        rigid_hint: "a rigid plane or sphere: use node_to_face",
+        wrong_dimension: "mortar3d_pairing needs two 3D meshes (in 2D see mortar::mortar_pairing)",
+        wrong_facets: "mortar in 3D is implemented for linear faces only (3-node triangles, 4-node quadrilaterals), not quadratic ones (use node_to_face)",
+    };
+    let (m_mesh, m_surf) = mortar_master(slave_mesh, slave_surface, master, &input)?;
     let index = FacetSearch::new(m_mesh, m_surf)?;
     let reach = search_distance(slave_mesh, master);
     let normals: BTreeMap<usize, [f64; 3]> = nodal_normals(slave_mesh, slave_surface)

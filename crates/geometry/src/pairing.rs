@@ -103,6 +103,53 @@ pub struct ContactPoint {
     pub terms: Vec<Term>,
 }
 
+impl ContactPoint {
+    /// The point of slave node `slave_node` at `x` with the unit normal
+    /// `normal` and the master point `x_master` (mortar: the weighted mean
+    /// of its master nodes): its tangents in a mesh of dimension 3
+    /// (`three_d`) or 2, its initial gap g0 = n · (x − x_master), and its
+    /// row `terms`.
+    pub(crate) fn new(
+        slave_node: usize,
+        (x, x_master): ([f64; 3], [f64; 3]),
+        normal: [f64; 3],
+        terms: Vec<Term>,
+        three_d: bool,
+    ) -> Self {
+        let (tangent, tangent2) = tangents(three_d, normal);
+        ContactPoint {
+            slave_node,
+            x,
+            normal,
+            tangent,
+            tangent2,
+            gap0: dot(normal, sub(x, x_master)),
+            terms,
+        }
+    }
+}
+
+impl Term {
+    /// The slave node's term of a row: n · u(node).
+    pub(crate) fn slave(node: usize) -> Self {
+        Term {
+            side: TermSide::Slave,
+            node,
+            weight: 1.0,
+        }
+    }
+
+    /// A master node's term: −`weight` n · u(node), `weight` its shape
+    /// function at the master point.
+    pub(crate) fn master(node: usize, weight: f64) -> Self {
+        Term {
+            side: TermSide::Master,
+            node,
+            weight: -weight,
+        }
+    }
+}
+
 /// The planar trapezoid (0,0) (4,0) (3,2) (1,2) in z = 0 of the tests: its
 /// bilinear map x(ξ, η) is not affine.
 #[cfg(test)]
@@ -280,14 +327,6 @@ fn check_dims(slave_mesh: &Mesh, master: &MasterGeometry<'_>) -> Result<(), Geom
     Ok(())
 }
 
-fn slave_term(s: usize) -> Term {
-    Term {
-        side: TermSide::Slave,
-        node: s,
-        weight: 1.0,
-    }
-}
-
 /// Fraction of the body size within which a slave node looks for its master
 /// point (see [`search_distance`]).
 pub const SEARCH_FRACTION: f64 = 0.5;
@@ -332,6 +371,14 @@ pub struct Dropped {
 }
 
 impl Dropped {
+    /// No node dropped yet, within the search distance `reach`.
+    pub(crate) fn within(reach: f64) -> Self {
+        Dropped {
+            search_distance: reach,
+            ..Dropped::default()
+        }
+    }
+
     pub fn total(&self) -> usize {
         self.off_surface + self.far + self.missed
     }
@@ -520,11 +567,7 @@ fn surface_point(index: &MasterIndex<'_>, hit: &search::Hit) -> MasterPoint {
         .iter()
         .zip(&hit.closest.weights)
         .filter(|&(_, &w)| w != 0.0)
-        .map(|(&node, &w)| Term {
-            side: TermSide::Master,
-            node,
-            weight: -w,
-        })
+        .map(|(&node, &w)| Term::master(node, w))
         .collect();
     MasterPoint {
         x: hit.closest.x,
@@ -643,27 +686,15 @@ pub fn node_to_segment_pairing(
     let side = MasterSide::new(master)?;
     let mut out = Pairing {
         points: Vec::with_capacity(slave_normals.len()),
-        dropped: Dropped {
-            search_distance: reach,
-            ..Dropped::default()
-        },
+        dropped: Dropped::within(reach),
     };
     for (s, n_s) in slave_normals {
         let x = slave_mesh.coords[s];
         match pair(&side, rule, (s, x, n_s), reach, (three_d, scale))? {
             Ok((n, m)) => {
-                let (tangent, tangent2) = tangents(three_d, n);
-                let mut terms = vec![slave_term(s)];
+                let mut terms = vec![Term::slave(s)];
                 terms.extend(m.terms);
-                out.points.push(ContactPoint {
-                    slave_node: s,
-                    x,
-                    normal: n,
-                    tangent,
-                    tangent2,
-                    gap0: dot(n, sub(x, m.x)),
-                    terms,
-                });
+                (out.points).push(ContactPoint::new(s, (x, m.x), n, terms, three_d));
             }
             Err(Unpaired::OffSurface) => out.dropped.off_surface += 1,
             Err(Unpaired::Far) => out.dropped.far += 1,
@@ -717,23 +748,14 @@ pub fn node_to_node_pairing(
     check_dims(slave_mesh, master)?;
     let three_d = is_3d(slave_mesh);
     let slave_normals = nodal_normals(slave_mesh, slave_surface);
-    let master_normals = nodal_normals(mesh, surface);
-    let nodes = NodeIndex::new(
-        master_normals
-            .iter()
-            .map(|&(m, _)| mesh.coords[m])
-            .collect(),
-    );
+    let nodes = MasterNodes::new(mesh, surface);
     let scale = slave_mesh.size();
     let reach = search_distance(slave_mesh, master);
     let mut out = Vec::with_capacity(slave_normals.len());
-    let mut dropped = Dropped {
-        search_distance: reach,
-        ..Dropped::default()
-    };
+    let mut dropped = Dropped::within(reach);
     for (s, n_s) in slave_normals {
         let x = slave_mesh.coords[s];
-        let Some((m, n_m)) = nodes.nearest(x).map(|i| master_normals[i]) else {
+        let Some((m, n_m)) = nodes.nearest(x) else {
             return Err(GeometryError("the master surface has no node".into()));
         };
         let xm = mesh.coords[m];
@@ -758,11 +780,7 @@ pub fn node_to_node_pairing(
             d[2] - dot(d, facing) * facing[2],
         ]);
         if tangential > 1e-6 * scale.max(f64::MIN_POSITIVE) {
-            let at = if three_d {
-                format!("({:.6}, {:.6}, {:.6})", x[0], x[1], x[2])
-            } else {
-                format!("({:.6}, {:.6})", x[0], x[1])
-            };
+            let at = position(x, three_d, Some(6));
             return Err(GeometryError(format!(
                 "node_to_node needs matching meshes: slave node {s} at {at} has no master node facing it (nearest is {tangential:.3e} off the normal); use discretization = \"node_to_segment\""
             )));
@@ -775,6 +793,41 @@ pub fn node_to_node_pairing(
     })
 }
 
+/// The nodes of a master surface with their outward normals
+/// ([`nodal_normals`]), for the nearest-node search of node-to-node and
+/// contact elements.
+struct MasterNodes {
+    normals: Vec<(usize, [f64; 3])>,
+    index: NodeIndex,
+}
+
+impl MasterNodes {
+    fn new(mesh: &Mesh, surface: &Surface) -> Self {
+        let normals = nodal_normals(mesh, surface);
+        let index = NodeIndex::new(normals.iter().map(|&(m, _)| mesh.coords[m]).collect());
+        MasterNodes { normals, index }
+    }
+
+    /// The master node nearest to x (R*-tree search; ties to the lowest
+    /// node number) and its normal; `None` for a surface without nodes.
+    fn nearest(&self, x: [f64; 3]) -> Option<(usize, [f64; 3])> {
+        self.index.nearest(x).map(|i| self.normals[i])
+    }
+}
+
+/// A slave node's position for a message: (x, y) in 2D, (x, y, z) in 3D,
+/// with `digits` decimals (`None`: as Rust prints an f64).
+fn position(x: [f64; 3], three_d: bool, digits: Option<usize>) -> String {
+    let shown: Vec<String> = x[..if three_d { 3 } else { 2 }]
+        .iter()
+        .map(|v| match digits {
+            Some(d) => format!("{v:.d$}"),
+            None => format!("{v}"),
+        })
+        .collect();
+    format!("({})", shown.join(", "))
+}
+
 /// The node-to-node point of slave node `s` at `x` facing master node `m`
 /// at `xm` along the normal `n`: gap₀ = n·(x − xm), g = n·(u_s − u_m).
 fn node_to_node_point(
@@ -785,23 +838,8 @@ fn node_to_node_point(
     n: [f64; 3],
     three_d: bool,
 ) -> ContactPoint {
-    let (tangent, tangent2) = tangents(three_d, n);
-    ContactPoint {
-        slave_node: s,
-        x,
-        normal: n,
-        tangent,
-        tangent2,
-        gap0: dot(n, sub(x, xm)),
-        terms: vec![
-            slave_term(s),
-            Term {
-                side: TermSide::Master,
-                node: m,
-                weight: -1.0,
-            },
-        ],
-    }
+    let terms = vec![Term::slave(s), Term::master(m, 1.0)];
+    ContactPoint::new(s, (x, xm), n, terms, three_d)
 }
 
 /// The contact elements of course notes §7 between two surfaces whose nodes
@@ -822,25 +860,15 @@ pub fn contact_element_pairing(
     };
     check_dims(slave_mesh, master)?;
     let three_d = is_3d(slave_mesh);
-    let master_normals = nodal_normals(mesh, surface);
-    let nodes = NodeIndex::new(
-        master_normals
-            .iter()
-            .map(|&(m, _)| mesh.coords[m])
-            .collect(),
-    );
+    let nodes = MasterNodes::new(mesh, surface);
     let scale = slave_mesh.size().max(f64::MIN_POSITIVE);
     let mut points = Vec::new();
     for (s, n_s) in nodal_normals(slave_mesh, slave_surface) {
         let x = slave_mesh.coords[s];
-        let nearest = nodes.nearest(x).map(|i| master_normals[i]);
+        let nearest = nodes.nearest(x);
         let d = nearest.map_or(f64::INFINITY, |(m, _)| norm(sub(x, mesh.coords[m])));
         let Some((m, n_m)) = nearest.filter(|_| d <= 1e-6 * scale) else {
-            let at = if three_d {
-                format!("({}, {}, {})", x[0], x[1], x[2])
-            } else {
-                format!("({}, {})", x[0], x[1])
-            };
+            let at = position(x, three_d, None);
             return Err(GeometryError(format!(
                 "contact elements need coincident nodes: slave node {s} at {at} has no master node within {:.3e} (10⁻⁶ of the body's size; nearest at {d:.3e}); for non-matching meshes use discretization = \"node_to_segment\" or \"mortar\"",
                 1e-6 * scale
