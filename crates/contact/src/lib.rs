@@ -1,6 +1,7 @@
-//! Contact: geometry (contact points, normals, gaps, the rows of B) and the
-//! algorithms that solve the contact problem, on the condensed problem
-//! (Delassus operator) or on the whole sparse stiffness (direct path).
+//! Contact: the algorithms that solve the contact problem, on the condensed
+//! problem (Delassus operator) or on the whole sparse stiffness (direct
+//! path). The contact points, normals, gaps and rows of B are the geometry
+//! crate's (`signorini-geometry`).
 //!
 //! Conventions (docs/theory/contact-problem.md): the normal n points from master to slave; the
 //! gap is g = g0 + B u with B the row operator n·(u_slave − u_master
@@ -8,10 +9,9 @@
 //! compressive normal force on the slave (the course notes' F_n = −λ ≤ 0, §2.1);
 //! complementarity λ g = 0.
 //!
-//! The contact crate owns the contact geometry (module `geometry`) and the
-//! algebra on W, q (G, e); it must not know the scene format, MPI, the command
-//! line or finite-element systems (the direct path's KKT solve lives in the
-//! solver).
+//! The contact crate owns the algebra on W, q (G, e); it must not know the
+//! contact geometry, the scene format, MPI, the command line or
+//! finite-element systems (the direct path's KKT solve lives in the solver).
 
 pub mod active_set;
 pub mod augmented_lagrangian;
@@ -21,11 +21,8 @@ pub mod equilibrium;
 mod fixed_point;
 pub mod friction;
 pub mod friction3d;
-pub mod geometry;
 pub mod lcp;
 pub mod lemke;
-pub mod mortar;
-pub mod mortar3d;
 pub mod mprgp;
 pub mod norms;
 pub mod observe;
@@ -33,7 +30,6 @@ pub mod penalty;
 mod problem_scale;
 pub mod projected_gradient;
 mod reduced;
-pub mod redundancy;
 pub mod registry;
 mod semismooth_newton;
 pub mod smalbe;
@@ -45,7 +41,6 @@ pub mod uzawa;
 pub(crate) mod test_problems;
 
 pub use delassus::{DelassusOperator, DelassusProblem};
-pub use geometry::{ContactPoint, MasterGeometry, NormalRule, Term, TermSide};
 pub use status::{status_method, ActiveSetSolve, StatusOptions, StatusVariant};
 
 #[derive(Debug, thiserror::Error)]

@@ -14,7 +14,7 @@ use crate::{inf_norm, memory, model, SolveError};
 use signorini_contact::friction::PointStatus;
 use signorini_contact::norms::nan_max;
 use signorini_contact::{SolverReport, StatusVariant, StopReason};
-use signorini_report::output::{RunOutput, StepFields};
+use signorini_report::results::{RunOutput, StepFields};
 use signorini_report::{
     Certificate, ContactRow, ContactSummary, Memory, Probe, RankStats, Report, StepReport, Timings,
 };

@@ -249,7 +249,7 @@ fn contact_coordinates(
 fn reference_mu(
     r: &scene::Reference,
     first: &scene::Contact,
-    p: &signorini_contact::ContactPoint,
+    p: &signorini_geometry::ContactPoint,
     direction: [f64; 3],
 ) -> Result<f64, SolveError> {
     let directional = |c: &[f64]| -> Option<f64> {

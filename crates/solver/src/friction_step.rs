@@ -108,7 +108,7 @@ pub(crate) fn friction_rows(
                 Some(_) => p.friction,
             })
             .collect(),
-        shadow: signorini_contact::redundancy::tangent_shadows(&interface.rows, m, tangent_row),
+        shadow: signorini_geometry::redundancy::tangent_shadows(&interface.rows, m, tangent_row),
     };
     Ok(Some(FrictionRows {
         layout,

@@ -43,7 +43,7 @@ use std::sync::Arc;
 
 use serde::{Deserialize, Serialize};
 use signorini_contact::ContactError;
-pub use signorini_report::output::{BodyResult, RunOutput, StepFields};
+pub use signorini_report::results::{BodyResult, RunOutput, StepFields};
 pub use signorini_report::stream::{FieldWriter, StepSink, StepsInMemory};
 use signorini_scene as scene;
 

@@ -19,7 +19,7 @@ use crate::{
 };
 use serde::{Deserialize, Serialize};
 use signorini_comm::{broadcast, deal, gather, Transport};
-use signorini_report::output::RunOutput;
+use signorini_report::results::RunOutput;
 use signorini_report::stream::{StepSink, StepsInMemory};
 use signorini_report::{RankStats, Timings};
 use signorini_scene as scene;

@@ -4,7 +4,7 @@
 
 use signorini_contact::friction::PointStatus;
 use signorini_contact::ContactSolution;
-use signorini_report::output::BodyResult;
+use signorini_report::results::BodyResult;
 use signorini_report::{Certificate, ContactRow, Regularisation, StepReport};
 
 /// One step solved on the root.

@@ -1,4 +1,5 @@
 use super::*;
+use crate::pairing::TermSide;
 use signorini_mesh::generators::rectangle;
 use signorini_mesh::CellKind;
 

@@ -3,7 +3,8 @@
 //! functions at the closest point (they sum to 1) and, for the "outside the
 //! master" test, which sides of the primitive the point lies beyond.
 
-use super::{cross, dot, norm, sub, unit};
+use crate::pairing::unit;
+use signorini_mesh::vec3::{cross, dot, norm, sub};
 
 /// Relative tolerance of the "beyond this side" tests: 10⁻⁶ of the
 /// primitive's parameter range (segment ξ ∈ [0, 1], triangle barycentric
@@ -318,7 +319,7 @@ pub(super) fn quad_normal(p: &[[f64; 3]; 4], xi_eta: [f64; 2]) -> Option<[f64; 3
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::geometry::TRAPEZOID;
+    use crate::pairing::TRAPEZOID;
 
     #[test]
     fn triangle_regions() {

@@ -12,8 +12,8 @@
 //! tolerance outside is put on the primitive's boundary (the weights are
 //! clamped, so they stay in [0, 1] and sum to 1).
 
-use super::closest::{bilinear, combine, Closest, BEYOND_TOL, QUAD_CORNERS};
-use super::{cross, dot, norm, sub};
+use crate::closest::{bilinear, combine, Closest, BEYOND_TOL, QUAD_CORNERS};
+use signorini_mesh::vec3::{cross, dot, norm, sub};
 
 /// `Closest` of a meeting point: `dist` is |g|, nothing is "beyond".
 fn hit(x: [f64; 3], g: f64, weights: [f64; 4], xi_raw: f64, xi_eta: [f64; 2]) -> Closest {

@@ -56,9 +56,9 @@ use signorini_mesh::vec3::{dot, norm, sub};
 use signorini_mesh::{Mesh, Surface};
 use std::collections::BTreeMap;
 
-use crate::geometry::{meet_face, nodal_normals, search_distance, FacetSearch, MasterGeometry};
-use crate::mortar::{mortar_points, MortarPairing};
-use crate::ContactError;
+use crate::mortar::{mortar_master, mortar_points, MortarInput, MortarPairing};
+use crate::pairing::{meet_face, nodal_normals, search_distance, FacetSearch, MasterGeometry};
+use crate::GeometryError;
 use clipping::{clip, counter_clockwise, polygon_rule, signed_area, AuxPlane, Point2};
 
 /// Relative area (of a slave face) below which a clipped overlap is ignored:
@@ -119,26 +119,20 @@ impl<'a> SlaveFace<'a> {
 /// deformable master surface of linear faces (see the module
 /// documentation). Slave nodes none of whose faces overlap the master are
 /// not contact points; they are counted as `off_surface` in
-/// [`crate::geometry::Dropped`].
+/// [`crate::pairing::Dropped`].
 pub fn mortar3d_pairing(
     slave_mesh: &Mesh,
     slave_surface: &Surface,
     master: &MasterGeometry<'_>,
-) -> Result<MortarPairing, ContactError> {
-    let (m_mesh, m_surf) =
-        crate::mortar::deformable_master(master, "a rigid plane or sphere: use node_to_face")?;
-    if slave_mesh.dim != 3 || m_mesh.dim != 3 {
-        return Err(ContactError::Geometry(
-            "mortar3d_pairing needs two 3D meshes (in 2D see mortar::mortar_pairing)".into(),
-        ));
-    }
-    let linear = |s: &Surface| s.facets.iter().all(|f| matches!(f.nodes.len(), 3 | 4));
-    if !linear(slave_surface) || !linear(m_surf) {
-        return Err(ContactError::Geometry(
-            "mortar in 3D is implemented for linear faces only (3-node triangles, 4-node quadrilaterals), not quadratic ones (use node_to_face)"
-                .into(),
-        ));
-    }
+) -> Result<MortarPairing, GeometryError> {
+    let input = MortarInput {
+        dim: 3,
+        facet_nodes: [3, 4],
+        rigid_hint: "a rigid plane or sphere: use node_to_face",
+        wrong_dimension: "mortar3d_pairing needs two 3D meshes (in 2D see mortar::mortar_pairing)",
+        wrong_facets: "mortar in 3D is implemented for linear faces only (3-node triangles, 4-node quadrilaterals), not quadratic ones (use node_to_face)",
+    };
+    let (m_mesh, m_surf) = mortar_master(slave_mesh, slave_surface, master, &input)?;
     let index = FacetSearch::new(m_mesh, m_surf)?;
     let reach = search_distance(slave_mesh, master);
     let normals: BTreeMap<usize, [f64; 3]> = nodal_normals(slave_mesh, slave_surface)

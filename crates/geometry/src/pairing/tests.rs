@@ -1,5 +1,5 @@
-use super::search::MasterIndex;
 use super::*;
+use crate::search::MasterIndex;
 use signorini_mesh::{Cell, CellKind, Facet};
 
 const TOL: f64 = 1e-12;
@@ -242,7 +242,7 @@ fn slave_nodes_above_a_flat_trapezoidal_quad_get_the_bilinear_weights_and_gap() 
                 assert!(close(w[k].1, want[k], 1e-13), "{w:?} vs {want:?}");
             }
             assert!(close(w.iter().map(|t| t.1).sum::<f64>(), 1.0, 1e-15));
-            assert_eq!(p.terms[0], slave_term(s));
+            assert_eq!(p.terms[0], Term::slave(s));
         }
     }
 }
@@ -617,7 +617,7 @@ fn rigid_sphere_and_plane_in_3d() {
             norm(d) - r
         );
         assert_vec(p.normal, unit(d).unwrap(), 1e-15);
-        assert_eq!(p.terms, vec![slave_term(p.slave_node)]);
+        assert_eq!(p.terms, vec![Term::slave(p.slave_node)]);
         check_frame(p);
     }
     // The points rule agrees with the master rule on a sphere.

@@ -34,15 +34,12 @@
 //! zero. In 3D (`tangent`, `tangent2`, `normal`) is a right-handed
 //! orthonormal frame built from n alone, see [`tangent_frame`].
 
-mod closest;
-mod ray;
-mod search;
-
 use signorini_mesh::vec3::{cross, dot, norm, sub};
 use signorini_mesh::{Mesh, Surface};
 
-use crate::ContactError;
-use search::{is_3d, MasterIndex, NodeIndex};
+use crate::ray;
+use crate::search::{self, is_3d, MasterIndex, NodeIndex};
+use crate::GeometryError;
 
 /// Rule that chooses the contact normal (course notes §2.4, Fig. 3).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -106,17 +103,64 @@ pub struct ContactPoint {
     pub terms: Vec<Term>,
 }
 
+impl ContactPoint {
+    /// The point of slave node `slave_node` at `x` with the unit normal
+    /// `normal` and the master point `x_master` (mortar: the weighted mean
+    /// of its master nodes): its tangents in a mesh of dimension 3
+    /// (`three_d`) or 2, its initial gap g0 = n · (x − x_master), and its
+    /// row `terms`.
+    pub(crate) fn new(
+        slave_node: usize,
+        (x, x_master): ([f64; 3], [f64; 3]),
+        normal: [f64; 3],
+        terms: Vec<Term>,
+        three_d: bool,
+    ) -> Self {
+        let (tangent, tangent2) = tangents(three_d, normal);
+        ContactPoint {
+            slave_node,
+            x,
+            normal,
+            tangent,
+            tangent2,
+            gap0: dot(normal, sub(x, x_master)),
+            terms,
+        }
+    }
+}
+
+impl Term {
+    /// The slave node's term of a row: n · u(node).
+    pub(crate) fn slave(node: usize) -> Self {
+        Term {
+            side: TermSide::Slave,
+            node,
+            weight: 1.0,
+        }
+    }
+
+    /// A master node's term: −`weight` n · u(node), `weight` its shape
+    /// function at the master point.
+    pub(crate) fn master(node: usize, weight: f64) -> Self {
+        Term {
+            side: TermSide::Master,
+            node,
+            weight: -weight,
+        }
+    }
+}
+
 /// The planar trapezoid (0,0) (4,0) (3,2) (1,2) in z = 0 of the tests: its
 /// bilinear map x(ξ, η) is not affine.
 #[cfg(test)]
-const TRAPEZOID: [[f64; 3]; 4] = [
+pub(crate) const TRAPEZOID: [[f64; 3]; 4] = [
     [0.0, 0.0, 0.0],
     [4.0, 0.0, 0.0],
     [3.0, 2.0, 0.0],
     [1.0, 2.0, 0.0],
 ];
 
-fn unit(a: [f64; 3]) -> Option<[f64; 3]> {
+pub(crate) fn unit(a: [f64; 3]) -> Option<[f64; 3]> {
     let l = norm(a);
     (l > 0.0 && l.is_finite()).then(|| [a[0] / l, a[1] / l, a[2] / l])
 }
@@ -146,7 +190,7 @@ pub fn tangent_frame(n: [f64; 3]) -> ([f64; 3], [f64; 3]) {
 pub(crate) struct FacetSearch<'a>(MasterIndex<'a>);
 
 impl<'a> FacetSearch<'a> {
-    pub fn new(mesh: &'a Mesh, surface: &'a Surface) -> Result<Self, ContactError> {
+    pub fn new(mesh: &'a Mesh, surface: &'a Surface) -> Result<Self, GeometryError> {
         MasterIndex::new(mesh, surface).map(FacetSearch)
     }
 
@@ -263,10 +307,10 @@ fn choose_normal(
     }
 }
 
-fn check_dims(slave_mesh: &Mesh, master: &MasterGeometry<'_>) -> Result<(), ContactError> {
+fn check_dims(slave_mesh: &Mesh, master: &MasterGeometry<'_>) -> Result<(), GeometryError> {
     if let MasterGeometry::Surface { mesh, .. } = master {
         if is_3d(mesh) != is_3d(slave_mesh) {
-            return Err(ContactError::Geometry(format!(
+            return Err(GeometryError(format!(
                 "the slave mesh is {}D and the master mesh {}D",
                 if is_3d(slave_mesh) { 3 } else { 2 },
                 if is_3d(mesh) { 3 } else { 2 },
@@ -275,20 +319,12 @@ fn check_dims(slave_mesh: &Mesh, master: &MasterGeometry<'_>) -> Result<(), Cont
     }
     if let MasterGeometry::Sphere { radius, .. } = master {
         if !(*radius > 0.0 && radius.is_finite()) {
-            return Err(ContactError::Geometry(format!(
+            return Err(GeometryError(format!(
                 "the rigid sphere's radius must be positive and finite, not {radius}"
             )));
         }
     }
     Ok(())
-}
-
-fn slave_term(s: usize) -> Term {
-    Term {
-        side: TermSide::Slave,
-        node: s,
-        weight: 1.0,
-    }
 }
 
 /// Fraction of the body size within which a slave node looks for its master
@@ -335,6 +371,14 @@ pub struct Dropped {
 }
 
 impl Dropped {
+    /// No node dropped yet, within the search distance `reach`.
+    pub(crate) fn within(reach: f64) -> Self {
+        Dropped {
+            search_distance: reach,
+            ..Dropped::default()
+        }
+    }
+
     pub fn total(&self) -> usize {
         self.off_surface + self.far + self.missed
     }
@@ -403,7 +447,7 @@ enum MasterSide<'a> {
 }
 
 impl<'a> MasterSide<'a> {
-    fn new(master: &MasterGeometry<'a>) -> Result<Self, ContactError> {
+    fn new(master: &MasterGeometry<'a>) -> Result<Self, GeometryError> {
         Ok(match master {
             MasterGeometry::Plane { point, normal } => MasterSide::Plane {
                 point: *point,
@@ -416,9 +460,7 @@ impl<'a> MasterSide<'a> {
             MasterGeometry::Surface { mesh, surface } => {
                 let index = MasterIndex::new(mesh, surface)?;
                 if index.pieces.is_empty() {
-                    return Err(ContactError::Geometry(
-                        "the master surface has no facet".into(),
-                    ));
+                    return Err(GeometryError("the master surface has no facet".into()));
                 }
                 MasterSide::Surface(index)
             }
@@ -434,7 +476,7 @@ impl<'a> MasterSide<'a> {
         s: usize,
         x: [f64; 3],
         three_d: bool,
-    ) -> Result<(MasterPoint, f64, bool), ContactError> {
+    ) -> Result<(MasterPoint, f64, bool), GeometryError> {
         Ok(match self {
             MasterSide::Plane { point, normal } => {
                 let d = dot(sub(x, *point), *normal);
@@ -448,7 +490,7 @@ impl<'a> MasterSide<'a> {
             MasterSide::Sphere { center, radius } => {
                 let c = [center[0], center[1], if three_d { center[2] } else { x[2] }];
                 let Some(n_m) = unit(sub(x, c)) else {
-                    return Err(ContactError::Geometry(format!(
+                    return Err(GeometryError(format!(
                         "slave node {s} is at the centre of the rigid sphere: its normal is undefined"
                     )));
                 };
@@ -525,11 +567,7 @@ fn surface_point(index: &MasterIndex<'_>, hit: &search::Hit) -> MasterPoint {
         .iter()
         .zip(&hit.closest.weights)
         .filter(|&(_, &w)| w != 0.0)
-        .map(|(&node, &w)| Term {
-            side: TermSide::Master,
-            node,
-            weight: -w,
-        })
+        .map(|(&node, &w)| Term::master(node, w))
         .collect();
     MasterPoint {
         x: hit.closest.x,
@@ -558,7 +596,7 @@ fn pair(
     (s, x, n_s): (usize, [f64; 3], [f64; 3]),
     reach: f64,
     (three_d, scale): (bool, f64),
-) -> Result<Result<([f64; 3], MasterPoint), Unpaired>, ContactError> {
+) -> Result<Result<([f64; 3], MasterPoint), Unpaired>, GeometryError> {
     let (near, dist, off) = side.closest(s, x, three_d)?;
     if dist > reach {
         return Ok(Err(Unpaired::Far));
@@ -609,7 +647,7 @@ pub fn node_to_segment(
     slave_surface: &Surface,
     master: &MasterGeometry<'_>,
     rule: NormalRule,
-) -> Result<Vec<ContactPoint>, ContactError> {
+) -> Result<Vec<ContactPoint>, GeometryError> {
     node_to_segment_pairing(slave_mesh, slave_surface, master, rule).map(|p| p.points)
 }
 
@@ -639,7 +677,7 @@ pub fn node_to_segment_pairing(
     slave_surface: &Surface,
     master: &MasterGeometry<'_>,
     rule: NormalRule,
-) -> Result<Pairing, ContactError> {
+) -> Result<Pairing, GeometryError> {
     check_dims(slave_mesh, master)?;
     let three_d = is_3d(slave_mesh);
     let slave_normals = nodal_normals(slave_mesh, slave_surface);
@@ -648,27 +686,15 @@ pub fn node_to_segment_pairing(
     let side = MasterSide::new(master)?;
     let mut out = Pairing {
         points: Vec::with_capacity(slave_normals.len()),
-        dropped: Dropped {
-            search_distance: reach,
-            ..Dropped::default()
-        },
+        dropped: Dropped::within(reach),
     };
     for (s, n_s) in slave_normals {
         let x = slave_mesh.coords[s];
         match pair(&side, rule, (s, x, n_s), reach, (three_d, scale))? {
             Ok((n, m)) => {
-                let (tangent, tangent2) = tangents(three_d, n);
-                let mut terms = vec![slave_term(s)];
+                let mut terms = vec![Term::slave(s)];
                 terms.extend(m.terms);
-                out.points.push(ContactPoint {
-                    slave_node: s,
-                    x,
-                    normal: n,
-                    tangent,
-                    tangent2,
-                    gap0: dot(n, sub(x, m.x)),
-                    terms,
-                });
+                (out.points).push(ContactPoint::new(s, (x, m.x), n, terms, three_d));
             }
             Err(Unpaired::OffSurface) => out.dropped.off_surface += 1,
             Err(Unpaired::Far) => out.dropped.far += 1,
@@ -685,7 +711,7 @@ pub fn node_to_face(
     slave_surface: &Surface,
     master: &MasterGeometry<'_>,
     rule: NormalRule,
-) -> Result<Vec<ContactPoint>, ContactError> {
+) -> Result<Vec<ContactPoint>, GeometryError> {
     node_to_segment(slave_mesh, slave_surface, master, rule)
 }
 
@@ -699,7 +725,7 @@ pub fn node_to_node(
     slave_surface: &Surface,
     master: &MasterGeometry<'_>,
     rule: NormalRule,
-) -> Result<Vec<ContactPoint>, ContactError> {
+) -> Result<Vec<ContactPoint>, GeometryError> {
     node_to_node_pairing(slave_mesh, slave_surface, master, rule).map(|p| p.points)
 }
 
@@ -711,7 +737,7 @@ pub fn node_to_node_pairing(
     slave_surface: &Surface,
     master: &MasterGeometry<'_>,
     rule: NormalRule,
-) -> Result<Pairing, ContactError> {
+) -> Result<Pairing, GeometryError> {
     let (mesh, surface) = match master {
         MasterGeometry::Plane { .. } | MasterGeometry::Sphere { .. } => {
             // Against a rigid obstacle, node-to-node and node-to-segment coincide.
@@ -722,26 +748,15 @@ pub fn node_to_node_pairing(
     check_dims(slave_mesh, master)?;
     let three_d = is_3d(slave_mesh);
     let slave_normals = nodal_normals(slave_mesh, slave_surface);
-    let master_normals = nodal_normals(mesh, surface);
-    let nodes = NodeIndex::new(
-        master_normals
-            .iter()
-            .map(|&(m, _)| mesh.coords[m])
-            .collect(),
-    );
+    let nodes = MasterNodes::new(mesh, surface);
     let scale = slave_mesh.size();
     let reach = search_distance(slave_mesh, master);
     let mut out = Vec::with_capacity(slave_normals.len());
-    let mut dropped = Dropped {
-        search_distance: reach,
-        ..Dropped::default()
-    };
+    let mut dropped = Dropped::within(reach);
     for (s, n_s) in slave_normals {
         let x = slave_mesh.coords[s];
-        let Some((m, n_m)) = nodes.nearest(x).map(|i| master_normals[i]) else {
-            return Err(ContactError::Geometry(
-                "the master surface has no node".into(),
-            ));
+        let Some((m, n_m)) = nodes.nearest(x) else {
+            return Err(GeometryError("the master surface has no node".into()));
         };
         let xm = mesh.coords[m];
         let d = sub(x, xm);
@@ -765,12 +780,8 @@ pub fn node_to_node_pairing(
             d[2] - dot(d, facing) * facing[2],
         ]);
         if tangential > 1e-6 * scale.max(f64::MIN_POSITIVE) {
-            let at = if three_d {
-                format!("({:.6}, {:.6}, {:.6})", x[0], x[1], x[2])
-            } else {
-                format!("({:.6}, {:.6})", x[0], x[1])
-            };
-            return Err(ContactError::Geometry(format!(
+            let at = position(x, three_d, Some(6));
+            return Err(GeometryError(format!(
                 "node_to_node needs matching meshes: slave node {s} at {at} has no master node facing it (nearest is {tangential:.3e} off the normal); use discretization = \"node_to_segment\""
             )));
         }
@@ -780,6 +791,41 @@ pub fn node_to_node_pairing(
         points: out,
         dropped,
     })
+}
+
+/// The nodes of a master surface with their outward normals
+/// ([`nodal_normals`]), for the nearest-node search of node-to-node and
+/// contact elements.
+struct MasterNodes {
+    normals: Vec<(usize, [f64; 3])>,
+    index: NodeIndex,
+}
+
+impl MasterNodes {
+    fn new(mesh: &Mesh, surface: &Surface) -> Self {
+        let normals = nodal_normals(mesh, surface);
+        let index = NodeIndex::new(normals.iter().map(|&(m, _)| mesh.coords[m]).collect());
+        MasterNodes { normals, index }
+    }
+
+    /// The master node nearest to x (R*-tree search; ties to the lowest
+    /// node number) and its normal; `None` for a surface without nodes.
+    fn nearest(&self, x: [f64; 3]) -> Option<(usize, [f64; 3])> {
+        self.index.nearest(x).map(|i| self.normals[i])
+    }
+}
+
+/// A slave node's position for a message: (x, y) in 2D, (x, y, z) in 3D,
+/// with `digits` decimals (`None`: as Rust prints an f64).
+fn position(x: [f64; 3], three_d: bool, digits: Option<usize>) -> String {
+    let shown: Vec<String> = x[..if three_d { 3 } else { 2 }]
+        .iter()
+        .map(|v| match digits {
+            Some(d) => format!("{v:.d$}"),
+            None => format!("{v}"),
+        })
+        .collect();
+    format!("({})", shown.join(", "))
 }
 
 /// The node-to-node point of slave node `s` at `x` facing master node `m`
@@ -792,23 +838,8 @@ fn node_to_node_point(
     n: [f64; 3],
     three_d: bool,
 ) -> ContactPoint {
-    let (tangent, tangent2) = tangents(three_d, n);
-    ContactPoint {
-        slave_node: s,
-        x,
-        normal: n,
-        tangent,
-        tangent2,
-        gap0: dot(n, sub(x, xm)),
-        terms: vec![
-            slave_term(s),
-            Term {
-                side: TermSide::Master,
-                node: m,
-                weight: -1.0,
-            },
-        ],
-    }
+    let terms = vec![Term::slave(s), Term::master(m, 1.0)];
+    ContactPoint::new(s, (x, xm), n, terms, three_d)
 }
 
 /// The contact elements of course notes §7 between two surfaces whose nodes
@@ -821,34 +852,24 @@ pub fn contact_element_pairing(
     slave_surface: &Surface,
     master: &MasterGeometry<'_>,
     rule: NormalRule,
-) -> Result<Pairing, ContactError> {
+) -> Result<Pairing, GeometryError> {
     let MasterGeometry::Surface { mesh, surface } = master else {
-        return Err(ContactError::Geometry(
+        return Err(GeometryError(
             "contact elements join two deformable bodies: the master must be a deformable body with a surface".into(),
         ));
     };
     check_dims(slave_mesh, master)?;
     let three_d = is_3d(slave_mesh);
-    let master_normals = nodal_normals(mesh, surface);
-    let nodes = NodeIndex::new(
-        master_normals
-            .iter()
-            .map(|&(m, _)| mesh.coords[m])
-            .collect(),
-    );
+    let nodes = MasterNodes::new(mesh, surface);
     let scale = slave_mesh.size().max(f64::MIN_POSITIVE);
     let mut points = Vec::new();
     for (s, n_s) in nodal_normals(slave_mesh, slave_surface) {
         let x = slave_mesh.coords[s];
-        let nearest = nodes.nearest(x).map(|i| master_normals[i]);
+        let nearest = nodes.nearest(x);
         let d = nearest.map_or(f64::INFINITY, |(m, _)| norm(sub(x, mesh.coords[m])));
         let Some((m, n_m)) = nearest.filter(|_| d <= 1e-6 * scale) else {
-            let at = if three_d {
-                format!("({}, {}, {})", x[0], x[1], x[2])
-            } else {
-                format!("({}, {})", x[0], x[1])
-            };
-            return Err(ContactError::Geometry(format!(
+            let at = position(x, three_d, None);
+            return Err(GeometryError(format!(
                 "contact elements need coincident nodes: slave node {s} at {at} has no master node within {:.3e} (10⁻⁶ of the body's size; nearest at {d:.3e}); for non-matching meshes use discretization = \"node_to_segment\" or \"mortar\"",
                 1e-6 * scale
             )));

@@ -20,7 +20,7 @@ pub(super) struct AuxPlane {
 
 impl AuxPlane {
     pub fn new(origin: [f64; 3], normal: [f64; 3]) -> Self {
-        let (e1, e2) = crate::geometry::tangent_frame(normal);
+        let (e1, e2) = crate::pairing::tangent_frame(normal);
         AuxPlane {
             origin,
             normal,

@@ -58,11 +58,10 @@ use signorini_mesh::vec3::{dot, norm, sub};
 use signorini_mesh::{Mesh, Surface};
 use std::collections::BTreeMap;
 
-use crate::geometry::{
-    nodal_normals, search_distance, tangents, ContactPoint, Dropped, MasterGeometry, Pairing, Term,
-    TermSide,
+use crate::pairing::{
+    nodal_normals, search_distance, ContactPoint, Dropped, MasterGeometry, Pairing, Term,
 };
-use crate::ContactError;
+use crate::GeometryError;
 use edge::{Edge, SlaveEdge};
 
 /// Gauss–Legendre points and weights on [0, 1] (4 points: exact to degree 7).
@@ -103,18 +102,42 @@ fn gauss_points(o: &Overlap) -> impl Iterator<Item = (f64, f64)> + '_ {
         .map(move |&(t, w)| (o.lo + t * (o.hi - o.lo), w * (o.hi - o.lo)))
 }
 
-/// The master's mesh and surface, or the error of a rigid master (`hint`:
-/// what to use instead).
-pub(crate) fn deformable_master<'a>(
+/// What the mortar pairing of one dimension accepts, and the messages that
+/// say what is wrong otherwise.
+pub(crate) struct MortarInput<'s> {
+    /// The dimension of both meshes.
+    pub dim: usize,
+    /// The node counts of the facets of both surfaces.
+    pub facet_nodes: [usize; 2],
+    /// What to use instead against a rigid master.
+    pub rigid_hint: &'s str,
+    pub wrong_dimension: &'s str,
+    pub wrong_facets: &'s str,
+}
+
+/// The master's mesh and surface when the pair is one `input` accepts: a
+/// deformable master, meshes of its dimension, facets of its node counts.
+pub(crate) fn mortar_master<'a>(
+    slave_mesh: &Mesh,
+    slave_surface: &Surface,
     master: &MasterGeometry<'a>,
-    hint: &str,
-) -> Result<(&'a Mesh, &'a Surface), ContactError> {
-    match master {
-        MasterGeometry::Surface { mesh, surface } => Ok((mesh, surface)),
-        _ => Err(ContactError::Geometry(format!(
-            "mortar needs a deformable master surface ({hint})"
-        ))),
+    input: &MortarInput<'_>,
+) -> Result<(&'a Mesh, &'a Surface), GeometryError> {
+    let MasterGeometry::Surface { mesh, surface } = master else {
+        return Err(GeometryError(format!(
+            "mortar needs a deformable master surface ({})",
+            input.rigid_hint
+        )));
+    };
+    if slave_mesh.dim != input.dim || mesh.dim != input.dim {
+        return Err(GeometryError(input.wrong_dimension.into()));
     }
+    let accepted =
+        |s: &Surface| (s.facets.iter()).all(|f| input.facet_nodes.contains(&f.nodes.len()));
+    if !accepted(slave_surface) || !accepted(surface) {
+        return Err(GeometryError(input.wrong_facets.into()));
+    }
+    Ok((mesh, surface))
 }
 
 /// The 2D mortar pairing of a slave surface of linear or quadratic edges
@@ -126,21 +149,17 @@ pub fn mortar_pairing(
     slave_mesh: &Mesh,
     slave_surface: &Surface,
     master: &MasterGeometry<'_>,
-) -> Result<MortarPairing, ContactError> {
-    let (m_mesh, m_surf) =
-        deformable_master(master, "a rigid plane or circle: use node_to_segment")?;
-    if slave_mesh.dim != 2 || m_mesh.dim != 2 {
-        return Err(ContactError::Geometry(
-            "mortar_pairing needs two 2D meshes (in 3D see mortar3d::mortar3d_pairing)".into(),
-        ));
-    }
-    let edges = |s: &Surface| s.facets.iter().all(|f| matches!(f.nodes.len(), 2 | 3));
-    if !edges(slave_surface) || !edges(m_surf) {
-        return Err(ContactError::Geometry(
-            "mortar needs edges of 2 nodes (linear) or 3 (quadratic: corner, corner, mid-side)"
-                .into(),
-        ));
-    }
+) -> Result<MortarPairing, GeometryError> {
+    let input = MortarInput {
+        dim: 2,
+        facet_nodes: [2, 3],
+        rigid_hint: "a rigid plane or circle: use node_to_segment",
+        wrong_dimension:
+            "mortar_pairing needs two 2D meshes (in 3D see mortar3d::mortar3d_pairing)",
+        wrong_facets:
+            "mortar needs edges of 2 nodes (linear) or 3 (quadratic: corner, corner, mid-side)",
+    };
+    let (m_mesh, m_surf) = mortar_master(slave_mesh, slave_surface, master, &input)?;
     let reach = search_distance(slave_mesh, master);
     let normals: BTreeMap<usize, [f64; 3]> = nodal_normals(slave_mesh, slave_surface)
         .into_iter()
@@ -310,10 +329,7 @@ pub(crate) fn mortar_points(
     let mut out = MortarPairing {
         pairing: Pairing {
             points: Vec::new(),
-            dropped: Dropped {
-                search_distance: reach,
-                ..Dropped::default()
-            },
+            dropped: Dropped::within(reach),
         },
         measure: BTreeMap::new(),
     };
@@ -325,11 +341,7 @@ pub(crate) fn mortar_points(
         }
         let n = [-n_out[0], -n_out[1], -n_out[2]];
         let x = slave_mesh.coords[s];
-        let mut terms = vec![Term {
-            side: TermSide::Slave,
-            node: s,
-            weight: 1.0,
-        }];
+        let mut terms = vec![Term::slave(s)];
         let mut xm = [0.0; 3];
         for (&l, &mjl) in m.get(&s).into_iter().flatten() {
             let w = mjl / djj;
@@ -337,22 +349,10 @@ pub(crate) fn mortar_points(
             for k in 0..3 {
                 xm[k] += w * y[k];
             }
-            terms.push(Term {
-                side: TermSide::Master,
-                node: l,
-                weight: -w,
-            });
+            terms.push(Term::master(l, w));
         }
-        let (tangent, tangent2) = tangents(slave_mesh.dim == 3, n);
-        out.pairing.points.push(ContactPoint {
-            slave_node: s,
-            x,
-            normal: n,
-            tangent,
-            tangent2,
-            gap0: dot(n, sub(x, xm)),
-            terms,
-        });
+        let three_d = slave_mesh.dim == 3;
+        (out.pairing.points).push(ContactPoint::new(s, (x, xm), n, terms, three_d));
         out.measure.insert(s, djj);
     }
     out

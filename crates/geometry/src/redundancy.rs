@@ -33,19 +33,8 @@ pub fn duplicate_constraints<K: Ord + Clone>(
     let normalised: Vec<(BTreeMap<K, f64>, f64)> = rows
         .iter()
         .map(|(row, gap)| {
-            let mut m: BTreeMap<K, f64> = BTreeMap::new();
-            for (k, c) in row {
-                *m.entry(k.clone()).or_insert(0.0) += c;
-            }
-            let scale = m.values().fold(0.0f64, |a, c| a.max(c.abs()));
-            m.retain(|_, c| c.abs() > 1e-14 * scale);
-            let norm = m.values().map(|c| c * c).sum::<f64>().sqrt();
-            if norm > 0.0 {
-                m.values_mut().for_each(|c| *c /= norm);
-                (m, gap / norm)
-            } else {
-                (m, *gap)
-            }
+            let (m, norm) = unit_row(row);
+            (m, if norm > 0.0 { gap / norm } else { *gap })
         })
         .collect();
     for (i, (m, _)) in normalised.iter().enumerate() {
@@ -61,14 +50,7 @@ pub fn duplicate_constraints<K: Ord + Clone>(
         let mut kept: Vec<usize> = Vec::new();
         for &i in members {
             let (mi, gi) = &normalised[i];
-            let twin = kept.iter().position(|&j| {
-                let cos: f64 = normalised[j]
-                    .0
-                    .iter()
-                    .map(|(k, c)| c * mi.get(k).copied().unwrap_or(0.0))
-                    .sum();
-                cos >= 1.0 - PARALLEL
-            });
+            let twin = (kept.iter()).position(|&j| cosine(&normalised[j].0, mi) >= 1.0 - PARALLEL);
             match twin {
                 None => kept.push(i),
                 Some(t) => {
@@ -104,17 +86,7 @@ pub fn tangent_shadows(
     m: usize,
     tangent_row: &[Option<usize>],
 ) -> Vec<Option<usize>> {
-    let normalised = |r: &Vec<(usize, f64)>| -> BTreeMap<usize, f64> {
-        let mut a: BTreeMap<usize, f64> = BTreeMap::new();
-        for &(k, c) in r {
-            *a.entry(k).or_insert(0.0) += c;
-        }
-        let scale = a.values().fold(0.0f64, |x, c| x.max(c.abs()));
-        a.retain(|_, c| c.abs() > 1e-14 * scale);
-        let norm = a.values().map(|c| c * c).sum::<f64>().sqrt();
-        a.values_mut().for_each(|c| *c /= norm);
-        a
-    };
+    let normalised = |r: &Vec<(usize, f64)>| unit_row(r).0;
     type Unit = BTreeMap<usize, f64>;
     let mut by_dofs: BTreeMap<Vec<usize>, Vec<(usize, Unit)>> = BTreeMap::new();
     for (q, r) in rows.iter().enumerate().take(m) {
@@ -132,15 +104,36 @@ pub fn tangent_shadows(
         .map(|(p, t)| {
             let a = normalised(&rows[(*t)?]);
             let key: Vec<usize> = a.keys().copied().collect();
-            by_dofs.get(&key)?.iter().find_map(|(q, b)| {
-                let cos: f64 = a
-                    .iter()
-                    .map(|(k, c)| c * b.get(k).copied().unwrap_or(0.0))
-                    .sum();
-                (*q != p && cos.abs() >= 1.0 - PARALLEL).then_some(*q)
-            })
+            by_dofs
+                .get(&key)?
+                .iter()
+                .find_map(|(q, b)| (*q != p && cosine(&a, b).abs() >= 1.0 - PARALLEL).then_some(*q))
         })
         .collect()
+}
+
+/// A row over DOF keys as a map (repeated keys summed, entries below 10⁻¹⁴
+/// of the largest dropped) scaled to unit length, and its length before
+/// (0: no entry left, the map empty).
+fn unit_row<K: Ord + Clone>(row: &[(K, f64)]) -> (BTreeMap<K, f64>, f64) {
+    let mut m: BTreeMap<K, f64> = BTreeMap::new();
+    for (k, c) in row {
+        *m.entry(k.clone()).or_insert(0.0) += c;
+    }
+    let scale = m.values().fold(0.0f64, |a, c| a.max(c.abs()));
+    m.retain(|_, c| c.abs() > 1e-14 * scale);
+    let norm = m.values().map(|c| c * c).sum::<f64>().sqrt();
+    if norm > 0.0 {
+        m.values_mut().for_each(|c| *c /= norm);
+    }
+    (m, norm)
+}
+
+/// The cosine of two unit rows: the sum over the keys of `a` of a_k b_k.
+fn cosine<K: Ord>(a: &BTreeMap<K, f64>, b: &BTreeMap<K, f64>) -> f64 {
+    a.iter()
+        .map(|(k, c)| c * b.get(k).copied().unwrap_or(0.0))
+        .sum()
 }
 
 #[cfg(test)]

@@ -19,10 +19,11 @@ use rstar::primitives::{GeomWithData, Rectangle};
 use rstar::{RTree, RTreeObject, SelectionFunction, AABB};
 use signorini_mesh::{Facet, Mesh, Surface};
 
-use super::closest::{self, Closest};
-use super::ray;
-use super::{dot, norm, sub, unit};
-use crate::ContactError;
+use crate::closest::{self, Closest};
+use crate::pairing::unit;
+use crate::ray;
+use crate::GeometryError;
+use signorini_mesh::vec3::{dot, norm, sub};
 
 type Boxed = GeomWithData<Rectangle<[f64; 3]>, usize>;
 
@@ -83,7 +84,7 @@ pub(super) fn is_3d(mesh: &Mesh) -> bool {
 }
 
 impl<'a> MasterIndex<'a> {
-    pub fn new(mesh: &'a Mesh, surface: &'a Surface) -> Result<Self, ContactError> {
+    pub fn new(mesh: &'a Mesh, surface: &'a Surface) -> Result<Self, GeometryError> {
         let three_d = is_3d(mesh);
         for (k, f) in surface.facets.iter().enumerate() {
             let ok = if three_d {
@@ -92,7 +93,7 @@ impl<'a> MasterIndex<'a> {
                 matches!(f.nodes.len(), 2 | 3)
             };
             if !ok || f.nodes.iter().any(|&v| v >= mesh.n_nodes()) {
-                return Err(ContactError::Geometry(format!(
+                return Err(GeometryError(format!(
                     "master facet {k} has nodes {:?}: expected {} nodes of the mesh",
                     f.nodes,
                     if three_d {
