@@ -19,10 +19,12 @@ use crate::friction::holding::friction_overload;
 /// iterations of all solves.
 ///
 /// With floating bodies, the rigid-mode amplitudes α used by
-/// [`DelassusProblem::displacement`] are those of a final linear solve with
-/// the statuses found (closed normal rows and stuck tangential rows: zero
-/// gap; other rows: the forces found); if that system is singular (e.g. every
-/// point of a friction-held body slips), α is left from the previous solve.
+/// [`DelassusProblem::displacement`] are the Newton method's own, read back
+/// from the gaps it met its tolerance on
+/// ([`DelassusProblem::set_alpha_from_gaps`]). (A final linear solve with the
+/// statuses found, closed and stuck rows at zero gap, is singular when the
+/// points holding a body along a rigid motion all slip, and left α at zero:
+/// the block of a pushed assembly then sank into its pad.)
 pub(crate) fn friction_newton(
     problem: &mut DelassusProblem,
     layout: &FrictionLayout,
@@ -37,19 +39,7 @@ pub(crate) fn friction_newton(
     };
     let mut out = newton_fixed_point(problem, layout, start, bilateral, direct, opts, dim)?;
     if problem.n_kernel() > 0 {
-        let mut eqs: Vec<VarEquation> = out.forces.iter().map(|&v| VarEquation::Value(v)).collect();
-        for (p, st) in out.friction.points.iter().enumerate() {
-            if *st == PointStatus::Open {
-                continue;
-            }
-            eqs[p] = VarEquation::Gap;
-            if *st == PointStatus::Stick {
-                for &t in &layout.tangent_rows[p] {
-                    eqs[t] = VarEquation::Gap;
-                }
-            }
-        }
-        let _ = problem.solve_equations(&eqs);
+        problem.set_alpha_from_gaps(&out.forces, &out.gaps);
     }
     out.report.operator_applications = problem.solves;
     Ok(out)
