@@ -70,6 +70,8 @@ pub(super) struct Newton<'a> {
     /// converged solve (of this step's Tresca problem, or of the previous
     /// step): their normal forces are then in equilibrium.
     pub(super) trusted: bool,
+    /// The factor on the projection parameters ρ = 1/W_ii of the solves.
+    pub(super) rho_scale: f64,
 }
 
 impl Newton<'_> {
@@ -134,7 +136,11 @@ fn stuck_thresholds(
         .collect()
 }
 
-/// With `direct`, the Newton method on Coulomb's law itself, else (or when
+/// The factor on ρ of the second try of the Newton method on Coulomb's law.
+const RETRY_RHO_SCALE: f64 = 0.1;
+
+/// With `direct`, the Newton method on Coulomb's law itself (once more with
+/// ρ scaled by [`RETRY_RHO_SCALE`] when it does not converge), else (or when
 /// it fails) the fixed point on the threshold with the Newton inner solves,
 /// from `start` (previous step) or `first_guess` (floating bodies) or zero.
 fn newton_fixed_point(
@@ -166,6 +172,7 @@ fn newton_fixed_point(
         iterations: 0,
         dim,
         trusted: false,
+        rho_scale: 1.0,
     };
     let tresca = match dim {
         2 => "tresca_semismooth_newton",
@@ -196,6 +203,16 @@ fn newton_fixed_point(
             Ok(sol) => return Ok(sol),
             Err(failed) => failed,
         };
+        // Once more with smaller projection parameters: a shorter trial
+        // step into the cone, which left the status cycle of an assembly
+        // pushed sideways (pad slave, half of μ N: stalled at 1.2e-2 with ρ
+        // = 1/W_ii, converged in 20 iterations with a tenth of it).
+        newton.rho_scale = RETRY_RHO_SCALE;
+        let retried = solve_coulomb(&mut newton, &forces)?;
+        newton.rho_scale = 1.0;
+        if let Ok(sol) = retried {
+            return Ok(sol);
+        }
         fallback = Some(format!("{direct_name} stopped: {}", failed.reason));
     }
     let start = match start {
