@@ -424,7 +424,7 @@ fn a_npz_that_unpacks_past_the_budget_is_refused_before_it_is_read() {
     let path = dir.join("big.npz");
     let n = 1000; // W: 8 MB of f64
     let w = faer::Mat::<f64>::from_fn(n, n, |i, j| if i == j { 2.0 } else { 0.0 });
-    signorini_solver::problem_file::write_npz(&path, &w, &vec![-1.0; n], &[], 1).unwrap();
+    signorini_problems::problem_file::write_npz(&path, &w, &vec![-1.0; n], &[], 1).unwrap();
     let run = |budget: &str| {
         Command::new(BIN)
             .args(["local", "--max-memory", budget])

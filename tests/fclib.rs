@@ -136,7 +136,7 @@ fn fclib_problems_are_solved_to_siconos_forces_by_both_friction_solvers() {
 }
 
 /// W in the file's row order (the problem is held in the block layout).
-fn file_order_w(p: &signorini_solver::problem_file::LocalProblem) -> faer::Mat<f64> {
+fn file_order_w(p: &signorini_problems::problem_file::LocalProblem) -> faer::Mat<f64> {
     let n = p.q.len();
     let mut w = faer::Mat::<f64>::zeros(n, n);
     for (i, &ri) in p.file_row.iter().enumerate() {
@@ -156,14 +156,18 @@ fn the_same_problem_as_npz_or_json_gives_the_same_forces() {
         ("fc3d_csc.hdf5", "fixed_point"),
         ("fc3d_csc.hdf5", "newton"),
     ] {
-        let p = signorini_solver::problem_file::load(&data(name)).unwrap();
+        let p = signorini_problems::problem_file::load(
+            &data(name),
+            signorini_report::budget::machine_memory(),
+        )
+        .unwrap();
         let (w, q, mu) = (
             file_order_w(&p),
             p.to_file_order(&p.q),
             p.mu.clone().unwrap(),
         );
         let npz = dir.join(name.replace(".hdf5", ".npz"));
-        signorini_solver::problem_file::write_npz(&npz, &w, &q, &mu, p.dim).unwrap();
+        signorini_problems::problem_file::write_npz(&npz, &w, &q, &mu, p.dim).unwrap();
         let rows: Vec<Vec<f64>> = (0..q.len())
             .map(|i| (0..q.len()).map(|j| w[(i, j)]).collect())
             .collect();
@@ -403,7 +407,11 @@ fn global_problems_are_condensed_and_solved_to_siconos_forces_and_velocities() {
             assert_eq!(g["constraints"].as_u64(), Some(constraints), "{what}");
             assert!(g["condense_s"].as_f64().unwrap() >= 0.0, "{what}");
         }
-        let p = signorini_solver::problem_file::load(&data(name)).unwrap();
+        let p = signorini_problems::problem_file::load(
+            &data(name),
+            signorini_report::budget::machine_memory(),
+        )
+        .unwrap();
         let vref = reference_v(dim);
         let g = p.global.as_ref().unwrap();
         assert!(max_rel(&g.velocity(&r), &vref) <= 1e-12, "{name}");
@@ -416,9 +424,17 @@ fn global_problems_are_condensed_and_solved_to_siconos_forces_and_velocities() {
 #[test]
 fn global_condensation_equals_numpys() {
     for name in ["global2d", "global3d", "global3d_g"] {
-        let ours = signorini_solver::problem_file::load(&data(&format!("{name}.hdf5"))).unwrap();
+        let ours = signorini_problems::problem_file::load(
+            &data(&format!("{name}.hdf5")),
+            signorini_report::budget::machine_memory(),
+        )
+        .unwrap();
         let npz = data(&format!("{name}_condensed.npz"));
-        let numpy = signorini_solver::problem_file::load(&npz).unwrap();
+        let numpy = signorini_problems::problem_file::load(
+            &npz,
+            signorini_report::budget::machine_memory(),
+        )
+        .unwrap();
         assert_eq!(ours.file_row, numpy.file_row, "{name}");
         let dw = (&ours.w - &numpy.w).norm_max();
         assert!(dw <= 1e-12 * numpy.w.norm_max(), "{name}: {dw:e}");

@@ -1,12 +1,12 @@
 //! The stiff and extreme cases of docs/theory/validation-cases.md §8: the quick suite
-//! of `signorini bench --suite stiff --quick` (crates/stiff/cases.toml),
+//! of `signorini bench --suite stiff --quick` (crates/suite/cases.toml),
 //! run once in process and asserted over the whole suite — no NaN anywhere, no
 //! `converged: true` with a certificate above its tolerance, every case meets
 //! its expectation — plus family-specific numbers.
 
 use std::sync::OnceLock;
 
-use signorini_stiff::{self as stiff, StiffRow};
+use signorini_suite::stiff::{self, StiffRow};
 
 /// The quick suite, run once for every test of this file.
 fn suite() -> &'static [StiffRow] {

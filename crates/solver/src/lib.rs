@@ -16,7 +16,6 @@
 //! one that knows the scene, the numerics and the transport together; it must
 //! not know the command line.
 
-pub mod bench;
 mod certify;
 mod checks;
 mod compare;
@@ -24,64 +23,33 @@ mod conditioning;
 pub mod contact_frames;
 mod direct_path;
 mod element_step;
-mod fclib;
 mod friction_step;
 mod kkt;
-pub mod local;
 pub mod memory;
 pub mod model;
 mod partition;
 mod pieces;
 mod pipeline;
 mod plan;
-pub mod problem_file;
 pub mod progress;
 mod reactions;
 mod root;
 mod step_end;
 pub mod subdomain;
+mod timing;
 
-use std::time::Instant;
+use std::sync::Arc;
 
-use faer::sparse::SparseColMat;
-use faer::Mat;
-use kkt::{DirectProblem, KktSystem};
 use serde::{Deserialize, Serialize};
-use signorini_comm::{broadcast, deal, gather, Transport};
-use signorini_condense::{spmv, spmv_with_magnitude, submatrix};
-use signorini_contact::equilibrium::nnls;
-use signorini_contact::friction::{
-    coulomb_fixed_point, coulomb_newton, coulomb_status, predicted_statuses, tresca_projection,
-    tresca_status, FrictionLaw, FrictionLayout, FrictionOptions, PointStatus,
-};
-use signorini_contact::friction3d::friction_3d;
-use signorini_contact::registry::{Algorithm, Constraints, FrictionSupport};
-use signorini_contact::schur_factor::{InterfaceStiffness, SchurBlock};
-use signorini_contact::{
-    status_method, ActiveSetSolve, ContactError, ContactSolution, DelassusOperator,
-    DelassusProblem, LcpOptions, SolverReport, StatusOptions, StatusVariant, StopReason,
-};
+use signorini_contact::friction::PointStatus;
+use signorini_contact::{ContactError, ContactSolution};
 pub use signorini_report::output::{BodyResult, RunOutput, StepFields};
 pub use signorini_report::stream::{FieldWriter, StepSink, StepsInMemory};
-use signorini_report::{
-    reference, Certificate, ContactRow, ContactSummary, Memory, Probe, RankStats, Regularisation,
-    Report, StepReport, Timings,
-};
+use signorini_report::{Certificate, ContactRow, Regularisation, StepReport};
 use signorini_scene as scene;
 
-use certify::*;
-use checks::*;
-use compare::*;
-use direct_path::*;
-use element_step::*;
-use friction_step::*;
-use model::{BodyModel, FixedPoint, PointModel};
-pub use pipeline::{run, run_streamed};
-use pipeline::{RunContext, RunLog};
-pub use plan::{algorithm_of, check_plan};
-use root::*;
-use step_end::StepLoop;
-use subdomain::{CondensedData, FactorSummary, RecoveredStep, Subdomain, SubdomainSpec};
+pub use pipeline::{run, run_streamed, run_with};
+pub use plan::{algorithm_of, check_options, check_plan};
 
 /// What went wrong, with the exit code it maps to.
 #[derive(Debug, Clone, thiserror::Error, Serialize, Deserialize)]
@@ -99,6 +67,27 @@ pub enum SolveError {
 pub struct RunOptions {
     pub method: Option<scene::Method>,
     pub path: Option<scene::SolvePath>,
+}
+
+/// What the process that starts a run gives it besides the scene and the
+/// options: the command line's `--max-memory` and its progress line.
+#[derive(Clone, Default)]
+pub struct RunEnvironment {
+    /// The memory the run may use: a scene estimated above it is refused
+    /// before anything is built (`None`: unknown, nothing is refused).
+    pub budget: Option<memory::Budget>,
+    /// Who hears of the run's progress on this rank (`None`: nobody).
+    pub observer: Option<Arc<dyn progress::Observer>>,
+}
+
+impl RunEnvironment {
+    /// The machine's memory ([`memory::machine_memory`]), no observer.
+    pub fn machine() -> Self {
+        Self {
+            budget: memory::machine_memory(),
+            observer: None,
+        }
+    }
 }
 
 fn inf_norm(v: &[f64]) -> f64 {

@@ -21,7 +21,7 @@
 //! W that is not square, indices out of range, arrays shorter than their
 //! sizes say, a dense W past the memory
 //! budget (checked from `m` before anything of its size is allocated), and
-//! through [`crate::problem_file`]'s checks every other value (finite,
+//! through `problem_file.rs`'s checks every other value (finite,
 //! symmetric W, rows a multiple of `spacedim`, μ per contact, finite, ≥ 0).
 
 use std::path::Path;
@@ -30,7 +30,9 @@ use faer::Mat;
 use hdf5_reader::error::Error;
 use hdf5_reader::{Dataset, Datatype, Hdf5File, OpenOptions};
 
-use crate::problem_file::{regular_file, Raw, NPY_COPIES};
+use signorini_report::budget::{human, Budget};
+
+use crate::raw::{regular_file, Raw, NPY_COPIES};
 
 mod condense_global;
 mod equality_constraints;
@@ -75,10 +77,10 @@ impl FclibProblem {
 
 /// Reads `/fclib_local` (and `/solution/r`) of an FCLib file, or condenses
 /// its `/fclib_global` ([`condense_global`]).
-pub(crate) fn read(path: &Path) -> Result<FclibProblem, String> {
+pub(crate) fn read(path: &Path, budget: Option<Budget>) -> Result<FclibProblem, String> {
     regular_file(path)?;
     let shown = path.display().to_string();
-    let f = Reader::open(path, &shown)?;
+    let f = Reader::open(path, &shown, budget)?;
     if f.is_global()? {
         return condense_global::read(&f);
     }
@@ -128,19 +130,19 @@ fn square_size(f: &Reader) -> Result<usize, String> {
             "{shown}: {W} is {m} × {n} ({W}/m, {W}/n): the Delassus operator of a local problem is square, m × m with m ≥ 0"
         ));
     }
-    dense_within_budget(&format!("{shown}: {W} is {m} × {m}"), m as f64)?;
+    dense_within_budget(f.budget, &format!("{shown}: {W} is {m} × {m}"), m as f64)?;
     usize::try_from(m).map_err(|_| format!("{shown}: {W}/m = {m} is too large"))
 }
 
 /// Refuses, with `what` first in the message, a dense m × m matrix whose
 /// copies for a solve ([`NPY_COPIES`]) pass the memory budget.
-fn dense_within_budget(what: &str, m: f64) -> Result<(), String> {
+fn dense_within_budget(budget: Option<Budget>, what: &str, m: f64) -> Result<(), String> {
     let bytes = 8.0 * m * m;
-    match crate::memory::budget() {
+    match budget {
         Some(b) if NPY_COPIES as f64 * bytes > b.bytes as f64 => Err(format!(
             "{what}: held dense it takes {}, and solving it needs about {NPY_COPIES} times that, more than the {} {}",
-            crate::memory::human(bytes),
-            crate::memory::human(b.bytes as f64),
+            human(bytes),
+            human(b.bytes as f64),
             b.source
         )),
         _ => Ok(()),
@@ -292,13 +294,15 @@ fn pointers<'a>(
 struct Reader<'a> {
     file: Hdf5File,
     shown: &'a str,
+    /// The memory a solve may use: larger datasets are refused unread.
+    budget: Option<Budget>,
 }
 
 impl<'a> Reader<'a> {
-    fn open(path: &Path, shown: &'a str) -> Result<Self, String> {
+    fn open(path: &Path, shown: &'a str, budget: Option<Budget>) -> Result<Self, String> {
         // The reader refuses, before allocating them, reads and chunks larger
         // than the share of the budget an array may take.
-        let limit = crate::memory::budget()
+        let limit = budget
             .map(|b| usize::try_from(b.bytes / NPY_COPIES).unwrap_or(usize::MAX))
             .unwrap_or(usize::MAX);
         let options = OpenOptions::default()
@@ -309,7 +313,11 @@ impl<'a> Reader<'a> {
             Error::Io(e) => format!("cannot read {shown}: {e}"),
             e => format!("{shown}: not an HDF5 file, or a damaged one ({e}); FCLib problems are HDF5 files with a group {LOCAL}"),
         })?;
-        Ok(Reader { file, shown })
+        Ok(Reader {
+            file,
+            shown,
+            budget,
+        })
     }
 
     /// Whether the group exists (an error if the file cannot tell).
@@ -358,13 +366,13 @@ impl<'a> Reader<'a> {
         // Compressed chunks can unpack to far more than the file: the
         // declared size must fit before anything is read.
         let elements = d.num_elements().map_err(|e| self.error(name, e))?;
-        if let Some(b) = crate::memory::budget() {
+        if let Some(b) = self.budget {
             if (NPY_COPIES * 8) as f64 * elements as f64 > b.bytes as f64 {
                 return Err(format!(
                     "{}: {name} holds {elements} numbers, and solving needs about {NPY_COPIES} times their {}, more than the {} {}",
                     self.shown,
-                    crate::memory::human(8.0 * elements as f64),
-                    crate::memory::human(b.bytes as f64),
+                    human(8.0 * elements as f64),
+                    human(b.bytes as f64),
                     b.source
                 ));
             }

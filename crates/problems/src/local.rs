@@ -347,6 +347,7 @@ pub fn repeated(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use signorini_report::budget::machine_memory;
 
     #[test]
     fn json_problem_solves_to_the_known_answer_with_every_method() {
@@ -355,7 +356,7 @@ mod tests {
         let path = dir.join("p.json");
         // W = [[2, 1], [1, 2]], q = [-1, 1]: λ = (0.5, 0), w = (0, 1.5).
         std::fs::write(&path, r#"{"W": [[2, 1], [1, 2]], "q": [-1, 1]}"#).unwrap();
-        let p = load(&path).unwrap();
+        let p = load(&path, machine_memory()).unwrap();
         for a in ["status", "lemke", "mprgp"].map(|name| Algorithm::by_name(name).unwrap()) {
             let r = solve("p", &p, a, 1e-12, 1000, true).unwrap();
             assert!(r.converged);
@@ -374,12 +375,22 @@ mod tests {
             r#"{"W": [[1.408652942488979, -0.7921747294545434, -0.3087110487808439], [-0.7921747294545434, 0.44549000187197535, 0.1736077668041407], [-0.3087110487808439, 0.1736077668041407, 0.0676550687289777]], "q": [0.7540333794321797, -0.6414795084271917, 1.7380087577355086]}"#,
         )
         .unwrap();
-        let r = solve("p", &load(&path).unwrap(), penalty, 1e-10, 1000, true).unwrap();
+        let r = solve(
+            "p",
+            &load(&path, machine_memory()).unwrap(),
+            penalty,
+            1e-10,
+            1000,
+            true,
+        )
+        .unwrap();
         assert!(!r.converged && r.residual > 0.01, "{}", r.residual);
         std::fs::write(&path, r#"{"W": [[2, 1], [0, 2]], "q": [-1, 1]}"#).unwrap();
-        assert!(load(&path).unwrap_err().contains("not symmetric"));
+        assert!(load(&path, machine_memory())
+            .unwrap_err()
+            .contains("not symmetric"));
         std::fs::write(&path, r#"{"W": [[2]], "q": [-1, 1]}"#).unwrap();
-        assert!(load(&path).unwrap_err().contains("2 × 2"));
+        assert!(load(&path, machine_memory()).unwrap_err().contains("2 × 2"));
     }
 
     #[test]
@@ -394,7 +405,7 @@ mod tests {
             r#"{"W": [[0.2, 0], [0, 0.5]], "q": [-0.6, 1.0], "mu": [0.5], "layout": "normal_first"}"#,
         )
         .unwrap();
-        let p = load(&path).unwrap();
+        let p = load(&path, machine_memory()).unwrap();
         for method in FrictionMethod::ALL {
             let r = solve_friction("p", &p, method, 1e-12, 100, true).unwrap();
             assert!(r.converged, "{}", r.stopping_reason);
@@ -409,7 +420,7 @@ mod tests {
             r#"{"W": [[0.2, 0], [0, 0.5]], "q": [-0.6, 1.0], "mu": [0.5, 0.2], "layout": "normal_first"}"#,
         )
         .unwrap();
-        assert!(load(&path)
+        assert!(load(&path, machine_memory())
             .unwrap_err()
             .contains("mu has 2 entries for 1 contacts"));
     }
@@ -435,7 +446,7 @@ mod tests {
             z.start_file("q.npy", o).unwrap();
             z.write_all(&npy(&[3], false, &q)).unwrap();
             z.finish().unwrap();
-            let p = load(&path).unwrap();
+            let p = load(&path, machine_memory()).unwrap();
             let r = solve(
                 "p",
                 &p,
@@ -462,7 +473,9 @@ mod tests {
             .unwrap();
         z.write_all(&npy(&[3], false, &q)).unwrap();
         z.finish().unwrap();
-        assert!(load(&bad).unwrap_err().contains("no array named W"));
+        assert!(load(&bad, machine_memory())
+            .unwrap_err()
+            .contains("no array named W"));
     }
 
     /// Shapes are the file's word: a header that lies about them (or that
@@ -482,7 +495,7 @@ mod tests {
             z.start_file("q.npy", o).unwrap();
             z.write_all(&q).unwrap();
             z.finish().unwrap();
-            load(&path).unwrap_err()
+            load(&path, machine_memory()).unwrap_err()
         };
         let q3 = npy(&[3], false, &[1.0, 2.0, 3.0]);
         // W says 3 × 3 but holds 4 numbers
@@ -590,7 +603,7 @@ mod tests {
         std::fs::create_dir_all(&dir).unwrap();
         let path = dir.join("pile.json");
         std::fs::write(&path, rigid_sphere_pile()).unwrap();
-        let p = load(&path).unwrap();
+        let p = load(&path, machine_memory()).unwrap();
         let m = p.contacts();
         for method in [FrictionMethod::Newton, FrictionMethod::FixedPoint] {
             let r = solve_friction("pile", &p, method, 1e-10, 10_000, true).unwrap();

@@ -1,5 +1,5 @@
 //! `signorini bench --suite root`: every root method on the problems of
-//! [`crate::problem::Family`] over a range of sizes, through the same solve
+//! [`crate::rootbench::problem::Family`] over a range of sizes, through the same solve
 //! functions as `signorini local`, so that the timings are those a user of
 //! `local` sees and the files exported for other libraries hold the very
 //! problems timed here.
@@ -7,9 +7,9 @@
 use std::path::Path;
 
 use signorini_contact::registry::{Algorithm, METHODS};
-use signorini_solver::local::{self, FrictionMethod, LocalProblem, LocalResult};
+use signorini_problems::local::{self, FrictionMethod, LocalProblem, LocalResult};
 
-use crate::problem::Family;
+use crate::rootbench::problem::Family;
 
 /// One run of one method on one problem.
 #[derive(Debug, Clone)]
@@ -121,7 +121,7 @@ pub fn run_suite(
             let rp = family.problem(m)?;
             if let Some(dir) = export {
                 let path = dir.join(format!("{}.npz", rp.name));
-                signorini_solver::problem_file::write_npz(&path, &rp.w, &rp.q, &rp.mu, rp.dim)?;
+                signorini_problems::problem_file::write_npz(&path, &rp.w, &rp.q, &rp.mu, rp.dim)?;
             }
             let (name, m_contacts) = (rp.name.clone(), rp.contacts());
             // W goes into the block layout by value: one copy of it at a time

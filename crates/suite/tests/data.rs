@@ -4,8 +4,8 @@
 
 use std::collections::BTreeSet;
 
-use signorini_stiff::data::{self, placeholders, template, TEMPLATES};
-use signorini_stiff::Expectation;
+use signorini_suite::stiff::data::{self, placeholders, template, TEMPLATES};
+use signorini_suite::stiff::Expectation;
 
 #[test]
 fn every_case_builds_and_its_scene_parses_as_a_valid_scene() {

@@ -6,7 +6,7 @@ use serde::Serialize;
 use signorini_comm::Local;
 use signorini_scene as scene;
 
-use crate::{run, RunOptions, SolveError};
+use signorini_solver::{check_options, run_with, RunEnvironment, RunOptions, SolveError};
 
 /// One run of the benchmark.
 #[derive(Debug, Clone, Serialize)]
@@ -53,6 +53,7 @@ pub fn bench(
     subdomains: &[usize],
     methods: &[scene::Method],
     paths: &[scene::SolvePath],
+    env: &RunEnvironment,
     mut progress: impl FnMut(usize, usize, &str),
 ) -> Result<Vec<BenchRow>, SolveError> {
     let total = cases.len() * levels.len() * subdomains.len() * paths.len() * methods.len();
@@ -89,7 +90,7 @@ pub fn bench(
                             method: Some(method),
                             path: Some(path),
                         };
-                        let out = run(&sc, &case.name, &opts, &Local)?
+                        let out = run_with(&sc, &case.name, &opts, env, &Local)?
                             .ok_or_else(|| SolveError::Internal("no output in process".into()))?;
                         rows.push(row(&case.name, level, &out.report));
                     }
@@ -138,7 +139,7 @@ fn direct_runs(sc: &scene::Scene) -> bool {
         method: Some(scene::Method::Status),
         path: Some(scene::SolvePath::Direct),
     };
-    crate::plan::plan(sc, &opts).is_ok()
+    check_options(sc, &opts).is_ok()
 }
 
 /// The benchmark's plots: error against run time (log-log, one line per
@@ -509,19 +510,46 @@ mod tests {
         };
         let both = [scene::SolvePath::Condensed, scene::SolvePath::Direct];
         let status = [scene::Method::Status];
-        let rows = bench(&[case(text)], &[1.0], &[1], &status, &both, |_, _, _| {}).unwrap();
+        let machine = RunEnvironment::machine();
+        let rows = bench(
+            &[case(text)],
+            &[1.0],
+            &[1],
+            &status,
+            &both,
+            &machine,
+            |_, _, _| {},
+        )
+        .unwrap();
         let paths: Vec<&str> = rows.iter().map(|r| r.path.as_str()).collect();
         assert_eq!(paths, ["condensed"]);
         assert!(rows[0].converged);
         let direct = [scene::SolvePath::Direct];
-        match bench(&[case(text)], &[1.0], &[1], &status, &direct, |_, _, _| {}) {
+        match bench(
+            &[case(text)],
+            &[1.0],
+            &[1],
+            &status,
+            &direct,
+            &machine,
+            |_, _, _| {},
+        ) {
             Err(SolveError::Input(m)) => assert!(m.contains("contact \"c\".friction"), "{m}"),
             other => panic!("{:?}", other.map(|r| r.len())),
         }
         // frictionless, both paths run
         let text = text.replace("friction = { coulomb = 0.3 }\n", "");
         let text = text.replace("{ x = 0.01, y = -0.01 }", "{ x = 0.0, y = -0.01 }");
-        let rows = bench(&[case(&text)], &[1.0], &[1], &status, &both, |_, _, _| {}).unwrap();
+        let rows = bench(
+            &[case(&text)],
+            &[1.0],
+            &[1],
+            &status,
+            &both,
+            &machine,
+            |_, _, _| {},
+        )
+        .unwrap();
         assert_eq!(rows.len(), 2);
     }
 

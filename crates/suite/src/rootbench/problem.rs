@@ -1,5 +1,5 @@
 //! Delassus problems of a rigid indenter pressed (and, with friction, slid)
-//! on the periodic elastic layer of [`crate::layer`]: the condensed contact
+//! on the periodic elastic layer of [`crate::rootbench::layer`]: the condensed contact
 //! problems on which the root solvers are compared with each other and with
 //! other libraries.
 //!
@@ -15,7 +15,7 @@
 
 use faer::Mat;
 
-use crate::layer::SurfaceCompliance;
+use crate::rootbench::layer::SurfaceCompliance;
 
 /// A stand-alone contact problem: W (contact-wise rows), q, and μ per
 /// contact (empty: frictionless).
@@ -208,14 +208,14 @@ impl Family {
     }
 
     /// The layer whose surface has about `m` nodes (n = m in 2D, n = ⌈√m⌉ in 3D).
-    pub fn layer(self, m: usize) -> crate::layer::Layer {
+    pub fn layer(self, m: usize) -> crate::rootbench::layer::Layer {
         let dim = self.layer_dim();
         let n = if dim == 2 {
             m
         } else {
             (m as f64).sqrt().ceil() as usize
         };
-        crate::layer::Layer {
+        crate::rootbench::layer::Layer {
             dim,
             n: n.max(2),
             width: 1.0,
@@ -228,7 +228,7 @@ impl Family {
     /// The family's problem with about `m` contact points.
     pub fn problem(self, m: usize) -> Result<RootProblem, String> {
         let layer = self.layer(m);
-        let c = crate::layer::surface_compliance(&layer)?;
+        let c = crate::rootbench::layer::surface_compliance(&layer)?;
         let name = format!("{}_m{}", self.name(), c.n_surface());
         Ok(indentation_problem(
             &name,

@@ -7,19 +7,19 @@ use std::collections::BTreeMap;
 use serde::Deserialize;
 use toml::Value;
 
-use crate::{
+use crate::stiff::{
     roundoff, scene, Case, Expectation, Measure, Reference, FRICTION_TOLERANCE, HERTZ_TOLERANCE,
     NTS_DEVIATION, PENALTY_DEVIATION,
 };
 
 /// The case list.
-pub const CASES: &str = include_str!("../cases.toml");
+pub const CASES: &str = include_str!("../../cases.toml");
 
 macro_rules! templates {
     ($($name:literal),* $(,)?) => {
         /// The scene templates, by name (crates/stiff/scenes/<name>.toml).
         pub const TEMPLATES: &[(&str, &str)] = &[
-            $(($name, include_str!(concat!("../scenes/", $name, ".toml")))),*
+            $(($name, include_str!(concat!("../../scenes/", $name, ".toml")))),*
         ];
     };
 }

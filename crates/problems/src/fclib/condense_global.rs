@@ -46,7 +46,9 @@ use super::equality_constraints::EqualityConstraints;
 use super::{
     dense_within_budget, entries, shape, solution, spacedim, FclibProblem, Reader, GLOBAL,
 };
-use crate::problem_file::NPY_COPIES;
+use signorini_report::budget::{human, Budget};
+
+use crate::raw::NPY_COPIES;
 
 const M: &str = "/fclib_global/M";
 const H: &str = "/fclib_global/H";
@@ -107,6 +109,7 @@ pub(super) fn read(f: &Reader) -> Result<FclibProblem, String> {
     let load = vector(f, "f", n, "M has")?;
     let w = vector(f, "w", m, "H has")?;
     dense_within_budget(
+        f.budget,
         &format!("{shown}: {H} is {n} × {m}: the condensed W = H^T M^-1 H is {m} × {m}"),
         m as f64,
     )?;
@@ -125,7 +128,7 @@ pub(super) fn read(f: &Reader) -> Result<FclibProblem, String> {
     let reference_r = solution(f, "r", m, "H has")?;
     let reference_v = solution(f, "v", n, "M has")?;
     let t = Instant::now();
-    let (symbolic, l_values) = factorise(shown, &mass, m, p)?;
+    let (symbolic, l_values) = factorise(shown, &mass, (m, p), f.budget)?;
     let mut g = GlobalCondensation {
         n,
         nnz_m: mass.compute_nnz(),
@@ -232,8 +235,8 @@ fn check_symmetric(shown: &str, mass: &SparseColMat<usize, f64>) -> Result<(), S
 fn factorise(
     shown: &str,
     mass: &SparseColMat<usize, f64>,
-    m: usize,
-    p: usize,
+    (m, p): (usize, usize),
+    budget: Option<Budget>,
 ) -> Result<(SymbolicCholesky<usize>, Vec<f64>), String> {
     use signorini_condense::ordering::{order_and_analyse, OrderingChoice};
     let n = mass.nrows();
@@ -242,12 +245,12 @@ fn factorise(
     let values = ordered.symbolic.len_val();
     let bytes = 8.0 * (values as f64 + (n * BLOCK.min(m)) as f64 + (n as f64) * (p as f64))
         + (NPY_COPIES * 8) as f64 * (m as f64) * (m as f64);
-    if let Some(b) = crate::memory::budget() {
+    if let Some(b) = budget {
         if bytes > b.bytes as f64 {
             return Err(format!(
                 "{shown}: {M} ({n} × {n}) has a Cholesky factor of {values} values: with W (and M^-1 G) it takes {}, more than the {} {}",
-                crate::memory::human(bytes),
-                crate::memory::human(b.bytes as f64),
+                human(bytes),
+                human(b.bytes as f64),
                 b.source
             ));
         }
@@ -384,12 +387,14 @@ pub(super) fn transpose_times(a: &SparseColMat<usize, f64>, x: faer::MatRef<'_, 
 
 #[cfg(test)]
 mod tests {
+    use signorini_report::budget::machine_memory;
+
     /// Blocks of any width, dividing m or not, give the same W and q.
     #[test]
     fn every_block_width_gives_the_same_condensation() {
         let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
             .join("../../tests/data/fclib/global3d.hdf5");
-        let p = super::super::read(&path).unwrap();
+        let p = super::super::read(&path, machine_memory()).unwrap();
         let g = p.global.unwrap();
         let m = p.raw.q.len();
         let w: Vec<f64> = vec![0.0; m];

@@ -2,6 +2,7 @@
 //! (make_fclib.c) and solved by Siconos (make_fclib.py), read back.
 
 use crate::problem_file::{load, LocalProblem};
+use signorini_report::budget::machine_memory;
 use std::path::PathBuf;
 
 fn data(name: &str) -> PathBuf {
@@ -78,7 +79,7 @@ fn every_storage_reads_the_matrix_the_generator_built() {
         ("fc3d_csr.hdf5", 3, vec![0.5, 0.3, 0.4, 0.6]),
         ("fc3d_csc_latest.hdf5", 3, vec![0.5, 0.3, 0.4, 0.6]),
     ] {
-        let p = load(&data(name)).unwrap();
+        let p = load(&data(name), machine_memory()).unwrap();
         let n = mu.len() * d;
         assert_eq!(
             (p.dim, p.contacts(), p.mu.as_ref()),
@@ -105,7 +106,7 @@ fn every_storage_reads_the_matrix_the_generator_built() {
 
 #[test]
 fn reference_error_is_the_relative_distance_to_the_files_forces() {
-    let p = load(&data("fc3d_csc.hdf5")).unwrap();
+    let p = load(&data("fc3d_csc.hdf5"), machine_memory()).unwrap();
     let r = p.reference_r.clone().unwrap();
     // Forces in the block layout: block row k is file row file_row[k].
     let mut forces: Vec<f64> = p.file_row.iter().map(|&f| r[f]).collect();
@@ -118,7 +119,7 @@ fn reference_error_is_the_relative_distance_to_the_files_forces() {
     let json = std::env::temp_dir().join(format!("signorini-fclib-{}.json", std::process::id()));
     std::fs::write(&json, r#"{"W": [[2]], "q": [-1]}"#).unwrap();
     assert_eq!(
-        crate::local::reference_error(&load(&json).unwrap(), &[0.5]),
+        crate::local::reference_error(&load(&json, machine_memory()).unwrap(), &[0.5]),
         None
     );
 }
@@ -156,7 +157,7 @@ fn damaged_files_are_refused_without_a_panic() {
             let path = dir.join(format!("case{k}.h5"));
             std::fs::write(&path, &bytes).unwrap();
             let t = std::time::Instant::now();
-            match std::panic::catch_unwind(|| load(&path)) {
+            match std::panic::catch_unwind(|| load(&path, machine_memory())) {
                 Ok(Ok(_)) => read += 1,
                 Ok(Err(e)) => {
                     assert!(e.contains(&*path.display().to_string()), "{e}");
@@ -255,7 +256,7 @@ fn dense_condensation(d: usize) -> (Vec<f64>, Vec<f64>, Vec<f64>, Vec<f64>) {
 #[test]
 fn global_problems_condense_to_the_dense_reference() {
     for (name, d) in [("global2d.hdf5", 2), ("global3d.hdf5", 3)] {
-        let p = load(&data(name)).unwrap();
+        let p = load(&data(name), machine_memory()).unwrap();
         let (w, q, r, v) = dense_condensation(d);
         let wmax = w.iter().fold(0.0f64, |a, x| a.max(x.abs()));
         let qmax = q.iter().fold(0.0f64, |a, x| a.max(x.abs()));

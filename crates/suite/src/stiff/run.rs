@@ -5,7 +5,7 @@ use std::time::Instant;
 use signorini_comm::Local;
 use signorini_solver::{run, RunOptions, RunOutput, SolveError};
 
-use crate::{cases, nan, Case, Expectation, Reference, RowError, StiffRow, Verdict};
+use crate::stiff::{cases, nan, Case, Expectation, Reference, RowError, StiffRow, Verdict};
 
 /// Whether any number of the run is NaN or infinite: every f64 of the report
 /// as it serialises (a serializer that looks at each number, since

@@ -25,6 +25,10 @@ use std::path::Path;
 
 use faer::Mat;
 use serde::Deserialize;
+use signorini_report::budget::{human, Budget};
+
+use crate::fclib::{self, GlobalCondensation};
+use crate::raw::{regular_file, Raw, NPY_COPIES};
 
 /// A stand-alone problem in the block layout, with the file row of each row.
 #[derive(Debug)]
@@ -41,7 +45,7 @@ pub struct LocalProblem {
     /// (an FCLib file's `/solution/r`).
     pub reference_r: Option<Vec<f64>>,
     /// An FCLib global problem's condensation (to recover its velocities v).
-    pub global: Option<crate::fclib::GlobalCondensation>,
+    pub global: Option<GlobalCondensation>,
 }
 
 impl LocalProblem {
@@ -73,19 +77,6 @@ struct JsonProblem {
     layout: Option<String>,
 }
 
-/// What a file holds before its layout is resolved.
-pub(crate) struct Raw {
-    pub w: Mat<f64>,
-    pub q: Vec<f64>,
-    pub mu: Option<Vec<f64>>,
-    pub dim: Option<f64>,
-    pub normal_first: bool,
-}
-
-/// Copies of an array a stand-alone solve holds at once: its bytes, their
-/// f64 values, the dense matrix and the solver's working copies.
-pub(crate) const NPY_COPIES: u64 = 4;
-
 /// Shape, Fortran order, data (float64).
 type NpyArray = (Vec<u64>, bool, Vec<f64>);
 
@@ -93,8 +84,9 @@ fn read_npy(
     archive: &mut zip::ZipArchive<std::fs::File>,
     shown: &str,
     name: &str,
+    budget: Option<Budget>,
 ) -> Result<Option<NpyArray>, String> {
-    let Some(bytes) = read_member(archive, shown, &format!("{name}.npy"))? else {
+    let Some(bytes) = read_member(archive, shown, &format!("{name}.npy"), budget)? else {
         return Ok(None);
     };
     let member = format!("{shown}: {name}.npy");
@@ -119,6 +111,7 @@ fn read_member(
     archive: &mut zip::ZipArchive<std::fs::File>,
     shown: &str,
     member: &str,
+    budget: Option<Budget>,
 ) -> Result<Option<Vec<u8>>, String> {
     let mut file = match archive.by_name(member) {
         Ok(f) => f,
@@ -128,12 +121,12 @@ fn read_member(
     // A few kilobytes of deflated zeros can unpack to gigabytes: the array,
     // its f64 copy and the solver's dense copies must fit before any is made.
     let unpacked = file.size();
-    if let Some(b) = crate::memory::budget() {
+    if let Some(b) = budget {
         if (NPY_COPIES * unpacked) as f64 > b.bytes as f64 {
             return Err(format!(
                 "{shown}: {member} unpacks to {}, and solving it needs about {NPY_COPIES} times that, more than the {} {}",
-                crate::memory::human(unpacked as f64),
-                crate::memory::human(b.bytes as f64),
+                human(unpacked as f64),
+                human(b.bytes as f64),
                 b.source
             ));
         }
@@ -198,18 +191,7 @@ fn check_other_members(
     Ok(())
 }
 
-/// Refuses a device or a pipe: reading it may not end, nor fit in memory.
-pub fn regular_file(path: &Path) -> Result<(), String> {
-    match std::fs::metadata(path) {
-        Ok(m) if !m.is_file() => Err(format!(
-            "cannot read {}: not a regular file",
-            path.display()
-        )),
-        _ => Ok(()),
-    }
-}
-
-fn read_npz(path: &Path) -> Result<Raw, String> {
+fn read_npz(path: &Path, budget: Option<Budget>) -> Result<Raw, String> {
     let shown = path.display();
     regular_file(path)?;
     let file = std::fs::File::open(path).map_err(|e| format!("cannot read {shown}: {e}"))?;
@@ -217,11 +199,11 @@ fn read_npz(path: &Path) -> Result<Raw, String> {
         zip::ZipArchive::new(file).map_err(|e| format!("{shown}: not a .npz archive ({e})"))?;
     let shown = shown.to_string();
     let (ws, wf, wd) =
-        read_npy(&mut archive, &shown, "W")?.ok_or(format!("{shown}: no array named W"))?;
+        read_npy(&mut archive, &shown, "W", budget)?.ok_or(format!("{shown}: no array named W"))?;
     let (qs, _, qd) =
-        read_npy(&mut archive, &shown, "q")?.ok_or(format!("{shown}: no array named q"))?;
-    let mu = read_npy(&mut archive, &shown, "mu")?.map(|(_, _, d)| d);
-    let dim = match read_npy(&mut archive, &shown, "dim")? {
+        read_npy(&mut archive, &shown, "q", budget)?.ok_or(format!("{shown}: no array named q"))?;
+    let mu = read_npy(&mut archive, &shown, "mu", budget)?.map(|(_, _, d)| d);
+    let dim = match read_npy(&mut archive, &shown, "dim", budget)? {
         None => None,
         Some((_, _, d)) if d.len() == 1 => Some(d[0]),
         Some((s, _, _)) => return Err(format!("{shown}: dim must be one number, has shape {s:?}")),
@@ -385,15 +367,16 @@ const FORMATS: &str = "a problem file is JSON, NumPy .npz or FCLib .hdf5/.h5 (by
 
 /// Reads a problem; errors name the file and what is wrong. The format
 /// follows the extension (any case): `.npz`, `.hdf5` or `.h5` (FCLib), else
-/// JSON.
-pub fn load(path: &Path) -> Result<LocalProblem, String> {
+/// JSON. A file, or an array in it, whose solve would need more than
+/// `budget` is refused before it is read.
+pub fn load(path: &Path, budget: Option<Budget>) -> Result<LocalProblem, String> {
     let is = |ext: &str| {
         path.extension()
             .is_some_and(|e| e.eq_ignore_ascii_case(ext))
     };
     let shown = path.display().to_string();
     if is("hdf5") || is("h5") {
-        let file = crate::fclib::read(path)?;
+        let file = fclib::read(path, budget)?;
         // Its checks name W, q (vectors/q) and mu (vectors/mu) of
         // /fclib_local, or of the local problem a global one condenses to.
         let what = match file.global {
@@ -411,7 +394,7 @@ pub fn load(path: &Path) -> Result<LocalProblem, String> {
         ));
     }
     let raw = if is("npz") {
-        read_npz(path)?
+        read_npz(path, budget)?
     } else {
         read_json(path)?
     };

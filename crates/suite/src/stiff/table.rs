@@ -1,6 +1,6 @@
 //! The suite's table: stiff.csv and stiff.md.
 
-use crate::{StiffRow, Verdict};
+use crate::stiff::{StiffRow, Verdict};
 use signorini_report::csv_field;
 
 /// stiff.csv: one line per case.

@@ -1,4 +1,5 @@
 use super::*;
+use signorini_report::budget::machine_memory;
 
 fn temp(name: &str) -> std::path::PathBuf {
     let dir = std::env::temp_dir().join(format!("signorini-pf-{}", std::process::id()));
@@ -29,7 +30,7 @@ fn contact_wise_json(extra: &str) -> String {
 fn contact_wise_rows_are_read_into_the_block_layout_and_written_back() {
     let path = temp("cw.json");
     std::fs::write(&path, contact_wise_json(r#", "mu": [0.3, 0.5], "dim": 2"#)).unwrap();
-    let p = load(&path).unwrap();
+    let p = load(&path, machine_memory()).unwrap();
     assert_eq!((p.dim, p.contacts()), (2, 2));
     // Block rows: n0, n1, t0, t1 = file rows 0, 2, 1, 3.
     assert_eq!(p.file_row, vec![0, 2, 1, 3]);
@@ -40,7 +41,7 @@ fn contact_wise_rows_are_read_into_the_block_layout_and_written_back() {
     assert_eq!(p.to_file_order(&p.q), vec![0.0, 1.0, 2.0, 3.0]);
     // An empty mu is frictionless; the rows keep their layout.
     std::fs::write(&path, contact_wise_json(r#", "mu": [], "dim": 2"#)).unwrap();
-    let p = load(&path).unwrap();
+    let p = load(&path, machine_memory()).unwrap();
     assert_eq!((p.dim, p.mu.is_none()), (2, true));
 }
 
@@ -68,7 +69,7 @@ fn a_layout_that_cannot_be_known_is_refused() {
     ];
     for (extra, message) in cases {
         std::fs::write(&path, contact_wise_json(extra)).unwrap();
-        let e = load(&path).unwrap_err();
+        let e = load(&path, machine_memory()).unwrap_err();
         assert!(
             e.contains(message) && e.contains("amb.json"),
             "{extra}: {e}"
@@ -80,7 +81,7 @@ fn a_layout_that_cannot_be_known_is_refused() {
         contact_wise_json(r#", "mu": [0.3, 0.5], "layout": "normal_first""#),
     )
     .unwrap();
-    let p = load(&path).unwrap();
+    let p = load(&path, machine_memory()).unwrap();
     assert_eq!(p.file_row, vec![0, 1, 2, 3]);
 }
 
@@ -93,7 +94,7 @@ fn npz_written_here_reads_back_identically() {
     });
     let q: Vec<f64> = (0..n).map(|i| i as f64 - 2.5).collect();
     write_npz(&path, &w, &q, &[0.1, 0.2], 3).unwrap();
-    let p = load(&path).unwrap();
+    let p = load(&path, machine_memory()).unwrap();
     assert_eq!((p.dim, p.contacts()), (3, 2));
     assert_eq!(p.mu, Some(vec![0.1, 0.2]));
     assert_eq!(p.file_row, vec![0, 3, 1, 2, 4, 5]);
@@ -105,7 +106,7 @@ fn npz_written_here_reads_back_identically() {
     }
     // An LCP: no mu, dim 1.
     write_npz(&path, &w, &q, &[], 1).unwrap();
-    let p = load(&path).unwrap();
+    let p = load(&path, machine_memory()).unwrap();
     assert_eq!((p.dim, p.contacts(), p.mu.is_none()), (1, 6, true));
     assert_eq!(p.file_row, (0..n).collect::<Vec<_>>());
 }
