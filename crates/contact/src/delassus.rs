@@ -14,6 +14,7 @@
 
 use std::sync::Arc;
 
+use faer::prelude::SolveLstsq;
 use faer::Mat;
 
 use crate::friction::capacitance::{solve_status_system, StatusFactor};
@@ -345,6 +346,28 @@ impl DelassusProblem {
     pub fn set_alpha(&mut self, alpha: &[f64]) {
         assert_eq!(alpha.len(), self.r.ncols());
         self.last_alpha = alpha.to_vec();
+    }
+
+    /// Sets α from the gaps y = W λ + q + G α of the forces λ that a solver
+    /// computed with its own α (the semi-smooth Newton method, whose
+    /// unknowns hold it): the least-squares solution of G α = y − W λ − q,
+    /// exact when G has full column rank, so that [`Self::displacement`]
+    /// gives back the gaps the solver met its tolerance on. Whether α was
+    /// set (not when it comes out non-finite: α is then left as it was).
+    pub fn set_alpha_from_gaps(&mut self, lambda: &[f64], gaps: &[f64]) -> bool {
+        let k = self.g_mat.ncols();
+        if k == 0 || gaps.len() != self.q.len() {
+            return k == 0;
+        }
+        let elastic = crate::lcp::gaps(&self.w, &self.q, lambda);
+        let rigid = Mat::<f64>::from_fn(gaps.len(), 1, |i, _| gaps[i] - elastic[i]);
+        let alpha = self.g_mat.qr().solve_lstsq(&rigid);
+        let alpha: Vec<f64> = (0..k).map(|j| alpha[(j, 0)]).collect();
+        let finite = alpha.iter().all(|a| a.is_finite());
+        if finite {
+            self.last_alpha = alpha;
+        }
+        finite
     }
 }
 

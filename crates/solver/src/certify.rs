@@ -198,10 +198,18 @@ pub(crate) fn conclude_step(
             o,
         ));
     }
+    // Only a solver that did not converge may be facing a load beyond
+    // friction: a converged one whose certificate fails is not (its forces
+    // are within the cones).
     let limited = sol.outcome.report.stop.iteration_limit() || overload.is_some();
-    if let (true, false, Some(failure), Some(_)) =
-        (first_failure, limited, &mut partial.failure, &sol.friction)
-    {
+    let solver_failed = !sol.outcome.report.converged;
+    if let (true, true, false, Some(failure), Some(_)) = (
+        first_failure,
+        solver_failed,
+        limited,
+        &mut partial.failure,
+        &sol.friction,
+    ) {
         for (name, k) in held_by_friction(bodies, points) {
             failure.push_str(&format!(
                 "; body \"{name}\" is held by friction alone in {k} rigid motion(s) its supports leave free: a load along them beyond what friction carries (μ times the normal force) has no static equilibrium, and no solver converges on it; impose that motion (a displacement) instead of a force"
