@@ -100,7 +100,6 @@ impl BorderedFactor {
     }
 
     /// Whether the block has both an SPD part and a bordered part.
-    #[cfg(test)]
     pub fn is_bordered(&self) -> bool {
         self.n1 > 0 && self.n1 < self.n
     }
