@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 use signorini_scene::{Method, SolvePath};
 
 use crate::fail;
-use signorini_solver::SolveError;
+use signorini_solver::{RunEnvironment, SolveError};
 use std::process::ExitCode;
 
 pub(crate) fn bench(
@@ -15,6 +15,7 @@ pub(crate) fn bench(
     subdomains: &[usize],
     methods: &[Method],
     paths: &[SolvePath],
+    env: &RunEnvironment,
     out: &Path,
 ) -> ExitCode {
     if levels.iter().any(|l| !(*l > 0.0 && l.is_finite())) {
@@ -26,7 +27,7 @@ pub(crate) fn bench(
     let mut cases = Vec::new();
     for p in scenes {
         match signorini_scene::load(p) {
-            Ok(scene) => cases.push(signorini_solver::bench::BenchCase {
+            Ok(scene) => cases.push(signorini_suite::bench::BenchCase {
                 name: p
                     .file_name()
                     .map(|s| s.to_string_lossy().to_string())
@@ -47,12 +48,13 @@ pub(crate) fn bench(
     {
         bar.set_style(style);
     }
-    let rows = signorini_solver::bench::bench(
+    let rows = signorini_suite::bench::bench(
         &cases,
         levels,
         subdomains,
         methods,
         paths,
+        env,
         |done, total, label| {
             bar.set_length(total as u64);
             bar.set_position(done as u64);
@@ -66,12 +68,12 @@ pub(crate) fn bench(
         Err(e) => return fail(3, &e.to_string()),
     };
     if let Err(e) = std::fs::create_dir_all(out)
-        .and_then(|_| signorini_solver::bench::write_csv(&out.join("bench.csv"), &rows))
+        .and_then(|_| signorini_suite::bench::write_csv(&out.join("bench.csv"), &rows))
     {
         return fail(3, &format!("cannot write {}: {e}", out.display()));
     }
-    let plots = signorini_solver::bench::write_plots(out, &rows);
-    crate::say(&signorini_solver::bench::markdown(&rows));
+    let plots = signorini_suite::bench::write_plots(out, &rows);
+    crate::say(&signorini_suite::bench::markdown(&rows));
     match plots {
         Ok(p) => crate::say(&format!(
             "bench.csv and {} plot(s) in {}\n",
@@ -92,9 +94,9 @@ pub(crate) fn bench(
 pub(crate) fn plot(csvs: &[PathBuf], out: &Path) -> ExitCode {
     let mut rows = Vec::new();
     for p in csvs {
-        let read = signorini_solver::problem_file::regular_file(p)
+        let read = signorini_problems::regular_file(p)
             .and_then(|()| std::fs::read_to_string(p).map_err(|e| e.to_string()))
-            .and_then(|text| signorini_solver::bench::read_csv(&text));
+            .and_then(|text| signorini_suite::bench::read_csv(&text));
         match read {
             Ok(r) => rows.extend(r),
             Err(e) => return fail(1, &format!("--plot {}: {e}", p.display())),
@@ -106,7 +108,7 @@ pub(crate) fn plot(csvs: &[PathBuf], out: &Path) -> ExitCode {
     if let Err(e) = std::fs::create_dir_all(out) {
         return fail(3, &format!("cannot write {}: {e}", out.display()));
     }
-    match signorini_solver::bench::write_plots(out, &rows) {
+    match signorini_suite::bench::write_plots(out, &rows) {
         Ok(p) => {
             crate::say(&format!(
                 "{} plot(s) of {} rows in {}\n",
@@ -123,7 +125,7 @@ pub(crate) fn plot(csvs: &[PathBuf], out: &Path) -> ExitCode {
 /// `signorini bench --suite root`: every root method on the Delassus
 /// problems of an elastic layer, one line per run on stderr.
 pub(crate) fn root_suite(quick: bool, export: bool, sizes: &[usize], out: &Path) -> ExitCode {
-    use signorini_rootbench::{problem::Family, run};
+    use signorini_suite::rootbench::{problem::Family, run};
     if let Some(m) = sizes.iter().find(|&&m| !(2..=8192).contains(&m)) {
         return fail(
             1,
@@ -183,7 +185,7 @@ pub(crate) fn root_suite(quick: bool, export: bool, sizes: &[usize], out: &Path)
 /// DIR/stiff.csv, DIR/stiff.md and each case's scene in DIR/stiff/; exit 1
 /// naming the cases that fail their expectation.
 pub(crate) fn stiff_suite(quick: bool, out: &Path) -> ExitCode {
-    use signorini_stiff as stiff;
+    use signorini_suite::stiff;
     // Every case's scene beside the table, so that any case can be rerun
     // alone with `signorini run DIR/stiff/<case>.toml`.
     let cases = stiff::cases(quick);

@@ -9,6 +9,8 @@ use crate::fail;
 
 /// The options of `signorini local`.
 pub(crate) struct LocalOptions {
+    /// The memory the solve may use (a larger problem is refused unread).
+    pub budget: Option<signorini_report::budget::Budget>,
     pub tolerance: f64,
     pub max_iterations: usize,
     pub with_lambda: bool,
@@ -23,7 +25,7 @@ pub(crate) fn local(path: &Path, method: Method, o: LocalOptions) -> ExitCode {
             &format!("--tolerance: must be in (0, 1), got {}", o.tolerance),
         );
     }
-    let problem = match signorini_solver::local::load(path) {
+    let problem = match signorini_problems::local::load(path, o.budget) {
         Ok(p) => p,
         Err(e) => return fail(1, &e),
     };
@@ -37,7 +39,7 @@ pub(crate) fn local(path: &Path, method: Method, o: LocalOptions) -> ExitCode {
                 "--method: frictional local problems are solved by the friction solvers (--friction fixed_point, status or newton)",
             );
         }
-        match signorini_solver::local::FrictionMethod::from_name(&o.friction) {
+        match signorini_problems::local::FrictionMethod::from_name(&o.friction) {
             Ok(f) if problem.dim == 3 && !f.solves_3d() => {
                 return fail(
                     1,
@@ -54,7 +56,7 @@ pub(crate) fn local(path: &Path, method: Method, o: LocalOptions) -> ExitCode {
         None
     };
     let solve = || match friction {
-        Some(f) => signorini_solver::local::solve_friction(
+        Some(f) => signorini_problems::local::solve_friction(
             &name,
             &problem,
             f,
@@ -62,7 +64,7 @@ pub(crate) fn local(path: &Path, method: Method, o: LocalOptions) -> ExitCode {
             o.max_iterations,
             o.with_lambda,
         ),
-        None => signorini_solver::local::solve(
+        None => signorini_problems::local::solve(
             &name,
             &problem,
             algorithm,
@@ -71,7 +73,7 @@ pub(crate) fn local(path: &Path, method: Method, o: LocalOptions) -> ExitCode {
             o.with_lambda,
         ),
     };
-    let result = signorini_solver::local::repeated(o.repeat, solve);
+    let result = signorini_problems::local::repeated(o.repeat, solve);
     match result {
         Ok(r) => {
             crate::say(&format!(

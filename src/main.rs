@@ -23,7 +23,7 @@ mod run;
 mod validation;
 use signorini_comm::{Local, Transport};
 use signorini_scene::{Method, SolvePath};
-use signorini_solver::RunOptions;
+use signorini_solver::{RunEnvironment, RunOptions};
 
 #[derive(Parser)]
 // term_width = 0: the help is never wrapped, whatever the terminal and
@@ -275,10 +275,7 @@ fn command(cli: Cli) -> ExitCode {
             scene,
             path,
             max_memory,
-        } => {
-            signorini_solver::memory::set_budget(max_memory);
-            run::check(&scene, path)
-        }
+        } => run::check(&scene, path, budget(max_memory)),
         Command::Local {
             problem,
             method,
@@ -288,20 +285,18 @@ fn command(cli: Cli) -> ExitCode {
             friction,
             repeat,
             max_memory,
-        } => {
-            signorini_solver::memory::set_budget(max_memory);
-            local::local(
-                &problem,
-                method,
-                local::LocalOptions {
-                    tolerance,
-                    max_iterations,
-                    with_lambda: lambda,
-                    friction,
-                    repeat: repeat as usize,
-                },
-            )
-        }
+        } => local::local(
+            &problem,
+            method,
+            local::LocalOptions {
+                budget: budget(max_memory),
+                tolerance,
+                max_iterations,
+                with_lambda: lambda,
+                friction,
+                repeat: repeat as usize,
+            },
+        ),
         Command::Bench {
             suite: Some(suite),
             quick,
@@ -332,8 +327,8 @@ fn command(cli: Cli) -> ExitCode {
             max_memory,
             ..
         } => {
-            signorini_solver::memory::set_budget(max_memory);
-            bench::bench(&scenes, &levels, &subdomains, &methods, &paths, &out)
+            let env = environment(max_memory);
+            bench::bench(&scenes, &levels, &subdomains, &methods, &paths, &env, &out)
         }
         Command::Run {
             scene,
@@ -344,7 +339,7 @@ fn command(cli: Cli) -> ExitCode {
             quiet,
             progress,
         } => {
-            signorini_solver::memory::set_budget(max_memory);
+            let env = environment(max_memory);
             let comm = transport();
             // For the tests of the panic path: a panic on that rank.
             if let Ok(r) = std::env::var("SIGNORINI_INJECT_PANIC") {
@@ -360,11 +355,30 @@ fn command(cli: Cli) -> ExitCode {
             run::run(
                 &scene,
                 RunOptions { method, path },
+                &env,
                 out,
                 show,
                 comm.as_ref(),
             )
         }
+    }
+}
+
+/// The memory a command may use: `--max-memory`, else the machine's.
+fn budget(max_memory: Option<u64>) -> Option<signorini_solver::memory::Budget> {
+    signorini_report::budget::budget(max_memory)
+}
+
+/// What a run gets from this process: the memory it may use, and for the
+/// tests of the MPI path a rank to fail (SIGNORINI_FAIL_RANK); the progress
+/// line, if any, is added by `run::run`.
+fn environment(max_memory: Option<u64>) -> RunEnvironment {
+    RunEnvironment {
+        budget: budget(max_memory),
+        observer: None,
+        fail_rank: std::env::var("SIGNORINI_FAIL_RANK")
+            .ok()
+            .and_then(|r| r.parse().ok()),
     }
 }
 
@@ -400,6 +414,10 @@ fn transport() -> Box<dyn Transport> {
             let user = std::env::var("RAYON_NUM_THREADS").ok();
             let threads =
                 signorini_comm::threads_per_rank(cores, m.ranks_on_this_node(), user.as_deref());
+            // The one process-wide setting kept: faer's parallelism is global
+            // by faer's design (every factorisation of the process shares its
+            // thread pool), and a rank's share of the machine's cores is the
+            // process's, set once here before any run.
             faer::set_global_parallelism(faer::Par::rayon(threads));
             return Box::new(m);
         }

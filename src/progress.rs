@@ -181,7 +181,6 @@ impl Terminal {
                 std::thread::park_timeout(Duration::from_millis(1000 / REDRAW_HZ as u64));
             }
         });
-        signorini_solver::progress::set_observer(Some(view.clone()));
         ACTIVE.store(true, Ordering::Relaxed);
         Some(Progress {
             view,
@@ -320,11 +319,15 @@ impl Progress {
     pub(crate) fn stage(&self, stage: &'static str) {
         self.view.stage(stage);
     }
+
+    /// The view, as the observer of the run it shows.
+    pub(crate) fn observer(&self) -> Arc<dyn Observer> {
+        self.view.clone()
+    }
 }
 
 impl Drop for Progress {
     fn drop(&mut self) {
-        signorini_solver::progress::set_observer(None);
         self.view.stop.store(true, Ordering::Relaxed);
         if let Some(t) = self.thread.take() {
             t.thread().unpark();

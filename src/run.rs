@@ -9,12 +9,17 @@ use signorini_comm::Transport;
 use signorini_report::output::{summary, write_outputs, OutputRequest};
 use signorini_report::stream::FieldWriter;
 use signorini_scene::SolvePath;
-use signorini_solver::{RunOptions, RunOutput, SolveError};
+use signorini_solver::memory::Budget;
+use signorini_solver::{RunEnvironment, RunOptions, RunOutput, SolveError};
 
 use crate::progress::{Progress, Show, Terminal};
 use crate::{fail, say};
 
-pub(crate) fn check(path: &Path, solve_path: Option<SolvePath>) -> ExitCode {
+pub(crate) fn check(
+    path: &Path,
+    solve_path: Option<SolvePath>,
+    budget: Option<Budget>,
+) -> ExitCode {
     use signorini_solver::memory;
     let sc = match signorini_scene::load(path) {
         Ok(sc) => sc,
@@ -25,7 +30,8 @@ pub(crate) fn check(path: &Path, solve_path: Option<SolvePath>) -> ExitCode {
     }
     let solve_path = solve_path.unwrap_or(sc.solver.path);
     // The memory of one process (under mpirun, `run` estimates for its ranks).
-    let estimate = match memory::check(&sc, solve_path, 1, memory::ContactCounts::Surfaces) {
+    let counts = memory::ContactCounts::Surfaces;
+    let estimate = match memory::check(&sc, (solve_path, 1), counts, budget) {
         Ok(e) => e,
         Err(e) => return fail(1, &e.to_string()),
     };
@@ -43,7 +49,7 @@ pub(crate) fn check(path: &Path, solve_path: Option<SolvePath>) -> ExitCode {
         sc.contact.len(),
         sc.step_scales().len()
     ));
-    let budget = memory::budget()
+    let budget = budget
         .map(|b| format!("; {} {}", memory::human(b.bytes as f64), b.source))
         .unwrap_or_default();
     say(&format!(
@@ -77,6 +83,7 @@ fn read_file_meshes(
 pub(crate) fn run(
     path: &Path,
     opts: RunOptions,
+    env: &RunEnvironment,
     out: Option<PathBuf>,
     show: Show,
     comm: &dyn Transport,
@@ -84,7 +91,11 @@ pub(crate) fn run(
     // The progress line ends before anything else is printed.
     let mpi = comm.kind() == "mpi";
     let progress = Terminal::start(show, comm.is_root(), mpi, comm.size());
-    let solved = solve_and_write(path, opts, out, progress.as_ref(), comm);
+    let env = RunEnvironment {
+        observer: progress.as_ref().map(Progress::observer),
+        ..env.clone()
+    };
+    let solved = solve_and_write(path, (opts, &env), out, progress.as_ref(), comm);
     drop(progress);
     // Every rank meets the same error; rank 0 alone prints it.
     let (dir, output) = match solved {
@@ -109,7 +120,7 @@ pub(crate) fn run(
 /// the output, `None` on the other ranks, or the exit code and message.
 fn solve_and_write(
     path: &Path,
-    opts: RunOptions,
+    (opts, env): (RunOptions, &RunEnvironment),
     out: Option<PathBuf>,
     progress: Option<&Progress>,
     comm: &dyn Transport,
@@ -145,7 +156,8 @@ fn solve_and_write(
     };
     // Each step's fields go to disk as the step ends (the root alone writes).
     let mut writer = FieldWriter::new(&dir, request);
-    let mut output = match signorini_solver::run_streamed(&sc, &name, &opts, comm, &mut writer) {
+    let mut output = match signorini_solver::run_streamed(&sc, &name, &opts, env, comm, &mut writer)
+    {
         Ok(Some(o)) => o,
         // Another rank: its pieces (`[output] pieces`) into place.
         Ok(None) => {

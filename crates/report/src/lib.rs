@@ -4,6 +4,7 @@
 //! The report crate owns the output files, the terminal summary and the
 //! analytic references; it must not know the scene format or the solver.
 
+pub mod budget;
 pub mod output;
 pub mod pieces;
 pub mod plot;

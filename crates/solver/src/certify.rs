@@ -1,9 +1,24 @@
 //! From a step's contact solution to its report: the certificate of
 //! docs/theory/algorithms.md, the per-step and per-point rows, and the final report.
 
-use super::*;
+use crate::checks::{friction_overload_message, held_by_friction};
+use crate::compare::compare_reference;
+use crate::element_step::RETURN_MAPPING;
+use crate::model::{BodyModel, PointModel};
+use crate::pipeline::{RunContext, RunLog};
 use crate::reactions::{step_contacts, step_reactions};
+use crate::root::{net_force, point_force};
+use crate::step::{Partial, Residuals, StepSolution};
+use crate::subdomain::{CondensedData, FactorSummary, RecoveredStep};
+use crate::{inf_norm, memory, model, SolveError};
+use signorini_contact::friction::PointStatus;
 use signorini_contact::norms::nan_max;
+use signorini_contact::{SolverReport, StatusVariant, StopReason};
+use signorini_report::output::{RunOutput, StepFields};
+use signorini_report::{
+    Certificate, ContactRow, ContactSummary, Memory, Probe, RankStats, Report, StepReport, Timings,
+};
+use signorini_scene as scene;
 
 /// The contact pressure at every point, its force over its tributary
 /// measure. A point whose consistent tributary measure vanishes — the corner
@@ -756,6 +771,7 @@ fn report_of(
         plan,
         model,
         comm,
+        ..
     } = ctx;
     let (method, path) = (plan.method, plan.path);
     let RunLog {

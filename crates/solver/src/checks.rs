@@ -2,7 +2,12 @@
 //! one its contacts can balance (they only push), and, on a flat frictional
 //! contact under force control, within what friction can hold.
 
-use super::*;
+use crate::model::{BodyModel, PointModel};
+use crate::{inf_norm, SolveError};
+use faer::Mat;
+use signorini_contact::equilibrium::nnls;
+use signorini_contact::friction::FrictionLaw;
+use signorini_scene as scene;
 
 /// A body held by contact needs compressive contact forces that balance the
 /// load on its free rigid motions: Gᵀλ = e with λ ≥ 0, G = B R, e = −Rᵀ F

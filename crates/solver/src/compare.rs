@@ -1,7 +1,14 @@
 //! The comparison of a run with its analytic reference (docs/theory/validation-cases.md):
 //! the nodal pressures and forces handed to `signorini_report::reference`.
 
-use super::*;
+use crate::certify::nodal_pressures;
+use crate::model::PointModel;
+use crate::root::point_force;
+use crate::step::FrictionStep;
+use crate::SolveError;
+use signorini_contact::friction::PointStatus;
+use signorini_report::{reference, StepReport};
+use signorini_scene as scene;
 
 pub(crate) fn contact_modulus(sc: &scene::Scene, body: &str) -> f64 {
     // 1/E* contribution of one body: (1 − ν²)/E in plane strain, 1/E in plane stress, 0 if rigid.

@@ -3,7 +3,22 @@
 //! solve refactorised at each status iteration, course notes §3.3), to check and to
 //! benchmark condensation.
 
-use super::*;
+use crate::checks::check_floating_equilibrium;
+use crate::kkt::{DirectProblem, KktSystem};
+use crate::model::{BodyModel, FixedPoint, PointModel};
+use crate::pipeline::RunContext;
+use crate::progress::Phase;
+use crate::root::{body_step, length_scale, resultant, status_options, status_report, step_gaps};
+use crate::step::{Residuals, StepSolution};
+use crate::step_end::StepLoop;
+use crate::timing::timed;
+use crate::{conditioning, contact_error, inf_norm, SolveError};
+use faer::sparse::SparseColMat;
+use signorini_condense::{spmv, spmv_with_magnitude, submatrix};
+use signorini_contact::status_method;
+use signorini_report::Timings;
+use signorini_scene as scene;
+use std::time::Instant;
 
 /// The direct path on the root: every body's whole sparse stiffness, the
 /// contact constraints added by Lagrange multipliers and the saddle-point
@@ -17,10 +32,8 @@ pub(crate) fn run_direct(
 ) -> Result<(), SolveError> {
     let (sc, model) = (ctx.sc, ctx.model);
     let (bodies, points) = (&model.bodies[..], &model.points[..]);
-    let t = Instant::now();
-    progress::phase(progress::Phase::Assembling);
-    let system = assemble_direct(bodies)?;
-    timings.assemble = t.elapsed().as_secs_f64();
+    ctx.progress.phase(Phase::Assembling);
+    let system = timed(&mut timings.assemble, || assemble_direct(bodies))?;
     let rows: Vec<Vec<(usize, f64)>> = points
         .iter()
         .map(|p| {
@@ -31,27 +44,24 @@ pub(crate) fn run_direct(
                 .collect()
         })
         .collect();
-    progress::phase(progress::Phase::Contact);
+    ctx.progress.phase(Phase::Contact);
     let floating = bodies.iter().any(|b| !b.kernel.is_empty());
-    let t = Instant::now();
-    let mut kkt = KktSystem::new(&system.k_global, &rows, floating).map_err(contact_error)?;
-    let ordering_s = t.elapsed().as_secs_f64();
+    let mut kkt = timed(&mut timings.contact, || {
+        KktSystem::new(&system.k_global, &rows, floating).map_err(contact_error)
+    })?;
     // One more factorisation, of K alone (the KKT's ordering), timed apart.
-    let t_kappa = Instant::now();
-    let conditioning = conditioning::direct(&mut kkt, floating, sc.solver.tolerance, messages);
-    timings.conditioning = t_kappa.elapsed().as_secs_f64();
-    let t = Instant::now();
-    let mut end_s = 0.0;
+    let conditioning = timed(&mut timings.conditioning, || {
+        conditioning::direct(&mut kkt, floating, sc.solver.tolerance, messages)
+    });
     for (si, st) in model.scales.iter().enumerate() {
-        progress::step(si, model.scales.len());
-        let ((sol, gaps, res), u_full) =
-            direct_step(sc, bodies, points, &model.fixed, &system, &mut kkt, st, si)?;
-        let t_end = Instant::now();
-        steps.end_step(si, &sol, &gaps, &res, u_full, messages)?;
-        end_s += t_end.elapsed().as_secs_f64();
+        ctx.progress.step(si, model.scales.len());
+        let ((sol, gaps, res), u_full) = timed(&mut timings.contact, || {
+            direct_step(sc, bodies, points, &model.fixed, &system, &mut kkt, st, si)
+        })?;
+        timed(&mut timings.output, || {
+            steps.end_step(si, &sol, &gaps, &res, u_full, messages)
+        })?;
     }
-    timings.contact = ordering_s + t.elapsed().as_secs_f64() - end_s;
-    timings.output += end_s;
     let partial = &mut steps.partial;
     partial.factorisation = Some(kkt_factorisation(&kkt));
     partial.factor_bytes = 8 * kkt.ordered().stats.values as u64;
@@ -147,7 +157,7 @@ fn direct_step(
     st: &[Vec<f64>],
     si: usize,
 ) -> Result<(DirectStep, Vec<Vec<f64>>), SolveError> {
-    let t_step = Instant::now();
+    let started = Instant::now();
     let loads = direct_loads(bodies, system, st);
     let f_scale = loads.f_scale;
     let length_scale = length_scale(bodies, points, &loads.u_p, f_scale);
@@ -171,7 +181,7 @@ fn direct_step(
         regularisation: None,
         law_k: vec![0.0; points.len()],
         friction: None,
-        solve_s: t_step.elapsed().as_secs_f64(),
+        solve_s: started.elapsed().as_secs_f64(),
         operator_s: 0.0,
     };
     let lambda = &sol.outcome.forces;

@@ -7,8 +7,14 @@
 //! [`signorini_contact::contact_elements`]; the slip history g goes from
 //! step to step.
 
-use super::*;
+use crate::friction_step::row_gaps;
+use crate::root::{Interface, RootInput, StepLoad};
+use crate::step::{FrictionStep, StepSolution};
+use crate::{contact_error, SolveError};
 use signorini_contact::contact_elements::{self, ContactElement, ElementOptions, SlipThreshold};
+use signorini_contact::friction::{FrictionLaw, PointStatus};
+use signorini_contact::{ContactSolution, DelassusOperator};
+use signorini_scene as scene;
 
 /// The run's method (report.json `method`) when it solves contact elements.
 pub(crate) const RETURN_MAPPING: &str = "contact_elements_return_mapping";

@@ -7,8 +7,19 @@
 //! force, [`signorini_contact::friction::kinematic_hardening`]), and the slip
 //! history carried to the next step.
 
-use super::*;
+use crate::model::{BodyModel, PointModel};
+use crate::root::{initial_statuses, Interface, RootInput, StepLoad};
+use crate::step::{FrictionStep, StepSolution};
+use crate::{contact_error, SolveError};
 use signorini_contact::friction::kinematic_hardening::{self, Hardened};
+use signorini_contact::friction::{
+    coulomb_fixed_point, coulomb_newton, coulomb_status, predicted_statuses, tresca_projection,
+    tresca_status, FrictionLaw, FrictionLayout, FrictionOptions, PointStatus,
+};
+use signorini_contact::friction3d::friction_3d;
+use signorini_contact::registry::FrictionSupport;
+use signorini_contact::{ContactError, ContactSolution, DelassusOperator, DelassusProblem};
+use signorini_scene as scene;
 
 /// The friction layout of the interface problem, built once per run.
 pub(crate) struct FrictionRows {

@@ -16,7 +16,6 @@
 //! one that knows the scene, the numerics and the transport together; it must
 //! not know the command line.
 
-pub mod bench;
 mod certify;
 mod checks;
 mod compare;
@@ -24,64 +23,32 @@ mod conditioning;
 pub mod contact_frames;
 mod direct_path;
 mod element_step;
-mod fclib;
 mod friction_step;
 mod kkt;
-pub mod local;
 pub mod memory;
 pub mod model;
 mod partition;
 mod pieces;
 mod pipeline;
 mod plan;
-pub mod problem_file;
 pub mod progress;
 mod reactions;
 mod root;
+mod step;
 mod step_end;
 pub mod subdomain;
+mod timing;
 
-use std::time::Instant;
+use std::sync::Arc;
 
-use faer::sparse::SparseColMat;
-use faer::Mat;
-use kkt::{DirectProblem, KktSystem};
 use serde::{Deserialize, Serialize};
-use signorini_comm::{broadcast, deal, gather, Transport};
-use signorini_condense::interface::{InterfaceStiffness, SchurBlock};
-use signorini_condense::{spmv, spmv_with_magnitude, submatrix};
-use signorini_contact::equilibrium::nnls;
-use signorini_contact::friction::{
-    coulomb_fixed_point, coulomb_newton, coulomb_status, predicted_statuses, tresca_projection,
-    tresca_status, FrictionLaw, FrictionLayout, FrictionOptions, PointStatus,
-};
-use signorini_contact::friction3d::friction_3d;
-use signorini_contact::registry::{Algorithm, Constraints, FrictionSupport};
-use signorini_contact::{
-    status_method, ActiveSetSolve, ContactError, ContactSolution, DelassusOperator,
-    DelassusProblem, LcpOptions, SolverReport, StatusOptions, StatusVariant, StopReason,
-};
+use signorini_contact::ContactError;
 pub use signorini_report::output::{BodyResult, RunOutput, StepFields};
 pub use signorini_report::stream::{FieldWriter, StepSink, StepsInMemory};
-use signorini_report::{
-    reference, Certificate, ContactRow, ContactSummary, Memory, Probe, RankStats, Regularisation,
-    Report, StepReport, Timings,
-};
 use signorini_scene as scene;
 
-use certify::*;
-use checks::*;
-use compare::*;
-use direct_path::*;
-use element_step::*;
-use friction_step::*;
-use model::{BodyModel, FixedPoint, PointModel};
-pub use pipeline::{run, run_streamed};
-use pipeline::{RunContext, RunLog};
-pub use plan::{algorithm_of, check_plan};
-use root::*;
-use step_end::StepLoop;
-use subdomain::{CondensedData, FactorSummary, RecoveredStep, Subdomain, SubdomainSpec};
+pub use pipeline::{run, run_streamed, run_with};
+pub use plan::{algorithm_of, check_options, check_plan};
 
 /// What went wrong, with the exit code it maps to.
 #[derive(Debug, Clone, thiserror::Error, Serialize, Deserialize)]
@@ -99,6 +66,31 @@ pub enum SolveError {
 pub struct RunOptions {
     pub method: Option<scene::Method>,
     pub path: Option<scene::SolvePath>,
+}
+
+/// What the process that starts a run gives it besides the scene and the
+/// options: the command line's `--max-memory` and its progress line.
+#[derive(Clone, Default)]
+pub struct RunEnvironment {
+    /// The memory the run may use: a scene estimated above it is refused
+    /// before anything is built (`None`: unknown, nothing is refused).
+    pub budget: Option<memory::Budget>,
+    /// Who hears of the run's progress on this rank (`None`: nobody).
+    pub observer: Option<Arc<dyn progress::Observer>>,
+    /// A rank that fails its condensation on purpose, for the tests of the
+    /// MPI path's error handling (the command line's SIGNORINI_FAIL_RANK).
+    pub fail_rank: Option<usize>,
+}
+
+impl RunEnvironment {
+    /// The machine's memory ([`memory::machine_memory`]), no observer.
+    pub fn machine() -> Self {
+        Self {
+            budget: memory::machine_memory(),
+            observer: None,
+            fail_rank: None,
+        }
+    }
 }
 
 fn inf_norm(v: &[f64]) -> f64 {
@@ -124,109 +116,6 @@ fn wire<T>(r: Result<T, String>) -> Result<T, SolveError> {
     r.map_err(SolveError::Internal)
 }
 
-/// One step solved on the root.
-struct StepSolution {
-    /// The contact problem's answer, with the report of the method that ran.
-    outcome: ContactSolution,
-    gap0: Vec<f64>,
-    f_scale: f64,
-    length_scale: f64,
-    regularisation: Option<Regularisation>,
-    /// Penalty stiffness of each point whose contact has a regularised law (0: unilateral).
-    law_k: Vec<f64>,
-    /// Friction state at the end of the step, when a contact has friction.
-    friction: Option<FrictionStep>,
-    /// Seconds of this step's root solve, and of building the Delassus
-    /// operator when this step built it (the first step), else 0.
-    solve_s: f64,
-    operator_s: f64,
-}
-
-/// Friction at one step, per contact point (zeros for frictionless points).
-#[derive(Clone)]
-struct FrictionStep {
-    statuses: Vec<PointStatus>,
-    tangential: Vec<f64>,
-    slip_increment: Vec<f64>,
-    slip_total: Vec<f64>,
-    /// Along the second tangent (3D; zeros in 2D).
-    tangential2: Vec<f64>,
-    slip_increment2: Vec<f64>,
-    slip_total2: Vec<f64>,
-    /// The threshold in force at the solution (Tresca g or μ λ_n).
-    threshold: Vec<f64>,
-    /// How far the tangential force lies outside its admissible set, in
-    /// force (≤ 0 inside): |λ_t| − g in 2D, ‖λ_t‖ − g on the Tresca disc,
-    /// μ₁ (‖(λ_t1/μ₁, λ_t2/μ₂)‖ − λ_n) on the (elliptic) Coulomb cone;
-    /// with roughness, of the slider force λ_t + Q g (course notes §6).
-    cone_excess: Vec<f64>,
-    /// The back force Q g of a rough point (course notes §6; zero without
-    /// roughness), along t1 and t2: the slider force is λ_t + Q g.
-    back_force: Vec<f64>,
-    back_force2: Vec<f64>,
-}
-
-impl FrictionStep {
-    /// The statuses of `m` points with every force, slip, threshold and
-    /// excess zero, for the step's solver to fill in.
-    fn zeros(statuses: Vec<PointStatus>, m: usize) -> Self {
-        FrictionStep {
-            statuses,
-            tangential: vec![0.0; m],
-            slip_increment: vec![0.0; m],
-            slip_total: vec![0.0; m],
-            tangential2: vec![0.0; m],
-            slip_increment2: vec![0.0; m],
-            slip_total2: vec![0.0; m],
-            threshold: vec![0.0; m],
-            cone_excess: vec![0.0; m],
-            back_force: vec![0.0; m],
-            back_force2: vec![0.0; m],
-        }
-    }
-}
-
 /// The fraction of the local element size (tributary length) beyond which a
 /// penalty penetration is warned about.
 pub const PENETRATION_WARNING_FRACTION: f64 = 0.01;
-
-/// What both paths hand to the report.
-struct Partial {
-    steps: Vec<StepReport>,
-    certificate: Certificate,
-    converged: bool,
-    failure: Option<String>,
-    contact_rows: Vec<ContactRow>,
-    lambda: Vec<f64>,
-    /// Full displacement of each body at the last step.
-    u_last: Vec<Vec<f64>>,
-    /// Each body's mesh, and (once the last step ended) its fields at the
-    /// last step.
-    bodies: Vec<BodyResult>,
-    /// The lowest gap over the steps of each point left out of the contact
-    /// zone (`ModelData::excluded`), for the check that none penetrates.
-    excluded_gaps: Vec<f64>,
-    dense_interface_bytes: u64,
-    factor_bytes: u64,
-    /// Ordering, size and flops of the factorisation (report.json
-    /// `factorisation`).
-    factorisation: Option<signorini_report::Factorisation>,
-    n_gamma: usize,
-    dofs: usize,
-    solver: serde_json::Value,
-    /// Friction at the last step.
-    friction: Option<FrictionStep>,
-    /// Condition estimates (report.json `conditioning`).
-    conditioning: Option<signorini_report::Conditioning>,
-}
-
-/// Residual pieces of one step for the certificate.
-struct Residuals {
-    /// Largest equilibrium residual (interior and Γ, contact forces included).
-    equilibrium: f64,
-    /// Largest internal or external force entry.
-    force_scale: f64,
-    /// K u − f on the prescribed DOFs, as (body, DOF, value); a DOF shared
-    /// by subdomains appears once per subdomain, their values to be summed.
-    support: Vec<(usize, usize, f64)>,
-}

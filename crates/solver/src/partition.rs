@@ -3,8 +3,11 @@
 //! a fixed seed), the METIS parts of each body, and the numbering of the
 //! interface Γ.
 
-use super::*;
 use crate::contact_frames::ContactFrames;
+use crate::model::{BodyModel, FixedPoint, PointModel};
+use crate::subdomain::SubdomainSpec;
+use crate::{memory, model, subdomain, SolveError};
+use signorini_scene as scene;
 
 /// What the model and partition stages build, on every rank alike.
 pub(crate) struct ModelData {

@@ -6,9 +6,13 @@
 //! them all from the whole displacement. The root's sink writes the `.pvtu`
 //! index (signorini_report::pieces).
 
-use super::*;
+use crate::partition;
+use crate::subdomain::{RecoveredStep, SubdomainSpec};
 use partition::ModelData;
+use signorini_report::output::{BodyResult, StepFields};
 use signorini_report::pieces::{ContactFields, NodalContact, SubdomainPiece};
+use signorini_report::stream::StepSink;
+use signorini_scene as scene;
 
 /// Whether the scene writes pieces (`[output] pieces`, with some field).
 pub(crate) fn wanted(sc: &scene::Scene) -> bool {

@@ -6,7 +6,27 @@
 //! step's per-DOF data. Only this module calls the transport
 //! (gather, broadcast, deal).
 
-use super::*;
+use crate::certify::{condensed_sizes, condensed_step, finish_report};
+use crate::checks::check_held_by_contacts;
+use crate::direct_path::run_direct;
+use crate::root::{take_interface_stiffness, RootInput, RootSolve};
+use crate::step::Partial;
+use crate::step_end::StepLoop;
+use crate::subdomain::{CondensedData, RecoveredStep, Subdomain, SubdomainSpec};
+use crate::{
+    conditioning, memory, model, partition, pieces, plan, wire, RunEnvironment, RunOptions,
+    SolveError,
+};
+use serde::{Deserialize, Serialize};
+use signorini_comm::{broadcast, deal, gather, Transport};
+use signorini_report::output::RunOutput;
+use signorini_report::stream::{StepSink, StepsInMemory};
+use signorini_report::{RankStats, Timings};
+use signorini_scene as scene;
+use std::time::Instant;
+
+use crate::progress::{Event, Phase, Progress};
+use crate::timing::timed;
 
 /// What a run keeps for its report as it goes.
 pub(crate) struct RunLog {
@@ -21,6 +41,8 @@ pub(crate) struct RunLog {
 #[derive(Clone, Copy)]
 pub(crate) struct RunContext<'a> {
     pub sc: &'a scene::Scene,
+    /// Who hears of the run's progress.
+    pub progress: &'a Progress,
     pub scene_name: &'a str,
     pub plan: &'a plan::Plan,
     pub model: &'a partition::ModelData,
@@ -65,17 +87,28 @@ impl RankFigures {
 
 /// Runs a scene on every rank of `comm`, keeping every step in memory (the
 /// contact rows of every step and the fields of the steps `[output] steps`
-/// selects: `RunOutput::contact_rows`, `BodyResult::history`). Returns the
-/// output on the root, `None` on the other ranks; an error is returned
-/// identically on every rank.
+/// selects: `RunOutput::contact_rows`, `BodyResult::history`), within the
+/// machine's memory. Returns the output on the root, `None` on the other
+/// ranks; an error is returned identically on every rank.
 pub fn run(
     sc: &scene::Scene,
     scene_name: &str,
     opts: &RunOptions,
     comm: &dyn Transport,
 ) -> Result<Option<RunOutput>, SolveError> {
+    run_with(sc, scene_name, opts, &RunEnvironment::machine(), comm)
+}
+
+/// [`run`] with what the process gives the run ([`RunEnvironment`]).
+pub fn run_with(
+    sc: &scene::Scene,
+    scene_name: &str,
+    opts: &RunOptions,
+    env: &RunEnvironment,
+    comm: &dyn Transport,
+) -> Result<Option<RunOutput>, SolveError> {
     let mut kept = StepsInMemory::default();
-    let out = run_streamed(sc, scene_name, opts, comm, &mut kept)?;
+    let out = run_streamed(sc, scene_name, opts, env, comm, &mut kept)?;
     Ok(out.map(|mut o| {
         kept.fill(&mut o);
         o
@@ -97,6 +130,7 @@ pub fn run_streamed(
     sc: &scene::Scene,
     scene_name: &str,
     opts: &RunOptions,
+    env: &RunEnvironment,
     comm: &dyn Transport,
     sink: &mut dyn StepSink,
 ) -> Result<Option<RunOutput>, SolveError> {
@@ -105,9 +139,16 @@ pub fn run_streamed(
     // Refuse a scene that cannot fit before building anything (the root's
     // verdict on every rank: the machines' memory may differ).
     let fits = comm.is_root().then(|| {
-        memory::check(sc, plan.path, comm.size(), memory::ContactCounts::Surfaces).map(|_| ())
+        memory::check(
+            sc,
+            (plan.path, comm.size()),
+            memory::ContactCounts::Surfaces,
+            env.budget,
+        )
+        .map(|_| ())
     });
     wire(broadcast(comm, fits.as_ref()))??;
+    let progress = Progress::new(env.observer.clone());
     let mut zone = None;
     let mut notes = Vec::new();
     let mut widenings = 0;
@@ -125,6 +166,9 @@ pub fn run_streamed(
             comm,
             zone: zone.as_ref(),
             widenings,
+            budget: env.budget,
+            progress: &progress,
+            fail_rank: env.fail_rank,
         };
         match attempt.solve(log, sink)? {
             Outcome::Done(out) => return Ok(out.map(|o| *o)),
@@ -147,6 +191,11 @@ struct Attempt<'a> {
     zone: Option<&'a model::Zone>,
     /// How many times the zone was widened before this solve.
     widenings: usize,
+    /// The memory the run may use.
+    budget: Option<memory::Budget>,
+    progress: &'a Progress,
+    /// The rank made to fail its condensation (a test of the MPI path).
+    fail_rank: Option<usize>,
 }
 
 /// What a solve ends with: the output (on the root), or the zone to solve
@@ -162,33 +211,35 @@ impl Attempt<'_> {
     fn solve(&self, mut log: RunLog, sink: &mut dyn StepSink) -> Result<Outcome, SolveError> {
         let (sc, comm) = (self.sc, self.comm);
         let condensed_path = self.plan.path == scene::SolvePath::Condensed;
-        let t = Instant::now();
         let ranks = if condensed_path { comm.size() } else { 1 };
-        progress::phase(progress::Phase::Meshing);
-        let model = partition::model_stage(sc, ranks, self.zone, &mut log.messages)?;
-        // Every rank built the same model: each refuses it alike.
-        check_held_by_contacts(&model.bodies, &model.points)?;
-        // Again with the contact unknowns the candidate zones kept.
-        let fits = comm.is_root().then(|| {
-            memory::check(
-                sc,
-                self.plan.path,
-                comm.size(),
-                memory::ContactCounts::Built(&model.kept),
-            )
-            .map(|_| ())
-            .map_err(|e| match (e, self.widenings) {
-                (SolveError::Input(m), 1..) => SolveError::Input(format!(
-                    "an excluded slave node penetrated its master, and the candidate zone widened to hold it does not fit: {m}"
-                )),
-                (e, _) => e,
-            })
-        });
-        wire(broadcast(comm, fits.as_ref()))??;
-        log.timings.setup = t.elapsed().as_secs_f64();
+        let model = timed(&mut log.timings.setup, || -> Result<_, SolveError> {
+            self.progress.phase(Phase::Meshing);
+            let model = partition::model_stage(sc, ranks, self.zone, &mut log.messages)?;
+            // Every rank built the same model: each refuses it alike.
+            check_held_by_contacts(&model.bodies, &model.points)?;
+            // Again with the contact unknowns the candidate zones kept.
+            let fits = comm.is_root().then(|| {
+                memory::check(
+                    sc,
+                    (self.plan.path, comm.size()),
+                    memory::ContactCounts::Built(&model.kept),
+                    self.budget,
+                )
+                .map(|_| ())
+                .map_err(|e| match (e, self.widenings) {
+                    (SolveError::Input(m), 1..) => SolveError::Input(format!(
+                        "an excluded slave node penetrated its master, and the candidate zone widened to hold it does not fit: {m}"
+                    )),
+                    (e, _) => e,
+                })
+            });
+            wire(broadcast(comm, fits.as_ref()))??;
+            Ok(model)
+        })?;
         let setup_peak_rss_bytes = signorini_report::peak_rss_bytes();
         let ctx = RunContext {
             sc,
+            progress: self.progress,
             scene_name: self.scene_name,
             plan: self.plan,
             model: &model,
@@ -198,11 +249,16 @@ impl Attempt<'_> {
             return self.direct_stage(ctx, log, sink);
         }
         log.stages.push("condense".into());
-        let (local, condensed, condense_s) = condense_stage(comm, &model, &mut log.messages);
+        let (local, condensed, condense_s) = condense_stage(
+            (comm, self.fail_rank),
+            &model,
+            self.progress,
+            &mut log.messages,
+        );
         let sizes = RankFigures::of_condensed(&condensed);
         // Moved: the root keeps the gathered data, the other ranks none.
         let gathered = wire(gather(comm, condensed))?;
-        progress::ranks_condensed(gathered.as_ref());
+        self.progress.ranks_condensed(gathered.as_ref());
         let data = gathered.map(root_data);
         // The root's sink ends the steps; every rank's writes its pieces.
         let (mut steps, other) = match comm.is_root() {
@@ -263,12 +319,13 @@ impl Attempt<'_> {
         log.stages.push("contact".into());
         let mut steps = StepLoop::new(ctx.sc, ctx.model, sink);
         steps.all_pieces = true;
-        progress::observed(|| run_direct(ctx, &mut steps, &mut log.timings, &mut log.messages))?;
+        ctx.progress
+            .observed(|| run_direct(ctx, &mut steps, &mut log.timings, &mut log.messages))?;
         let partial = steps.partial;
         if let Some(w) = self.check_zone(ctx.model, &partial) {
             return Ok(Outcome::Widen(w));
         }
-        progress::phase(progress::Phase::Certifying);
+        ctx.progress.phase(Phase::Certifying);
         finish_report(ctx, partial, log, 0, vec![]).map(|o| Outcome::Done(Some(Box::new(o))))
     }
 
@@ -298,8 +355,9 @@ type Condensed = (Vec<Subdomain>, Result<Vec<CondensedData>, String>, f64);
 /// the ranks by cost): this rank's subdomains, their S_i and F'_i (or the
 /// first error), and the seconds it took.
 fn condense_stage(
-    comm: &dyn Transport,
+    (comm, fail_rank): (&dyn Transport, Option<usize>),
     model: &partition::ModelData,
+    progress: &Progress,
     messages: &mut Vec<String>,
 ) -> Condensed {
     let specs = &model.specs;
@@ -313,35 +371,36 @@ fn condense_stage(
             comm.size() - specs.len()
         ));
     }
-    progress::phase(progress::Phase::Condensing);
-    let t = Instant::now();
+    progress.phase(Phase::Condensing);
+    let mut condense_s = 0.0;
     let rank = comm.rank();
     let condense = |i: usize, spec: &SubdomainSpec, par: faer::Par| {
         let b = &model.bodies[spec.body];
         let (gamma, owner) = (&model.gamma_of[spec.body], &model.owner_part[spec.body]);
         let frames = model.frames.local(spec.body, b.mesh.dim, Some(&spec.nodes));
-        Subdomain::condense(i, spec, b, gamma, owner, frames, par).map_err(|e| {
+        Subdomain::condense(i, spec, b, (gamma, owner), frames, (par, progress)).map_err(|e| {
             format!(
                 "bodies[{}] \"{}\", subdomain {} (rank {}): {e}",
                 b.scene_index, b.name, spec.part, rank
             )
         })
     };
-    let mine: Result<Vec<(Subdomain, CondensedData)>, String> = injected_failure(comm).map_or_else(
-        || {
-            let mine: Vec<usize> = (0..specs.len())
-                .filter(|&i| owner_rank[i] == comm.rank())
-                .collect();
-            let par = faer::get_global_parallelism();
-            condense_side_by_side(&mine, &costs, specs.len(), par, |i, par| {
-                condense(i, &specs[i], par)
-            })
-        },
-        Err,
-    );
-    let condense_s = t.elapsed().as_secs_f64();
+    let mine: Result<Vec<(Subdomain, CondensedData)>, String> = timed(&mut condense_s, || {
+        injected_failure(comm, fail_rank).map_or_else(
+            || {
+                let mine: Vec<usize> = (0..specs.len())
+                    .filter(|&i| owner_rank[i] == comm.rank())
+                    .collect();
+                let par = faer::get_global_parallelism();
+                condense_side_by_side(&mine, &costs, specs.len(), (par, progress), |i, par| {
+                    condense(i, &specs[i], par)
+                })
+            },
+            Err,
+        )
+    });
     if comm.size() > 1 {
-        progress::emit(progress::Event::Detail("waiting for the other ranks"));
+        progress.emit(Event::Detail("waiting for the other ranks"));
     }
     match mine {
         Ok(v) => {
@@ -365,14 +424,14 @@ fn condense_side_by_side<T: Send>(
     mine: &[usize],
     costs: &[f64],
     total: usize,
-    par: faer::Par,
+    (par, progress): (faer::Par, &Progress),
     condense: impl Fn(usize, faer::Par) -> Result<T, String> + Sync,
 ) -> Result<Vec<T>, String> {
     let cores = par.degree();
     let workers = side_by_side_workers(mine.iter().map(|&i| costs[i]), cores);
     if workers <= 1 {
         let each = |(k, &i): (usize, &usize)| {
-            progress::subdomain(k, mine.len(), total);
+            progress.subdomain(k, mine.len(), total);
             condense(i, par)
         };
         return mine.iter().enumerate().map(each).collect();
@@ -392,7 +451,7 @@ fn condense_side_by_side<T: Send>(
             let k = first.take().unwrap_or_else(|| next.fetch_add(1, Relaxed));
             let Some(&slot) = order.get(k) else { break };
             if reports {
-                progress::subdomain(k, mine.len(), total);
+                progress.subdomain(k, mine.len(), total);
             }
             let out = condense(mine[slot], par);
             failed.fetch_or(out.is_err(), Relaxed);
@@ -451,11 +510,10 @@ fn side_by_side_workers(costs: impl Iterator<Item = f64>, cores: usize) -> usize
     }
 }
 
-/// A failure injected on this rank by SIGNORINI_FAIL_RANK (the failure
-/// test of the MPI path).
-fn injected_failure(comm: &dyn Transport) -> Option<String> {
-    let r = std::env::var("SIGNORINI_FAIL_RANK").ok()?;
-    (r.parse::<usize>().ok() == Some(comm.rank())).then(|| {
+/// A failure injected on this rank when it is `fail_rank` (the failure test
+/// of the MPI path: `RunEnvironment::fail_rank`).
+fn injected_failure(comm: &dyn Transport, fail_rank: Option<usize>) -> Option<String> {
+    (fail_rank == Some(comm.rank())).then(|| {
         format!(
             "failure injected on rank {} (SIGNORINI_FAIL_RANK)",
             comm.rank()
@@ -515,56 +573,64 @@ fn steps_stage(
     let (comm, model) = (ctx.comm, ctx.model);
     let mut error = None;
     let mut data = data.and_then(|d| d.map_err(|e| error = Some(e)).ok());
-    progress::phase(progress::Phase::Contact);
-    progress::emit(progress::Event::Detail("assembling the interface problem"));
+    let progress = ctx.progress;
+    progress.phase(Phase::Contact);
+    progress.emit(Event::Detail("assembling the interface problem"));
     // Part of the root's contact solve and of its interface operator.
-    let assembling = Instant::now();
-    let stiffness = data
-        .as_deref_mut()
-        .map(|d| take_interface_stiffness(d, model.n_gamma));
-    let input = data.as_deref().map(|d| root_input(ctx, d));
-    let mut root = input
-        .as_ref()
-        .zip(stiffness)
-        .and_then(|(i, s)| RootSolve::new(i, s).map_err(|e| error = Some(e)).ok());
+    let mut assembly_s = 0.0;
+    let (input, stiffness) = timed(&mut assembly_s, || {
+        let stiffness = data
+            .as_deref_mut()
+            .map(|d| take_interface_stiffness(d, model.n_gamma));
+        (data.as_deref().map(|d| root_input(ctx, d)), stiffness)
+    });
+    let mut root = timed(&mut assembly_s, || {
+        input
+            .as_ref()
+            .zip(stiffness)
+            .and_then(|(i, s)| RootSolve::new(i, s).map_err(|e| error = Some(e)).ok())
+    });
     let mut cond = conditioning::RootConditioning::default();
-    let assembly_s = assembling.elapsed().as_secs_f64();
     let (mut recover_s, mut contact_s, mut delassus_s, mut output_s) =
         (0.0, assembly_s, assembly_s, 0.0);
     let mut output_error = None;
     for (si, st) in model.scales.iter().enumerate() {
-        progress::step(si, model.scales.len());
-        let t = Instant::now();
+        progress.step(si, model.scales.len());
         let mut solved = None;
-        let msg = comm.is_root().then(|| match (error.take(), root.as_mut()) {
-            (Some(e), _) => Err(e),
-            (None, None) => Err(SolveError::Internal("the root solve is missing".into())),
-            (None, Some(r)) => progress::observed(|| r.step(si, st, &mut cond)).map(|(sol, u)| {
-                solved = Some(sol);
-                u
-            }),
+        let msg = timed(&mut contact_s, || {
+            comm.is_root().then(|| match (error.take(), root.as_mut()) {
+                (Some(e), _) => Err(e),
+                (None, None) => Err(SolveError::Internal("the root solve is missing".into())),
+                (None, Some(r)) => {
+                    progress
+                        .observed(|| r.step(si, st, &mut cond))
+                        .map(|(sol, u)| {
+                            solved = Some(sol);
+                            u
+                        })
+                }
+            })
         });
-        contact_s += t.elapsed().as_secs_f64();
         let u_gamma: Result<Vec<f64>, SolveError> = wire(broadcast(comm, msg.as_ref()))?;
         let u_gamma = u_gamma?;
         // Steps interleave solve and recovery: one stage, a detail per step.
-        progress::emit(progress::Event::Detail("recovering"));
-        let t = Instant::now();
-        let mine: Vec<RecoveredStep> = local
-            .iter()
-            .map(|s| s.recover_step(&st[model.specs[s.id].body], &u_gamma))
-            .collect();
-        recover_s += t.elapsed().as_secs_f64();
+        progress.emit(Event::Detail("recovering"));
+        let mine: Vec<RecoveredStep> = timed(&mut recover_s, || {
+            local
+                .iter()
+                .map(|s| s.recover_step(&st[model.specs[s.id].body], &u_gamma))
+                .collect()
+        });
         let gathered = wire(gather(comm, mine.clone()))?;
         if let (Some(all), Some(sol), Some(steps)) = (gathered, solved, steps.as_deref_mut()) {
-            let t = Instant::now();
-            let recovered: Vec<RecoveredStep> = all.into_iter().flatten().collect();
-            let (gaps, res, u_full) = condensed_step(ctx, &sol, &u_gamma, &recovered);
             delassus_s += sol.operator_s;
-            if let Err(e) = steps.end_step(si, &sol, &gaps, &res, u_full, &mut log.messages) {
-                error = Some(e);
-            }
-            output_s += t.elapsed().as_secs_f64();
+            timed(&mut output_s, || {
+                let recovered: Vec<RecoveredStep> = all.into_iter().flatten().collect();
+                let (gaps, res, u_full) = condensed_step(ctx, &sol, &u_gamma, &recovered);
+                if let Err(e) = steps.end_step(si, &sol, &gaps, &res, u_full, &mut log.messages) {
+                    error = Some(e);
+                }
+            });
         }
         let written = step_pieces(ctx, si, &mine, steps.as_deref_mut(), other.as_deref_mut())?;
         output_error = output_error.or(written.err());
@@ -624,6 +690,7 @@ fn step_pieces<'s>(
 fn root_input<'a>(ctx: RunContext<'a>, data: &'a [CondensedData]) -> RootInput<'a> {
     let model = ctx.model;
     RootInput {
+        progress: ctx.progress,
         sc: ctx.sc,
         algorithm: ctx.plan.algorithm,
         return_mapping: ctx.plan.return_mapping,
@@ -647,7 +714,7 @@ fn condensed_partial(
     root: Result<RootWalk, SolveError>,
 ) -> Result<Partial, SolveError> {
     let (sc, model) = (ctx.sc, ctx.model);
-    progress::phase(progress::Phase::Certifying);
+    ctx.progress.phase(Phase::Certifying);
     let root = root?;
     let mut partial = steps.partial;
     log.stages.push("contact".into());
@@ -731,9 +798,11 @@ mod tests {
         let par = faer::Par::rayon(2);
         let mine = [4, 0, 2, 1];
         let costs = [1.0, 2.0, 3.0, 1.5, 2.5];
-        let out = condense_side_by_side(&mine, &costs, 5, par, |i, _| Ok::<_, String>(10 * i));
+        let out = condense_side_by_side(&mine, &costs, 5, (par, &Progress::default()), |i, _| {
+            Ok::<_, String>(10 * i)
+        });
         assert_eq!(out, Ok(vec![40, 0, 20, 10]));
-        let out = condense_side_by_side(&mine, &costs, 5, par, |i, _| {
+        let out = condense_side_by_side(&mine, &costs, 5, (par, &Progress::default()), |i, _| {
             if i == 2 {
                 Err("subdomain 2 failed".to_string())
             } else {

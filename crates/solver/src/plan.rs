@@ -2,7 +2,11 @@
 //! checked once before anything is built (which method runs on which path,
 //! friction and regularised laws with the methods that solve them).
 
-use super::*;
+use crate::element_step::{check_return_mapping, uses_return_mapping};
+use crate::{RunOptions, SolveError};
+use signorini_contact::registry::{Algorithm, Constraints, FrictionSupport};
+use signorini_contact::StatusVariant;
+use signorini_scene as scene;
 
 /// The checked choices of a run.
 pub(crate) struct Plan {
@@ -116,8 +120,13 @@ fn check_supported(sc: &scene::Scene) -> Result<(), SolveError> {
 /// scene's method, path and reference before it builds anything (the
 /// command line's `--path` overriding the scene's).
 pub fn check_plan(sc: &scene::Scene, path: Option<scene::SolvePath>) -> Result<(), SolveError> {
-    let opts = RunOptions { method: None, path };
-    plan(sc, &opts).map(|_| ())
+    check_options(sc, &RunOptions { method: None, path })
+}
+
+/// Whether `run` would run the scene with the overrides `opts` (the checks
+/// of the plan, made before anything is built).
+pub fn check_options(sc: &scene::Scene, opts: &RunOptions) -> Result<(), SolveError> {
+    plan(sc, opts).map(|_| ())
 }
 
 /// The contact algorithm of a scene's `[solver]` with the method `method`:

@@ -4,12 +4,12 @@
 //! nothing of how it is shown; without an observer (the default) an event
 //! costs one uncontended lock read.
 //!
-//! The observer is process-wide, like the memory budget ([`crate::memory`]):
-//! set once by the caller before `run`. Under MPI each rank has its own; the
-//! command line sets one on the root only, which hears of the other ranks'
+//! The observer is the run's, passed in by the caller
+//! (`RunEnvironment::observer`). Under MPI each rank has its own; the command
+//! line gives one to the root only, which hears of the other ranks'
 //! subdomains when their condensed data arrive ([`Event::RanksCondensed`]).
 
-use std::sync::{Arc, RwLock};
+use std::sync::Arc;
 
 pub use signorini_contact::observe::Iteration;
 
@@ -61,66 +61,66 @@ pub trait Observer: Send + Sync {
     fn event(&self, event: &Event);
 }
 
-static OBSERVER: RwLock<Option<Arc<dyn Observer>>> = RwLock::new(None);
+/// Who hears of one run's progress: the caller's observer, or nobody.
+#[derive(Clone, Default)]
+pub(crate) struct Progress(Option<Arc<dyn Observer>>);
 
-/// Sets (or with `None` removes) the observer of the runs of this process.
-pub fn set_observer(observer: Option<Arc<dyn Observer>>) {
-    if let Ok(mut o) = OBSERVER.write() {
-        *o = observer;
+impl Progress {
+    pub(crate) fn new(observer: Option<Arc<dyn Observer>>) -> Self {
+        Progress(observer)
     }
-}
 
-fn observer() -> Option<Arc<dyn Observer>> {
-    OBSERVER.read().ok().and_then(|o| o.clone())
-}
-
-/// Tells the observer (if any).
-pub(crate) fn emit(event: Event) {
-    if let Some(o) = observer() {
-        o.event(&event);
+    /// Tells the observer (if any).
+    pub(crate) fn emit(&self, event: Event) {
+        if let Some(o) = &self.0 {
+            o.event(&event);
+        }
     }
-}
 
-pub(crate) fn phase(p: Phase) {
-    emit(Event::Phase(p));
-}
-
-/// Load step `index` (from 0) of `of` begins.
-pub(crate) fn step(index: usize, of: usize) {
-    emit(Event::Step {
-        step: index + 1,
-        of,
-    });
-}
-
-/// Runs `f` (a contact solve) with the contact methods' iterations passed
-/// on to the observer.
-pub(crate) fn observed<T>(f: impl FnOnce() -> T) -> T {
-    match observer() {
-        Some(o) => signorini_contact::observe::observed(move |i| o.event(&Event::Iteration(i)), f),
-        None => f(),
+    pub(crate) fn phase(&self, p: Phase) {
+        self.emit(Event::Phase(p));
     }
-}
 
-/// This rank starts its subdomain `index` (from 0) of `of`; `total` on all
-/// ranks.
-pub(crate) fn subdomain(index: usize, of: usize, total: usize) {
-    emit(Event::Subdomain {
-        index: index + 1,
-        of,
-        total,
-    });
-}
+    /// Load step `index` (from 0) of `of` begins.
+    pub(crate) fn step(&self, index: usize, of: usize) {
+        self.emit(Event::Step {
+            step: index + 1,
+            of,
+        });
+    }
 
-/// On the root: how many subdomains each rank condensed, from the gathered
-/// condensed data (a rank that failed counts 0).
-pub(crate) fn ranks_condensed<T, E>(gathered: Option<&Vec<Result<Vec<T>, E>>>) {
-    if let Some(all) = gathered {
-        let counts: Vec<usize> = all
-            .iter()
-            .map(|r| r.as_ref().map_or(0, |v| v.len()))
-            .collect();
-        emit(Event::RanksCondensed(&counts));
+    /// Runs `f` (a contact solve) with the contact methods' iterations
+    /// passed on to the observer.
+    pub(crate) fn observed<T>(&self, f: impl FnOnce() -> T) -> T {
+        match &self.0 {
+            Some(o) => {
+                let o = o.clone();
+                signorini_contact::observe::observed(move |i| o.event(&Event::Iteration(i)), f)
+            }
+            None => f(),
+        }
+    }
+
+    /// This rank starts its subdomain `index` (from 0) of `of`; `total` on
+    /// all ranks.
+    pub(crate) fn subdomain(&self, index: usize, of: usize, total: usize) {
+        self.emit(Event::Subdomain {
+            index: index + 1,
+            of,
+            total,
+        });
+    }
+
+    /// On the root: how many subdomains each rank condensed, from the
+    /// gathered condensed data (a rank that failed counts 0).
+    pub(crate) fn ranks_condensed<T, E>(&self, gathered: Option<&Vec<Result<Vec<T>, E>>>) {
+        if let Some(all) = gathered {
+            let counts: Vec<usize> = all
+                .iter()
+                .map(|r| r.as_ref().map_or(0, |v| v.len()))
+                .collect();
+            self.emit(Event::RanksCondensed(&counts));
+        }
     }
 }
 
@@ -149,14 +149,17 @@ mod tests {
         let sc = signorini_scene::parse_toml(include_str!("../../../examples/blocks.toml"))
             .expect("the example parses");
         let log = Arc::new(Log(std::thread::current().id(), Mutex::new(Vec::new())));
-        set_observer(Some(log.clone()));
-        let out = crate::run(
+        let env = crate::RunEnvironment {
+            observer: Some(log.clone()),
+            ..crate::RunEnvironment::machine()
+        };
+        let out = crate::run_with(
             &sc,
             "blocks",
             &crate::RunOptions::default(),
+            &env,
             &signorini_comm::Local,
         );
-        set_observer(None);
         assert!(out.is_ok());
         let events = log.1.lock().map(|l| l.clone()).unwrap_or_default();
         let at = |s: &str| events.iter().position(|e| e.starts_with(s));

@@ -2,7 +2,26 @@
 //! assembled on Γ, the Delassus operator built once, and each load step's
 //! contact problem solved by the chosen algorithm (course notes §3–4).
 
-use super::*;
+use crate::checks::check_floating_equilibrium;
+use crate::element_step::{element_step, ElementHistory};
+use crate::friction_step::{friction_rows, friction_step, FrictionHistory, FrictionRows};
+use crate::model::{BodyModel, FixedPoint, PointModel};
+use crate::progress::{Event, Progress};
+use crate::step::{FrictionStep, StepSolution};
+use crate::subdomain::{CondensedData, SubdomainSpec};
+use crate::timing::timed;
+use crate::{conditioning, contact_error, inf_norm, SolveError, PENETRATION_WARNING_FRACTION};
+use faer::Mat;
+use signorini_condense::interface::{InterfaceStiffness, SchurBlock};
+use signorini_contact::friction::PointStatus;
+use signorini_contact::registry::Algorithm;
+use signorini_contact::{
+    status_method, ActiveSetSolve, ContactError, ContactSolution, DelassusOperator,
+    DelassusProblem, LcpOptions, SolverReport, StatusOptions, StatusVariant, StopReason,
+};
+use signorini_report::Regularisation;
+use signorini_scene as scene;
+use std::time::Instant;
 
 /// The force that the master exerts on the slave at contact point `pi`,
 /// λ_n n + λ_t1 t1 + λ_t2 t2 (the tangential parts from `friction`, zero
@@ -233,6 +252,8 @@ pub(crate) fn status_report(outcome: &mut ContactSolution, method: &str, linear_
 /// and the subdomains' condensed data on Γ.
 pub(crate) struct RootInput<'a> {
     pub sc: &'a scene::Scene,
+    /// Who hears of the run's progress.
+    pub progress: &'a Progress,
     pub algorithm: Algorithm,
     /// Contact elements solved by the return mapping (course notes §7).
     pub return_mapping: bool,
@@ -280,11 +301,20 @@ pub(crate) struct StepLoad {
 pub(crate) struct RootSolve<'a> {
     input: &'a RootInput<'a>,
     interface: Interface,
-    friction: Option<FrictionRows>,
-    history: Option<FrictionHistory>,
-    elements: Option<ElementHistory>,
+    kind: StepKind,
     operator: Option<DelassusOperator>,
-    warm: WarmStart,
+}
+
+/// How the root solves every step of a run, chosen once from the contacts,
+/// with what a step hands to the next.
+enum StepKind {
+    /// Contact elements, or penalty laws with friction: the return mapping
+    /// (course notes §7), with each contact row's slip history.
+    ReturnMapping(ElementHistory),
+    /// Friction: its rows on Γ and each point's slip history.
+    Friction(FrictionRows, FrictionHistory),
+    /// Frictionless contact, warm-started from the last step's answer.
+    Frictionless(WarmStart),
 }
 
 impl<'a> RootSolve<'a> {
@@ -292,24 +322,19 @@ impl<'a> RootSolve<'a> {
     /// ([`take_interface_stiffness`]).
     pub(crate) fn new(input: &'a RootInput<'a>, s: InterfaceStiffness) -> Result<Self, SolveError> {
         let interface = assemble_interface(input, s);
-        let elements = input
-            .return_mapping
-            .then(|| ElementHistory::new(interface.rows.len()));
-        let friction = match elements {
-            Some(_) => None,
-            None => friction_rows(input, &interface)?,
+        let kind = if input.return_mapping {
+            StepKind::ReturnMapping(ElementHistory::new(interface.rows.len()))
+        } else {
+            match friction_rows(input, &interface)? {
+                Some(rows) => StepKind::Friction(rows, FrictionHistory::new(input.points.len())),
+                None => StepKind::Frictionless(WarmStart::default()),
+            }
         };
-        let history = friction
-            .as_ref()
-            .map(|_| FrictionHistory::new(input.points.len()));
         Ok(RootSolve {
             input,
             interface,
-            friction,
-            history,
-            elements,
+            kind,
             operator: None,
-            warm: WarmStart::default(),
         })
     }
 
@@ -330,17 +355,17 @@ impl<'a> RootSolve<'a> {
         let t_step = Instant::now();
         let mut operator_s = 0.0;
         let load = step_load(input, interface, st, si)?;
-        let op = delassus_operator(&mut self.operator, &mut operator_s, || {
+        let op = delassus_operator(&mut self.operator, &mut operator_s, input.progress, || {
             let s = stiffness.ok_or_else(|| {
                 SolveError::Internal("the interface stiffness was already factorised".into())
             })?;
             conditioning::delassus_operator(s, &interface.rows, &interface.kernel, cond)
                 .map_err(|e| interface_error(input, e))
         })?;
-        let (mut step, u) = match (&self.friction, self.history.as_mut(), &mut self.elements) {
-            (_, _, Some(h)) => element_step(input, interface, h, op, load)?,
-            (Some(fr), Some(h), _) => friction_step(input, interface, fr, h, op, load)?,
-            _ => frictionless_step(input, op, load, &mut self.warm)?,
+        let (mut step, u) = match &mut self.kind {
+            StepKind::ReturnMapping(h) => element_step(input, interface, h, op, load)?,
+            StepKind::Friction(fr, h) => friction_step(input, interface, fr, h, op, load)?,
+            StepKind::Frictionless(warm) => frictionless_step(input, op, load, warm)?,
         };
         step.operator_s = operator_s;
         step.solve_s = t_step.elapsed().as_secs_f64() - operator_s;
@@ -600,13 +625,12 @@ fn frictionless_step(
 pub(crate) fn delassus_operator<'a>(
     slot: &'a mut Option<DelassusOperator>,
     seconds: &mut f64,
+    progress: &Progress,
     build: impl FnOnce() -> Result<DelassusOperator, SolveError>,
 ) -> Result<&'a DelassusOperator, SolveError> {
     if slot.is_none() {
-        progress::emit(progress::Event::Detail("Delassus operator"));
-        let t = Instant::now();
-        *slot = Some(build()?);
-        *seconds = t.elapsed().as_secs_f64();
+        progress.emit(Event::Detail("Delassus operator"));
+        *slot = Some(timed(seconds, build)?);
     }
     slot.as_ref()
         .ok_or_else(|| SolveError::Internal("the Delassus operator was not built".into()))

@@ -9,7 +9,13 @@
 //! `[output] pieces`, the step's contact values for the subdomains' pieces
 //! (pieces.rs).
 
-use super::*;
+use crate::certify::{conclude_step, empty_partial, StepEvidence};
+use crate::model::BodyModel;
+use crate::step::{Partial, Residuals, StepSolution};
+use crate::{inf_norm, partition, SolveError};
+use signorini_report::output::{BodyResult, StepFields};
+use signorini_report::stream::StepSink;
+use signorini_scene as scene;
 
 /// What the root keeps over the load steps of one solve.
 pub(crate) struct StepLoop<'a> {

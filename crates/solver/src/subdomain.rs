@@ -17,6 +17,7 @@ use signorini_mesh::Mesh;
 
 use crate::contact_frames::LocalFrames;
 use crate::model::BodyModel;
+use crate::progress::{Event, Progress};
 
 /// Which cells and nodes of which body a subdomain holds (computed the same
 /// way on every rank).
@@ -271,18 +272,17 @@ impl Subdomain {
     /// Assembles and condenses the subdomain. `gamma_of` maps a body DOF to
     /// its Γ index (usize::MAX if not on Γ); `owner_part` gives the part that
     /// counts the nodal forces of each body node.
-    pub fn condense(
+    pub(crate) fn condense(
         id: usize,
         spec: &SubdomainSpec,
         body: &BodyModel,
-        gamma_of: &[usize],
-        owner_part: &[usize],
+        (gamma_of, owner_part): (&[usize], &[usize]),
         frames: LocalFrames,
-        par: Par,
+        (par, progress): (Par, &Progress),
     ) -> Result<(Self, CondensedData), String> {
         let dim = body.mesh.dim;
         let mesh = spec.local_mesh(body);
-        crate::progress::emit(crate::progress::Event::Detail("assembling"));
+        progress.emit(Event::Detail("assembling"));
         let mut k_local = signorini_fem::try_assemble_stiffness_par(&mesh, &body.material, par)
             .map_err(|e| e.to_string())?;
         if !frames.is_identity() {
@@ -303,7 +303,7 @@ impl Subdomain {
             }
         }
         let loads = LocalLoads::of(spec, body, owner_part, &k_local, &free, &frames);
-        crate::progress::emit(crate::progress::Event::Detail("factorising"));
+        progress.emit(Event::Detail("factorising"));
         let mut condensed =
             Condensed::new(k_ff.as_ref(), &interface, par).map_err(|e| e.to_string())?;
         let data = CondensedData::of(id, &mut condensed, &gamma, &loads.free_load, free.len());
