@@ -1,6 +1,6 @@
 //! A dense LU factorisation P K = L U grown by bordering, for the
 //! capacitance matrices of the friction status method
-//! ([`crate::friction`]): from one status iteration to the next, the set of
+//! (the contact crate's `friction::capacitance`): from one status iteration to the next, the set of
 //! rows whose equation differs from the base system's mostly grows, so the
 //! capacitance matrix gains rows and columns and keeps the old ones.
 //!

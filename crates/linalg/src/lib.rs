@@ -1,7 +1,10 @@
 //! The linear algebra of the contact solver, on faer alone: one pivot (rank)
 //! policy and the checked solve that applies it (`pivot_policy`), the dense
 //! factors and their updates (the active-block Cholesky `active_factor`, the
-//! bordered and recursive Cholesky, the growing LU), and the one way loops
+//! bordered and recursive Cholesky, the growing LU, the solves with a
+//! row-permuted Cholesky factor `ordered_cholesky`), the reduced linear
+//! system of a status iteration (`reduced`), the Hager–Higham condition
+//! estimator (`conditioning`), sparse rows (`sparse`) and the one way loops
 //! share the cores (`threads`). It knows nothing of contact, meshes or MPI.
 
 pub mod active_factor;
