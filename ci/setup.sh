@@ -23,7 +23,7 @@ if [ "${#missing[@]}" -gt 0 ]; then
         apt-get install -y --no-install-recommends "${missing[@]}"
 fi
 
-# Python's meshio reads the VTU files back in tests/solids.rs (an
+# Python's meshio reads the VTU files back in tests/integration/solids.rs (an
 # independent reader beside vtkio).
 if ! python3 -c "import meshio" >/dev/null 2>&1; then
     echo "ci/setup.sh: installing meshio (pip)"

@@ -369,12 +369,16 @@ fn budget(max_memory: Option<u64>) -> Option<signorini_solver::memory::Budget> {
     signorini_report::budget::budget(max_memory)
 }
 
-/// What a run gets from this process: the memory it may use (the progress
-/// line, if any, is added by `run::run`).
+/// What a run gets from this process: the memory it may use, and for the
+/// tests of the MPI path a rank to fail (SIGNORINI_FAIL_RANK); the progress
+/// line, if any, is added by `run::run`.
 fn environment(max_memory: Option<u64>) -> RunEnvironment {
     RunEnvironment {
         budget: budget(max_memory),
         observer: None,
+        fail_rank: std::env::var("SIGNORINI_FAIL_RANK")
+            .ok()
+            .and_then(|r| r.parse().ok()),
     }
 }
 

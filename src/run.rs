@@ -6,7 +6,8 @@ use std::process::ExitCode;
 use std::time::Instant;
 
 use signorini_comm::Transport;
-use signorini_report::output::{summary, write_outputs, OutputRequest};
+use signorini_report::output::{summary, write_outputs};
+use signorini_report::results::OutputRequest;
 use signorini_report::stream::FieldWriter;
 use signorini_scene::SolvePath;
 use signorini_solver::memory::Budget;

@@ -19,6 +19,7 @@
 //! A failure names the tutorial and the line of the command, with its
 //! stdout and stderr.
 
+use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
@@ -602,4 +603,204 @@ fn the_tutorials_run() {
             panic!("{e}");
         }
     }
+}
+
+// ---------------------------------------------------------------------------
+// The crate graph of docs/architecture.md
+
+/// Each crate (its directory under `crates/`) and the workspace crates it
+/// depends on.
+type Graph = BTreeMap<String, BTreeSet<String>>;
+
+const GRAPH_HEADING: &str = "## Crate dependencies";
+
+/// The table under [`GRAPH_HEADING`] of docs/architecture.md: rows
+/// `` | `crate` | `dep`, `dep` | ``, after the header and its rule.
+fn documented_graph(text: &str) -> Result<Graph, String> {
+    let start = text
+        .find(GRAPH_HEADING)
+        .ok_or_else(|| format!("no \"{GRAPH_HEADING}\" section"))?;
+    let names = |cell: &str| -> BTreeSet<String> {
+        cell.split(',')
+            .map(|n| n.trim().trim_matches('`').to_string())
+            .filter(|n| !n.is_empty())
+            .collect()
+    };
+    let mut graph = Graph::new();
+    let rows = text[start..]
+        .lines()
+        .skip_while(|l| !l.starts_with('|'))
+        .take_while(|l| l.starts_with('|'))
+        .skip(2);
+    for row in rows {
+        let cells: Vec<&str> = row.trim_matches('|').split('|').collect();
+        let [krate, deps] = cells[..] else {
+            return Err(format!("the row \"{row}\" has not two cells"));
+        };
+        let krate = krate.trim().trim_matches('`').to_string();
+        if graph.insert(krate.clone(), names(deps)).is_some() {
+            return Err(format!("the crate {krate} has two rows"));
+        }
+    }
+    if graph.is_empty() {
+        return Err(format!("the \"{GRAPH_HEADING}\" section has no table"));
+    }
+    Ok(graph)
+}
+
+/// The workspace dependencies (`signorini-*`: dependencies, dev- and
+/// build-dependencies) of every `crates/*/Cargo.toml`.
+fn declared_graph(root: &Path) -> Graph {
+    let mut graph = Graph::new();
+    for entry in std::fs::read_dir(root.join("crates")).unwrap() {
+        let dir = entry.unwrap().path();
+        let manifest = dir.join("Cargo.toml");
+        if !manifest.exists() {
+            continue;
+        }
+        let name = dir.file_name().unwrap().to_string_lossy().to_string();
+        let parsed: toml::Table = read(&manifest)
+            .parse()
+            .unwrap_or_else(|e| panic!("{}: {e}", manifest.display()));
+        let package = parsed["package"]["name"].as_str().unwrap_or_default();
+        assert_eq!(
+            package,
+            format!("signorini-{name}"),
+            "{}",
+            manifest.display()
+        );
+        let deps = ["dependencies", "dev-dependencies", "build-dependencies"]
+            .iter()
+            .filter_map(|section| parsed.get(*section).and_then(|t| t.as_table()))
+            .flat_map(|t| t.keys())
+            .filter_map(|k| k.strip_prefix("signorini-"))
+            .map(str::to_string)
+            .collect();
+        graph.insert(name, deps);
+    }
+    graph
+}
+
+/// What differs between the documented graph and the declared one, and a
+/// cycle of the documented graph, one line each.
+fn graph_differences(documented: &Graph, declared: &Graph) -> Vec<String> {
+    let empty = BTreeSet::new();
+    let mut found = Vec::new();
+    let crates: BTreeSet<&String> = documented.keys().chain(declared.keys()).collect();
+    for krate in crates {
+        let (doc, dec) = (documented.get(krate), declared.get(krate));
+        match (doc, dec) {
+            (None, _) => found.push(format!("crates/{krate} has no row in the table")),
+            (_, None) => found.push(format!("the table's {krate} is not a crate under crates/")),
+            _ => {}
+        }
+        let (doc, dec) = (doc.unwrap_or(&empty), dec.unwrap_or(&empty));
+        for d in dec.difference(doc) {
+            found.push(format!(
+                "crates/{krate}/Cargo.toml depends on {d}, which the table does not allow"
+            ));
+        }
+        for d in doc.difference(dec) {
+            found.push(format!(
+                "the table lists {krate} -> {d}, which crates/{krate}/Cargo.toml does not declare"
+            ));
+        }
+    }
+    found.extend(
+        graph_cycle(documented).map(|c| format!("the table has a cycle: {}", c.join(" -> "))),
+    );
+    found
+}
+
+/// A cycle of the graph (its crates in order, the first repeated last), if any.
+fn graph_cycle(graph: &Graph) -> Option<Vec<String>> {
+    fn visit(
+        graph: &Graph,
+        at: &str,
+        path: &mut Vec<String>,
+        done: &mut BTreeSet<String>,
+    ) -> Option<Vec<String>> {
+        if let Some(i) = path.iter().position(|p| p == at) {
+            let mut cycle = path[i..].to_vec();
+            cycle.push(at.to_string());
+            return Some(cycle);
+        }
+        if done.contains(at) {
+            return None;
+        }
+        path.push(at.to_string());
+        for next in graph.get(at).into_iter().flatten() {
+            if let Some(c) = visit(graph, next, path, done) {
+                return Some(c);
+            }
+        }
+        path.pop();
+        done.insert(at.to_string());
+        None
+    }
+    let mut done = BTreeSet::new();
+    graph
+        .keys()
+        .find_map(|k| visit(graph, k, &mut Vec::new(), &mut done))
+}
+
+#[test]
+fn the_crate_graph_is_the_one_docs_architecture_states() {
+    let documented = documented_graph(&read(&root().join("docs/architecture.md")))
+        .unwrap_or_else(|e| panic!("docs/architecture.md: {e}"));
+    let found = graph_differences(&documented, &declared_graph(&root()));
+    assert!(
+        found.is_empty(),
+        "the crates' manifests and the table \"{GRAPH_HEADING}\" of docs/architecture.md disagree:\n{}",
+        found.join("\n")
+    );
+}
+
+#[test]
+fn the_crate_graph_check_names_an_extra_dependency_a_stale_row_and_a_cycle() {
+    let table = format!(
+        "{GRAPH_HEADING}\n\ntext\n\n| crate | depends on |\n|---|---|\n| `mesh` | |\n| `fem` | `mesh` |\n| `contact` | `mesh`, `fem` |\n\nprose\n"
+    );
+    let documented = documented_graph(&table).unwrap();
+    assert_eq!(documented["contact"].len(), 2);
+    assert!(documented["mesh"].is_empty());
+    let set = |names: &[&str]| names.iter().map(|n| n.to_string()).collect::<BTreeSet<_>>();
+    let mut declared = Graph::new();
+    declared.insert("mesh".into(), set(&[]));
+    declared.insert("fem".into(), set(&["mesh"]));
+    declared.insert("contact".into(), set(&["mesh", "fem"]));
+    assert!(graph_differences(&documented, &declared).is_empty());
+    // a dependency the table does not allow, and one it lists in vain
+    declared.insert("fem".into(), set(&["contact"]));
+    let found = graph_differences(&documented, &declared);
+    assert_eq!(found.len(), 2, "{found:?}");
+    assert!(
+        found[0].contains("crates/fem/Cargo.toml depends on contact"),
+        "{found:?}"
+    );
+    assert!(
+        found[1].contains("the table lists fem -> mesh"),
+        "{found:?}"
+    );
+    // a crate without a row
+    declared.insert("geometry".into(), set(&["mesh"]));
+    let found = graph_differences(&documented, &declared);
+    assert!(
+        found
+            .iter()
+            .any(|f| f == "crates/geometry has no row in the table"),
+        "{found:?}"
+    );
+    // a cycle in the table
+    let cyclic = table.replace("| `mesh` | |", "| `mesh` | `contact` |");
+    let found = graph_differences(&documented_graph(&cyclic).unwrap(), &Graph::new());
+    let cycle = found
+        .iter()
+        .find(|f| f.starts_with("the table has a cycle"))
+        .unwrap();
+    assert!(
+        cycle.ends_with("contact -> fem -> mesh -> contact"),
+        "{cycle}"
+    );
+    assert!(documented_graph("# no table\n").is_err());
 }

@@ -5,58 +5,35 @@
 
 mod common;
 
-use common::{example_path as example, hertz_in_units, listing, max_rel, patch3d_in_pa_and_m};
+use common::{
+    example_path as example, have_mpirun, hertz_in_units, listing, max_rel, patch3d_in_pa_and_m,
+    BIN,
+};
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output, Stdio};
-use std::time::{Duration, Instant};
+use std::process::{Command, Output};
+use std::time::Duration;
 
-const BIN: &str = env!("CARGO_BIN_EXE_signorini");
-
-fn have_mpirun() -> bool {
-    let ok = Command::new("mpirun")
-        .arg("--version")
-        .output()
-        .is_ok_and(|o| o.status.success());
-    if !ok && std::env::var_os("CI").is_some() {
-        panic!("mpirun is missing on CI: ci/setup.sh must install openmpi-bin");
-    }
-    ok
-}
-
-/// Runs a command with a time limit; a hang is a failure.
-fn run_limited(mut cmd: Command, limit: Duration) -> Output {
-    let mut child = cmd
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("spawn");
-    let start = Instant::now();
-    loop {
-        if child.try_wait().expect("wait").is_some() {
-            return child.wait_with_output().expect("output");
-        }
-        if start.elapsed() > limit {
-            let _ = child.kill();
-            panic!("no answer within {limit:?}: a rank hangs");
-        }
-        std::thread::sleep(Duration::from_millis(50));
-    }
+/// A command to its end within two minutes: a hang is a failure.
+fn run_limited(cmd: Command) -> Output {
+    let limit = Duration::from_secs(120);
+    let (out, elapsed) = common::run_limited(cmd, limit);
+    assert!(elapsed <= limit, "no answer within {limit:?}: a rank hangs");
+    out
 }
 
 fn mpirun(np: usize, args: &[&str], env: &[(&str, &str)]) -> Output {
-    let mut c = Command::new("mpirun");
-    c.arg("-n").arg(np.to_string()).arg(BIN).args(args);
-    common::mpi_env(&mut c);
+    let mut c = common::mpirun(np);
+    c.args(args);
     for (k, v) in env {
         c.env(k, v);
     }
-    run_limited(c, Duration::from_secs(120))
+    run_limited(c)
 }
 
 fn local(args: &[&str]) -> Output {
     let mut c = Command::new(BIN);
     c.args(args);
-    run_limited(c, Duration::from_secs(120))
+    run_limited(c)
 }
 
 fn dir(name: &str) -> PathBuf {
@@ -337,7 +314,7 @@ fn floating_bodies_under_mpirun_2_equal_the_in_process_run() {
     compare(&scene, 2, "floating3d");
 }
 
-/// The units test (tests/units.rs) across the two transports: Hertz in Pa
+/// The units test (tests/integration/units.rs) across the two transports: Hertz in Pa
 /// and m split over two ranks by `mpirun -n 2` equals Hertz in MPa and mm
 /// (the same two subdomains) in one process, and likewise the 3D two-box
 /// patch, after conversion, to 1e-10.
@@ -419,7 +396,7 @@ fn si_under_mpirun_equals_mm_in_process(
     assert!(r <= 1e-10, "{tag}: displacements differ by {r:e}");
 }
 
-/// A candidate zone too small (`search_distance`, tests/search_distance.rs)
+/// A candidate zone too small (`search_distance`, tests/integration/search_distance.rs)
 /// under `mpirun -n 2`, the block split in two: every rank solves again with
 /// the widened zone, the report says so once, and the answer equals the
 /// in-process run's and the run without a zone.

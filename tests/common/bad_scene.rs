@@ -1,29 +1,18 @@
-//! The harness of the bad-input tests (tests/bad_input.rs,
-//! tests/bad_input_limits.rs): a small valid scene to break, and runs of the
+//! The harness of the bad-input tests (tests/integration/bad_input.rs,
+//! tests/integration/bad_input_limits.rs): a small valid scene to break, and runs of the
 //! real binary on it with or without a time limit.
 
+use super::BIN;
 use std::path::PathBuf;
-use std::process::{Command, Output, Stdio};
-use std::time::{Duration, Instant};
-
-pub const BIN: &str = env!("CARGO_BIN_EXE_signorini");
+use std::process::{Command, Output};
 
 /// One elastic block (1 x 0.5, 4 x 2 quads) resting on a rigid plane, pinned in
 /// x at its top-left corner and pressed down by a traction on its top. It runs
 /// fine as it is; each test breaks one thing in it.
-pub const BLOCK_ON_PLANE: &str = r#"title = "block on a rigid plane"
-dimension = 2
-model = "plane_strain"
-
-[[materials]]
-name = "steel"
-young = 1.0
-poisson = 0.3
-
-[[bodies]]
-name = "block"
-material = "steel"
-mesh = { generator = "rectangle", origin = [0.0, 0.0], size = [1.0, 0.5], divisions = [4, 2] }
+pub const BLOCK_ON_PLANE: &str = concat!(
+    "title = \"block on a rigid plane\"\n",
+    steel_block_head!(),
+    r#"mesh = { generator = "rectangle", origin = [0.0, 0.0], size = [1.0, 0.5], divisions = [4, 2] }
 
 [[bodies]]
 name = "ground"
@@ -46,7 +35,8 @@ name = "block-ground"
 slave = { body = "block", surface = "bottom" }
 master = { body = "ground" }
 discretization = "node_to_segment"
-"#;
+"#
+);
 
 /// The pin of `BLOCK_ON_PLANE`, to remove it.
 pub const PIN: &str = r#"[[boundary]]
@@ -189,27 +179,4 @@ pub fn block_with_all(edits: &[(&str, &str)]) -> String {
 /// `BLOCK_ON_PLANE` with another mesh (a generator table).
 pub fn block_meshed(mesh: &str) -> String {
     block_with(BLOCK_MESH, &format!("mesh = {mesh}"))
-}
-
-/// Runs the binary with a time limit (a hang is a failure, not a stuck
-/// test), and with `RUST_BACKTRACE=1`, so that a backtrace would show.
-pub fn run_limited(mut cmd: Command, limit: Duration) -> (Output, Duration) {
-    let t = Instant::now();
-    let mut child = cmd
-        .env("RUST_BACKTRACE", "1")
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("cannot start the signorini binary");
-    loop {
-        if child.try_wait().expect("wait").is_some() {
-            return (child.wait_with_output().expect("output"), t.elapsed());
-        }
-        if t.elapsed() > limit {
-            let _ = child.kill();
-            let out = child.wait_with_output().expect("output");
-            return (out, t.elapsed());
-        }
-        std::thread::sleep(Duration::from_millis(20));
-    }
 }

@@ -2,13 +2,22 @@
 //! so not every helper is used by every file).
 #![allow(dead_code)]
 
+/// The lines shared by the block scenes after their title: plane strain,
+/// the material "steel" (E = 1, ν = 0.3) and the body "block" of it up to
+/// its mesh, as a literal for `concat!`.
+macro_rules! steel_block_head {
+    () => {
+        "dimension = 2\nmodel = \"plane_strain\"\n\n[[materials]]\nname = \"steel\"\nyoung = 1.0\npoisson = 0.3\n\n[[bodies]]\nname = \"block\"\nmaterial = \"steel\"\n"
+    };
+}
+
 pub mod bad_scene;
 mod scene_text;
 #[allow(unused_imports)]
 pub use scene_text::*;
 
 use signorini_comm::Local;
-use signorini_scene::{parse_toml, SolvePath};
+use signorini_scene::{parse_toml, Method, SolvePath};
 use signorini_solver::{run, RunOptions, RunOutput, SolveError};
 
 /// The path of a shipped example.
@@ -96,13 +105,7 @@ pub fn cli_run_ok(
     scene: impl AsRef<std::ffi::OsStr>,
     out: impl AsRef<std::ffi::OsStr>,
 ) -> std::process::Output {
-    let status = std::process::Command::new(env!("CARGO_BIN_EXE_signorini"))
-        .arg("run")
-        .arg(scene)
-        .arg("--out")
-        .arg(out)
-        .output()
-        .unwrap();
+    let status = cli_run(scene, out);
     assert!(
         status.status.success(),
         "{}",
@@ -206,19 +209,10 @@ pub fn with_zone(text: &str, discretization: &str, d: f64) -> String {
 /// a rigid cylinder 10⁻³ below: no prescribed motion, so the zone is the
 /// search distance alone and 2 × 10⁻³ keeps 3 of the bottom nodes, while
 /// the block touches the cylinder on about a fifth of its width.
-pub const PULLED_BLOCK: &str = r#"title = "block pulled onto a rigid cylinder"
-dimension = 2
-model = "plane_strain"
-
-[[materials]]
-name = "steel"
-young = 1.0
-poisson = 0.3
-
-[[bodies]]
-name = "block"
-material = "steel"
-mesh = { generator = "rectangle", origin = [0.0, 0.0], size = [1.0, 0.5], divisions = [40, 10] }
+pub const PULLED_BLOCK: &str = concat!(
+    "title = \"block pulled onto a rigid cylinder\"\n",
+    steel_block_head!(),
+    r#"mesh = { generator = "rectangle", origin = [0.0, 0.0], size = [1.0, 0.5], divisions = [40, 10] }
 
 [[bodies]]
 name = "cylinder"
@@ -241,7 +235,8 @@ name = "block-cylinder"
 slave = { body = "block", surface = "bottom" }
 master = { body = "cylinder" }
 discretization = "node_to_segment"
-"#;
+"#
+);
 
 /// Displacements of every body and contact forces agree to `tol`.
 pub fn assert_same(a: &RunOutput, b: &RunOutput, tol: f64) {
@@ -377,4 +372,134 @@ pub fn hertz_errors(o: &RunOutput) -> (f64, f64, f64, f64) {
         q["profile_l2"].relative_error,
         q["a"].exact,
     )
+}
+
+/// The binary under test.
+pub const BIN: &str = env!("CARGO_BIN_EXE_signorini");
+
+/// `signorini <args>` as a user runs it, to its end.
+pub fn signorini(args: &[&str]) -> std::process::Output {
+    std::process::Command::new(BIN).args(args).output().unwrap()
+}
+
+/// `signorini run <scene> --out <out>` as a user runs it, to its end.
+pub fn cli_run(
+    scene: impl AsRef<std::ffi::OsStr>,
+    out: impl AsRef<std::ffi::OsStr>,
+) -> std::process::Output {
+    std::process::Command::new(BIN)
+        .arg("run")
+        .arg(scene)
+        .arg("--out")
+        .arg(out)
+        .output()
+        .unwrap()
+}
+
+/// Whether `mpirun` runs here; on CI (`CI` set) its absence is a failure,
+/// elsewhere the MPI tests are skipped.
+pub fn have_mpirun() -> bool {
+    have_program("mpirun", "ci/setup.sh must install openmpi-bin")
+}
+
+/// Whether `program --version` runs here; on CI (`CI` set) its absence is a
+/// failure (`install` says what provides it).
+pub fn have_program(program: &str, install: &str) -> bool {
+    let ok = std::process::Command::new(program)
+        .arg("--version")
+        .output()
+        .is_ok_and(|o| o.status.success());
+    if !ok && std::env::var_os("CI").is_some() {
+        panic!("`{program}` is missing on CI: {install}");
+    }
+    ok
+}
+
+/// `mpirun -n <np> signorini` with [`mpi_env`]: add the arguments.
+pub fn mpirun(np: usize) -> std::process::Command {
+    let mut c = std::process::Command::new("mpirun");
+    c.arg("-n").arg(np.to_string()).arg(BIN);
+    mpi_env(&mut c);
+    c
+}
+
+/// contact.csv of `signorini run <scene> --out <out>`, in one process or
+/// under `mpirun -n 2`, asserting that the run succeeded: its rows' numbers
+/// (header skipped, the fields that are not numbers dropped).
+pub fn contact_csv_of_run(
+    mpi: bool,
+    scene: impl AsRef<std::ffi::OsStr>,
+    out: &std::path::Path,
+) -> Vec<Vec<f64>> {
+    let mut c = if mpi {
+        mpirun(2)
+    } else {
+        std::process::Command::new(BIN)
+    };
+    let o = c
+        .arg("run")
+        .arg(scene)
+        .arg("--out")
+        .arg(out)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let text = std::fs::read_to_string(out.join("contact.csv")).unwrap();
+    text.lines()
+        .skip(1)
+        .map(|l| l.split(',').filter_map(|v| v.parse().ok()).collect())
+        .collect()
+}
+
+/// The message of the bad-input error a scene given as text is refused with.
+pub fn input_error(text: &str) -> String {
+    match try_run(text, RunOptions::default()) {
+        Err(SolveError::Input(m)) => m,
+        Err(e) => panic!("not an input error: {e}"),
+        Ok(_) => panic!("accepted"),
+    }
+}
+
+/// Run options choosing `method`, the path left to the scene.
+pub fn with_method(method: Method) -> RunOptions {
+    RunOptions {
+        method: Some(method),
+        path: None,
+    }
+}
+
+/// The largest relative deviation of the contact pressure from `p` over
+/// contact.csv's rows, and the total normal force.
+pub fn pressure_error(o: &RunOutput, p: f64) -> (f64, f64) {
+    let dev = o
+        .contact_rows
+        .iter()
+        .fold(0.0f64, |m, r| m.max((r.pressure - p).abs() / p));
+    (dev, o.contact_rows.iter().map(|r| r.normal_force).sum())
+}
+
+/// Runs the binary with a time limit (a hang is a failure, not a stuck
+/// test), and with `RUST_BACKTRACE=1`, so that a backtrace would show.
+pub fn run_limited(
+    mut cmd: std::process::Command,
+    limit: std::time::Duration,
+) -> (std::process::Output, std::time::Duration) {
+    let t = std::time::Instant::now();
+    let mut child = cmd
+        .env("RUST_BACKTRACE", "1")
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("cannot start the signorini binary");
+    loop {
+        if child.try_wait().expect("wait").is_some() {
+            return (child.wait_with_output().expect("output"), t.elapsed());
+        }
+        if t.elapsed() > limit {
+            let _ = child.kill();
+            let out = child.wait_with_output().expect("output");
+            return (out, t.elapsed());
+        }
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
 }

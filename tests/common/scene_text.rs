@@ -60,3 +60,36 @@ pub fn contact(name: &str, slave: &str, surface: &str, master: &str) -> String {
 pub fn block_contact(name: &str, surface: &str, master: &str) -> String {
     contact(name, "block", surface, master)
 }
+
+/// The boundary conditions of the drag tests on `body`: "press" (the
+/// traction `traction` on its surface `top`), "drag" (the displacement
+/// `drag` of `top`) and "hold" (the same displacement of the node at `mid`,
+/// so that the body may not turn about its top).
+pub fn press_drag_hold(body: &str, top: &str, traction: &str, drag: &str, mid: &str) -> String {
+    format!(
+        r#"[[boundary]]
+name = "press"
+body = "{body}"
+surface = "{top}"
+traction = {traction}
+[[boundary]]
+name = "drag"
+body = "{body}"
+surface = "{top}"
+displacement = {drag}
+[[boundary]]
+name = "hold"
+body = "{body}"
+point = {mid}
+displacement = {drag}
+"#
+    )
+}
+
+/// One load step a scale of `scales`, applied to "drag" and "hold".
+pub fn drag_steps(scales: &[f64]) -> String {
+    scales
+        .iter()
+        .map(|s| format!("[[steps]]\nscale = {{ drag = {s:?}, hold = {s:?} }}\n"))
+        .collect()
+}

@@ -24,12 +24,13 @@
 //! is singular). The same factor gives F' and the interior
 //! //! recovery. [`schur_complement_reference`] is the plain multi-RHS formula,
 //! kept as the reference in tests. [`Condensed::interior_condition_estimate`]
-//! estimates κ₁(K_II) from the same factor ([`conditioning`]).
+//! estimates κ₁(K_II) from the same factor (`signorini_linalg::conditioning`).
 //!
-//! The condense crate owns the static condensation of one subdomain (and
-//! condition estimates); it must not know contact, the scene format or MPI.
+//! The condense crate owns the static condensation of one subdomain and the
+//! interface stiffness S = Σ_i S_i with its factor ([`interface`]); it must not
+//! know contact, the scene format or MPI.
 
-pub mod conditioning;
+pub mod interface;
 pub mod ordering;
 mod partial_factorisation;
 #[cfg(test)]
@@ -417,7 +418,7 @@ impl Condensed {
         // The estimate works in the factor's (permuted) numbering: κ₁ is
         // invariant under a symmetric permutation. Single right-hand sides
         // are solved sequentially (threads cost more than they save there).
-        let inv = conditioning::inverse_norm1_estimate(ni, |x| {
+        let inv = signorini_linalg::conditioning::inverse_norm1_estimate(ni, |x| {
             for i in 0..self.n {
                 z[(i, 0)] = if i < ni { x[i] } else { 0.0 };
             }
@@ -582,6 +583,7 @@ pub fn schur_complement_reference(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use signorini_linalg::conditioning::dense_norm1;
 
     /// [`grid`] with its interface: the top row of nodes and two more.
     fn grid_with_top_interface(
@@ -743,8 +745,7 @@ mod tests {
         let llt = kii.llt(Side::Lower).unwrap();
         let mut inv = Mat::<f64>::identity(interior.len(), interior.len());
         faer::linalg::solvers::SolveCore::solve_in_place_with_conj(&llt, Conj::No, inv.as_mut());
-        let exact =
-            conditioning::dense_norm1(kii.as_ref()) * conditioning::dense_norm1(inv.as_ref());
+        let exact = dense_norm1(kii.as_ref()) * dense_norm1(inv.as_ref());
         assert!(exact > 10.0, "{exact}");
         assert!(
             est <= exact * (1.0 + 1e-10) && est >= exact / 3.0,

@@ -14,29 +14,17 @@
 
 use std::sync::Arc;
 
+use faer::prelude::SolveLstsq;
 use faer::Mat;
 
-use crate::active_factor::{solve_on_active_set, ActiveFactor};
 use crate::active_set::signorini::ActiveSetSolve;
 use crate::friction::capacitance::{solve_status_system, StatusFactor};
-use crate::pivot_policy::{is_rank_deficient, solve_checked, solve_symmetric_checked};
-use crate::schur_factor::{InterfaceFactorStats, InterfaceStiffness, SchurFactor};
 use crate::ContactError;
-
-/// A sparse row over the interface DOFs: (index, coefficient).
-pub type SparseRow = Vec<(usize, f64)>;
-
-/// The equation that determines one contact force in
-/// [`DelassusProblem::solve_equations`].
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum VarEquation {
-    /// Its gap (normal) or slip increment (tangential) is zero: contact, stick.
-    Gap,
-    /// It has a given value: 0 when open, ±g when slipping under Tresca.
-    Value(f64),
-    /// It is `factor` times force `of`: ±μ λ_n when slipping under Coulomb.
-    Ratio { of: usize, factor: f64 },
-}
+use signorini_linalg::active_factor::{solve_on_active_set, ActiveFactor};
+use signorini_linalg::pivot_policy::{is_rank_deficient, solve_checked, solve_symmetric_checked};
+use signorini_linalg::reduced::VarEquation;
+use signorini_linalg::sparse::SparseRow;
+use signorini_linalg::GeneralisedInverse;
 
 /// The Delassus operator of a run, W = B S⁺ Bᵀ (course notes §3.1.3), with what
 /// every load step needs of it: the Cholesky factor of S (S + ρRRᵀ with
@@ -47,7 +35,7 @@ pub enum VarEquation {
 /// and e = −Rᵀ F' ([`DelassusOperator::problem`]).
 pub struct DelassusOperator {
     n: usize,
-    schur: Arc<SchurFactor>,
+    schur: Arc<dyn GeneralisedInverse>,
     b: Arc<Vec<SparseRow>>,
     r: Arc<Mat<f64>>,
     w: Mat<f64>,
@@ -59,7 +47,7 @@ pub struct DelassusProblem {
     n: usize,
     /// The factor of S and the rows B, shared with the operator (for the
     /// displacement u = S⁺(F' + Bᵀλ) + Rα; none for a problem given by W).
-    schur: Option<Arc<SchurFactor>>,
+    schur: Option<Arc<dyn GeneralisedInverse>>,
     b: Arc<Vec<SparseRow>>,
     /// u0 = S⁺ F'.
     u0: Vec<f64>,
@@ -81,95 +69,55 @@ pub struct DelassusProblem {
     factor: Option<ActiveFactor>,
 }
 
-fn orthonormalize(r: &Mat<f64>) -> Result<Mat<f64>, ContactError> {
-    let (n, k) = (r.nrows(), r.ncols());
-    let mut q = r.clone();
-    for j in 0..k {
-        for _pass in 0..2 {
-            for i in 0..j {
-                let d: f64 = (0..n).map(|t| q[(t, i)] * q[(t, j)]).sum();
-                for t in 0..n {
-                    q[(t, j)] -= d * q[(t, i)];
-                }
-            }
-        }
-        let nn: f64 = (0..n).map(|t| q[(t, j)].powi(2)).sum::<f64>().sqrt();
-        let orig: f64 = (0..n).map(|t| r[(t, j)].powi(2)).sum::<f64>().sqrt();
-        if nn <= 1e-10 * orig.max(f64::MIN_POSITIVE) {
-            return Err(ContactError::Singular(
-                "the rigid modes of the floating bodies are linearly dependent on the interface"
-                    .into(),
-            ));
-        }
-        for t in 0..n {
-            q[(t, j)] /= nn;
-        }
-    }
-    Ok(q)
-}
-
 impl DelassusOperator {
-    /// Builds W (and G for floating bodies) from the dense interface
-    /// stiffness `s`, the contact rows `b` (over interface DOFs) and the
-    /// kernel `kernel` (n × k, k = 0 without floating bodies).
-    pub fn new(s: &Mat<f64>, b: &[SparseRow], kernel: &Mat<f64>) -> Result<Self, ContactError> {
-        Self::of_stiffness(InterfaceStiffness::Dense(s.clone()), b, kernel, false)
-    }
-
-    /// As [`DelassusOperator::new`], and estimates the condition number κ₁ of
-    /// the matrix it factorises (S, or S + ρRRᵀ with floating bodies) by the
-    /// Hager–Higham estimator on that Cholesky factor (a dozen O(n²) solves
-    /// beside the O(n³) factorisation): see [`DelassusOperator::s_condition`].
-    pub fn new_with_condition(
-        s: &Mat<f64>,
+    /// The operator of the factor `schur` of the interface stiffness S
+    /// (a generalised inverse S⁺: S + ρRRᵀ or the fixing DOFs' with
+    /// floating bodies), the contact rows `b` (over interface DOFs), the
+    /// orthonormal kernel `r` (n × k, k = 0 without floating bodies), W =
+    /// B S⁺ Bᵀ formed with that factor, and the condition estimate of the
+    /// matrix factorised if made. The condensation builds them
+    /// (`signorini_condense::interface::InterfaceOperator`).
+    pub fn from_factor(
+        schur: Arc<dyn GeneralisedInverse>,
         b: &[SparseRow],
-        kernel: &Mat<f64>,
-    ) -> Result<Self, ContactError> {
-        Self::of_stiffness(InterfaceStiffness::Dense(s.clone()), b, kernel, true)
-    }
-
-    /// Builds the operator from an interface stiffness dense or in blocks
-    /// ([`InterfaceStiffness`]; blocks are factorised over the tree of
-    /// subdomains, [`SchurFactor`]), estimating the
-    /// condition of the matrix factorised when `estimate_condition`.
-    pub fn of_stiffness(
-        s: InterfaceStiffness,
-        b: &[SparseRow],
-        kernel: &Mat<f64>,
-        estimate_condition: bool,
-    ) -> Result<Self, ContactError> {
-        let n = s.nrows();
-        let k = kernel.ncols();
-        let r = if k > 0 {
-            orthonormalize(kernel)?
-        } else {
-            Mat::zeros(n, 0)
-        };
-        if k > 0 {
-            check_kernel(&s, &r)?;
-        }
-        let mut contact: Vec<usize> = b.iter().flatten().map(|&(i, _)| i).collect();
-        contact.sort_unstable();
-        contact.dedup();
-        let schur = SchurFactor::new(s, &r, &contact)?;
-        let s_condition = estimate_condition.then(|| schur.condition());
-        let w = schur.delassus(b)?;
+        r: Mat<f64>,
+        w: Mat<f64>,
+        s_condition: Option<f64>,
+    ) -> Self {
+        let (n, k) = (r.nrows(), r.ncols());
         let g_mat = Mat::<f64>::from_fn(b.len(), k, |p, j| {
             b[p].iter().map(|&(i, c)| c * r[(i, j)]).sum()
         });
-        Ok(Self {
+        Self {
             n,
-            schur: Arc::new(schur),
+            schur,
             b: Arc::new(b.to_vec()),
             r: Arc::new(r),
             w,
             g_mat,
             s_condition,
-        })
+        }
     }
 
-    /// The estimated κ₁ of S (S + ρRRᵀ with floating bodies) when built by
-    /// [`DelassusOperator::new_with_condition`], else `None`.
+    /// Builds W (and G for floating bodies) from the dense interface
+    /// stiffness `s`, the contact rows `b` (over interface DOFs) and the
+    /// kernel `kernel` (n × k, k = 0 without floating bodies), by the
+    /// condensation's factor (for tests).
+    #[cfg(test)]
+    pub fn new(s: &Mat<f64>, b: &[SparseRow], kernel: &Mat<f64>) -> Result<Self, ContactError> {
+        use signorini_condense::interface::{InterfaceOperator, InterfaceStiffness};
+        let op = InterfaceOperator::new(InterfaceStiffness::Dense(s.clone()), b, kernel, false)?;
+        Ok(Self::from_factor(
+            Arc::new(op.factor),
+            b,
+            op.r,
+            op.w,
+            op.s_condition,
+        ))
+    }
+
+    /// The estimated κ₁ of S (S + ρRRᵀ with floating bodies) when the
+    /// factor's builder made it, else `None`.
     pub fn s_condition(&self) -> Option<f64> {
         self.s_condition
     }
@@ -214,33 +162,13 @@ impl DelassusOperator {
             factor: None,
         }
     }
-
-    /// How S was factorised (dense or over the tree of subdomains, its size).
-    pub fn interface_factor(&self) -> &InterfaceFactorStats {
-        self.schur.stats()
-    }
-}
-
-/// The kernel comes from the supports (the rigid modes they leave free, by a
-/// rank test); checks that it is S's: ‖S r‖ must be round-off next to the
-/// stiffness (r orthonormal).
-fn check_kernel(s: &InterfaceStiffness, r: &Mat<f64>) -> Result<(), ContactError> {
-    let n = s.nrows();
-    let smax = s.diagonal().iter().fold(0.0f64, |a, d| a.max(d.abs()));
-    let worst = s.mul(r).norm_max();
-    if worst.is_nan() || worst > 1e-8 * smax * (n as f64).sqrt() {
-        return Err(ContactError::KernelMismatch {
-            residual: worst,
-            stiffness: smax,
-        });
-    }
-    Ok(())
 }
 
 impl DelassusProblem {
     /// The problem of one step built from scratch: [`DelassusOperator::new`]
-    /// then [`DelassusOperator::problem`] (for a single solve; a run builds
-    /// the operator once).
+    /// then [`DelassusOperator::problem`] (for a single solve in tests; a
+    /// run builds the operator once).
+    #[cfg(test)]
     pub fn new(
         s: &Mat<f64>,
         b: &[SparseRow],
@@ -330,7 +258,7 @@ impl DelassusProblem {
     ) -> Result<(Vec<f64>, Vec<f64>), ContactError> {
         self.solves += 1;
         if let Some((r, alpha)) =
-            crate::reduced::solve_reduced(&self.w, &self.q, &self.g_mat, &self.e, eqs)
+            signorini_linalg::reduced::solve_reduced(&self.w, &self.q, &self.g_mat, &self.e, eqs)
         {
             let g = crate::lcp::constrained_gaps(&self.w, &self.q, &self.g_mat, &r, &alpha);
             self.last_alpha = alpha;
@@ -419,6 +347,28 @@ impl DelassusProblem {
         assert_eq!(alpha.len(), self.r.ncols());
         self.last_alpha = alpha.to_vec();
     }
+
+    /// Sets α from the gaps y = W λ + q + G α of the forces λ that a solver
+    /// computed with its own α (the semi-smooth Newton method, whose
+    /// unknowns hold it): the least-squares solution of G α = y − W λ − q,
+    /// exact when G has full column rank, so that [`Self::displacement`]
+    /// gives back the gaps the solver met its tolerance on. Whether α was
+    /// set (not when it comes out non-finite: α is then left as it was).
+    pub fn set_alpha_from_gaps(&mut self, lambda: &[f64], gaps: &[f64]) -> bool {
+        let k = self.g_mat.ncols();
+        if k == 0 || gaps.len() != self.q.len() {
+            return k == 0;
+        }
+        let elastic = crate::lcp::gaps(&self.w, &self.q, lambda);
+        let rigid = Mat::<f64>::from_fn(gaps.len(), 1, |i, _| gaps[i] - elastic[i]);
+        let alpha = self.g_mat.qr().solve_lstsq(&rigid);
+        let alpha: Vec<f64> = (0..k).map(|j| alpha[(j, 0)]).collect();
+        let finite = alpha.iter().all(|a| a.is_finite());
+        if finite {
+            self.last_alpha = alpha;
+        }
+        finite
+    }
 }
 
 impl ActiveSetSolve for DelassusProblem {
@@ -453,7 +403,7 @@ impl ActiveSetSolve for DelassusProblem {
             eqs[p] = VarEquation::Gap;
         }
         if let Some((lambda, alpha)) =
-            crate::reduced::solve_reduced(&self.w, &self.q, &self.g_mat, &self.e, &eqs)
+            signorini_linalg::reduced::solve_reduced(&self.w, &self.q, &self.g_mat, &self.e, &eqs)
         {
             let g = crate::lcp::constrained_gaps(&self.w, &self.q, &self.g_mat, &lambda, &alpha);
             self.last_alpha = alpha;
@@ -476,7 +426,7 @@ impl ActiveSetSolve for DelassusProblem {
                                 "W_AA is singular: the active contact constraints are linearly dependent (redundant constraints)".into(),
                             )
                         } else {
-                            e
+                            e.into()
                         }
                     },
                 )?

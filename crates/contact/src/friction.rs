@@ -29,7 +29,7 @@
 //! the slider force ([`kinematic_hardening`]).
 
 use crate::active_set::{drive, scaled_tolerances, Change, Fallback, Regular, StatusRule, Stop};
-use crate::delassus::{DelassusProblem, VarEquation};
+use crate::delassus::DelassusProblem;
 use crate::friction::fixed_point::{
     fixed_point, normal_change, FixedPoint, InnerSolve, ThresholdMap, TrescaSolver,
 };
@@ -37,6 +37,7 @@ use crate::law::norton_hoff::NortonHoffLaw;
 use crate::lcp::LcpOptions;
 use crate::solution::{ContactSolution, StopReason, ThresholdMapKind};
 use crate::ContactError;
+use signorini_linalg::reduced::VarEquation;
 
 pub(crate) mod capacitance;
 pub mod driver;

@@ -101,7 +101,7 @@ pub struct FrictionLayout {
     /// 2D: for a point whose tangential row constrains the same motion as
     /// the normal row of another point (a corner node on a frictional floor
     /// and against a wall: its slip along the floor is the wall's gap), that
-    /// other point (see [`crate::redundancy::tangent_shadows`]); may be
+    /// other point (see `signorini_geometry::redundancy::tangent_shadows`); may be
     /// empty.
     pub shadow: Vec<Option<usize>>,
 }

@@ -222,7 +222,7 @@ pub(crate) fn matvec(w: &Mat<f64>, x: &[f64], y: &mut [f64]) {
     y.iter_mut().for_each(|v| *v = 0.0);
     let nonzero: Vec<usize> = (0..x.len()).filter(|&j| x[j] != 0.0).collect();
     let work = (nonzero.len() * y.len()) as f64;
-    crate::threads::for_each_chunk(y, 1, work, |first, chunk| {
+    signorini_linalg::threads::for_each_chunk(y, 1, work, |first, chunk| {
         let rows = first..first + chunk.len();
         add_columns(w, &nonzero, x, std::slice::from_ref(&rows), chunk, first);
     });

@@ -1,6 +1,7 @@
-//! Contact: geometry (contact points, normals, gaps, the rows of B) and the
-//! algorithms that solve the contact problem, on the condensed problem
-//! (Delassus operator) or on the whole sparse stiffness (direct path).
+//! Contact: the algorithms that solve the contact problem, on the condensed
+//! problem (Delassus operator) or on the whole sparse stiffness (direct
+//! path). The contact points, normals, gaps and rows of B are the geometry
+//! crate's (`signorini-geometry`).
 //!
 //! Conventions (docs/theory/contact-problem.md): the normal n points from master to slave; the
 //! gap is g = g0 + B u with B the row operator n·(u_slave − u_master
@@ -8,44 +9,30 @@
 //! compressive normal force on the slave (the course notes' F_n = −λ ≤ 0, §2.1);
 //! complementarity λ g = 0.
 //!
-//! The contact crate owns the contact geometry (module `geometry`) and the
-//! algebra on W, q (G, e); it must not know the scene format, MPI, the command
-//! line or finite-element systems (the direct path's KKT solve lives in the
-//! solver).
+//! The contact crate owns the algebra on W, q (G, e); it must not know the
+//! contact geometry, the scene format, MPI, the command line or
+//! finite-element systems (the direct path's KKT solve lives in the solver).
 
-pub mod active_factor;
 pub mod active_set;
-mod bordered_factor;
 pub mod contact_elements;
 pub mod delassus;
 pub mod equilibrium;
 pub mod friction;
-pub mod geometry;
-mod growing_lu;
-pub mod interface_tree;
 pub mod law;
 pub mod lcp;
-pub mod mortar;
-pub mod mortar3d;
 pub mod norms;
 pub mod observe;
 pub mod options;
-mod pivot_policy;
 mod problem_scale;
-mod recursive_cholesky;
 mod reduced;
-pub mod redundancy;
 pub mod registry;
-pub mod schur_factor;
 pub mod solution;
-mod threads;
 
 #[cfg(test)]
 pub(crate) mod test_problems;
 
 pub use active_set::signorini::{status_method, ActiveSetSolve, StatusOptions, StatusVariant};
 pub use delassus::{DelassusOperator, DelassusProblem};
-pub use geometry::{ContactPoint, MasterGeometry, NormalRule, Term, TermSide};
 
 #[derive(Debug, thiserror::Error)]
 pub enum ContactError {
@@ -64,6 +51,23 @@ pub enum ContactError {
     KernelMismatch { residual: f64, stiffness: f64 },
     #[error("linear solve failed: {0}")]
     Solve(String),
+}
+
+impl From<signorini_linalg::LinalgError> for ContactError {
+    fn from(e: signorini_linalg::LinalgError) -> Self {
+        match e {
+            signorini_linalg::LinalgError::Singular(what) => ContactError::Singular(what),
+            signorini_linalg::LinalgError::NotPositiveDefinite { index } => {
+                ContactError::SingularInterface { dof: index }
+            }
+            signorini_linalg::LinalgError::NotKernel { residual, scale } => {
+                ContactError::KernelMismatch {
+                    residual,
+                    stiffness: scale,
+                }
+            }
+        }
+    }
 }
 pub use lcp::{lcp_residual, LcpOptions};
 pub use solution::{

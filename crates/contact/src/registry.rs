@@ -13,7 +13,6 @@ use std::fmt;
 
 use faer::Mat;
 
-use crate::active_factor::{solve_on_active_set, ActiveFactor};
 use crate::active_set::signorini::{status_method, ActiveSetSolve, StatusOptions, StatusVariant};
 use crate::lcp::{
     constrained_gaps, gaps, gaps_off_active, gaps_on, lcp_residual, residual_from_gaps, LcpOptions,
@@ -21,6 +20,7 @@ use crate::lcp::{
 use crate::problem_scale::ProblemScale;
 use crate::solution::{ContactSolution, PolishSolve};
 use crate::{ContactError, DelassusProblem};
+use signorini_linalg::active_factor::{solve_on_active_set, ActiveFactor};
 
 /// Which friction a method solves, and so which friction algorithms the
 /// pipeline pairs it with.
@@ -414,7 +414,7 @@ impl ActiveSetSolve for DenseLcp<'_> {
                 let na = active.len();
                 let a = Mat::<f64>::from_fn(na, na, |i, j| self.w[(active[i], active[j])]);
                 let rhs = Mat::<f64>::from_fn(na, 1, |i, _| -self.q[active[i]]);
-                let x = crate::pivot_policy::solve_checked(
+                let x = signorini_linalg::pivot_policy::solve_checked(
                     &a,
                     &rhs,
                     "W_AA is singular: redundant contact constraints",

@@ -347,6 +347,10 @@ pub enum StopReason {
     NewtonConverged { residual: f64, iterations: usize },
     /// The semi-smooth Newton method reached its iteration limit.
     NewtonLimit { limit: usize },
+    /// The semi-smooth Newton method came no closer than its residual
+    /// `best` (at iteration `at`) in `since` iterations: it cycles between
+    /// statuses or creeps, and would spend its iteration limit so.
+    NewtonStalled { best: f64, at: usize, since: usize },
     /// The semi-smooth Newton method's line search failed repeatedly (with
     /// floating bodies: no projected-gradient fallback).
     NewtonLineSearchFailed,

@@ -9,6 +9,7 @@ pub mod output;
 pub mod pieces;
 pub mod plot;
 pub mod reference;
+pub mod results;
 pub mod stale;
 mod steps_csv;
 pub mod stream;

@@ -1,77 +1,22 @@
 //! The output files of a run (docs/reference/scene-format.md, "Output"): contact.csv, steps.csv,
 //! friction.svg, displacement.csv, stress.csv, the VTU series and
 //! report.json, and the run's summary for the terminal. The run's fields come
-//! in [`RunOutput`]; what the scene asks for, in [`OutputRequest`].
+//! in [`RunOutput`]; what the scene asks for, in [`OutputRequest`]
+//! (`crate::results`).
 
 use std::io::Write;
 use std::path::Path;
 use std::time::Instant;
 
-use crate::{Certificate, ContactRow, Report};
-
-/// The fields of one body at one load step.
-#[derive(Clone)]
-pub struct StepFields {
-    /// Displacement, `dim` values per node.
-    pub displacement: Vec<f64>,
-    /// Per cell: Voigt [sxx, syy, szz, sxy, syz, sxz] (axisymmetric: x = r,
-    /// y = z, szz = the hoop stress); see `signorini_fem::cell_stress`. Empty
-    /// unless `[output] fields` has "stress".
-    pub stress: Vec<[f64; 6]>,
-    /// Per cell: von Mises equivalent stress.
-    pub von_mises: Vec<f64>,
-}
-
-/// One body's mesh and its fields at the load steps kept in memory: every
-/// step that writes fields for the library's `run`, the last step alone for
-/// a run that streamed its steps to a [`crate::stream::FieldWriter`].
-pub struct BodyResult {
-    pub name: String,
-    pub coords: Vec<[f64; 3]>,
-    pub cells: Vec<Vec<usize>>,
-    /// METIS part of each cell.
-    pub parts: Vec<usize>,
-    /// The fields at the steps kept (at least one; the last is the last
-    /// load step).
-    pub history: Vec<StepFields>,
-}
-
-impl BodyResult {
-    /// The fields at the last load step.
-    pub fn last(&self) -> &StepFields {
-        self.history
-            .last()
-            .expect("a body result holds at least one step")
-    }
-}
-
-/// Everything a run hands to its output.
-pub struct RunOutput {
-    pub report: Report,
-    pub contact_rows: Vec<ContactRow>,
-    pub bodies: Vec<BodyResult>,
-}
-
-/// What the scene's `[output]` asks for.
-pub struct OutputRequest {
-    /// 2 or 3.
-    pub dim: usize,
-    /// `[output] fields`: "displacement", "contact", "stress".
-    pub fields: Vec<String>,
-}
-
-impl OutputRequest {
-    /// Whether `fields` asks for that field.
-    pub fn wants(&self, field: &str) -> bool {
-        self.fields.iter().any(|f| f == field)
-    }
-}
+use crate::results::RunOutput;
+use crate::stream::FieldWriter;
+use crate::Certificate;
 
 /// The files of a run whose steps streamed to `writer` (contact.csv and the
 /// VTU series): moves them into place, then writes steps.csv, friction.svg,
 /// displacement.csv and stress.csv (the last step) and report.json.
 pub fn write_outputs(
-    writer: &mut crate::stream::FieldWriter,
+    writer: &mut FieldWriter,
     output: &mut RunOutput,
     t: Instant,
 ) -> std::io::Result<()> {
@@ -181,9 +126,7 @@ pub fn write_outputs(
 /// Removes what an earlier run left in `dir` that this run did not write
 /// again ([`crate::stale`]), saying so in the report's messages.
 fn remove_earlier(dir: &Path, written: &std::collections::BTreeSet<String>, o: &mut RunOutput) {
-    let stems: Vec<String> = (o.bodies.iter())
-        .map(|b| signorini_scene::file_stem(&b.name))
-        .collect();
+    let stems: Vec<String> = (o.bodies.iter()).map(|b| b.file_stem.clone()).collect();
     let message = match crate::stale::remove_stale(dir, &stems, written) {
         Ok(removed) if removed.is_empty() => return,
         Ok(removed) => {

@@ -9,7 +9,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::output::{BodyResult, StepFields};
+use crate::results::{BodyResult, StepFields};
 use crate::ContactRow;
 
 /// The contact values of one slave node at one step, as the root sends them

@@ -14,13 +14,12 @@
 //! step k, exit 1) leaves nothing behind, and a run solved again (a widened
 //! candidate zone) starts from an empty stage.
 
-use signorini_scene::file_stem;
 use std::fs::File;
 use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
 
-use crate::output::{BodyResult, OutputRequest, RunOutput, StepFields};
 use crate::pieces::{piece_file, ContactFields, NodalContact, SubdomainPiece};
+use crate::results::{BodyResult, OutputRequest, RunOutput, StepFields};
 use crate::vtu::{
     declared_arrays, write_pvd, write_pvtu, write_vtu, PvdEntry, VtuPiece, NODE_ARRAY,
 };
@@ -193,7 +192,7 @@ impl FieldWriter {
         if let (Some(fields), false) = (fields, self.request.fields.is_empty()) {
             let nodal = NodalContact::of_rows(rows, step);
             for (bi, (b, f)) in bodies.iter().zip(fields).enumerate() {
-                let file = format!("{}_{step}.vtu", file_stem(&b.name));
+                let file = format!("{}_{step}.vtu", b.file_stem);
                 let contact = ContactFields::of(&nodal, &b.name, b.coords.len(), Some);
                 let piece = vtu_piece(&self.request, b, f, &contact);
                 write_vtu(&stage.join(&file), &piece)?;
@@ -202,29 +201,29 @@ impl FieldWriter {
                     part: bi,
                     file,
                 });
-                self.write_index(&stage, step, bi, &b.name, &piece)?;
+                self.write_index(&stage, step, bi, &b.file_stem, &piece)?;
             }
         }
         Ok(())
     }
 
-    /// The `.pvtu` index of body `bi` at `step` naming its subdomains'
-    /// pieces, with the arrays of its gathered piece `whole` and `node`.
+    /// The `.pvtu` index of body `bi` (file stem `name`) at `step` naming
+    /// its subdomains' pieces, with the arrays of its gathered piece `whole`
+    /// and `node`.
     fn write_index(
         &mut self,
         stage: &Path,
         step: usize,
         bi: usize,
-        body: &str,
+        name: &str,
         whole: &VtuPiece<'_>,
     ) -> Result<(), String> {
         if self.subdomains.is_empty() {
             return Ok(());
         }
-        let name = file_stem(body);
         let sources: Vec<String> = (self.subdomains.iter())
             .filter(|(b, _)| *b == bi)
-            .map(|&(_, part)| piece_file(&name, step, part))
+            .map(|&(_, part)| piece_file(name, step, part))
             .collect();
         let mut arrays = declared_arrays(whole);
         arrays[0].push((NODE_ARRAY.to_string(), 1, "UInt64"));
@@ -242,7 +241,7 @@ impl FieldWriter {
     /// Writes one subdomain's piece (see [`StepSink::piece`]).
     fn write_piece(&mut self, step: usize, p: &SubdomainPiece) -> Result<(), String> {
         let stage = self.stage().map_err(err)?;
-        let file = piece_file(&file_stem(&p.mesh.name), step, p.part);
+        let file = piece_file(&p.mesh.file_stem, step, p.part);
         let path = stage.join(&file);
         if let Some(d) = path.parent() {
             std::fs::create_dir_all(d).map_err(err)?;

@@ -8,12 +8,13 @@ use crate::model::{BodyModel, PointModel};
 use crate::pipeline::{RunContext, RunLog};
 use crate::reactions::{step_contacts, step_reactions};
 use crate::root::{net_force, point_force};
+use crate::step::{Partial, Residuals, StepSolution};
 use crate::subdomain::{CondensedData, FactorSummary, RecoveredStep};
-use crate::{inf_norm, memory, model, Partial, Residuals, SolveError, StepSolution};
+use crate::{inf_norm, memory, model, SolveError};
 use signorini_contact::friction::PointStatus;
 use signorini_contact::norms::nan_max;
 use signorini_contact::{SolverReport, StatusVariant, StopReason};
-use signorini_report::output::{RunOutput, StepFields};
+use signorini_report::results::{RunOutput, StepFields};
 use signorini_report::{
     Certificate, ContactRow, ContactSummary, Memory, Probe, RankStats, Report, StepReport, Timings,
 };
@@ -197,10 +198,18 @@ pub(crate) fn conclude_step(
             o,
         ));
     }
+    // Only a solver that did not converge may be facing a load beyond
+    // friction: a converged one whose certificate fails is not (its forces
+    // are within the cones).
     let limited = sol.outcome.report.stop.iteration_limit() || overload.is_some();
-    if let (true, false, Some(failure), Some(_)) =
-        (first_failure, limited, &mut partial.failure, &sol.friction)
-    {
+    let solver_failed = !sol.outcome.report.converged;
+    if let (true, true, false, Some(failure), Some(_)) = (
+        first_failure,
+        solver_failed,
+        limited,
+        &mut partial.failure,
+        &sol.friction,
+    ) {
         for (name, k) in held_by_friction(bodies, points) {
             failure.push_str(&format!(
                 "; body \"{name}\" is held by friction alone in {k} rigid motion(s) its supports leave free: a load along them beyond what friction carries (μ times the normal force) has no static equilibrium, and no solver converges on it; impose that motion (a displacement) instead of a force"

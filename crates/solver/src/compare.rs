@@ -4,7 +4,8 @@
 use crate::certify::nodal_pressures;
 use crate::model::PointModel;
 use crate::root::point_force;
-use crate::{FrictionStep, SolveError};
+use crate::step::FrictionStep;
+use crate::SolveError;
 use signorini_contact::friction::PointStatus;
 use signorini_report::{reference, StepReport};
 use signorini_scene as scene;
@@ -248,7 +249,7 @@ fn contact_coordinates(
 fn reference_mu(
     r: &scene::Reference,
     first: &scene::Contact,
-    p: &signorini_contact::ContactPoint,
+    p: &signorini_geometry::ContactPoint,
     direction: [f64; 3],
 ) -> Result<f64, SolveError> {
     let directional = |c: &[f64]| -> Option<f64> {

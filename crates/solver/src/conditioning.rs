@@ -2,7 +2,7 @@
 //! [`signorini_report::Conditioning`] and docs/reference/outputs.md).
 //!
 //! Every estimate is κ₁ = ‖A‖₁ ‖A⁻¹‖₁ with ‖A⁻¹‖₁ from the Hager–Higham
-//! estimator (`signorini_condense::conditioning`) on a factorisation the run
+//! estimator (`signorini_linalg::conditioning`) on a factorisation the run
 //! makes anyway, except W (one dense Cholesky of the m × m Delassus operator,
 //! once per run, m ≤ [`MAX_W_SIZE`]) and, on the direct path, K (one sparse
 //! LDLᵀ of the whole stiffness in the KKT's ordering, timed apart:
@@ -17,10 +17,10 @@
 //! digits_available < digits_needed.
 
 use faer::Mat;
-use signorini_condense::conditioning::{dense_spd_condition, digits_lost, F64_DIGITS};
-use signorini_contact::delassus::SparseRow;
-use signorini_contact::schur_factor::InterfaceStiffness;
+use signorini_condense::interface::{InterfaceFactorStats, InterfaceOperator, InterfaceStiffness};
 use signorini_contact::{ContactError, DelassusOperator};
+use signorini_linalg::conditioning::{dense_spd_condition, digits_lost, F64_DIGITS};
+use signorini_linalg::sparse::SparseRow;
 use signorini_report::Conditioning;
 
 use crate::kkt::KktSystem;
@@ -69,12 +69,12 @@ pub(crate) fn delassus_operator(
     cond: &mut RootConditioning,
 ) -> Result<DelassusOperator, ContactError> {
     if cond.done {
-        return DelassusOperator::of_stiffness(s, rows, kernel, false);
+        return Ok(operator_of(s, rows, kernel, false)?.0);
     }
     let n = s.nrows();
-    let p = DelassusOperator::of_stiffness(s, rows, kernel, true)?;
+    let (p, stats) = operator_of(s, rows, kernel, true)?;
     cond.done = true;
-    cond.interface = Some(interface_report(p.interface_factor(), n));
+    cond.interface = Some(interface_report(&stats, n));
     cond.s = p.s_condition();
     if p.n_kernel() > 0 {
         cond.notes.push(format!(
@@ -94,7 +94,7 @@ pub(crate) fn delassus_operator(
             // W = B S⁺ Bᵀ through the fixing DOFs' generalised inverse,
             // zero on them: singular when a contact DOF is one of them,
             // whatever the contact rows.
-            _ if p.interface_factor().fixing_dofs > 0 => cond.notes.push(FIXING_DOFS_W.into()),
+            _ if stats.fixing_dofs > 0 => cond.notes.push(FIXING_DOFS_W.into()),
             Some(k) => {
                 cond.warnings.push(format!(
                     "W is singular: redundant contact constraints (κ₁(W) ≈ {k:.1e} ≥ 1/ε); w is left out of digits_lost"
@@ -110,8 +110,23 @@ pub(crate) fn delassus_operator(
     Ok(p)
 }
 
+/// The Delassus operator of S (the condensation's factor of it) and how S
+/// was factorised.
+fn operator_of(
+    s: InterfaceStiffness,
+    rows: &[SparseRow],
+    kernel: &Mat<f64>,
+    estimate_condition: bool,
+) -> Result<(DelassusOperator, InterfaceFactorStats), ContactError> {
+    let op = InterfaceOperator::new(s, rows, kernel, estimate_condition)?;
+    let stats = op.factor.stats().clone();
+    let factor = std::sync::Arc::new(op.factor);
+    let p = DelassusOperator::from_factor(factor, rows, op.r, op.w, op.s_condition);
+    Ok((p, stats))
+}
+
 fn interface_report(
-    st: &signorini_contact::schur_factor::InterfaceFactorStats,
+    st: &InterfaceFactorStats,
     rows: usize,
 ) -> signorini_report::InterfaceFactorisation {
     signorini_report::InterfaceFactorisation {

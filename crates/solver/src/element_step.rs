@@ -9,7 +9,8 @@
 
 use crate::friction_step::row_gaps;
 use crate::root::{Interface, RootInput, StepLoad};
-use crate::{contact_error, FrictionStep, SolveError, StepSolution};
+use crate::step::{FrictionStep, StepSolution};
+use crate::{contact_error, SolveError};
 use signorini_contact::contact_elements::{self, ContactElement, ElementOptions, SlipThreshold};
 use signorini_contact::friction::{FrictionLaw, PointStatus};
 use signorini_contact::{ContactSolution, DelassusOperator};

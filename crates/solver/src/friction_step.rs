@@ -9,7 +9,8 @@
 
 use crate::model::{BodyModel, PointModel};
 use crate::root::{initial_statuses, Interface, RootInput, StepLoad};
-use crate::{contact_error, FrictionStep, SolveError, StepSolution};
+use crate::step::{FrictionStep, StepSolution};
+use crate::{contact_error, SolveError};
 use signorini_contact::friction::driver::{
     solve_friction as solve_friction_by, FrictionMethod, FrictionSolver, FrictionStart,
 };
@@ -106,7 +107,7 @@ pub(crate) fn friction_rows(
                 Some(_) => p.friction,
             })
             .collect(),
-        shadow: signorini_contact::redundancy::tangent_shadows(&interface.rows, m, tangent_row),
+        shadow: signorini_geometry::redundancy::tangent_shadows(&interface.rows, m, tangent_row),
     };
     Ok(Some(FrictionRows {
         layout,

@@ -34,12 +34,12 @@ use faer::sparse::linalg::cholesky::{LdltRef, SymbolicCholesky};
 use faer::sparse::{Argsort, Pair, SparseColMat, SymbolicSparseColMat};
 use faer::{Conj, Mat, MatMut};
 
-use signorini_condense::conditioning::inverse_norm1_estimate;
 use signorini_condense::ordering::{order_and_analyse, OrderedSymbolic, OrderingChoice};
 use signorini_condense::spmv_with_magnitude;
-use signorini_contact::delassus::SparseRow;
 use signorini_contact::ActiveSetSolve;
 use signorini_contact::ContactError;
+use signorini_linalg::conditioning::inverse_norm1_estimate;
+use signorini_linalg::sparse::SparseRow;
 
 /// Largest normwise backward error ‖b − M x‖∞ / (‖|M||x|‖∞ + ‖b‖∞) accepted
 /// from the refined LDLᵀ solve: a thousand roundings (a backward-stable

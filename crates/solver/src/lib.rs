@@ -34,6 +34,7 @@ mod plan;
 pub mod progress;
 mod reactions;
 mod root;
+mod step;
 mod step_end;
 pub mod subdomain;
 mod timing;
@@ -41,11 +42,9 @@ mod timing;
 use std::sync::Arc;
 
 use serde::{Deserialize, Serialize};
-use signorini_contact::friction::PointStatus;
-use signorini_contact::{ContactError, ContactSolution};
-pub use signorini_report::output::{BodyResult, RunOutput, StepFields};
+use signorini_contact::ContactError;
+pub use signorini_report::results::{BodyResult, RunOutput, StepFields};
 pub use signorini_report::stream::{FieldWriter, StepSink, StepsInMemory};
-use signorini_report::{Certificate, ContactRow, Regularisation, StepReport};
 use signorini_scene as scene;
 
 pub use pipeline::{run, run_streamed, run_with};
@@ -78,6 +77,9 @@ pub struct RunEnvironment {
     pub budget: Option<memory::Budget>,
     /// Who hears of the run's progress on this rank (`None`: nobody).
     pub observer: Option<Arc<dyn progress::Observer>>,
+    /// A rank that fails its condensation on purpose, for the tests of the
+    /// MPI path's error handling (the command line's SIGNORINI_FAIL_RANK).
+    pub fail_rank: Option<usize>,
 }
 
 impl RunEnvironment {
@@ -86,6 +88,7 @@ impl RunEnvironment {
         Self {
             budget: memory::machine_memory(),
             observer: None,
+            fail_rank: None,
         }
     }
 }
@@ -113,109 +116,6 @@ fn wire<T>(r: Result<T, String>) -> Result<T, SolveError> {
     r.map_err(SolveError::Internal)
 }
 
-/// One step solved on the root.
-struct StepSolution {
-    /// The contact problem's answer, with the report of the method that ran.
-    outcome: ContactSolution,
-    gap0: Vec<f64>,
-    f_scale: f64,
-    length_scale: f64,
-    regularisation: Option<Regularisation>,
-    /// Penalty stiffness of each point whose contact has a regularised law (0: unilateral).
-    law_k: Vec<f64>,
-    /// Friction state at the end of the step, when a contact has friction.
-    friction: Option<FrictionStep>,
-    /// Seconds of this step's root solve, and of building the Delassus
-    /// operator when this step built it (the first step), else 0.
-    solve_s: f64,
-    operator_s: f64,
-}
-
-/// Friction at one step, per contact point (zeros for frictionless points).
-#[derive(Clone)]
-struct FrictionStep {
-    statuses: Vec<PointStatus>,
-    tangential: Vec<f64>,
-    slip_increment: Vec<f64>,
-    slip_total: Vec<f64>,
-    /// Along the second tangent (3D; zeros in 2D).
-    tangential2: Vec<f64>,
-    slip_increment2: Vec<f64>,
-    slip_total2: Vec<f64>,
-    /// The threshold in force at the solution (Tresca g or μ λ_n).
-    threshold: Vec<f64>,
-    /// How far the tangential force lies outside its admissible set, in
-    /// force (≤ 0 inside): |λ_t| − g in 2D, ‖λ_t‖ − g on the Tresca disc,
-    /// μ₁ (‖(λ_t1/μ₁, λ_t2/μ₂)‖ − λ_n) on the (elliptic) Coulomb cone;
-    /// with roughness, of the slider force λ_t + Q g (course notes §6).
-    cone_excess: Vec<f64>,
-    /// The back force Q g of a rough point (course notes §6; zero without
-    /// roughness), along t1 and t2: the slider force is λ_t + Q g.
-    back_force: Vec<f64>,
-    back_force2: Vec<f64>,
-}
-
-impl FrictionStep {
-    /// The statuses of `m` points with every force, slip, threshold and
-    /// excess zero, for the step's solver to fill in.
-    fn zeros(statuses: Vec<PointStatus>, m: usize) -> Self {
-        FrictionStep {
-            statuses,
-            tangential: vec![0.0; m],
-            slip_increment: vec![0.0; m],
-            slip_total: vec![0.0; m],
-            tangential2: vec![0.0; m],
-            slip_increment2: vec![0.0; m],
-            slip_total2: vec![0.0; m],
-            threshold: vec![0.0; m],
-            cone_excess: vec![0.0; m],
-            back_force: vec![0.0; m],
-            back_force2: vec![0.0; m],
-        }
-    }
-}
-
 /// The fraction of the local element size (tributary length) beyond which a
 /// penalty penetration is warned about.
 pub const PENETRATION_WARNING_FRACTION: f64 = 0.01;
-
-/// What both paths hand to the report.
-struct Partial {
-    steps: Vec<StepReport>,
-    certificate: Certificate,
-    converged: bool,
-    failure: Option<String>,
-    contact_rows: Vec<ContactRow>,
-    lambda: Vec<f64>,
-    /// Full displacement of each body at the last step.
-    u_last: Vec<Vec<f64>>,
-    /// Each body's mesh, and (once the last step ended) its fields at the
-    /// last step.
-    bodies: Vec<BodyResult>,
-    /// The lowest gap over the steps of each point left out of the contact
-    /// zone (`ModelData::excluded`), for the check that none penetrates.
-    excluded_gaps: Vec<f64>,
-    dense_interface_bytes: u64,
-    factor_bytes: u64,
-    /// Ordering, size and flops of the factorisation (report.json
-    /// `factorisation`).
-    factorisation: Option<signorini_report::Factorisation>,
-    n_gamma: usize,
-    dofs: usize,
-    solver: serde_json::Value,
-    /// Friction at the last step.
-    friction: Option<FrictionStep>,
-    /// Condition estimates (report.json `conditioning`).
-    conditioning: Option<signorini_report::Conditioning>,
-}
-
-/// Residual pieces of one step for the certificate.
-struct Residuals {
-    /// Largest equilibrium residual (interior and Γ, contact forces included).
-    equilibrium: f64,
-    /// Largest internal or external force entry.
-    force_scale: f64,
-    /// K u − f on the prescribed DOFs, as (body, DOF, value); a DOF shared
-    /// by subdomains appears once per subdomain, their values to be summed.
-    support: Vec<(usize, usize, f64)>,
-}

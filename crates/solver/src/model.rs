@@ -4,8 +4,8 @@
 
 use faer::{Mat, Side};
 use signorini_contact::friction::{FrictionLaw, PointStatus};
-use signorini_contact::ContactPoint;
 use signorini_fem::{Elasticity, Formulation as FemFormulation, Model as FemModel};
+use signorini_geometry::ContactPoint;
 use signorini_mesh::generators::{
     box_mesh, half_disk, hemisphere, quarter_disk, rectangle, BoxSide, RectSide,
 };

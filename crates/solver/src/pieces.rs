@@ -9,8 +9,8 @@
 use crate::partition;
 use crate::subdomain::{RecoveredStep, SubdomainSpec};
 use partition::ModelData;
-use signorini_report::output::{BodyResult, StepFields};
 use signorini_report::pieces::{ContactFields, NodalContact, SubdomainPiece};
+use signorini_report::results::{BodyResult, StepFields};
 use signorini_report::stream::StepSink;
 use signorini_scene as scene;
 
@@ -49,6 +49,7 @@ fn subdomain_piece(
     SubdomainPiece {
         mesh: BodyResult {
             name: body.name.clone(),
+            file_stem: scene::file_stem(&body.name),
             coords: mesh.coords,
             cells: mesh.cells.into_iter().map(|c| c.nodes).collect(),
             parts: vec![spec.part; spec.cells.len()],

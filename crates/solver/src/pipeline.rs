@@ -10,15 +10,16 @@ use crate::certify::{condensed_sizes, condensed_step, finish_report};
 use crate::checks::check_held_by_contacts;
 use crate::direct_path::run_direct;
 use crate::root::{take_interface_stiffness, RootInput, RootSolve};
+use crate::step::Partial;
 use crate::step_end::StepLoop;
 use crate::subdomain::{CondensedData, RecoveredStep, Subdomain, SubdomainSpec};
 use crate::{
-    conditioning, memory, model, partition, pieces, plan, wire, Partial, RunEnvironment,
-    RunOptions, SolveError,
+    conditioning, memory, model, partition, pieces, plan, wire, RunEnvironment, RunOptions,
+    SolveError,
 };
 use serde::{Deserialize, Serialize};
 use signorini_comm::{broadcast, deal, gather, Transport};
-use signorini_report::output::RunOutput;
+use signorini_report::results::RunOutput;
 use signorini_report::stream::{StepSink, StepsInMemory};
 use signorini_report::{RankStats, Timings};
 use signorini_scene as scene;
@@ -167,6 +168,7 @@ pub fn run_streamed(
             widenings,
             budget: env.budget,
             progress: &progress,
+            fail_rank: env.fail_rank,
         };
         match attempt.solve(log, sink)? {
             Outcome::Done(out) => return Ok(out.map(|o| *o)),
@@ -192,6 +194,8 @@ struct Attempt<'a> {
     /// The memory the run may use.
     budget: Option<memory::Budget>,
     progress: &'a Progress,
+    /// The rank made to fail its condensation (a test of the MPI path).
+    fail_rank: Option<usize>,
 }
 
 /// What a solve ends with: the output (on the root), or the zone to solve
@@ -245,8 +249,12 @@ impl Attempt<'_> {
             return self.direct_stage(ctx, log, sink);
         }
         log.stages.push("condense".into());
-        let (local, condensed, condense_s) =
-            condense_stage(comm, &model, self.progress, &mut log.messages);
+        let (local, condensed, condense_s) = condense_stage(
+            (comm, self.fail_rank),
+            &model,
+            self.progress,
+            &mut log.messages,
+        );
         let sizes = RankFigures::of_condensed(&condensed);
         // Moved: the root keeps the gathered data, the other ranks none.
         let gathered = wire(gather(comm, condensed))?;
@@ -347,7 +355,7 @@ type Condensed = (Vec<Subdomain>, Result<Vec<CondensedData>, String>, f64);
 /// the ranks by cost): this rank's subdomains, their S_i and F'_i (or the
 /// first error), and the seconds it took.
 fn condense_stage(
-    comm: &dyn Transport,
+    (comm, fail_rank): (&dyn Transport, Option<usize>),
     model: &partition::ModelData,
     progress: &Progress,
     messages: &mut Vec<String>,
@@ -378,7 +386,7 @@ fn condense_stage(
         })
     };
     let mine: Result<Vec<(Subdomain, CondensedData)>, String> = timed(&mut condense_s, || {
-        injected_failure(comm).map_or_else(
+        injected_failure(comm, fail_rank).map_or_else(
             || {
                 let mine: Vec<usize> = (0..specs.len())
                     .filter(|&i| owner_rank[i] == comm.rank())
@@ -502,11 +510,10 @@ fn side_by_side_workers(costs: impl Iterator<Item = f64>, cores: usize) -> usize
     }
 }
 
-/// A failure injected on this rank by SIGNORINI_FAIL_RANK (the failure
-/// test of the MPI path).
-fn injected_failure(comm: &dyn Transport) -> Option<String> {
-    let r = std::env::var("SIGNORINI_FAIL_RANK").ok()?;
-    (r.parse::<usize>().ok() == Some(comm.rank())).then(|| {
+/// A failure injected on this rank when it is `fail_rank` (the failure test
+/// of the MPI path: `RunEnvironment::fail_rank`).
+fn injected_failure(comm: &dyn Transport, fail_rank: Option<usize>) -> Option<String> {
+    (fail_rank == Some(comm.rank())).then(|| {
         format!(
             "failure injected on rank {} (SIGNORINI_FAIL_RANK)",
             comm.rank()

@@ -17,7 +17,7 @@ use signorini_scene as scene;
 
 use crate::model::{BodyModel, PointModel};
 use crate::root::{net_force, point_force};
-use crate::FrictionStep;
+use crate::step::FrictionStep;
 
 /// The reaction of every prescribed-displacement entry of the scene at one
 /// step, from `support` (K u − f on prescribed DOFs, as (body, DOF, value),

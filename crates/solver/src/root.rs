@@ -7,16 +7,14 @@ use crate::element_step::{element_step, ElementHistory};
 use crate::friction_step::{friction_rows, friction_step, FrictionHistory, FrictionRows};
 use crate::model::{BodyModel, FixedPoint, PointModel};
 use crate::progress::{Event, Progress};
+use crate::step::{FrictionStep, StepSolution};
 use crate::subdomain::{CondensedData, SubdomainSpec};
 use crate::timing::timed;
-use crate::{
-    conditioning, contact_error, inf_norm, FrictionStep, SolveError, StepSolution,
-    PENETRATION_WARNING_FRACTION,
-};
+use crate::{conditioning, contact_error, inf_norm, SolveError, PENETRATION_WARNING_FRACTION};
 use faer::Mat;
+use signorini_condense::interface::{InterfaceStiffness, SchurBlock};
 use signorini_contact::friction::PointStatus;
 use signorini_contact::registry::Algorithm;
-use signorini_contact::schur_factor::{InterfaceStiffness, SchurBlock};
 use signorini_contact::{
     status_method, ActiveSetSolve, ContactError, ContactSolution, DelassusOperator,
     DelassusProblem, LcpOptions, SolverReport, StatusOptions, StatusVariant, StopReason,
@@ -420,7 +418,7 @@ fn assemble_interface(input: &RootInput, s: InterfaceStiffness) -> Interface {
 
 /// S = Σ S_i, taking the subdomains' blocks S_i: dense for one subdomain;
 /// with several, the blocks themselves (factorised over the tree of
-/// subdomains, `signorini_contact::interface_tree`).
+/// subdomains, `signorini_condense::interface`).
 pub(crate) fn take_interface_stiffness(
     data: &mut [CondensedData],
     n_gamma: usize,
@@ -546,7 +544,7 @@ fn step_load(
 #[derive(Default)]
 pub(crate) struct WarmStart {
     active: Option<Vec<usize>>,
-    factor: Option<signorini_contact::active_factor::ActiveFactor>,
+    factor: Option<signorini_linalg::active_factor::ActiveFactor>,
 }
 
 /// One frictionless step: the chosen algorithm (or the status method) on

@@ -11,8 +11,9 @@
 
 use crate::certify::{conclude_step, empty_partial, StepEvidence};
 use crate::model::BodyModel;
-use crate::{inf_norm, partition, Partial, Residuals, SolveError, StepSolution};
-use signorini_report::output::{BodyResult, StepFields};
+use crate::step::{Partial, Residuals, StepSolution};
+use crate::{inf_norm, partition, SolveError};
+use signorini_report::results::{BodyResult, StepFields};
 use signorini_report::stream::StepSink;
 use signorini_scene as scene;
 
@@ -132,6 +133,7 @@ fn body_meshes(bodies: &[BodyModel]) -> Vec<BodyResult> {
         .iter()
         .map(|b| BodyResult {
             name: b.name.clone(),
+            file_stem: scene::file_stem(&b.name),
             coords: b.mesh.coords.clone(),
             cells: b.mesh.cells.iter().map(|c| c.nodes.clone()).collect(),
             parts: b.parts.clone(),

@@ -6,7 +6,7 @@
 //! with a documented message and exit class (1 bad input, 2 not converged).
 //!
 //! `signorini bench --suite stiff [--quick]` runs the suite and writes a table;
-//! `tests/stiff/main.rs` runs the quick suite and asserts over all of it: no
+//! `tests/integration/stiff.rs` runs the quick suite and asserts over all of it: no
 //! NaN, no `converged: true` with a certificate above its tolerance, every
 //! expectation met.
 //!

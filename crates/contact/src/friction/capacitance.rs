@@ -29,10 +29,11 @@ use std::collections::HashMap;
 
 use faer::Mat;
 
-use crate::delassus::VarEquation;
-use crate::growing_lu::GrowingLu;
-use crate::pivot_policy::pivots_are_safe;
-use crate::reduced::{factorise_reduced, reduce, reduced_block, Factor, Reduction};
+use signorini_linalg::growing_lu::GrowingLu;
+use signorini_linalg::pivot_policy::pivots_are_safe;
+use signorini_linalg::reduced::{
+    factorise_reduced, reduce, reduced_block, Factor, Reduction, VarEquation,
+};
 
 /// Whether two equations have the same row of M (they may differ in their
 /// right-hand side: a given value).
@@ -553,7 +554,9 @@ mod tests {
 
     fn fresh(w: &Mat<f64>, q: &[f64], eqs: &[VarEquation]) -> Vec<f64> {
         let g = Mat::<f64>::zeros(q.len(), 0);
-        crate::reduced::solve_reduced(w, q, &g, &[], eqs).unwrap().0
+        signorini_linalg::reduced::solve_reduced(w, q, &g, &[], eqs)
+            .unwrap()
+            .0
     }
 
     /// From a base factor, each later status vector (points closing,
@@ -621,7 +624,7 @@ mod tests {
         let a = reduced_block(&w, &red);
         let block = factorise_reduced(&a, &red).unwrap();
         assert!(matches!(block, Factor::Block(_)));
-        let lu = crate::reduced::factorise(&a, false).unwrap();
+        let lu = signorini_linalg::reduced::factorise(&a, false).unwrap();
         let n = a.nrows();
         let rhs = Mat::<f64>::from_fn(n, 2, |i, j| ((i * 7 + j * 3) % 5) as f64 - 2.0);
         let (x, y) = (block.solve(&rhs), lu.solve(&rhs));

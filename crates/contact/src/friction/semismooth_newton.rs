@@ -40,7 +40,7 @@
 use faer::prelude::Solve;
 use faer::Mat;
 
-use crate::delassus::{DelassusProblem, VarEquation};
+use crate::delassus::DelassusProblem;
 use crate::friction::fixed_point::{
     fixed_point, normal_change, FixedPoint, InnerSolve, ThresholdMap, TrescaSolver,
 };
@@ -49,6 +49,7 @@ use crate::law::FrictionLayout;
 use crate::options::FrictionOptions;
 use crate::solution::{ContactSolution, PointStatus, StopReason, ThresholdMapKind};
 use crate::ContactError;
+use signorini_linalg::reduced::VarEquation;
 
 /// A unit direction over at most two force rows (`c[1] = 0` for one row).
 #[derive(Debug, Clone, Copy)]
@@ -700,6 +701,18 @@ enum Step {
     Singular,
 }
 
+/// Newton iterations without a residual below [`STALL_DECREASE`] times the
+/// best so far after which the method stops as stalled: where it converges
+/// it does so in a few dozen (the pushed assembly: 5 to 30); where it does
+/// not it cycled between statuses (a period of 75 iterations at 1.2e-2 on
+/// an assembly pushed sideways) or blew up under full steps, and spent its
+/// 500 iterations so, in each of the fixed point's inner solves.
+const STALLED_AFTER: usize = 60;
+
+/// The decrease of the residual that counts as progress for
+/// [`STALLED_AFTER`].
+const STALL_DECREASE: f64 = 0.9;
+
 /// Semi-smooth Newton on the Alart–Curnier equations with fixed semi-axes
 /// `thr`, from the forces `start`; with `coulomb`, on Coulomb's law itself
 /// (the semi-axes of Coulomb points μ_i λ_n of the iterate): no projected
@@ -714,6 +727,7 @@ fn solve_inner(
     let (problem, layout, opts, dim) = (newton.problem, newton.layout, newton.opts, newton.dim);
     let mut inner = Inner::new(problem, layout, thr);
     inner.coulomb = coulomb;
+    inner.rho.iter_mut().for_each(|r| *r *= newton.rho_scale);
     let (n, k) = (inner.n(), inner.k());
     let mut x = inner.iterate(inner.start(start));
     let mut sys = NewtonSystem::default();
@@ -722,9 +736,21 @@ fn solve_inner(
     let mut reason = StopReason::NewtonLimit {
         limit: opts.max_iterations,
     };
+    let mut best = (f64::INFINITY, 0usize);
     for it in 0..opts.max_iterations {
         if let Some(met) = inner.met(&mut x, opts, it) {
             reason = met;
+            break;
+        }
+        let residual = inner.check(&x, opts);
+        if residual < STALL_DECREASE * best.0 {
+            best = (residual, it);
+        } else if it - best.1 >= STALLED_AFTER {
+            reason = StopReason::NewtonStalled {
+                best: best.0,
+                at: best.1,
+                since: it - best.1,
+            };
             break;
         }
         iterations = it + 1;

@@ -266,7 +266,7 @@ fn polish(w: &Mat<f64>, q: &[f64], active: &[usize]) -> Option<Vec<f64>> {
     }
     let a = Mat::<f64>::from_fn(na, na, |i, j| w[(active[i], active[j])]);
     let rhs = Mat::<f64>::from_fn(na, 1, |i, _| -q[active[i]]);
-    let x = crate::pivot_policy::solve_symmetric_checked(&a, &rhs, "W_AA").ok()?;
+    let x = signorini_linalg::pivot_policy::solve_symmetric_checked(&a, &rhs, "W_AA").ok()?;
     for (i, &p) in active.iter().enumerate() {
         if !x[(i, 0)].is_finite() {
             return None;

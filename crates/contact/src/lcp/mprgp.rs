@@ -645,7 +645,7 @@ impl<'a> Mprgp<'a> {
             -(q[i] + bound_part)
         });
         // A singular block leaves NaN, refused below as leaving the box.
-        let sol = crate::pivot_policy::solve_symmetric_checked(&wff, &rhs, "W_FF")
+        let sol = signorini_linalg::pivot_policy::solve_symmetric_checked(&wff, &rhs, "W_FF")
             .unwrap_or_else(|_| Mat::from_fn(nf, 1, |_, _| f64::NAN));
         self.report.operator_applications += 2; // the block solve and the residual
         let mut y = self.x.clone();

@@ -28,7 +28,7 @@ pub(crate) fn solve_block(
     });
     let rhs = Mat::<f64>::from_fn(na, 1, |i, _| -q[active[i]]);
     // A singular block leaves NaN forces, refused below.
-    let sol = crate::pivot_policy::solve_symmetric_checked(&a, &rhs, "W_AA + K_A⁻¹")
+    let sol = signorini_linalg::pivot_policy::solve_symmetric_checked(&a, &rhs, "W_AA + K_A⁻¹")
         .unwrap_or_else(|_| Mat::from_fn(na, 1, |_, _| f64::NAN));
     for (i, &p) in active.iter().enumerate() {
         lambda[p] = sol[(i, 0)];

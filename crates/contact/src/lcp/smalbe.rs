@@ -385,7 +385,7 @@ fn polish(
         return false;
     }
     let (a, rhs) = crate::delassus::saddle_point_system(w, q, g, e, &active);
-    let Ok(x) = crate::pivot_policy::solve_checked(&a, &rhs, "polish") else {
+    let Ok(x) = signorini_linalg::pivot_policy::solve_checked(&a, &rhs, "polish") else {
         return false;
     };
     // The exact solution for this active set is the solution of the LCP

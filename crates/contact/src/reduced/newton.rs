@@ -27,9 +27,9 @@
 
 use faer::Mat;
 
-use super::{schur_on_g, BlockFactor};
-use crate::bordered_factor::{block_buffer, BorderedFactor, FactorFailure};
 use crate::friction::semismooth_newton::{Dir, NewtonSystem};
+use signorini_linalg::bordered_factor::{block_buffer, BorderedFactor, FactorFailure};
+use signorini_linalg::reduced::{schur_on_g, BlockFactor};
 
 /// Solves the reduced Newton system of `sys` (see the module); with `chord`,
 /// only with the cached factor of the same structure. Returns dx = (dλ, dα),
@@ -293,7 +293,7 @@ impl NewtonBlock {
             dependent[pos[*y]].push((*d, *f));
         }
         let work = (nu * nu + red.dependent.len() * (nu + 2 * w.nrows())) as f64;
-        crate::threads::for_each_chunk(&mut buf[..nu * nu], nu, work, |first, cols| {
+        signorini_linalg::threads::for_each_chunk(&mut buf[..nu * nu], nu, work, |first, cols| {
             let mut mix = vec![0.0; w.nrows()];
             for (k, out) in cols.chunks_exact_mut(nu).enumerate() {
                 let j = first + k;

@@ -209,7 +209,7 @@ impl fmt::Display for StopReason {
             | FixedPointLimit { .. }
             | FixedPointStalled { .. }
             | Tresca(_) => self.fmt_friction(f),
-            NewtonConverged { .. } | NewtonLimit { .. } | NewtonLineSearchFailed => {
+            NewtonConverged { .. } | NewtonLimit { .. } | NewtonStalled { .. } | NewtonLineSearchFailed => {
                 self.fmt_newton(f)
             }
             NonFinite { iteration } => write!(
@@ -475,6 +475,10 @@ impl StopReason {
                 "natural residual {residual:.2e} after {iterations} Newton iterations"
             ),
             StopReason::NewtonLimit { limit } => write!(f, "iteration limit {limit} reached"),
+            StopReason::NewtonStalled { best, at, since } => write!(
+                f,
+                "stalled: no iterate came closer than the residual {best:.2e} (iteration {at}) in the {since} iterations since"
+            ),
             StopReason::NewtonLineSearchFailed => f.write_str(
                 "the Newton line search failed repeatedly (floating bodies: no fallback)",
             ),

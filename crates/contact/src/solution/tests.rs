@@ -411,6 +411,14 @@ fn the_reasons_of_the_semismooth_newton_method_read_as_before() {
         format!("iteration limit {} reached", max_iterations),
     );
     same(
+        StopReason::NewtonStalled {
+            best: 1.2e-2,
+            at: 143,
+            since: 60,
+        },
+        "stalled: no iterate came closer than the residual 1.20e-2 (iteration 143) in the 60 iterations since".into(),
+    );
+    same(
         StopReason::NewtonLineSearchFailed,
         "the Newton line search failed repeatedly (floating bodies: no fallback)".into(),
     );

@@ -3,12 +3,12 @@
 //! the bodies' DOFs, its gap and friction law; the points whose gap the
 //! supports fix, and the constraints that repeat another.
 
-use signorini_contact::geometry::{
+use signorini_geometry::mortar::mortar_pairing;
+use signorini_geometry::mortar3d::mortar3d_pairing;
+use signorini_geometry::pairing::{
     contact_element_pairing, node_to_node_pairing, node_to_segment_pairing,
 };
-use signorini_contact::mortar::mortar_pairing;
-use signorini_contact::mortar3d::mortar3d_pairing;
-use signorini_contact::{ContactPoint, MasterGeometry, NormalRule, TermSide};
+use signorini_geometry::{ContactPoint, MasterGeometry, NormalRule, TermSide};
 use signorini_scene as scene;
 
 use super::{input, point3, BodyModel, PointModel, PrescribedSlip, Zone};
@@ -529,7 +529,7 @@ pub fn eliminate_redundant(sc: &scene::Scene, points: &mut Vec<PointModel>) -> V
         .iter()
         .map(|p| (p.row.iter().map(|&(b, d, c)| ((b, d), c)).collect(), p.gap0))
         .collect();
-    let dup = signorini_contact::redundancy::duplicate_constraints(&rows, 1e-9 * size);
+    let dup = signorini_geometry::redundancy::duplicate_constraints(&rows, 1e-9 * size);
     // (dropped contact, kept contact) → count
     let mut dropped: std::collections::BTreeMap<(usize, usize), usize> = Default::default();
     for (i, d) in dup.iter().enumerate() {

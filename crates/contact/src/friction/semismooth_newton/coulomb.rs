@@ -19,10 +19,12 @@ use crate::friction::holding::friction_overload;
 /// iterations of all solves.
 ///
 /// With floating bodies, the rigid-mode amplitudes α used by
-/// [`DelassusProblem::displacement`] are those of a final linear solve with
-/// the statuses found (closed normal rows and stuck tangential rows: zero
-/// gap; other rows: the forces found); if that system is singular (e.g. every
-/// point of a friction-held body slips), α is left from the previous solve.
+/// [`DelassusProblem::displacement`] are the Newton method's own, read back
+/// from the gaps it met its tolerance on
+/// ([`DelassusProblem::set_alpha_from_gaps`]). (A final linear solve with the
+/// statuses found, closed and stuck rows at zero gap, is singular when the
+/// points holding a body along a rigid motion all slip, and left α at zero:
+/// the block of a pushed assembly then sank into its pad.)
 pub(crate) fn friction_newton(
     problem: &mut DelassusProblem,
     layout: &FrictionLayout,
@@ -37,19 +39,7 @@ pub(crate) fn friction_newton(
     };
     let mut out = newton_fixed_point(problem, layout, start, bilateral, direct, opts, dim)?;
     if problem.n_kernel() > 0 {
-        let mut eqs: Vec<VarEquation> = out.forces.iter().map(|&v| VarEquation::Value(v)).collect();
-        for (p, st) in out.friction.points.iter().enumerate() {
-            if *st == PointStatus::Open {
-                continue;
-            }
-            eqs[p] = VarEquation::Gap;
-            if *st == PointStatus::Stick {
-                for &t in &layout.tangent_rows[p] {
-                    eqs[t] = VarEquation::Gap;
-                }
-            }
-        }
-        let _ = problem.solve_equations(&eqs);
+        problem.set_alpha_from_gaps(&out.forces, &out.gaps);
     }
     out.report.operator_applications = problem.solves;
     Ok(out)
@@ -80,7 +70,19 @@ pub(super) struct Newton<'a> {
     /// converged solve (of this step's Tresca problem, or of the previous
     /// step): their normal forces are then in equilibrium.
     pub(super) trusted: bool,
+    /// The factor on the projection parameters ρ = 1/W_ii of the solves.
+    pub(super) rho_scale: f64,
+    /// The inner solves that failed in a row, and why the last one did.
+    pub(super) failures: usize,
+    pub(super) last_failure: Option<StopReason>,
 }
+
+/// Inner solves failed in a row after which the fixed point's next ones
+/// are not tried: its last forces are returned with the last failure, and
+/// the fixed point stops on it. (A push past what friction holds, 101 % of
+/// μ N on the assembly, ran its inner solves, each to its stall, for more
+/// than 100 s; those that fail under stale thresholds settle at the next.)
+const INNER_FAILURES_IN_A_ROW: usize = 3;
 
 impl Newton<'_> {
     /// The iterate of the forces `forces` (no solve): their gaps (rigid-mode
@@ -116,9 +118,23 @@ impl TrescaSolver for Newton<'_> {
                 });
             }
         }
+        if self.failures >= INNER_FAILURES_IN_A_ROW {
+            if let Some(reason) = self.last_failure.clone() {
+                return Ok(InnerSolve {
+                    reason,
+                    ..self.iterate(start.to_vec())
+                });
+            }
+        }
         let (solve, iterations) = solve_inner(self, thr, start, false)?;
         self.iterations += iterations;
         self.trusted = solve.converged;
+        if solve.converged {
+            self.failures = 0;
+        } else {
+            self.failures += 1;
+            self.last_failure = Some(solve.reason.clone());
+        }
         Ok(solve)
     }
 }
@@ -144,7 +160,11 @@ fn stuck_thresholds(
         .collect()
 }
 
-/// With `direct`, the Newton method on Coulomb's law itself, else (or when
+/// The factor on ρ of the second try of the Newton method on Coulomb's law.
+const RETRY_RHO_SCALE: f64 = 0.1;
+
+/// With `direct`, the Newton method on Coulomb's law itself (once more with
+/// ρ scaled by [`RETRY_RHO_SCALE`] when it does not converge), else (or when
 /// it fails) the fixed point on the threshold with the Newton inner solves,
 /// from `start` (previous step) or `first_guess` (floating bodies) or zero.
 fn newton_fixed_point(
@@ -176,6 +196,9 @@ fn newton_fixed_point(
         iterations: 0,
         dim,
         trusted: false,
+        rho_scale: 1.0,
+        failures: 0,
+        last_failure: None,
     };
     let tresca = match dim {
         2 => "tresca_semismooth_newton",
@@ -206,6 +229,16 @@ fn newton_fixed_point(
             Ok(sol) => return Ok(sol),
             Err(failed) => failed,
         };
+        // Once more with smaller projection parameters: a shorter trial
+        // step into the cone, which left the status cycle of an assembly
+        // pushed sideways (pad slave, half of μ N: stalled at 1.2e-2 with ρ
+        // = 1/W_ii, converged in 20 iterations with a tenth of it).
+        newton.rho_scale = RETRY_RHO_SCALE;
+        let retried = solve_coulomb(&mut newton, &forces)?;
+        newton.rho_scale = 1.0;
+        if let Ok(sol) = retried {
+            return Ok(sol);
+        }
         fallback = Some(format!("{direct_name} stopped: {}", failed.reason));
     }
     let start = match start {

@@ -45,6 +45,7 @@ pub(super) fn norton_hoff_fixed_point(
     };
     let mut inner = Newton {
         opts: &inner_opts,
+        last_failure: None,
         ..*newton
     };
     let law = NortonHoffLaw::new(layout, opts);
