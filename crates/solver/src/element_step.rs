@@ -8,7 +8,7 @@
 //! step to step.
 
 use crate::friction_step::row_gaps;
-use crate::root::{Interface, RootInput, StepLoad};
+use crate::interface_problem::{Interface, RootInput, StepLoad};
 use crate::step::{FrictionStep, StepSolution};
 use crate::{contact_error, SolveError};
 use signorini_contact::contact_elements::{self, ContactElement, ElementOptions, SlipThreshold};

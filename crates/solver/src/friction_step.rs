@@ -7,8 +7,8 @@
 //! force, [`signorini_contact::friction::kinematic_hardening`]), and the slip
 //! history carried to the next step.
 
+use crate::interface_problem::{initial_statuses, Interface, RootInput, StepLoad};
 use crate::model::{BodyModel, PointModel};
-use crate::root::{initial_statuses, Interface, RootInput, StepLoad};
 use crate::step::{FrictionStep, StepSolution};
 use crate::{contact_error, SolveError};
 use signorini_contact::friction::driver::{

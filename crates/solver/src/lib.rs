@@ -24,6 +24,7 @@ pub mod contact_frames;
 mod direct_path;
 mod element_step;
 mod friction_step;
+mod interface_problem;
 mod kkt;
 pub mod memory;
 pub mod model;

@@ -9,7 +9,8 @@
 use crate::certify::{condensed_sizes, condensed_step, finish_report};
 use crate::checks::check_held_by_contacts;
 use crate::direct_path::run_direct;
-use crate::root::{take_interface_stiffness, RootInput, RootSolve};
+use crate::interface_problem::RootInput;
+use crate::root::{take_interface_stiffness, RootSolve};
 use crate::step::Partial;
 use crate::step_end::StepLoop;
 use crate::subdomain::{CondensedData, RecoveredStep, Subdomain, SubdomainSpec};

@@ -5,15 +5,15 @@
 use crate::checks::check_floating_equilibrium;
 use crate::element_step::{element_step, ElementHistory};
 use crate::friction_step::{friction_rows, friction_step, FrictionHistory, FrictionRows};
+use crate::interface_problem::{Interface, RootInput, StepLoad};
 use crate::model::{BodyModel, FixedPoint, PointModel};
 use crate::progress::{Event, Progress};
 use crate::step::{FrictionStep, StepSolution};
-use crate::subdomain::{CondensedData, SubdomainSpec};
+use crate::subdomain::CondensedData;
 use crate::timing::timed;
 use crate::{conditioning, contact_error, inf_norm, SolveError, PENETRATION_WARNING_FRACTION};
 use faer::Mat;
 use signorini_condense::interface::{InterfaceStiffness, SchurBlock};
-use signorini_contact::friction::PointStatus;
 use signorini_contact::registry::Algorithm;
 use signorini_contact::{
     status_method, ActiveSetSolve, ContactError, ContactSolution, DelassusOperator,
@@ -246,50 +246,6 @@ pub(crate) fn status_report(outcome: &mut ContactSolution, method: &str, linear_
     outcome.report.method = method.into();
     outcome.report.operator_applications = linear_solves;
     outcome.report.residual_history.clear();
-}
-
-/// What the root's solve reads: the scene, the chosen algorithm, the model
-/// and the subdomains' condensed data on Γ.
-pub(crate) struct RootInput<'a> {
-    pub sc: &'a scene::Scene,
-    /// Who hears of the run's progress.
-    pub progress: &'a Progress,
-    pub algorithm: Algorithm,
-    /// Contact elements solved by the return mapping (course notes §7).
-    pub return_mapping: bool,
-    pub bodies: &'a [BodyModel],
-    pub points: &'a [PointModel],
-    pub fixed: &'a [FixedPoint],
-    pub specs: &'a [SubdomainSpec],
-    pub data: &'a [CondensedData],
-    pub gamma_of: &'a [Vec<usize>],
-    pub frames: &'a crate::contact_frames::ContactFrames,
-    pub n_gamma: usize,
-}
-
-/// The interface problem on Γ, assembled once per run: S = Σ S_i, the
-/// condensed load F'_i of every load entry, the rigid modes R of the
-/// floating bodies, and the contact rows (normal rows, then tangential).
-pub(crate) struct Interface {
-    /// S = Σ S_i, until the Delassus operator factorises it.
-    pub s: Option<InterfaceStiffness>,
-    /// Per body, per load entry: its condensed load on Γ at scale 1.
-    pub fp_entries: Vec<Vec<Vec<f64>>>,
-    pub kernel: Mat<f64>,
-    pub rows: Vec<Vec<(usize, f64)>>,
-    /// The tangential rows t1 (and t2 in 3D) of each point, if it has them.
-    pub tangent_row: Vec<Option<usize>>,
-    pub tangent_row2: Vec<Option<usize>>,
-}
-
-/// The load of one step on Γ, with its scales and the initial gaps.
-pub(crate) struct StepLoad {
-    pub fp: Vec<f64>,
-    /// Prescribed displacement of every body (full DOFs).
-    pub u_p: Vec<Vec<f64>>,
-    pub f_scale: f64,
-    pub length_scale: f64,
-    pub gap0: Vec<f64>,
 }
 
 /// The root's contact solve on the assembled interface problem, one load
@@ -652,34 +608,4 @@ fn interface_error(input: &RootInput, e: ContactError) -> SolveError {
         "bodies[{}]: body \"{}\": {e}; a body held only by contact needs contacts that can hold every rigid motion its supports leave free, and parts of a mesh that meet only at a node (or along an edge in 3D) hinge there",
         body.scene_index, body.name
     ))
-}
-
-/// The statuses a friction solve starts from at its first step: closed
-/// points stick, open ones are open, except that every point of a body held
-/// by contact alone starts closed. While such a body's contacts are open
-/// nothing determines its rigid motion along them (its position is a free
-/// unknown, the saddle-point system of its equilibrium is singular): starting
-/// closed, the status iterations open the points whose forces come out
-/// tensile, so that a body with an initial gap reaches the closed state
-/// directly, under displacement or force control (Code_Aster SSNV503).
-pub(crate) fn initial_statuses(
-    bodies: &[BodyModel],
-    points: &[PointModel],
-    gap0: &[f64],
-    closed: f64,
-    close_floating: bool,
-) -> Vec<PointStatus> {
-    points
-        .iter()
-        .zip(gap0)
-        .map(|(p, &g)| {
-            let floating =
-                close_floating && p.row.iter().any(|&(b, _, _)| !bodies[b].kernel.is_empty());
-            if g <= closed || floating {
-                PointStatus::Stick
-            } else {
-                PointStatus::Open
-            }
-        })
-        .collect()
 }
