@@ -9,6 +9,13 @@ pub fn material_2d(young: f64, poisson: f64) -> String {
     )
 }
 
+/// `dimension = dim`, the `model` and the material "m".
+pub fn material_head(dim: usize, model: &str, young: f64, poisson: f64) -> String {
+    format!(
+        "dimension = {dim}\nmodel = \"{model}\"\n[[materials]]\nname = \"m\"\nyoung = {young:?}\npoisson = {poisson:?}\n"
+    )
+}
+
 /// The rectangle "block" of material "m" from `origin`, of `size`, in
 /// `divisions` cells; `mesh_extra` is appended to its mesh keys (such as
 /// `, element = "tri6"`).

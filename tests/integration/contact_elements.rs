@@ -277,27 +277,14 @@ fn drag(dim: usize, friction: &str, scales: &[f64]) -> String {
         format!("{{ x = {U:?}, y = 0.0 }}")
     };
     let boundaries = common::press_drag_hold("pad", top, &traction, &drag, &mid);
+    let clamp = common::boundary(
+        "clamp",
+        "base",
+        &format!("surface = \"{bottom}\""),
+        &format!("displacement = {clamp}"),
+    );
     format!(
-        r#"dimension = {dim}
-model = "{model}"
-[[materials]]
-name = "m"
-young = 1e7
-poisson = 0.0
-[[bodies]]
-name = "base"
-material = "m"
-mesh = {}
-[[bodies]]
-name = "pad"
-material = "m"
-mesh = {}
-[[boundary]]
-name = "clamp"
-body = "base"
-surface = "{bottom}"
-displacement = {clamp}
-{boundaries}[[contact]]
+        r#"{}{}{}{clamp}{boundaries}[[contact]]
 name = "joint"
 slave = {{ body = "pad", surface = "{bottom}" }}
 master = {{ body = "base", surface = "{top}" }}
@@ -307,8 +294,9 @@ friction = {friction}
 [solver]
 tolerance = 1e-14
 {steps}"#,
-        mesh(0.0),
-        mesh(H)
+        common::material_head(dim, model, 1e7, 0.0),
+        common::elastic_body("base", &mesh(0.0)),
+        common::elastic_body("pad", &mesh(H)),
     )
 }
 

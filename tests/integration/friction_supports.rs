@@ -42,17 +42,7 @@ fn block(
     let generator = if dim == 2 { "rectangle" } else { "box" };
     let point = vec![0.0; dim];
     format!(
-        r#"dimension = {dim}
-model = "{model}"
-[[materials]]
-name = "m"
-young = 1000.0
-poisson = 0.3
-[[bodies]]
-name = "pad"
-material = "m"
-mesh = {{ generator = "{generator}", origin = {}, size = {}, divisions = {div:?} }}
-[[bodies]]
+        r#"{}{}[[bodies]]
 name = "ground"
 rigid = {{ shape = "plane", point = {}, normal = {} }}
 [[boundary]]
@@ -68,8 +58,15 @@ method = "status"
 path = "condensed"
 friction = "{friction_solver}"
 "#,
-        v(origin),
-        v(size),
+        common::material_head(dim, model, 1000.0, 0.3),
+        common::elastic_body(
+            "pad",
+            &format!(
+                "{{ generator = \"{generator}\", origin = {}, size = {}, divisions = {div:?} }}",
+                v(origin),
+                v(size)
+            )
+        ),
         v(&point),
         v(normal),
         common::contact("c", "pad", bottom, "ground")
