@@ -4,15 +4,20 @@
 
 /// `dimension = 2` and the material "m".
 pub fn material_2d(young: f64, poisson: f64) -> String {
-    format!(
-        "dimension = 2\n[[materials]]\nname = \"m\"\nyoung = {young:?}\npoisson = {poisson:?}\n"
-    )
+    format!("dimension = 2\n{}", material("m", young, poisson))
+}
+
+/// The material `name` of Young's modulus `young` and Poisson's ratio
+/// `poisson`.
+pub fn material(name: &str, young: f64, poisson: f64) -> String {
+    format!("[[materials]]\nname = \"{name}\"\nyoung = {young:?}\npoisson = {poisson:?}\n")
 }
 
 /// `dimension = dim`, the `model` and the material "m".
 pub fn material_head(dim: usize, model: &str, young: f64, poisson: f64) -> String {
     format!(
-        "dimension = {dim}\nmodel = \"{model}\"\n[[materials]]\nname = \"m\"\nyoung = {young:?}\npoisson = {poisson:?}\n"
+        "dimension = {dim}\nmodel = \"{model}\"\n{}",
+        material("m", young, poisson)
     )
 }
 
@@ -34,7 +39,13 @@ pub fn block_body(
 /// The body `name` of material "m" with the mesh entry `mesh` (an inline
 /// table).
 pub fn elastic_body(name: &str, mesh: &str) -> String {
-    format!("[[bodies]]\nname = \"{name}\"\nmaterial = \"m\"\nmesh = {mesh}\n")
+    body(name, "m", mesh)
+}
+
+/// The body `name` of `material` with the mesh entry `mesh` (an inline
+/// table).
+pub fn body(name: &str, material: &str, mesh: &str) -> String {
+    format!("[[bodies]]\nname = \"{name}\"\nmaterial = \"{material}\"\nmesh = {mesh}\n")
 }
 
 /// A rigid plane body `name` through `point` with the outward `normal`.
