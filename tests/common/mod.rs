@@ -182,6 +182,30 @@ pub fn stderr_of_exit(out: &std::process::Output, code: i32) -> String {
     err
 }
 
+/// Asserts that `text` (an error message) contains every one of `needles`.
+#[track_caller]
+pub fn assert_mentions(text: &str, needles: &[&str]) {
+    let missing: Vec<&str> = needles
+        .iter()
+        .copied()
+        .filter(|n| !text.contains(n))
+        .collect();
+    assert!(missing.is_empty(), "{missing:?} not in: {text}");
+}
+
+/// A run of the binary refused with exit 1, naming every one of `needles`
+/// on stderr, and `out` not written.
+#[track_caller]
+pub fn assert_refused_unwritten(
+    run: &std::process::Output,
+    needles: &[&str],
+    out: &std::path::Path,
+) {
+    let err = stderr_of_exit(run, 1);
+    assert_mentions(&err, needles);
+    assert!(!out.exists());
+}
+
 /// Asserts that one of the report's messages contains `needle`.
 pub fn assert_message(out: &RunOutput, needle: &str) {
     assert!(

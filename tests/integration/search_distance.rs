@@ -98,15 +98,19 @@ fn hertz_2d_with_a_zone_equals_the_full_run_with_fewer_unknowns() {
     }
 }
 
+/// The example `name` solved without and with the zone `d` on its contact
+/// of `discretization`, checked to give the same answer.
+fn full_and_zoned(name: &str, discretization: &str, d: f64) -> (RunOutput, RunOutput) {
+    let text = example(name);
+    let full = converged(&text, RunOptions::default());
+    let zoned = converged(&with_zone(&text, discretization, d), RunOptions::default());
+    assert_same_answer(&full, &zoned, 1e-9);
+    (full, zoned)
+}
+
 #[test]
 fn hertz_3d_with_a_zone_equals_the_full_run_with_fewer_interface_dofs() {
-    let text = example("hertz3d.toml");
-    let full = converged(&text, RunOptions::default());
-    let zoned = converged(
-        &with_zone(&text, "node_to_face", 0.02),
-        RunOptions::default(),
-    );
-    assert_same_answer(&full, &zoned, 1e-9);
+    let (full, zoned) = full_and_zoned("hertz3d.toml", "node_to_face", 0.02);
     let (rf, rz) = (&full.report, &zoned.report);
     // one Γ DOF per contact node (contact frames)
     assert_eq!((rf.contact_points, rf.interface_dofs), (505, 505));
@@ -220,13 +224,7 @@ fn a_search_distance_that_is_not_a_positive_length_is_refused() {
 
 #[test]
 fn axisymmetric_hertz_with_a_zone_equals_the_full_run() {
-    let text = example("hertz_axi.toml");
-    let full = converged(&text, RunOptions::default());
-    let zoned = converged(
-        &with_zone(&text, "node_to_segment", 0.05),
-        RunOptions::default(),
-    );
-    assert_same_answer(&full, &zoned, 1e-9);
+    let (full, zoned) = full_and_zoned("hertz_axi.toml", "node_to_segment", 0.05);
     let (rf, rz) = (&full.report, &zoned.report);
     assert!(rz.contact_points * 3 < rf.contact_points * 2);
     assert!(rz.interface_dofs * 3 < rf.interface_dofs * 2);
