@@ -405,7 +405,7 @@ fn a_zone_widened_under_mpirun_2_equals_the_in_process_run() {
     if !have_mpirun() {
         return;
     }
-    let split = common::with_subdomains(common::PULLED_BLOCK, "material = \"steel\"\n", 2);
+    let split = common::with_subdomains(&common::PULLED_BLOCK, "material = \"steel\"\n", 2);
     let zoned = common::with_zone(&split, "node_to_segment", 2e-3);
     let scene = write_scene("zone_scene", "zone.toml", &zoned);
     compare(&scene, 2, "zone");

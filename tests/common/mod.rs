@@ -2,15 +2,6 @@
 //! so not every helper is used by every file).
 #![allow(dead_code)]
 
-/// The lines shared by the block scenes after their title: plane strain,
-/// the material "steel" (E = 1, ν = 0.3) and the body "block" of it up to
-/// its mesh, as a literal for `concat!`.
-macro_rules! steel_block_head {
-    () => {
-        "dimension = 2\nmodel = \"plane_strain\"\n\n[[materials]]\nname = \"steel\"\nyoung = 1.0\npoisson = 0.3\n\n[[bodies]]\nname = \"block\"\nmaterial = \"steel\"\n"
-    };
-}
-
 pub mod bad_scene;
 mod scene_text;
 #[allow(unused_imports)]
@@ -19,6 +10,7 @@ pub use scene_text::*;
 use signorini_comm::Local;
 use signorini_scene::{parse_toml, Method, SolvePath};
 use signorini_solver::{run, RunOptions, RunOutput, SolveError};
+use std::sync::LazyLock;
 
 /// The path of a shipped example.
 pub fn example_path(name: &str) -> String {
@@ -233,34 +225,22 @@ pub fn with_zone(text: &str, discretization: &str, d: f64) -> String {
 /// a rigid cylinder 10⁻³ below: no prescribed motion, so the zone is the
 /// search distance alone and 2 × 10⁻³ keeps 3 of the bottom nodes, while
 /// the block touches the cylinder on about a fifth of its width.
-pub const PULLED_BLOCK: &str = concat!(
-    "title = \"block pulled onto a rigid cylinder\"\n",
-    steel_block_head!(),
-    r#"mesh = { generator = "rectangle", origin = [0.0, 0.0], size = [1.0, 0.5], divisions = [40, 10] }
-
-[[bodies]]
-name = "cylinder"
-rigid = { shape = "circle", center = [0.5, -1.001], radius = 1.0 }
-
-[[boundary]]
-name = "clamp"
-body = "block"
-surface = "top"
-displacement = { x = 0.0, y = 0.0 }
-
-[[boundary]]
-name = "pull"
-body = "block"
-surface = "bottom"
-traction = [0.0, -0.02]
-
-[[contact]]
-name = "block-cylinder"
-slave = { body = "block", surface = "bottom" }
-master = { body = "cylinder" }
-discretization = "node_to_segment"
-"#
-);
+pub const PULLED_BLOCK: SceneText = SceneText(|| {
+    static TEXT: LazyLock<String> = LazyLock::new(|| {
+        steel_block_scene(
+        "block pulled onto a rigid cylinder",
+        "{ generator = \"rectangle\", origin = [0.0, 0.0], size = [1.0, 0.5], divisions = [40, 10] }",
+        &[
+            "[[bodies]]\nname = \"cylinder\"\nrigid = { shape = \"circle\", center = [0.5, -1.001], radius = 1.0 }\n".to_string(),
+            boundary("clamp", "block", "surface = \"top\"", "displacement = { x = 0.0, y = 0.0 }"),
+            boundary("pull", "block", "surface = \"bottom\"", "traction = [0.0, -0.02]"),
+            contact("block-cylinder", "block", "bottom", "cylinder")
+                + "discretization = \"node_to_segment\"\n",
+        ],
+    )
+    });
+    &TEXT
+});
 
 /// Displacements of every body and contact forces agree to `tol`.
 pub fn assert_same(a: &RunOutput, b: &RunOutput, tol: f64) {

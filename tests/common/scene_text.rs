@@ -2,6 +2,33 @@
 //! material "m", the elastic rectangle "block" of it, rigid planes, boundary
 //! conditions and contacts.
 
+use std::fmt;
+use std::ops::Deref;
+
+/// A scene text built once, on first use, and usable wherever a `&str`
+/// constant was: as `&str` (by deref), in `format!` and as file contents.
+#[derive(Clone, Copy)]
+pub struct SceneText(pub fn() -> &'static str);
+
+impl Deref for SceneText {
+    type Target = str;
+    fn deref(&self) -> &str {
+        (self.0)()
+    }
+}
+
+impl fmt::Display for SceneText {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self)
+    }
+}
+
+impl AsRef<[u8]> for SceneText {
+    fn as_ref(&self) -> &[u8] {
+        self.as_bytes()
+    }
+}
+
 /// `dimension = 2` and the material "m".
 pub fn material_2d(young: f64, poisson: f64) -> String {
     format!("dimension = 2\n{}", material("m", young, poisson))
@@ -110,4 +137,17 @@ pub fn drag_steps(scales: &[f64]) -> String {
         .iter()
         .map(|s| format!("[[steps]]\nscale = {{ drag = {s:?}, hold = {s:?} }}\n"))
         .collect()
+}
+
+/// A plane-strain scene of the block "block" of the material "steel"
+/// (E = 1, ν = 0.3) meshed by `mesh` (an inline table), then the tables
+/// `rest`: each table after a blank line.
+pub fn steel_block_scene(title: &str, mesh: &str, rest: &[String]) -> String {
+    let mut tables = vec![
+        format!("title = \"{title}\"\ndimension = 2\nmodel = \"plane_strain\"\n"),
+        material("steel", 1.0, 0.3),
+        body("block", "steel", mesh),
+    ];
+    tables.extend_from_slice(rest);
+    tables.join("\n")
 }

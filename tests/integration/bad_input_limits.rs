@@ -56,21 +56,21 @@ fn max_memory_overrides_the_machine_both_ways() {
     // far too little for even the small block
     let run = run_scene(
         "max_memory_tiny",
-        Some(BLOCK_ON_PLANE),
+        Some(&BLOCK_ON_PLANE),
         &["--max-memory", "1M"],
     );
     run.assert_bad_input(&["--max-memory is 1 MiB"]);
     // plenty
     let run = run_scene(
         "max_memory_plenty",
-        Some(BLOCK_ON_PLANE),
+        Some(&BLOCK_ON_PLANE),
         &["--max-memory", "64G"],
     );
     assert_eq!(run.output.status.code(), Some(0), "{}", run.describe());
     // a bad size is a usage error naming the value
     let run = run_scene(
         "max_memory_bad",
-        Some(BLOCK_ON_PLANE),
+        Some(&BLOCK_ON_PLANE),
         &["--max-memory", "lots"],
     );
     assert!(!run.output.status.success(), "{}", run.describe());

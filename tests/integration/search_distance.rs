@@ -123,8 +123,8 @@ fn hertz_3d_with_a_zone_equals_the_full_run_with_fewer_interface_dofs() {
 #[test]
 fn a_zone_too_small_is_widened_and_gives_the_same_answer() {
     for path in [SolvePath::Condensed, SolvePath::Direct] {
-        let full = converged_on(PULLED_BLOCK, path);
-        let small = with_zone(PULLED_BLOCK, "node_to_segment", 2e-3);
+        let full = converged_on(&PULLED_BLOCK, path);
+        let small = with_zone(&PULLED_BLOCK, "node_to_segment", 2e-3);
         let zoned = converged_on(&small, path);
         assert_same_answer(&full, &zoned, 1e-9);
         let (_, widened) = zone_notes(&zoned);
@@ -235,7 +235,7 @@ fn axisymmetric_hertz_with_a_zone_equals_the_full_run() {
 fn a_widened_zone_that_does_not_fit_is_refused_saying_why() {
     let dir = common::fresh_dir("search_distance", "widened_memory");
     let scene = dir.join("scene.toml");
-    std::fs::write(&scene, with_zone(PULLED_BLOCK, "node_to_segment", 2e-3)).unwrap();
+    std::fs::write(&scene, with_zone(&PULLED_BLOCK, "node_to_segment", 2e-3)).unwrap();
     // the widened zone's estimate, as the report keeps it
     common::cli_run_ok(&scene, dir.join("free"));
     let report: serde_json::Value =

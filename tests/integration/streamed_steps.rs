@@ -259,7 +259,7 @@ fn two_ranks_stream_the_same_steps_as_one_process() {
 #[test]
 fn a_widened_zone_streams_the_second_solve_alone() {
     let dir = fresh_dir("streamed", "widened");
-    let small = with_zone(PULLED_BLOCK, "node_to_segment", 2e-3);
+    let small = with_zone(&PULLED_BLOCK, "node_to_segment", 2e-3);
     let kept = try_run(&small, RunOptions::default()).unwrap();
     assert!(
         kept.report.messages.iter().any(|m| m.contains("widened")),

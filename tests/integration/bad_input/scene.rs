@@ -12,7 +12,7 @@ use std::process::Command;
 #[test]
 fn base_scene_is_valid() {
     // Guards the other tests: they fail for the one thing they change.
-    let run = run_scene("base_scene_is_valid", Some(BLOCK_ON_PLANE), &[]);
+    let run = run_scene("base_scene_is_valid", Some(&BLOCK_ON_PLANE), &[]);
     assert_eq!(run.output.status.code(), Some(0), "{}", run.describe());
     assert!(
         run.out_dir().join("report.json").is_file(),
@@ -141,7 +141,7 @@ fn unknown_method_on_command_line() {
     // clap rejects the value (its usage-error code is 2); only require failure.
     let run = run_scene(
         "unknown_method_on_command_line",
-        Some(BLOCK_ON_PLANE),
+        Some(&BLOCK_ON_PLANE),
         &["--method", "nonsense"],
     );
     assert!(!run.output.status.success(), "{}", run.describe());
