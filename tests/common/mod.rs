@@ -199,12 +199,44 @@ pub fn assert_refused_unwritten(
 }
 
 /// Asserts that one of the report's messages contains `needle`.
+#[track_caller]
 pub fn assert_message(out: &RunOutput, needle: &str) {
-    assert!(
-        out.report.messages.iter().any(|m| m.contains(needle)),
-        "{:?}",
-        out.report.messages
+    assert_any_mentions(&out.report.messages, needle);
+}
+
+/// Asserts that one of `lines` contains `needle`.
+#[track_caller]
+pub fn assert_any_mentions(lines: &[String], needle: &str) {
+    assert!(lines.iter().any(|m| m.contains(needle)), "{lines:?}");
+}
+
+/// The example `name` with each `(from, to)` of `edits` replaced in turn.
+pub fn example_with(name: &str, edits: &[(&str, &str)]) -> String {
+    (edits.iter()).fold(example(name), |text, (from, to)| text.replace(from, to))
+}
+
+/// floating3d.toml (a box held by contact alone) with `extra` tables and
+/// two steps, the second pulling the box off its support: bad input met
+/// after the first step has written its output.
+pub fn floating_pulled_off_at_step_2(extra: &str) -> String {
+    format!(
+        "{}\n{extra}[[steps]]\nscale = {{ load = 1.0 }}\n\n[[steps]]\nscale = {{ load = -1.0 }}\n",
+        example("floating3d.toml")
+    )
+}
+
+/// Asserts that a command succeeded (showing `context` and its stderr
+/// otherwise); returns its stdout.
+#[track_caller]
+pub fn stdout_of_success(out: &std::process::Output, context: &str) -> String {
+    let text = String::from_utf8_lossy(&out.stdout).into_owned();
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{context}: {text} {}",
+        String::from_utf8_lossy(&out.stderr)
     );
+    text
 }
 
 /// `text` with the line `subdomains = n` inserted after the first line

@@ -390,13 +390,7 @@ fn a_numpy_problem_with_an_integer_dim_or_a_capital_extension_is_read() {
     std::fs::copy(&data, &capital).unwrap();
     for path in [data, capital] {
         let out = Command::new(BIN).arg("local").arg(&path).output().unwrap();
-        let text = String::from_utf8_lossy(&out.stdout);
-        assert_eq!(
-            out.status.code(),
-            Some(0),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
+        let text = common::stdout_of_success(&out, &path.display().to_string());
         assert!(
             text.contains("\"m\":4") && text.contains("\"dim\":2"),
             "{text}"

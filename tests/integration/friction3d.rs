@@ -293,13 +293,7 @@ fn a_one_point_3d_coulomb_problem_solves_by_the_fixed_point() {
             .arg(&path)
             .output()
             .unwrap();
-        let text = String::from_utf8_lossy(&out.stdout);
-        assert_eq!(
-            out.status.code(),
-            Some(0),
-            "{friction}: {text} {}",
-            String::from_utf8_lossy(&out.stderr)
-        );
+        let text = common::stdout_of_success(&out, friction);
         let r: serde_json::Value = serde_json::from_str(text.trim()).unwrap();
         assert_eq!(r["converged"], true, "{text}");
         assert!(r["residual"].as_f64().unwrap() < 1e-9, "{text}");

@@ -186,10 +186,7 @@ fn steps_out_of_range_are_refused_by_name_and_nothing_is_written() {
 #[test]
 fn an_error_at_a_later_step_leaves_nothing_behind() {
     let dir = fresh_dir("streamed", "late-error");
-    let text = format!(
-        "{}\n[[steps]]\nscale = {{ load = 1.0 }}\n\n[[steps]]\nscale = {{ load = -1.0 }}\n",
-        example("floating3d.toml")
-    );
+    let text = common::floating_pulled_off_at_step_2("");
     let scene = dir.join("late.toml");
     std::fs::write(&scene, text).unwrap();
     let out = dir.join("nested").join("out");
