@@ -45,6 +45,17 @@ pub fn block_with(from: &str, to: &str) -> String {
     BLOCK_ON_PLANE.replacen(from, to, 1)
 }
 
+/// A fresh directory for `test` holding `BLOCK_ON_PLANE` as scene.toml,
+/// and the command `signorini COMMAND scene.toml` to run on it.
+pub fn base_scene_command(test: &str, command: &str) -> (PathBuf, Command) {
+    let dir = fresh_dir(test);
+    let scene = dir.join("scene.toml");
+    std::fs::write(&scene, BLOCK_ON_PLANE).unwrap();
+    let mut cmd = Command::new(BIN);
+    cmd.arg(command).arg(&scene);
+    (dir, cmd)
+}
+
 /// A fresh, empty directory for one test.
 pub fn fresh_dir(test: &str) -> PathBuf {
     super::fresh_dir("bad_input", test)

@@ -7,7 +7,8 @@
 use crate::common;
 
 use common::bad_scene::{
-    block_meshed, block_with, block_with_all, fresh_dir, run_scene, BLOCK_ON_PLANE,
+    base_scene_command, block_meshed, block_with, block_with_all, fresh_dir, run_scene,
+    BLOCK_ON_PLANE,
 };
 use common::{run_limited, BIN};
 use std::path::Path;
@@ -80,10 +81,9 @@ fn max_memory_overrides_the_machine_both_ways() {
 
 #[test]
 fn check_prints_the_memory_estimate_and_refuses_what_cannot_fit() {
-    let dir = fresh_dir("check_memory");
+    let (dir, mut check) = base_scene_command("check_memory", "check");
     let scene = dir.join("scene.toml");
-    std::fs::write(&scene, BLOCK_ON_PLANE).unwrap();
-    let out = Command::new(BIN).arg("check").arg(&scene).output().unwrap();
+    let out = check.output().unwrap();
     let text = String::from_utf8_lossy(&out.stdout);
     assert_eq!(out.status.code(), Some(0), "{text}");
     assert!(
@@ -152,13 +152,8 @@ fn the_estimate_is_near_the_measured_peak() {
 
 #[test]
 fn an_internal_error_is_one_line_and_exit_3() {
-    let dir = fresh_dir("internal_error");
-    let scene = dir.join("scene.toml");
-    std::fs::write(&scene, BLOCK_ON_PLANE).unwrap();
-    let mut cmd = Command::new(BIN);
-    cmd.arg("run")
-        .arg(&scene)
-        .arg("--out")
+    let (dir, mut cmd) = base_scene_command("internal_error", "run");
+    cmd.arg("--out")
         .arg(dir.join("out"))
         .env("SIGNORINI_INJECT_PANIC", "0");
     let (out, _) = run_limited(cmd, Duration::from_secs(60));
@@ -268,13 +263,8 @@ fn local_problems_that_lie_about_their_shape_are_refused() {
 
 #[test]
 fn bench_refuses_a_refinement_that_cannot_fit() {
-    let dir = fresh_dir("bench_huge");
-    let scene = dir.join("scene.toml");
-    std::fs::write(&scene, BLOCK_ON_PLANE).unwrap();
-    let mut cmd = Command::new(BIN);
-    cmd.arg("bench")
-        .arg(&scene)
-        .arg("--levels")
+    let (dir, mut cmd) = base_scene_command("bench_huge", "bench");
+    cmd.arg("--levels")
         .arg("1e9")
         .arg("--out")
         .arg(dir.join("out"));

@@ -59,24 +59,20 @@ fn one_edit_of_the_base_scene_is_refused_naming_the_entry() {
     }
 }
 
+/// Scenes other than an edit of the base one, refused naming the entry: a
+/// key before it, no body at all, a step scaling a condition it lacks.
 #[test]
-fn unknown_top_level_key() {
-    let scene = format!("frobnicate = 1\n{BLOCK_ON_PLANE}");
-    let run = run_scene("unknown_top_level_key", Some(&scene), &[]);
-    run.assert_bad_input(&["frobnicate", "line"]);
-}
-
-#[test]
-fn scene_without_bodies() {
-    let run = run_scene("scene_without_bodies", Some("dimension = 2\n"), &[]);
-    run.assert_bad_input(&["bodies"]);
-}
-
-#[test]
-fn step_scale_names_unknown_boundary() {
-    let scene = format!("{BLOCK_ON_PLANE}\n[[steps]]\nscale = {{ squeeze = 0.5 }}\n");
-    let run = run_scene("step_scale_names_unknown_boundary", Some(&scene), &[]);
-    run.assert_bad_input(&["squeeze", "steps[0]"]);
+fn a_key_before_the_base_scene_no_body_or_an_unknown_step_scale_is_named() {
+    #[rustfmt::skip]
+    let cases: [(&str, String, &[&str]); 3] = [
+        ("unknown_top_level_key", format!("frobnicate = 1\n{BLOCK_ON_PLANE}"), &["frobnicate", "line"]),
+        ("scene_without_bodies", "dimension = 2\n".to_string(), &["bodies"]),
+        ("step_scale_names_unknown_boundary", format!("{BLOCK_ON_PLANE}\n[[steps]]\nscale = {{ squeeze = 0.5 }}\n"), &["squeeze", "steps[0]"]),
+    ];
+    for (test, scene, needles) in cases {
+        eprintln!("case {test}");
+        run_scene(test, Some(&scene), &[]).assert_bad_input(needles);
+    }
 }
 
 #[test]
