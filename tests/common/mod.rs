@@ -198,6 +198,34 @@ pub fn assert_refused_unwritten(
     assert!(!out.exists());
 }
 
+/// `value` of each contact row of `o` at `step` (1-based), in row order.
+pub fn at_step<T>(
+    o: &RunOutput,
+    step: usize,
+    value: impl Fn(&signorini_report::ContactRow) -> T,
+) -> Vec<T> {
+    (o.contact_rows.iter())
+        .filter(|r| r.step == step)
+        .map(value)
+        .collect()
+}
+
+/// Asserts that `deviation(k)` falls at each slip stiffness k of
+/// `stiffnesses` (in increasing order); returns the last deviation.
+#[track_caller]
+pub fn assert_falls_with_stiffness(stiffnesses: &[f64], deviation: impl Fn(f64) -> f64) -> f64 {
+    let mut previous = f64::INFINITY;
+    for &k in stiffnesses {
+        let d = deviation(k);
+        assert!(
+            d < previous,
+            "k_e = {k:e}: deviation {d:e} did not fall (previous {previous:e})"
+        );
+        previous = d;
+    }
+    previous
+}
+
 /// Asserts that one of the report's messages contains `needle`.
 #[track_caller]
 pub fn assert_message(out: &RunOutput, needle: &str) {

@@ -251,13 +251,7 @@ fn a_repeated_load_step_starts_from_the_previous_active_set() {
     assert!(first.iterations > 1, "{}", first.iterations);
     assert_eq!(second.iterations, 1);
     assert_eq!(second.active, first.active);
-    let f = |s: usize| -> Vec<f64> {
-        out.contact_rows
-            .iter()
-            .filter(|r| r.step == s)
-            .map(|r| r.normal_force)
-            .collect()
-    };
+    let f = |s: usize| common::at_step(&out, s, |r| r.normal_force);
     let (f1, f2) = (f(1), f(2));
     let scale = f1.iter().fold(0.0f64, |a, v| a.max(v.abs()));
     for (a, b) in f1.iter().zip(&f2) {
