@@ -101,6 +101,16 @@ pub fn contact(name: &str, slave: &str, surface: &str, master: &str) -> String {
     format!("[[contact]]\nname = \"{name}\"\nslave = {{ body = \"{slave}\", surface = \"{surface}\" }}\nmaster = {{ body = \"{master}\" }}\n")
 }
 
+/// The contact `name` of the surface `slave_surface` of `slave` against the
+/// surface `master_surface` of `master`.
+pub fn contact_between(
+    name: &str,
+    (slave, slave_surface): (&str, &str),
+    (master, master_surface): (&str, &str),
+) -> String {
+    format!("[[contact]]\nname = \"{name}\"\nslave = {{ body = \"{slave}\", surface = \"{slave_surface}\" }}\nmaster = {{ body = \"{master}\", surface = \"{master_surface}\" }}\n")
+}
+
 /// The contact `name` of the surface `surface` of "block" against `master`.
 pub fn block_contact(name: &str, surface: &str, master: &str) -> String {
     contact(name, "block", surface, master)

@@ -84,13 +84,11 @@ fn uniform_pressure_on_a_rigid_plane_is_exact_for_quad4_and_tri3() {
 
 #[test]
 fn non_matching_meshes_node_to_segment_keep_the_resultant_and_report_the_deviation() {
-    let text = common::example_with(
-        "blocks.toml",
-        &[
-            ("divisions = [16, 6]", "divisions = [11, 6]"),
-            ("node_to_node", "node_to_segment"),
-        ],
-    );
+    let edits = [
+        ("divisions = [16, 6]", "divisions = [11, 6]"),
+        ("node_to_node", "node_to_segment"),
+    ];
+    let text = common::example_with("blocks.toml", &edits);
     let out = solve(&text, SolvePath::Condensed);
     // The resultant is exact: the traction 1 over the width 2.
     assert!((out.report.contact_force[1] - 2.0).abs() <= 1e-10 * 2.0);

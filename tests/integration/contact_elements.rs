@@ -636,11 +636,8 @@ fn axi_patch() -> String {
         common::body("pad", "soft", &disc(0.5)),
         common::boundary("support", "base", "surface = \"bottom\"", "displacement = { y = 0.0 }"),
         common::boundary("pressure", "pad", "surface = \"top\"", "traction = [0.0, -1.0]"),
-        r#"[[contact]]
-name = "joint"
-slave = { body = "pad", surface = "bottom" }
-master = { body = "base", surface = "top" }
-discretization = "contact_elements"
+        common::contact_between("joint", ("pad", "bottom"), ("base", "top")),
+        r#"discretization = "contact_elements"
 law = { penalty = 1000.0 }
 
 [solver]

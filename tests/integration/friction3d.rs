@@ -345,11 +345,8 @@ fn sphere_on_block() -> String {
         common::boundary("pin", "sph", "point = [1.0, 0.0, 1.0]", no_y),
         common::boundary("pin2", "sph", "point = [-1.0, 0.0, 1.0]", no_y),
         common::boundary("clamp", "blk", "surface = \"zmin\"", "displacement = { x = 0.0, y = 0.0, z = 0.0 }"),
-        r#"[[contact]]
-name = "c"
-slave = { body = "sph", surface = "dome" }
-master = { body = "blk", surface = "zmax" }
-discretization = "node_to_face"
+        common::contact_between("c", ("sph", "dome"), ("blk", "zmax")),
+        r#"discretization = "node_to_face"
 friction = { coulomb = 0.3 }
 [[steps]]
 scale = { press = 1.0, pull = 0.0 }
