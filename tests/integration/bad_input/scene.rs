@@ -4,7 +4,9 @@
 use super::{block_from_file, BOX_ON_PLANE};
 use crate::common;
 
-use common::bad_scene::{block_with, fresh_dir, run_in, run_scene, scene_dir, BLOCK_ON_PLANE, PIN};
+use common::bad_scene::{
+    block_with, fresh_dir, run_in, run_scene, scene_dir, Run, BLOCK_ON_PLANE, PIN,
+};
 use common::BIN;
 use std::path::Path;
 use std::process::Command;
@@ -135,12 +137,24 @@ fn check_accepts_blocks_and_writes_nothing() {
 /// solver does not support.
 const QUAD9_MSH: &str = "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n9\n1 0 0 0\n2 1 0 0\n3 1 1 0\n4 0 1 0\n5 0.5 0 0\n6 1 0.5 0\n7 0.5 1 0\n8 0 0.5 0\n9 0.5 0.5 0\n$EndNodes\n$Elements\n1\n1 10 2 1 1 1 2 3 4 5 6 7 8 9\n$EndElements\n";
 
+/// `signorini COMMAND` (`run` with `--out DIR/out`) on the base scene
+/// meshed by the Gmsh file `name` of text `msh`, in a fresh directory for
+/// `test`.
+fn on_gmsh_file(test: &str, command: &str, (name, msh): (&str, &str)) -> Run {
+    let dir = scene_dir(test, &block_from_file(name), &[(name, msh)]);
+    let out = dir.join("out");
+    let out = out.to_str().unwrap();
+    let extra: &[&str] = if command == "run" {
+        &["--out", out]
+    } else {
+        &[]
+    };
+    run_in(dir, command, extra)
+}
+
 #[test]
 fn gmsh_file_with_an_unsupported_element_type_is_named_and_counted() {
-    let files = [("quad9.msh", QUAD9_MSH)];
-    let dir = scene_dir("gmsh_unsupported", &block_from_file("quad9.msh"), &files);
-    let out = dir.join("out");
-    let run = run_in(dir, "run", &["--out", out.to_str().unwrap()]);
+    let run = on_gmsh_file("gmsh_unsupported", "run", ("quad9.msh", QUAD9_MSH));
     run.assert_bad_input(&["bodies[0].mesh", "9-node quadrangle", "1"]);
 }
 
@@ -148,13 +162,8 @@ fn gmsh_file_with_an_unsupported_element_type_is_named_and_counted() {
 fn check_reads_the_gmsh_files_run_would_refuse() {
     // `check` said "valid scene" (exit 0) for a scene whose Gmsh file `run`
     // refuses: it did not read file meshes at all.
-    let files = [("quad9.msh", QUAD9_MSH)];
-    let dir = scene_dir(
-        "check_gmsh_unsupported",
-        &block_from_file("quad9.msh"),
-        &files,
-    );
-    run_in(dir, "check", &[]).assert_bad_input(&[
+    let run = on_gmsh_file("check_gmsh_unsupported", "check", ("quad9.msh", QUAD9_MSH));
+    run.assert_bad_input(&[
         "bodies[0].mesh",
         "9-node quadrangle",
         "SecondOrderIncomplete",
@@ -173,10 +182,7 @@ const UNJOINED_MSH: &str = "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$PhysicalNames
 /// unjoined (solved as one body in two pieces).
 #[test]
 fn a_free_body_whose_mesh_has_unjoined_parts_says_so() {
-    let files = [("unjoined.msh", UNJOINED_MSH)];
-    let dir = scene_dir("gmsh_unjoined", &block_from_file("unjoined.msh"), &files);
-    let out = dir.join("out");
-    let run = run_in(dir, "run", &["--out", out.to_str().unwrap()]);
+    let run = on_gmsh_file("gmsh_unjoined", "run", ("unjoined.msh", UNJOINED_MSH));
     run.assert_bad_input(&[
         "bodies[0]",
         "is free to move",
