@@ -13,8 +13,8 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 use std::time::Duration;
 
-/// Ends the test at once where `mpirun` is not installed (`have_mpirun`
-/// says so on stderr).
+/// Ends the test at once where `mpirun` is not installed (on CI its absence
+/// is a failure: see `have_mpirun`).
 macro_rules! require_mpirun {
     () => {
         if !have_mpirun() {
