@@ -1,4 +1,4 @@
-//! The harness of the bad-input tests (tests/integration/bad_input.rs,
+//! The harness of the bad-input tests (tests/integration/bad_input/,
 //! tests/integration/bad_input_limits.rs): a small valid scene to break, and runs of the
 //! real binary on it with or without a time limit.
 
