@@ -84,7 +84,7 @@ friction = {friction}
 tolerance = 1e-14
 {steps}"#,
         common::material_head(dim, model, 1e7, 0.0),
-        common::elastic_body("block", &mesh),
+        common::elastic_body("block", mesh),
     )
 }
 
