@@ -244,10 +244,8 @@ fn bad_input_under_mpirun_is_reported_once_with_exit_1() {
 #[test]
 fn friction_with_a_split_block_under_mpirun_2_equals_the_in_process_run() {
     require_mpirun!();
-    let text = std::fs::read_to_string(example("cattaneo.toml")).unwrap();
-    let text = common::with_subdomains(&text, "name = \"block\"\nmaterial = \"steel\"\n", 2);
-    assert!(text.contains("subdomains = 2"));
-    let scene = write_scene("cattaneo_scene", "cattaneo_split.toml", &text);
+    let body = "name = \"block\"\nmaterial = \"steel\"";
+    let scene = split_example("cattaneo.toml", body, "cattaneo");
     compare(&scene, 2, "cattaneo");
 }
 
