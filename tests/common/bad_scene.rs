@@ -1,42 +1,31 @@
-//! The harness of the bad-input tests (tests/integration/bad_input.rs,
+//! The harness of the bad-input tests (tests/integration/bad_input/,
 //! tests/integration/bad_input_limits.rs): a small valid scene to break, and runs of the
 //! real binary on it with or without a time limit.
 
-use super::BIN;
+use super::{boundary, contact, rigid_plane, steel_block_scene, SceneText, BIN};
 use std::path::PathBuf;
 use std::process::{Command, Output};
+use std::sync::LazyLock;
 
 /// One elastic block (1 x 0.5, 4 x 2 quads) resting on a rigid plane, pinned in
 /// x at its top-left corner and pressed down by a traction on its top. It runs
 /// fine as it is; each test breaks one thing in it.
-pub const BLOCK_ON_PLANE: &str = concat!(
-    "title = \"block on a rigid plane\"\n",
-    steel_block_head!(),
-    r#"mesh = { generator = "rectangle", origin = [0.0, 0.0], size = [1.0, 0.5], divisions = [4, 2] }
-
-[[bodies]]
-name = "ground"
-rigid = { shape = "plane", point = [0.0, 0.0], normal = [0.0, 1.0] }
-
-[[boundary]]
-name = "pin"
-body = "block"
-point = [0.0, 0.5]
-displacement = { x = 0.0 }
-
-[[boundary]]
-name = "press"
-body = "block"
-surface = "top"
-traction = [0.0, -1.0]
-
-[[contact]]
-name = "block-ground"
-slave = { body = "block", surface = "bottom" }
-master = { body = "ground" }
-discretization = "node_to_segment"
-"#
-);
+pub const BLOCK_ON_PLANE: SceneText = SceneText(|| {
+    static TEXT: LazyLock<String> = LazyLock::new(|| {
+        steel_block_scene(
+        "block on a rigid plane",
+        "{ generator = \"rectangle\", origin = [0.0, 0.0], size = [1.0, 0.5], divisions = [4, 2] }",
+        &[
+            rigid_plane("ground", [0.0, 0.0], [0.0, 1.0]),
+            PIN.to_string(),
+            boundary("press", "block", "surface = \"top\"", "traction = [0.0, -1.0]"),
+            contact("block-ground", "block", "bottom", "ground")
+                + "discretization = \"node_to_segment\"\n",
+        ],
+    )
+    });
+    &TEXT
+});
 
 /// The pin of `BLOCK_ON_PLANE`, to remove it.
 pub const PIN: &str = r#"[[boundary]]
@@ -54,6 +43,17 @@ pub fn block_with(from: &str, to: &str) -> String {
         "test bug: {from:?} is not in the base scene"
     );
     BLOCK_ON_PLANE.replacen(from, to, 1)
+}
+
+/// A fresh directory for `test` holding `BLOCK_ON_PLANE` as scene.toml,
+/// and the command `signorini COMMAND scene.toml` to run on it.
+pub fn base_scene_command(test: &str, command: &str) -> (PathBuf, Command) {
+    let dir = fresh_dir(test);
+    let scene = dir.join("scene.toml");
+    std::fs::write(&scene, BLOCK_ON_PLANE).unwrap();
+    let mut cmd = Command::new(BIN);
+    cmd.arg(command).arg(&scene);
+    (dir, cmd)
 }
 
 /// A fresh, empty directory for one test.

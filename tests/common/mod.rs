@@ -2,15 +2,6 @@
 //! so not every helper is used by every file).
 #![allow(dead_code)]
 
-/// The lines shared by the block scenes after their title: plane strain,
-/// the material "steel" (E = 1, ν = 0.3) and the body "block" of it up to
-/// its mesh, as a literal for `concat!`.
-macro_rules! steel_block_head {
-    () => {
-        "dimension = 2\nmodel = \"plane_strain\"\n\n[[materials]]\nname = \"steel\"\nyoung = 1.0\npoisson = 0.3\n\n[[bodies]]\nname = \"block\"\nmaterial = \"steel\"\n"
-    };
-}
-
 pub mod bad_scene;
 mod scene_text;
 #[allow(unused_imports)]
@@ -19,6 +10,7 @@ pub use scene_text::*;
 use signorini_comm::Local;
 use signorini_scene::{parse_toml, Method, SolvePath};
 use signorini_solver::{run, RunOptions, RunOutput, SolveError};
+use std::sync::LazyLock;
 
 /// The path of a shipped example.
 pub fn example_path(name: &str) -> String {
@@ -182,13 +174,97 @@ pub fn stderr_of_exit(out: &std::process::Output, code: i32) -> String {
     err
 }
 
+/// Asserts that `text` (an error message) contains every one of `needles`.
+#[track_caller]
+pub fn assert_mentions(text: &str, needles: &[&str]) {
+    let missing: Vec<&str> = needles
+        .iter()
+        .copied()
+        .filter(|n| !text.contains(n))
+        .collect();
+    assert!(missing.is_empty(), "{missing:?} not in: {text}");
+}
+
+/// A run of the binary refused with exit 1, naming every one of `needles`
+/// on stderr, and `out` not written.
+#[track_caller]
+pub fn assert_refused_unwritten(
+    run: &std::process::Output,
+    needles: &[&str],
+    out: &std::path::Path,
+) {
+    let err = stderr_of_exit(run, 1);
+    assert_mentions(&err, needles);
+    assert!(!out.exists());
+}
+
+/// `value` of each contact row of `o` at `step` (1-based), in row order.
+pub fn at_step<T>(
+    o: &RunOutput,
+    step: usize,
+    value: impl Fn(&signorini_report::ContactRow) -> T,
+) -> Vec<T> {
+    (o.contact_rows.iter())
+        .filter(|r| r.step == step)
+        .map(value)
+        .collect()
+}
+
+/// Asserts that `deviation(k)` falls at each slip stiffness k of
+/// `stiffnesses` (in increasing order); returns the last deviation.
+#[track_caller]
+pub fn assert_falls_with_stiffness(stiffnesses: &[f64], deviation: impl Fn(f64) -> f64) -> f64 {
+    let mut previous = f64::INFINITY;
+    for &k in stiffnesses {
+        let d = deviation(k);
+        assert!(
+            d < previous,
+            "k_e = {k:e}: deviation {d:e} did not fall (previous {previous:e})"
+        );
+        previous = d;
+    }
+    previous
+}
+
 /// Asserts that one of the report's messages contains `needle`.
+#[track_caller]
 pub fn assert_message(out: &RunOutput, needle: &str) {
-    assert!(
-        out.report.messages.iter().any(|m| m.contains(needle)),
-        "{:?}",
-        out.report.messages
+    assert_any_mentions(&out.report.messages, needle);
+}
+
+/// Asserts that one of `lines` contains `needle`.
+#[track_caller]
+pub fn assert_any_mentions(lines: &[String], needle: &str) {
+    assert!(lines.iter().any(|m| m.contains(needle)), "{lines:?}");
+}
+
+/// The example `name` with each `(from, to)` of `edits` replaced in turn.
+pub fn example_with(name: &str, edits: &[(&str, &str)]) -> String {
+    (edits.iter()).fold(example(name), |text, (from, to)| text.replace(from, to))
+}
+
+/// floating3d.toml (a box held by contact alone) with `extra` tables and
+/// two steps, the second pulling the box off its support: bad input met
+/// after the first step has written its output.
+pub fn floating_pulled_off_at_step_2(extra: &str) -> String {
+    format!(
+        "{}\n{extra}[[steps]]\nscale = {{ load = 1.0 }}\n\n[[steps]]\nscale = {{ load = -1.0 }}\n",
+        example("floating3d.toml")
+    )
+}
+
+/// Asserts that a command succeeded (showing `context` and its stderr
+/// otherwise); returns its stdout.
+#[track_caller]
+pub fn stdout_of_success(out: &std::process::Output, context: &str) -> String {
+    let text = String::from_utf8_lossy(&out.stdout).into_owned();
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{context}: {text} {}",
+        String::from_utf8_lossy(&out.stderr)
     );
+    text
 }
 
 /// `text` with the line `subdomains = n` inserted after the first line
@@ -209,34 +285,22 @@ pub fn with_zone(text: &str, discretization: &str, d: f64) -> String {
 /// a rigid cylinder 10⁻³ below: no prescribed motion, so the zone is the
 /// search distance alone and 2 × 10⁻³ keeps 3 of the bottom nodes, while
 /// the block touches the cylinder on about a fifth of its width.
-pub const PULLED_BLOCK: &str = concat!(
-    "title = \"block pulled onto a rigid cylinder\"\n",
-    steel_block_head!(),
-    r#"mesh = { generator = "rectangle", origin = [0.0, 0.0], size = [1.0, 0.5], divisions = [40, 10] }
-
-[[bodies]]
-name = "cylinder"
-rigid = { shape = "circle", center = [0.5, -1.001], radius = 1.0 }
-
-[[boundary]]
-name = "clamp"
-body = "block"
-surface = "top"
-displacement = { x = 0.0, y = 0.0 }
-
-[[boundary]]
-name = "pull"
-body = "block"
-surface = "bottom"
-traction = [0.0, -0.02]
-
-[[contact]]
-name = "block-cylinder"
-slave = { body = "block", surface = "bottom" }
-master = { body = "cylinder" }
-discretization = "node_to_segment"
-"#
-);
+pub const PULLED_BLOCK: SceneText = SceneText(|| {
+    static TEXT: LazyLock<String> = LazyLock::new(|| {
+        steel_block_scene(
+        "block pulled onto a rigid cylinder",
+        "{ generator = \"rectangle\", origin = [0.0, 0.0], size = [1.0, 0.5], divisions = [40, 10] }",
+        &[
+            "[[bodies]]\nname = \"cylinder\"\nrigid = { shape = \"circle\", center = [0.5, -1.001], radius = 1.0 }\n".to_string(),
+            boundary("clamp", "block", "surface = \"top\"", "displacement = { x = 0.0, y = 0.0 }"),
+            boundary("pull", "block", "surface = \"bottom\"", "traction = [0.0, -0.02]"),
+            contact("block-cylinder", "block", "bottom", "cylinder")
+                + "discretization = \"node_to_segment\"\n",
+        ],
+    )
+    });
+    &TEXT
+});
 
 /// Displacements of every body and contact forces agree to `tol`.
 pub fn assert_same(a: &RunOutput, b: &RunOutput, tol: f64) {

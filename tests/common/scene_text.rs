@@ -2,10 +2,49 @@
 //! material "m", the elastic rectangle "block" of it, rigid planes, boundary
 //! conditions and contacts.
 
+use std::fmt;
+use std::ops::Deref;
+
+/// A scene text built once, on first use, and usable wherever a `&str`
+/// constant was: as `&str` (by deref), in `format!` and as file contents.
+#[derive(Clone, Copy)]
+pub struct SceneText(pub fn() -> &'static str);
+
+impl Deref for SceneText {
+    type Target = str;
+    fn deref(&self) -> &str {
+        (self.0)()
+    }
+}
+
+impl fmt::Display for SceneText {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self)
+    }
+}
+
+impl AsRef<[u8]> for SceneText {
+    fn as_ref(&self) -> &[u8] {
+        self.as_bytes()
+    }
+}
+
 /// `dimension = 2` and the material "m".
 pub fn material_2d(young: f64, poisson: f64) -> String {
+    format!("dimension = 2\n{}", material("m", young, poisson))
+}
+
+/// The material `name` of Young's modulus `young` and Poisson's ratio
+/// `poisson`.
+pub fn material(name: &str, young: f64, poisson: f64) -> String {
+    format!("[[materials]]\nname = \"{name}\"\nyoung = {young:?}\npoisson = {poisson:?}\n")
+}
+
+/// `dimension = dim`, the `model` and the material "m".
+pub fn material_head(dim: usize, model: &str, young: f64, poisson: f64) -> String {
     format!(
-        "dimension = 2\n[[materials]]\nname = \"m\"\nyoung = {young:?}\npoisson = {poisson:?}\n"
+        "dimension = {dim}\nmodel = \"{model}\"\n{}",
+        material("m", young, poisson)
     )
 }
 
@@ -27,7 +66,13 @@ pub fn block_body(
 /// The body `name` of material "m" with the mesh entry `mesh` (an inline
 /// table).
 pub fn elastic_body(name: &str, mesh: &str) -> String {
-    format!("[[bodies]]\nname = \"{name}\"\nmaterial = \"m\"\nmesh = {mesh}\n")
+    body(name, "m", mesh)
+}
+
+/// The body `name` of `material` with the mesh entry `mesh` (an inline
+/// table).
+pub fn body(name: &str, material: &str, mesh: &str) -> String {
+    format!("[[bodies]]\nname = \"{name}\"\nmaterial = \"{material}\"\nmesh = {mesh}\n")
 }
 
 /// A rigid plane body `name` through `point` with the outward `normal`.
@@ -54,6 +99,16 @@ pub fn boundary(name: &str, body: &str, place: &str, condition: &str) -> String 
 /// The contact `name` of the surface `surface` of `slave` against `master`.
 pub fn contact(name: &str, slave: &str, surface: &str, master: &str) -> String {
     format!("[[contact]]\nname = \"{name}\"\nslave = {{ body = \"{slave}\", surface = \"{surface}\" }}\nmaster = {{ body = \"{master}\" }}\n")
+}
+
+/// The contact `name` of the surface `slave_surface` of `slave` against the
+/// surface `master_surface` of `master`.
+pub fn contact_between(
+    name: &str,
+    (slave, slave_surface): (&str, &str),
+    (master, master_surface): (&str, &str),
+) -> String {
+    format!("[[contact]]\nname = \"{name}\"\nslave = {{ body = \"{slave}\", surface = \"{slave_surface}\" }}\nmaster = {{ body = \"{master}\", surface = \"{master_surface}\" }}\n")
 }
 
 /// The contact `name` of the surface `surface` of "block" against `master`.
@@ -92,4 +147,17 @@ pub fn drag_steps(scales: &[f64]) -> String {
         .iter()
         .map(|s| format!("[[steps]]\nscale = {{ drag = {s:?}, hold = {s:?} }}\n"))
         .collect()
+}
+
+/// A plane-strain scene of the block "block" of the material "steel"
+/// (E = 1, ν = 0.3) meshed by `mesh` (an inline table), then the tables
+/// `rest`: each table after a blank line.
+pub fn steel_block_scene(title: &str, mesh: &str, rest: &[String]) -> String {
+    let mut tables = vec![
+        format!("title = \"{title}\"\ndimension = 2\nmodel = \"plane_strain\"\n"),
+        material("steel", 1.0, 0.3),
+        body("block", "steel", mesh),
+    ];
+    tables.extend_from_slice(rest);
+    tables.join("\n")
 }

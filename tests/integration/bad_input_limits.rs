@@ -7,7 +7,8 @@
 use crate::common;
 
 use common::bad_scene::{
-    block_meshed, block_with, block_with_all, fresh_dir, run_scene, BLOCK_ON_PLANE,
+    base_scene_command, block_meshed, block_with, block_with_all, fresh_dir, run_scene,
+    BLOCK_ON_PLANE,
 };
 use common::{run_limited, BIN};
 use std::path::Path;
@@ -56,21 +57,21 @@ fn max_memory_overrides_the_machine_both_ways() {
     // far too little for even the small block
     let run = run_scene(
         "max_memory_tiny",
-        Some(BLOCK_ON_PLANE),
+        Some(&BLOCK_ON_PLANE),
         &["--max-memory", "1M"],
     );
     run.assert_bad_input(&["--max-memory is 1 MiB"]);
     // plenty
     let run = run_scene(
         "max_memory_plenty",
-        Some(BLOCK_ON_PLANE),
+        Some(&BLOCK_ON_PLANE),
         &["--max-memory", "64G"],
     );
     assert_eq!(run.output.status.code(), Some(0), "{}", run.describe());
     // a bad size is a usage error naming the value
     let run = run_scene(
         "max_memory_bad",
-        Some(BLOCK_ON_PLANE),
+        Some(&BLOCK_ON_PLANE),
         &["--max-memory", "lots"],
     );
     assert!(!run.output.status.success(), "{}", run.describe());
@@ -80,10 +81,9 @@ fn max_memory_overrides_the_machine_both_ways() {
 
 #[test]
 fn check_prints_the_memory_estimate_and_refuses_what_cannot_fit() {
-    let dir = fresh_dir("check_memory");
+    let (dir, mut check) = base_scene_command("check_memory", "check");
     let scene = dir.join("scene.toml");
-    std::fs::write(&scene, BLOCK_ON_PLANE).unwrap();
-    let out = Command::new(BIN).arg("check").arg(&scene).output().unwrap();
+    let out = check.output().unwrap();
     let text = String::from_utf8_lossy(&out.stdout);
     assert_eq!(out.status.code(), Some(0), "{text}");
     assert!(
@@ -152,13 +152,8 @@ fn the_estimate_is_near_the_measured_peak() {
 
 #[test]
 fn an_internal_error_is_one_line_and_exit_3() {
-    let dir = fresh_dir("internal_error");
-    let scene = dir.join("scene.toml");
-    std::fs::write(&scene, BLOCK_ON_PLANE).unwrap();
-    let mut cmd = Command::new(BIN);
-    cmd.arg("run")
-        .arg(&scene)
-        .arg("--out")
+    let (dir, mut cmd) = base_scene_command("internal_error", "run");
+    cmd.arg("--out")
         .arg(dir.join("out"))
         .env("SIGNORINI_INJECT_PANIC", "0");
     let (out, _) = run_limited(cmd, Duration::from_secs(60));
@@ -268,13 +263,8 @@ fn local_problems_that_lie_about_their_shape_are_refused() {
 
 #[test]
 fn bench_refuses_a_refinement_that_cannot_fit() {
-    let dir = fresh_dir("bench_huge");
-    let scene = dir.join("scene.toml");
-    std::fs::write(&scene, BLOCK_ON_PLANE).unwrap();
-    let mut cmd = Command::new(BIN);
-    cmd.arg("bench")
-        .arg(&scene)
-        .arg("--levels")
+    let (dir, mut cmd) = base_scene_command("bench_huge", "bench");
+    cmd.arg("--levels")
         .arg("1e9")
         .arg("--out")
         .arg(dir.join("out"));
@@ -375,10 +365,7 @@ fn bench_plot_draws_the_rows_of_several_csvs_and_refuses_a_file_that_is_not_one(
     // a scene given as a CSV: exit 1 naming the file, nothing drawn
     let (run, err) = bench(&["--plot", scene_arg], "bad");
     assert_eq!(run.status.code(), Some(1), "{err}");
-    assert!(
-        err.contains("scene.toml") && err.contains("no column"),
-        "{err}"
-    );
+    common::assert_mentions(&err, &["scene.toml", "no column"]);
     assert!(!dir.join("bad").exists());
 }
 
@@ -393,13 +380,7 @@ fn a_numpy_problem_with_an_integer_dim_or_a_capital_extension_is_read() {
     std::fs::copy(&data, &capital).unwrap();
     for path in [data, capital] {
         let out = Command::new(BIN).arg("local").arg(&path).output().unwrap();
-        let text = String::from_utf8_lossy(&out.stdout);
-        assert_eq!(
-            out.status.code(),
-            Some(0),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
+        let text = common::stdout_of_success(&out, &path.display().to_string());
         assert!(
             text.contains("\"m\":4") && text.contains("\"dim\":2"),
             "{text}"

@@ -84,9 +84,11 @@ fn uniform_pressure_on_a_rigid_plane_is_exact_for_quad4_and_tri3() {
 
 #[test]
 fn non_matching_meshes_node_to_segment_keep_the_resultant_and_report_the_deviation() {
-    let text = example("blocks.toml")
-        .replace("divisions = [16, 6]", "divisions = [11, 6]")
-        .replace("node_to_node", "node_to_segment");
+    let edits = [
+        ("divisions = [16, 6]", "divisions = [11, 6]"),
+        ("node_to_node", "node_to_segment"),
+    ];
+    let text = common::example_with("blocks.toml", &edits);
     let out = solve(&text, SolvePath::Condensed);
     // The resultant is exact: the traction 1 over the width 2.
     assert!((out.report.contact_force[1] - 2.0).abs() <= 1e-10 * 2.0);
@@ -247,13 +249,7 @@ fn a_repeated_load_step_starts_from_the_previous_active_set() {
     assert!(first.iterations > 1, "{}", first.iterations);
     assert_eq!(second.iterations, 1);
     assert_eq!(second.active, first.active);
-    let f = |s: usize| -> Vec<f64> {
-        out.contact_rows
-            .iter()
-            .filter(|r| r.step == s)
-            .map(|r| r.normal_force)
-            .collect()
-    };
+    let f = |s: usize| common::at_step(&out, s, |r| r.normal_force);
     let (f1, f2) = (f(1), f(2));
     let scale = f1.iter().fold(0.0f64, |a, v| a.max(v.abs()));
     for (a, b) in f1.iter().zip(&f2) {

@@ -277,27 +277,14 @@ fn drag(dim: usize, friction: &str, scales: &[f64]) -> String {
         format!("{{ x = {U:?}, y = 0.0 }}")
     };
     let boundaries = common::press_drag_hold("pad", top, &traction, &drag, &mid);
+    let clamp = common::boundary(
+        "clamp",
+        "base",
+        &format!("surface = \"{bottom}\""),
+        &format!("displacement = {clamp}"),
+    );
     format!(
-        r#"dimension = {dim}
-model = "{model}"
-[[materials]]
-name = "m"
-young = 1e7
-poisson = 0.0
-[[bodies]]
-name = "base"
-material = "m"
-mesh = {}
-[[bodies]]
-name = "pad"
-material = "m"
-mesh = {}
-[[boundary]]
-name = "clamp"
-body = "base"
-surface = "{bottom}"
-displacement = {clamp}
-{boundaries}[[contact]]
+        r#"{}{}{}{clamp}{boundaries}[[contact]]
 name = "joint"
 slave = {{ body = "pad", surface = "{bottom}" }}
 master = {{ body = "base", surface = "{top}" }}
@@ -307,8 +294,9 @@ friction = {friction}
 [solver]
 tolerance = 1e-14
 {steps}"#,
-        mesh(0.0),
-        mesh(H)
+        common::material_head(dim, model, 1e7, 0.0),
+        common::elastic_body("base", &mesh(0.0)),
+        common::elastic_body("pad", &mesh(H)),
     )
 }
 
@@ -624,7 +612,7 @@ fn contact_elements_between_two_gmsh_meshes_pass_the_patch_test() {
 /// resultant p π R² of the whole disc.
 #[test]
 fn axisymmetric_contact_elements_pass_the_patch_test() {
-    let out = converged(AXI_PATCH);
+    let out = converged(&axi_patch());
     assert_eq!(out.contact_rows.len(), 9);
     let resultant = uniform_pressure_and_jump(&out);
     let whole = P * std::f64::consts::PI * 2.0 * 2.0;
@@ -636,52 +624,29 @@ fn axisymmetric_contact_elements_pass_the_patch_test() {
 
 /// Two discs of radius 2 (a soft pad on a steel base) joined by contact
 /// elements with k_n = 1000, the pad pressed by p = 1.
-const AXI_PATCH: &str = r#"title = "axisymmetric contact elements patch"
-dimension = 2
-model = "axisymmetric"
-
-[[materials]]
-name = "steel"
-young = 210.0
-poisson = 0.3
-
-[[materials]]
-name = "soft"
-young = 10.0
-poisson = 0.45
-
-[[bodies]]
-name = "base"
-material = "steel"
-mesh = { generator = "rectangle", origin = [0.0, 0.0], size = [2.0, 0.5], divisions = [8, 2] }
-
-[[bodies]]
-name = "pad"
-material = "soft"
-mesh = { generator = "rectangle", origin = [0.0, 0.5], size = [2.0, 0.5], divisions = [8, 2] }
-
-[[boundary]]
-name = "support"
-body = "base"
-surface = "bottom"
-displacement = { y = 0.0 }
-
-[[boundary]]
-name = "pressure"
-body = "pad"
-surface = "top"
-traction = [0.0, -1.0]
-
-[[contact]]
-name = "joint"
-slave = { body = "pad", surface = "bottom" }
-master = { body = "base", surface = "top" }
-discretization = "contact_elements"
+fn axi_patch() -> String {
+    let disc = |y: f64| {
+        format!("{{ generator = \"rectangle\", origin = [0.0, {y:?}], size = [2.0, 0.5], divisions = [8, 2] }}")
+    };
+    [
+        "title = \"axisymmetric contact elements patch\"\ndimension = 2\nmodel = \"axisymmetric\"\n".to_string(),
+        common::material("steel", 210.0, 0.3),
+        common::material("soft", 10.0, 0.45),
+        common::body("base", "steel", &disc(0.0)),
+        common::body("pad", "soft", &disc(0.5)),
+        common::boundary("support", "base", "surface = \"bottom\"", "displacement = { y = 0.0 }"),
+        common::boundary("pressure", "pad", "surface = \"top\"", "traction = [0.0, -1.0]"),
+        common::contact_between("joint", ("pad", "bottom"), ("base", "top")),
+        r#"discretization = "contact_elements"
 law = { penalty = 1000.0 }
 
 [solver]
 tolerance = 1e-12
-"#;
+"#
+        .to_string(),
+    ]
+    .concat()
+}
 
 /// The example's pad dragged, released, pressed 100 times harder, then
 /// unloaded to its first pressure: the last step's Newton, started from the

@@ -30,11 +30,8 @@ fn direct_equals_condensed(text: &str, tol: f64) -> RunOutput {
     }
     let (fa, fb) = (&a.report.contact_force, &b.report.contact_force);
     assert!(max_rel(fa, fb) <= tol, "{what}: {fa:?} vs {fb:?}");
-    let f = b
-        .report
-        .factorisation
-        .as_ref()
-        .expect("direct factorisation");
+    let factorisation = |o: &RunOutput| o.report.factorisation.clone().expect("a factorisation");
+    let f = factorisation(&b);
     assert_eq!(f.kind, "ldlt");
     assert_eq!(f.lu_fallbacks, Some(0), "{what}");
     assert_eq!(
@@ -49,11 +46,7 @@ fn direct_equals_condensed(text: &str, tol: f64) -> RunOutput {
         f.factor_nnz > 0 && f.factor_bytes >= 8 * f.factor_nnz && f.flops >= f.factor_nnz as f64
     );
     assert_eq!(f.candidates[0].ordering, f.ordering);
-    let c = a
-        .report
-        .factorisation
-        .as_ref()
-        .expect("condensed factorisation");
+    let c = factorisation(&a);
     assert_eq!(c.kind, "cholesky");
     b
 }

@@ -182,25 +182,15 @@ fn friction_status_method_and_fixed_point_agree() {
 #[test]
 fn regularised_coulomb_tends_to_coulomb_as_the_slip_stiffness_grows() {
     let exact = pressed("{ coulomb = 0.4 }", "{ x = 0.004, y = -0.01 }");
-    let mut last = f64::INFINITY;
-    for k in [1e2, 1e4, 1e6, 1e8] {
+    let last = common::assert_falls_with_stiffness(&[1e2, 1e4, 1e6, 1e8], |k| {
         let out = pressed(
             &format!("{{ coulomb = 0.4, slip_stiffness = {k:e} }}"),
             "{ x = 0.004, y = -0.01 }",
         );
-        let dev = exact
-            .contact_rows
-            .iter()
-            .zip(&out.contact_rows)
-            .fold(0.0f64, |a, (x, y)| {
-                a.max((x.tangential_force - y.tangential_force).abs())
-            });
-        assert!(
-            dev < last,
-            "k_e = {k:e}: deviation {dev:e} did not fall (previous {last:e})"
-        );
-        last = dev;
-    }
+        (exact.contact_rows.iter().zip(&out.contact_rows)).fold(0.0f64, |a, (x, y)| {
+            a.max((x.tangential_force - y.tangential_force).abs())
+        })
+    });
     assert!(last <= 1e-5, "{last:e}");
 }
 
@@ -230,13 +220,7 @@ fn load_reversal_reverses_the_friction_and_keeps_the_slip_history() {
         "step 2 slides back: {t2}"
     );
     // The slip history: the total slip at step 2 is that of step 1 plus the increment.
-    let slips = |step: usize| -> Vec<f64> {
-        out.contact_rows
-            .iter()
-            .filter(|r| r.step == step)
-            .map(|r| r.slip)
-            .collect()
-    };
+    let slips = |step: usize| common::at_step(&out, step, |r| r.slip);
     let (s1, s2) = (slips(1), slips(2));
     assert!(
         s1.iter().all(|&s| s > 0.0) && s2.iter().all(|&s| s < 0.0),
@@ -655,11 +639,10 @@ fn a_pad_with_friction_unloaded_to_no_load_is_solved_with_no_force() {
         + "\n[[steps]]\nscale = { pressure = 1.0 }\n[[steps]]\nscale = { pressure = 0.0 }\n";
     let out = converged(&text);
     let force = |step: usize| {
-        out.contact_rows
-            .iter()
-            .filter(|r| r.step == step)
-            .map(|r| r.normal_force.abs().max(r.tangential_force.abs()))
-            .fold(0.0, f64::max)
+        let forces = common::at_step(&out, step, |r| {
+            r.normal_force.abs().max(r.tangential_force.abs())
+        });
+        forces.into_iter().fold(0.0, f64::max)
     };
     assert!(force(1) > 0.1, "pressed: {}", force(1));
     assert!(force(2) <= 1e-12 * force(1), "unloaded: {}", force(2));

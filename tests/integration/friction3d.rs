@@ -237,8 +237,7 @@ fn regularised_coulomb_tends_to_coulomb_in_3d() {
         RunOptions::default(),
     );
     let (_, ex, ey) = resultants(&exact);
-    let mut previous = f64::INFINITY;
-    for k in [1e2, 1e4, 1e6, 1e8] {
+    let previous = common::assert_falls_with_stiffness(&[1e2, 1e4, 1e6, 1e8], |k| {
         let out = converged(
             &box_scene(
                 &format!("{{ coulomb = 0.3, slip_stiffness = {k:e} }}"),
@@ -248,13 +247,8 @@ fn regularised_coulomb_tends_to_coulomb_in_3d() {
             RunOptions::default(),
         );
         let (_, tx, ty) = resultants(&out);
-        let err = (tx - ex).hypot(ty - ey) / ex.hypot(ey);
-        assert!(
-            err < previous,
-            "k_e = {k:e}: error {err} did not fall below {previous}"
-        );
-        previous = err;
-    }
+        (tx - ex).hypot(ty - ey) / ex.hypot(ey)
+    });
     assert!(previous <= 1e-4, "k_e = 1e8: error {previous}");
 }
 
@@ -293,13 +287,7 @@ fn a_one_point_3d_coulomb_problem_solves_by_the_fixed_point() {
             .arg(&path)
             .output()
             .unwrap();
-        let text = String::from_utf8_lossy(&out.stdout);
-        assert_eq!(
-            out.status.code(),
-            Some(0),
-            "{friction}: {text} {}",
-            String::from_utf8_lossy(&out.stderr)
-        );
+        let text = common::stdout_of_success(&out, friction);
         let r: serde_json::Value = serde_json::from_str(text.trim()).unwrap();
         assert_eq!(r["converged"], true, "{text}");
         assert!(r["residual"].as_f64().unwrap() < 1e-9, "{text}");
@@ -313,7 +301,7 @@ fn a_one_point_3d_coulomb_problem_solves_by_the_fixed_point() {
 /// the sphere's c = a·(1 − Q/(μP))^(1/3), a = (3PR/(4E*))^(1/3).
 #[test]
 fn cattaneo_mindlin_sphere_stick_zone_is_the_sphere_formula() {
-    let out = converged(SPHERE_ON_BLOCK, RunOptions::default());
+    let out = converged(&sphere_on_block(), RunOptions::default());
     let q = &out.report.reference.as_ref().unwrap().quantities;
     let (load, ratio) = (q["load"].computed, q["tangential_load_ratio"].computed);
     assert!(ratio > 0.2 && ratio < 0.6, "partial slip: Q/μP = {ratio}");
@@ -342,50 +330,23 @@ fn cattaneo_mindlin_is_refused_in_an_axisymmetric_model() {
     }
 }
 
-const SPHERE_ON_BLOCK: &str = r#"dimension = 3
-model = "solid"
-[[materials]]
-name = "s"
-young = 1.0
-poisson = 0.3
-[[bodies]]
-name = "sph"
-material = "s"
-mesh = { generator = "hemisphere", center = [0.0, 0.0, 1.0], radius = 1.0, divisions = 12, pole = [0.0, 0.0, -1.0], grading = 10.0 }
-[[bodies]]
-name = "blk"
-material = "s"
-mesh = { generator = "box", origin = [-0.3, -0.3, -0.3], size = [0.6, 0.6, 0.3], divisions = [14, 14, 4], grading = { towards = "zmax", ratio = 6.0 } }
-[[boundary]]
-name = "press"
-body = "sph"
-surface = "flat"
-displacement = { z = -0.01 }
-[[boundary]]
-name = "pull"
-body = "sph"
-surface = "flat"
-displacement = { x = 0.0012 }
-[[boundary]]
-name = "pin"
-body = "sph"
-point = [1.0, 0.0, 1.0]
-displacement = { y = 0.0 }
-[[boundary]]
-name = "pin2"
-body = "sph"
-point = [-1.0, 0.0, 1.0]
-displacement = { y = 0.0 }
-[[boundary]]
-name = "clamp"
-body = "blk"
-surface = "zmin"
-displacement = { x = 0.0, y = 0.0, z = 0.0 }
-[[contact]]
-name = "c"
-slave = { body = "sph", surface = "dome" }
-master = { body = "blk", surface = "zmax" }
-discretization = "node_to_face"
+/// A hemisphere pressed onto a graded box, then pulled sideways (Coulomb
+/// friction 0.3): the Cattaneo–Mindlin reference.
+fn sphere_on_block() -> String {
+    let flat = "surface = \"flat\"";
+    let no_y = "displacement = { y = 0.0 }";
+    [
+        "dimension = 3\nmodel = \"solid\"\n".to_string(),
+        common::material("s", 1.0, 0.3),
+        common::body("sph", "s", "{ generator = \"hemisphere\", center = [0.0, 0.0, 1.0], radius = 1.0, divisions = 12, pole = [0.0, 0.0, -1.0], grading = 10.0 }"),
+        common::body("blk", "s", "{ generator = \"box\", origin = [-0.3, -0.3, -0.3], size = [0.6, 0.6, 0.3], divisions = [14, 14, 4], grading = { towards = \"zmax\", ratio = 6.0 } }"),
+        common::boundary("press", "sph", flat, "displacement = { z = -0.01 }"),
+        common::boundary("pull", "sph", flat, "displacement = { x = 0.0012 }"),
+        common::boundary("pin", "sph", "point = [1.0, 0.0, 1.0]", no_y),
+        common::boundary("pin2", "sph", "point = [-1.0, 0.0, 1.0]", no_y),
+        common::boundary("clamp", "blk", "surface = \"zmin\"", "displacement = { x = 0.0, y = 0.0, z = 0.0 }"),
+        common::contact_between("c", ("sph", "dome"), ("blk", "zmax")),
+        r#"discretization = "node_to_face"
 friction = { coulomb = 0.3 }
 [[steps]]
 scale = { press = 1.0, pull = 0.0 }
@@ -398,7 +359,11 @@ path = "condensed"
 [reference]
 kind = "cattaneo_mindlin"
 radius = 1.0
-"#;
+"#
+        .to_string(),
+    ]
+    .concat()
+}
 
 /// Norton–Hoff in 3D (course notes §4.1.4, eq. 19, isotropic in the tangent plane):
 /// on the box pressed, then dragged along (0.06, 0.08), every point in

@@ -71,17 +71,7 @@ fn scene(dim: usize, friction: &str, diagonal: bool) -> String {
     };
     let boundaries = common::press_drag_hold("block", top, &traction, &drag, mid);
     format!(
-        r#"dimension = {dim}
-model = "{model}"
-[[materials]]
-name = "m"
-young = 1e7
-poisson = 0.0
-[[bodies]]
-name = "block"
-material = "m"
-mesh = {mesh}
-[[bodies]]
+        r#"{}{}[[bodies]]
 name = "floor"
 rigid = {{ shape = "plane", point = {origin}, normal = {normal} }}
 {boundaries}[[contact]]
@@ -92,7 +82,9 @@ discretization = "{disc}"
 friction = {friction}
 [solver]
 tolerance = 1e-14
-{steps}"#
+{steps}"#,
+        common::material_head(dim, model, 1e7, 0.0),
+        common::elastic_body("block", mesh),
     )
 }
 

@@ -42,17 +42,7 @@ fn block(
     let generator = if dim == 2 { "rectangle" } else { "box" };
     let point = vec![0.0; dim];
     format!(
-        r#"dimension = {dim}
-model = "{model}"
-[[materials]]
-name = "m"
-young = 1000.0
-poisson = 0.3
-[[bodies]]
-name = "pad"
-material = "m"
-mesh = {{ generator = "{generator}", origin = {}, size = {}, divisions = {div:?} }}
-[[bodies]]
+        r#"{}{}[[bodies]]
 name = "ground"
 rigid = {{ shape = "plane", point = {}, normal = {} }}
 [[boundary]]
@@ -68,8 +58,15 @@ method = "status"
 path = "condensed"
 friction = "{friction_solver}"
 "#,
-        v(origin),
-        v(size),
+        common::material_head(dim, model, 1000.0, 0.3),
+        common::elastic_body(
+            "pad",
+            &format!(
+                "{{ generator = \"{generator}\", origin = {}, size = {}, divisions = {div:?} }}",
+                v(origin),
+                v(size)
+            )
+        ),
         v(&point),
         v(normal),
         common::contact("c", "pad", bottom, "ground")
@@ -433,7 +430,7 @@ fn a_friction_step_out_of_iterations_says_to_raise_the_limit() {
 #[test]
 fn sliding_block_reference_compares_a_dragged_block_with_mu_n() {
     let mu = 0.35;
-    let out = run(DRAGGED_BLOCK);
+    let out = run(&dragged_block());
     let q = &out.report.reference.as_ref().unwrap().quantities;
     let n = q["normal_load"].computed;
     let t = &q["tangential_reaction"];
@@ -482,34 +479,20 @@ fn sliding_block_reference_compares_a_dragged_block_with_mu_n() {
     assert_eq!(held.tangential_force, 0.0);
 }
 
-const DRAGGED_BLOCK: &str = r#"dimension = 2
-model = "plane_strain"
-[[materials]]
-name = "m"
-young = 50.0
-poisson = 0.3
-[[bodies]]
-name = "blk"
-material = "m"
-mesh = { generator = "rectangle", origin = [0.0, 0.0], size = [1.0, 0.4], divisions = [10, 4] }
-[[bodies]]
-name = "g"
-rigid = { shape = "plane", point = [0.0, 0.0], normal = [0.0, 1.0] }
-[[boundary]]
-name = "press"
-body = "blk"
-surface = "top"
-traction = [0.0, -2.0]
-[[boundary]]
-name = "drag"
-body = "blk"
-surface = "left"
-displacement = { x = 0.05 }
-[[contact]]
-name = "c"
-slave = { body = "blk", surface = "bottom" }
-master = { body = "g" }
-discretization = "node_to_segment"
+/// A block pressed onto a rigid plane, then dragged by its left side
+/// (Coulomb friction 0.35): the sliding block reference.
+fn dragged_block() -> String {
+    [
+        common::material_head(2, "plane_strain", 50.0, 0.3),
+        common::elastic_body(
+            "blk",
+            "{ generator = \"rectangle\", origin = [0.0, 0.0], size = [1.0, 0.4], divisions = [10, 4] }",
+        ),
+        common::rigid_plane("g", [0.0, 0.0], [0.0, 1.0]),
+        common::boundary("press", "blk", "surface = \"top\"", "traction = [0.0, -2.0]"),
+        common::boundary("drag", "blk", "surface = \"left\"", "displacement = { x = 0.05 }"),
+        common::contact("c", "blk", "bottom", "g"),
+        r#"discretization = "node_to_segment"
 friction = { coulomb = 0.35 }
 [[steps]]
 scale = { press = 1.0, drag = 0.0 }
@@ -522,4 +505,8 @@ path = "condensed"
 [reference]
 kind = "sliding_block"
 
-"#;
+"#
+        .to_string(),
+    ]
+    .concat()
+}

@@ -6,8 +6,7 @@
 use crate::common;
 
 use common::{
-    check_stack_pieces, cli_run, cli_run_ok, example, fresh_dir, listing, signorini,
-    stack_pieces as stack,
+    check_stack_pieces, cli_run, cli_run_ok, fresh_dir, listing, signorini, stack_pieces as stack,
 };
 
 #[test]
@@ -59,10 +58,7 @@ fn the_direct_path_writes_the_same_pieces() {
 #[test]
 fn errors_leave_no_pieces_behind() {
     let dir = fresh_dir("pieces", "errors");
-    let late = format!(
-        "{}\n[output]\npieces = true\n\n[[steps]]\nscale = {{ load = 1.0 }}\n\n[[steps]]\nscale = {{ load = -1.0 }}\n",
-        example("floating3d.toml")
-    );
+    let late = common::floating_pulled_off_at_step_2("[output]\npieces = true\n\n");
     let bad = stack(true).replace("pieces = true", "pieces = \"yes\"");
     for (tag, text, says) in [("late", late, "step 2"), ("bad", bad, "pieces")] {
         let scene = dir.join(format!("{tag}.toml"));

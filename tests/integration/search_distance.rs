@@ -98,15 +98,19 @@ fn hertz_2d_with_a_zone_equals_the_full_run_with_fewer_unknowns() {
     }
 }
 
+/// The example `name` solved without and with the zone `d` on its contact
+/// of `discretization`, checked to give the same answer.
+fn full_and_zoned(name: &str, discretization: &str, d: f64) -> (RunOutput, RunOutput) {
+    let text = example(name);
+    let full = converged(&text, RunOptions::default());
+    let zoned = converged(&with_zone(&text, discretization, d), RunOptions::default());
+    assert_same_answer(&full, &zoned, 1e-9);
+    (full, zoned)
+}
+
 #[test]
 fn hertz_3d_with_a_zone_equals_the_full_run_with_fewer_interface_dofs() {
-    let text = example("hertz3d.toml");
-    let full = converged(&text, RunOptions::default());
-    let zoned = converged(
-        &with_zone(&text, "node_to_face", 0.02),
-        RunOptions::default(),
-    );
-    assert_same_answer(&full, &zoned, 1e-9);
+    let (full, zoned) = full_and_zoned("hertz3d.toml", "node_to_face", 0.02);
     let (rf, rz) = (&full.report, &zoned.report);
     // one Γ DOF per contact node (contact frames)
     assert_eq!((rf.contact_points, rf.interface_dofs), (505, 505));
@@ -119,8 +123,8 @@ fn hertz_3d_with_a_zone_equals_the_full_run_with_fewer_interface_dofs() {
 #[test]
 fn a_zone_too_small_is_widened_and_gives_the_same_answer() {
     for path in [SolvePath::Condensed, SolvePath::Direct] {
-        let full = converged_on(PULLED_BLOCK, path);
-        let small = with_zone(PULLED_BLOCK, "node_to_segment", 2e-3);
+        let full = converged_on(&PULLED_BLOCK, path);
+        let small = with_zone(&PULLED_BLOCK, "node_to_segment", 2e-3);
         let zoned = converged_on(&small, path);
         assert_same_answer(&full, &zoned, 1e-9);
         let (_, widened) = zone_notes(&zoned);
@@ -184,11 +188,7 @@ fn a_body_held_by_contact_alone_ignores_the_zone_with_a_note() {
     assert_same_answer(&full, &zoned, 1e-12);
     assert_eq!(zoned.report.contact_points, full.report.contact_points);
     assert_eq!(zoned.report.interface_dofs, full.report.interface_dofs);
-    assert!(zoned
-        .report
-        .messages
-        .iter()
-        .any(|m| m.contains("search_distance does not apply")));
+    common::assert_message(&zoned, "search_distance does not apply");
 }
 
 #[test]
@@ -220,13 +220,7 @@ fn a_search_distance_that_is_not_a_positive_length_is_refused() {
 
 #[test]
 fn axisymmetric_hertz_with_a_zone_equals_the_full_run() {
-    let text = example("hertz_axi.toml");
-    let full = converged(&text, RunOptions::default());
-    let zoned = converged(
-        &with_zone(&text, "node_to_segment", 0.05),
-        RunOptions::default(),
-    );
-    assert_same_answer(&full, &zoned, 1e-9);
+    let (full, zoned) = full_and_zoned("hertz_axi.toml", "node_to_segment", 0.05);
     let (rf, rz) = (&full.report, &zoned.report);
     assert!(rz.contact_points * 3 < rf.contact_points * 2);
     assert!(rz.interface_dofs * 3 < rf.interface_dofs * 2);
@@ -237,7 +231,7 @@ fn axisymmetric_hertz_with_a_zone_equals_the_full_run() {
 fn a_widened_zone_that_does_not_fit_is_refused_saying_why() {
     let dir = common::fresh_dir("search_distance", "widened_memory");
     let scene = dir.join("scene.toml");
-    std::fs::write(&scene, with_zone(PULLED_BLOCK, "node_to_segment", 2e-3)).unwrap();
+    std::fs::write(&scene, with_zone(&PULLED_BLOCK, "node_to_segment", 2e-3)).unwrap();
     // the widened zone's estimate, as the report keeps it
     common::cli_run_ok(&scene, dir.join("free"));
     let report: serde_json::Value =

@@ -51,9 +51,13 @@ fn sphere_in_8_and_32_parts_equals_the_unsplit_sphere_with_a_tree_factor() {
 
 #[test]
 fn floating_box_in_parts_uses_fixing_dofs_and_equals_the_unsplit_box() {
-    let one = example("floating3d.toml")
-        .replace("divisions = [5, 4, 2]", "divisions = [12, 10, 4]")
-        .replace("method = \"mprgp\"", "method = \"status\"");
+    let one = common::example_with(
+        "floating3d.toml",
+        &[
+            ("divisions = [5, 4, 2]", "divisions = [12, 10, 4]"),
+            ("method = \"mprgp\"", "method = \"status\""),
+        ],
+    );
     let a = solve(&one, SolvePath::Condensed);
     let split = with_subdomains(&one, "material = \"aluminium\"\n", 6);
     let b = solve(&split, SolvePath::Condensed);

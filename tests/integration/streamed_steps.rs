@@ -186,10 +186,7 @@ fn steps_out_of_range_are_refused_by_name_and_nothing_is_written() {
 #[test]
 fn an_error_at_a_later_step_leaves_nothing_behind() {
     let dir = fresh_dir("streamed", "late-error");
-    let text = format!(
-        "{}\n[[steps]]\nscale = {{ load = 1.0 }}\n\n[[steps]]\nscale = {{ load = -1.0 }}\n",
-        example("floating3d.toml")
-    );
+    let text = common::floating_pulled_off_at_step_2("");
     let scene = dir.join("late.toml");
     std::fs::write(&scene, text).unwrap();
     let out = dir.join("nested").join("out");
@@ -259,7 +256,7 @@ fn two_ranks_stream_the_same_steps_as_one_process() {
 #[test]
 fn a_widened_zone_streams_the_second_solve_alone() {
     let dir = fresh_dir("streamed", "widened");
-    let small = with_zone(PULLED_BLOCK, "node_to_segment", 2e-3);
+    let small = with_zone(&PULLED_BLOCK, "node_to_segment", 2e-3);
     let kept = try_run(&small, RunOptions::default()).unwrap();
     assert!(
         kept.report.messages.iter().any(|m| m.contains("widened")),
