@@ -159,34 +159,30 @@ pub(crate) fn dual_start(
     Ok(DualStart::Iterate { report, r0 })
 }
 
-/// The stop of a dual method that converged at the natural residual `res`.
-pub(crate) fn dual_converged(
-    res: f64,
-    opts: &LcpOptions,
-    report: &SolverReport,
-    detail: DualDetail,
-) -> StopReason {
-    StopReason::DualConverged {
-        residual: res,
-        tolerance: opts.tolerance,
-        iterations: report.iterations,
-        detail,
-    }
-}
-
-/// The stop of a dual method at the iteration limit (the last residual of
-/// the history, `r0` if there is none).
-pub(crate) fn dual_limit(
+/// How a dual method (Uzawa, the augmented Lagrangian) stopped: converged at
+/// its last residual, or at its iteration limit (the residual reached then,
+/// `r0` if it made no iteration).
+pub(crate) fn dual_stop(
     opts: &LcpOptions,
     report: &SolverReport,
     r0: f64,
     detail: DualDetail,
 ) -> StopReason {
-    StopReason::DualLimit {
-        limit: opts.max_iterations,
-        residual: report.residual_history.last().copied().unwrap_or(r0),
-        tolerance: opts.tolerance,
-        detail,
+    let residual = report.residual_history.last().copied().unwrap_or(r0);
+    if report.converged {
+        StopReason::DualConverged {
+            residual,
+            tolerance: opts.tolerance,
+            iterations: report.iterations,
+            detail,
+        }
+    } else {
+        StopReason::DualLimit {
+            limit: opts.max_iterations,
+            residual,
+            tolerance: opts.tolerance,
+            detail,
+        }
     }
 }
 

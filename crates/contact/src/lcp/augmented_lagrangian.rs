@@ -35,9 +35,7 @@
 use faer::Mat;
 
 use crate::lcp::regularised::regularised_newton;
-use crate::lcp::{
-    dual_converged, dual_limit, dual_start, mean_diag, residual_from_gaps, DualStart, LcpOptions,
-};
+use crate::lcp::{dual_start, dual_stop, mean_diag, residual_from_gaps, DualStart, LcpOptions};
 use crate::solution::{ContactSolution, DualDetail, StopReason};
 use crate::ContactError;
 
@@ -119,13 +117,7 @@ pub fn augmented_lagrangian(
         }
         if res <= opts.tolerance {
             report.converged = true;
-            let detail = DualDetail::Augmented {
-                newton_steps,
-                factor: s,
-                cycles,
-            };
-            report.stop = dual_converged(res, opts, &report, detail);
-            return Ok(ContactSolution::from_forces(w, q, lambda, report));
+            break;
         }
     }
     let detail = DualDetail::Augmented {
@@ -133,7 +125,7 @@ pub fn augmented_lagrangian(
         factor: s,
         cycles,
     };
-    report.stop = dual_limit(opts, &report, r0, detail);
+    report.stop = dual_stop(opts, &report, r0, detail);
     Ok(ContactSolution::from_forces(w, q, lambda, report))
 }
 

@@ -32,8 +32,8 @@
 use faer::Mat;
 
 use crate::lcp::{
-    dual_converged, dual_limit, dual_start, energy_of, gaps, mean_diag, power_iteration,
-    residual_from_gaps, DualStart, LcpOptions,
+    dual_start, dual_stop, energy_of, gaps, mean_diag, power_iteration, residual_from_gaps,
+    DualStart, LcpOptions,
 };
 use crate::solution::{ContactSolution, DualDetail, UzawaStep};
 use crate::ContactError;
@@ -103,21 +103,14 @@ pub fn uzawa(w: &Mat<f64>, q: &[f64], opts: &LcpOptions) -> Result<ContactSoluti
         report.residual_history.push(r);
         if r <= opts.tolerance {
             report.converged = true;
-            let detail = DualDetail::Uzawa {
-                step: rho_origin,
-                halvings,
-            };
-            report.stop = dual_converged(r, opts, &report, detail);
             break;
         }
     }
-    if !report.converged {
-        let detail = DualDetail::Uzawa {
-            step: rho_origin,
-            halvings,
-        };
-        report.stop = dual_limit(opts, &report, r0, detail);
-    }
+    let detail = DualDetail::Uzawa {
+        step: rho_origin,
+        halvings,
+    };
+    report.stop = dual_stop(opts, &report, r0, detail);
     Ok(ContactSolution::from_forces(w, q, lambda, report))
 }
 
