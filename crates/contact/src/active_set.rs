@@ -23,9 +23,11 @@
 //!
 //! A [`StatusRule`] supplies what differs: the status type, the linear solve
 //! for a status vector, the violated statuses of a solution, and the fallback
-//! policy. [`crate::status`] (normal contact, §3.3) and [`crate::friction`]
+//! policy. [`crate::active_set::signorini`] (normal contact, §3.3) and [`crate::friction`]
 //! (Tresca, the friction status method of §4.5, and the inner problems of the
 //! Coulomb fixed point and of Norton–Hoff) are rules over this driver.
+
+pub mod signorini;
 
 use std::collections::HashSet;
 use std::hash::Hash;

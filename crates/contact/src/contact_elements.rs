@@ -61,8 +61,7 @@ use faer::Mat;
 
 use crate::delassus::DelassusProblem;
 use crate::friction::kinematic_hardening::return_map;
-use crate::friction::PointStatus;
-use crate::solution::{ContactSolution, FrictionTrace, SolverReport, StopReason};
+use crate::solution::{ContactSolution, FrictionTrace, PointStatus, SolverReport, StopReason};
 use crate::ContactError;
 
 /// The slip threshold of an element's friction law.

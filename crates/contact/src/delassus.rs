@@ -17,8 +17,8 @@ use std::sync::Arc;
 use faer::prelude::SolveLstsq;
 use faer::Mat;
 
+use crate::active_set::signorini::ActiveSetSolve;
 use crate::friction::capacitance::{solve_status_system, StatusFactor};
-use crate::status::ActiveSetSolve;
 use crate::ContactError;
 use signorini_linalg::active_factor::{solve_on_active_set, ActiveFactor};
 use signorini_linalg::pivot_policy::{is_rank_deficient, solve_checked, solve_symmetric_checked};
@@ -342,7 +342,7 @@ impl DelassusProblem {
     }
 
     /// Sets α from a solver that found it itself (the multiplier of the
-    /// equality in [`crate::smalbe`]), for [`Self::displacement`].
+    /// equality in [`crate::lcp::smalbe`]), for [`Self::displacement`].
     pub fn set_alpha(&mut self, alpha: &[f64]) {
         assert_eq!(alpha.len(), self.r.ncols());
         self.last_alpha = alpha.to_vec();
@@ -382,7 +382,7 @@ impl ActiveSetSolve for DelassusProblem {
         &mut self,
         opts: &crate::lcp::LcpOptions,
     ) -> Result<Option<Vec<usize>>, ContactError> {
-        crate::lemke::pivoted_active_set(&self.w, &self.q, (&self.g_mat, &self.e), opts)
+        crate::lcp::lemke::pivoted_active_set(&self.w, &self.q, (&self.g_mat, &self.e), opts)
     }
 
     /// Solves W_AA λ_A = −q_A (no floating body) or the saddle-point system

@@ -20,7 +20,7 @@
 //!   converges badly, and the report counts its iterations.
 //! - [`coulomb_newton`]: the same fixed point with each Tresca problem
 //!   solved by the semi-smooth Newton method on the Alart–Curnier equations
-//!   ([`crate::semismooth_newton`], shared with 3D).
+//!   ([`crate::friction::semismooth_newton`], shared with 3D).
 //!
 //! Regularised Coulomb (§4.1.3, elastic slip k_e) is the same problem with
 //! the compliance 1/k_e added to the tangential diagonal of W
@@ -28,57 +28,27 @@
 //! linear kinematic hardening of the slip) the rough rows' unknown becomes
 //! the slider force ([`kinematic_hardening`]).
 
-use serde::Serialize;
-
 use crate::active_set::{drive, scaled_tolerances, Change, Fallback, Regular, StatusRule, Stop};
 use crate::delassus::DelassusProblem;
-use crate::fixed_point::{
+use crate::friction::fixed_point::{
     fixed_point, normal_change, FixedPoint, InnerSolve, ThresholdMap, TrescaSolver,
 };
+use crate::law::norton_hoff::NortonHoffLaw;
 use crate::lcp::LcpOptions;
 use crate::solution::{ContactSolution, StopReason, ThresholdMapKind};
 use crate::ContactError;
 use signorini_linalg::reduced::VarEquation;
 
 pub(crate) mod capacitance;
+pub mod driver;
+pub(crate) mod fixed_point;
+pub mod friction3d;
 pub mod holding;
 pub mod kinematic_hardening;
-pub mod law;
-pub use law::{FrictionLaw, FrictionLayout};
-
-/// Status of a contact point.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize)]
-#[serde(rename_all = "snake_case")]
-pub enum PointStatus {
-    Open,
-    /// In contact; sticking if the point has friction.
-    Stick,
-    /// Slipping with λ_t = +threshold (the slip increment is negative).
-    SlipPlus,
-    /// Slipping with λ_t = −threshold.
-    SlipMinus,
-    /// 3D: slipping in the tangent plane, the tangential force on the
-    /// boundary of the disc / ellipse and opposing the slip.
-    Slip,
-}
-
-impl PointStatus {
-    pub fn is_slip(self) -> bool {
-        matches!(
-            self,
-            PointStatus::SlipPlus | PointStatus::SlipMinus | PointStatus::Slip
-        )
-    }
-}
-
-#[derive(Debug, Clone)]
-pub struct FrictionOptions {
-    pub max_iterations: usize,
-    pub max_fixed_point: usize,
-    pub tolerance: f64,
-    pub force_scale: f64,
-    pub gap_scale: f64,
-}
+pub(crate) mod semismooth_newton;
+pub use crate::law::{FrictionLaw, FrictionLayout};
+pub use crate::options::FrictionOptions;
+pub use crate::solution::PointStatus;
 
 fn equations(
     layout: &FrictionLayout,
@@ -484,7 +454,7 @@ fn tresca_box(
         gap_scale: opts.gap_scale,
         stiffness: None,
     };
-    let sol = crate::mprgp::mprgp_box(&problem.w, &problem.q, &lower, &upper, &lcp_opts)?;
+    let sol = crate::lcp::mprgp::mprgp_box(&problem.w, &problem.q, &lower, &upper, &lcp_opts)?;
     let tol = opts.tolerance
         * opts
             .force_scale
@@ -626,7 +596,7 @@ pub fn coulomb_fixed_point(
 }
 
 /// Coulomb (or Tresca) in 2D by the semi-smooth Newton method on the
-/// Alart–Curnier equations ([`crate::semismooth_newton`]): Newton steps on
+/// Alart–Curnier equations ([`crate::friction::semismooth_newton`]): Newton steps on
 /// Coulomb's law itself (threshold μ λ_n of the iterate, no outer fixed
 /// point), each on the reduced system of its statuses (a primal–dual
 /// active set method); where that does not converge, the fixed point
@@ -640,7 +610,7 @@ pub fn coulomb_newton(
     start: Option<&[f64]>,
     opts: &FrictionOptions,
 ) -> Result<ContactSolution, ContactError> {
-    crate::semismooth_newton::friction_newton(problem, layout, start, opts, 2, true)
+    crate::friction::semismooth_newton::friction_newton(problem, layout, start, opts, 2, true)
 }
 
 /// Norton–Hoff friction (course notes §4.1.4, eq. 19) at the points whose law is
@@ -667,76 +637,13 @@ pub fn norton_hoff(
             .map(|p| law.threshold(r, g, p).unwrap_or(f64::INFINITY))
             .collect()
     };
-    let misfit = |_: &[f64], it: &InnerSolve| law.misfit(it);
+    let misfit = |_: &[f64], it: &InnerSolve| law.misfit(&it.forces, &it.gaps, &it.statuses);
     let map = ThresholdMap {
         threshold: &threshold,
         residual: &misfit,
         kind: ThresholdMapKind::NortonHoff,
     };
     solver.fixed_point(start, &map, "norton_hoff")
-}
-
-/// Norton–Hoff's law at the points of a layout, in 2D (one tangential row)
-/// and 3D (two, isotropic in the tangent plane: ‖λ_t‖ = μ λ_n ‖Δs‖^ρ
-/// opposing Δs). A slip below 1e-14 times the length scale is no slip: the
-/// threshold is then the floor's μ λ_n (1e-14 L)^ρ, and such a point
-/// satisfies the law when its force lies within it (a law steep at zero
-/// slip, ρ small, needs slips far below round-off to carry a force; a block
-/// pressed without drag, its Poisson slips tiny and none at the middle,
-/// stalled when a stuck point was asked to oppose a slip of zero).
-pub(crate) struct NortonHoffLaw<'a> {
-    layout: &'a FrictionLayout,
-    /// The slip below which a point does not slip.
-    s_min: f64,
-}
-
-impl<'a> NortonHoffLaw<'a> {
-    pub(crate) fn new(layout: &'a FrictionLayout, opts: &FrictionOptions) -> Self {
-        let s_min = 1e-14 * opts.gap_scale.max(f64::MIN_POSITIVE);
-        Self { layout, s_min }
-    }
-
-    /// (μ λ_n, ρ, ‖Δs‖ floored) of point p, when it has tangential rows and
-    /// a Norton–Hoff law.
-    fn at(&self, r: &[f64], g: &[f64], p: usize) -> Option<(f64, f64, f64)> {
-        let FrictionLaw::NortonHoff { mu, rho } = self.layout.law[p] else {
-            return None;
-        };
-        let rows = &self.layout.tangent_rows[p];
-        let slip = rows.iter().map(|&t| g[t] * g[t]).sum::<f64>().sqrt();
-        (!rows.is_empty()).then_some((mu * r[p].max(0.0), rho, slip.max(self.s_min)))
-    }
-
-    /// The threshold μ λ_n ‖Δs‖^ρ of point p from the forces r and gaps g.
-    pub(crate) fn threshold(&self, r: &[f64], g: &[f64], p: usize) -> Option<f64> {
-        self.at(r, g, p)
-            .map(|(bound, rho, slip)| bound * slip.powf(rho))
-    }
-
-    /// The largest ‖λ_t + μ λ_n ‖Δs‖^(ρ−1) Δs‖ over the points in contact
-    /// (below the slip floor: how far ‖λ_t‖ passes the floor's threshold).
-    pub(crate) fn misfit(&self, it: &InnerSolve) -> f64 {
-        let (r, g) = (&it.forces, &it.gaps);
-        let closed = (0..it.statuses.len()).filter(|&p| it.statuses[p] != PointStatus::Open);
-        closed.fold(0.0f64, |worst, p| {
-            let Some((bound, rho, slip)) = self.at(r, g, p) else {
-                return worst;
-            };
-            let rows = &self.layout.tangent_rows[p];
-            let off = match slip <= self.s_min {
-                true => {
-                    let force = rows.iter().map(|&t| r[t] * r[t]).sum::<f64>().sqrt();
-                    (force - bound * self.s_min.powf(rho)).max(0.0)
-                }
-                false => {
-                    let scale = bound * slip.powf(rho - 1.0);
-                    let off = rows.iter().map(|&t| (r[t] + scale * g[t]).powi(2));
-                    off.sum::<f64>().sqrt()
-                }
-            };
-            crate::norms::nan_max(worst, off)
-        })
-    }
 }
 
 #[cfg(test)]

@@ -5,6 +5,15 @@
 //! the stopping test and the starts the methods share. What a method returns
 //! is in [`crate::solution`].
 
+pub mod augmented_lagrangian;
+pub mod lemke;
+pub mod mprgp;
+pub mod penalty;
+pub mod projected_gradient;
+pub(crate) mod regularised;
+pub mod smalbe;
+pub mod uzawa;
+
 use std::ops::Range;
 
 use faer::Mat;
@@ -39,6 +48,23 @@ impl Default for LcpOptions {
             stiffness: None,
         }
     }
+}
+
+impl ContactSolution {
+    /// The solution with forces λ of LCP(W, q): its gaps W λ + q and the
+    /// points with a positive force.
+    pub fn from_forces(w: &Mat<f64>, q: &[f64], forces: Vec<f64>, report: SolverReport) -> Self {
+        let gaps = gaps(w, q, &forces);
+        Self::with_gaps(forces, gaps, Vec::new(), report)
+    }
+}
+
+/// max(λ, 0) entry by entry (removes −0.0 and round-off below zero).
+pub(crate) fn clamp(mut lambda: Vec<f64>) -> Vec<f64> {
+    for v in &mut lambda {
+        *v = if *v > 0.0 { *v } else { 0.0 };
+    }
+    lambda
 }
 
 /// w = W λ + q (column by column, skipping the zero forces: few points are

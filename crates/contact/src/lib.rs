@@ -14,34 +14,25 @@
 //! finite-element systems (the direct path's KKT solve lives in the solver).
 
 pub mod active_set;
-pub mod augmented_lagrangian;
 pub mod contact_elements;
 pub mod delassus;
 pub mod equilibrium;
-mod fixed_point;
 pub mod friction;
-pub mod friction3d;
+pub mod law;
 pub mod lcp;
-pub mod lemke;
-pub mod mprgp;
 pub mod norms;
 pub mod observe;
-pub mod penalty;
+pub mod options;
 mod problem_scale;
-pub mod projected_gradient;
 mod reduced;
 pub mod registry;
-mod semismooth_newton;
-pub mod smalbe;
 pub mod solution;
-pub mod status;
-pub mod uzawa;
 
 #[cfg(test)]
 pub(crate) mod test_problems;
 
+pub use active_set::signorini::{status_method, ActiveSetSolve, StatusOptions, StatusVariant};
 pub use delassus::{DelassusOperator, DelassusProblem};
-pub use status::{status_method, ActiveSetSolve, StatusOptions, StatusVariant};
 
 #[derive(Debug, thiserror::Error)]
 pub enum ContactError {

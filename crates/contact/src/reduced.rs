@@ -1,5 +1,5 @@
 //! The semi-smooth Newton step on the Alart–Curnier equations
-//! ([`crate::semismooth_newton`]) reduced to its unknown forces, on the
+//! ([`crate::friction::semismooth_newton`]) reduced to its unknown forces, on the
 //! reduction of the status systems (`signorini_linalg::reduced`).
 
 mod newton;

@@ -3,22 +3,22 @@
 //! pipeline's root solve, `signorini local` and the benchmarks read, so that
 //! no other place branches on a method's name.
 //!
-//! Each algorithm lives in its own file: [`crate::status`],
-//! [`crate::lemke`], [`crate::projected_gradient`], [`crate::mprgp`],
-//! [`crate::uzawa`], [`crate::augmented_lagrangian`], [`crate::penalty`];
-//! bodies held by contact alone go through [`crate::smalbe`] with the method
+//! Each algorithm lives in its own file: [`crate::active_set::signorini`],
+//! [`crate::lcp::lemke`], [`crate::lcp::projected_gradient`], [`crate::lcp::mprgp`],
+//! [`crate::lcp::uzawa`], [`crate::lcp::augmented_lagrangian`], [`crate::lcp::penalty`];
+//! bodies held by contact alone go through [`crate::lcp::smalbe`] with the method
 //! as its inner solver.
 
 use std::fmt;
 
 use faer::Mat;
 
+use crate::active_set::signorini::{status_method, ActiveSetSolve, StatusOptions, StatusVariant};
 use crate::lcp::{
     constrained_gaps, gaps, gaps_off_active, gaps_on, lcp_residual, residual_from_gaps, LcpOptions,
 };
 use crate::problem_scale::ProblemScale;
 use crate::solution::{ContactSolution, PolishSolve};
-use crate::status::{status_method, ActiveSetSolve, StatusOptions, StatusVariant};
 use crate::{ContactError, DelassusProblem};
 use signorini_linalg::active_factor::{solve_on_active_set, ActiveFactor};
 
@@ -107,26 +107,26 @@ static STATUS_PENALTY: Method = Method {
     exact: false,
     ..method("status_penalty", status_penalty)
 };
-static LEMKE: Method = method("lemke", |p| crate::lemke::lemke(p.w, p.q, p.opts));
+static LEMKE: Method = method("lemke", |p| crate::lcp::lemke::lemke(p.w, p.q, p.opts));
 static PROJECTED_GRADIENT: Method = method("projected_gradient", |p| {
-    crate::projected_gradient::projected_gradient(p.w, p.q, p.opts)
+    crate::lcp::projected_gradient::projected_gradient(p.w, p.q, p.opts)
 });
 static PROJECTED_CONJUGATE_GRADIENT: Method = method("projected_conjugate_gradient", |p| {
-    crate::projected_gradient::projected_conjugate_gradient(p.w, p.q, p.opts)
+    crate::lcp::projected_gradient::projected_conjugate_gradient(p.w, p.q, p.opts)
 });
 static MPRGP: Method = Method {
     friction: FrictionSupport::TrescaBox,
-    warm_start: Some(crate::mprgp::mprgp_from),
-    ..method("mprgp", |p| crate::mprgp::mprgp(p.w, p.q, p.opts))
+    warm_start: Some(crate::lcp::mprgp::mprgp_from),
+    ..method("mprgp", |p| crate::lcp::mprgp::mprgp(p.w, p.q, p.opts))
 };
-static UZAWA: Method = method("uzawa", |p| crate::uzawa::uzawa(p.w, p.q, p.opts));
+static UZAWA: Method = method("uzawa", |p| crate::lcp::uzawa::uzawa(p.w, p.q, p.opts));
 static AUGMENTED_LAGRANGIAN: Method = method("augmented_lagrangian", |p| {
-    crate::augmented_lagrangian::augmented_lagrangian(p.w, p.q, p.opts)
+    crate::lcp::augmented_lagrangian::augmented_lagrangian(p.w, p.q, p.opts)
 });
 static PENALTY: Method = Method {
     exact: false,
     ..method("penalty", |p| {
-        crate::penalty::penalty(p.w, p.q, &penalty_stiffness(p), p.opts)
+        crate::lcp::penalty::penalty(p.w, p.q, &penalty_stiffness(p), p.opts)
     })
 };
 
@@ -174,15 +174,15 @@ fn status(p: &Lcp) -> Result<ContactSolution, ContactError> {
 }
 
 fn status_penalty(p: &Lcp) -> Result<ContactSolution, ContactError> {
-    crate::penalty::status_with_penalty(p.w, p.q, &penalty_stiffness(p), p.variant, p.opts)
+    crate::lcp::penalty::status_with_penalty(p.w, p.q, &penalty_stiffness(p), p.variant, p.opts)
 }
 
 /// The penalty stiffness of each point: the given one, or `opts.stiffness`
 /// (default 1e8) / mean diag W.
 fn penalty_stiffness(p: &Lcp) -> Vec<f64> {
-    p.stiffness
-        .map(|k| k.to_vec())
-        .unwrap_or_else(|| crate::penalty::uniform_stiffness(p.w, p.opts.stiffness.unwrap_or(1e8)))
+    p.stiffness.map(|k| k.to_vec()).unwrap_or_else(|| {
+        crate::lcp::penalty::uniform_stiffness(p.w, p.opts.stiffness.unwrap_or(1e8))
+    })
 }
 
 /// A method of the registry with its status variant: what a run solves its
@@ -304,7 +304,7 @@ impl Algorithm {
     }
 
     /// Solves LCP(W, q) with the equilibrium of floating bodies Gᵀλ = e (see
-    /// [`crate::smalbe`]) by SMALBE with this method as the bound-constrained
+    /// [`crate::lcp::smalbe`]) by SMALBE with this method as the bound-constrained
     /// inner solver (warm-started where it can be, as MPRGP in Dostál's
     /// SMALBE-M). The penalty methods solve their regularised law,
     /// LCP(W + K⁻¹, q) with K the penalty stiffness per point (course notes §3.6),
@@ -335,12 +335,13 @@ impl Algorithm {
             regularised = wk;
             (&regularised, Algorithm::status(StatusVariant::All))
         };
-        let mut sol = crate::smalbe::smalbe(w_eff, q, g, e, opts, |wi, qi, l0, o| {
-            match inner.method.warm_start {
-                Some(warm) => warm(wi, qi, l0, o),
-                None => inner.solve(wi, qi, None, o),
-            }
-        })?;
+        let mut sol =
+            crate::lcp::smalbe::smalbe(w_eff, q, g, e, opts, |wi, qi, l0, o| {
+                match inner.method.warm_start {
+                    Some(warm) => warm(wi, qi, l0, o),
+                    None => inner.solve(wi, qi, None, o),
+                }
+            })?;
         sol.report.method = self.name().into();
         if !self.is_exact() {
             sol.gaps = constrained_gaps(w, q, g, &sol.forces, &sol.alpha);
@@ -402,7 +403,7 @@ impl ActiveSetSolve for DenseLcp<'_> {
         opts: &crate::lcp::LcpOptions,
     ) -> Result<Option<Vec<usize>>, ContactError> {
         let none = Mat::<f64>::zeros(self.q.len(), 0);
-        crate::lemke::pivoted_active_set(self.w, self.q, (&none, &[]), opts)
+        crate::lcp::lemke::pivoted_active_set(self.w, self.q, (&none, &[]), opts)
     }
     fn solve_active(&mut self, active: &[usize]) -> Result<(Vec<f64>, Vec<f64>), ContactError> {
         self.solves += 1;

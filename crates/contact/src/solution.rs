@@ -8,12 +8,9 @@
 //! only at the output edge, through its [`std::fmt::Display`], which gives the
 //! texts of `report.json`'s `stopping_reason`.
 
-use faer::Mat;
 use serde::Serialize;
 
-use crate::friction::PointStatus;
-use crate::lcp::gaps;
-use crate::status::StatusVariant;
+use crate::options::StatusVariant;
 
 /// What a method says about its run (`report.json` → `solver`).
 #[derive(Debug, Clone, Default, Serialize)]
@@ -23,7 +20,7 @@ pub struct SolverReport {
     pub iterations: usize,
     /// Products with W (or solves with a block of W, each counted once).
     pub operator_applications: usize,
-    /// The natural residual after each iteration (see [`crate::lcp_residual`]).
+    /// The natural residual after each iteration (see the LCP's natural residual).
     pub residual_history: Vec<f64>,
     /// Why the method stopped; written as its text under `stopping_reason`.
     #[serde(rename = "stopping_reason", serialize_with = "as_text")]
@@ -57,7 +54,7 @@ pub struct ContactSolution {
     pub gaps: Vec<f64>,
     /// α: the amplitudes of the rigid modes of the floating bodies; empty
     /// without floating bodies (and for the status method, whose active-set
-    /// problem keeps them, see [`crate::DelassusProblem`]).
+    /// problem keeps them: see the Delassus problem).
     pub alpha: Vec<f64>,
     /// The points in contact at the end (sorted): the last active set of a
     /// status method, else the points with a positive force.
@@ -104,14 +101,32 @@ pub struct StatusTrace {
     pub variant_used: StatusVariant,
 }
 
-impl ContactSolution {
-    /// The solution with forces λ of LCP(W, q): its gaps W λ + q and the
-    /// points with a positive force.
-    pub fn from_forces(w: &Mat<f64>, q: &[f64], forces: Vec<f64>, report: SolverReport) -> Self {
-        let gaps = gaps(w, q, &forces);
-        Self::with_gaps(forces, gaps, Vec::new(), report)
-    }
+/// Status of a contact point.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum PointStatus {
+    Open,
+    /// In contact; sticking if the point has friction.
+    Stick,
+    /// Slipping with λ_t = +threshold (the slip increment is negative).
+    SlipPlus,
+    /// Slipping with λ_t = −threshold.
+    SlipMinus,
+    /// 3D: slipping in the tangent plane, the tangential force on the
+    /// boundary of the disc / ellipse and opposing the slip.
+    Slip,
+}
 
+impl PointStatus {
+    pub fn is_slip(self) -> bool {
+        matches!(
+            self,
+            PointStatus::SlipPlus | PointStatus::SlipMinus | PointStatus::Slip
+        )
+    }
+}
+
+impl ContactSolution {
     /// The solution with forces λ, gaps g and amplitudes α (the points with
     /// a positive force in contact).
     pub fn with_gaps(
@@ -349,7 +364,7 @@ pub enum StopReason {
     /// normal forces, `load`, exceeds `capacity`, the most the tangential
     /// forces can carry along it with their bounds (Σ μ λ_n ‖G_t‖) at the
     /// normal forces reached; no static equilibrium
-    /// ([`crate::friction::holding`]).
+    /// (the friction overload test).
     FrictionOverload {
         mode: usize,
         load: f64,
@@ -369,7 +384,7 @@ pub enum ThresholdMapKind {
 /// The residual a method measures.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Measure {
-    /// The natural residual of the LCP ([`crate::lcp_residual`]).
+    /// The natural residual of the LCP (the LCP's natural residual).
     Natural,
     /// The projected-gradient residual of a box (MPRGP for Tresca).
     ProjectedGradient,

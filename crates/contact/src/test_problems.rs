@@ -3,9 +3,9 @@
 //! method), and the reference solution by the status method.
 use faer::Mat;
 
+use crate::active_set::signorini::{status_method, StatusOptions, StatusVariant};
 use crate::lcp::gaps;
 use crate::solution::ContactSolution;
-use crate::status::{status_method, StatusOptions, StatusVariant};
 use crate::DelassusProblem;
 
 pub struct XorShift(pub u64);

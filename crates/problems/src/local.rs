@@ -11,59 +11,17 @@
 use std::time::Instant;
 
 use serde::Serialize;
+use signorini_contact::friction::driver;
 use signorini_contact::friction::{FrictionLaw, FrictionLayout, FrictionOptions, PointStatus};
 use signorini_contact::lcp::{lcp_residual, LcpOptions};
-use signorini_contact::norms::{max_abs, nan_max, natural_map};
 use signorini_contact::registry::Algorithm;
 
 pub use crate::fclib::{GlobalCondensation, GlobalSummary};
 pub use crate::problem_file::{load, LocalProblem};
 
-/// The friction solvers of `signorini local --friction`.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum FrictionMethod {
-    /// The fixed point on the threshold (course notes §4.3), 2D and 3D.
-    FixedPoint,
-    /// The friction status method (course notes §4.5), 2D.
-    Status,
-    /// The semi-smooth Newton method on the Alart–Curnier equations of
-    /// Coulomb's law itself (no outer fixed point; the fixed point with
-    /// Newton inner solves where it fails), 2D and 3D.
-    Newton,
-}
-
-impl FrictionMethod {
-    pub const ALL: [FrictionMethod; 3] = [
-        FrictionMethod::FixedPoint,
-        FrictionMethod::Status,
-        FrictionMethod::Newton,
-    ];
-
-    pub fn name(self) -> &'static str {
-        match self {
-            FrictionMethod::FixedPoint => "fixed_point",
-            FrictionMethod::Status => "status",
-            FrictionMethod::Newton => "newton",
-        }
-    }
-
-    /// Whether it solves 3D problems (there the fixed point has Newton
-    /// inner solves).
-    pub fn solves_3d(self) -> bool {
-        self != FrictionMethod::Status
-    }
-
-    /// The method of a name, or an error listing the valid ones.
-    pub fn from_name(name: &str) -> Result<Self, String> {
-        Self::ALL
-            .into_iter()
-            .find(|m| m.name() == name)
-            .ok_or_else(|| {
-                let names: Vec<&str> = Self::ALL.iter().map(|m| m.name()).collect();
-                format!("--friction: \"{name}\" is not one of {}", names.join(", "))
-            })
-    }
-}
+/// The friction solvers of `signorini local --friction` (fixed point,
+/// status, newton).
+pub use signorini_contact::friction::driver::FrictionSolver as FrictionMethod;
 
 /// The scales of the data: gaps relative to max |q|, forces relative to
 /// max |q| / max diag W.
@@ -95,7 +53,8 @@ pub struct LocalResult {
     /// How many times it was solved (`--repeat`).
     pub repeats: usize,
     /// Scaled natural residual of the LCP (see the contact crate's
-    /// `lcp_residual`), with friction [`coulomb_residual`].
+    /// `lcp_residual`), with friction the natural residual of the law
+    /// ([`signorini_contact::law::natural_residual`]).
     pub residual: f64,
     pub active: usize,
     pub stopping_reason: String,
@@ -148,30 +107,6 @@ fn solves_the_lcp(residual: f64, tolerance: f64) -> bool {
     residual <= 1e3 * tolerance
 }
 
-/// The Coulomb residual of forces r and gaps g (block layout), scaled: the
-/// natural map of the normal rows |min(λ_n/F, g_n/L)| and, per frictional
-/// point, |λ_t − P(λ_t − (F/L) s)| / F with P the projection on the disc
-/// of radius μ λ_n⁺ (zero exactly when λ_t is in the cone and, if the point
-/// slips, opposes its slip: cone and complementarity together).
-pub fn coulomb_residual(p: &LocalProblem, r: &[f64], g: &[f64], f: f64, gap: f64) -> f64 {
-    let (m, d) = (p.contacts(), p.dim);
-    let mu = p.mu.as_deref().unwrap_or(&[]);
-    let mut worst = 0.0f64;
-    for c in 0..m {
-        worst = nan_max(worst, natural_map(r[c] / f, g[c] / gap));
-        let Some(&mu_c) = mu.get(c) else { continue };
-        let rows: Vec<usize> = (0..d - 1).map(|k| m + (d - 1) * c + k).collect();
-        let trial: Vec<f64> = rows.iter().map(|&t| r[t] - f / gap * g[t]).collect();
-        let norm = trial.iter().map(|v| v * v).sum::<f64>().sqrt();
-        let radius = mu_c * r[c].max(0.0);
-        let shrink = if norm > radius { radius / norm } else { 1.0 };
-        for (k, &t) in rows.iter().enumerate() {
-            worst = nan_max(worst, (r[t] - shrink * trial[k]).abs() / f);
-        }
-    }
-    worst
-}
-
 /// Solves a frictional local problem: 2D by the fixed point on the
 /// threshold (course notes §4.3) or the friction status method (§4.5), 3D by the
 /// fixed point with semi-smooth Newton inner solves.
@@ -183,14 +118,8 @@ pub fn solve_friction(
     max_iterations: usize,
     with_lambda: bool,
 ) -> Result<LocalResult, String> {
-    use signorini_contact::friction::{
-        coulomb_fixed_point, coulomb_newton, coulomb_status, predicted_statuses,
-    };
     let mu = p.mu.as_ref().ok_or("no mu")?;
     let (m, d) = (p.contacts(), p.dim);
-    if d == 3 && !method.solves_3d() {
-        return Err(format!("--friction {}: a 2D method", method.name()));
-    }
     let (force_scale, gap_scale) = scales(p);
     let layout = FrictionLayout {
         tangent_rows: (0..m)
@@ -206,7 +135,10 @@ pub fn solve_friction(
         force_scale,
         gap_scale,
     };
-    let initial = (0..m)
+    let Some(chosen) = driver::FrictionMethod::choose(method, d, &layout, false) else {
+        return Err(format!("--friction {}: a 2D method", method.name()));
+    };
+    let statuses = (0..m)
         .map(|i| {
             if p.q[i] <= 0.0 {
                 PointStatus::Stick
@@ -215,40 +147,21 @@ pub fn solve_friction(
             }
         })
         .collect();
+    let start = driver::FrictionStart {
+        statuses,
+        forces: None,
+        predict: true,
+    };
     let mut problem = signorini_contact::DelassusProblem::from_operator(p.w.clone(), p.q.clone());
     let t = Instant::now();
-    let out = match (d, method) {
-        (3, FrictionMethod::Newton) => {
-            signorini_contact::friction3d::friction_3d(&mut problem, &layout, None, &opts)
-        }
-        (3, _) => signorini_contact::friction3d::coulomb_3d_fixed_point(
-            &mut problem,
-            &layout,
-            None,
-            &opts,
-        ),
-        (_, FrictionMethod::Status) => {
-            let initial = predicted_statuses(&layout, &p.q, initial, &opts);
-            coulomb_status(&mut problem, &layout, initial, &opts)
-        }
-        (_, FrictionMethod::Newton) => coulomb_newton(&mut problem, &layout, None, &opts),
-        (_, FrictionMethod::FixedPoint) => {
-            coulomb_fixed_point(&mut problem, &layout, initial, None, &opts)
-        }
-    }
-    .map_err(|e| e.to_string())?;
+    let answer = driver::solve_friction(&mut problem, &layout, chosen, start, &opts)
+        .map_err(|e| e.to_string())?;
+    let (out, residual) = (answer.solution, answer.residual);
     let time_s = t.elapsed().as_secs_f64();
     let (global, reference_v_error) = global_fields(p, &out.forces);
-    let f = force_scale.max(max_abs(&out.forces));
-    let residual = coulomb_residual(p, &out.forces, &out.gaps, f, gap_scale);
     Ok(LocalResult {
         problem: name.to_string(),
-        method: match (d, method) {
-            (2, FrictionMethod::Status) => "friction_status",
-            (_, FrictionMethod::Newton) => out.report.method.as_str(),
-            _ => "coulomb_fixed_point",
-        }
-        .to_string(),
+        method: out.report.method.clone(),
         m,
         dim: d,
         converged: out.report.converged && solves_the_lcp(residual, tolerance),
@@ -347,6 +260,7 @@ pub fn repeated(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use signorini_contact::norms::{max_abs, natural_map};
     use signorini_report::budget::machine_memory;
 
     #[test]

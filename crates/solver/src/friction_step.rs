@@ -11,12 +11,11 @@ use crate::model::{BodyModel, PointModel};
 use crate::root::{initial_statuses, Interface, RootInput, StepLoad};
 use crate::step::{FrictionStep, StepSolution};
 use crate::{contact_error, SolveError};
-use signorini_contact::friction::kinematic_hardening::{self, Hardened};
-use signorini_contact::friction::{
-    coulomb_fixed_point, coulomb_newton, coulomb_status, predicted_statuses, tresca_projection,
-    tresca_status, FrictionLaw, FrictionLayout, FrictionOptions, PointStatus,
+use signorini_contact::friction::driver::{
+    solve_friction as solve_friction_by, FrictionMethod, FrictionSolver, FrictionStart,
 };
-use signorini_contact::friction3d::friction_3d;
+use signorini_contact::friction::kinematic_hardening::{self, Hardened};
+use signorini_contact::friction::{FrictionLaw, FrictionLayout, FrictionOptions, PointStatus};
 use signorini_contact::registry::FrictionSupport;
 use signorini_contact::{ContactError, ContactSolution, DelassusOperator, DelassusProblem};
 use signorini_scene as scene;
@@ -249,7 +248,7 @@ pub(crate) fn friction_step(
         force_scale: load.f_scale,
         gap_scale: load.length_scale,
     };
-    let (out, name) = solve_friction(input, fr, history, &mut problem, &load, &fopts);
+    let out = solve_friction(input, fr, history, &mut problem, &load, &fopts);
     let mut out = out.map_err(contact_error)?;
     let mut friction = friction_state(interface, fr, history, &out, m);
     prescribed_slip_friction(input, &load, history, &mut friction, &out.forces[..m]);
@@ -267,7 +266,6 @@ pub(crate) fn friction_step(
     history.previous = Some((out.friction.points.clone(), previous_forces));
     out.gaps = gaps;
     out.alpha = vec![];
-    out.report.method = name.into();
     out.report.operator_applications = problem.solves;
     Ok((
         StepSolution {
@@ -285,12 +283,12 @@ pub(crate) fn friction_step(
     ))
 }
 
-type FrictionSolve = (Result<ContactSolution, ContactError>, &'static str);
-
-/// The friction algorithm of the scene on the step's problem, with its name.
-/// A body held by contact alone starts closed at the first step; if that
-/// start is singular (e.g. a corner stuck on one contact and closed on
-/// another along the same DOF), the 2D solves start again from the gaps.
+/// The friction algorithm of the scene on the step's problem, by the
+/// friction driver ([`signorini_contact::friction::driver`]); in 3D the
+/// semi-smooth Newton method (the fixed point is its fallback). A body held
+/// by contact alone starts closed at the first step; if that start is
+/// singular (e.g. a corner stuck on one contact and closed on another along
+/// the same DOF), the 2D solves start again from the gaps.
 fn solve_friction(
     input: &RootInput,
     fr: &FrictionRows,
@@ -298,22 +296,19 @@ fn solve_friction(
     problem: &mut DelassusProblem,
     load: &StepLoad,
     fopts: &FrictionOptions,
-) -> FrictionSolve {
+) -> Result<ContactSolution, ContactError> {
     let (bodies, points) = (input.bodies, input.points);
-    let all_tresca = fr.layout.law.iter().all(|l| l.coulomb_mu().is_none());
+    let asked = match (fr.three_d, input.sc.solver.friction) {
+        (true, _) | (false, scene::FrictionSolver::Newton) => FrictionSolver::Newton,
+        (false, scene::FrictionSolver::Status) => FrictionSolver::Status,
+        (false, scene::FrictionSolver::FixedPoint) => FrictionSolver::FixedPoint,
+    };
+    let dim = if fr.three_d { 3 } else { 2 };
+    let tresca_box = input.algorithm.friction() == FrictionSupport::TrescaBox;
+    let method = FrictionMethod::choose(asked, dim, &fr.layout, tresca_box).ok_or_else(|| {
+        ContactError::Geometry("the friction status method is a 2D method".into())
+    })?;
     let start = history.previous.as_ref().map(|p| p.1.clone());
-    if fr.three_d {
-        let out = friction_3d(problem, &fr.layout, start.as_deref(), fopts);
-        // Coulomb: the Newton method on Coulomb's law, or its fallback.
-        let newton = matches!(&out, Ok(s) if s.report.method == "coulomb_3d_semismooth_newton");
-        let name = match (fr.norton_hoff, all_tresca, newton) {
-            (true, _, _) => "norton_hoff_3d",
-            (false, true, _) => "tresca_3d_semismooth_newton",
-            (false, false, true) => "coulomb_3d_semismooth_newton",
-            (false, false, false) => "coulomb_3d_fixed_point",
-        };
-        return (out, name);
-    }
     let closed = input.sc.solver.tolerance * load.length_scale;
     // Norton–Hoff starts every step from the statuses of the gaps, as its
     // first step does (from the previous step's statuses its second step
@@ -322,53 +317,21 @@ fn solve_friction(
         Some(p) if !fr.norton_hoff => p.0.clone(),
         _ => initial_statuses(bodies, points, &load.gap0, closed, true),
     };
-    let retry_from_gaps = history.previous.is_none() && bodies.iter().any(|b| !b.kernel.is_empty());
-    let solve_2d = |problem: &mut DelassusProblem, initial: Vec<PointStatus>| -> FrictionSolve {
-        let layout = &fr.layout;
-        // The status methods from a cold start without floating bodies:
-        // slip predicted from q.
-        let predict = history.previous.is_none() && problem.n_kernel() == 0;
-        let predicted = |problem: &DelassusProblem, initial: Vec<PointStatus>| {
-            if predict {
-                predicted_statuses(layout, &problem.q, initial, fopts)
-            } else {
-                initial
-            }
+    let retry_from_gaps =
+        !fr.three_d && history.previous.is_none() && bodies.iter().any(|b| !b.kernel.is_empty());
+    // The status methods from a cold start without floating bodies: slip
+    // predicted from q.
+    let predict = history.previous.is_none() && problem.n_kernel() == 0;
+    let solve = |problem: &mut DelassusProblem, statuses: Vec<PointStatus>| {
+        let from = FrictionStart {
+            statuses,
+            forces: start.as_deref(),
+            predict,
         };
-        let newton = input.sc.solver.friction == scene::FrictionSolver::Newton;
-        if fr.norton_hoff {
-            let out = signorini_contact::friction::norton_hoff(problem, layout, initial, fopts);
-            (out, "norton_hoff")
-        } else if newton {
-            let out = coulomb_newton(problem, layout, start.as_deref(), fopts);
-            let name = if all_tresca {
-                "tresca_semismooth_newton"
-            } else {
-                "coulomb_semismooth_newton"
-            };
-            (out, name)
-        } else if all_tresca && input.algorithm.friction() == FrictionSupport::TrescaBox {
-            (
-                tresca_projection(problem, layout, fopts),
-                "tresca_mprgp_box",
-            )
-        } else if all_tresca {
-            (
-                tresca_status(problem, layout, predicted(problem, initial), fopts),
-                "tresca_status",
-            )
-        } else if input.sc.solver.friction == scene::FrictionSolver::Status {
-            (
-                coulomb_status(problem, layout, predicted(problem, initial), fopts),
-                "friction_status",
-            )
-        } else {
-            let out = coulomb_fixed_point(problem, layout, initial, start.as_deref(), fopts);
-            (out, "coulomb_fixed_point")
-        }
+        solve_friction_by(problem, &fr.layout, method, from, fopts).map(|a| a.solution)
     };
-    match solve_2d(problem, initial) {
-        (Err(ContactError::Singular(_)), _) if retry_from_gaps => solve_2d(
+    match solve(problem, initial) {
+        Err(ContactError::Singular(_)) if retry_from_gaps => solve(
             problem,
             initial_statuses(bodies, points, &load.gap0, closed, false),
         ),
@@ -410,20 +373,14 @@ fn friction_state(
             f.slip_increment[pi] = out.gaps[t];
             history.slip_total[pi] += out.gaps[t];
             f.threshold[pi] = fr.layout.law[pi].semi_axes(ln)[0];
-            f.cone_excess[pi] = f.tangential[pi].abs() - f.threshold[pi];
+            f.cone_excess[pi] = fr.layout.law[pi].cone_excess(ln, &[f.tangential[pi]]);
         }
         if let Some(t2) = interface.tangent_row2[pi] {
             f.tangential2[pi] = out.forces[t2];
             f.slip_increment2[pi] = out.gaps[t2];
             history.slip_total2[pi] += out.gaps[t2];
-            let (l1, l2) = (f.tangential[pi], f.tangential2[pi]);
-            f.cone_excess[pi] = match fr.layout.law[pi].coulomb_mu() {
-                Some([mu1, mu2]) if mu1 > 0.0 && mu2 > 0.0 => {
-                    mu1 * (((l1 / mu1).powi(2) + (l2 / mu2).powi(2)).sqrt() - ln.max(0.0))
-                }
-                Some(_) => l1.hypot(l2),
-                None => l1.hypot(l2) - f.threshold[pi],
-            };
+            let lt = [f.tangential[pi], f.tangential2[pi]];
+            f.cone_excess[pi] = fr.layout.law[pi].cone_excess(ln, &lt);
         }
         f.slip_total[pi] = history.slip_total[pi];
         f.slip_total2[pi] = history.slip_total2[pi];

@@ -68,7 +68,7 @@ pub(crate) fn solve_with_algorithm(
         gap_scale: length_scale,
         stiffness: Some(sc.solver.penalty),
     };
-    let uniform = signorini_contact::penalty::uniform_stiffness(&problem.w, sc.solver.penalty);
+    let uniform = signorini_contact::lcp::penalty::uniform_stiffness(&problem.w, sc.solver.penalty);
     let k: Vec<f64> = law_k
         .iter()
         .zip(&uniform)
@@ -125,7 +125,7 @@ fn regularisation_of(
         force_deviation: dev,
         max_penetration: pen,
         penetration_over_element_size: rel,
-        warning: signorini_contact::penalty::penetration_warning(
+        warning: signorini_contact::lcp::penalty::penetration_warning(
             gap,
             &sizes,
             PENETRATION_WARNING_FRACTION,

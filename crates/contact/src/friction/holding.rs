@@ -11,7 +11,7 @@
 //! control), and no friction solver converges: this says so instead.
 
 use crate::delassus::DelassusProblem;
-use crate::friction::FrictionLayout;
+use crate::law::FrictionLayout;
 use crate::solution::StopReason;
 
 /// The relative excess of the load over the capacity below which a mode is

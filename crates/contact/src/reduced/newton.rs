@@ -1,4 +1,4 @@
-//! The semi-smooth Newton system of [`crate::semismooth_newton`] reduced to
+//! The semi-smooth Newton system of [`crate::friction::semismooth_newton`] reduced to
 //! its coupled directions E (columns e_a over one or two rows): with h the
 //! given part of dλ, s the coupled amplitudes and d their compliances,
 //!
@@ -27,7 +27,7 @@
 
 use faer::Mat;
 
-use crate::semismooth_newton::{Dir, NewtonSystem};
+use crate::friction::semismooth_newton::{Dir, NewtonSystem};
 use signorini_linalg::bordered_factor::{block_buffer, BorderedFactor, FactorFailure};
 use signorini_linalg::reduced::{schur_on_g, BlockFactor};
 

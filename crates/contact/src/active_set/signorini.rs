@@ -23,6 +23,7 @@
 //! sparse stiffness with the active constraints ([`crate::direct`]).
 
 use crate::active_set::{drive, scaled_tolerances, Change, Fallback, Regular, StatusRule, Stop};
+pub use crate::options::StatusVariant;
 use crate::solution::{ContactSolution, SolverReport, StatusTrace, StopReason};
 use crate::ContactError;
 
@@ -44,17 +45,6 @@ pub trait ActiveSetSolve {
     ) -> Result<Option<Vec<usize>>, ContactError> {
         Ok(None)
     }
-}
-
-/// How many statuses change per iteration of the status method.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, serde::Serialize)]
-#[serde(rename_all = "snake_case")]
-pub enum StatusVariant {
-    /// Every violated status changes at each iteration.
-    #[default]
-    All,
-    /// Only the most violated status changes (the variant with the proof).
-    Single,
 }
 
 #[derive(Debug, Clone)]

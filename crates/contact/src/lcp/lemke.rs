@@ -42,8 +42,8 @@
 
 use faer::Mat;
 
+use crate::lcp::clamp;
 use crate::lcp::{checked_or_empty, lcp_residual, LcpOptions};
-use crate::projected_gradient::clamp;
 use crate::solution::{ContactSolution, SolverReport, StopReason};
 use crate::ContactError;
 
@@ -134,7 +134,7 @@ pub fn lemke(w: &Mat<f64>, q: &[f64], opts: &LcpOptions) -> Result<ContactSoluti
 
 /// The points with a force in the solution of LCP(W, q) by [`lemke`], with
 /// the equilibrium Gᵀλ = e of floating bodies when G has columns (SMALBE
-/// with Lemke's method inside, [`crate::smalbe`]): the way out of a cycle
+/// with Lemke's method inside, [`crate::lcp::smalbe`]): the way out of a cycle
 /// of the status method, whose next iteration solves on this set and checks
 /// it. `None` when the method did not converge.
 pub(crate) fn pivoted_active_set(
@@ -146,7 +146,7 @@ pub(crate) fn pivoted_active_set(
     let sol = if g.ncols() == 0 {
         lemke(w, q, opts)?
     } else {
-        crate::smalbe::smalbe(w, q, g, e, opts, |wi, qi, _, o| lemke(wi, qi, o))?
+        crate::lcp::smalbe::smalbe(w, q, g, e, opts, |wi, qi, _, o| lemke(wi, qi, o))?
     };
     if !sol.report.converged {
         return Ok(None);
@@ -397,7 +397,7 @@ impl Tableau {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::projected_gradient::test_support::*;
+    use crate::lcp::projected_gradient::test_support::*;
 
     #[test]
     fn lemke_agrees_with_the_status_method() {

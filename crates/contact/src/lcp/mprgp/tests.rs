@@ -2,9 +2,9 @@
 
 use super::*;
 use crate::lcp::lcp_residual;
-use crate::lemke::lemke;
-use crate::projected_gradient::projected_conjugate_gradient;
-use crate::projected_gradient::test_support::{
+use crate::lcp::lemke::lemke;
+use crate::lcp::projected_gradient::projected_conjugate_gradient;
+use crate::lcp::projected_gradient::test_support::{
     agrees_with_status_method, assert_close, edge_cases, inf_norm, random_spd, random_vec,
     redundant_constraints, reports_iteration_limit, tight, Rng,
 };

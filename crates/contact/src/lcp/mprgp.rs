@@ -56,7 +56,7 @@
 //! *polished*: the variables at a bound are fixed, W_FF x_F = −q_F − W_FB x_B
 //! is solved (Cholesky, else full-pivoting LU) and the result is kept only if
 //! it stays in the box and its residual is no larger. The LCP entry points
-//! leave polishing to their callers ([`crate::registry`], [`crate::smalbe`]).
+//! leave polishing to their callers ([`crate::registry`], [`crate::lcp::smalbe`]).
 //!
 //! W may be positive semi-definite (redundant constraints); when f is
 //! unbounded below along a feasible direction (zero curvature, no bound in
@@ -64,8 +64,8 @@
 
 use faer::Mat;
 
+use crate::lcp::clamp;
 use crate::lcp::{check_input, dot, gaps, gaps_into, matvec, spectral_norm_estimate, LcpOptions};
-use crate::projected_gradient::clamp;
 use crate::solution::{BoxPolish, ContactSolution, Measure, MprgpSteps, SolverReport, StopReason};
 use crate::ContactError;
 
@@ -113,7 +113,7 @@ pub fn mprgp(w: &Mat<f64>, q: &[f64], opts: &LcpOptions) -> Result<ContactSoluti
 }
 
 /// [`mprgp`] from a warm start λ0 (its negative entries are set to zero):
-/// the inner solver of [`crate::smalbe`], whose successive problems differ
+/// the inner solver of [`crate::lcp::smalbe`], whose successive problems differ
 /// little. A λ0 of the wrong length or with a non-finite entry is an error.
 pub fn mprgp_from(
     w: &Mat<f64>,

@@ -13,7 +13,7 @@
 //! ```
 //!
 //! i.e. λ_{k+1} solves LCP(W + I/r, q − λ_k/r): a penalty problem (course notes §3.6
-//! with k = r, see [`crate::penalty`]) whose penetration is corrected by the
+//! with k = r, see [`crate::lcp::penalty`]) whose penetration is corrected by the
 //! previous multiplier. It is the proximal-point iteration on the dual
 //! energy, λ_{k+1} = argmin_{λ≥0} ½λᵀWλ + qᵀλ + ‖λ − λ_k‖²/(2r): it
 //! converges for every r > 0, even with W singular (redundant constraints),
@@ -23,7 +23,7 @@
 //! stability.
 //!
 //! Each inner problem is solved exactly by the active-set (semi-smooth
-//! Newton) iteration of [`crate::penalty`] on the symmetric positive definite
+//! Newton) iteration of [`crate::lcp::penalty`] on the symmetric positive definite
 //! blocks W_AA + I/r, warm-started with the previous active set, so it
 //! usually takes one or two Newton steps.
 //!
@@ -34,10 +34,10 @@
 
 use faer::Mat;
 
+use crate::lcp::regularised::regularised_newton;
 use crate::lcp::{
     dual_converged, dual_limit, dual_start, mean_diag, residual_from_gaps, DualStart, LcpOptions,
 };
-use crate::penalty::regularised_newton;
 use crate::solution::{ContactSolution, DualDetail, StopReason};
 use crate::ContactError;
 

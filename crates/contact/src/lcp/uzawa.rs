@@ -150,7 +150,7 @@ mod tests {
 
     #[test]
     fn uzawa_does_not_depend_on_the_units() {
-        crate::projected_gradient::test_support::scale_invariant(uzawa, 1);
+        crate::lcp::projected_gradient::test_support::scale_invariant(uzawa, 1);
     }
 
     #[test]

@@ -19,11 +19,11 @@
 //! ‖λ_t + μ λ_n ‖Δs‖^(ρ−1) Δs‖ is within the tolerance at every closed
 //! point; the map contracts at a rate of order ρ. The law, its threshold,
 //! its misfit and its floor of slip are the 2D ones
-//! ([`crate::friction::NortonHoffLaw`]).
+//! ([`crate::law::norton_hoff::NortonHoffLaw`]).
 
 use super::coulomb::Newton;
 use super::*;
-use crate::friction::NortonHoffLaw;
+use crate::law::norton_hoff::NortonHoffLaw;
 
 /// The inner Tresca problems of Norton–Hoff's fixed point are solved this
 /// many times tighter than the law's tolerance: the misfit is read from
@@ -57,7 +57,7 @@ pub(super) fn norton_hoff_fixed_point(
             })
             .collect()
     };
-    let misfit = |_: &[f64], it: &InnerSolve| law.misfit(it);
+    let misfit = |_: &[f64], it: &InnerSolve| law.misfit(&it.forces, &it.gaps, &it.statuses);
     let map = ThresholdMap {
         threshold: &threshold,
         residual: &misfit,

@@ -26,7 +26,7 @@
 //! min ½ rᵀ W r + qᵀ r over λ_n ≥ 0, λ_t in the disc / ellipse (plus the
 //! equilibrium Gᵀ r = e of floating bodies). It is solved by the semi-smooth
 //! Newton method on the Alart–Curnier projection equations
-//! ([`crate::semismooth_newton`], shared with 2D: unknowns the forces and
+//! ([`crate::friction::semismooth_newton`], shared with 2D: unknowns the forces and
 //! the rigid-mode amplitudes α, each step on the reduced system of its
 //! statuses, an Armijo line search on ½‖F‖² and, without floating bodies,
 //! an accelerated projected-gradient fallback). Coulomb is solved by the
@@ -40,7 +40,8 @@
 //! Coulomb the threshold of an open point is zero.
 
 use crate::delassus::DelassusProblem;
-use crate::friction::{FrictionLayout, FrictionOptions};
+use crate::law::FrictionLayout;
+use crate::options::FrictionOptions;
 use crate::ContactError;
 use crate::ContactSolution;
 
@@ -48,7 +49,7 @@ use crate::ContactSolution;
 /// Coulomb by the semi-smooth Newton method on Coulomb's law itself (no
 /// outer fixed point), and where that does not converge by the fixed point
 /// on the thresholds g ← μ λ_n (course notes §4.3, [`coulomb_3d_fixed_point`]);
-/// see [`crate::semismooth_newton::friction_newton`] for the start, the
+/// see [`crate::friction::semismooth_newton::friction_newton`] for the start, the
 /// stops and the rigid-mode amplitudes of floating bodies.
 pub fn friction_3d(
     problem: &mut DelassusProblem,
@@ -56,7 +57,7 @@ pub fn friction_3d(
     start: Option<&[f64]>,
     opts: &FrictionOptions,
 ) -> Result<ContactSolution, ContactError> {
-    crate::semismooth_newton::friction_newton(problem, layout, start, opts, 3, true)
+    crate::friction::semismooth_newton::friction_newton(problem, layout, start, opts, 3, true)
 }
 
 /// Friction in 3D with Coulomb by the fixed point on the thresholds
@@ -69,7 +70,7 @@ pub fn coulomb_3d_fixed_point(
     start: Option<&[f64]>,
     opts: &FrictionOptions,
 ) -> Result<ContactSolution, ContactError> {
-    crate::semismooth_newton::friction_newton(problem, layout, start, opts, 3, false)
+    crate::friction::semismooth_newton::friction_newton(problem, layout, start, opts, 3, false)
 }
 
 #[cfg(test)]

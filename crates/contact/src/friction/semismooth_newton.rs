@@ -41,11 +41,13 @@ use faer::prelude::Solve;
 use faer::Mat;
 
 use crate::delassus::DelassusProblem;
-use crate::fixed_point::{
+use crate::friction::fixed_point::{
     fixed_point, normal_change, FixedPoint, InnerSolve, ThresholdMap, TrescaSolver,
 };
-use crate::friction::{FrictionLayout, FrictionOptions, PointStatus};
-use crate::solution::{ContactSolution, StopReason, ThresholdMapKind};
+use crate::law::cone::project_ellipse;
+use crate::law::FrictionLayout;
+use crate::options::FrictionOptions;
+use crate::solution::{ContactSolution, PointStatus, StopReason, ThresholdMapKind};
 use crate::ContactError;
 use signorini_linalg::reduced::VarEquation;
 
@@ -144,45 +146,6 @@ impl NewtonSystem {
         }
         (jac, rhs)
     }
-}
-
-/// Projection of x on the ellipse (x1/a1)² + (x2/a2)² ≤ 1 (Euclidean; a
-/// semi-axis may be zero, both infinite means no bound).
-fn project_ellipse(x: [f64; 2], a: [f64; 2]) -> [f64; 2] {
-    if a[0].is_infinite() || a[1].is_infinite() {
-        return x;
-    }
-    match (a[0] > 0.0, a[1] > 0.0) {
-        (false, false) => return [0.0, 0.0],
-        (false, true) => return [0.0, x[1].clamp(-a[1], a[1])],
-        (true, false) => return [x[0].clamp(-a[0], a[0]), 0.0],
-        _ => {}
-    }
-    if (x[0] / a[0]).powi(2) + (x[1] / a[1]).powi(2) <= 1.0 {
-        return x;
-    }
-    // f(t) = Σ (a_i x_i / (a_i² + t))² − 1, decreasing and convex on t ≥ 0:
-    // Newton from t = 0 converges monotonically to its root.
-    let mut t = 0.0f64;
-    for _ in 0..200 {
-        let mut f = -1.0;
-        let mut df = 0.0;
-        for i in 0..2 {
-            let d = a[i] * a[i] + t;
-            let v = a[i] * x[i] / d;
-            f += v * v;
-            df -= 2.0 * v * v / d;
-        }
-        let step = -f / df;
-        if !step.is_finite() || step <= 1e-16 * t.max(f64::MIN_POSITIVE) {
-            break;
-        }
-        t += step;
-    }
-    [
-        a[0] * a[0] * x[0] / (a[0] * a[0] + t),
-        a[1] * a[1] * x[1] / (a[1] * a[1] + t),
-    ]
 }
 
 /// The trial z = D⁺ λ_t − c D Δs of a point's rows in the unit disc

@@ -3,6 +3,10 @@
 
 use crate::ContactError;
 
+pub mod cone;
+pub mod norton_hoff;
+pub use cone::natural_residual;
+
 /// The friction law of one contact point (course notes §4.1).
 ///
 /// One Coulomb variant carries the coefficients along the two tangents,
@@ -46,6 +50,11 @@ impl FrictionLaw {
             FrictionLaw::Coulomb { mu } => Some(mu),
             _ => None,
         }
+    }
+
+    /// Whether it is Norton–Hoff's law.
+    pub fn is_norton_hoff(&self) -> bool {
+        matches!(self, FrictionLaw::NortonHoff { .. })
     }
 
     /// The semi-axes (g1, g2) of the admissible tangential forces with the
@@ -117,8 +126,7 @@ impl FrictionLayout {
 
     /// Whether a point with tangential rows has a Norton–Hoff law.
     pub fn has_norton_hoff(&self) -> bool {
-        let nh = |l: &FrictionLaw| matches!(l, FrictionLaw::NortonHoff { .. });
-        (self.law.iter().zip(&self.tangent_rows)).any(|(l, t)| !t.is_empty() && nh(l))
+        (self.law.iter().zip(&self.tangent_rows)).any(|(l, t)| !t.is_empty() && l.is_norton_hoff())
     }
 
     /// The semi-axes of each point's admissible set of tangential forces,

@@ -23,13 +23,13 @@
 //! round-off in the recursively updated gradient cannot fake convergence).
 //!
 //! The helpers at the end of this file (input checks, products with W, the
-//! residual from a known gradient) are shared with [`crate::lemke`] and
-//! [`crate::mprgp`].
+//! residual from a known gradient) are shared with [`crate::lcp::lemke`] and
+//! [`crate::lcp::mprgp`].
 
 use faer::Mat;
 
 use crate::lcp::{
-    checked_or_empty, dot, energy_of, gaps_into, lcp_residual, matvec, residual_from_gaps,
+    checked_or_empty, clamp, dot, energy_of, gaps_into, lcp_residual, matvec, residual_from_gaps,
     LcpOptions,
 };
 use crate::solution::{ContactSolution, Measure, SolverReport, StopReason};
@@ -452,14 +452,6 @@ fn blocking_index(lambda_after: &[f64], d: &[f64]) -> Option<usize> {
     (0..d.len())
         .filter(|&p| d[p] < 0.0)
         .min_by(|&a, &b| lambda_after[a].total_cmp(&lambda_after[b]).then(a.cmp(&b)))
-}
-
-/// max(λ, 0) entry by entry (removes −0.0 and round-off below zero).
-pub(crate) fn clamp(mut lambda: Vec<f64>) -> Vec<f64> {
-    for v in &mut lambda {
-        *v = if *v > 0.0 { *v } else { 0.0 };
-    }
-    lambda
 }
 
 /// Recomputes the gaps exactly (one product) and checks the residual with

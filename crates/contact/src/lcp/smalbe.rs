@@ -423,9 +423,9 @@ fn polish(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::mprgp::mprgp_from;
-    use crate::projected_gradient::test_support::{random_spd, random_vec, tight, Rng};
-    use crate::status::status_method;
+    use crate::active_set::signorini::status_method;
+    use crate::lcp::mprgp::mprgp_from;
+    use crate::lcp::projected_gradient::test_support::{random_spd, random_vec, tight, Rng};
     use crate::DelassusProblem;
     use faer::prelude::Solve;
 
@@ -536,7 +536,7 @@ mod tests {
         let sol = smalbe(&w, &q, &g, &[], &tight(), inner_mprgp).unwrap();
         assert!(sol.report.converged);
         assert_eq!(sol.report.iterations, 1);
-        let direct = crate::mprgp::mprgp(&w, &q, &tight()).unwrap();
+        let direct = crate::lcp::mprgp::mprgp(&w, &q, &tight()).unwrap();
         let d = sol
             .forces
             .iter()

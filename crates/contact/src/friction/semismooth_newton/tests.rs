@@ -4,11 +4,11 @@
 
 use faer::Mat;
 
+use crate::friction::friction3d::{coulomb_3d_fixed_point, friction_3d};
 use crate::friction::{
     coulomb_fixed_point, coulomb_newton, coulomb_status, FrictionLaw, FrictionLayout,
     FrictionOptions, PointStatus,
 };
-use crate::friction3d::{coulomb_3d_fixed_point, friction_3d};
 use crate::test_problems::{random_spd, XorShift};
 
 use super::{Inner, NewtonSystem, Scale};

@@ -19,8 +19,8 @@
 //!   g ← μ λ_n with the change of the normal forces ([`normal_change`]),
 //!   or Norton–Hoff's map with its misfit.
 
-use crate::friction::{FrictionOptions, PointStatus};
-use crate::solution::{ContactSolution, SolverReport, StopReason, ThresholdMapKind};
+use crate::options::FrictionOptions;
+use crate::solution::{ContactSolution, PointStatus, SolverReport, StopReason, ThresholdMapKind};
 use crate::ContactError;
 
 /// One solve of a Tresca problem (fixed thresholds): the forces and gaps of
