@@ -3,8 +3,7 @@
 //! functions at the closest point (they sum to 1) and, for the "outside the
 //! master" test, which sides of the primitive the point lies beyond.
 
-use crate::pairing::unit;
-use signorini_mesh::vec3::{cross, dot, norm, sub};
+use signorini_mesh::vec3::{cross, dot, norm, sub, unit};
 
 /// Relative tolerance of the "beyond this side" tests: 10⁻⁶ of the
 /// primitive's parameter range (segment ξ ∈ [0, 1], triangle barycentric
@@ -316,10 +315,19 @@ pub(super) fn quad_normal(p: &[[f64; 3]; 4], xi_eta: [f64; 2]) -> Option<[f64; 3
     unit(cross(combine(dxi, p), combine(deta, p)))
 }
 
+/// The planar trapezoid (0,0) (4,0) (3,2) (1,2) in z = 0 of the tests: its
+/// bilinear map x(ξ, η) is not affine.
+#[cfg(test)]
+pub(crate) const TRAPEZOID: [[f64; 3]; 4] = [
+    [0.0, 0.0, 0.0],
+    [4.0, 0.0, 0.0],
+    [3.0, 2.0, 0.0],
+    [1.0, 2.0, 0.0],
+];
+
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::pairing::TRAPEZOID;
 
     #[test]
     fn triangle_regions() {

@@ -13,6 +13,7 @@
 //! contact algorithms, MPI or the command line.
 
 mod closest;
+mod error;
 pub mod mortar;
 pub mod mortar3d;
 pub mod pairing;
@@ -20,11 +21,5 @@ mod ray;
 pub mod redundancy;
 mod search;
 
+pub use error::GeometryError;
 pub use pairing::{ContactPoint, MasterGeometry, NormalRule, Term, TermSide};
-
-/// A contact pair whose geometry cannot give contact points: the message
-/// names what is wrong (a master with no facet, meshes of different
-/// dimensions, a slave node at a sphere's centre...).
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
-#[error("{0}")]
-pub struct GeometryError(pub String);

@@ -58,10 +58,10 @@ use signorini_mesh::vec3::{dot, norm, sub};
 use signorini_mesh::{Mesh, Surface};
 use std::collections::BTreeMap;
 
+use crate::error::GeometryError;
 use crate::pairing::{
     nodal_normals, search_distance, ContactPoint, Dropped, MasterGeometry, Pairing, Term,
 };
-use crate::GeometryError;
 use edge::{Edge, SlaveEdge};
 
 /// Gauss–Legendre points and weights on [0, 1] (4 points: exact to degree 7).

@@ -56,9 +56,9 @@ use signorini_mesh::vec3::{dot, norm, sub};
 use signorini_mesh::{Mesh, Surface};
 use std::collections::BTreeMap;
 
+use crate::error::GeometryError;
 use crate::mortar::{mortar_master, mortar_points, MortarInput, MortarPairing};
 use crate::pairing::{meet_face, nodal_normals, search_distance, FacetSearch, MasterGeometry};
-use crate::GeometryError;
 use clipping::{clip, counter_clockwise, polygon_rule, signed_area, AuxPlane, Point2};
 
 /// Relative area (of a slave face) below which a clipped overlap is ignored:

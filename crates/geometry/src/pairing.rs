@@ -34,12 +34,12 @@
 //! zero. In 3D (`tangent`, `tangent2`, `normal`) is a right-handed
 //! orthonormal frame built from n alone, see [`tangent_frame`].
 
-use signorini_mesh::vec3::{cross, dot, norm, sub};
+use signorini_mesh::vec3::{cross, dot, norm, sub, unit};
 use signorini_mesh::{Mesh, Surface};
 
+use crate::error::GeometryError;
 use crate::ray;
 use crate::search::{self, is_3d, MasterIndex, NodeIndex};
-use crate::GeometryError;
 
 /// Rule that chooses the contact normal (course notes §2.4, Fig. 3).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -148,21 +148,6 @@ impl Term {
             weight: -weight,
         }
     }
-}
-
-/// The planar trapezoid (0,0) (4,0) (3,2) (1,2) in z = 0 of the tests: its
-/// bilinear map x(ξ, η) is not affine.
-#[cfg(test)]
-pub(crate) const TRAPEZOID: [[f64; 3]; 4] = [
-    [0.0, 0.0, 0.0],
-    [4.0, 0.0, 0.0],
-    [3.0, 2.0, 0.0],
-    [1.0, 2.0, 0.0],
-];
-
-pub(crate) fn unit(a: [f64; 3]) -> Option<[f64; 3]> {
-    let l = norm(a);
-    (l > 0.0 && l.is_finite()).then(|| [a[0] / l, a[1] / l, a[2] / l])
 }
 
 /// Tangents of a 3D unit normal n: `t1` is the global axis e_k least aligned

@@ -20,10 +20,9 @@ use rstar::{RTree, RTreeObject, SelectionFunction, AABB};
 use signorini_mesh::{Facet, Mesh, Surface};
 
 use crate::closest::{self, Closest};
-use crate::pairing::unit;
+use crate::error::GeometryError;
 use crate::ray;
-use crate::GeometryError;
-use signorini_mesh::vec3::{dot, norm, sub};
+use signorini_mesh::vec3::{dot, norm, sub, unit};
 
 type Boxed = GeomWithData<Rectangle<[f64; 3]>, usize>;
 

@@ -16,6 +16,12 @@ pub fn norm(a: [f64; 3]) -> f64 {
     dot(a, a).sqrt()
 }
 
+/// `a / |a|`, or `None` when `a` is zero or not finite.
+pub fn unit(a: [f64; 3]) -> Option<[f64; 3]> {
+    let l = norm(a);
+    (l > 0.0 && l.is_finite()).then(|| [a[0] / l, a[1] / l, a[2] / l])
+}
+
 /// The cross product `a × b`.
 pub fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
     [

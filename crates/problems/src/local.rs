@@ -341,9 +341,23 @@ mod tests {
 
     use crate::problem_file::npy_bytes as npy;
 
+    /// Writes an .npz archive of the named arrays (`.npy` bytes).
+    fn write_npz(
+        path: &std::path::Path,
+        arrays: &[(&str, &[u8])],
+        o: zip::write::SimpleFileOptions,
+    ) {
+        use std::io::Write;
+        let mut z = zip::ZipWriter::new(std::fs::File::create(path).unwrap());
+        for (name, bytes) in arrays {
+            z.start_file(*name, o).unwrap();
+            z.write_all(bytes).unwrap();
+        }
+        z.finish().unwrap();
+    }
+
     #[test]
     fn npz_problem_in_either_order_gives_the_json_answer() {
-        use std::io::Write;
         let dir = std::env::temp_dir().join(format!("signorini-npz-{}", std::process::id()));
         std::fs::create_dir_all(&dir).unwrap();
         // W = [[4, 1, 0], [1, 3, 1], [0, 1, 2]] is symmetric: both orders store the same bytes,
@@ -352,14 +366,10 @@ mod tests {
         let q = [-1.0, 0.5, -2.0];
         for fortran in [false, true] {
             let path = dir.join(format!("p{fortran}.npz"));
-            let mut z = zip::ZipWriter::new(std::fs::File::create(&path).unwrap());
             let o = zip::write::SimpleFileOptions::default()
                 .compression_method(zip::CompressionMethod::Deflated);
-            z.start_file("W.npy", o).unwrap();
-            z.write_all(&npy(&[3, 3], fortran, &w)).unwrap();
-            z.start_file("q.npy", o).unwrap();
-            z.write_all(&npy(&[3], false, &q)).unwrap();
-            z.finish().unwrap();
+            let (w_npy, q_npy) = (npy(&[3, 3], fortran, &w), npy(&[3], false, &q));
+            write_npz(&path, &[("W.npy", &w_npy), ("q.npy", &q_npy)], o);
             let p = load(&path, machine_memory()).unwrap();
             let r = solve(
                 "p",
@@ -382,11 +392,8 @@ mod tests {
             assert!(l[0] > 0.0 && l[2] > 0.0);
         }
         let bad = dir.join("bad.npz");
-        let mut z = zip::ZipWriter::new(std::fs::File::create(&bad).unwrap());
-        z.start_file("q.npy", zip::write::SimpleFileOptions::default())
-            .unwrap();
-        z.write_all(&npy(&[3], false, &q)).unwrap();
-        z.finish().unwrap();
+        let q_npy = npy(&[3], false, &q);
+        write_npz(&bad, &[("q.npy", &q_npy)], Default::default());
         assert!(load(&bad, machine_memory())
             .unwrap_err()
             .contains("no array named W"));
@@ -397,18 +404,11 @@ mod tests {
     /// or a huge allocation.
     #[test]
     fn npz_shapes_that_lie_are_refused() {
-        use std::io::Write;
         let dir = std::env::temp_dir().join(format!("signorini-npz-lies-{}", std::process::id()));
         std::fs::create_dir_all(&dir).unwrap();
         let write = |name: &str, w: Vec<u8>, q: Vec<u8>| {
             let path = dir.join(name);
-            let mut z = zip::ZipWriter::new(std::fs::File::create(&path).unwrap());
-            let o = zip::write::SimpleFileOptions::default();
-            z.start_file("W.npy", o).unwrap();
-            z.write_all(&w).unwrap();
-            z.start_file("q.npy", o).unwrap();
-            z.write_all(&q).unwrap();
-            z.finish().unwrap();
+            write_npz(&path, &[("W.npy", &w), ("q.npy", &q)], Default::default());
             load(&path, machine_memory()).unwrap_err()
         };
         let q3 = npy(&[3], false, &[1.0, 2.0, 3.0]);

@@ -18,21 +18,9 @@ pub fn loglog_svg(
     y_label: &str,
     series: &[Series],
 ) -> Result<(), String> {
-    let pts: Vec<(f64, f64)> = series
-        .iter()
-        .flat_map(|s| s.points.iter().copied())
-        .filter(|(x, y)| *x > 0.0 && *y > 0.0 && x.is_finite() && y.is_finite())
-        .collect();
-    if pts.is_empty() {
+    let Some((x0, x1, y0, y1)) = extent(series, |x, y| x > 0.0 && y > 0.0) else {
         return Err(format!("{title}: nothing positive to plot"));
-    }
-    let (mut x0, mut x1, mut y0, mut y1) = (f64::INFINITY, 0.0f64, f64::INFINITY, 0.0f64);
-    for (x, y) in &pts {
-        x0 = x0.min(*x);
-        x1 = x1.max(*x);
-        y0 = y0.min(*y);
-        y1 = y1.max(*y);
-    }
+    };
     let pad = |lo: f64, hi: f64| {
         if hi > lo * 1.01 {
             (lo / 1.5, hi * 1.5)
@@ -62,6 +50,22 @@ pub fn loglog_svg(
         ((x0..x1).log_scale(), (y0..y1).log_scale()),
         lines,
         Some(SeriesLabelPosition::UpperRight),
+    )
+}
+
+/// The smallest and largest x and y, (x0, x1, y0, y1), of the series'
+/// finite points that `keep` accepts; `None` when there is none.
+fn extent(series: &[Series], keep: impl Fn(f64, f64) -> bool) -> Option<(f64, f64, f64, f64)> {
+    let mut pts = (series.iter())
+        .flat_map(|s| s.points.iter().copied())
+        .filter(|&(x, y)| x.is_finite() && y.is_finite() && keep(x, y))
+        .peekable();
+    pts.peek()?;
+    let inf = f64::INFINITY;
+    Some(
+        pts.fold((inf, -inf, inf, -inf), |(x0, x1, y0, y1), (x, y)| {
+            (x0.min(x), x1.max(x), y0.min(y), y1.max(y))
+        }),
     )
 }
 
@@ -134,26 +138,9 @@ pub fn linear_svg(
     y_label: &str,
     series: &[Series],
 ) -> Result<(), String> {
-    let pts: Vec<(f64, f64)> = series
-        .iter()
-        .flat_map(|s| s.points.iter().copied())
-        .filter(|(x, y)| x.is_finite() && y.is_finite())
-        .collect();
-    if pts.is_empty() {
+    let Some((x0, x1, y0, y1)) = extent(series, |_, _| true) else {
         return Err(format!("{title}: nothing to plot"));
-    }
-    let (mut x0, mut x1, mut y0, mut y1) = (
-        f64::INFINITY,
-        f64::NEG_INFINITY,
-        f64::INFINITY,
-        f64::NEG_INFINITY,
-    );
-    for (x, y) in &pts {
-        x0 = x0.min(*x);
-        x1 = x1.max(*x);
-        y0 = y0.min(*y);
-        y1 = y1.max(*y);
-    }
+    };
     let pad = |lo: f64, hi: f64| {
         let d = (hi - lo).abs().max(1e-300 + 1e-9 * hi.abs().max(lo.abs()));
         (lo - 0.08 * d, hi + 0.08 * d)

@@ -383,6 +383,18 @@ mod tests {
             .collect()
     }
 
+    /// Hertz's pressure p and Mindlin's shear q at distance `x` from the
+    /// centre of a contact of half-width `a`, peak `p0` and stick zone `c`:
+    /// q = μ p less the stick zone's μ p0 (c/a) sqrt(1 − (x/c)²).
+    fn mindlin_traction(x: f64, a: f64, p0: f64, c: f64, mu: f64) -> (f64, f64) {
+        let pe = p0 * (1.0 - (x / a).powi(2)).max(0.0).sqrt();
+        let mut q = mu * pe;
+        if x < c {
+            q -= mu * p0 * (c / a) * (1.0 - (x / c).powi(2)).max(0.0).sqrt();
+        }
+        (pe, q)
+    }
+
     /// The analytic Cattaneo–Mindlin traction, sampled finely, gives back c.
     #[test]
     fn cattaneo_mindlin_profile_sampled_finely_recovers_the_stick_zone() {
@@ -390,11 +402,7 @@ mod tests {
         let (a, p0) = hertz_cylinder_exact(p, e_star, r);
         let c = a * (1.0f64 - ratio).sqrt();
         let nodes = sampled(a, 4001, |x, w| {
-            let pe = p0 * (1.0 - (x / a).powi(2)).max(0.0).sqrt();
-            let mut q = mu * pe;
-            if x.abs() < c {
-                q -= mu * p0 * (c / a) * (1.0 - (x / c).powi(2)).max(0.0).sqrt();
-            }
+            let (pe, q) = mindlin_traction(x.abs(), a, p0, c, mu);
             NodalPressure {
                 s: x,
                 force: pe * w,
@@ -431,11 +439,7 @@ mod tests {
                 let x = i as f64 * h;
                 let (lo, hi) = ((x - h / 2.0).max(0.0), (x + h / 2.0).min(a));
                 let w = std::f64::consts::PI * (hi * hi - lo * lo);
-                let pe = p0 * (1.0 - (x / a).powi(2)).max(0.0).sqrt();
-                let mut q = mu * pe;
-                if x < c {
-                    q -= mu * p0 * (c / a) * (1.0 - (x / c).powi(2)).max(0.0).sqrt();
-                }
+                let (pe, q) = mindlin_traction(x, a, p0, c, mu);
                 NodalPressure {
                     s: x,
                     force: pe * w,

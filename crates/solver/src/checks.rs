@@ -2,12 +2,21 @@
 //! one its contacts can balance (they only push), and, on a flat frictional
 //! contact under force control, within what friction can hold.
 
+use crate::error::SolveError;
 use crate::model::{BodyModel, PointModel};
-use crate::{inf_norm, SolveError};
 use faer::Mat;
 use signorini_contact::equilibrium::nnls;
 use signorini_contact::friction::FrictionLaw;
 use signorini_scene as scene;
+
+/// The fraction of the local element size (tributary length) beyond which a
+/// penalty penetration is warned about.
+pub const PENETRATION_WARNING_FRACTION: f64 = 0.01;
+
+/// ‖v‖∞ (0 for an empty v, NaN when some vᵢ is NaN).
+pub(crate) fn inf_norm(v: &[f64]) -> f64 {
+    signorini_contact::norms::max_abs(v)
+}
 
 /// A body held by contact needs compressive contact forces that balance the
 /// load on its free rigid motions: Gᵀλ = e with λ ≥ 0, G = B R, e = −Rᵀ F

@@ -1,11 +1,11 @@
 //! The comparison of a run with its analytic reference (docs/theory/validation-cases.md):
 //! the nodal pressures and forces handed to `signorini_report::reference`.
 
-use crate::certify::nodal_pressures;
+use crate::error::SolveError;
 use crate::model::PointModel;
+use crate::pressure::nodal_pressures;
 use crate::root::point_force;
 use crate::step::FrictionStep;
-use crate::SolveError;
 use signorini_contact::friction::PointStatus;
 use signorini_report::{reference, StepReport};
 use signorini_scene as scene;

@@ -248,12 +248,20 @@ impl LocalFrames {
 
     /// The entries of column l of T (u = T ũ): (row, value).
     fn t_col(&self, l: usize) -> Vec<(usize, f64)> {
+        self.t_line(l, false)
+    }
+
+    /// The entries of column l of T (`row` false: (row, value)) or of its
+    /// row l (`row` true: (column, value)); T is block diagonal, a node's
+    /// block its frame Q, or 1 where the node has none.
+    fn t_line(&self, l: usize, row: bool) -> Vec<(usize, f64)> {
         let (dim, node, k) = (self.dim, l / self.dim, l % self.dim);
         match self.normal[node] {
             None => vec![(l, 1.0)],
             Some(n) => {
                 let q = basis(n, dim);
-                (0..dim).map(|d| (dim * node + d, q[d][k])).collect()
+                let entry = |d: usize| if row { q[k][d] } else { q[d][k] };
+                (0..dim).map(|d| (dim * node + d, entry(d))).collect()
             }
         }
     }
@@ -347,16 +355,7 @@ impl LocalFrames {
         k: faer::sparse::SparseColMatRef<'_, usize, f64>,
     ) -> Result<faer::sparse::SparseColMat<usize, f64>, String> {
         // Tᵀ e_i = row i of T: (column k, Q[d][k]) for the node of i.
-        let t_row = |i: usize| -> Vec<(usize, f64)> {
-            let (dim, node, d) = (self.dim, i / self.dim, i % self.dim);
-            match self.normal[node] {
-                None => vec![(i, 1.0)],
-                Some(n) => {
-                    let q = basis(n, dim);
-                    (0..dim).map(|c| (dim * node + c, q[d][c])).collect()
-                }
-            }
-        };
+        let t_row = |i: usize| self.t_line(i, true);
         let mut t = Vec::with_capacity(k.compute_nnz());
         for j in 0..k.ncols() {
             let tj = t_row(j);

@@ -4,15 +4,17 @@
 //! benchmark condensation.
 
 use crate::checks::check_floating_equilibrium;
+use crate::checks::inf_norm;
+use crate::conditioning;
+use crate::error::{contact_error, SolveError};
 use crate::kkt::{DirectProblem, KktSystem};
-use crate::model::{BodyModel, FixedPoint, PointModel};
-use crate::pipeline::RunContext;
+use crate::model::{gaps_of, BodyModel, FixedPoint, PointModel};
 use crate::progress::Phase;
 use crate::root::{body_step, length_scale, resultant, status_options, status_report, step_gaps};
+use crate::run_context::RunContext;
 use crate::step::{Residuals, StepSolution};
 use crate::step_end::StepLoop;
 use crate::timing::timed;
-use crate::{conditioning, contact_error, inf_norm, SolveError};
 use faer::sparse::SparseColMat;
 use signorini_condense::{spmv, spmv_with_magnitude, submatrix};
 use signorini_contact::status_method;
@@ -290,14 +292,6 @@ fn direct_loads(bodies: &[BodyModel], system: &DirectSystem, st: &[Vec<f64>]) ->
         forces,
         f_scale,
     }
-}
-
-/// g_p = g0_p + Σ coef u over the full DOFs.
-pub(crate) fn gaps_of(points: &[PointModel], u_full: &[Vec<f64>]) -> Vec<f64> {
-    points
-        .iter()
-        .map(|p| p.gap0 + p.row.iter().map(|&(b, d, c)| c * u_full[b][d]).sum::<f64>())
-        .collect()
 }
 
 /// Equilibrium residual of the direct path on the free DOFs of every body:

@@ -7,10 +7,10 @@
 //! [`signorini_contact::contact_elements`]; the slip history g goes from
 //! step to step.
 
+use crate::error::{contact_error, SolveError};
 use crate::friction_step::row_gaps;
 use crate::interface_problem::{Interface, RootInput, StepLoad};
 use crate::step::{FrictionStep, StepSolution};
-use crate::{contact_error, SolveError};
 use signorini_contact::contact_elements::{self, ContactElement, ElementOptions, SlipThreshold};
 use signorini_contact::friction::{FrictionLaw, PointStatus};
 use signorini_contact::{ContactSolution, DelassusOperator};

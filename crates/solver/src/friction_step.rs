@@ -7,10 +7,10 @@
 //! force, [`signorini_contact::friction::kinematic_hardening`]), and the slip
 //! history carried to the next step.
 
+use crate::error::{contact_error, SolveError};
 use crate::interface_problem::{initial_statuses, Interface, RootInput, StepLoad};
 use crate::model::{BodyModel, PointModel};
 use crate::step::{FrictionStep, StepSolution};
-use crate::{contact_error, SolveError};
 use signorini_contact::friction::driver::{
     solve_friction as solve_friction_by, FrictionMethod, FrictionSolver, FrictionStart,
 };

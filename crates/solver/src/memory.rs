@@ -58,7 +58,7 @@ use signorini_scene as scene;
 
 pub use signorini_report::budget::{human, machine_memory, parse_size, Budget, GIB};
 
-use crate::SolveError;
+use crate::error::SolveError;
 
 /// What the process holds before any mesh (code, libraries, buffers, the
 /// threads' stacks): 24 MiB keeps the smallest measured runs (11k-DOF 2D

@@ -12,7 +12,7 @@ use signorini_mesh::generators::{
 use signorini_mesh::{CellKind, Mesh};
 use signorini_scene as scene;
 
-use crate::SolveError;
+use crate::error::SolveError;
 
 mod contacts;
 mod slave_choice;
@@ -659,4 +659,12 @@ fn free_modes_of_part(modes: &[Vec<f64>], dofs: &[usize], prescribed: &[bool]) -
         kernel.push(r);
     }
     kernel
+}
+
+/// g_p = g0_p + Σ coef u over the full DOFs.
+pub(crate) fn gaps_of(points: &[PointModel], u_full: &[Vec<f64>]) -> Vec<f64> {
+    points
+        .iter()
+        .map(|p| p.gap0 + p.row.iter().map(|&(b, d, c)| c * u_full[b][d]).sum::<f64>())
+        .collect()
 }

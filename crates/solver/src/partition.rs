@@ -4,9 +4,10 @@
 //! interface Γ.
 
 use crate::contact_frames::ContactFrames;
+use crate::error::SolveError;
 use crate::model::{BodyModel, FixedPoint, PointModel};
 use crate::subdomain::SubdomainSpec;
-use crate::{memory, model, subdomain, SolveError};
+use crate::{memory, model, subdomain};
 use signorini_scene as scene;
 
 /// What the model and partition stages build, on every rank alike.

@@ -9,15 +9,14 @@
 use crate::certify::{condensed_sizes, condensed_step, finish_report};
 use crate::checks::check_held_by_contacts;
 use crate::direct_path::run_direct;
+use crate::error::{wire, SolveError};
 use crate::interface_problem::RootInput;
+use crate::options::{RunEnvironment, RunOptions};
 use crate::root::{take_interface_stiffness, RootSolve};
 use crate::step::Partial;
 use crate::step_end::StepLoop;
 use crate::subdomain::{CondensedData, RecoveredStep, Subdomain, SubdomainSpec};
-use crate::{
-    conditioning, memory, model, partition, pieces, plan, wire, RunEnvironment, RunOptions,
-    SolveError,
-};
+use crate::{conditioning, memory, model, partition, pieces, plan};
 use serde::{Deserialize, Serialize};
 use signorini_comm::{broadcast, deal, gather, Transport};
 use signorini_report::results::RunOutput;
@@ -27,28 +26,8 @@ use signorini_scene as scene;
 use std::time::Instant;
 
 use crate::progress::{Event, Phase, Progress};
+use crate::run_context::{RunContext, RunLog};
 use crate::timing::timed;
-
-/// What a run keeps for its report as it goes.
-pub(crate) struct RunLog {
-    pub t_total: Instant,
-    pub timings: Timings,
-    pub messages: Vec<String>,
-    pub stages: Vec<String>,
-}
-
-/// What every stage after the model stage reads of the run: the scene, its
-/// name, the plan, the model and the transport.
-#[derive(Clone, Copy)]
-pub(crate) struct RunContext<'a> {
-    pub sc: &'a scene::Scene,
-    /// Who hears of the run's progress.
-    pub progress: &'a Progress,
-    pub scene_name: &'a str,
-    pub plan: &'a plan::Plan,
-    pub model: &'a partition::ModelData,
-    pub comm: &'a dyn Transport,
-}
 
 /// Per-rank figures for the report (report.json `rank_stats`).
 #[derive(Serialize, Deserialize, Clone, Default)]

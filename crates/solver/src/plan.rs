@@ -3,7 +3,8 @@
 //! friction and regularised laws with the methods that solve them).
 
 use crate::element_step::{check_return_mapping, uses_return_mapping};
-use crate::{RunOptions, SolveError};
+use crate::error::SolveError;
+use crate::options::RunOptions;
 use signorini_contact::registry::{Algorithm, Constraints, FrictionSupport};
 use signorini_contact::StatusVariant;
 use signorini_scene as scene;

@@ -149,14 +149,14 @@ mod tests {
         let sc = signorini_scene::parse_toml(include_str!("../../../examples/blocks.toml"))
             .expect("the example parses");
         let log = Arc::new(Log(std::thread::current().id(), Mutex::new(Vec::new())));
-        let env = crate::RunEnvironment {
+        let env = crate::options::RunEnvironment {
             observer: Some(log.clone()),
-            ..crate::RunEnvironment::machine()
+            ..crate::options::RunEnvironment::machine()
         };
-        let out = crate::run_with(
+        let out = crate::pipeline::run_with(
             &sc,
             "blocks",
-            &crate::RunOptions::default(),
+            &crate::options::RunOptions::default(),
             &env,
             &signorini_comm::Local,
         );
@@ -177,10 +177,10 @@ mod tests {
         assert!(order.iter().all(|p| p.is_some()), "{events:?}");
         assert!(order.windows(2).all(|w| w[0] < w[1]), "{events:?}");
         let n = events.len();
-        let _ = crate::run(
+        let _ = crate::pipeline::run(
             &sc,
             "blocks",
-            &crate::RunOptions::default(),
+            &crate::options::RunOptions::default(),
             &signorini_comm::Local,
         );
         assert_eq!(log.1.lock().map(|l| l.len()).unwrap_or(0), n);

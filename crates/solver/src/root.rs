@@ -2,8 +2,10 @@
 //! assembled on Γ, the Delassus operator built once, and each load step's
 //! contact problem solved by the chosen algorithm (course notes §3–4).
 
-use crate::checks::check_floating_equilibrium;
+use crate::checks::{check_floating_equilibrium, inf_norm, PENETRATION_WARNING_FRACTION};
+use crate::conditioning;
 use crate::element_step::{element_step, ElementHistory};
+use crate::error::{contact_error, SolveError};
 use crate::friction_step::{friction_rows, friction_step, FrictionHistory, FrictionRows};
 use crate::interface_problem::{Interface, RootInput, StepLoad};
 use crate::model::{BodyModel, FixedPoint, PointModel};
@@ -11,7 +13,6 @@ use crate::progress::{Event, Progress};
 use crate::step::{FrictionStep, StepSolution};
 use crate::subdomain::CondensedData;
 use crate::timing::timed;
-use crate::{conditioning, contact_error, inf_norm, SolveError, PENETRATION_WARNING_FRACTION};
 use faer::Mat;
 use signorini_condense::interface::{InterfaceStiffness, SchurBlock};
 use signorini_contact::registry::Algorithm;

@@ -10,9 +10,11 @@
 //! (pieces.rs).
 
 use crate::certify::{conclude_step, empty_partial, StepEvidence};
+use crate::checks::inf_norm;
+use crate::error::SolveError;
 use crate::model::BodyModel;
+use crate::partition;
 use crate::step::{Partial, Residuals, StepSolution};
-use crate::{inf_norm, partition, SolveError};
 use signorini_report::results::{BodyResult, StepFields};
 use signorini_report::stream::StepSink;
 use signorini_scene as scene;
@@ -93,7 +95,7 @@ impl<'a> StepLoop<'a> {
             partial,
             messages,
         );
-        let excluded = crate::direct_path::gaps_of(&model.excluded, &u_full);
+        let excluded = crate::model::gaps_of(&model.excluded, &u_full);
         for (low, g) in partial.excluded_gaps.iter_mut().zip(excluded) {
             *low = low.min(g);
         }

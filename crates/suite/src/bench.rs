@@ -511,45 +511,30 @@ mod tests {
         let both = [scene::SolvePath::Condensed, scene::SolvePath::Direct];
         let status = [scene::Method::Status];
         let machine = RunEnvironment::machine();
-        let rows = bench(
-            &[case(text)],
-            &[1.0],
-            &[1],
-            &status,
-            &both,
-            &machine,
-            |_, _, _| {},
-        )
-        .unwrap();
+        let run = |text: &str, paths: &[scene::SolvePath]| {
+            bench(
+                &[case(text)],
+                &[1.0],
+                &[1],
+                &status,
+                paths,
+                &machine,
+                |_, _, _| {},
+            )
+        };
+        let rows = run(text, &both).unwrap();
         let paths: Vec<&str> = rows.iter().map(|r| r.path.as_str()).collect();
         assert_eq!(paths, ["condensed"]);
         assert!(rows[0].converged);
         let direct = [scene::SolvePath::Direct];
-        match bench(
-            &[case(text)],
-            &[1.0],
-            &[1],
-            &status,
-            &direct,
-            &machine,
-            |_, _, _| {},
-        ) {
+        match run(text, &direct) {
             Err(SolveError::Input(m)) => assert!(m.contains("contact \"c\".friction"), "{m}"),
             other => panic!("{:?}", other.map(|r| r.len())),
         }
         // frictionless, both paths run
         let text = text.replace("friction = { coulomb = 0.3 }\n", "");
         let text = text.replace("{ x = 0.01, y = -0.01 }", "{ x = 0.0, y = -0.01 }");
-        let rows = bench(
-            &[case(&text)],
-            &[1.0],
-            &[1],
-            &status,
-            &both,
-            &machine,
-            |_, _, _| {},
-        )
-        .unwrap();
+        let rows = run(&text, &both).unwrap();
         assert_eq!(rows.len(), 2);
     }
 

@@ -1,4 +1,5 @@
 use super::*;
+use crate::closest::TRAPEZOID;
 use crate::search::MasterIndex;
 use signorini_mesh::{Cell, CellKind, Facet};
 

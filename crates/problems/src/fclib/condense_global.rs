@@ -42,7 +42,7 @@ use faer::sparse::{SparseColMat, Triplet};
 use faer::{Conj, Mat, MatMut, Side};
 use serde::Serialize;
 
-use super::equality_constraints::EqualityConstraints;
+use super::equality_constraints::{transpose_times, EqualityConstraints};
 use super::{
     dense_within_budget, entries, shape, solution, spacedim, FclibProblem, Reader, GLOBAL,
 };
@@ -373,16 +373,6 @@ impl GlobalCondensation {
             condense_s: self.condense_s,
         }
     }
-}
-
-/// Aᵀ X for a sparse A (n × k) and a dense X (n × c): k × c.
-pub(super) fn transpose_times(a: &SparseColMat<usize, f64>, x: faer::MatRef<'_, f64>) -> Mat<f64> {
-    Mat::<f64>::from_fn(a.ncols(), x.ncols(), |k, c| {
-        let rows = a.row_idx_of_col_raw(k).iter();
-        rows.zip(a.val_of_col(k))
-            .map(|(&i, &v)| v * x[(i, c)])
-            .sum()
-    })
 }
 
 #[cfg(test)]

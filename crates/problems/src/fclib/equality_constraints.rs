@@ -31,8 +31,6 @@ use faer::linalg::solvers::{Llt, Solve};
 use faer::sparse::SparseColMat;
 use faer::{Mat, MatMut, MatRef, Side};
 
-use super::condense_global::transpose_times;
-
 /// A column of G is dependent on the others when its pivot² is below this
 /// fraction of its C_kk (the sine² of its angle with their span, in the
 /// M⁻¹ inner product): 1e-12, far above rounding (ε ≈ 2e-16), far below
@@ -122,4 +120,14 @@ impl EqualityConstraints {
             faer::Par::Seq,
         );
     }
+}
+
+/// Aᵀ X for a sparse A (n × k) and a dense X (n × c): k × c.
+pub(super) fn transpose_times(a: &SparseColMat<usize, f64>, x: faer::MatRef<'_, f64>) -> Mat<f64> {
+    Mat::<f64>::from_fn(a.ncols(), x.ncols(), |k, c| {
+        let rows = a.row_idx_of_col_raw(k).iter();
+        rows.zip(a.val_of_col(k))
+            .map(|(&i, &v)| v * x[(i, c)])
+            .sum()
+    })
 }

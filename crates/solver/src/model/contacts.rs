@@ -12,7 +12,7 @@ use signorini_geometry::{ContactPoint, MasterGeometry, NormalRule, TermSide};
 use signorini_scene as scene;
 
 use super::{input, point3, BodyModel, PointModel, PrescribedSlip, Zone};
-use crate::SolveError;
+use crate::error::SolveError;
 use signorini_contact::friction::FrictionLaw;
 
 /// The contact points of a scene: the contact unknowns, the points whose gap
