@@ -412,7 +412,8 @@ impl ActiveSetSolve for DelassusProblem {
         let mut lambda = vec![0.0; m];
         let mut alpha = vec![0.0; k];
         if na + k > 0 {
-            let (a, rhs) = saddle_point_system(&self.w, &self.q, &self.g_mat, &self.e, active);
+            let (a, rhs) =
+                crate::lcp::saddle_point_system(&self.w, &self.q, &self.g_mat, &self.e, active);
             let sol = if k == 0 {
                 solve_symmetric_checked(&a, &rhs, "W_AA (redundant contact constraints?)")?
             } else {
@@ -442,36 +443,6 @@ impl ActiveSetSolve for DelassusProblem {
         self.last_alpha = alpha;
         Ok((lambda, g))
     }
-}
-
-/// The system of the forces on an active set A with the equilibrium of the
-/// floating bodies, [W_AA G_A; G_Aᵀ 0][λ_A; α] = [−q_A; e] (W_AA λ_A = −q_A
-/// without them): its matrix and right-hand side.
-pub(crate) fn saddle_point_system(
-    w: &Mat<f64>,
-    q: &[f64],
-    g: &Mat<f64>,
-    e: &[f64],
-    active: &[usize],
-) -> (Mat<f64>, Mat<f64>) {
-    let (na, k) = (active.len(), g.ncols());
-    let dim = na + k;
-    let mut a = Mat::<f64>::zeros(dim, dim);
-    let mut rhs = Mat::<f64>::zeros(dim, 1);
-    for (ii, &p) in active.iter().enumerate() {
-        for (jj, &r) in active.iter().enumerate() {
-            a[(ii, jj)] = w[(p, r)];
-        }
-        for j in 0..k {
-            a[(ii, na + j)] = g[(p, j)];
-            a[(na + j, ii)] = g[(p, j)];
-        }
-        rhs[(ii, 0)] = -q[p];
-    }
-    for j in 0..k {
-        rhs[(na + j, 0)] = e[j];
-    }
-    (a, rhs)
 }
 
 #[cfg(test)]

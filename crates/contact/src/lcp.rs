@@ -402,6 +402,36 @@ pub(crate) fn spectral_norm_estimate(w: &Mat<f64>) -> (f64, usize) {
     ((1.01 * rq).min(inf_norm), products)
 }
 
+/// The system of the forces on an active set A with the equilibrium of the
+/// floating bodies, [W_AA G_A; G_Aᵀ 0][λ_A; α] = [−q_A; e] (W_AA λ_A = −q_A
+/// without them): its matrix and right-hand side.
+pub(crate) fn saddle_point_system(
+    w: &Mat<f64>,
+    q: &[f64],
+    g: &Mat<f64>,
+    e: &[f64],
+    active: &[usize],
+) -> (Mat<f64>, Mat<f64>) {
+    let (na, k) = (active.len(), g.ncols());
+    let dim = na + k;
+    let mut a = Mat::<f64>::zeros(dim, dim);
+    let mut rhs = Mat::<f64>::zeros(dim, 1);
+    for (ii, &p) in active.iter().enumerate() {
+        for (jj, &r) in active.iter().enumerate() {
+            a[(ii, jj)] = w[(p, r)];
+        }
+        for j in 0..k {
+            a[(ii, na + j)] = g[(p, j)];
+            a[(na + j, ii)] = g[(p, j)];
+        }
+        rhs[(ii, 0)] = -q[p];
+    }
+    for j in 0..k {
+        rhs[(na + j, 0)] = e[j];
+    }
+    (a, rhs)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -842,8 +842,9 @@ fn statuses(
 mod coulomb;
 mod least_change;
 mod norton_hoff;
+mod tresca_inner;
 pub(crate) use coulomb::friction_newton;
-use coulomb::Newton;
+use tresca_inner::Newton;
 
 #[cfg(test)]
 mod tests;

@@ -384,7 +384,7 @@ fn polish(
     if na + k == 0 {
         return false;
     }
-    let (a, rhs) = crate::delassus::saddle_point_system(w, q, g, e, &active);
+    let (a, rhs) = crate::lcp::saddle_point_system(w, q, g, e, &active);
     let Ok(x) = signorini_linalg::pivot_policy::solve_checked(&a, &rhs, "polish") else {
         return false;
     };

@@ -21,7 +21,7 @@
 //! its misfit and its floor of slip are the 2D ones
 //! ([`crate::law::norton_hoff::NortonHoffLaw`]).
 
-use super::coulomb::Newton;
+use super::tresca_inner::Newton;
 use super::*;
 use crate::law::norton_hoff::NortonHoffLaw;
 
