@@ -1,4 +1,4 @@
-/* make_fclib.c: writes the FCLib test problems of tests/fclib.rs with the
+/* make_fclib.c: writes the FCLib test problems of tests/integration/fclib.rs with the
  * FCLib C library itself (fclib_write_local, fclib_write_global,
  * fclib_write_solution), so that `signorini local` is tested on the files
  * the real exporter writes (libhdf5's default format: superblock v0,

@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Writes the FCLib test files of tests/fclib.rs into this directory.
+"""Writes the FCLib test files of tests/integration/fclib.rs into this directory.
 
 1. Builds make_fclib.c (the FCLib C library, Debian's libfclib-dev) and runs
    it: the problems are written by fclib_write_local / fclib_write_global.
@@ -15,7 +15,7 @@
    Alart-Curnier on M, H, f, w, no condensation) as a cross-check; its r, u
    and v = M^-1 (H r + f) are stored as /solution, and NumPy's W and q as
    NAME_condensed.npz (W, q, mu, dim: a local problem `signorini local`
-   reads) for tests/fclib.rs to compare with its own condensation.
+   reads) for tests/integration/fclib.rs to compare with its own condensation.
 3. Copies the 3D problem into a file in HDF5's newest format (h5py,
    libver='latest': superblock v3, link messages, v2 object headers; its
    arrays chunked and deflated).

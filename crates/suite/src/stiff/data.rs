@@ -17,7 +17,7 @@ pub const CASES: &str = include_str!("../../cases.toml");
 
 macro_rules! templates {
     ($($name:literal),* $(,)?) => {
-        /// The scene templates, by name (crates/stiff/scenes/<name>.toml).
+        /// The scene templates, by name (crates/suite/scenes/<name>.toml).
         pub const TEMPLATES: &[(&str, &str)] = &[
             $(($name, include_str!(concat!("../../scenes/", $name, ".toml")))),*
         ];
