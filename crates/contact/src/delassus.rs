@@ -18,9 +18,9 @@ use faer::prelude::SolveLstsq;
 use faer::Mat;
 
 use crate::active_set::signorini::ActiveSetSolve;
-use crate::friction::capacitance::{solve_status_system, StatusFactor};
 use crate::ContactError;
 use signorini_linalg::active_factor::{solve_on_active_set, ActiveFactor};
+use signorini_linalg::capacitance::{solve_status_system, StatusFactor};
 use signorini_linalg::pivot_policy::{is_rank_deficient, solve_checked, solve_symmetric_checked};
 use signorini_linalg::reduced::VarEquation;
 use signorini_linalg::sparse::SparseRow;
@@ -307,7 +307,7 @@ impl DelassusProblem {
     /// As [`Self::solve_equations`], with the factor of an earlier status
     /// iteration's system carried in `factor` and updated by the
     /// capacitance formula when few equations changed
-    /// ([`crate::friction::capacitance`]; without floating bodies).
+    /// ([`signorini_linalg::capacitance`]; without floating bodies).
     pub(crate) fn solve_equations_updating(
         &mut self,
         eqs: &[VarEquation],

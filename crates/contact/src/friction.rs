@@ -37,9 +37,9 @@ use crate::law::norton_hoff::NortonHoffLaw;
 use crate::lcp::LcpOptions;
 use crate::solution::{ContactSolution, StopReason, ThresholdMapKind};
 use crate::ContactError;
+use signorini_linalg::capacitance::StatusFactor;
 use signorini_linalg::reduced::VarEquation;
 
-pub(crate) mod capacitance;
 pub mod driver;
 pub(crate) mod fixed_point;
 pub mod friction3d;
@@ -213,8 +213,8 @@ struct FrictionRule<'a> {
     coulomb_ratio: bool,
     opts: &'a FrictionOptions,
     /// The factor of an earlier status system, updated from one iteration
-    /// to the next ([`capacitance`]).
-    factor: &'a mut Option<capacitance::StatusFactor>,
+    /// to the next ([`signorini_linalg::capacitance`]).
+    factor: &'a mut Option<StatusFactor>,
 }
 
 impl StatusRule for FrictionRule<'_> {
@@ -337,7 +337,7 @@ struct Run {
     /// cycled.
     box_fallbacks: usize,
     /// The factor of the last status system (W does not change in a run).
-    factor: Option<capacitance::StatusFactor>,
+    factor: Option<StatusFactor>,
 }
 
 impl Run {

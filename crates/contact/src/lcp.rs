@@ -21,6 +21,8 @@ use faer::Mat;
 use crate::norms::{max_abs, nan_max, natural_map};
 use crate::solution::{ContactSolution, DualDetail, SolverReport, StopReason};
 use crate::ContactError;
+pub(crate) use signorini_linalg::products::matvec;
+use signorini_linalg::products::{add_columns, affine, affine_into};
 
 /// Options of an iterative or pivoting LCP method.
 #[derive(Debug, Clone)]
@@ -70,9 +72,7 @@ pub(crate) fn clamp(mut lambda: Vec<f64>) -> Vec<f64> {
 /// w = W λ + q (column by column, skipping the zero forces: few points are
 /// in contact).
 pub fn gaps(w: &Mat<f64>, q: &[f64], lambda: &[f64]) -> Vec<f64> {
-    let mut g = vec![0.0; q.len()];
-    gaps_into(w, q, lambda, &mut g);
-    g
+    affine(w, lambda, q)
 }
 
 /// g = W λ + q + G α: the gaps with the rigid-mode amplitudes α of the
@@ -213,23 +213,9 @@ pub(crate) fn check_input(w: &Mat<f64>, q: &[f64], method: &str) -> Result<(), C
     Ok(())
 }
 
-/// y = W x (W column-major, m × m), the rows shared between the cores.
-pub(crate) fn matvec(w: &Mat<f64>, x: &[f64], y: &mut [f64]) {
-    y.iter_mut().for_each(|v| *v = 0.0);
-    let nonzero: Vec<usize> = (0..x.len()).filter(|&j| x[j] != 0.0).collect();
-    let work = (nonzero.len() * y.len()) as f64;
-    signorini_linalg::threads::for_each_chunk(y, 1, work, |first, chunk| {
-        let rows = first..first + chunk.len();
-        add_columns(w, &nonzero, x, std::slice::from_ref(&rows), chunk, first);
-    });
-}
-
 /// g = W λ + q, into `g`.
 pub(crate) fn gaps_into(w: &Mat<f64>, q: &[f64], lambda: &[f64], g: &mut [f64]) {
-    matvec(w, lambda, g);
-    for (gi, qi) in g.iter_mut().zip(q) {
-        *gi += qi;
-    }
+    affine_into(w, lambda, q, g);
 }
 
 /// g = W λ + q on the points outside `active` (sorted, and λ zero off it),
@@ -288,39 +274,6 @@ fn gaps_on_runs(
         g[r.clone()].copy_from_slice(&q[r.clone()]);
     }
     add_columns(w, active, lambda, runs, g, 0);
-}
-
-/// y_i += Σ_{j ∈ cols} W_ij x_j for i in `runs`, four columns at a time
-/// (y is loaded and stored once per four columns: the sweep is bound by the
-/// reading of W); `y` holds the rows from `offset` on.
-fn add_columns(
-    w: &Mat<f64>,
-    cols: &[usize],
-    x: &[f64],
-    runs: &[Range<usize>],
-    y: &mut [f64],
-    offset: usize,
-) {
-    let at = |r: &Range<usize>| r.start - offset..r.end - offset;
-    let mut quads = cols.chunks_exact(4);
-    for c in &mut quads {
-        let [c0, c1, c2, c3] = [0, 1, 2, 3].map(|k| w.col_as_slice(c[k]));
-        let [x0, x1, x2, x3] = [0, 1, 2, 3].map(|k| x[c[k]]);
-        for r in runs {
-            let y = y[at(r)].iter_mut().zip(&c0[r.clone()]).zip(&c1[r.clone()]);
-            for (((yi, a0), a1), (a2, a3)) in y.zip(c2[r.clone()].iter().zip(&c3[r.clone()])) {
-                *yi += a0 * x0 + a1 * x1 + a2 * x2 + a3 * x3;
-            }
-        }
-    }
-    for &j in quads.remainder() {
-        let (col, xj) = (w.col_as_slice(j), x[j]);
-        for r in runs {
-            for (yi, wij) in y[at(r)].iter_mut().zip(&col[r.clone()]) {
-                *yi += wij * xj;
-            }
-        }
-    }
 }
 
 pub(crate) fn dot(a: &[f64], b: &[f64]) -> f64 {

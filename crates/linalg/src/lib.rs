@@ -9,10 +9,12 @@
 
 pub mod active_factor;
 pub mod bordered_factor;
+pub mod capacitance;
 pub mod conditioning;
 pub mod growing_lu;
 pub mod ordered_cholesky;
 pub mod pivot_policy;
+pub mod products;
 pub mod recursive_cholesky;
 pub mod reduced;
 pub mod sparse;

@@ -29,11 +29,9 @@ use std::collections::HashMap;
 
 use faer::Mat;
 
-use signorini_linalg::growing_lu::GrowingLu;
-use signorini_linalg::pivot_policy::pivots_are_safe;
-use signorini_linalg::reduced::{
-    factorise_reduced, reduce, reduced_block, Factor, Reduction, VarEquation,
-};
+use crate::growing_lu::GrowingLu;
+use crate::pivot_policy::pivots_are_safe;
+use crate::reduced::{factorise_reduced, reduce, reduced_block, Factor, Reduction, VarEquation};
 
 /// Whether two equations have the same row of M (they may differ in their
 /// right-hand side: a given value).
@@ -51,7 +49,7 @@ fn same_row(a: &VarEquation, b: &VarEquation) -> bool {
 
 /// The factor of a base status system and the columns of Z = M₀⁻¹ E_R made
 /// so far.
-pub(crate) struct StatusFactor {
+pub struct StatusFactor {
     base: Vec<VarEquation>,
     red: Reduction,
     /// Position of each zero-gap row among the unknowns.
@@ -420,7 +418,7 @@ impl StatusFactor {
         if !x.iter().all(|v| v.is_finite()) {
             return None;
         }
-        let g = crate::lcp::gaps(w, q, &x);
+        let g = crate::products::affine(w, &x, q);
         Some((x, g))
     }
 
@@ -440,7 +438,7 @@ impl StatusFactor {
         let cap = self.capacitance(w, eqs, rows, last)?;
         let mut x = self.correct(w, eqs, &cap, &b, y);
         enforce(eqs, &mut x);
-        let mut g = crate::lcp::gaps(w, q, &x);
+        let mut g = crate::products::affine(w, &x, q);
         for pass in 0..2 {
             let worst = eqs
                 .iter()
@@ -467,7 +465,7 @@ impl StatusFactor {
                 *xi += di;
             }
             enforce(eqs, &mut x);
-            g = crate::lcp::gaps(w, q, &x);
+            g = crate::products::affine(w, &x, q);
         }
         None
     }
@@ -481,7 +479,7 @@ const BACKWARD_ERROR: f64 = 1e3 * f64::EPSILON;
 /// carried in `slot` from the previous status iteration, updated by the
 /// capacitance formula when that is cheaper, else a new one; returns
 /// (r, W r + q), or `None` for the caller's rank-tested full solve.
-pub(crate) fn solve_status_system(
+pub fn solve_status_system(
     slot: &mut Option<StatusFactor>,
     w: &Mat<f64>,
     q: &[f64],
@@ -554,9 +552,7 @@ mod tests {
 
     fn fresh(w: &Mat<f64>, q: &[f64], eqs: &[VarEquation]) -> Vec<f64> {
         let g = Mat::<f64>::zeros(q.len(), 0);
-        signorini_linalg::reduced::solve_reduced(w, q, &g, &[], eqs)
-            .unwrap()
-            .0
+        crate::reduced::solve_reduced(w, q, &g, &[], eqs).unwrap().0
     }
 
     /// From a base factor, each later status vector (points closing,
@@ -600,7 +596,7 @@ mod tests {
                     "{statuses}: {a} against {b}"
                 );
             }
-            let g_expected = crate::lcp::gaps(&w, &q, &expected);
+            let g_expected = crate::products::affine(&w, &expected, &q);
             let gscale = q.iter().fold(0.0f64, |a, v| a.max(v.abs()));
             for (a, b) in g.iter().zip(&g_expected) {
                 assert!(
@@ -624,7 +620,7 @@ mod tests {
         let a = reduced_block(&w, &red);
         let block = factorise_reduced(&a, &red).unwrap();
         assert!(matches!(block, Factor::Block(_)));
-        let lu = signorini_linalg::reduced::factorise(&a, false).unwrap();
+        let lu = crate::reduced::factorise(&a, false).unwrap();
         let n = a.nrows();
         let rhs = Mat::<f64>::from_fn(n, 2, |i, j| ((i * 7 + j * 3) % 5) as f64 - 2.0);
         let (x, y) = (block.solve(&rhs), lu.solve(&rhs));

@@ -1,0 +1,66 @@
+//! Products with a dense column-major matrix W (the Delassus operator, m × m):
+//! y = W x with the rows shared between the cores, and the affine map
+//! W x + q.
+
+use std::ops::Range;
+
+use faer::Mat;
+
+/// y = W x (W column-major, m × m), the rows shared between the cores.
+pub fn matvec(w: &Mat<f64>, x: &[f64], y: &mut [f64]) {
+    y.iter_mut().for_each(|v| *v = 0.0);
+    let nonzero: Vec<usize> = (0..x.len()).filter(|&j| x[j] != 0.0).collect();
+    let work = (nonzero.len() * y.len()) as f64;
+    crate::threads::for_each_chunk(y, 1, work, |first, chunk| {
+        let rows = first..first + chunk.len();
+        add_columns(w, &nonzero, x, std::slice::from_ref(&rows), chunk, first);
+    });
+}
+
+/// y = W x + q, into `y`.
+pub fn affine_into(w: &Mat<f64>, x: &[f64], q: &[f64], y: &mut [f64]) {
+    matvec(w, x, y);
+    for (yi, qi) in y.iter_mut().zip(q) {
+        *yi += qi;
+    }
+}
+
+/// W x + q.
+pub fn affine(w: &Mat<f64>, x: &[f64], q: &[f64]) -> Vec<f64> {
+    let mut y = vec![0.0; q.len()];
+    affine_into(w, x, q, &mut y);
+    y
+}
+
+/// y_i += Σ_{j ∈ cols} W_ij x_j for i in `runs`, four columns at a time
+/// (y is loaded and stored once per four columns: the sweep is bound by the
+/// reading of W); `y` holds the rows from `offset` on.
+pub fn add_columns(
+    w: &Mat<f64>,
+    cols: &[usize],
+    x: &[f64],
+    runs: &[Range<usize>],
+    y: &mut [f64],
+    offset: usize,
+) {
+    let at = |r: &Range<usize>| r.start - offset..r.end - offset;
+    let mut quads = cols.chunks_exact(4);
+    for c in &mut quads {
+        let [c0, c1, c2, c3] = [0, 1, 2, 3].map(|k| w.col_as_slice(c[k]));
+        let [x0, x1, x2, x3] = [0, 1, 2, 3].map(|k| x[c[k]]);
+        for r in runs {
+            let y = y[at(r)].iter_mut().zip(&c0[r.clone()]).zip(&c1[r.clone()]);
+            for (((yi, a0), a1), (a2, a3)) in y.zip(c2[r.clone()].iter().zip(&c3[r.clone()])) {
+                *yi += a0 * x0 + a1 * x1 + a2 * x2 + a3 * x3;
+            }
+        }
+    }
+    for &j in quads.remainder() {
+        let (col, xj) = (w.col_as_slice(j), x[j]);
+        for r in runs {
+            for (yi, wij) in y[at(r)].iter_mut().zip(&col[r.clone()]) {
+                *yi += wij * xj;
+            }
+        }
+    }
+}
