@@ -65,6 +65,17 @@ fn assert_same(a: &ContactSolution, b: &ContactSolution, tol: f64, what: &str) {
     }
 }
 
+/// Adds the points of `points` to `seen`'s counts of open, stick and slip.
+fn count_statuses(seen: &mut [usize; 3], points: &[PointStatus]) {
+    for st in points {
+        seen[match st {
+            PointStatus::Open => 0,
+            PointStatus::Stick => 1,
+            _ => 2,
+        }] += 1;
+    }
+}
+
 #[test]
 fn newton_agrees_with_the_fixed_point_and_the_status_method_in_2d() {
     let mut seen = [0usize; 3];
@@ -82,13 +93,7 @@ fn newton_agrees_with_the_fixed_point_and_the_status_method_in_2d() {
         let status = coulomb_status(&mut fresh(), &layout, initial, &opts()).unwrap();
         assert_same(&newton, &fp, 1e-9, &format!("m = {m}, fixed point"));
         assert_same(&newton, &status, 1e-9, &format!("m = {m}, status method"));
-        for st in &newton.friction.points {
-            seen[match st {
-                PointStatus::Open => 0,
-                PointStatus::Stick => 1,
-                _ => 2,
-            }] += 1;
-        }
+        count_statuses(&mut seen, &newton.friction.points);
     }
     assert!(seen.iter().all(|&c| c > 0), "open, stick, slip: {seen:?}");
 }
@@ -208,13 +213,7 @@ fn newton_on_coulomb_agrees_with_the_fixed_point_in_3d() {
         assert_eq!(newton.friction.fixed_point_iterations, 0, "{what}");
         assert_eq!(fp.report.method, "coulomb_3d_fixed_point", "{what}");
         assert_same(&newton, &fp, 1e-9, &what);
-        for st in &newton.friction.points {
-            seen[match st {
-                PointStatus::Open => 0,
-                PointStatus::Stick => 1,
-                _ => 2,
-            }] += 1;
-        }
+        count_statuses(&mut seen, &newton.friction.points);
     }
     assert!(seen.iter().all(|&c| c > 0), "open, stick, slip: {seen:?}");
 }
