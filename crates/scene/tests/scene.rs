@@ -556,8 +556,9 @@ fn contact_checks() {
     assert!(parse_toml(&contact("")).is_ok());
     const SLAVE: &str = "slave = { body = \"plate\", surface = \"bottom\" }";
     const MASTER: &str = "master = { body = \"ground\" }";
-    // (replacements in the valid contact, the entry refused, words of its message)
-    let cases: [(&[(&str, &str)], &str, &[&str]); 6] = [
+    /// Replacements in the valid contact, the entry refused, words of its message.
+    type Refusal<'a> = (&'a [(&'a str, &'a str)], &'a str, &'a [&'a str]);
+    let cases: [Refusal; 6] = [
         // slave without surface
         (
             &[(SLAVE, "slave = { body = \"plate\" }")],
