@@ -28,8 +28,22 @@ fn opts() -> FrictionOptions {
 /// about half the points pressed, pulled sideways; μ 0.2 to 0.6.
 fn random_2d(m: usize, seed: u64) -> (DelassusProblem, FrictionLayout) {
     let mut rng = XorShift(seed);
-    let w = random_spd(2 * m, &mut rng);
-    let q: Vec<f64> = (0..2 * m)
+    let problem = random_problem(m, 2 * m, &mut rng);
+    let layout = FrictionLayout {
+        tangent_rows: (0..m).map(|p| vec![m + p]).collect(),
+        law: (0..m)
+            .map(|p| FrictionLaw::coulomb(0.2 + 0.1 * (p % 5) as f64))
+            .collect(),
+        shadow: vec![None; m],
+    };
+    (problem, layout)
+}
+
+/// A random SPD W of `n` rows and q: the first `m` (normal) rows about half
+/// pressed, the others pulled sideways.
+fn random_problem(m: usize, n: usize, rng: &mut XorShift) -> DelassusProblem {
+    let w = random_spd(n, rng);
+    let q: Vec<f64> = (0..n)
         .map(|i| {
             if i < m {
                 rng.uniform(-1.0, 0.6)
@@ -38,14 +52,7 @@ fn random_2d(m: usize, seed: u64) -> (DelassusProblem, FrictionLayout) {
             }
         })
         .collect();
-    let layout = FrictionLayout {
-        tangent_rows: (0..m).map(|p| vec![m + p]).collect(),
-        law: (0..m)
-            .map(|p| FrictionLaw::coulomb(0.2 + 0.1 * (p % 5) as f64))
-            .collect(),
-        shadow: vec![None; m],
-    };
-    (DelassusProblem::from_operator(w, q), layout)
+    DelassusProblem::from_operator(w, q)
 }
 
 /// The statuses agree and the forces and gaps are within `tol`.
@@ -161,16 +168,7 @@ fn random_3d(m: usize, seed: u64, anisotropic: bool) -> (DelassusProblem, Fricti
         tangent_rows.push((next..next + k).collect::<Vec<usize>>());
         next += k;
     }
-    let w = random_spd(next, &mut rng);
-    let q: Vec<f64> = (0..next)
-        .map(|i| {
-            if i < m {
-                rng.uniform(-1.0, 0.6)
-            } else {
-                rng.uniform(-0.8, 0.8)
-            }
-        })
-        .collect();
+    let problem = random_problem(m, next, &mut rng);
     let law = (0..m)
         .map(|p| {
             let mu = 0.2 + 0.1 * (p % 5) as f64;
@@ -187,7 +185,7 @@ fn random_3d(m: usize, seed: u64, anisotropic: bool) -> (DelassusProblem, Fricti
         law,
         shadow: vec![None; m],
     };
-    (DelassusProblem::from_operator(w, q), layout)
+    (problem, layout)
 }
 
 #[test]
