@@ -360,4 +360,4 @@ pub(crate) fn mortar_points(
 
 mod edge;
 #[cfg(test)]
-mod tests;
+pub(crate) mod tests;

@@ -668,20 +668,30 @@ fn partitioned_files_keep_their_physical_groups() {
     }
 }
 
+/// The error reading `tests/data/<file>` in 2D, which names every one of
+/// `parts`.
+fn refused_naming(file: &str, parts: &[&str]) -> String {
+    let e = read_msh(&manifest().join("tests/data").join(file), 2)
+        .unwrap_err()
+        .to_string();
+    for part in parts {
+        assert!(e.contains(part), "{e}");
+    }
+    e
+}
+
 #[test]
 fn one_file_of_a_partitioned_mesh_saved_per_partition_is_refused() {
     // Mesh.PartitionSplitMeshFiles = 1 writes one file per partition: one of
     // them was read as the whole body (a fragment, solved without a word).
-    let e = read_msh(&manifest().join("tests/data/block2d_piece_1_of_2.msh"), 2)
-        .unwrap_err()
-        .to_string();
-    for part in [
-        "partition 1 of",
-        "into 2 parts",
-        "PartitionSplitMeshFiles = 0",
-    ] {
-        assert!(e.contains(part), "{e}");
-    }
+    refused_naming(
+        "block2d_piece_1_of_2.msh",
+        &[
+            "partition 1 of",
+            "into 2 parts",
+            "PartitionSplitMeshFiles = 0",
+        ],
+    );
 }
 
 #[test]
@@ -702,15 +712,13 @@ fn v22_saved_with_save_all_has_lost_its_groups() {
     // Gmsh writes every element of a 2.2 file saved with Mesh.SaveAll = 1
     // with physical tag 0: its named sides were silently replaced by one
     // "boundary" surface.
-    let e = read_msh(&manifest().join("tests/data/block2d_v22_saveall.msh"), 2)
-        .unwrap_err()
-        .to_string();
-    for part in [
+    let e = refused_naming(
         "block2d_v22_saveall.msh",
-        "\"bottom\", \"left\", \"right\", \"top\"",
-    ] {
-        assert!(e.contains(part), "{e}");
-    }
+        &[
+            "block2d_v22_saveall.msh",
+            "\"bottom\", \"left\", \"right\", \"top\"",
+        ],
+    );
     assert!(e.contains("Mesh.SaveAll") && e.contains("MSH 4.1"), "{e}");
 }
 

@@ -554,74 +554,84 @@ fn moment_about_checks() {
 #[test]
 fn contact_checks() {
     assert!(parse_toml(&contact("")).is_ok());
-    // slave without surface
-    let text = contact("").replace(
-        "slave = { body = \"plate\", surface = \"bottom\" }",
-        "slave = { body = \"plate\" }",
-    );
-    let (e, m) = invalid_entry(&text);
-    assert_eq!(e, "contact \"c\".slave.surface");
-    assert!(m.contains("surface"), "{m}");
-    // unknown master
-    let text = contact("").replace(
-        "master = { body = \"ground\" }",
-        "master = { body = \"floor\" }",
-    );
-    let (e, m) = invalid_entry(&text);
-    assert_eq!(e, "contact \"c\".master.body");
-    assert!(m.contains("floor") && m.contains("\"ground\""), "{m}");
-    // rigid slave
-    let text = contact("")
-        .replace(
-            "slave = { body = \"plate\", surface = \"bottom\" }",
-            "slave = { body = \"ground\", surface = \"x\" }",
-        )
-        .replace(
-            "master = { body = \"ground\" }",
-            "master = { body = \"plate\", surface = \"bottom\" }",
-        );
-    let (e, _) = invalid_entry(&text);
-    assert_eq!(e, "contact \"c\".slave.body");
-    // deformable master without surface, self contact
-    let text = contact("").replace(
-        "master = { body = \"ground\" }",
-        "master = { body = \"plate\" }",
-    );
-    let (e, _) = invalid_entry(&text);
-    assert_eq!(e, "contact \"c\".master.surface");
-    let text = contact("").replace(
-        "master = { body = \"ground\" }",
-        "master = { body = \"plate\", surface = \"top\" }",
-    );
-    let (e, m) = invalid_entry(&text);
-    assert_eq!(e, "contact \"c\"");
-    assert!(m.contains("not supported"), "{m}");
-    // rigid master with a surface
-    let text = contact("").replace(
-        "master = { body = \"ground\" }",
-        "master = { body = \"ground\", surface = \"top\" }",
-    );
-    let (e, _) = invalid_entry(&text);
-    assert_eq!(e, "contact \"c\".master.surface");
+    const SLAVE: &str = "slave = { body = \"plate\", surface = \"bottom\" }";
+    const MASTER: &str = "master = { body = \"ground\" }";
+    /// Replacements in the valid contact, the entry refused, words of its message.
+    type Refusal<'a> = (&'a [(&'a str, &'a str)], &'a str, &'a [&'a str]);
+    let cases: [Refusal; 6] = [
+        // slave without surface
+        (
+            &[(SLAVE, "slave = { body = \"plate\" }")],
+            "contact \"c\".slave.surface",
+            &["surface"],
+        ),
+        // unknown master
+        (
+            &[(MASTER, "master = { body = \"floor\" }")],
+            "contact \"c\".master.body",
+            &["floor", "\"ground\""],
+        ),
+        // rigid slave
+        (
+            &[
+                (SLAVE, "slave = { body = \"ground\", surface = \"x\" }"),
+                (
+                    MASTER,
+                    "master = { body = \"plate\", surface = \"bottom\" }",
+                ),
+            ],
+            "contact \"c\".slave.body",
+            &[],
+        ),
+        // deformable master without surface, self contact
+        (
+            &[(MASTER, "master = { body = \"plate\" }")],
+            "contact \"c\".master.surface",
+            &[],
+        ),
+        (
+            &[(MASTER, "master = { body = \"plate\", surface = \"top\" }")],
+            "contact \"c\"",
+            &["not supported"],
+        ),
+        // rigid master with a surface
+        (
+            &[(MASTER, "master = { body = \"ground\", surface = \"top\" }")],
+            "contact \"c\".master.surface",
+            &[],
+        ),
+    ];
+    for (swaps, entry, words) in cases {
+        let text = swaps.iter().fold(contact(""), |t, (a, b)| t.replace(a, b));
+        let (e, m) = invalid_entry(&text);
+        assert_eq!(e, entry);
+        for word in words {
+            assert!(m.contains(word), "{m}");
+        }
+    }
     // duplicate names
     let text = format!("{}\n[[contact]]\nname = \"c\"\nslave = {{ body = \"plate\", surface = \"left\" }}\nmaster = {{ body = \"ground\" }}\n", contact(""));
     let (e, _) = invalid_entry(&text);
     assert_eq!(e, "contact \"c\".name");
     // numeric checks
-    let (e, _) = invalid_entry(&contact("law = { penalty = 0 }"));
-    assert_eq!(e, "contact \"c\".law.penalty");
-    let (e, _) = invalid_entry(&contact("friction = { coulomb = -0.1 }"));
-    assert_eq!(e, "contact \"c\".friction.coulomb");
-    let (e, _) = invalid_entry(&contact("friction = { coulomb = [0.3, 0.1] }"));
-    assert_eq!(e, "contact \"c\".friction.coulomb");
-    let (e, _) = invalid_entry(&contact("friction = { coulomb = 0.3, slip_stiffness = 0 }"));
-    assert_eq!(e, "contact \"c\".friction.slip_stiffness");
-    let (e, _) = invalid_entry(&contact("friction = { norton_hoff = 0.3, rho = 1.0 }"));
-    assert_eq!(e, "contact \"c\".friction.rho");
-    let (e, _) = invalid_entry(&contact("friction = { tresca = -1 }"));
-    assert_eq!(e, "contact \"c\".friction.tresca");
-    let (e, _) = invalid_entry(&contact("gap = nan"));
-    assert_eq!(e, "contact \"c\".gap");
+    for (line, entry) in [
+        ("law = { penalty = 0 }", "law.penalty"),
+        ("friction = { coulomb = -0.1 }", "friction.coulomb"),
+        ("friction = { coulomb = [0.3, 0.1] }", "friction.coulomb"),
+        (
+            "friction = { coulomb = 0.3, slip_stiffness = 0 }",
+            "friction.slip_stiffness",
+        ),
+        (
+            "friction = { norton_hoff = 0.3, rho = 1.0 }",
+            "friction.rho",
+        ),
+        ("friction = { tresca = -1 }", "friction.tresca"),
+        ("gap = nan", "gap"),
+    ] {
+        let (e, _) = invalid_entry(&contact(line));
+        assert_eq!(e, format!("contact \"c\".{entry}"), "{line}");
+    }
     let m = parse_err(&contact("normal = \"outward\""));
     assert!(m.contains("outward") && m.contains("average"), "{m}");
     let m = parse_err(&contact("discretization = \"nts\""));

@@ -621,6 +621,14 @@ pub(crate) mod test_support {
 
     pub type Method = fn(&Mat<f64>, &[f64], &LcpOptions) -> Result<ContactSolution, ContactError>;
 
+    /// [`agrees_with_status_method`] for an iterative `method` (named `name`
+    /// in the log): it iterates, each iteration one product with W at least.
+    pub fn iterates_to_the_status_method(name: &str, method: Method) {
+        let (it, ops) = agrees_with_status_method(method);
+        eprintln!("{name}: {it} iterations, {ops} products on the m = 60 random case");
+        assert!(it > 0 && ops >= it);
+    }
+
     /// Every case of the brief against the status method; returns
     /// (iterations, products with W) on the m = 60 random problem.
     pub fn agrees_with_status_method(method: Method) -> (usize, usize) {
@@ -840,18 +848,12 @@ mod tests {
 
     #[test]
     fn projected_gradient_agrees_with_the_status_method() {
-        let (it, ops) = agrees_with_status_method(projected_gradient);
-        eprintln!("projected_gradient: {it} iterations, {ops} products on the m = 60 random case");
-        assert!(it > 0 && ops >= it);
+        iterates_to_the_status_method("projected_gradient", projected_gradient);
     }
 
     #[test]
     fn projected_conjugate_gradient_agrees_with_the_status_method() {
-        let (it, ops) = agrees_with_status_method(projected_conjugate_gradient);
-        eprintln!(
-            "projected_conjugate_gradient: {it} iterations, {ops} products on the m = 60 random case"
-        );
-        assert!(it > 0 && ops >= it);
+        iterates_to_the_status_method("projected_conjugate_gradient", projected_conjugate_gradient);
     }
 
     #[test]

@@ -104,26 +104,44 @@ fn quadratic_dual_basis_is_biorthogonal_full_and_partial() {
     }
 }
 
+/// Σ D_jj = the area (1), D_jj = ∫N_j = `d_of(x)`, Σ_l M_jl = D_jj (the
+/// master weights sum to −1), gap0 = the gap and the normal +`axis` at every
+/// slave node.
+pub(crate) fn check_flat_rows(
+    p: &MortarPairing,
+    nodes: usize,
+    gap: f64,
+    axis: usize,
+    d_of: impl Fn([f64; 3]) -> f64,
+) {
+    assert_eq!(p.pairing.points.len(), nodes);
+    assert_eq!(p.pairing.dropped.total(), 0);
+    let total: f64 = p.measure.values().sum();
+    assert!((total - 1.0).abs() < 1e-13, "Σ D_jj = {total}");
+    for pt in &p.pairing.points {
+        let d = p.measure[&pt.slave_node];
+        assert!((d - d_of(pt.x)).abs() < 1e-14, "D_jj {d} at {:?}", pt.x);
+        let sum: f64 = pt.terms.iter().map(|t| t.weight).sum();
+        assert!(sum.abs() < 1e-13, "row sum {sum}");
+        assert!((pt.gap0 - gap).abs() < 1e-13, "gap0 {}", pt.gap0);
+        assert!((pt.normal[axis] - 1.0).abs() < 1e-14);
+    }
+}
+
 #[test]
 fn non_matching_flat_rows_are_consistent() {
     let gap = 0.01;
     let (m, s) = blocks(7, 10, gap);
     let p = pairing(&m, &s);
-    assert_eq!(p.pairing.points.len(), 11);
-    assert_eq!(p.pairing.dropped.total(), 0);
-    let total: f64 = p.measure.values().sum();
-    assert!((total - 1.0).abs() < 1e-13, "Σ D_jj = {total}");
-    for pt in &p.pairing.points {
-        // D_jj = ∫ N_j: 0.1 inside, 0.05 at the ends.
-        let d = p.measure[&pt.slave_node];
-        let end = pt.x[0] < 1e-9 || pt.x[0] > 1.0 - 1e-9;
-        assert!((d - if end { 0.05 } else { 0.1 }).abs() < 1e-14, "{d}");
-        // Σ_l M_jl = D_jj: the master weights sum to −1.
-        let sum: f64 = pt.terms.iter().map(|t| t.weight).sum();
-        assert!(sum.abs() < 1e-13, "row sum {sum}");
-        assert!((pt.gap0 - gap).abs() < 1e-13, "gap0 {}", pt.gap0);
-        assert!((pt.normal[1] - 1.0).abs() < 1e-14);
-    }
+    // D_jj = ∫ N_j: 0.1 inside, 0.05 at the ends.
+    let d_of = |x: [f64; 3]| {
+        if x[0] < 1e-9 || x[0] > 1.0 - 1e-9 {
+            0.05
+        } else {
+            0.1
+        }
+    };
+    check_flat_rows(&p, 11, gap, 1, d_of);
 }
 
 #[test]

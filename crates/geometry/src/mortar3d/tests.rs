@@ -1,19 +1,18 @@
 use super::*;
+use crate::mortar::tests::check_flat_rows;
 use signorini_mesh::generators::box_mesh;
 use signorini_mesh::CellKind;
+
+/// A box at `origin` of `size`, one layer of `n` × `n` cells of `kind`.
+fn layer(origin: [f64; 3], size: [f64; 3], n: usize, kind: CellKind) -> Mesh {
+    box_mesh(origin, size, [n, n, 1], kind, None).unwrap()
+}
 
 /// Two boxes [0, 1]² × [0, 0.5] (master, `nm` × `nm` faces on top) and
 /// [0, 1]² × [0.5 + gap, 1 + gap] (slave, `ns` × `ns`), of `kind` cells.
 fn boxes(nm: usize, ns: usize, gap: f64, kind: CellKind) -> (Mesh, Mesh) {
-    let m = box_mesh([0.0; 3], [1.0, 1.0, 0.5], [nm, nm, 1], kind, None).unwrap();
-    let s = box_mesh(
-        [0.0, 0.0, 0.5 + gap],
-        [1.0, 1.0, 0.5],
-        [ns, ns, 1],
-        kind,
-        None,
-    )
-    .unwrap();
+    let m = layer([0.0; 3], [1.0, 1.0, 0.5], nm, kind);
+    let s = layer([0.0, 0.0, 0.5 + gap], [1.0, 1.0, 0.5], ns, kind);
     (m, s)
 }
 
@@ -23,23 +22,6 @@ fn pairing(m: &Mesh, s: &Mesh) -> MortarPairing {
         surface: &m.surfaces["zmax"],
     };
     mortar3d_pairing(s, &s.surfaces["zmin"], &master).unwrap()
-}
-
-/// Σ D_jj = the area, D_jj = ∫N_j, Σ_l M_jl = D_jj, gap0 = the gap and the
-/// normal +z at every slave node.
-fn check_flat_rows(p: &MortarPairing, nodes: usize, gap: f64, d_of: impl Fn([f64; 3]) -> f64) {
-    assert_eq!(p.pairing.points.len(), nodes);
-    assert_eq!(p.pairing.dropped.total(), 0);
-    let total: f64 = p.measure.values().sum();
-    assert!((total - 1.0).abs() < 1e-13, "Σ D_jj = {total}");
-    for pt in &p.pairing.points {
-        let d = p.measure[&pt.slave_node];
-        assert!((d - d_of(pt.x)).abs() < 1e-14, "D_jj {d} at {:?}", pt.x);
-        let sum: f64 = pt.terms.iter().map(|t| t.weight).sum();
-        assert!(sum.abs() < 1e-13, "row sum {sum}");
-        assert!((pt.gap0 - gap).abs() < 1e-13, "gap0 {}", pt.gap0);
-        assert!((pt.normal[2] - 1.0).abs() < 1e-14);
-    }
 }
 
 #[test]
@@ -53,7 +35,7 @@ fn non_matching_quadrilaterals_give_consistent_rows() {
         let edge = |v: f64| !(1e-9..=1.0 - 1e-9).contains(&v);
         h2 / [1.0, 2.0, 4.0][usize::from(edge(x[0])) + usize::from(edge(x[1]))]
     };
-    check_flat_rows(&p, 64, gap, d_of);
+    check_flat_rows(&p, 64, gap, 2, d_of);
 }
 
 #[test]
@@ -74,7 +56,7 @@ fn non_matching_triangles_give_consistent_rows() {
         let k = coords.iter().position(|c| *c == x).unwrap();
         want[&k]
     };
-    check_flat_rows(&p, 36, gap, d_of);
+    check_flat_rows(&p, 36, gap, 2, d_of);
 }
 
 #[test]
@@ -101,22 +83,8 @@ fn a_fully_covered_triangle_has_the_closed_form_dual_basis() {
 
 #[test]
 fn a_slave_wider_than_the_master_keeps_the_covered_nodes_only() {
-    let m = box_mesh(
-        [0.25, 0.25, 0.0],
-        [0.5, 0.5, 0.5],
-        [3, 3, 1],
-        CellKind::Hex8,
-        None,
-    )
-    .unwrap();
-    let s = box_mesh(
-        [0.0, 0.0, 0.5],
-        [1.0, 1.0, 0.5],
-        [4, 4, 1],
-        CellKind::Hex8,
-        None,
-    )
-    .unwrap();
+    let m = layer([0.25, 0.25, 0.0], [0.5, 0.5, 0.5], 3, CellKind::Hex8);
+    let s = layer([0.0, 0.0, 0.5], [1.0, 1.0, 0.5], 4, CellKind::Hex8);
     let p = pairing(&m, &s);
     // The covered part is the square [0.25, 0.75]²: the 3 × 3 slave nodes in
     // it (the faces around them are partly covered).

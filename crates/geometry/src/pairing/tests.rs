@@ -788,10 +788,7 @@ fn quadratic_edges_are_piecewise_linear_through_the_mid_side_node() {
 fn nodal_normals_of_quadratic_edges_and_3d_faces() {
     // Quadratic edge bent upwards symmetrically: the mid-side node's normal
     // is vertical, the corners' lean outwards by the halves' slope.
-    let m = quad8(
-        [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]],
-        [[0.5, 0.0], [1.0, 0.5], [0.5, 1.2], [0.0, 0.5]],
-    );
+    let m = unit_square_quad8(1.2);
     let nn: std::collections::BTreeMap<_, _> =
         nodal_normals(&m, &m.surfaces["top"]).into_iter().collect();
     assert_eq!(nn.keys().copied().collect::<Vec<_>>(), vec![2, 3, 6]);

@@ -28,8 +28,22 @@ fn opts() -> FrictionOptions {
 /// about half the points pressed, pulled sideways; μ 0.2 to 0.6.
 fn random_2d(m: usize, seed: u64) -> (DelassusProblem, FrictionLayout) {
     let mut rng = XorShift(seed);
-    let w = random_spd(2 * m, &mut rng);
-    let q: Vec<f64> = (0..2 * m)
+    let problem = random_problem(m, 2 * m, &mut rng);
+    let layout = FrictionLayout {
+        tangent_rows: (0..m).map(|p| vec![m + p]).collect(),
+        law: (0..m)
+            .map(|p| FrictionLaw::coulomb(0.2 + 0.1 * (p % 5) as f64))
+            .collect(),
+        shadow: vec![None; m],
+    };
+    (problem, layout)
+}
+
+/// A random SPD W of `n` rows and q: the first `m` (normal) rows about half
+/// pressed, the others pulled sideways.
+fn random_problem(m: usize, n: usize, rng: &mut XorShift) -> DelassusProblem {
+    let w = random_spd(n, rng);
+    let q: Vec<f64> = (0..n)
         .map(|i| {
             if i < m {
                 rng.uniform(-1.0, 0.6)
@@ -38,14 +52,7 @@ fn random_2d(m: usize, seed: u64) -> (DelassusProblem, FrictionLayout) {
             }
         })
         .collect();
-    let layout = FrictionLayout {
-        tangent_rows: (0..m).map(|p| vec![m + p]).collect(),
-        law: (0..m)
-            .map(|p| FrictionLaw::coulomb(0.2 + 0.1 * (p % 5) as f64))
-            .collect(),
-        shadow: vec![None; m],
-    };
-    (DelassusProblem::from_operator(w, q), layout)
+    DelassusProblem::from_operator(w, q)
 }
 
 /// The statuses agree and the forces and gaps are within `tol`.
@@ -62,6 +69,17 @@ fn assert_same(a: &ContactSolution, b: &ContactSolution, tol: f64, what: &str) {
     }
     for (i, (x, y)) in a.gaps.iter().zip(&b.gaps).enumerate() {
         assert!((x - y).abs() <= tol, "{what}: gap {i}: {x} vs {y}");
+    }
+}
+
+/// Adds the points of `points` to `seen`'s counts of open, stick and slip.
+fn count_statuses(seen: &mut [usize; 3], points: &[PointStatus]) {
+    for st in points {
+        seen[match st {
+            PointStatus::Open => 0,
+            PointStatus::Stick => 1,
+            _ => 2,
+        }] += 1;
     }
 }
 
@@ -82,13 +100,7 @@ fn newton_agrees_with_the_fixed_point_and_the_status_method_in_2d() {
         let status = coulomb_status(&mut fresh(), &layout, initial, &opts()).unwrap();
         assert_same(&newton, &fp, 1e-9, &format!("m = {m}, fixed point"));
         assert_same(&newton, &status, 1e-9, &format!("m = {m}, status method"));
-        for st in &newton.friction.points {
-            seen[match st {
-                PointStatus::Open => 0,
-                PointStatus::Stick => 1,
-                _ => 2,
-            }] += 1;
-        }
+        count_statuses(&mut seen, &newton.friction.points);
     }
     assert!(seen.iter().all(|&c| c > 0), "open, stick, slip: {seen:?}");
 }
@@ -156,16 +168,7 @@ fn random_3d(m: usize, seed: u64, anisotropic: bool) -> (DelassusProblem, Fricti
         tangent_rows.push((next..next + k).collect::<Vec<usize>>());
         next += k;
     }
-    let w = random_spd(next, &mut rng);
-    let q: Vec<f64> = (0..next)
-        .map(|i| {
-            if i < m {
-                rng.uniform(-1.0, 0.6)
-            } else {
-                rng.uniform(-0.8, 0.8)
-            }
-        })
-        .collect();
+    let problem = random_problem(m, next, &mut rng);
     let law = (0..m)
         .map(|p| {
             let mu = 0.2 + 0.1 * (p % 5) as f64;
@@ -182,7 +185,7 @@ fn random_3d(m: usize, seed: u64, anisotropic: bool) -> (DelassusProblem, Fricti
         law,
         shadow: vec![None; m],
     };
-    (DelassusProblem::from_operator(w, q), layout)
+    (problem, layout)
 }
 
 #[test]
@@ -208,13 +211,7 @@ fn newton_on_coulomb_agrees_with_the_fixed_point_in_3d() {
         assert_eq!(newton.friction.fixed_point_iterations, 0, "{what}");
         assert_eq!(fp.report.method, "coulomb_3d_fixed_point", "{what}");
         assert_same(&newton, &fp, 1e-9, &what);
-        for st in &newton.friction.points {
-            seen[match st {
-                PointStatus::Open => 0,
-                PointStatus::Stick => 1,
-                _ => 2,
-            }] += 1;
-        }
+        count_statuses(&mut seen, &newton.friction.points);
     }
     assert!(seen.iter().all(|&c| c > 0), "open, stick, slip: {seen:?}");
 }
