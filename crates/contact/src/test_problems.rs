@@ -4,9 +4,18 @@
 use faer::Mat;
 
 use crate::active_set::signorini::{status_method, StatusOptions, StatusVariant};
-use crate::lcp::gaps;
+use crate::lcp::{gaps, LcpOptions};
 use crate::solution::ContactSolution;
 use crate::DelassusProblem;
+
+/// The options of the LCP methods' tests: a tolerance and an iteration limit.
+pub fn lcp_options(tolerance: f64, max_iterations: usize) -> LcpOptions {
+    LcpOptions {
+        tolerance,
+        max_iterations,
+        ..Default::default()
+    }
+}
 
 pub struct XorShift(pub u64);
 

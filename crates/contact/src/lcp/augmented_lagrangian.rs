@@ -135,11 +135,7 @@ mod tests {
     use crate::test_problems::*;
 
     fn opts() -> LcpOptions {
-        LcpOptions {
-            tolerance: 1e-13,
-            max_iterations: 500,
-            ..Default::default()
-        }
+        lcp_options(1e-13, 500)
     }
 
     #[test]

@@ -271,11 +271,7 @@ mod tests {
     use crate::test_problems::*;
 
     fn opts() -> LcpOptions {
-        LcpOptions {
-            tolerance: 1e-13,
-            max_iterations: 200,
-            ..Default::default()
-        }
+        lcp_options(1e-13, 200)
     }
 
     fn norm2(v: &[f64]) -> f64 {

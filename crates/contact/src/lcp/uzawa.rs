@@ -122,11 +122,7 @@ mod tests {
     use crate::test_problems::*;
 
     fn opts() -> LcpOptions {
-        LcpOptions {
-            tolerance: 1e-13,
-            max_iterations: 100_000,
-            ..Default::default()
-        }
+        lcp_options(1e-13, 100_000)
     }
 
     #[test]
