@@ -49,6 +49,7 @@ pub(crate) mod semismooth_newton;
 pub use crate::law::{FrictionLaw, FrictionLayout};
 pub use crate::options::FrictionOptions;
 pub use crate::solution::PointStatus;
+pub use semismooth_newton::{statuses, AlartCurnier, Dir, NewtonSystem, Scale};
 
 fn equations(
     layout: &FrictionLayout,
