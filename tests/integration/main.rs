@@ -13,6 +13,7 @@ mod bad_input_limits;
 mod conditioning;
 mod contact_2d;
 mod contact_elements;
+mod direct_friction;
 mod direct_ldlt;
 mod disconnected_parts;
 mod fclib;

@@ -6,13 +6,14 @@
 use crate::checks::check_floating_equilibrium;
 use crate::checks::inf_norm;
 use crate::conditioning;
+use crate::direct_friction::{has_friction, run_direct_friction};
 use crate::error::{contact_error, SolveError};
 use crate::kkt::{DirectProblem, KktSystem};
 use crate::model::{gaps_of, BodyModel, FixedPoint, PointModel};
 use crate::progress::Phase;
 use crate::root::{body_step, length_scale, resultant, status_options, status_report, step_gaps};
 use crate::run_context::RunContext;
-use crate::step::{Residuals, StepSolution};
+use crate::step::{FrictionStep, Residuals, StepSolution};
 use crate::step_end::StepLoop;
 use crate::timing::timed;
 use faer::sparse::SparseColMat;
@@ -36,6 +37,9 @@ pub(crate) fn run_direct(
     let (bodies, points) = (&model.bodies[..], &model.points[..]);
     ctx.progress.phase(Phase::Assembling);
     let system = timed(&mut timings.assemble, || assemble_direct(bodies))?;
+    if has_friction(points) {
+        return run_direct_friction(&ctx, &system, steps, timings, messages);
+    }
     let rows: Vec<Vec<(usize, f64)>> = points
         .iter()
         .map(|p| {
@@ -102,12 +106,12 @@ fn kkt_factorisation(kkt: &KktSystem<'_>) -> signorini_report::Factorisation {
 
 /// The stiffness of the direct path: each body's whole stiffness, and the
 /// global one over the free DOFs of all bodies, body after body.
-struct DirectSystem {
-    k_full: Vec<SparseColMat<usize, f64>>,
+pub(crate) struct DirectSystem {
+    pub(crate) k_full: Vec<SparseColMat<usize, f64>>,
     /// Where each body's free DOFs start in the global numbering.
-    offset: Vec<usize>,
-    k_global: SparseColMat<usize, f64>,
-    n_free: usize,
+    pub(crate) offset: Vec<usize>,
+    pub(crate) k_global: SparseColMat<usize, f64>,
+    pub(crate) n_free: usize,
 }
 
 /// Assembles every body's stiffness and the global stiffness on the free
@@ -194,6 +198,7 @@ fn direct_step(
         &loads.forces,
         &u_full,
         lambda,
+        None,
     );
     let gaps = gaps_of(points, &u_full);
     Ok(((sol, gaps, res), u_full))
@@ -202,7 +207,7 @@ fn direct_step(
 /// Checks that each floating body's loads can be balanced by contact
 /// (`check_floating_equilibrium`): the work e = −Rᵀ f of the free load on
 /// its rigid motions, and the resultant of its external force.
-fn check_floating(
+pub(crate) fn check_floating(
     bodies: &[BodyModel],
     points: &[PointModel],
     system: &DirectSystem,
@@ -237,7 +242,7 @@ fn check_floating(
 
 /// Each body's full displacement: the prescribed `u_p`, and on its free
 /// DOFs the global solution `u`.
-fn full_displacements(
+pub(crate) fn full_displacements(
     bodies: &[BodyModel],
     system: &DirectSystem,
     u_p: &[Vec<f64>],
@@ -257,20 +262,24 @@ fn full_displacements(
 }
 
 /// The loads of a step on the direct path.
-struct DirectLoads {
+pub(crate) struct DirectLoads {
     /// Global load on the free DOFs: f − K u_p.
-    f: Vec<f64>,
+    pub(crate) f: Vec<f64>,
     /// Each body's prescribed displacement.
-    u_p: Vec<Vec<f64>>,
+    pub(crate) u_p: Vec<Vec<f64>>,
     /// Each body's external force.
-    forces: Vec<Vec<f64>>,
+    pub(crate) forces: Vec<Vec<f64>>,
     /// The largest external or free-DOF load entry.
-    f_scale: f64,
+    pub(crate) f_scale: f64,
 }
 
 /// A step's loads: each body's prescribed displacement and force at the
 /// step's scales, and the global load f − K u_p on the free DOFs.
-fn direct_loads(bodies: &[BodyModel], system: &DirectSystem, st: &[Vec<f64>]) -> DirectLoads {
+pub(crate) fn direct_loads(
+    bodies: &[BodyModel],
+    system: &DirectSystem,
+    st: &[Vec<f64>],
+) -> DirectLoads {
     let mut f = vec![0.0; system.n_free];
     let mut u_p = Vec::new();
     let mut forces = Vec::new();
@@ -295,7 +304,9 @@ fn direct_loads(bodies: &[BodyModel], system: &DirectSystem, st: &[Vec<f64>]) ->
 }
 
 /// Equilibrium residual of the direct path on the free DOFs of every body:
-/// K u − f − Bᵀλ; and K u − f on the prescribed ones (the reactions).
+/// K u − f − Bᵀλ (with `friction`, the tangential rows times the
+/// tangential forces in Bᵀλ); and K u − f on the prescribed ones (the
+/// reactions).
 pub(crate) fn direct_residuals(
     bodies: &[BodyModel],
     k_full: &[SparseColMat<usize, f64>],
@@ -303,11 +314,20 @@ pub(crate) fn direct_residuals(
     forces: &[Vec<f64>],
     u_full: &[Vec<f64>],
     lambda: &[f64],
+    friction: Option<&FrictionStep>,
 ) -> Residuals {
     let mut contact_force: Vec<Vec<f64>> = bodies.iter().map(|b| vec![0.0; b.n_dof]).collect();
-    for (p, &l) in points.iter().zip(lambda) {
-        for &(b, d, c) in &p.row {
-            contact_force[b][d] += c * l;
+    for (pi, (p, &l)) in points.iter().zip(lambda).enumerate() {
+        let (t1, t2) = friction.map_or((0.0, 0.0), |f| (f.tangential[pi], f.tangential2[pi]));
+        let rows = [
+            (Some(&p.row), l),
+            (p.trow.as_ref(), t1),
+            (p.trow2.as_ref(), t2),
+        ];
+        for (row, force) in rows.into_iter().filter_map(|(r, f)| r.map(|r| (r, f))) {
+            for &(b, d, c) in row {
+                contact_force[b][d] += c * force;
+            }
         }
     }
     let mut eq = 0.0f64;

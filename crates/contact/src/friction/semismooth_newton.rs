@@ -393,7 +393,7 @@ impl<'a> Inner<'a> {
 }
 
 /// The merit ½‖F‖² of a residual.
-fn merit(f: &[f64]) -> f64 {
+pub fn merit(f: &[f64]) -> f64 {
     0.5 * f.iter().map(|v| v * v).sum::<f64>()
 }
 
@@ -433,11 +433,11 @@ enum Step {
 /// not it cycled between statuses (a period of 75 iterations at 1.2e-2 on
 /// an assembly pushed sideways) or blew up under full steps, and spent its
 /// 500 iterations so, in each of the fixed point's inner solves.
-const STALLED_AFTER: usize = 60;
+pub const STALLED_AFTER: usize = 60;
 
 /// The decrease of the residual that counts as progress for
 /// [`STALLED_AFTER`].
-const STALL_DECREASE: f64 = 0.9;
+pub const STALL_DECREASE: f64 = 0.9;
 
 /// Semi-smooth Newton on the Alart–Curnier equations with fixed semi-axes
 /// `thr`, from the forces `start`; with `coulomb`, on Coulomb's law itself
@@ -570,7 +570,7 @@ pub fn statuses(
 }
 
 pub mod alart_curnier;
-mod coulomb;
+pub(crate) mod coulomb;
 mod least_change;
 mod norton_hoff;
 mod tresca_inner;
