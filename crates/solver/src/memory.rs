@@ -652,7 +652,17 @@ pub fn estimate(
         e.fields += 2.0 * 8.0 * (3.0 * n + 7.0 * s.cells);
     }
     let (g, m) = (e.interface_dofs, e.contact_rows);
-    e.dense = if direct {
+    // Friction on the direct path: the whole-system Newton's sparse LU (L
+    // and U, twice the LDLᵀ), nothing dense.
+    let direct_friction = direct
+        && sc
+            .contact
+            .iter()
+            .any(|c| c.friction != scene::Friction::None);
+    e.factor *= if direct_friction { 2.0 } else { 1.0 };
+    e.dense = if direct_friction {
+        0.0
+    } else if direct {
         8.0 * 3.0 * m * m
     } else {
         // one subdomain: the factor of S, dense; several: the assembled

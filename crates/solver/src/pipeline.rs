@@ -297,6 +297,10 @@ impl Attempt<'_> {
             return Ok(Outcome::Done(None));
         }
         log.stages.push("contact".into());
+        let ranks = ctx.comm.size();
+        if ranks > 1 {
+            log.messages.push(format!("path = \"direct\": the root (rank 0) solves the whole system alone; the other {} ranks wait", ranks - 1));
+        }
         let mut steps = StepLoop::new(ctx.sc, ctx.model, sink);
         steps.all_pieces = true;
         ctx.progress
