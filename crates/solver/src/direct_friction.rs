@@ -12,6 +12,7 @@ use crate::direct_path::{
     check_floating, direct_loads, direct_residuals, full_displacements, DirectSystem,
 };
 use crate::error::{contact_error, SolveError};
+use crate::interface_problem::initial_statuses;
 use crate::friction_step::{
     friction_state, layout_of, prescribed_slip_friction, row_gaps, FrictionHistory, FrictionRows,
 };
@@ -22,7 +23,7 @@ use crate::run_context::RunContext;
 use crate::step::StepSolution;
 use crate::step_end::StepLoop;
 use crate::timing::timed;
-use signorini_contact::friction::{statuses, FrictionLaw, FrictionOptions};
+use signorini_contact::friction::{statuses, FrictionLaw, FrictionOptions, PointStatus};
 use signorini_contact::{ContactSolution, SolverReport};
 use signorini_linalg::sparse::SparseRow;
 use signorini_report::Timings;
@@ -231,7 +232,7 @@ impl Stepper<'_> {
         };
         let start = match self.start.take() {
             Some(start) => start,
-            None => self.cold_start(&q, whole.rho(), f_scale),
+            None => self.cold_start(&q, whole.rho(), (f_scale, length)),
         };
         let load = WholeLoad { f: &loads.f, q: &q };
         let solved = solve_whole(whole, &load, start, &opts);
@@ -278,21 +279,21 @@ impl Stepper<'_> {
     }
 
     /// The first step's start: no displacement, no force, but on the points
-    /// of a body held by contact alone a normal force that closes them
-    /// (λ_n > ρ y_n: twice ρ times the initial gap, at least the tolerance
-    /// times the force scale), and with it a positive Coulomb threshold: such
-    /// a body starts held by all its contacts stuck, as on the condensed path
-    /// ([`crate::interface_problem::initial_statuses`]); the Newton steps
-    /// open those whose force comes out tensile.
-    fn cold_start(&self, q: &[f64], rho: &[f64], f_scale: f64) -> (Vec<f64>, Vec<f64>) {
+    /// the condensed path starts closed (initially closed within the
+    /// tolerance, or on a body held by contact alone:
+    /// [`initial_statuses`]) a normal force that closes them (λ_n > ρ y_n:
+    /// twice ρ times the initial gap, at least the tolerance times the force
+    /// scale), and with it a positive Coulomb threshold: they start closed and
+    /// stuck, and the Newton steps open those whose force comes out tensile.
+    fn cold_start(&self, q: &[f64], rho: &[f64], scales: (f64, f64)) -> (Vec<f64>, Vec<f64>) {
+        let (f_scale, length) = scales;
+        let tolerance = self.sc.solver.tolerance;
+        let m = self.points.len();
+        let closed = initial_statuses(self.bodies, self.points, &q[..m], tolerance * length, true);
+        let least = (tolerance * f_scale).max(f64::MIN_POSITIVE);
         let mut lambda = vec![0.0; q.len()];
-        let least = (self.sc.solver.tolerance * f_scale).max(f64::MIN_POSITIVE);
-        for (pi, p) in self.points.iter().enumerate() {
-            let floating = p
-                .row
-                .iter()
-                .any(|&(b, _, _)| !self.bodies[b].kernel.is_empty());
-            if floating {
+        for (pi, status) in closed.iter().enumerate() {
+            if *status != PointStatus::Open {
                 lambda[pi] = (2.0 * rho[pi] * q[pi].max(0.0)).max(least);
             }
         }
@@ -325,7 +326,7 @@ impl Stepper<'_> {
             report,
         );
         out.active = (0..points.len())
-            .filter(|&p| points[p] != signorini_contact::friction::PointStatus::Open)
+            .filter(|&p| points[p] != PointStatus::Open)
             .collect();
         out.friction.points = points;
         out
