@@ -221,3 +221,16 @@ fn norton_hoff_and_rough_contacts_are_refused_on_the_direct_path() {
     let e = nh.err().expect("refused").to_string();
     assert!(e.contains("Norton-Hoff") && e.contains("condensed"), "{e}");
 }
+
+#[test]
+fn regularised_coulomb_has_the_condensed_forces_on_the_direct_path() {
+    let friction = "{ coulomb = 0.3, slip_stiffness = 2000.0 }";
+    let (c, _) = on_both_paths(&block_2d(friction, "{ x = 0.004, y = -0.01 }", ""), 1e-8);
+    let (stick, slip) = stick_slip(&c);
+    assert!(stick + slip > 0, "{stick} stick, {slip} slip");
+}
+
+#[test]
+fn the_ssnv128_example_has_the_condensed_forces_on_the_direct_path() {
+    on_both_paths(&example("ssnv128.toml"), 1e-8);
+}

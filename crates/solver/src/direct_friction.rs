@@ -12,10 +12,10 @@ use crate::direct_path::{
     check_floating, direct_loads, direct_residuals, full_displacements, DirectSystem,
 };
 use crate::error::{contact_error, SolveError};
-use crate::interface_problem::initial_statuses;
 use crate::friction_step::{
     friction_state, layout_of, prescribed_slip_friction, row_gaps, FrictionHistory, FrictionRows,
 };
+use crate::interface_problem::initial_statuses;
 use crate::model::{gaps_of, BodyModel, FixedPoint, PointModel};
 use crate::progress::Phase;
 use crate::root::{length_scale, step_gaps};

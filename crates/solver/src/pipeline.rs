@@ -299,7 +299,7 @@ impl Attempt<'_> {
         log.stages.push("contact".into());
         let ranks = ctx.comm.size();
         if ranks > 1 {
-            log.messages.push(format!("path = \"direct\": the root (rank 0) solves the whole system alone; the other {} ranks wait", ranks - 1));
+            log.messages.push(format!("path = \"direct\": the root (rank 0) solves the whole system alone; the other {} rank(s) wait", ranks - 1));
         }
         let mut steps = StepLoop::new(ctx.sc, ctx.model, sink);
         steps.all_pieces = true;
