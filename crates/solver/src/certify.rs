@@ -500,6 +500,10 @@ pub(crate) fn condensed_step(
             }
         }
     }
+    // a tie's forces are internal: the residual of the kept DOFs is Tᵀ r
+    if let Some(t) = &model.ties {
+        r_gamma = t.fold(&r_gamma);
+    }
     let res = Residuals {
         equilibrium: interior.max(inf_norm(&r_gamma)),
         force_scale: force_scale.max(inf_norm(lambda)),
