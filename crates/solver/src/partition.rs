@@ -34,6 +34,9 @@ pub(crate) struct ModelData {
     /// The tied DOFs (`law = "tied"`) and their elimination from Γ
     /// (`crate::ties`); `None` without a tie.
     pub ties: Option<crate::ties::TieReduction>,
+    /// The tied DOFs themselves (the direct path eliminates them from its
+    /// free DOFs).
+    pub tied: model::Ties,
     /// What each contact of the scene keeps as unknowns (the memory
     /// estimate once the candidate zones are known).
     pub kept: Vec<memory::KeptContact>,
@@ -107,7 +110,7 @@ pub(crate) fn model_stage(
     }
     let (gamma_of, n_gamma, owner_part, frames) =
         interface_numbering(sc, &mut bodies, &points, &ties.tied_node, ranks)?;
-    let ties = crate::ties::TieReduction::new(&ties, &gamma_of, n_gamma);
+    let reduction = crate::ties::TieReduction::new(&ties, &gamma_of, n_gamma);
     if frames.count() > 0 {
         messages.push(format!(
             "{} contact node(s) constrained along their normal only are condensed on that component alone (one interface DOF each)",
@@ -129,7 +132,8 @@ pub(crate) fn model_stage(
         specs,
         scales,
         kept,
-        ties,
+        ties: reduction,
+        tied: ties,
     })
 }
 

@@ -9,9 +9,11 @@
 //! the displacements the ties allow, so T v is the solution of the problem
 //! with the equality constraints u_s − C u_m = 0.
 
+use crate::error::SolveError;
 use crate::model::Ties;
 use crate::subdomain::CondensedData;
-use std::collections::BTreeMap;
+use faer::sparse::{SparseColMat, Triplet};
+use std::collections::{BTreeMap, HashMap};
 
 /// T as the expansion of every Γ DOF over the kept ones.
 #[derive(Debug, Clone)]
@@ -26,7 +28,9 @@ pub(crate) struct TieReduction {
 }
 
 impl TieReduction {
-    /// T from the tied DOFs and the Γ numbering; `None` without a tie.
+    /// T from the tied DOFs and a numbering of the bodies' DOFs (Γ on the
+    /// condensed path, the free DOFs on the direct path; `usize::MAX` off
+    /// it) of size `n_gamma`; `None` without a tie.
     pub(crate) fn new(ties: &Ties, gamma_of: &[Vec<usize>], n_gamma: usize) -> Option<Self> {
         if ties.dofs.is_empty() {
             return None;
@@ -155,5 +159,30 @@ impl TieReduction {
             d.schur = s;
             d.gamma = local.into_keys().collect();
         }
+    }
+
+    /// Tᵀ K T of a sparse matrix over the numbering (the direct path's
+    /// stiffness on the free DOFs).
+    pub(crate) fn reduce_matrix(
+        &self,
+        k: &SparseColMat<usize, f64>,
+    ) -> Result<SparseColMat<usize, f64>, SolveError> {
+        let mut sum: HashMap<(usize, usize), f64> = HashMap::new();
+        for j in 0..k.ncols() {
+            for (&i, &v) in k.row_idx_of_col_raw(j).iter().zip(k.val_of_col(j)) {
+                for &(a, ta) in &self.of_gamma[i] {
+                    for &(b, tb) in &self.of_gamma[j] {
+                        *sum.entry((a, b)).or_default() += ta * tb * v;
+                    }
+                }
+            }
+        }
+        let mut triplets: Vec<Triplet<usize, usize, f64>> = sum
+            .into_iter()
+            .map(|((a, b), v)| Triplet::new(a, b, v))
+            .collect();
+        triplets.sort_unstable_by_key(|t| (t.col, t.row));
+        SparseColMat::try_new_from_triplets(self.n_kept, self.n_kept, &triplets)
+            .map_err(|e| SolveError::Internal(format!("the tied stiffness: {e:?}")))
     }
 }
