@@ -75,8 +75,7 @@ impl<'de> Visitor<'de> for Numbers {
 
 // ---------------------------------------------------------------- law
 
-const LAW_EXPECTED: &str =
-    r#"law: expected "unilateral", "tied" or { penalty = <stiffness> }"#;
+const LAW_EXPECTED: &str = r#"law: expected "unilateral", "tied" or { penalty = <stiffness> }"#;
 
 impl<'de> Deserialize<'de> for Law {
     fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {

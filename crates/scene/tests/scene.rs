@@ -649,7 +649,9 @@ fn law_both_forms_and_bad_law() {
 
     let m = parse_err(&contact("law = \"elastic\""));
     assert!(
-        m.contains(r#"law: expected "unilateral", "tied" or { penalty = <stiffness> }, got "elastic""#),
+        m.contains(
+            r#"law: expected "unilateral", "tied" or { penalty = <stiffness> }, got "elastic""#
+        ),
         "{m}"
     );
     assert!(m.contains("line"), "{m}");

@@ -36,7 +36,9 @@ pub(crate) fn run_direct(
     let (sc, model) = (ctx.sc, ctx.model);
     let (bodies, points) = (&model.bodies[..], &model.points[..]);
     ctx.progress.phase(Phase::Assembling);
-    let system = timed(&mut timings.assemble, || assemble_direct(bodies, &model.tied))?;
+    let system = timed(&mut timings.assemble, || {
+        assemble_direct(bodies, &model.tied)
+    })?;
     let rows: Vec<Vec<(usize, f64)>> = points
         .iter()
         .map(|p| {
@@ -145,7 +147,11 @@ fn assemble_direct(bodies: &[BodyModel], tied: &Ties) -> Result<DirectSystem, So
     let index: Vec<Vec<usize>> = bodies
         .iter()
         .zip(&offset)
-        .map(|(b, &o)| (b.free_index.iter()).map(|&i| if i == usize::MAX { i } else { o + i }).collect())
+        .map(|(b, &o)| {
+            (b.free_index.iter())
+                .map(|&i| if i == usize::MAX { i } else { o + i })
+                .collect()
+        })
         .collect();
     let ties = TieReduction::new(tied, &index, n_free);
     if let Some(t) = &ties {
@@ -223,7 +229,8 @@ fn direct_step(
         lambda,
     );
     if let Some(t) = &system.ties {
-        res.equilibrium = tied_equilibrium(t, bodies, system, &loads.forces, &u_full, points, lambda);
+        res.equilibrium =
+            tied_equilibrium(t, bodies, system, &loads.forces, &u_full, points, lambda);
     }
     let gaps = gaps_of(points, &u_full);
     Ok(((sol, gaps, res), u_full))

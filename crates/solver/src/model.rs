@@ -18,8 +18,8 @@ mod contacts;
 mod slave_choice;
 mod ties;
 mod zone;
-pub(crate) use contacts::{check_contact_supported, point_friction};
 pub use contacts::{build_contacts, eliminate_redundant, ContactSet, FixedPoint};
+pub(crate) use contacts::{check_contact_supported, point_friction};
 pub use ties::{build_ties, TiedDof, Ties};
 pub use zone::{check_excluded, zone_notes, Widening, Zone, MAX_WIDENINGS};
 

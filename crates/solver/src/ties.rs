@@ -129,7 +129,12 @@ impl TieReduction {
             let t: Vec<Vec<(usize, f64)>> = d
                 .gamma
                 .iter()
-                .map(|&g| self.of_gamma[g].iter().map(|&(k, w)| (local[&k], w)).collect())
+                .map(|&g| {
+                    self.of_gamma[g]
+                        .iter()
+                        .map(|&(k, w)| (local[&k], w))
+                        .collect()
+                })
                 .collect();
             let mut st = vec![0.0; nb * nk]; // Sᵢ Tᵢ, column-major nb × nk
             for (j, tj) in t.iter().enumerate() {

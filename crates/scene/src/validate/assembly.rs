@@ -13,7 +13,11 @@ pub(super) fn validate_place(e: &str, bc: &Boundary, dim: usize) -> Result {
         .filter(|x| **x)
         .count();
     if given != 1 {
-        let what = if given == 0 { "give" } else { "give only one of" };
+        let what = if given == 0 {
+            "give"
+        } else {
+            "give only one of"
+        };
         return Err(invalid(
             e,
             format!("{what} `surface` (a surface of the body), `point` (the body's node at that point) or `nodes` (a physical group of the body's Gmsh file)"),

@@ -45,7 +45,10 @@ pub struct Ties {
 pub fn build_ties(sc: &scene::Scene, bodies: &mut [BodyModel]) -> Result<Ties, SolveError> {
     let mut ties = Ties {
         dofs: Vec::new(),
-        tied_node: bodies.iter().map(|b| vec![false; b.mesh.n_nodes()]).collect(),
+        tied_node: bodies
+            .iter()
+            .map(|b| vec![false; b.mesh.n_nodes()])
+            .collect(),
     };
     let mut slave_of: BTreeMap<(usize, usize), usize> = BTreeMap::new();
     let mut groups: Vec<usize> = (0..bodies.len()).collect();
@@ -94,10 +97,15 @@ fn tie_rows(
 ) -> Result<TieRows, SolveError> {
     let body = |name: &str, side: &str| {
         bodies.iter().position(|b| b.name == name).ok_or_else(|| {
-            input(format!("{entry}.{side}.body: \"{name}\" is not a deformable body"))
+            input(format!(
+                "{entry}.{side}.body: \"{name}\" is not a deformable body"
+            ))
         })
     };
-    let (si, mi) = (body(&c.slave.body, "slave")?, body(&c.master.body, "master")?);
+    let (si, mi) = (
+        body(&c.slave.body, "slave")?,
+        body(&c.master.body, "master")?,
+    );
     let surface = |b: usize, s: &scene::ContactSide, side: &str| {
         let name = s.surface.as_deref().unwrap_or_default();
         bodies[b]
@@ -219,10 +227,7 @@ fn join(groups: &mut [usize], a: usize, b: usize) {
 /// The bodies of a tied group move together: when one of them is held by
 /// its supports (no free rigid motion), so are the others (their rigid
 /// modes are cleared). A group none of whose bodies is held is refused.
-fn hold_tied_groups(
-    bodies: &mut [BodyModel],
-    groups: &[usize],
-) -> Result<(), SolveError> {
+fn hold_tied_groups(bodies: &mut [BodyModel], groups: &[usize]) -> Result<(), SolveError> {
     for g in 0..bodies.len() {
         let members: Vec<usize> = (0..bodies.len()).filter(|&b| groups[b] == g).collect();
         if members.len() < 2 {
