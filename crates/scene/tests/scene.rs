@@ -141,7 +141,8 @@ fn load_reads_toml_and_json_and_resolves_mesh_files() {
     assert_eq!(
         s.bodies[0].mesh,
         Some(MeshSpec::File {
-            file: dir.join("part.msh")
+            file: dir.join("part.msh"),
+            volume: None
         })
     );
     assert_eq!(Output::default().directory_for(&p), Path::new("out/file"));

@@ -86,3 +86,41 @@ pub(super) fn add_node_sets(
     }
     Ok(())
 }
+
+#[cfg(test)]
+mod tests {
+    use crate::gmsh::{parse_msh, parse_msh_volume};
+
+    /// Two rectangles meshed apart in one file (tests/data/tied_blocks_2d.geo).
+    const FILE: &[u8] = include_bytes!("../../../../tests/data/tied_blocks_2d.msh");
+
+    #[test]
+    fn a_volume_is_one_body_with_its_own_surfaces_and_node_sets() {
+        let whole = parse_msh(FILE, 2).unwrap();
+        let lower = parse_msh_volume(FILE, 2, Some("lower")).unwrap();
+        let upper = parse_msh_volume(FILE, 2, Some("upper")).unwrap();
+        // every cell in one body or the other, the nodes apart
+        assert_eq!(lower.cells.len() + upper.cells.len(), whole.cells.len());
+        assert_eq!(lower.n_nodes() + upper.n_nodes(), whole.n_nodes());
+        let names = |m: &crate::Mesh| m.surfaces.keys().cloned().collect::<Vec<_>>();
+        assert_eq!(names(&lower), ["lower_bottom", "lower_top"]);
+        assert_eq!(names(&upper), ["upper_bottom", "upper_top"]);
+        // the physical point at the origin is a node set of the lower body
+        let origin = &lower.node_sets["origin"];
+        assert_eq!(origin.len(), 1);
+        assert_eq!(lower.coords[origin[0]], [0.0, 0.0, 0.0]);
+        assert!(!upper.node_sets.contains_key("origin"));
+        assert_eq!(upper.node_sets["top_corners"].len(), 2);
+    }
+
+    #[test]
+    fn an_unknown_volume_is_refused_listing_the_files_volumes() {
+        let e = parse_msh_volume(FILE, 2, Some("middle"))
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("\"middle\"") && e.contains("\"lower\", \"upper\""),
+            "{e}"
+        );
+    }
+}

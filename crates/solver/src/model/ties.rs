@@ -126,7 +126,8 @@ fn tie_rows(
     }
     .map_err(|e| input(format!("{entry}: {e}")))?
     .pairing;
-    let paired: Vec<usize> = pairing.points.iter().map(|p| p.slave_node).collect();
+    let paired: std::collections::BTreeSet<usize> =
+        pairing.points.iter().map(|p| p.slave_node).collect();
     if let Some(&j) = s_surf.nodes().iter().find(|n| !paired.contains(n)) {
         return Err(input(format!(
             "{entry}: slave node {} of surface \"{}\" does not face the master surface \"{}\": a tie bonds two surfaces that lie on each other; make the smaller surface the slave",
