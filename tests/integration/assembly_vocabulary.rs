@@ -113,6 +113,34 @@ fn two_blocks_tied_with_non_matching_meshes_pass_the_patch_test_on_both_paths_2d
 }
 
 #[test]
+fn a_tie_between_coincident_nodes_joins_them() {
+    let lower = r#"{ generator = "rectangle", origin = [0.0, 0.0], size = [1.0, 1.0], divisions = [3, 3] }"#;
+    let upper = r#"{ generator = "rectangle", origin = [0.0, 1.0], size = [1.0, 1.0], divisions = [3, 2] }"#;
+    let out = converged_on(&tied_blocks(2, lower, upper, 2.0), SolvePath::Condensed);
+    let err = patch_error(&out, 2, 2.0);
+    assert!(err <= 1e-10, "patch test error {err:e}");
+    // each node of the upper block's bottom moves with the lower block's
+    // node at the same place
+    let (lo, up) = (&out.bodies[0], &out.bodies[1]);
+    let mut joined = 0;
+    for (n, x) in up.coords.iter().enumerate().filter(|(_, x)| x[1] == 1.0) {
+        let m = lo.coords.iter().position(|y| y == x).unwrap();
+        for k in 0..2 {
+            let (a, b) = (
+                up.last().displacement[2 * n + k],
+                lo.last().displacement[2 * m + k],
+            );
+            assert!(
+                (a - b).abs() <= 1e-12 * a.abs().max(b.abs()).max(1e-3),
+                "{x:?}: {a:e} {b:e}"
+            );
+        }
+        joined += 1;
+    }
+    assert_eq!(joined, 4);
+}
+
+#[test]
 fn two_blocks_tied_with_non_matching_meshes_pass_the_patch_test_on_both_paths_3d() {
     let lower = r#"{ generator = "box", origin = [0.0, 0.0, 0.0], size = [1.0, 1.0, 1.0], divisions = [2, 2, 2] }"#;
     let upper = r#"{ generator = "box", origin = [0.0, 0.0, 1.0], size = [1.0, 1.0, 1.0], divisions = [3, 3, 2], element = "tet4" }"#;

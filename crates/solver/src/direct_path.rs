@@ -119,6 +119,8 @@ struct DirectSystem {
     /// The elimination of the tied DOFs from the free ones (`crate::ties`):
     /// `k_global` is then Tᵀ K T.
     ties: Option<TieReduction>,
+    /// The tied DOFs (for the ties' forces).
+    tied: Ties,
 }
 
 /// Assembles every body's stiffness and the global stiffness on the free
@@ -163,6 +165,7 @@ fn assemble_direct(bodies: &[BodyModel], tied: &Ties) -> Result<DirectSystem, So
         k_global,
         n_free,
         ties,
+        tied: tied.clone(),
     })
 }
 
@@ -229,8 +232,17 @@ fn direct_step(
         lambda,
     );
     if let Some(t) = &system.ties {
-        res.equilibrium =
-            tied_equilibrium(t, bodies, system, &loads.forces, &u_full, points, lambda);
+        let r = tied_residual(bodies, system, &loads.forces, &u_full, points, lambda);
+        res.equilibrium = inf_norm(&t.fold(&r));
+        let dim = sc.dimension as usize;
+        res.ties = system.tied.forces(dim, |b, d| {
+            let i = bodies[b].free_index[d];
+            if i == usize::MAX {
+                0.0
+            } else {
+                r[system.offset[b] + i]
+            }
+        });
     }
     let gaps = gaps_of(points, &u_full);
     Ok(((sol, gaps, res), u_full))
@@ -369,21 +381,21 @@ pub(crate) fn direct_residuals(
         equilibrium: eq,
         force_scale: scale,
         support,
+        ties: Vec::new(),
     }
 }
 
-/// The equilibrium residual with ties: K u − f − Bᵀλ on the free DOFs of
-/// every body, the tied slave DOFs' residuals carried to their masters (Tᵀ r:
-/// the tie's forces are internal), its largest entry.
-fn tied_equilibrium(
-    t: &TieReduction,
+/// The residual K u − f − Bᵀλ on the free DOFs of every body (in the
+/// global numbering): at the tied slave DOFs, the force the tie exerts; the
+/// equilibrium residual is Tᵀ r (the tie's forces are internal).
+fn tied_residual(
     bodies: &[BodyModel],
     system: &DirectSystem,
     forces: &[Vec<f64>],
     u_full: &[Vec<f64>],
     points: &[PointModel],
     lambda: &[f64],
-) -> f64 {
+) -> Vec<f64> {
     let mut r = vec![0.0; system.n_free];
     for (bi, b) in bodies.iter().enumerate() {
         let ku = spmv(system.k_full[bi].as_ref(), &u_full[bi]);
@@ -396,5 +408,5 @@ fn tied_equilibrium(
             r[system.offset[b] + bodies[b].free_index[d]] -= c * l;
         }
     }
-    inf_norm(&t.fold(&r))
+    r
 }

@@ -24,6 +24,8 @@ use crate::error::SolveError;
 /// One eliminated DOF: slave (body model, DOF) = Σ coef · master DOF.
 #[derive(Debug, Clone)]
 pub struct TiedDof {
+    /// The tie (index in `scene.contact`).
+    pub contact: usize,
     pub slave: (usize, usize),
     pub masters: Vec<(usize, usize, f64)>,
 }
@@ -66,7 +68,8 @@ pub fn build_ties(sc: &scene::Scene, bodies: &mut [BodyModel]) -> Result<Ties, S
             for &(l, _) in &masters {
                 ties.tied_node[mi][l] = true;
             }
-            eliminate(&mut ties.dofs, bodies, (si, j), mi, &masters, &entry)?;
+            let tied = (ci, si, j);
+            eliminate(&mut ties.dofs, bodies, tied, mi, &masters, &entry)?;
         }
         join(&mut groups, si, mi);
     }
@@ -83,6 +86,25 @@ pub fn build_ties(sc: &scene::Scene, bodies: &mut [BodyModel]) -> Result<Ties, S
     }
     hold_tied_groups(bodies, &groups)?;
     Ok(ties)
+}
+
+impl Ties {
+    /// The force of each tie's master on its slave (index in
+    /// `scene.contact`, resultant): the sum over its slave DOFs of the
+    /// residual K u − f − Bᵀλ there, `residual(body, DOF)`, which the tie
+    /// balances. A slave DOF a support prescribes counts in its reaction.
+    pub fn forces(
+        &self,
+        dim: usize,
+        mut residual: impl FnMut(usize, usize) -> f64,
+    ) -> Vec<(usize, Vec<f64>)> {
+        let mut out: BTreeMap<usize, Vec<f64>> = BTreeMap::new();
+        for d in &self.dofs {
+            let (b, dof) = d.slave;
+            out.entry(d.contact).or_insert_with(|| vec![0.0; dim])[dof % dim] += residual(b, dof);
+        }
+        out.into_iter().collect()
+    }
 }
 
 /// The slave and master body models of a tie and, per slave node, its
@@ -158,13 +180,13 @@ fn tie_rows(
     Ok((si, mi, rows))
 }
 
-/// The tied DOFs of slave node `j` of body `si`: each free component a
+/// The tied DOFs of slave node `j` of body `si` (tie `ci`): each free component a
 /// combination of the master's free DOFs (a master DOF held at zero drops
 /// out; one prescribed to another value is refused).
 fn eliminate(
     dofs: &mut Vec<TiedDof>,
     bodies: &[BodyModel],
-    (si, j): (usize, usize),
+    (ci, si, j): (usize, usize, usize),
     mi: usize,
     masters: &[(usize, f64)],
     entry: &str,
@@ -190,6 +212,7 @@ fn eliminate(
             combination.push((mi, md, w));
         }
         dofs.push(TiedDof {
+            contact: ci,
             slave: (si, d),
             masters: combination,
         });
