@@ -22,6 +22,7 @@ use crate::root::{length_scale, step_gaps};
 use crate::run_context::RunContext;
 use crate::step::StepSolution;
 use crate::step_end::StepLoop;
+use crate::step_friction::step_laws;
 use crate::timing::timed;
 use signorini_contact::friction::{statuses, FrictionLaw, FrictionOptions, PointStatus};
 use signorini_contact::{ContactSolution, SolverReport};
@@ -137,6 +138,11 @@ pub(crate) fn run_direct_friction(
     let tangent_rows = (&rows.tangent_row[..], &rows.tangent_row2[..]);
     let fr = layout_of(sc, points, &rows.rows, tangent_rows)?
         .ok_or_else(|| SolveError::Internal("friction without a tangential row".into()))?;
+    if (0..model.scales.len()).any(|si| step_laws(sc, points, si).is_some()) {
+        return Err(SolveError::Input(
+            "steps.friction: a friction law changed by a load step is solved on path = \"condensed\" only; use path = \"condensed\"".into(),
+        ));
+    }
     let compliance = compliance(points, &rows);
     ctx.progress.phase(Phase::Contact);
     let mut whole = timed(&mut timings.contact, || {
@@ -244,6 +250,7 @@ impl Stepper<'_> {
         prescribed_slip_friction(
             bodies,
             points,
+            self.fr,
             slip,
             &mut self.history,
             &mut friction,

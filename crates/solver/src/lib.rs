@@ -44,7 +44,9 @@ mod run_context;
 mod sparse_lu;
 mod step;
 mod step_end;
+mod step_friction;
 pub mod subdomain;
+mod ties;
 mod timing;
 
 pub use signorini_report::results::{BodyResult, RunOutput, StepFields};
