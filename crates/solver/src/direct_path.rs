@@ -51,9 +51,11 @@ pub(crate) fn run_direct(
     let mut kkt = timed(&mut timings.contact, || {
         KktSystem::new(&system.k_global, &rows, floating).map_err(contact_error)
     })?;
-    // One more factorisation, of K alone (the KKT's ordering), timed apart.
+    // One more factorisation, of K alone (the KKT's ordering), timed apart,
+    // when the scene asks for it (solver.condition_estimate).
     let conditioning = timed(&mut timings.conditioning, || {
-        conditioning::direct(&mut kkt, floating, sc.solver.tolerance, messages)
+        let estimate = sc.solver.condition_estimate;
+        conditioning::direct(&mut kkt, (floating, estimate), sc.solver.tolerance, messages)
     });
     for (si, st) in model.scales.iter().enumerate() {
         ctx.progress.step(si, model.scales.len());

@@ -4,6 +4,8 @@
 
 use crate::element_step::{check_return_mapping, uses_return_mapping};
 use crate::error::SolveError;
+use crate::memory::Budget;
+use crate::path_choice;
 use crate::options::RunOptions;
 use signorini_contact::registry::{Algorithm, Constraints, FrictionSupport};
 use signorini_contact::StatusVariant;
@@ -17,15 +19,51 @@ pub(crate) struct Plan {
     /// The contacts are contact elements solved by the return mapping
     /// (course notes §7, [`crate::element_step`]): no `method` applies.
     pub return_mapping: bool,
+    /// How `path` was chosen (report.json `path_choice`).
+    pub choice: signorini_report::PathChoice,
 }
 
-/// The method and path of the run (the command line overrides the scene),
+/// The method and path of the run (the command line overrides the scene;
+/// `path = "auto"` by [`path_choice`], for `ranks` ranks within `budget`),
 /// refused with the entry and what would be valid when they cannot run the
 /// scene's contacts.
-pub(crate) fn plan(sc: &scene::Scene, opts: &RunOptions) -> Result<Plan, SolveError> {
+pub(crate) fn plan(
+    sc: &scene::Scene,
+    opts: &RunOptions,
+    ranks: usize,
+    budget: Option<Budget>,
+) -> Result<Plan, SolveError> {
     check_supported(sc)?;
+    let requested = opts.path.unwrap_or(sc.solver.path);
+    let condensed = path_choice::cost(sc, scene::SolvePath::Condensed, ranks, budget);
+    let direct = match plan_on(sc, opts, scene::SolvePath::Direct) {
+        Ok(_) => Ok(path_choice::cost(sc, scene::SolvePath::Direct, 1, budget)),
+        Err(e) => Err(e.to_string()),
+    };
+    let (path, reason) = path_choice::rule(requested, &condensed, &direct);
+    if requested == scene::SolvePath::Auto {
+        // the refusal says why this path
+        let counts = crate::memory::ContactCounts::Surfaces;
+        crate::memory::check(sc, (path, ranks), counts, budget).map_err(|e| match e {
+            SolveError::Input(m) => SolveError::Input(format!(
+                "{m} (solver.path = \"auto\" chose the {} path: {reason})",
+                path.as_str()
+            )),
+            e => e,
+        })?;
+    }
+    let mut plan = plan_on(sc, opts, path)?;
+    plan.choice = path_choice::report(requested, path, &reason, &condensed, &direct);
+    Ok(plan)
+}
+
+/// [`plan`] on `path` (condensed or direct).
+fn plan_on(
+    sc: &scene::Scene,
+    opts: &RunOptions,
+    path: scene::SolvePath,
+) -> Result<Plan, SolveError> {
     let method = opts.method.unwrap_or(sc.solver.method);
-    let path = opts.path.unwrap_or(sc.solver.path);
     let algorithm = algorithm_of(&sc.solver, method);
     if uses_return_mapping(sc) {
         check_return_mapping(sc, path)?;
@@ -52,6 +90,7 @@ pub(crate) fn plan(sc: &scene::Scene, opts: &RunOptions) -> Result<Plan, SolveEr
             path,
             algorithm,
             return_mapping: true,
+            choice: Default::default(),
         });
     }
     if path == scene::SolvePath::Direct && !algorithm.on_active_set() {
@@ -92,6 +131,7 @@ pub(crate) fn plan(sc: &scene::Scene, opts: &RunOptions) -> Result<Plan, SolveEr
         path,
         algorithm,
         return_mapping: false,
+        choice: Default::default(),
     })
 }
 
@@ -127,7 +167,18 @@ pub fn check_plan(sc: &scene::Scene, path: Option<scene::SolvePath>) -> Result<(
 /// Whether `run` would run the scene with the overrides `opts` (the checks
 /// of the plan, made before anything is built).
 pub fn check_options(sc: &scene::Scene, opts: &RunOptions) -> Result<(), SolveError> {
-    plan(sc, opts).map(|_| ())
+    plan(sc, opts, 1, None).map(|_| ())
+}
+
+/// The path `run` would take with the overrides `opts`, on `ranks` ranks
+/// within `budget`, and why (`path = "auto"`: by the estimates).
+pub fn choose_path(
+    sc: &scene::Scene,
+    opts: &RunOptions,
+    ranks: usize,
+    budget: Option<Budget>,
+) -> Result<signorini_report::PathChoice, SolveError> {
+    plan(sc, opts, ranks, budget).map(|p| p.choice)
 }
 
 /// The contact algorithm of a scene's `[solver]` with the method `method`:
