@@ -53,10 +53,13 @@ pub(crate) fn run_direct(
     })?;
     // One more factorisation, of K alone (the KKT's ordering), timed apart,
     // when the scene asks for it (solver.condition_estimate).
-    let conditioning = timed(&mut timings.conditioning, || {
-        let estimate = sc.solver.condition_estimate;
-        conditioning::direct(&mut kkt, (floating, estimate), sc.solver.tolerance, messages)
-    });
+    let estimate = sc.solver.condition_estimate;
+    let mut conditioning =
+        || conditioning::direct(&mut kkt, (floating, estimate), sc.solver.tolerance, messages);
+    let conditioning = match estimate {
+        true => timed(&mut timings.conditioning, conditioning),
+        false => conditioning(),
+    };
     for (si, st) in model.scales.iter().enumerate() {
         ctx.progress.step(si, model.scales.len());
         let ((sol, gaps, res), u_full) = timed(&mut timings.contact, || {
