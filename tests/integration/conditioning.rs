@@ -166,7 +166,9 @@ fn direct_path_reports_the_condition_of_k() {
     let c = conditioning(&plain);
     assert!(c.k.is_none() && c.digits_lost.is_none());
     assert!(
-        c.notes.iter().any(|n| n.contains("solver.condition_estimate = true")),
+        c.notes
+            .iter()
+            .any(|n| n.contains("solver.condition_estimate = true")),
         "{:?}",
         c.notes
     );

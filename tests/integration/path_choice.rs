@@ -16,7 +16,10 @@ fn pad(n: usize) -> String {
         "/docs/bench/pad/pad48_frictionless.toml"
     ))
     .expect("the pad scene")
-    .replace("divisions = [48, 48, 2]", &format!("divisions = [{n}, {n}, 2]"))
+    .replace(
+        "divisions = [48, 48, 2]",
+        &format!("divisions = [{n}, {n}, 2]"),
+    )
 }
 
 #[test]
@@ -24,22 +27,37 @@ fn auto_keeps_a_small_scene_condensed_and_says_so_in_the_report() {
     let o = converged(&example("blocks.toml"), RunOptions::default());
     assert_eq!(o.report.path, "condensed");
     let c = o.report.path_choice.as_ref().expect("path_choice");
-    assert_eq!((c.requested.as_str(), c.chosen.as_str()), ("auto", "condensed"));
+    assert_eq!(
+        (c.requested.as_str(), c.chosen.as_str()),
+        ("auto", "condensed")
+    );
     assert!(c.reason.contains("estimated"), "{}", c.reason);
-    let direct = c.direct.as_ref().expect("the direct path can run blocks.toml");
+    let direct = c
+        .direct
+        .as_ref()
+        .expect("the direct path can run blocks.toml");
     assert!(c.condensed.memory_bytes > 0.0 && direct.memory_bytes > 0.0);
     assert!(c.condensed.fits && direct.fits);
     let json = serde_json::to_value(&o.report).expect("report.json");
     for key in ["requested", "chosen", "reason", "condensed", "direct"] {
         assert!(json["path_choice"].get(key).is_some(), "path_choice.{key}");
     }
-    for key in ["memory_bytes", "sparse_flops", "dense_flops", "seconds", "fits"] {
+    for key in [
+        "memory_bytes",
+        "sparse_flops",
+        "dense_flops",
+        "seconds",
+        "fits",
+    ] {
         assert!(json["path_choice"]["condensed"].get(key).is_some(), "{key}");
     }
     // an explicit path: asked for
     let o = converged_on(&example("blocks.toml"), SolvePath::Condensed);
     let c = o.report.path_choice.as_ref().expect("path_choice");
-    assert_eq!((c.requested.as_str(), c.reason.as_str()), ("condensed", "asked for"));
+    assert_eq!(
+        (c.requested.as_str(), c.reason.as_str()),
+        ("condensed", "asked for")
+    );
 }
 
 #[test]

@@ -866,7 +866,10 @@ fn method_and_path_from_str() {
     );
     assert_eq!("auto".parse::<SolvePath>().unwrap(), SolvePath::Auto);
     let e = "dense".parse::<SolvePath>().unwrap_err();
-    assert!(e.contains("condensed") && e.contains("direct") && e.contains("auto"), "{e}");
+    assert!(
+        e.contains("condensed") && e.contains("direct") && e.contains("auto"),
+        "{e}"
+    );
     assert_eq!(ReferenceKind::CattaneoMindlin.as_str(), "cattaneo_mindlin");
     // as_str agrees with serde
     for k in [

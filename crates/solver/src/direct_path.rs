@@ -54,8 +54,14 @@ pub(crate) fn run_direct(
     // One more factorisation, of K alone (the KKT's ordering), timed apart,
     // when the scene asks for it (solver.condition_estimate).
     let estimate = sc.solver.condition_estimate;
-    let mut conditioning =
-        || conditioning::direct(&mut kkt, (floating, estimate), sc.solver.tolerance, messages);
+    let mut conditioning = || {
+        conditioning::direct(
+            &mut kkt,
+            (floating, estimate),
+            sc.solver.tolerance,
+            messages,
+        )
+    };
     let conditioning = match estimate {
         true => timed(&mut timings.conditioning, conditioning),
         false => conditioning(),

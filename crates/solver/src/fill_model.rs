@@ -93,7 +93,10 @@ mod tests {
     fn grows_as_nested_dissection_does() {
         // 2D: entries O(n log n), flops O(n^{3/2}); 3D: O(n^{4/3}), O(n²)
         let ratio = |f: fn(f64) -> [f64; 3], k: f64| {
-            let (a, b) = (nested_dissection(f(k), 1.0), nested_dissection(f(2.0 * k), 1.0));
+            let (a, b) = (
+                nested_dissection(f(k), 1.0),
+                nested_dissection(f(2.0 * k), 1.0),
+            );
             (b.entries / a.entries, b.flops / a.flops)
         };
         let (e, fl) = ratio(|k| [k, k, 1.0], 400.0);

@@ -750,7 +750,11 @@ pub fn estimate(
     };
     if !direct {
         // W = B S⁻¹ Bᵀ: two triangular solves with S's factor per row
-        let s_factor = if blocks > 1.0 { 1.5 * block_entries } else { g * g };
+        let s_factor = if blocks > 1.0 {
+            1.5 * block_entries
+        } else {
+            g * g
+        };
         e.dense_flops += 2.0 * s_factor * m;
     }
     e.fields += 200.0 * m + steps * 5000.0;

@@ -113,7 +113,9 @@ pub fn rule(
         _ if tc > PAYS && td * MARGIN < tc => (Direct, format!("faster: {times}")),
         _ if td < tc => (
             Condensed,
-            format!("the direct path is not {MARGIN} times faster on a run of over {PAYS} s ({times})"),
+            format!(
+                "the direct path is not {MARGIN} times faster on a run of over {PAYS} s ({times})"
+            ),
         ),
         _ => (Condensed, format!("faster: {times}")),
     }
@@ -209,7 +211,10 @@ mod tests {
         let large_face = cost(1e9, 1e12, true);
         let (path, why) = rule(Auto, &large_face, &direct);
         assert_eq!(path, Direct);
-        assert!(why.contains("faster") && why.contains("100.3 s condensed"), "{why}");
+        assert!(
+            why.contains("faster") && why.contains("100.3 s condensed"),
+            "{why}"
+        );
         // explicit: honoured whatever the costs
         assert_eq!(rule(Condensed, &large_face, &direct).0, Condensed);
         assert_eq!(rule(Direct, &small, &direct).0, Direct);
@@ -220,11 +225,17 @@ mod tests {
         let (path, _) = rule(Auto, &small, &Ok(cost(1e6, 0.0, false)));
         assert_eq!(path, Condensed);
         // a tie, or a direct path not twice faster, or a quick run: condensed
-        assert_eq!(rule(Auto, &cost(3e9, 0.0, true), &Ok(cost(3e9, 0.0, true))).0, Condensed);
+        assert_eq!(
+            rule(Auto, &cost(3e9, 0.0, true), &Ok(cost(3e9, 0.0, true))).0,
+            Condensed
+        );
         let (path, why) = rule(Auto, &cost(6e9, 0.0, true), &Ok(cost(4e9, 0.0, true)));
         assert_eq!(path, Condensed);
         assert!(why.contains("not 2 times faster"), "{why}");
-        assert_eq!(rule(Auto, &cost(1e6, 1e9, true), &Ok(cost(1e6, 0.0, true))).0, Condensed);
+        assert_eq!(
+            rule(Auto, &cost(1e6, 1e9, true), &Ok(cost(1e6, 0.0, true))).0,
+            Condensed
+        );
     }
 
     #[test]

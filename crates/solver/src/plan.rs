@@ -5,8 +5,8 @@
 use crate::element_step::{check_return_mapping, uses_return_mapping};
 use crate::error::SolveError;
 use crate::memory::Budget;
-use crate::path_choice;
 use crate::options::RunOptions;
+use crate::path_choice;
 use signorini_contact::registry::{Algorithm, Constraints, FrictionSupport};
 use signorini_contact::StatusVariant;
 use signorini_scene as scene;
@@ -258,8 +258,16 @@ mod path_tests {
         assert_eq!(path, scene::SolvePath::Direct);
         assert!(why.starts_with("faster"), "{why}");
         let p = plan(&pad(100, false, "auto"), &none, 1, None).unwrap();
-        let d = p.choice.direct.clone().expect("the direct path runs the frictionless pad");
-        assert!(d.seconds * 10.0 < p.choice.condensed.seconds, "{:?}", p.choice);
+        let d = p
+            .choice
+            .direct
+            .clone()
+            .expect("the direct path runs the frictionless pad");
+        assert!(
+            d.seconds * 10.0 < p.choice.condensed.seconds,
+            "{:?}",
+            p.choice
+        );
         assert_eq!(p.choice.requested, "auto");
     }
 
@@ -267,12 +275,18 @@ mod path_tests {
     fn an_explicit_path_is_honoured_and_friction_stays_condensed() {
         let none = RunOptions::default();
         let (path, why) = chosen(&pad(100, false, "condensed"), &none);
-        assert_eq!((path, why.as_str()), (scene::SolvePath::Condensed, "asked for"));
+        assert_eq!(
+            (path, why.as_str()),
+            (scene::SolvePath::Condensed, "asked for")
+        );
         let direct = RunOptions {
             path: Some(scene::SolvePath::Direct),
             ..Default::default()
         };
-        assert_eq!(chosen(&pad(4, false, "auto"), &direct).0, scene::SolvePath::Direct);
+        assert_eq!(
+            chosen(&pad(4, false, "auto"), &direct).0,
+            scene::SolvePath::Direct
+        );
         // friction: the direct path cannot run it
         let p = plan(&pad(100, true, "auto"), &none, 1, None).unwrap();
         assert_eq!(p.path, scene::SolvePath::Condensed);
@@ -286,7 +300,10 @@ mod path_tests {
             panic!("the friction pad fits in 1 GiB");
         };
         let m = e.to_string();
-        assert!(m.contains("path = \"auto\" chose the condensed path") && m.contains("friction"), "{m}");
+        assert!(
+            m.contains("path = \"auto\" chose the condensed path") && m.contains("friction"),
+            "{m}"
+        );
         // a frictionless pad that does not fit condensed goes direct
         let budget = Budget {
             bytes: 2 << 30,
@@ -294,6 +311,10 @@ mod path_tests {
         };
         let p = plan(&pad(100, false, "auto"), &none, 1, Some(budget)).unwrap();
         assert_eq!(p.path, scene::SolvePath::Direct);
-        assert!(p.choice.reason.contains("condensed estimate exceeds"), "{}", p.choice.reason);
+        assert!(
+            p.choice.reason.contains("condensed estimate exceeds"),
+            "{}",
+            p.choice.reason
+        );
     }
 }
