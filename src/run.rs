@@ -36,11 +36,8 @@ pub(crate) fn check(
         Err(e) => return fail(1, &e.to_string()),
     };
     let auto = choice.requested == SolvePath::Auto.as_str();
-    let solve_path = if choice.chosen == SolvePath::Direct.as_str() {
-        SolvePath::Direct
-    } else {
-        SolvePath::Condensed
-    };
+    // `chosen` is a path's own spelling
+    let solve_path = choice.chosen.parse().unwrap_or(SolvePath::Condensed);
     let counts = memory::ContactCounts::Surfaces;
     let estimate = match memory::check(&sc, (solve_path, 1), counts, budget) {
         Ok(e) => e,
