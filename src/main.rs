@@ -49,7 +49,7 @@ enum Command {
         /// Contact algorithm, overriding [solver] method.
         #[arg(long)]
         method: Option<Method>,
-        /// condensed | direct, overriding [solver] path.
+        /// condensed | direct | auto, overriding [solver] path.
         #[arg(long)]
         path: Option<SolvePath>,
         /// Output directory, overriding [output] directory (default out/<scene stem>).

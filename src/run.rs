@@ -26,11 +26,18 @@ pub(crate) fn check(
         Ok(sc) => sc,
         Err(e) => return fail(1, &e.to_string()),
     };
-    if let Err(e) = signorini_solver::check_plan(&sc, solve_path) {
-        return fail(1, &e.to_string());
-    }
-    let solve_path = solve_path.unwrap_or(sc.solver.path);
+    let opts = RunOptions {
+        method: None,
+        path: solve_path,
+    };
     // The memory of one process (under mpirun, `run` estimates for its ranks).
+    let choice = match signorini_solver::choose_path(&sc, &opts, 1, budget) {
+        Ok(c) => c,
+        Err(e) => return fail(1, &e.to_string()),
+    };
+    let auto = choice.requested == SolvePath::Auto.as_str();
+    // `chosen` is a path's own spelling
+    let solve_path = choice.chosen.parse().unwrap_or(SolvePath::Condensed);
     let counts = memory::ContactCounts::Surfaces;
     let estimate = match memory::check(&sc, (solve_path, 1), counts, budget) {
         Ok(e) => e,
@@ -58,6 +65,12 @@ pub(crate) fn check(
         solve_path.as_str(),
         estimate.describe()
     ));
+    if auto {
+        say(&format!(
+            "  path auto: {} ({})\n",
+            choice.chosen, choice.reason
+        ));
+    }
     ExitCode::SUCCESS
 }
 

@@ -141,7 +141,9 @@ fn direct_path_reports_the_condition_of_k() {
         path: Some(SolvePath::Direct),
         ..Default::default()
     };
-    let direct = converged(&hertz(40, "1.0"), opts.clone());
+    // κ(K) costs a factorisation of its own: asked for by the scene
+    let asked = hertz(40, "1.0").replace("[solver]", "[solver]\ncondition_estimate = true");
+    let direct = converged(&asked, opts.clone());
     let c = conditioning(&direct);
     let k = finite_positive("k", c.k);
     assert!(c.k_ii.is_none() && c.s.is_none() && c.w.is_none());
@@ -158,6 +160,20 @@ fn direct_path_reports_the_condition_of_k() {
     assert!(td.conditioning > 0.0 && tc.conditioning == 0.0);
     let phases = td.setup + td.assemble + td.contact + td.output + td.conditioning;
     assert!(phases <= td.total, "{td:?}");
+    // Not asked for: k is null with the reason, nothing is spent on it, and
+    // the solution is the same
+    let plain = converged(&hertz(40, "1.0"), opts.clone());
+    let c = conditioning(&plain);
+    assert!(c.k.is_none() && c.digits_lost.is_none());
+    assert!(
+        c.notes
+            .iter()
+            .any(|n| n.contains("solver.condition_estimate = true")),
+        "{:?}",
+        c.notes
+    );
+    assert_eq!(plain.report.timings_s.conditioning, 0.0);
+    assert_eq!(plain.report.contact_force, direct.report.contact_force);
     // A floating body (blocks.toml's pad): K is singular, k is null with the reason.
     let o = converged(&example("blocks.toml"), opts);
     let c = conditioning(&o);

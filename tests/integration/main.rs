@@ -30,6 +30,7 @@ mod mortar;
 mod mortar3d;
 mod normal_rules;
 mod output_and_streams;
+mod path_choice;
 mod pieces;
 mod progress;
 mod redundant;

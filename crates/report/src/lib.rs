@@ -353,6 +353,9 @@ pub struct Report {
     pub converged: bool,
     pub method: String,
     pub path: String,
+    /// How the path was chosen: asked for, or estimated (`path = "auto"`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub path_choice: Option<PathChoice>,
     /// The contact algorithm's account of the last step (iterations, operator
     /// applications, residual history, stopping reason).
     pub solver: serde_json::Value,
@@ -386,6 +389,38 @@ pub struct Report {
     /// Why the run is not converged, when it is not.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub failure: Option<String>,
+}
+
+/// How the run's path was chosen (report.json `path_choice`): the path
+/// asked for (`solver.path` or `--path`: "condensed", "direct" or "auto"),
+/// the path run, why, and each path's estimates from the mesh and contact
+/// sizes made before anything is built (docs/guide/choosing.md).
+#[derive(Debug, Clone, Default, Serialize, PartialEq)]
+pub struct PathChoice {
+    pub requested: String,
+    pub chosen: String,
+    pub reason: String,
+    pub condensed: PathEstimate,
+    /// `null` when the direct path cannot run the scene (`reason` says why).
+    pub direct: Option<PathEstimate>,
+}
+
+/// One path's estimates (report.json `path_choice.condensed`, `.direct`).
+#[derive(Debug, Clone, Default, Serialize, PartialEq)]
+pub struct PathEstimate {
+    /// The peak memory estimate (as `memory.estimated_bytes`).
+    pub memory_bytes: f64,
+    /// Flops of the sparse factorisations of the run (condensed: the
+    /// subdomains', once; direct: the KKT LDLᵀ at each expected iteration).
+    pub sparse_flops: f64,
+    /// Flops of the dense interface work (condensed: S, W, and the active
+    /// blocks of W at each expected iteration; direct: 0).
+    pub dense_flops: f64,
+    /// Both flop counts at the rates of a 2-core machine: a figure to
+    /// compare the paths by, not a forecast of the run's time.
+    pub seconds: f64,
+    /// Whether `memory_bytes` is within the memory the run may use.
+    pub fits: bool,
 }
 
 /// Condition estimates of the operators a run factorises (report.json

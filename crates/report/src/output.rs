@@ -171,6 +171,9 @@ pub fn summary(dir: &Path, o: &RunOutput) -> String {
             "NOT converged"
         }
     );
+    if let Some(c) = r.path_choice.as_ref().filter(|c| c.requested == "auto") {
+        out += &format!("  path auto: {} ({})\n", c.chosen, c.reason);
+    }
     for (i, s) in r.steps.iter().enumerate() {
         out += &format!(
             "  step {}: {} iterations, {} active, by {}\n",

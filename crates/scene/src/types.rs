@@ -764,7 +764,8 @@ pub struct Step {
 pub struct Solver {
     /// The contact algorithm (default `status`).
     pub method: Method,
-    /// `condensed` (default; static condensation onto the interface) or `direct`.
+    /// `auto` (default: the cheaper of the two, estimated), `condensed`
+    /// (static condensation onto the interface) or `direct`.
     pub path: SolvePath,
     /// Convergence tolerance, 0 < tol < 1 (default 1e-10).
     pub tolerance: f64,
@@ -783,6 +784,10 @@ pub struct Solver {
     /// status method, as a multiple of the contact stiffness 1/mean diag(W)
     /// (default 1e8). A `law = { penalty = k }` contact uses its own k.
     pub penalty: f64,
+    /// Also the condition estimates that cost a factorisation of their own
+    /// (κ(K) on the direct path: one more sparse LDLᵀ of the whole
+    /// stiffness); default false: only those the run's own factors give.
+    pub condition_estimate: bool,
 }
 
 /// `solver.status_changes`.
@@ -807,13 +812,14 @@ impl Default for Solver {
     fn default() -> Self {
         Solver {
             method: Method::Status,
-            path: SolvePath::Condensed,
+            path: SolvePath::Auto,
             tolerance: 1e-10,
             max_iterations: 500,
             friction: FrictionSolver::FixedPoint,
             status_changes: StatusChanges::All,
             constraints: Constraints::Multipliers,
             penalty: 1e8,
+            condition_estimate: false,
         }
     }
 }
@@ -890,20 +896,24 @@ impl FromStr for Method {
 #[serde(rename_all = "snake_case")]
 pub enum SolvePath {
     /// Static condensation onto the contact interface.
-    #[default]
     Condensed,
     /// The full system.
     Direct,
+    /// The cheaper of the two for the scene, estimated from its mesh and
+    /// contact sizes before anything is built (docs/guide/choosing.md).
+    #[default]
+    Auto,
 }
 
 impl SolvePath {
-    pub const ALL: [SolvePath; 2] = [SolvePath::Condensed, SolvePath::Direct];
+    pub const ALL: [SolvePath; 3] = [SolvePath::Condensed, SolvePath::Direct, SolvePath::Auto];
 
     /// The scene-file / CLI spelling.
     pub fn as_str(self) -> &'static str {
         match self {
             SolvePath::Condensed => "condensed",
             SolvePath::Direct => "direct",
+            SolvePath::Auto => "auto",
         }
     }
 }
@@ -921,7 +931,7 @@ impl FromStr for SolvePath {
         SolvePath::ALL
             .into_iter()
             .find(|m| m.as_str() == key)
-            .ok_or_else(|| format!("unknown path \"{s}\"; valid paths: condensed, direct"))
+            .ok_or_else(|| format!("unknown path \"{s}\"; valid paths: condensed, direct, auto"))
     }
 }
 

@@ -168,7 +168,9 @@ fn defaults() {
     assert_eq!(s.solver.tolerance, 1e-10);
     assert_eq!(s.solver.max_iterations, 500);
     assert_eq!(s.solver.method, Method::Status);
-    assert_eq!(s.solver.path, SolvePath::Condensed);
+    // the default path is chosen by cost (solver::path_choice); it was condensed
+    assert_eq!(s.solver.path, SolvePath::Auto);
+    assert!(!s.solver.condition_estimate);
     assert_eq!(s.solver.friction, FrictionSolver::FixedPoint);
     assert_eq!(s.output, Output::default());
     assert_eq!(s.output.probes.len(), 0);
@@ -865,8 +867,12 @@ fn method_and_path_from_str() {
         "condensed".parse::<SolvePath>().unwrap(),
         SolvePath::Condensed
     );
+    assert_eq!("auto".parse::<SolvePath>().unwrap(), SolvePath::Auto);
     let e = "dense".parse::<SolvePath>().unwrap_err();
-    assert!(e.contains("condensed") && e.contains("direct"), "{e}");
+    assert!(
+        e.contains("condensed") && e.contains("direct") && e.contains("auto"),
+        "{e}"
+    );
     assert_eq!(ReferenceKind::CattaneoMindlin.as_str(), "cattaneo_mindlin");
     // as_str agrees with serde
     for k in [

@@ -749,6 +749,7 @@ fn report_of(
             false => method.as_str().to_string(),
         },
         path: path.as_str().to_string(),
+        path_choice: Some(plan.choice.clone()),
         solver: partial.solver,
         stages,
         steps: partial.steps,

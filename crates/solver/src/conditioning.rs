@@ -6,7 +6,7 @@
 //! makes anyway, except W (one dense Cholesky of the m × m Delassus operator,
 //! once per run, m ≤ [`MAX_W_SIZE`]) and, on the direct path, K (one sparse
 //! LDLᵀ of the whole stiffness in the KKT's ordering, timed apart:
-//! `timings_s.conditioning`).
+//! `timings_s.conditioning`, only with `solver.condition_estimate = true`).
 //!
 //! Condensed path: κ(K_II) per subdomain (computed by the rank that owns it
 //! and sent with its Schur complement), κ(S) from the root's Cholesky of S
@@ -55,6 +55,9 @@ impl RootConditioning {
         self.interface.clone()
     }
 }
+
+/// The note for κ(K) left out on the direct path.
+pub const NOT_ASKED_K: &str = "k: not estimated: it costs a factorisation of K of its own, about one status iteration (solver.condition_estimate = true estimates it)";
 
 /// The note for a W singular by the choice of generalised inverse.
 const FIXING_DOFS_W: &str = "w: not estimated: with floating bodies in several subdomains, W is formed with the generalised inverse of S by fixing DOFs (zero on them), singular when a contact DOF is a fixing DOF whatever the contact rows; the forces do not depend on that choice";
@@ -184,10 +187,12 @@ pub(crate) fn condensed(
 
 /// The report's entry on the direct path: κ(K) of the whole stiffness on the
 /// free DOFs, by one factorisation of K in the KKT system's ordering
-/// ([`KktSystem::stiffness_condition`]; none when a body is floating).
+/// ([`KktSystem::stiffness_condition`]) when `estimate` (the scene's
+/// `solver.condition_estimate`: it costs about one status iteration); none
+/// when a body is floating.
 pub(crate) fn direct(
     kkt: &mut KktSystem,
-    floating: bool,
+    (floating, estimate): (bool, bool),
     tolerance: f64,
     messages: &mut Vec<String>,
 ) -> Conditioning {
@@ -197,6 +202,9 @@ pub(crate) fn direct(
     ];
     let kappa = if floating {
         notes.push("k: a floating body makes K singular".into());
+        None
+    } else if !estimate {
+        notes.push(NOT_ASKED_K.into());
         None
     } else {
         let est = kkt.stiffness_condition();

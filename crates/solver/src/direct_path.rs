@@ -68,10 +68,21 @@ pub(crate) fn run_direct(
     let mut kkt = timed(&mut timings.contact, || {
         KktSystem::new(&system.k_global, &rows, floating).map_err(contact_error)
     })?;
-    // One more factorisation, of K alone (the KKT's ordering), timed apart.
-    let conditioning = timed(&mut timings.conditioning, || {
-        conditioning::direct(&mut kkt, floating, sc.solver.tolerance, messages)
-    });
+    // One more factorisation, of K alone (the KKT's ordering), timed apart,
+    // when the scene asks for it (solver.condition_estimate).
+    let estimate = sc.solver.condition_estimate;
+    let mut conditioning = || {
+        conditioning::direct(
+            &mut kkt,
+            (floating, estimate),
+            sc.solver.tolerance,
+            messages,
+        )
+    };
+    let conditioning = match estimate {
+        true => timed(&mut timings.conditioning, conditioning),
+        false => conditioning(),
+    };
     for (si, st) in model.scales.iter().enumerate() {
         ctx.progress.step(si, model.scales.len());
         let ((sol, gaps, res), u_full) = timed(&mut timings.contact, || {

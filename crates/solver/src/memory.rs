@@ -25,17 +25,19 @@
 //!   the 3D factor is often smaller (the Hertz sphere at 127 000 DOFs: half
 //!   of AMD's), so the 3D term is conservative there. The direct path
 //!   factorises the whole stiffness with its contact constraints by a sparse
-//!   LDLᵀ at each status iteration, in the same ordering and without an
-//!   interface kept last: measured 0.45 times this estimate on the 3D Hertz
-//!   sphere (12 000 DOFs), taken as 1 (it was 8 and 6 times with the sparse
-//!   LU it replaced);
-//! * **dense interface**: 8 bytes per entry of S_i (n_b², three copies: the
-//!   factorisation's, the one sent to the root, its encoding), of the
-//!   assembled S on Γ (n_Γ², two: S and its factor; with several subdomains
-//!   S is a sparse matrix of their blocks, Σ n_b² entries at 16 bytes, and
-//!   its sparse factor measured with no more entries), of the Delassus
-//!   operator W (m², three) and of S⁻¹Bᵀ (n_Γ × 256 columns at a time), m the
-//!   contact rows;
+//!   LDLᵀ at each status iteration, in a nested-dissection ordering with no
+//!   interface kept last: its entries are those of the model of
+//!   [`fill_model`] on the body's grid (a flat pad's factor is far smaller
+//!   than a cube's of as many nodes: the n^{3/2} term above made the
+//!   101 × 101 × 3-node pad's factor 3 times too large);
+//! * **dense interface** (condensed path only: the direct path's KKT matrix
+//!   holds the contact rows sparse): 8 bytes per entry of S_i (n_b², three
+//!   copies: the factorisation's, the one sent to the root, its encoding), of
+//!   the assembled S on Γ (n_Γ², two: S and its factor; with several
+//!   subdomains S is a sparse matrix of their blocks, Σ n_b² entries at 16
+//!   bytes, and its sparse factor measured with no more entries), of the
+//!   Delassus operator W (m², three) and of S⁻¹Bᵀ (n_Γ × 256 columns at a
+//!   time), m the contact rows;
 //! * **fields**: the displacement three times (recovered, gathered, kept)
 //!   and the stresses of every cell, of two steps (the step that ends and
 //!   the last step's kept for the report: the steps stream to disk, issue
@@ -59,6 +61,7 @@ use signorini_scene as scene;
 pub use signorini_report::budget::{human, machine_memory, parse_size, Budget, GIB};
 
 use crate::error::SolveError;
+use crate::fill_model;
 
 /// What the process holds before any mesh (code, libraries, buffers, the
 /// threads' stacks): 24 MiB keeps the smallest measured runs (11k-DOF 2D
@@ -78,8 +81,16 @@ const C3: f64 = 3.5;
 /// 2 to 4 (the Hertz hemisphere's 2 089 contact DOFs at 100k DOFs, the 2D
 /// cylinder in 8 parts); 10 made those estimates 1.5 to 2 times the factor.
 const INTERFACE_FILL: f64 = 5.0;
-/// The direct path's sparse LDLᵀ against the Cholesky factor (2D, 3D).
-const DIRECT_LDLT: [f64; 2] = [1.0, 1.0];
+/// The direct path's sparse LDLᵀ (the stiffness and the contact rows, one
+/// nested-dissection ordering) against [`fill_model::nested_dissection`]'s
+/// entries for the stiffness alone: measured 0.53 to 1.17 (its module doc).
+const DIRECT_LDLT: f64 = 1.0;
+/// Bytes per entry of the free DOFs' stiffness on the direct path (beside
+/// K's 16): the global stiffness, the KKT pattern, its sort, and the exact
+/// and regularised matrices (pattern and values); fitted with the element
+/// triplets on the Hertz half disk at 11 000 to 700 000 DOFs (peak RSS 0.8
+/// to 1.0 times the estimate).
+const DIRECT_KKT: f64 = 80.0;
 
 /// The estimate of a run's peak memory, in bytes (as f64: a scene can ask
 /// for more than u64 holds), with its parts and the sizes it comes from.
@@ -96,6 +107,16 @@ pub struct Estimate {
     pub interface_dofs: f64,
     /// Contact rows (normal and tangential).
     pub contact_rows: f64,
+    /// Flops of one sparse factorisation along the path: the subdomains'
+    /// partial Cholesky factorisations (condensed, once a run) or the KKT
+    /// LDLᵀ (direct, once per status iteration), by
+    /// [`fill_model::nested_dissection`].
+    pub factor_flops: f64,
+    /// Condensed path: flops of the dense interface work done once a run:
+    /// forming and factorising S (n_b³ per subdomain, 2/3 of it), and
+    /// W = B S⁻¹ Bᵀ (2 n_Γ² m, Σ of the blocks' entries × 2m with several
+    /// subdomains). 0 on the direct path.
+    pub dense_flops: f64,
     /// The contacts whose unknowns are not counted yet (a candidate zone
     /// before the model is built, [`ContactCounts::Surfaces`]).
     pub uncounted: Vec<String>,
@@ -169,6 +190,10 @@ struct BodySize {
     /// compact 3D body; for a box of a ≤ b ≤ c nodes per side, √(ab) (the
     /// separators of nested dissection cut across the long side).
     width: f64,
+    /// Nodes along each side of the grid the mesh is (its bounding grid for
+    /// a box, a compact one of as many nodes for the others; 2D: one side
+    /// 1), for [`fill_model::nested_dissection`].
+    sides: [f64; 3],
     /// Nodes on each named surface (unknown names: none).
     surfaces: Vec<(&'static str, f64)>,
     /// A file mesh: its surfaces are unknown, each taken as two faces' worth.
@@ -305,6 +330,7 @@ fn file_size(file: &Path, dim: usize) -> Option<BodySize> {
         neighbours,
         dim,
         width: nodes.cbrt(),
+        sides: compact_sides(nodes, dim),
         surfaces: Vec::new(),
         any_surface: Some((2.0 * nodes.powf((d - 1.0) / d)).min(nodes)),
     })
@@ -321,6 +347,7 @@ fn planar_size(counts: (f64, f64, f64, f64), surfaces: Vec<(&'static str, f64)>)
         neighbours,
         dim: 2,
         width: 0.0,
+        sides: compact_sides(nodes, 2),
         surfaces,
         any_surface: None,
     }
@@ -330,7 +357,7 @@ fn planar_size(counts: (f64, f64, f64, f64), surfaces: Vec<(&'static str, f64)>)
 fn rectangle_size(divisions: [usize; 2], element: scene::Element) -> BodySize {
     let [nx, ny] = divisions.map(|d| d as f64);
     let (nodes, cells, per_cell, neighbours, o) = planar((nx + 1.0) * (ny + 1.0), nx * ny, element);
-    planar_size(
+    let mut size = planar_size(
         (nodes, cells, per_cell, neighbours),
         vec![
             ("bottom", o * nx + 1.0),
@@ -338,7 +365,33 @@ fn rectangle_size(divisions: [usize; 2], element: scene::Element) -> BodySize {
             ("left", o * ny + 1.0),
             ("right", o * ny + 1.0),
         ],
-    )
+    );
+    // the grid's aspect, at the element's node count
+    let aspect = (nx + 1.0) / (ny + 1.0);
+    size.sides = [(nodes * aspect).sqrt(), (nodes / aspect).sqrt(), 1.0];
+    size
+}
+
+/// The sides of a compact grid of `nodes` nodes: a square (2D) or a cube.
+fn compact_sides(nodes: f64, dim: usize) -> [f64; 3] {
+    if dim == 3 {
+        [nodes.cbrt(); 3]
+    } else {
+        [nodes.sqrt(), nodes.sqrt(), 1.0]
+    }
+}
+
+/// The sides of one of `parts` equal parts of a grid of `sides`: the
+/// longest side halved as often as the parts double.
+fn part_sides(sides: [f64; 3], parts: f64) -> [f64; 3] {
+    let mut s = sides;
+    let mut left = parts;
+    while left > 1.0 {
+        let longest = (0..3).max_by(|&a, &b| s[a].total_cmp(&s[b])).unwrap_or(0);
+        s[longest] = (s[longest] / 2.0).max(1.0);
+        left /= 2.0;
+    }
+    s
 }
 
 /// `crates/mesh` `half_disk` of `n` arc divisions.
@@ -367,15 +420,37 @@ fn quarter_disk_size(n: f64, grading: f64, element: scene::Element) -> BodySize 
     )
 }
 
+/// The DOFs of body `name` that a `displacement` on one of its surfaces
+/// prescribes (each surface counted once, with the most components any of
+/// its conditions imposes), at most its DOFs.
+fn prescribed_dofs(sc: &scene::Scene, name: &str, size: &BodySize) -> f64 {
+    let mut surfaces: Vec<(&str, f64)> = Vec::new();
+    for b in sc.boundary.iter().filter(|b| b.body == name) {
+        let (Some(surface), Some(u)) = (b.surface.as_deref(), b.displacement) else {
+            continue;
+        };
+        let components = u.components().iter().flatten().count() as f64;
+        match surfaces.iter_mut().find(|(s, _)| *s == surface) {
+            Some((_, c)) => *c = c.max(components),
+            None => surfaces.push((surface, components)),
+        }
+    }
+    let dofs: f64 = surfaces.iter().map(|&(s, c)| size.surface(s) * c).sum();
+    dofs.min(size.dim as f64 * size.nodes)
+}
+
 /// `crates/mesh` `box_mesh`: an nx × ny × nz grid of hexahedra, or six
 /// tetrahedra a hexahedron.
 fn box_size([nx, ny, nz]: [f64; 3], element: scene::Element) -> BodySize {
+    let (px, py, pz) = (nx + 1.0, ny + 1.0, nz + 1.0);
+    // a node of a line of p nodes has 3 neighbours on it, itself included,
+    // but the two ends 2: (3p − 2)/p on average
+    let line = |p: f64| (3.0 * p - 2.0) / p;
     let (cells, per_cell, neighbours) = if element == scene::Element::Tet4 {
         (6.0 * nx * ny * nz, 4.0, 15.0)
     } else {
-        (nx * ny * nz, 8.0, 27.0)
+        (nx * ny * nz, 8.0, line(px) * line(py) * line(pz))
     };
-    let (px, py, pz) = (nx + 1.0, ny + 1.0, nz + 1.0);
     let mut sides = [px, py, pz];
     sides.sort_by(f64::total_cmp);
     BodySize {
@@ -385,6 +460,7 @@ fn box_size([nx, ny, nz]: [f64; 3], element: scene::Element) -> BodySize {
         neighbours,
         dim: 3,
         width: (sides[0] * sides[1]).sqrt(),
+        sides,
         surfaces: vec![
             ("xmin", py * pz),
             ("xmax", py * pz),
@@ -411,6 +487,7 @@ fn hemisphere_size(n: f64, grading: f64) -> BodySize {
     BodySize {
         nodes,
         width: nodes.cbrt(),
+        sides: compact_sides(nodes, 3),
         cells: ns * ns * m + (ns * ns + 4.0 * ns * m) * nr,
         per_cell: 8.0,
         neighbours: 27.0,
@@ -635,13 +712,17 @@ pub fn estimate(
         let triplets = s.cells * (d * s.per_cell).powi(2);
         let entries = s.nodes * d * d * s.neighbours;
         let per_dof = 8.0 * (12.0 + 5.0 * loads(&b.name));
-        e.sparse += 24.0 * triplets + 48.0 * entries + per_dof * n;
+        let nd = fill_model::nested_dissection(part_sides(s.sides, parts), d);
+        e.factor_flops += parts * nd.flops;
         if direct {
-            // the stiffness's triplets are kept and copied at each factorisation
-            e.sparse += 48.0 * entries;
-            let ldlt = DIRECT_LDLT[usize::from(s.dim == 3)];
-            e.factor += 8.0 * ldlt * factor_entries(n, 0.0, s.dim, n, s.width);
+            // the element triplets, and the copies of K that the KKT
+            // factorisation holds
+            let free = 1.0 - prescribed_dofs(sc, &b.name, s) / n.max(1.0);
+            e.sparse += 24.0 * triplets + (16.0 + free * DIRECT_KKT) * entries + per_dof * n;
+            e.factor += 8.0 * DIRECT_LDLT * free * nd.entries;
         } else {
+            e.sparse += 24.0 * triplets + 48.0 * entries + per_dof * n;
+            e.dense_flops += parts * 2.0 / 3.0 * nb_part.powi(3);
             e.factor += 8.0 * parts * factor_entries(n_part, nb_part, s.dim, n, s.width);
             // each part's S, held until the interface is assembled
             subdomain_dense += parts * nb_part * nb_part;
@@ -660,10 +741,9 @@ pub fn estimate(
             .iter()
             .any(|c| c.friction != scene::Friction::None);
     e.factor *= if direct_friction { 2.0 } else { 1.0 };
-    e.dense = if direct_friction {
+    e.dense = if direct {
+        // the KKT matrix holds the contact rows sparse: no dense block
         0.0
-    } else if direct {
-        8.0 * 3.0 * m * m
     } else {
         // one subdomain: the factor of S, dense; several: the assembled
         // interface (values and indices) and its factor, which measured
@@ -676,6 +756,15 @@ pub fn estimate(
         };
         8.0 * (subdomain_dense + interface + 3.0 * m * m + g * m.min(256.0))
     };
+    if !direct {
+        // W = B S⁻¹ Bᵀ: two triangular solves with S's factor per row
+        let s_factor = if blocks > 1.0 {
+            1.5 * block_entries
+        } else {
+            g * g
+        };
+        e.dense_flops += 2.0 * s_factor * m;
+    }
     e.fields += 200.0 * m + steps * 5000.0;
     e.total = BASE_BYTES + e.sparse + e.factor + e.dense + e.fields;
     e

@@ -115,7 +115,25 @@ pub fn run_streamed(
     sink: &mut dyn StepSink,
 ) -> Result<Option<RunOutput>, SolveError> {
     let t_total = Instant::now();
-    let plan = plan::plan(sc, opts)?;
+    // The root's plan on every rank: `path = "auto"` weighs the machine's
+    // memory, which may differ between ranks.
+    let root_plan = comm
+        .is_root()
+        .then(|| plan::plan(sc, opts, comm.size(), env.budget));
+    let verdict = root_plan
+        .as_ref()
+        .map(|p| p.as_ref().map(|p| p.path).map_err(Clone::clone));
+    let path = wire(broadcast(comm, verdict.as_ref()))??;
+    let plan = match root_plan {
+        Some(p) => p?,
+        None => {
+            let opts = RunOptions {
+                path: Some(path),
+                ..opts.clone()
+            };
+            plan::plan(sc, &opts, comm.size(), None)?
+        }
+    };
     // Refuse a scene that cannot fit before building anything (the root's
     // verdict on every rank: the machines' memory may differ).
     let fits = comm.is_root().then(|| {

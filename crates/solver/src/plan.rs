@@ -4,7 +4,9 @@
 
 use crate::element_step::{check_return_mapping, uses_return_mapping};
 use crate::error::SolveError;
+use crate::memory::Budget;
 use crate::options::RunOptions;
+use crate::path_choice;
 use signorini_contact::registry::{Algorithm, Constraints, FrictionSupport};
 use signorini_contact::StatusVariant;
 use signorini_scene as scene;
@@ -17,15 +19,51 @@ pub(crate) struct Plan {
     /// The contacts are contact elements solved by the return mapping
     /// (course notes §7, [`crate::element_step`]): no `method` applies.
     pub return_mapping: bool,
+    /// How `path` was chosen (report.json `path_choice`).
+    pub choice: signorini_report::PathChoice,
 }
 
-/// The method and path of the run (the command line overrides the scene),
+/// The method and path of the run (the command line overrides the scene;
+/// `path = "auto"` by [`path_choice`], for `ranks` ranks within `budget`),
 /// refused with the entry and what would be valid when they cannot run the
 /// scene's contacts.
-pub(crate) fn plan(sc: &scene::Scene, opts: &RunOptions) -> Result<Plan, SolveError> {
+pub(crate) fn plan(
+    sc: &scene::Scene,
+    opts: &RunOptions,
+    ranks: usize,
+    budget: Option<Budget>,
+) -> Result<Plan, SolveError> {
     check_supported(sc)?;
+    let requested = opts.path.unwrap_or(sc.solver.path);
+    let condensed = path_choice::cost(sc, scene::SolvePath::Condensed, ranks, budget);
+    let direct = match plan_on(sc, opts, scene::SolvePath::Direct) {
+        Ok(_) => Ok(path_choice::cost(sc, scene::SolvePath::Direct, 1, budget)),
+        Err(e) => Err(e.to_string()),
+    };
+    let (path, reason) = path_choice::rule(requested, &condensed, &direct);
+    if requested == scene::SolvePath::Auto {
+        // the refusal says why this path
+        let counts = crate::memory::ContactCounts::Surfaces;
+        crate::memory::check(sc, (path, ranks), counts, budget).map_err(|e| match e {
+            SolveError::Input(m) => SolveError::Input(format!(
+                "{m} (solver.path = \"auto\" chose the {} path: {reason})",
+                path.as_str()
+            )),
+            e => e,
+        })?;
+    }
+    let mut plan = plan_on(sc, opts, path)?;
+    plan.choice = path_choice::report(requested, path, &reason, &condensed, &direct);
+    Ok(plan)
+}
+
+/// [`plan`] on `path` (condensed or direct).
+fn plan_on(
+    sc: &scene::Scene,
+    opts: &RunOptions,
+    path: scene::SolvePath,
+) -> Result<Plan, SolveError> {
     let method = opts.method.unwrap_or(sc.solver.method);
-    let path = opts.path.unwrap_or(sc.solver.path);
     let algorithm = algorithm_of(&sc.solver, method);
     if uses_return_mapping(sc) {
         check_return_mapping(sc, path)?;
@@ -57,6 +95,7 @@ pub(crate) fn plan(sc: &scene::Scene, opts: &RunOptions) -> Result<Plan, SolveEr
             path,
             algorithm,
             return_mapping: true,
+            choice: Default::default(),
         });
     }
     if path == scene::SolvePath::Direct && !algorithm.on_active_set() {
@@ -100,6 +139,7 @@ pub(crate) fn plan(sc: &scene::Scene, opts: &RunOptions) -> Result<Plan, SolveEr
         path,
         algorithm,
         return_mapping: false,
+        choice: Default::default(),
     })
 }
 
@@ -135,7 +175,18 @@ pub fn check_plan(sc: &scene::Scene, path: Option<scene::SolvePath>) -> Result<(
 /// Whether `run` would run the scene with the overrides `opts` (the checks
 /// of the plan, made before anything is built).
 pub fn check_options(sc: &scene::Scene, opts: &RunOptions) -> Result<(), SolveError> {
-    plan(sc, opts).map(|_| ())
+    plan(sc, opts, 1, None).map(|_| ())
+}
+
+/// The path `run` would take with the overrides `opts`, on `ranks` ranks
+/// within `budget`, and why (`path = "auto"`: by the estimates).
+pub fn choose_path(
+    sc: &scene::Scene,
+    opts: &RunOptions,
+    ranks: usize,
+    budget: Option<Budget>,
+) -> Result<signorini_report::PathChoice, SolveError> {
+    plan(sc, opts, ranks, budget).map(|p| p.choice)
 }
 
 /// The contact algorithm of a scene's `[solver]` with the method `method`:
@@ -176,6 +227,102 @@ mod tests {
         assert_eq!(
             algorithm_of(&penalised, scene::Method::Lemke).name(),
             "lemke"
+        );
+    }
+}
+
+#[cfg(test)]
+mod path_tests {
+    use super::*;
+
+    /// A pad of n × n × 2 hex8 pressed on a rigid floor (docs/bench/pad),
+    /// with or without friction.
+    fn pad(n: usize, friction: bool, path: &str) -> scene::Scene {
+        let friction = if friction {
+            "friction = { coulomb = 0.3 }"
+        } else {
+            ""
+        };
+        scene::parse_toml(&format!(
+            "dimension = 3\nmodel = \"solid\"\n[[materials]]\nname = \"r\"\nyoung = 10.0\npoisson = 0.45\n[[bodies]]\nname = \"pad\"\nmaterial = \"r\"\nmesh = {{ generator = \"box\", origin = [0.0, 0.0, 0.0], size = [1.0, 1.0, 0.1], divisions = [{n}, {n}, 2] }}\n[[bodies]]\nname = \"floor\"\nrigid = {{ shape = \"plane\", point = [0.0, 0.0, 0.0], normal = [0.0, 0.0, 1.0] }}\n[[boundary]]\nbody = \"pad\"\nsurface = \"zmax\"\ndisplacement = {{ x = 0.0, y = 0.0, z = -0.005 }}\n[[contact]]\nname = \"c\"\nslave = {{ body = \"pad\", surface = \"zmin\" }}\nmaster = {{ body = \"floor\" }}\ndiscretization = \"node_to_face\"\n{friction}\n[solver]\npath = \"{path}\"\n"
+        ))
+        .expect("a valid pad scene")
+    }
+
+    fn chosen(sc: &scene::Scene, opts: &RunOptions) -> (scene::SolvePath, String) {
+        let p = plan(sc, opts, 1, None).expect("a valid plan");
+        assert_eq!(p.choice.chosen, p.path.as_str());
+        (p.path, p.choice.reason)
+    }
+
+    #[test]
+    fn auto_condenses_a_small_face_and_goes_direct_on_a_large_flat_one() {
+        let none = RunOptions::default();
+        // 25 × 25 contact nodes: either path is quick, condensed
+        let (path, _) = chosen(&pad(24, false, "auto"), &none);
+        assert_eq!(path, scene::SolvePath::Condensed);
+        // 101 × 101: the dense interface costs far more than the sparse factors
+        let (path, why) = chosen(&pad(100, false, "auto"), &none);
+        assert_eq!(path, scene::SolvePath::Direct);
+        assert!(why.starts_with("faster"), "{why}");
+        let p = plan(&pad(100, false, "auto"), &none, 1, None).unwrap();
+        let d = p
+            .choice
+            .direct
+            .clone()
+            .expect("the direct path runs the frictionless pad");
+        assert!(
+            d.seconds * 10.0 < p.choice.condensed.seconds,
+            "{:?}",
+            p.choice
+        );
+        assert_eq!(p.choice.requested, "auto");
+    }
+
+    #[test]
+    fn an_explicit_path_is_honoured_and_friction_stays_condensed() {
+        let none = RunOptions::default();
+        let (path, why) = chosen(&pad(100, false, "condensed"), &none);
+        assert_eq!(
+            (path, why.as_str()),
+            (scene::SolvePath::Condensed, "asked for")
+        );
+        let direct = RunOptions {
+            path: Some(scene::SolvePath::Direct),
+            ..Default::default()
+        };
+        assert_eq!(
+            chosen(&pad(4, false, "auto"), &direct).0,
+            scene::SolvePath::Direct
+        );
+        // friction: the direct path cannot run it
+        let p = plan(&pad(100, true, "auto"), &none, 1, None).unwrap();
+        assert_eq!(p.path, scene::SolvePath::Condensed);
+        assert!(p.choice.reason.contains("cannot run") && p.choice.direct.is_none());
+        // ... and when the condensed path does not fit either, the refusal says why
+        let budget = Budget {
+            bytes: 1 << 30,
+            source: "--max-memory",
+        };
+        let Err(e) = plan(&pad(100, true, "auto"), &none, 1, Some(budget)) else {
+            panic!("the friction pad fits in 1 GiB");
+        };
+        let m = e.to_string();
+        assert!(
+            m.contains("path = \"auto\" chose the condensed path") && m.contains("friction"),
+            "{m}"
+        );
+        // a frictionless pad that does not fit condensed goes direct
+        let budget = Budget {
+            bytes: 2 << 30,
+            source: "--max-memory",
+        };
+        let p = plan(&pad(100, false, "auto"), &none, 1, Some(budget)).unwrap();
+        assert_eq!(p.path, scene::SolvePath::Direct);
+        assert!(
+            p.choice.reason.contains("condensed estimate exceeds"),
+            "{}",
+            p.choice.reason
         );
     }
 }
