@@ -743,6 +743,16 @@ fn solve_inner(
             break;
         }
         let residual = inner.check(&x, opts);
+        if opts
+            .deadline
+            .is_some_and(|d| std::time::Instant::now() >= d)
+        {
+            reason = StopReason::TimeLimit {
+                iterations: it,
+                residual,
+            };
+            break;
+        }
         if residual < STALL_DECREASE * best.0 {
             best = (residual, it);
         } else if it - best.1 >= STALLED_AFTER {
@@ -806,7 +816,7 @@ fn solve_inner(
 /// Statuses: open (λ_n ≤ tol), slip (‖Δs‖ > tol, the force on the boundary
 /// of the disc / ellipse; in 2D slip± by the sign of λ_t), stick otherwise
 /// (in contact, and sticking if the point has friction).
-fn statuses(
+pub(crate) fn statuses(
     layout: &FrictionLayout,
     r: &[f64],
     g: &[f64],
