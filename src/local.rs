@@ -49,19 +49,25 @@ pub(crate) fn local(path: &Path, method: Method, o: LocalOptions) -> ExitCode {
         }
         use signorini_problems::local::FrictionChoice;
         match FrictionChoice::from_name(&o.friction) {
-            Ok(FrictionChoice::Method(f)) if problem.dim == 3 && !f.solves_3d() => return fail(
-                1,
-                &format!(
+            Ok(FrictionChoice::Method(f)) if problem.dim == 3 && !f.solves_3d() => {
+                return fail(
+                    1,
+                    &format!(
                     "--friction {}: a 2D method; 3D problems: auto, fixed_point, newton or nsgs",
                     f.name()
                 ),
-            ),
+                )
+            }
             Ok(f) => Some(f),
             Err(e) => return fail(1, &e),
         }
     } else {
         None
     };
+    let lcp = friction.is_none().then_some(algorithm);
+    if let Err(e) = signorini_problems::local::accepts(&name, &problem, friction, lcp) {
+        return fail(1, &e);
+    }
     let limits = signorini_problems::local::Limits {
         tolerance: o.tolerance,
         max_iterations: o.max_iterations,

@@ -106,7 +106,7 @@ enum Command {
         friction: String,
         /// Stop a friction solve after SECONDS of wall-clock time, not
         /// converged (exit 2) (default: 10 + 2e-9 × rows³).
-        #[arg(long, value_name = "SECONDS")]
+        #[arg(long, value_name = "SECONDS", allow_hyphen_values = true)]
         time_limit: Option<f64>,
         /// Solve N times and report the median time.
         #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u64).range(1..=1000))]

@@ -17,7 +17,6 @@ use signorini_contact::law::natural_residual;
 use signorini_contact::lcp::{lcp_residual, LcpOptions};
 use signorini_contact::options::default_time_limit;
 use signorini_contact::registry::Algorithm;
-use signorini_linalg::conditioning::dense_spd_condition;
 
 pub use crate::fclib::{GlobalCondensation, GlobalSummary};
 pub use crate::problem_file::{load, LocalProblem};
@@ -128,7 +127,7 @@ fn law_residual(p: &LocalProblem, forces: &[f64]) -> f64 {
     let force = force_scale.max(signorini_contact::norms::max_abs(forces));
     match p.mu.as_ref() {
         Some(mu) => {
-            let gaps = signorini_linalg::products::affine(&p.w, forces, &p.q);
+            let gaps = signorini_contact::lcp::gaps(&p.w, &p.q, forces);
             natural_residual(&coulomb_layout(p, mu), forces, &gaps, force, gap_scale)
         }
         None => {
@@ -200,14 +199,20 @@ impl FrictionChoice {
     }
 }
 
+/// Contact points up to which `auto` solves 3D Coulomb by NSGS: measured
+/// (docs/performance/root-solvers.md) NSGS is the faster below (rigid
+/// bodies' rank-deficient W: 0.05–0.2 s where the semi-smooth Newton
+/// method needs 1–2 s or its fixed-point fallback; an elastic half-space
+/// at m = 784: 0.16 s against 0.24 s), the semi-smooth Newton method above
+/// (m = 2025: 1.9 s against 2.9 s).
+pub const NSGS_UP_TO: usize = 1000;
+
 /// The friction method `auto` picks for a problem and why (the JSON's
-/// `picked`), measured on the FCLib and half-space problems of
-/// docs/performance/root-solvers.md (docs/guide/choosing.md):
+/// `picked`; docs/guide/choosing.md):
 /// - W not symmetric: NSGS, which needs no symmetry;
 /// - 2D: the fixed point on the threshold (its inner status method);
-/// - 3D with more rows than W's rank can hold (an FCLib local problem of
-///   rigid bodies, [`rank_deficient`]): NSGS;
-/// - 3D otherwise: the semi-smooth Newton method on Coulomb's law.
+/// - 3D up to [`NSGS_UP_TO`] contact points: NSGS;
+/// - 3D beyond: the semi-smooth Newton method on Coulomb's law.
 pub fn pick_friction(p: &LocalProblem) -> (FrictionMethod, &'static str) {
     if p.asymmetry.is_some() {
         return (
@@ -221,23 +226,37 @@ pub fn pick_friction(p: &LocalProblem) -> (FrictionMethod, &'static str) {
             "2D Coulomb: the fixed point with status inner solves",
         );
     }
-    if rank_deficient(p) {
+    if p.contacts() <= NSGS_UP_TO {
         return (
             FrictionMethod::Nsgs,
-            "3D Coulomb, W rank deficient (rigid bodies): nsgs",
+            "3D Coulomb, up to 1000 contact points: nsgs",
         );
     }
     (
         FrictionMethod::Newton,
-        "3D Coulomb, W of full rank: the semi-smooth Newton method",
+        "3D Coulomb, more than 1000 contact points: the semi-smooth Newton method",
     )
 }
 
-/// Whether W is rank deficient (rigid bodies: more contact rows than
-/// degrees of freedom): its dense Cholesky factorisation fails, or its
-/// condition number passes 1e12.
-pub fn rank_deficient(p: &LocalProblem) -> bool {
-    dense_spd_condition(p.w.as_ref()).is_none_or(|kappa| kappa > 1e12)
+/// Refuses a nonsymmetric W for a method that needs a symmetric one (all
+/// but NSGS for friction, `auto` picking it; all but Lemke's method for
+/// the LCP), naming the file and the method that accepts it.
+pub fn accepts(
+    name: &str,
+    p: &LocalProblem,
+    friction: Option<FrictionChoice>,
+    lcp: Option<Algorithm>,
+) -> Result<(), String> {
+    match (friction, lcp) {
+        (Some(FrictionChoice::Auto | FrictionChoice::Method(FrictionMethod::Nsgs)), _) => Ok(()),
+        (Some(FrictionChoice::Method(m)), _) => {
+            p.require_symmetric(name, &format!("--friction {}", m.name()), "--friction nsgs")
+        }
+        (None, Some(a)) if a.name() != "lemke" => {
+            p.require_symmetric(name, &format!("--method {}", a.name()), "--method lemke")
+        }
+        _ => Ok(()),
+    }
 }
 
 /// Limits of a solve: tolerance, iterations and wall-clock seconds.
@@ -300,13 +319,7 @@ pub fn solve_friction_by(
         }
         FrictionChoice::Method(m) => (m, None),
     };
-    if method != FrictionMethod::Nsgs {
-        p.require_symmetric(
-            name,
-            &format!("--friction {}", method.name()),
-            "--friction nsgs",
-        )?;
-    }
+    accepts(name, p, Some(FrictionChoice::Method(method)), None)?;
     let layout = coulomb_layout(p, mu);
     let opts = friction_options(p, &limits);
     let Some(chosen) = driver::FrictionMethod::choose(method, p.dim, &layout, false) else {
@@ -412,10 +425,7 @@ pub fn solve(
     with_lambda: bool,
 ) -> Result<LocalResult, String> {
     let m = p.contacts();
-    if algorithm.name() != "lemke" {
-        let method = format!("--method {}", algorithm.name());
-        p.require_symmetric(name, &method, "--method lemke")?;
-    }
+    accepts(name, p, None, Some(algorithm))?;
     let (force_scale, gap_scale) = scales(p);
     let (w, q) = if p.dim == 1 {
         (p.w.clone(), p.q.clone())
@@ -524,10 +534,24 @@ mod tests {
         )
         .unwrap();
         assert!(!r.converged && r.residual > 0.01, "{}", r.residual);
+        // A nonsymmetric W is read as it is (it was refused on reading):
+        // the status method, which needs symmetry, refuses it naming Lemke's
+        // method, which solves it: λ = (0.5, 0), w = (0, 1).
         std::fs::write(&path, r#"{"W": [[2, 1], [0, 2]], "q": [-1, 1]}"#).unwrap();
-        assert!(load(&path, machine_memory())
-            .unwrap_err()
-            .contains("not symmetric"));
+        let p = load(&path, machine_memory()).unwrap();
+        let status = Algorithm::by_name("status").unwrap();
+        let e = solve("p", &p, status, 1e-12, 100, true).unwrap_err();
+        assert!(
+            e.contains("not symmetric") && e.contains("--method lemke"),
+            "{e}"
+        );
+        let lemke = Algorithm::by_name("lemke").unwrap();
+        let r = solve("p", &p, lemke, 1e-12, 100, true).unwrap();
+        let l = r.lambda.unwrap();
+        assert!(
+            r.converged && (l[0] - 0.5).abs() <= 1e-12 && l[1] == 0.0,
+            "{l:?}"
+        );
         std::fs::write(&path, r#"{"W": [[2]], "q": [-1, 1]}"#).unwrap();
         assert!(load(&path, machine_memory()).unwrap_err().contains("2 × 2"));
     }
@@ -731,7 +755,7 @@ mod tests {
         serde_json::json!({"W": w, "q": q, "mu": vec![0.3; m], "dim": 3}).to_string()
     }
 
-    /// On a rank-deficient pile the semi-smooth Newton method converges, and
+    /// On a rank-deficient pile the semi-smooth Newton method and NSGS converge, and
     /// the fixed point either converges or stops as stalled (it wandered for
     /// hundreds of iterations, and on a larger pile broke down into NaN
     /// forces that were reported converged): never a converged answer off
@@ -744,9 +768,13 @@ mod tests {
         std::fs::write(&path, rigid_sphere_pile()).unwrap();
         let p = load(&path, machine_memory()).unwrap();
         let m = p.contacts();
-        for method in [FrictionMethod::Newton, FrictionMethod::FixedPoint] {
+        for method in [
+            FrictionMethod::Newton,
+            FrictionMethod::FixedPoint,
+            FrictionMethod::Nsgs,
+        ] {
             let r = solve_friction("pile", &p, method, 1e-10, 10_000, true).unwrap();
-            if method == FrictionMethod::Newton {
+            if method != FrictionMethod::FixedPoint {
                 assert!(r.converged, "{}", r.stopping_reason);
             }
             if !r.converged {

@@ -98,9 +98,11 @@ mod tests {
     #[test]
     fn one_triangle_is_completed_two_or_none_are_kept() {
         let full = Mat::<f64>::from_fn(3, 3, |i, j| 1.0 + (i + j) as f64 + (i == j) as u8 as f64);
+        let upper: fn(usize, usize) -> bool = |i, j| i <= j;
+        let lower: fn(usize, usize) -> bool = |i, j| i >= j;
         for (keep, expected) in [
-            (|i: usize, j: usize| i <= j, Some(Triangle::Upper)),
-            (|i: usize, j: usize| i >= j, Some(Triangle::Lower)),
+            (upper, Some(Triangle::Upper)),
+            (lower, Some(Triangle::Lower)),
         ] {
             let mut w =
                 Mat::<f64>::from_fn(3, 3, |i, j| if keep(i, j) { full[(i, j)] } else { 0.0 });
