@@ -72,10 +72,11 @@ fn solve_small(a: [[f64; 3]; 3], rhs: [f64; 3], n: usize) -> Option<[f64; 3]> {
         }
         a.swap(c, p);
         x.swap(c, p);
+        let pivot_row = a[c];
         for i in c + 1..n {
-            let f = a[i][c] / a[c][c];
-            for j in c..n {
-                a[i][j] -= f * a[c][j];
+            let f = a[i][c] / pivot_row[c];
+            for (aij, pj) in a[i][c..n].iter_mut().zip(&pivot_row[c..n]) {
+                *aij -= f * pj;
             }
             x[i] -= f * x[c];
         }
