@@ -13,6 +13,8 @@ pub(crate) struct LocalOptions {
     pub budget: Option<signorini_report::budget::Budget>,
     pub tolerance: f64,
     pub max_iterations: usize,
+    /// Seconds a friction solve may take (`None`: the default).
+    pub time_limit: Option<f64>,
     pub with_lambda: bool,
     pub friction: String,
     pub repeat: usize,
@@ -23,6 +25,12 @@ pub(crate) fn local(path: &Path, method: Method, o: LocalOptions) -> ExitCode {
         return fail(
             1,
             &format!("--tolerance: must be in (0, 1), got {}", o.tolerance),
+        );
+    }
+    if let Some(t) = o.time_limit.filter(|t| !(t.is_finite() && *t > 0.0)) {
+        return fail(
+            1,
+            &format!("--time-limit: must be a number of seconds > 0, got {t}"),
         );
     }
     let problem = match signorini_problems::local::load(path, o.budget) {
@@ -36,17 +44,18 @@ pub(crate) fn local(path: &Path, method: Method, o: LocalOptions) -> ExitCode {
         if method != Method::Status {
             return fail(
                 1,
-                "--method: frictional local problems are solved by the friction solvers (--friction fixed_point, status or newton)",
+                "--method: frictional local problems are solved by the friction solvers (--friction auto, fixed_point, status, newton or nsgs)",
             );
         }
-        match signorini_problems::local::FrictionMethod::from_name(&o.friction) {
-            Ok(f) if problem.dim == 3 && !f.solves_3d() => {
+        use signorini_problems::local::FrictionChoice;
+        match FrictionChoice::from_name(&o.friction) {
+            Ok(FrictionChoice::Method(f)) if problem.dim == 3 && !f.solves_3d() => {
                 return fail(
                     1,
                     &format!(
-                        "--friction {}: a 2D method; 3D problems: fixed_point or newton",
-                        f.name()
-                    ),
+                    "--friction {}: a 2D method; 3D problems: auto, fixed_point, newton or nsgs",
+                    f.name()
+                ),
                 )
             }
             Ok(f) => Some(f),
@@ -55,15 +64,19 @@ pub(crate) fn local(path: &Path, method: Method, o: LocalOptions) -> ExitCode {
     } else {
         None
     };
+    let lcp = friction.is_none().then_some(algorithm);
+    if let Err(e) = signorini_problems::local::accepts(&name, &problem, friction, lcp) {
+        return fail(1, &e);
+    }
+    let limits = signorini_problems::local::Limits {
+        tolerance: o.tolerance,
+        max_iterations: o.max_iterations,
+        time_limit: o.time_limit,
+    };
     let solve = || match friction {
-        Some(f) => signorini_problems::local::solve_friction(
-            &name,
-            &problem,
-            f,
-            o.tolerance,
-            o.max_iterations,
-            o.with_lambda,
-        ),
+        Some(f) => {
+            signorini_problems::local::solve_friction_by(&name, &problem, f, limits, o.with_lambda)
+        }
         None => signorini_problems::local::solve(
             &name,
             &problem,

@@ -98,9 +98,16 @@ enum Command {
         /// Include the contact forces λ in the JSON line.
         #[arg(long)]
         lambda: bool,
-        /// Frictional problems (with mu): `fixed_point` (default), `status` (2D) or `newton` (semi-smooth Newton on Coulomb's law).
-        #[arg(long, default_value = "fixed_point")]
+        /// Frictional problems (with mu): `auto` (default: the fastest
+        /// verified method for the problem, docs/guide/choosing.md),
+        /// `fixed_point`, `status` (2D), `newton` (semi-smooth Newton on
+        /// Coulomb's law) or `nsgs` (nonsmooth Gauss–Seidel).
+        #[arg(long, default_value = "auto")]
         friction: String,
+        /// Stop a friction solve after SECONDS of wall-clock time, not
+        /// converged (exit 2) (default: 10 + 2e-9 × rows³).
+        #[arg(long, value_name = "SECONDS", allow_hyphen_values = true)]
+        time_limit: Option<f64>,
         /// Solve N times and report the median time.
         #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u64).range(1..=1000))]
         repeat: u64,
@@ -283,6 +290,7 @@ fn command(cli: Cli) -> ExitCode {
             max_iterations,
             lambda,
             friction,
+            time_limit,
             repeat,
             max_memory,
         } => local::local(
@@ -292,6 +300,7 @@ fn command(cli: Cli) -> ExitCode {
                 budget: budget(max_memory),
                 tolerance,
                 max_iterations,
+                time_limit,
                 with_lambda: lambda,
                 friction,
                 repeat: repeat as usize,

@@ -318,10 +318,20 @@ fn what_local_cannot_solve_is_refused_naming_the_dataset() {
             "bad_storage.hdf5",
             &["/fclib_local/W/nz is -3", "-1 (compressed columns)"],
         ),
-        ("bad_asymmetric.hdf5", &["not symmetric", "W[0][1]"]),
     ];
     for (name, needles) in cases {
         assert_refused(&data(name), &[], needles);
+    }
+    // A nonsymmetric W is refused by the methods that need symmetry, naming
+    // the one that does not (the default, auto, solves it by NSGS:
+    // nonsymmetric_w_is_solved_by_nsgs_and_refused_by_the_others).
+    for friction in ["newton", "fixed_point"] {
+        let needles = ["not symmetric", "W[0][1]", "--friction nsgs"];
+        assert_refused(
+            &data("bad_asymmetric.hdf5"),
+            &["--friction", friction],
+            &needles,
+        );
     }
 }
 
@@ -469,4 +479,150 @@ fn damaged_files_and_other_formats_are_refused_and_extensions_are_read_in_any_ca
         let v = solved(&[path.as_os_str()]);
         assert!(v["reference_r_error"].as_f64().unwrap() <= 1e-8, "{v}");
     }
+}
+
+/// The natural map of Coulomb's law at forces λ of a contact-wise 3D problem
+/// (W, q in the file's order), computed here: max over the contacts of
+/// |min(λ_n/F, u_n/G)| and |λ_t − proj_{μλ_n}(λ_t − (F/G) u_t)| / F, with
+/// u = W λ + q, F = max |λ|, G = max |q|.
+fn coulomb_residual(w: &faer::Mat<f64>, q: &[f64], mu: &[f64], lambda: &[f64]) -> f64 {
+    let n = q.len();
+    let u: Vec<f64> = (0..n)
+        .map(|i| q[i] + (0..n).map(|j| w[(i, j)] * lambda[j]).sum::<f64>())
+        .collect();
+    let f = lambda.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+    let g = q.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+    let mut worst = 0.0f64;
+    for (c, &mu) in mu.iter().enumerate() {
+        let (r, v) = (&lambda[3 * c..3 * c + 3], &u[3 * c..3 * c + 3]);
+        worst = worst.max((r[0] / f).min(v[0] / g).abs());
+        let trial = [r[1] - f / g * v[1], r[2] - f / g * v[2]];
+        let norm = trial[0].hypot(trial[1]);
+        let radius = mu * r[0].max(0.0);
+        let s = if norm > radius { radius / norm } else { 1.0 };
+        worst = worst.max((r[1] - s * trial[0]).abs().max((r[2] - s * trial[1]).abs()) / f);
+    }
+    worst
+}
+
+/// The problems multibody codes write (make_rigid.py): rigid boxes and
+/// spheres (W rank deficient: 96 of 192 rows, 285 of 360), the spheres' W
+/// stored as its upper triangle, a W nonsymmetric by 2e-3, a global
+/// problem whose M is stored as its upper triangle. Each is solved from the
+/// file as written by the default method (auto), exit 0, to a natural-map
+/// residual ≤ 1e-8 computed here.
+#[test]
+fn multibody_problems_are_solved_as_written() {
+    let cases = [
+        ("rigid_boxes.hdf5", None, "coulomb_3d_nsgs"),
+        ("rigid_spheres.hdf5", Some("upper"), "coulomb_3d_nsgs"),
+        ("rigid_spheres_asymmetric.hdf5", None, "coulomb_3d_nsgs"),
+        ("fe_block_upper.hdf5", Some("upper"), "coulomb_3d_nsgs"),
+    ];
+    for (name, triangle, method) in cases {
+        let v = solved(&[data(name).as_os_str(), "--lambda".as_ref()]);
+        let what = format!("{name}: {v}");
+        assert_eq!(v["converged"], true, "{what}");
+        assert_eq!(v["method"], method, "{what}");
+        assert!(v["picked"].as_str().is_some(), "{what}");
+        assert_eq!(v["stored_triangle"].as_str(), triangle, "{what}");
+        let p = signorini_problems::problem_file::load(
+            &data(name),
+            signorini_report::budget::machine_memory(),
+        )
+        .unwrap();
+        let (w, q) = (file_order_w(&p), p.to_file_order(&p.q));
+        let res = coulomb_residual(&w, &q, p.mu.as_ref().unwrap(), &numbers(&v["lambda"]));
+        assert!(res <= 1e-8, "{what}: residual {res:e}");
+    }
+    // The triangle is the symmetric W: the same forces as the full one
+    // written by NumPy from the same numbers.
+    let p = signorini_problems::problem_file::load(
+        &data("rigid_spheres.hdf5"),
+        signorini_report::budget::machine_memory(),
+    )
+    .unwrap();
+    assert!(p.asymmetry.is_none());
+}
+
+/// The semi-smooth Newton method on the rank-deficient spheres converges
+/// itself (no fallback); cut short, it falls back to the fixed point and
+/// the JSON line says from which method and why, exit 2.
+#[test]
+fn newton_solves_rank_deficient_problems_and_says_when_it_falls_back() {
+    let v = solved(&[
+        data("rigid_spheres.hdf5").as_os_str(),
+        "--friction".as_ref(),
+        "newton".as_ref(),
+    ]);
+    assert_eq!(v["method"], "coulomb_3d_semismooth_newton", "{v}");
+    assert!(v.get("fallback").is_none(), "{v}");
+    let out = local(&[
+        data("rigid_spheres.hdf5").as_os_str(),
+        "--friction".as_ref(),
+        "newton".as_ref(),
+        "--max-iterations".as_ref(),
+        "2".as_ref(),
+    ]);
+    assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(v["method"], "coulomb_3d_fixed_point", "{v}");
+    assert_eq!(v["fallback"]["from"], "coulomb_3d_semismooth_newton", "{v}");
+    assert!(
+        v["fallback"]["reason"]
+            .as_str()
+            .unwrap()
+            .contains("stopped"),
+        "{v}"
+    );
+}
+
+/// --time-limit ends a run that would take seconds (the fixed point on the
+/// spheres: about 8 s) with exit 2, the reason and the residual reached;
+/// a limit that is not a positive number is refused.
+#[test]
+fn a_time_limit_ends_a_long_run_with_exit_2() {
+    let started = std::time::Instant::now();
+    let out = local(&[
+        data("rigid_spheres.hdf5").as_os_str(),
+        "--friction".as_ref(),
+        "fixed_point".as_ref(),
+        "--time-limit".as_ref(),
+        "0.2".as_ref(),
+    ]);
+    assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(v["converged"], false, "{v}");
+    assert!(
+        v["stopping_reason"]
+            .as_str()
+            .unwrap()
+            .contains("time limit"),
+        "{v}"
+    );
+    assert!(
+        started.elapsed() < Duration::from_secs(20),
+        "{:?}",
+        started.elapsed()
+    );
+    for bad in ["0", "-1", "nan"] {
+        let path = data("fc3d_csc.hdf5");
+        let out = local(&[path.as_os_str(), "--time-limit".as_ref(), bad.as_ref()]);
+        assert_eq!(out.status.code(), Some(1), "{bad}: {}", stderr(&out));
+        let refused = stderr(&out).contains("--time-limit: must be");
+        assert!(out.stdout.is_empty() && refused, "{bad}");
+    }
+}
+
+/// A stored /solution/r of zeros, which does not solve its problem, is
+/// reported as such rather than as a distance to our forces.
+#[test]
+fn a_stored_zero_solution_is_reported_as_not_a_solution() {
+    let v = solved(&[data("zero_solution.hdf5").as_os_str()]);
+    assert_eq!(v["reference"], "not a solution (r = 0)", "{v}");
+    assert!(v.get("reference_r_error").is_none(), "{v}");
+    // A stored solution that is one is still compared.
+    let v = solved(&[data("fc3d_csc.hdf5").as_os_str()]);
+    assert!(v.get("reference").is_none(), "{v}");
+    assert!(v["reference_r_error"].as_f64().unwrap() <= 1e-8, "{v}");
 }

@@ -208,6 +208,27 @@ fn sliding3d_example_meets_its_reference() {
     assert!(out.report.certificate.dissipation <= 1e-9);
 }
 
+/// `friction = "nsgs"` in a scene: the sliding block by NSGS gives the
+/// semi-smooth Newton method's normal and tangential forces (both to the
+/// tolerance 1e-10: within 1e-8 of the largest) and meets the reference.
+#[test]
+fn sliding3d_by_nsgs_gives_the_newton_forces() {
+    let text = example("sliding3d.toml");
+    let newton = converged(&text, RunOptions::default());
+    let nsgs_text = text.replacen("[solver]", "[solver]\nfriction = \"nsgs\"", 1);
+    assert_ne!(nsgs_text, text);
+    let nsgs = converged(&nsgs_text, RunOptions::default());
+    assert_eq!(nsgs.report.solver["method"], "coulomb_3d_nsgs");
+    let rows = |o: &RunOutput| -> Vec<f64> {
+        let r = o.contact_rows.iter();
+        r.flat_map(|r| [r.normal_force, r.tangential_force])
+            .collect()
+    };
+    assert!(common::max_rel(&rows(&nsgs), &rows(&newton)) <= 1e-8);
+    let q = &nsgs.report.reference.as_ref().unwrap().quantities;
+    assert!(q["tangential_reaction"].relative_error <= 1e-3);
+}
+
 #[test]
 fn force_above_mu_n_under_force_control_is_refused_in_3d() {
     let text = box_scene(

@@ -45,6 +45,7 @@ pub(crate) mod fixed_point;
 pub mod friction3d;
 pub mod holding;
 pub mod kinematic_hardening;
+pub mod nsgs;
 pub(crate) mod semismooth_newton;
 pub use crate::law::{FrictionLaw, FrictionLayout};
 pub use crate::options::FrictionOptions;
@@ -687,6 +688,7 @@ mod tests {
             tolerance: 1e-12,
             force_scale: 1.0,
             gap_scale: 1.0,
+            deadline: None,
         }
     }
 

@@ -22,4 +22,16 @@ pub struct FrictionOptions {
     pub tolerance: f64,
     pub force_scale: f64,
     pub gap_scale: f64,
+    /// The wall-clock time at which a solve stops, converged or not
+    /// (`None`: no time limit).
+    pub deadline: Option<std::time::Instant>,
+}
+
+/// The default wall-clock budget of a friction solve of `rows` rows, in
+/// seconds: 10 s, plus 2e-9 s × rows³ (about six dense factorisations of
+/// W at 1 GFlop/s for every second past the first ten: 11 s at 858 rows,
+/// 460 s at 6 075), so that a large problem is not cut short and a small
+/// one that does not converge ends soon.
+pub fn default_time_limit(rows: usize) -> f64 {
+    10.0 + 2e-9 * (rows as f64).powi(3)
 }

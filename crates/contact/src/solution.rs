@@ -359,6 +359,16 @@ pub enum StopReason {
     NonFinite { iteration: usize },
     /// Tresca friction solved in one solve (no fixed point): its reason.
     Tresca(Box<StopReason>),
+    /// NSGS (friction::nsgs) met the tolerance after `sweeps` sweeps.
+    NsgsConverged { residual: f64, sweeps: usize },
+    /// NSGS reached its sweep limit.
+    NsgsLimit { limit: usize },
+    /// NSGS did not halve its best residual `best` (at sweep `at`) in
+    /// `since` sweeps.
+    NsgsStalled { best: f64, at: usize, since: usize },
+    /// The wall-clock budget of the solve (`time_limit`) ran out after
+    /// `iterations` iterations, at the natural residual `residual`.
+    TimeLimit { iterations: usize, residual: f64 },
     /// A rigid motion of a floating body (column `mode` of G) is loaded
     /// beyond what friction can hold: the load along it not carried by the
     /// normal forces, `load`, exceeds `capacity`, the most the tangential
@@ -488,6 +498,7 @@ impl StopReason {
         match self {
             StopReason::StatusLimit { .. }
             | StopReason::NewtonLimit { .. }
+            | StopReason::NsgsLimit { .. }
             | StopReason::FixedPointLimit { .. }
             | StopReason::ActiveSetLimit { .. } => true,
             StopReason::InnerTresca(inner) | StopReason::BoxFallbacks { before: inner, .. } => {

@@ -12,6 +12,9 @@
 //! compressive, gap g = Wλ + q). An optional `/solution/r` is another
 //! solver's forces, compared with ours in the JSON line.
 //!
+//! A W with one strictly triangular part empty is a symmetric W stored as
+//! the other triangle (`fclib/stored_triangle.rs`), completed by symmetry.
+//!
 //! A global problem (`/fclib_global`: M, H, f, w, mu) is condensed into a
 //! local one by [`condense_global`], which reads its sparse matrices with
 //! the same reader ([`entries`]).
@@ -22,7 +25,9 @@
 //! sizes say, a dense W past the memory
 //! budget (checked from `m` before anything of its size is allocated), and
 //! through `problem_file.rs`'s checks every other value (finite,
-//! symmetric W, rows a multiple of `spacedim`, μ per contact, finite, ≥ 0).
+//! rows a multiple of `spacedim`, μ per contact, finite, ≥ 0). A W that is
+//! not symmetric is read as it is: the methods that need symmetry refuse it
+//! (`local.rs`).
 
 use std::path::Path;
 
@@ -36,6 +41,7 @@ use crate::raw::{regular_file, Raw, NPY_COPIES};
 
 mod condense_global;
 mod equality_constraints;
+mod stored_triangle;
 pub use condense_global::{GlobalCondensation, GlobalSummary};
 
 const LOCAL: &str = "/fclib_local";
@@ -49,6 +55,9 @@ pub(crate) struct FclibProblem {
     pub raw: Raw,
     pub reference_r: Option<Vec<f64>>,
     pub global: Option<GlobalCondensation>,
+    /// W (local) or M (global) was stored as this triangle of a symmetric
+    /// matrix ([`stored_triangle`]).
+    pub stored_triangle: Option<&'static str>,
 }
 
 impl FclibProblem {
@@ -71,6 +80,7 @@ impl FclibProblem {
             raw,
             reference_r,
             global,
+            stored_triangle: None,
         }
     }
 }
@@ -91,12 +101,11 @@ pub(crate) fn read(path: &Path, budget: Option<Budget>) -> Result<FclibProblem, 
     let q = f.finite_vector(&format!("{LOCAL}/vectors/q"), m, "W has")?;
     let mu = f.floats(&format!("{LOCAL}/vectors/mu"))?;
     let reference_r = solution(&f, "r", m, "W has")?;
-    let w = read_w(&f, m)?;
-    Ok(FclibProblem::contact_wise(
-        (w, q, mu, dim),
-        reference_r,
-        None,
-    ))
+    let mut w = read_w(&f, m)?;
+    let triangle = stored_triangle::complete_dense(&mut w);
+    let mut p = FclibProblem::contact_wise((w, q, mu, dim), reference_r, None);
+    p.stored_triangle = triangle.map(stored_triangle::Triangle::name);
+    Ok(p)
 }
 
 /// `{problem}/spacedim`, 2 or 3.

@@ -8,12 +8,14 @@
 //! fixed point with its semi-smooth Newton inner solves or the semi-smooth
 //! Newton method on Coulomb's law itself.
 
-use std::time::Instant;
+use std::time::{Duration, Instant};
 
 use serde::Serialize;
 use signorini_contact::friction::driver;
 use signorini_contact::friction::{FrictionLaw, FrictionLayout, FrictionOptions, PointStatus};
+use signorini_contact::law::natural_residual;
 use signorini_contact::lcp::{lcp_residual, LcpOptions};
+use signorini_contact::options::default_time_limit;
 use signorini_contact::registry::Algorithm;
 
 pub use crate::fclib::{GlobalCondensation, GlobalSummary};
@@ -64,6 +66,12 @@ pub struct LocalResult {
     /// distance of ours to them, [`reference_error`].
     #[serde(skip_serializing_if = "Option::is_none")]
     pub reference_r_error: Option<f64>,
+    /// When the file's reference forces do not solve its own problem
+    /// (their natural residual above 1e-6, [`reference_fields`]): what
+    /// they are, e.g. "not a solution (r = 0)"; `reference_r_error` is
+    /// then left out.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub reference: Option<String>,
     /// An FCLib global problem, condensed: its sizes and time.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub global: Option<GlobalSummary>,
@@ -71,6 +79,70 @@ pub struct LocalResult {
     /// forces give to it ([`GlobalCondensation::reference_v_error`]).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub reference_v_error: Option<f64>,
+    /// With `--friction auto`: why its method was picked ([`pick_friction`]).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub picked: Option<String>,
+    /// When the method asked for gave up and another one answered: which
+    /// and why (the answer's `method` is the one that answered).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub fallback: Option<Fallback>,
+    /// An FCLib W (or global M) stored as one triangle of a symmetric
+    /// matrix: "upper" or "lower".
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub stored_triangle: Option<&'static str>,
+}
+
+/// A method that gave up, and why, in the JSON line.
+#[derive(Debug, Serialize)]
+pub struct Fallback {
+    pub from: String,
+    pub reason: String,
+}
+
+/// The reference forces' fields of the JSON line for our `forces` (block
+/// layout): their distance to ours ([`reference_error`]) when the file's
+/// r solves its own problem (natural residual ≤ 1e-6 in the scales of
+/// the data), else what they are: "not a solution (r = 0)" or "not a
+/// solution (natural residual X)".
+fn reference_fields(p: &LocalProblem, forces: &[f64]) -> (Option<f64>, Option<String>) {
+    let Some(r) = p.reference_r.as_ref() else {
+        return (None, None);
+    };
+    let blocks: Vec<f64> = p.file_row.iter().map(|&row| r[row]).collect();
+    let residual = law_residual(p, &blocks);
+    if residual <= 1e-6 {
+        return (reference_error(p, forces), None);
+    }
+    let what = match r.iter().all(|&v| v == 0.0) {
+        true => "not a solution (r = 0)".to_string(),
+        false => format!("not a solution (natural residual {residual:.2e})"),
+    };
+    (None, Some(what))
+}
+
+/// The scaled natural residual of forces (block layout): of Coulomb's law
+/// with μ, else of the LCP of the normal rows.
+fn law_residual(p: &LocalProblem, forces: &[f64]) -> f64 {
+    let (force_scale, gap_scale) = scales(p);
+    let force = force_scale.max(signorini_contact::norms::max_abs(forces));
+    match p.mu.as_ref() {
+        Some(mu) => {
+            let gaps = signorini_contact::lcp::gaps(&p.w, &p.q, forces);
+            natural_residual(&coulomb_layout(p, mu), forces, &gaps, force, gap_scale)
+        }
+        None => {
+            let m = p.contacts();
+            let (w, q) = (p.w.submatrix(0, 0, m, m).to_owned(), &p.q[..m]);
+            let opts = LcpOptions {
+                tolerance: 0.0,
+                max_iterations: 1,
+                force_scale,
+                gap_scale,
+                stiffness: None,
+            };
+            lcp_residual(&w, q, &forces[..m], &opts)
+        }
+    }
 }
 
 /// The global problem's summary and v error for forces (block layout).
@@ -107,9 +179,97 @@ fn solves_the_lcp(residual: f64, tolerance: f64) -> bool {
     residual <= 1e3 * tolerance
 }
 
-/// Solves a frictional local problem: 2D by the fixed point on the
-/// threshold (course notes §4.3) or the friction status method (§4.5), 3D by the
-/// fixed point with semi-smooth Newton inner solves.
+/// What `--friction` asks for: a method, or `auto`, the method
+/// [`pick_friction`] picks for the problem.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum FrictionChoice {
+    Auto,
+    Method(FrictionMethod),
+}
+
+impl FrictionChoice {
+    /// `auto` or a method's name; an error lists the valid ones.
+    pub fn from_name(name: &str) -> Result<Self, String> {
+        match name {
+            "auto" => Ok(FrictionChoice::Auto),
+            _ => FrictionMethod::from_name(name)
+                .map(FrictionChoice::Method)
+                .map_err(|e| format!("{e} or auto")),
+        }
+    }
+}
+
+/// Contact points up to which `auto` solves 3D Coulomb by NSGS: measured
+/// (docs/performance/root-solvers.md) NSGS is the faster below (rigid
+/// bodies' rank-deficient W: 0.05–0.2 s where the semi-smooth Newton
+/// method needs 1–2 s or its fixed-point fallback; an elastic half-space
+/// at m = 784: 0.16 s against 0.24 s), the semi-smooth Newton method above
+/// (m = 2025: 1.9 s against 2.9 s).
+pub const NSGS_UP_TO: usize = 1000;
+
+/// The friction method `auto` picks for a problem and why (the JSON's
+/// `picked`; docs/guide/choosing.md):
+/// - W not symmetric: NSGS, which needs no symmetry;
+/// - 2D: the fixed point on the threshold (its inner status method);
+/// - 3D up to [`NSGS_UP_TO`] contact points: NSGS;
+/// - 3D beyond: the semi-smooth Newton method on Coulomb's law.
+pub fn pick_friction(p: &LocalProblem) -> (FrictionMethod, &'static str) {
+    if p.asymmetry.is_some() {
+        return (
+            FrictionMethod::Nsgs,
+            "W is not symmetric: nsgs needs no symmetry",
+        );
+    }
+    if p.dim == 2 {
+        return (
+            FrictionMethod::FixedPoint,
+            "2D Coulomb: the fixed point with status inner solves",
+        );
+    }
+    if p.contacts() <= NSGS_UP_TO {
+        return (
+            FrictionMethod::Nsgs,
+            "3D Coulomb, up to 1000 contact points: nsgs",
+        );
+    }
+    (
+        FrictionMethod::Newton,
+        "3D Coulomb, more than 1000 contact points: the semi-smooth Newton method",
+    )
+}
+
+/// Refuses a nonsymmetric W for a method that needs a symmetric one (all
+/// but NSGS for friction, `auto` picking it; all but Lemke's method for
+/// the LCP), naming the file and the method that accepts it.
+pub fn accepts(
+    name: &str,
+    p: &LocalProblem,
+    friction: Option<FrictionChoice>,
+    lcp: Option<Algorithm>,
+) -> Result<(), String> {
+    match (friction, lcp) {
+        (Some(FrictionChoice::Auto | FrictionChoice::Method(FrictionMethod::Nsgs)), _) => Ok(()),
+        (Some(FrictionChoice::Method(m)), _) => {
+            p.require_symmetric(name, &format!("--friction {}", m.name()), "--friction nsgs")
+        }
+        (None, Some(a)) if a.name() != "lemke" => {
+            p.require_symmetric(name, &format!("--method {}", a.name()), "--method lemke")
+        }
+        _ => Ok(()),
+    }
+}
+
+/// Limits of a solve: tolerance, iterations and wall-clock seconds.
+#[derive(Debug, Clone, Copy)]
+pub struct Limits {
+    pub tolerance: f64,
+    pub max_iterations: usize,
+    /// Seconds; `None`: [`default_time_limit`] of the problem's rows.
+    pub time_limit: Option<f64>,
+}
+
+/// Solves a frictional local problem by `method` (see [`solve_friction_by`]),
+/// within the default time limit.
 pub fn solve_friction(
     name: &str,
     p: &LocalProblem,
@@ -118,33 +278,57 @@ pub fn solve_friction(
     max_iterations: usize,
     with_lambda: bool,
 ) -> Result<LocalResult, String> {
-    let mu = p.mu.as_ref().ok_or("no mu")?;
+    let limits = Limits {
+        tolerance,
+        max_iterations,
+        time_limit: None,
+    };
+    solve_friction_by(name, p, FrictionChoice::Method(method), limits, with_lambda)
+}
+
+/// The layout of a contact-wise problem held in the block layout.
+fn coulomb_layout(p: &LocalProblem, mu: &[f64]) -> FrictionLayout {
     let (m, d) = (p.contacts(), p.dim);
-    let (force_scale, gap_scale) = scales(p);
-    let layout = FrictionLayout {
+    FrictionLayout {
         tangent_rows: (0..m)
             .map(|c| (0..d - 1).map(|k| m + (d - 1) * c + k).collect())
             .collect(),
         law: mu.iter().map(|&u| FrictionLaw::coulomb(u)).collect(),
         shadow: vec![None; m],
+    }
+}
+
+/// Solves a frictional local problem: 2D by the fixed point on the
+/// threshold (course notes §4.3), the friction status method (§4.5), the
+/// semi-smooth Newton method or NSGS; 3D by the fixed point with
+/// semi-smooth Newton inner solves, the semi-smooth Newton method on
+/// Coulomb's law or NSGS; `auto` as [`pick_friction`] says. A nonsymmetric
+/// W is refused by the methods that need symmetry (all but NSGS).
+pub fn solve_friction_by(
+    name: &str,
+    p: &LocalProblem,
+    choice: FrictionChoice,
+    limits: Limits,
+    with_lambda: bool,
+) -> Result<LocalResult, String> {
+    let mu = p.mu.as_ref().ok_or("no mu")?;
+    let (method, picked) = match choice {
+        FrictionChoice::Auto => {
+            let (m, why) = pick_friction(p);
+            (m, Some(why.to_string()))
+        }
+        FrictionChoice::Method(m) => (m, None),
     };
-    let opts = FrictionOptions {
-        max_iterations,
-        max_fixed_point: max_iterations,
-        tolerance,
-        force_scale,
-        gap_scale,
-    };
-    let Some(chosen) = driver::FrictionMethod::choose(method, d, &layout, false) else {
+    accepts(name, p, Some(FrictionChoice::Method(method)), None)?;
+    let layout = coulomb_layout(p, mu);
+    let opts = friction_options(p, &limits);
+    let Some(chosen) = driver::FrictionMethod::choose(method, p.dim, &layout, false) else {
         return Err(format!("--friction {}: a 2D method", method.name()));
     };
-    let statuses = (0..m)
-        .map(|i| {
-            if p.q[i] <= 0.0 {
-                PointStatus::Stick
-            } else {
-                PointStatus::Open
-            }
+    let statuses = (0..p.contacts())
+        .map(|i| match p.q[i] <= 0.0 {
+            true => PointStatus::Stick,
+            false => PointStatus::Open,
         })
         .collect();
     let start = driver::FrictionStart {
@@ -156,18 +340,59 @@ pub fn solve_friction(
     let t = Instant::now();
     let answer = driver::solve_friction(&mut problem, &layout, chosen, start, &opts)
         .map_err(|e| e.to_string())?;
-    let (out, residual) = (answer.solution, answer.residual);
     let time_s = t.elapsed().as_secs_f64();
+    let mut r = friction_result(name, p, answer, limits.tolerance, with_lambda);
+    (r.time_s, r.operator_applications) = (time_s, problem.solves);
+    r.picked = picked;
+    Ok(r)
+}
+
+/// The options of a friction solve: the limits, the scales of the data and
+/// the deadline.
+fn friction_options(p: &LocalProblem, limits: &Limits) -> FrictionOptions {
+    let (force_scale, gap_scale) = scales(p);
+    let seconds = limits
+        .time_limit
+        .unwrap_or_else(|| default_time_limit(p.q.len()));
+    FrictionOptions {
+        max_iterations: limits.max_iterations,
+        max_fixed_point: limits.max_iterations,
+        tolerance: limits.tolerance,
+        force_scale,
+        gap_scale,
+        deadline: Some(Instant::now() + Duration::from_secs_f64(seconds.min(1e9))),
+    }
+}
+
+/// The JSON line of a friction answer (time and operator applications
+/// left to the caller).
+fn friction_result(
+    name: &str,
+    p: &LocalProblem,
+    answer: driver::FrictionAnswer,
+    tolerance: f64,
+    with_lambda: bool,
+) -> LocalResult {
+    let (out, residual) = (answer.solution, answer.residual);
     let (global, reference_v_error) = global_fields(p, &out.forces);
-    Ok(LocalResult {
+    let fallback = out.friction.fallback.as_ref().map(|reason| Fallback {
+        from: reason
+            .split(" stopped")
+            .next()
+            .unwrap_or_default()
+            .to_string(),
+        reason: reason.clone(),
+    });
+    let (reference_r_error, reference) = reference_fields(p, &out.forces);
+    LocalResult {
         problem: name.to_string(),
         method: out.report.method.clone(),
-        m,
-        dim: d,
+        m: p.contacts(),
+        dim: p.dim,
         converged: out.report.converged && solves_the_lcp(residual, tolerance),
         iterations: out.report.iterations,
-        operator_applications: problem.solves,
-        time_s,
+        operator_applications: 0,
+        time_s: 0.0,
         repeats: 1,
         residual,
         active: out
@@ -178,10 +403,14 @@ pub fn solve_friction(
             .count(),
         stopping_reason: out.report.stop.to_string(),
         lambda: with_lambda.then(|| p.to_file_order(&out.forces)),
-        reference_r_error: reference_error(p, &out.forces),
+        reference_r_error,
+        reference,
         global,
         reference_v_error,
-    })
+        picked: None,
+        fallback,
+        stored_triangle: p.stored_triangle,
+    }
 }
 
 /// Solves a frictionless problem (an LCP, or the normal rows of a
@@ -196,6 +425,7 @@ pub fn solve(
     with_lambda: bool,
 ) -> Result<LocalResult, String> {
     let m = p.contacts();
+    accepts(name, p, None, Some(algorithm))?;
     let (force_scale, gap_scale) = scales(p);
     let (w, q) = if p.dim == 1 {
         (p.w.clone(), p.q.clone())
@@ -218,6 +448,7 @@ pub fn solve(
     forces.resize(p.q.len(), 0.0);
     let residual = lcp_residual(&w, &q, &sol.forces, &opts);
     let (global, reference_v_error) = global_fields(p, &forces);
+    let (reference_r_error, reference) = reference_fields(p, &forces);
     Ok(LocalResult {
         problem: name.to_string(),
         method: algorithm.name().to_string(),
@@ -232,9 +463,13 @@ pub fn solve(
         active: sol.forces.iter().filter(|&&l| l > 0.0).count(),
         stopping_reason: sol.report.stop.to_string(),
         lambda: with_lambda.then(|| p.to_file_order(&forces)),
-        reference_r_error: reference_error(p, &forces),
+        reference_r_error,
+        reference,
         global,
         reference_v_error,
+        picked: None,
+        fallback: None,
+        stored_triangle: p.stored_triangle,
     })
 }
 
@@ -299,10 +534,24 @@ mod tests {
         )
         .unwrap();
         assert!(!r.converged && r.residual > 0.01, "{}", r.residual);
+        // A nonsymmetric W is read as it is (it was refused on reading):
+        // the status method, which needs symmetry, refuses it naming Lemke's
+        // method, which solves it: λ = (0.5, 0), w = (0, 1).
         std::fs::write(&path, r#"{"W": [[2, 1], [0, 2]], "q": [-1, 1]}"#).unwrap();
-        assert!(load(&path, machine_memory())
-            .unwrap_err()
-            .contains("not symmetric"));
+        let p = load(&path, machine_memory()).unwrap();
+        let status = Algorithm::by_name("status").unwrap();
+        let e = solve("p", &p, status, 1e-12, 100, true).unwrap_err();
+        assert!(
+            e.contains("not symmetric") && e.contains("--method lemke"),
+            "{e}"
+        );
+        let lemke = Algorithm::by_name("lemke").unwrap();
+        let r = solve("p", &p, lemke, 1e-12, 100, true).unwrap();
+        let l = r.lambda.unwrap();
+        assert!(
+            r.converged && (l[0] - 0.5).abs() <= 1e-12 && l[1] == 0.0,
+            "{l:?}"
+        );
         std::fs::write(&path, r#"{"W": [[2]], "q": [-1, 1]}"#).unwrap();
         assert!(load(&path, machine_memory()).unwrap_err().contains("2 × 2"));
     }
@@ -506,7 +755,7 @@ mod tests {
         serde_json::json!({"W": w, "q": q, "mu": vec![0.3; m], "dim": 3}).to_string()
     }
 
-    /// On a rank-deficient pile the semi-smooth Newton method converges, and
+    /// On a rank-deficient pile the semi-smooth Newton method and NSGS converge, and
     /// the fixed point either converges or stops as stalled (it wandered for
     /// hundreds of iterations, and on a larger pile broke down into NaN
     /// forces that were reported converged): never a converged answer off
@@ -519,9 +768,13 @@ mod tests {
         std::fs::write(&path, rigid_sphere_pile()).unwrap();
         let p = load(&path, machine_memory()).unwrap();
         let m = p.contacts();
-        for method in [FrictionMethod::Newton, FrictionMethod::FixedPoint] {
+        for method in [
+            FrictionMethod::Newton,
+            FrictionMethod::FixedPoint,
+            FrictionMethod::Nsgs,
+        ] {
             let r = solve_friction("pile", &p, method, 1e-10, 10_000, true).unwrap();
-            if method == FrictionMethod::Newton {
+            if method != FrictionMethod::FixedPoint {
                 assert!(r.converged, "{}", r.stopping_reason);
             }
             if !r.converged {

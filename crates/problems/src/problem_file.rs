@@ -1,5 +1,6 @@
 //! The stand-alone problem file of `signorini local` (docs/theory/algorithms.md): a
-//! Delassus operator W (dense, symmetric), its free gaps q and, for
+//! Delassus operator W (dense; a nonsymmetric one is read as it is, for
+//! the methods that do not need symmetry), its free gaps q and, for
 //! friction, a coefficient μ per contact, so that the root solvers can be
 //! compared with other libraries on identical data.
 //!
@@ -46,6 +47,43 @@ pub struct LocalProblem {
     pub reference_r: Option<Vec<f64>>,
     /// An FCLib global problem's condensation (to recover its velocities v).
     pub global: Option<GlobalCondensation>,
+    /// Where W is not symmetric ([`Asymmetry`]); `None`: symmetric to
+    /// 1e-10 max |W|.
+    pub asymmetry: Option<Asymmetry>,
+    /// An FCLib file's W (or global M) stored as this triangle of a
+    /// symmetric matrix (`"upper"`, `"lower"`), completed on reading.
+    pub stored_triangle: Option<&'static str>,
+}
+
+/// A W that is not symmetric: its first entry (file rows, by rows) off its
+/// transpose by more than 1e-10 max |W|, both values, and the largest
+/// |W_ij − W_ji| / max |W|.
+#[derive(Debug, Clone, Copy)]
+pub struct Asymmetry {
+    pub i: usize,
+    pub j: usize,
+    pub wij: f64,
+    pub wji: f64,
+    pub relative: f64,
+}
+
+impl LocalProblem {
+    /// Refuses a nonsymmetric W for `method`, which needs a symmetric one,
+    /// naming the methods that accept it (`accepted`); `name`: the file.
+    pub fn require_symmetric(
+        &self,
+        name: &str,
+        method: &str,
+        accepted: &str,
+    ) -> Result<(), String> {
+        let Some(a) = self.asymmetry else {
+            return Ok(());
+        };
+        Err(format!(
+            "{name}: W is not symmetric (W[{}][{}] = {} but W[{}][{}] = {}; max |W - W^T| = {:.1e} max |W|): {method} needs a symmetric W; {accepted} solve(s) it as it is",
+            a.i, a.j, a.wij, a.j, a.i, a.wji, a.relative
+        ))
+    }
 }
 
 impl LocalProblem {
@@ -285,28 +323,39 @@ fn read_json(path: &Path) -> Result<Raw, String> {
     })
 }
 
-/// W finite and symmetric, q finite.
-fn check_values(shown: &str, w: &Mat<f64>, q: &[f64]) -> Result<(), String> {
+/// W finite, q finite; where W is not symmetric ([`Asymmetry`]).
+fn check_values(shown: &str, w: &Mat<f64>, q: &[f64]) -> Result<Option<Asymmetry>, String> {
     let m = q.len();
     let wmax = w.norm_max();
+    let mut asymmetry: Option<Asymmetry> = None;
     for i in 0..m {
         for j in 0..m {
             if !w[(i, j)].is_finite() {
                 return Err(format!("{shown}: W[{i}][{j}] is not finite"));
             }
-            if (w[(i, j)] - w[(j, i)]).abs() > 1e-10 * wmax {
-                return Err(format!(
-                    "{shown}: W is not symmetric (W[{i}][{j}] = {} but W[{j}][{i}] = {})",
-                    w[(i, j)],
-                    w[(j, i)]
-                ));
+            let off = (w[(i, j)] - w[(j, i)]).abs();
+            if off > 1e-10 * wmax {
+                let relative = off / wmax;
+                match asymmetry.as_mut() {
+                    Some(a) => a.relative = a.relative.max(relative),
+                    None => {
+                        let (wij, wji) = (w[(i, j)], w[(j, i)]);
+                        asymmetry = Some(Asymmetry {
+                            i,
+                            j,
+                            wij,
+                            wji,
+                            relative,
+                        });
+                    }
+                }
             }
         }
     }
     if let Some(i) = q.iter().position(|v| !v.is_finite()) {
         return Err(format!("{shown}: q[{i}] is not finite"));
     }
-    Ok(())
+    Ok(asymmetry)
 }
 
 /// The rows per contact and, for each block row, its file row.
@@ -386,6 +435,7 @@ pub fn load(path: &Path, budget: Option<Budget>) -> Result<LocalProblem, String>
         let mut p = into_blocks(&format!("{shown} {what}"), file.raw)?;
         p.reference_r = file.reference_r;
         p.global = file.global;
+        p.stored_triangle = file.stored_triangle;
         return Ok(p);
     }
     if is("toml") {
@@ -428,7 +478,7 @@ impl LocalProblem {
 
 /// Checks a problem and puts its rows in the block layout.
 fn into_blocks(shown: &str, raw: Raw) -> Result<LocalProblem, String> {
-    check_values(shown, &raw.w, &raw.q)?;
+    let asymmetry = check_values(shown, &raw.w, &raw.q)?;
     let (dim, file_row) = resolve_layout(shown, &raw)?;
     let w = Mat::<f64>::from_fn(file_row.len(), file_row.len(), |i, j| {
         raw.w[(file_row[i], file_row[j])]
@@ -443,6 +493,8 @@ fn into_blocks(shown: &str, raw: Raw) -> Result<LocalProblem, String> {
         file_row,
         reference_r: None,
         global: None,
+        asymmetry,
+        stored_triangle: None,
     })
 }
 

@@ -772,8 +772,13 @@ pub struct Solver {
     /// ≥ 1 (default 500).
     #[serde(deserialize_with = "crate::serde_impls::max_iterations")]
     pub max_iterations: usize,
-    /// Friction outer loop: `fixed_point` (default), `status` or `newton`.
+    /// Friction outer loop: `fixed_point` (default), `status`, `newton` or `nsgs`.
     pub friction: FrictionSolver,
+    /// The wall-clock budget of each friction solve, in seconds (> 0);
+    /// default: 10 s + 2e-9 s × rows³ of the solve's problem. A solve that
+    /// reaches it stops, not converged.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub time_limit: Option<f64>,
     /// Status method: `all` statuses changed at each iteration (default) or a
     /// `single` one (the variant with the convergence proof, course notes §3.3).
     pub status_changes: StatusChanges,
@@ -816,6 +821,7 @@ impl Default for Solver {
             tolerance: 1e-10,
             max_iterations: 500,
             friction: FrictionSolver::FixedPoint,
+            time_limit: None,
             status_changes: StatusChanges::All,
             constraints: Constraints::Multipliers,
             penalty: 1e8,
@@ -946,6 +952,9 @@ pub enum FrictionSolver {
     /// the semi-smooth Newton method (2D; in 3D the fixed point already
     /// does).
     Newton,
+    /// The nonsmooth Gauss–Seidel method, contact by contact (2D and 3D
+    /// Coulomb).
+    Nsgs,
 }
 
 impl FrictionSolver {
@@ -955,6 +964,7 @@ impl FrictionSolver {
             FrictionSolver::FixedPoint => "fixed_point",
             FrictionSolver::Status => "status",
             FrictionSolver::Newton => "newton",
+            FrictionSolver::Nsgs => "nsgs",
         }
     }
 }

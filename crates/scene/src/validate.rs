@@ -711,6 +711,14 @@ impl Scene {
         if self.solver.max_iterations == 0 {
             return Err(invalid("solver.max_iterations", "must be >= 1, got 0"));
         }
+        if let Some(t) = self.solver.time_limit {
+            if !(t.is_finite() && t > 0.0) {
+                return Err(invalid(
+                    "solver.time_limit",
+                    format!("must be a number of seconds > 0, got {}", Shown(t)),
+                ));
+            }
+        }
         Ok(())
     }
 

@@ -796,6 +796,14 @@ fn solver_reference_output_checks() {
     let s = parse_toml(&with("[solver]\nfriction = \"newton\"\n")).unwrap();
     assert_eq!(s.solver.friction, FrictionSolver::Newton);
     assert_eq!(s.solver.friction.as_str(), "newton");
+    let s = parse_toml(&with("[solver]\nfriction = \"nsgs\"\ntime_limit = 2.5\n")).unwrap();
+    assert_eq!(s.solver.friction, FrictionSolver::Nsgs);
+    assert_eq!(s.solver.time_limit, Some(2.5));
+    assert_eq!(parse_toml(&with("")).unwrap().solver.time_limit, None);
+    for bad in ["0", "-1.0", "nan", "inf"] {
+        let (e, m) = invalid_entry(&with(&format!("[solver]\ntime_limit = {bad}\n")));
+        assert_eq!(e, "solver.time_limit", "{bad}: {m}");
+    }
 
     let (e, m) = invalid_entry(&with("[reference]\nkind = \"hertz_cylinder\"\n"));
     assert_eq!(e, "reference.radius");

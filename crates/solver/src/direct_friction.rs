@@ -13,7 +13,8 @@ use crate::direct_path::{
 };
 use crate::error::{contact_error, SolveError};
 use crate::friction_step::{
-    friction_state, layout_of, prescribed_slip_friction, row_gaps, FrictionHistory, FrictionRows,
+    deadline, friction_state, layout_of, prescribed_slip_friction, row_gaps, FrictionHistory,
+    FrictionRows,
 };
 use crate::interface_problem::initial_statuses;
 use crate::model::{gaps_of, BodyModel, FixedPoint, PointModel};
@@ -235,6 +236,7 @@ impl Stepper<'_> {
             tolerance: self.sc.solver.tolerance,
             force_scale: f_scale,
             gap_scale: length,
+            deadline: Some(deadline(self.sc.solver.time_limit, q.len())),
         };
         let start = match self.start.take() {
             Some(start) => start,

@@ -54,6 +54,7 @@ use signorini_contact::friction::{
 };
 use signorini_contact::{ContactError, StopReason};
 use signorini_linalg::sparse::SparseRow;
+use std::time::Instant;
 
 /// Full (non-monotone) steps taken when the line search fails, before the
 /// solve stops on it (as the condensed Newton method with floating bodies).
@@ -419,6 +420,13 @@ impl Solve<'_, '_> {
             }
             if residual.is_nan() {
                 return (it, StopReason::NonFinite { iteration }, iteration, history);
+            }
+            if self.opts.deadline.is_some_and(|d| Instant::now() >= d) {
+                let reason = StopReason::TimeLimit {
+                    iterations: iteration,
+                    residual,
+                };
+                return (it, reason, iteration, history);
             }
             if residual < STALL_DECREASE * best.0 {
                 best = (residual, iteration);

@@ -7,6 +7,8 @@
 //! force, [`signorini_contact::friction::kinematic_hardening`]), and the slip
 //! history carried to the next step.
 
+use std::time::{Duration, Instant};
+
 use crate::error::{contact_error, SolveError};
 use crate::interface_problem::{initial_statuses, Interface, RootInput, StepLoad};
 use crate::model::{BodyModel, PointModel};
@@ -16,6 +18,7 @@ use signorini_contact::friction::driver::{
 };
 use signorini_contact::friction::kinematic_hardening::{self, Hardened};
 use signorini_contact::friction::{FrictionLaw, FrictionLayout, FrictionOptions, PointStatus};
+use signorini_contact::options::default_time_limit;
 use signorini_contact::registry::FrictionSupport;
 use signorini_contact::{ContactError, ContactSolution, DelassusOperator, DelassusProblem};
 use signorini_scene as scene;
@@ -261,6 +264,13 @@ fn harden_rough_rows(
     Ok(Some(hardened))
 }
 
+/// The time at which a friction solve of `rows` rows stops: `solver.time_limit`
+/// seconds from now, by default [`default_time_limit`].
+pub(crate) fn deadline(time_limit: Option<f64>, rows: usize) -> Instant {
+    let seconds = time_limit.unwrap_or_else(|| default_time_limit(rows));
+    Instant::now() + Duration::from_secs_f64(seconds.min(1e9))
+}
+
 /// One friction step: the problem with the tangential gaps and compliance,
 /// solved by the algorithm the scene asks for; returns the step and u_Γ,
 /// and updates the slip history.
@@ -283,6 +293,7 @@ pub(crate) fn friction_step(
         tolerance: input.sc.solver.tolerance,
         force_scale: load.f_scale,
         gap_scale: load.length_scale,
+        deadline: Some(deadline(input.sc.solver.time_limit, problem.q.len())),
     };
     let out = solve_friction(input, fr, history, &mut problem, &load, &fopts);
     let mut out = out.map_err(contact_error)?;
@@ -339,6 +350,7 @@ fn solve_friction(
 ) -> Result<ContactSolution, ContactError> {
     let (bodies, points) = (input.bodies, input.points);
     let asked = match (fr.three_d, input.sc.solver.friction) {
+        (_, scene::FrictionSolver::Nsgs) => FrictionSolver::Nsgs,
         (true, _) | (false, scene::FrictionSolver::Newton) => FrictionSolver::Newton,
         (false, scene::FrictionSolver::Status) => FrictionSolver::Status,
         (false, scene::FrictionSolver::FixedPoint) => FrictionSolver::FixedPoint,

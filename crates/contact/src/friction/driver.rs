@@ -10,6 +10,7 @@
 
 use crate::delassus::DelassusProblem;
 use crate::friction::friction3d::{coulomb_3d_fixed_point, friction_3d};
+use crate::friction::nsgs::nsgs;
 use crate::friction::{
     coulomb_fixed_point, coulomb_newton, coulomb_status, norton_hoff, predicted_statuses,
     tresca_projection, tresca_status,
@@ -31,13 +32,17 @@ pub enum FrictionSolver {
     /// Coulomb's law itself (no outer fixed point; the fixed point with
     /// Newton inner solves where it fails), 2D and 3D.
     Newton,
+    /// The nonsmooth Gauss–Seidel method on Coulomb's law, contact by
+    /// contact ([`nsgs`]), 2D and 3D.
+    Nsgs,
 }
 
 impl FrictionSolver {
-    pub const ALL: [FrictionSolver; 3] = [
+    pub const ALL: [FrictionSolver; 4] = [
         FrictionSolver::FixedPoint,
         FrictionSolver::Status,
         FrictionSolver::Newton,
+        FrictionSolver::Nsgs,
     ];
 
     pub fn name(self) -> &'static str {
@@ -45,6 +50,7 @@ impl FrictionSolver {
             FrictionSolver::FixedPoint => "fixed_point",
             FrictionSolver::Status => "status",
             FrictionSolver::Newton => "newton",
+            FrictionSolver::Nsgs => "nsgs",
         }
     }
 
@@ -86,6 +92,10 @@ pub enum FrictionMethod {
     Newton3d,
     /// 3D Coulomb by the fixed point alone ([`coulomb_3d_fixed_point`]).
     FixedPoint3d,
+    /// Coulomb by NSGS ([`nsgs`]), 2D.
+    Nsgs2d,
+    /// Coulomb by NSGS ([`nsgs`]), 3D.
+    Nsgs3d,
 }
 
 impl FrictionMethod {
@@ -102,6 +112,8 @@ impl FrictionMethod {
         let norton_hoff = layout.law.iter().any(|l| l.is_norton_hoff());
         Some(match (dim, asked) {
             (3, FrictionSolver::Status) => return None,
+            (3, FrictionSolver::Nsgs) => FrictionMethod::Nsgs3d,
+            (_, FrictionSolver::Nsgs) => FrictionMethod::Nsgs2d,
             (3, FrictionSolver::Newton) => FrictionMethod::Newton3d,
             (3, _) => FrictionMethod::FixedPoint3d,
             _ if norton_hoff => FrictionMethod::NortonHoff,
@@ -152,7 +164,7 @@ pub fn solve_friction(
     opts: &FrictionOptions,
 ) -> Result<FrictionAnswer, ContactError> {
     let dim = match method {
-        FrictionMethod::Newton3d | FrictionMethod::FixedPoint3d => 3,
+        FrictionMethod::Newton3d | FrictionMethod::FixedPoint3d | FrictionMethod::Nsgs3d => 3,
         _ => 2,
     };
     layout.validate(problem.q.len(), dim)?;
@@ -172,6 +184,7 @@ pub fn solve_friction(
         FrictionMethod::NortonHoff => norton_hoff(problem, layout, statuses, opts),
         FrictionMethod::Newton3d => friction_3d(problem, layout, forces, opts),
         FrictionMethod::FixedPoint3d => coulomb_3d_fixed_point(problem, layout, forces, opts),
+        FrictionMethod::Nsgs2d | FrictionMethod::Nsgs3d => nsgs(problem, layout, forces, opts, dim),
     }?;
     let force = opts.force_scale.max(max_abs(&solution.forces));
     let residual = natural_residual(

@@ -137,6 +137,17 @@ pub(crate) fn fixed_point<S: TrescaSolver>(
         reason,
     };
     for outer in 0..opts.max_fixed_point {
+        if opts
+            .deadline
+            .is_some_and(|d| std::time::Instant::now() >= d)
+        {
+            let residual = residuals.last().copied().unwrap_or(f64::INFINITY);
+            let reason = StopReason::TimeLimit {
+                iterations: outer,
+                residual,
+            };
+            return Ok(stop(last, residuals, false, reason));
+        }
         let thr = (map.threshold)(&last.forces, &last.gaps);
         let next = solver.solve(&thr, &last.forces)?;
         let fscale = opts
@@ -216,6 +227,7 @@ mod tests {
             tolerance: 1e-10,
             force_scale: 1.0,
             gap_scale: 1.0,
+            deadline: None,
         };
         let map = ThresholdMap {
             threshold: &|_, _| (),

@@ -55,11 +55,22 @@ use signorini_linalg::reduced::VarEquation;
 impl NewtonSystem {
     /// The full (n + k) square system [rows; Gᵀ 0] of the same equations,
     /// solved by a fully pivoted LU: the fallback of the reduced solve.
+    /// When that LU is singular (W rank deficient: rigid bodies with more
+    /// contact rows than degrees of freedom), the system regularised by
+    /// 1e-6 max |J| on its diagonal (a Levenberg–Marquardt step, for the
+    /// line search to judge).
     fn solve_full(&self, w: &Mat<f64>, g: &Mat<f64>) -> Option<Vec<f64>> {
-        let (jac, rhs) = self.full_system(w, g);
-        let dx = jac.full_piv_lu().solve(&rhs);
-        let dx: Vec<f64> = (0..jac.nrows()).map(|i| dx[(i, 0)]).collect();
-        dx.iter().all(|v| v.is_finite()).then_some(dx)
+        let (mut jac, rhs) = self.full_system(w, g);
+        let solve = |jac: &Mat<f64>| {
+            let dx = jac.full_piv_lu().solve(&rhs);
+            let dx: Vec<f64> = (0..jac.nrows()).map(|i| dx[(i, 0)]).collect();
+            dx.iter().all(|v| v.is_finite()).then_some(dx)
+        };
+        solve(&jac).or_else(|| {
+            let shift = 1e-6 * jac.norm_max();
+            (0..jac.nrows()).for_each(|i| jac[(i, i)] += shift);
+            solve(&jac)
+        })
     }
 
     /// The matrix and right-hand side of the full (n + k) square system
@@ -473,6 +484,16 @@ fn solve_inner(
             break;
         }
         let residual = inner.check(&x, opts);
+        if opts
+            .deadline
+            .is_some_and(|d| std::time::Instant::now() >= d)
+        {
+            reason = StopReason::TimeLimit {
+                iterations: it,
+                residual,
+            };
+            break;
+        }
         if residual < STALL_DECREASE * best.0 {
             best = (residual, it);
         } else if it - best.1 >= STALLED_AFTER {

@@ -212,6 +212,22 @@ impl fmt::Display for StopReason {
             NewtonConverged { .. } | NewtonLimit { .. } | NewtonStalled { .. } | NewtonLineSearchFailed => {
                 self.fmt_newton(f)
             }
+            NsgsConverged { residual, sweeps } => write!(
+                f,
+                "natural residual {residual:.2e} after {sweeps} NSGS sweeps"
+            ),
+            NsgsLimit { limit } => write!(f, "NSGS sweep limit {limit} reached"),
+            NsgsStalled { best, at, since } => write!(
+                f,
+                "NSGS stalled: no sweep halved the residual {best:.2e} (sweep {at}) in the {since} sweeps since"
+            ),
+            TimeLimit {
+                iterations,
+                residual,
+            } => write!(
+                f,
+                "time limit reached after {iterations} iterations at the natural residual {residual:.2e} (a larger time_limit, --time-limit, or another method)"
+            ),
             NonFinite { iteration } => write!(
                 f,
                 "the iterate became non-finite (NaN) at iteration {iteration}: the method's linear solves broke down (W singular or badly conditioned); try another method"
@@ -453,7 +469,7 @@ impl StopReason {
             } => {
                 let why = match map {
                     ThresholdMapKind::NortonHoff => "points whose slip is near zero alternate between stick and slip, where the law is steep: a larger rho, or a load that makes them slip",
-                    _ => "normal forces not unique, e.g. a rank-deficient W: try the semi-smooth Newton method, friction = \"newton\"",
+                    _ => "normal forces not unique, e.g. a rank-deficient W: try the nonsmooth Gauss–Seidel method, friction = \"nsgs\"",
                 };
                 write!(
                     f,

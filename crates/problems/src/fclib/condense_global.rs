@@ -29,7 +29,9 @@
 //! restricted to Gᵀ v + b = 0, and v satisfies the constraints. Refused,
 //! naming the dataset: `spacedim` other than 2 or 3, M not square, H or G
 //! without n rows, `f`, `w` or `b` of the wrong length or not finite, M not
-//! symmetric (both triangles are stored) or not positive definite, a column
+//! symmetric (a symmetric M stored as one triangle is completed,
+//! `stored_triangle.rs`; with entries in both triangles they must agree)
+//! or not positive definite, a column
 //! of G that depends on the others, and, before anything of its size is
 //! allocated, a dense W, M⁻¹ G or a factor of M past the memory budget.
 
@@ -43,6 +45,7 @@ use faer::{Conj, Mat, MatMut, Side};
 use serde::Serialize;
 
 use super::equality_constraints::{transpose_times, EqualityConstraints};
+use super::stored_triangle::{complete_sparse, Triangle};
 use super::{
     dense_within_budget, entries, shape, solution, spacedim, FclibProblem, Reader, GLOBAL,
 };
@@ -118,7 +121,7 @@ pub(super) fn read(f: &Reader) -> Result<FclibProblem, String> {
         0 => Vec::new(),
         _ => vector(f, "b", p, "one per column of G: G^T has")?,
     };
-    let mass = sparse(f, M, (n, n))?;
+    let (mass, triangle) = complete_sparse(sparse(f, M, (n, n))?);
     check_symmetric(shown, &mass)?;
     let h = sparse(f, H, (n, m))?;
     let constraints = match p {
@@ -146,11 +149,9 @@ pub(super) fn read(f: &Reader) -> Result<FclibProblem, String> {
     }
     let (wm, q) = g.condense(&w, BLOCK);
     g.condense_s = t.elapsed().as_secs_f64();
-    Ok(FclibProblem::contact_wise(
-        (wm, q, mu, dim),
-        reference_r,
-        Some(g),
-    ))
+    let mut p = FclibProblem::contact_wise((wm, q, mu, dim), reference_r, Some(g));
+    p.stored_triangle = triangle.map(Triangle::name);
+    Ok(p)
 }
 
 /// The columns p of `G` (0 without one): its rows must be M's n, and p
@@ -212,7 +213,8 @@ fn sparse(
         .map_err(|e| format!("{}: {group} cannot be assembled ({e:?})", f.shown))
 }
 
-/// M equals its transpose to 1e-10 max |M| (both triangles stored).
+/// M equals its transpose to 1e-10 max |M| (the Cholesky factorisation of
+/// the condensation needs a symmetric M).
 fn check_symmetric(shown: &str, mass: &SparseColMat<usize, f64>) -> Result<(), String> {
     let scale = mass.val().iter().fold(0.0f64, |a, v| a.max(v.abs()));
     for j in 0..mass.ncols() {
@@ -221,7 +223,7 @@ fn check_symmetric(shown: &str, mass: &SparseColMat<usize, f64>) -> Result<(), S
             let t = mass.get(j, i).copied().unwrap_or(0.0);
             if (v - t).abs() > 1e-10 * scale {
                 return Err(format!(
-                    "{shown}: {M} is not symmetric (M[{i}][{j}] = {v} but M[{j}][{i}] = {t}; both triangles of a symmetric positive definite M are stored)"
+                    "{shown}: {M} is not symmetric (M[{i}][{j}] = {v} but M[{j}][{i}] = {t}): its condensation W = H^T M^-1 H factorises M by Cholesky, which needs a symmetric positive definite M, stored in full or as one triangle"
                 ));
             }
         }

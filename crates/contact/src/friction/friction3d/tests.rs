@@ -11,6 +11,7 @@ fn opts() -> FrictionOptions {
         tolerance: 1e-12,
         force_scale: 1.0,
         gap_scale: 1.0,
+        deadline: None,
     }
 }
 

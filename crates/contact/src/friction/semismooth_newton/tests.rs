@@ -21,6 +21,7 @@ fn opts() -> FrictionOptions {
         tolerance: 1e-11,
         force_scale: 1.0,
         gap_scale: 1.0,
+        deadline: None,
     }
 }
 
