@@ -260,8 +260,9 @@ fn check_refuses_a_surface_the_mesh_does_not_have() {
 fn check_and_run_refuse_the_solver_choice_and_reference_up_front() {
     let friction = block_with(
         "discretization = \"node_to_segment\"\n",
-        "discretization = \"node_to_segment\"\nfriction = { coulomb = 0.3 }\n",
+        "discretization = \"node_to_segment\"\nfriction = { norton_hoff = 0.3, rho = 0.2 }\n",
     );
+    // the direct path solves Tresca and Coulomb friction, not Norton–Hoff's law
     let direct = format!("{friction}\n[solver]\npath = \"direct\"\n");
     let needles = ["contact \"block-ground\".friction", "path = \"condensed\""];
     for command in ["check", "run"] {
