@@ -39,6 +39,8 @@ fn cell_type(dim: usize, n: usize) -> Result<u8, String> {
         (2, 8) => Ok(23), // VTK_QUADRATIC_QUAD
         (3, 4) => Ok(10), // VTK_TETRA
         (3, 8) => Ok(12), // VTK_HEXAHEDRON
+        (3, 10) => Ok(24), // VTK_QUADRATIC_TETRA (node order of CellKind::Tet10)
+        (3, 20) => Ok(25), // VTK_QUADRATIC_HEXAHEDRON (node order of CellKind::Hex20)
         (d, other) => Err(format!("no VTK cell type for a {other}-node cell in {d}D")),
     }
 }

@@ -499,14 +499,18 @@ fn orient(cell: &mut Cell, coords: &[[f64; 3]]) {
                 _ => &[0, 3, 2, 1, 7, 6, 5, 4],
             }
         }
-        CellKind::Tet4 => {
+        CellKind::Tet4 | CellKind::Tet10 => {
             let (a, b, c) = (sub(p(1), p(0)), sub(p(2), p(0)), sub(p(3), p(0)));
             if dot(a, cross(b, c)) >= 0.0 {
                 return;
             }
-            &[0, 2, 1, 3]
+            if cell.kind == CellKind::Tet4 {
+                &[0, 2, 1, 3]
+            } else {
+                &[0, 2, 1, 3, 6, 5, 4, 7, 9, 8]
+            }
         }
-        CellKind::Hex8 => {
+        CellKind::Hex8 | CellKind::Hex20 => {
             // Jacobian at the centre: mean edge vectors along ξ, η, ζ.
             let mut e = [[0.0; 3]; 3];
             for (dir, pairs) in [
@@ -527,7 +531,13 @@ fn orient(cell: &mut Cell, coords: &[[f64; 3]]) {
             if dot(e[0], cross(e[1], e[2])) >= 0.0 {
                 return;
             }
-            &[4, 5, 6, 7, 0, 1, 2, 3]
+            if cell.kind == CellKind::Hex8 {
+                &[4, 5, 6, 7, 0, 1, 2, 3]
+            } else {
+                &[
+                    4, 5, 6, 7, 0, 1, 2, 3, 12, 13, 14, 15, 8, 9, 10, 11, 16, 17, 18, 19,
+                ]
+            }
         }
     };
     cell.nodes = perm.iter().map(|&i| cell.nodes[i]).collect();
