@@ -166,14 +166,14 @@ pub fn reference_centre(kind: CellKind) -> [f64; 3] {
 /// Shape function values and their derivatives (reference or physical) at a
 /// point, for the first `len` nodes.
 #[derive(Debug, Clone, Copy)]
-struct Shape {
-    len: usize,
-    n: [f64; MAX_NODES],
-    dn: [[f64; 3]; MAX_NODES],
+pub(crate) struct Shape {
+    pub(crate) len: usize,
+    pub(crate) n: [f64; MAX_NODES],
+    pub(crate) dn: [[f64; 3]; MAX_NODES],
 }
 
 /// Shape functions of `kind` and their reference derivatives at `xi`.
-fn shape(kind: CellKind, xi: [f64; 3]) -> Shape {
+pub(crate) fn shape(kind: CellKind, xi: [f64; 3]) -> Shape {
     let mut s = Shape {
         len: kind.nodes(),
         n: [0.0; MAX_NODES],

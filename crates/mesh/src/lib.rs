@@ -15,6 +15,7 @@ pub mod gmsh;
 pub mod nested_dissection;
 pub mod partition;
 pub mod quadratic;
+pub mod quadratic3d;
 pub mod vec3;
 
 use std::collections::BTreeMap;
