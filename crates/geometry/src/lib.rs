@@ -19,6 +19,7 @@ pub mod mortar3d;
 pub mod pairing;
 mod ray;
 pub mod redundancy;
+pub mod quadratic_slave;
 mod search;
 
 pub use error::GeometryError;
