@@ -222,9 +222,9 @@ fn read_cells<'a>(
             )));
         }
         for el in b.nodes.chunks_exact(b.n_per) {
-            let nodes = el
+            let nodes = gmsh_to_cell_order(kind)
                 .iter()
-                .map(|&t| tags.lookup(t))
+                .map(|&k| tags.lookup(el[k]))
                 .collect::<Result<_, _>>()?;
             if !b.physical.is_empty() {
                 cell_groups.push((cells.len(), &b.physical));
@@ -357,7 +357,7 @@ impl<'a> FacetIndex<'a> {
     fn new(mesh: &Mesh, tags: &'a NodeTags, new_index: &'a [usize]) -> FacetIndex<'a> {
         let dim = mesh.dim;
         let corner_key = |nodes: &[usize], local: &[usize]| {
-            let m = if dim == 2 { 2 } else { local.len() };
+            let m = crate::facet_corners(dim, local.len());
             let mut k: Vec<usize> = local[..m].iter().map(|&i| nodes[i]).collect();
             k.sort_unstable();
             k
@@ -474,6 +474,22 @@ fn add_surfaces(
         }
     }
     Ok(())
+}
+
+/// Node `i` of a cell of `kind` is node `order[i]` of the Gmsh element.
+/// Gmsh and [`CellKind`] (VTK) agree but for the mid-side nodes of the
+/// second-order solids: Gmsh numbers the Tet10's edges 0-1, 1-2, 2-0, 3-0,
+/// 3-2, 3-1 and the Hex20's 0-1, 0-3, 0-4, 1-2, 1-5, 2-3, 2-6, 3-7, 4-5, 4-7,
+/// 5-6, 6-7.
+fn gmsh_to_cell_order(kind: CellKind) -> &'static [usize] {
+    const IDENTITY: [usize; 8] = [0, 1, 2, 3, 4, 5, 6, 7];
+    match kind {
+        CellKind::Tet10 => &[0, 1, 2, 3, 4, 5, 6, 7, 9, 8],
+        CellKind::Hex20 => &[
+            0, 1, 2, 3, 4, 5, 6, 7, 8, 11, 13, 9, 16, 18, 19, 17, 10, 12, 14, 15,
+        ],
+        other => &IDENTITY[..other.nodes()],
+    }
 }
 
 /// Turns a cell over if it is clockwise (2D) or of negative volume (3D),
