@@ -30,6 +30,7 @@ mod normal_rules;
 mod output_and_streams;
 mod pieces;
 mod progress;
+mod quadratic;
 mod redundant;
 mod search_distance;
 mod solids;

@@ -34,12 +34,30 @@ const D4_B: f64 = 0.091_576_213_509_771;
 const D4_WA: f64 = 0.223_381_589_678_011 / 2.0;
 const D4_WB: f64 = 0.109_951_743_655_322 / 2.0;
 const TRI_6: [QuadPoint; 6] = [
-    QuadPoint { xi: [D4_A, D4_A, 0.0], w: D4_WA },
-    QuadPoint { xi: [1.0 - 2.0 * D4_A, D4_A, 0.0], w: D4_WA },
-    QuadPoint { xi: [D4_A, 1.0 - 2.0 * D4_A, 0.0], w: D4_WA },
-    QuadPoint { xi: [D4_B, D4_B, 0.0], w: D4_WB },
-    QuadPoint { xi: [1.0 - 2.0 * D4_B, D4_B, 0.0], w: D4_WB },
-    QuadPoint { xi: [D4_B, 1.0 - 2.0 * D4_B, 0.0], w: D4_WB },
+    QuadPoint {
+        xi: [D4_A, D4_A, 0.0],
+        w: D4_WA,
+    },
+    QuadPoint {
+        xi: [1.0 - 2.0 * D4_A, D4_A, 0.0],
+        w: D4_WA,
+    },
+    QuadPoint {
+        xi: [D4_A, 1.0 - 2.0 * D4_A, 0.0],
+        w: D4_WA,
+    },
+    QuadPoint {
+        xi: [D4_B, D4_B, 0.0],
+        w: D4_WB,
+    },
+    QuadPoint {
+        xi: [1.0 - 2.0 * D4_B, D4_B, 0.0],
+        w: D4_WB,
+    },
+    QuadPoint {
+        xi: [D4_B, 1.0 - 2.0 * D4_B, 0.0],
+        w: D4_WB,
+    },
 ];
 use std::f64::consts::PI;
 
@@ -151,7 +169,9 @@ fn facet_measures(
             }
         }
         (d, n) => {
-            panic!("unsupported facet: {n} nodes in a {d}D mesh (2D: 2 or 3 nodes; 3D: 3, 4, 6 or 8)")
+            panic!(
+                "unsupported facet: {n} nodes in a {d}D mesh (2D: 2 or 3 nodes; 3D: 3, 4, 6 or 8)"
+            )
         }
     }
     nn

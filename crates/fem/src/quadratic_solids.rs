@@ -24,10 +24,22 @@ const TA: f64 = 0.585_410_196_624_968_5;
 
 /// The 4-point rule of degree 2 on the reference tetrahedron (weights 1/24).
 pub const TET_4: [QuadPoint; 4] = [
-    QuadPoint { xi: [TB, TB, TB], w: 1.0 / 24.0 },
-    QuadPoint { xi: [TA, TB, TB], w: 1.0 / 24.0 },
-    QuadPoint { xi: [TB, TA, TB], w: 1.0 / 24.0 },
-    QuadPoint { xi: [TB, TB, TA], w: 1.0 / 24.0 },
+    QuadPoint {
+        xi: [TB, TB, TB],
+        w: 1.0 / 24.0,
+    },
+    QuadPoint {
+        xi: [TA, TB, TB],
+        w: 1.0 / 24.0,
+    },
+    QuadPoint {
+        xi: [TB, TA, TB],
+        w: 1.0 / 24.0,
+    },
+    QuadPoint {
+        xi: [TB, TB, TA],
+        w: 1.0 / 24.0,
+    },
 ];
 
 /// √(3/5), the 3-point Gauss abscissa (weights 5/9, 8/9, 5/9).
@@ -37,7 +49,10 @@ const G3: f64 = 0.774_596_669_241_483_4;
 pub const GAUSS_3X3X3: [QuadPoint; 27] = {
     const X: [f64; 3] = [-G3, 0.0, G3];
     const W: [f64; 3] = [5.0 / 9.0, 8.0 / 9.0, 5.0 / 9.0];
-    let mut out = [QuadPoint { xi: [0.0; 3], w: 0.0 }; 27];
+    let mut out = [QuadPoint {
+        xi: [0.0; 3],
+        w: 0.0,
+    }; 27];
     let mut i = 0;
     while i < 27 {
         let (a, b, c) = (i % 3, (i / 3) % 3, i / 9);
@@ -91,7 +106,11 @@ pub(crate) fn hex20(xi: [f64; 3], n: &mut [f64], dn: &mut [[f64; 3]]) {
     for (e, &[i, j]) in HEX20_EDGES.iter().enumerate() {
         let (p, q) = (HEX8_REFERENCE_CORNERS[i], HEX8_REFERENCE_CORNERS[j]);
         // the mid-side's reference point: 0 along the edge's axis
-        let m = [0.5 * (p[0] + q[0]), 0.5 * (p[1] + q[1]), 0.5 * (p[2] + q[2])];
+        let m = [
+            0.5 * (p[0] + q[0]),
+            0.5 * (p[1] + q[1]),
+            0.5 * (p[2] + q[2]),
+        ];
         let axis = (0..3).find(|&k| m[k] == 0.0).unwrap_or(0);
         let mut f = [0.0; 3];
         let mut df = [0.0; 3];
@@ -153,11 +172,7 @@ mod tests {
 
     /// Kronecker property at the nodes, partition of unity and derivatives
     /// against central differences, at an interior point.
-    fn check(
-        nodes: &[[f64; 3]],
-        f: fn([f64; 3], &mut [f64], &mut [[f64; 3]]),
-        inner: [f64; 3],
-    ) {
+    fn check(nodes: &[[f64; 3]], f: fn([f64; 3], &mut [f64], &mut [[f64; 3]]), inner: [f64; 3]) {
         let m = nodes.len();
         let (mut n, mut dn) = (vec![0.0; m], vec![[0.0; 3]; m]);
         for (a, x) in nodes.iter().enumerate() {

@@ -17,9 +17,9 @@ mod error;
 pub mod mortar;
 pub mod mortar3d;
 pub mod pairing;
+pub mod quadratic_slave;
 mod ray;
 pub mod redundancy;
-pub mod quadratic_slave;
 mod search;
 
 pub use error::GeometryError;

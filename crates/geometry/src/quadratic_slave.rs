@@ -100,7 +100,10 @@ pub fn recombine_rows(points: &mut [ContactPoint], edges: &[(usize, [usize; 2])]
         // one term per (side, node)
         let mut merged: Vec<crate::pairing::Term> = Vec::with_capacity(terms.len());
         for t in terms {
-            match merged.iter_mut().find(|u| u.side == t.side && u.node == t.node) {
+            match merged
+                .iter_mut()
+                .find(|u| u.side == t.side && u.node == t.node)
+            {
                 Some(u) => u.weight += t.weight,
                 None => merged.push(t),
             }

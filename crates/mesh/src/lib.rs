@@ -487,7 +487,8 @@ impl Mesh {
                 let vol = (v[0] * c3[0] + v[1] * c3[1] + v[2] * c3[2]) / 6.0;
                 if vol <= 0.0 || vol.is_nan() {
                     return Err(MeshError::Invalid(format!(
-                        "cell {c} ({}) has a non-positive volume {vol:e}", cell.kind.name()
+                        "cell {c} ({}) has a non-positive volume {vol:e}",
+                        cell.kind.name()
                     )));
                 }
             }

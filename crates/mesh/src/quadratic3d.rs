@@ -105,7 +105,12 @@ pub fn to_second_order_3d(mesh: &Mesh) -> Result<Mesh, MeshError> {
             .map_err(|m| MeshError::Invalid(format!("to_second_order_3d: {m}")))?;
         let mut nodes = cell.nodes.clone();
         for &[i, j] in kind.edges() {
-            nodes.push(mid_node(&mut coords, &mut mids, cell.nodes[i], cell.nodes[j]));
+            nodes.push(mid_node(
+                &mut coords,
+                &mut mids,
+                cell.nodes[i],
+                cell.nodes[j],
+            ));
         }
         cells.push(Cell { kind, nodes });
     }

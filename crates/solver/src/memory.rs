@@ -281,7 +281,11 @@ fn body_size(body: &scene::Body, dim: usize) -> Option<BodySize> {
         } => quarter_disk_size(*divisions as f64, *grading, *element),
         G::Box {
             divisions, element, ..
-        } => solid_kind(box_size(divisions.map(|d| d as f64), *element), *element, 6.0),
+        } => solid_kind(
+            box_size(divisions.map(|d| d as f64), *element),
+            *element,
+            6.0,
+        ),
         G::Hemisphere {
             divisions,
             grading,
@@ -402,11 +406,12 @@ fn solid_kind(mut size: BodySize, element: scene::Element, tets_per_hex: f64) ->
 /// `crates/mesh` `box_mesh`: an nx × ny × nz grid of hexahedra, or six
 /// tetrahedra a hexahedron.
 fn box_size([nx, ny, nz]: [f64; 3], element: scene::Element) -> BodySize {
-    let (cells, per_cell, neighbours) = if matches!(element, scene::Element::Tet4 | scene::Element::Tet10) {
-        (6.0 * nx * ny * nz, 4.0, 15.0)
-    } else {
-        (nx * ny * nz, 8.0, 27.0)
-    };
+    let (cells, per_cell, neighbours) =
+        if matches!(element, scene::Element::Tet4 | scene::Element::Tet10) {
+            (6.0 * nx * ny * nz, 4.0, 15.0)
+        } else {
+            (nx * ny * nz, 8.0, 27.0)
+        };
     let (px, py, pz) = (nx + 1.0, ny + 1.0, nz + 1.0);
     let mut sides = [px, py, pz];
     sides.sort_by(f64::total_cmp);

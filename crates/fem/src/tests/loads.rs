@@ -244,7 +244,10 @@ fn quadratic_faces_have_their_consistent_measures() {
             for (n, w) in tributary_measure(&m, &one, Model::Solid) {
                 let pos = f.nodes.iter().position(|&v| v == n).unwrap();
                 let want = if pos < corners { corner } else { mid } * a;
-                assert!((w - want).abs() <= 1e-14 * a, "{kind:?} node {pos}: {w} vs {want}");
+                assert!(
+                    (w - want).abs() <= 1e-14 * a,
+                    "{kind:?} node {pos}: {w} vs {want}"
+                );
             }
         }
     }

@@ -11,7 +11,12 @@ use signorini_mesh::CellKind;
 const SIZE: [f64; 3] = [2.0, 1.0, 1.5];
 
 /// The solid kinds, first and second order.
-const SOLIDS: [CellKind; 4] = [CellKind::Hex8, CellKind::Tet4, CellKind::Hex20, CellKind::Tet10];
+const SOLIDS: [CellKind; 4] = [
+    CellKind::Hex8,
+    CellKind::Tet4,
+    CellKind::Hex20,
+    CellKind::Tet10,
+];
 
 /// [`boxed`] in cells of `kind`: Hex20 and Tet10 are the Hex8 and Tet4 box
 /// made second-order (straight edges, mid-side nodes at their midpoints).

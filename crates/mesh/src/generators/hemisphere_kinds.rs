@@ -89,10 +89,14 @@ mod tests {
             assert!(m.cells.iter().all(|cell| cell.kind == kind));
             let dome = m.surface("dome").unwrap();
             let per = if kind == CellKind::Hex20 { 1 } else { 2 };
-            assert_eq!(dome.facets.len(), per * hexes.surface("dome").unwrap().facets.len());
+            assert_eq!(
+                dome.facets.len(),
+                per * hexes.surface("dome").unwrap().facets.len()
+            );
             for v in dome.nodes() {
                 let x = m.coords[v];
-                let d = ((x[0] - c[0]).powi(2) + (x[1] - c[1]).powi(2) + (x[2] - c[2]).powi(2)).sqrt();
+                let d =
+                    ((x[0] - c[0]).powi(2) + (x[1] - c[1]).powi(2) + (x[2] - c[2]).powi(2)).sqrt();
                 assert!((d - r).abs() < 1e-12 * r, "{kind:?}: node {v} at {d}");
             }
             for v in m.surface("flat").unwrap().nodes() {

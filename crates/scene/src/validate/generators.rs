@@ -36,13 +36,7 @@ impl GeneratorCheck<'_> {
                 element,
                 grading,
             } => {
-                self.block(
-                    origin,
-                    size,
-                    divisions,
-                    *element,
-                    &SOLID_ELEMENTS,
-                )?;
+                self.block(origin, size, divisions, *element, &SOLID_ELEMENTS)?;
                 self.grading(grading, &["xmin", "xmax", "ymin", "ymax", "zmin", "zmax"])
             }
             Generator::HalfDisk {

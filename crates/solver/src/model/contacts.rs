@@ -5,10 +5,10 @@
 
 use signorini_geometry::mortar::mortar_pairing;
 use signorini_geometry::mortar3d::mortar3d_pairing;
-use signorini_geometry::quadratic_slave::{mid_side_edges, recombine_rows, recombined_measures};
 use signorini_geometry::pairing::{
     contact_element_pairing, node_to_node_pairing, node_to_segment_pairing,
 };
+use signorini_geometry::quadratic_slave::{mid_side_edges, recombine_rows, recombined_measures};
 use signorini_geometry::{ContactPoint, MasterGeometry, NormalRule, TermSide};
 use signorini_scene as scene;
 
