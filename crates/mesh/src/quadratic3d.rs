@@ -186,8 +186,7 @@ pub fn hexes_to_tetrahedra(mesh: &Mesh) -> Result<Mesh, MeshError> {
     for (name, s) in &mesh.surfaces {
         let mut facets = Vec::with_capacity(2 * s.facets.len());
         for f in &s.facets {
-            for t in 12 * f.cell..(12 * f.cell + 12).min(cells.len()) {
-                let tet = &cells[t];
+            for (t, tet) in cells.iter().enumerate().skip(12 * f.cell).take(12) {
                 for local in tet.kind.facets() {
                     let nodes: Vec<usize> = local.iter().map(|&i| tet.nodes[i]).collect();
                     if nodes.iter().all(|v| f.nodes.contains(v)) {
