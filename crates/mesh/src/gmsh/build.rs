@@ -155,7 +155,7 @@ fn check_groups_kept(blocks: &[Block], names: &Names, dim: usize) -> Result<(), 
 
 /// What to change in Gmsh to get supported cells instead of the
 /// `unsupported` types, when there is such a setting: 8-node instead of
-/// 9-node quadrangles, first-order cells for any other higher order; empty
+/// 9-node quadrangles, 20-node instead of 27-node hexahedra, first-order cells for any other higher order; empty
 /// otherwise (prisms, pyramids).
 fn remedy(unsupported: &BTreeMap<i32, usize>, dim: usize) -> &'static str {
     let higher_order =
@@ -163,12 +163,16 @@ fn remedy(unsupported: &BTreeMap<i32, usize>, dim: usize) -> &'static str {
     if dim == 2 && unsupported.keys().all(|&t| t == 10) {
         " (Gmsh writes 8-node quadrangles instead of 9-node ones with \
          Mesh.SecondOrderIncomplete = 1)"
+    } else if dim == 3 && unsupported.keys().all(|&t| t == 12) {
+        " (Gmsh writes 20-node hexahedra instead of 27-node ones with \
+         Mesh.SecondOrderIncomplete = 1)"
     } else if unsupported.keys().any(|&t| higher_order(t)) {
         if dim == 2 {
             " (mesh with Mesh.ElementOrder = 1, or 2 for 6-node triangles and, with \
              Mesh.SecondOrderIncomplete = 1, 8-node quadrangles)"
         } else {
-            " (3D cells are first order only: mesh with Mesh.ElementOrder = 1)"
+            " (mesh with Mesh.ElementOrder = 1, or 2 for 10-node tetrahedra and, with \
+             Mesh.SecondOrderIncomplete = 1, 20-node hexahedra)"
         }
     } else {
         ""
