@@ -645,3 +645,62 @@ fn check_and_local_under_mpirun_print_once() {
     assert_eq!(out.status.code(), Some(0), "{text}");
     assert_eq!(text.lines().count(), 1, "{text}");
 }
+
+#[test]
+fn direct_path_friction_under_mpirun_2_is_solved_on_the_root_and_equals_the_in_process_run() {
+    require_mpirun!();
+    let scene = common::example_path("cattaneo.toml");
+    let d = dir("direct_friction");
+    let (a, b) = (d.join("local"), d.join("mpi"));
+    let run = ["run", &scene, "--path", "direct", "--out"];
+    let out = local(&[&run[..], &[a.to_str().unwrap()]].concat());
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let out = mpirun(2, &[&run[..], &[b.to_str().unwrap()]].concat(), &[]);
+    let said = format!(
+        "{}{}",
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(out.status.success(), "{said}");
+    assert!(
+        said.contains("the root (rank 0) solves the whole system alone"),
+        "{said}"
+    );
+    let rb = report(&b);
+    assert_eq!(rb["ranks"], 2);
+    assert!(rb["converged"].as_bool().unwrap());
+    let method = rb["steps"][0]["solver"]["method"].as_str().unwrap();
+    assert_eq!(method, "coulomb_direct_semismooth_newton");
+    let columns = ["normal_force", "tangential_force", "slip"];
+    let (fa, fb) = (
+        numbers(&a.join("contact.csv"), &columns),
+        numbers(&b.join("contact.csv"), &columns),
+    );
+    assert!(
+        max_rel(&fa, &fb) <= 1e-10,
+        "contact differs by {:e}",
+        max_rel(&fa, &fb)
+    );
+}
+
+/// An assembly read from one Gmsh file (three physical volumes, a tie, a
+/// force on a node set, Coulomb friction changed by a step) under
+/// `mpirun -n 2` equals the in-process run; so does it with the tied pad
+/// split in two METIS parts (the tie eliminated from the subdomains' blocks).
+#[test]
+fn an_assembly_from_one_gmsh_file_under_mpirun_2_equals_the_in_process_run() {
+    require_mpirun!();
+    let scene = write_scene(
+        "assembly_scene",
+        "assembly_one_file.toml",
+        &common::example_with_meshes("assembly_one_file.toml"),
+    );
+    compare(&scene, 2, "assembly");
+    let body = "name = \"pad\"\nmaterial = \"soft\"";
+    let scene = split_example("assembly_one_file.toml", body, "assembly_split");
+    compare(&scene, 2, "assembly_split");
+}

@@ -8,11 +8,13 @@
 mod common;
 
 mod algorithms;
+mod assembly_vocabulary;
 mod bad_input;
 mod bad_input_limits;
 mod conditioning;
 mod contact_2d;
 mod contact_elements;
+mod direct_friction;
 mod direct_ldlt;
 mod disconnected_parts;
 mod fclib;

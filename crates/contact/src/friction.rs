@@ -49,6 +49,10 @@ pub(crate) mod semismooth_newton;
 pub use crate::law::{FrictionLaw, FrictionLayout};
 pub use crate::options::FrictionOptions;
 pub use crate::solution::PointStatus;
+pub use semismooth_newton::coulomb::RETRY_RHO_SCALE;
+pub use semismooth_newton::{
+    merit, statuses, AlartCurnier, Dir, NewtonSystem, Scale, STALLED_AFTER, STALL_DECREASE,
+};
 
 fn equations(
     layout: &FrictionLayout,

@@ -6,14 +6,16 @@
 use crate::checks::check_floating_equilibrium;
 use crate::checks::inf_norm;
 use crate::conditioning;
+use crate::direct_friction::{has_friction, run_direct_friction};
 use crate::error::{contact_error, SolveError};
 use crate::kkt::{DirectProblem, KktSystem};
-use crate::model::{gaps_of, BodyModel, FixedPoint, PointModel};
+use crate::model::{gaps_of, BodyModel, FixedPoint, PointModel, Ties};
 use crate::progress::Phase;
 use crate::root::{body_step, length_scale, resultant, status_options, status_report, step_gaps};
 use crate::run_context::RunContext;
-use crate::step::{Residuals, StepSolution};
+use crate::step::{FrictionStep, Residuals, StepSolution};
 use crate::step_end::StepLoop;
+use crate::ties::TieReduction;
 use crate::timing::timed;
 use faer::sparse::SparseColMat;
 use signorini_condense::{spmv, spmv_with_magnitude, submatrix};
@@ -35,15 +37,30 @@ pub(crate) fn run_direct(
     let (sc, model) = (ctx.sc, ctx.model);
     let (bodies, points) = (&model.bodies[..], &model.points[..]);
     ctx.progress.phase(Phase::Assembling);
-    let system = timed(&mut timings.assemble, || assemble_direct(bodies))?;
+    let system = timed(&mut timings.assemble, || {
+        assemble_direct(bodies, &model.tied)
+    })?;
+    if has_friction(points) {
+        if system.ties.is_some() {
+            return Err(SolveError::Input(
+                "contact.friction: friction with tied bodies is solved on path = \"condensed\" only; use path = \"condensed\"".into(),
+            ));
+        }
+        return run_direct_friction(&ctx, &system, steps, timings, messages);
+    }
     let rows: Vec<Vec<(usize, f64)>> = points
         .iter()
         .map(|p| {
-            p.row
+            let row: Vec<(usize, f64)> = p
+                .row
                 .iter()
                 .filter(|&&(b, d, _)| !bodies[b].prescribed[d])
                 .map(|&(b, d, c)| (system.offset[b] + bodies[b].free_index[d], c))
-                .collect()
+                .collect();
+            match &system.ties {
+                Some(t) => t.row(&row),
+                None => row,
+            }
         })
         .collect();
     ctx.progress.phase(Phase::Contact);
@@ -102,17 +119,22 @@ fn kkt_factorisation(kkt: &KktSystem<'_>) -> signorini_report::Factorisation {
 
 /// The stiffness of the direct path: each body's whole stiffness, and the
 /// global one over the free DOFs of all bodies, body after body.
-struct DirectSystem {
-    k_full: Vec<SparseColMat<usize, f64>>,
+pub(crate) struct DirectSystem {
+    pub(crate) k_full: Vec<SparseColMat<usize, f64>>,
     /// Where each body's free DOFs start in the global numbering.
-    offset: Vec<usize>,
-    k_global: SparseColMat<usize, f64>,
-    n_free: usize,
+    pub(crate) offset: Vec<usize>,
+    pub(crate) k_global: SparseColMat<usize, f64>,
+    pub(crate) n_free: usize,
+    /// The elimination of the tied DOFs from the free ones (`crate::ties`):
+    /// `k_global` is then Tᵀ K T.
+    pub(crate) ties: Option<TieReduction>,
+    /// The tied DOFs (for the ties' forces).
+    tied: Ties,
 }
 
 /// Assembles every body's stiffness and the global stiffness on the free
 /// DOFs (the bodies' free-free blocks on the diagonal).
-fn assemble_direct(bodies: &[BodyModel]) -> Result<DirectSystem, SolveError> {
+fn assemble_direct(bodies: &[BodyModel], tied: &Ties) -> Result<DirectSystem, SolveError> {
     let mut k_full = Vec::new();
     let mut offset = Vec::new();
     let mut triplets = Vec::new();
@@ -131,13 +153,28 @@ fn assemble_direct(bodies: &[BodyModel]) -> Result<DirectSystem, SolveError> {
         n_free += b.free.len();
         k_full.push(k);
     }
-    let k_global = SparseColMat::<usize, f64>::try_new_from_triplets(n_free, n_free, &triplets)
+    let mut k_global = SparseColMat::<usize, f64>::try_new_from_triplets(n_free, n_free, &triplets)
         .map_err(|e| SolveError::Internal(format!("{e:?}")))?;
+    let index: Vec<Vec<usize>> = bodies
+        .iter()
+        .zip(&offset)
+        .map(|(b, &o)| {
+            (b.free_index.iter())
+                .map(|&i| if i == usize::MAX { i } else { o + i })
+                .collect()
+        })
+        .collect();
+    let ties = TieReduction::new(tied, &index, n_free);
+    if let Some(t) = &ties {
+        k_global = t.reduce_matrix(&k_global)?;
+    }
     Ok(DirectSystem {
         k_full,
         offset,
         k_global,
         n_free,
+        ties,
+        tied: tied.clone(),
     })
 }
 
@@ -165,7 +202,11 @@ fn direct_step(
     let length_scale = length_scale(bodies, points, &loads.u_p, f_scale);
     let gap0 = step_gaps(sc, bodies, points, fixed, &loads.u_p, length_scale, si)?;
     check_floating(bodies, points, system, &loads, si)?;
-    let mut problem = DirectProblem::new(kkt, &loads.f, &gap0);
+    let f = match &system.ties {
+        Some(t) => t.fold(&loads.f),
+        None => loads.f.clone(),
+    };
+    let mut problem = DirectProblem::new(kkt, &f, &gap0);
     let mut outcome = status_method(
         &mut problem,
         &status_options(sc, f_scale, length_scale, &gap0),
@@ -173,7 +214,11 @@ fn direct_step(
     .map_err(contact_error)?;
     // `problem.u` is the displacement of the last solve, the one that
     // gave `outcome.forces` (as the condensed path recovers it).
-    let u_full = full_displacements(bodies, system, &loads.u_p, &problem.u);
+    let u = match &system.ties {
+        Some(t) => t.expand(&problem.u),
+        None => problem.u.clone(),
+    };
+    let u_full = full_displacements(bodies, system, &loads.u_p, &u);
     status_report(&mut outcome, "status", problem.factorisations);
     let sol = StepSolution {
         outcome,
@@ -187,14 +232,28 @@ fn direct_step(
         operator_s: 0.0,
     };
     let lambda = &sol.outcome.forces;
-    let res = direct_residuals(
+    let mut res = direct_residuals(
         bodies,
         &system.k_full,
         points,
         &loads.forces,
         &u_full,
         lambda,
+        None,
     );
+    if let Some(t) = &system.ties {
+        let r = tied_residual(bodies, system, &loads.forces, &u_full, points, lambda);
+        res.equilibrium = inf_norm(&t.fold(&r));
+        let dim = sc.dimension as usize;
+        res.ties = system.tied.forces(dim, |b, d| {
+            let i = bodies[b].free_index[d];
+            if i == usize::MAX {
+                0.0
+            } else {
+                r[system.offset[b] + i]
+            }
+        });
+    }
     let gaps = gaps_of(points, &u_full);
     Ok(((sol, gaps, res), u_full))
 }
@@ -202,7 +261,7 @@ fn direct_step(
 /// Checks that each floating body's loads can be balanced by contact
 /// (`check_floating_equilibrium`): the work e = −Rᵀ f of the free load on
 /// its rigid motions, and the resultant of its external force.
-fn check_floating(
+pub(crate) fn check_floating(
     bodies: &[BodyModel],
     points: &[PointModel],
     system: &DirectSystem,
@@ -237,7 +296,7 @@ fn check_floating(
 
 /// Each body's full displacement: the prescribed `u_p`, and on its free
 /// DOFs the global solution `u`.
-fn full_displacements(
+pub(crate) fn full_displacements(
     bodies: &[BodyModel],
     system: &DirectSystem,
     u_p: &[Vec<f64>],
@@ -257,20 +316,24 @@ fn full_displacements(
 }
 
 /// The loads of a step on the direct path.
-struct DirectLoads {
+pub(crate) struct DirectLoads {
     /// Global load on the free DOFs: f − K u_p.
-    f: Vec<f64>,
+    pub(crate) f: Vec<f64>,
     /// Each body's prescribed displacement.
-    u_p: Vec<Vec<f64>>,
+    pub(crate) u_p: Vec<Vec<f64>>,
     /// Each body's external force.
-    forces: Vec<Vec<f64>>,
+    pub(crate) forces: Vec<Vec<f64>>,
     /// The largest external or free-DOF load entry.
-    f_scale: f64,
+    pub(crate) f_scale: f64,
 }
 
 /// A step's loads: each body's prescribed displacement and force at the
 /// step's scales, and the global load f − K u_p on the free DOFs.
-fn direct_loads(bodies: &[BodyModel], system: &DirectSystem, st: &[Vec<f64>]) -> DirectLoads {
+pub(crate) fn direct_loads(
+    bodies: &[BodyModel],
+    system: &DirectSystem,
+    st: &[Vec<f64>],
+) -> DirectLoads {
     let mut f = vec![0.0; system.n_free];
     let mut u_p = Vec::new();
     let mut forces = Vec::new();
@@ -295,7 +358,9 @@ fn direct_loads(bodies: &[BodyModel], system: &DirectSystem, st: &[Vec<f64>]) ->
 }
 
 /// Equilibrium residual of the direct path on the free DOFs of every body:
-/// K u − f − Bᵀλ; and K u − f on the prescribed ones (the reactions).
+/// K u − f − Bᵀλ (with `friction`, the tangential rows times the
+/// tangential forces in Bᵀλ); and K u − f on the prescribed ones (the
+/// reactions).
 pub(crate) fn direct_residuals(
     bodies: &[BodyModel],
     k_full: &[SparseColMat<usize, f64>],
@@ -303,11 +368,20 @@ pub(crate) fn direct_residuals(
     forces: &[Vec<f64>],
     u_full: &[Vec<f64>],
     lambda: &[f64],
+    friction: Option<&FrictionStep>,
 ) -> Residuals {
     let mut contact_force: Vec<Vec<f64>> = bodies.iter().map(|b| vec![0.0; b.n_dof]).collect();
-    for (p, &l) in points.iter().zip(lambda) {
-        for &(b, d, c) in &p.row {
-            contact_force[b][d] += c * l;
+    for (pi, (p, &l)) in points.iter().zip(lambda).enumerate() {
+        let (t1, t2) = friction.map_or((0.0, 0.0), |f| (f.tangential[pi], f.tangential2[pi]));
+        let rows = [
+            (Some(&p.row), l),
+            (p.trow.as_ref(), t1),
+            (p.trow2.as_ref(), t2),
+        ];
+        for (row, force) in rows.into_iter().filter_map(|(r, f)| r.map(|r| (r, f))) {
+            for &(b, d, c) in row {
+                contact_force[b][d] += c * force;
+            }
         }
     }
     let mut eq = 0.0f64;
@@ -332,5 +406,32 @@ pub(crate) fn direct_residuals(
         equilibrium: eq,
         force_scale: scale,
         support,
+        ties: Vec::new(),
     }
+}
+
+/// The residual K u − f − Bᵀλ on the free DOFs of every body (in the
+/// global numbering): at the tied slave DOFs, the force the tie exerts; the
+/// equilibrium residual is Tᵀ r (the tie's forces are internal).
+fn tied_residual(
+    bodies: &[BodyModel],
+    system: &DirectSystem,
+    forces: &[Vec<f64>],
+    u_full: &[Vec<f64>],
+    points: &[PointModel],
+    lambda: &[f64],
+) -> Vec<f64> {
+    let mut r = vec![0.0; system.n_free];
+    for (bi, b) in bodies.iter().enumerate() {
+        let ku = spmv(system.k_full[bi].as_ref(), &u_full[bi]);
+        for (i, &d) in b.free.iter().enumerate() {
+            r[system.offset[bi] + i] = ku[d] - forces[bi][d];
+        }
+    }
+    for (p, &l) in points.iter().zip(lambda) {
+        for &(b, d, c) in p.row.iter().filter(|&&(b, d, _)| !bodies[b].prescribed[d]) {
+            r[system.offset[b] + bodies[b].free_index[d]] -= c * l;
+        }
+    }
+    r
 }

@@ -134,7 +134,7 @@ fn elements(input: &RootInput, interface: &Interface) -> Vec<ContactElement> {
             let c = &sc.contact[p.contact];
             let k_n = match c.law {
                 scene::Law::Penalty { penalty } => penalty * p.tributary,
-                scene::Law::Unilateral => 0.0,
+                scene::Law::Unilateral | scene::Law::Tied => 0.0,
             };
             let roughness = match &c.friction {
                 scene::Friction::Coulomb {
@@ -173,7 +173,9 @@ pub(crate) fn element_step(
     load: StepLoad,
 ) -> Result<(StepSolution, Vec<f64>), SolveError> {
     let m = input.points.len();
-    let gap0 = row_gaps(input, &load, |_| (0.0, 0.0));
+    let gap0 = row_gaps(input.bodies, input.points, &load.gap0, &load.u_p, |_| {
+        (0.0, 0.0)
+    });
     let mut problem = op.problem(&gap0, &load.fp);
     let elements = elements(input, interface);
     check_element_stiffness(input, &elements, &problem.w)?;

@@ -22,17 +22,20 @@ use signorini_scene as scene;
 
 /// The friction layout of the interface problem, built once per run.
 pub(crate) struct FrictionRows {
-    layout: FrictionLayout,
+    pub(crate) layout: FrictionLayout,
+    /// Every point's friction law at the current load step (its contact's
+    /// own, or what a step's `friction` set; `crate::step_friction`).
+    laws: Vec<FrictionLaw>,
     /// Some contact has Norton–Hoff friction (then all frictional ones do).
-    norton_hoff: bool,
-    three_d: bool,
+    pub(crate) norton_hoff: bool,
+    pub(crate) three_d: bool,
 }
 
 /// What a friction step carries to the next: total slips, the last
 /// statuses and forces.
 pub(crate) struct FrictionHistory {
-    slip_total: Vec<f64>,
-    slip_total2: Vec<f64>,
+    pub(crate) slip_total: Vec<f64>,
+    pub(crate) slip_total2: Vec<f64>,
     previous: Option<(Vec<PointStatus>, Vec<f64>)>,
     /// The largest force and length scales of the steps so far.
     scales: (f64, f64),
@@ -53,12 +56,15 @@ impl FrictionHistory {
     /// unloaded to no load is judged against them, not against its own
     /// round-off.
     fn scaled(&mut self, mut load: StepLoad) -> StepLoad {
-        self.scales = (
-            self.scales.0.max(load.f_scale),
-            self.scales.1.max(load.length_scale),
-        );
-        (load.f_scale, load.length_scale) = self.scales;
+        (load.f_scale, load.length_scale) = self.scales(load.f_scale, load.length_scale);
         load
+    }
+
+    /// The force and length scales of a step, at least those of the steps
+    /// before (see [`FrictionHistory::scaled`]).
+    pub(crate) fn scales(&mut self, f_scale: f64, length_scale: f64) -> (f64, f64) {
+        self.scales = (self.scales.0.max(f_scale), self.scales.1.max(length_scale));
+        self.scales
     }
 }
 
@@ -69,8 +75,18 @@ pub(crate) fn friction_rows(
     input: &RootInput,
     interface: &Interface,
 ) -> Result<Option<FrictionRows>, SolveError> {
-    let (sc, points) = (input.sc, input.points);
-    let (tangent_row, tangent_row2) = (&interface.tangent_row, &interface.tangent_row2);
+    let tangent_rows = (&interface.tangent_row[..], &interface.tangent_row2[..]);
+    layout_of(input.sc, input.points, &interface.rows, tangent_rows)
+}
+
+/// [`friction_rows`] of the `points`' contact rows `rows` (normal rows,
+/// then the tangential ones at `tangent_row`, `tangent_row2`).
+pub(crate) fn layout_of(
+    sc: &scene::Scene,
+    points: &[PointModel],
+    rows: &[Vec<(usize, f64)>],
+    (tangent_row, tangent_row2): (&[Option<usize>], &[Option<usize>]),
+) -> Result<Option<FrictionRows>, SolveError> {
     if tangent_row.iter().all(|t| t.is_none()) {
         return Ok(None);
     }
@@ -107,13 +123,31 @@ pub(crate) fn friction_rows(
                 Some(_) => p.friction,
             })
             .collect(),
-        shadow: signorini_geometry::redundancy::tangent_shadows(&interface.rows, m, tangent_row),
+        shadow: signorini_geometry::redundancy::tangent_shadows(rows, m, tangent_row),
     };
     Ok(Some(FrictionRows {
         layout,
+        laws: points.iter().map(|p| p.friction).collect(),
         norton_hoff,
         three_d,
     }))
+}
+
+impl FrictionRows {
+    /// Sets every point's friction law for load step `si`
+    /// ([`crate::step_friction::step_laws`]); a point without a friction
+    /// unknown keeps none in the layout.
+    pub(crate) fn at_step(&mut self, input: &RootInput, si: usize) {
+        let Some(laws) = crate::step_friction::step_laws(input.sc, input.points, si) else {
+            return;
+        };
+        for ((l, p), law) in self.layout.law.iter_mut().zip(input.points).zip(&laws) {
+            if p.trow.is_some() {
+                *l = *law;
+            }
+        }
+        self.laws = laws;
+    }
 }
 
 /// The gaps of every row: the normal ones, then the tangential "gaps": the
@@ -121,7 +155,8 @@ pub(crate) fn friction_rows(
 /// step, so that the tangential rows give slip increments (course notes §4.4); in
 /// the order of the rows, t1 then t2 of each point.
 fn tangential_gaps(input: &RootInput, load: &StepLoad, history: &FrictionHistory) -> Vec<f64> {
-    row_gaps(input, load, |pi| {
+    let (bodies, points) = (input.bodies, input.points);
+    row_gaps(bodies, points, &load.gap0, &load.u_p, |pi| {
         (history.slip_total[pi], history.slip_total2[pi])
     })
 }
@@ -130,14 +165,15 @@ fn tangential_gaps(input: &RootInput, load: &StepLoad, history: &FrictionHistory
 /// (t1 then t2 of each point), the prescribed part of the tangential jump
 /// minus `slip(point)` (along t1, t2).
 pub(crate) fn row_gaps(
-    input: &RootInput,
-    load: &StepLoad,
+    bodies: &[BodyModel],
+    points: &[PointModel],
+    gap0: &[f64],
+    u_p: &[Vec<f64>],
     slip: impl Fn(usize) -> (f64, f64),
 ) -> Vec<f64> {
-    let bodies = input.bodies;
-    let mut gap0_all = load.gap0.clone();
-    let prescribed = |t: &[(usize, usize, f64)]| prescribed_jump(bodies, &load.u_p, t);
-    for (pi, p) in input.points.iter().enumerate() {
+    let mut gap0_all = gap0.to_vec();
+    let prescribed = |t: &[(usize, usize, f64)]| prescribed_jump(bodies, u_p, t);
+    for (pi, p) in points.iter().enumerate() {
         let (s1, s2) = slip(pi);
         if let Some(t) = &p.trow {
             gap0_all.push(prescribed(t) - s1);
@@ -250,8 +286,12 @@ pub(crate) fn friction_step(
     };
     let out = solve_friction(input, fr, history, &mut problem, &load, &fopts);
     let mut out = out.map_err(contact_error)?;
-    let mut friction = friction_state(interface, fr, history, &out, m);
-    prescribed_slip_friction(input, &load, history, &mut friction, &out.forces[..m]);
+    let tangent_rows = (&interface.tangent_row[..], &interface.tangent_row2[..]);
+    let mut friction = friction_state(tangent_rows, fr, history, &out, m);
+    let (bodies, points) = (input.bodies, input.points);
+    let slip = (&load.u_p[..], load.length_scale);
+    let lambda = &out.forces[..m];
+    prescribed_slip_friction(bodies, points, fr, slip, history, &mut friction, lambda);
     let physical = match &hardened {
         Some(h) => {
             let t = h.physical_forces(&mut problem, &out.forces);
@@ -358,8 +398,8 @@ fn rough_tractions(interface: &Interface, f: &mut FrictionStep, xi: &[f64], t: &
 /// The friction state of the step per point (tangential forces, slip
 /// increments and totals, thresholds, cone excess), and the slip totals
 /// carried to the next step.
-fn friction_state(
-    interface: &Interface,
+pub(crate) fn friction_state(
+    (tangent_row, tangent_row2): (&[Option<usize>], &[Option<usize>]),
     fr: &FrictionRows,
     history: &mut FrictionHistory,
     out: &ContactSolution,
@@ -368,14 +408,14 @@ fn friction_state(
     let lambda = &out.forces[..m];
     let mut f = FrictionStep::zeros(out.friction.points.clone(), m);
     for (pi, &ln) in lambda.iter().enumerate() {
-        if let Some(t) = interface.tangent_row[pi] {
+        if let Some(t) = tangent_row[pi] {
             f.tangential[pi] = out.forces[t];
             f.slip_increment[pi] = out.gaps[t];
             history.slip_total[pi] += out.gaps[t];
             f.threshold[pi] = fr.layout.law[pi].semi_axes(ln)[0];
             f.cone_excess[pi] = fr.layout.law[pi].cone_excess(ln, &[f.tangential[pi]]);
         }
-        if let Some(t2) = interface.tangent_row2[pi] {
+        if let Some(t2) = tangent_row2[pi] {
             f.tangential2[pi] = out.forces[t2];
             f.slip_increment2[pi] = out.gaps[t2];
             history.slip_total2[pi] += out.gaps[t2];
@@ -401,20 +441,22 @@ const SLIP_ROUND_OFF: f64 = 64.0 * f64::EPSILON;
 /// law (course notes §4) gives its force on the boundary of its cone, opposite to
 /// the slip increment. That force acts on prescribed DOFs only: it changes
 /// no free displacement, so it is computed here, at the end of the step.
-fn prescribed_slip_friction(
-    input: &RootInput,
-    load: &StepLoad,
+pub(crate) fn prescribed_slip_friction(
+    bodies: &[BodyModel],
+    points: &[PointModel],
+    fr: &FrictionRows,
+    (u_p, length_scale): (&[Vec<f64>], f64),
     history: &mut FrictionHistory,
     f: &mut FrictionStep,
     lambda: &[f64],
 ) {
-    let round_off = SLIP_ROUND_OFF * load.length_scale;
-    for (pi, p) in input.points.iter().enumerate() {
+    let round_off = SLIP_ROUND_OFF * length_scale;
+    for (pi, p) in points.iter().enumerate() {
         let Some(rows) = &p.prescribed_slip else {
             continue;
         };
         let along = |r: Option<&Vec<(usize, usize, f64)>>| {
-            r.map_or(0.0, |r| prescribed_jump(input.bodies, &load.u_p, r))
+            r.map_or(0.0, |r| prescribed_jump(bodies, u_p, r))
         };
         let total = [along(Some(&rows.t1)), along(rows.t2.as_ref())];
         let increment = [
@@ -426,7 +468,7 @@ fn prescribed_slip_friction(
         (f.slip_increment[pi], f.slip_increment2[pi]) = (increment[0], increment[1]);
         let sliding = lambda[pi] > 0.0 && increment[0].hypot(increment[1]) > round_off;
         let force = sliding
-            .then(|| sliding_force(p, lambda[pi], increment))
+            .then(|| sliding_force(p, fr.laws[pi], lambda[pi], increment))
             .flatten();
         let Some(force) = force else {
             if f.statuses[pi].is_slip() {
@@ -435,7 +477,7 @@ fn prescribed_slip_friction(
             continue;
         };
         (f.tangential[pi], f.tangential2[pi]) = (force[0], force[1]);
-        f.threshold[pi] = p.friction.semi_axes(lambda[pi])[0];
+        f.threshold[pi] = fr.laws[pi].semi_axes(lambda[pi])[0];
         f.statuses[pi] = match (rows.t2.is_some(), force[0] > 0.0) {
             (true, _) => PointStatus::Slip,
             (false, true) => PointStatus::SlipPlus,
@@ -459,12 +501,17 @@ fn prescribed_jump(bodies: &[BodyModel], u_p: &[Vec<f64>], row: &[(usize, usize,
 /// maximal dissipation, λ_tᵢ = −aᵢ² Δsᵢ / ‖(a₁ Δs₁, a₂ Δs₂)‖, which is
 /// −a Δs/|Δs| on a disc. `None` for the laws whose force is not a threshold
 /// (Norton–Hoff) or depends on the elastic slip (a slip stiffness).
-fn sliding_force(p: &PointModel, normal: f64, increment: [f64; 2]) -> Option<[f64; 2]> {
+fn sliding_force(
+    p: &PointModel,
+    law: FrictionLaw,
+    normal: f64,
+    increment: [f64; 2],
+) -> Option<[f64; 2]> {
     if p.slip_stiffness.is_some() {
         return None;
     }
-    let axes = match p.friction {
-        FrictionLaw::Tresca(_) | FrictionLaw::Coulomb { .. } => p.friction.semi_axes(normal),
+    let axes = match law {
+        FrictionLaw::Tresca(_) | FrictionLaw::Coulomb { .. } => law.semi_axes(normal),
         _ => return None,
     };
     let weighted = (axes[0] * increment[0]).hypot(axes[1] * increment[1]);

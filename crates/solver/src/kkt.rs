@@ -30,7 +30,7 @@
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
 use faer::linalg::cholesky::ldlt::factor::LdltRegularization;
 use faer::prelude::Solve;
-use faer::sparse::linalg::cholesky::{LdltRef, SymbolicCholesky};
+use faer::sparse::linalg::cholesky::SymbolicCholesky;
 use faer::sparse::{Argsort, Pair, SparseColMat, SymbolicSparseColMat};
 use faer::{Conj, Mat, MatMut};
 
@@ -223,7 +223,16 @@ impl<'a> KktSystem<'a> {
             Default::default(),
         );
         let refined = match factor {
-            Ok(ldlt) => refine(&exact, ldlt, b, par, stack),
+            Ok(ldlt) => {
+                let n = b.len();
+                let solve = |rhs: &[f64]| {
+                    let mut x = rhs.to_vec();
+                    let xm = MatMut::from_column_major_slice_mut(&mut x, n, 1);
+                    ldlt.solve_in_place_with_conj(Conj::No, xm, par, stack);
+                    x
+                };
+                refine(&exact, solve, b)
+            }
             Err(_) => None,
         };
         if let Some((x, steps)) = refined {
@@ -280,26 +289,14 @@ fn backward_error(m: &SparseColMat<usize, f64>, x: &[f64], b: &[f64]) -> (f64, V
     (if scale > 0.0 { err / scale } else { err }, r)
 }
 
-/// x = M̃⁻¹ b refined against M; `None` when the backward error does not
-/// reach [`ACCEPTED_BACKWARD_ERROR`]. Returns x and the refinement steps.
-fn refine(
+/// x = M̃⁻¹ b refined against M, M̃⁻¹ applied by `solve`; `None` when the
+/// backward error does not reach [`ACCEPTED_BACKWARD_ERROR`]. Returns x and
+/// the refinement steps.
+pub(crate) fn refine(
     exact: &SparseColMat<usize, f64>,
-    ldlt: LdltRef<'_, usize, f64>,
+    mut solve: impl FnMut(&[f64]) -> Vec<f64>,
     b: &[f64],
-    par: faer::Par,
-    stack: &mut MemStack,
 ) -> Option<(Vec<f64>, usize)> {
-    let n = b.len();
-    let mut solve = |rhs: &[f64]| {
-        let mut x = rhs.to_vec();
-        ldlt.solve_in_place_with_conj(
-            Conj::No,
-            MatMut::from_column_major_slice_mut(&mut x, n, 1),
-            par,
-            stack,
-        );
-        x
-    };
     let mut x = solve(b);
     let (mut berr, mut r) = backward_error(exact, &x, b);
     let mut steps = 0;

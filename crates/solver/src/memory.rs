@@ -261,7 +261,7 @@ fn body_size(body: &scene::Body, dim: usize) -> Option<BodySize> {
     use scene::Generator as G;
     let g = match body.mesh.as_ref()? {
         scene::MeshSpec::Generator(g) => g,
-        scene::MeshSpec::File { file } => return file_size(file, dim),
+        scene::MeshSpec::File { file, .. } => return file_size(file, dim),
     };
     Some(match g {
         G::Rectangle {
@@ -689,7 +689,17 @@ pub fn estimate(
         e.fields += 2.0 * 8.0 * (3.0 * n + 7.0 * s.cells);
     }
     let (g, m) = (e.interface_dofs, e.contact_rows);
-    e.dense = if direct {
+    // Friction on the direct path: the whole-system Newton's sparse LU (L
+    // and U, twice the LDLᵀ), nothing dense.
+    let direct_friction = direct
+        && sc
+            .contact
+            .iter()
+            .any(|c| c.friction != scene::Friction::None);
+    e.factor *= if direct_friction { 2.0 } else { 1.0 };
+    e.dense = if direct_friction {
+        0.0
+    } else if direct {
         8.0 * 3.0 * m * m
     } else {
         // one subdomain: the factor of S, dense; several: the assembled

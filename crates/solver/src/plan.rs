@@ -47,6 +47,11 @@ pub(crate) fn plan(sc: &scene::Scene, opts: &RunOptions) -> Result<Plan, SolveEr
                 sc.solver.method.as_str()
             )));
         }
+        if let Some(i) = sc.steps.iter().position(|s| !s.friction.is_empty()) {
+            return Err(SolveError::Input(format!(
+                "steps[{i}].friction: the scene's contacts are contact elements or penalty laws with friction, solved by the return mapping (course notes §7), whose friction law does not change with the step; remove the key"
+            )));
+        }
         return Ok(Plan {
             method,
             path,
@@ -66,12 +71,12 @@ pub(crate) fn plan(sc: &scene::Scene, opts: &RunOptions) -> Result<Plan, SolveEr
             .iter()
             .all(|c| matches!(c.friction, scene::Friction::Tresca(_)));
     for c in &sc.contact {
+        let by_box = tresca_by_box && path == scene::SolvePath::Condensed;
         if c.friction != scene::Friction::None
-            && (path == scene::SolvePath::Direct
-                || !(algorithm.friction() == FrictionSupport::StatusMethods || tresca_by_box))
+            && !(algorithm.friction() == FrictionSupport::StatusMethods || by_box)
         {
             return Err(SolveError::Input(format!(
-                "contact \"{}\".friction: friction is solved on path = \"condensed\" by method = \"status\" (with solver.friction = \"fixed_point\", \"status\" or \"newton\"), not by \"{}\" on the {} path",
+                "contact \"{}\".friction: friction is solved by method = \"status\" (on path = \"condensed\" with solver.friction = \"fixed_point\", \"status\" or \"newton\"; on path = \"direct\" by the whole-system Newton method), not by \"{}\" on the {} path",
                 c.name,
                 algorithm.name(),
                 path.as_str()
@@ -86,6 +91,9 @@ pub(crate) fn plan(sc: &scene::Scene, opts: &RunOptions) -> Result<Plan, SolveEr
                 )));
             }
         }
+    }
+    if path == scene::SolvePath::Direct {
+        crate::direct_friction::check_direct_friction(sc)?;
     }
     Ok(Plan {
         method,

@@ -79,7 +79,7 @@ fn stuck_thresholds(
 }
 
 /// The factor on ρ of the second try of the Newton method on Coulomb's law.
-const RETRY_RHO_SCALE: f64 = 0.1;
+pub const RETRY_RHO_SCALE: f64 = 0.1;
 
 /// With `direct`, the Newton method on Coulomb's law itself (once more with
 /// ρ scaled by [`RETRY_RHO_SCALE`] when it does not converge), else (or when

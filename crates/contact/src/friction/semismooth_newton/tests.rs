@@ -278,7 +278,7 @@ fn coulomb_system_after(steps: usize) -> (DelassusProblem, NewtonSystem, usize) 
     let (p, layout) = random_3d(30, 13, true);
     let thr = layout.thresholds(&vec![0.0; p.q.len()]);
     let mut inner = Inner::new(&p, &layout, &thr);
-    inner.coulomb = true;
+    inner.law.coulomb = true;
     let mut x = inner.iterate(inner.start(&vec![0.0; p.q.len()]));
     let mut sys = NewtonSystem::default();
     for _ in 0..steps {

@@ -1,0 +1,236 @@
+//! Friction on the direct path (docs/theory/direct-friction.md): the
+//! whole-system semi-smooth Newton method gives the condensed path's contact
+//! forces, tangential forces, slips and displacements, in 2D and 3D, with
+//! Tresca and Coulomb, over load steps with slip history, and for bodies
+//! held by friction alone.
+
+use crate::common;
+
+use common::{
+    block_body, block_contact, converged_on, example, material_2d, max_rel, named_block_boundary,
+    rigid_plane, try_run,
+};
+use signorini_scene::SolvePath;
+use signorini_solver::{RunOptions, RunOutput};
+
+/// Every step's normal and tangential forces of contact.csv, one vector.
+fn contact_forces(o: &RunOutput) -> Vec<f64> {
+    let rows = &o.contact_rows;
+    rows.iter()
+        .map(|r| r.normal_force)
+        .chain(rows.iter().map(|r| r.tangential_force))
+        .chain(rows.iter().map(|r| r.tangential_force_2))
+        .collect()
+}
+
+/// Every step's slip increments of contact.csv.
+fn slips(o: &RunOutput) -> Vec<f64> {
+    let rows = &o.contact_rows;
+    rows.iter()
+        .map(|r| r.slip)
+        .chain(rows.iter().map(|r| r.slip_2))
+        .collect()
+}
+
+/// Solves `text` on both paths (each converged, certificate ≤ 1e-9) and
+/// asserts that the contact forces (normal and tangential, every step), the
+/// slips (relative to the largest slip, or to `slip_floor` of the
+/// displacement scale when none slips) and the displacements agree to
+/// `tol`; returns (condensed, direct).
+fn on_both_paths(text: &str, tol: f64) -> (RunOutput, RunOutput) {
+    let c = converged_on(text, SolvePath::Condensed);
+    let d = converged_on(text, SolvePath::Direct);
+    let (fc, fd) = (contact_forces(&c), contact_forces(&d));
+    assert!(
+        max_rel(&fc, &fd) <= tol,
+        "contact forces differ by {:e}",
+        max_rel(&fc, &fd)
+    );
+    let (sc, sd) = (slips(&c), slips(&d));
+    let u_scale = c
+        .bodies
+        .iter()
+        .flat_map(|b| b.last().displacement.iter())
+        .fold(0.0f64, |a, v| a.max(v.abs()));
+    let slip_error = sc
+        .iter()
+        .zip(&sd)
+        .fold(0.0f64, |a, (x, y)| a.max((x - y).abs()));
+    assert!(
+        slip_error <= tol * u_scale,
+        "slips differ by {slip_error:e} (displacement scale {u_scale:e})"
+    );
+    for (x, y) in c.bodies.iter().zip(&d.bodies) {
+        let r = max_rel(&x.last().displacement, &y.last().displacement);
+        assert!(r <= tol, "body {}: displacements differ by {r:e}", x.name);
+    }
+    let method = d.report.steps[0].solver["method"].as_str().unwrap_or("");
+    assert!(method.contains("direct_semismooth_newton"), "{method}");
+    (c, d)
+}
+
+/// The number of sticking and slipping points of the last step.
+fn stick_slip(o: &RunOutput) -> (usize, usize) {
+    let last = o.report.steps.last().expect("a step");
+    (last.sticking, last.slipping)
+}
+
+/// A 1 × 1 × 0.1 rubber pad (Hex8, n × n × 2) on a rigid floor, its top
+/// pressed down by 0.004 at step 1 and dragged by 0.004 along x (and
+/// 0.002 along y) at step 2, with `friction`.
+fn pad(n: usize, friction: &str) -> String {
+    format!(
+        r#"dimension = 3
+model = "solid"
+[[materials]]
+name = "rubber"
+young = 10.0
+poisson = 0.45
+[[bodies]]
+name = "pad"
+material = "rubber"
+mesh = {{ generator = "box", origin = [0.0, 0.0, 0.0], size = [1.0, 1.0, 0.1], divisions = [{n}, {n}, 2] }}
+[[bodies]]
+name = "floor"
+rigid = {{ shape = "plane", point = [0.0, 0.0, 0.0], normal = [0.0, 0.0, 1.0] }}
+[[boundary]]
+name = "press"
+body = "pad"
+surface = "zmax"
+displacement = {{ z = -0.004 }}
+[[boundary]]
+name = "drag"
+body = "pad"
+surface = "zmax"
+displacement = {{ x = 0.004, y = 0.002 }}
+[[steps]]
+scale = {{ drag = 0.0 }}
+[[steps]]
+scale = {{ drag = 1.0 }}
+{}discretization = "node_to_face"
+friction = {friction}
+"#,
+        common::contact("c", "pad", "zmin", "floor")
+    )
+}
+
+#[test]
+fn a_24_by_24_pad_pressed_then_dragged_has_the_condensed_forces_on_the_direct_path() {
+    let (c, _) = on_both_paths(&pad(24, "{ coulomb = 0.3 }"), 1e-8);
+    let (stick, slip) = stick_slip(&c);
+    assert!(
+        stick > 0 && slip > 0,
+        "partial slip: {stick} stick, {slip} slip"
+    );
+}
+
+#[test]
+fn a_pad_with_tresca_friction_has_the_condensed_forces_on_the_direct_path() {
+    let (c, _) = on_both_paths(&pad(8, "{ tresca = 0.0005 }"), 1e-8);
+    let (stick, slip) = stick_slip(&c);
+    assert!(stick + slip > 0, "{stick} stick, {slip} slip");
+}
+
+/// A 2 × 1 block (2D, 8 × 4) on a rigid floor, its top displaced by `top`,
+/// no support in x: held sideways by friction alone; `steps` appended.
+fn block_2d(friction: &str, top: &str, steps: &str) -> String {
+    [
+        material_2d(100.0, 0.3),
+        block_body([0.0, 0.0], [2.0, 1.0], [8, 4], ""),
+        rigid_plane("floor", [0.0, 0.0], [0.0, 1.0]),
+        named_block_boundary(
+            "press",
+            r#"surface = "top""#,
+            &format!("displacement = {top}"),
+        ),
+        block_contact("c", "bottom", "floor"),
+        format!("friction = {friction}\n{steps}\n"),
+    ]
+    .concat()
+}
+
+#[test]
+fn a_2d_block_with_coulomb_or_tresca_has_the_condensed_forces_on_the_direct_path() {
+    for friction in ["{ coulomb = 0.3 }", "{ tresca = 0.05 }"] {
+        let (c, _) = on_both_paths(&block_2d(friction, "{ x = 0.004, y = -0.01 }", ""), 1e-8);
+        let (stick, slip) = stick_slip(&c);
+        assert!(stick + slip > 0, "{friction}: {stick} stick, {slip} slip");
+    }
+}
+
+#[test]
+fn load_reversal_keeps_the_slip_history_on_the_direct_path() {
+    let steps = "[[steps]]\nscale = { press = 1.0 }\n[[steps]]\nscale = { press = -1.0 }\n";
+    let text = block_2d("{ coulomb = 0.3 }", "{ x = 0.05 }", steps).replace(
+        "displacement = { x = 0.05 }",
+        "displacement = { x = 0.05 }\n[[boundary]]\nname = \"down\"\nbody = \"block\"\nsurface = \"top\"\ndisplacement = { y = -0.01 }",
+    );
+    let (_, d) = on_both_paths(&text, 1e-8);
+    // Step 1 slides in +x, step 2 back: the friction force μ N reverses.
+    let resultant = |step: usize| {
+        let rows = d.contact_rows.iter().filter(|r| r.step == step);
+        rows.fold((0.0, 0.0), |(n, t), r| {
+            (n + r.normal_force, t + r.tangential_force)
+        })
+    };
+    let ((n1, t1), (n2, t2)) = (resultant(1), resultant(2));
+    assert!((t1 + 0.3 * n1).abs() <= 1e-9 * n1, "step 1: {t1} vs {n1}");
+    assert!((t2 - 0.3 * n2).abs() <= 1e-9 * n2, "step 2: {t2} vs {n2}");
+}
+
+#[test]
+fn the_cattaneo_example_has_the_condensed_forces_on_the_direct_path() {
+    on_both_paths(&example("cattaneo.toml"), 1e-8);
+}
+
+#[test]
+fn the_sliding3d_example_over_three_steps_has_the_condensed_forces_on_the_direct_path() {
+    on_both_paths(&example("sliding3d.toml"), 1e-8);
+}
+
+#[test]
+fn a_3d_box_held_by_friction_alone_has_the_condensed_forces_on_the_direct_path() {
+    // No support in x, y: the box is held sideways by friction alone, its
+    // top pressed down and pushed sideways below μ N.
+    let text = pad(6, "{ coulomb = 0.5 }").replace(
+        "displacement = { x = 0.004, y = 0.002 }",
+        "traction = [0.02, 0.01, 0.0]",
+    );
+    let (_, d) = on_both_paths(&text, 1e-8);
+    let f = &d.report.contact_force;
+    assert!(f[0].abs() > 0.0, "friction carries the push: {f:?}");
+}
+
+#[test]
+fn norton_hoff_and_rough_contacts_are_refused_on_the_direct_path() {
+    let direct = RunOptions {
+        method: None,
+        path: Some(SolvePath::Direct),
+    };
+    let rough = try_run(&example("rough_drag.toml"), direct.clone());
+    let e = rough.err().expect("refused").to_string();
+    assert!(e.contains("roughness") && e.contains("condensed"), "{e}");
+    let nh = try_run(
+        &block_2d(
+            "{ norton_hoff = 0.3, rho = 0.2 }",
+            "{ x = 0.004, y = -0.01 }",
+            "",
+        ),
+        direct,
+    );
+    let e = nh.err().expect("refused").to_string();
+    assert!(e.contains("Norton-Hoff") && e.contains("condensed"), "{e}");
+}
+
+#[test]
+fn regularised_coulomb_has_the_condensed_forces_on_the_direct_path() {
+    let friction = "{ coulomb = 0.3, slip_stiffness = 2000.0 }";
+    let (c, _) = on_both_paths(&block_2d(friction, "{ x = 0.004, y = -0.01 }", ""), 1e-8);
+    let (stick, slip) = stick_slip(&c);
+    assert!(stick + slip > 0, "{stick} stick, {slip} slip");
+}
+
+#[test]
+fn the_ssnv128_example_has_the_condensed_forces_on_the_direct_path() {
+    on_both_paths(&example("ssnv128.toml"), 1e-8);
+}
