@@ -76,7 +76,7 @@ fn carry_surfaces(
 /// the existing nodes, in the order the edges are first met (cell by cell,
 /// edge by edge in the order of [`CellKind::edges`]). Cells keep their index
 /// and corners; surface facets become the Tri6 / Quad8 faces of their cells.
-/// Regions are kept.
+/// Regions and node sets are kept.
 ///
 /// Errors: a 2D mesh, a cell that is not Tet4 or Hex8, or a surface facet
 /// that is not a face of its cell.
@@ -121,6 +121,7 @@ pub fn to_second_order_3d(mesh: &Mesh) -> Result<Mesh, MeshError> {
         cells,
         surfaces,
         regions: mesh.regions.clone(),
+        node_sets: mesh.node_sets.clone(),
     })
 }
 
@@ -216,5 +217,6 @@ pub fn hexes_to_tetrahedra(mesh: &Mesh) -> Result<Mesh, MeshError> {
         cells,
         surfaces,
         regions,
+        node_sets: mesh.node_sets.clone(),
     })
 }
