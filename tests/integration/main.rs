@@ -33,6 +33,7 @@ mod output_and_streams;
 mod path_choice;
 mod pieces;
 mod progress;
+mod quadratic;
 mod redundant;
 mod search_distance;
 mod solids;

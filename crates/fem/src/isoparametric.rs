@@ -15,6 +15,7 @@
 //! * Tet4: `(0,0,0), (1,0,0), (0,1,0), (0,0,1)`, `N = [1−ξ−η−ζ, ξ, η, ζ]`.
 //! * Hex8: `[−1,1]³`, bottom `ζ = −1` counter-clockwise then top,
 //!   `N_a = ⅛ (1 + ξ_a ξ)(1 + η_a η)(1 + ζ_a ζ)`.
+//! * Tet10 and Hex20: [`crate::quadratic_solids`].
 //!
 //! **Strain–displacement matrix.** Element DOFs are node by node
 //! (`[u_x1, u_y1, (u_z1), u_x2, ...]`) and `ε = B u_e` with, per node `a`
@@ -35,7 +36,7 @@
 //! 3-point rule of degree 2 at `(1/6, 1/6), (2/3, 1/6), (1/6, 2/3)`, weights
 //! 1/6 (exact for the quadratic stiffness of a straight-sided T6); Quad4 2×2
 //! Gauss; Quad8 3×3 Gauss; Tet4 one point at the centroid (exact); Hex8
-//! 2×2×2 Gauss. In axisymmetry the hoop term `N_a / r` is evaluated at the
+//! 2×2×2 Gauss; Tet10 4 points of degree 2; Hex20 3×3×3 Gauss. In axisymmetry the hoop term `N_a / r` is evaluated at the
 //! quadrature points only: they are interior to the cell, so `r > 0` there
 //! even when nodes lie on the axis `r = 0`, and the axis itself is never
 //! evaluated. The rules integrate `Bᵀ D B det J` exactly for straight-sided
@@ -47,13 +48,13 @@
 //! motions (3 in the plane, the axial translation in axisymmetry, 6 in 3D;
 //! [`crate::rigid_body_modes`]): no spurious zero-energy mode.
 
-use crate::{FemError, Model};
+use crate::{quadratic_solids, FemError, Model};
 use nalgebra::{DMatrix, Matrix3};
 use signorini_mesh::{CellKind, Mesh};
 use std::f64::consts::PI;
 
 /// Largest number of nodes of a cell.
-const MAX_NODES: usize = 8;
+const MAX_NODES: usize = 20;
 
 /// A quadrature point of a reference cell: reference coordinates `xi`
 /// (unused trailing ones are 0) and weight `w` (the weights of a rule sum to
@@ -127,6 +128,8 @@ pub fn quadrature(kind: CellKind, model: Model) -> &'static [QuadPoint] {
         CellKind::Quad8 => &GAUSS_3X3,
         CellKind::Tet4 => &TET_1,
         CellKind::Hex8 => &GAUSS_2X2X2,
+        CellKind::Tet10 => &quadratic_solids::TET_4,
+        CellKind::Hex20 => &quadratic_solids::GAUSS_3X3X3,
     }
 }
 
@@ -140,13 +143,13 @@ pub fn reference_corners(kind: CellKind) -> &'static [[f64; 3]] {
             [1.0, 1.0, 0.0],
             [-1.0, 1.0, 0.0],
         ],
-        CellKind::Tet4 => &[
+        CellKind::Tet4 | CellKind::Tet10 => &[
             [0.0, 0.0, 0.0],
             [1.0, 0.0, 0.0],
             [0.0, 1.0, 0.0],
             [0.0, 0.0, 1.0],
         ],
-        CellKind::Hex8 => &signorini_mesh::HEX8_REFERENCE_CORNERS,
+        CellKind::Hex8 | CellKind::Hex20 => &signorini_mesh::HEX8_REFERENCE_CORNERS,
     }
 }
 
@@ -155,22 +158,22 @@ pub fn reference_corners(kind: CellKind) -> &'static [[f64; 3]] {
 pub fn reference_centre(kind: CellKind) -> [f64; 3] {
     match kind {
         CellKind::Tri3 | CellKind::Tri6 => [1.0 / 3.0, 1.0 / 3.0, 0.0],
-        CellKind::Tet4 => [0.25, 0.25, 0.25],
-        CellKind::Quad4 | CellKind::Quad8 | CellKind::Hex8 => [0.0, 0.0, 0.0],
+        CellKind::Tet4 | CellKind::Tet10 => [0.25, 0.25, 0.25],
+        CellKind::Quad4 | CellKind::Quad8 | CellKind::Hex8 | CellKind::Hex20 => [0.0, 0.0, 0.0],
     }
 }
 
 /// Shape function values and their derivatives (reference or physical) at a
 /// point, for the first `len` nodes.
 #[derive(Debug, Clone, Copy)]
-struct Shape {
-    len: usize,
-    n: [f64; MAX_NODES],
-    dn: [[f64; 3]; MAX_NODES],
+pub(crate) struct Shape {
+    pub(crate) len: usize,
+    pub(crate) n: [f64; MAX_NODES],
+    pub(crate) dn: [[f64; 3]; MAX_NODES],
 }
 
 /// Shape functions of `kind` and their reference derivatives at `xi`.
-fn shape(kind: CellKind, xi: [f64; 3]) -> Shape {
+pub(crate) fn shape(kind: CellKind, xi: [f64; 3]) -> Shape {
     let mut s = Shape {
         len: kind.nodes(),
         n: [0.0; MAX_NODES],
@@ -255,6 +258,8 @@ fn shape(kind: CellKind, xi: [f64; 3]) -> Shape {
                 ];
             }
         }
+        CellKind::Tet10 => quadratic_solids::tet10(xi, &mut s.n, &mut s.dn),
+        CellKind::Hex20 => quadratic_solids::hex20(xi, &mut s.n, &mut s.dn),
     }
     s
 }

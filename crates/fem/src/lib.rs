@@ -6,7 +6,7 @@
 //! any consistent set of units. Models ([`Model`]): 2D plane strain and plane
 //! stress (thickness 1), axisymmetric (`x = r ≥ 0`, `y = z`, every integral
 //! weighted by `2π r`: stiffness, forces and measures of the full 360° ring),
-//! and 3D solids. Cells: T3, Q4, T6, Q8 in 2D, Tet4 and Hex8 in 3D
+//! and 3D solids. Cells: T3, Q4, T6, Q8 in 2D, Tet4, Hex8, Tet10 and Hex20 in 3D
 //! ([`element`]). Near-incompressible bodies (ν → ½) can use the
 //! mean-dilatation B-bar formulation on Q4 and Hex8 ([`Formulation`],
 //! [`bbar`]; Hughes 1980).
@@ -27,6 +27,7 @@ pub mod elasticity;
 pub mod element;
 pub mod isoparametric;
 pub mod loads;
+pub mod quadratic_solids;
 pub mod stress;
 
 pub use assembly::{

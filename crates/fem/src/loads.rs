@@ -13,16 +13,56 @@
 //!   mid-side node, exact in axisymmetry too on such an edge;
 //! * 3D triangles: linear `N`, the 3-point rule of degree 2: `A/3` per node;
 //! * 3D quadrilaterals: bilinear `N` on `[−1, 1]²` with `dS = |∂x/∂ξ × ∂x/∂η| dξ dη`,
-//!   2×2 Gauss (exact on a planar face).
+//!   2×2 Gauss (exact on a planar face);
+//! * 3D quadratic faces of Tet10 and Hex20 cells, Tri6 and Quad8 (the shape
+//!   functions of [`crate::isoparametric`] on the face, `dS` from the curved
+//!   map): the 6-point rule of degree 4 on the triangle, 3×3 Gauss on the
+//!   quadrilateral. On a flat face with centred mid-side nodes the consistent
+//!   measures are `0` at the Tri6 corners and `A/3` at its mid-sides, `−A/12`
+//!   at the Quad8 corners and `A/3` at its mid-sides: a uniform traction pulls
+//!   the corners of a serendipity face the other way.
 
-use crate::isoparametric::{GAUSS_2X2, TRI_3};
+use crate::isoparametric::{shape, QuadPoint, GAUSS_2X2, GAUSS_3X3, TRI_3};
 use crate::Model;
 use signorini_mesh::vec3::{cross, norm, sub};
-use signorini_mesh::{Facet, Mesh, Surface};
+use signorini_mesh::{CellKind, Facet, Mesh, Surface};
+
+/// Weight and coordinates of the 6-point rule of degree 4 on the reference
+/// triangle (Dunavant 1985): two orbits of three points.
+const D4_A: f64 = 0.445_948_490_915_965;
+const D4_B: f64 = 0.091_576_213_509_771;
+const D4_WA: f64 = 0.223_381_589_678_011 / 2.0;
+const D4_WB: f64 = 0.109_951_743_655_322 / 2.0;
+const TRI_6: [QuadPoint; 6] = [
+    QuadPoint {
+        xi: [D4_A, D4_A, 0.0],
+        w: D4_WA,
+    },
+    QuadPoint {
+        xi: [1.0 - 2.0 * D4_A, D4_A, 0.0],
+        w: D4_WA,
+    },
+    QuadPoint {
+        xi: [D4_A, 1.0 - 2.0 * D4_A, 0.0],
+        w: D4_WA,
+    },
+    QuadPoint {
+        xi: [D4_B, D4_B, 0.0],
+        w: D4_WB,
+    },
+    QuadPoint {
+        xi: [1.0 - 2.0 * D4_B, D4_B, 0.0],
+        w: D4_WB,
+    },
+    QuadPoint {
+        xi: [D4_B, 1.0 - 2.0 * D4_B, 0.0],
+        w: D4_WB,
+    },
+];
 use std::f64::consts::PI;
 
 /// Largest number of nodes of a supported facet.
-const MAX_FACET_NODES: usize = 4;
+const MAX_FACET_NODES: usize = 8;
 
 fn check_model(mesh: &Mesh, model: Model, what: &str) {
     assert_eq!(
@@ -40,8 +80,8 @@ fn check_model(mesh: &Mesh, model: Model, what: &str) {
 /// nodes.
 ///
 /// # Panics
-/// On a facet that is not a 2- or 3-node segment in 2D, or a 3- or 4-node
-/// face in 3D.
+/// On a facet that is not a 2- or 3-node segment in 2D, or a 3-, 4-, 6- or
+/// 8-node face in 3D.
 fn facet_measures(
     mesh: &Mesh,
     facet: &Facet,
@@ -110,8 +150,28 @@ fn facet_measures(
                 add(&n, norm(cross(ds, dt)), q.w);
             }
         }
+        (3, 6) | (3, 8) => {
+            let (kind, rule): (CellKind, &[QuadPoint]) = if nn == 6 {
+                (CellKind::Tri6, &TRI_6)
+            } else {
+                (CellKind::Quad8, &GAUSS_3X3)
+            };
+            for q in rule {
+                let s = shape(kind, q.xi);
+                let (mut ds, mut dt) = ([0.0; 3], [0.0; 3]);
+                for a in 0..nn {
+                    for k in 0..3 {
+                        ds[k] += s.dn[a][0] * x(a)[k];
+                        dt[k] += s.dn[a][1] * x(a)[k];
+                    }
+                }
+                add(&s.n[..nn], norm(cross(ds, dt)), q.w);
+            }
+        }
         (d, n) => {
-            panic!("unsupported facet: {n} nodes in a {d}D mesh (2D: 2 or 3 nodes; 3D: 3 or 4)")
+            panic!(
+                "unsupported facet: {n} nodes in a {d}D mesh (2D: 2 or 3 nodes; 3D: 3, 4, 6 or 8)"
+            )
         }
     }
     nn

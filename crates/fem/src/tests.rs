@@ -28,13 +28,15 @@ const KINDS_2D: [CellKind; 4] = [
 ];
 
 /// Every cell kind.
-const KINDS: [CellKind; 6] = [
+const KINDS: [CellKind; 8] = [
     CellKind::Tri3,
     CellKind::Quad4,
     CellKind::Tri6,
     CellKind::Quad8,
     CellKind::Tet4,
     CellKind::Hex8,
+    CellKind::Tet10,
+    CellKind::Hex20,
 ];
 
 fn mat(model: Model) -> Elasticity {

@@ -17,6 +17,7 @@ mod error;
 pub mod mortar;
 pub mod mortar3d;
 pub mod pairing;
+pub mod quadratic_slave;
 mod ray;
 pub mod redundancy;
 mod search;

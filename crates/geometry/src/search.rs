@@ -4,8 +4,14 @@
 //! The surface is cut into primitives ("pieces"): a 2D linear edge is one
 //! segment; a 2D quadratic edge `[c0, c1, mid]` is two segments c0–mid and
 //! mid–c1 (piecewise linear through the mid-side node); a 3D triangle is a
-//! triangle; a 3D quadrilateral is a bilinear patch. Pieces are numbered facet
-//! by facet, so for linear 2D edges piece k is facet k.
+//! triangle; a 3D quadrilateral is a bilinear patch; a quadratic face (Tri6 of
+//! a Tet10, Quad8 of a Hex20) is cut through its mid-side nodes, as the 2D
+//! quadratic edge is: one triangle at each corner `[c_k, m_k, m_(k−1)]` (`m_k`
+//! the mid-side of the side from corner k to k+1) and the inner face of the
+//! mid-side nodes (a triangle for Tri6, a quadrilateral for Quad8), so that
+//! the master is the piecewise flat surface through all its nodes, with the
+//! linear (bilinear) weights of its pieces. Pieces are numbered facet
+//! by facet, so for linear 2D edges and linear faces piece k is facet k.
 //!
 //! The query visits the pieces in increasing distance of their bounding box
 //! (a lower bound of the exact distance) and stops at the first box farther
@@ -22,7 +28,7 @@ use signorini_mesh::{Facet, Mesh, Surface};
 use crate::closest::{self, Closest};
 use crate::error::GeometryError;
 use crate::ray;
-use signorini_mesh::vec3::{dot, norm, sub, unit};
+use signorini_mesh::vec3::{cross, dot, norm, sub, unit};
 
 type Boxed = GeomWithData<Rectangle<[f64; 3]>, usize>;
 
@@ -87,7 +93,7 @@ impl<'a> MasterIndex<'a> {
         let three_d = is_3d(mesh);
         for (k, f) in surface.facets.iter().enumerate() {
             let ok = if three_d {
-                matches!(f.nodes.len(), 3 | 4)
+                matches!(f.nodes.len(), 3 | 4 | 6 | 8)
             } else {
                 matches!(f.nodes.len(), 2 | 3)
             };
@@ -96,7 +102,7 @@ impl<'a> MasterIndex<'a> {
                     "master facet {k} has nodes {:?}: expected {} nodes of the mesh",
                     f.nodes,
                     if three_d {
-                        "3 (triangle) or 4 (quadrilateral)"
+                        "3 (triangle), 4 (quadrilateral), 6 (tri6) or 8 (quad8)"
                     } else {
                         "2 (edge) or 3 (quadratic edge)"
                     }
@@ -306,6 +312,23 @@ impl<'a> MasterIndex<'a> {
                 .map_or(n_facet, |(n, _)| n);
         }
         let (n_facet, _) = self.mesh.facet_normal(f);
+        if matches!(f.nodes.len(), 6 | 8) {
+            // a piece of a quadratic face: its own normal, outward as the face
+            let c = |k: usize| self.mesh.coords[p.nodes[k]];
+            let own = if p.kind == PieceKind::Triangle {
+                unit(cross(sub(c(1), c(0)), sub(c(2), c(0))))
+            } else {
+                closest::quad_normal(&[c(0), c(1), c(2), c(3)], hit.closest.xi_eta)
+            };
+            if let Some(n) = own {
+                return if dot(n, n_facet) < 0.0 {
+                    [-n[0], -n[1], -n[2]]
+                } else {
+                    n
+                };
+            }
+            return n_facet;
+        }
         if p.kind == PieceKind::Quad {
             let c = |k: usize| self.mesh.coords[p.nodes[k]];
             if let Some(n) = closest::quad_normal(&[c(0), c(1), c(2), c(3)], hit.closest.xi_eta) {
@@ -411,8 +434,9 @@ fn edge_pieces(surface: &Surface) -> Vec<Piece> {
     out
 }
 
+/// The sides of a face, corner k to corner k+1, as sorted node pairs.
 fn face_sides(f: &Facet) -> impl Iterator<Item = (usize, usize)> + '_ {
-    let m = f.nodes.len();
+    let m = signorini_mesh::facet_corners(3, f.nodes.len());
     (0..m).map(move |k| {
         let (a, b) = (f.nodes[k], f.nodes[(k + 1) % m]);
         (a.min(b), a.max(b))
@@ -427,29 +451,65 @@ fn face_pieces(surface: &Surface) -> Vec<Piece> {
             *count.entry(e).or_insert(0) += 1;
         }
     }
-    surface
-        .facets
-        .iter()
-        .enumerate()
-        .map(|(k, f)| {
+    let mut out = Vec::with_capacity(surface.facets.len());
+    for (k, f) in surface.facets.iter().enumerate() {
+        let mut free = [false; 4];
+        for (s, e) in face_sides(f).enumerate() {
+            free[s] = count[&e] == 1;
+        }
+        let m = signorini_mesh::facet_corners(3, f.nodes.len());
+        if f.nodes.len() == m {
             let mut nodes = [0; 4];
-            nodes[..f.nodes.len()].copy_from_slice(&f.nodes);
-            let mut free = [false; 4];
-            for (s, e) in face_sides(f).enumerate() {
-                free[s] = count[&e] == 1;
-            }
-            Piece {
+            nodes[..m].copy_from_slice(&f.nodes);
+            out.push(Piece {
                 facet: k,
-                kind: if f.nodes.len() == 3 {
+                kind: if m == 3 {
                     PieceKind::Triangle
                 } else {
                     PieceKind::Quad
                 },
                 nodes,
                 free,
+            });
+            continue;
+        }
+        out.extend(quadratic_face_pieces(k, f, m, free));
+    }
+    out
+}
+
+/// The pieces of a quadratic face `f` (`m` corners, then the mid-side of
+/// each side k → k+1) whose sides k are `free`: the corner triangles
+/// `[c_k, m_k, m_(k−1)]` (free on the halves of the free sides) and the inner
+/// face of the mid-side nodes (never free), all oriented as the face.
+fn quadratic_face_pieces(k: usize, f: &Facet, m: usize, free: [bool; 4]) -> Vec<Piece> {
+    let mid = |s: usize| f.nodes[m + s % m];
+    let mut out: Vec<Piece> = (0..m)
+        .map(|c| {
+            let before = (c + m - 1) % m;
+            Piece {
+                facet: k,
+                kind: PieceKind::Triangle,
+                nodes: [f.nodes[c], mid(c), mid(before), 0],
+                free: [free[c], false, free[before], false],
             }
         })
-        .collect()
+        .collect();
+    let mut inner = [0; 4];
+    for (s, v) in inner.iter_mut().enumerate().take(m) {
+        *v = mid(s);
+    }
+    out.push(Piece {
+        facet: k,
+        kind: if m == 3 {
+            PieceKind::Triangle
+        } else {
+            PieceKind::Quad
+        },
+        nodes: inner,
+        free: [false; 4],
+    });
+    out
 }
 
 /// Nearest-node search on a node set (node-to-node), with the ties of a loop

@@ -10,14 +10,16 @@
 //! with the body on their left (the order in which the owning cell lists the two
 //! nodes), and `Facet::cell` is the owning cell.
 //!
-//! 3D ([`box_mesh`], [`hemisphere`]): cells have positive volumes (Tet4) or
-//! positive Jacobians at their 8 corners (Hex8, VTK order); a surface's facets
+//! 3D ([`box_mesh`], [`hemisphere`], [`hemisphere_of_kind`]): cells have positive volumes (Tet4) or
+//! positive Jacobians at their 8 corners (Hex8, VTK order), or are those made
+//! second-order (Tet10, Hex20); a surface's facets
 //! are faces of their cells with the node order of [`CellKind::facets`](crate::CellKind::facets)
 //! (right-hand normal pointing out of the body).
 
 mod box3d;
 mod disk;
 mod hemisphere;
+mod hemisphere_kinds;
 mod rectangle;
 mod split;
 #[cfg(test)]
@@ -26,6 +28,7 @@ mod tests;
 pub use box3d::{box_mesh, BoxSide};
 pub use disk::{half_disk, quarter_disk};
 pub use hemisphere::hemisphere;
+pub use hemisphere_kinds::hemisphere_of_kind;
 pub use rectangle::{rectangle, RectSide};
 
 use crate::{Facet, Mesh, MeshError, Surface};

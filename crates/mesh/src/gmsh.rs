@@ -217,6 +217,8 @@ fn cell_kind(t: i32, dim: usize) -> Option<CellKind> {
         (2, 16) => Some(CellKind::Quad8),
         (3, 4) => Some(CellKind::Tet4),
         (3, 5) => Some(CellKind::Hex8),
+        (3, 11) => Some(CellKind::Tet10),
+        (3, 17) => Some(CellKind::Hex20),
         _ => None,
     }
 }
@@ -226,7 +228,8 @@ fn facet_corners(t: i32, dim: usize) -> Option<usize> {
     match (dim, t) {
         (2, 1) | (2, 8) => Some(2),
         (3, 2) => Some(3),
-        (3, 3) => Some(4),
+        (3, 3) | (3, 16) => Some(4),
+        (3, 9) => Some(3),
         _ => None,
     }
 }
@@ -236,7 +239,7 @@ fn supported_list(dim: usize) -> String {
     let (cells, facets): (&[i32], &[i32]) = if dim == 2 {
         (&[2, 3, 9, 16], &[1, 8])
     } else {
-        (&[4, 5], &[2, 3])
+        (&[4, 5, 11, 17], &[2, 3, 9, 16])
     };
     let names = |ts: &[i32]| {
         ts.iter()

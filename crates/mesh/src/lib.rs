@@ -15,6 +15,7 @@ pub mod gmsh;
 pub mod nested_dissection;
 pub mod partition;
 pub mod quadratic;
+pub mod quadratic3d;
 pub mod vec3;
 
 use std::collections::BTreeMap;
@@ -40,6 +41,45 @@ pub enum CellKind {
     Tet4,
     /// Trilinear hexahedron (8 nodes).
     Hex8,
+    /// Quadratic tetrahedron: 4 corners, then the mid-sides of the edges
+    /// 0-1, 1-2, 2-0, 0-3, 1-3, 2-3 (the VTK order; Gmsh swaps the last two).
+    Tet10,
+    /// Serendipity hexahedron: 8 corners, then the mid-sides of the edges
+    /// 0-1, 1-2, 2-3, 3-0, 4-5, 5-6, 6-7, 7-4, 0-4, 1-5, 2-6, 3-7 (the VTK
+    /// order; Gmsh numbers them differently).
+    Hex20,
+}
+
+/// The corner pairs of the mid-side nodes of a Tet10, in node order (node
+/// `4 + e` is the middle of edge `e`).
+pub const TET10_EDGES: [[usize; 2]; 6] = [[0, 1], [1, 2], [2, 0], [0, 3], [1, 3], [2, 3]];
+
+/// The corner pairs of the mid-side nodes of a Hex20, in node order (node
+/// `8 + e` is the middle of edge `e`).
+pub const HEX20_EDGES: [[usize; 2]; 12] = [
+    [0, 1],
+    [1, 2],
+    [2, 3],
+    [3, 0],
+    [4, 5],
+    [5, 6],
+    [6, 7],
+    [7, 4],
+    [0, 4],
+    [1, 5],
+    [2, 6],
+    [3, 7],
+];
+
+/// The number of corners of a facet of `len` nodes in a `dim`-dimensional
+/// mesh: 2 in 2D; in 3D 3 for a triangle (Tri3, Tri6) and 4 for a
+/// quadrilateral (Quad4, Quad8).
+pub fn facet_corners(dim: usize, len: usize) -> usize {
+    match (dim, len) {
+        (2, _) => 2,
+        (_, 3 | 6) => 3,
+        _ => 4,
+    }
 }
 
 /// Reference coordinates of the corners of a Hex8 cell, in node order
@@ -65,6 +105,8 @@ impl CellKind {
             CellKind::Quad8 => 8,
             CellKind::Tet4 => 4,
             CellKind::Hex8 => 8,
+            CellKind::Tet10 => 10,
+            CellKind::Hex20 => 20,
         }
     }
 
@@ -72,15 +114,15 @@ impl CellKind {
     pub fn corners(self) -> usize {
         match self {
             CellKind::Tri3 | CellKind::Tri6 => 3,
-            CellKind::Quad4 | CellKind::Quad8 | CellKind::Tet4 => 4,
-            CellKind::Hex8 => 8,
+            CellKind::Quad4 | CellKind::Quad8 | CellKind::Tet4 | CellKind::Tet10 => 4,
+            CellKind::Hex8 | CellKind::Hex20 => 8,
         }
     }
 
     /// Space dimension of the cell.
     pub fn dim(self) -> usize {
         match self {
-            CellKind::Tet4 | CellKind::Hex8 => 3,
+            CellKind::Tet4 | CellKind::Hex8 | CellKind::Tet10 | CellKind::Hex20 => 3,
             _ => 2,
         }
     }
@@ -88,7 +130,7 @@ impl CellKind {
     /// Polynomial order of the cell (1 or 2).
     pub fn order(self) -> usize {
         match self {
-            CellKind::Tri6 | CellKind::Quad8 => 2,
+            CellKind::Tri6 | CellKind::Quad8 | CellKind::Tet10 | CellKind::Hex20 => 2,
             _ => 1,
         }
     }
@@ -102,6 +144,8 @@ impl CellKind {
             CellKind::Quad8 => "quad8",
             CellKind::Tet4 => "tet4",
             CellKind::Hex8 => "hex8",
+            CellKind::Tet10 => "tet10",
+            CellKind::Hex20 => "hex20",
         }
     }
 
@@ -124,6 +168,30 @@ impl CellKind {
                 &[2, 3, 7, 6],
                 &[3, 0, 4, 7],
             ],
+            CellKind::Tet10 => &[
+                &[0, 2, 1, 6, 5, 4],
+                &[0, 1, 3, 4, 8, 7],
+                &[1, 2, 3, 5, 9, 8],
+                &[0, 3, 2, 7, 9, 6],
+            ],
+            CellKind::Hex20 => &[
+                &[0, 3, 2, 1, 11, 10, 9, 8],
+                &[4, 5, 6, 7, 12, 13, 14, 15],
+                &[0, 1, 5, 4, 8, 17, 12, 16],
+                &[1, 2, 6, 5, 9, 18, 13, 17],
+                &[2, 3, 7, 6, 10, 19, 14, 18],
+                &[3, 0, 4, 7, 11, 16, 15, 19],
+            ],
+        }
+    }
+
+    /// The corner pairs of the mid-side nodes of a second-order 3D kind
+    /// (Tet10, Hex20), in node order; empty for the other kinds.
+    pub fn edges(self) -> &'static [[usize; 2]] {
+        match self {
+            CellKind::Tet10 => &TET10_EDGES,
+            CellKind::Hex20 => &HEX20_EDGES,
+            _ => &[],
         }
     }
 }
@@ -285,7 +353,7 @@ impl Mesh {
         let area_vec = if self.dim == 2 {
             let (a, b) = (p(0), p(1));
             [b[1] - a[1], -(b[0] - a[0]), 0.0]
-        } else if f.nodes.len() == 3 {
+        } else if facet_corners(3, f.nodes.len()) == 3 {
             let (u, v) = (vec3::sub(p(1), p(0)), vec3::sub(p(2), p(0)));
             let c = vec3::cross(u, v);
             [0.5 * c[0], 0.5 * c[1], 0.5 * c[2]]
@@ -300,7 +368,7 @@ impl Mesh {
         } else {
             [0.0; 3]
         };
-        let corners = if self.dim == 2 { 2 } else { f.nodes.len() };
+        let corners = facet_corners(self.dim, f.nodes.len());
         let mut mid = [0.0; 3];
         for k in 0..corners {
             for (m, x) in mid.iter_mut().zip(p(k)) {
@@ -321,7 +389,7 @@ impl Mesh {
     pub fn boundary_facets(&self) -> Vec<Facet> {
         let mut count: std::collections::HashMap<Vec<usize>, usize> = Default::default();
         let key = |cell: &Cell, local: &[usize]| {
-            let corners = if cell.kind.dim() == 2 { 2 } else { local.len() };
+            let corners = facet_corners(cell.kind.dim(), local.len());
             let mut k: Vec<usize> = local[..corners].iter().map(|&i| cell.nodes[i]).collect();
             k.sort_unstable();
             k
@@ -415,14 +483,15 @@ impl Mesh {
                     self.dim
                 )));
             }
-            if cell.kind == CellKind::Tet4 {
+            if matches!(cell.kind, CellKind::Tet4 | CellKind::Tet10) {
                 let p: Vec<[f64; 3]> = cell.nodes.iter().map(|&n| self.coords[n]).collect();
                 let c3 = vec3::cross(vec3::sub(p[2], p[0]), vec3::sub(p[3], p[0]));
                 let v = vec3::sub(p[1], p[0]);
                 let vol = (v[0] * c3[0] + v[1] * c3[1] + v[2] * c3[2]) / 6.0;
                 if vol <= 0.0 || vol.is_nan() {
                     return Err(MeshError::Invalid(format!(
-                        "cell {c} (tet4) has a non-positive volume {vol:e}"
+                        "cell {c} ({}) has a non-positive volume {vol:e}",
+                        cell.kind.name()
                     )));
                 }
             }

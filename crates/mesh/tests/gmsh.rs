@@ -481,17 +481,22 @@ fn v41_cube_of_six_tetrahedra() {
 
 #[test]
 fn unsupported_element_type_is_named_and_counted() {
-    // two 10-node tetrahedra (type 11): only the ids matter here
-    let mut text = String::from("$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n10\n");
-    for i in 1..=10 {
+    // two 14-node pyramids (type 14): only the ids matter here
+    let mut text = String::from("$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n14\n");
+    for i in 1..=14 {
         text += &format!("{i} {} {} {}\n", i % 2, (i / 2) % 2, i / 4);
     }
-    text += "$EndNodes\n$Elements\n3\n1 11 2 1 1 1 2 3 4 5 6 7 8 9 10\n\
-             2 11 2 1 1 1 2 3 4 5 6 7 8 9 10\n3 15 2 0 1 1\n$EndElements\n";
+    let ids: Vec<String> = (1..=14).map(|i| i.to_string()).collect();
+    let ids = ids.join(" ");
+    text += &format!(
+        "$EndNodes\n$Elements\n3\n1 14 2 1 1 {ids}\n2 14 2 1 1 {ids}\n3 15 2 0 1 1\n$EndElements\n"
+    );
     let e = parse_err(&text, 3);
-    assert!(e.contains("2 × 10-node tetrahedron (type 11)"), "{e}");
+    assert!(e.contains("2 × 14-node pyramid (type 14)"), "{e}");
     assert!(e.contains("4-node tetrahedron (type 4)"), "{e}");
     assert!(e.contains("8-node hexahedron (type 5)"), "{e}");
+    assert!(e.contains("10-node tetrahedron (type 11)"), "{e}");
+    assert!(e.contains("20-node hexahedron (type 17)"), "{e}");
     // and what to set in Gmsh to get supported cells
     assert!(e.contains("Mesh.ElementOrder = 1"), "{e}");
 
@@ -516,13 +521,13 @@ fn unsupported_element_type_is_named_and_counted() {
 
 #[test]
 fn unsupported_facet_of_a_physical_group() {
-    // a 6-node triangle as a physical face of a 3D mesh of tetrahedra
+    // a 9-node quadrangle as a physical face of a 3D mesh of tetrahedra
     let text = CUBE_TET_V41.replace(
         "2 1 2 2\n1 1 2 4\n2 1 4 3\n",
-        "2 1 9 2\n1 1 2 4 1 2 4\n2 1 4 3 1 4 3\n",
+        "2 1 10 2\n1 1 2 4 1 2 4 1 2 4\n2 1 4 3 1 4 3 1 4 3\n",
     );
     let e = parse_err(&text, 3);
-    assert!(e.contains("2 × 6-node triangle (type 9)"), "{e}");
+    assert!(e.contains("2 × 9-node quadrangle (type 10)"), "{e}");
 }
 
 #[test]

@@ -33,12 +33,14 @@ pub struct VtuPiece<'a> {
 /// The VTK cell type number of an `n`-node cell in `dim` dimensions.
 fn cell_type(dim: usize, n: usize) -> Result<u8, String> {
     match (dim, n) {
-        (2, 3) => Ok(5),  // VTK_TRIANGLE
-        (2, 4) => Ok(9),  // VTK_QUAD
-        (2, 6) => Ok(22), // VTK_QUADRATIC_TRIANGLE
-        (2, 8) => Ok(23), // VTK_QUADRATIC_QUAD
-        (3, 4) => Ok(10), // VTK_TETRA
-        (3, 8) => Ok(12), // VTK_HEXAHEDRON
+        (2, 3) => Ok(5),   // VTK_TRIANGLE
+        (2, 4) => Ok(9),   // VTK_QUAD
+        (2, 6) => Ok(22),  // VTK_QUADRATIC_TRIANGLE
+        (2, 8) => Ok(23),  // VTK_QUADRATIC_QUAD
+        (3, 4) => Ok(10),  // VTK_TETRA
+        (3, 8) => Ok(12),  // VTK_HEXAHEDRON
+        (3, 10) => Ok(24), // VTK_QUADRATIC_TETRA (node order of CellKind::Tet10)
+        (3, 20) => Ok(25), // VTK_QUADRATIC_HEXAHEDRON (node order of CellKind::Hex20)
         (d, other) => Err(format!("no VTK cell type for a {other}-node cell in {d}D")),
     }
 }

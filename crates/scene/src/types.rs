@@ -401,6 +401,9 @@ pub enum Generator {
         pole: [f64; 3],
         #[serde(default = "one")]
         grading: f64,
+        /// `hex8` (default) | `tet4` | `hex20` | `tet10`.
+        #[serde(default = "Element::hex8")]
+        element: Element,
     },
     /// Axisymmetric only. Surfaces: axis, flat, arc. Grading towards the pole on the
     /// axis.
@@ -427,14 +430,14 @@ impl Generator {
         }
     }
 
-    /// The element type of the generated cells (`hemisphere`: hex8).
+    /// The element type of the generated cells.
     pub fn element(&self) -> Element {
         match self {
             Generator::Rectangle { element, .. }
             | Generator::HalfDisk { element, .. }
             | Generator::Box { element, .. }
-            | Generator::QuarterDisk { element, .. } => *element,
-            Generator::Hemisphere { .. } => Element::Hex8,
+            | Generator::QuarterDisk { element, .. }
+            | Generator::Hemisphere { element, .. } => *element,
         }
     }
 
@@ -469,7 +472,8 @@ fn one() -> f64 {
 }
 
 /// Element type: `quad4` | `tri3` | `quad8` | `tri6` (2D, the last two of
-/// second order), `hex8` | `tet4` (3D).
+/// second order), `hex8` | `tet4` | `hex20` | `tet10` (3D, the last two of
+/// second order).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Element {
@@ -479,6 +483,8 @@ pub enum Element {
     Tri6,
     Hex8,
     Tet4,
+    Hex20,
+    Tet10,
 }
 
 impl Element {
@@ -498,6 +504,8 @@ impl Element {
             Element::Tri6 => "tri6",
             Element::Hex8 => "hex8",
             Element::Tet4 => "tet4",
+            Element::Hex20 => "hex20",
+            Element::Tet10 => "tet10",
         }
     }
 }

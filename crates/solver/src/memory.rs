@@ -306,10 +306,17 @@ fn body_size(body: &scene::Body, dim: usize) -> Option<BodySize> {
         } => quarter_disk_size(*divisions as f64, *grading, *element),
         G::Box {
             divisions, element, ..
-        } => box_size(divisions.map(|d| d as f64), *element),
+        } => solid_kind(
+            box_size(divisions.map(|d| d as f64), *element),
+            *element,
+            6.0,
+        ),
         G::Hemisphere {
-            divisions, grading, ..
-        } => hemisphere_size(*divisions as f64, *grading),
+            divisions,
+            grading,
+            element,
+            ..
+        } => solid_kind(hemisphere_size(*divisions as f64, *grading), *element, 12.0),
     })
 }
 
@@ -439,6 +446,35 @@ fn prescribed_dofs(sc: &scene::Scene, name: &str, size: &BodySize) -> f64 {
     dofs.min(size.dim as f64 * size.nodes)
 }
 
+/// A solid generator's hexahedral size made into `element`: tetrahedra
+/// (`tets_per_hex` a hexahedron: 6 for the box, 12 about a centre node for
+/// the hemisphere; one node a hexahedron more there), and second order:
+/// one node more per edge (3 edges a node on hexahedra, 7 on tetrahedra),
+/// 20 or 10 nodes a cell, about 3× the neighbours of a node, 3× (Quad8)
+/// or 4× (Tri6) the nodes of a surface.
+fn solid_kind(mut size: BodySize, element: scene::Element, tets_per_hex: f64) -> BodySize {
+    use scene::Element as E;
+    let hexes = size.cells;
+    if matches!(element, E::Tet4 | E::Tet10) && tets_per_hex > 6.0 {
+        size.nodes += hexes;
+        size.cells = tets_per_hex * hexes;
+        (size.per_cell, size.neighbours) = (4.0, 15.0);
+    }
+    let (nodes, surface) = match element {
+        E::Hex20 => (4.0, 3.0),
+        E::Tet10 => (8.0, 4.0),
+        _ => return size,
+    };
+    size.nodes *= nodes;
+    size.per_cell = if element == E::Hex20 { 20.0 } else { 10.0 };
+    size.neighbours *= 3.0;
+    size.width = size.nodes.cbrt().max(size.width);
+    for s in &mut size.surfaces {
+        s.1 *= surface;
+    }
+    size
+}
+
 /// `crates/mesh` `box_mesh`: an nx × ny × nz grid of hexahedra, or six
 /// tetrahedra a hexahedron.
 fn box_size([nx, ny, nz]: [f64; 3], element: scene::Element) -> BodySize {
@@ -446,7 +482,7 @@ fn box_size([nx, ny, nz]: [f64; 3], element: scene::Element) -> BodySize {
     // a node of a line of p nodes has 3 neighbours on it, itself included,
     // but the two ends 2: (3p − 2)/p on average
     let line = |p: f64| (3.0 * p - 2.0) / p;
-    let (cells, per_cell, neighbours) = if element == scene::Element::Tet4 {
+    let (cells, per_cell, neighbours) = if matches!(element, scene::Element::Tet4 | scene::Element::Tet10) {
         (6.0 * nx * ny * nz, 4.0, 15.0)
     } else {
         (nx * ny * nz, 8.0, line(px) * line(py) * line(pz))

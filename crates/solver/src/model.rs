@@ -7,7 +7,7 @@ use signorini_contact::friction::{FrictionLaw, PointStatus};
 use signorini_fem::{Elasticity, Formulation as FemFormulation, Model as FemModel};
 use signorini_geometry::ContactPoint;
 use signorini_mesh::generators::{
-    box_mesh, half_disk, hemisphere, quarter_disk, rectangle, BoxSide, RectSide,
+    box_mesh, half_disk, hemisphere_of_kind, quarter_disk, rectangle, BoxSide, RectSide,
 };
 use signorini_mesh::{CellKind, Mesh};
 use signorini_scene as scene;
@@ -164,6 +164,8 @@ fn cell_kind(e: scene::Element) -> CellKind {
         scene::Element::Tri6 => CellKind::Tri6,
         scene::Element::Hex8 => CellKind::Hex8,
         scene::Element::Tet4 => CellKind::Tet4,
+        scene::Element::Hex20 => CellKind::Hex20,
+        scene::Element::Tet10 => CellKind::Tet10,
     }
 }
 
@@ -332,7 +334,15 @@ pub fn build_mesh(body: &scene::Body, entry: &str, dim: usize) -> Result<Mesh, S
             divisions,
             pole,
             grading,
-        }) => hemisphere(*center, *radius, *divisions, *pole, *grading),
+            element,
+        }) => hemisphere_of_kind(
+            *center,
+            *radius,
+            *divisions,
+            *pole,
+            *grading,
+            cell_kind(*element),
+        ),
         scene::MeshSpec::Generator(G::QuarterDisk {
             center,
             radius,

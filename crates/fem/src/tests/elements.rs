@@ -70,6 +70,24 @@ fn d_matrix_every_model() {
 
 /// The corners of a 2D cell followed by the middles of its edges (corner k
 /// to corner k + 1), the middle of edge `bent.0` moved by `bent.1` in x.
+/// A solid's corners then the midpoints of its `edges`, the first one's
+/// moved by `bent` along x.
+fn with_edge_midsides(corners: &[[f64; 3]], edges: &[[usize; 2]], bent: f64) -> Vec<[f64; 3]> {
+    let mids = edges.iter().enumerate().map(|(e, &[i, j])| {
+        let (p, q) = (corners[i], corners[j]);
+        let mut m = [
+            0.5 * (p[0] + q[0]),
+            0.5 * (p[1] + q[1]),
+            0.5 * (p[2] + q[2]),
+        ];
+        if e == 0 {
+            m[0] += bent;
+        }
+        m
+    });
+    corners.iter().copied().chain(mids).collect()
+}
+
 fn with_midsides(corners: &[[f64; 3]], bent: (usize, f64)) -> Vec<[f64; 3]> {
     let n = corners.len();
     let mids = (0..n).map(|k| {
@@ -97,27 +115,29 @@ fn one_cell(kind: CellKind) -> signorini_mesh::Mesh {
         [1.1, 1.3, 0.0],
         [0.0, 0.9, 0.0],
     ];
+    let tet = [
+        [0.0, 0.0, 0.0],
+        [1.2, 0.1, -0.1],
+        [0.2, 1.1, 0.1],
+        [0.1, 0.3, 0.9],
+    ];
+    let mut hex = Vec::new();
+    for (z, k) in [(0.0, 0.0), (1.0, 1.0)] {
+        for (x, y) in [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)] {
+            hex.push([x + 0.1 * y * k, y + 0.15 * x * z, z + 0.2 * x * y]);
+        }
+    }
     let coords = match kind {
         CellKind::Tri3 => tri.to_vec(),
         CellKind::Quad4 => quad.to_vec(),
         // one slightly curved edge
         CellKind::Tri6 => with_midsides(&tri, (2, 0.05)),
         CellKind::Quad8 => with_midsides(&quad, (1, 0.06)),
-        CellKind::Tet4 => vec![
-            [0.0, 0.0, 0.0],
-            [1.2, 0.1, -0.1],
-            [0.2, 1.1, 0.1],
-            [0.1, 0.3, 0.9],
-        ],
-        CellKind::Hex8 => {
-            let mut c = Vec::new();
-            for (z, k) in [(0.0, 0.0), (1.0, 1.0)] {
-                for (x, y) in [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)] {
-                    c.push([x + 0.1 * y * k, y + 0.15 * x * z, z + 0.2 * x * y]);
-                }
-            }
-            c
-        }
+        CellKind::Tet4 => tet.to_vec(),
+        CellKind::Hex8 => hex.clone(),
+        // one slightly bent edge
+        CellKind::Tet10 => with_edge_midsides(&tet, &signorini_mesh::TET10_EDGES, 0.04),
+        CellKind::Hex20 => with_edge_midsides(&hex, &signorini_mesh::HEX20_EDGES, 0.05),
     };
     single(kind, coords)
 }
@@ -190,8 +210,8 @@ fn quadrature_weights_sum_to_the_reference_measure() {
         let reference = match kind {
             CellKind::Tri3 | CellKind::Tri6 => 0.5,
             CellKind::Quad4 | CellKind::Quad8 => 4.0,
-            CellKind::Tet4 => 1.0 / 6.0,
-            CellKind::Hex8 => 8.0,
+            CellKind::Tet4 | CellKind::Tet10 => 1.0 / 6.0,
+            CellKind::Hex8 | CellKind::Hex20 => 8.0,
         };
         for model in models_of(kind) {
             let w: f64 = quadrature(kind, model).iter().map(|q| q.w).sum();

@@ -221,3 +221,34 @@ fn axisymmetric_disk_area() {
         assert_eq!(axis, 0.0);
     }
 }
+
+/// The consistent measures of a flat quadratic face: 0 at the Tri6
+/// corners and A/3 at its mid-sides; −A/12 at the Quad8 corners and A/3 at
+/// its mid-sides (the top of a one-cell Tet10 / Hex20 box of 2 × 1).
+#[test]
+fn quadratic_faces_have_their_consistent_measures() {
+    use signorini_mesh::generators::box_mesh;
+    for (kind, corner, mid) in [
+        (CellKind::Hex20, -1.0 / 12.0, 1.0 / 3.0),
+        (CellKind::Tet10, 0.0, 1.0 / 3.0),
+    ] {
+        let m = box_mesh([0.0; 3], [2.0, 1.0, 1.0], [1, 1, 1], kind, None).unwrap();
+        let top = m.surface("zmax").unwrap();
+        let area = 2.0;
+        assert!((surface_measure(&m, top, Model::Solid) - area).abs() <= 1e-14 * area);
+        for f in &top.facets {
+            let mut one = top.clone();
+            one.facets = vec![f.clone()];
+            let a = m.facet_normal(f).1;
+            let corners = signorini_mesh::facet_corners(3, f.nodes.len());
+            for (n, w) in tributary_measure(&m, &one, Model::Solid) {
+                let pos = f.nodes.iter().position(|&v| v == n).unwrap();
+                let want = if pos < corners { corner } else { mid } * a;
+                assert!(
+                    (w - want).abs() <= 1e-14 * a,
+                    "{kind:?} node {pos}: {w} vs {want}"
+                );
+            }
+        }
+    }
+}

@@ -10,6 +10,30 @@ use signorini_mesh::CellKind;
 
 const SIZE: [f64; 3] = [2.0, 1.0, 1.5];
 
+/// The solid kinds, first and second order.
+const SOLIDS: [CellKind; 4] = [
+    CellKind::Hex8,
+    CellKind::Tet4,
+    CellKind::Hex20,
+    CellKind::Tet10,
+];
+
+/// [`boxed`] in cells of `kind`: Hex20 and Tet10 are the Hex8 and Tet4 box
+/// made second-order (straight edges, mid-side nodes at their midpoints).
+fn solid_box(kind: CellKind, div: [usize; 3], amp: f64) -> signorini_mesh::Mesh {
+    let first = match kind {
+        CellKind::Hex20 => CellKind::Hex8,
+        CellKind::Tet10 => CellKind::Tet4,
+        other => other,
+    };
+    let m = boxed(first, SIZE, div, amp);
+    if kind.order() == 2 {
+        signorini_mesh::quadratic3d::to_second_order_3d(&m).unwrap()
+    } else {
+        m
+    }
+}
+
 /// `u = u0 + G x` on the boundary of a distorted box of hexahedra or
 /// tetrahedra: the interior takes the same linear field, every cell the
 /// uniform stress `D ε`.
@@ -22,8 +46,8 @@ fn patch_test_hex_and_tet() {
     ];
     let u0 = [3.0e-4, -1.0e-4, 2.0e-4];
     let el = mat(Model::Solid);
-    for kind in [CellKind::Hex8, CellKind::Tet4] {
-        let m = boxed(kind, SIZE, [4, 3, 3], 0.2);
+    for kind in SOLIDS {
+        let m = solid_box(kind, [4, 3, 3], 0.2);
         let boundary = boundary_nodes(&m);
         assert!(m.n_nodes() - boundary.len() >= 6, "{kind:?}");
         let exact = linear_3d(&m, u0, g);
@@ -43,8 +67,8 @@ fn patch_test_hex_and_tet() {
 fn uniaxial_compression_of_a_box() {
     let p = 7.5;
     let el = mat(Model::Solid);
-    for kind in [CellKind::Hex8, CellKind::Tet4] {
-        let m = boxed(kind, SIZE, [3, 2, 4], 0.2);
+    for kind in SOLIDS {
+        let m = solid_box(kind, [3, 2, 4], 0.2);
         let top = m.surface("zmax").unwrap();
         let f = traction_load(&m, top, &[0.0, 0.0, -p], Model::Solid);
         // the load sums to −p × the top area
@@ -86,8 +110,8 @@ fn uniaxial_compression_of_a_box() {
 
 #[test]
 fn assembled_3d_stiffness_kernel() {
-    for kind in [CellKind::Hex8, CellKind::Tet4] {
-        let m = boxed(kind, SIZE, [2, 2, 2], 0.2);
+    for kind in SOLIDS {
+        let m = solid_box(kind, [2, 2, 2], 0.2);
         let k = dense(&assemble_stiffness(&m, &mat(Model::Solid)));
         let n = k.nrows();
         assert_eq!(n, 3 * m.n_nodes());

@@ -76,7 +76,9 @@ impl BoxSide {
 /// for a positive volume.
 ///
 /// Surfaces "xmin", "xmax", "ymin", "ymax", "zmin", "zmax": the boundary facets
-/// (quadrilaterals, or triangles for Tet4) on each face, each with its cell and
+/// (quadrilaterals, or triangles for Tet4; their Quad8 / Tri6 faces for
+/// Hex20 / Tet10, the Hex8 / Tet4 grid made second-order by
+/// [`crate::quadratic3d::to_second_order_3d`]) on each face, each with its cell and
 /// its node order from [`CellKind::facets`] (outward right-hand normal).
 pub fn box_mesh(
     origin: [f64; 3],
@@ -100,12 +102,18 @@ pub fn box_mesh(
     if !origin.iter().all(|o| o.is_finite()) {
         return Err(MeshError::Invalid("box: origin is not finite".into()));
     }
-    if !matches!(kind, CellKind::Hex8 | CellKind::Tet4) {
-        return Err(MeshError::Invalid(format!(
-            "box: cells must be hex8 or tet4, got {}",
-            kind.name()
-        )));
-    }
+    let requested = kind;
+    let first_order = match kind {
+        CellKind::Hex8 | CellKind::Hex20 => CellKind::Hex8,
+        CellKind::Tet4 | CellKind::Tet10 => CellKind::Tet4,
+        _ => {
+            return Err(MeshError::Invalid(format!(
+                "box: cells must be hex8, tet4, hex20 or tet10, got {}",
+                kind.name()
+            )))
+        }
+    };
+    let kind = first_order;
     let grading = match grading {
         Some((side, r)) => {
             check_ratio("box", r)?;
@@ -139,6 +147,9 @@ pub fn box_mesh(
             .expect("a boundary facet of the box lies on one of its faces")
     })?;
     mesh.check()?;
+    if requested.order() == 2 {
+        return crate::quadratic3d::to_second_order_3d(&mesh);
+    }
     Ok(mesh)
 }
 

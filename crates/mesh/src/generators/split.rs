@@ -61,7 +61,7 @@ pub(super) fn build_2d(
         CellKind::Quad4 | CellKind::Tri3 => kind,
         CellKind::Quad8 => CellKind::Quad4,
         CellKind::Tri6 => CellKind::Tri3,
-        CellKind::Tet4 | CellKind::Hex8 => {
+        CellKind::Tet4 | CellKind::Hex8 | CellKind::Tet10 | CellKind::Hex20 => {
             return Err(MeshError::Invalid(format!(
                 "a 2D generator cannot make {} cells (quad4, tri3, quad8, tri6)",
                 kind.name()

@@ -163,7 +163,7 @@ fn check_groups_kept(blocks: &[Block], names: &Names, dim: usize) -> Result<(), 
 
 /// What to change in Gmsh to get supported cells instead of the
 /// `unsupported` types, when there is such a setting: 8-node instead of
-/// 9-node quadrangles, first-order cells for any other higher order; empty
+/// 9-node quadrangles, 20-node instead of 27-node hexahedra, first-order cells for any other higher order; empty
 /// otherwise (prisms, pyramids).
 fn remedy(unsupported: &BTreeMap<i32, usize>, dim: usize) -> &'static str {
     let higher_order =
@@ -171,12 +171,16 @@ fn remedy(unsupported: &BTreeMap<i32, usize>, dim: usize) -> &'static str {
     if dim == 2 && unsupported.keys().all(|&t| t == 10) {
         " (Gmsh writes 8-node quadrangles instead of 9-node ones with \
          Mesh.SecondOrderIncomplete = 1)"
+    } else if dim == 3 && unsupported.keys().all(|&t| t == 12) {
+        " (Gmsh writes 20-node hexahedra instead of 27-node ones with \
+         Mesh.SecondOrderIncomplete = 1)"
     } else if unsupported.keys().any(|&t| higher_order(t)) {
         if dim == 2 {
             " (mesh with Mesh.ElementOrder = 1, or 2 for 6-node triangles and, with \
              Mesh.SecondOrderIncomplete = 1, 8-node quadrangles)"
         } else {
-            " (3D cells are first order only: mesh with Mesh.ElementOrder = 1)"
+            " (mesh with Mesh.ElementOrder = 1, or 2 for 10-node tetrahedra and, with \
+             Mesh.SecondOrderIncomplete = 1, 20-node hexahedra)"
         }
     } else {
         ""
@@ -230,9 +234,9 @@ fn read_cells<'a>(
             )));
         }
         for el in b.nodes.chunks_exact(b.n_per) {
-            let nodes = el
+            let nodes = gmsh_to_cell_order(kind)
                 .iter()
-                .map(|&t| tags.lookup(t))
+                .map(|&k| tags.lookup(el[k]))
                 .collect::<Result<_, _>>()?;
             if !b.physical.is_empty() {
                 cell_groups.push((cells.len(), &b.physical));
@@ -372,7 +376,7 @@ impl<'a> FacetIndex<'a> {
     ) -> FacetIndex<'a> {
         let dim = mesh.dim;
         let corner_key = |nodes: &[usize], local: &[usize]| {
-            let m = if dim == 2 { 2 } else { local.len() };
+            let m = crate::facet_corners(dim, local.len());
             let mut k: Vec<usize> = local[..m].iter().map(|&i| nodes[i]).collect();
             k.sort_unstable();
             k
@@ -494,6 +498,22 @@ fn add_surfaces(
     Ok(())
 }
 
+/// Node `i` of a cell of `kind` is node `order[i]` of the Gmsh element.
+/// Gmsh and [`CellKind`] (VTK) agree but for the mid-side nodes of the
+/// second-order solids: Gmsh numbers the Tet10's edges 0-1, 1-2, 2-0, 3-0,
+/// 3-2, 3-1 and the Hex20's 0-1, 0-3, 0-4, 1-2, 1-5, 2-3, 2-6, 3-7, 4-5, 4-7,
+/// 5-6, 6-7.
+fn gmsh_to_cell_order(kind: CellKind) -> &'static [usize] {
+    const IDENTITY: [usize; 8] = [0, 1, 2, 3, 4, 5, 6, 7];
+    match kind {
+        CellKind::Tet10 => &[0, 1, 2, 3, 4, 5, 6, 7, 9, 8],
+        CellKind::Hex20 => &[
+            0, 1, 2, 3, 4, 5, 6, 7, 8, 11, 13, 9, 16, 18, 19, 17, 10, 12, 14, 15,
+        ],
+        other => &IDENTITY[..other.nodes()],
+    }
+}
+
 /// Turns a cell over if it is clockwise (2D) or of negative volume (3D),
 /// keeping each mid-side node on its edge.
 fn orient(cell: &mut Cell, coords: &[[f64; 3]]) {
@@ -517,14 +537,18 @@ fn orient(cell: &mut Cell, coords: &[[f64; 3]]) {
                 _ => &[0, 3, 2, 1, 7, 6, 5, 4],
             }
         }
-        CellKind::Tet4 => {
+        CellKind::Tet4 | CellKind::Tet10 => {
             let (a, b, c) = (sub(p(1), p(0)), sub(p(2), p(0)), sub(p(3), p(0)));
             if dot(a, cross(b, c)) >= 0.0 {
                 return;
             }
-            &[0, 2, 1, 3]
+            if cell.kind == CellKind::Tet4 {
+                &[0, 2, 1, 3]
+            } else {
+                &[0, 2, 1, 3, 6, 5, 4, 7, 9, 8]
+            }
         }
-        CellKind::Hex8 => {
+        CellKind::Hex8 | CellKind::Hex20 => {
             // Jacobian at the centre: mean edge vectors along ξ, η, ζ.
             let mut e = [[0.0; 3]; 3];
             for (dir, pairs) in [
@@ -545,7 +569,13 @@ fn orient(cell: &mut Cell, coords: &[[f64; 3]]) {
             if dot(e[0], cross(e[1], e[2])) >= 0.0 {
                 return;
             }
-            &[4, 5, 6, 7, 0, 1, 2, 3]
+            if cell.kind == CellKind::Hex8 {
+                &[4, 5, 6, 7, 0, 1, 2, 3]
+            } else {
+                &[
+                    4, 5, 6, 7, 0, 1, 2, 3, 12, 13, 14, 15, 8, 9, 10, 11, 16, 17, 18, 19,
+                ]
+            }
         }
     };
     cell.nodes = perm.iter().map(|&i| cell.nodes[i]).collect();

@@ -5,6 +5,9 @@ use super::*;
 /// The elements of the plane generators (rectangle, half and quarter disk).
 const PLANE_ELEMENTS: [Element; 4] = [Element::Quad4, Element::Tri3, Element::Quad8, Element::Tri6];
 
+/// The elements of the solid generators (box, hemisphere).
+const SOLID_ELEMENTS: [Element; 4] = [Element::Hex8, Element::Tet4, Element::Hex20, Element::Tet10];
+
 /// The checks of the entries of one generator `g` of the mesh entry `e`.
 pub(super) struct GeneratorCheck<'a> {
     pub(super) e: &'a str,
@@ -33,13 +36,7 @@ impl GeneratorCheck<'_> {
                 element,
                 grading,
             } => {
-                self.block(
-                    origin,
-                    size,
-                    divisions,
-                    *element,
-                    &[Element::Hex8, Element::Tet4],
-                )?;
+                self.block(origin, size, divisions, *element, &SOLID_ELEMENTS)?;
                 self.grading(grading, &["xmin", "xmax", "ymin", "ymax", "zmin", "zmax"])
             }
             Generator::HalfDisk {
@@ -56,7 +53,9 @@ impl GeneratorCheck<'_> {
                 divisions,
                 pole,
                 grading,
+                element,
             } => {
+                self.element(*element, &SOLID_ELEMENTS)?;
                 self.disk(center, *radius, *divisions)?;
                 non_zero(&format!("{e}.pole"), pole)?;
                 grading_ratio(&format!("{e}.grading"), *grading)

@@ -8,6 +8,7 @@ use signorini_geometry::mortar3d::mortar3d_pairing;
 use signorini_geometry::pairing::{
     contact_element_pairing, node_to_node_pairing, node_to_segment_pairing,
 };
+use signorini_geometry::quadratic_slave::{mid_side_edges, recombine_rows, recombined_measures};
 use signorini_geometry::{ContactPoint, MasterGeometry, NormalRule, TermSide};
 use signorini_scene as scene;
 
@@ -132,6 +133,25 @@ pub(crate) fn check_contact_supported(
     Ok(())
 }
 
+/// 3D mortar integrates linear faces only: a surface of quadratic faces
+/// (Tet10, Hex20 cells) is refused, naming the contact and what is accepted.
+fn refuse_quadratic_mortar(
+    slave: &signorini_mesh::Surface,
+    master: &MasterGeometry<'_>,
+    entry: &str,
+) -> Result<(), SolveError> {
+    let quadratic = |s: &signorini_mesh::Surface| s.facets.iter().any(|f| f.nodes.len() > 4);
+    let master_quadratic =
+        matches!(master, MasterGeometry::Surface { surface, .. } if quadratic(surface));
+    if quadratic(slave) || master_quadratic {
+        return Err(input(format!(
+            "{entry}.discretization: \"mortar\" in 3D takes linear faces (tet4, hex8 cells); the {} surface has quadratic faces (tet10 or hex20 cells): use discretization = \"node_to_face\"",
+            if quadratic(slave) { "slave" } else { "master" }
+        )));
+    }
+    Ok(())
+}
+
 /// The named contact surface of a body (`side` is "slave" or "master"),
 /// refused when it is unknown or has no nodes.
 fn contact_surface<'a>(
@@ -240,6 +260,9 @@ fn contact_pair(
     let rule = normal_rule(c.normal);
     let mi = body_model(&c.master.body);
     let master = master_geometry(sc, bodies, c, mi, &entry)?;
+    if c.discretization == scene::Discretization::Mortar && sc.dimension == 3 {
+        refuse_quadratic_mortar(s_surf, &master, &entry)?;
+    }
     // Mortar rows come with their own measure D_jj (contact::mortar, mortar3d).
     let (pairing, measure) = match c.discretization {
         scene::Discretization::NodeToNode => {
@@ -258,7 +281,14 @@ fn contact_pair(
         },
         _ => (node_to_segment_pairing(s_mesh, s_surf, &master, rule), None),
     };
-    let pairing = pairing.map_err(|e| input(format!("{entry}: {e}")))?;
+    let mut pairing = pairing.map_err(|e| input(format!("{entry}: {e}")))?;
+    // Node-to-face on a quadratic slave: the recombined rows and measures
+    // (geometry's quadratic_slave).
+    let edges = match c.discretization {
+        scene::Discretization::NodeToSegment => mid_side_edges(sc.dimension as usize, s_surf),
+        _ => Vec::new(),
+    };
+    recombine_rows(&mut pairing.points, &edges);
     let dropped = pairing.dropped.note().map(|n| format!("{entry}: {n}"));
     if pairing.points.is_empty() {
         return Err(input(format!(
@@ -269,9 +299,15 @@ fn contact_pair(
     }
     notes.extend(dropped);
     let tributary = measure.unwrap_or_else(|| {
-        signorini_fem::tributary_measure(s_mesh, s_surf, bodies[si].material.model)
-            .into_iter()
-            .collect()
+        let consistent =
+            signorini_fem::tributary_measure(s_mesh, s_surf, bodies[si].material.model)
+                .into_iter()
+                .collect();
+        if edges.is_empty() {
+            consistent
+        } else {
+            recombined_measures(&consistent, &edges)
+        }
     });
     if let Some(interface_nodes) = interface_nodes {
         interface_nodes[si].extend(s_surf.nodes());

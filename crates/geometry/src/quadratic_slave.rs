@@ -1,0 +1,117 @@
+//! Node-to-face rows of a quadratic slave surface (the Tri6 faces of Tet10
+//! cells, the Quad8 faces of Hex20 cells), by a change of basis that makes
+//! every slave weight positive.
+//!
+//! The consistent nodal measures `∫ N_a dS` of a quadratic face are `0` at the
+//! Tri6 corners and `−A/12` at the Quad8 corners (`A/3` at the mid-sides): a
+//! uniform pressure loads the corners of a serendipity face in tension, and a
+//! node-by-node contact row, whose force must be compressive, cannot carry
+//! it (the contact patch test then fails by 30 %). Following Wohlmuth, Popp,
+//! Gee and Wall (2012, "An abstract framework for a priori estimates for
+//! contact problems in 3D with quadratic finite elements", Comput. Mech. 49)
+//! the slave's shape functions are recombined edge by edge, with `α = 1/5`:
+//!
+//! ```text
+//! Ñ_c = N_c + α Σ_{m on an edge at c} N_m,     Ñ_m = (1 − 2α) N_m,
+//! ```
+//!
+//! (`Σ Ñ = Σ N = 1`). The rows are those of the recombined nodal gaps:
+//! `g̃_c = g_c` at a corner and `g̃_m = (g_m − α (g_c1 + g_c2)) / (1 − 2α)` at
+//! the mid-side `m` of the edge `c1`–`c2`, so that the nodal forces are
+//! `f_c = λ_c − α/(1 − 2α) Σ λ_m`, `f_m = λ_m / (1 − 2α)`; and the measures
+//! (pressure = force / measure) are `∫ Ñ_a dS`: on a flat face `A/20` at a
+//! Quad8 corner and `2A/15` at a Tri6 corner, `A/5` at every mid-side, all
+//! positive. A uniform pressure p then has `λ_a = p ∫ Ñ_a ≥ 0`: the
+//! patch test passes on matching meshes. The mid-side row combines its
+//! corners' gaps along its own normal (the same normal on a flat master);
+//! non-penetration is asked of the recombined gaps, as mortar asks it of
+//! weighted gaps.
+
+use crate::pairing::ContactPoint;
+use signorini_mesh::{facet_corners, Surface};
+use std::collections::{BTreeMap, HashMap};
+
+/// The recombination weight α of the corners' shape functions.
+pub const ALPHA: f64 = 0.2;
+
+/// The mid-side nodes of a 3D quadratic surface with the corners of their
+/// edges, `(mid, [c1, c2])`, sorted by mid-side node; empty for a linear
+/// surface.
+pub fn mid_side_edges(dim: usize, surface: &Surface) -> Vec<(usize, [usize; 2])> {
+    let mut out = BTreeMap::new();
+    if dim != 3 {
+        return Vec::new();
+    }
+    for f in &surface.facets {
+        let m = facet_corners(3, f.nodes.len());
+        if f.nodes.len() != 2 * m {
+            continue;
+        }
+        for k in 0..m {
+            out.insert(f.nodes[m + k], [f.nodes[k], f.nodes[(k + 1) % m]]);
+        }
+    }
+    out.into_iter().collect()
+}
+
+/// The measures `∫ Ñ_a dS` from the consistent ones `∫ N_a dS` (see the
+/// module docs).
+pub fn recombined_measures(
+    consistent: &BTreeMap<usize, f64>,
+    edges: &[(usize, [usize; 2])],
+) -> BTreeMap<usize, f64> {
+    let mut out = consistent.clone();
+    for &(m, [c1, c2]) in edges {
+        let t = consistent.get(&m).copied().unwrap_or(0.0);
+        for c in [c1, c2] {
+            *out.entry(c).or_insert(0.0) += ALPHA * t;
+        }
+        out.insert(m, (1.0 - 2.0 * ALPHA) * t);
+    }
+    out
+}
+
+/// Rewrites the row of every mid-side point whose two corners have a point
+/// as the recombined gap `(g_m − α (g_c1 + g_c2)) / (1 − 2α)`: terms and
+/// initial gap (see the module docs). Corner points keep their rows.
+pub fn recombine_rows(points: &mut [ContactPoint], edges: &[(usize, [usize; 2])]) {
+    let at: HashMap<usize, usize> = points
+        .iter()
+        .enumerate()
+        .map(|(i, p)| (p.slave_node, i))
+        .collect();
+    let own = 1.0 / (1.0 - 2.0 * ALPHA);
+    let corner = -ALPHA / (1.0 - 2.0 * ALPHA);
+    let mut new_rows = Vec::new();
+    for &(m, [c1, c2]) in edges {
+        let (Some(&im), Some(&i1), Some(&i2)) = (at.get(&m), at.get(&c1), at.get(&c2)) else {
+            continue;
+        };
+        let mut terms = Vec::new();
+        let mut gap0 = 0.0;
+        for (i, s) in [(im, own), (i1, corner), (i2, corner)] {
+            gap0 += s * points[i].gap0;
+            terms.extend(points[i].terms.iter().map(|t| {
+                let mut t = *t;
+                t.weight *= s;
+                t
+            }));
+        }
+        // one term per (side, node)
+        let mut merged: Vec<crate::pairing::Term> = Vec::with_capacity(terms.len());
+        for t in terms {
+            match merged
+                .iter_mut()
+                .find(|u| u.side == t.side && u.node == t.node)
+            {
+                Some(u) => u.weight += t.weight,
+                None => merged.push(t),
+            }
+        }
+        new_rows.push((im, merged, gap0));
+    }
+    for (i, terms, gap0) in new_rows {
+        points[i].terms = terms;
+        points[i].gap0 = gap0;
+    }
+}
