@@ -236,18 +236,16 @@ mod path_tests {
     use super::*;
 
     /// A pad of n × n × 2 hex8 pressed on a rigid floor (docs/bench/pad),
-    /// with or without friction.
-    fn pad(n: usize, friction: bool, path: &str) -> scene::Scene {
-        let friction = if friction {
-            "friction = { coulomb = 0.3 }"
-        } else {
-            ""
-        };
+    /// with the contact's `friction` entry (empty: frictionless).
+    fn pad(n: usize, friction: &str, path: &str) -> scene::Scene {
         scene::parse_toml(&format!(
             "dimension = 3\nmodel = \"solid\"\n[[materials]]\nname = \"r\"\nyoung = 10.0\npoisson = 0.45\n[[bodies]]\nname = \"pad\"\nmaterial = \"r\"\nmesh = {{ generator = \"box\", origin = [0.0, 0.0, 0.0], size = [1.0, 1.0, 0.1], divisions = [{n}, {n}, 2] }}\n[[bodies]]\nname = \"floor\"\nrigid = {{ shape = \"plane\", point = [0.0, 0.0, 0.0], normal = [0.0, 0.0, 1.0] }}\n[[boundary]]\nbody = \"pad\"\nsurface = \"zmax\"\ndisplacement = {{ x = 0.0, y = 0.0, z = -0.005 }}\n[[contact]]\nname = \"c\"\nslave = {{ body = \"pad\", surface = \"zmin\" }}\nmaster = {{ body = \"floor\" }}\ndiscretization = \"node_to_face\"\n{friction}\n[solver]\npath = \"{path}\"\n"
         ))
         .expect("a valid pad scene")
     }
+
+    const COULOMB: &str = "friction = { coulomb = 0.3 }";
+    const NORTON_HOFF: &str = "friction = { norton_hoff = 0.3, rho = 0.2 }";
 
     fn chosen(sc: &scene::Scene, opts: &RunOptions) -> (scene::SolvePath, String) {
         let p = plan(sc, opts, 1, None).expect("a valid plan");
@@ -259,13 +257,13 @@ mod path_tests {
     fn auto_condenses_a_small_face_and_goes_direct_on_a_large_flat_one() {
         let none = RunOptions::default();
         // 25 × 25 contact nodes: either path is quick, condensed
-        let (path, _) = chosen(&pad(24, false, "auto"), &none);
+        let (path, _) = chosen(&pad(24, "", "auto"), &none);
         assert_eq!(path, scene::SolvePath::Condensed);
         // 101 × 101: the dense interface costs far more than the sparse factors
-        let (path, why) = chosen(&pad(100, false, "auto"), &none);
+        let (path, why) = chosen(&pad(100, "", "auto"), &none);
         assert_eq!(path, scene::SolvePath::Direct);
         assert!(why.starts_with("faster"), "{why}");
-        let p = plan(&pad(100, false, "auto"), &none, 1, None).unwrap();
+        let p = plan(&pad(100, "", "auto"), &none, 1, None).unwrap();
         let d = p
             .choice
             .direct
@@ -280,9 +278,9 @@ mod path_tests {
     }
 
     #[test]
-    fn an_explicit_path_is_honoured_and_friction_stays_condensed() {
+    fn an_explicit_path_is_honoured_and_friction_the_direct_path_cannot_run_stays_condensed() {
         let none = RunOptions::default();
-        let (path, why) = chosen(&pad(100, false, "condensed"), &none);
+        let (path, why) = chosen(&pad(100, "", "condensed"), &none);
         assert_eq!(
             (path, why.as_str()),
             (scene::SolvePath::Condensed, "asked for")
@@ -292,11 +290,14 @@ mod path_tests {
             ..Default::default()
         };
         assert_eq!(
-            chosen(&pad(4, false, "auto"), &direct).0,
+            chosen(&pad(4, "", "auto"), &direct).0,
             scene::SolvePath::Direct
         );
-        // friction: the direct path cannot run it
-        let p = plan(&pad(100, true, "auto"), &none, 1, None).unwrap();
+        // Coulomb friction runs on both paths: the large face goes direct
+        let (path, why) = chosen(&pad(100, COULOMB, "auto"), &none);
+        assert_eq!(path, scene::SolvePath::Direct, "{why}");
+        // Norton–Hoff friction: the direct path cannot run it
+        let p = plan(&pad(100, NORTON_HOFF, "auto"), &none, 1, None).unwrap();
         assert_eq!(p.path, scene::SolvePath::Condensed);
         assert!(p.choice.reason.contains("cannot run") && p.choice.direct.is_none());
         // ... and when the condensed path does not fit either, the refusal says why
@@ -304,7 +305,7 @@ mod path_tests {
             bytes: 1 << 30,
             source: "--max-memory",
         };
-        let Err(e) = plan(&pad(100, true, "auto"), &none, 1, Some(budget)) else {
+        let Err(e) = plan(&pad(100, NORTON_HOFF, "auto"), &none, 1, Some(budget)) else {
             panic!("the friction pad fits in 1 GiB");
         };
         let m = e.to_string();
@@ -317,7 +318,7 @@ mod path_tests {
             bytes: 2 << 30,
             source: "--max-memory",
         };
-        let p = plan(&pad(100, false, "auto"), &none, 1, Some(budget)).unwrap();
+        let p = plan(&pad(100, "", "auto"), &none, 1, Some(budget)).unwrap();
         assert_eq!(p.path, scene::SolvePath::Direct);
         assert!(
             p.choice.reason.contains("condensed estimate exceeds"),

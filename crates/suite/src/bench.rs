@@ -491,12 +491,13 @@ mod tests {
     }
 
     /// Found by a fourth robustness sweep: `signorini bench` on a scene
-    /// with friction, at the default `--paths condensed,direct`, was refused
-    /// as a whole (exit 1) by the direct path's refusal of friction. The
-    /// direct path is now left out beside the condensed one, as for methods
-    /// other than status; asked for alone it is still refused.
+    /// with friction the direct path cannot solve, at the default `--paths
+    /// condensed,direct`, was refused as a whole (exit 1). The direct path
+    /// is left out beside the condensed one, as for methods other than
+    /// status; asked for alone it is still refused. Coulomb friction runs on
+    /// both paths, with the same contact forces.
     #[test]
-    fn the_direct_path_is_left_out_of_a_bench_of_a_scene_with_friction() {
+    fn the_direct_path_is_left_out_of_a_bench_of_a_scene_with_friction_it_cannot_solve() {
         let text = "dimension = 2\n[[materials]]\nname = \"m\"\nyoung = 1.0\npoisson = 0.3\n\
             [[bodies]]\nname = \"block\"\nmaterial = \"m\"\n\
             mesh = { generator = \"rectangle\", origin = [0.0, 0.0], size = [1.0, 0.5], divisions = [4, 2] }\n\
@@ -524,10 +525,18 @@ mod tests {
         };
         let rows = run(text, &both).unwrap();
         let paths: Vec<&str> = rows.iter().map(|r| r.path.as_str()).collect();
+        assert_eq!(paths, ["condensed", "direct"]);
+        assert!(rows.iter().all(|r| r.converged));
+        let norton_hoff = text.replace(
+            "friction = { coulomb = 0.3 }",
+            "friction = { norton_hoff = 0.3, rho = 0.2 }",
+        );
+        let rows = run(&norton_hoff, &both).unwrap();
+        let paths: Vec<&str> = rows.iter().map(|r| r.path.as_str()).collect();
         assert_eq!(paths, ["condensed"]);
         assert!(rows[0].converged);
         let direct = [scene::SolvePath::Direct];
-        match run(text, &direct) {
+        match run(&norton_hoff, &direct) {
             Err(SolveError::Input(m)) => assert!(m.contains("contact \"c\".friction"), "{m}"),
             other => panic!("{:?}", other.map(|r| r.len())),
         }
