@@ -13,7 +13,7 @@
 //! map, g ← μ λ_n |Δs|^ρ, stopped on the misfit of its law. The driver
 //! [`fixed_point`] is therefore generic over
 //! - the inner Tresca solver ([`TrescaSolver`]): the 2D status method
-//!   (`friction::StatusTresca`) or the 3D semi-smooth Newton method
+//!   (`friction::status_tresca::StatusTresca`) or the 3D semi-smooth Newton method
 //!   (`friction3d::Newton`), each counting its own iterations;
 //! - the threshold map and the residual ([`ThresholdMap`]): Coulomb's
 //!   g ← μ λ_n with the change of the normal forces ([`normal_change`]),

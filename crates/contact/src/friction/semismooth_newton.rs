@@ -843,6 +843,7 @@ mod coulomb;
 mod least_change;
 mod norton_hoff;
 mod tresca_inner;
+pub use coulomb::coulomb_newton;
 pub(crate) use coulomb::friction_newton;
 use tresca_inner::Newton;
 
