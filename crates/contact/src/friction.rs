@@ -12,14 +12,14 @@
 //! The solvers, one file each:
 //! - the friction status method (§4.5) and the Tresca problem by statuses:
 //!   [`crate::active_set::friction_status`];
-//! - [`tresca_projection`]: Tresca as a box QP by MPRGP;
-//! - [`coulomb_fixed_point`]: the fixed point g ← μ λ_n (§4.3), each inner
+//! - [`tresca_projection()`]: Tresca as a box QP by MPRGP;
+//! - [`coulomb_fixed_point()`]: the fixed point g ← μ λ_n (§4.3), each inner
 //!   problem a Tresca problem (`status_tresca`); started from the previous
 //!   step, or from the solution with every contact point stuck (so that a
 //!   body held by friction alone can start: §4.3 notes that g = 0 cannot);
-//! - [`norton_hoff`]: Norton–Hoff's law by the fixed point on its threshold;
+//! - [`norton_hoff()`]: Norton–Hoff's law by the fixed point on its threshold;
 //! - [`coulomb_newton`]: the semi-smooth Newton method on the Alart–Curnier
-//!   equations ([`semismooth_newton`], shared with 3D); [`friction3d`] for 3D.
+//!   equations (`semismooth_newton`, shared with 3D); [`friction3d`] for 3D.
 //!
 //! Regularised Coulomb (§4.1.3, elastic slip k_e) is the same problem with
 //! the compliance 1/k_e added to the tangential diagonal of W

@@ -20,9 +20,9 @@
 
 use crate::active_set::{drive, scaled_tolerances, Change, Fallback, Regular, StatusRule, Stop};
 use crate::delassus::DelassusProblem;
-use crate::friction::fixed_point::{FixedPoint, InnerSolve};
 use crate::law::{FrictionLaw, FrictionLayout};
 use crate::options::FrictionOptions;
+use crate::solution::friction_iterate::{FixedPoint, InnerSolve};
 use crate::solution::{ContactSolution, PointStatus, StopReason};
 use crate::ContactError;
 use signorini_linalg::capacitance::StatusFactor;

@@ -3,10 +3,11 @@
 
 use crate::active_set::friction_status::thresholds_from;
 use crate::delassus::DelassusProblem;
-use crate::friction::fixed_point::{normal_change, InnerSolve, ThresholdMap};
+use crate::friction::fixed_point::{normal_change, ThresholdMap};
 use crate::friction::status_tresca::StatusTresca;
 use crate::law::FrictionLayout;
 use crate::options::FrictionOptions;
+use crate::solution::friction_iterate::InnerSolve;
 use crate::solution::{ContactSolution, PointStatus, StopReason, ThresholdMapKind};
 use crate::ContactError;
 

@@ -3,11 +3,12 @@
 //! solved by the status method.
 
 use crate::delassus::DelassusProblem;
-use crate::friction::fixed_point::{InnerSolve, ThresholdMap};
+use crate::friction::fixed_point::ThresholdMap;
 use crate::friction::status_tresca::StatusTresca;
 use crate::law::norton_hoff::NortonHoffLaw;
 use crate::law::FrictionLayout;
 use crate::options::FrictionOptions;
+use crate::solution::friction_iterate::InnerSolve;
 use crate::solution::{ContactSolution, PointStatus, ThresholdMapKind};
 use crate::ContactError;
 

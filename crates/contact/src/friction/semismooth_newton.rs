@@ -41,12 +41,11 @@ use faer::prelude::Solve;
 use faer::Mat;
 
 use crate::delassus::DelassusProblem;
-use crate::friction::fixed_point::{
-    fixed_point, normal_change, FixedPoint, InnerSolve, ThresholdMap, TrescaSolver,
-};
+use crate::friction::fixed_point::{fixed_point, normal_change, ThresholdMap, TrescaSolver};
 use crate::law::cone::project_ellipse;
 use crate::law::FrictionLayout;
 use crate::options::FrictionOptions;
+use crate::solution::friction_iterate::{FixedPoint, InnerSolve};
 use crate::solution::{ContactSolution, PointStatus, StopReason, ThresholdMapKind};
 use crate::ContactError;
 use signorini_linalg::reduced::VarEquation;

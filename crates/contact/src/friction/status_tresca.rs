@@ -3,10 +3,11 @@
 
 use crate::active_set::friction_status::{status_loop, Run};
 use crate::delassus::DelassusProblem;
-use crate::friction::fixed_point::{fixed_point, InnerSolve, ThresholdMap, TrescaSolver};
+use crate::friction::fixed_point::{fixed_point, ThresholdMap, TrescaSolver};
 use crate::friction::tresca_projection::tresca_box;
 use crate::law::FrictionLayout;
 use crate::options::FrictionOptions;
+use crate::solution::friction_iterate::InnerSolve;
 use crate::solution::{ContactSolution, PointStatus, StopReason};
 use crate::ContactError;
 
