@@ -27,15 +27,10 @@ pub fn norton_hoff(
     initial: Vec<PointStatus>,
     opts: &FrictionOptions,
 ) -> Result<ContactSolution, ContactError> {
-    let m = initial.len();
     let mut solver = StatusTresca::new(problem, layout, initial, opts)?;
     let start = solver.stuck()?;
     let law = NortonHoffLaw::new(layout, opts);
-    let threshold = |r: &[f64], g: &[f64]| {
-        (0..m)
-            .map(|p| law.threshold(r, g, p).unwrap_or(f64::INFINITY))
-            .collect()
-    };
+    let threshold = |r: &[f64], g: &[f64]| law.thresholds(r, g, |radius| radius, |_| f64::INFINITY);
     let misfit = |_: &[f64], it: &InnerSolve| law.misfit(&it.forces, &it.gaps, &it.statuses);
     let map = ThresholdMap {
         threshold: &threshold,
