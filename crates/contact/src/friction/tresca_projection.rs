@@ -62,7 +62,7 @@ pub(crate) fn tresca_box(
         gap_scale: opts.gap_scale,
         stiffness: None,
     };
-    let sol = crate::lcp::mprgp::mprgp_box(&problem.w, &problem.q, &lower, &upper, &lcp_opts)?;
+    let sol = crate::lcp::mprgp_box::mprgp_box(&problem.w, &problem.q, &lower, &upper, &lcp_opts)?;
     let tol = opts.tolerance
         * opts
             .force_scale
