@@ -42,7 +42,7 @@ mod run_context;
 mod step;
 mod step_end;
 pub mod subdomain;
-mod timing;
+pub mod timing;
 
 pub use signorini_report::results::{BodyResult, RunOutput, StepFields};
 pub use signorini_report::stream::{FieldWriter, StepSink, StepsInMemory};
