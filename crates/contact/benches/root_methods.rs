@@ -23,7 +23,8 @@ use divan::Bencher;
 use faer::prelude::Solve;
 use faer::sparse::{SparseColMat, Triplet};
 use faer::{Mat, Side};
-use signorini_contact::registry::Algorithm;
+use signorini_contact::registry::{Algorithm, Constraints, MethodId};
+use signorini_contact::StatusVariant;
 use signorini_contact::{lcp_residual, LcpOptions};
 
 const SIZES: [usize; 4] = [50, 200, 800, 2000];
@@ -63,20 +64,20 @@ fn options() -> LcpOptions {
 /// sizes; the penalty method (k = 1e8 / mean diag W) is within the 1e-6
 /// agreement too (rel. diff printed).
 /// The status method comes first: it is the reference.
-const METHODS: [&str; 8] = [
-    "status",
-    "lemke",
-    "projected_gradient",
-    "projected_conjugate_gradient",
-    "mprgp",
-    "uzawa",
-    "augmented_lagrangian",
-    "penalty",
+const METHODS: [MethodId; 8] = [
+    MethodId::Status,
+    MethodId::Lemke,
+    MethodId::ProjectedGradient,
+    MethodId::ProjectedConjugateGradient,
+    MethodId::Mprgp,
+    MethodId::Uzawa,
+    MethodId::AugmentedLagrangian,
+    MethodId::Penalty,
 ];
 
-/// The registry's method called `name`.
-fn algorithm(name: &str) -> Algorithm {
-    Algorithm::by_name(name).unwrap_or_else(|| panic!("{name} is not in the registry"))
+/// The registry's method `id`, with multipliers, every status changing at once.
+fn algorithm(id: MethodId) -> Algorithm {
+    Algorithm::of(id, Constraints::Multipliers, StatusVariant::All)
 }
 
 struct Problem {
@@ -225,7 +226,8 @@ fn problem(m: usize) -> &'static Problem {
 fn run(bencher: Bencher, name: &str, m: usize) {
     let p = problem(m);
     let opts = options();
-    let alg = algorithm(name);
+    let id = name.parse().unwrap_or_else(|e| panic!("{e}"));
+    let alg = algorithm(id);
     bencher.bench(|| {
         alg.solve(&p.w, &p.q, None, &opts)
             .expect("solved in the setup")

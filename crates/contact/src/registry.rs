@@ -22,6 +22,73 @@ use crate::solution::{ContactSolution, PolishSolve};
 use crate::{ContactError, DelassusProblem};
 use signorini_linalg::active_factor::{solve_on_active_set, ActiveFactor};
 
+/// The contact solvers on LCP(W, q), by identity: [`MethodId::as_str`] is
+/// the name in scenes, on the command line and in `report.json`, and
+/// [`str::parse`] reads it back.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum MethodId {
+    Status,
+    StatusPenalty,
+    Lemke,
+    ProjectedGradient,
+    ProjectedConjugateGradient,
+    Mprgp,
+    Uzawa,
+    AugmentedLagrangian,
+    Penalty,
+}
+
+impl MethodId {
+    /// Every method, in the order of [`METHODS`].
+    pub const ALL: [MethodId; 9] = [
+        MethodId::Status,
+        MethodId::StatusPenalty,
+        MethodId::Lemke,
+        MethodId::ProjectedGradient,
+        MethodId::ProjectedConjugateGradient,
+        MethodId::Mprgp,
+        MethodId::Uzawa,
+        MethodId::AugmentedLagrangian,
+        MethodId::Penalty,
+    ];
+
+    /// The method's name in scenes, on the command line and in reports.
+    pub const fn as_str(self) -> &'static str {
+        match self {
+            MethodId::Status => "status",
+            MethodId::StatusPenalty => "status_penalty",
+            MethodId::Lemke => "lemke",
+            MethodId::ProjectedGradient => "projected_gradient",
+            MethodId::ProjectedConjugateGradient => "projected_conjugate_gradient",
+            MethodId::Mprgp => "mprgp",
+            MethodId::Uzawa => "uzawa",
+            MethodId::AugmentedLagrangian => "augmented_lagrangian",
+            MethodId::Penalty => "penalty",
+        }
+    }
+}
+
+impl fmt::Display for MethodId {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.as_str())
+    }
+}
+
+impl std::str::FromStr for MethodId {
+    type Err = String;
+
+    /// The method of a name, or an error listing the valid ones.
+    fn from_str(name: &str) -> Result<Self, String> {
+        Self::ALL
+            .into_iter()
+            .find(|m| m.as_str() == name)
+            .ok_or_else(|| {
+                let names: Vec<&str> = Self::ALL.iter().map(|m| m.as_str()).collect();
+                format!("\"{name}\" is not a contact method ({})", names.join(", "))
+            })
+    }
+}
+
 /// Which friction a method solves, and so which friction algorithms the
 /// pipeline pairs it with.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -60,8 +127,8 @@ type WarmSolve =
 
 /// A contact solver as the registry knows it.
 pub struct Method {
-    /// The name in scenes, on the command line and in `report.json`.
-    pub name: &'static str,
+    /// Which method it is (its name: [`MethodId::as_str`]).
+    pub id: MethodId,
     /// The answer is the solution of the LCP, not of a regularised law.
     pub exact: bool,
     /// The status method with multipliers: the pipeline runs it on its own
@@ -78,6 +145,11 @@ pub struct Method {
 }
 
 impl Method {
+    /// The name in scenes, on the command line and in `report.json`.
+    pub fn name(&self) -> &'static str {
+        self.id.as_str()
+    }
+
     /// An exact iterative method is polished on its active set once it
     /// converged ([`polish`]); the status method is exact on its own.
     fn polished(&self) -> bool {
@@ -85,9 +157,9 @@ impl Method {
     }
 }
 
-const fn method(name: &'static str, solve: Solve) -> Method {
+const fn method(id: MethodId, solve: Solve) -> Method {
     Method {
-        name,
+        id,
         exact: true,
         active_set: false,
         friction: FrictionSupport::None,
@@ -101,31 +173,37 @@ static STATUS: Method = Method {
     active_set: true,
     friction: FrictionSupport::StatusMethods,
     by_penalty: Some(&STATUS_PENALTY),
-    ..method("status", status)
+    ..method(MethodId::Status, status)
 };
 static STATUS_PENALTY: Method = Method {
     exact: false,
-    ..method("status_penalty", status_penalty)
+    ..method(MethodId::StatusPenalty, status_penalty)
 };
-static LEMKE: Method = method("lemke", |p| crate::lcp::lemke::lemke(p.w, p.q, p.opts));
-static PROJECTED_GRADIENT: Method = method("projected_gradient", |p| {
+static LEMKE: Method = method(MethodId::Lemke, |p| {
+    crate::lcp::lemke::lemke(p.w, p.q, p.opts)
+});
+static PROJECTED_GRADIENT: Method = method(MethodId::ProjectedGradient, |p| {
     crate::lcp::projected_gradient::projected_gradient(p.w, p.q, p.opts)
 });
-static PROJECTED_CONJUGATE_GRADIENT: Method = method("projected_conjugate_gradient", |p| {
+static PROJECTED_CONJUGATE_GRADIENT: Method = method(MethodId::ProjectedConjugateGradient, |p| {
     crate::lcp::projected_gradient::projected_conjugate_gradient(p.w, p.q, p.opts)
 });
 static MPRGP: Method = Method {
     friction: FrictionSupport::TrescaBox,
     warm_start: Some(crate::lcp::mprgp::mprgp_from),
-    ..method("mprgp", |p| crate::lcp::mprgp::mprgp(p.w, p.q, p.opts))
+    ..method(MethodId::Mprgp, |p| {
+        crate::lcp::mprgp::mprgp(p.w, p.q, p.opts)
+    })
 };
-static UZAWA: Method = method("uzawa", |p| crate::lcp::uzawa::uzawa(p.w, p.q, p.opts));
-static AUGMENTED_LAGRANGIAN: Method = method("augmented_lagrangian", |p| {
+static UZAWA: Method = method(MethodId::Uzawa, |p| {
+    crate::lcp::uzawa::uzawa(p.w, p.q, p.opts)
+});
+static AUGMENTED_LAGRANGIAN: Method = method(MethodId::AugmentedLagrangian, |p| {
     crate::lcp::augmented_lagrangian::augmented_lagrangian(p.w, p.q, p.opts)
 });
 static PENALTY: Method = Method {
     exact: false,
-    ..method("penalty", |p| {
+    ..method(MethodId::Penalty, |p| {
         crate::lcp::penalty::penalty(p.w, p.q, &penalty_stiffness(p), p.opts)
     })
 };
@@ -143,9 +221,13 @@ pub static METHODS: [&Method; 9] = [
     &PENALTY,
 ];
 
-/// The method called `name`.
-pub fn find(name: &str) -> Option<&'static Method> {
-    METHODS.iter().copied().find(|m| m.name == name)
+/// The method `id`.
+pub fn find(id: MethodId) -> &'static Method {
+    METHODS
+        .iter()
+        .copied()
+        .find(|m| m.id == id)
+        .expect("every MethodId is in METHODS (tested)")
 }
 
 /// The status method on LCP(W, q): W_AA λ_A = −q_A on the active set, from
@@ -201,25 +283,26 @@ impl PartialEq for Algorithm {
 
 impl fmt::Debug for Algorithm {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "Algorithm({}, {:?})", self.method.name, self.variant)
+        write!(f, "Algorithm({}, {:?})", self.method.name(), self.variant)
     }
 }
 
 impl Algorithm {
-    /// The method called `name`, its constraints imposed as `constraints`
-    /// where it has the choice (the status method), with `variant`.
-    pub fn named(name: &str, constraints: Constraints, variant: StatusVariant) -> Option<Self> {
-        let method = find(name)?;
+    /// The method `id`, its constraints imposed as `constraints` where it
+    /// has the choice (the status method), with `variant`.
+    pub fn of(id: MethodId, constraints: Constraints, variant: StatusVariant) -> Self {
+        let method = find(id);
         let method = match (constraints, method.by_penalty) {
             (Constraints::Penalty, Some(penalised)) => penalised,
             _ => method,
         };
-        Some(Self { method, variant })
+        Self { method, variant }
     }
 
     /// The method called `name` with multipliers, every status changing at once.
     pub fn by_name(name: &str) -> Option<Self> {
-        Self::named(name, Constraints::Multipliers, StatusVariant::All)
+        let id = name.parse().ok()?;
+        Some(Self::of(id, Constraints::Multipliers, StatusVariant::All))
     }
 
     /// The status method with multipliers (the exact reference).
@@ -230,8 +313,12 @@ impl Algorithm {
         }
     }
 
+    pub fn id(self) -> MethodId {
+        self.method.id
+    }
+
     pub fn name(self) -> &'static str {
-        self.method.name
+        self.method.name()
     }
 
     /// Whether the answer is the exact solution of the LCP (not a regularised one).
@@ -465,6 +552,24 @@ fn polish(w: &Mat<f64>, q: &[f64], sol: &mut ContactSolution, opts: &LcpOptions)
 mod tests {
     use super::*;
     use crate::test_problems::{cases, norm_inf, rel_err};
+
+    /// Each MethodId is one method of the table, in its order, and its name
+    /// reads back as itself; a name that is no method is refused with the
+    /// list of the valid ones.
+    #[test]
+    fn every_method_id_names_its_method() {
+        assert_eq!(MethodId::ALL.len(), METHODS.len());
+        for (id, m) in MethodId::ALL.into_iter().zip(METHODS) {
+            assert_eq!(m.id, id);
+            assert_eq!(find(id).name(), id.as_str());
+            assert_eq!(id.as_str().parse::<MethodId>(), Ok(id));
+        }
+        let err = "simplex".parse::<MethodId>().unwrap_err();
+        assert!(
+            err.contains("simplex") && err.contains("augmented_lagrangian"),
+            "{err}"
+        );
+    }
 
     /// The status method on LCP(W, q) through the registry: the forces of
     /// the exact solution, the gaps W λ + q on every point (the iterations
