@@ -156,7 +156,7 @@ mod tests {
         ];
         for case in cases().into_iter().filter(|c| c.q.len() <= 20) {
             for method in METHODS.iter().filter(|m| m.exact) {
-                let alg = Algorithm::by_name(method.name()).unwrap();
+                let alg = Algorithm::by_name(method.name).unwrap();
                 for (s_w, s_q) in units {
                     let w = Mat::from_fn(case.q.len(), case.q.len(), |i, j| case.w[(i, j)] * s_w);
                     let q: Vec<f64> = case.q.iter().map(|v| v * s_q).collect();
@@ -165,8 +165,7 @@ mod tests {
                         gap_scale: s_q,
                         ..opts.clone()
                     };
-                    let what =
-                        format!("{} by {} at W×{s_w:e}, q×{s_q:e}", case.name, method.name());
+                    let what = format!("{} by {} at W×{s_w:e}, q×{s_q:e}", case.name, method.name);
                     let sol = alg
                         .solve(&w, &q, None, &opts)
                         .unwrap_or_else(|e| panic!("{what}: {e}"));

@@ -23,8 +23,8 @@ use crate::{ContactError, DelassusProblem};
 use signorini_linalg::active_factor::{solve_on_active_set, ActiveFactor};
 
 /// The contact solvers on LCP(W, q), by identity: [`MethodId::as_str`] is
-/// the name in scenes, on the command line and in `report.json`, and
-/// [`str::parse`] reads it back.
+/// the name in scenes, on the command line and in `report.json` (the
+/// [`METHODS`] table's), and [`str::parse`] reads it back.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum MethodId {
     Status,
@@ -39,32 +39,9 @@ pub enum MethodId {
 }
 
 impl MethodId {
-    /// Every method, in the order of [`METHODS`].
-    pub const ALL: [MethodId; 9] = [
-        MethodId::Status,
-        MethodId::StatusPenalty,
-        MethodId::Lemke,
-        MethodId::ProjectedGradient,
-        MethodId::ProjectedConjugateGradient,
-        MethodId::Mprgp,
-        MethodId::Uzawa,
-        MethodId::AugmentedLagrangian,
-        MethodId::Penalty,
-    ];
-
     /// The method's name in scenes, on the command line and in reports.
-    pub const fn as_str(self) -> &'static str {
-        match self {
-            MethodId::Status => "status",
-            MethodId::StatusPenalty => "status_penalty",
-            MethodId::Lemke => "lemke",
-            MethodId::ProjectedGradient => "projected_gradient",
-            MethodId::ProjectedConjugateGradient => "projected_conjugate_gradient",
-            MethodId::Mprgp => "mprgp",
-            MethodId::Uzawa => "uzawa",
-            MethodId::AugmentedLagrangian => "augmented_lagrangian",
-            MethodId::Penalty => "penalty",
-        }
+    pub fn as_str(self) -> &'static str {
+        find(self).name
     }
 }
 
@@ -79,13 +56,11 @@ impl std::str::FromStr for MethodId {
 
     /// The method of a name, or an error listing the valid ones.
     fn from_str(name: &str) -> Result<Self, String> {
-        Self::ALL
-            .into_iter()
-            .find(|m| m.as_str() == name)
-            .ok_or_else(|| {
-                let names: Vec<&str> = Self::ALL.iter().map(|m| m.as_str()).collect();
-                format!("\"{name}\" is not a contact method ({})", names.join(", "))
-            })
+        let known = METHODS.iter().find(|m| m.name == name);
+        known.map(|m| m.id).ok_or_else(|| {
+            let all = METHODS.map(|m| m.name).join(", ");
+            format!("\"{name}\" is not a contact method ({all})")
+        })
     }
 }
 
@@ -127,8 +102,9 @@ type WarmSolve =
 
 /// A contact solver as the registry knows it.
 pub struct Method {
-    /// Which method it is (its name: [`MethodId::as_str`]).
     pub id: MethodId,
+    /// The name in scenes, on the command line and in `report.json`.
+    pub name: &'static str,
     /// The answer is the solution of the LCP, not of a regularised law.
     pub exact: bool,
     /// The status method with multipliers: the pipeline runs it on its own
@@ -145,11 +121,6 @@ pub struct Method {
 }
 
 impl Method {
-    /// The name in scenes, on the command line and in `report.json`.
-    pub fn name(&self) -> &'static str {
-        self.id.as_str()
-    }
-
     /// An exact iterative method is polished on its active set once it
     /// converged ([`polish`]); the status method is exact on its own.
     fn polished(&self) -> bool {
@@ -157,9 +128,10 @@ impl Method {
     }
 }
 
-const fn method(id: MethodId, solve: Solve) -> Method {
+const fn method((id, name): (MethodId, &'static str), solve: Solve) -> Method {
     Method {
         id,
+        name,
         exact: true,
         active_set: false,
         friction: FrictionSupport::None,
@@ -173,37 +145,43 @@ static STATUS: Method = Method {
     active_set: true,
     friction: FrictionSupport::StatusMethods,
     by_penalty: Some(&STATUS_PENALTY),
-    ..method(MethodId::Status, status)
+    ..method((MethodId::Status, "status"), status)
 };
 static STATUS_PENALTY: Method = Method {
     exact: false,
-    ..method(MethodId::StatusPenalty, status_penalty)
+    ..method((MethodId::StatusPenalty, "status_penalty"), status_penalty)
 };
-static LEMKE: Method = method(MethodId::Lemke, |p| {
+static LEMKE: Method = method((MethodId::Lemke, "lemke"), |p| {
     crate::lcp::lemke::lemke(p.w, p.q, p.opts)
 });
-static PROJECTED_GRADIENT: Method = method(MethodId::ProjectedGradient, |p| {
-    crate::lcp::projected_gradient::projected_gradient(p.w, p.q, p.opts)
-});
-static PROJECTED_CONJUGATE_GRADIENT: Method = method(MethodId::ProjectedConjugateGradient, |p| {
-    crate::lcp::projected_gradient::projected_conjugate_gradient(p.w, p.q, p.opts)
-});
+static PROJECTED_GRADIENT: Method =
+    method((MethodId::ProjectedGradient, "projected_gradient"), |p| {
+        crate::lcp::projected_gradient::projected_gradient(p.w, p.q, p.opts)
+    });
+static PROJECTED_CONJUGATE_GRADIENT: Method = method(
+    (
+        MethodId::ProjectedConjugateGradient,
+        "projected_conjugate_gradient",
+    ),
+    |p| crate::lcp::projected_gradient::projected_conjugate_gradient(p.w, p.q, p.opts),
+);
 static MPRGP: Method = Method {
     friction: FrictionSupport::TrescaBox,
     warm_start: Some(crate::lcp::mprgp::mprgp_from),
-    ..method(MethodId::Mprgp, |p| {
+    ..method((MethodId::Mprgp, "mprgp"), |p| {
         crate::lcp::mprgp::mprgp(p.w, p.q, p.opts)
     })
 };
-static UZAWA: Method = method(MethodId::Uzawa, |p| {
+static UZAWA: Method = method((MethodId::Uzawa, "uzawa"), |p| {
     crate::lcp::uzawa::uzawa(p.w, p.q, p.opts)
 });
-static AUGMENTED_LAGRANGIAN: Method = method(MethodId::AugmentedLagrangian, |p| {
-    crate::lcp::augmented_lagrangian::augmented_lagrangian(p.w, p.q, p.opts)
-});
+static AUGMENTED_LAGRANGIAN: Method = method(
+    (MethodId::AugmentedLagrangian, "augmented_lagrangian"),
+    |p| crate::lcp::augmented_lagrangian::augmented_lagrangian(p.w, p.q, p.opts),
+);
 static PENALTY: Method = Method {
     exact: false,
-    ..method(MethodId::Penalty, |p| {
+    ..method((MethodId::Penalty, "penalty"), |p| {
         crate::lcp::penalty::penalty(p.w, p.q, &penalty_stiffness(p), p.opts)
     })
 };
@@ -283,7 +261,7 @@ impl PartialEq for Algorithm {
 
 impl fmt::Debug for Algorithm {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "Algorithm({}, {:?})", self.method.name(), self.variant)
+        write!(f, "Algorithm({}, {:?})", self.method.name, self.variant)
     }
 }
 
@@ -318,7 +296,7 @@ impl Algorithm {
     }
 
     pub fn name(self) -> &'static str {
-        self.method.name()
+        self.method.name
     }
 
     /// Whether the answer is the exact solution of the LCP (not a regularised one).
@@ -553,16 +531,27 @@ mod tests {
     use super::*;
     use crate::test_problems::{cases, norm_inf, rel_err};
 
-    /// Each MethodId is one method of the table, in its order, and its name
-    /// reads back as itself; a name that is no method is refused with the
+    /// Each method of the table has today's name, its MethodId finds it and
+    /// its name reads back as its MethodId; a name that is no method is refused with the
     /// list of the valid ones.
     #[test]
     fn every_method_id_names_its_method() {
-        assert_eq!(MethodId::ALL.len(), METHODS.len());
-        for (id, m) in MethodId::ALL.into_iter().zip(METHODS) {
-            assert_eq!(m.id, id);
-            assert_eq!(find(id).name(), id.as_str());
-            assert_eq!(id.as_str().parse::<MethodId>(), Ok(id));
+        let names = [
+            "status",
+            "status_penalty",
+            "lemke",
+            "projected_gradient",
+            "projected_conjugate_gradient",
+            "mprgp",
+            "uzawa",
+            "augmented_lagrangian",
+            "penalty",
+        ];
+        assert_eq!(METHODS.map(|m| m.name), names);
+        for m in METHODS {
+            assert!(std::ptr::eq(find(m.id), m));
+            assert_eq!(m.id.as_str(), m.name);
+            assert_eq!(m.name.parse::<MethodId>(), Ok(m.id));
         }
         let err = "simplex".parse::<MethodId>().unwrap_err();
         assert!(

@@ -54,7 +54,7 @@ fn methods(family: Family) -> Vec<Method> {
     match family {
         Family::Lcp2d | Family::Lcp3d => METHODS
             .iter()
-            .filter_map(|m| Algorithm::by_name(m.name()))
+            .filter_map(|m| Algorithm::by_name(m.name))
             .map(Method::Lcp)
             .collect(),
         Family::Coulomb2d => vec![
