@@ -645,3 +645,21 @@ fn check_and_local_under_mpirun_print_once() {
     assert_eq!(out.status.code(), Some(0), "{text}");
     assert_eq!(text.lines().count(), 1, "{text}");
 }
+
+/// An assembly read from one Gmsh file (three physical volumes, a tie, a
+/// force on a node set, Coulomb friction changed by a step) under
+/// `mpirun -n 2` equals the in-process run; so does it with the tied pad
+/// split in two METIS parts (the tie eliminated from the subdomains' blocks).
+#[test]
+fn an_assembly_from_one_gmsh_file_under_mpirun_2_equals_the_in_process_run() {
+    require_mpirun!();
+    let scene = write_scene(
+        "assembly_scene",
+        "assembly_one_file.toml",
+        &common::example_with_meshes("assembly_one_file.toml"),
+    );
+    compare(&scene, 2, "assembly");
+    let body = "name = \"pad\"\nmaterial = \"soft\"";
+    let scene = split_example("assembly_one_file.toml", body, "assembly_split");
+    compare(&scene, 2, "assembly_split");
+}

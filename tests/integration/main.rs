@@ -8,6 +8,7 @@
 mod common;
 
 mod algorithms;
+mod assembly_vocabulary;
 mod bad_input;
 mod bad_input_limits;
 mod conditioning;

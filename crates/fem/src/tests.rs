@@ -326,6 +326,7 @@ fn element_matrices_exact_values() {
         }],
         surfaces: Default::default(),
         regions: Default::default(),
+        node_sets: Default::default(),
     };
     let el = mat(Model::PlaneStress);
     let k = element_stiffness(&m, 0, &el);
@@ -352,6 +353,7 @@ fn element_matrices_exact_values() {
         }],
         surfaces: Default::default(),
         regions: Default::default(),
+        node_sets: Default::default(),
     };
     let k = element_stiffness(&q, 0, &el);
     assert!((k[(0, 0)] - c * (0.5 - NU / 6.0)).abs() < 1e-12 * E);

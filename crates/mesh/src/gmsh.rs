@@ -19,13 +19,16 @@
 //!   dimension `dim − 1`, the whole boundary ([`Mesh::boundary_facets`]) is
 //!   exposed as the surface `"boundary"`.
 //! * **regions**: every physical group of dimension `dim` lists its cells in
-//!   [`Mesh::regions`].
+//!   [`Mesh::regions`]; with a `volume` ([`read_msh_volume`]) the cells of
+//!   that group alone are read, one body of an assembly ([`select`]).
+//! * **node sets**: every physical group of dimension below `dim − 1`
+//!   (points; curves in 3D) lists its nodes in [`Mesh::node_sets`].
 //! * **nodes**: only the nodes of cells are kept (geometry points and the like
 //!   are dropped), numbered densely in the order of the file's `$Nodes`.
 //!   In 2D every node must have `|z|` negligible against the mesh size; z is
 //!   then set to 0.
 //!
-//! Points, and elements of dimension lower than `dim − 1`, are ignored. An
+//! Points, and elements of dimension lower than `dim − 1`, give node sets only. An
 //! element of a type that is not supported is an error when it would be a
 //! cell (dimension `dim`) or a facet of a physical surface; elements of
 //! dimension higher than `dim` are an error too (a 3D file read as 2D).
@@ -49,6 +52,7 @@
 
 mod build;
 mod fields;
+mod select;
 mod v22;
 mod v41;
 
@@ -63,6 +67,14 @@ use v41::read_v41;
 /// of dimension `dim` (2 or 3). See the module documentation for what becomes
 /// cells, surfaces and regions. Errors name the file.
 pub fn read_msh(path: &Path, dim: usize) -> Result<Mesh, MeshError> {
+    read_msh_volume(path, dim, None)
+}
+
+/// Reads one body of a Gmsh file: with `volume`, the cells of the physical
+/// group of dimension `dim` of that name alone, with the file's surfaces and
+/// node sets restricted to its nodes (the module [`select`]); without, the
+/// whole file as [`read_msh`].
+pub fn read_msh_volume(path: &Path, dim: usize, volume: Option<&str>) -> Result<Mesh, MeshError> {
     // A device or a pipe has no size: the memory estimate (which reads the
     // header and the file's size) cannot bound it, and reading may not end.
     if std::fs::metadata(path).is_ok_and(|m| !m.is_file()) {
@@ -74,11 +86,18 @@ pub fn read_msh(path: &Path, dim: usize) -> Result<Mesh, MeshError> {
     let bytes = std::fs::read(path).map_err(|e| {
         MeshError::Invalid(format!("cannot read Gmsh file {}: {e}", path.display()))
     })?;
-    parse_msh(&bytes, dim).map_err(|e| MeshError::Invalid(format!("{}: {e}", path.display())))
+    parse_msh_volume(&bytes, dim, volume)
+        .map_err(|e| MeshError::Invalid(format!("{}: {e}", path.display())))
 }
 
 /// Parses the contents of a Gmsh `.msh` file (see [`read_msh`]).
 pub fn parse_msh(bytes: &[u8], dim: usize) -> Result<Mesh, MeshError> {
+    parse_msh_volume(bytes, dim, None)
+}
+
+/// Parses one body of the contents of a Gmsh `.msh` file (see
+/// [`read_msh_volume`]).
+pub fn parse_msh_volume(bytes: &[u8], dim: usize, volume: Option<&str>) -> Result<Mesh, MeshError> {
     if dim != 2 && dim != 3 {
         return Err(invalid(format!(
             "a Gmsh mesh is read in 2 or 3 dimensions, not {dim}"
@@ -110,7 +129,7 @@ pub fn parse_msh(bytes: &[u8], dim: usize) -> Result<Mesh, MeshError> {
             "node {tag} has a coordinate that is not a finite number: {x:?}"
         )));
     }
-    let mesh = build(raw, dim)?;
+    let mesh = build(raw, dim, volume)?;
     crate::partition::check_conforming(&mesh)?;
     Ok(mesh)
 }

@@ -190,6 +190,9 @@ pub struct Mesh {
     /// Named groups of cells (Gmsh physical groups of dimension d); empty for
     /// generated meshes.
     pub regions: BTreeMap<String, Vec<usize>>,
+    /// Named sets of nodes (Gmsh physical groups of points, and of curves in
+    /// 3D: dimension below d − 1), sorted; empty for generated meshes.
+    pub node_sets: BTreeMap<String, Vec<usize>>,
 }
 
 /// The corners (lo, hi) of the smallest box holding `points` (lo = +∞,
@@ -475,6 +478,7 @@ mod coincident_tests {
             cells: vec![],
             surfaces: BTreeMap::new(),
             regions: BTreeMap::new(),
+            node_sets: BTreeMap::new(),
         };
         assert_eq!(mesh.coincident_nodes(), vec![(2, 3), (2, 5), (3, 5)]);
         mesh.coords[3][0] = 1.0 + 1e-6;

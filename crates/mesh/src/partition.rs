@@ -159,6 +159,7 @@ fn partition_pieces(
             cells: cells.iter().map(|&c| mesh.cells[c].clone()).collect(),
             surfaces: Default::default(),
             regions: Default::default(),
+            node_sets: Default::default(),
         };
         let within = partition_cells(&sub, counts[p])?;
         for (&c, q) in cells.iter().zip(within) {

@@ -107,6 +107,7 @@ pub fn to_second_order(mesh: &Mesh) -> Result<Mesh, MeshError> {
         cells,
         surfaces,
         regions: mesh.regions.clone(),
+        node_sets: mesh.node_sets.clone(),
     })
 }
 

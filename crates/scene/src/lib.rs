@@ -106,7 +106,7 @@ pub fn load(path: &Path) -> Result<Scene, SceneError> {
     scene.validate()?;
     if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
         for body in &mut scene.bodies {
-            if let Some(MeshSpec::File { file }) = &mut body.mesh {
+            if let Some(MeshSpec::File { file, .. }) = &mut body.mesh {
                 if file.is_relative() {
                     *file = dir.join(&*file);
                 }

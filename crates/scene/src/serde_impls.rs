@@ -75,7 +75,7 @@ impl<'de> Visitor<'de> for Numbers {
 
 // ---------------------------------------------------------------- law
 
-const LAW_EXPECTED: &str = r#"law: expected "unilateral" or { penalty = <stiffness> }"#;
+const LAW_EXPECTED: &str = r#"law: expected "unilateral", "tied" or { penalty = <stiffness> }"#;
 
 impl<'de> Deserialize<'de> for Law {
     fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
@@ -83,11 +83,12 @@ impl<'de> Deserialize<'de> for Law {
         impl<'de> Visitor<'de> for V {
             type Value = Law;
             fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-                f.write_str(r#""unilateral" or { penalty = <stiffness> } for `law`"#)
+                f.write_str(r#""unilateral", "tied" or { penalty = <stiffness> } for `law`"#)
             }
             fn visit_str<E: de::Error>(self, v: &str) -> Result<Law, E> {
                 match v {
                     "unilateral" => Ok(Law::Unilateral),
+                    "tied" => Ok(Law::Tied),
                     "penalty" => Err(E::custom(
                         "law: \"penalty\" needs a stiffness; write law = { penalty = <stiffness> }",
                     )),
@@ -122,6 +123,7 @@ impl Serialize for Law {
     fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
         match self {
             Law::Unilateral => s.serialize_str("unilateral"),
+            Law::Tied => s.serialize_str("tied"),
             Law::Penalty { penalty } => {
                 let mut m = s.serialize_map(Some(1))?;
                 m.serialize_entry("penalty", penalty)?;
@@ -711,6 +713,8 @@ const MESH_EXPECTED: &str = r#"mesh: expected { generator = "<rectangle|half_dis
 #[serde(deny_unknown_fields)]
 struct MeshFile {
     file: PathBuf,
+    #[serde(default)]
+    volume: Option<String>,
 }
 
 /// Checks the numeric keys of a generator table by name before serde sees
@@ -888,10 +892,13 @@ impl<'de> Deserialize<'de> for MeshSpec {
                     .map_err(|e| de::Error::custom(format!("mesh: {e}")))
             }
             (false, true) => MeshFile::deserialize(value)
-                .map(|m| MeshSpec::File { file: m.file })
+                .map(|m| MeshSpec::File {
+                    file: m.file,
+                    volume: m.volume,
+                })
                 .map_err(|e| {
                     de::Error::custom(format!(
-                        "mesh: {e} (a file mesh is {{ file = \"<part.msh>\" }} and nothing else)"
+                        "mesh: {e} (a file mesh is {{ file = \"<part.msh>\" }} or {{ file = \"<assembly.msh>\", volume = \"<physical group>\" }})"
                     ))
                 }),
             (true, true) => Err(de::Error::custom(format!(

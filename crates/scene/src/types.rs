@@ -153,6 +153,27 @@ impl Scene {
     /// the rule of `docs/reference/scene-format.md`: loads not named in a step keep their previous scale
     /// (first step: 1). With no `[[steps]]`, one step with every scale 1. Unnamed
     /// boundary entries are always at scale 1.
+    /// The friction law of every contact at every load step: the contact's
+    /// own until a step's `friction` changes it, which holds from that step
+    /// on. With no `[[steps]]`, one step with the contacts' own laws.
+    pub fn step_frictions(&self) -> Vec<Vec<Friction>> {
+        let mut current: Vec<Friction> = self.contact.iter().map(|c| c.friction.clone()).collect();
+        if self.steps.is_empty() {
+            return vec![current];
+        }
+        self.steps
+            .iter()
+            .map(|step| {
+                for (name, f) in &step.friction {
+                    if let Some(ci) = self.contact.iter().position(|c| &c.name == name) {
+                        current[ci] = f.clone();
+                    }
+                }
+                current.clone()
+            })
+            .collect()
+    }
+
     pub fn step_scales(&self) -> Vec<BTreeMap<String, f64>> {
         let mut current: BTreeMap<String, f64> = self
             .boundary
@@ -311,8 +332,12 @@ pub enum MeshSpec {
     Generator(Generator),
     /// A Gmsh 2.2 or 4.1 file; physical groups of dimension d−1 name the surfaces,
     /// of dimension d the regions. [`crate::load`] makes a relative path relative to
-    /// the scene file's directory.
-    File { file: PathBuf },
+    /// the scene file's directory. With `volume`, the body is the cells of that
+    /// physical group of dimension d alone (one body of a file holding several).
+    File {
+        file: PathBuf,
+        volume: Option<String>,
+    },
 }
 
 /// A mesh generator, tagged by the key `generator`. Every generator names its
@@ -517,6 +542,10 @@ pub struct Boundary {
     /// of the body size); for pinning a corner.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub point: Option<Vec<f64>>,
+    /// Instead of `surface`: the nodes of a physical group of the body's Gmsh
+    /// file (points, curves or surfaces); a `force` is shared equally by them.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub nodes: Option<String>,
     /// Imposed displacement components (others free).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub displacement: Option<Displacement>,
@@ -682,6 +711,9 @@ pub enum Law {
     Penalty {
         penalty: f64,
     },
+    /// `"tied"`: the two surfaces bonded, the displacement continuous in every
+    /// direction (mortar equality constraints, docs/theory/mortar.md).
+    Tied,
 }
 
 /// `contact.friction`.
@@ -720,6 +752,10 @@ pub enum Gap {
 pub struct Step {
     #[serde(default)]
     pub scale: BTreeMap<String, f64>,
+    /// `friction = { <contact name> = { coulomb = mu } }` (or `{ tresca = g }`):
+    /// the contact's coefficient from this step on (its law's kind unchanged).
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    pub friction: BTreeMap<String, Friction>,
 }
 
 /// `[solver]`.

@@ -7,7 +7,9 @@ use crate::types::*;
 use crate::{SceneError, Shown};
 use std::collections::{BTreeMap, BTreeSet};
 
+mod assembly;
 mod generators;
+use assembly::{validate_place, validate_step_friction, validate_tie};
 use generators::{validate_rigid, GeneratorCheck};
 
 type Result<T = ()> = std::result::Result<T, SceneError>;
@@ -421,11 +423,17 @@ impl Scene {
     fn validate_mesh(&self, e: &str, mesh: &MeshSpec) -> Result {
         let dim = self.dimension as usize;
         let g = match mesh {
-            MeshSpec::File { file } => {
+            MeshSpec::File { file, volume } => {
                 if file.as_os_str().is_empty() {
                     return Err(invalid(
                         format!("{e}.file"),
                         "must be the path of a Gmsh 2.2 or 4.1 file",
+                    ));
+                }
+                if volume.as_ref().is_some_and(|v| v.trim().is_empty()) {
+                    return Err(invalid(
+                        format!("{e}.volume"),
+                        "must be the name of a physical group of dimension `dimension` in the file",
                     ));
                 }
                 return Ok(());
@@ -467,26 +475,7 @@ impl Scene {
                 }
             }
             self.deformable_body(&format!("{e}.body"), &bc.body, "boundary conditions")?;
-            match (&bc.surface, &bc.point) {
-                (Some(_), Some(_)) => {
-                    return Err(invalid(
-                        &e,
-                        "give either `surface` or `point`, not both",
-                    ))
-                }
-                (None, None) => {
-                    return Err(invalid(
-                        &e,
-                        "give `surface` (a surface of the body) or `point` (the body's node at that point)",
-                    ))
-                }
-                (Some(s), None) => {
-                    if s.trim().is_empty() {
-                        return Err(invalid(format!("{e}.surface"), "must not be empty"));
-                    }
-                }
-                (None, Some(p)) => vector(&format!("{e}.point"), p, dim)?,
-            }
+            validate_place(&e, bc, dim)?;
             let given = [
                 bc.displacement.is_some(),
                 bc.traction.is_some(),
@@ -609,6 +598,7 @@ impl Scene {
                 ));
             }
             self.validate_contact_sides(&e, c)?;
+            validate_tie(self, &e, c)?;
             if let Law::Penalty { penalty } = c.law {
                 representable_stiffness(&format!("{e}.law.penalty"), penalty)?;
             }
@@ -698,7 +688,7 @@ impl Scene {
                 finite(&e, *v)?;
             }
         }
-        Ok(())
+        validate_step_friction(self)
     }
 
     fn validate_solver(&self) -> Result {

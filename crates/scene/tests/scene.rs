@@ -141,7 +141,8 @@ fn load_reads_toml_and_json_and_resolves_mesh_files() {
     assert_eq!(
         s.bodies[0].mesh,
         Some(MeshSpec::File {
-            file: dir.join("part.msh")
+            file: dir.join("part.msh"),
+            volume: None
         })
     );
     assert_eq!(Output::default().directory_for(&p), Path::new("out/file"));
@@ -649,7 +650,9 @@ fn law_both_forms_and_bad_law() {
 
     let m = parse_err(&contact("law = \"elastic\""));
     assert!(
-        m.contains(r#"law: expected "unilateral" or { penalty = <stiffness> }, got "elastic""#),
+        m.contains(
+            r#"law: expected "unilateral", "tied" or { penalty = <stiffness> }, got "elastic""#
+        ),
         "{m}"
     );
     assert!(m.contains("line"), "{m}");

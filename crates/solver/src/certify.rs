@@ -165,6 +165,9 @@ pub(crate) fn conclude_step(
     let mut report = step_report(sc, points, scale, sol, &cert);
     let friction = sol.friction.as_ref();
     report.reactions = step_reactions(sc, bodies, points, &res.support, lambda, friction);
+    for (ci, force) in &res.ties {
+        report.contacts[*ci].force = net_force(sc.model, force.clone());
+    }
     partial.steps.push(report);
     if let Some(w) = sol.regularisation.as_ref().and_then(|r| r.warning.clone()) {
         messages.push(format!("step {}: {w}", si + 1));
@@ -503,10 +506,19 @@ pub(crate) fn condensed_step(
             }
         }
     }
+    // a tie's forces are internal: the residual of the kept DOFs is Tᵀ r
+    let dim = ctx.sc.dimension as usize;
+    let ties = model.tied.forces(dim, |b, d| {
+        r_gamma.get(model.gamma_of[b][d]).copied().unwrap_or(0.0)
+    });
+    if let Some(t) = &model.ties {
+        r_gamma = t.fold(&r_gamma);
+    }
     let res = Residuals {
         equilibrium: interior.max(inf_norm(&r_gamma)),
         force_scale: force_scale.max(inf_norm(lambda)),
         support,
+        ties,
     };
     (gaps, res, u_full)
 }

@@ -306,6 +306,8 @@ pub(crate) fn friction_overload_message(
     };
     let mut contacts: Vec<&str> = Vec::new();
     let mut holds = 0.0;
+    // the laws of the step (a step may change a coefficient)
+    let laws = crate::step_friction::step_laws(sc, points, step);
     let on_body = |p: &&PointModel| p.slave_body == bi || p.row.iter().any(|&(pb, _, _)| pb == bi);
     for (pi, p) in points
         .iter()
@@ -316,7 +318,8 @@ pub(crate) fn friction_overload_message(
         if !contacts.contains(&name) {
             contacts.push(name);
         }
-        holds += p.friction.semi_axes(lambda[pi])[0];
+        let law = laws.as_ref().map_or(p.friction, |l| l[pi]);
+        holds += law.semi_axes(lambda[pi])[0];
     }
     format!(
         "step {}: {method} stopped: the load friction cannot hold: body \"{}\" is held by its contacts alone along a rigid motion its supports leave free, and its tangential load along it, {:.4e}, exceeds what the friction of its contact points can hold, the sum of μ λ_n over contact(s) \"{}\", {holds:.4e}: no static equilibrium exists; impose that motion (a displacement) instead of a force, or keep the load below μ N",

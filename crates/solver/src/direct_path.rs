@@ -8,12 +8,13 @@ use crate::checks::inf_norm;
 use crate::conditioning;
 use crate::error::{contact_error, SolveError};
 use crate::kkt::{DirectProblem, KktSystem};
-use crate::model::{gaps_of, BodyModel, FixedPoint, PointModel};
+use crate::model::{gaps_of, BodyModel, FixedPoint, PointModel, Ties};
 use crate::progress::Phase;
 use crate::root::{body_step, length_scale, resultant, status_options, status_report, step_gaps};
 use crate::run_context::RunContext;
 use crate::step::{Residuals, StepSolution};
 use crate::step_end::StepLoop;
+use crate::ties::TieReduction;
 use crate::timing::timed;
 use faer::sparse::SparseColMat;
 use signorini_condense::{spmv, spmv_with_magnitude, submatrix};
@@ -35,15 +36,22 @@ pub(crate) fn run_direct(
     let (sc, model) = (ctx.sc, ctx.model);
     let (bodies, points) = (&model.bodies[..], &model.points[..]);
     ctx.progress.phase(Phase::Assembling);
-    let system = timed(&mut timings.assemble, || assemble_direct(bodies))?;
+    let system = timed(&mut timings.assemble, || {
+        assemble_direct(bodies, &model.tied)
+    })?;
     let rows: Vec<Vec<(usize, f64)>> = points
         .iter()
         .map(|p| {
-            p.row
+            let row: Vec<(usize, f64)> = p
+                .row
                 .iter()
                 .filter(|&&(b, d, _)| !bodies[b].prescribed[d])
                 .map(|&(b, d, c)| (system.offset[b] + bodies[b].free_index[d], c))
-                .collect()
+                .collect();
+            match &system.ties {
+                Some(t) => t.row(&row),
+                None => row,
+            }
         })
         .collect();
     ctx.progress.phase(Phase::Contact);
@@ -108,11 +116,16 @@ struct DirectSystem {
     offset: Vec<usize>,
     k_global: SparseColMat<usize, f64>,
     n_free: usize,
+    /// The elimination of the tied DOFs from the free ones (`crate::ties`):
+    /// `k_global` is then Tᵀ K T.
+    ties: Option<TieReduction>,
+    /// The tied DOFs (for the ties' forces).
+    tied: Ties,
 }
 
 /// Assembles every body's stiffness and the global stiffness on the free
 /// DOFs (the bodies' free-free blocks on the diagonal).
-fn assemble_direct(bodies: &[BodyModel]) -> Result<DirectSystem, SolveError> {
+fn assemble_direct(bodies: &[BodyModel], tied: &Ties) -> Result<DirectSystem, SolveError> {
     let mut k_full = Vec::new();
     let mut offset = Vec::new();
     let mut triplets = Vec::new();
@@ -131,13 +144,28 @@ fn assemble_direct(bodies: &[BodyModel]) -> Result<DirectSystem, SolveError> {
         n_free += b.free.len();
         k_full.push(k);
     }
-    let k_global = SparseColMat::<usize, f64>::try_new_from_triplets(n_free, n_free, &triplets)
+    let mut k_global = SparseColMat::<usize, f64>::try_new_from_triplets(n_free, n_free, &triplets)
         .map_err(|e| SolveError::Internal(format!("{e:?}")))?;
+    let index: Vec<Vec<usize>> = bodies
+        .iter()
+        .zip(&offset)
+        .map(|(b, &o)| {
+            (b.free_index.iter())
+                .map(|&i| if i == usize::MAX { i } else { o + i })
+                .collect()
+        })
+        .collect();
+    let ties = TieReduction::new(tied, &index, n_free);
+    if let Some(t) = &ties {
+        k_global = t.reduce_matrix(&k_global)?;
+    }
     Ok(DirectSystem {
         k_full,
         offset,
         k_global,
         n_free,
+        ties,
+        tied: tied.clone(),
     })
 }
 
@@ -165,7 +193,11 @@ fn direct_step(
     let length_scale = length_scale(bodies, points, &loads.u_p, f_scale);
     let gap0 = step_gaps(sc, bodies, points, fixed, &loads.u_p, length_scale, si)?;
     check_floating(bodies, points, system, &loads, si)?;
-    let mut problem = DirectProblem::new(kkt, &loads.f, &gap0);
+    let f = match &system.ties {
+        Some(t) => t.fold(&loads.f),
+        None => loads.f.clone(),
+    };
+    let mut problem = DirectProblem::new(kkt, &f, &gap0);
     let mut outcome = status_method(
         &mut problem,
         &status_options(sc, f_scale, length_scale, &gap0),
@@ -173,7 +205,11 @@ fn direct_step(
     .map_err(contact_error)?;
     // `problem.u` is the displacement of the last solve, the one that
     // gave `outcome.forces` (as the condensed path recovers it).
-    let u_full = full_displacements(bodies, system, &loads.u_p, &problem.u);
+    let u = match &system.ties {
+        Some(t) => t.expand(&problem.u),
+        None => problem.u.clone(),
+    };
+    let u_full = full_displacements(bodies, system, &loads.u_p, &u);
     status_report(&mut outcome, "status", problem.factorisations);
     let sol = StepSolution {
         outcome,
@@ -187,7 +223,7 @@ fn direct_step(
         operator_s: 0.0,
     };
     let lambda = &sol.outcome.forces;
-    let res = direct_residuals(
+    let mut res = direct_residuals(
         bodies,
         &system.k_full,
         points,
@@ -195,6 +231,19 @@ fn direct_step(
         &u_full,
         lambda,
     );
+    if let Some(t) = &system.ties {
+        let r = tied_residual(bodies, system, &loads.forces, &u_full, points, lambda);
+        res.equilibrium = inf_norm(&t.fold(&r));
+        let dim = sc.dimension as usize;
+        res.ties = system.tied.forces(dim, |b, d| {
+            let i = bodies[b].free_index[d];
+            if i == usize::MAX {
+                0.0
+            } else {
+                r[system.offset[b] + i]
+            }
+        });
+    }
     let gaps = gaps_of(points, &u_full);
     Ok(((sol, gaps, res), u_full))
 }
@@ -332,5 +381,32 @@ pub(crate) fn direct_residuals(
         equilibrium: eq,
         force_scale: scale,
         support,
+        ties: Vec::new(),
     }
+}
+
+/// The residual K u − f − Bᵀλ on the free DOFs of every body (in the
+/// global numbering): at the tied slave DOFs, the force the tie exerts; the
+/// equilibrium residual is Tᵀ r (the tie's forces are internal).
+fn tied_residual(
+    bodies: &[BodyModel],
+    system: &DirectSystem,
+    forces: &[Vec<f64>],
+    u_full: &[Vec<f64>],
+    points: &[PointModel],
+    lambda: &[f64],
+) -> Vec<f64> {
+    let mut r = vec![0.0; system.n_free];
+    for (bi, b) in bodies.iter().enumerate() {
+        let ku = spmv(system.k_full[bi].as_ref(), &u_full[bi]);
+        for (i, &d) in b.free.iter().enumerate() {
+            r[system.offset[bi] + i] = ku[d] - forces[bi][d];
+        }
+    }
+    for (p, &l) in points.iter().zip(lambda) {
+        for &(b, d, c) in p.row.iter().filter(|&&(b, d, _)| !bodies[b].prescribed[d]) {
+            r[system.offset[b] + bodies[b].free_index[d]] -= c * l;
+        }
+    }
+    r
 }

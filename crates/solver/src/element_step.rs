@@ -134,7 +134,7 @@ fn elements(input: &RootInput, interface: &Interface) -> Vec<ContactElement> {
             let c = &sc.contact[p.contact];
             let k_n = match c.law {
                 scene::Law::Penalty { penalty } => penalty * p.tributary,
-                scene::Law::Unilateral => 0.0,
+                scene::Law::Unilateral | scene::Law::Tied => 0.0,
             };
             let roughness = match &c.friction {
                 scene::Friction::Coulomb {

@@ -23,6 +23,9 @@ use signorini_scene as scene;
 /// The friction layout of the interface problem, built once per run.
 pub(crate) struct FrictionRows {
     layout: FrictionLayout,
+    /// Every point's friction law at the current load step (its contact's
+    /// own, or what a step's `friction` set; `crate::step_friction`).
+    laws: Vec<FrictionLaw>,
     /// Some contact has Norton–Hoff friction (then all frictional ones do).
     norton_hoff: bool,
     three_d: bool,
@@ -111,9 +114,27 @@ pub(crate) fn friction_rows(
     };
     Ok(Some(FrictionRows {
         layout,
+        laws: points.iter().map(|p| p.friction).collect(),
         norton_hoff,
         three_d,
     }))
+}
+
+impl FrictionRows {
+    /// Sets every point's friction law for load step `si`
+    /// ([`crate::step_friction::step_laws`]); a point without a friction
+    /// unknown keeps none in the layout.
+    pub(crate) fn at_step(&mut self, input: &RootInput, si: usize) {
+        let Some(laws) = crate::step_friction::step_laws(input.sc, input.points, si) else {
+            return;
+        };
+        for ((l, p), law) in self.layout.law.iter_mut().zip(input.points).zip(&laws) {
+            if p.trow.is_some() {
+                *l = *law;
+            }
+        }
+        self.laws = laws;
+    }
 }
 
 /// The gaps of every row: the normal ones, then the tangential "gaps": the
@@ -251,7 +272,7 @@ pub(crate) fn friction_step(
     let out = solve_friction(input, fr, history, &mut problem, &load, &fopts);
     let mut out = out.map_err(contact_error)?;
     let mut friction = friction_state(interface, fr, history, &out, m);
-    prescribed_slip_friction(input, &load, history, &mut friction, &out.forces[..m]);
+    prescribed_slip_friction(input, fr, &load, history, &mut friction, &out.forces[..m]);
     let physical = match &hardened {
         Some(h) => {
             let t = h.physical_forces(&mut problem, &out.forces);
@@ -403,6 +424,7 @@ const SLIP_ROUND_OFF: f64 = 64.0 * f64::EPSILON;
 /// no free displacement, so it is computed here, at the end of the step.
 fn prescribed_slip_friction(
     input: &RootInput,
+    fr: &FrictionRows,
     load: &StepLoad,
     history: &mut FrictionHistory,
     f: &mut FrictionStep,
@@ -426,7 +448,7 @@ fn prescribed_slip_friction(
         (f.slip_increment[pi], f.slip_increment2[pi]) = (increment[0], increment[1]);
         let sliding = lambda[pi] > 0.0 && increment[0].hypot(increment[1]) > round_off;
         let force = sliding
-            .then(|| sliding_force(p, lambda[pi], increment))
+            .then(|| sliding_force(p, fr.laws[pi], lambda[pi], increment))
             .flatten();
         let Some(force) = force else {
             if f.statuses[pi].is_slip() {
@@ -435,7 +457,7 @@ fn prescribed_slip_friction(
             continue;
         };
         (f.tangential[pi], f.tangential2[pi]) = (force[0], force[1]);
-        f.threshold[pi] = p.friction.semi_axes(lambda[pi])[0];
+        f.threshold[pi] = fr.laws[pi].semi_axes(lambda[pi])[0];
         f.statuses[pi] = match (rows.t2.is_some(), force[0] > 0.0) {
             (true, _) => PointStatus::Slip,
             (false, true) => PointStatus::SlipPlus,
@@ -459,12 +481,17 @@ fn prescribed_jump(bodies: &[BodyModel], u_p: &[Vec<f64>], row: &[(usize, usize,
 /// maximal dissipation, λ_tᵢ = −aᵢ² Δsᵢ / ‖(a₁ Δs₁, a₂ Δs₂)‖, which is
 /// −a Δs/|Δs| on a disc. `None` for the laws whose force is not a threshold
 /// (Norton–Hoff) or depends on the elastic slip (a slip stiffness).
-fn sliding_force(p: &PointModel, normal: f64, increment: [f64; 2]) -> Option<[f64; 2]> {
+fn sliding_force(
+    p: &PointModel,
+    law: FrictionLaw,
+    normal: f64,
+    increment: [f64; 2],
+) -> Option<[f64; 2]> {
     if p.slip_stiffness.is_some() {
         return None;
     }
-    let axes = match p.friction {
-        FrictionLaw::Tresca(_) | FrictionLaw::Coulomb { .. } => p.friction.semi_axes(normal),
+    let axes = match law {
+        FrictionLaw::Tresca(_) | FrictionLaw::Coulomb { .. } => law.semi_axes(normal),
         _ => return None,
     };
     let weighted = (axes[0] * increment[0]).hypot(axes[1] * increment[1]);

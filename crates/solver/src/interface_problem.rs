@@ -30,7 +30,11 @@ pub(crate) struct RootInput<'a> {
     pub data: &'a [CondensedData],
     pub gamma_of: &'a [Vec<usize>],
     pub frames: &'a crate::contact_frames::ContactFrames,
+    /// The size of the interface problem: Γ less the tied slave DOFs.
     pub n_gamma: usize,
+    /// The elimination of the tied DOFs (`None` without a tie): rows and
+    /// rigid modes over Γ go through it, and u_Γ = T v comes out.
+    pub ties: Option<&'a crate::ties::TieReduction>,
 }
 
 /// The interface problem on Γ, assembled once per run: S = Σ S_i, the

@@ -41,7 +41,9 @@ mod root;
 mod run_context;
 mod step;
 mod step_end;
+mod step_friction;
 pub mod subdomain;
+mod ties;
 pub mod timing;
 
 pub use signorini_report::results::{BodyResult, RunOutput, StepFields};

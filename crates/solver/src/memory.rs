@@ -261,7 +261,7 @@ fn body_size(body: &scene::Body, dim: usize) -> Option<BodySize> {
     use scene::Generator as G;
     let g = match body.mesh.as_ref()? {
         scene::MeshSpec::Generator(g) => g,
-        scene::MeshSpec::File { file } => return file_size(file, dim),
+        scene::MeshSpec::File { file, .. } => return file_size(file, dim),
     };
     Some(match g {
         G::Rectangle {

@@ -16,9 +16,11 @@ use crate::error::SolveError;
 
 mod contacts;
 mod slave_choice;
+mod ties;
 mod zone;
-pub(crate) use contacts::check_contact_supported;
 pub use contacts::{build_contacts, eliminate_redundant, ContactSet, FixedPoint};
+pub(crate) use contacts::{check_contact_supported, point_friction};
+pub use ties::{build_ties, TiedDof, Ties};
 pub use zone::{check_excluded, zone_notes, Widening, Zone, MAX_WIDENINGS};
 
 fn input(msg: impl Into<String>) -> SolveError {
@@ -338,11 +340,12 @@ pub fn build_mesh(body: &scene::Body, entry: &str, dim: usize) -> Result<Mesh, S
             grading,
             element,
         }) => quarter_disk(*center, *radius, *divisions, *grading, cell_kind(*element)),
-        scene::MeshSpec::File { file } => {
+        scene::MeshSpec::File { file, volume } => {
+            let key = if volume.is_some() { "volume" } else { "file" };
             return finish(
-                signorini_mesh::gmsh::read_msh(file, dim)
-                    .map_err(|e| input(format!("{entry}.mesh.file: {e}")))?,
-            )
+                signorini_mesh::gmsh::read_msh_volume(file, dim, volume.as_deref())
+                    .map_err(|e| input(format!("{entry}.mesh.{key}: {e}")))?,
+            );
         }
     };
     finish(mesh.map_err(|e| input(format!("{entry}.mesh: {e}")))?)
@@ -380,9 +383,33 @@ fn boundary_nodes(
             )));
         }
         Ok(vec![n])
+    } else if let Some(set) = &b.nodes {
+        node_set(mesh, set, entry, body)
     } else {
-        Err(input(format!("{entry}: give a surface or a point")))
+        Err(input(format!("{entry}: give a surface, a point or nodes")))
     }
+}
+
+/// The nodes of the physical group `set` of a body's Gmsh file: a node set
+/// (points, curves in 3D) or a surface; an error listing both otherwise.
+fn node_set(mesh: &Mesh, set: &str, entry: &str, body: &str) -> Result<Vec<usize>, SolveError> {
+    if let Some(nodes) = mesh.node_sets.get(set) {
+        return Ok(nodes.clone());
+    }
+    if let Some(surface) = mesh.surfaces.get(set) {
+        return Ok(surface.nodes());
+    }
+    let mut known: Vec<String> = mesh
+        .node_sets
+        .keys()
+        .chain(mesh.surfaces.keys())
+        .map(|n| format!("\"{n}\""))
+        .collect();
+    known.sort();
+    Err(input(format!(
+        "{entry}.nodes: body \"{body}\" has no physical group \"{set}\" of points, curves or surfaces (its groups: {})",
+        if known.is_empty() { "none".to_string() } else { known.join(", ") }
+    )))
 }
 
 /// Builds every deformable body with its DOF classes and loads.
@@ -535,8 +562,12 @@ fn boundary_load(
             let t: Vec<f64> = f.iter().map(|v| v / len).collect();
             force = signorini_fem::traction_load(mesh, surf, &t, model);
         } else {
-            for (c, v) in f.iter().enumerate().take(mesh.dim) {
-                force[nodes[0] * mesh.dim + c] += v;
+            // a total force shared equally by the nodes (one for a point)
+            let share = 1.0 / nodes.len() as f64;
+            for &n in &nodes {
+                for (c, v) in f.iter().enumerate().take(mesh.dim) {
+                    force[n * mesh.dim + c] += v * share;
+                }
             }
         }
     }

@@ -31,6 +31,12 @@ pub(crate) struct ModelData {
     pub specs: Vec<SubdomainSpec>,
     /// The scale of each load entry of each body at each step.
     pub scales: Vec<Vec<Vec<f64>>>,
+    /// The tied DOFs (`law = "tied"`) and their elimination from Γ
+    /// (`crate::ties`); `None` without a tie.
+    pub ties: Option<crate::ties::TieReduction>,
+    /// The tied DOFs themselves (the direct path eliminates them from its
+    /// free DOFs).
+    pub tied: model::Ties,
     /// What each contact of the scene keeps as unknowns (the memory
     /// estimate once the candidate zones are known).
     pub kept: Vec<memory::KeptContact>,
@@ -72,6 +78,7 @@ pub(crate) fn model_stage(
     messages: &mut Vec<String>,
 ) -> Result<ModelData, SolveError> {
     let mut bodies = model::build_bodies(sc)?;
+    let ties = model::build_ties(sc, &mut bodies)?;
     let scales = all_scales(sc, &bodies);
     let zone = zone
         .cloned()
@@ -102,7 +109,8 @@ pub(crate) fn model_stage(
         }
     }
     let (gamma_of, n_gamma, owner_part, frames) =
-        interface_numbering(sc, &mut bodies, &points, ranks)?;
+        interface_numbering(sc, &mut bodies, &points, &ties.tied_node, ranks)?;
+    let reduction = crate::ties::TieReduction::new(&ties, &gamma_of, n_gamma);
     if frames.count() > 0 {
         messages.push(format!(
             "{} contact node(s) constrained along their normal only are condensed on that component alone (one interface DOF each)",
@@ -124,6 +132,8 @@ pub(crate) fn model_stage(
         specs,
         scales,
         kept,
+        ties: reduction,
+        tied: ties,
     })
 }
 
@@ -181,6 +191,7 @@ pub(crate) fn interface_numbering(
     sc: &scene::Scene,
     bodies: &mut [BodyModel],
     points: &[PointModel],
+    tied_node: &[Vec<bool>],
     ranks: usize,
 ) -> Result<InterfaceNumbering, SolveError> {
     let counts = parts_per_body(sc, bodies, ranks);
@@ -196,6 +207,11 @@ pub(crate) fn interface_numbering(
         let mut shared = vec![false; b.mesh.n_nodes()];
         for s in signorini_mesh::partition::shared_nodes(&b.mesh, &b.parts) {
             shared[s] = true;
+        }
+        // tied nodes are on Γ in every component (`crate::ties`)
+        let tied = tied_node.get(shared_all.len()).map_or(&[][..], |t| &t[..]);
+        for (s, &t) in shared.iter_mut().zip(tied) {
+            *s |= t;
         }
         let mut own = vec![usize::MAX; b.mesh.n_nodes()];
         for (c, cell) in b.mesh.cells.iter().enumerate() {

@@ -559,9 +559,12 @@ fn steps_stage(
     // Part of the root's contact solve and of its interface operator.
     let mut assembly_s = 0.0;
     let (input, stiffness) = timed(&mut assembly_s, || {
-        let stiffness = data
-            .as_deref_mut()
-            .map(|d| take_interface_stiffness(d, model.n_gamma));
+        let stiffness = data.as_deref_mut().map(|d| {
+            if let Some(t) = &model.ties {
+                t.reduce(d);
+            }
+            take_interface_stiffness(d, root_gamma(model))
+        });
         (data.as_deref().map(|d| root_input(ctx, d)), stiffness)
     });
     let mut root = timed(&mut assembly_s, || {
@@ -681,8 +684,15 @@ fn root_input<'a>(ctx: RunContext<'a>, data: &'a [CondensedData]) -> RootInput<'
         data,
         gamma_of: &model.gamma_of,
         frames: &model.frames,
-        n_gamma: model.n_gamma,
+        n_gamma: root_gamma(model),
+        ties: model.ties.as_ref(),
     }
+}
+
+/// The size of the root's interface problem: Γ, less the tied slave DOFs
+/// (`crate::ties`).
+fn root_gamma(model: &partition::ModelData) -> usize {
+    model.ties.as_ref().map_or(model.n_gamma, |t| t.n_kept)
 }
 
 /// The root: the steps' partial report completed with the sizes, the

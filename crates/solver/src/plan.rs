@@ -47,6 +47,11 @@ pub(crate) fn plan(sc: &scene::Scene, opts: &RunOptions) -> Result<Plan, SolveEr
                 sc.solver.method.as_str()
             )));
         }
+        if let Some(i) = sc.steps.iter().position(|s| !s.friction.is_empty()) {
+            return Err(SolveError::Input(format!(
+                "steps[{i}].friction: the scene's contacts are contact elements or penalty laws with friction, solved by the return mapping (course notes §7), whose friction law does not change with the step; remove the key"
+            )));
+        }
         return Ok(Plan {
             method,
             path,

@@ -323,12 +323,19 @@ impl<'a> RootSolve<'a> {
                 })?;
             match &mut self.kind {
                 StepKind::ReturnMapping(h) => element_step(input, interface, h, op, load),
-                StepKind::Friction(fr, h) => friction_step(input, interface, fr, h, op, load),
+                StepKind::Friction(fr, h) => {
+                    fr.at_step(input, si);
+                    friction_step(input, interface, fr, h, op, load)
+                }
                 StepKind::Frictionless(warm) => frictionless_step(input, op, load, warm),
             }
         })?;
         step.operator_s = operator_s;
         step.solve_s = step_s - operator_s;
+        let u = match input.ties {
+            Some(t) => t.expand(&u),
+            None => u,
+        };
         Ok((step, u))
     }
 }
@@ -358,6 +365,10 @@ fn assemble_interface(input: &RootInput, s: InterfaceStiffness) -> Interface {
         for r in &b.kernel {
             let r = frames.to_local(r);
             for (d, &g) in input.gamma_of[bi].iter().enumerate() {
+                let g = match input.ties {
+                    Some(t) if g != usize::MAX => t.kept(g).unwrap_or(usize::MAX),
+                    _ => g,
+                };
                 if g != usize::MAX {
                     kernel[(g, col)] = r[d];
                 }
@@ -416,7 +427,13 @@ type RowsOnGamma = (
 /// then the tangential rows t1 (and t2) of each frictional point.
 fn rows_on_gamma(input: &RootInput) -> RowsOnGamma {
     let (bodies, gamma_of) = (input.bodies, input.gamma_of);
-    let to_gamma = |row: &[(usize, usize, f64)]| input.frames.gamma_row(bodies, gamma_of, row);
+    let to_gamma = |row: &[(usize, usize, f64)]| {
+        let row = input.frames.gamma_row(bodies, gamma_of, row);
+        match input.ties {
+            Some(t) => t.row(&row),
+            None => row,
+        }
+    };
     let mut rows: Vec<Vec<(usize, f64)>> = input.points.iter().map(|p| to_gamma(&p.row)).collect();
     let m = input.points.len();
     let mut tangent_row = vec![None; m];
@@ -523,7 +540,7 @@ fn frictionless_step(
         .iter()
         .map(|p| match sc.contact[p.contact].law {
             scene::Law::Penalty { penalty } => penalty * p.tributary,
-            scene::Law::Unilateral => 0.0,
+            scene::Law::Unilateral | scene::Law::Tied => 0.0,
         })
         .collect();
     let (f_scale, length_scale) = (load.f_scale, load.length_scale);

@@ -108,4 +108,6 @@ pub(crate) struct Residuals {
     /// K u − f on the prescribed DOFs, as (body, DOF, value); a DOF shared
     /// by subdomains appears once per subdomain, their values to be summed.
     pub(crate) support: Vec<(usize, usize, f64)>,
+    /// The force of each tie's master on its slave: (contact, resultant).
+    pub(crate) ties: Vec<(usize, Vec<f64>)>,
 }

@@ -64,6 +64,7 @@ impl SubdomainSpec {
                 .collect(),
             surfaces: Default::default(),
             regions: Default::default(),
+            node_sets: Default::default(),
         }
     }
 }

@@ -120,6 +120,7 @@ pub fn box_mesh(
         cells: grid_cells(divisions, kind),
         surfaces: BTreeMap::new(),
         regions: Default::default(),
+        node_sets: Default::default(),
     };
     let coords = mesh.coords.clone();
     let names = BoxSide::ALL.map(|s| s.name());

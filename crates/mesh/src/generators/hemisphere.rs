@@ -96,6 +96,7 @@ pub fn hemisphere(
         cells,
         surfaces: BTreeMap::new(),
         regions: Default::default(),
+        node_sets: Default::default(),
     };
     name_boundary(&mut mesh, &["flat", "dome"], |facet| {
         if facet.iter().all(|&v| nodes.on_flat[v]) {

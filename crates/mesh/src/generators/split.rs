@@ -117,6 +117,7 @@ fn build_2d_first_order(
         cells,
         surfaces,
         regions: Default::default(),
+        node_sets: Default::default(),
     }
 }
 

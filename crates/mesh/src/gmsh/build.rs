@@ -1,20 +1,21 @@
 //! From the file's contents (nodes, element blocks, physical names) to a
 //! [`Mesh`]: cells, regions and surfaces.
 
+use super::select::{add_node_sets, keep_volume};
 use super::{cell_kind, facet_corners, invalid, supported_list, type_name, Block, Raw};
 use crate::vec3::{cross, dot, sub};
 use crate::{Cell, CellKind, Facet, Mesh, MeshError, Surface};
 use std::collections::{BTreeMap, HashMap, HashSet};
 
 /// Physical names by (dimension, tag).
-type Names = HashMap<(usize, i32), String>;
+pub(super) type Names = HashMap<(usize, i32), String>;
 
 /// The physical groups of the cells that have some: (cell index, group tags).
 type CellGroups<'a> = Vec<(usize, &'a [i32])>;
 
 /// The name of physical group `tag` of dimension `dim`: its physical name, or
 /// the tag itself when it has none.
-fn group_name(names: &Names, dim: usize, tag: i32) -> String {
+pub(super) fn group_name(names: &Names, dim: usize, tag: i32) -> String {
     match names.get(&(dim, tag)) {
         Some(name) if !name.is_empty() => name.clone(),
         _ => tag.to_string(),
@@ -33,13 +34,17 @@ fn count_list(counts: &BTreeMap<i32, usize>) -> String {
 /// Builds the mesh of dimension `dim` from a file's contents: cells, their
 /// nodes renumbered densely (in the plane z = 0 in 2D) and oriented, regions
 /// and surfaces from the physical groups (see the module documentation of
-/// [`gmsh`](super)).
-pub(super) fn build(raw: Raw, dim: usize) -> Result<Mesh, MeshError> {
+/// [`gmsh`](super)). With `volume`, the body of that physical group of
+/// dimension `dim` alone ([`select`](super::select)).
+pub(super) fn build(raw: Raw, dim: usize, volume: Option<&str>) -> Result<Mesh, MeshError> {
     let Raw {
         nodes: raw_nodes,
-        blocks,
+        mut blocks,
         names,
     } = raw;
+    if let Some(v) = volume {
+        keep_volume(&mut blocks, &names, dim, v)?;
+    }
     let present = check_element_types(&blocks, dim)?;
     if present.is_empty() {
         return Err(no_cells(&present, dim));
@@ -63,9 +68,12 @@ pub(super) fn build(raw: Raw, dim: usize) -> Result<Mesh, MeshError> {
         cells,
         surfaces: BTreeMap::new(),
         regions: BTreeMap::new(),
+        node_sets: BTreeMap::new(),
     };
     add_regions(&mut mesh, cell_groups, &names);
-    add_surfaces(&mut mesh, &blocks, &names, &tags, &new_index)?;
+    let facets = FacetIndex::new(&mesh, &tags, &new_index, volume.is_some());
+    add_surfaces(&mut mesh, &blocks, &names, &facets)?;
+    add_node_sets(&mut mesh, &blocks, &names, &tags, &new_index)?;
     if mesh.surfaces.is_empty() {
         mesh.surfaces.insert(
             "boundary".to_string(),
@@ -176,7 +184,7 @@ fn remedy(unsupported: &BTreeMap<i32, usize>, dim: usize) -> &'static str {
 }
 
 /// Node tags → index in the file's `$Nodes` order.
-struct NodeTags(HashMap<u64, usize>);
+pub(super) struct NodeTags(HashMap<u64, usize>);
 
 impl NodeTags {
     /// Indexes the tags of `raw_nodes`; a tag listed twice is an error.
@@ -191,7 +199,7 @@ impl NodeTags {
     }
 
     /// The index of node `tag`; an error if `$Nodes` does not list it.
-    fn lookup(&self, tag: u64) -> Result<usize, MeshError> {
+    pub(super) fn lookup(&self, tag: u64) -> Result<usize, MeshError> {
         self.0.get(&tag).copied().ok_or_else(|| {
             invalid(format!(
                 "an element refers to node {tag}, which is not in $Nodes"
@@ -350,11 +358,18 @@ struct FacetIndex<'a> {
     tags: &'a NodeTags,
     /// New index of each node of `$Nodes` (`usize::MAX` if dropped).
     new_index: &'a [usize],
+    /// One body of several: a facet element of no cell belongs to another.
+    one_of_several: bool,
 }
 
 impl<'a> FacetIndex<'a> {
     /// Indexes the facets of every cell of `mesh`.
-    fn new(mesh: &Mesh, tags: &'a NodeTags, new_index: &'a [usize]) -> FacetIndex<'a> {
+    fn new(
+        mesh: &Mesh,
+        tags: &'a NodeTags,
+        new_index: &'a [usize],
+        one_of_several: bool,
+    ) -> FacetIndex<'a> {
         let dim = mesh.dim;
         let corner_key = |nodes: &[usize], local: &[usize]| {
             let m = if dim == 2 { 2 } else { local.len() };
@@ -376,19 +391,21 @@ impl<'a> FacetIndex<'a> {
             facet_of,
             tags,
             new_index,
+            one_of_several,
         }
     }
 
     /// The cell and its local facet whose corners are the first `m` nodes of
     /// element `el` of block `b`; an error naming the block's group if it is
-    /// the facet of no cell, or of more than one (an interior facet).
+    /// the facet of no cell, or of more than one (an interior facet). `None`
+    /// for a facet of no cell of one body of several (another body's).
     fn find(
         &self,
         b: &Block,
         el: &[u64],
         m: usize,
         names: &Names,
-    ) -> Result<(usize, usize), MeshError> {
+    ) -> Result<Option<(usize, usize)>, MeshError> {
         let dim = self.dim;
         let mut key = Vec::with_capacity(m);
         let mut orphan = false;
@@ -405,7 +422,8 @@ impl<'a> FacetIndex<'a> {
             self.facet_of.get(&key)
         };
         match found {
-            Some(&(1, c, f)) => Ok((c, f)),
+            Some(&(1, c, f)) => Ok(Some((c, f))),
+            None if self.one_of_several => Ok(None),
             other => {
                 let g = b.physical[0];
                 let why = match other {
@@ -431,11 +449,9 @@ fn add_surfaces(
     mesh: &mut Mesh,
     blocks: &[Block],
     names: &Names,
-    tags: &NodeTags,
-    new_index: &[usize],
+    index: &FacetIndex,
 ) -> Result<(), MeshError> {
     let dim = mesh.dim;
-    let index = FacetIndex::new(mesh, tags, new_index);
     let mut seen: HashMap<String, HashSet<(usize, usize)>> = HashMap::new();
     for b in blocks
         .iter()
@@ -452,7 +468,9 @@ fn add_surfaces(
             )));
         }
         for el in b.nodes.chunks_exact(b.n_per) {
-            let (c, f) = index.find(b, el, m, names)?;
+            let Some((c, f)) = index.find(b, el, m, names)? else {
+                continue;
+            };
             let cell = &mesh.cells[c];
             let facet = Facet {
                 nodes: cell.kind.facets()[f]

@@ -43,6 +43,9 @@ pub fn build_contacts(
     };
     let mut interface_nodes: Vec<Vec<usize>> = vec![Vec::new(); bodies.len()];
     for ci in 0..sc.contact.len() {
+        if sc.contact[ci].law == scene::Law::Tied {
+            continue; // eliminated, not contact points (`super::ties`)
+        }
         let restricted = zone.restricts(ci);
         let surfaces = (!restricted).then_some(&mut interface_nodes[..]);
         let pair = contact_pair(sc, bodies, ci, notes, surfaces)?;
@@ -310,7 +313,10 @@ fn row_along(p: &ContactPoint, sides: &PairSides, dim: usize, direction: [f64; 3
 /// The friction law of a contact at one of its points, and the slip
 /// stiffness of a regularised law (course notes §4.1.3): a Tresca threshold and a
 /// slip stiffness scale with the point's tributary measure.
-fn point_friction(friction: &scene::Friction, tributary: f64) -> (FrictionLaw, Option<f64>) {
+pub(crate) fn point_friction(
+    friction: &scene::Friction,
+    tributary: f64,
+) -> (FrictionLaw, Option<f64>) {
     match friction {
         scene::Friction::None => (FrictionLaw::None, None),
         scene::Friction::NortonHoff { coefficient, rho } => (
