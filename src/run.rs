@@ -11,6 +11,7 @@ use signorini_report::results::OutputRequest;
 use signorini_report::stream::FieldWriter;
 use signorini_scene::SolvePath;
 use signorini_solver::memory::Budget;
+use signorini_solver::timing::timed;
 use signorini_solver::{RunEnvironment, RunOptions, RunOutput, SolveError};
 
 use crate::progress::{Progress, Show, Terminal};
@@ -139,9 +140,8 @@ fn solve_and_write(
     progress: Option<&Progress>,
     comm: &dyn Transport,
 ) -> Result<Option<(PathBuf, RunOutput)>, (u8, String)> {
-    let t0 = Instant::now();
-    let sc = signorini_scene::load(path).map_err(|e| (1, e.to_string()))?;
-    let setup = t0.elapsed().as_secs_f64();
+    let mut setup = 0.0;
+    let sc = timed(&mut setup, || signorini_scene::load(path)).map_err(|e| (1, e.to_string()))?;
     let name = path
         .file_name()
         .map(|s| s.to_string_lossy().to_string())

@@ -13,7 +13,7 @@
 
 use crate::common;
 
-use signorini_contact::friction::kinematic_hardening::return_map;
+use signorini_contact::law::hardening::return_map;
 use signorini_solver::{RunOptions, RunOutput, SolveError};
 
 const K_E: f64 = 100.0;

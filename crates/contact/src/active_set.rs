@@ -27,6 +27,7 @@
 //! (Tresca, the friction status method of §4.5, and the inner problems of the
 //! Coulomb fixed point and of Norton–Hoff) are rules over this driver.
 
+pub mod friction_status;
 pub mod signorini;
 
 use std::collections::HashSet;

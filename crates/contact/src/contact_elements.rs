@@ -22,7 +22,8 @@
 //! with the threshold τ = μ λ_n (Coulomb, §4.1.2, eq. 23), the Tresca
 //! threshold (§4.1.1), and Q the roughness (linear kinematic hardening,
 //! Q = 0: the regularised Coulomb law of §4.1.3); the closed form is
-//! [`crate::friction::kinematic_hardening::return_map`]. An open element
+//! [`crate::law::hardening::return_map`], its tangent
+//! [`crate::law::hardening::slip_tangent`]. An open element
 //! (h_n ≥ 0) carries no force and its whole tangential jump becomes slip
 //! (the asperities are unloaded on separation). The stiffnesses k_n, k_t, Q
 //! and the Tresca threshold are the element's: the per-area values times its
@@ -60,7 +61,7 @@ use faer::prelude::Solve;
 use faer::Mat;
 
 use crate::delassus::DelassusProblem;
-use crate::friction::kinematic_hardening::return_map;
+use crate::law::hardening::{return_map, slip_tangent};
 use crate::solution::{ContactSolution, FrictionTrace, PointStatus, SolverReport, StopReason};
 use crate::ContactError;
 
@@ -158,20 +159,12 @@ fn element_law(e: &ContactElement, h_n: f64, h_t: &[f64], g_old: &[f64]) -> Loca
         (0..nt).for_each(|i| out.tangent[1 + i][1 + i] = -k);
         return out;
     }
-    let xi: Vec<f64> = (0..nt)
-        .map(|i| k * (h_t[i] - g_old[i]) - q * g_old[i])
-        .collect();
-    let norm = xi.iter().map(|x| x * x).sum::<f64>().sqrt();
-    let a = k * k * tau / ((k + q) * norm);
-    let b = k * q / (k + q);
-    for (i, xi_i) in xi.iter().enumerate() {
-        let ni = xi_i / norm;
-        for (j, xi_j) in xi.iter().enumerate() {
-            let nj = xi_j / norm;
-            let delta = f64::from(i == j);
-            out.tangent[1 + i][1 + j] = -(b * delta + a * (delta - ni * nj));
+    let dt = slip_tangent(h_t, g_old, tau, k, q);
+    for i in 0..nt {
+        for j in 0..nt {
+            out.tangent[1 + i][1 + j] = -dt.jump[i][j];
         }
-        out.tangent[1 + i][0] = -k / (k + q) * ni * dtau;
+        out.tangent[1 + i][0] = -dt.threshold[i] * dtau;
     }
     out.status = match (nt, out.forces[1] > 0.0) {
         (1, true) => PointStatus::SlipPlus,

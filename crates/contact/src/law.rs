@@ -4,6 +4,7 @@
 use crate::ContactError;
 
 pub mod cone;
+pub mod hardening;
 pub mod norton_hoff;
 pub use cone::natural_residual;
 

@@ -8,6 +8,7 @@
 pub mod augmented_lagrangian;
 pub mod lemke;
 pub mod mprgp;
+pub mod mprgp_box;
 pub mod penalty;
 pub mod projected_gradient;
 pub(crate) mod regularised;

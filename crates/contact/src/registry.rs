@@ -22,6 +22,48 @@ use crate::solution::{ContactSolution, PolishSolve};
 use crate::{ContactError, DelassusProblem};
 use signorini_linalg::active_factor::{solve_on_active_set, ActiveFactor};
 
+/// The contact solvers on LCP(W, q), by identity: [`MethodId::as_str`] is
+/// the name in scenes, on the command line and in `report.json` (the
+/// [`METHODS`] table's), and [`str::parse`] reads it back.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum MethodId {
+    Status,
+    StatusPenalty,
+    Lemke,
+    ProjectedGradient,
+    ProjectedConjugateGradient,
+    Mprgp,
+    Uzawa,
+    AugmentedLagrangian,
+    Penalty,
+}
+
+impl MethodId {
+    /// The method's name in scenes, on the command line and in reports.
+    pub fn as_str(self) -> &'static str {
+        find(self).name
+    }
+}
+
+impl fmt::Display for MethodId {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.as_str())
+    }
+}
+
+impl std::str::FromStr for MethodId {
+    type Err = String;
+
+    /// The method of a name, or an error listing the valid ones.
+    fn from_str(name: &str) -> Result<Self, String> {
+        let known = METHODS.iter().find(|m| m.name == name);
+        known.map(|m| m.id).ok_or_else(|| {
+            let all = METHODS.map(|m| m.name).join(", ");
+            format!("\"{name}\" is not a contact method ({all})")
+        })
+    }
+}
+
 /// Which friction a method solves, and so which friction algorithms the
 /// pipeline pairs it with.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -60,6 +102,7 @@ type WarmSolve =
 
 /// A contact solver as the registry knows it.
 pub struct Method {
+    pub id: MethodId,
     /// The name in scenes, on the command line and in `report.json`.
     pub name: &'static str,
     /// The answer is the solution of the LCP, not of a regularised law.
@@ -85,8 +128,9 @@ impl Method {
     }
 }
 
-const fn method(name: &'static str, solve: Solve) -> Method {
+const fn method((id, name): (MethodId, &'static str), solve: Solve) -> Method {
     Method {
+        id,
         name,
         exact: true,
         active_set: false,
@@ -101,31 +145,43 @@ static STATUS: Method = Method {
     active_set: true,
     friction: FrictionSupport::StatusMethods,
     by_penalty: Some(&STATUS_PENALTY),
-    ..method("status", status)
+    ..method((MethodId::Status, "status"), status)
 };
 static STATUS_PENALTY: Method = Method {
     exact: false,
-    ..method("status_penalty", status_penalty)
+    ..method((MethodId::StatusPenalty, "status_penalty"), status_penalty)
 };
-static LEMKE: Method = method("lemke", |p| crate::lcp::lemke::lemke(p.w, p.q, p.opts));
-static PROJECTED_GRADIENT: Method = method("projected_gradient", |p| {
-    crate::lcp::projected_gradient::projected_gradient(p.w, p.q, p.opts)
+static LEMKE: Method = method((MethodId::Lemke, "lemke"), |p| {
+    crate::lcp::lemke::lemke(p.w, p.q, p.opts)
 });
-static PROJECTED_CONJUGATE_GRADIENT: Method = method("projected_conjugate_gradient", |p| {
-    crate::lcp::projected_gradient::projected_conjugate_gradient(p.w, p.q, p.opts)
-});
+static PROJECTED_GRADIENT: Method =
+    method((MethodId::ProjectedGradient, "projected_gradient"), |p| {
+        crate::lcp::projected_gradient::projected_gradient(p.w, p.q, p.opts)
+    });
+static PROJECTED_CONJUGATE_GRADIENT: Method = method(
+    (
+        MethodId::ProjectedConjugateGradient,
+        "projected_conjugate_gradient",
+    ),
+    |p| crate::lcp::projected_gradient::projected_conjugate_gradient(p.w, p.q, p.opts),
+);
 static MPRGP: Method = Method {
     friction: FrictionSupport::TrescaBox,
     warm_start: Some(crate::lcp::mprgp::mprgp_from),
-    ..method("mprgp", |p| crate::lcp::mprgp::mprgp(p.w, p.q, p.opts))
+    ..method((MethodId::Mprgp, "mprgp"), |p| {
+        crate::lcp::mprgp::mprgp(p.w, p.q, p.opts)
+    })
 };
-static UZAWA: Method = method("uzawa", |p| crate::lcp::uzawa::uzawa(p.w, p.q, p.opts));
-static AUGMENTED_LAGRANGIAN: Method = method("augmented_lagrangian", |p| {
-    crate::lcp::augmented_lagrangian::augmented_lagrangian(p.w, p.q, p.opts)
+static UZAWA: Method = method((MethodId::Uzawa, "uzawa"), |p| {
+    crate::lcp::uzawa::uzawa(p.w, p.q, p.opts)
 });
+static AUGMENTED_LAGRANGIAN: Method = method(
+    (MethodId::AugmentedLagrangian, "augmented_lagrangian"),
+    |p| crate::lcp::augmented_lagrangian::augmented_lagrangian(p.w, p.q, p.opts),
+);
 static PENALTY: Method = Method {
     exact: false,
-    ..method("penalty", |p| {
+    ..method((MethodId::Penalty, "penalty"), |p| {
         crate::lcp::penalty::penalty(p.w, p.q, &penalty_stiffness(p), p.opts)
     })
 };
@@ -143,9 +199,13 @@ pub static METHODS: [&Method; 9] = [
     &PENALTY,
 ];
 
-/// The method called `name`.
-pub fn find(name: &str) -> Option<&'static Method> {
-    METHODS.iter().copied().find(|m| m.name == name)
+/// The method `id`.
+pub fn find(id: MethodId) -> &'static Method {
+    METHODS
+        .iter()
+        .copied()
+        .find(|m| m.id == id)
+        .expect("every MethodId is in METHODS (tested)")
 }
 
 /// The status method on LCP(W, q): W_AA λ_A = −q_A on the active set, from
@@ -206,20 +266,21 @@ impl fmt::Debug for Algorithm {
 }
 
 impl Algorithm {
-    /// The method called `name`, its constraints imposed as `constraints`
-    /// where it has the choice (the status method), with `variant`.
-    pub fn named(name: &str, constraints: Constraints, variant: StatusVariant) -> Option<Self> {
-        let method = find(name)?;
+    /// The method `id`, its constraints imposed as `constraints` where it
+    /// has the choice (the status method), with `variant`.
+    pub fn of(id: MethodId, constraints: Constraints, variant: StatusVariant) -> Self {
+        let method = find(id);
         let method = match (constraints, method.by_penalty) {
             (Constraints::Penalty, Some(penalised)) => penalised,
             _ => method,
         };
-        Some(Self { method, variant })
+        Self { method, variant }
     }
 
     /// The method called `name` with multipliers, every status changing at once.
     pub fn by_name(name: &str) -> Option<Self> {
-        Self::named(name, Constraints::Multipliers, StatusVariant::All)
+        let id = name.parse().ok()?;
+        Some(Self::of(id, Constraints::Multipliers, StatusVariant::All))
     }
 
     /// The status method with multipliers (the exact reference).
@@ -228,6 +289,10 @@ impl Algorithm {
             method: &STATUS,
             variant,
         }
+    }
+
+    pub fn id(self) -> MethodId {
+        self.method.id
     }
 
     pub fn name(self) -> &'static str {
@@ -465,6 +530,35 @@ fn polish(w: &Mat<f64>, q: &[f64], sol: &mut ContactSolution, opts: &LcpOptions)
 mod tests {
     use super::*;
     use crate::test_problems::{cases, norm_inf, rel_err};
+
+    /// Each method of the table has today's name, its MethodId finds it and
+    /// its name reads back as its MethodId; a name that is no method is refused with the
+    /// list of the valid ones.
+    #[test]
+    fn every_method_id_names_its_method() {
+        let names = [
+            "status",
+            "status_penalty",
+            "lemke",
+            "projected_gradient",
+            "projected_conjugate_gradient",
+            "mprgp",
+            "uzawa",
+            "augmented_lagrangian",
+            "penalty",
+        ];
+        assert_eq!(METHODS.map(|m| m.name), names);
+        for m in METHODS {
+            assert!(std::ptr::eq(find(m.id), m));
+            assert_eq!(m.id.as_str(), m.name);
+            assert_eq!(m.name.parse::<MethodId>(), Ok(m.id));
+        }
+        let err = "simplex".parse::<MethodId>().unwrap_err();
+        assert!(
+            err.contains("simplex") && err.contains("augmented_lagrangian"),
+            "{err}"
+        );
+    }
 
     /// The status method on LCP(W, q) through the registry: the forces of
     /// the exact solution, the gaps W λ + q on every point (the iterations

@@ -543,6 +543,7 @@ pub enum SmalbeStop {
 }
 
 mod display;
+pub(crate) mod friction_iterate;
 
 #[cfg(test)]
 mod tests;

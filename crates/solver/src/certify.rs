@@ -16,6 +16,7 @@ use crate::subdomain::{CondensedData, FactorSummary, RecoveredStep};
 use crate::{memory, model};
 use signorini_contact::friction::PointStatus;
 use signorini_contact::norms::nan_max;
+use signorini_contact::registry::MethodId;
 use signorini_contact::{SolverReport, StatusVariant, StopReason};
 use signorini_report::results::{RunOutput, StepFields};
 use signorini_report::{
@@ -242,9 +243,11 @@ pub(crate) fn failure_advice(report: &SolverReport, tolerance: f64, frictionless
             String::new()
         };
     }
-    let others: Vec<&str> = ["status", "lemke"]
+    let failed = report.method.parse::<MethodId>().ok();
+    let others: Vec<&str> = [MethodId::Status, MethodId::Lemke]
         .into_iter()
-        .filter(|m| *m != report.method)
+        .filter(|&m| Some(m) != failed)
+        .map(MethodId::as_str)
         .collect();
     let mut advice = format!(
         "; use method = \"{}\" (exact in a finite number of steps)",

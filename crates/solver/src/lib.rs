@@ -49,7 +49,7 @@ mod step_end;
 mod step_friction;
 pub mod subdomain;
 mod ties;
-mod timing;
+pub mod timing;
 
 pub use signorini_report::results::{BodyResult, RunOutput, StepFields};
 pub use signorini_report::stream::{FieldWriter, StepSink, StepsInMemory};

@@ -482,11 +482,12 @@ fn box_size([nx, ny, nz]: [f64; 3], element: scene::Element) -> BodySize {
     // a node of a line of p nodes has 3 neighbours on it, itself included,
     // but the two ends 2: (3p − 2)/p on average
     let line = |p: f64| (3.0 * p - 2.0) / p;
-    let (cells, per_cell, neighbours) = if matches!(element, scene::Element::Tet4 | scene::Element::Tet10) {
-        (6.0 * nx * ny * nz, 4.0, 15.0)
-    } else {
-        (nx * ny * nz, 8.0, line(px) * line(py) * line(pz))
-    };
+    let (cells, per_cell, neighbours) =
+        if matches!(element, scene::Element::Tet4 | scene::Element::Tet10) {
+            (6.0 * nx * ny * nz, 4.0, 15.0)
+        } else {
+            (nx * ny * nz, 8.0, line(px) * line(py) * line(pz))
+        };
     let mut sides = [px, py, pz];
     sides.sort_by(f64::total_cmp);
     BodySize {

@@ -7,7 +7,7 @@ use crate::error::SolveError;
 use crate::memory::Budget;
 use crate::options::RunOptions;
 use crate::path_choice;
-use signorini_contact::registry::{Algorithm, Constraints, FrictionSupport};
+use signorini_contact::registry::{Algorithm, Constraints, FrictionSupport, MethodId};
 use signorini_contact::StatusVariant;
 use signorini_scene as scene;
 
@@ -201,8 +201,21 @@ pub fn algorithm_of(solver: &scene::Solver, method: scene::Method) -> Algorithm 
         scene::Constraints::Multipliers => Constraints::Multipliers,
         scene::Constraints::Penalty => Constraints::Penalty,
     };
-    Algorithm::named(method.as_str(), constraints, variant)
-        .expect("every scene method is in the registry (tested)")
+    Algorithm::of(method_id(method), constraints, variant)
+}
+
+/// The registry's method of a scene's `method`.
+fn method_id(method: scene::Method) -> MethodId {
+    match method {
+        scene::Method::Status => MethodId::Status,
+        scene::Method::Lemke => MethodId::Lemke,
+        scene::Method::ProjectedGradient => MethodId::ProjectedGradient,
+        scene::Method::Mprgp => MethodId::Mprgp,
+        scene::Method::Uzawa => MethodId::Uzawa,
+        scene::Method::AugmentedLagrangian => MethodId::AugmentedLagrangian,
+        scene::Method::Penalty => MethodId::Penalty,
+        scene::Method::ProjectedConjugateGradient => MethodId::ProjectedConjugateGradient,
+    }
 }
 
 #[cfg(test)]

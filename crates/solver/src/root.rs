@@ -22,7 +22,6 @@ use signorini_contact::{
 };
 use signorini_report::Regularisation;
 use signorini_scene as scene;
-use std::time::Instant;
 
 /// The force that the master exerts on the slave at contact point `pi`,
 /// λ_n n + λ_t1 t1 + λ_t2 t2 (the tangential parts from `friction`, zero
@@ -309,26 +308,30 @@ impl<'a> RootSolve<'a> {
             Some(_) => None,
         };
         let (input, interface) = (self.input, &self.interface);
-        let t_step = Instant::now();
-        let mut operator_s = 0.0;
-        let load = step_load(input, interface, st, si)?;
-        let op = delassus_operator(&mut self.operator, &mut operator_s, input.progress, || {
-            let s = stiffness.ok_or_else(|| {
-                SolveError::Internal("the interface stiffness was already factorised".into())
-            })?;
-            conditioning::delassus_operator(s, &interface.rows, &interface.kernel, cond)
-                .map_err(|e| interface_error(input, e))
-        })?;
-        let (mut step, u) = match &mut self.kind {
-            StepKind::ReturnMapping(h) => element_step(input, interface, h, op, load)?,
-            StepKind::Friction(fr, h) => {
-                fr.at_step(input, si);
-                friction_step(input, interface, fr, h, op, load)?
+        let (mut operator_s, mut step_s) = (0.0, 0.0);
+        let (mut step, u) = timed(&mut step_s, || {
+            let load = step_load(input, interface, st, si)?;
+            let op =
+                delassus_operator(&mut self.operator, &mut operator_s, input.progress, || {
+                    let s = stiffness.ok_or_else(|| {
+                        SolveError::Internal(
+                            "the interface stiffness was already factorised".into(),
+                        )
+                    })?;
+                    conditioning::delassus_operator(s, &interface.rows, &interface.kernel, cond)
+                        .map_err(|e| interface_error(input, e))
+                })?;
+            match &mut self.kind {
+                StepKind::ReturnMapping(h) => element_step(input, interface, h, op, load),
+                StepKind::Friction(fr, h) => {
+                    fr.at_step(input, si);
+                    friction_step(input, interface, fr, h, op, load)
+                }
+                StepKind::Frictionless(warm) => frictionless_step(input, op, load, warm),
             }
-            StepKind::Frictionless(warm) => frictionless_step(input, op, load, warm)?,
-        };
+        })?;
         step.operator_s = operator_s;
-        step.solve_s = t_step.elapsed().as_secs_f64() - operator_s;
+        step.solve_s = step_s - operator_s;
         let u = match input.ties {
             Some(t) => t.expand(&u),
             None => u,

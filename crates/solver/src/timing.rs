@@ -5,7 +5,7 @@
 use std::time::Instant;
 
 /// Runs `phase`, adding the seconds it took to `seconds`.
-pub(crate) fn timed<T>(seconds: &mut f64, phase: impl FnOnce() -> T) -> T {
+pub fn timed<T>(seconds: &mut f64, phase: impl FnOnce() -> T) -> T {
     let start = Instant::now();
     let out = phase();
     *seconds += start.elapsed().as_secs_f64();

@@ -8,13 +8,11 @@
 //! turns it, with the dimension and the laws of the points, into the method
 //! that runs; [`solve_friction`] runs it.
 
+use crate::active_set::friction_status::{coulomb_status, predicted_statuses, tresca_status};
 use crate::delassus::DelassusProblem;
 use crate::friction::friction3d::{coulomb_3d_fixed_point, friction_3d};
 use crate::friction::nsgs::nsgs;
-use crate::friction::{
-    coulomb_fixed_point, coulomb_newton, coulomb_status, norton_hoff, predicted_statuses,
-    tresca_projection, tresca_status,
-};
+use crate::friction::{coulomb_fixed_point, coulomb_newton, norton_hoff, tresca_projection};
 use crate::law::{natural_residual, FrictionLayout};
 use crate::norms::max_abs;
 use crate::options::FrictionOptions;

@@ -13,27 +13,16 @@
 //! map, g ← μ λ_n |Δs|^ρ, stopped on the misfit of its law. The driver
 //! [`fixed_point`] is therefore generic over
 //! - the inner Tresca solver ([`TrescaSolver`]): the 2D status method
-//!   (`friction::StatusTresca`) or the 3D semi-smooth Newton method
+//!   (`friction::status_tresca::StatusTresca`) or the 3D semi-smooth Newton method
 //!   (`friction3d::Newton`), each counting its own iterations;
 //! - the threshold map and the residual ([`ThresholdMap`]): Coulomb's
 //!   g ← μ λ_n with the change of the normal forces ([`normal_change`]),
 //!   or Norton–Hoff's map with its misfit.
 
 use crate::options::FrictionOptions;
-use crate::solution::{ContactSolution, PointStatus, SolverReport, StopReason, ThresholdMapKind};
+use crate::solution::friction_iterate::{FixedPoint, InnerSolve};
+use crate::solution::{StopReason, ThresholdMapKind};
 use crate::ContactError;
-
-/// One solve of a Tresca problem (fixed thresholds): the forces and gaps of
-/// all rows (normal rows 0..m, then the tangential rows), the statuses of
-/// the m points, and whether and why it stopped.
-#[derive(Debug, Clone)]
-pub(crate) struct InnerSolve {
-    pub forces: Vec<f64>,
-    pub gaps: Vec<f64>,
-    pub statuses: Vec<PointStatus>,
-    pub converged: bool,
-    pub reason: StopReason,
-}
 
 /// A solver of the Tresca problem with given thresholds (course notes §4.1.1), the
 /// inner problem of the fixed point.
@@ -72,38 +61,6 @@ pub(crate) fn normal_change(previous: &[f64], next: &InnerSolve) -> f64 {
     (0..next.statuses.len()).fold(0.0f64, |a, p| {
         crate::norms::nan_max(a, (next.forces[p] - previous[p]).abs())
     })
-}
-
-/// Where the fixed point stopped: its last iterate, the residual after each
-/// outer iteration, whether it converged and why it stopped.
-pub(crate) struct FixedPoint {
-    pub last: InnerSolve,
-    pub residuals: Vec<f64>,
-    pub converged: bool,
-    pub reason: StopReason,
-}
-
-impl FixedPoint {
-    /// The solution of a friction solve by `method` that ended here, after
-    /// `iterations` inner iterations in all (`cycle`: some status loop
-    /// cycled); one fixed-point iteration per residual.
-    pub fn solution(self, method: &str, iterations: usize, cycle: bool) -> ContactSolution {
-        let report = SolverReport {
-            method: method.into(),
-            converged: self.converged,
-            iterations,
-            operator_applications: 0,
-            residual_history: self.residuals,
-            stop: self.reason,
-        };
-        let fixed_point_iterations = report.residual_history.len();
-        let last = self.last;
-        let mut sol = ContactSolution::with_gaps(last.forces, last.gaps, Vec::new(), report);
-        sol.set_points(last.statuses);
-        sol.friction.fixed_point_iterations = fixed_point_iterations;
-        sol.statuses.cycle_detected_at = cycle.then_some(iterations);
-        sol
-    }
 }
 
 /// Outer iterations without a new smallest residual after which the fixed
@@ -199,6 +156,7 @@ pub(crate) fn fixed_point<S: TrescaSolver>(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::solution::PointStatus;
 
     /// An inner solver whose normal force follows `forces(k)` at its k-th solve.
     struct Scripted<F: Fn(usize) -> f64> {

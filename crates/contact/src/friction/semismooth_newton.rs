@@ -41,12 +41,11 @@ use faer::prelude::Solve;
 use faer::Mat;
 
 use crate::delassus::DelassusProblem;
-use crate::friction::fixed_point::{
-    fixed_point, normal_change, FixedPoint, InnerSolve, ThresholdMap, TrescaSolver,
-};
+use crate::friction::fixed_point::{fixed_point, normal_change, ThresholdMap, TrescaSolver};
 use crate::law::cone::project_ellipse;
 use crate::law::FrictionLayout;
 use crate::options::FrictionOptions;
+use crate::solution::friction_iterate::{FixedPoint, InnerSolve};
 use crate::solution::{ContactSolution, PointStatus, StopReason, ThresholdMapKind};
 use crate::ContactError;
 pub use alart_curnier::{AlartCurnier, Dir, NewtonSystem, Scale};
@@ -595,6 +594,7 @@ pub(crate) mod coulomb;
 mod least_change;
 mod norton_hoff;
 mod tresca_inner;
+pub use coulomb::coulomb_newton;
 pub(crate) use coulomb::friction_newton;
 use tresca_inner::Newton;
 

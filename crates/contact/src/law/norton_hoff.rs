@@ -38,9 +38,28 @@ impl<'a> NortonHoffLaw<'a> {
     }
 
     /// The threshold μ λ_n ‖Δs‖^ρ of point p from the forces r and gaps g.
-    pub(crate) fn threshold(&self, r: &[f64], g: &[f64], p: usize) -> Option<f64> {
+    fn threshold(&self, r: &[f64], g: &[f64], p: usize) -> Option<f64> {
         self.at(r, g, p)
             .map(|(bound, rho, slip)| bound * slip.powf(rho))
+    }
+
+    /// The threshold of every point from the forces r and gaps g, as the
+    /// solver's thresholds `of_radius` makes them (2D a force, 3D the
+    /// semi-axes of a disc): μ λ_n ‖Δs‖^ρ where the law is Norton–Hoff,
+    /// `fallback(p)` at the other points.
+    pub(crate) fn thresholds<T>(
+        &self,
+        r: &[f64],
+        g: &[f64],
+        of_radius: impl Fn(f64) -> T,
+        fallback: impl Fn(usize) -> T,
+    ) -> Vec<T> {
+        (0..self.layout.n_points())
+            .map(|p| match self.threshold(r, g, p) {
+                Some(radius) => of_radius(radius),
+                None => fallback(p),
+            })
+            .collect()
     }
 
     /// The largest ‖λ_t + μ λ_n ‖Δs‖^(ρ−1) Δs‖ over the points in contact

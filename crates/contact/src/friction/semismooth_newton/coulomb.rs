@@ -6,6 +6,24 @@
 use super::tresca_inner::Newton;
 use super::*;
 
+/// Coulomb (or Tresca) in 2D by the semi-smooth Newton method on the
+/// Alart–Curnier equations ([`crate::friction::semismooth_newton`]): Newton steps on
+/// Coulomb's law itself (threshold μ λ_n of the iterate, no outer fixed
+/// point), each on the reduced system of its statuses (a primal–dual
+/// active set method); where that does not converge, the fixed point
+/// g ← μ λ_n (§4.3) with each inner Tresca problem solved by the same
+/// Newton steps. Statuses open, stick, slip± as the other 2D methods
+/// report them. Started from `start` (the previous step's forces) or zero
+/// (the fixed point: from the solution with every point stuck).
+pub fn coulomb_newton(
+    problem: &mut DelassusProblem,
+    layout: &FrictionLayout,
+    start: Option<&[f64]>,
+    opts: &FrictionOptions,
+) -> Result<ContactSolution, ContactError> {
+    friction_newton(problem, layout, start, opts, 2, true)
+}
+
 /// Friction by the semi-smooth Newton method (`dim` 2 or 3): Tresca (and
 /// frictionless) points in one solve; Coulomb, with `direct`, by the Newton
 /// method on Coulomb's law itself ([`solve_coulomb`]), and when that does

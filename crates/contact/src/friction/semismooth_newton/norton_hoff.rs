@@ -49,13 +49,13 @@ pub(super) fn norton_hoff_fixed_point(
         ..*newton
     };
     let law = NortonHoffLaw::new(layout, opts);
-    let threshold = |r: &[f64], g: &[f64]| -> Vec<[f64; 2]> {
-        (0..layout.n_points())
-            .map(|p| match law.threshold(r, g, p) {
-                Some(radius) => [radius; 2],
-                None => layout.law[p].semi_axes(r[p]),
-            })
-            .collect()
+    let threshold = |r: &[f64], g: &[f64]| {
+        law.thresholds(
+            r,
+            g,
+            |radius| [radius; 2],
+            |p| layout.law[p].semi_axes(r[p]),
+        )
     };
     let misfit = |_: &[f64], it: &InnerSolve| law.misfit(&it.forces, &it.gaps, &it.statuses);
     let map = ThresholdMap {

@@ -4,10 +4,10 @@
 
 use faer::Mat;
 
+use crate::active_set::friction_status::coulomb_status;
 use crate::friction::friction3d::{coulomb_3d_fixed_point, friction_3d};
 use crate::friction::{
-    coulomb_fixed_point, coulomb_newton, coulomb_status, FrictionLaw, FrictionLayout,
-    FrictionOptions, PointStatus,
+    coulomb_fixed_point, coulomb_newton, FrictionLaw, FrictionLayout, FrictionOptions, PointStatus,
 };
 use crate::test_problems::{random_spd, XorShift};
 

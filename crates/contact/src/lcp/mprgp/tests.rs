@@ -1,13 +1,15 @@
-//! Tests of [`super`]: MPRGP on the LCP (λ ≥ 0) and on general boxes.
+//! Tests of [`super`] and [`crate::lcp::mprgp_box`]: MPRGP on the LCP (λ ≥ 0)
+//! and on general boxes.
 
 use super::*;
-use crate::lcp::lcp_residual;
 use crate::lcp::lemke::lemke;
+use crate::lcp::mprgp_box::{box_residual, mprgp_box, mprgp_box_from};
 use crate::lcp::projected_gradient::projected_conjugate_gradient;
 use crate::lcp::projected_gradient::test_support::{
     assert_close, edge_cases, inf_norm, iterates_to_the_status_method, random_spd, random_vec,
     redundant_constraints, reports_iteration_limit, tight, Rng,
 };
+use crate::lcp::{gaps, lcp_residual, spectral_norm_estimate};
 use proptest::prelude::*;
 
 #[test]
