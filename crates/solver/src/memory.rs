@@ -636,30 +636,17 @@ pub enum ContactCounts<'a> {
     Built(&'a [KeptContact]),
 }
 
-/// Estimates the peak memory of `signorini run` on this scene, along
-/// `path`, with `ranks` MPI ranks (for `subdomains = "auto"`), the contact
-/// unknowns counted as `counts` says. Nothing is built; a Gmsh file's header
-/// is read.
-pub fn estimate(
+/// The contact rows of the scene, the interface DOFs contact puts on each
+/// body (d per node, one per slave node condensed on its normal alone:
+/// frictionless against a rigid master, crates/solver/src/contact_frames.rs),
+/// and the contacts whose points could not be counted.
+fn contact_sizes(
     sc: &scene::Scene,
-    path: scene::SolvePath,
-    ranks: usize,
+    sizes: &[Option<BodySize>],
     counts: ContactCounts,
-) -> Estimate {
-    let dim = sc.dimension as usize;
-    let direct = path == scene::SolvePath::Direct;
-    let steps = sc.step_scales().len().max(1) as f64;
-    let sizes: Vec<Option<BodySize>> = sc.bodies.iter().map(|b| body_size(b, dim)).collect();
-    let autos = sc
-        .bodies
-        .iter()
-        .filter(|b| b.is_deformable() && b.subdomains == scene::Subdomains::Auto)
-        .count()
-        .max(1);
+) -> (Vec<f64>, f64, Vec<String>) {
     let body_of = |name: &str| sc.body_index(name).and_then(|i| sizes[i].as_ref());
-    // Contact rows, and the interface DOFs contact puts on each body: d per
-    // node, one per slave node condensed on its normal alone (frictionless
-    // against a rigid master, crates/solver/src/contact_frames.rs).
+    let dim = sc.dimension as usize;
     let mut contact_dofs = vec![0.0; sc.bodies.len()];
     let mut rows = 0.0;
     let mut uncounted = Vec::new();
@@ -702,6 +689,30 @@ pub fn estimate(
         };
         rows += slave * (1.0 + tangential);
     }
+    (contact_dofs, rows, uncounted)
+}
+
+/// Estimates the peak memory of `signorini run` on this scene, along
+/// `path`, with `ranks` MPI ranks (for `subdomains = "auto"`), the contact
+/// unknowns counted as `counts` says. Nothing is built; a Gmsh file's header
+/// is read.
+pub fn estimate(
+    sc: &scene::Scene,
+    path: scene::SolvePath,
+    ranks: usize,
+    counts: ContactCounts,
+) -> Estimate {
+    let dim = sc.dimension as usize;
+    let direct = path == scene::SolvePath::Direct;
+    let steps = sc.step_scales().len().max(1) as f64;
+    let sizes: Vec<Option<BodySize>> = sc.bodies.iter().map(|b| body_size(b, dim)).collect();
+    let autos = sc
+        .bodies
+        .iter()
+        .filter(|b| b.is_deformable() && b.subdomains == scene::Subdomains::Auto)
+        .count()
+        .max(1);
+    let (contact_dofs, rows, uncounted) = contact_sizes(sc, &sizes, counts);
     let mut e = Estimate {
         contact_rows: rows,
         uncounted,
