@@ -234,3 +234,17 @@ fn regularised_coulomb_has_the_condensed_forces_on_the_direct_path() {
 fn the_ssnv128_example_has_the_condensed_forces_on_the_direct_path() {
     on_both_paths(&example("ssnv128.toml"), 1e-8);
 }
+
+/// The 3D friction scenes of `friction3d` on the direct path: the elliptic
+/// cone dragged along each axis and the Cattaneo–Mindlin sphere (partial
+/// slip) give the condensed path's forces, slips and displacements, and the
+/// same stick and slip counts.
+#[test]
+fn the_3d_friction_scenes_give_the_condensed_answer_on_the_direct_path() {
+    use crate::friction3d::{box_scene, sphere_on_block};
+    for drag in [[0.1, 0.0], [0.0, 0.1]] {
+        on_both_paths(&box_scene("{ coulomb = [0.3, 0.1] }", drag, None), 1e-8);
+    }
+    let (c, d) = on_both_paths(&sphere_on_block(), 1e-8);
+    assert_eq!(stick_slip(&c), stick_slip(&d));
+}

@@ -10,7 +10,7 @@ use signorini_solver::{RunOptions, RunOutput};
 /// A 1 × 1 × 0.5 box on the rigid plane z = 0, its top pressed down by
 /// 0.01 and, at step 2, moved by `drag` (x, y), or loaded by the traction
 /// `traction` instead.
-fn box_scene(friction: &str, drag: [f64; 2], top_traction: Option<[f64; 3]>) -> String {
+pub(crate) fn box_scene(friction: &str, drag: [f64; 2], top_traction: Option<[f64; 3]>) -> String {
     let load = match top_traction {
         Some([tx, ty, tz]) => format!(
             "[[boundary]]\nname = \"load\"\nbody = \"box\"\nsurface = \"zmax\"\ntraction = [{tx}, {ty}, {tz}]\n"
@@ -353,7 +353,7 @@ fn cattaneo_mindlin_is_refused_in_an_axisymmetric_model() {
 
 /// A hemisphere pressed onto a graded box, then pulled sideways (Coulomb
 /// friction 0.3): the Cattaneo–Mindlin reference.
-fn sphere_on_block() -> String {
+pub(crate) fn sphere_on_block() -> String {
     let flat = "surface = \"flat\"";
     let no_y = "displacement = { y = 0.0 }";
     [
