@@ -65,7 +65,10 @@ fn assert_patch_passes(text: &str, what: &str) {
         let err = uniform_state_error(&o, PATCH3D_STRAIN);
         assert!(dev <= 1e-10, "{what}, {path:?}: pressure off by {dev:e}");
         assert!((total - 1.0).abs() <= 1e-12, "{what}, {path:?}: {total}");
-        assert!(err <= 1e-10, "{what}, {path:?}: displacement off by {err:e}");
+        assert!(
+            err <= 1e-10,
+            "{what}, {path:?}: displacement off by {err:e}"
+        );
     }
 }
 
@@ -103,10 +106,7 @@ fn node_to_face_on_quadratic_faces_passes_only_on_matching_meshes() {
         let o = converged_on(&text, SolvePath::Condensed);
         let (dev, total) = pressure_error(&o, 1.0);
         eprintln!("node_to_face {element} non-matching: pressure off by {dev:.4}");
-        assert!(
-            (dev - measured).abs() <= 0.1 * measured,
-            "{element}: {dev}"
-        );
+        assert!((dev - measured).abs() <= 0.1 * measured, "{element}: {dev}");
         assert!((total - 1.0).abs() <= 1e-12, "{element}: {total}");
     }
 }
@@ -198,7 +198,10 @@ fn a_curved_interface_carries_the_hydrostatic_state_on_matching_meshes() {
         let err = uniform_state_error(&o, strain);
         let (dev, _) = pressure_error(&o, 1.0);
         eprintln!("curved matching {discretization}: displacement {err:e}, pressure {dev:e}");
-        assert!(err <= 1e-10, "{discretization}: displacement off by {err:e}");
+        assert!(
+            err <= 1e-10,
+            "{discretization}: displacement off by {err:e}"
+        );
     }
     for (lower, upper, discretization, measured) in [
         ("hex20_4", "hex20_5", "mortar", 0.0),
@@ -210,7 +213,9 @@ fn a_curved_interface_carries_the_hydrostatic_state_on_matching_meshes() {
         let o = converged_on(&text, SolvePath::Condensed);
         let err = uniform_state_error(&o, strain);
         let (dev, _) = pressure_error(&o, 1.0);
-        eprintln!("curved {lower}/{upper} {discretization}: displacement {err:e}, pressure {dev:e}");
+        eprintln!(
+            "curved {lower}/{upper} {discretization}: displacement {err:e}, pressure {dev:e}"
+        );
         let _ = measured;
     }
 }
@@ -225,10 +230,22 @@ fn non_matching_quadratic_blocks_tied_give_the_monolithic_answer() {
         format!("{{ generator = \"box\", origin = [0.0, 0.0, {z}], size = [1.0, 1.0, 1.0], divisions = {d}, element = \"{kind}\" }}")
     };
     for (lower, upper) in [
-        (block(0.0, "[2, 2, 2]", "hex20"), block(1.0, "[3, 3, 2]", "tet10")),
-        (block(0.0, "[3, 3, 2]", "tet10"), block(1.0, "[2, 2, 2]", "hex20")),
-        (block(0.0, "[2, 2, 2]", "hex20"), block(1.0, "[3, 3, 2]", "hex20")),
-        (block(0.0, "[2, 2, 2]", "tet10"), block(1.0, "[3, 3, 1]", "tet10")),
+        (
+            block(0.0, "[2, 2, 2]", "hex20"),
+            block(1.0, "[3, 3, 2]", "tet10"),
+        ),
+        (
+            block(0.0, "[3, 3, 2]", "tet10"),
+            block(1.0, "[2, 2, 2]", "hex20"),
+        ),
+        (
+            block(0.0, "[2, 2, 2]", "hex20"),
+            block(1.0, "[3, 3, 2]", "hex20"),
+        ),
+        (
+            block(0.0, "[2, 2, 2]", "tet10"),
+            block(1.0, "[3, 3, 1]", "tet10"),
+        ),
     ] {
         for t in [2.0, -2.0] {
             let text = tied_blocks(3, &lower, &upper, t);

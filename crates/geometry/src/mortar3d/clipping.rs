@@ -98,7 +98,15 @@ pub(super) fn clip(subject: &[Point2], clipper: &[Point2], tol: f64) -> Vec<Poin
                 out.push(p);
             }
             if p_in != q_in && (sp - sq).abs() > 0.0 {
-                let t = sp / (sp - sq);
+                // Where p–q crosses the side's line. When p and q lie on
+                // either side of the tolerance band but on the same side of
+                // the line (both within ~tol of it: nodes off a common line
+                // by rounding), that crossing is beyond p–q, possibly far:
+                // it is put on the segment's end instead.
+                let mut t = sp / (sp - sq);
+                if !(-1e-9..=1.0 + 1e-9).contains(&t) {
+                    t = t.clamp(0.0, 1.0);
+                }
                 out.push([p[0] + t * (q[0] - p[0]), p[1] + t * (q[1] - p[1])]);
             }
         }
@@ -219,6 +227,18 @@ mod tests {
         // Shared edge: no sliver.
         let c = clip(&sq(0.0, 0.0, 1.0), &sq(1.0, 0.0, 1.0), 1e-14);
         assert!(signed_area(&c).abs() < 1e-15);
+    }
+
+    #[test]
+    fn vertices_within_the_tolerance_of_a_side_stay_on_the_subject() {
+        // p is outside the side y = 0 by more than tol, q inside the band
+        // but below the line: p–q crosses y = 0 beyond q (x = 0.35).
+        let tol = 1e-14;
+        let sq = [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]];
+        let t = [[0.2, -1.5e-14], [0.3, -0.5e-14], [0.25, 0.5]];
+        let c = clip(&t, &sq, tol);
+        assert!(c.iter().all(|p| p[0] <= 0.3 + 1e-12), "{c:?}");
+        assert!((signed_area(&c) - signed_area(&t)).abs() < 1e-14);
     }
 
     #[test]
