@@ -128,3 +128,38 @@ fn hertz_sphere_in_tet10_within_two_percent() {
     assert!(rel(&out, "p0") <= 0.02, "p0 error {}", rel(&out, "p0"));
     assert!(rel(&out, "a") <= 0.04, "a error {}", rel(&out, "a"));
 }
+
+/// CalculiX's deck contact4.inp (two C3D20 cubes, docs/performance/calculix.md)
+/// translated to docs/peers/calculix/contact4.toml: the contact carries the
+/// applied 100 × 0.5² = 25, and the punch (ν = 0, its top held in x and y,
+/// uniform pressure on top, exact contact below) is in uniform compression:
+/// top and bottom move apart by 100 · 0.5 / E, the bottom face stays flat.
+#[test]
+fn calculix_contact4_translation_carries_the_load_in_uniform_compression() {
+    let dir = format!("{}/docs/peers/calculix", env!("CARGO_MANIFEST_DIR"));
+    let text = std::fs::read_to_string(format!("{dir}/contact4.toml"))
+        .unwrap()
+        .replace(
+            "file = \"contact4.msh\"",
+            &format!("file = \"{dir}/contact4.msh\""),
+        );
+    let out = converged(&text, RunOptions::default());
+    let f = &out.report.contact_force;
+    assert!((f[2] - 25.0).abs() <= 1e-12 * 25.0, "{f:?}");
+    let uz: Vec<f64> = out.bodies[1]
+        .last()
+        .displacement
+        .chunks(3)
+        .map(|u| u[2])
+        .collect();
+    let (top, bottom) = uz
+        .iter()
+        .fold((f64::MAX, f64::MIN), |(lo, hi), &u| (lo.min(u), hi.max(u)));
+    let squeeze = 100.0 * 0.5 / 210000.0;
+    assert!(
+        ((bottom - top) - squeeze).abs() <= 1e-9 * squeeze,
+        "{top:e} {bottom:e}"
+    );
+    let flat = uz.iter().filter(|&&u| (u - bottom).abs() <= 1e-9 * squeeze);
+    assert_eq!(flat.count(), 8, "the punch's bottom face moves as one");
+}
