@@ -36,7 +36,8 @@ fn displacement_scale(o: &RunOutput) -> f64 {
 
 /// Solves `text` on both paths (each converged, certificate ≤ 1e-9) and
 /// asserts that the contact forces (normal and tangential, every step), the
-/// slips (relative to the largest slip or last displacement) and the displacements agree
+/// slips (relative to the largest slip or last displacement) and the
+/// displacements of every step (relative to each body's largest) agree
 /// to `tol`, and that the direct path ran its semi-smooth Newton method when
 /// the scene has friction; returns (condensed, direct).
 pub fn on_both_paths(text: &str, tol: f64) -> (RunOutput, RunOutput) {
@@ -64,8 +65,23 @@ pub fn on_both_paths(text: &str, tol: f64) -> (RunOutput, RunOutput) {
         "slips differ by {slip_error:e} (displacement scale {u_scale:e})"
     );
     for (x, y) in c.bodies.iter().zip(&d.bodies) {
-        let r = max_rel(&x.last().displacement, &y.last().displacement);
-        assert!(r <= tol, "body {}: displacements differ by {r:e}", x.name);
+        // every step, relative to the body's largest displacement of the
+        // run (a step unloaded to no load is compared on the loaded scale)
+        let steps = x.history.iter().zip(&y.history);
+        let scale = (x.history.iter())
+            .flat_map(|s| s.displacement.iter())
+            .fold(f64::MIN_POSITIVE, |a, v| a.max(v.abs()));
+        for (i, (sx, sy)) in steps.enumerate() {
+            let sd = (sx.displacement.iter().zip(&sy.displacement))
+                .fold(0.0f64, |a, (p, q)| a.max((p - q).abs()));
+            let r = sd / scale;
+            assert!(
+                r <= tol,
+                "body {} step {}: displacements differ by {r:e}",
+                x.name,
+                i + 1
+            );
+        }
     }
     let frictional = c.contact_rows.iter().any(|r| r.tangential_force != 0.0);
     if frictional {
