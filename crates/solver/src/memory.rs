@@ -782,7 +782,7 @@ pub fn estimate(
     }
     let (g, m) = (e.interface_dofs, e.contact_rows);
     // Friction on the direct path: the whole-system Newton's sparse LU (L
-    // and U in a column order of its own, COLAMD: four times the LDLᵀ in
+    // and U in a column order of its own, COLAMD: five times the LDLᵀ in
     // nested dissection, from measured peaks 1.4 to 2.8 times the estimate
     // at twice on the pads and strips of
     // docs/performance/condensed-vs-direct.md), nothing dense.
@@ -791,7 +791,7 @@ pub fn estimate(
             .contact
             .iter()
             .any(|c| c.friction != scene::Friction::None);
-    e.factor *= if direct_friction { 4.0 } else { 1.0 };
+    e.factor *= if direct_friction { 5.0 } else { 1.0 };
     e.dense = if direct {
         // the KKT matrix holds the contact rows sparse: no dense block
         0.0
