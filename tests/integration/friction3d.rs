@@ -742,7 +742,8 @@ fn norton_hoff_in_3d_is_refused_on_the_direct_path() {
 }
 
 /// The pushed assembly (held along x by friction alone) on the direct path:
-/// the push below μ N gives the condensed path's forces.
+/// the push below μ N gives the condensed path's forces, within the
+/// assembly's stopping tests.
 #[test]
 fn the_pushed_assembly_has_the_condensed_forces_on_the_direct_path() {
     let text = pushed_assembly(0.5 * 0.3 * 313.1).replace(
@@ -750,7 +751,11 @@ fn the_pushed_assembly_has_the_condensed_forces_on_the_direct_path() {
         "tolerance = 1e-8\ntime_limit = 3600.0\n",
     );
     assert!(text.contains("time_limit"));
-    common::twins::on_both_paths(&text, 1e-8);
+    // 7.9e-7 measured: the stopping tests' force scales of
+    // `the_assembly_agrees_on_both_paths_within_each_paths_stopping_test`
+    // (tolerance 1e-8 times 1.9e5 N against point forces of 13 N) admit
+    // up to 1.6e-4
+    common::twins::on_both_paths(&text, 1e-5);
 }
 
 /// The three-body assembly dragged 0.07 mm on both paths: the contact
