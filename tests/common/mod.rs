@@ -4,6 +4,7 @@
 
 pub mod bad_scene;
 mod scene_text;
+pub mod twins;
 #[allow(unused_imports)]
 pub use scene_text::*;
 

@@ -461,3 +461,23 @@ fn a_step_friction_of_another_kind_or_contact_is_refused() {
         run_in(dir, "run", &["--out", "out"]).assert_bad_input(needles);
     }
 }
+
+/// What the direct path leaves to the condensed path, refused there as bad
+/// input naming the entry before anything is built (and taken by `auto` to
+/// the condensed path, not to a refusal): a friction law changed by a load
+/// step, and friction beside a tied contact. The dragged block with one μ
+/// for both steps has the condensed forces on the direct path.
+#[test]
+fn step_friction_and_friction_beside_ties_are_left_to_the_condensed_path() {
+    use super::common::twins::{on_both_paths, refused_on_direct};
+    let stepped = dragged_block(0.005);
+    refused_on_direct(&stepped, &["steps[1].friction"]);
+    let one_mu = stepped.replace(
+        "friction = { slide = { coulomb = 0.1 } }\n",
+        "scale = { press = 1.0 }\n",
+    );
+    assert_ne!(one_mu, stepped);
+    on_both_paths(&one_mu, 1e-8);
+    let tied = example_with_meshes("assembly_one_file.toml");
+    refused_on_direct(&tied, &["contact \"bond\"", "tied"]);
+}

@@ -676,3 +676,15 @@ fn a_large_unloading_converges_to_the_state_of_a_small_one() {
     let d = common::max_rel(&last(&big), &last(&small));
     assert!(d <= 1e-8, "{d}");
 }
+
+/// Contact elements with friction run on the condensed path alone: the
+/// direct path refuses them naming the return mapping, and `auto` takes
+/// the condensed path.
+#[test]
+fn contact_elements_with_friction_are_refused_on_the_direct_path() {
+    let text = clamped(
+        &blocks(2, 8, 8, &elements(&penalty(), "{ coulomb = 0.3 }")),
+        2,
+    );
+    common::twins::refused_on_direct(&text, &["return mapping", "solver.path"]);
+}

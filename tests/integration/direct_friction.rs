@@ -6,74 +6,12 @@
 
 use crate::common;
 
+use common::twins::{on_both_paths, stick_slip};
 use common::{
-    block_body, block_contact, converged_on, example, material_2d, max_rel, named_block_boundary,
-    rigid_plane, try_run,
+    block_body, block_contact, example, material_2d, named_block_boundary, rigid_plane, try_run,
 };
 use signorini_scene::SolvePath;
-use signorini_solver::{RunOptions, RunOutput};
-
-/// Every step's normal and tangential forces of contact.csv, one vector.
-fn contact_forces(o: &RunOutput) -> Vec<f64> {
-    let rows = &o.contact_rows;
-    rows.iter()
-        .map(|r| r.normal_force)
-        .chain(rows.iter().map(|r| r.tangential_force))
-        .chain(rows.iter().map(|r| r.tangential_force_2))
-        .collect()
-}
-
-/// Every step's slip increments of contact.csv.
-fn slips(o: &RunOutput) -> Vec<f64> {
-    let rows = &o.contact_rows;
-    rows.iter()
-        .map(|r| r.slip)
-        .chain(rows.iter().map(|r| r.slip_2))
-        .collect()
-}
-
-/// Solves `text` on both paths (each converged, certificate ≤ 1e-9) and
-/// asserts that the contact forces (normal and tangential, every step), the
-/// slips (relative to the largest slip, or to `slip_floor` of the
-/// displacement scale when none slips) and the displacements agree to
-/// `tol`; returns (condensed, direct).
-fn on_both_paths(text: &str, tol: f64) -> (RunOutput, RunOutput) {
-    let c = converged_on(text, SolvePath::Condensed);
-    let d = converged_on(text, SolvePath::Direct);
-    let (fc, fd) = (contact_forces(&c), contact_forces(&d));
-    assert!(
-        max_rel(&fc, &fd) <= tol,
-        "contact forces differ by {:e}",
-        max_rel(&fc, &fd)
-    );
-    let (sc, sd) = (slips(&c), slips(&d));
-    let u_scale = c
-        .bodies
-        .iter()
-        .flat_map(|b| b.last().displacement.iter())
-        .fold(0.0f64, |a, v| a.max(v.abs()));
-    let slip_error = sc
-        .iter()
-        .zip(&sd)
-        .fold(0.0f64, |a, (x, y)| a.max((x - y).abs()));
-    assert!(
-        slip_error <= tol * u_scale,
-        "slips differ by {slip_error:e} (displacement scale {u_scale:e})"
-    );
-    for (x, y) in c.bodies.iter().zip(&d.bodies) {
-        let r = max_rel(&x.last().displacement, &y.last().displacement);
-        assert!(r <= tol, "body {}: displacements differ by {r:e}", x.name);
-    }
-    let method = d.report.steps[0].solver["method"].as_str().unwrap_or("");
-    assert!(method.contains("direct_semismooth_newton"), "{method}");
-    (c, d)
-}
-
-/// The number of sticking and slipping points of the last step.
-fn stick_slip(o: &RunOutput) -> (usize, usize) {
-    let last = o.report.steps.last().expect("a step");
-    (last.sticking, last.slipping)
-}
+use signorini_solver::RunOptions;
 
 /// A 1 × 1 × 0.1 rubber pad (Hex8, n × n × 2) on a rigid floor, its top
 /// pressed down by 0.004 at step 1 and dragged by 0.004 along x (and

@@ -647,3 +647,98 @@ fn a_pad_with_friction_unloaded_to_no_load_is_solved_with_no_force() {
     assert!(force(1) > 0.1, "pressed: {}", force(1));
     assert!(force(2) <= 1e-12 * force(1), "unloaded: {}", force(2));
 }
+
+/// The scenes of this module on the direct path (its semi-smooth Newton
+/// method on the whole system): the block sticking below μN with the push
+/// held by friction alone, sliding past μN (fixed point and Newton asked
+/// for), partly slipping with Coulomb and regularised Coulomb, and at tiny
+/// loads, give the condensed path's forces, slips and displacements.
+#[test]
+fn the_block_scenes_have_the_condensed_forces_on_the_direct_path() {
+    use common::twins::on_both_paths;
+    for (mu, q) in [(0.3, 0.1), (2.0, 3.0)] {
+        let friction = format!("{{ coulomb = {mu} }}");
+        on_both_paths(&block(&friction, "{ y = -0.01 }", q, ""), 1e-8);
+    }
+    for (mu, solver) in [(0.3, "fixed_point"), (1.0, "newton"), (2.0, "fixed_point")] {
+        let text = block(
+            &format!("{{ coulomb = {mu} }}"),
+            "{ x = 0.2, y = -0.01 }",
+            0.0,
+            &format!("[solver]\nfriction = \"{solver}\""),
+        );
+        on_both_paths(&text, 1e-8);
+    }
+    for friction in [
+        "{ coulomb = 0.4 }",
+        "{ coulomb = 0.4, slip_stiffness = 1e2 }",
+        "{ coulomb = 0.4, slip_stiffness = 1e8 }",
+        "{ tresca = 0.12 }",
+    ] {
+        on_both_paths(&block(friction, "{ x = 0.004, y = -0.01 }", 0.0, ""), 1e-8);
+    }
+    on_both_paths(
+        &block("{ coulomb = 0.3 }", "{ y = -1e-14 }", 5e-13, ""),
+        1e-8,
+    );
+}
+
+/// The shipped and derived examples of this module on the direct path:
+/// Cattaneo–Mindlin unloaded, the cyclic loading, the pad unloaded to no
+/// load, Hertz with zero friction and a push held under force control.
+#[test]
+fn the_friction_examples_have_the_condensed_forces_on_the_direct_path() {
+    use common::twins::on_both_paths;
+    let unloaded = example("cattaneo.toml") + "\n[[steps]]\nscale = { press = 1.0, pull = 0.5 }\n";
+    on_both_paths(&unloaded, 1e-8);
+    on_both_paths(&example("cyclic.toml"), 1e-8);
+    let pad = example("blocks.toml").replace(
+        "discretization = \"node_to_node\"",
+        "discretization = \"node_to_node\"\nfriction = { coulomb = 0.3 }",
+    )
+        + "\n[[steps]]\nscale = { pressure = 1.0 }\n[[steps]]\nscale = { pressure = 0.0 }\n";
+    on_both_paths(&pad, 1e-8);
+    let hertz = example("hertz2d.toml")
+        .replace("divisions = 160", "divisions = 64")
+        .replace(
+            "discretization = \"node_to_segment\"",
+            "discretization = \"node_to_segment\"\nfriction = { coulomb = 0.0 }",
+        );
+    on_both_paths(&hertz, 1e-8);
+    let held = block("{ coulomb = 0.3 }", "{ y = -0.01 }", 0.0, "")
+        .replace("displacement = { y = -0.01 }", "traction = [0.0, -1.0]")
+        .replace("force = [0, 0.0]", "force = [0.5, 0.0]");
+    on_both_paths(&held, 1e-8);
+}
+
+/// What the direct path leaves to the condensed path, refused there as bad
+/// input naming the entry (and `auto` takes the condensed path): the
+/// friction status method, Tresca by the box-constrained MPRGP, and
+/// Norton–Hoff friction (one step and two).
+#[test]
+fn the_direct_path_refuses_the_status_method_mprgp_and_norton_hoff_naming_them() {
+    use common::twins::refused_on_direct;
+    let partial = "{ x = 0.004, y = -0.01 }";
+    let status = block(
+        "{ coulomb = 0.4 }",
+        partial,
+        0.0,
+        "[solver]\nfriction = \"status\"",
+    );
+    refused_on_direct(&status, &["solver.friction = \"status\""]);
+    let mprgp = block(
+        "{ tresca = 0.12 }",
+        "{ x = 0.003, y = -0.01 }",
+        0.0,
+        "[solver]\nmethod = \"mprgp\"",
+    );
+    refused_on_direct(&mprgp, &["mprgp"]);
+    let nh = block(
+        "{ norton_hoff = 0.3, rho = 0.2 }",
+        "{ x = 0.2, y = -0.01 }",
+        0.0,
+        "",
+    );
+    refused_on_direct(&nh, &["Norton-Hoff"]);
+    refused_on_direct(&norton_hoff_block(0.2, [0.5, 1.0]), &["Norton-Hoff"]);
+}

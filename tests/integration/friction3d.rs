@@ -708,3 +708,103 @@ fn a_push_beyond_mu_n_says_friction_cannot_hold_it() {
     );
     methods_named(&out);
 }
+
+/// The box scenes of this module on the direct path: dragged past the
+/// isotropic cone, within the Tresca disc, held by friction alone below
+/// μ N, with zero friction and with regularised Coulomb give the condensed
+/// path's forces, slips and displacements (the elliptic cone, sliding3d and
+/// the Cattaneo–Mindlin sphere: tests/integration/direct_friction.rs).
+#[test]
+fn the_box_scenes_have_the_condensed_forces_on_the_direct_path() {
+    use common::twins::on_both_paths;
+    for drag in [[0.1, 0.0], [0.06, 0.08]] {
+        on_both_paths(&box_scene("{ coulomb = 0.3 }", drag, None), 1e-8);
+    }
+    on_both_paths(&box_scene("{ tresca = 0.05 }", [0.1, 0.05], None), 1e-8);
+    let (q, p) = (0.2, 1.0);
+    on_both_paths(
+        &box_scene("{ coulomb = 0.5 }", [0.0, 0.0], Some([q, q / 2.0, -p])),
+        1e-8,
+    );
+    on_both_paths(&box_scene("{ coulomb = 0.0 }", [0.05, 0.0], None), 1e-8);
+    for k in [1e2, 1e8] {
+        let friction = format!("{{ coulomb = 0.3, slip_stiffness = {k:e} }}");
+        on_both_paths(&box_scene(&friction, [0.002, 0.001], None), 1e-8);
+    }
+}
+
+/// Norton–Hoff in 3D is left to the condensed path: refused on the direct
+/// path naming the law, and `auto` takes the condensed path.
+#[test]
+fn norton_hoff_in_3d_is_refused_on_the_direct_path() {
+    let text = box_scene("{ norton_hoff = 0.3, rho = 0.2 }", [0.1, 0.0], None);
+    common::twins::refused_on_direct(&text, &["Norton-Hoff"]);
+}
+
+/// The pushed assembly (held along x by friction alone) on the direct path:
+/// the push below μ N gives the condensed path's forces, within the
+/// assembly's stopping tests.
+#[test]
+fn the_pushed_assembly_has_the_condensed_forces_on_the_direct_path() {
+    let text = pushed_assembly(0.5 * 0.3 * 313.1).replace(
+        "tolerance = 1e-8\n",
+        "tolerance = 1e-8\ntime_limit = 3600.0\n",
+    );
+    assert!(text.contains("time_limit"));
+    // 7.9e-7 measured: the stopping tests' force scales of
+    // `the_assembly_agrees_on_both_paths_within_each_paths_stopping_test`
+    // (tolerance 1e-8 times 1.9e5 N against point forces of 13 N) admit
+    // up to 1.6e-4
+    common::twins::on_both_paths(&text, 1e-5);
+}
+
+/// The three-body assembly dragged 0.07 mm on both paths: the contact
+/// forces agree within what each path's stopping test admits, the
+/// tolerance times its force scale (report `certificate.force_scale`).
+/// They do not agree to 1e-8 relative: the direct path's force scale is
+/// that of its whole system's load (K u_p of the pressed steel cylinder at
+/// the free DOFs beside its top, 1.9e5 N), the condensed path's that of
+/// its load on the interface (2.5e4 N), both far above the contact forces
+/// (13 N at most a point): at the scene's tolerance 1e-8 the direct path
+/// stops 3.8e-5 (relative to the largest point force) from its own answer
+/// at 1e-10, which is within 4.1e-7 of the condensed path's
+/// (docs/performance/condensed-vs-direct.md). The same rigid modes, a
+/// stopping test on another scale.
+#[test]
+fn the_assembly_agrees_on_both_paths_within_each_paths_stopping_test() {
+    use signorini_scene::SolvePath;
+    // a time limit well above the run (the direct path's first step takes
+    // 78 Newton iterations: on a loaded machine over the default limit)
+    let text = assembly("displacement = { x = 0.07 }", false).replace(
+        "tolerance = 1e-8\n",
+        "tolerance = 1e-8\ntime_limit = 3600.0\n",
+    );
+    assert!(text.contains("time_limit"));
+    let on = |path| {
+        let out = try_run(
+            &text,
+            RunOptions {
+                method: None,
+                path: Some(path),
+            },
+        )
+        .unwrap_or_else(|e| panic!("{e}"));
+        assert!(out.report.converged, "{path:?}: {:?}", out.report.failure);
+        out
+    };
+    let (c, d) = (on(SolvePath::Condensed), on(SolvePath::Direct));
+    let forces = common::twins::contact_forces;
+    let (fc, fd) = (forces(&c), forces(&d));
+    let difference = fc
+        .iter()
+        .zip(&fd)
+        .fold(0.0f64, |a, (x, y)| a.max((x - y).abs()));
+    let (cc, cd) = (&c.report.certificate, &d.report.certificate);
+    let bound = cc.tolerance * cc.force_scale + cd.tolerance * cd.force_scale;
+    assert!(difference <= bound, "{difference:e} against {bound:e}");
+    // the bound is not vacuous: well below the largest point force
+    let largest = fc.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+    assert!(bound <= 1e-3 * largest, "{bound:e} vs {largest:e}");
+    // and the direct path's scale is the larger (what the bound explains)
+    assert!(cd.force_scale > 4.0 * cc.force_scale, "{cc:?} {cd:?}");
+}

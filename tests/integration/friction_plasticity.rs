@@ -458,3 +458,13 @@ fn every_friction_method_solves_the_rough_law_alike() {
         }
     }
 }
+
+/// Rough contacts run on the condensed path alone: the direct path refuses
+/// them naming the roughness, in 2D and 3D, and `auto` takes the condensed
+/// path.
+#[test]
+fn rough_contacts_are_refused_on_the_direct_path() {
+    for dim in [2, 3] {
+        common::twins::refused_on_direct(&scene(dim, &rough(Q), false), &["roughness"]);
+    }
+}

@@ -510,3 +510,86 @@ kind = "sliding_block"
     ]
     .concat()
 }
+
+/// The scenes of this module on the direct path: the quarter and half
+/// models with symmetry planes, the axisymmetric Hertz sphere with
+/// friction, the pads pressed across a gap onto a flat and an incline
+/// (2D and 3D, displacement and force control) and the dragged block of the sliding-block reference
+/// give the condensed path's forces, slips and displacements.
+#[test]
+fn the_supported_and_gapped_scenes_have_the_condensed_forces_on_the_direct_path() {
+    let sym = symmetry("xmin", "x") + &symmetry("ymin", "y");
+    let press3 = "displacement = { x = 0.0, y = 0.0, z = -0.02 }";
+    let (o3, o2, up3, up2) = ([0.0; 3], [0.0; 2], [0.0, 0.0, 1.0], [0.0, 1.0]);
+    let press2 = "displacement = { x = 0.0, y = -0.02 }";
+    let mut scenes = vec![
+        (
+            "quarter",
+            block(
+                3,
+                &o3,
+                &[1.0, 1.0, 0.5],
+                &[4, 4, 2],
+                &up3,
+                0.2,
+                press3,
+                &sym,
+                "fixed_point",
+            ),
+        ),
+        (
+            "half",
+            block(
+                2,
+                &o2,
+                &[1.0, 0.5],
+                &[8, 4],
+                &up2,
+                0.2,
+                press2,
+                &symmetry("left", "x"),
+                "fixed_point",
+            ),
+        ),
+    ];
+    let axi = example("hertz_axi.toml")
+        .replace("divisions = 80", "divisions = 40")
+        .replace(
+            "discretization = \"node_to_segment\"",
+            "discretization = \"node_to_segment\"\nfriction = { coulomb = 0.3 }",
+        );
+    scenes.push(("axisymmetric", axi));
+    let (incline2, incline3) = ([0.1, 1.0], [0.1, 0.0, 1.0]);
+    for (name, dim, normal, top) in [
+        ("gap", 2, &up2[..], "displacement = { y = -0.2 }"),
+        ("incline force", 2, &incline2[..], "traction = [0.0, -10.0]"),
+        (
+            "incline displacement",
+            2,
+            &incline2[..],
+            "displacement = { y = -0.2 }",
+        ),
+        (
+            "incline force 3d",
+            3,
+            &incline3[..],
+            "traction = [0.0, 0.0, -10.0]",
+        ),
+        (
+            "incline displacement 3d",
+            3,
+            &incline3[..],
+            "displacement = { z = -0.2 }",
+        ),
+    ] {
+        scenes.push((name, gap_pad(dim, normal, top, "fixed_point")));
+    }
+    scenes.push(("dragged", dragged_block()));
+    // Not the block pushed against a frictionless wall (flat or disc): the
+    // direct path's first Newton step there is not finite ("the iterate
+    // became non-finite"), exit 2, where the condensed path solves it.
+    for (name, text) in scenes {
+        eprintln!("{name}");
+        common::twins::on_both_paths(&text, 1e-8);
+    }
+}

@@ -373,13 +373,10 @@ fn mortar_with_coulomb_friction_holds_a_sideways_load() {
     }
 }
 
-#[test]
-fn mortar_with_tresca_friction_by_mprgp_equals_the_status_method() {
-    // The pad's top pushed down and sideways (no body held by contact
-    // alone, which the box method cannot solve; every point closed, where
-    // the box and the status method solve the same Tresca problem), with a
-    // Tresca threshold 0.1 (a traction): most points slip, some stick.
-    let text = patch_with("mortar", false, "quad4", "quad8")
+/// The mortar patch with a Tresca threshold 0.1, the pad's top pushed down
+/// and sideways (every point closed, most slipping, some sticking).
+fn tresca_patch() -> String {
+    patch_with("mortar", false, "quad4", "quad8")
         .replace(
             "discretization = \"mortar\"\n\n[reference]",
             "discretization = \"mortar\"\nfriction = { tresca = 0.1 }\n\n[reference]",
@@ -392,7 +389,16 @@ fn mortar_with_tresca_friction_by_mprgp_equals_the_status_method() {
             "[[boundary]]\nname = \"pin-pad\"\nbody = \"pad\"\npoint = [0.0, 1.0]\ndisplacement = { x = 0.0 }\n",
             "",
         )
-        .replace("[reference]\nkind = \"uniform_pressure\"\npressure = 1.0\n", "");
+        .replace("[reference]\nkind = \"uniform_pressure\"\npressure = 1.0\n", "")
+}
+
+#[test]
+fn mortar_with_tresca_friction_by_mprgp_equals_the_status_method() {
+    // The pad's top pushed down and sideways (no body held by contact
+    // alone, which the box method cannot solve; every point closed, where
+    // the box and the status method solve the same Tresca problem), with a
+    // Tresca threshold 0.1 (a traction): most points slip, some stick.
+    let text = tresca_patch();
     let a = converged_on(&text, SolvePath::Condensed);
     let b = converged(
         &text,
@@ -471,4 +477,13 @@ fn mortar_patch_under_mpirun_2_equals_the_in_process_run() {
     for (x, y) in a.iter().zip(&b) {
         assert!(max_rel(x, y) <= 1e-10, "{x:?} vs {y:?}");
     }
+}
+
+/// The mortar patches with friction on the direct path: Coulomb holding a
+/// sideways load and Tresca pushed sideways give the condensed path's
+/// forces, slips and displacements.
+#[test]
+fn mortar_with_friction_has_the_condensed_forces_on_the_direct_path() {
+    common::twins::on_both_paths(&sideways_patch("{ coulomb = 0.3 }"), 1e-8);
+    common::twins::on_both_paths(&tresca_patch(), 1e-8);
 }

@@ -183,12 +183,10 @@ fn mortar_3d_two_spheres_on_non_matching_meshes_are_within_2_percent_of_hertz() 
     assert!(a_m <= 0.02, "a: mortar {a_m}");
 }
 
-#[test]
-fn mortar_3d_with_coulomb_friction_holds_a_sideways_load() {
-    // The pad is not held sideways (so every tangent frame is (e_x, e_y)):
-    // the sideways traction 0.1 (a tenth of the pressure, under μ = 0.3) is
-    // carried by friction alone, resultant 0.1 along x and 0 along y.
-    let text = patch("mortar", false, false)
+/// The 3D mortar patch with Coulomb μ = 0.3, its pad loaded by the
+/// traction (0.1, 0, −1) and not held sideways.
+fn sideways_patch() -> String {
+    patch("mortar", false, false)
         .replace(
             "discretization = \"mortar\"\n",
             "discretization = \"mortar\"\nfriction = { coulomb = 0.3 }\n",
@@ -201,7 +199,15 @@ fn mortar_3d_with_coulomb_friction_holds_a_sideways_load() {
         .replace(
             "[[boundary]]\nname = \"pad-y\"\nbody = \"pad\"\nsurface = \"ymin\"\ndisplacement = { y = 0.0 }\n\n",
             "",
-        );
+        )
+}
+
+#[test]
+fn mortar_3d_with_coulomb_friction_holds_a_sideways_load() {
+    // The pad is not held sideways (so every tangent frame is (e_x, e_y)):
+    // the sideways traction 0.1 (a tenth of the pressure, under μ = 0.3) is
+    // carried by friction alone, resultant 0.1 along x and 0 along y.
+    let text = sideways_patch();
     assert!(!text.contains("pad-x") && !text.contains("pad-y") && text.contains("coulomb"));
     let o = converged_on(&text, SolvePath::Condensed);
     let n: f64 = o.contact_rows.iter().map(|r| r.normal_force).sum();
@@ -347,4 +353,11 @@ fn an_unknown_slave_choice_is_refused_naming_the_valid_ones() {
         err.contains("slave_choice = \"maybe\"") && err.contains("expected `given` or `auto`"),
         "{err}"
     );
+}
+
+/// The 3D mortar patch holding a sideways load by friction on the direct
+/// path: the condensed path's forces, slips and displacements.
+#[test]
+fn mortar_3d_with_friction_has_the_condensed_forces_on_the_direct_path() {
+    common::twins::on_both_paths(&sideways_patch(), 1e-8);
 }

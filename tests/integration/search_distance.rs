@@ -260,3 +260,15 @@ fn a_widened_zone_that_does_not_fit_is_refused_saying_why() {
     );
     assert!(!dir.join("tight").exists());
 }
+
+/// Friction with a candidate zone on the direct path: cyclic.toml with its
+/// pull prescribed and held by friction alone, each with a zone, gives the
+/// condensed path's forces, slips and displacements.
+#[test]
+fn a_zone_with_friction_has_the_condensed_forces_on_the_direct_path() {
+    let cyclic = example("cyclic.toml");
+    let pulled = cyclic.replace("force = [0.0006, 0.0]", "displacement = { x = 2e-4 }");
+    for text in [pulled, cyclic] {
+        common::twins::on_both_paths(&with_zone(&text, "node_to_segment", 0.02), 1e-8);
+    }
+}

@@ -484,3 +484,39 @@ fn the_vtu_files_carry_the_friction_force_and_slip_as_global_vectors() {
         }
     }
 }
+
+/// The friction scenes of this module on the direct path: the axisymmetric
+/// quad8 cylinder with Tresca friction over two steps, Hertz 3D with
+/// Coulomb friction, and the indented slab with Coulomb friction in two
+/// subdomains give the condensed path's forces, slips and displacements.
+#[test]
+fn the_friction_scenes_of_solids_have_the_condensed_forces_on_the_direct_path() {
+    use common::twins::on_both_paths;
+    let axi = "model = \"axisymmetric\"\n".to_string()
+        + &material_2d(1.0, 0.3)
+        + &block_body([0.0, 0.0], [2.0, 1.0], [30, 15], ", element = \"quad8\"")
+        + &rigid_plane("ground", [0.0, 0.0], [0.0, 1.0])
+        + &named_block_boundary("press", "surface = \"top\"", "displacement = { y = -0.01 }")
+        + &block_contact("c", "bottom", "ground")
+        + "friction = { tresca = 0.001 }\n"
+        + "[[steps]]\nscale = { press = 0.5 }\n[[steps]]\nscale = { press = 1.0 }\n";
+    on_both_paths(&axi, 1e-8);
+    let hertz = example("hertz3d.toml")
+        .replace("divisions = 12", "divisions = 6")
+        .replace(
+            "discretization = \"node_to_face\"",
+            "discretization = \"node_to_face\"\nfriction = { coulomb = 0.3 }",
+        );
+    on_both_paths(&hertz, 1e-8);
+    let indent = example("indent3d.toml")
+        .replace("divisions = [40, 40, 2]", "divisions = [16, 16, 2]")
+        .replace(
+            "search_distance = 0.01\n",
+            "search_distance = 0.01\nfriction = { coulomb = 0.3 }\n",
+        )
+        .replace(
+            "material = \"steel\"\n",
+            "material = \"steel\"\nsubdomains = 2\n",
+        );
+    on_both_paths(&indent, 1e-8);
+}

@@ -237,3 +237,27 @@ fn friction_reactions_are_exact_through_reversal_and_at_large_mu() {
         assert!(error(r, "tangential_reaction") <= stiff::FRICTION_TOLERANCE);
     }
 }
+
+/// The suite's friction cases on the direct path: held by friction alone
+/// (2D and 3D), μ ≥ 1 and load reversal give the condensed path's forces,
+/// slips and displacements; those asking for the friction status method
+/// are refused there naming it.
+#[test]
+fn the_friction_cases_have_the_condensed_forces_on_the_direct_path() {
+    use crate::common::twins::{on_both_paths, refused_on_direct};
+    let families = ["held_by_friction", "mu_ge_1", "load_reversal"];
+    let mut twins = 0;
+    for case in stiff::cases(true) {
+        let solves = matches!(case.expect, stiff::Expectation::Solves(_));
+        if !families.contains(&case.family.as_str()) || !solves {
+            continue;
+        }
+        if case.text.contains("friction = \"status\"") {
+            refused_on_direct(&case.text, &["solver.friction = \"status\""]);
+        } else {
+            on_both_paths(&case.text, 1e-8);
+            twins += 1;
+        }
+    }
+    assert!(twins >= 4, "{twins} friction cases twinned");
+}

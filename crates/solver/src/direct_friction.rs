@@ -23,14 +23,26 @@ use crate::root::{length_scale, step_gaps};
 use crate::run_context::RunContext;
 use crate::step::StepSolution;
 use crate::step_end::StepLoop;
-use crate::step_friction::step_laws;
 use crate::timing::timed;
 use signorini_contact::friction::{statuses, FrictionLaw, FrictionOptions, PointStatus};
+use signorini_contact::options::default_time_limit;
 use signorini_contact::{ContactSolution, SolverReport};
 use signorini_linalg::sparse::SparseRow;
 use signorini_report::Timings;
 use signorini_scene as scene;
 use std::time::Instant;
+
+/// Seconds a friction solve on the direct path may take by default for each
+/// unknown of its whole system (u and λ), beside the dense problem's
+/// [`default_time_limit`] (sized for a factorisation of W, not of the whole
+/// system): each Newton iteration here is one sparse LU of the whole
+/// Jacobian, about 2e-5 s an unknown on the idle 2-core machine of
+/// docs/performance (2.6 s for the 122 000 unknowns of the 100 × 100 pad),
+/// a solve may take a hundred iterations with its retry (the three-body
+/// assembly's first step: 78), and a loaded machine several times longer:
+/// the Cattaneo example's first step (42 281 DOFs) was cut at the dense
+/// default of 10 s while still converging.
+const SECONDS_PER_UNKNOWN: f64 = 2e-2;
 
 /// The contact rows of the direct path with friction on the global free
 /// DOFs: every point's normal row, then the tangential rows t1 (and t2)
@@ -74,8 +86,11 @@ pub(crate) fn direct_rows(
 }
 
 /// What the direct path does not solve with friction (the condensed path
-/// does): Norton–Hoff's law and rough contacts (course notes §6); `Err`
-/// names the contact and what would run.
+/// does): Norton–Hoff's law and rough contacts (course notes §6), friction
+/// beside tied contacts, a friction law changed by a load step and the
+/// friction status method; `Err` names the entry and what would run. Checked
+/// by the plan before anything is built, so that `path = "auto"` leaves the
+/// direct path out for such a scene.
 pub(crate) fn check_direct_friction(sc: &scene::Scene) -> Result<(), SolveError> {
     if sc
         .contact
@@ -98,6 +113,17 @@ pub(crate) fn check_direct_friction(sc: &scene::Scene) -> Result<(), SolveError>
                 c.name
             )));
         }
+    }
+    if let Some(c) = sc.contact.iter().find(|c| c.law == scene::Law::Tied) {
+        return Err(SolveError::Input(format!(
+            "contact \"{}\".law = \"tied\": friction with tied bodies is solved on path = \"condensed\" only; use path = \"condensed\"",
+            c.name
+        )));
+    }
+    if let Some(i) = sc.steps.iter().position(|s| !s.friction.is_empty()) {
+        return Err(SolveError::Input(format!(
+            "steps[{i}].friction: a friction law changed by a load step is solved on path = \"condensed\" only; use path = \"condensed\""
+        )));
     }
     if sc.solver.friction == scene::FrictionSolver::Status {
         return Err(SolveError::Input(
@@ -139,11 +165,6 @@ pub(crate) fn run_direct_friction(
     let tangent_rows = (&rows.tangent_row[..], &rows.tangent_row2[..]);
     let fr = layout_of(sc, points, &rows.rows, tangent_rows)?
         .ok_or_else(|| SolveError::Internal("friction without a tangential row".into()))?;
-    if (0..model.scales.len()).any(|si| step_laws(sc, points, si).is_some()) {
-        return Err(SolveError::Input(
-            "steps.friction: a friction law changed by a load step is solved on path = \"condensed\" only; use path = \"condensed\"".into(),
-        ));
-    }
     let compliance = compliance(points, &rows);
     ctx.progress.phase(Phase::Contact);
     let mut whole = timed(&mut timings.contact, || {
@@ -236,7 +257,7 @@ impl Stepper<'_> {
             tolerance: self.sc.solver.tolerance,
             force_scale: f_scale,
             gap_scale: length,
-            deadline: Some(deadline(self.sc.solver.time_limit, q.len())),
+            deadline: Some(deadline(Some(self.time_limit(q.len())), q.len())),
         };
         let start = match self.start.take() {
             Some(start) => start,
@@ -285,6 +306,15 @@ impl Stepper<'_> {
             operator_s: 0.0,
         };
         Ok((sol, gaps, res, u_full))
+    }
+
+    /// The seconds a step's solve may take: `solver.time_limit`, by default
+    /// that of the dense problem of its `rows` rows plus
+    /// [`SECONDS_PER_UNKNOWN`] for each unknown of the whole system.
+    fn time_limit(&self, rows: usize) -> f64 {
+        let unknowns = (self.system.k_global.nrows() + rows) as f64;
+        (self.sc.solver.time_limit)
+            .unwrap_or_else(|| default_time_limit(rows) + SECONDS_PER_UNKNOWN * unknowns)
     }
 
     /// The first step's start: no displacement, no force, but on the points

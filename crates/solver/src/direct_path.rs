@@ -41,11 +41,7 @@ pub(crate) fn run_direct(
         assemble_direct(bodies, &model.tied)
     })?;
     if has_friction(points) {
-        if system.ties.is_some() {
-            return Err(SolveError::Input(
-                "contact.friction: friction with tied bodies is solved on path = \"condensed\" only; use path = \"condensed\"".into(),
-            ));
-        }
+        // friction beside ties is refused by the plan (check_direct_friction)
         return run_direct_friction(&ctx, &system, steps, timings, messages);
     }
     let rows: Vec<Vec<(usize, f64)>> = points
