@@ -77,12 +77,11 @@ pub(crate) fn local(path: &Path, method: Method, o: LocalOptions) -> ExitCode {
         Some(f) => {
             signorini_problems::local::solve_friction_by(&name, &problem, f, limits, o.with_lambda)
         }
-        None => signorini_problems::local::solve(
+        None => signorini_problems::local::solve_within(
             &name,
             &problem,
             algorithm,
-            o.tolerance,
-            o.max_iterations,
+            limits,
             o.with_lambda,
         ),
     };

@@ -704,3 +704,30 @@ fn an_assembly_from_one_gmsh_file_under_mpirun_2_equals_the_in_process_run() {
     let scene = split_example("assembly_one_file.toml", body, "assembly_split");
     compare(&scene, 2, "assembly_split");
 }
+
+/// Mortar on quadratic faces (examples/patch3d.toml with a Hex20 base
+/// 4 × 4 × 2 and a Tet10 block 5 × 5 × 2: Quad8 master faces, Tri6 slave
+/// faces, non-matching), one box per rank: the in-process rows and forces.
+#[test]
+fn mortar_on_quadratic_faces_under_mpirun_2_equals_the_in_process_run() {
+    require_mpirun!();
+    let text = common::example("patch3d.toml")
+        .replace(
+            "divisions = [4, 4, 2] }",
+            "divisions = [4, 4, 2], element = \"hex20\" }",
+        )
+        .replace(
+            "divisions = [5, 5, 2] }",
+            "divisions = [5, 5, 2], element = \"tet10\" }",
+        )
+        .replace(
+            "discretization = \"node_to_face\"",
+            "discretization = \"mortar\"",
+        );
+    assert!(text.contains("hex20") && text.contains("tet10") && text.contains("\"mortar\""));
+    compare(
+        &write_scene("quadratic_mortar_scene", "patch.toml", &text),
+        2,
+        "quadratic_mortar",
+    );
+}

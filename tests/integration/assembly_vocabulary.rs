@@ -16,7 +16,7 @@ const NU: f64 = 0.3;
 /// meshes, `lower` and `upper` the generators), pulled by a uniform traction
 /// `t` on the upper's top; the lower on rollers at its bottom (and the
 /// faces x = 0, y = 0 in 3D), pinned in x at the origin in 2D.
-fn tied_blocks(dim: usize, lower: &str, upper: &str, t: f64) -> String {
+pub(super) fn tied_blocks(dim: usize, lower: &str, upper: &str, t: f64) -> String {
     let (model, top, supports) = if dim == 2 {
         (
             "plane_strain",
@@ -70,7 +70,7 @@ law = "tied"
 /// stress state σ = t along the last axis (the monolithic answer: a linear
 /// field, which any mesh of the two blocks holds exactly), relative to the
 /// largest displacement.
-fn patch_error(out: &RunOutput, dim: usize, t: f64) -> f64 {
+pub(super) fn patch_error(out: &RunOutput, dim: usize, t: f64) -> f64 {
     // plane strain: ε_yy = (1 − ν²) t / E, ε_xx = −ν (1 + ν) t / E; solid:
     // ε_zz = t / E, ε_xx = ε_yy = −ν t / E
     let (along, across) = if dim == 2 {

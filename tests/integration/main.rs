@@ -34,6 +34,7 @@ mod path_choice;
 mod pieces;
 mod progress;
 mod quadratic;
+mod quadratic_patch;
 mod redundant;
 mod search_distance;
 mod solids;

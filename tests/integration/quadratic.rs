@@ -1,12 +1,12 @@
 //! Second-order solids (Tet10, Hex20) and node-to-face contact on their
 //! quadratic faces (docs/theory/elements.md): the contact patch test on
-//! generated and Gmsh meshes, matching and not, the 3D mortar refusal, and
+//! generated and Gmsh meshes, matching and not, 3D mortar on them, and
 //! the Hertz sphere.
 
 use crate::common;
 
-use common::{converged, example, try_run};
-use signorini_solver::{RunOptions, RunOutput, SolveError};
+use common::{converged, example};
+use signorini_solver::{RunOptions, RunOutput};
 
 fn rel(out: &RunOutput, q: &str) -> f64 {
     out.report
@@ -91,24 +91,18 @@ fn gmsh_second_order_blocks_pass_the_uniform_pressure_patch_test() {
     }
 }
 
-/// 3D mortar integrates linear faces: a quadratic surface is refused,
-/// naming the contact and what it accepts.
+/// 3D mortar takes quadratic faces (it refused them before): the same
+/// non-matching blocks pass the patch test (tests/integration/quadratic_patch.rs
+/// for the rest).
 #[test]
-fn mortar_refuses_quadratic_faces() {
+fn mortar_takes_quadratic_faces() {
     let text = stacked("hex20", "[4, 4, 2]", "[5, 5, 2]").replace(
         "discretization = \"node_to_face\"",
         "discretization = \"mortar\"",
     );
-    match try_run(&text, RunOptions::default()) {
-        Err(SolveError::Input(msg)) => {
-            assert!(msg.contains("contact \"block-base\""), "{msg}");
-            assert!(msg.contains("node_to_face"), "{msg}");
-        }
-        other => panic!(
-            "expected a refusal, got {:?}",
-            other.map(|o| o.report.converged)
-        ),
-    }
+    let out = converged(&text, RunOptions::default());
+    assert!(rel(&out, "pressure") <= 1e-10, "{}", rel(&out, "pressure"));
+    assert!(rel(&out, "resultant") <= 1e-12);
 }
 
 /// examples/hertz3d_quadratic.toml: the Hex20 hemisphere on a rigid plane
@@ -133,4 +127,39 @@ fn hertz_sphere_in_tet10_within_two_percent() {
     let out = converged(&text, RunOptions::default());
     assert!(rel(&out, "p0") <= 0.02, "p0 error {}", rel(&out, "p0"));
     assert!(rel(&out, "a") <= 0.04, "a error {}", rel(&out, "a"));
+}
+
+/// CalculiX's deck contact4.inp (two C3D20 cubes, docs/performance/calculix.md)
+/// translated to docs/peers/calculix/contact4.toml: the contact carries the
+/// applied 100 × 0.5² = 25, and the punch (ν = 0, its top held in x and y,
+/// uniform pressure on top, exact contact below) is in uniform compression:
+/// top and bottom move apart by 100 · 0.5 / E, the bottom face stays flat.
+#[test]
+fn calculix_contact4_translation_carries_the_load_in_uniform_compression() {
+    let dir = format!("{}/docs/peers/calculix", env!("CARGO_MANIFEST_DIR"));
+    let text = std::fs::read_to_string(format!("{dir}/contact4.toml"))
+        .unwrap()
+        .replace(
+            "file = \"contact4.msh\"",
+            &format!("file = \"{dir}/contact4.msh\""),
+        );
+    let out = converged(&text, RunOptions::default());
+    let f = &out.report.contact_force;
+    assert!((f[2] - 25.0).abs() <= 1e-12 * 25.0, "{f:?}");
+    let uz: Vec<f64> = out.bodies[1]
+        .last()
+        .displacement
+        .chunks(3)
+        .map(|u| u[2])
+        .collect();
+    let (top, bottom) = uz
+        .iter()
+        .fold((f64::MAX, f64::MIN), |(lo, hi), &u| (lo.min(u), hi.max(u)));
+    let squeeze = 100.0 * 0.5 / 210000.0;
+    assert!(
+        ((bottom - top) - squeeze).abs() <= 1e-9 * squeeze,
+        "{top:e} {bottom:e}"
+    );
+    let flat = uz.iter().filter(|&&u| (u - bottom).abs() <= 1e-9 * squeeze);
+    assert_eq!(flat.count(), 8, "the punch's bottom face moves as one");
 }

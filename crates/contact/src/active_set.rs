@@ -107,6 +107,12 @@ pub trait StatusRule {
     fn in_contact(&self, _statuses: &[Self::Status]) -> usize {
         0
     }
+
+    /// Whether the wall-clock budget of the solve has run out: the driver
+    /// then stops before its next solve, as at its iteration limit.
+    fn out_of_time(&self) -> bool {
+        false
+    }
 }
 
 /// Why the driver stopped.
@@ -116,7 +122,8 @@ pub enum Stop {
     Converged,
     /// A status vector came back even with one change per iteration.
     Cycling,
-    /// The iteration limit was reached with statuses still changing.
+    /// The iteration limit (or the rule's time limit,
+    /// [`StatusRule::out_of_time`]) was reached with statuses still changing.
     Limit,
 }
 
@@ -154,7 +161,7 @@ pub fn drive<R: StatusRule>(
     let mut left_cycle_at = None;
     let mut last: Option<Regular<R::Status, R::Solution>> = None;
     let (mut iterations, mut stop) = (0, Stop::Limit);
-    while iterations < max_iterations {
+    while iterations < max_iterations && !(iterations > 0 && rule.out_of_time()) {
         iterations += 1;
         seen.insert(statuses.clone());
         let sol = match rule.solve(&statuses) {

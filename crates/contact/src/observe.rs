@@ -104,6 +104,7 @@ mod tests {
             force_scale: 1.0,
             gap_scale: 1.0,
             initial_active: Some(Vec::new()),
+            deadline: None,
         };
         let seen: Rc<std::cell::RefCell<Vec<Iteration>>> = Rc::default();
         let log = seen.clone();

@@ -90,6 +90,7 @@ pub fn status_solution(w: &Mat<f64>, q: &[f64], tolerance: f64) -> Vec<f64> {
             force_scale: 1.0,
             gap_scale: 1.0,
             initial_active: None,
+            deadline: None,
         },
     )
     .unwrap();

@@ -12,6 +12,7 @@
 //! [`crate::isoparametric`].
 
 use crate::isoparametric::{check_corner_jacobians, check_kind, fill_b, quadrature};
+use crate::solid_stiffness::{isotropic_lame, isotropic_solid_stiffness};
 use crate::{bbar, Elasticity, FemError, Formulation, Model};
 use nalgebra::DMatrix;
 use signorini_mesh::Mesh;
@@ -25,6 +26,11 @@ pub(crate) fn stiffness_with(
     d: &DMatrix<f64>,
 ) -> Result<DMatrix<f64>, FemError> {
     check_kind(mesh, cell, model)?;
+    if model == Model::Solid {
+        if let Some((lambda, mu)) = isotropic_lame(d) {
+            return isotropic_solid_stiffness(mesh, cell, lambda, mu);
+        }
+    }
     let kind = mesh.cells[cell].kind;
     let n = kind.nodes() * model.dim();
     let mut k = DMatrix::zeros(n, n);

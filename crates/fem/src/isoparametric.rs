@@ -302,6 +302,17 @@ fn point_geometry(
     Ok((s, det, x))
 }
 
+/// The physical gradients `∇φ_a` of the nodes of 3D `cell` at the quadrature
+/// point `q` (the first `kind.nodes()` entries) and the weight `q.w · det J`.
+pub(crate) fn solid_gradients(
+    mesh: &Mesh,
+    cell: usize,
+    q: &QuadPoint,
+) -> Result<([[f64; 3]; MAX_NODES], f64), FemError> {
+    let (s, det, _) = point_geometry(mesh, cell, q.xi)?;
+    Ok((s.dn, q.w * det))
+}
+
 /// Fills `b` (`n_strain × dim·n`, zeroed here) with the strain–displacement
 /// matrix of `cell` at the quadrature point `q` and returns the quadrature
 /// weight `q.w · det J` (`· 2π r` in axisymmetry).

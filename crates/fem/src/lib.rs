@@ -28,6 +28,7 @@ pub mod element;
 pub mod isoparametric;
 pub mod loads;
 pub mod quadratic_solids;
+mod solid_stiffness;
 pub mod stress;
 
 pub use assembly::{

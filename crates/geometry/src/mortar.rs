@@ -65,7 +65,7 @@ use crate::pairing::{
 use edge::{Edge, SlaveEdge};
 
 /// Gauss–Legendre points and weights on [0, 1] (4 points: exact to degree 7).
-const GAUSS: [(f64, f64); 4] = [
+pub(crate) const GAUSS: [(f64, f64); 4] = [
     (0.069_431_844_202_973_71, 0.173_927_422_568_726_93),
     (0.330_009_478_207_571_87, 0.326_072_577_431_273_07),
     (0.669_990_521_792_428_1, 0.326_072_577_431_273_07),
@@ -108,7 +108,7 @@ pub(crate) struct MortarInput<'s> {
     /// The dimension of both meshes.
     pub dim: usize,
     /// The node counts of the facets of both surfaces.
-    pub facet_nodes: [usize; 2],
+    pub facet_nodes: &'s [usize],
     /// What to use instead against a rigid master.
     pub rigid_hint: &'s str,
     pub wrong_dimension: &'s str,
@@ -152,7 +152,7 @@ pub fn mortar_pairing(
 ) -> Result<MortarPairing, GeometryError> {
     let input = MortarInput {
         dim: 2,
-        facet_nodes: [2, 3],
+        facet_nodes: &[2, 3],
         rigid_hint: "a rigid plane or circle: use node_to_segment",
         wrong_dimension:
             "mortar_pairing needs two 2D meshes (in 3D see mortar3d::mortar3d_pairing)",

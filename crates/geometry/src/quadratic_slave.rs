@@ -115,3 +115,30 @@ pub fn recombine_rows(points: &mut [ContactPoint], edges: &[(usize, [usize; 2])]
         points[i].gap0 = gap0;
     }
 }
+
+/// The displacement of each slave node of a quadratic surface as a
+/// combination of master nodes, from mortar rows written on the recombined
+/// displacements (`ũ_j = Σ_l W_jl u_l`, `crate::mortar3d`): `u = Tᵀ ũ`, so a
+/// corner keeps its row and a mid-side's is `(1 − 2α) W_m + α (W_c1 + W_c2)`
+/// (a tie's elimination, where every slave node follows its masters).
+/// `rows` maps each slave node to its master weights; a mid-side node whose
+/// corners have no row is left as it is.
+pub fn displacement_rows(
+    rows: &BTreeMap<usize, Vec<(usize, f64)>>,
+    edges: &[(usize, [usize; 2])],
+) -> BTreeMap<usize, Vec<(usize, f64)>> {
+    let mut out = rows.clone();
+    for &(m, [c1, c2]) in edges {
+        let (Some(wm), Some(w1), Some(w2)) = (rows.get(&m), rows.get(&c1), rows.get(&c2)) else {
+            continue;
+        };
+        let mut sum: BTreeMap<usize, f64> = BTreeMap::new();
+        for (w, s) in [(wm, 1.0 - 2.0 * ALPHA), (w1, ALPHA), (w2, ALPHA)] {
+            for &(l, v) in w {
+                *sum.entry(l).or_insert(0.0) += s * v;
+            }
+        }
+        out.insert(m, sum.into_iter().collect());
+    }
+    out
+}

@@ -482,7 +482,7 @@ fn face_pieces(surface: &Surface) -> Vec<Piece> {
 /// each side k → k+1) whose sides k are `free`: the corner triangles
 /// `[c_k, m_k, m_(k−1)]` (free on the halves of the free sides) and the inner
 /// face of the mid-side nodes (never free), all oriented as the face.
-fn quadratic_face_pieces(k: usize, f: &Facet, m: usize, free: [bool; 4]) -> Vec<Piece> {
+pub(super) fn quadratic_face_pieces(k: usize, f: &Facet, m: usize, free: [bool; 4]) -> Vec<Piece> {
     let mid = |s: usize| f.nodes[m + s % m];
     let mut out: Vec<Piece> = (0..m)
         .map(|c| {

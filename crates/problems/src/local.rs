@@ -415,7 +415,7 @@ fn friction_result(
 
 /// Solves a frictionless problem (an LCP, or the normal rows of a
 /// contact-wise problem without μ: its tangential forces are zero) by
-/// `algorithm`.
+/// `algorithm`, within the default time limit.
 pub fn solve(
     name: &str,
     p: &LocalProblem,
@@ -424,6 +424,28 @@ pub fn solve(
     max_iterations: usize,
     with_lambda: bool,
 ) -> Result<LocalResult, String> {
+    let limits = Limits {
+        tolerance,
+        max_iterations,
+        time_limit: None,
+    };
+    solve_within(name, p, algorithm, limits, with_lambda)
+}
+
+/// [`solve`] within `limits`: the status method stops at the time limit
+/// (`None`: [`default_time_limit`] of the rows), not converged.
+pub fn solve_within(
+    name: &str,
+    p: &LocalProblem,
+    algorithm: Algorithm,
+    limits: Limits,
+    with_lambda: bool,
+) -> Result<LocalResult, String> {
+    let Limits {
+        tolerance,
+        max_iterations,
+        time_limit,
+    } = limits;
     let m = p.contacts();
     accepts(name, p, None, Some(algorithm))?;
     let (force_scale, gap_scale) = scales(p);
@@ -439,9 +461,11 @@ pub fn solve(
         gap_scale,
         stiffness: None,
     };
+    let seconds = time_limit.unwrap_or_else(|| default_time_limit(m));
     let t = Instant::now();
+    let deadline = t + Duration::from_secs_f64(seconds.clamp(0.0, 1e9));
     let sol = algorithm
-        .solve(&w, &q, None, &opts)
+        .solve_until(&w, &q, None, &opts, Some(deadline))
         .map_err(|e| e.to_string())?;
     let time_s = t.elapsed().as_secs_f64();
     let mut forces = sol.forces.clone();

@@ -203,6 +203,7 @@ pub(crate) fn status_options(
         force_scale: f_scale,
         gap_scale: length_scale,
         initial_active: Some((0..gap0.len()).filter(|&p| gap0[p] <= closed).collect()),
+        deadline: None,
     }
 }
 

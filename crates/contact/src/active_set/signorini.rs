@@ -61,11 +61,15 @@ pub struct StatusOptions {
     /// If the initial set cannot hold a floating body (singular system), the
     /// method restarts from every point active.
     pub initial_active: Option<Vec<usize>>,
+    /// The wall-clock time at which the method stops, converged or not
+    /// (`None`: no time limit): it then answers the last solve's forces,
+    /// not converged ([`StopReason::TimeLimit`]).
+    pub deadline: Option<std::time::Instant>,
 }
 
 impl StatusOptions {
     /// The status method with `variant` on an LCP solved with `opts`: the
-    /// same iteration limit, tolerance and scales.
+    /// same iteration limit, tolerance and scales, no time limit.
     pub(crate) fn from_lcp(
         variant: StatusVariant,
         opts: &crate::lcp::LcpOptions,
@@ -78,6 +82,7 @@ impl StatusOptions {
             force_scale: opts.force_scale,
             gap_scale: opts.gap_scale,
             initial_active,
+            deadline: None,
         }
     }
 }
@@ -183,6 +188,12 @@ impl StatusRule for Signorini<'_> {
     fn in_contact(&self, active: &[bool]) -> usize {
         active.iter().filter(|&&a| a).count()
     }
+
+    fn out_of_time(&self) -> bool {
+        self.opts
+            .deadline
+            .is_some_and(|d| std::time::Instant::now() >= d)
+    }
 }
 
 fn active_points(active: &[bool]) -> Vec<usize> {
@@ -210,7 +221,12 @@ pub fn status_method(
     let single = opts.variant == StatusVariant::Single;
     let out = drive(&mut rule, initial, single, opts.max_iterations)?;
     let iterations = out.iterations;
+    let out_of_time = out.stop == Stop::Limit && rule.out_of_time();
     let stop = match out.stop {
+        Stop::Limit if out_of_time => StopReason::TimeLimit {
+            iterations,
+            residual: f64::NAN,
+        },
         Stop::Converged => StopReason::StatusesRepeated { iterations },
         Stop::Cycling => StopReason::Cycling {
             iteration: iterations,
@@ -262,6 +278,7 @@ mod tests {
             force_scale: 1.0,
             gap_scale: 1.0,
             initial_active: None,
+            deadline: None,
         }
     }
 
@@ -277,6 +294,33 @@ mod tests {
             }
         }
         panic!("no solution")
+    }
+
+    /// A deadline already passed stops the method after its first solve
+    /// (a point in tension left to release), not converged, on the time
+    /// limit; without it the same problem converges at the second.
+    #[test]
+    fn a_passed_deadline_stops_after_the_first_solve() {
+        let w = Mat::<f64>::from_fn(2, 2, |i, j| if i == j { 2.0 } else { 1.0 });
+        let q = [-1.0, 1.0];
+        let free = status_method(&mut lcp_problem(&w, &q), &opts(StatusVariant::All)).unwrap();
+        assert!(
+            free.report.converged && free.report.iterations == 2,
+            "{}",
+            free.report.stop
+        );
+        let late = StatusOptions {
+            deadline: Some(std::time::Instant::now()),
+            ..opts(StatusVariant::All)
+        };
+        let out = status_method(&mut lcp_problem(&w, &q), &late).unwrap();
+        assert!(!out.report.converged);
+        assert_eq!(out.report.iterations, 1);
+        assert!(
+            matches!(out.report.stop, StopReason::TimeLimit { iterations: 1, .. }),
+            "{}",
+            out.report.stop
+        );
     }
 
     #[test]

@@ -503,6 +503,7 @@ mod tests {
                     force_scale: 1.0,
                     gap_scale: 1.0,
                     initial_active: None,
+                    deadline: None,
                 },
             )
             .unwrap();

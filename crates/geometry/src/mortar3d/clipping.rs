@@ -98,7 +98,15 @@ pub(super) fn clip(subject: &[Point2], clipper: &[Point2], tol: f64) -> Vec<Poin
                 out.push(p);
             }
             if p_in != q_in && (sp - sq).abs() > 0.0 {
-                let t = sp / (sp - sq);
+                // Where p–q crosses the side's line. When p and q lie on
+                // either side of the tolerance band but on the same side of
+                // the line (both within ~tol of it: nodes off a common line
+                // by rounding), that crossing is beyond p–q, possibly far:
+                // it is put on the segment's end instead.
+                let mut t = sp / (sp - sq);
+                if !(-1e-9..=1.0 + 1e-9).contains(&t) {
+                    t = t.clamp(0.0, 1.0);
+                }
                 out.push([p[0] + t * (q[0] - p[0]), p[1] + t * (q[1] - p[1])]);
             }
         }
@@ -109,7 +117,7 @@ pub(super) fn clip(subject: &[Point2], clipper: &[Point2], tol: f64) -> Vec<Poin
 /// The 7-point Gauss rule of degree 5 on a triangle (Radon 1948; Stroud
 /// T2:5-1): barycentric coordinates (the third is 1 − a − b) and weights
 /// that sum to 1 (to be multiplied by the area).
-const TRIANGLE_RULE: [(f64, f64, f64); 7] = [
+pub(super) const TRIANGLE_RULE: [(f64, f64, f64); 7] = [
     (1.0 / 3.0, 1.0 / 3.0, 0.225),
     (A1, A1, W1),
     (A1, 1.0 - 2.0 * A1, W1),
@@ -124,25 +132,44 @@ const A2: f64 = 0.470_142_064_105_115_1;
 const W1: f64 = 0.125_939_180_544_827_15;
 const W2: f64 = 0.132_394_152_788_506_2;
 
+/// The collapsed ("conical product", Stroud 1971 §2.7) 4 × 4 Gauss rule
+/// on a triangle, as [`TRIANGLE_RULE`]: the square [0, 1]² mapped onto the
+/// triangle by (u, v) ↦ (u, (1 − u) v), of Jacobian 1 − u; the 4-point
+/// Gauss–Legendre rule in u and v integrates every polynomial of total
+/// degree 6 exactly (degree ≤ 7 in u with the Jacobian, ≤ 6 in v): the
+/// products of the quadratic faces' shape functions (Tri6, Quad8) and their
+/// dual basis.
+pub(super) fn collapsed_rule() -> Vec<(f64, f64, f64)> {
+    let mut out = Vec::with_capacity(16);
+    for &(u, wu) in &crate::mortar::GAUSS {
+        for &(v, wv) in &crate::mortar::GAUSS {
+            out.push((u, (1.0 - u) * v, 2.0 * wu * wv * (1.0 - u)));
+        }
+    }
+    out
+}
+
 /// Gauss points (in-plane coordinates) and weights (areas) of a convex
 /// polygon: the triangles from its centroid to each side, each with the
-/// 7-point rule of degree 5 (exact for the products of linear or bilinear
-/// shape functions on flat parallelogram faces).
-pub(super) fn polygon_rule(poly: &[Point2]) -> Vec<(Point2, f64)> {
+/// triangle `rule` (barycentric coordinates of two vertices and weights that
+/// sum to 1): [`TRIANGLE_RULE`] (degree 5, exact for the products of linear
+/// or bilinear shape functions on flat parallelogram faces) or
+/// [`collapsed_rule`] (degree 6, quadratic faces).
+pub(super) fn polygon_rule(poly: &[Point2], rule: &[(f64, f64, f64)]) -> Vec<(Point2, f64)> {
     let n = poly.len();
     let mut c = [0.0; 2];
     for p in poly {
         c[0] += p[0] / n as f64;
         c[1] += p[1] / n as f64;
     }
-    let mut out = Vec::with_capacity(7 * n);
+    let mut out = Vec::with_capacity(rule.len() * n);
     for k in 0..n {
         let (a, b) = (poly[k], poly[(k + 1) % n]);
         let area = 0.5 * cross2(c, a, b);
         if area <= 0.0 {
             continue;
         }
-        for &(la, lb, w) in &TRIANGLE_RULE {
+        for &(la, lb, w) in rule {
             let lc = 1.0 - la - lb;
             let p = [
                 la * a[0] + lb * b[0] + lc * c[0],
@@ -166,19 +193,23 @@ mod tests {
     }
 
     #[test]
-    fn the_triangle_rule_integrates_degree_5_exactly() {
+    fn the_triangle_rules_integrate_degrees_5_and_6_exactly() {
         // ∫ x^i y^j over the unit right triangle = i! j! / (i + j + 2)!.
         let fact = |n: u32| (1..=n).map(f64::from).product::<f64>();
         let tri = [[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]];
-        let rule = polygon_rule(&tri);
-        for i in 0..=5u32 {
-            for j in 0..=(5 - i) {
-                let got: f64 = rule
-                    .iter()
-                    .map(|(p, w)| w * p[0].powi(i as i32) * p[1].powi(j as i32))
-                    .sum();
-                let want = fact(i) * fact(j) / fact(i + j + 2);
-                assert!((got - want).abs() < 1e-15, "x^{i} y^{j}: {got} vs {want}");
+        for (rule, degree) in [
+            (polygon_rule(&tri, &TRIANGLE_RULE), 5u32),
+            (polygon_rule(&tri, &collapsed_rule()), 6),
+        ] {
+            for i in 0..=degree {
+                for j in 0..=(degree - i) {
+                    let got: f64 = rule
+                        .iter()
+                        .map(|(p, w)| w * p[0].powi(i as i32) * p[1].powi(j as i32))
+                        .sum();
+                    let want = fact(i) * fact(j) / fact(i + j + 2);
+                    assert!((got - want).abs() < 1e-15, "x^{i} y^{j}: {got} vs {want}");
+                }
             }
         }
     }
@@ -196,6 +227,18 @@ mod tests {
         // Shared edge: no sliver.
         let c = clip(&sq(0.0, 0.0, 1.0), &sq(1.0, 0.0, 1.0), 1e-14);
         assert!(signed_area(&c).abs() < 1e-15);
+    }
+
+    #[test]
+    fn vertices_within_the_tolerance_of_a_side_stay_on_the_subject() {
+        // p is outside the side y = 0 by more than tol, q inside the band
+        // but below the line: p–q crosses y = 0 beyond q (x = 0.35).
+        let tol = 1e-14;
+        let sq = [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]];
+        let t = [[0.2, -1.5e-14], [0.3, -0.5e-14], [0.25, 0.5]];
+        let c = clip(&t, &sq, tol);
+        assert!(c.iter().all(|p| p[0] <= 0.3 + 1e-12), "{c:?}");
+        assert!((signed_area(&c) - signed_area(&t)).abs() < 1e-14);
     }
 
     #[test]

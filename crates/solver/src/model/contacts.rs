@@ -133,25 +133,6 @@ pub(crate) fn check_contact_supported(
     Ok(())
 }
 
-/// 3D mortar integrates linear faces only: a surface of quadratic faces
-/// (Tet10, Hex20 cells) is refused, naming the contact and what is accepted.
-fn refuse_quadratic_mortar(
-    slave: &signorini_mesh::Surface,
-    master: &MasterGeometry<'_>,
-    entry: &str,
-) -> Result<(), SolveError> {
-    let quadratic = |s: &signorini_mesh::Surface| s.facets.iter().any(|f| f.nodes.len() > 4);
-    let master_quadratic =
-        matches!(master, MasterGeometry::Surface { surface, .. } if quadratic(surface));
-    if quadratic(slave) || master_quadratic {
-        return Err(input(format!(
-            "{entry}.discretization: \"mortar\" in 3D takes linear faces (tet4, hex8 cells); the {} surface has quadratic faces (tet10 or hex20 cells): use discretization = \"node_to_face\"",
-            if quadratic(slave) { "slave" } else { "master" }
-        )));
-    }
-    Ok(())
-}
-
 /// The named contact surface of a body (`side` is "slave" or "master"),
 /// refused when it is unknown or has no nodes.
 fn contact_surface<'a>(
@@ -260,9 +241,6 @@ fn contact_pair(
     let rule = normal_rule(c.normal);
     let mi = body_model(&c.master.body);
     let master = master_geometry(sc, bodies, c, mi, &entry)?;
-    if c.discretization == scene::Discretization::Mortar && sc.dimension == 3 {
-        refuse_quadratic_mortar(s_surf, &master, &entry)?;
-    }
     // Mortar rows come with their own measure D_jj (contact::mortar, mortar3d).
     let (pairing, measure) = match c.discretization {
         scene::Discretization::NodeToNode => {

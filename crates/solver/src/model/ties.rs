@@ -14,6 +14,7 @@
 
 use signorini_geometry::mortar::mortar_pairing;
 use signorini_geometry::mortar3d::mortar3d_pairing;
+use signorini_geometry::quadratic_slave::{displacement_rows, mid_side_edges};
 use signorini_geometry::{MasterGeometry, TermSide};
 use signorini_scene as scene;
 use std::collections::BTreeMap;
@@ -159,7 +160,7 @@ fn tie_rows(
         )));
     }
     let tolerance = 1e-6 * s_mesh.size().max(m_mesh.size());
-    let mut rows = Vec::new();
+    let mut rows = BTreeMap::new();
     for p in &pairing.points {
         let x = p.x;
         if p.gap0.abs() > tolerance {
@@ -175,9 +176,13 @@ fn tie_rows(
             .filter(|t| t.side == TermSide::Master)
             .map(|t| (t.node, -t.weight))
             .collect();
-        rows.push((p.slave_node, masters));
+        rows.insert(p.slave_node, masters);
     }
-    Ok((si, mi, rows))
+    // A quadratic slave's mortar rows are those of its recombined
+    // displacements: the nodes' own follow from them.
+    let edges = mid_side_edges(s_mesh.dim, s_surf);
+    let rows = displacement_rows(&rows, &edges);
+    Ok((si, mi, rows.into_iter().collect()))
 }
 
 /// The tied DOFs of slave node `j` of body `si` (tie `ci`): each free component a
