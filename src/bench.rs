@@ -123,9 +123,34 @@ pub(crate) fn plot(csvs: &[PathBuf], out: &Path) -> ExitCode {
 }
 
 /// `signorini bench --suite root`: every root method on the Delassus
-/// problems of an elastic layer, one line per run on stderr.
-pub(crate) fn root_suite(quick: bool, export: bool, sizes: &[usize], out: &Path) -> ExitCode {
+/// problems of an elastic layer and of an elastic half-space (the
+/// `families` named, or all), one line per run on stderr.
+pub(crate) fn root_suite(
+    quick: bool,
+    export: bool,
+    (sizes, families): (&[usize], &[String]),
+    out: &Path,
+) -> ExitCode {
     use signorini_suite::rootbench::{problem::Family, run};
+    let mut chosen = Vec::new();
+    for name in families {
+        match Family::by_name(name) {
+            Some(f) => chosen.push(f),
+            None => {
+                let known: Vec<&str> = Family::ALL.iter().map(|f| f.name()).collect();
+                return fail(
+                    1,
+                    &format!(
+                        "--families: no family {name:?}; known: {}",
+                        known.join(", ")
+                    ),
+                );
+            }
+        }
+    }
+    if chosen.is_empty() {
+        chosen = Family::ALL.to_vec();
+    }
     if let Some(m) = sizes.iter().find(|&&m| !(2..=8192).contains(&m)) {
         return fail(
             1,
@@ -143,7 +168,7 @@ pub(crate) fn root_suite(quick: bool, export: bool, sizes: &[usize], out: &Path)
             (true, true) => vec![49, 196],
             (false, true) => vec![49, 196, 784, 2025, 8000],
         },
-        families: Family::ALL.to_vec(),
+        families: chosen,
         tolerance: 1e-10,
         max_iterations: 5000,
         time_budget: 20.0,

@@ -130,8 +130,9 @@ enum Command {
         #[arg(long, value_delimiter = ',', value_name = "CSV", conflicts_with_all = ["scenes", "suite"])]
         plot: Vec<PathBuf>,
         /// A built-in suite instead of scene files: `stiff`, or `root` (every
-        /// root method on Delassus problems of an elastic layer: DIR/root.csv,
-        /// DIR/root.md, DIR/root_error_vs_time.svg).
+        /// root method on Delassus problems of an elastic layer and of an
+        /// elastic half-space: DIR/root.csv, DIR/root.md,
+        /// DIR/root_error_vs_time.svg).
         #[arg(long, value_parser = ["stiff", "root"], conflicts_with = "scenes")]
         suite: Option<String>,
         /// With --suite: the smaller meshes (stiff) or sizes (root) of the test suite.
@@ -141,6 +142,11 @@ enum Command {
         /// family up to its largest size; default 49,196,784,2025,8000).
         #[arg(long, value_delimiter = ',', requires = "suite")]
         sizes: Vec<usize>,
+        /// With --suite root: the problem families to run (default all):
+        /// lcp_2d, coulomb_2d, lcp_3d, coulomb_3d (the layer), halfspace_lcp_2d,
+        /// halfspace_coulomb_2d, halfspace_lcp_3d, halfspace_coulomb_3d.
+        #[arg(long, value_delimiter = ',', requires = "suite")]
+        families: Vec<String>,
         /// With --suite root: also write each problem as DIR/problems/NAME.npz
         /// (contact-wise W, q, mu, dim) for other libraries.
         #[arg(long, requires = "suite")]
@@ -312,11 +318,12 @@ fn command(cli: Cli) -> ExitCode {
             out,
             export,
             sizes,
+            families,
             ..
         } => match suite.as_str() {
-            "root" => bench::root_suite(quick, export, &sizes, &out),
-            _ if export || !sizes.is_empty() => {
-                fail(1, "--export, --sizes: only with --suite root")
+            "root" => bench::root_suite(quick, export, (&sizes, &families), &out),
+            _ if export || !sizes.is_empty() || !families.is_empty() => {
+                fail(1, "--export, --sizes, --families: only with --suite root")
             }
             _ => bench::stiff_suite(quick, &out),
         },

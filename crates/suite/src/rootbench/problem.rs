@@ -15,7 +15,37 @@
 
 use faer::Mat;
 
+use crate::rootbench::halfspace::HalfSpace;
 use crate::rootbench::layer::SurfaceCompliance;
+
+/// The surface compliance of a body at its contact points: what a problem
+/// of [`indentation_problem`] needs of the layer or the half-space.
+pub trait Compliance {
+    /// 2 or 3 (the surface's dimension + 1).
+    fn dim(&self) -> usize;
+    /// Number of contact points.
+    fn n_surface(&self) -> usize;
+    /// Position of point i in the surface (x, or (x, y)).
+    fn position(&self, i: usize) -> [f64; 2];
+    /// Displacement along axis `a` at point `i` under a unit force along
+    /// axis `b` at point `j` (the last axis vertical, upward).
+    fn entry(&self, i: usize, a: usize, j: usize, b: usize) -> f64;
+}
+
+impl Compliance for SurfaceCompliance {
+    fn dim(&self) -> usize {
+        self.dim
+    }
+    fn n_surface(&self) -> usize {
+        SurfaceCompliance::n_surface(self)
+    }
+    fn position(&self, i: usize) -> [f64; 2] {
+        SurfaceCompliance::position(self, i)
+    }
+    fn entry(&self, i: usize, a: usize, j: usize, b: usize) -> f64 {
+        SurfaceCompliance::entry(self, i, a, j, b)
+    }
+}
 
 /// A stand-alone contact problem: W (contact-wise rows), q, and μ per
 /// contact (empty: frictionless).
@@ -85,14 +115,14 @@ fn roughness(p: [f64; 2], dim: usize) -> f64 {
 }
 
 /// Initial gap of surface node i: indenter profile plus roughness minus δ.
-fn initial_gap(c: &SurfaceCompliance, load: &Indentation, width: f64, i: usize) -> f64 {
+fn initial_gap(c: &impl Compliance, load: &Indentation, width: f64, i: usize) -> f64 {
     let centre = 0.5 * width;
     let p = c.position(i);
     let mut r2 = (p[0] - centre).powi(2);
-    if c.dim == 3 {
+    if c.dim() == 3 {
         r2 += (p[1] - centre).powi(2);
     }
-    let rough = roughness([p[0] / width, p[1] / width], c.dim);
+    let rough = roughness([p[0] / width, p[1] / width], c.dim());
     r2 / (2.0 * load.radius * width) + (load.roughness * rough - 1.0) * load.approach * width
 }
 
@@ -101,11 +131,11 @@ fn initial_gap(c: &SurfaceCompliance, load: &Indentation, width: f64, i: usize) 
 /// contact.
 pub fn indentation_problem(
     name: &str,
-    c: &SurfaceCompliance,
+    c: &impl Compliance,
     width: f64,
     load: &Indentation,
 ) -> RootProblem {
-    let d = c.dim;
+    let d = c.dim();
     let rows = if load.mu > 0.0 { d } else { 1 };
     let m = c.n_surface();
     // Row k of a contact: its direction and sign (normal = −e_vertical into
@@ -142,27 +172,38 @@ pub fn indentation_problem(
     }
 }
 
-/// The benchmark's problem families: a cylinder (2D) or a sphere
-/// (3D) of radius L on a layer of thickness L/4 (E = 1, ν = 0.3), roughness
-/// heights up to about 4 % of the approach. The approaches and slides were
-/// chosen (2D m = 400–1000, 3D m = 256–900) for about 45 % of the points in
-/// contact and, with μ = 0.3, about 55 % of those slipping; the roughness
-/// does not depend on the mesh, so the fractions hold at every size, and the
-/// benchmark reports those it finds.
+/// The benchmark's problem families. On the layer: a cylinder (2D) or a
+/// sphere (3D) of radius L on a layer of thickness L/4 (E = 1, ν = 0.3),
+/// roughness heights up to about 4 % of the approach. The approaches and
+/// slides were chosen (2D m = 400–1000, 3D m = 256–900) for about 45 % of the
+/// points in contact and, with μ = 0.3, about 55 % of those slipping; the
+/// roughness does not depend on the mesh, so the fractions hold at every
+/// size, and the benchmark reports those it finds. On the half-space
+/// ([`HalfSpace`], the grid covering a square or segment of side L, 2D
+/// reference depth L): the same indenters and roughness, the approaches and
+/// slides chosen alike.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Family {
     Lcp2d,
     Coulomb2d,
     Lcp3d,
     Coulomb3d,
+    HalfspaceLcp2d,
+    HalfspaceCoulomb2d,
+    HalfspaceLcp3d,
+    HalfspaceCoulomb3d,
 }
 
 impl Family {
-    pub const ALL: [Family; 4] = [
+    pub const ALL: [Family; 8] = [
         Family::Lcp2d,
         Family::Coulomb2d,
         Family::Lcp3d,
         Family::Coulomb3d,
+        Family::HalfspaceLcp2d,
+        Family::HalfspaceCoulomb2d,
+        Family::HalfspaceLcp3d,
+        Family::HalfspaceCoulomb3d,
     ];
 
     pub fn name(self) -> &'static str {
@@ -171,23 +212,54 @@ impl Family {
             Family::Coulomb2d => "coulomb_2d",
             Family::Lcp3d => "lcp_3d",
             Family::Coulomb3d => "coulomb_3d",
+            Family::HalfspaceLcp2d => "halfspace_lcp_2d",
+            Family::HalfspaceCoulomb2d => "halfspace_coulomb_2d",
+            Family::HalfspaceLcp3d => "halfspace_lcp_3d",
+            Family::HalfspaceCoulomb3d => "halfspace_coulomb_3d",
         }
     }
 
-    /// The largest size the suite runs (3D layers and frictional W grow
-    /// fastest: W of 2025 3D contacts has 6075 rows, 295 MB).
+    /// The family of a name of [`Family::name`].
+    pub fn by_name(name: &str) -> Option<Family> {
+        Family::ALL.into_iter().find(|f| f.name() == name)
+    }
+
+    /// Is the body the elastic half-space (else the layer)?
+    pub fn on_halfspace(self) -> bool {
+        matches!(
+            self,
+            Family::HalfspaceLcp2d
+                | Family::HalfspaceCoulomb2d
+                | Family::HalfspaceLcp3d
+                | Family::HalfspaceCoulomb3d
+        )
+    }
+
+    /// Is it a frictionless problem (an LCP)?
+    pub fn is_lcp(self) -> bool {
+        matches!(
+            self,
+            Family::Lcp2d | Family::Lcp3d | Family::HalfspaceLcp2d | Family::HalfspaceLcp3d
+        )
+    }
+
+    /// The largest size the suite runs (3D and frictional W grow fastest:
+    /// W of 2025 3D contacts has 6075 rows, 295 MB).
     pub fn max_size(self) -> usize {
         match self {
-            Family::Lcp2d => 8000,
-            Family::Coulomb2d | Family::Lcp3d | Family::Coulomb3d => 2025,
+            Family::Lcp2d | Family::HalfspaceLcp2d | Family::HalfspaceLcp3d => 8000,
+            _ => 2025,
         }
     }
 
-    /// Surface dimension of the layer + 1.
+    /// Surface dimension of the body + 1.
     pub fn layer_dim(self) -> usize {
         match self {
-            Family::Lcp2d | Family::Coulomb2d => 2,
-            Family::Lcp3d | Family::Coulomb3d => 3,
+            Family::Lcp2d
+            | Family::Coulomb2d
+            | Family::HalfspaceLcp2d
+            | Family::HalfspaceCoulomb2d => 2,
+            _ => 3,
         }
     }
 
@@ -197,6 +269,10 @@ impl Family {
             Family::Coulomb2d => (0.035, 0.0165, 0.3),
             Family::Lcp3d => (0.08, 0.0, 0.0),
             Family::Coulomb3d => (0.08, 0.025, 0.3),
+            Family::HalfspaceLcp2d => (HALFSPACE_APPROACH_2D, 0.0, 0.0),
+            Family::HalfspaceCoulomb2d => (HALFSPACE_APPROACH_2D, HALFSPACE_SLIDE_2D, 0.3),
+            Family::HalfspaceLcp3d => (HALFSPACE_APPROACH_3D, 0.0, 0.0),
+            Family::HalfspaceCoulomb3d => (HALFSPACE_APPROACH_3D, HALFSPACE_SLIDE_3D, 0.3),
         };
         Indentation {
             radius: 1.0,
@@ -207,17 +283,22 @@ impl Family {
         }
     }
 
-    /// The layer whose surface has about `m` nodes (n = m in 2D, n = ⌈√m⌉ in 3D).
-    pub fn layer(self, m: usize) -> crate::rootbench::layer::Layer {
-        let dim = self.layer_dim();
-        let n = if dim == 2 {
+    /// Points along each surface direction for about `m` contact points
+    /// (n = m in 2D, n = ⌈√m⌉ in 3D).
+    fn divisions(self, m: usize) -> usize {
+        let n = if self.layer_dim() == 2 {
             m
         } else {
             (m as f64).sqrt().ceil() as usize
         };
+        n.max(2)
+    }
+
+    /// The layer whose surface has about `m` nodes.
+    pub fn layer(self, m: usize) -> crate::rootbench::layer::Layer {
         crate::rootbench::layer::Layer {
-            dim,
-            n: n.max(2),
+            dim: self.layer_dim(),
+            n: self.divisions(m),
             width: 1.0,
             depth: 0.25,
             young: 1.0,
@@ -225,16 +306,41 @@ impl Family {
         }
     }
 
+    /// The half-space with a grid of about `m` contact points.
+    pub fn half_space(self, m: usize) -> HalfSpace {
+        HalfSpace {
+            dim: self.layer_dim(),
+            n: self.divisions(m),
+            width: 1.0,
+            young: 1.0,
+            poisson: 0.3,
+            reference_depth: 1.0,
+        }
+    }
+
     /// The family's problem with about `m` contact points.
     pub fn problem(self, m: usize) -> Result<RootProblem, String> {
-        let layer = self.layer(m);
-        let c = crate::rootbench::layer::surface_compliance(&layer)?;
-        let name = format!("{}_m{}", self.name(), c.n_surface());
-        Ok(indentation_problem(
-            &name,
-            &c,
-            layer.width,
-            &self.indentation(),
-        ))
+        let load = self.indentation();
+        let (p, n) = if self.on_halfspace() {
+            let c = self.half_space(m);
+            (indentation_problem("", &c, c.width, &load), c.n_surface())
+        } else {
+            let layer = self.layer(m);
+            let c = crate::rootbench::layer::surface_compliance(&layer)?;
+            (
+                indentation_problem("", &c, layer.width, &load),
+                c.n_surface(),
+            )
+        };
+        Ok(RootProblem {
+            name: format!("{}_m{}", self.name(), n),
+            ..p
+        })
     }
 }
+
+/// Approaches and slides of the half-space families (relative to L).
+const HALFSPACE_APPROACH_2D: f64 = 0.075;
+const HALFSPACE_SLIDE_2D: f64 = 0.02;
+const HALFSPACE_APPROACH_3D: f64 = 0.134;
+const HALFSPACE_SLIDE_3D: f64 = 0.04;

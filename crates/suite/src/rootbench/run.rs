@@ -52,17 +52,17 @@ pub struct SuiteOptions {
 /// The methods of a family, the reference first.
 fn methods(family: Family) -> Vec<Method> {
     match family {
-        Family::Lcp2d | Family::Lcp3d => METHODS
+        f if f.is_lcp() => METHODS
             .iter()
             .filter_map(|m| Algorithm::by_name(m.name))
             .map(Method::Lcp)
             .collect(),
-        Family::Coulomb2d => vec![
+        f if f.layer_dim() == 2 => vec![
             Method::Friction(FrictionMethod::Status),
             Method::Friction(FrictionMethod::FixedPoint),
             Method::Friction(FrictionMethod::Newton),
         ],
-        Family::Coulomb3d => vec![
+        _ => vec![
             Method::Friction(FrictionMethod::FixedPoint),
             Method::Friction(FrictionMethod::Newton),
         ],
@@ -257,8 +257,9 @@ mod tests {
             repeat: 1,
         };
         let rows = run_suite(&o, None, |_| {}).unwrap();
-        // 9 LCP methods twice, 3 + 2 friction methods.
-        assert_eq!(rows.len(), 2 * (2 * 9 + 3 + 2));
+        // 9 LCP methods on four LCP families, 3 friction methods on the
+        // two 2D frictional ones and 2 on the 3D ones; twice.
+        assert_eq!(rows.len(), 2 * (4 * 9 + 2 * 3 + 2 * 2));
         for r in &rows {
             let id = r.method.parse().ok();
             let exact = id
