@@ -26,7 +26,10 @@ use faer::Mat;
 
 use crate::delassus::DelassusProblem;
 use crate::law::{FrictionLaw, FrictionLayout};
+use crate::lcp::LcpOptions;
 use crate::options::FrictionOptions;
+use crate::options::StatusVariant;
+use crate::registry::Algorithm;
 use crate::solution::{ContactSolution, PointStatus};
 use crate::ContactError;
 
@@ -132,33 +135,29 @@ pub fn solve_on_contact_zone(
     ) -> Result<ContactSolution, ContactError>,
 ) -> Result<Option<ContactSolution>, ContactError> {
     let m = layout.n_points();
-    let start = start.filter(|s| s.len() == problem.q.len());
-    let mut inside: Vec<bool> = (0..m)
-        .map(|p| problem.q[p] < 0.0 || start.is_some_and(|s| s[p] > 0.0))
-        .collect();
-    let count = inside.iter().filter(|&&b| b).count();
-    if !restrictable(problem, layout) || count == 0 || count as f64 > (1.0 - LEFT_OUT) * m as f64 {
+    if !restrictable(problem, layout) {
         return Ok(None);
     }
-    let mut forces = start.map(<[f64]>::to_vec);
+    let (mut inside, mut forces) = first_zone(problem, m, start, opts)?;
+    let mut statuses = statuses.to_vec();
     let (mut iterations, mut history) = (0, Vec::new());
     for _ in 0..MAX_GROWTH {
+        let count = inside.iter().filter(|&&b| b).count();
+        if count == 0 || count as f64 > (1.0 - LEFT_OUT) * m as f64 {
+            break;
+        }
         let zone = Zone::new((0..m).filter(|&p| inside[p]).collect(), layout);
         let mut sub = zone.problem(problem);
         let sub_start = forces.as_deref().map(|f| zone.restrict(f));
-        let answer = solve(
-            &mut sub,
-            &zone.layout,
-            sub_start.as_deref(),
-            zone.points.iter().map(|&p| statuses[p]).collect(),
-        )?;
+        let sub_statuses = zone.points.iter().map(|&p| statuses[p]).collect();
+        let answer = solve(&mut sub, &zone.layout, sub_start.as_deref(), sub_statuses)?;
         problem.solves += sub.solves;
         iterations += answer.report.iterations;
         history.extend_from_slice(&answer.report.residual_history);
         let (r, u) = zone.extend(problem, &answer.forces);
         let closing = -1e-3 * opts.tolerance * opts.gap_scale;
-        let outside_closed: Vec<usize> = (0..m).filter(|&p| !inside[p] && u[p] < closing).collect();
-        if outside_closed.is_empty() || !answer.report.converged {
+        let closed: Vec<usize> = (0..m).filter(|&p| !inside[p] && u[p] < closing).collect();
+        if closed.is_empty() || !answer.report.converged {
             let mut report = answer.report;
             (report.iterations, report.residual_history) = (iterations, history);
             let points = crate::friction::semismooth_newton::statuses(layout, &r, &u, opts, dim);
@@ -168,11 +167,155 @@ pub fn solve_on_contact_zone(
             sol.set_points(points);
             return Ok(Some(sol));
         }
-        outside_closed.iter().for_each(|&p| inside[p] = true);
-        forces = Some(r);
-        if inside.iter().filter(|&&b| b).count() as f64 > (1.0 - LEFT_OUT) * m as f64 {
-            break;
+        for (&p, &status) in zone.points.iter().zip(&answer.friction.points) {
+            statuses[p] = status;
         }
+        for &p in &closed {
+            (inside[p], statuses[p]) = (true, PointStatus::Stick);
+        }
+        forces = Some(r);
     }
     Ok(None)
+}
+
+/// The first zone and the forces to start from: with starting forces, the
+/// points they load and those closed at zero force (q_n < 0); else the
+/// points the frictionless problem closes ([`frictionless`]) or leaves
+/// within a tenth of the deepest initial penetration among those (where
+/// friction may shift the contact), from its forces.
+fn first_zone(
+    problem: &DelassusProblem,
+    m: usize,
+    start: Option<&[f64]>,
+    opts: &FrictionOptions,
+) -> Result<(Vec<bool>, Option<Vec<f64>>), ContactError> {
+    if let Some(s) = start.filter(|s| s.len() == problem.q.len()) {
+        let inside = (0..m).map(|p| s[p] > 0.0 || problem.q[p] < 0.0).collect();
+        return Ok((inside, Some(s.to_vec())));
+    }
+    let (forces, gaps) = frictionless(problem, m, opts)?;
+    let depth = (0..m)
+        .filter(|&p| forces[p] > 0.0)
+        .fold(0.0f64, |d, p| d.max(-problem.q[p]));
+    let inside = (0..m)
+        .map(|p| forces[p] > 0.0 || gaps[p] < 0.1 * depth)
+        .collect();
+    Ok((inside, Some(forces)))
+}
+
+/// The forces of the frictionless problem of the m points (their normal
+/// rows 0..m, by the status method) on every row, zero on the tangential
+/// ones, and its normal gaps.
+fn frictionless(
+    problem: &DelassusProblem,
+    m: usize,
+    opts: &FrictionOptions,
+) -> Result<(Vec<f64>, Vec<f64>), ContactError> {
+    let w = problem.w.submatrix(0, 0, m, m).to_owned();
+    let lcp = LcpOptions {
+        tolerance: opts.tolerance,
+        max_iterations: 10 * m + 10,
+        force_scale: opts.force_scale,
+        gap_scale: opts.gap_scale,
+        stiffness: None,
+    };
+    let out = Algorithm::status(StatusVariant::All).solve(&w, &problem.q[..m], None, &lcp)?;
+    let mut forces = vec![0.0; problem.q.len()];
+    forces[..m].copy_from_slice(&out.forces);
+    Ok((forces, out.gaps))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::friction::driver::{solve_friction, FrictionMethod, FrictionStart};
+    use crate::law::natural_residual;
+    use crate::test_problems::{random_spd, XorShift};
+
+    fn opts() -> FrictionOptions {
+        FrictionOptions {
+            max_iterations: 20_000,
+            max_fixed_point: 20_000,
+            tolerance: 1e-11,
+            force_scale: 1.0,
+            gap_scale: 1.0,
+            deadline: None,
+        }
+    }
+
+    /// m points in `dim`, normals first, Coulomb μ = 0.3; W random SPD, the
+    /// first third of the points pressed (q_n < 0), the others a little
+    /// open, the tangential gaps random (a slide).
+    fn problem(m: usize, dim: usize, seed: u64) -> (DelassusProblem, FrictionLayout) {
+        let k = dim - 1;
+        let mut rng = XorShift(seed);
+        let w = random_spd(m * dim, &mut rng);
+        let mut q: Vec<f64> = (0..m)
+            .map(|p| match p < m / 3 {
+                true => rng.uniform(-1.0, -0.2),
+                false => rng.uniform(0.01, 0.3),
+            })
+            .collect();
+        q.extend((0..m * k).map(|_| rng.uniform(-0.3, 0.3)));
+        let layout = FrictionLayout {
+            tangent_rows: (0..m)
+                .map(|p| (m + k * p..m + k * p + k).collect())
+                .collect(),
+            law: vec![FrictionLaw::coulomb(0.3); m],
+            shadow: vec![None; m],
+        };
+        (DelassusProblem::from_operator(w, q), layout)
+    }
+
+    fn solve(dim: usize, seed: u64, method: FrictionMethod, zone: bool) -> (Vec<f64>, f64) {
+        let (mut p, layout) = problem(30, dim, seed);
+        let start = FrictionStart {
+            statuses: vec![PointStatus::Stick; 30],
+            forces: None,
+            predict: false,
+            zone,
+        };
+        let out = solve_friction(&mut p, &layout, method, start, &opts()).unwrap();
+        assert!(
+            out.solution.report.converged,
+            "{}",
+            out.solution.report.stop
+        );
+        // The residual of the whole problem, gaps recomputed here.
+        let r = &out.solution.forces;
+        let u = crate::lcp::gaps(&p.w, &p.q, r);
+        let force = r.iter().fold(1.0f64, |s, v| s.max(v.abs()));
+        (r.clone(), natural_residual(&layout, r, &u, force, 1.0))
+    }
+
+    /// On the contact zone NSGS and the semi-smooth Newton method give the
+    /// forces they give on the whole problem, and those solve the whole
+    /// problem (natural residual from gaps W r + q computed here).
+    #[test]
+    fn the_zone_gives_the_whole_problems_answer() {
+        for (dim, methods) in [
+            (3, [FrictionMethod::Nsgs3d, FrictionMethod::Newton3d]),
+            (2, [FrictionMethod::Nsgs2d, FrictionMethod::CoulombStatus]),
+        ] {
+            for seed in [3, 17, 29] {
+                for method in methods {
+                    let (whole, _) = solve(dim, seed, method, false);
+                    let (zoned, residual) = solve(dim, seed, method, true);
+                    assert!(
+                        residual <= 1e-9,
+                        "{method:?} dim {dim} seed {seed}: {residual:e}"
+                    );
+                    let scale = whole.iter().fold(0.0f64, |s, v| s.max(v.abs()));
+                    let diff = whole
+                        .iter()
+                        .zip(&zoned)
+                        .fold(0.0f64, |s, (a, b)| s.max((a - b).abs()));
+                    assert!(
+                        diff <= 1e-7 * scale,
+                        "{method:?} dim {dim} seed {seed}: {diff:e}"
+                    );
+                }
+            }
+        }
+    }
 }
