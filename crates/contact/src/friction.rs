@@ -17,6 +17,8 @@
 //!   problem a Tresca problem (`status_tresca`); started from the previous
 //!   step, or from the solution with every contact point stuck (so that a
 //!   body held by friction alone can start: §4.3 notes that g = 0 cannot);
+//! - [`contact_zone`]: any of the Coulomb methods on the points that can
+//!   touch, the others checked open;
 //! - [`norton_hoff()`]: Norton–Hoff's law by the fixed point on its threshold;
 //! - [`coulomb_newton`]: the semi-smooth Newton method on the Alart–Curnier
 //!   equations (`semismooth_newton`, shared with 3D); [`friction3d`] for 3D.
@@ -27,6 +29,7 @@
 //! linear kinematic hardening of the slip) the rough rows' unknown becomes
 //! the slider force ([`kinematic_hardening`]).
 
+pub mod contact_zone;
 pub mod coulomb_fixed_point;
 pub mod driver;
 pub(crate) mod fixed_point;

@@ -335,6 +335,7 @@ pub fn solve_friction_by(
         statuses,
         forces: None,
         predict: true,
+        zone: true,
     };
     let mut problem = signorini_contact::DelassusProblem::from_operator(p.w.clone(), p.q.clone());
     let t = Instant::now();

@@ -379,6 +379,7 @@ fn solve_friction(
             statuses,
             forces: start.as_deref(),
             predict,
+            zone: false,
         };
         solve_friction_by(problem, &fr.layout, method, from, fopts).map(|a| a.solution)
     };

@@ -10,6 +10,7 @@
 
 use crate::active_set::friction_status::{coulomb_status, predicted_statuses, tresca_status};
 use crate::delassus::DelassusProblem;
+use crate::friction::contact_zone::solve_on_contact_zone;
 use crate::friction::friction3d::{coulomb_3d_fixed_point, friction_3d};
 use crate::friction::nsgs::nsgs;
 use crate::friction::{coulomb_fixed_point, coulomb_newton, norton_hoff, tresca_projection};
@@ -142,6 +143,9 @@ pub struct FrictionStart<'a> {
     /// Whether the status methods predict the slip from q first
     /// ([`predicted_statuses`]: at a cold start without floating bodies).
     pub predict: bool,
+    /// Whether the method runs on the contact zone
+    /// ([`solve_on_contact_zone`]) where the problem allows it.
+    pub zone: bool,
 }
 
 /// A friction solution with its residual.
@@ -170,8 +174,44 @@ pub fn solve_friction(
         true => predicted_statuses(layout, &problem.q, start.statuses, opts),
         false => start.statuses,
     };
-    let forces = start.forces;
-    let solution = match method {
+    let zoned = match start.zone {
+        true => solve_on_contact_zone(
+            problem,
+            layout,
+            start.forces,
+            &statuses,
+            opts,
+            dim,
+            |p, l, f, s| run(method, p, l, f, s, opts),
+        )?,
+        false => None,
+    };
+    let solution = match zoned {
+        Some(solution) => solution,
+        None => run(method, problem, layout, start.forces, statuses, opts)?,
+    };
+    let force = opts.force_scale.max(max_abs(&solution.forces));
+    let residual = natural_residual(
+        layout,
+        &solution.forces,
+        &solution.gaps,
+        force,
+        opts.gap_scale,
+    );
+    Ok(FrictionAnswer { solution, residual })
+}
+
+/// Runs `method` on a problem from `forces` (or its own start) and the
+/// statuses of its points.
+fn run(
+    method: FrictionMethod,
+    problem: &mut DelassusProblem,
+    layout: &FrictionLayout,
+    forces: Option<&[f64]>,
+    statuses: Vec<PointStatus>,
+    opts: &FrictionOptions,
+) -> Result<ContactSolution, ContactError> {
+    match method {
         FrictionMethod::TrescaStatus => tresca_status(problem, layout, statuses, opts),
         FrictionMethod::TrescaBox => tresca_projection(problem, layout, opts),
         FrictionMethod::CoulombFixedPoint => {
@@ -182,15 +222,7 @@ pub fn solve_friction(
         FrictionMethod::NortonHoff => norton_hoff(problem, layout, statuses, opts),
         FrictionMethod::Newton3d => friction_3d(problem, layout, forces, opts),
         FrictionMethod::FixedPoint3d => coulomb_3d_fixed_point(problem, layout, forces, opts),
-        FrictionMethod::Nsgs2d | FrictionMethod::Nsgs3d => nsgs(problem, layout, forces, opts, dim),
-    }?;
-    let force = opts.force_scale.max(max_abs(&solution.forces));
-    let residual = natural_residual(
-        layout,
-        &solution.forces,
-        &solution.gaps,
-        force,
-        opts.gap_scale,
-    );
-    Ok(FrictionAnswer { solution, residual })
+        FrictionMethod::Nsgs2d => nsgs(problem, layout, forces, opts, 2),
+        FrictionMethod::Nsgs3d => nsgs(problem, layout, forces, opts, 3),
+    }
 }
