@@ -8,7 +8,7 @@
 //! displacements and forces.
 
 use crate::direct_newton::{solve_whole, WholeLoad, WholeSolution, WholeSystem};
-use crate::direct_path::{
+use crate::direct_system::{
     check_floating, direct_loads, direct_residuals, full_displacements, DirectSystem,
 };
 use crate::error::{contact_error, SolveError};
@@ -71,40 +71,6 @@ pub(crate) fn direct_rows(
         tangent_row,
         tangent_row2,
     }
-}
-
-/// What the direct path does not solve with friction (the condensed path
-/// does): Norton–Hoff's law and rough contacts (course notes §6); `Err`
-/// names the contact and what would run.
-pub(crate) fn check_direct_friction(sc: &scene::Scene) -> Result<(), SolveError> {
-    if sc
-        .contact
-        .iter()
-        .all(|c| c.friction == scene::Friction::None)
-    {
-        return Ok(());
-    }
-    for c in &sc.contact {
-        let refused = match &c.friction {
-            scene::Friction::NortonHoff { .. } => Some("Norton-Hoff friction"),
-            scene::Friction::Coulomb {
-                roughness: Some(_), ..
-            } => Some("a rough contact (roughness)"),
-            _ => None,
-        };
-        if let Some(what) = refused {
-            return Err(SolveError::Input(format!(
-                "contact \"{}\".friction: {what} is solved on path = \"condensed\" only; path = \"direct\" solves Tresca and Coulomb friction (with slip_stiffness)",
-                c.name
-            )));
-        }
-    }
-    if sc.solver.friction == scene::FrictionSolver::Status {
-        return Err(SolveError::Input(
-            "solver.friction = \"status\": on path = \"direct\" friction is solved by the semi-smooth Newton method on the whole system; use friction = \"newton\" or \"fixed_point\" (the default), or path = \"condensed\"".into(),
-        ));
-    }
-    Ok(())
 }
 
 /// The elastic slip compliance 1/k_e of a regularised law on each

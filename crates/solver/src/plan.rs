@@ -132,7 +132,7 @@ fn plan_on(
         }
     }
     if path == scene::SolvePath::Direct {
-        crate::direct_friction::check_direct_friction(sc)?;
+        check_direct_friction(sc)?;
     }
     Ok(Plan {
         method,
@@ -163,6 +163,40 @@ fn check_supported(sc: &scene::Scene) -> Result<(), SolveError> {
         ));
     }
     crate::compare::check_reference(sc)
+}
+
+/// What the direct path does not solve with friction (the condensed path
+/// does): Norton–Hoff's law and rough contacts (course notes §6); `Err`
+/// names the contact and what would run.
+fn check_direct_friction(sc: &scene::Scene) -> Result<(), SolveError> {
+    if sc
+        .contact
+        .iter()
+        .all(|c| c.friction == scene::Friction::None)
+    {
+        return Ok(());
+    }
+    for c in &sc.contact {
+        let refused = match &c.friction {
+            scene::Friction::NortonHoff { .. } => Some("Norton-Hoff friction"),
+            scene::Friction::Coulomb {
+                roughness: Some(_), ..
+            } => Some("a rough contact (roughness)"),
+            _ => None,
+        };
+        if let Some(what) = refused {
+            return Err(SolveError::Input(format!(
+                "contact \"{}\".friction: {what} is solved on path = \"condensed\" only; path = \"direct\" solves Tresca and Coulomb friction (with slip_stiffness)",
+                c.name
+            )));
+        }
+    }
+    if sc.solver.friction == scene::FrictionSolver::Status {
+        return Err(SolveError::Input(
+            "solver.friction = \"status\": on path = \"direct\" friction is solved by the semi-smooth Newton method on the whole system; use friction = \"newton\" or \"fixed_point\" (the default), or path = \"condensed\"".into(),
+        ));
+    }
+    Ok(())
 }
 
 /// What `signorini check` asks of the solver: the checks `run` makes of the
