@@ -26,6 +26,7 @@ use crate::step_end::StepLoop;
 use crate::step_friction::step_laws;
 use crate::timing::timed;
 use signorini_contact::friction::{statuses, FrictionLaw, FrictionOptions, PointStatus};
+use signorini_contact::law::regularised;
 use signorini_contact::{ContactSolution, SolverReport};
 use signorini_linalg::sparse::SparseRow;
 use signorini_report::Timings;
@@ -76,18 +77,12 @@ pub(crate) fn direct_rows(
 /// The elastic slip compliance 1/k_e of a regularised law on each
 /// tangential row (course notes §4.1.3), zero elsewhere.
 fn compliance(points: &[PointModel], rows: &DirectRows) -> Vec<f64> {
-    let mut c = vec![0.0; rows.rows.len()];
-    for (pi, p) in points.iter().enumerate() {
-        if let Some(k) = p.slip_stiffness {
-            for t in [rows.tangent_row[pi], rows.tangent_row2[pi]]
-                .into_iter()
-                .flatten()
-            {
-                c[t] = 1.0 / k;
-            }
-        }
-    }
-    c
+    let tangential = |pi: usize| [rows.tangent_row[pi], rows.tangent_row2[pi]];
+    let points = points.iter().enumerate();
+    regularised::slip_compliance(
+        rows.rows.len(),
+        points.map(|(pi, p)| (p.slip_stiffness, tangential(pi))),
+    )
 }
 
 /// The direct path with friction on the root (module doc); each step ended
