@@ -75,17 +75,7 @@ pub const GAUSS_2X2: [QuadPoint; 4] = [
     qp(-G2, G2, 0.0, 1.0),
 ];
 /// 3×3 Gauss on the reference square.
-pub const GAUSS_3X3: [QuadPoint; 9] = {
-    const X: [f64; 3] = [-G3, 0.0, G3];
-    const W: [f64; 3] = [5.0 / 9.0, 8.0 / 9.0, 5.0 / 9.0];
-    let mut out = [qp(0.0, 0.0, 0.0, 0.0); 9];
-    let mut i = 0;
-    while i < 9 {
-        out[i] = qp(X[i % 3], X[i / 3], 0.0, W[i % 3] * W[i / 3]);
-        i += 1;
-    }
-    out
-};
+pub const GAUSS_3X3: [QuadPoint; 9] = gauss3();
 /// Centroid of the reference tetrahedron (weight 1/6).
 pub const TET_1: [QuadPoint; 1] = [qp(0.25, 0.25, 0.25, 1.0 / 6.0)];
 /// 2×2×2 Gauss on the reference cube (weights 1).
@@ -115,18 +105,26 @@ pub const TET_4: [QuadPoint; 4] = [
 ];
 
 /// 3×3×3 Gauss on the reference cube.
-pub const GAUSS_3X3X3: [QuadPoint; 27] = {
+pub const GAUSS_3X3X3: [QuadPoint; 27] = gauss3();
+
+/// The 3-point Gauss rule (abscissae 0, ±√(3/5), weights 8/9, 5/9) in each
+/// direction of the square (`N` = 9) or the cube (`N` = 27), ξ fastest.
+const fn gauss3<const N: usize>() -> [QuadPoint; N] {
     const X: [f64; 3] = [-G3, 0.0, G3];
     const W: [f64; 3] = [5.0 / 9.0, 8.0 / 9.0, 5.0 / 9.0];
-    let mut out = [qp(0.0, 0.0, 0.0, 0.0); 27];
+    let mut out = [qp(0.0, 0.0, 0.0, 0.0); N];
     let mut i = 0;
-    while i < 27 {
+    while i < N {
         let (a, b, c) = (i % 3, (i / 3) % 3, i / 9);
-        out[i] = qp(X[a], X[b], X[c], W[a] * W[b] * W[c]);
+        out[i] = if N == 27 {
+            qp(X[a], X[b], X[c], W[a] * W[b] * W[c])
+        } else {
+            qp(X[a], X[b], 0.0, W[a] * W[b])
+        };
         i += 1;
     }
     out
-};
+}
 
 /// The quadrature rule of a cell kind in a model (see the module docs).
 pub fn quadrature(kind: CellKind, model: Model) -> &'static [QuadPoint] {
