@@ -11,7 +11,7 @@ use common::{
     rigid_plane, try_run, with_subdomains,
 };
 use signorini_scene::SolvePath;
-use signorini_solver::{RunOptions, RunOutput, SolveError};
+use signorini_solver::{RunOptions, SolveError};
 
 fn direct() -> RunOptions {
     RunOptions {
