@@ -3,8 +3,10 @@
 #![allow(dead_code)]
 
 pub mod bad_scene;
+mod reference;
 mod scene_text;
 pub mod twins;
+pub use reference::{assert_patch_test_passes, assert_reference_within, reference_error};
 #[allow(unused_imports)]
 pub use scene_text::*;
 

@@ -5,7 +5,10 @@
 //! "Ties").
 
 use super::common::bad_scene::{run_in, scene_dir};
-use super::common::{converged, converged_on, example_with_meshes};
+use super::common::{
+    block_body, block_contact, boundary, contact_between, converged, converged_on, elastic_body,
+    example_with_meshes, material_head, named_block_boundary, rigid_plane,
+};
 use signorini_scene::SolvePath;
 use signorini_solver::{RunOptions, RunOutput};
 
@@ -38,32 +41,16 @@ pub(super) fn tied_blocks(dim: usize, lower: &str, upper: &str, t: f64) -> Strin
     } else {
         ("zmin", "zmax")
     };
-    format!(
-        r#"dimension = {dim}
-model = "{model}"
-[[materials]]
-name = "m"
-young = {E}
-poisson = {NU}
-[[bodies]]
-name = "lower"
-material = "m"
-mesh = {lower}
-[[bodies]]
-name = "upper"
-material = "m"
-mesh = {upper}
-{supports}
-[[boundary]]
-body = "upper"
-{top}
-[[contact]]
-name = "bond"
-slave = {{ body = "upper", surface = "{bottom}" }}
-master = {{ body = "lower", surface = "{top_face}" }}
-law = "tied"
-"#
-    )
+    [
+        material_head(dim, model, E, NU),
+        elastic_body("lower", lower),
+        elastic_body("upper", upper),
+        supports.to_string(),
+        format!("[[boundary]]\nbody = \"upper\"\n{top}\n"),
+        contact_between("bond", ("upper", bottom), ("lower", top_face)),
+        "law = \"tied\"\n".to_string(),
+    ]
+    .concat()
 }
 
 /// The largest error of every node's displacement against the uniform
@@ -177,29 +164,17 @@ fn two_volumes_of_one_gmsh_file_tied_equal_the_analytic_answer() {
 
 /// A block clamped at its bottom with a force `force` on `place` at its top.
 fn block_with_force(place: &str, force: &str) -> String {
-    format!(
-        r#"dimension = 2
-model = "plane_strain"
-[[materials]]
-name = "m"
-young = {E}
-poisson = {NU}
-[[bodies]]
-name = "block"
-material = "m"
-mesh = {{ generator = "rectangle", origin = [0.0, 0.0], size = [2.0, 1.0], divisions = [4, 2] }}
-[[boundary]]
-name = "clamp"
-body = "block"
-surface = "bottom"
-displacement = {{ x = 0.0, y = 0.0 }}
-[[boundary]]
-name = "load"
-body = "block"
-{place}
-force = {force}
-"#
-    )
+    [
+        material_head(2, "plane_strain", E, NU),
+        block_body([0.0, 0.0], [2.0, 1.0], [4, 2], ""),
+        named_block_boundary(
+            "clamp",
+            "surface = \"bottom\"",
+            "displacement = { x = 0.0, y = 0.0 }",
+        ),
+        named_block_boundary("load", place, &format!("force = {force}")),
+    ]
+    .concat()
 }
 
 #[test]
@@ -225,38 +200,27 @@ fn a_force_on_a_node_set_is_a_total_shared_equally() {
     // half the force each; the reaction of the lower block's support
     // balances the whole force through the tie
     let dir = format!("{}/tests/data", env!("CARGO_MANIFEST_DIR"));
-    let text = format!(
-        r#"dimension = 2
-model = "plane_strain"
-[[materials]]
-name = "m"
-young = {E}
-poisson = {NU}
-[[bodies]]
-name = "lower"
-material = "m"
-mesh = {{ file = "{dir}/tied_blocks_2d.msh", volume = "lower" }}
-[[bodies]]
-name = "upper"
-material = "m"
-mesh = {{ file = "{dir}/tied_blocks_2d.msh", volume = "upper" }}
-[[boundary]]
-name = "clamp"
-body = "lower"
-surface = "lower_bottom"
-displacement = {{ x = 0.0, y = 0.0 }}
-[[boundary]]
-name = "pull"
-body = "upper"
-nodes = "top_corners"
-force = [0.0, 4.0]
-[[contact]]
-name = "bond"
-slave = {{ body = "upper", surface = "upper_bottom" }}
-master = {{ body = "lower", surface = "lower_top" }}
-law = "tied"
-"#
-    );
+    let volume = |v: &str| format!("{{ file = \"{dir}/tied_blocks_2d.msh\", volume = \"{v}\" }}");
+    let text = [
+        material_head(2, "plane_strain", E, NU),
+        elastic_body("lower", &volume("lower")),
+        elastic_body("upper", &volume("upper")),
+        boundary(
+            "clamp",
+            "lower",
+            "surface = \"lower_bottom\"",
+            "displacement = { x = 0.0, y = 0.0 }",
+        ),
+        boundary(
+            "pull",
+            "upper",
+            "nodes = \"top_corners\"",
+            "force = [0.0, 4.0]",
+        ),
+        contact_between("bond", ("upper", "upper_bottom"), ("lower", "lower_top")),
+        "law = \"tied\"\n".to_string(),
+    ]
+    .concat();
     for path in [SolvePath::Condensed, SolvePath::Direct] {
         let out = converged_on(&text, path);
         let r = &out.report.steps[0].reactions[0];
@@ -285,36 +249,21 @@ law = "tied"
 /// A block pressed on a rigid plane by its top and dragged along x by
 /// `drag`, Coulomb μ = 0.5; step 2 lowers μ to 0.1 under the same load.
 fn dragged_block(drag: f64) -> String {
-    format!(
-        r#"dimension = 2
-model = "plane_strain"
-[[materials]]
-name = "m"
-young = {E}
-poisson = {NU}
-[[bodies]]
-name = "block"
-material = "m"
-mesh = {{ generator = "rectangle", origin = [0.0, 0.0], size = [1.0, 0.5], divisions = [6, 3] }}
-[[bodies]]
-name = "ground"
-rigid = {{ shape = "plane", point = [0.0, 0.0], normal = [0.0, 1.0] }}
-[[boundary]]
-name = "press"
-body = "block"
-surface = "top"
-displacement = {{ x = {drag}, y = -0.01 }}
-[[contact]]
-name = "slide"
-slave = {{ body = "block", surface = "bottom" }}
-master = {{ body = "ground" }}
-friction = {{ coulomb = 0.5 }}
-[[steps]]
-scale = {{ press = 1.0 }}
-[[steps]]
-friction = {{ slide = {{ coulomb = 0.1 }} }}
-"#
-    )
+    [
+        material_head(2, "plane_strain", E, NU),
+        block_body([0.0, 0.0], [1.0, 0.5], [6, 3], ""),
+        rigid_plane("ground", [0.0, 0.0], [0.0, 1.0]),
+        named_block_boundary(
+            "press",
+            "surface = \"top\"",
+            &format!("displacement = {{ x = {drag}, y = -0.01 }}"),
+        ),
+        block_contact("slide", "bottom", "ground"),
+        "friction = { coulomb = 0.5 }\n[[steps]]\nscale = { press = 1.0 }\n\
+         [[steps]]\nfriction = { slide = { coulomb = 0.1 } }\n"
+            .to_string(),
+    ]
+    .concat()
 }
 
 #[test]

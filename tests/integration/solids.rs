@@ -6,20 +6,12 @@
 use crate::common;
 
 use common::{
-    block_body, block_boundary, block_contact, cli_run_ok, converged, example, material_2d,
-    max_rel, named_block_boundary, rigid_plane, try_run, with_subdomains,
+    assert_patch_test_passes, assert_reference_within, block_body, block_boundary, block_contact,
+    cli_run_ok, converged, example, material_2d, max_rel, named_block_boundary, reference_error,
+    rigid_plane, try_run, with_subdomains,
 };
 use signorini_scene::SolvePath;
-use signorini_solver::{RunOptions, RunOutput, SolveError};
-
-fn rel(out: &RunOutput, q: &str) -> f64 {
-    out.report
-        .reference
-        .as_ref()
-        .expect("a reference")
-        .quantities[q]
-        .relative_error
-}
+use signorini_solver::{RunOptions, SolveError};
 
 fn direct() -> RunOptions {
     RunOptions {
@@ -31,9 +23,8 @@ fn direct() -> RunOptions {
 #[test]
 fn hertz_sphere_axisymmetric_within_2_percent() {
     let out = converged(&example("hertz_axi.toml"), RunOptions::default());
-    assert!(rel(&out, "p0") <= 0.02, "p0 error {}", rel(&out, "p0"));
-    assert!(rel(&out, "a") <= 0.02, "a error {}", rel(&out, "a"));
-    assert!(rel(&out, "profile_l2") <= 0.02);
+    assert_reference_within(&out, &[("p0", 0.02), ("a", 0.02)], "");
+    assert!(reference_error(&out, "profile_l2") <= 0.02);
     // the resultant is along the axis: no radial component
     let f = &out.report.contact_force;
     assert_eq!(f.len(), 2);
@@ -53,11 +44,7 @@ fn hertz_sphere_axisymmetric_quadratic_elements_have_a_finite_pole_pressure() {
             &format!("grading = 16.0, element = \"{element}\" }}"),
         );
         let out = converged(&text, RunOptions::default());
-        assert!(
-            rel(&out, "p0") <= 0.01,
-            "{element}: p0 error {}",
-            rel(&out, "p0")
-        );
+        assert_reference_within(&out, &[("p0", 0.01)], element);
         let p0 = out.report.reference.as_ref().unwrap().quantities["p0"].exact;
         let pmax = out
             .contact_rows
@@ -73,8 +60,7 @@ fn hertz_sphere_axisymmetric_quadratic_elements_have_a_finite_pole_pressure() {
 #[test]
 fn hertz_sphere_3d_within_5_percent() {
     let out = converged(&example("hertz3d.toml"), RunOptions::default());
-    assert!(rel(&out, "p0") <= 0.05, "p0 error {}", rel(&out, "p0"));
-    assert!(rel(&out, "a") <= 0.05, "a error {}", rel(&out, "a"));
+    assert_reference_within(&out, &[("p0", 0.05), ("a", 0.05)], "");
     let f = &out.report.contact_force;
     assert_eq!(f.len(), 3);
     // symmetric mesh and load: the resultant is along z
@@ -98,16 +84,7 @@ fn hertz_sphere_axisymmetric_quadratic_coarse_arc_has_a_finite_pole_pressure() {
             )
             .replace("radius = 1.0\n", "radius = 0.8\n");
         let out = converged(&text, RunOptions::default());
-        assert!(
-            rel(&out, "p0") <= 0.015,
-            "{element}: p0 error {}",
-            rel(&out, "p0")
-        );
-        assert!(
-            rel(&out, "a") <= 0.01,
-            "{element}: a error {}",
-            rel(&out, "a")
-        );
+        assert_reference_within(&out, &[("p0", 0.015), ("a", 0.01)], element);
     }
 }
 
@@ -141,32 +118,23 @@ fn an_open_axis_corner_of_a_quadratic_block_has_no_pressure() {
 #[test]
 fn patch_test_3d_non_matching_boxes_reports_the_deviation_with_an_exact_resultant() {
     let out = converged(&example("patch3d.toml"), RunOptions::default());
-    assert!(
-        rel(&out, "resultant") <= 1e-10,
-        "{}",
-        rel(&out, "resultant")
-    );
+    assert_reference_within(&out, &[("resultant", 1e-10)], "");
     // one-pass node-to-face on non-matching meshes does not pass exactly
     // (Taylor & Papadopoulos 1991): the deviation is there and reported
-    let dev = rel(&out, "pressure");
+    let dev = reference_error(&out, "pressure");
     assert!(dev > 1e-3 && dev < 0.5, "pressure deviation {dev}");
     // matching meshes pass to round-off
     let matching =
         example("patch3d.toml").replace("divisions = [5, 5, 2]", "divisions = [4, 4, 2]");
     let out = converged(&matching, RunOptions::default());
-    assert!(rel(&out, "pressure") <= 1e-9, "{}", rel(&out, "pressure"));
+    assert_reference_within(&out, &[("pressure", 1e-9)], "");
 }
 
 #[test]
 fn gmsh_meshes_pass_the_uniform_pressure_patch_test_in_2d_and_3d() {
     for name in ["gmsh_block.toml", "gmsh_block3d.toml"] {
         let out = converged(&common::example_with_meshes(name), RunOptions::default());
-        assert!(
-            rel(&out, "pressure") <= 1e-9,
-            "{name}: {}",
-            rel(&out, "pressure")
-        );
-        assert!(rel(&out, "resultant") <= 1e-12, "{name}");
+        assert_patch_test_passes(&out, 1e-9, name);
     }
 }
 
@@ -265,11 +233,7 @@ fn second_order_elements_pass_the_patch_test() {
         ]
         .concat();
         let out = converged(&text, RunOptions::default());
-        assert!(
-            rel(&out, "pressure") <= 1e-9,
-            "{element}: {}",
-            rel(&out, "pressure")
-        );
+        assert_reference_within(&out, &[("pressure", 1e-9)], element);
         // 11 nodes along the bottom (corners and mid-sides)
         assert_eq!(out.report.contact_points, 11, "{element}");
         let uy = out.report.probes[0].displacement[1];

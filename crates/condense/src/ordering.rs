@@ -426,20 +426,14 @@ mod tests {
             let n = a.nrows();
             let interface: Vec<usize> = (n - m * m..n).chain([0, 37, 501]).collect();
             let f: Vec<f64> = (0..n).map(|i| ((i * 13) % 7) as f64 - 3.0).collect();
-            let amd = Condensed::with_ordering(
-                a.as_ref(),
-                &interface,
-                OrderingChoice::Only(Ordering::Amd),
-                Par::Seq,
-            )
-            .unwrap();
-            let nd = Condensed::with_ordering(
-                a.as_ref(),
-                &interface,
-                OrderingChoice::Only(Ordering::NestedDissection),
-                Par::Seq,
-            )
-            .unwrap();
+            let condensed = |o: Ordering| {
+                Condensed::with_ordering(a.as_ref(), &interface, OrderingChoice::Only(o), Par::Seq)
+                    .unwrap()
+            };
+            let (amd, nd) = (
+                condensed(Ordering::Amd),
+                condensed(Ordering::NestedDissection),
+            );
             assert_eq!(amd.factor_stats().ordering, Ordering::Amd);
             assert_eq!(nd.factor_stats().ordering, Ordering::NestedDissection);
             assert_ne!(amd.factor_stats().nnz, nd.factor_stats().nnz);

@@ -6,6 +6,7 @@ use crate::ContactError;
 pub mod cone;
 pub mod hardening;
 pub mod norton_hoff;
+pub mod regularised;
 pub use cone::natural_residual;
 
 /// The friction law of one contact point (course notes §4.1).
@@ -22,8 +23,7 @@ pub use cone::natural_residual;
 /// μ λ_n |Δs|^ρ depends on the slip, solved by
 /// [`crate::friction::norton_hoff`]; the Tresca solvers see it unbounded.
 /// The regularised Coulomb law (§4.1.3) is not a variant: its elastic slip
-/// is the compliance 1/k_e added to W
-/// ([`crate::DelassusProblem::add_compliance`]), the caller's business.
+/// is the compliance 1/k_e added to W ([`regularised`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum FrictionLaw {
     /// Frictionless: the tangential force (if the point has tangential

@@ -10,7 +10,7 @@
 
 use serde::Serialize;
 
-use crate::options::StatusVariant;
+use crate::options::{Stall, StatusVariant};
 
 /// What a method says about its run (`report.json` → `solver`).
 #[derive(Debug, Clone, Default, Serialize)]
@@ -463,6 +463,16 @@ pub struct SmalbeProgress {
 }
 
 impl StopReason {
+    /// The semi-smooth Newton method stalled ([`crate::options::StallWatch`]).
+    pub fn newton_stalled(Stall { best, at, since }: Stall) -> Self {
+        StopReason::NewtonStalled { best, at, since }
+    }
+
+    /// NSGS stalled ([`crate::options::StallWatch`]).
+    pub fn nsgs_stalled(Stall { best, at, since }: Stall) -> Self {
+        StopReason::NsgsStalled { best, at, since }
+    }
+
     /// The overloaded rigid motion (mode, load, capacity) when friction
     /// cannot hold a floating body, also as the fixed point's inner reason.
     pub fn friction_overload(&self) -> Option<(usize, f64, f64)> {

@@ -56,7 +56,8 @@
 //! formulation is refused there; triangles and tetrahedra (T3, T6, Tet4) and
 //! Q8 have no B-bar here ([`crate::Formulation::supports`]).
 
-use crate::isoparametric::{check_kind, fill_b, quadrature, QuadPoint};
+use crate::isoparametric::{check_kind, fill_b};
+use crate::quadrature::{quadrature, QuadPoint};
 use crate::{Elasticity, FemError, Formulation, Model};
 use nalgebra::{DMatrix, DVector};
 use signorini_mesh::Mesh;

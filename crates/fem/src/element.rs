@@ -8,10 +8,11 @@
 //! with `dV = dA` (thickness 1) in plane strain and plane stress, `dV = 2π r dA`
 //! in axisymmetry (the full ring), and `dV` the volume element in 3D.
 //!
-//! The reference cells, B and the quadrature rules are in
-//! [`crate::isoparametric`].
+//! The reference cells and B are in [`crate::isoparametric`], the quadrature
+//! rules in [`crate::quadrature`].
 
-use crate::isoparametric::{check_corner_jacobians, check_kind, fill_b, quadrature};
+use crate::isoparametric::{check_corner_jacobians, check_kind, fill_b};
+use crate::quadrature::quadrature;
 use crate::solid_stiffness::{isotropic_lame, isotropic_solid_stiffness};
 use crate::{bbar, Elasticity, FemError, Formulation, Model};
 use nalgebra::DMatrix;

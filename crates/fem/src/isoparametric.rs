@@ -1,6 +1,6 @@
 //! Isoparametric reference cells (course notes §3.1.1): shape functions,
-//! the Jacobian, the strain–displacement matrix B and the quadrature
-//! rules that [`crate::element`] and [`crate::bbar`] integrate with.
+//! the Jacobian and the strain–displacement matrix B that [`crate::element`]
+//! and [`crate::bbar`] integrate with.
 //!
 //! **Geometry.** On the reference cell, `x(ξ) = Σ_a N_a(ξ) x_a`; the Jacobian
 //! `J_ij = ∂x_j/∂ξ_i = Σ_a ∂N_a/∂ξ_i x_aj` gives `∇_x N_a = J⁻¹ ∇_ξ N_a`. Reference
@@ -31,23 +31,9 @@
 //!                                                         | N,z  0    N,x |
 //! ```
 //!
-//! **Quadrature** ([`quadrature`]): Tri3 one point at the centroid in the
-//! plane models (`B` is constant: exact); Tri3 in axisymmetry and Tri6 the
-//! 3-point rule of degree 2 at `(1/6, 1/6), (2/3, 1/6), (1/6, 2/3)`, weights
-//! 1/6 (exact for the quadratic stiffness of a straight-sided T6); Quad4 2×2
-//! Gauss; Quad8 3×3 Gauss; Tet4 one point at the centroid (exact); Hex8
-//! 2×2×2 Gauss; Tet10 4 points of degree 2; Hex20 3×3×3 Gauss. In axisymmetry the hoop term `N_a / r` is evaluated at the
-//! quadrature points only: they are interior to the cell, so `r > 0` there
-//! even when nodes lie on the axis `r = 0`, and the axis itself is never
-//! evaluated. The rules integrate `Bᵀ D B det J` exactly for straight-sided
-//! simplices and parallelograms/parallelepipeds in the plane and solid
-//! models, and pass the patch test (a uniform strain field reproduced
-//! exactly) on distorted cells in every model: Q4 and Hex8 of any convex
-//! shape, T6 and Q8 with straight sides and centred mid-side nodes. With
-//! every cell's rule, the element kernel is exactly the model's rigid-body
-//! motions (3 in the plane, the axial translation in axisymmetry, 6 in 3D;
-//! [`crate::rigid_body_modes`]): no spurious zero-energy mode.
+//! **Quadrature**: [`crate::quadrature`].
 
+use crate::quadrature::QuadPoint;
 use crate::{quadratic_solids, FemError, Model};
 use nalgebra::{DMatrix, Matrix3};
 use signorini_mesh::{CellKind, Mesh};
@@ -55,83 +41,6 @@ use std::f64::consts::PI;
 
 /// Largest number of nodes of a cell.
 const MAX_NODES: usize = 20;
-
-/// A quadrature point of a reference cell: reference coordinates `xi`
-/// (unused trailing ones are 0) and weight `w` (the weights of a rule sum to
-/// the measure of the reference cell: 1/2 triangle, 4 square, 1/6
-/// tetrahedron, 8 cube).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct QuadPoint {
-    pub xi: [f64; 3],
-    pub w: f64,
-}
-
-const fn qp(x: f64, y: f64, z: f64, w: f64) -> QuadPoint {
-    QuadPoint { xi: [x, y, z], w }
-}
-
-/// 1/√3, the 2-point Gauss abscissa.
-const G2: f64 = 0.577_350_269_189_625_8;
-/// √(3/5), the 3-point Gauss abscissa (weights 5/9, 8/9, 5/9).
-const G3: f64 = 0.774_596_669_241_483_4;
-
-/// Centroid of the reference triangle (weight 1/2).
-pub const TRI_1: [QuadPoint; 1] = [qp(1.0 / 3.0, 1.0 / 3.0, 0.0, 0.5)];
-/// Degree-2 triangle rule with interior points (weights 1/6).
-pub const TRI_3: [QuadPoint; 3] = [
-    qp(1.0 / 6.0, 1.0 / 6.0, 0.0, 1.0 / 6.0),
-    qp(2.0 / 3.0, 1.0 / 6.0, 0.0, 1.0 / 6.0),
-    qp(1.0 / 6.0, 2.0 / 3.0, 0.0, 1.0 / 6.0),
-];
-/// 2×2 Gauss on the reference square (weights 1).
-pub const GAUSS_2X2: [QuadPoint; 4] = [
-    qp(-G2, -G2, 0.0, 1.0),
-    qp(G2, -G2, 0.0, 1.0),
-    qp(G2, G2, 0.0, 1.0),
-    qp(-G2, G2, 0.0, 1.0),
-];
-/// 3×3 Gauss on the reference square.
-pub const GAUSS_3X3: [QuadPoint; 9] = {
-    const X: [f64; 3] = [-G3, 0.0, G3];
-    const W: [f64; 3] = [5.0 / 9.0, 8.0 / 9.0, 5.0 / 9.0];
-    let mut out = [qp(0.0, 0.0, 0.0, 0.0); 9];
-    let mut i = 0;
-    while i < 9 {
-        out[i] = qp(X[i % 3], X[i / 3], 0.0, W[i % 3] * W[i / 3]);
-        i += 1;
-    }
-    out
-};
-/// Centroid of the reference tetrahedron (weight 1/6).
-pub const TET_1: [QuadPoint; 1] = [qp(0.25, 0.25, 0.25, 1.0 / 6.0)];
-/// 2×2×2 Gauss on the reference cube (weights 1).
-pub const GAUSS_2X2X2: [QuadPoint; 8] = {
-    let mut out = [qp(0.0, 0.0, 0.0, 1.0); 8];
-    let mut i = 0;
-    while i < 8 {
-        let x = if i & 1 == 0 { -G2 } else { G2 };
-        let y = if i & 2 == 0 { -G2 } else { G2 };
-        let z = if i & 4 == 0 { -G2 } else { G2 };
-        out[i] = qp(x, y, z, 1.0);
-        i += 1;
-    }
-    out
-};
-
-/// The quadrature rule of a cell kind in a model (see the module docs).
-pub fn quadrature(kind: CellKind, model: Model) -> &'static [QuadPoint] {
-    match kind {
-        CellKind::Tri3 if model == Model::Axisymmetric => &TRI_3,
-        CellKind::Tri3 => &TRI_1,
-        CellKind::Tri6 => &TRI_3,
-        CellKind::Quad4 => &GAUSS_2X2,
-        CellKind::Quad8 => &GAUSS_3X3,
-        CellKind::Tet4 => &TET_1,
-        CellKind::Hex8 => &GAUSS_2X2X2,
-        CellKind::Tet10 => &quadratic_solids::TET_4,
-        CellKind::Hex20 => &quadratic_solids::GAUSS_3X3X3,
-    }
-}
 
 /// Reference coordinates of the corners of a cell kind, in node order.
 pub fn reference_corners(kind: CellKind) -> &'static [[f64; 3]] {

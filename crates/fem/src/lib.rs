@@ -28,6 +28,7 @@ pub mod element;
 pub mod isoparametric;
 pub mod loads;
 pub mod quadratic_solids;
+pub mod quadrature;
 mod solid_stiffness;
 pub mod stress;
 
@@ -38,8 +39,9 @@ pub use assembly::{
 pub use bbar::{b_bar_matrix, d_matrix_bbar};
 pub use elasticity::{check_material, Elasticity, Formulation, Model};
 pub use element::{check_formulation, check_mesh, element_stiffness, try_element_stiffness};
-pub use isoparametric::{b_matrix, quadrature, QuadPoint};
+pub use isoparametric::b_matrix;
 pub use loads::{rigid_body_modes, surface_measure, traction_load, tributary_measure};
+pub use quadrature::{quadrature, QuadPoint};
 pub use stress::{cell_stress, von_mises};
 
 /// Errors of the finite element layer.

@@ -22,43 +22,12 @@
 //!   at the Quad8 corners and `A/3` at its mid-sides: a uniform traction pulls
 //!   the corners of a serendipity face the other way.
 
-use crate::isoparametric::{shape, QuadPoint, GAUSS_2X2, GAUSS_3X3, TRI_3};
+use crate::isoparametric::shape;
+use crate::quadrature::{QuadPoint, GAUSS_2X2, GAUSS_3X3, TRI_3, TRI_6};
 use crate::Model;
 use signorini_mesh::vec3::{cross, norm, sub};
 use signorini_mesh::{CellKind, Facet, Mesh, Surface};
 
-/// Weight and coordinates of the 6-point rule of degree 4 on the reference
-/// triangle (Dunavant 1985): two orbits of three points.
-const D4_A: f64 = 0.445_948_490_915_965;
-const D4_B: f64 = 0.091_576_213_509_771;
-const D4_WA: f64 = 0.223_381_589_678_011 / 2.0;
-const D4_WB: f64 = 0.109_951_743_655_322 / 2.0;
-const TRI_6: [QuadPoint; 6] = [
-    QuadPoint {
-        xi: [D4_A, D4_A, 0.0],
-        w: D4_WA,
-    },
-    QuadPoint {
-        xi: [1.0 - 2.0 * D4_A, D4_A, 0.0],
-        w: D4_WA,
-    },
-    QuadPoint {
-        xi: [D4_A, 1.0 - 2.0 * D4_A, 0.0],
-        w: D4_WA,
-    },
-    QuadPoint {
-        xi: [D4_B, D4_B, 0.0],
-        w: D4_WB,
-    },
-    QuadPoint {
-        xi: [1.0 - 2.0 * D4_B, D4_B, 0.0],
-        w: D4_WB,
-    },
-    QuadPoint {
-        xi: [D4_B, 1.0 - 2.0 * D4_B, 0.0],
-        w: D4_WB,
-    },
-];
 use std::f64::consts::PI;
 
 /// Largest number of nodes of a supported facet.

@@ -1,69 +1,18 @@
 //! Second-order solid cells: the shape functions of the quadratic
-//! tetrahedron (Tet10) and of the serendipity hexahedron (Hex20), and their
-//! quadrature rules (node orders of [`signorini_mesh::CellKind`]: corners,
+//! tetrahedron (Tet10) and of the serendipity hexahedron (Hex20) (their
+//! quadrature rules: [`crate::quadrature`]; node orders of [`signorini_mesh::CellKind`]: corners,
 //! then the mid-sides of [`signorini_mesh::TET10_EDGES`] /
 //! [`signorini_mesh::HEX20_EDGES`]).
 //!
 //! * Tet10 on the reference tetrahedron `(0,0,0), (1,0,0), (0,1,0), (0,0,1)`,
 //!   barycentric `L = [1−ξ−η−ζ, ξ, η, ζ]`: corners `N_i = L_i (2 L_i − 1)`,
-//!   mid-side of edge i-j `N = 4 L_i L_j`. Quadrature: the 4-point rule of
-//!   degree 2 (`a = (5 + 3√5)/20`, `b = (5 − √5)/20`, weights 1/24), exact for
-//!   the stiffness `Bᵀ D B` of a straight-sided Tet10 (B linear).
+//!   mid-side of edge i-j `N = 4 L_i L_j`.
 //! * Hex20 on `[−1, 1]³` (corners `ξ_a ∈ {−1, 1}³`): corners
 //!   `⅛ (1 + ξ_a ξ)(1 + η_a η)(1 + ζ_a ζ)(ξ_a ξ + η_a η + ζ_a ζ − 2)`; a
 //!   mid-side with `ξ_a = 0`: `¼ (1 − ξ²)(1 + η_a η)(1 + ζ_a ζ)` (and likewise
-//!   along η and ζ). Quadrature: 3×3×3 Gauss (full integration; exact for a
-//!   parallelepiped).
+//!   along η and ζ).
 
-use crate::isoparametric::QuadPoint;
 use signorini_mesh::{HEX20_EDGES, HEX8_REFERENCE_CORNERS, TET10_EDGES};
-
-/// `(5 − √5)/20` and `(5 + 3√5)/20`, the coordinates of the 4-point rule.
-const TB: f64 = 0.138_196_601_125_010_5;
-const TA: f64 = 0.585_410_196_624_968_5;
-
-/// The 4-point rule of degree 2 on the reference tetrahedron (weights 1/24).
-pub const TET_4: [QuadPoint; 4] = [
-    QuadPoint {
-        xi: [TB, TB, TB],
-        w: 1.0 / 24.0,
-    },
-    QuadPoint {
-        xi: [TA, TB, TB],
-        w: 1.0 / 24.0,
-    },
-    QuadPoint {
-        xi: [TB, TA, TB],
-        w: 1.0 / 24.0,
-    },
-    QuadPoint {
-        xi: [TB, TB, TA],
-        w: 1.0 / 24.0,
-    },
-];
-
-/// √(3/5), the 3-point Gauss abscissa (weights 5/9, 8/9, 5/9).
-const G3: f64 = 0.774_596_669_241_483_4;
-
-/// 3×3×3 Gauss on the reference cube.
-pub const GAUSS_3X3X3: [QuadPoint; 27] = {
-    const X: [f64; 3] = [-G3, 0.0, G3];
-    const W: [f64; 3] = [5.0 / 9.0, 8.0 / 9.0, 5.0 / 9.0];
-    let mut out = [QuadPoint {
-        xi: [0.0; 3],
-        w: 0.0,
-    }; 27];
-    let mut i = 0;
-    while i < 27 {
-        let (a, b, c) = (i % 3, (i / 3) % 3, i / 9);
-        out[i] = QuadPoint {
-            xi: [X[a], X[b], X[c]],
-            w: W[a] * W[b] * W[c],
-        };
-        i += 1;
-    }
-    out
-};
 
 /// Tet10 shape functions and their reference derivatives at `xi`, written
 /// into `n[..10]`, `dn[..10]`.
@@ -142,25 +91,23 @@ pub fn tet10_reference_nodes() -> [[f64; 3]; 10] {
         [0.0, 1.0, 0.0],
         [0.0, 0.0, 1.0],
     ];
-    let mut out = [[0.0; 3]; 10];
-    out[..4].copy_from_slice(&c);
-    for (e, &[i, j]) in TET10_EDGES.iter().enumerate() {
-        for k in 0..3 {
-            out[4 + e][k] = 0.5 * (c[i][k] + c[j][k]);
-        }
-    }
-    out
+    with_midsides(&c, &TET10_EDGES)
 }
 
 /// The reference coordinates of the nodes of a Hex20 (corners, then the
 /// edge midpoints).
 pub fn hex20_reference_nodes() -> [[f64; 3]; 20] {
-    let c = HEX8_REFERENCE_CORNERS;
-    let mut out = [[0.0; 3]; 20];
-    out[..8].copy_from_slice(&c);
-    for (e, &[i, j]) in HEX20_EDGES.iter().enumerate() {
+    with_midsides(&HEX8_REFERENCE_CORNERS, &HEX20_EDGES)
+}
+
+/// The corners `c`, then the midpoint of each edge of `edges`: the `N`
+/// reference nodes of a second-order cell.
+fn with_midsides<const N: usize>(c: &[[f64; 3]], edges: &[[usize; 2]]) -> [[f64; 3]; N] {
+    let mut out = [[0.0; 3]; N];
+    out[..c.len()].copy_from_slice(c);
+    for (e, &[i, j]) in edges.iter().enumerate() {
         for k in 0..3 {
-            out[8 + e][k] = 0.5 * (c[i][k] + c[j][k]);
+            out[c.len() + e][k] = 0.5 * (c[i][k] + c[j][k]);
         }
     }
     out
@@ -203,22 +150,5 @@ mod tests {
     fn tet10_and_hex20_shape_functions_interpolate_and_differentiate() {
         check(&tet10_reference_nodes(), tet10, [0.2, 0.15, 0.3]);
         check(&hex20_reference_nodes(), hex20, [0.3, -0.4, 0.55]);
-    }
-
-    #[test]
-    fn the_rules_integrate_their_cells_volume_and_quadratics() {
-        let v: f64 = TET_4.iter().map(|q| q.w).sum();
-        assert!((v - 1.0 / 6.0).abs() < 1e-15);
-        // ∫ ξ² over the reference tetrahedron = 1/60
-        let m2: f64 = TET_4.iter().map(|q| q.w * q.xi[0] * q.xi[0]).sum();
-        assert!((m2 - 1.0 / 60.0).abs() < 1e-15);
-        let v: f64 = GAUSS_3X3X3.iter().map(|q| q.w).sum();
-        assert!((v - 8.0).abs() < 1e-14);
-        // ∫ ξ⁴ η² over the cube = (2/5)(2/3)(2)
-        let m: f64 = GAUSS_3X3X3
-            .iter()
-            .map(|q| q.w * q.xi[0].powi(4) * q.xi[1].powi(2))
-            .sum();
-        assert!((m - 0.4 * 2.0 / 3.0 * 2.0).abs() < 1e-14);
     }
 }

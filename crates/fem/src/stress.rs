@@ -2,7 +2,8 @@
 //! for the B-bar formulation, [`crate::bbar`]).
 
 use crate::bbar::{b_bar_matrix, d_matrix_bbar, full_stress_bbar};
-use crate::isoparametric::{b_matrix, reference_centre, QuadPoint};
+use crate::isoparametric::{b_matrix, reference_centre};
+use crate::quadrature::QuadPoint;
 use crate::{Elasticity, Formulation};
 use nalgebra::DVector;
 use signorini_mesh::Mesh;

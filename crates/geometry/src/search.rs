@@ -461,21 +461,28 @@ fn face_pieces(surface: &Surface) -> Vec<Piece> {
         if f.nodes.len() == m {
             let mut nodes = [0; 4];
             nodes[..m].copy_from_slice(&f.nodes);
-            out.push(Piece {
-                facet: k,
-                kind: if m == 3 {
-                    PieceKind::Triangle
-                } else {
-                    PieceKind::Quad
-                },
-                nodes,
-                free,
-            });
+            out.push(face_piece(k, m, nodes, free));
             continue;
         }
         out.extend(quadratic_face_pieces(k, f, m, free));
     }
     out
+}
+
+/// The triangle (`m` = 3 corners) or quadrilateral piece of facet `facet`
+/// on `nodes`, with its `free` sides.
+fn face_piece(facet: usize, m: usize, nodes: [usize; 4], free: [bool; 4]) -> Piece {
+    let kind = if m == 3 {
+        PieceKind::Triangle
+    } else {
+        PieceKind::Quad
+    };
+    Piece {
+        facet,
+        kind,
+        nodes,
+        free,
+    }
 }
 
 /// The pieces of a quadratic face `f` (`m` corners, then the mid-side of
@@ -499,16 +506,7 @@ pub(super) fn quadratic_face_pieces(k: usize, f: &Facet, m: usize, free: [bool; 
     for (s, v) in inner.iter_mut().enumerate().take(m) {
         *v = mid(s);
     }
-    out.push(Piece {
-        facet: k,
-        kind: if m == 3 {
-            PieceKind::Triangle
-        } else {
-            PieceKind::Quad
-        },
-        nodes: inner,
-        free: [false; 4],
-    });
+    out.push(face_piece(k, m, inner, [false; 4]));
     out
 }
 

@@ -284,7 +284,44 @@ struct Raw {
     nodes: Vec<(u64, [f64; 3])>,
     blocks: Vec<Block>,
     /// Physical names by (dimension, tag).
-    names: HashMap<(usize, i32), String>,
+    names: Names,
+}
+
+/// Physical names by (dimension, tag).
+type Names = HashMap<(usize, i32), String>;
+
+/// The name of physical group `tag` of dimension `dim`: its physical name, or
+/// the tag itself when it has none.
+fn group_name(names: &Names, dim: usize, tag: i32) -> String {
+    match names.get(&(dim, tag)) {
+        Some(name) if !name.is_empty() => name.clone(),
+        _ => tag.to_string(),
+    }
+}
+
+/// Node tags → index in the file's `$Nodes` order.
+struct NodeTags(HashMap<u64, usize>);
+
+impl NodeTags {
+    /// Indexes the tags of `raw_nodes`; a tag listed twice is an error.
+    fn new(raw_nodes: &[(u64, [f64; 3])]) -> Result<NodeTags, MeshError> {
+        let mut by_tag: HashMap<u64, usize> = HashMap::with_capacity(raw_nodes.len());
+        for (i, (tag, _)) in raw_nodes.iter().enumerate() {
+            if by_tag.insert(*tag, i).is_some() {
+                return Err(invalid(format!("node tag {tag} appears twice in $Nodes")));
+            }
+        }
+        Ok(NodeTags(by_tag))
+    }
+
+    /// The index of node `tag`; an error if `$Nodes` does not list it.
+    fn lookup(&self, tag: u64) -> Result<usize, MeshError> {
+        self.0.get(&tag).copied().ok_or_else(|| {
+            invalid(format!(
+                "an element refers to node {tag}, which is not in $Nodes"
+            ))
+        })
+    }
 }
 
 /// The `$MeshFormat` line: version (as spelled for messages) and whether the
@@ -398,7 +435,7 @@ fn find_section_span(bytes: &[u8], name: &str) -> Option<(usize, usize)> {
 
 /// `$PhysicalNames` (ASCII in both versions and in binary files):
 /// `count`, then lines `dim tag "name"`.
-fn physical_names(bytes: &[u8]) -> Result<HashMap<(usize, i32), String>, MeshError> {
+fn physical_names(bytes: &[u8]) -> Result<Names, MeshError> {
     let mut names = HashMap::new();
     let Some(start) = find_section(bytes, "PhysicalNames") else {
         return Ok(names);
@@ -441,7 +478,7 @@ fn physical_names(bytes: &[u8]) -> Result<HashMap<(usize, i32), String>, MeshErr
 
 /// Two physical groups of one dimension under one name would be read as one
 /// surface or region: refused, naming both tags.
-fn check_names_unique(names: &HashMap<(usize, i32), String>) -> Result<(), MeshError> {
+fn check_names_unique(names: &Names) -> Result<(), MeshError> {
     let mut seen: HashMap<(usize, &str), i32> = HashMap::new();
     let mut sorted: Vec<_> = names.iter().filter(|(_, n)| !n.is_empty()).collect();
     sorted.sort();

@@ -103,20 +103,8 @@ fn min_scaled_jacobian(m: &Mesh) -> f64 {
 
 /// Largest ratio of the longest to the shortest edge of a Hex8 cell.
 fn max_edge_ratio(m: &Mesh) -> f64 {
-    const EDGES: [[usize; 2]; 12] = [
-        [0, 1],
-        [1, 2],
-        [2, 3],
-        [3, 0],
-        [4, 5],
-        [5, 6],
-        [6, 7],
-        [7, 4],
-        [0, 4],
-        [1, 5],
-        [2, 6],
-        [3, 7],
-    ];
+    // the Hex8 edges are the corner pairs of the Hex20 mid-sides
+    const EDGES: [[usize; 2]; 12] = signorini_mesh::HEX20_EDGES;
     let mut worst: f64 = 0.0;
     for cell in &m.cells {
         let l: Vec<f64> = EDGES

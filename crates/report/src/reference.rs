@@ -423,6 +423,21 @@ mod tests {
         assert!(q["shear_profile_l2"].relative_error < 1e-2);
     }
 
+    /// The 4001 nodes at s = i h (h = a / 4000) of a contact of radius `a`,
+    /// each with the area w of its ring [s − h/2, s + h/2] within [0, a]:
+    /// `node(s, w)`.
+    fn rings(a: f64, node: impl Fn(f64, f64) -> NodalPressure) -> Vec<NodalPressure> {
+        let n = 4000;
+        let h = a / n as f64;
+        (0..=n)
+            .map(|i| {
+                let s = i as f64 * h;
+                let (lo, hi) = ((s - h / 2.0).max(0.0), (s + h / 2.0).min(a));
+                node(s, std::f64::consts::PI * (hi * hi - lo * lo))
+            })
+            .collect()
+    }
+
     /// Mindlin's traction on the rings of a sphere's contact (3D: `s` the
     /// distance from the centre, area 2π r dr) gives back
     /// c = a (1 − Q/(μP))^(1/3) with the sphere's a, not the cylinder's
@@ -432,24 +447,17 @@ mod tests {
         let (e_star, r, p, mu, ratio) = (0.55, 1.0, 0.0009, 0.3, 0.4);
         let (a, p0) = hertz_sphere_exact(p, e_star, r);
         let c = a * (1.0f64 - ratio).cbrt();
-        let n = 4000;
-        let h = a / n as f64;
-        let nodes: Vec<NodalPressure> = (0..=n)
-            .map(|i| {
-                let x = i as f64 * h;
-                let (lo, hi) = ((x - h / 2.0).max(0.0), (x + h / 2.0).min(a));
-                let w = std::f64::consts::PI * (hi * hi - lo * lo);
-                let (pe, q) = mindlin_traction(x, a, p0, c, mu);
-                NodalPressure {
-                    s: x,
-                    force: pe * w,
-                    tributary: w,
-                    pressure: pe,
-                    tangential: q * w,
-                    stick: x < c,
-                }
-            })
-            .collect();
+        let nodes = rings(a, |x, w| {
+            let (pe, q) = mindlin_traction(x, a, p0, c, mu);
+            NodalPressure {
+                s: x,
+                force: pe * w,
+                tributary: w,
+                pressure: pe,
+                tangential: q * w,
+                stick: x < c,
+            }
+        });
         let rep = cattaneo_mindlin(&nodes, PunchShape::Circle, e_star, r, mu, &[]);
         let q = &rep.quantities;
         let ratio_c = q["tangential_load_ratio"].computed;
@@ -532,17 +540,7 @@ mod tests {
         let (e_star, r, p) = (2.0, 0.5, 0.01);
         let (a, p0) = hertz_sphere_exact(p, e_star, r);
         assert!((p - 2.0 / 3.0 * std::f64::consts::PI * a * a * p0).abs() <= 1e-12 * p);
-        let n = 4000;
-        let h = a / n as f64;
-        let nodes: Vec<NodalPressure> = (0..=n)
-            .map(|i| {
-                let s = i as f64 * h;
-                // ring of the node: [s - h/2, s + h/2] within [0, a]
-                let (lo, hi) = ((s - h / 2.0).max(0.0), (s + h / 2.0).min(a));
-                let w = std::f64::consts::PI * (hi * hi - lo * lo);
-                hertz_node(s, w, p0, a)
-            })
-            .collect();
+        let nodes = rings(a, |s, w| hertz_node(s, w, p0, a));
         let rep = hertz_sphere(&nodes, e_star, r);
         let q = &rep.quantities;
         assert!(q["p0"].relative_error < 1e-3, "{:?}", q["p0"]);

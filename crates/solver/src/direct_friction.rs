@@ -8,7 +8,7 @@
 //! displacements and forces.
 
 use crate::direct_newton::{solve_whole, WholeLoad, WholeSolution, WholeSystem};
-use crate::direct_path::{
+use crate::direct_system::{
     check_floating, direct_loads, direct_residuals, full_displacements, DirectSystem,
 };
 use crate::error::{contact_error, SolveError};
@@ -25,6 +25,7 @@ use crate::step::StepSolution;
 use crate::step_end::StepLoop;
 use crate::timing::timed;
 use signorini_contact::friction::{statuses, FrictionLaw, FrictionOptions, PointStatus};
+use signorini_contact::law::regularised;
 use signorini_contact::options::default_time_limit;
 use signorini_contact::{ContactSolution, SolverReport};
 use signorini_linalg::sparse::SparseRow;
@@ -85,69 +86,15 @@ pub(crate) fn direct_rows(
     }
 }
 
-/// What the direct path does not solve with friction (the condensed path
-/// does): Norton–Hoff's law and rough contacts (course notes §6), friction
-/// beside tied contacts, a friction law changed by a load step and the
-/// friction status method; `Err` names the entry and what would run. Checked
-/// by the plan before anything is built, so that `path = "auto"` leaves the
-/// direct path out for such a scene.
-pub(crate) fn check_direct_friction(sc: &scene::Scene) -> Result<(), SolveError> {
-    if sc
-        .contact
-        .iter()
-        .all(|c| c.friction == scene::Friction::None)
-    {
-        return Ok(());
-    }
-    for c in &sc.contact {
-        let refused = match &c.friction {
-            scene::Friction::NortonHoff { .. } => Some("Norton-Hoff friction"),
-            scene::Friction::Coulomb {
-                roughness: Some(_), ..
-            } => Some("a rough contact (roughness)"),
-            _ => None,
-        };
-        if let Some(what) = refused {
-            return Err(SolveError::Input(format!(
-                "contact \"{}\".friction: {what} is solved on path = \"condensed\" only; path = \"direct\" solves Tresca and Coulomb friction (with slip_stiffness)",
-                c.name
-            )));
-        }
-    }
-    if let Some(c) = sc.contact.iter().find(|c| c.law == scene::Law::Tied) {
-        return Err(SolveError::Input(format!(
-            "contact \"{}\".law = \"tied\": friction with tied bodies is solved on path = \"condensed\" only; use path = \"condensed\"",
-            c.name
-        )));
-    }
-    if let Some(i) = sc.steps.iter().position(|s| !s.friction.is_empty()) {
-        return Err(SolveError::Input(format!(
-            "steps[{i}].friction: a friction law changed by a load step is solved on path = \"condensed\" only; use path = \"condensed\""
-        )));
-    }
-    if sc.solver.friction == scene::FrictionSolver::Status {
-        return Err(SolveError::Input(
-            "solver.friction = \"status\": on path = \"direct\" friction is solved by the semi-smooth Newton method on the whole system; use friction = \"newton\" or \"fixed_point\" (the default), or path = \"condensed\"".into(),
-        ));
-    }
-    Ok(())
-}
-
 /// The elastic slip compliance 1/k_e of a regularised law on each
 /// tangential row (course notes §4.1.3), zero elsewhere.
 fn compliance(points: &[PointModel], rows: &DirectRows) -> Vec<f64> {
-    let mut c = vec![0.0; rows.rows.len()];
-    for (pi, p) in points.iter().enumerate() {
-        if let Some(k) = p.slip_stiffness {
-            for t in [rows.tangent_row[pi], rows.tangent_row2[pi]]
-                .into_iter()
-                .flatten()
-            {
-                c[t] = 1.0 / k;
-            }
-        }
-    }
-    c
+    let tangential = |pi: usize| [rows.tangent_row[pi], rows.tangent_row2[pi]];
+    let points = points.iter().enumerate();
+    regularised::slip_compliance(
+        rows.rows.len(),
+        points.map(|(pi, p)| (p.slip_stiffness, tangential(pi))),
+    )
 }
 
 /// The direct path with friction on the root (module doc); each step ended

@@ -52,9 +52,9 @@ use signorini_contact::friction::{
     merit, AlartCurnier, FrictionLayout, FrictionOptions, NewtonSystem, Scale, RETRY_RHO_SCALE,
     STALLED_AFTER, STALL_DECREASE,
 };
+use signorini_contact::options::StallWatch;
 use signorini_contact::{ContactError, StopReason};
 use signorini_linalg::sparse::SparseRow;
-use std::time::Instant;
 
 /// Full (non-monotone) steps taken when the line search fails, before the
 /// solve stops on it (as the condensed Newton method with floating bodies).
@@ -411,7 +411,7 @@ impl Solve<'_, '_> {
         };
         let n = self.system.n();
         let mut it = self.iterate(u, lambda);
-        let mut best = (f64::INFINITY, 0usize);
+        let mut watch = StallWatch::new(STALL_DECREASE, STALLED_AFTER, self.opts.deadline);
         let mut history = Vec::new();
         let mut full_steps = 0;
         for iteration in 0..self.opts.max_iterations {
@@ -427,22 +427,15 @@ impl Solve<'_, '_> {
             if residual.is_nan() {
                 return (it, StopReason::NonFinite { iteration }, iteration, history);
             }
-            if self.opts.deadline.is_some_and(|d| Instant::now() >= d) {
+            if watch.time_up() {
                 let reason = StopReason::TimeLimit {
                     iterations: iteration,
                     residual,
                 };
                 return (it, reason, iteration, history);
             }
-            if residual < STALL_DECREASE * best.0 {
-                best = (residual, iteration);
-            } else if iteration - best.1 >= STALLED_AFTER {
-                let reason = StopReason::NewtonStalled {
-                    best: best.0,
-                    at: best.1,
-                    since: iteration - best.1,
-                };
-                return (it, reason, iteration, history);
+            if let Some(stall) = watch.stalled(residual, iteration) {
+                return (it, StopReason::newton_stalled(stall), iteration, history);
             }
             let Some(d) = self.direction(&it, &law) else {
                 let reason = StopReason::NonFinite {

@@ -18,6 +18,7 @@ use signorini_contact::friction::driver::{
 };
 use signorini_contact::friction::kinematic_hardening::{self, Hardened};
 use signorini_contact::friction::{FrictionLaw, FrictionLayout, FrictionOptions, PointStatus};
+use signorini_contact::law::regularised;
 use signorini_contact::options::default_time_limit;
 use signorini_contact::registry::FrictionSupport;
 use signorini_contact::{ContactError, ContactSolution, DelassusOperator, DelassusProblem};
@@ -191,16 +192,12 @@ pub(crate) fn row_gaps(
 /// The elastic slip compliance 1/k_e of a regularised law on the diagonal
 /// of W's tangential rows (course notes §4.1.3).
 fn slip_compliance(input: &RootInput, interface: &Interface) -> Vec<f64> {
-    let mut compliance = vec![0.0; interface.rows.len()];
-    for (pi, p) in input.points.iter().enumerate() {
-        if let (Some(k), Some(t)) = (p.slip_stiffness, interface.tangent_row[pi]) {
-            compliance[t] = 1.0 / k;
-            if let Some(t2) = interface.tangent_row2[pi] {
-                compliance[t2] = 1.0 / k;
-            }
-        }
-    }
-    compliance
+    let rows = |pi: usize| [interface.tangent_row[pi], interface.tangent_row2[pi]];
+    let points = input.points.iter().enumerate();
+    regularised::slip_compliance(
+        interface.rows.len(),
+        points.map(|(pi, p)| (p.slip_stiffness, rows(pi))),
+    )
 }
 
 /// The roughness Q (force per unit slip: the scene's per-area value times

@@ -24,6 +24,7 @@ pub mod contact_frames;
 mod direct_friction;
 mod direct_newton;
 mod direct_path;
+mod direct_system;
 mod element_step;
 mod error;
 pub mod fill_model;

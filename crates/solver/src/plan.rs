@@ -132,7 +132,7 @@ fn plan_on(
         }
     }
     if path == scene::SolvePath::Direct {
-        crate::direct_friction::check_direct_friction(sc)?;
+        check_direct_friction(sc)?;
     }
     Ok(Plan {
         method,
@@ -163,6 +163,54 @@ fn check_supported(sc: &scene::Scene) -> Result<(), SolveError> {
         ));
     }
     crate::compare::check_reference(sc)
+}
+
+/// What the direct path does not solve with friction (the condensed path
+/// does): Norton–Hoff's law and rough contacts (course notes §6), friction
+/// beside tied contacts, a friction law changed by a load step and the
+/// friction status method; `Err` names the entry and what would run. Checked
+/// by the plan before anything is built, so that `path = "auto"` leaves the
+/// direct path out for such a scene.
+fn check_direct_friction(sc: &scene::Scene) -> Result<(), SolveError> {
+    if sc
+        .contact
+        .iter()
+        .all(|c| c.friction == scene::Friction::None)
+    {
+        return Ok(());
+    }
+    for c in &sc.contact {
+        let refused = match &c.friction {
+            scene::Friction::NortonHoff { .. } => Some("Norton-Hoff friction"),
+            scene::Friction::Coulomb {
+                roughness: Some(_), ..
+            } => Some("a rough contact (roughness)"),
+            _ => None,
+        };
+        if let Some(what) = refused {
+            return Err(SolveError::Input(format!(
+                "contact \"{}\".friction: {what} is solved on path = \"condensed\" only; path = \"direct\" solves Tresca and Coulomb friction (with slip_stiffness)",
+                c.name
+            )));
+        }
+    }
+    if let Some(c) = sc.contact.iter().find(|c| c.law == scene::Law::Tied) {
+        return Err(SolveError::Input(format!(
+            "contact \"{}\".law = \"tied\": friction with tied bodies is solved on path = \"condensed\" only; use path = \"condensed\"",
+            c.name
+        )));
+    }
+    if let Some(i) = sc.steps.iter().position(|s| !s.friction.is_empty()) {
+        return Err(SolveError::Input(format!(
+            "steps[{i}].friction: a friction law changed by a load step is solved on path = \"condensed\" only; use path = \"condensed\""
+        )));
+    }
+    if sc.solver.friction == scene::FrictionSolver::Status {
+        return Err(SolveError::Input(
+            "solver.friction = \"status\": on path = \"direct\" friction is solved by the semi-smooth Newton method on the whole system; use friction = \"newton\" or \"fixed_point\" (the default), or path = \"condensed\"".into(),
+        ));
+    }
+    Ok(())
 }
 
 /// What `signorini check` asks of the solver: the checks `run` makes of the

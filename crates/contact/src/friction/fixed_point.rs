@@ -19,7 +19,7 @@
 //!   g ← μ λ_n with the change of the normal forces ([`normal_change`]),
 //!   or Norton–Hoff's map with its misfit.
 
-use crate::options::FrictionOptions;
+use crate::options::{FrictionOptions, Stall, StallWatch};
 use crate::solution::friction_iterate::{FixedPoint, InnerSolve};
 use crate::solution::{StopReason, ThresholdMapKind};
 use crate::ContactError;
@@ -86,7 +86,7 @@ pub(crate) fn fixed_point<S: TrescaSolver>(
 ) -> Result<FixedPoint, ContactError> {
     let mut last = start;
     let mut residuals = Vec::new();
-    let mut best = (f64::INFINITY, 0usize);
+    let mut watch = StallWatch::new(1.0, STALLED_AFTER, None);
     let stop = |last, residuals, converged, reason| FixedPoint {
         last,
         residuals,
@@ -120,14 +120,12 @@ pub(crate) fn fixed_point<S: TrescaSolver>(
             };
             return Ok(stop(last, residuals, false, reason));
         }
-        if res < best.0 {
-            best = (res, outer + 1);
-        } else if outer + 1 - best.1 >= STALLED_AFTER {
+        if let Some(Stall { best, at, since }) = watch.stalled(res, outer + 1) {
             let reason = StopReason::FixedPointStalled {
                 map: map.kind,
-                best: best.0,
-                at: best.1,
-                since: outer + 1 - best.1,
+                best,
+                at,
+                since,
             };
             return Ok(stop(last, residuals, false, reason));
         }

@@ -33,12 +33,10 @@
 //! at the sweep limit, when [`STALLED_AFTER`] sweeps have not halved the
 //! best residual, or at the deadline of the options.
 
-use std::time::Instant;
-
 use crate::delassus::DelassusProblem;
 use crate::law::{natural_residual, FrictionLaw, FrictionLayout};
 use crate::norms::max_abs;
-use crate::options::FrictionOptions;
+use crate::options::{FrictionOptions, StallWatch};
 use crate::solution::{ContactSolution, SolverReport, StopReason};
 use crate::ContactError;
 
@@ -356,7 +354,7 @@ pub fn nsgs(
         residual: f64::INFINITY,
     };
     let mut history = Vec::new();
-    let mut best = (f64::INFINITY, 0usize);
+    let mut watch = StallWatch::new(0.5, STALLED_AFTER, opts.deadline);
     let mut stop = StopReason::NsgsLimit {
         limit: opts.max_iterations,
     };
@@ -378,17 +376,11 @@ pub fn nsgs(
             stop = StopReason::NonFinite { iteration: sweeps };
             break;
         }
-        if residual < 0.5 * best.0 {
-            best = (residual, sweeps);
-        } else if sweeps - best.1 >= STALLED_AFTER {
-            stop = StopReason::NsgsStalled {
-                best: best.0,
-                at: best.1,
-                since: sweeps - best.1,
-            };
+        if let Some(stall) = watch.stalled(residual, sweeps) {
+            stop = StopReason::nsgs_stalled(stall);
             break;
         }
-        if opts.deadline.is_some_and(|d| Instant::now() >= d) {
+        if watch.time_up() {
             stop = StopReason::TimeLimit {
                 iterations: sweeps,
                 residual,

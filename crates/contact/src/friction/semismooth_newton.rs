@@ -44,7 +44,7 @@ use crate::delassus::DelassusProblem;
 use crate::friction::fixed_point::{fixed_point, normal_change, ThresholdMap, TrescaSolver};
 use crate::law::cone::project_ellipse;
 use crate::law::FrictionLayout;
-use crate::options::FrictionOptions;
+use crate::options::{FrictionOptions, StallWatch};
 use crate::solution::friction_iterate::{FixedPoint, InnerSolve};
 use crate::solution::{ContactSolution, PointStatus, StopReason, ThresholdMapKind};
 use crate::ContactError;
@@ -476,31 +476,22 @@ fn solve_inner(
     let mut reason = StopReason::NewtonLimit {
         limit: opts.max_iterations,
     };
-    let mut best = (f64::INFINITY, 0usize);
+    let mut watch = StallWatch::new(STALL_DECREASE, STALLED_AFTER, opts.deadline);
     for it in 0..opts.max_iterations {
         if let Some(met) = inner.met(&mut x, opts, it) {
             reason = met;
             break;
         }
         let residual = inner.check(&x, opts);
-        if opts
-            .deadline
-            .is_some_and(|d| std::time::Instant::now() >= d)
-        {
+        if watch.time_up() {
             reason = StopReason::TimeLimit {
                 iterations: it,
                 residual,
             };
             break;
         }
-        if residual < STALL_DECREASE * best.0 {
-            best = (residual, it);
-        } else if it - best.1 >= STALLED_AFTER {
-            reason = StopReason::NewtonStalled {
-                best: best.0,
-                at: best.1,
-                since: it - best.1,
-            };
+        if let Some(stall) = watch.stalled(residual, it) {
+            reason = StopReason::newton_stalled(stall);
             break;
         }
         iterations = it + 1;

@@ -2,25 +2,16 @@
 //! [`Mesh`]: cells, regions and surfaces.
 
 use super::select::{add_node_sets, keep_volume};
-use super::{cell_kind, facet_corners, invalid, supported_list, type_name, Block, Raw};
+use super::{
+    cell_kind, facet_corners, group_name, invalid, supported_list, type_name, Block, Names,
+    NodeTags, Raw,
+};
 use crate::vec3::{cross, dot, sub};
 use crate::{Cell, CellKind, Facet, Mesh, MeshError, Surface};
 use std::collections::{BTreeMap, HashMap, HashSet};
 
-/// Physical names by (dimension, tag).
-pub(super) type Names = HashMap<(usize, i32), String>;
-
 /// The physical groups of the cells that have some: (cell index, group tags).
 type CellGroups<'a> = Vec<(usize, &'a [i32])>;
-
-/// The name of physical group `tag` of dimension `dim`: its physical name, or
-/// the tag itself when it has none.
-pub(super) fn group_name(names: &Names, dim: usize, tag: i32) -> String {
-    match names.get(&(dim, tag)) {
-        Some(name) if !name.is_empty() => name.clone(),
-        _ => tag.to_string(),
-    }
-}
 
 /// Element counts by type, written "n × type name, ...".
 fn count_list(counts: &BTreeMap<i32, usize>) -> String {
@@ -184,31 +175,6 @@ fn remedy(unsupported: &BTreeMap<i32, usize>, dim: usize) -> &'static str {
         }
     } else {
         ""
-    }
-}
-
-/// Node tags → index in the file's `$Nodes` order.
-pub(super) struct NodeTags(HashMap<u64, usize>);
-
-impl NodeTags {
-    /// Indexes the tags of `raw_nodes`; a tag listed twice is an error.
-    fn new(raw_nodes: &[(u64, [f64; 3])]) -> Result<NodeTags, MeshError> {
-        let mut by_tag: HashMap<u64, usize> = HashMap::with_capacity(raw_nodes.len());
-        for (i, (tag, _)) in raw_nodes.iter().enumerate() {
-            if by_tag.insert(*tag, i).is_some() {
-                return Err(invalid(format!("node tag {tag} appears twice in $Nodes")));
-            }
-        }
-        Ok(NodeTags(by_tag))
-    }
-
-    /// The index of node `tag`; an error if `$Nodes` does not list it.
-    pub(super) fn lookup(&self, tag: u64) -> Result<usize, MeshError> {
-        self.0.get(&tag).copied().ok_or_else(|| {
-            invalid(format!(
-                "an element refers to node {tag}, which is not in $Nodes"
-            ))
-        })
     }
 }
 

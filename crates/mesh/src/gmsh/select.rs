@@ -8,8 +8,7 @@
 //! its cells, or that bounds none of them, belongs to another body and is
 //! skipped; a surface left without facets is not one of the body's.
 
-use super::build::{group_name, Names, NodeTags};
-use super::{invalid, Block};
+use super::{group_name, invalid, Block, Names, NodeTags};
 use crate::{Mesh, MeshError};
 
 /// Keeps of the blocks of dimension `dim` those of the physical group named
