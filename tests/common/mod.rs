@@ -6,6 +6,7 @@ pub mod bad_scene;
 mod reference;
 mod scene_text;
 pub mod twins;
+#[allow(unused_imports)]
 pub use reference::{assert_patch_test_passes, assert_reference_within, reference_error};
 #[allow(unused_imports)]
 pub use scene_text::*;

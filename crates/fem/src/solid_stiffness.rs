@@ -14,7 +14,8 @@
 //! blocks `b ≥ a` are summed; the lower triangle is the upper's transpose, so
 //! `K_e` is exactly symmetric.
 
-use crate::isoparametric::{quadrature, solid_gradients};
+use crate::isoparametric::solid_gradients;
+use crate::quadrature::quadrature;
 use crate::{FemError, Model};
 use nalgebra::DMatrix;
 use signorini_mesh::Mesh;

@@ -138,7 +138,9 @@ pub fn solve_on_contact_zone(
     if !restrictable(problem, layout) {
         return Ok(None);
     }
-    let (mut inside, mut forces) = first_zone(problem, m, start, opts)?;
+    let Some((mut inside, mut forces)) = first_zone(problem, m, start, opts) else {
+        return Ok(None);
+    };
     let mut statuses = statuses.to_vec();
     let (mut iterations, mut history) = (0, Vec::new());
     for _ in 0..MAX_GROWTH {
@@ -182,25 +184,27 @@ pub fn solve_on_contact_zone(
 /// points they load and those closed at zero force (q_n < 0); else the
 /// points the frictionless problem closes ([`frictionless`]) or leaves
 /// within a tenth of the deepest initial penetration among those (where
-/// friction may shift the contact), from its forces.
+/// friction may shift the contact), from its forces. `None` where the
+/// frictionless problem has no answer by the status method (a singular
+/// active block: redundant contacts of rigid bodies): the whole is solved.
 fn first_zone(
     problem: &DelassusProblem,
     m: usize,
     start: Option<&[f64]>,
     opts: &FrictionOptions,
-) -> Result<(Vec<bool>, Option<Vec<f64>>), ContactError> {
+) -> Option<(Vec<bool>, Option<Vec<f64>>)> {
     if let Some(s) = start.filter(|s| s.len() == problem.q.len()) {
         let inside = (0..m).map(|p| s[p] > 0.0 || problem.q[p] < 0.0).collect();
-        return Ok((inside, Some(s.to_vec())));
+        return Some((inside, Some(s.to_vec())));
     }
-    let (forces, gaps) = frictionless(problem, m, opts)?;
+    let (forces, gaps) = frictionless(problem, m, opts).ok()?;
     let depth = (0..m)
         .filter(|&p| forces[p] > 0.0)
         .fold(0.0f64, |d, p| d.max(-problem.q[p]));
     let inside = (0..m)
         .map(|p| forces[p] > 0.0 || gaps[p] < 0.1 * depth)
         .collect();
-    Ok((inside, Some(forces)))
+    Some((inside, Some(forces)))
 }
 
 /// The forces of the frictionless problem of the m points (their normal
