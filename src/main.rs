@@ -162,7 +162,8 @@ enum Command {
         #[arg(long, value_delimiter = ',', default_value = "status")]
         methods: Vec<Method>,
         /// Paths to run (beside the condensed path, the direct one is left
-        /// out of scenes with friction or contact elements, which it cannot run).
+        /// out of scenes it refuses: contact elements, and the friction laws
+        /// and solvers it leaves to the condensed path).
         #[arg(long, value_delimiter = ',', default_value = "condensed,direct")]
         paths: Vec<SolvePath>,
         /// Output directory.

@@ -132,8 +132,8 @@ pub fn bench(
     Ok(rows)
 }
 
-/// Whether the direct path runs the scene (not friction, nor contact
-/// elements: `plan` refuses those there).
+/// Whether the direct path runs the scene (not contact elements, nor the
+/// friction it leaves to the condensed path: `plan` refuses those there).
 fn direct_runs(sc: &scene::Scene) -> bool {
     let opts = RunOptions {
         method: Some(scene::Method::Status),
