@@ -142,7 +142,7 @@ pub(crate) fn run_direct_friction(
     partial.factorisation = Some(signorini_report::Factorisation {
         kind: "lu".into(),
         ordering: "colamd".into(),
-        factor_nnz: whole.factor_bound() as u64,
+        factor_nnz: 0,
         factor_bytes: 0,
         flops: 0.0,
         candidates: Vec::new(),

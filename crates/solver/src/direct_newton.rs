@@ -170,12 +170,6 @@ impl<'a> WholeSystem<'a> {
         (self.lu.factorisations, self.lu.refinement_steps)
     }
 
-    /// The entries of the bound of the LU's factor
-    /// ([`crate::sparse_lu`]).
-    pub(crate) fn factor_bound(&self) -> usize {
-        self.lu.factor_bound
-    }
-
     /// ρ of each row (module doc).
     pub(crate) fn rho(&self) -> &[f64] {
         &self.rho
