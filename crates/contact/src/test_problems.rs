@@ -4,6 +4,7 @@
 use faer::Mat;
 
 use crate::active_set::signorini::{status_method, StatusOptions, StatusVariant};
+use crate::friction::{FrictionLaw, FrictionLayout, FrictionOptions};
 use crate::lcp::{gaps, LcpOptions};
 use crate::solution::ContactSolution;
 use crate::DelassusProblem;
@@ -14,6 +15,32 @@ pub fn lcp_options(tolerance: f64, max_iterations: usize) -> LcpOptions {
         tolerance,
         max_iterations,
         ..Default::default()
+    }
+}
+
+/// The options of the friction methods' tests on problems in unit scales:
+/// a tight tolerance and generous iteration limits.
+pub fn friction_options() -> FrictionOptions {
+    FrictionOptions {
+        max_iterations: 20_000,
+        max_fixed_point: 20_000,
+        tolerance: 1e-11,
+        force_scale: 1.0,
+        gap_scale: 1.0,
+        deadline: None,
+    }
+}
+
+/// The block layout of m points in `dim` (normals first, then each point's
+/// dim − 1 tangential rows), isotropic Coulomb μ everywhere.
+pub fn coulomb_layout(m: usize, dim: usize, mu: f64) -> FrictionLayout {
+    let k = dim - 1;
+    FrictionLayout {
+        tangent_rows: (0..m)
+            .map(|p| (m + k * p..m + k * p + k).collect())
+            .collect(),
+        law: vec![FrictionLaw::coulomb(mu); m],
+        shadow: vec![None; m],
     }
 }
 

@@ -234,18 +234,7 @@ mod tests {
     use super::*;
     use crate::friction::driver::{solve_friction, FrictionMethod, FrictionStart};
     use crate::law::natural_residual;
-    use crate::test_problems::{random_spd, XorShift};
-
-    fn opts() -> FrictionOptions {
-        FrictionOptions {
-            max_iterations: 20_000,
-            max_fixed_point: 20_000,
-            tolerance: 1e-11,
-            force_scale: 1.0,
-            gap_scale: 1.0,
-            deadline: None,
-        }
-    }
+    use crate::test_problems::{coulomb_layout, friction_options as opts, random_spd, XorShift};
 
     /// m points in `dim`, normals first, Coulomb μ = 0.3; W random SPD, the
     /// first third of the points pressed (q_n < 0), the others a little
@@ -261,13 +250,7 @@ mod tests {
             })
             .collect();
         q.extend((0..m * k).map(|_| rng.uniform(-0.3, 0.3)));
-        let layout = FrictionLayout {
-            tangent_rows: (0..m)
-                .map(|p| (m + k * p..m + k * p + k).collect())
-                .collect(),
-            law: vec![FrictionLaw::coulomb(0.3); m],
-            shadow: vec![None; m],
-        };
+        let layout = coulomb_layout(m, dim, 0.3);
         (DelassusProblem::from_operator(w, q), layout)
     }
 

@@ -6,30 +6,10 @@ use faer::Mat;
 
 use super::{nsgs, LocalProblem};
 use crate::friction::friction3d::friction_3d;
-use crate::friction::{FrictionLaw, FrictionLayout, FrictionOptions, PointStatus};
+use crate::friction::{FrictionLaw, FrictionOptions, PointStatus};
 use crate::solution::StopReason;
-use crate::test_problems::{random_spd, XorShift};
+use crate::test_problems::{coulomb_layout, friction_options as opts, random_spd, XorShift};
 use crate::DelassusProblem;
-
-fn opts() -> FrictionOptions {
-    FrictionOptions {
-        max_iterations: 20_000,
-        max_fixed_point: 20_000,
-        tolerance: 1e-11,
-        force_scale: 1.0,
-        gap_scale: 1.0,
-        deadline: None,
-    }
-}
-
-/// Contact-wise 3D layout of m points in the block layout (normals first).
-fn layout_3d(m: usize, mu: f64) -> FrictionLayout {
-    FrictionLayout {
-        tangent_rows: (0..m).map(|p| vec![m + 2 * p, m + 2 * p + 1]).collect(),
-        law: vec![FrictionLaw::Coulomb { mu: [mu, mu] }; m],
-        shadow: vec![None; m],
-    }
-}
 
 /// One point, W = diag(1, 2, 2): pressed by q_n = −1 it carries r_n = 1;
 /// pulled by q_t = (0.3, −0.4) (|r_t| = 0.25 at stick) it sticks under
@@ -111,7 +91,7 @@ fn nsgs_finds_the_newton_forces_on_random_problems() {
                 false => rng.uniform(-0.8, 0.8),
             })
             .collect();
-        let mut layout = layout_3d(m, 0.3);
+        let mut layout = coulomb_layout(m, 3, 0.3);
         for (p, law) in layout.law.iter_mut().enumerate() {
             let mu = 0.2 + 0.5 * (p % 3) as f64;
             *law = FrictionLaw::Coulomb { mu: [mu, mu] };
@@ -183,7 +163,7 @@ fn rank_deficient_and_nonsymmetric_operators_are_solved() {
         false => 1e-3 * wmax * (((i * 7 + j * 13) % 11) as f64 / 11.0 - 0.5),
     });
     for (what, w) in [("rank deficient", w.clone()), ("nonsymmetric", &w + &skew)] {
-        let layout = layout_3d(m, 0.4);
+        let layout = coulomb_layout(m, 3, 0.4);
         let mut p = DelassusProblem::from_operator(w.clone(), q.clone());
         let sol = nsgs(&mut p, &layout, None, &opts(), 3).unwrap();
         assert!(sol.report.converged, "{what}: {}", sol.report.stop);
@@ -206,7 +186,7 @@ fn a_past_deadline_stops_after_one_sweep() {
         ..opts()
     };
     let mut p = DelassusProblem::from_operator(w, q);
-    let sol = nsgs(&mut p, &layout_3d(m, 0.3), None, &o, 3).unwrap();
+    let sol = nsgs(&mut p, &coulomb_layout(m, 3, 0.3), None, &o, 3).unwrap();
     assert!(!sol.report.converged);
     assert_eq!(sol.report.iterations, 1);
     assert!(
