@@ -17,6 +17,7 @@ use crate::friction_step::{
     FrictionRows,
 };
 use crate::interface_problem::initial_statuses;
+use crate::kkt::{ldlt_factorisation, KktCounts};
 use crate::model::{gaps_of, BodyModel, FixedPoint, PointModel};
 use crate::progress::Phase;
 use crate::root::{length_scale, step_gaps};
@@ -115,7 +116,8 @@ pub(crate) fn run_direct_friction(
     let compliance = compliance(points, &rows);
     ctx.progress.phase(Phase::Contact);
     let mut whole = timed(&mut timings.contact, || {
-        WholeSystem::new(&system.k_global, &rows.rows, &fr.layout, &compliance)
+        let floating = bodies.iter().any(|b| !b.kernel.is_empty());
+        WholeSystem::new(&system.k_global, &rows.rows, &fr.layout, &compliance, floating)
             .map_err(contact_error)
     })?;
     let mut stepper = Stepper {
@@ -137,20 +139,14 @@ pub(crate) fn run_direct_friction(
             steps.end_step(si, &sol, &gaps, &res, u_full, messages)
         })?;
     }
-    let (factorisations, refinement_steps) = whole.counts();
+    let (lu, _, ldlt, krylov_steps) = whole.counts();
+    let counts = KktCounts {
+        factorisations: ldlt,
+        refinement_steps: krylov_steps,
+        lu_fallbacks: lu,
+    };
     let partial = &mut steps.partial;
-    partial.factorisation = Some(signorini_report::Factorisation {
-        kind: "lu".into(),
-        ordering: "colamd".into(),
-        factor_nnz: 0,
-        factor_bytes: 0,
-        flops: 0.0,
-        candidates: Vec::new(),
-        factorisations: Some(factorisations),
-        refinement_steps: Some(refinement_steps),
-        lu_fallbacks: Some(0),
-        interface: None,
-    });
+    partial.factorisation = Some(ldlt_factorisation(whole.ordered(), "ldlt+gmres", counts));
     partial.dofs = system.n_free;
     Ok(())
 }

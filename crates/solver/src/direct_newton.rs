@@ -47,6 +47,7 @@
 use faer::sparse::{Pair, SparseColMat};
 
 use crate::sparse_lu::SparseLu;
+use crate::symmetric_part::{Points, Rotation, SymmetricPart};
 use signorini_condense::spmv_with_magnitude;
 use signorini_contact::friction::{
     merit, AlartCurnier, FrictionLayout, FrictionOptions, NewtonSystem, Scale, RETRY_RHO_SCALE,
@@ -93,6 +94,7 @@ pub(crate) struct WholeSystem<'a> {
     /// ρ of each row (module doc).
     rho: Vec<f64>,
     lu: SparseLu,
+    symmetric: SymmetricPart,
 }
 
 /// One load step's data: the load on the free DOFs and the rows' q.
@@ -115,12 +117,14 @@ pub(crate) struct WholeSolution {
 
 impl<'a> WholeSystem<'a> {
     /// The whole system of stiffness `k` (both triangles stored) and rows
-    /// `rows` (normal rows 0..m, then the layout's tangential rows).
+    /// `rows` (normal rows 0..m, then the layout's tangential rows);
+    /// `floating` when K is singular.
     pub(crate) fn new(
         k: &'a SparseColMat<usize, f64>,
         rows: &'a [SparseRow],
         layout: &'a FrictionLayout,
         compliance: &'a [f64],
+        floating: bool,
     ) -> Result<Self, ContactError> {
         let (n, m) = (k.nrows(), layout.n_points());
         let point_rows: Vec<Vec<usize>> = (0..m)
@@ -159,6 +163,13 @@ impl<'a> WholeSystem<'a> {
             }
         }
         let lu = SparseLu::new(n + rows.len(), &pairs).map_err(ContactError::Solve)?;
+        let points = Points {
+            rows,
+            point_rows: &point_rows,
+            owner: &owner,
+        };
+        let symmetric =
+            SymmetricPart::new(k, &points, floating).map_err(ContactError::Solve)?;
         Ok(Self {
             rho: row_rho(k, rows),
             k,
@@ -172,12 +183,65 @@ impl<'a> WholeSystem<'a> {
             row_in_block,
             n_values: pairs.len(),
             lu,
+            symmetric,
         })
     }
 
-    /// Numerical LU factorisations and refinement steps so far.
-    pub(crate) fn counts(&self) -> (usize, usize) {
-        (self.lu.factorisations, self.lu.refinement_steps)
+    /// Numerical LU factorisations and refinement steps so far, and the
+    /// numerical LDLᵀ factorisations of the symmetric part and their
+    /// Krylov steps.
+    pub(crate) fn counts(&self) -> (usize, usize, usize, usize) {
+        (
+            self.lu.factorisations,
+            self.lu.refinement_steps,
+            self.symmetric.factorisations,
+            self.symmetric.krylov_steps,
+        )
+    }
+
+    /// The ordering and size of the symmetric part's LDLᵀ factor.
+    pub(crate) fn ordered(&self) -> &signorini_condense::ordering::OrderedSymbolic {
+        self.symmetric.ordered()
+    }
+
+    /// The contact row of J holding each given and each coupled equation
+    /// of `sys`: the point's rows in turn, given equations first.
+    fn slots(&self, sys: &NewtonSystem) -> (Vec<usize>, Vec<usize>) {
+        let mut next = vec![0usize; self.point_rows.len()];
+        let mut slot = |first_row: usize| {
+            let p = self.owner[first_row];
+            let s = self.point_rows[p][next[p]];
+            next[p] += 1;
+            s
+        };
+        let given = sys.given.iter().map(|(d, _)| slot(d.rows[0])).collect();
+        let coupled = sys.coupled.iter().map(|(d, _, _)| slot(d.rows[0])).collect();
+        (given, coupled)
+    }
+
+    /// The Newton direction of `sys` (matrix `values`, right-hand side
+    /// `rhs`): by the symmetric part and GMRES, else by the LU.
+    fn solve(&mut self, sys: &NewtonSystem, shift: f64, values: &[f64], rhs: &[f64]) -> Option<Vec<f64>> {
+        let (given, coupled) = self.slots(sys);
+        let points = Points {
+            rows: self.rows,
+            point_rows: &self.point_rows,
+            owner: &self.owner,
+        };
+        let equations = (given.iter().zip(&sys.given))
+            .map(|(&s, (d, _))| (s, *d, true, 0.0))
+            .chain(
+                (coupled.iter().zip(&sys.coupled)).map(|(&s, (d, comp, _))| (s, *d, false, *comp)),
+            );
+        let rot = Rotation::new(&points, equations);
+        let chat: Vec<f64> = (self.compliance.iter().zip(&self.rho))
+            .map(|(c, r)| c + shift / r)
+            .collect();
+        let j = self.lu.matrix(values).ok()?;
+        if let Some(x) = self.symmetric.solve(self.k, &points, (&rot, &chat), &j, rhs) {
+            return Some(x);
+        }
+        self.lu.solve(values, rhs)
     }
 
     /// ρ of each row (module doc).
@@ -230,21 +294,12 @@ impl<'a> WholeSystem<'a> {
         }
         v.resize(self.n_values, 0.0);
         let mut rhs = vec![0.0; self.rows.len()];
-        let mut next = vec![0usize; self.point_rows.len()];
-        let mut slot = |first_row: usize| {
-            let p = self.owner[first_row];
-            let s = self.point_rows[p][next[p]];
-            next[p] += 1;
-            s
-        };
+        let (given_slot, coupled_slot) = self.slots(sys);
         let lam = |s: usize, r: usize| {
             let p = self.owner[s];
             self.lam_at[s] + self.point_rows[p].iter().position(|&x| x == r).unwrap_or(0)
         };
-        let mut given_slot = Vec::with_capacity(sys.given.len());
-        for (d, value) in &sys.given {
-            let s = slot(d.rows[0]);
-            given_slot.push(s);
+        for ((d, value), &s) in sys.given.iter().zip(&given_slot) {
             for l in 0..2 {
                 v[lam(s, d.rows[l])] += d.c[l];
             }
@@ -253,10 +308,7 @@ impl<'a> WholeSystem<'a> {
         for &(i, r, f) in &sys.given_normal {
             v[lam(given_slot[i], r)] -= f;
         }
-        let mut coupled_slot = Vec::with_capacity(sys.coupled.len());
-        for (d, comp, value) in &sys.coupled {
-            let s = slot(d.rows[0]);
-            coupled_slot.push(s);
+        for ((d, comp, value), &s) in sys.coupled.iter().zip(&coupled_slot) {
             for l in 0..2 {
                 let (r, c) = (d.rows[l], d.c[l]);
                 if c == 0.0 {
@@ -374,7 +426,7 @@ impl Solve<'_, '_> {
             let (values, contact_rhs) = self.system.jacobian(&sys, shift);
             let mut rhs: Vec<f64> = it.r.iter().map(|v| -v).collect();
             rhs.extend(contact_rhs);
-            let d = self.system.lu.solve(&values, &rhs);
+            let d = self.system.solve(&sys, shift, &values, &rhs);
             if let Some(d) = d.filter(|d| d.iter().all(|v| v.is_finite())) {
                 return Some(d);
             }

@@ -11,7 +11,7 @@ use crate::direct_system::{
     tied_residual, DirectSystem,
 };
 use crate::error::{contact_error, SolveError};
-use crate::kkt::{DirectProblem, KktSystem};
+use crate::kkt::{ldlt_factorisation, DirectProblem, KktSystem};
 use crate::model::{gaps_of, BodyModel, FixedPoint, PointModel};
 use crate::progress::Phase;
 use crate::root::{length_scale, status_options, status_report, step_gaps};
@@ -100,29 +100,9 @@ pub(crate) fn run_direct(
 /// flops (of one factorisation), how many were done, the refinement steps
 /// and the LU fallbacks.
 fn kkt_factorisation(kkt: &KktSystem<'_>) -> signorini_report::Factorisation {
-    let ordered = kkt.ordered();
-    let stats = ordered.stats;
-    signorini_report::Factorisation {
-        kind: "ldlt".into(),
-        ordering: stats.ordering.as_str().into(),
-        factor_nnz: stats.nnz as u64,
-        factor_bytes: 8 * stats.values as u64,
-        flops: stats.flops,
-        candidates: ordered
-            .candidates
-            .iter()
-            .map(|c| signorini_report::OrderingCandidate {
-                ordering: c.ordering.as_str().into(),
-                factor_nnz: c.nnz as u64,
-                flops: c.flops,
-            })
-            .collect(),
-        factorisations: Some(kkt.counts.factorisations),
-        refinement_steps: Some(kkt.counts.refinement_steps),
-        lu_fallbacks: Some(kkt.counts.lu_fallbacks),
-        interface: None,
-    }
+    ldlt_factorisation(kkt.ordered(), "ldlt", kkt.counts)
 }
+
 
 /// A step's solution with its final gaps, residuals and largest
 /// displacement, as [`conclude_step`] takes them.

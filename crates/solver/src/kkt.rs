@@ -86,20 +86,7 @@ impl<'a> KktSystem<'a> {
         floating: bool,
     ) -> Result<Self, ContactError> {
         let (n, m) = (k.nrows(), rows.len());
-        let mut diag = 0.0;
-        for j in 0..n {
-            for (&i, &v) in k.row_idx_of_col_raw(j).iter().zip(k.val_of_col(j)) {
-                if i == j {
-                    diag += v.abs();
-                }
-            }
-        }
-        let mean = diag / n.max(1) as f64;
-        let row_scale = if mean.is_finite() && mean > 0.0 {
-            mean
-        } else {
-            1.0
-        };
+        let row_scale = row_scale(k);
         let sqrt_eps = f64::EPSILON.sqrt();
         let pairs = kkt_pairs(k, rows, floating);
         let (pattern, argsort) = SymbolicSparseColMat::try_new_from_indices(n + m, n + m, &pairs)
@@ -244,8 +231,58 @@ impl<'a> KktSystem<'a> {
     }
 }
 
+/// The scale s of the constraint rows: the mean of |diag K| (1 when that
+/// is not positive and finite).
+pub(crate) fn row_scale(k: &SparseColMat<usize, f64>) -> f64 {
+    let n = k.nrows();
+    let mut diag = 0.0;
+    for j in 0..n {
+        for (&i, &v) in k.row_idx_of_col_raw(j).iter().zip(k.val_of_col(j)) {
+            if i == j {
+                diag += v.abs();
+            }
+        }
+    }
+    let mean = diag / n.max(1) as f64;
+    if mean.is_finite() && mean > 0.0 {
+        mean
+    } else {
+        1.0
+    }
+}
+
+/// The report.json `factorisation` of an LDLᵀ of ordering `ordered`
+/// (`kind`), with its counts.
+pub(crate) fn ldlt_factorisation(
+    ordered: &OrderedSymbolic,
+    kind: &str,
+    counts: KktCounts,
+) -> signorini_report::Factorisation {
+    let stats = ordered.stats;
+    signorini_report::Factorisation {
+        kind: kind.into(),
+        ordering: stats.ordering.as_str().into(),
+        factor_nnz: stats.nnz as u64,
+        factor_bytes: 8 * stats.values as u64,
+        flops: stats.flops,
+        candidates: ordered
+            .candidates
+            .iter()
+            .map(|c| signorini_report::OrderingCandidate {
+                ordering: c.ordering.as_str().into(),
+                factor_nnz: c.nnz as u64,
+                flops: c.flops,
+            })
+            .collect(),
+        factorisations: Some(counts.factorisations),
+        refinement_steps: Some(counts.refinement_steps),
+        lu_fallbacks: Some(counts.lu_fallbacks),
+        interface: None,
+    }
+}
+
 /// Scratch memory for one numerical LDLᵀ of `symbolic` and its solves.
-fn ldlt_scratch(symbolic: &SymbolicCholesky<usize>, par: faer::Par) -> MemBuffer {
+pub(crate) fn ldlt_scratch(symbolic: &SymbolicCholesky<usize>, par: faer::Par) -> MemBuffer {
     MemBuffer::new(StackReq::any_of(&[
         symbolic.factorize_numeric_ldlt_scratch::<f64>(par, Default::default()),
         symbolic.solve_in_place_scratch::<f64>(1, par),

@@ -1,6 +1,7 @@
 //! A sparse LU of a square matrix whose pattern is fixed over a run and
 //! whose values change: the column ordering (COLAMD) and the symbolic
-//! factor are computed once, each new set of values is factorised
+//! factor are computed once (at the first factorisation: a run whose
+//! solves all succeed otherwise never holds them), each new set of values is factorised
 //! numerically with partial pivoting, and each solve is refined against
 //! the exact matrix ([`crate::kkt::refine`]) to a backward error of a few
 //! roundings. The whole-system Newton method of friction on the direct
@@ -18,7 +19,7 @@ use crate::kkt::refine;
 pub(crate) struct SparseLu {
     pattern: SymbolicSparseColMat<usize>,
     argsort: Argsort<usize>,
-    symbolic: SymbolicLu<usize>,
+    symbolic: Option<SymbolicLu<usize>>,
     /// Numerical factorisations, and refinement steps over all solves.
     pub(crate) factorisations: usize,
     pub(crate) refinement_steps: usize,
@@ -30,12 +31,10 @@ impl SparseLu {
     pub(crate) fn new(n: usize, pairs: &[Pair<usize, usize>]) -> Result<Self, String> {
         let (pattern, argsort) = SymbolicSparseColMat::try_new_from_indices(n, n, pairs)
             .map_err(|e| format!("sparse LU pattern: {e:?}"))?;
-        let symbolic = SymbolicLu::try_new(pattern.as_ref())
-            .map_err(|e| format!("symbolic sparse LU: {e:?}"))?;
         Ok(Self {
             pattern,
             argsort,
-            symbolic,
+            symbolic: None,
             factorisations: 0,
             refinement_steps: 0,
         })
@@ -50,12 +49,16 @@ impl SparseLu {
 
     /// Solves A x = b for the matrix of `values`: one numerical LU on the
     /// symbolic factor, the solve refined against A; `None` when the
-    /// factorisation fails (a zero pivot) or the refined solve does not
+    /// factorisation (or the symbolic one) fails (a zero pivot) or the refined solve does not
     /// reach [`crate::kkt::ACCEPTED_BACKWARD_ERROR`].
     pub(crate) fn solve(&mut self, values: &[f64], b: &[f64]) -> Option<Vec<f64>> {
         let a = self.matrix(values).ok()?;
+        if self.symbolic.is_none() {
+            self.symbolic = Some(SymbolicLu::try_new(self.pattern.as_ref()).ok()?);
+        }
+        let symbolic = self.symbolic.clone()?;
         self.factorisations += 1;
-        let lu = Lu::try_new_with_symbolic(self.symbolic.clone(), a.as_ref()).ok()?;
+        let lu = Lu::try_new_with_symbolic(symbolic, a.as_ref()).ok()?;
         let n = b.len();
         let solve = |rhs: &[f64]| {
             let x = lu.solve(Mat::<f64>::from_fn(n, 1, |i, _| rhs[i]));
