@@ -35,7 +35,7 @@ use faer::sparse::{Argsort, Pair, SparseColMat, SymbolicSparseColMat};
 use faer::{Conj, MatMut};
 
 use crate::gmres::gmres;
-use crate::kkt::{ldlt_scratch, row_scale};
+use crate::kkt::{ldlt_scratch, row_scale, ACCEPTED_BACKWARD_ERROR};
 use signorini_condense::ordering::{order_and_analyse, OrderedSymbolic, OrderingChoice};
 use signorini_contact::friction::Dir;
 use signorini_linalg::sparse::SparseRow;
@@ -45,6 +45,10 @@ use signorini_linalg::sparse::SparseRow;
 pub(crate) const KRYLOV_TOLERANCE: f64 = 1e-12;
 /// ... or fails after this many steps (the caller then takes the LU).
 pub(crate) const MAX_KRYLOV_STEPS: usize = 30;
+/// GMRES runs at most this many times, each on the residual of the last
+/// (restarted), until the solve's backward error is that of the LU,
+/// [`ACCEPTED_BACKWARD_ERROR`].
+const RESTARTS: usize = 4;
 
 /// The contact rows grouped by point, as the whole system holds them.
 pub(crate) struct Points<'a> {
@@ -257,7 +261,6 @@ impl SymmetricPart {
         let weight: Vec<f64> = (0..b.len())
             .map(|i| if i >= n && !rot.given[i - n] { s } else { 1.0 })
             .collect();
-        let wb: Vec<f64> = b.iter().zip(&weight).map(|(x, w)| x * w).collect();
         let apply = |x: &[f64]| -> Vec<f64> {
             let mut y = product(j, x);
             y.iter_mut().zip(&weight).for_each(|(v, w)| *v *= w);
@@ -294,12 +297,56 @@ impl SymmetricPart {
                 ldlt.solve_in_place_with_conj(Conj::No, ym, par, stack);
             })
         };
-        let (x, steps) = gmres(apply, precondition, &wb, KRYLOV_TOLERANCE, MAX_KRYLOV_STEPS)?;
-        self.krylov_steps += steps;
-        let r: Vec<f64> = apply(&x).iter().zip(&wb).map(|(p, q)| q - p).collect();
-        let (rn, bn) = (norm(&r), norm(&wb));
-        (rn <= 10.0 * KRYLOV_TOLERANCE * bn).then_some(x)
+        let mut precondition = precondition;
+        let mut x = vec![0.0; b.len()];
+        let mut steps_taken = 0;
+        let mut accepted = false;
+        for _ in 0..RESTARTS {
+            let (berr, r) = weighted_backward_error(j, &weight, &x, b);
+            if berr <= ACCEPTED_BACKWARD_ERROR {
+                accepted = true;
+                break;
+            }
+            let out = gmres(apply, &mut precondition, &r, KRYLOV_TOLERANCE, MAX_KRYLOV_STEPS);
+            if std::env::var_os("SYM35_TRACE").is_some() {
+                let given = rot.given.iter().filter(|&&g| g).count();
+                eprintln!("krylov {:?} given {given} berr {berr:.3e}", out.as_ref().map(|o| o.1));
+            }
+            let Some((d, steps)) = out else { break };
+            steps_taken += steps;
+            x.iter_mut().zip(&d).for_each(|(a, b)| *a += b);
+        }
+        if !accepted {
+            accepted = weighted_backward_error(j, &weight, &x, b).0 <= ACCEPTED_BACKWARD_ERROR;
+        }
+        self.krylov_steps += steps_taken;
+        accepted.then_some(x)
     }
+}
+
+/// The normwise backward error ‖w ⊙ (b − J x)‖∞ / (‖w ⊙ |J||x|‖∞ +
+/// ‖w ⊙ b‖∞) of x (rows weighed by `w`, module doc), and the weighted
+/// residual w ⊙ (b − J x).
+fn weighted_backward_error(
+    j: &SparseColMat<usize, f64>,
+    w: &[f64],
+    x: &[f64],
+    b: &[f64],
+) -> (f64, Vec<f64>) {
+    let mut jx = vec![0.0; j.nrows()];
+    let mut size = vec![0.0; j.nrows()];
+    for (c, &xc) in x.iter().enumerate() {
+        for (&i, &v) in j.row_idx_of_col_raw(c).iter().zip(j.val_of_col(c)) {
+            jx[i] += v * xc;
+            size[i] += (v * xc).abs();
+        }
+    }
+    let r: Vec<f64> = (0..b.len()).map(|i| w[i] * (b[i] - jx[i])).collect();
+    let max = |v: &mut dyn Iterator<Item = f64>| v.fold(0.0f64, |a, x| a.max(x.abs()));
+    let scale = max(&mut (0..b.len()).map(|i| w[i] * size[i]))
+        + max(&mut (0..b.len()).map(|i| w[i] * b[i]));
+    let err = max(&mut r.iter().copied());
+    (if scale > 0.0 { err / scale } else { err }, r)
 }
 
 /// c_aᵀ Ĉ c_b over point rows `pr`.
@@ -373,8 +420,4 @@ fn product(a: &SparseColMat<usize, f64>, x: &[f64]) -> Vec<f64> {
         }
     }
     y
-}
-
-fn norm(a: &[f64]) -> f64 {
-    a.iter().map(|x| x * x).sum::<f64>().sqrt()
 }
