@@ -27,9 +27,11 @@
 //!   [ J_y B  J_λ  ] [dλ] = [  v ]
 //! ```
 //!
-//! nonsymmetric with Coulomb, by a sparse LU whose pattern (every row of
-//! every point, whatever its status) and symbolic factor are computed once
-//! per run ([`crate::sparse_lu`]). A body held by contact alone needs no
+//! nonsymmetric with Coulomb: by GMRES preconditioned by the LDLᵀ of its
+//! symmetric part, the given rows eliminated ([`crate::symmetric_part`]),
+//! and when that does not reach the LU's backward error, by a sparse LU
+//! whose pattern (every row of every point, whatever its status) and
+//! symbolic factor are computed once per run ([`crate::sparse_lu`]). A body held by contact alone needs no
 //! rigid-mode unknowns: its K is singular but the whole matrix is not while
 //! its contacts hold it.
 //!
@@ -238,21 +240,7 @@ impl<'a> WholeSystem<'a> {
             .map(|(c, r)| c + shift / r)
             .collect();
         let j = self.lu.matrix(values).ok()?;
-        if std::env::var_os("SYM35_LU").is_some() {
-            return self.lu.solve(values, rhs);
-        }
         if let Some(x) = self.symmetric.solve(self.k, &points, (&rot, &chat), &j, rhs) {
-            if std::env::var_os("SYM35_CMP").is_some() {
-                if let Some(y) = self.lu.solve(values, rhs) {
-                    let n = self.k.nrows();
-                    let d = |a: &[f64], b: &[f64]| {
-                        let e = a.iter().zip(b).fold(0.0f64, |m, (p, q)| m.max((p - q).abs()));
-                        let s = b.iter().fold(0.0f64, |m, q| m.max(q.abs()));
-                        (e, s)
-                    };
-                    eprintln!("  cmp u {:?} lambda {:?}", d(&x[..n], &y[..n]), d(&x[n..], &y[n..]));
-                }
-            }
             return Some(x);
         }
         self.lu.solve(values, rhs)
@@ -491,9 +479,6 @@ impl Solve<'_, '_> {
         for iteration in 0..self.opts.max_iterations {
             let residual = self.check(&it, &law);
             history.push(residual);
-            if std::env::var_os("SYM35_TRACE").is_some() {
-                eprintln!("newton {iteration} {residual:.3e}");
-            }
             if residual <= self.opts.tolerance {
                 let reason = StopReason::NewtonConverged {
                     residual,

@@ -56,9 +56,6 @@ pub(crate) fn gmres(
         let breakdown = column[j] == 0.0;
         let lucky = norm(&w) == 0.0;
         h.push(column);
-        if std::env::var_os("SYM35_TRACE").is_some() {
-            eprintln!("  gmres {j} {:.3e}", g[j + 1].abs() / beta);
-        }
         if g[j + 1].abs() <= tolerance * beta || lucky {
             return (!breakdown).then(|| (combine(&h, &g, &z), j + 1));
         }

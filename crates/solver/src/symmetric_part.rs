@@ -308,10 +308,6 @@ impl SymmetricPart {
                 break;
             }
             let out = gmres(apply, &mut precondition, &r, KRYLOV_TOLERANCE, MAX_KRYLOV_STEPS);
-            if std::env::var_os("SYM35_TRACE").is_some() {
-                let given = rot.given.iter().filter(|&&g| g).count();
-                eprintln!("krylov {:?} given {given} berr {berr:.3e}", out.as_ref().map(|o| o.1));
-            }
             let Some((d, steps)) = out else { break };
             steps_taken += steps;
             x.iter_mut().zip(&d).for_each(|(a, b)| *a += b);
