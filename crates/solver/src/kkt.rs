@@ -46,7 +46,7 @@ use signorini_linalg::sparse::SparseRow;
 /// solve gives a few; the margin covers long rows summed in the residual).
 pub const ACCEPTED_BACKWARD_ERROR: f64 = 1e3 * f64::EPSILON;
 /// Refinement stops at this backward error (a few roundings)...
-const TARGET_BACKWARD_ERROR: f64 = 4.0 * f64::EPSILON;
+pub(crate) const TARGET_BACKWARD_ERROR: f64 = 4.0 * f64::EPSILON;
 /// ... or after this many steps.
 const MAX_REFINEMENT_STEPS: usize = 20;
 

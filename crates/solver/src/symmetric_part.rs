@@ -35,7 +35,7 @@ use faer::sparse::{Argsort, Pair, SparseColMat, SymbolicSparseColMat};
 use faer::{Conj, MatMut};
 
 use crate::gmres::gmres;
-use crate::kkt::{ldlt_scratch, row_scale, ACCEPTED_BACKWARD_ERROR};
+use crate::kkt::{ldlt_scratch, row_scale, ACCEPTED_BACKWARD_ERROR, TARGET_BACKWARD_ERROR};
 use signorini_condense::ordering::{order_and_analyse, OrderedSymbolic, OrderingChoice};
 use signorini_contact::friction::Dir;
 use signorini_linalg::sparse::SparseRow;
@@ -46,8 +46,9 @@ pub(crate) const KRYLOV_TOLERANCE: f64 = 1e-12;
 /// ... or fails after this many steps (the caller then takes the LU).
 pub(crate) const MAX_KRYLOV_STEPS: usize = 30;
 /// GMRES runs at most this many times, each on the residual of the last
-/// (restarted), until the solve's backward error is that of the LU,
-/// [`ACCEPTED_BACKWARD_ERROR`].
+/// (restarted), until the solve's backward error is a few roundings
+/// ([`TARGET_BACKWARD_ERROR`], as the LU's refinement); the direction is
+/// accepted at [`ACCEPTED_BACKWARD_ERROR`], as the LU's.
 const RESTARTS: usize = 4;
 
 /// The contact rows grouped by point, as the whole system holds them.
@@ -300,22 +301,24 @@ impl SymmetricPart {
         let mut precondition = precondition;
         let mut x = vec![0.0; b.len()];
         let mut steps_taken = 0;
-        let mut accepted = false;
+        let (mut berr, mut r) = weighted_backward_error(j, &weight, &x, b);
         for _ in 0..RESTARTS {
-            let (berr, r) = weighted_backward_error(j, &weight, &x, b);
-            if berr <= ACCEPTED_BACKWARD_ERROR {
-                accepted = true;
+            if berr <= TARGET_BACKWARD_ERROR {
                 break;
             }
             let out = gmres(apply, &mut precondition, &r, KRYLOV_TOLERANCE, MAX_KRYLOV_STEPS);
             let Some((d, steps)) = out else { break };
             steps_taken += steps;
-            x.iter_mut().zip(&d).for_each(|(a, b)| *a += b);
-        }
-        if !accepted {
-            accepted = weighted_backward_error(j, &weight, &x, b).0 <= ACCEPTED_BACKWARD_ERROR;
+            let candidate: Vec<f64> = x.iter().zip(&d).map(|(a, b)| a + b).collect();
+            let (e, rr) = weighted_backward_error(j, &weight, &candidate, b);
+            // Stop when a cycle does not help (also when e is NaN).
+            if e.partial_cmp(&berr) != Some(std::cmp::Ordering::Less) {
+                break;
+            }
+            (x, berr, r) = (candidate, e, rr);
         }
         self.krylov_steps += steps_taken;
+        let accepted = berr <= ACCEPTED_BACKWARD_ERROR;
         accepted.then_some(x)
     }
 }
