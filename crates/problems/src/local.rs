@@ -210,7 +210,12 @@ pub const NSGS_UP_TO: usize = 1000;
 /// The friction method `auto` picks for a problem and why (the JSON's
 /// `picked`; docs/guide/choosing.md):
 /// - W not symmetric: NSGS, which needs no symmetry;
-/// - 2D: the fixed point on the threshold (its inner status method);
+/// - 2D: the semi-smooth Newton method on Coulomb's law (measured,
+///   docs/performance/root-solvers.md: the fastest or as fast on every 2D
+///   family, the layer and the half-space at 196–2025 contact points and
+///   the FCLib 2D files, where the fixed point on the threshold took up to
+///   twice its CPU time on the layer at m = 784 and 20× its time on the
+///   half-space at m = 2025);
 /// - 3D up to [`NSGS_UP_TO`] contact points: NSGS;
 /// - 3D beyond: the semi-smooth Newton method on Coulomb's law.
 pub fn pick_friction(p: &LocalProblem) -> (FrictionMethod, &'static str) {
@@ -222,8 +227,8 @@ pub fn pick_friction(p: &LocalProblem) -> (FrictionMethod, &'static str) {
     }
     if p.dim == 2 {
         return (
-            FrictionMethod::FixedPoint,
-            "2D Coulomb: the fixed point with status inner solves",
+            FrictionMethod::Newton,
+            "2D Coulomb: the semi-smooth Newton method",
         );
     }
     if p.contacts() <= NSGS_UP_TO {
@@ -608,6 +613,8 @@ mod tests {
                 "{l:?}"
             );
         }
+        // A symmetric 2D problem: `auto` picks the semi-smooth Newton method.
+        assert_eq!(pick_friction(&p).0, FrictionMethod::Newton);
         std::fs::write(
             &path,
             r#"{"W": [[0.2, 0], [0, 0.5]], "q": [-0.6, 1.0], "mu": [0.5, 0.2], "layout": "normal_first"}"#,
