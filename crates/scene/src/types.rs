@@ -520,7 +520,7 @@ impl Element {
 }
 
 /// `sector` of the hemisphere generator: the whole hemisphere or a quarter.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Sector {
     #[default]
@@ -531,6 +531,19 @@ pub enum Sector {
 impl Sector {
     fn is_whole(&self) -> bool {
         *self == Sector::Whole
+    }
+}
+
+impl<'de> Deserialize<'de> for Sector {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let s = String::deserialize(d)?;
+        match s.as_str() {
+            "whole" => Ok(Sector::Whole),
+            "quarter" => Ok(Sector::Quarter),
+            other => Err(serde::de::Error::custom(format!(
+                "sector: expected \"whole\" or \"quarter\", got \"{other}\""
+            ))),
+        }
     }
 }
 
