@@ -546,8 +546,14 @@ fn hemisphere_size(n: f64, grading: f64) -> BodySize {
 }
 
 /// A quarter of a hemisphere: a quarter of its nodes, cells and surfaces,
-/// its width and sides divided by the cube root of 4.
+/// its width and sides divided by the cube root of 4; each cut plane (a
+/// quarter disk, as the flat face's quarter) as many nodes as that.
 fn quarter_of(whole: BodySize) -> BodySize {
+    let plane = whole
+        .surfaces
+        .iter()
+        .find(|(name, _)| *name == "flat")
+        .map_or(0.0, |&(_, n)| n / 4.0);
     BodySize {
         nodes: whole.nodes / 4.0,
         width: whole.width / 4f64.cbrt(),
@@ -557,6 +563,7 @@ fn quarter_of(whole: BodySize) -> BodySize {
             .surfaces
             .into_iter()
             .map(|(name, n)| (name, n / 4.0))
+            .chain(["symmetry_1", "symmetry_2"].map(|name| (name, plane)))
             .collect(),
         ..whole
     }
