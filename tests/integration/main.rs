@@ -25,6 +25,7 @@ mod friction3d;
 mod friction_plasticity;
 mod friction_supports;
 mod hertz_cli;
+mod hertz_quarter;
 mod incompressible;
 mod mortar;
 mod mortar3d;

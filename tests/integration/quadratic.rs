@@ -91,23 +91,26 @@ fn mortar_takes_quadratic_faces() {
     assert!(reference_error(&out, "resultant") <= 1e-12);
 }
 
-/// examples/hertz3d_quadratic.toml: the Hex20 hemisphere on a rigid plane
-/// (22 470 DOFs) has p0 and a within 0.5 % of Hertz, measured 0.15 % and
-/// 0.32 %; the resultant is along z.
+/// examples/hertz3d_quadratic.toml: the Hex20 quarter hemisphere on a rigid
+/// plane (17 049 DOFs, its symmetry planes held) has p0 and a within 0.5 %
+/// of Hertz, and within 0.1 % (measured 0.036 % and 0.009 %, a from the
+/// pressure moment in the faces' own basis); the resultant is along z.
 #[test]
 fn hertz_sphere_in_hex20_within_half_a_percent() {
     let out = converged(&example("hertz3d_quadratic.toml"), RunOptions::default());
     assert_reference_within(&out, &[("p0", 0.005), ("a", 0.005)], "");
+    assert_reference_within(&out, &[("p0", 0.001), ("a", 0.001)], "");
     let f = &out.report.contact_force;
     assert!(f[0].abs() + f[1].abs() <= 1e-9 * f[2].abs(), "{f:?}");
 }
 
-/// The Tet10 hemisphere (hexahedra cut in 12 tetrahedra about their centre,
-/// made second-order) against Hertz: within 2 % on a coarse mesh.
+/// The Tet10 quarter hemisphere (hexahedra cut in 12 tetrahedra about their
+/// centre, made second-order) against Hertz: within 2 % on a coarse mesh
+/// (measured p0 1.3 %, a 0.22 %).
 #[test]
 fn hertz_sphere_in_tet10_within_two_percent() {
     let text = example("hertz3d_quadratic.toml")
-        .replace("divisions = 9,", "divisions = 7,")
+        .replace("divisions = 13,", "divisions = 7,")
         .replace("element = \"hex20\"", "element = \"tet10\"");
     let out = converged(&text, RunOptions::default());
     assert_reference_within(&out, &[("p0", 0.02), ("a", 0.04)], "");

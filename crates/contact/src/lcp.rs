@@ -23,7 +23,7 @@ use crate::norms::{max_abs, nan_max, natural_map};
 use crate::solution::{ContactSolution, DualDetail, SolverReport, StopReason};
 use crate::ContactError;
 pub(crate) use signorini_linalg::products::matvec;
-use signorini_linalg::products::{add_columns, affine, affine_into};
+use signorini_linalg::products::{add_columns_shared, affine, affine_into};
 
 /// Options of an iterative or pivoting LCP method.
 #[derive(Debug, Clone)]
@@ -274,7 +274,7 @@ fn gaps_on_runs(
     for r in runs {
         g[r.clone()].copy_from_slice(&q[r.clone()]);
     }
-    add_columns(w, active, lambda, runs, g, 0);
+    add_columns_shared(w, active, lambda, runs, g);
 }
 
 pub(crate) fn dot(a: &[f64], b: &[f64]) -> f64 {

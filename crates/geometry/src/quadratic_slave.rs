@@ -74,7 +74,12 @@ pub fn recombined_measures(
 /// Rewrites the row of every mid-side point whose two corners have a point
 /// as the recombined gap `(g_m − α (g_c1 + g_c2)) / (1 − 2α)`: terms and
 /// initial gap (see the module docs). Corner points keep their rows.
-pub fn recombine_rows(points: &mut [ContactPoint], edges: &[(usize, [usize; 2])]) {
+/// Returns the edges whose mid-side row was rewritten (those with a point at
+/// all three nodes).
+pub fn recombine_rows(
+    points: &mut [ContactPoint],
+    edges: &[(usize, [usize; 2])],
+) -> Vec<(usize, [usize; 2])> {
     let at: HashMap<usize, usize> = points
         .iter()
         .enumerate()
@@ -108,12 +113,15 @@ pub fn recombine_rows(points: &mut [ContactPoint], edges: &[(usize, [usize; 2])]
                 None => merged.push(t),
             }
         }
-        new_rows.push((im, merged, gap0));
+        new_rows.push((im, merged, gap0, (m, [c1, c2])));
     }
-    for (i, terms, gap0) in new_rows {
+    let mut rewritten = Vec::with_capacity(new_rows.len());
+    for (i, terms, gap0, edge) in new_rows {
         points[i].terms = terms;
         points[i].gap0 = gap0;
+        rewritten.push(edge);
     }
+    rewritten
 }
 
 /// The displacement of each slave node of a quadratic surface as a

@@ -10,10 +10,29 @@ use faer::Mat;
 pub fn matvec(w: &Mat<f64>, x: &[f64], y: &mut [f64]) {
     y.iter_mut().for_each(|v| *v = 0.0);
     let nonzero: Vec<usize> = (0..x.len()).filter(|&j| x[j] != 0.0).collect();
-    let work = (nonzero.len() * y.len()) as f64;
+    let rows = 0..y.len();
+    add_columns_shared(w, &nonzero, x, std::slice::from_ref(&rows), y);
+}
+
+/// [`add_columns`] on every row of `y` (from row 0), the rows shared
+/// between the cores: each takes the part of `runs` in its own rows.
+pub fn add_columns_shared(
+    w: &Mat<f64>,
+    cols: &[usize],
+    x: &[f64],
+    runs: &[Range<usize>],
+    y: &mut [f64],
+) {
+    let rows: usize = runs.iter().map(|r| r.len()).sum();
+    let work = (cols.len() * rows) as f64;
     crate::threads::for_each_chunk(y, 1, work, |first, chunk| {
-        let rows = first..first + chunk.len();
-        add_columns(w, &nonzero, x, std::slice::from_ref(&rows), chunk, first);
+        let end = first + chunk.len();
+        let mine: Vec<Range<usize>> = runs
+            .iter()
+            .map(|r| r.start.max(first)..r.end.min(end))
+            .filter(|r| !r.is_empty())
+            .collect();
+        add_columns(w, cols, x, &mine, chunk, first);
     });
 }
 

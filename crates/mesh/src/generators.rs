@@ -20,6 +20,7 @@ mod box3d;
 mod disk;
 mod hemisphere;
 mod hemisphere_kinds;
+mod hemisphere_sector;
 mod rectangle;
 mod split;
 #[cfg(test)]
@@ -28,7 +29,9 @@ mod tests;
 pub use box3d::{box_mesh, BoxSide};
 pub use disk::{half_disk, quarter_disk};
 pub use hemisphere::hemisphere;
+use hemisphere::pole_frame;
 pub use hemisphere_kinds::hemisphere_of_kind;
+pub use hemisphere_sector::{quarter_hemisphere, HemisphereSector, QUARTER_SURFACES};
 pub use rectangle::{rectangle, RectSide};
 
 use crate::{Facet, Mesh, MeshError, Surface};

@@ -210,7 +210,12 @@ pub const NSGS_UP_TO: usize = 1000;
 /// The friction method `auto` picks for a problem and why (the JSON's
 /// `picked`; docs/guide/choosing.md):
 /// - W not symmetric: NSGS, which needs no symmetry;
-/// - 2D: the fixed point on the threshold (its inner status method);
+/// - 2D: the semi-smooth Newton method on Coulomb's law (measured,
+///   docs/performance/root-solvers.md: the fastest or as fast on every 2D
+///   family, the layer and the half-space at 196–2025 contact points and
+///   the FCLib 2D files, where the fixed point on the threshold took up to
+///   twice its CPU time on the layer at m = 784 and 20× its time on the
+///   half-space at m = 2025);
 /// - 3D up to [`NSGS_UP_TO`] contact points: NSGS;
 /// - 3D beyond: the semi-smooth Newton method on Coulomb's law.
 pub fn pick_friction(p: &LocalProblem) -> (FrictionMethod, &'static str) {
@@ -222,8 +227,8 @@ pub fn pick_friction(p: &LocalProblem) -> (FrictionMethod, &'static str) {
     }
     if p.dim == 2 {
         return (
-            FrictionMethod::FixedPoint,
-            "2D Coulomb: the fixed point with status inner solves",
+            FrictionMethod::Newton,
+            "2D Coulomb: the semi-smooth Newton method",
         );
     }
     if p.contacts() <= NSGS_UP_TO {
@@ -450,11 +455,16 @@ pub fn solve_within(
     let m = p.contacts();
     accepts(name, p, None, Some(algorithm))?;
     let (force_scale, gap_scale) = scales(p);
-    let (w, q) = if p.dim == 1 {
-        (p.w.clone(), p.q.clone())
+    // The normal rows of a contact-wise problem; an LCP's W as it is (a
+    // copy of W took as long as a status iteration at m = 2025).
+    let normal;
+    let w = if p.dim == 1 {
+        &p.w
     } else {
-        (p.w.submatrix(0, 0, m, m).to_owned(), p.q[..m].to_vec())
+        normal = p.w.submatrix(0, 0, m, m).to_owned();
+        &normal
     };
+    let q = &p.q[..m];
     let opts = LcpOptions {
         tolerance,
         max_iterations,
@@ -466,12 +476,12 @@ pub fn solve_within(
     let t = Instant::now();
     let deadline = t + Duration::from_secs_f64(seconds.clamp(0.0, 1e9));
     let sol = algorithm
-        .solve_until(&w, &q, None, &opts, Some(deadline))
+        .solve_until(w, q, None, &opts, Some(deadline))
         .map_err(|e| e.to_string())?;
     let time_s = t.elapsed().as_secs_f64();
     let mut forces = sol.forces.clone();
     forces.resize(p.q.len(), 0.0);
-    let residual = lcp_residual(&w, &q, &sol.forces, &opts);
+    let residual = lcp_residual(w, q, &sol.forces, &opts);
     let (global, reference_v_error) = global_fields(p, &forces);
     let (reference_r_error, reference) = reference_fields(p, &forces);
     Ok(LocalResult {
@@ -603,6 +613,8 @@ mod tests {
                 "{l:?}"
             );
         }
+        // A symmetric 2D problem: `auto` picks the semi-smooth Newton method.
+        assert_eq!(pick_friction(&p).0, FrictionMethod::Newton);
         std::fs::write(
             &path,
             r#"{"W": [[0.2, 0], [0, 0.5]], "q": [-0.6, 1.0], "mu": [0.5, 0.2], "layout": "normal_first"}"#,

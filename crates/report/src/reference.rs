@@ -7,7 +7,9 @@ use crate::{Quantity, ReferenceReport};
 
 mod flat_punch;
 mod masing;
+mod pressure_moment;
 pub use flat_punch::{flat_punch, flat_punch_pressure, PunchShape};
+pub use pressure_moment::{pressure_moment, Recombined};
 
 /// Nodal contact data along the contact line: tangential coordinate,
 /// normal force, tributary length and pressure of each contact point.
@@ -22,6 +24,10 @@ pub struct NodalPressure {
     pub tangential: f64,
     /// Whether the point sticks (friction).
     pub stick: bool,
+    /// On a quadratic face whose shape functions were recombined, the
+    /// mid-side point's edge (see [`Recombined`]); `None` for a point whose
+    /// force is that of its own shape function.
+    pub recombined: Option<Recombined>,
 }
 
 /// Hertz, cylinder on a plane (docs/theory/validation-cases.md §1): with P the load per unit
@@ -117,13 +123,14 @@ pub fn hertz_sphere_exact(p: f64, e_star: f64, r: f64) -> (f64, f64) {
 /// model; in 3D the distance from the force-weighted centre in the contact
 /// plane), `tributary` its area (2π r ds in an axisymmetric model). Reports
 /// p0 (max nodal pressure), a from the pressure moment
-/// a_mom = sqrt(5/2 · Σ F r² / Σ F) (exact for the Hertz profile:
-/// ∫p r² dA / ∫p dA = 2a²/5), the last node in contact and the relative L2
-/// error of the profile on r ≤ a.
+/// a_mom = sqrt(5/2 · ∫p r² dA / ∫p dA) (exact for the Hertz profile:
+/// ∫p r² dA / ∫p dA = 2a²/5; the moment from the nodal forces by
+/// [`pressure_moment`], exact on quadratic faces, recombined or not), the
+/// last node in contact and the relative L2 error of the profile on r ≤ a.
 pub fn hertz_sphere(nodes: &[NodalPressure], e_star: f64, r: f64) -> ReferenceReport {
     let total: f64 = nodes.iter().map(|n| n.force).sum();
     let (a, p0) = hertz_sphere_exact(total, e_star, r);
-    let second: f64 = nodes.iter().map(|n| n.force * n.s * n.s).sum();
+    let second = pressure_moment(nodes, |s| s * s);
     let a_mom = if total > 0.0 {
         (2.5 * second / total).sqrt()
     } else {
@@ -410,6 +417,7 @@ mod tests {
                 pressure: pe,
                 tangential: -q * w,
                 stick: x.abs() < c,
+                recombined: None,
             }
         });
         let rep = cattaneo_mindlin(&nodes, PunchShape::Strip, e_star, r, mu, &[]);
@@ -456,6 +464,7 @@ mod tests {
                 pressure: pe,
                 tangential: q * w,
                 stick: x < c,
+                recombined: None,
             }
         });
         let rep = cattaneo_mindlin(&nodes, PunchShape::Circle, e_star, r, mu, &[]);
@@ -525,6 +534,7 @@ mod tests {
                 pressure: pe,
                 tangential: 1e-3 * mu * pe * w * x.signum(),
                 stick: true,
+                recombined: None,
             }
         });
         let rep = cattaneo_mindlin(&nodes, PunchShape::Strip, e_star, r, mu, &[]);
@@ -558,6 +568,7 @@ mod tests {
             pressure: p0 * (1.0 - (s / a).powi(2)).max(0.0).sqrt(),
             tangential: 0.0,
             stick: false,
+            recombined: None,
         }
     }
 

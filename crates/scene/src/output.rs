@@ -28,6 +28,43 @@ pub struct Reference {
     /// Friction coefficient (cattaneo_mindlin, sliding_block).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub friction: Option<f64>,
+    /// The model is this part of a contact symmetric about planes through
+    /// `center` (hertz_sphere in 3D): the reference takes each contact point
+    /// for itself and its mirror images, so its load is 4 (`quarter`) or 2
+    /// (`half`) times the computed resultant.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub symmetry: Option<Symmetry>,
+    /// The centre of the contact (hertz_sphere in 3D; needed with
+    /// `symmetry`, a point of its planes): radii are measured from it rather
+    /// than from the force-weighted centre of the contact points.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub center: Option<Vec<f64>>,
+}
+
+/// `reference.symmetry`: the part of a symmetric contact a model holds.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Symmetry {
+    Half,
+    Quarter,
+}
+
+impl Symmetry {
+    /// The scene-file spelling.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Symmetry::Half => "half",
+            Symmetry::Quarter => "quarter",
+        }
+    }
+
+    /// How many copies of the model make the whole contact.
+    pub fn copies(self) -> f64 {
+        match self {
+            Symmetry::Half => 2.0,
+            Symmetry::Quarter => 4.0,
+        }
+    }
 }
 
 impl Reference {

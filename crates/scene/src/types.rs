@@ -404,6 +404,11 @@ pub enum Generator {
         /// `hex8` (default) | `tet4` | `hex20` | `tet10`.
         #[serde(default = "Element::hex8")]
         element: Element,
+        /// `whole` (default) or `quarter`: the cells on one side of the two
+        /// planes through the pole and the local axes, with their surfaces
+        /// symmetry_1 and symmetry_2 (for symmetric loads).
+        #[serde(default, skip_serializing_if = "Sector::is_whole")]
+        sector: Sector,
     },
     /// Axisymmetric only. Surfaces: axis, flat, arc. Grading towards the pole on the
     /// axis.
@@ -455,6 +460,10 @@ impl Generator {
             Generator::Rectangle { .. } => &["left", "right", "bottom", "top"],
             Generator::HalfDisk { .. } => &["flat", "arc"],
             Generator::Box { .. } => &["xmin", "xmax", "ymin", "ymax", "zmin", "zmax"],
+            Generator::Hemisphere {
+                sector: Sector::Quarter,
+                ..
+            } => &["flat", "dome", "symmetry_1", "symmetry_2"],
             Generator::Hemisphere { .. } => &["flat", "dome"],
             Generator::QuarterDisk { .. } => &["axis", "flat", "arc"],
         }
@@ -506,6 +515,34 @@ impl Element {
             Element::Tet4 => "tet4",
             Element::Hex20 => "hex20",
             Element::Tet10 => "tet10",
+        }
+    }
+}
+
+/// `sector` of the hemisphere generator: the whole hemisphere or a quarter.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Sector {
+    #[default]
+    Whole,
+    Quarter,
+}
+
+impl Sector {
+    fn is_whole(&self) -> bool {
+        *self == Sector::Whole
+    }
+}
+
+impl<'de> Deserialize<'de> for Sector {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let s = String::deserialize(d)?;
+        match s.as_str() {
+            "whole" => Ok(Sector::Whole),
+            "quarter" => Ok(Sector::Quarter),
+            other => Err(serde::de::Error::custom(format!(
+                "sector: expected \"whole\" or \"quarter\", got \"{other}\""
+            ))),
         }
     }
 }

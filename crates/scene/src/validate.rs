@@ -165,6 +165,36 @@ fn check_radius2(r: &Reference, v: f64) -> Result {
     }
 }
 
+/// `reference.symmetry` and `reference.center`: a 3D Hertz sphere's, the
+/// centre of `dimension` finite coordinates, given with a symmetry.
+fn check_reference_centre(r: &Reference, dimension: u8, model: Model) -> Result {
+    let sphere_3d = r.kind == ReferenceKind::HertzSphere && dimension == 3 && model == Model::Solid;
+    let what = "applies to kind = \"hertz_sphere\" in 3D";
+    if let Some(s) = r.symmetry {
+        if !sphere_3d {
+            return Err(invalid("reference.symmetry", what));
+        }
+        if r.center.is_none() {
+            return Err(invalid(
+                "reference.center",
+                format!("symmetry = \"{}\" needs the centre of the whole contact, a point of the symmetry planes: [x, y, z]", s.as_str()),
+            ));
+        }
+    }
+    if let Some(c) = &r.center {
+        if !sphere_3d {
+            return Err(invalid("reference.center", what));
+        }
+        if c.len() != 3 || c.iter().any(|v| !v.is_finite()) {
+            return Err(invalid(
+                "reference.center",
+                format!("must be 3 finite coordinates [x, y, z], got {c:?}"),
+            ));
+        }
+    }
+    Ok(())
+}
+
 fn non_negative(entry: &str, v: f64) -> Result {
     if v.is_finite() && v >= 0.0 {
         Ok(())
@@ -741,6 +771,7 @@ impl Scene {
         if let Some(v) = r.friction {
             non_negative("reference.friction", v)?;
         }
+        check_reference_centre(r, self.dimension, self.model)?;
         if matches!(
             r.kind,
             ReferenceKind::HertzCylinder | ReferenceKind::HertzSphere

@@ -40,8 +40,16 @@ pub(crate) fn compare_reference(
         ));
     };
     let direction = tangential_direction(points, friction, points[pmax].point.tangent);
-    let nodes = reference_nodes(sc, points, lambda, friction, pmax, direction);
+    let mut nodes = reference_nodes(sc, points, lambda, friction, pmax, direction);
     check_reference(sc)?;
+    let copies = r.symmetry.map_or(1.0, |s| s.copies());
+    if copies != 1.0 {
+        // each point stands for itself and its mirror images
+        for n in &mut nodes {
+            n.force *= copies;
+            n.tributary *= copies;
+        }
+    }
     let first = sc
         .contact
         .first()
@@ -62,7 +70,11 @@ pub(crate) fn compare_reference(
             Ok(reference::hertz_cylinder(&nodes, e_star(), radius()?))
         }
         scene::ReferenceKind::HertzSphere => {
-            Ok(reference::hertz_sphere(&nodes, e_star(), radius()?))
+            let mut rep = reference::hertz_sphere(&nodes, e_star(), radius()?);
+            if let Some(s) = r.symmetry {
+                rep.notes.push(format!("symmetry = \"{}\": the load is {copies} times the computed resultant (the whole contact), radii are measured from reference.center", s.as_str()));
+            }
+            Ok(rep)
         }
         scene::ReferenceKind::UniformPressure => {
             Ok(reference::uniform_pressure(&nodes, r.pressure, None))
@@ -180,14 +192,14 @@ fn reference_nodes(
     pmax: usize,
     direction: [f64; 3],
 ) -> Vec<reference::NodalPressure> {
-    let s = contact_coordinates(sc, points, lambda, pmax);
+    let coordinate = contact_coordinate(sc, points, lambda, pmax);
     let pressure = nodal_pressures(points, lambda);
     points
         .iter()
         .zip(lambda)
         .enumerate()
         .map(|(pi, (p, &l))| reference::NodalPressure {
-            s: s[pi],
+            s: coordinate(p.point.x),
             force: l.max(0.0),
             tributary: p.tributary,
             pressure: pressure[pi].max(0.0),
@@ -202,20 +214,24 @@ fn reference_nodes(
             // contact.csv)
             stick: p.trow.is_some()
                 && friction.is_some_and(|f| f.statuses[pi] == PointStatus::Stick),
+            recombined: p.recombined_corners.map(|[c1, c2]| reference::Recombined {
+                corners: [coordinate(c1), coordinate(c2)],
+                alpha: signorini_geometry::quadratic_slave::ALPHA,
+            }),
         })
         .collect()
 }
 
-/// The coordinate of each point across the contact: along the tangent of
+/// The coordinate across the contact of a point at x: along the tangent of
 /// the most loaded point `pmax` in 2D; the radius in an axisymmetric model;
-/// in 3D the distance from the force-weighted centre within the contact
-/// plane.
-fn contact_coordinates(
-    sc: &scene::Scene,
+/// in 3D the distance within the contact plane from `reference.center`, or
+/// else from the force-weighted centre.
+fn contact_coordinate<'a>(
+    sc: &'a scene::Scene,
     points: &[PointModel],
     lambda: &[f64],
     pmax: usize,
-) -> Vec<f64> {
+) -> impl Fn([f64; 3]) -> f64 + 'a {
     let t = points[pmax].point.tangent;
     let n0 = points[pmax].point.normal;
     let total: f64 = lambda.iter().map(|l| l.max(0.0)).sum();
@@ -225,7 +241,10 @@ fn contact_coordinates(
             *c += l.max(0.0) * x / total.max(f64::MIN_POSITIVE);
         }
     }
-    let coordinate = |x: [f64; 3]| -> f64 {
+    if let Some(c) = sc.reference.as_ref().and_then(|r| r.center.as_deref()) {
+        centre = crate::model::point3(c);
+    }
+    move |x: [f64; 3]| -> f64 {
         match sc.model {
             scene::Model::Axisymmetric => x[0],
             scene::Model::Solid => {
@@ -238,8 +257,7 @@ fn contact_coordinates(
             }
             _ => x[0] * t[0] + x[1] * t[1],
         }
-    };
-    points.iter().map(|p| coordinate(p.point.x)).collect()
+    }
 }
 
 /// The friction coefficient of a reference: its own μ, else that of the

@@ -315,8 +315,16 @@ fn body_size(body: &scene::Body, dim: usize) -> Option<BodySize> {
             divisions,
             grading,
             element,
+            sector,
             ..
-        } => solid_kind(hemisphere_size(*divisions as f64, *grading), *element, 12.0),
+        } => {
+            let whole = hemisphere_size(*divisions as f64, *grading);
+            let size = match sector {
+                scene::Sector::Whole => whole,
+                scene::Sector::Quarter => quarter_of(whole),
+            };
+            solid_kind(size, *element, 12.0)
+        }
     })
 }
 
@@ -534,6 +542,30 @@ fn hemisphere_size(n: f64, grading: f64) -> BodySize {
             ("flat", block + 4.0 * ns * nr),
         ],
         any_surface: None,
+    }
+}
+
+/// A quarter of a hemisphere: a quarter of its nodes, cells and surfaces,
+/// its width and sides divided by the cube root of 4; each cut plane (a
+/// quarter disk, as the flat face's quarter) as many nodes as that.
+fn quarter_of(whole: BodySize) -> BodySize {
+    let plane = whole
+        .surfaces
+        .iter()
+        .find(|(name, _)| *name == "flat")
+        .map_or(0.0, |&(_, n)| n / 4.0);
+    BodySize {
+        nodes: whole.nodes / 4.0,
+        width: whole.width / 4f64.cbrt(),
+        sides: whole.sides.map(|s| s / 4.0f64.cbrt()),
+        cells: whole.cells / 4.0,
+        surfaces: whole
+            .surfaces
+            .into_iter()
+            .map(|(name, n)| (name, n / 4.0))
+            .chain(["symmetry_1", "symmetry_2"].map(|name| (name, plane)))
+            .collect(),
+        ..whole
     }
 }
 

@@ -7,7 +7,8 @@ use signorini_contact::friction::{FrictionLaw, PointStatus};
 use signorini_fem::{Elasticity, Formulation as FemFormulation, Model as FemModel};
 use signorini_geometry::ContactPoint;
 use signorini_mesh::generators::{
-    box_mesh, half_disk, hemisphere_of_kind, quarter_disk, rectangle, BoxSide, RectSide,
+    box_mesh, half_disk, hemisphere_of_kind, quarter_disk, rectangle, BoxSide, HemisphereSector,
+    RectSide,
 };
 use signorini_mesh::{CellKind, Mesh};
 use signorini_scene as scene;
@@ -122,6 +123,12 @@ pub struct PointModel {
     /// known, and a non-zero slip increment makes the point slide (course notes §4,
     /// Coulomb's law), its force evaluated at the end of the step.
     pub prescribed_slip: Option<PrescribedSlip>,
+    /// On a quadratic slave face whose rows are recombined
+    /// (`signorini_geometry::quadratic_slave`), the positions of the two
+    /// corners of this mid-side point's edge: its force is then not that of
+    /// its own shape function, which the pressure moments of the analytic
+    /// references undo (`compare`). `None` elsewhere.
+    pub recombined_corners: Option<[[f64; 3]; 2]>,
 }
 
 /// The tangential rows of a contact point whose slip a support prescribes:
@@ -153,6 +160,13 @@ pub fn fem_formulation(f: scene::Formulation) -> FemFormulation {
     match f {
         scene::Formulation::Displacement => FemFormulation::Displacement,
         scene::Formulation::BBar => FemFormulation::BBar,
+    }
+}
+
+fn hemisphere_sector(s: scene::Sector) -> HemisphereSector {
+    match s {
+        scene::Sector::Whole => HemisphereSector::Whole,
+        scene::Sector::Quarter => HemisphereSector::Quarter,
     }
 }
 
@@ -335,13 +349,14 @@ pub fn build_mesh(body: &scene::Body, entry: &str, dim: usize) -> Result<Mesh, S
             pole,
             grading,
             element,
+            sector,
         }) => hemisphere_of_kind(
             *center,
             *radius,
             *divisions,
             *pole,
             *grading,
-            cell_kind(*element),
+            (cell_kind(*element), hemisphere_sector(*sector)),
         ),
         scene::MeshSpec::Generator(G::QuarterDisk {
             center,

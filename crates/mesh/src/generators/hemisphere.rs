@@ -121,7 +121,7 @@ pub fn hemisphere(
 /// The local right-handed frame `[e1, e2, e_p]` of [`hemisphere`]: `e_p` the
 /// normalised `pole` (an error if zero), `e1` the coordinate axis least aligned
 /// with the pole made orthogonal to it, `e2 = e_p x e1`.
-fn pole_frame(pole: [f64; 3]) -> Result<[[f64; 3]; 3], MeshError> {
+pub(super) fn pole_frame(pole: [f64; 3]) -> Result<[[f64; 3]; 3], MeshError> {
     let pn = pole.iter().map(|p| p * p).sum::<f64>().sqrt();
     if !(pn.is_finite() && pn > 0.0) {
         return Err(MeshError::Invalid(format!(

@@ -4,24 +4,30 @@
 //! [`to_second_order_3d`]), the mid-side nodes of the dome's faces then put
 //! on the sphere, so that the quadratic faces follow its curvature.
 
-use super::hemisphere;
+use super::{hemisphere, quarter_hemisphere, HemisphereSector};
 use crate::quadratic3d::{hexes_to_tetrahedra, to_second_order_3d};
 use crate::{CellKind, Mesh, MeshError};
 
-/// [`hemisphere`] with cells of `kind` (hex8, tet4, hex20 or tet10): same
-/// corners and surfaces ("flat", "dome"); Tet4 / Tet10 cut each hexahedron
-/// into 12 tetrahedra about its centre. On the dome every mid-side node is
-/// moved radially onto the sphere `c + R (x − c) / |x − c|`; the flat face's
-/// stay on its plane.
+/// [`hemisphere`] with cells of `kind` (hex8, tet4, hex20 or tet10), whole
+/// or a quarter of it ([`quarter_hemisphere`], cut before the cells are
+/// split or made second-order): same corners and surfaces ("flat", "dome",
+/// and the quarter's "symmetry_1", "symmetry_2"); Tet4 / Tet10 cut each
+/// hexahedron into 12 tetrahedra about its centre. On the dome every
+/// mid-side node is moved radially onto the sphere `c + R (x − c) / |x − c|`;
+/// the flat face's stay on its plane.
 pub fn hemisphere_of_kind(
     center: [f64; 3],
     radius: f64,
     divisions: usize,
     pole: [f64; 3],
     grading: f64,
-    kind: CellKind,
+    (kind, sector): (CellKind, HemisphereSector),
 ) -> Result<Mesh, MeshError> {
-    let hexes = hemisphere(center, radius, divisions, pole, grading)?;
+    let whole = hemisphere(center, radius, divisions, pole, grading)?;
+    let hexes = match sector {
+        HemisphereSector::Whole => whole,
+        HemisphereSector::Quarter => quarter_hemisphere(&whole, center, radius, pole)?,
+    };
     let split = |m: Mesh| match kind {
         CellKind::Tet4 | CellKind::Tet10 => hexes_to_tetrahedra(&m),
         _ => Ok(m),
@@ -83,7 +89,8 @@ mod tests {
             (CellKind::Hex20, 1),
             (CellKind::Tet10, 12),
         ] {
-            let m = hemisphere_of_kind(c, r, 4, [0.0, 0.0, -1.0], 2.0, kind).unwrap();
+            let sector = HemisphereSector::Whole;
+            let m = hemisphere_of_kind(c, r, 4, [0.0, 0.0, -1.0], 2.0, (kind, sector)).unwrap();
             m.check().unwrap();
             assert_eq!(m.cells.len(), cells * hexes.cells.len());
             assert!(m.cells.iter().all(|cell| cell.kind == kind));

@@ -138,6 +138,7 @@ mod tests {
                     pressure: p,
                     tangential: 0.0,
                     stick: false,
+                    recombined: None,
                 }
             })
             .collect()

@@ -54,6 +54,7 @@ impl GeneratorCheck<'_> {
                 pole,
                 grading,
                 element,
+                ..
             } => {
                 self.element(*element, &SOLID_ELEMENTS)?;
                 self.disk(center, *radius, *divisions)?;

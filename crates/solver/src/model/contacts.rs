@@ -51,7 +51,8 @@ pub fn build_contacts(
         let surfaces = (!restricted).then_some(&mut interface_nodes[..]);
         let pair = contact_pair(sc, bodies, ci, notes, surfaces)?;
         for p in pair.points {
-            match point_model(sc, bodies, &pair.sides, ci, &pair.tributary, p) {
+            let corners = pair.recombined.get(&p.slave_node).copied();
+            match point_model(sc, bodies, &pair.sides, ci, &pair.tributary, p, corners) {
                 PairPoint::Unknown(point) if zone.includes(ci, point.gap0) => {
                     if restricted {
                         for t in &point.point.terms {
@@ -84,6 +85,9 @@ pub fn build_contacts(
 struct ContactPair {
     points: Vec<ContactPoint>,
     tributary: std::collections::BTreeMap<usize, f64>,
+    /// The mid-side slave nodes whose rows were recombined, with the
+    /// positions of their edge's corners (`PointModel::recombined_corners`).
+    recombined: std::collections::BTreeMap<usize, [[f64; 3]; 2]>,
     sides: PairSides,
 }
 
@@ -266,7 +270,12 @@ fn contact_pair(
         scene::Discretization::NodeToSegment => mid_side_edges(sc.dimension as usize, s_surf),
         _ => Vec::new(),
     };
-    recombine_rows(&mut pairing.points, &edges);
+    let corner_at: std::collections::HashMap<usize, [f64; 3]> =
+        pairing.points.iter().map(|p| (p.slave_node, p.x)).collect();
+    let recombined = recombine_rows(&mut pairing.points, &edges)
+        .into_iter()
+        .map(|(m, [c1, c2])| (m, [corner_at[&c1], corner_at[&c2]]))
+        .collect();
     let dropped = pairing.dropped.note().map(|n| format!("{entry}: {n}"));
     if pairing.points.is_empty() {
         return Err(input(format!(
@@ -296,6 +305,7 @@ fn contact_pair(
     Ok(ContactPair {
         points: pairing.points,
         tributary,
+        recombined,
         sides: PairSides {
             slave: si,
             master: mi,
@@ -372,6 +382,7 @@ fn point_model(
     ci: usize,
     tributaries: &std::collections::BTreeMap<usize, f64>,
     mut p: ContactPoint,
+    recombined_corners: Option<[[f64; 3]; 2]>,
 ) -> PairPoint {
     let c = &sc.contact[ci];
     let dim = sc.dimension as usize;
@@ -406,6 +417,7 @@ fn point_model(
         row,
         gap0,
         slave_body: sides.slave,
+        recombined_corners,
     }))
 }
 
