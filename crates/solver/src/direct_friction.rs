@@ -117,8 +117,14 @@ pub(crate) fn run_direct_friction(
     ctx.progress.phase(Phase::Contact);
     let mut whole = timed(&mut timings.contact, || {
         let floating = bodies.iter().any(|b| !b.kernel.is_empty());
-        WholeSystem::new(&system.k_global, &rows.rows, &fr.layout, &compliance, floating)
-            .map_err(contact_error)
+        WholeSystem::new(
+            &system.k_global,
+            &rows.rows,
+            &fr.layout,
+            &compliance,
+            floating,
+        )
+        .map_err(contact_error)
     })?;
     let mut stepper = Stepper {
         sc,

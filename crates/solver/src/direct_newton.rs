@@ -170,8 +170,7 @@ impl<'a> WholeSystem<'a> {
             point_rows: &point_rows,
             owner: &owner,
         };
-        let symmetric =
-            SymmetricPart::new(k, &points, floating).map_err(ContactError::Solve)?;
+        let symmetric = SymmetricPart::new(k, &points, floating).map_err(ContactError::Solve)?;
         Ok(Self {
             rho: row_rho(k, rows),
             k,
@@ -217,13 +216,23 @@ impl<'a> WholeSystem<'a> {
             s
         };
         let given = sys.given.iter().map(|(d, _)| slot(d.rows[0])).collect();
-        let coupled = sys.coupled.iter().map(|(d, _, _)| slot(d.rows[0])).collect();
+        let coupled = sys
+            .coupled
+            .iter()
+            .map(|(d, _, _)| slot(d.rows[0]))
+            .collect();
         (given, coupled)
     }
 
     /// The Newton direction of `sys` (matrix `values`, right-hand side
     /// `rhs`): by the symmetric part and GMRES, else by the LU.
-    fn solve(&mut self, sys: &NewtonSystem, shift: f64, values: &[f64], rhs: &[f64]) -> Option<Vec<f64>> {
+    fn solve(
+        &mut self,
+        sys: &NewtonSystem,
+        shift: f64,
+        values: &[f64],
+        rhs: &[f64],
+    ) -> Option<Vec<f64>> {
         let (given, coupled) = self.slots(sys);
         let points = Points {
             rows: self.rows,
@@ -240,7 +249,10 @@ impl<'a> WholeSystem<'a> {
             .map(|(c, r)| c + shift / r)
             .collect();
         let j = self.lu.matrix(values).ok()?;
-        if let Some(x) = self.symmetric.solve(self.k, &points, (&rot, &chat), &j, rhs) {
+        if let Some(x) = self
+            .symmetric
+            .solve(self.k, &points, (&rot, &chat), &j, rhs)
+        {
             return Some(x);
         }
         self.lu.solve(values, rhs)

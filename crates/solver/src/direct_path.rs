@@ -103,7 +103,6 @@ fn kkt_factorisation(kkt: &KktSystem<'_>) -> signorini_report::Factorisation {
     ldlt_factorisation(kkt.ordered(), "ldlt", kkt.counts)
 }
 
-
 /// A step's solution with its final gaps, residuals and largest
 /// displacement, as [`conclude_step`] takes them.
 type DirectStep = (StepSolution, Vec<f64>, Residuals);

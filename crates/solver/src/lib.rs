@@ -49,8 +49,8 @@ mod sparse_lu;
 mod step;
 mod step_end;
 mod step_friction;
-pub(crate) mod symmetric_part;
 pub mod subdomain;
+pub(crate) mod symmetric_part;
 mod ties;
 pub mod timing;
 

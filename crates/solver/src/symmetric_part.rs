@@ -256,7 +256,8 @@ impl SymmetricPart {
     ) -> Option<Vec<f64>> {
         let n = k.nrows();
         let values = self.values(k, points, rot, chat);
-        let a = SparseColMat::new_from_argsort(self.pattern.clone(), &self.argsort, &values).ok()?;
+        let a =
+            SparseColMat::new_from_argsort(self.pattern.clone(), &self.argsort, &values).ok()?;
         self.factorisations += 1;
         let s = self.row_scale;
         let weight: Vec<f64> = (0..b.len())
@@ -306,7 +307,13 @@ impl SymmetricPart {
             if berr <= TARGET_BACKWARD_ERROR {
                 break;
             }
-            let out = gmres(apply, &mut precondition, &r, KRYLOV_TOLERANCE, MAX_KRYLOV_STEPS);
+            let out = gmres(
+                apply,
+                &mut precondition,
+                &r,
+                KRYLOV_TOLERANCE,
+                MAX_KRYLOV_STEPS,
+            );
             let Some((d, steps)) = out else { break };
             steps_taken += steps;
             let candidate: Vec<f64> = x.iter().zip(&d).map(|(a, b)| a + b).collect();
