@@ -54,7 +54,15 @@ friction = {friction}
 
 #[test]
 fn a_24_by_24_pad_pressed_then_dragged_has_the_condensed_forces_on_the_direct_path() {
-    let (c, _) = on_both_paths(&pad(24, "{ coulomb = 0.3 }"), 1e-8);
+    let (c, d) = on_both_paths(&pad(24, "{ coulomb = 0.3 }"), 1e-8);
+    // every Newton direction by GMRES on the LDLᵀ of the symmetric part,
+    // none by the LU: one LDLᵀ per Newton iteration
+    let f = d.report.factorisation.clone().expect("a factorisation");
+    let iterations: usize = d.report.steps.iter().map(|s| s.iterations).sum();
+    assert_eq!(f.kind, "ldlt+gmres");
+    assert_eq!(f.lu_fallbacks, Some(0));
+    assert_eq!(f.factorisations, Some(iterations));
+    assert!(f.refinement_steps.unwrap_or(0) >= iterations, "{f:?}");
     let (stick, slip) = stick_slip(&c);
     assert!(
         stick > 0 && slip > 0,
