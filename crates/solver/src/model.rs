@@ -7,7 +7,7 @@ use signorini_contact::friction::{FrictionLaw, PointStatus};
 use signorini_fem::{Elasticity, Formulation as FemFormulation, Model as FemModel};
 use signorini_geometry::ContactPoint;
 use signorini_mesh::generators::{
-    box_mesh, half_disk, hemisphere_of_kind, quarter_disk, rectangle, BoxSide, RectSide,
+    box_mesh, half_disk, hemisphere, hemisphere_of_kind, quarter_disk, rectangle, BoxSide, RectSide,
 };
 use signorini_mesh::{CellKind, Mesh};
 use signorini_scene as scene;
@@ -335,14 +335,8 @@ pub fn build_mesh(body: &scene::Body, entry: &str, dim: usize) -> Result<Mesh, S
             pole,
             grading,
             element,
-        }) => hemisphere_of_kind(
-            *center,
-            *radius,
-            *divisions,
-            *pole,
-            *grading,
-            cell_kind(*element),
-        ),
+        }) => hemisphere(*center, *radius, *divisions, *pole, *grading)
+            .and_then(|hexes| hemisphere_of_kind(hexes, cell_kind(*element), *center, *radius)),
         scene::MeshSpec::Generator(G::QuarterDisk {
             center,
             radius,

@@ -4,24 +4,23 @@
 //! [`to_second_order_3d`]), the mid-side nodes of the dome's faces then put
 //! on the sphere, so that the quadratic faces follow its curvature.
 
+#[cfg(doc)]
 use super::hemisphere;
 use crate::quadratic3d::{hexes_to_tetrahedra, to_second_order_3d};
 use crate::{CellKind, Mesh, MeshError};
 
-/// [`hemisphere`] with cells of `kind` (hex8, tet4, hex20 or tet10): same
-/// corners and surfaces ("flat", "dome"); Tet4 / Tet10 cut each hexahedron
-/// into 12 tetrahedra about its centre. On the dome every mid-side node is
-/// moved radially onto the sphere `c + R (x − c) / |x − c|`; the flat face's
-/// stay on its plane.
+/// The Hex8 mesh `hexes` of the [`hemisphere`] of `radius` about `center`
+/// with cells of `kind` (hex8, tet4, hex20 or tet10): same corners and
+/// surfaces ("flat", "dome"); Tet4 / Tet10 cut each hexahedron into 12
+/// tetrahedra about its centre. On the dome every mid-side node is moved
+/// radially onto the sphere `c + R (x − c) / |x − c|`; the flat face's stay
+/// on its plane.
 pub fn hemisphere_of_kind(
+    hexes: Mesh,
+    kind: CellKind,
     center: [f64; 3],
     radius: f64,
-    divisions: usize,
-    pole: [f64; 3],
-    grading: f64,
-    kind: CellKind,
 ) -> Result<Mesh, MeshError> {
-    let hexes = hemisphere(center, radius, divisions, pole, grading)?;
     let split = |m: Mesh| match kind {
         CellKind::Tet4 | CellKind::Tet10 => hexes_to_tetrahedra(&m),
         _ => Ok(m),
@@ -73,6 +72,7 @@ fn onto_sphere(mut mesh: Mesh, center: [f64; 3], radius: f64) -> Mesh {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::generators::hemisphere;
 
     #[test]
     fn every_kind_has_the_hexahedra_volume_and_its_dome_nodes_on_the_sphere() {
@@ -83,7 +83,7 @@ mod tests {
             (CellKind::Hex20, 1),
             (CellKind::Tet10, 12),
         ] {
-            let m = hemisphere_of_kind(c, r, 4, [0.0, 0.0, -1.0], 2.0, kind).unwrap();
+            let m = hemisphere_of_kind(hexes.clone(), kind, c, r).unwrap();
             m.check().unwrap();
             assert_eq!(m.cells.len(), cells * hexes.cells.len());
             assert!(m.cells.iter().all(|cell| cell.kind == kind));
