@@ -12,7 +12,8 @@
 use crate::common;
 
 use common::{contact_force, converged, example, try_run};
-use signorini_solver::RunOptions;
+use signorini_scene::SolvePath;
+use signorini_solver::{RunOptions, RunOutput};
 
 fn run(text: &str) -> signorini_solver::RunOutput {
     converged(text, RunOptions::default())
@@ -311,6 +312,30 @@ fn pad_on_floor(extra: &str, friction_solver: &str) -> String {
     )
 }
 
+/// Asserts the balance of `pushed_block`'s answer (the floor carries N =
+/// 10 and at most μN = 2 sideways, the wall the rest of the push of 4);
+/// returns the wall's force.
+fn held_by_floor_and_wall(o: &RunOutput, what: &str) -> f64 {
+    let f = &o.report.contact_force;
+    assert!((f[0] + 4.0).abs() <= 1e-9 * 10.0, "{what}: {f:?}");
+    assert!((f[1] - 10.0).abs() <= 1e-9 * 10.0, "{what}: {f:?}");
+    let floor = contact_force(o, "c")[0];
+    assert!(
+        floor.abs() <= 0.2 * 10.0 * (1.0 + 1e-9),
+        "{what}: friction within μN: {floor}"
+    );
+    let w = contact_force(o, "w")[0];
+    assert!(
+        w <= -2.0 * (1.0 - 1e-9),
+        "{what}: the wall takes at least 4 − μN: {w}"
+    );
+    assert!(
+        (floor + w + 4.0).abs() <= 1e-9 * 10.0,
+        "{what}: floor {floor} and wall {w} balance the push"
+    );
+    w
+}
+
 #[test]
 fn the_friction_capacity_check_counts_a_frictionless_wall() {
     // The wall takes what friction does not: in equilibrium, not refused.
@@ -323,25 +348,18 @@ fn the_friction_capacity_check_counts_a_frictionless_wall() {
         let mut wall_forces = Vec::new();
         for solver in ["fixed_point", "status"] {
             let o = run(&pushed_block(wall, solver));
-            let f = &o.report.contact_force;
-            assert!((f[0] + 4.0).abs() <= 1e-9 * 10.0, "{wall} {solver}: {f:?}");
-            assert!((f[1] - 10.0).abs() <= 1e-9 * 10.0, "{wall} {solver}: {f:?}");
-            let floor = contact_force(&o, "c")[0];
-            assert!(
-                floor.abs() <= 0.2 * 10.0 * (1.0 + 1e-9),
-                "friction within μN: {floor}"
-            );
-            let w = contact_force(&o, "w")[0];
-            assert!(
-                w <= -2.0 * (1.0 - 1e-9),
-                "the wall takes at least 4 − μN: {w}"
-            );
-            wall_forces.push(w);
+            wall_forces.push(held_by_floor_and_wall(&o, &format!("{wall} {solver}")));
         }
         assert!(
             (wall_forces[0] - wall_forces[1]).abs() <= 1e-6 * 4.0,
             "{wall}: {wall_forces:?}"
         );
+        // The direct path: the flat wall's corner node is held along x twice
+        // (its floor friction sticking, the wall), the Newton matrix singular
+        // however the forces split; it solves it with its redundant-rows
+        // shift. The split at that node is not unique, the balance is.
+        let d = common::converged_on(&pushed_block(wall, "fixed_point"), SolvePath::Direct);
+        held_by_floor_and_wall(&d, &format!("{wall} direct"));
     }
     // Without the wall, the same push beyond μN is refused (exit 1).
     let push = "[[boundary]]\nname = \"push\"\nbody = \"pad\"\nsurface = \"left\"\ntraction = [8.0, 0.0]\n";
@@ -585,9 +603,11 @@ fn the_supported_and_gapped_scenes_have_the_condensed_forces_on_the_direct_path(
         scenes.push((name, gap_pad(dim, normal, top, "fixed_point")));
     }
     scenes.push(("dragged", dragged_block()));
-    // Not the block pushed against a frictionless wall (flat or disc): the
-    // direct path's first Newton step there is not finite ("the iterate
-    // became non-finite"), exit 2, where the condensed path solves it.
+    // The block pushed against a disc (the flat wall's split of the corner
+    // node's force between the floor and the wall is not unique:
+    // `the_friction_capacity_check_counts_a_frictionless_wall`).
+    let disc = r#"{ shape = "circle", center = [1.5, 0.25], radius = 0.5 }"#;
+    scenes.push(("pushed against a disc", pushed_block(disc, "fixed_point")));
     for (name, text) in scenes {
         eprintln!("{name}");
         common::twins::on_both_paths(&text, 1e-8);

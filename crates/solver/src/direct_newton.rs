@@ -60,6 +60,16 @@ use signorini_linalg::sparse::SparseRow;
 /// solve stops on it (as the condensed Newton method with floating bodies).
 const FULL_STEPS: usize = 5;
 
+/// The compliance, relative to each row's own 1 / ρ, added to the coupled
+/// contact rows of the Newton matrix when both its tangent and secant forms
+/// are singular: rows that constrain the same motion twice (a node on a
+/// floor that sticks and on a wall, both along x) make the matrix singular
+/// however the forces split. Only the matrix is shifted, not the residual,
+/// so a converged answer satisfies the exact equations (a
+/// Levenberg–Marquardt step, as the condensed path's full system takes
+/// with 1e-6 of its largest entry).
+const REDUNDANT_ROWS_SHIFT: f64 = 1e-6;
+
 /// The whole system of a run: K on the free DOFs, the contact rows B on
 /// them, the friction layout and the rows' compliance; the Jacobian's
 /// pattern and its symbolic LU, built once.
@@ -208,8 +218,10 @@ impl<'a> WholeSystem<'a> {
     }
 
     /// The Jacobian's values (in the pattern's order) for the linearised
-    /// rows `sys`, and the right-hand side of the contact rows.
-    fn jacobian(&self, sys: &NewtonSystem) -> (Vec<f64>, Vec<f64>) {
+    /// rows `sys`, and the right-hand side of the contact rows; `shift`
+    /// adds the compliance shift / ρ_r to each coupled row r (a
+    /// Levenberg–Marquardt step where the rows are redundant, module doc).
+    fn jacobian(&self, sys: &NewtonSystem, shift: f64) -> (Vec<f64>, Vec<f64>) {
         let n = self.n();
         let mut v = Vec::with_capacity(self.n_values);
         v.extend_from_slice(self.k.val());
@@ -250,7 +262,7 @@ impl<'a> WholeSystem<'a> {
                 if c == 0.0 {
                     continue;
                 }
-                v[lam(s, r)] += c * (comp + self.compliance[r]);
+                v[lam(s, r)] += c * (comp + self.compliance[r] + shift / self.rho[r]);
                 let at = self.u_at[s] + self.row_in_block[r];
                 for (e, &(_, b)) in self.rows[r].iter().enumerate() {
                     v[at + e] += c * b;
@@ -348,16 +360,18 @@ impl Solve<'_, '_> {
         merit(&f) + merit(r)
     }
 
-    /// The Newton direction (du, dλ) at `it` (on the secants of the
-    /// slipping points when the tangent system is singular); `None` when
-    /// neither system can be solved.
+    /// The Newton direction (du, dλ) at `it`: on the secants of the
+    /// slipping points when the tangent system is singular, and with the
+    /// coupled rows' compliance shifted by [`REDUNDANT_ROWS_SHIFT`] / ρ when
+    /// that is singular too (redundant rows); `None` when no system can be
+    /// solved.
     fn direction(&mut self, it: &Iterate, law: &AlartCurnier) -> Option<Vec<f64>> {
         let mut sys = NewtonSystem::default();
         let mut f = vec![0.0; it.lambda.len()];
-        for secant in [false, true] {
+        for (secant, shift) in [(false, 0.0), (true, 0.0), (false, REDUNDANT_ROWS_SHIFT)] {
             sys.secant = secant;
             law.residual(&it.lambda, &it.y, Scale::Newton, &mut f, Some(&mut sys));
-            let (values, contact_rhs) = self.system.jacobian(&sys);
+            let (values, contact_rhs) = self.system.jacobian(&sys, shift);
             let mut rhs: Vec<f64> = it.r.iter().map(|v| -v).collect();
             rhs.extend(contact_rhs);
             let d = self.system.lu.solve(&values, &rhs);
