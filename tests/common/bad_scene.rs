@@ -180,3 +180,18 @@ pub fn block_with_all(edits: &[(&str, &str)]) -> String {
 pub fn block_meshed(mesh: &str) -> String {
     block_with(BLOCK_MESH, &format!("mesh = {mesh}"))
 }
+
+/// Each `(name, from, to, needles)` of `edits`: `base` with `from` replaced
+/// by `to` (once; `from` must be in it) is refused as bad input naming each
+/// of `needles`, run in the fresh directory `PREFIX_NAME`.
+pub fn assert_edits_refused(prefix: &str, base: &str, edits: &[(&str, &str, &str, &[&str])]) {
+    for (name, from, to, needles) in edits {
+        assert!(base.contains(from), "test bug: {name}: no {from:?}");
+        let dir = scene_dir(
+            &format!("{prefix}_{name}"),
+            &base.replacen(from, to, 1),
+            &[],
+        );
+        run_in(dir, "run", &["--out", "out"]).assert_bad_input(needles);
+    }
+}

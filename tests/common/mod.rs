@@ -242,6 +242,32 @@ pub fn assert_any_mentions(lines: &[String], needle: &str) {
     assert!(lines.iter().any(|m| m.contains(needle)), "{lines:?}");
 }
 
+/// The mortar patch example `name` (the surface `faces.0` of "pad",
+/// slave, on the surface `faces.1` of "base", master) with
+/// `discretization` instead; with `stiff_slave` the roles swapped.
+pub fn mortar_patch_as(
+    name: &str,
+    discretization: &str,
+    stiff_slave: bool,
+    (pad, base): (&str, &str),
+) -> String {
+    let line = "discretization = \"mortar\"";
+    let t = example(name).replace(line, &format!("discretization = \"{discretization}\""));
+    if !stiff_slave {
+        return t;
+    }
+    let side =
+        |body: &str, surface: &str| format!("{{ body = \"{body}\", surface = \"{surface}\" }}");
+    t.replace(
+        &format!("slave = {}", side("pad", pad)),
+        &format!("slave = {}", side("base", base)),
+    )
+    .replace(
+        &format!("master = {}", side("base", base)),
+        &format!("master = {}", side("pad", pad)),
+    )
+}
+
 /// The example `name` with each `(from, to)` of `edits` replaced in turn.
 pub fn example_with(name: &str, edits: &[(&str, &str)]) -> String {
     (edits.iter()).fold(example(name), |text, (from, to)| text.replace(from, to))
@@ -283,6 +309,14 @@ pub fn with_zone(text: &str, discretization: &str, d: f64) -> String {
     let line = format!("discretization = \"{discretization}\"\n");
     assert!(text.contains(&line), "test bug: no {line:?}");
     text.replacen(&line, &format!("{line}search_distance = {d}\n"), 1)
+}
+
+/// `text` with `friction = friction` added to each `[[contact]]` of the
+/// `discretization` (after its `discretization` line).
+pub fn with_friction(text: &str, discretization: &str, friction: &str) -> String {
+    let line = format!("discretization = \"{discretization}\"");
+    assert!(text.contains(&line), "test bug: no {line:?}");
+    text.replace(&line, &format!("{line}\nfriction = {friction}"))
 }
 
 /// A block clamped on its top, pulled down by a traction on its bottom onto
@@ -430,6 +464,33 @@ pub fn check_stack_pieces(out: &std::path::Path) {
     assert_eq!(std::fs::read_dir(out.join("pieces")).unwrap().count(), 10);
 }
 
+/// Hertz between two bodies, `scene(discretization)` solved on the
+/// condensed path: mortar's relative errors of p0, of the pressure profile
+/// (L2) and of a are at most `bounds`, and those of p0 and the profile
+/// (and of a with `a_too`) at most `other`'s.
+pub fn assert_mortar_at_least_as_accurate(
+    scene: impl Fn(&str) -> String,
+    other: &str,
+    bounds: [f64; 3],
+    a_too: bool,
+) {
+    let err = |d: &str| {
+        let (p0, a, profile, _) = hertz_errors(&converged_on(&scene(d), SolvePath::Condensed));
+        [p0, profile, a]
+    };
+    let (m, n) = (err("mortar"), err(other));
+    eprintln!("mortar p0, profile, a {m:.4?}; {other} {n:.4?}");
+    for (k, what) in ["p0", "profile", "a"].into_iter().enumerate() {
+        let against = k < 2 || a_too;
+        assert!(
+            (!against || m[k] <= n[k]) && m[k] <= bounds[k],
+            "{what}: mortar {}, {other} {}",
+            m[k],
+            n[k]
+        );
+    }
+}
+
 /// The relative errors of Hertz's p0, a and pressure profile (L2) of a
 /// run, and the exact a.
 pub fn hertz_errors(o: &RunOutput) -> (f64, f64, f64, f64) {
@@ -491,6 +552,39 @@ pub fn mpirun(np: usize) -> std::process::Command {
     c
 }
 
+/// The patch test `scene` run in one process and under `mpirun -n 2` (in
+/// the fresh directory `group/mpirun2`, returned; `None` without mpirun):
+/// two ranks and two subdomains, `rows` rows of contact.csv the same to
+/// 1e-10, and the pressure (the column `from_end` from the row's end) the
+/// unit traction.
+pub fn patch_under_mpirun_2(
+    group: &str,
+    scene: &str,
+    rows: usize,
+    from_end: usize,
+) -> Option<std::path::PathBuf> {
+    if !have_mpirun() {
+        return None;
+    }
+    let d = fresh_dir(group, "mpirun2");
+    let a = contact_csv_of_run(false, scene, &d.join("local"));
+    let b = contact_csv_of_run(true, scene, &d.join("mpi"));
+    let report = std::fs::read_to_string(d.join("mpi").join("report.json")).unwrap();
+    let report: serde_json::Value = serde_json::from_str(&report).unwrap();
+    assert_eq!(report["ranks"], 2);
+    assert_eq!(report["subdomains"], 2);
+    assert_eq!(a.len(), rows);
+    assert_eq!(a.len(), b.len());
+    for (x, y) in a.iter().zip(&b) {
+        assert!(max_rel(x, y) <= 1e-10, "{x:?} vs {y:?}");
+    }
+    for r in &b {
+        let p = r[r.len() - from_end];
+        assert!((p - 1.0).abs() <= 1e-8, "pressure {p}");
+    }
+    Some(d)
+}
+
 /// contact.csv of `signorini run <scene> --out <out>`, in one process or
 /// under `mpirun -n 2`, asserting that the run succeeded: its rows' numbers
 /// (header skipped, the fields that are not numbers dropped).
@@ -526,6 +620,17 @@ pub fn input_error(text: &str) -> String {
         Err(e) => panic!("not an input error: {e}"),
         Ok(_) => panic!("accepted"),
     }
+}
+
+/// The example `name` with its `discretization` made mortar is refused as
+/// bad input naming each of `needles`.
+#[track_caller]
+pub fn assert_mortar_refused(name: &str, discretization: &str, needles: &[&str]) {
+    let from = format!("\"{discretization}\"");
+    assert_mentions(
+        &input_error(&example(name).replace(&from, "\"mortar\"")),
+        needles,
+    );
 }
 
 /// Run options choosing `method`, the path left to the scene.

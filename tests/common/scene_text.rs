@@ -76,7 +76,7 @@ pub fn body(name: &str, material: &str, mesh: &str) -> String {
 }
 
 /// A rigid plane body `name` through `point` with the outward `normal`.
-pub fn rigid_plane(name: &str, point: [f64; 2], normal: [f64; 2]) -> String {
+pub fn rigid_plane<const D: usize>(name: &str, point: [f64; D], normal: [f64; D]) -> String {
     format!("[[bodies]]\nname = \"{name}\"\nrigid = {{ shape = \"plane\", point = {point:?}, normal = {normal:?} }}\n")
 }
 
@@ -114,6 +114,23 @@ pub fn contact_between(
 /// The contact `name` of the surface `surface` of "block" against `master`.
 pub fn block_contact(name: &str, surface: &str, master: &str) -> String {
     contact(name, "block", surface, master)
+}
+
+/// A 2 × 1 block "block" (E = 100, ν = 0.3, 8 × 4 quads) on the rigid plane
+/// "floor", its top displaced by `top` (the condition "press"), with no
+/// support in x: sideways it is held by friction alone.
+pub fn block_pressed_on_floor(top: &str) -> String {
+    [
+        material_2d(100.0, 0.3),
+        block_body([0.0, 0.0], [2.0, 1.0], [8, 4], ""),
+        rigid_plane("floor", [0.0, 0.0], [0.0, 1.0]),
+        named_block_boundary(
+            "press",
+            r#"surface = "top""#,
+            &format!("displacement = {top}"),
+        ),
+    ]
+    .concat()
 }
 
 /// The boundary conditions of the drag tests on `body`: "press" (the

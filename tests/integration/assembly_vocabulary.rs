@@ -4,7 +4,7 @@
 //! (docs/reference/scene-format.md, "Assemblies"; docs/theory/mortar.md,
 //! "Ties").
 
-use super::common::bad_scene::{run_in, scene_dir};
+use super::common::bad_scene::assert_edits_refused;
 use super::common::{
     block_body, block_contact, boundary, contact_between, converged, converged_on, elastic_body,
     example_with_meshes, material_head, named_block_boundary, rigid_plane,
@@ -343,72 +343,27 @@ fn three_bodies_from_one_gmsh_file_with_a_tie_a_node_set_force_and_friction() {
 #[test]
 fn bad_assemblies_are_refused_naming_the_entry() {
     let asm = example_with_meshes("assembly_one_file.toml");
-    let cases: [(&str, String, &[&str]); 6] = [
-        (
-            "unknown_volume",
-            asm.replacen("volume = \"pad\"", "volume = \"padd\"", 1),
-            &["bodies[1].mesh.volume", "\"padd\"", "\"base\", \"pad\", \"slider\""],
-        ),
-        (
-            "point_far",
-            asm.replacen("nodes = \"pull\"\nforce", "point = [0.5, 0.5, 2.3]\nforce", 1),
-            &["boundary[2].point", "away"],
-        ),
-        (
-            "unknown_node_set",
-            asm.replacen("nodes = \"pull\"\nforce", "nodes = \"push\"\nforce", 1),
-            &["boundary[2].nodes", "\"push\"", "\"pull\""],
-        ),
-        (
-            "tie_unknown_surface",
-            asm.replacen("surface = \"pad_bottom\"", "surface = \"pad_bot\"", 1),
-            &["contact \"bond\".slave.surface", "pad_bot"],
-        ),
-        (
-            "tie_apart",
-            asm.replacen("master = { body = \"base\", surface = \"base_top\" }", "master = { body = \"base\", surface = \"base_bottom\" }", 1),
-            &["contact \"bond\"", "does not face the master"],
-        ),
-        (
-            "tie_overlapping",
-            asm.replacen(
-                "[[contact]]\nname = \"slide\"",
-                "[[contact]]\nname = \"bond2\"\nslave = { body = \"pad\", surface = \"pad_bottom\" }\nmaster = { body = \"base\", surface = \"base_top\" }\nlaw = \"tied\"\n\n[[contact]]\nname = \"slide\"",
-                1,
-            ),
-            &["contact \"bond2\"", "overlaps", "contact \"bond\""],
-        ),
+    let bond2 = "[[contact]]\nname = \"bond2\"\nslave = { body = \"pad\", surface = \"pad_bottom\" }\nmaster = { body = \"base\", surface = \"base_top\" }\nlaw = \"tied\"\n\n[[contact]]\nname = \"slide\"";
+    #[rustfmt::skip]
+    let edits: [(&str, &str, &str, &[&str]); 6] = [
+        ("unknown_volume", "volume = \"pad\"", "volume = \"padd\"", &["bodies[1].mesh.volume", "\"padd\"", "\"base\", \"pad\", \"slider\""]),
+        ("point_far", "nodes = \"pull\"\nforce", "point = [0.5, 0.5, 2.3]\nforce", &["boundary[2].point", "away"]),
+        ("unknown_node_set", "nodes = \"pull\"\nforce", "nodes = \"push\"\nforce", &["boundary[2].nodes", "\"push\"", "\"pull\""]),
+        ("tie_unknown_surface", "surface = \"pad_bottom\"", "surface = \"pad_bot\"", &["contact \"bond\".slave.surface", "pad_bot"]),
+        ("tie_apart", "master = { body = \"base\", surface = \"base_top\" }", "master = { body = \"base\", surface = \"base_bottom\" }", &["contact \"bond\"", "does not face the master"]),
+        ("tie_overlapping", "[[contact]]\nname = \"slide\"", bond2, &["contact \"bond2\"", "overlaps", "contact \"bond\""]),
     ];
-    for (name, text, needles) in cases {
-        assert_ne!(text, asm, "{name}: the edit did not apply");
-        let dir = scene_dir(&format!("assembly_{name}"), &text, &[]);
-        run_in(dir, "run", &["--out", "out"]).assert_bad_input(needles);
-    }
+    assert_edits_refused("assembly", &asm, &edits);
 }
 
 #[test]
 fn a_step_friction_of_another_kind_or_contact_is_refused() {
-    let text = dragged_block(0.005);
-    let cases: [(&str, String, &[&str]); 2] = [
-        (
-            "step_friction_unknown_contact",
-            text.replace("friction = { slide = {", "friction = { slid = {"),
-            &["steps[1].friction.slid", "\"slide\""],
-        ),
-        (
-            "step_friction_kind",
-            text.replace(
-                "{ slide = { coulomb = 0.1 } }",
-                "{ slide = { tresca = 0.1 } }",
-            ),
-            &["steps[1].friction.slide", "kind"],
-        ),
+    #[rustfmt::skip]
+    let edits: [(&str, &str, &str, &[&str]); 2] = [
+        ("step_friction_unknown_contact", "friction = { slide = {", "friction = { slid = {", &["steps[1].friction.slid", "\"slide\""]),
+        ("step_friction_kind", "{ slide = { coulomb = 0.1 } }", "{ slide = { tresca = 0.1 } }", &["steps[1].friction.slide", "kind"]),
     ];
-    for (name, scene, needles) in cases {
-        assert_ne!(scene, text, "{name}: the edit did not apply");
-        let dir = scene_dir(&format!("assembly_{name}"), &scene, &[]);
-        run_in(dir, "run", &["--out", "out"]).assert_bad_input(needles);
-    }
+    assert_edits_refused("assembly", &dragged_block(0.005), &edits);
 }
 
 /// What the direct path leaves to the condensed path, refused there as bad

@@ -7,9 +7,7 @@
 use crate::common;
 
 use common::twins::{on_both_paths, stick_slip};
-use common::{
-    block_body, block_contact, example, material_2d, named_block_boundary, rigid_plane, try_run,
-};
+use common::{block_contact, example, rigid_plane, try_run};
 use signorini_scene::SolvePath;
 use signorini_solver::RunOptions;
 
@@ -17,39 +15,22 @@ use signorini_solver::RunOptions;
 /// pressed down by 0.004 at step 1 and dragged by 0.004 along x (and
 /// 0.002 along y) at step 2, with `friction`.
 fn pad(n: usize, friction: &str) -> String {
-    format!(
-        r#"dimension = 3
-model = "solid"
-[[materials]]
-name = "rubber"
-young = 10.0
-poisson = 0.45
-[[bodies]]
-name = "pad"
-material = "rubber"
-mesh = {{ generator = "box", origin = [0.0, 0.0, 0.0], size = [1.0, 1.0, 0.1], divisions = [{n}, {n}, 2] }}
-[[bodies]]
-name = "floor"
-rigid = {{ shape = "plane", point = [0.0, 0.0, 0.0], normal = [0.0, 0.0, 1.0] }}
-[[boundary]]
-name = "press"
-body = "pad"
-surface = "zmax"
-displacement = {{ z = -0.004 }}
-[[boundary]]
-name = "drag"
-body = "pad"
-surface = "zmax"
-displacement = {{ x = 0.004, y = 0.002 }}
-[[steps]]
-scale = {{ drag = 0.0 }}
-[[steps]]
-scale = {{ drag = 1.0 }}
-{}discretization = "node_to_face"
-friction = {friction}
-"#,
-        common::contact("c", "pad", "zmin", "floor")
-    )
+    let mesh = format!("{{ generator = \"box\", origin = [0.0, 0.0, 0.0], size = [1.0, 1.0, 0.1], divisions = [{n}, {n}, 2] }}");
+    let top = "surface = \"zmax\"";
+    "dimension = 3\nmodel = \"solid\"\n".to_string()
+        + &common::material("rubber", 10.0, 0.45)
+        + &common::body("pad", "rubber", &mesh)
+        + &rigid_plane("floor", [0.0, 0.0, 0.0], [0.0, 0.0, 1.0])
+        + &common::boundary("press", "pad", top, "displacement = { z = -0.004 }")
+        + &common::boundary(
+            "drag",
+            "pad",
+            top,
+            "displacement = { x = 0.004, y = 0.002 }",
+        )
+        + "[[steps]]\nscale = { drag = 0.0 }\n[[steps]]\nscale = { drag = 1.0 }\n"
+        + &common::contact("c", "pad", "zmin", "floor")
+        + &format!("discretization = \"node_to_face\"\nfriction = {friction}\n")
 }
 
 #[test]
@@ -80,19 +61,9 @@ fn a_pad_with_tresca_friction_has_the_condensed_forces_on_the_direct_path() {
 /// A 2 × 1 block (2D, 8 × 4) on a rigid floor, its top displaced by `top`,
 /// no support in x: held sideways by friction alone; `steps` appended.
 fn block_2d(friction: &str, top: &str, steps: &str) -> String {
-    [
-        material_2d(100.0, 0.3),
-        block_body([0.0, 0.0], [2.0, 1.0], [8, 4], ""),
-        rigid_plane("floor", [0.0, 0.0], [0.0, 1.0]),
-        named_block_boundary(
-            "press",
-            r#"surface = "top""#,
-            &format!("displacement = {top}"),
-        ),
-        block_contact("c", "bottom", "floor"),
-        format!("friction = {friction}\n{steps}\n"),
-    ]
-    .concat()
+    common::block_pressed_on_floor(top)
+        + &block_contact("c", "bottom", "floor")
+        + &format!("friction = {friction}\n{steps}\n")
 }
 
 #[test]

@@ -43,6 +43,16 @@ fn solved<S: AsRef<OsStr>>(args: &[S]) -> serde_json::Value {
     serde_json::from_slice(&out.stdout).unwrap()
 }
 
+/// The JSON line of `signorini local rigid_spheres.hdf5 ARGS...`, which
+/// must stop unconverged (exit 2).
+fn stopped_on_spheres(args: &[&str]) -> serde_json::Value {
+    let mut all = vec![data("rigid_spheres.hdf5").into_os_string()];
+    all.extend(args.iter().map(|a| a.into()));
+    let out = local(&all);
+    assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
+    serde_json::from_slice(&out.stdout).unwrap()
+}
+
 fn numbers(v: &serde_json::Value) -> Vec<f64> {
     v.as_array()
         .unwrap()
@@ -557,15 +567,7 @@ fn newton_solves_rank_deficient_problems_and_says_when_it_falls_back() {
     ]);
     assert_eq!(v["method"], "coulomb_3d_semismooth_newton", "{v}");
     assert!(v.get("fallback").is_none(), "{v}");
-    let out = local(&[
-        data("rigid_spheres.hdf5").as_os_str(),
-        "--friction".as_ref(),
-        "newton".as_ref(),
-        "--max-iterations".as_ref(),
-        "2".as_ref(),
-    ]);
-    assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
-    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let v = stopped_on_spheres(&["--friction", "newton", "--max-iterations", "2"]);
     assert_eq!(v["method"], "coulomb_3d_fixed_point", "{v}");
     assert_eq!(v["fallback"]["from"], "coulomb_3d_semismooth_newton", "{v}");
     assert!(
@@ -583,15 +585,7 @@ fn newton_solves_rank_deficient_problems_and_says_when_it_falls_back() {
 #[test]
 fn a_time_limit_ends_a_long_run_with_exit_2() {
     let started = std::time::Instant::now();
-    let out = local(&[
-        data("rigid_spheres.hdf5").as_os_str(),
-        "--friction".as_ref(),
-        "fixed_point".as_ref(),
-        "--time-limit".as_ref(),
-        "0.2".as_ref(),
-    ]);
-    assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
-    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let v = stopped_on_spheres(&["--friction", "fixed_point", "--time-limit", "0.2"]);
     assert_eq!(v["converged"], false, "{v}");
     assert!(
         v["stopping_reason"]

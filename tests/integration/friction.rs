@@ -2,7 +2,7 @@
 
 use crate::common;
 
-use common::{block_body, block_contact, example, material_2d, named_block_boundary, rigid_plane};
+use common::{block_body, block_contact, example, named_block_boundary, rigid_plane};
 use signorini_solver::{RunOptions, RunOutput, SolveError};
 
 fn solve(text: &str) -> Result<RunOutput, SolveError> {
@@ -28,14 +28,7 @@ fn resultants(o: &RunOutput, step: usize) -> (f64, f64) {
 /// top, with no support in x: sideways it is held by friction alone.
 fn block(friction: &str, top: &str, left_force: f64, extra: &str) -> String {
     [
-        material_2d(100.0, 0.3),
-        block_body([0.0, 0.0], [2.0, 1.0], [8, 4], ""),
-        rigid_plane("floor", [0.0, 0.0], [0.0, 1.0]),
-        named_block_boundary(
-            "press",
-            r#"surface = "top""#,
-            &format!("displacement = {top}"),
-        ),
+        common::block_pressed_on_floor(top),
         named_block_boundary(
             "push",
             r#"surface = "left""#,
@@ -118,10 +111,7 @@ fn zero_friction_equals_the_frictionless_answer() {
     ))
     .unwrap()
     .replace("divisions = 160", "divisions = 64");
-    let with = hertz.replace(
-        "discretization = \"node_to_segment\"",
-        "discretization = \"node_to_segment\"\nfriction = { coulomb = 0.0 }",
-    );
+    let with = common::with_friction(&hertz, "node_to_segment", "{ coulomb = 0.0 }");
     assert_ne!(with, hertz);
     let a = converged(&hertz);
     let b = converged(&with);
@@ -550,44 +540,15 @@ fn ssnv128_like_plate_balances_the_push_by_partial_slip() {
 /// A block pressed on a rigid plane with Norton–Hoff friction, dragged by
 /// 0.02 × `drag` at step 1 and by 0.02 at step 2.
 fn norton_hoff_block(rho: f64, drag: [f64; 2]) -> String {
-    format!(
-        r#"
-dimension = 2
-model = "plane_strain"
-[[materials]]
-name = "m"
-young = 100.0
-poisson = 0.3
-[[bodies]]
-name = "block"
-material = "m"
-mesh = {{ generator = "rectangle", origin = [0.0, 0.0], size = [1.0, 0.5], divisions = [8, 4] }}
-[[bodies]]
-name = "floor"
-rigid = {{ shape = "plane", point = [0.0, 0.0], normal = [0.0, 1.0] }}
-[[boundary]]
-name = "press"
-body = "block"
-surface = "top"
-displacement = {{ y = -0.01 }}
-[[boundary]]
-name = "drag"
-body = "block"
-surface = "top"
-displacement = {{ x = 0.02 }}
-[[contact]]
-name = "c"
-slave = {{ body = "block", surface = "bottom" }}
-master = {{ body = "floor" }}
-discretization = "node_to_segment"
-friction = {{ norton_hoff = 0.3, rho = {rho} }}
-[[steps]]
-scale = {{ press = 1.0, drag = {} }}
-[[steps]]
-scale = {{ press = 1.0, drag = {} }}
-"#,
-        drag[0], drag[1]
-    )
+    common::material_head(2, "plane_strain", 100.0, 0.3)
+        + &block_body([0.0, 0.0], [1.0, 0.5], [8, 4], "")
+        + &rigid_plane("floor", [0.0, 0.0], [0.0, 1.0])
+        + &named_block_boundary("press", "surface = \"top\"", "displacement = { y = -0.01 }")
+        + &named_block_boundary("drag", "surface = \"top\"", "displacement = { x = 0.02 }")
+        + &block_contact("c", "bottom", "floor")
+        + &format!("discretization = \"node_to_segment\"\nfriction = {{ norton_hoff = 0.3, rho = {rho} }}\n")
+        + &format!("[[steps]]\nscale = {{ press = 1.0, drag = {} }}\n", drag[0])
+        + &format!("[[steps]]\nscale = {{ press = 1.0, drag = {} }}\n", drag[1])
 }
 
 /// Norton–Hoff over two load steps: the law holds on the second step's slip
@@ -623,6 +584,13 @@ fn norton_hoff_over_two_steps_holds_its_law_on_each_increment() {
     }
 }
 
+/// blocks.toml with Coulomb friction (μ = 0.3), pressed then unloaded to no
+/// load over two more steps.
+fn pad_unloaded_to_no_load() -> String {
+    common::with_friction(&example("blocks.toml"), "node_to_node", "{ coulomb = 0.3 }")
+        + "\n[[steps]]\nscale = { pressure = 1.0 }\n[[steps]]\nscale = { pressure = 0.0 }\n"
+}
+
 /// A pad held by contact alone with friction, pressed then unloaded to no
 /// load at all (found by a fourth robustness sweep): the unloaded step's
 /// force and length scales were its own round-off (2.5e-32 and 6.7e-16), the
@@ -632,12 +600,7 @@ fn norton_hoff_over_two_steps_holds_its_law_on_each_increment() {
 /// steps before: the unloaded step is solved, with no force left.
 #[test]
 fn a_pad_with_friction_unloaded_to_no_load_is_solved_with_no_force() {
-    let text = example("blocks.toml").replace(
-        "discretization = \"node_to_node\"",
-        "discretization = \"node_to_node\"\nfriction = { coulomb = 0.3 }",
-    )
-        + "\n[[steps]]\nscale = { pressure = 1.0 }\n[[steps]]\nscale = { pressure = 0.0 }\n";
-    let out = converged(&text);
+    let out = converged(&pad_unloaded_to_no_load());
     let force = |step: usize| {
         let forces = common::at_step(&out, step, |r| {
             r.normal_force.abs().max(r.tangential_force.abs())
@@ -692,18 +655,9 @@ fn the_friction_examples_have_the_condensed_forces_on_the_direct_path() {
     let unloaded = example("cattaneo.toml") + "\n[[steps]]\nscale = { press = 1.0, pull = 0.5 }\n";
     on_both_paths(&unloaded, 1e-8);
     on_both_paths(&example("cyclic.toml"), 1e-8);
-    let pad = example("blocks.toml").replace(
-        "discretization = \"node_to_node\"",
-        "discretization = \"node_to_node\"\nfriction = { coulomb = 0.3 }",
-    )
-        + "\n[[steps]]\nscale = { pressure = 1.0 }\n[[steps]]\nscale = { pressure = 0.0 }\n";
-    on_both_paths(&pad, 1e-8);
-    let hertz = example("hertz2d.toml")
-        .replace("divisions = 160", "divisions = 64")
-        .replace(
-            "discretization = \"node_to_segment\"",
-            "discretization = \"node_to_segment\"\nfriction = { coulomb = 0.0 }",
-        );
+    on_both_paths(&pad_unloaded_to_no_load(), 1e-8);
+    let hertz = example("hertz2d.toml").replace("divisions = 160", "divisions = 64");
+    let hertz = common::with_friction(&hertz, "node_to_segment", "{ coulomb = 0.0 }");
     on_both_paths(&hertz, 1e-8);
     let held = block("{ coulomb = 0.3 }", "{ y = -0.01 }", 0.0, "")
         .replace("displacement = { y = -0.01 }", "traction = [0.0, -1.0]")
@@ -719,26 +673,29 @@ fn the_friction_examples_have_the_condensed_forces_on_the_direct_path() {
 fn the_direct_path_refuses_the_status_method_mprgp_and_norton_hoff_naming_them() {
     use common::twins::refused_on_direct;
     let partial = "{ x = 0.004, y = -0.01 }";
-    let status = block(
-        "{ coulomb = 0.4 }",
-        partial,
-        0.0,
-        "[solver]\nfriction = \"status\"",
-    );
-    refused_on_direct(&status, &["solver.friction = \"status\""]);
-    let mprgp = block(
-        "{ tresca = 0.12 }",
-        "{ x = 0.003, y = -0.01 }",
-        0.0,
-        "[solver]\nmethod = \"mprgp\"",
-    );
-    refused_on_direct(&mprgp, &["mprgp"]);
-    let nh = block(
-        "{ norton_hoff = 0.3, rho = 0.2 }",
-        "{ x = 0.2, y = -0.01 }",
-        0.0,
-        "",
-    );
-    refused_on_direct(&nh, &["Norton-Hoff"]);
+    let status = "[solver]\nfriction = \"status\"";
+    let mprgp = "[solver]\nmethod = \"mprgp\"";
+    for (friction, top, extra, needle) in [
+        (
+            "{ coulomb = 0.4 }",
+            partial,
+            status,
+            "solver.friction = \"status\"",
+        ),
+        (
+            "{ tresca = 0.12 }",
+            "{ x = 0.003, y = -0.01 }",
+            mprgp,
+            "mprgp",
+        ),
+        (
+            "{ norton_hoff = 0.3, rho = 0.2 }",
+            "{ x = 0.2, y = -0.01 }",
+            "",
+            "Norton-Hoff",
+        ),
+    ] {
+        refused_on_direct(&block(friction, top, 0.0, extra), &[needle]);
+    }
     refused_on_direct(&norton_hoff_block(0.2, [0.5, 1.0]), &["Norton-Hoff"]);
 }

@@ -8,7 +8,7 @@ use crate::common;
 use common::{
     assert_patch_test_passes, assert_reference_within, block_body, block_boundary, block_contact,
     cli_run_ok, converged, example, material_2d, max_rel, named_block_boundary, reference_error,
-    rigid_plane, try_run, with_subdomains,
+    rigid_plane, try_run, with_friction, with_subdomains,
 };
 use signorini_scene::SolvePath;
 use signorini_solver::{RunOptions, SolveError};
@@ -88,6 +88,35 @@ fn hertz_sphere_axisymmetric_quadratic_coarse_arc_has_a_finite_pole_pressure() {
     }
 }
 
+/// A cylinder (axisymmetric, E = 1, ν = 0.3) of 30 × 15 quad8 cells pressed
+/// by its top onto a rigid plane with Tresca friction (g = 0.001), half the
+/// press at step 1 and all of it at step 2.
+fn pressed_quad8_cylinder() -> String {
+    "model = \"axisymmetric\"\n".to_string()
+        + &material_2d(1.0, 0.3)
+        + &block_body([0.0, 0.0], [2.0, 1.0], [30, 15], ", element = \"quad8\"")
+        + &rigid_plane("ground", [0.0, 0.0], [0.0, 1.0])
+        + &named_block_boundary("press", "surface = \"top\"", "displacement = { y = -0.01 }")
+        + &block_contact("c", "bottom", "ground")
+        + "friction = { tresca = 0.001 }\n"
+        + "[[steps]]\nscale = { press = 0.5 }\n[[steps]]\nscale = { press = 1.0 }\n"
+}
+
+/// indent3d.toml on 16 × 16 × 2 cells with Coulomb friction (μ = 0.3), its
+/// slab in two subdomains.
+fn indent_with_friction_in_two_subdomains() -> String {
+    example("indent3d.toml")
+        .replace("divisions = [40, 40, 2]", "divisions = [16, 16, 2]")
+        .replace(
+            "search_distance = 0.01\n",
+            "search_distance = 0.01\nfriction = { coulomb = 0.3 }\n",
+        )
+        .replace(
+            "material = \"steel\"\n",
+            "material = \"steel\"\nsubdomains = 2\n",
+        )
+}
+
 /// An axis corner of a quad8 block that lifts off is open with no pressure
 /// (found by a fourth robustness sweep): a cylinder pressed on a rigid plane
 /// with Tresca friction, 30 × 15 quad8 cells; at the second step the corner
@@ -96,15 +125,7 @@ fn hertz_sphere_axisymmetric_quadratic_coarse_arc_has_a_finite_pole_pressure() {
 /// pressure, 9.65e-3.
 #[test]
 fn an_open_axis_corner_of_a_quadratic_block_has_no_pressure() {
-    let text = "model = \"axisymmetric\"\n".to_string()
-        + &material_2d(1.0, 0.3)
-        + &block_body([0.0, 0.0], [2.0, 1.0], [30, 15], ", element = \"quad8\"")
-        + &rigid_plane("ground", [0.0, 0.0], [0.0, 1.0])
-        + &named_block_boundary("press", "surface = \"top\"", "displacement = { y = -0.01 }")
-        + &block_contact("c", "bottom", "ground")
-        + "friction = { tresca = 0.001 }\n"
-        + "[[steps]]\nscale = { press = 0.5 }\n[[steps]]\nscale = { press = 1.0 }\n";
-    let out = converged(&text, RunOptions::default());
+    let out = converged(&pressed_quad8_cylinder(), RunOptions::default());
     let axis: Vec<_> = out.contact_rows.iter().filter(|r| r.x[0] == 0.0).collect();
     assert_eq!(axis.len(), 2);
     assert_eq!(axis[1].status, "open", "{:?}", axis[1]);
@@ -328,10 +349,7 @@ fn frictionless_contact_nodes_are_condensed_on_their_normal_only() {
         &c.bodies[0].last().displacement,
     );
     assert!(r <= 1e-9, "parts: {r:e}");
-    let friction = text.replace(
-        "discretization = \"node_to_face\"",
-        "discretization = \"node_to_face\"\nfriction = { coulomb = 0.3 }",
-    );
+    let friction = with_friction(&text, "node_to_face", "{ coulomb = 0.3 }");
     let d = converged(&friction, RunOptions::default());
     assert_eq!(d.report.interface_dofs, 3 * d.report.contact_points);
 }
@@ -360,17 +378,7 @@ fn the_vtu_files_carry_the_friction_force_and_slip_as_global_vectors() {
     let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("solids_friction_vectors");
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
-    let text = example("indent3d.toml")
-        .replace("divisions = [40, 40, 2]", "divisions = [16, 16, 2]")
-        .replace(
-            "search_distance = 0.01\n",
-            "search_distance = 0.01\nfriction = { coulomb = 0.3 }\n",
-        )
-        .replace(
-            "material = \"steel\"\n",
-            "material = \"steel\"\nsubdomains = 2\n",
-        )
-        + "\n[output]\npieces = true\n";
+    let text = indent_with_friction_in_two_subdomains() + "\n[output]\npieces = true\n";
     assert!(text.contains("coulomb") && text.contains("subdomains = 2"));
     let scene = dir.join("indent_friction.toml");
     std::fs::write(&scene, text).unwrap();
@@ -456,31 +464,10 @@ fn the_vtu_files_carry_the_friction_force_and_slip_as_global_vectors() {
 #[test]
 fn the_friction_scenes_of_solids_have_the_condensed_forces_on_the_direct_path() {
     use common::twins::on_both_paths;
-    let axi = "model = \"axisymmetric\"\n".to_string()
-        + &material_2d(1.0, 0.3)
-        + &block_body([0.0, 0.0], [2.0, 1.0], [30, 15], ", element = \"quad8\"")
-        + &rigid_plane("ground", [0.0, 0.0], [0.0, 1.0])
-        + &named_block_boundary("press", "surface = \"top\"", "displacement = { y = -0.01 }")
-        + &block_contact("c", "bottom", "ground")
-        + "friction = { tresca = 0.001 }\n"
-        + "[[steps]]\nscale = { press = 0.5 }\n[[steps]]\nscale = { press = 1.0 }\n";
-    on_both_paths(&axi, 1e-8);
-    let hertz = example("hertz3d.toml")
-        .replace("divisions = 12", "divisions = 6")
-        .replace(
-            "discretization = \"node_to_face\"",
-            "discretization = \"node_to_face\"\nfriction = { coulomb = 0.3 }",
-        );
+    on_both_paths(&pressed_quad8_cylinder(), 1e-8);
+    let hertz = example("hertz3d.toml").replace("divisions = 12", "divisions = 6");
+    let hertz = with_friction(&hertz, "node_to_face", "{ coulomb = 0.3 }");
     on_both_paths(&hertz, 1e-8);
-    let indent = example("indent3d.toml")
-        .replace("divisions = [40, 40, 2]", "divisions = [16, 16, 2]")
-        .replace(
-            "search_distance = 0.01\n",
-            "search_distance = 0.01\nfriction = { coulomb = 0.3 }\n",
-        )
-        .replace(
-            "material = \"steel\"\n",
-            "material = \"steel\"\nsubdomains = 2\n",
-        );
+    let indent = indent_with_friction_in_two_subdomains();
     on_both_paths(&indent, 1e-8);
 }

@@ -34,6 +34,7 @@ use faer::sparse::{SparseColMat, SparseColMatRef};
 use faer::{Mat, MatMut, Par, Side};
 
 use crate::CondenseError;
+use signorini_linalg::products::subtract_product;
 
 /// What [`schur_by_stopped_factorisation`] gives back.
 pub(crate) enum Stopped {
@@ -160,14 +161,7 @@ fn finish_last_supernode(
         // L_BRᵀ = L_RR⁻¹ X_RB.
         let mut l_br_t = x.as_ref().get(r.., ..r).transpose().to_owned();
         faer::linalg::triangular_solve::solve_lower_triangular_in_place(l_rr, l_br_t.as_mut(), par);
-        faer::linalg::matmul::matmul(
-            schur.as_mut(),
-            faer::Accum::Add,
-            l_br_t.transpose(),
-            l_br_t.as_ref(),
-            -1.0,
-            par,
-        );
+        subtract_product(schur.as_mut(), l_br_t.transpose(), l_br_t.as_ref(), par);
         for j in 0..r {
             for i in j..r {
                 x[(i, j)] = l_rr[(i, j)];

@@ -197,17 +197,27 @@ pub(crate) fn check_input(w: &Mat<f64>, q: &[f64], method: &str) -> Result<(), C
             w.ncols()
         )));
     }
-    if let Some(p) = q.iter().position(|v| !v.is_finite()) {
+    check_finite(method, ("W", w), ("q", q))
+}
+
+/// Rejects the first non-finite entry of the vector `b` then of the matrix
+/// `a` (column by column), naming it: "METHOD: q[i] = ... is not finite".
+pub(crate) fn check_finite(
+    method: &str,
+    (a_name, a): (&str, &Mat<f64>),
+    (b_name, b): (&str, &[f64]),
+) -> Result<(), ContactError> {
+    if let Some(p) = b.iter().position(|v| !v.is_finite()) {
         return Err(ContactError::Solve(format!(
-            "{method}: q[{p}] = {} is not finite",
-            q[p]
+            "{method}: {b_name}[{p}] = {} is not finite",
+            b[p]
         )));
     }
-    for j in 0..m {
-        if let Some(i) = w.col_as_slice(j).iter().position(|v| !v.is_finite()) {
+    for j in 0..a.ncols() {
+        if let Some(i) = a.col_as_slice(j).iter().position(|v| !v.is_finite()) {
             return Err(ContactError::Solve(format!(
-                "{method}: W[({i}, {j})] = {} is not finite",
-                w[(i, j)]
+                "{method}: {a_name}[({i}, {j})] = {} is not finite",
+                a[(i, j)]
             )));
         }
     }

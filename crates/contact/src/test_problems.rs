@@ -6,7 +6,7 @@ use faer::Mat;
 use crate::active_set::signorini::{status_method, StatusOptions, StatusVariant};
 use crate::friction::{FrictionLaw, FrictionLayout, FrictionOptions};
 use crate::lcp::{gaps, LcpOptions};
-use crate::solution::ContactSolution;
+use crate::solution::{ContactSolution, SolverReport, StopReason};
 use crate::DelassusProblem;
 
 /// The options of the LCP methods' tests: a tolerance and an iteration limit.
@@ -283,4 +283,17 @@ pub fn assert_solves_redundant(
             g0[i]
         );
     }
+}
+
+/// Asserts that a run stopped on its time limit after its first iteration,
+/// not converged.
+#[track_caller]
+pub fn assert_stopped_by_the_time_limit_after_one_iteration(report: &SolverReport) {
+    assert!(!report.converged);
+    assert_eq!(report.iterations, 1);
+    assert!(
+        matches!(report.stop, StopReason::TimeLimit { iterations: 1, .. }),
+        "{}",
+        report.stop
+    );
 }

@@ -621,22 +621,11 @@ fn pair(
     Ok(paired.ok_or(Unpaired::Missed))
 }
 
-/// Node-to-segment contact points (course notes §3.1.2, Fig. 6), in 2D and 3D (where
-/// it is node-to-face, [`node_to_face`] is the same function): each slave
+/// Node-to-segment contact points (course notes §3.1.2, Fig. 6), in 2D and
+/// 3D (where it is node-to-face), and the slave nodes left out: each slave
 /// node is paired with a point of the master surface (or of the rigid plane
 /// or sphere) by the normal rule (see [`pair`]); the row's master weights
-/// are the master's shape functions there. The points of
-/// [`node_to_segment_pairing`], without the count of the nodes left out.
-pub fn node_to_segment(
-    slave_mesh: &Mesh,
-    slave_surface: &Surface,
-    master: &MasterGeometry<'_>,
-    rule: NormalRule,
-) -> Result<Vec<ContactPoint>, GeometryError> {
-    node_to_segment_pairing(slave_mesh, slave_surface, master, rule).map(|p| p.points)
-}
-
-/// Node-to-segment contact points and the slave nodes left out.
+/// are the master's shape functions there.
 ///
 /// A slave node is not a contact point when (counted in [`Dropped`]):
 /// - its closest master point is farther than the [`search_distance`];
@@ -689,34 +678,13 @@ pub fn node_to_segment_pairing(
     Ok(out)
 }
 
-/// Node-to-face contact points: the 3D name of [`node_to_segment`] (the same
-/// function, for 2D and 3D).
-pub fn node_to_face(
-    slave_mesh: &Mesh,
-    slave_surface: &Surface,
-    master: &MasterGeometry<'_>,
-    rule: NormalRule,
-) -> Result<Vec<ContactPoint>, GeometryError> {
-    node_to_segment(slave_mesh, slave_surface, master, rule)
-}
-
-/// Node-to-node contact points for matching meshes (course notes §3.1.2, Fig. 4), in
-/// 2D and 3D: each slave node faces the nearest master node (R*-tree search;
-/// ties to the lowest node number); the pair must coincide within a relative
-/// tolerance (10⁻⁶) of the slave body's size unless a gap separates them
-/// along the normal. The points of [`node_to_node_pairing`].
-pub fn node_to_node(
-    slave_mesh: &Mesh,
-    slave_surface: &Surface,
-    master: &MasterGeometry<'_>,
-    rule: NormalRule,
-) -> Result<Vec<ContactPoint>, GeometryError> {
-    node_to_node_pairing(slave_mesh, slave_surface, master, rule).map(|p| p.points)
-}
-
-/// Node-to-node contact points and the slave nodes left out: those whose
-/// nearest master node is farther than the [`search_distance`] (counted as
-/// `far`; they are not asked to face a master node).
+/// Node-to-node contact points for matching meshes (course notes §3.1.2,
+/// Fig. 4), in 2D and 3D: each slave node faces the nearest master node
+/// (R*-tree search; ties to the lowest node number); the pair must coincide
+/// within a relative tolerance (10⁻⁶) of the slave body's size unless a gap
+/// separates them along the normal. The slave nodes left out are those
+/// whose nearest master node is farther than the [`search_distance`]
+/// (counted as `far`; they are not asked to face a master node).
 pub fn node_to_node_pairing(
     slave_mesh: &Mesh,
     slave_surface: &Surface,

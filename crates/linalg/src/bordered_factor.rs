@@ -24,9 +24,10 @@ use faer::perm::PermRef;
 use faer::reborrow::{Reborrow, ReborrowMut};
 #[cfg(test)]
 use faer::Mat;
-use faer::{Accum, Conj, MatMut, MatRef};
+use faer::{Conj, MatMut, MatRef};
 
 use crate::pivot_policy::pivots_are_safe;
+use crate::products::subtract_product;
 
 /// Why a block was not factorised; the buffer is given back either way.
 pub enum FactorFailure {
@@ -77,7 +78,7 @@ impl BorderedFactor {
             par,
             MemStack::new(&mut mem),
         );
-        faer::linalg::matmul::matmul(a22.rb_mut(), Accum::Add, a21.rb(), a12.rb(), -1.0, par);
+        subtract_product(a22.rb_mut(), a21.rb(), a12.rb(), par);
         lu::factor::lu_in_place(
             a22.rb_mut(),
             &mut perm,
@@ -124,7 +125,7 @@ impl BorderedFactor {
             par,
             MemStack::new(&mut mem),
         );
-        faer::linalg::matmul::matmul(b2.rb_mut(), Accum::Add, a21, b1.rb(), -1.0, par);
+        subtract_product(b2.rb_mut(), a21, b1.rb(), par);
         // Safety of the permutation: `perm` and `perm_inv` come from
         // `lu_in_place` on this block and are inverse to each other.
         let perm = PermRef::new_checked(&self.perm, &self.perm_inv, n - n1);
@@ -137,7 +138,7 @@ impl BorderedFactor {
             par,
             MemStack::new(&mut mem),
         );
-        faer::linalg::matmul::matmul(b1.rb_mut(), Accum::Add, x, b2.rb(), -1.0, par);
+        subtract_product(b1.rb_mut(), x, b2.rb(), par);
     }
 
     /// x = A⁻¹ rhs.

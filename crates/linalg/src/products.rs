@@ -1,10 +1,16 @@
 //! Products with a dense column-major matrix W (the Delassus operator, m × m):
 //! y = W x with the rows shared between the cores, and the affine map
-//! W x + q.
+//! W x + q; the update C −= A B of block eliminations.
 
 use std::ops::Range;
 
-use faer::Mat;
+use faer::{Accum, Mat, MatMut, MatRef, Par};
+
+/// C −= A B (faer's product, accumulated into C): the Schur-complement
+/// update of a block elimination.
+pub fn subtract_product(c: MatMut<'_, f64>, a: MatRef<'_, f64>, b: MatRef<'_, f64>, par: Par) {
+    faer::linalg::matmul::matmul(c, Accum::Add, a, b, -1.0, par);
+}
 
 /// y = W x (W column-major, m × m), the rows shared between the cores.
 pub fn matvec(w: &Mat<f64>, x: &[f64], y: &mut [f64]) {

@@ -35,6 +35,18 @@ fn second_order_kind(kind: CellKind) -> Option<CellKind> {
     }
 }
 
+/// An error `"{what}, this mesh is {d}D"` unless `mesh` is of dimension `dim`.
+pub(crate) fn of_dimension(mesh: &Mesh, dim: usize, what: &str) -> Result<(), MeshError> {
+    if mesh.dim == dim {
+        Ok(())
+    } else {
+        Err(MeshError::Invalid(format!(
+            "{what}, this mesh is {}D",
+            mesh.dim
+        )))
+    }
+}
+
 /// The same mesh with Tri3 cells turned into Tri6 and Quad4 cells into Quad8
 /// (2D meshes only).
 ///
@@ -50,12 +62,11 @@ fn second_order_kind(kind: CellKind) -> Option<CellKind> {
 /// Errors: a 3D mesh, a cell that is not Tri3 or Quad4 (including cells that are
 /// already second-order), or a surface facet that is not a 2-node edge of its cell.
 pub fn to_second_order(mesh: &Mesh) -> Result<Mesh, MeshError> {
-    if mesh.dim != 2 {
-        return Err(MeshError::Invalid(format!(
-            "to_second_order: only 2D meshes (Tri3, Quad4) can be made second-order, this mesh is {}D",
-            mesh.dim
-        )));
-    }
+    of_dimension(
+        mesh,
+        2,
+        "to_second_order: only 2D meshes (Tri3, Quad4) can be made second-order",
+    )?;
     let mut coords = mesh.coords.clone();
     let key = |a: usize, b: usize| (a.min(b), a.max(b));
     let mut mid: HashMap<(usize, usize), usize> = HashMap::new();

@@ -8,7 +8,7 @@
 //! of each face through its lowest-numbered corner, so two cells sharing a
 //! face cut it alike and the tetrahedra are conforming on any hexahedral mesh.
 
-use crate::quadratic::mid_node;
+use crate::quadratic::{mid_node, of_dimension};
 use crate::vec3::{cross, dot, sub};
 use crate::{Cell, CellKind, Facet, Mesh, MeshError, Surface};
 use std::collections::{BTreeMap, HashMap};
@@ -81,12 +81,7 @@ fn carry_surfaces(
 /// Errors: a 2D mesh, a cell that is not Tet4 or Hex8, or a surface facet
 /// that is not a face of its cell.
 pub fn to_second_order_3d(mesh: &Mesh) -> Result<Mesh, MeshError> {
-    if mesh.dim != 3 {
-        return Err(MeshError::Invalid(format!(
-            "to_second_order_3d: only 3D meshes (tet4, hex8), this mesh is {}D",
-            mesh.dim
-        )));
-    }
+    of_dimension(mesh, 3, "to_second_order_3d: only 3D meshes (tet4, hex8)")?;
     let mut coords = mesh.coords.clone();
     let mut mids: HashMap<(usize, usize), usize> = HashMap::new();
     let mut cells = Vec::with_capacity(mesh.cells.len());

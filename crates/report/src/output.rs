@@ -33,7 +33,7 @@ pub fn write_outputs(
         .iter()
         .any(|s| s.sticking + s.slipping > 0);
     if friction && output.report.steps.len() >= 3 {
-        use crate::plot::{linear_svg, Series};
+        use crate::plot::{plot_svg, Axes, Series};
         let points = std::iter::once((0.0, 0.0))
             .chain(
                 output
@@ -47,12 +47,12 @@ pub fn write_outputs(
             label: "tangential contact force".into(),
             points,
         }];
-        if let Err(e) = linear_svg(
+        if let Err(e) = plot_svg(
             &dir.join("friction.svg"),
             "Tangential force against slip",
-            "mean slip",
-            "tangential contact force",
+            ("mean slip", "tangential contact force"),
             &series,
+            Axes::Linear,
         ) {
             output
                 .report

@@ -10,47 +10,64 @@ pub struct Series {
     pub points: Vec<(f64, f64)>,
 }
 
-/// Writes a log-log plot of the series to `path` (SVG).
-pub fn loglog_svg(
+/// The axes of a plot.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Axes {
+    /// Logarithmic x and y: only the points with x > 0 and y > 0 are drawn.
+    LogLog,
+    /// Linear x and y (for loops such as force against slip).
+    Linear,
+}
+
+/// Writes a plot of the series to `path` (SVG) titled `title`, its axes
+/// `axes` labelled `labels` (x, y).
+pub fn plot_svg(
     path: &std::path::Path,
     title: &str,
-    x_label: &str,
-    y_label: &str,
+    labels: (&str, &str),
     series: &[Series],
+    axes: Axes,
 ) -> Result<(), String> {
-    let Some((x0, x1, y0, y1)) = extent(series, |x, y| x > 0.0 && y > 0.0) else {
-        return Err(format!("{title}: nothing positive to plot"));
+    let keep: fn(f64, f64) -> bool = match axes {
+        Axes::LogLog => |x: f64, y: f64| x > 0.0 && y > 0.0,
+        Axes::Linear => |_: f64, _: f64| true,
     };
-    let pad = |lo: f64, hi: f64| {
-        if hi > lo * 1.01 {
-            (lo / 1.5, hi * 1.5)
-        } else {
-            (lo / 2.0, hi * 2.0)
-        }
+    let Some((x0, x1, y0, y1)) = extent(series, keep) else {
+        return Err(match axes {
+            Axes::LogLog => format!("{title}: nothing positive to plot"),
+            Axes::Linear => format!("{title}: nothing to plot"),
+        });
     };
-    let (x0, x1) = pad(x0, x1);
-    let (y0, y1) = pad(y0, y1);
     let lines = series
         .iter()
         .map(|s| {
-            let line: Vec<(f64, f64)> = s
-                .points
-                .iter()
-                .copied()
-                .filter(|(x, y)| *x > 0.0 && *y > 0.0)
-                .collect();
-            (s.label.clone(), line)
+            let line = (s.points.iter().copied()).filter(|&(x, y)| keep(x, y));
+            (s.label.clone(), line.collect())
         })
         .collect();
-    draw_svg(
-        path,
-        title,
-        (x_label, y_label),
-        (70, 1),
-        ((x0..x1).log_scale(), (y0..y1).log_scale()),
-        lines,
-        Some(SeriesLabelPosition::UpperRight),
-    )
+    match axes {
+        Axes::LogLog => {
+            let pad = |lo: f64, hi: f64| {
+                if hi > lo * 1.01 {
+                    (lo / 1.5, hi * 1.5)
+                } else {
+                    (lo / 2.0, hi * 2.0)
+                }
+            };
+            let ((x0, x1), (y0, y1)) = (pad(x0, x1), pad(y0, y1));
+            let ranges = ((x0..x1).log_scale(), (y0..y1).log_scale());
+            let legend = Some(SeriesLabelPosition::UpperRight);
+            draw_svg(path, title, labels, (70, 1), ranges, lines, legend)
+        }
+        Axes::Linear => {
+            let pad = |lo: f64, hi: f64| {
+                let d = (hi - lo).abs().max(1e-300 + 1e-9 * hi.abs().max(lo.abs()));
+                (lo - 0.08 * d, hi + 0.08 * d)
+            };
+            let ((x0, x1), (y0, y1)) = (pad(x0, x1), pad(y0, y1));
+            draw_svg(path, title, labels, (80, 2), (x0..x1, y0..y1), lines, None)
+        }
+    }
 }
 
 /// The smallest and largest x and y, (x0, x1, y0, y1), of the series'
@@ -130,38 +147,6 @@ where
     Ok(())
 }
 
-/// Writes a plot with linear axes (for loops such as force against slip).
-pub fn linear_svg(
-    path: &std::path::Path,
-    title: &str,
-    x_label: &str,
-    y_label: &str,
-    series: &[Series],
-) -> Result<(), String> {
-    let Some((x0, x1, y0, y1)) = extent(series, |_, _| true) else {
-        return Err(format!("{title}: nothing to plot"));
-    };
-    let pad = |lo: f64, hi: f64| {
-        let d = (hi - lo).abs().max(1e-300 + 1e-9 * hi.abs().max(lo.abs()));
-        (lo - 0.08 * d, hi + 0.08 * d)
-    };
-    let (x0, x1) = pad(x0, x1);
-    let (y0, y1) = pad(y0, y1);
-    let lines = series
-        .iter()
-        .map(|s| (s.label.clone(), s.points.clone()))
-        .collect();
-    draw_svg(
-        path,
-        title,
-        (x_label, y_label),
-        (80, 2),
-        (x0..x1, y0..y1),
-        lines,
-        None,
-    )
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -180,19 +165,14 @@ mod tests {
                 points: vec![(1e3, 1e-1), (4e3, 9e-2)],
             },
         ];
-        loglog_svg(&path, "t", "x", "y", &series).unwrap();
+        plot_svg(&path, "t", ("x", "y"), &series, Axes::LogLog).unwrap();
         let svg = std::fs::read_to_string(&path).unwrap();
         assert!(svg.starts_with("<svg") && svg.contains("condensed") && svg.contains("direct"));
-        assert!(loglog_svg(
-            &path,
-            "t",
-            "x",
-            "y",
-            &[Series {
-                label: "z".into(),
-                points: vec![(0.0, 1.0)]
-            }]
-        )
-        .is_err());
+        let zero = [Series {
+            label: "z".into(),
+            points: vec![(0.0, 1.0)],
+        }];
+        assert!(plot_svg(&path, "t", ("x", "y"), &zero, Axes::LogLog).is_err());
+        plot_svg(&path, "t", ("x", "y"), &zero, Axes::Linear).unwrap();
     }
 }

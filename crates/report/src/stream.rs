@@ -25,18 +25,23 @@ use crate::vtu::{
 };
 use crate::ContactRow;
 
+/// What a load step that ended sends to its [`StepSink`].
+#[derive(Clone, Copy)]
+pub struct StepResults<'a> {
+    /// The load step, 1-based.
+    pub step: usize,
+    /// The bodies' meshes (their `history` is not read).
+    pub bodies: &'a [BodyResult],
+    /// When the scene writes this step's fields: every body's fields.
+    pub fields: Option<&'a [StepFields]>,
+    /// Its contact.csv rows.
+    pub rows: &'a [ContactRow],
+}
+
 /// Where the root sends each load step's results as the step ends.
 pub trait StepSink {
-    /// Load step `step` (1-based) ended: its contact.csv rows and, when the
-    /// scene writes this step's fields, every body's fields (`bodies`: the
-    /// bodies' meshes, whose `history` is not read).
-    fn step(
-        &mut self,
-        step: usize,
-        bodies: &[BodyResult],
-        fields: Option<&[StepFields]>,
-        rows: &[ContactRow],
-    ) -> Result<(), String>;
+    /// A load step ended with `results`.
+    fn step(&mut self, results: StepResults<'_>) -> Result<(), String>;
 
     /// The run starts again from its first step (the candidate zone was
     /// widened): forget the steps received so far.
@@ -63,15 +68,9 @@ pub struct StepsInMemory {
 }
 
 impl StepSink for StepsInMemory {
-    fn step(
-        &mut self,
-        _step: usize,
-        _bodies: &[BodyResult],
-        fields: Option<&[StepFields]>,
-        rows: &[ContactRow],
-    ) -> Result<(), String> {
-        self.rows.extend_from_slice(rows);
-        if let Some(f) = fields {
+    fn step(&mut self, results: StepResults<'_>) -> Result<(), String> {
+        self.rows.extend_from_slice(results.rows);
+        if let Some(f) = results.fields {
             self.fields.push(f.to_vec());
         }
         Ok(())
@@ -170,13 +169,13 @@ impl FieldWriter {
     }
 
     /// Writes one step (see [`StepSink::step`]).
-    fn write_step(
-        &mut self,
-        step: usize,
-        bodies: &[BodyResult],
-        fields: Option<&[StepFields]>,
-        rows: &[ContactRow],
-    ) -> Result<(), String> {
+    fn write_step(&mut self, results: StepResults<'_>) -> Result<(), String> {
+        let StepResults {
+            step,
+            bodies,
+            fields,
+            rows,
+        } = results;
         let stage = self.stage().map_err(|e| e.to_string())?;
         let dim = self.request.dim;
         if self.contact.is_none() {
@@ -331,14 +330,8 @@ impl FieldWriter {
 }
 
 impl StepSink for FieldWriter {
-    fn step(
-        &mut self,
-        step: usize,
-        bodies: &[BodyResult],
-        fields: Option<&[StepFields]>,
-        rows: &[ContactRow],
-    ) -> Result<(), String> {
-        self.write_step(step, bodies, fields, rows)
+    fn step(&mut self, results: StepResults<'_>) -> Result<(), String> {
+        self.write_step(results)
             .map_err(|e| format!("cannot write the output in {}: {e}", self.dir.display()))
     }
 

@@ -435,26 +435,16 @@ fn generator_checks() {
 
 #[test]
 fn body_checks() {
-    let (e, _) = invalid_entry(&BASE.replace("name = \"ground\"", "name = \"plate\""));
-    assert_eq!(e, "bodies[1].name");
-    let (e, m) = invalid_entry(&BASE.replace(
-        "rigid = { shape = \"plane\"",
-        "mesh = { file = \"a.msh\" }\nrigid = { shape = \"plane\"",
-    ));
-    assert_eq!(e, "bodies[1]");
-    assert!(m.contains("not both"), "{m}");
-    let (e, _) =
-        invalid_entry(&BASE.replace("name = \"plate\"", "name = \"plate\"\nsubdomains = 0"));
-    assert_eq!(e, "bodies[0].subdomains");
-    let (e, _) = invalid_entry(&BASE.replace("normal = [0.0, 1.0]", "normal = [0.0, 0.0]"));
-    assert_eq!(e, "bodies[1].rigid.normal");
-    let (e, _) = invalid_entry(&BASE.replace("normal = [0.0, 1.0]", "normal = [0.0, 1.0, 0.0]"));
-    assert_eq!(e, "bodies[1].rigid.normal");
-    let (e, _) = invalid_entry(&BASE.replace(
-        "{ shape = \"plane\", point = [0.0, 0.0], normal = [0.0, 1.0] }",
-        "{ shape = \"sphere\", center = [0.0, 0.0], radius = 1.0 }",
-    ));
-    assert_eq!(e, "bodies[1].rigid.shape");
+    #[rustfmt::skip]
+    let edits: [(&str, &str, &str, &[&str]); 6] = [
+        ("name = \"ground\"", "name = \"plate\"", "bodies[1].name", &[]),
+        ("rigid = { shape = \"plane\"", "mesh = { file = \"a.msh\" }\nrigid = { shape = \"plane\"", "bodies[1]", &["not both"]),
+        ("name = \"plate\"", "name = \"plate\"\nsubdomains = 0", "bodies[0].subdomains", &[]),
+        ("normal = [0.0, 1.0]", "normal = [0.0, 0.0]", "bodies[1].rigid.normal", &[]),
+        ("normal = [0.0, 1.0]", "normal = [0.0, 1.0, 0.0]", "bodies[1].rigid.normal", &[]),
+        ("{ shape = \"plane\", point = [0.0, 0.0], normal = [0.0, 1.0] }", "{ shape = \"sphere\", center = [0.0, 0.0], radius = 1.0 }", "bodies[1].rigid.shape", &[]),
+    ];
+    assert_invalid_edits(&edits);
     let ok = parse_toml(&BASE.replace(
         "{ shape = \"plane\", point = [0.0, 0.0], normal = [0.0, 1.0] }",
         "{ shape = \"circle\", center = [0.0, -1.0], radius = 1.0 }",
@@ -484,33 +474,20 @@ fn subdomains_both_forms() {
 
 #[test]
 fn boundary_checks() {
-    let (e, m) = invalid_entry(&BASE.replace("body = \"plate\"", "body = \"plat\""));
-    assert_eq!(e, "boundary[0].body");
-    assert!(m.contains("\"plate\"") && m.contains("\"ground\""), "{m}");
-    let (e, m) = invalid_entry(&BASE.replace("body = \"plate\"", "body = \"ground\""));
-    assert_eq!(e, "boundary[0].body");
-    assert!(m.contains("rigid"), "{m}");
-    let (e, _) = invalid_entry(&BASE.replace("surface = \"top\"\n", ""));
-    assert_eq!(e, "boundary[0]");
-    let (e, _) =
-        invalid_entry(&BASE.replace("surface = \"top\"", "surface = \"top\"\npoint = [0, 0]"));
-    assert_eq!(e, "boundary[0]");
-    let (e, _) = invalid_entry(&BASE.replace("surface = \"top\"", "point = [0, 0, 0]"));
-    assert_eq!(e, "boundary[0].point");
-    let (e, _) = invalid_entry(&BASE.replace("displacement = { y = -0.01 }", "displacement = {}"));
-    assert_eq!(e, "boundary[0].displacement");
-    let (e, _) =
-        invalid_entry(&BASE.replace("displacement = { y = -0.01 }", "displacement = { z = 1 }"));
-    assert_eq!(e, "boundary[0].displacement.z");
-    let (e, m) = invalid_entry(&BASE.replace(
-        "displacement = { y = -0.01 }",
-        "displacement = { y = -0.01 }\nforce = [0, 1]",
-    ));
-    assert_eq!(e, "boundary[0]");
-    assert!(m.contains("exactly one"), "{m}");
-    let (e, _) =
-        invalid_entry(&BASE.replace("displacement = { y = -0.01 }", "traction = [0, 1, 2]"));
-    assert_eq!(e, "boundary[0].traction");
+    let press = "displacement = { y = -0.01 }";
+    #[rustfmt::skip]
+    let edits: [(&str, &str, &str, &[&str]); 9] = [
+        ("body = \"plate\"", "body = \"plat\"", "boundary[0].body", &["\"plate\"", "\"ground\""]),
+        ("body = \"plate\"", "body = \"ground\"", "boundary[0].body", &["rigid"]),
+        ("surface = \"top\"\n", "", "boundary[0]", &[]),
+        ("surface = \"top\"", "surface = \"top\"\npoint = [0, 0]", "boundary[0]", &[]),
+        ("surface = \"top\"", "point = [0, 0, 0]", "boundary[0].point", &[]),
+        (press, "displacement = {}", "boundary[0].displacement", &[]),
+        (press, "displacement = { z = 1 }", "boundary[0].displacement.z", &[]),
+        (press, "displacement = { y = -0.01 }\nforce = [0, 1]", "boundary[0]", &["exactly one"]),
+        (press, "traction = [0, 1, 2]", "boundary[0].traction", &[]),
+    ];
+    assert_invalid_edits(&edits);
     let m = parse_err(&BASE.replace("displacement = { y = -0.01 }", "displacement = { w = 1 }"));
     assert!(m.contains("`w`") && m.contains("line"), "{m}");
     let text = with(

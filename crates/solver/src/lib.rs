@@ -55,7 +55,7 @@ mod ties;
 pub mod timing;
 
 pub use signorini_report::results::{BodyResult, RunOutput, StepFields};
-pub use signorini_report::stream::{FieldWriter, StepSink, StepsInMemory};
+pub use signorini_report::stream::{FieldWriter, StepResults, StepSink, StepsInMemory};
 
 pub use error::SolveError;
 pub use options::{RunEnvironment, RunOptions};

@@ -16,7 +16,7 @@ use crate::model::BodyModel;
 use crate::partition;
 use crate::step::{Partial, Residuals, StepSolution};
 use signorini_report::results::{BodyResult, StepFields};
-use signorini_report::stream::StepSink;
+use signorini_report::stream::{StepResults, StepSink};
 use signorini_scene as scene;
 
 /// What the root keeps over the load steps of one solve.
@@ -104,14 +104,13 @@ impl<'a> StepLoop<'a> {
         let selected = sc.output.steps.selects(si + 1, n);
         let fields = (selected || last).then(|| step_fields(sc, &model.bodies, &u_full));
         let rows = std::mem::take(&mut partial.contact_rows);
-        self.sink
-            .step(
-                si + 1,
-                &partial.bodies,
-                fields.as_deref().filter(|_| selected),
-                &rows,
-            )
-            .map_err(SolveError::Internal)?;
+        let results = StepResults {
+            step: si + 1,
+            bodies: &partial.bodies,
+            fields: fields.as_deref().filter(|_| selected),
+            rows: &rows,
+        };
+        self.sink.step(results).map_err(SolveError::Internal)?;
         if selected && crate::pieces::wanted(sc) {
             self.nodal = signorini_report::pieces::NodalContact::of_rows(&rows, si + 1);
             if self.all_pieces {

@@ -148,7 +148,7 @@ pub fn write_plots(
     dir: &std::path::Path,
     rows: &[BenchRow],
 ) -> Result<Vec<std::path::PathBuf>, String> {
-    use signorini_report::plot::{loglog_svg, Series};
+    use signorini_report::plot::{plot_svg, Axes, Series};
     let mut written = Vec::new();
     let mut keys: Vec<(String, usize, String, String)> = Vec::new();
     for r in rows {
@@ -210,7 +210,7 @@ pub fn write_plots(
     for (file, title, x_label, y_label, lines) in plots {
         if !lines.is_empty() {
             let p = dir.join(file);
-            loglog_svg(&p, title, x_label, y_label, &lines)?;
+            plot_svg(&p, title, (x_label, y_label), &lines, Axes::LogLog)?;
             written.push(p);
         }
     }

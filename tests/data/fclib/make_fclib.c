@@ -176,6 +176,21 @@ static void print_vector(const char *name, int n, const double *v)
   for (int i = 0; i < n; i++) printf(" %.17g", v[i]);
 }
 
+/* DIR/NAME into path (of size bytes), any file there removed. */
+static void fresh_path(char *path, size_t size, const char *dir, const char *name)
+{
+  snprintf(path, size, "%s/%s", dir, name);
+  remove(path);
+}
+
+/* The problem's name and its manufactured r and u (m numbers each). */
+static void print_solution(const char *name, int m, const double *r, const double *u)
+{
+  printf("%s", name);
+  print_vector("r", m, r);
+  print_vector("u", m, u);
+}
+
 /* Writes one local problem, and prints its manufactured solution. */
 static int write_local(const char *dir, const char *name, int nc, int d, const enum status *st,
                        const double *mu, int storage, const char *title)
@@ -194,12 +209,9 @@ static int write_local(const char *dir, const char *name, int nc, int d, const e
   p.spacedim = d;
   p.info = &info;
   char path[4096];
-  snprintf(path, sizeof path, "%s/%s", dir, name);
-  remove(path);
+  fresh_path(path, sizeof path, dir, name);
   if (!fclib_write_local(&p, path)) return 0;
-  printf("%s", name);
-  print_vector("r", n, r);
-  print_vector("u", n, u);
+  print_solution(name, n, r, u);
   printf("\n");
   free(w), free(q), free(r), free(u);
   return 1;
@@ -326,12 +338,9 @@ static int write_global(const char *dir, const char *name, int nc, int d, const 
   struct fclib_matrix *gs = p > 0 ? compressed(n, p, g, 0) : NULL;
   struct fclib_global problem = {ms, hs, gs, (double *)mu, f, p > 0 ? b : NULL, w, d, &info};
   char path[4096];
-  snprintf(path, sizeof path, "%s/%s", dir, name);
-  remove(path);
+  fresh_path(path, sizeof path, dir, name);
   if (!fclib_write_global(&problem, path)) return 0;
-  printf("%s", name);
-  print_vector("r", m, r);
-  print_vector("u", m, u);
+  print_solution(name, m, r, u);
   print_vector("v", n, v);
   printf("\n");
   free(mm), free(h), free(r), free(u), free(w), free(v), free(f), free(g), free(lambda), free(b);
@@ -348,8 +357,7 @@ static int write_mixed(const char *dir)
   struct fclib_matrix rm = {1, 1, 1, r_p, r_i, r_x, -1, NULL};
   struct fclib_local p = {&wm, &vm, &rm, mu, q, s, 2, NULL};
   char path[4096];
-  snprintf(path, sizeof path, "%s/mixed.hdf5", dir);
-  remove(path);
+  fresh_path(path, sizeof path, dir, "mixed.hdf5");
   return fclib_write_local(&p, path);
 }
 

@@ -481,14 +481,7 @@ mod tests {
     #[test]
     fn zero_friction_equals_the_frictionless_answer() {
         let mut p = one_point(3.0, 0.0);
-        let out = coulomb_fixed_point(
-            &mut p,
-            &layout(FrictionLaw::coulomb(0.0)),
-            vec![PointStatus::Stick],
-            None,
-            &opts(),
-        )
-        .unwrap();
+        let out = solve_one(0, &mut p, &layout(FrictionLaw::coulomb(0.0)));
         assert!(out.report.converged);
         assert!((out.forces[0] - 3.0).abs() < 1e-12 && out.forces[1].abs() < 1e-12);
     }
@@ -496,14 +489,7 @@ mod tests {
     #[test]
     fn a_point_pulled_away_opens() {
         let mut p = one_point(-3.0, 1.0);
-        let out = coulomb_fixed_point(
-            &mut p,
-            &layout(FrictionLaw::coulomb(0.5)),
-            vec![PointStatus::Stick],
-            None,
-            &opts(),
-        )
-        .unwrap();
+        let out = solve_one(0, &mut p, &layout(FrictionLaw::coulomb(0.5)));
         assert!(out.report.converged);
         assert_eq!(out.friction.points, vec![PointStatus::Open]);
         assert_eq!(out.forces, vec![0.0, 0.0]);

@@ -314,13 +314,7 @@ mod tests {
             ..opts(StatusVariant::All)
         };
         let out = status_method(&mut lcp_problem(&w, &q), &late).unwrap();
-        assert!(!out.report.converged);
-        assert_eq!(out.report.iterations, 1);
-        assert!(
-            matches!(out.report.stop, StopReason::TimeLimit { iterations: 1, .. }),
-            "{}",
-            out.report.stop
-        );
+        crate::test_problems::assert_stopped_by_the_time_limit_after_one_iteration(&out.report);
     }
 
     #[test]

@@ -292,15 +292,8 @@ mod tests {
                         residual <= 1e-9,
                         "{method:?} dim {dim} seed {seed}: {residual:e}"
                     );
-                    let scale = whole.iter().fold(0.0f64, |s, v| s.max(v.abs()));
-                    let diff = whole
-                        .iter()
-                        .zip(&zoned)
-                        .fold(0.0f64, |s, (a, b)| s.max((a - b).abs()));
-                    assert!(
-                        diff <= 1e-7 * scale,
-                        "{method:?} dim {dim} seed {seed}: {diff:e}"
-                    );
+                    let diff = crate::test_problems::rel_err(&zoned, &whole);
+                    assert!(diff <= 1e-7, "{method:?} dim {dim} seed {seed}: {diff:e}");
                 }
             }
         }

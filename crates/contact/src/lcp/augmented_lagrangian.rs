@@ -92,7 +92,7 @@ pub fn augmented_lagrangian(
             &mut |_, _| {},
         )?;
         newton_steps += inner.iterations;
-        report.operator_applications += inner.solves + inner.products;
+        report.operator_applications += inner.operator_applications;
         if inner.cycle_at.is_some() {
             cycles += 1;
         }

@@ -64,7 +64,7 @@
 
 use faer::Mat;
 
-use crate::lcp::{dot, gaps, gaps_into, matvec, spectral_norm_estimate, LcpOptions};
+use crate::lcp::{check_finite, dot, gaps, gaps_into, matvec, spectral_norm_estimate, LcpOptions};
 use crate::solution::{BoxPolish, ContactSolution, Measure, MprgpSteps, SolverReport, StopReason};
 use crate::ContactError;
 
@@ -688,20 +688,7 @@ fn check_box_input(
             upper.len()
         )));
     }
-    if let Some(i) = b.iter().position(|v| !v.is_finite()) {
-        return Err(ContactError::Solve(format!(
-            "{method}: b[{i}] = {} is not finite",
-            b[i]
-        )));
-    }
-    for j in 0..n {
-        if let Some(i) = a.col_as_slice(j).iter().position(|v| !v.is_finite()) {
-            return Err(ContactError::Solve(format!(
-                "{method}: A[({i}, {j})] = {} is not finite",
-                a[(i, j)]
-            )));
-        }
-    }
+    check_finite(method, ("A", a), ("b", b))?;
     for i in 0..n {
         let (l, u) = (lower[i], upper[i]);
         if l.is_nan() || l == f64::INFINITY {

@@ -43,18 +43,19 @@ pub(crate) fn solve_block(
 
 /// What [`regularised_newton`] found.
 pub(crate) struct NewtonOutcome {
+    pub converged: bool,
+    /// Why the iteration stopped when it did not converge.
+    pub stop: StopReason,
     /// λ ≥ 0.
     pub lambda: Vec<f64>,
     /// g = Wλ + q (the true gaps, without the regularisation).
     pub g: Vec<f64>,
     pub active: Vec<bool>,
-    pub converged: bool,
-    pub iterations: usize,
-    pub solves: usize,
-    pub products: usize,
+    /// The first iteration whose next active set repeated an earlier one.
     pub cycle_at: Option<usize>,
-    /// Why the iteration stopped when it did not converge.
-    pub stop: StopReason,
+    pub iterations: usize,
+    /// Block solves and products W·λ: one of each an iteration.
+    pub operator_applications: usize,
 }
 
 /// Exact solution of LCP(W + diag(c), q), c > 0, by the active-set (semi-
@@ -77,24 +78,22 @@ pub(crate) fn regularised_newton(
     let mut seen: HashSet<Vec<bool>> = HashSet::new();
     let mut single = false;
     let mut out = NewtonOutcome {
+        converged: false,
+        stop: StopReason::Pending,
         lambda: vec![0.0; m],
         g: q.to_vec(),
         active: active.clone(),
-        converged: false,
-        iterations: 0,
-        solves: 0,
-        products: 0,
         cycle_at: None,
-        stop: StopReason::Pending,
+        iterations: 0,
+        operator_applications: 0,
     };
     while out.iterations < max_iterations {
         out.iterations += 1;
         seen.insert(active.clone());
         let set: Vec<usize> = (0..m).filter(|&p| active[p]).collect();
         let lambda = solve_block(w, q, c, &set)?;
-        out.solves += 1;
         let g = gaps(w, q, &lambda);
-        out.products += 1;
+        out.operator_applications += 2;
         let lmax = lambda.iter().fold(0.0f64, |a, v| a.max(v.abs()));
         let h: Vec<f64> = (0..m).map(|p| g[p] + c[p] * lambda[p]).collect();
         let hmax = h.iter().fold(0.0f64, |a, v| a.max(v.abs()));

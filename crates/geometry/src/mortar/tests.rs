@@ -12,11 +12,21 @@ fn blocks(nm: usize, ns: usize, gap: f64) -> (Mesh, Mesh) {
 }
 
 fn pairing(m: &Mesh, s: &Mesh) -> MortarPairing {
+    paired(mortar_pairing, (m, "top"), (s, "bottom"))
+}
+
+/// The pairing by `pair` (2D or 3D mortar) of the surface `slave` of `s`
+/// against the surface `master` of `m`.
+pub(crate) fn paired(
+    pair: fn(&Mesh, &Surface, &MasterGeometry<'_>) -> Result<MortarPairing, GeometryError>,
+    (m, master): (&Mesh, &str),
+    (s, slave): (&Mesh, &str),
+) -> MortarPairing {
     let master = MasterGeometry::Surface {
         mesh: m,
-        surface: &m.surfaces["top"],
+        surface: &m.surfaces[master],
     };
-    mortar_pairing(s, &s.surfaces["bottom"], &master).unwrap()
+    pair(s, &s.surfaces[slave], &master).unwrap()
 }
 
 /// A straight slave edge from (0, 0) to (1, 0) of `count` nodes (outward

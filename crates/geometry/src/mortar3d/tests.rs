@@ -1,5 +1,5 @@
 use super::*;
-use crate::mortar::tests::check_flat_rows;
+use crate::mortar::tests::{check_flat_rows, paired};
 use cells::MAX_FACE_NODES;
 use signorini_mesh::generators::box_mesh;
 use signorini_mesh::CellKind;
@@ -18,11 +18,7 @@ fn boxes(nm: usize, ns: usize, gap: f64, kind: CellKind) -> (Mesh, Mesh) {
 }
 
 fn pairing(m: &Mesh, s: &Mesh) -> MortarPairing {
-    let master = MasterGeometry::Surface {
-        mesh: m,
-        surface: &m.surfaces["zmax"],
-    };
-    mortar3d_pairing(s, &s.surfaces["zmin"], &master).unwrap()
+    paired(mortar3d_pairing, (m, "zmax"), (s, "zmin"))
 }
 
 #[test]

@@ -169,7 +169,9 @@ fn top_of(mesh: &Mesh) -> MasterGeometry<'_> {
 /// Node-to-segment points of the surface "bottom" of `slave` on `g`, by the
 /// master's normals.
 fn segment_points_on(slave: &Mesh, g: &MasterGeometry) -> Vec<ContactPoint> {
-    node_to_segment(slave, &slave.surfaces["bottom"], g, NormalRule::Master).unwrap()
+    node_to_segment_pairing(slave, &slave.surfaces["bottom"], g, NormalRule::Master)
+        .unwrap()
+        .points
 }
 
 /// The 2 × 1 rectangle of 4 × 2 Quad4 cells above y = 1, over x ∈ [−1, 1].
@@ -226,7 +228,9 @@ fn slave_nodes_above_a_flat_trapezoidal_quad_get_the_bilinear_weights_and_gap() 
         NormalRule::Average,
         NormalRule::Points,
     ] {
-        let pts = node_to_face(&slave, &slave.surfaces["bottom"], &g, rule).unwrap();
+        let pts = node_to_segment_pairing(&slave, &slave.surfaces["bottom"], &g, rule)
+            .unwrap()
+            .points;
         assert_eq!(pts.len(), 4, "{rule:?}");
         let by = points_by_node(&pts);
         for (s, [xi, eta]) in params.into_iter().enumerate() {
@@ -268,7 +272,9 @@ fn a_slave_node_above_a_triangle_gets_its_barycentric_weights() {
         mesh: &master,
         surface: &master.surfaces["s"],
     };
-    let pts = node_to_segment(&slave, &slave.surfaces["s"], &g, NormalRule::Master).unwrap();
+    let pts = node_to_segment_pairing(&slave, &slave.surfaces["s"], &g, NormalRule::Master)
+        .unwrap()
+        .points;
     let p = points_by_node(&pts)[&0];
     assert!(close(p.gap0, h, 1e-14), "{}", p.gap0);
     assert_vec(p.normal, n, 1e-14);
@@ -279,7 +285,9 @@ fn a_slave_node_above_a_triangle_gets_its_barycentric_weights() {
     }
     check_frame(p);
     // The slave's own normal is −n: the slave rule gives the same normal.
-    let pts = node_to_segment(&slave, &slave.surfaces["s"], &g, NormalRule::Slave).unwrap();
+    let pts = node_to_segment_pairing(&slave, &slave.surfaces["s"], &g, NormalRule::Slave)
+        .unwrap()
+        .points;
     assert_vec(points_by_node(&pts)[&0].normal, n, 1e-14);
 }
 
@@ -304,7 +312,9 @@ fn nodes_beyond_the_free_edge_of_the_master_are_skipped_and_kinks_inside_are_kep
         [2.1, 2.1, 1.2],
     ];
     let slave = triangle_surface(xs, &[[0, 2, 1], [1, 2, 3], [3, 2, 4]], 1.0);
-    let pts = node_to_face(&slave, &slave.surfaces["s"], &g, NormalRule::Master).unwrap();
+    let pts = node_to_segment_pairing(&slave, &slave.surfaces["s"], &g, NormalRule::Master)
+        .unwrap()
+        .points;
     let by = points_by_node(&pts);
     assert_eq!(by.keys().copied().collect::<Vec<_>>(), vec![0, 1, 3]);
     // Above the interior vertex: one master node, weight 1.
@@ -345,14 +355,18 @@ fn nodes_beyond_the_free_edge_of_the_master_are_skipped_and_kinks_inside_are_kep
         &[[0, 2, 1]],
         1.0,
     );
-    let pts = node_to_face(&slave, &slave.surfaces["s"], &g, NormalRule::Points).unwrap();
+    let pts = node_to_segment_pairing(&slave, &slave.surfaces["s"], &g, NormalRule::Points)
+        .unwrap()
+        .points;
     let p = points_by_node(&pts)[&0];
     assert!(close(p.gap0, 0.5, 1e-14), "{}", p.gap0);
     assert_vec(p.normal, [0.0, 0.0, 1.0], 1e-14);
     let w = master_weights(p);
     assert_eq!(w.len(), 2);
     assert!(w.iter().all(|t| close(t.1, 0.5, 1e-14)));
-    let pts = node_to_face(&slave, &slave.surfaces["s"], &g, NormalRule::Master).unwrap();
+    let pts = node_to_segment_pairing(&slave, &slave.surfaces["s"], &g, NormalRule::Master)
+        .unwrap()
+        .points;
     let p = points_by_node(&pts)[&0];
     // The left face's normal (−0.5, 0, 1)/|·| (lowest facet at the tie).
     assert!(
@@ -427,7 +441,9 @@ fn a_faceted_sphere_cap_gives_the_gap_within_the_chord_error() {
     };
     let n_slave = slave.surfaces["s"].nodes().len();
     for rule in [NormalRule::Master, NormalRule::Points, NormalRule::Average] {
-        let pts = node_to_face(&slave, &slave.surfaces["s"], &g, rule).unwrap();
+        let pts = node_to_segment_pairing(&slave, &slave.surfaces["s"], &g, rule)
+            .unwrap()
+            .points;
         assert_eq!(
             pts.len(),
             n_slave,
@@ -607,7 +623,9 @@ fn rigid_sphere_and_plane_in_3d() {
         center: c,
         radius: r,
     };
-    let pts = node_to_segment(&slave, surf, &g, NormalRule::Master).unwrap();
+    let pts = node_to_segment_pairing(&slave, surf, &g, NormalRule::Master)
+        .unwrap()
+        .points;
     assert_eq!(pts.len(), 4);
     for p in &pts {
         let d = sub(p.x, c);
@@ -622,7 +640,9 @@ fn rigid_sphere_and_plane_in_3d() {
         check_frame(p);
     }
     // The points rule agrees with the master rule on a sphere.
-    let pts2 = node_to_node(&slave, surf, &g, NormalRule::Points).unwrap();
+    let pts2 = node_to_node_pairing(&slave, surf, &g, NormalRule::Points)
+        .unwrap()
+        .points;
     for (a, b) in pts.iter().zip(&pts2) {
         assert!(close(a.gap0, b.gap0, TOL));
         assert_vec(a.normal, b.normal, 1e-14);
@@ -632,7 +652,9 @@ fn rigid_sphere_and_plane_in_3d() {
         center: c,
         radius: 2.0,
     };
-    let pts = node_to_segment(&slave, surf, &big, NormalRule::Master).unwrap();
+    let pts = node_to_segment_pairing(&slave, surf, &big, NormalRule::Master)
+        .unwrap()
+        .points;
     for p in &pts {
         let d = sub(p.x, c);
         assert!(p.gap0 < 0.0 && close(p.gap0, norm(d) - 2.0, TOL));
@@ -643,14 +665,14 @@ fn rigid_sphere_and_plane_in_3d() {
             center: c,
             radius: bad,
         };
-        assert!(node_to_segment(&slave, surf, &g, NormalRule::Master).is_err());
+        assert!(node_to_segment_pairing(&slave, surf, &g, NormalRule::Master).is_err());
     }
     // A node at the centre has no normal.
     let g = MasterGeometry::Sphere {
         center: slave.coords[0],
         radius: 0.5,
     };
-    assert!(node_to_segment(&slave, surf, &g, NormalRule::Master).is_err());
+    assert!(node_to_segment_pairing(&slave, surf, &g, NormalRule::Master).is_err());
 
     // Tilted plane: gap = signed distance, tangents in the plane.
     let n = unit([0.1, -0.2, 1.0]).unwrap();
@@ -658,7 +680,9 @@ fn rigid_sphere_and_plane_in_3d() {
         point: [0.5, 0.5, 1.0],
         normal: n,
     };
-    let pts = node_to_segment(&slave, surf, &g, NormalRule::Master).unwrap();
+    let pts = node_to_segment_pairing(&slave, surf, &g, NormalRule::Master)
+        .unwrap()
+        .points;
     for p in &pts {
         assert!(close(p.gap0, dot(sub(p.x, [0.5, 0.5, 1.0]), n), TOL));
         assert_vec(p.normal, n, 0.0);
@@ -675,7 +699,9 @@ fn rigid_disc_in_2d() {
         center: [0.1, -0.5, 7.0],
         radius: 1.25,
     };
-    let pts = node_to_segment(&slave, surf, &g, NormalRule::Master).unwrap();
+    let pts = node_to_segment_pairing(&slave, surf, &g, NormalRule::Master)
+        .unwrap()
+        .points;
     assert_eq!(pts.len(), 5);
     for p in &pts {
         let d = [p.x[0] - 0.1, p.x[1] + 0.5, 0.0];
@@ -754,7 +780,9 @@ fn quadratic_edges_are_piecewise_linear_through_the_mid_side_node() {
     // mid-side node (inside the master): kept, on node 6 alone; the points
     // rule gives the distance to it.
     assert_eq!(master_weights(by[&4]), vec![(6, 1.0)]);
-    let pts = node_to_segment(&slave, &slave.surfaces["bottom"], &g, NormalRule::Points).unwrap();
+    let pts = node_to_segment_pairing(&slave, &slave.surfaces["bottom"], &g, NormalRule::Points)
+        .unwrap()
+        .points;
     let p = points_by_node(&pts)[&4];
     let d = sub(p.x, master.coords[6]);
     assert!(close(p.gap0, norm(d), 1e-15));
@@ -836,7 +864,9 @@ fn node_to_node_in_3d_on_matching_meshes() {
     }
     let g = top_of(&master);
     for rule in [NormalRule::Master, NormalRule::Slave, NormalRule::Points] {
-        let pts = node_to_node(&slave, &slave.surfaces["bottom"], &g, rule).unwrap();
+        let pts = node_to_node_pairing(&slave, &slave.surfaces["bottom"], &g, rule)
+            .unwrap()
+            .points;
         assert_eq!(pts.len(), 12);
         for p in &pts {
             assert!(close(p.gap0, gap, 1e-14), "{rule:?} {}", p.gap0);
@@ -862,7 +892,7 @@ fn node_to_node_in_3d_on_matching_meshes() {
         NormalRule::Average,
         NormalRule::Points,
     ] {
-        let e = node_to_node(&slave, &slave.surfaces["bottom"], &g, rule)
+        let e = node_to_node_pairing(&slave, &slave.surfaces["bottom"], &g, rule)
             .unwrap_err()
             .to_string();
         assert!(
@@ -879,8 +909,8 @@ fn node_to_node_in_3d_on_matching_meshes() {
         None,
     )
     .unwrap();
-    assert!(node_to_node(&flat, &flat.surfaces["top"], &g, NormalRule::Master).is_err());
-    assert!(node_to_segment(&flat, &flat.surfaces["top"], &g, NormalRule::Master).is_err());
+    assert!(node_to_node_pairing(&flat, &flat.surfaces["top"], &g, NormalRule::Master).is_err());
+    assert!(node_to_segment_pairing(&flat, &flat.surfaces["top"], &g, NormalRule::Master).is_err());
 }
 
 #[test]

@@ -30,6 +30,7 @@
 use faer::linalg::solvers::{Llt, Solve};
 use faer::sparse::SparseColMat;
 use faer::{Mat, MatMut, MatRef, Side};
+use signorini_linalg::products::subtract_product;
 
 /// A column of G is dependent on the others when its pivot² is below this
 /// fraction of its C_kk (the sine² of its angle with their span, in the
@@ -111,14 +112,7 @@ impl EqualityConstraints {
     pub(super) fn reduce_delassus(&self, h: &SparseColMat<usize, f64>, w: &mut Mat<f64>) {
         let z = transpose_times(h, self.y.as_ref());
         let c_inv_zt = self.c.solve(z.transpose());
-        faer::linalg::matmul::matmul(
-            w.as_mut(),
-            faer::Accum::Add,
-            z.as_ref(),
-            c_inv_zt.as_ref(),
-            -1.0,
-            faer::Par::Seq,
-        );
+        subtract_product(w.as_mut(), z.as_ref(), c_inv_zt.as_ref(), faer::Par::Seq);
     }
 }
 

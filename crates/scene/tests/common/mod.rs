@@ -60,3 +60,18 @@ pub fn parse_err(text: &str) -> String {
         other => panic!("expected a Parse error, got {other:?}"),
     }
 }
+
+/// Each `(from, to, entry, needles)` of `edits`: [`BASE`] with `from`
+/// replaced by `to` (it must be there) is invalid at `entry`, its message
+/// naming each of `needles`.
+#[track_caller]
+pub fn assert_invalid_edits(edits: &[(&str, &str, &str, &[&str])]) {
+    for (from, to, entry, needles) in edits {
+        assert!(BASE.contains(from), "test bug: no {from:?}");
+        let (e, m) = invalid_entry(&BASE.replace(from, to));
+        assert_eq!(e, *entry, "{from:?} -> {to:?}: {m}");
+        for n in *needles {
+            assert!(m.contains(n), "{entry}: {n:?} not in {m}");
+        }
+    }
+}

@@ -229,12 +229,12 @@ pub fn error_vs_time_svg(path: &Path, rows: &[RootRow]) -> Result<(), String> {
             }),
         }
     }
-    signorini_report::plot::loglog_svg(
+    signorini_report::plot::plot_svg(
         path,
         "root solvers: residual against time (each line over the sizes)",
-        "time (s)",
-        "scaled residual",
+        ("time (s)", "scaled residual"),
         &series,
+        signorini_report::plot::Axes::LogLog,
     )
 }
 

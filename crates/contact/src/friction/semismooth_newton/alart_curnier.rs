@@ -76,6 +76,33 @@ fn scaled_trial(
     (c, dinv, z)
 }
 
+/// Row `r` held at one bound: with `Some(c)` its gap y_r = 0 (F_r = c y_r,
+/// the coupled row dy_r = −y_r with no compliance: a point in contact, a
+/// stuck row), else its force λ_r = 0 (F_r = λ_r, the given row
+/// dλ_r = −λ_r: an open point, a row with a zero bound).
+fn held_row(
+    r: usize,
+    c: Option<f64>,
+    (x, y): (&[f64], &[f64]),
+    f: &mut [f64],
+    sys: Option<&mut NewtonSystem>,
+) {
+    match c {
+        Some(c) => {
+            f[r] = c * y[r];
+            if let Some(s) = sys {
+                s.coupled.push((Dir::one(r), 0.0, -y[r]));
+            }
+        }
+        None => {
+            f[r] = x[r];
+            if let Some(s) = sys {
+                s.given.push((Dir::one(r), -x[r]));
+            }
+        }
+    }
+}
+
 /// How a residual is scaled: `Newton` with ρ = 1/W_ii, `Check` with ρ = F/L
 /// (the natural residual relative to the force and length scales).
 #[derive(Clone, Copy, PartialEq)]
@@ -137,17 +164,8 @@ impl AlartCurnier<'_> {
                 Scale::Newton => self.rho[p],
                 Scale::Check(c) => c,
             };
-            if x[p] - rn * y[p] > 0.0 {
-                f[p] = rn * y[p];
-                if let Some(s) = sys.as_deref_mut() {
-                    s.coupled.push((Dir::one(p), 0.0, -y[p]));
-                }
-            } else {
-                f[p] = x[p];
-                if let Some(s) = sys.as_deref_mut() {
-                    s.given.push((Dir::one(p), -x[p]));
-                }
-            }
+            let in_contact = x[p] - rn * y[p] > 0.0;
+            held_row(p, in_contact.then_some(rn), (x, y), f, sys.as_deref_mut());
             let rows = &self.layout.tangent_rows[p];
             if !rows.is_empty() {
                 let sys = sys.as_deref_mut();
@@ -186,19 +204,10 @@ impl AlartCurnier<'_> {
         // round-off λ_n) is a zero bound: the point carries no λ_t.
         let negligible = !(c.is_finite() && nz.is_finite());
         if gbar.is_infinite() || gbar <= 0.0 || negligible {
+            // No bound: stuck, Δs = 0; else no force.
+            let stuck = gbar.is_infinite().then_some(rt);
             for &r in rows {
-                if gbar.is_infinite() {
-                    // No bound: stuck, Δs = 0.
-                    f[r] = rt * y[r];
-                    if let Some(s) = sys.as_deref_mut() {
-                        s.coupled.push((Dir::one(r), 0.0, -y[r]));
-                    }
-                } else {
-                    f[r] = x[r];
-                    if let Some(s) = sys.as_deref_mut() {
-                        s.given.push((Dir::one(r), -x[r]));
-                    }
-                }
+                held_row(r, stuck, (x, y), f, sys.as_deref_mut());
             }
             return;
         }
