@@ -30,8 +30,8 @@
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
 use faer::linalg::cholesky::ldlt::factor::LdltRegularization;
 use faer::prelude::Solve;
-use faer::sparse::linalg::cholesky::SymbolicCholesky;
-use faer::sparse::{Argsort, Pair, SparseColMat, SymbolicSparseColMat};
+use faer::sparse::linalg::cholesky::{LdltRef, SymbolicCholesky};
+use faer::sparse::{Argsort, Pair, SparseColMat, SparseColMatRef, SymbolicSparseColMat};
 use faer::{Conj, Mat, MatMut};
 
 use signorini_condense::ordering::{order_and_analyse, OrderedSymbolic, OrderingChoice};
@@ -126,17 +126,7 @@ impl<'a> KktSystem<'a> {
         let symbolic = &self.ordered.symbolic;
         let mut mem = ldlt_scratch(symbolic, par);
         let stack = MemStack::new(&mut mem);
-        let ldlt = symbolic
-            .factorize_numeric_ldlt::<f64>(
-                &mut self.l_values,
-                a.as_ref(),
-                faer::Side::Lower,
-                LdltRegularization::default(),
-                par,
-                stack,
-                Default::default(),
-            )
-            .ok()?;
+        let ldlt = numeric_ldlt(symbolic, &mut self.l_values, a.as_ref(), par, stack)?;
         let mut y = vec![0.0; n + m];
         let inverse = inverse_norm1_estimate(n, |x| {
             y[..n].copy_from_slice(x);
@@ -200,17 +190,15 @@ impl<'a> KktSystem<'a> {
         let symbolic = &self.ordered.symbolic;
         let mut mem = ldlt_scratch(symbolic, par);
         let stack = MemStack::new(&mut mem);
-        let factor = symbolic.factorize_numeric_ldlt::<f64>(
+        let factor = numeric_ldlt(
+            symbolic,
             &mut self.l_values,
             regularised.as_ref(),
-            faer::Side::Lower,
-            LdltRegularization::default(),
             par,
             stack,
-            Default::default(),
         );
         let refined = match factor {
-            Ok(ldlt) => {
+            Some(ldlt) => {
                 let n = b.len();
                 let solve = |rhs: &[f64]| {
                     let mut x = rhs.to_vec();
@@ -220,7 +208,7 @@ impl<'a> KktSystem<'a> {
                 };
                 refine(&exact, solve, b)
             }
-            Err(_) => None,
+            None => None,
         };
         if let Some((x, steps)) = refined {
             self.counts.refinement_steps += steps;
@@ -279,6 +267,29 @@ pub(crate) fn ldlt_factorisation(
         lu_fallbacks: Some(counts.lu_fallbacks),
         interface: None,
     }
+}
+
+/// The numerical LDLᵀ of `a` (its lower triangle) on `symbolic`, into
+/// `l_values`, with faer's default (no) regularisation; `None` when it
+/// breaks down.
+pub(crate) fn numeric_ldlt<'a>(
+    symbolic: &'a SymbolicCholesky<usize>,
+    l_values: &'a mut [f64],
+    a: SparseColMatRef<'_, usize, f64>,
+    par: faer::Par,
+    stack: &mut MemStack,
+) -> Option<LdltRef<'a, usize, f64>> {
+    symbolic
+        .factorize_numeric_ldlt::<f64>(
+            l_values,
+            a,
+            faer::Side::Lower,
+            LdltRegularization::default(),
+            par,
+            stack,
+            Default::default(),
+        )
+        .ok()
 }
 
 /// Scratch memory for one numerical LDLᵀ of `symbolic` and its solves.

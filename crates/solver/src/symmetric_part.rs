@@ -30,12 +30,13 @@
 //! weighs the coupled rows by s, so that every row is a force.
 
 use faer::dyn_stack::MemStack;
-use faer::linalg::cholesky::ldlt::factor::LdltRegularization;
 use faer::sparse::{Argsort, Pair, SparseColMat, SymbolicSparseColMat};
 use faer::{Conj, MatMut};
 
 use crate::gmres::gmres;
-use crate::kkt::{ldlt_scratch, row_scale, ACCEPTED_BACKWARD_ERROR, TARGET_BACKWARD_ERROR};
+use crate::kkt::{
+    ldlt_scratch, numeric_ldlt, row_scale, ACCEPTED_BACKWARD_ERROR, TARGET_BACKWARD_ERROR,
+};
 use signorini_condense::ordering::{order_and_analyse, OrderedSymbolic, OrderingChoice};
 use signorini_contact::friction::Dir;
 use signorini_linalg::sparse::SparseRow;
@@ -272,17 +273,7 @@ impl SymmetricPart {
         let symbolic = &self.ordered.symbolic;
         let mut mem = ldlt_scratch(symbolic, par);
         let stack = MemStack::new(&mut mem);
-        let ldlt = symbolic
-            .factorize_numeric_ldlt::<f64>(
-                &mut self.l_values,
-                a.as_ref(),
-                faer::Side::Lower,
-                LdltRegularization::default(),
-                par,
-                stack,
-                Default::default(),
-            )
-            .ok()?;
+        let ldlt = numeric_ldlt(symbolic, &mut self.l_values, a.as_ref(), par, stack)?;
         let block = Block {
             n,
             s,
