@@ -222,6 +222,7 @@ fn frictionless(
         force_scale: opts.force_scale,
         gap_scale: opts.gap_scale,
         stiffness: None,
+        deadline: opts.deadline,
     };
     let out = Algorithm::status(StatusVariant::All).solve(&w, &problem.q[..m], None, &lcp)?;
     let mut forces = vec![0.0; problem.q.len()];
@@ -296,6 +297,56 @@ mod tests {
                     assert!(diff <= 1e-7, "{method:?} dim {dim} seed {seed}: {diff:e}");
                 }
             }
+        }
+    }
+
+    /// A deadline already passed stops every friction method, 2D and 3D,
+    /// Coulomb, Tresca and Norton–Hoff, not converged, on the time limit,
+    /// with a finite iterate and its residual.
+    #[test]
+    fn a_passed_deadline_stops_every_friction_method() {
+        use crate::friction::FrictionLaw;
+        use FrictionMethod::*;
+        let tresca = |l: &mut FrictionLayout| l.law.fill(FrictionLaw::Tresca(0.1));
+        let norton_hoff =
+            |l: &mut FrictionLayout| l.law.fill(FrictionLaw::NortonHoff { mu: 0.3, rho: 0.5 });
+        let coulomb = |_: &mut FrictionLayout| {};
+        let runs: [(usize, FrictionMethod, &dyn Fn(&mut FrictionLayout)); 10] = [
+            (2, CoulombFixedPoint, &coulomb),
+            (2, CoulombStatus, &coulomb),
+            (2, Newton, &coulomb),
+            (2, Nsgs2d, &coulomb),
+            (2, TrescaStatus, &tresca),
+            (2, TrescaBox, &tresca),
+            (2, NortonHoff, &norton_hoff),
+            (3, Newton3d, &coulomb),
+            (3, FixedPoint3d, &coulomb),
+            (3, Nsgs3d, &coulomb),
+        ];
+        for (dim, method, law) in runs {
+            let (mut p, mut layout) = problem(30, dim, 5);
+            law(&mut layout);
+            let start = FrictionStart {
+                statuses: vec![PointStatus::Stick; 30],
+                forces: None,
+                predict: false,
+                zone: false,
+            };
+            let o = crate::options::FrictionOptions {
+                deadline: Some(std::time::Instant::now()),
+                ..opts()
+            };
+            let out = solve_friction(&mut p, &layout, method, start, &o).unwrap();
+            let report = &out.solution.report;
+            assert!(!report.converged, "{method:?}");
+            let crate::solution::StopReason::TimeLimit { residual, .. } = report.stop else {
+                panic!("{method:?}: {}", report.stop);
+            };
+            assert!(!residual.is_nan(), "{method:?}");
+            assert!(
+                out.solution.forces.iter().all(|v| v.is_finite()),
+                "{method:?}"
+            );
         }
     }
 }
