@@ -70,3 +70,27 @@ fn a_spent_time_limit_stops_every_method_with_exit_2() {
         assert!(residual.is_finite() && residual > 1e-10, "{method:?}: {v}");
     }
 }
+
+/// The scene's `solver.time_limit` bounds the condensed path's contact
+/// solve by every method: with a budget already spent, each stops not
+/// converged and the report says it was the time limit; with the default
+/// budget the same scene converges.
+#[test]
+fn the_scenes_time_limit_stops_every_method_of_the_condensed_path() {
+    let hertz = common::example("hertz2d.toml").replace(
+        "path = \"condensed\"",
+        "path = \"condensed\"\nmax_iterations = 100000",
+    );
+    let spent = hertz.replace(
+        "path = \"condensed\"",
+        "path = \"condensed\"\ntime_limit = 1e-9",
+    );
+    for method in Method::ALL {
+        let out = common::try_run(&hertz, common::with_method(method)).unwrap();
+        assert!(out.report.converged, "{method:?}: {:?}", out.report.failure);
+        let out = common::try_run(&spent, common::with_method(method)).unwrap();
+        assert!(!out.report.converged, "{method:?}");
+        let failure = out.report.failure.as_deref().unwrap_or("");
+        assert!(failure.contains("time limit"), "{method:?}: {failure}");
+    }
+}
