@@ -269,3 +269,65 @@ fn non_matching_quadratic_blocks_tied_give_the_monolithic_answer() {
         }
     }
 }
+
+/// The exactly represented curved patch test
+/// (tests/data/quadratic_patch/parabolic.geo): the box [0, 1]² × [0, 1] cut
+/// along the parabolic cylinder z = 0.5 + x²/4 into a lower block (master,
+/// `lower` = "hex20_3" or "tet10_3") and an upper one (slave, `upper`:
+/// "hex20_3", "hex20_4", "tet10_3" or "tet10_4"), whose Quad8 or Tri6 faces
+/// both interpolate the parabola exactly, matching or not; the hydrostatic
+/// state σ = −p I (p = 1: −p n on x = 1, y = 1 and the top z = 1, rollers on
+/// x = 0, y = 0 and the bottom z = 0, the upper block held in z by the
+/// contact alone); `interface` is the contact's discretization line.
+fn parabolic(lower: &str, upper: &str, interface: &str) -> String {
+    let mesh = |side: &str, m: &str| data(&format!("quadratic_patch/parabolic_{side}_{m}.msh"));
+    let (lower, upper) = (mesh("lower", lower), mesh("upper", upper));
+    let mut text = format!(
+        "title = \"parabolic patch test\"\ndimension = 3\nmodel = \"solid\"\n\
+         [[materials]]\nname = \"m\"\nyoung = {E:?}\npoisson = {NU:?}\n\
+         [[bodies]]\nname = \"lower\"\nmaterial = \"m\"\nmesh = {{ file = \"{lower}\" }}\n\
+         [[bodies]]\nname = \"upper\"\nmaterial = \"m\"\nmesh = {{ file = \"{upper}\" }}\n\
+         [[boundary]]\nbody = \"lower\"\nsurface = \"bottom\"\ndisplacement = {{ z = 0.0 }}\n\
+         [[boundary]]\nbody = \"upper\"\nsurface = \"top\"\ntraction = [0.0, 0.0, -1.0]\n"
+    );
+    for body in ["lower", "upper"] {
+        text += &format!(
+            "[[boundary]]\nbody = \"{body}\"\nsurface = \"xmin\"\ndisplacement = {{ x = 0.0 }}\n\
+             [[boundary]]\nbody = \"{body}\"\nsurface = \"ymin\"\ndisplacement = {{ y = 0.0 }}\n\
+             [[boundary]]\nbody = \"{body}\"\nsurface = \"xmax\"\ntraction = [-1.0, 0.0, 0.0]\n\
+             [[boundary]]\nbody = \"{body}\"\nsurface = \"ymax\"\ntraction = [0.0, -1.0, 0.0]\n"
+        );
+    }
+    text + &format!(
+        "[[contact]]\nname = \"parabolic\"\nslave = {{ body = \"upper\", surface = \"bottom\" }}\n\
+         master = {{ body = \"lower\", surface = \"top\" }}\n{interface}\n"
+    )
+}
+
+#[test]
+fn measure_parabolic() {
+    for (lower, upper) in [
+        ("hex20_3", "hex20_3"),
+        ("hex20_3", "hex20_4"),
+        ("tet10_3", "tet10_3"),
+        ("tet10_3", "tet10_4"),
+        ("hex20_3", "tet10_4"),
+    ] {
+        for interface in [
+            "law = \"tied\"",
+            "discretization = \"mortar\"",
+            "discretization = \"node_to_face\"",
+        ] {
+            for path in [SolvePath::Condensed, SolvePath::Direct] {
+                let o = converged_on(&parabolic(lower, upper, interface), path);
+                let err = uniform_state_error(&o, HYDROSTATIC);
+                let dev = if interface.contains("tied") {
+                    0.0
+                } else {
+                    pressure_error(&o, 1.0).0
+                };
+                eprintln!("MEASURE {upper} on {lower} {interface} {path:?}: displacement {err:.3e} pressure {dev:.3e}");
+            }
+        }
+    }
+}

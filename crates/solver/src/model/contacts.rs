@@ -55,13 +55,16 @@ pub fn build_contacts(
             match point_model(sc, bodies, &pair.sides, ci, &pair.tributary, p, corners) {
                 PairPoint::Unknown(point) if zone.includes(ci, point.gap0) => {
                     if restricted {
-                        for t in &point.point.terms {
-                            let b = match t.side {
+                        let p = &point.point;
+                        let terms = p.terms.iter().map(|t| (t.side, t.node));
+                        let vector = p.normal_row.iter().map(|t| (t.side, t.node));
+                        for (side, node) in terms.chain(vector) {
+                            let b = match side {
                                 TermSide::Slave => pair.sides.slave,
                                 TermSide::Master => pair.sides.master.unwrap_or(usize::MAX),
                             };
                             if let Some(nodes) = interface_nodes.get_mut(b) {
-                                nodes.push(t.node);
+                                nodes.push(node);
                             }
                         }
                     }
@@ -334,6 +337,30 @@ fn row_along(p: &ContactPoint, sides: &PairSides, dim: usize, direction: [f64; 3
     row
 }
 
+/// The normal row of a contact point: along its normal, or its own
+/// coefficients where the normal varies along the row (`normal_row`, mortar
+/// on curved faces).
+fn normal_row(p: &ContactPoint, sides: &PairSides, dim: usize) -> Row {
+    if p.normal_row.is_empty() {
+        return row_along(p, sides, dim, p.normal);
+    }
+    let mut row = Vec::new();
+    for term in &p.normal_row {
+        let b = match term.side {
+            TermSide::Slave => sides.slave,
+            TermSide::Master => sides
+                .master
+                .expect("a master term needs a deformable master"),
+        };
+        for (k, &coef) in term.coefficient.iter().enumerate().take(dim) {
+            if coef != 0.0 {
+                row.push((b, term.node * dim + k, coef));
+            }
+        }
+    }
+    row
+}
+
 /// The friction law of a contact at one of its points, and the slip
 /// stiffness of a regularised law (course notes §4.1.3): a Tresca threshold and a
 /// slip stiffness scale with the point's tributary measure.
@@ -386,7 +413,7 @@ fn point_model(
 ) -> PairPoint {
     let c = &sc.contact[ci];
     let dim = sc.dimension as usize;
-    let row = row_along(&p, sides, dim, p.normal);
+    let row = normal_row(&p, sides, dim);
     if row.iter().all(|&(b, d, _)| bodies[b].prescribed[d]) {
         return PairPoint::Fixed(FixedPoint {
             contact: ci,
