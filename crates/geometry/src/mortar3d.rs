@@ -58,16 +58,17 @@
 //! polynomials of degree ≤ 4 (linear) or ≤ 6 (quadratic): exact, so
 //! Σ_l M_jl = D_jj to round-off (a rigid translation keeps every weighted
 //! gap) and a uniform pressure crosses non-matching meshes exactly (the
-//! patch test). A curved quadratic face is integrated over its flat cells:
-//! the geometry of the integrals is the piecewise flat surface through the
-//! face's nodes (the master geometry of node-to-face), O(h²) from the
-//! curved one.
+//! patch test). A curved quadratic slave face (a mid-side node off its
+//! side's chord) is integrated on the curved faces instead, in its reference
+//! coordinates ([`curved`]).
 //!
 //! Each slave node becomes one [`crate::ContactPoint`] exactly as in 2D
 //! (`mortar::mortar_points`): the row n_j·(ũ_j − Σ_l (M_jl/D_jj) u_l) with
 //! n_j the reversed averaged nodal normal, measure D_jj, and the tangential
 //! rows along the frame of `geometry::tangent_frame(n_j)` with the same
 //! weights: friction in 3D works on the weighted slips t·(D ũ_s − M u_m)/D_jj.
+//! The nodes of curved slave faces take the normal row with the normal inside
+//! the integral instead ([`vector_rows`], `ContactPoint::normal_row`).
 
 mod cells;
 mod clipping;

@@ -48,6 +48,9 @@ const CURVED: f64 = 1e-9;
 /// reference domain.
 const STEP_TOL: f64 = 1e-14;
 const MAX_ITERATIONS: usize = 50;
+/// The largest last step of a closest-point search that is accepted after
+/// [`MAX_ITERATIONS`] (a point off a curved face converges linearly).
+const LOOSE_TOL: f64 = 1e-8;
 
 /// Whether face `f` of `mesh` is quadratic with a mid-side node off the
 /// chord of its side (see the module documentation).
@@ -115,10 +118,12 @@ impl FaceMap {
     }
 
     /// The reference coordinates of the point of the (extended) face
-    /// closest to y: Gauss–Newton on |x(ξ) − y|², `None` without
-    /// convergence.
+    /// closest to y: Gauss–Newton on |x(ξ) − y|² (quadratic convergence for
+    /// a point on the face, linear off it: a last step below [`LOOSE_TOL`]
+    /// is accepted), `None` without convergence.
     pub fn closest(&self, y: [f64; 3]) -> Option<Point2> {
         let mut xi = self.start();
+        let mut last = f64::INFINITY;
         for _ in 0..MAX_ITERATIONS {
             let (_, p, [t1, t2]) = self.at(xi);
             let r = sub(y, p);
@@ -130,11 +135,12 @@ impl FaceMap {
             }
             let step = [(a22 * b1 - a12 * b2) / det, (a11 * b2 - a12 * b1) / det];
             xi = [xi[0] + step[0], xi[1] + step[1]];
-            if step[0].abs().max(step[1].abs()) <= STEP_TOL {
+            last = step[0].abs().max(step[1].abs());
+            if last <= STEP_TOL {
                 return Some(xi);
             }
         }
-        None
+        (last <= LOOSE_TOL).then_some(xi)
     }
 
     /// Where the line y + g n meets the (extended) face: its reference
