@@ -383,6 +383,12 @@ fn dual_coefficients(points: &[FacePoint], n: usize, area: f64) -> Option<DualCo
 /// ∫Φ_j N_l n dA (master node l), n the slave's outward normal.
 type VectorRows = BTreeMap<usize, BTreeMap<(TermSide, usize), [f64; 3]>>;
 
+/// D (diagonal, per slave node) and M (per slave node, per master node).
+type MortarSums<'a> = (
+    &'a mut BTreeMap<usize, f64>,
+    &'a mut BTreeMap<usize, BTreeMap<usize, f64>>,
+);
+
 /// Adds the contributions of a slave face (its `nodes`, the `area` of its
 /// cells) to D (diagonal) and M, and to the rows with the normal inside the
 /// integral when `vectors` is given.
@@ -391,10 +397,7 @@ fn integrate_face(
     area: f64,
     points: &[FacePoint],
     m_surf: &Surface,
-    (d, m): (
-        &mut BTreeMap<usize, f64>,
-        &mut BTreeMap<usize, BTreeMap<usize, f64>>,
-    ),
+    (d, m): MortarSums<'_>,
     mut vectors: Option<&mut VectorRows>,
 ) {
     let n = nodes.len();
@@ -425,8 +428,8 @@ fn integrate_face(
                 );
                 for (side, node, shape) in sides {
                     let e = row.entry((side, node)).or_insert([0.0; 3]);
-                    for k in 0..3 {
-                        e[k] += p.w * phi * shape * p.normal[k];
+                    for (ek, nk) in e.iter_mut().zip(p.normal) {
+                        *ek += p.w * phi * shape * nk;
                     }
                 }
             }

@@ -319,22 +319,8 @@ fn contact_pair(
 /// The row of a contact point along `direction` (its normal or a tangent):
 /// Σ weight × direction over the terms' DOFs, slave and master.
 fn row_along(p: &ContactPoint, sides: &PairSides, dim: usize, direction: [f64; 3]) -> Row {
-    let mut row = Vec::new();
-    for term in &p.terms {
-        let b = match term.side {
-            TermSide::Slave => sides.slave,
-            TermSide::Master => sides
-                .master
-                .expect("a master term needs a deformable master"),
-        };
-        for (k, dk) in direction.iter().enumerate().take(dim) {
-            let coef = term.weight * dk;
-            if coef != 0.0 {
-                row.push((b, term.node * dim + k, coef));
-            }
-        }
-    }
-    row
+    let terms = (p.terms.iter()).map(|t| (t.side, t.node, direction.map(|dk| t.weight * dk)));
+    row_of(terms, sides, dim)
 }
 
 /// The normal row of a contact point: along its normal, or its own
@@ -344,17 +330,27 @@ fn normal_row(p: &ContactPoint, sides: &PairSides, dim: usize) -> Row {
     if p.normal_row.is_empty() {
         return row_along(p, sides, dim, p.normal);
     }
+    let terms = (p.normal_row.iter()).map(|t| (t.side, t.node, t.coefficient));
+    row_of(terms, sides, dim)
+}
+
+/// The row Σ coefficient · u(node) over the terms' DOFs, slave and master.
+fn row_of(
+    terms: impl Iterator<Item = (TermSide, usize, [f64; 3])>,
+    sides: &PairSides,
+    dim: usize,
+) -> Row {
     let mut row = Vec::new();
-    for term in &p.normal_row {
-        let b = match term.side {
+    for (side, node, coefficient) in terms {
+        let b = match side {
             TermSide::Slave => sides.slave,
             TermSide::Master => sides
                 .master
                 .expect("a master term needs a deformable master"),
         };
-        for (k, &coef) in term.coefficient.iter().enumerate().take(dim) {
+        for (k, &coef) in coefficient.iter().enumerate().take(dim) {
             if coef != 0.0 {
-                row.push((b, term.node * dim + k, coef));
+                row.push((b, node * dim + k, coef));
             }
         }
     }
