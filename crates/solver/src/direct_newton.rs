@@ -48,6 +48,7 @@
 
 use faer::sparse::{Pair, SparseColMat};
 
+use crate::direct_forcing::Forcing;
 use crate::sparse_lu::SparseLu;
 use crate::symmetric_part::{Points, Rotation, SymmetricPart};
 use signorini_condense::spmv_with_magnitude;
@@ -225,13 +226,14 @@ impl<'a> WholeSystem<'a> {
     }
 
     /// The Newton direction of `sys` (matrix `values`, right-hand side
-    /// `rhs`): by the symmetric part and GMRES, else by the LU.
+    /// `rhs`): by the symmetric part and GMRES (to the relative residual
+    /// `forcing` when given, [`crate::direct_forcing`]), else by the LU.
     fn solve(
         &mut self,
-        sys: &NewtonSystem,
-        shift: f64,
+        (sys, shift): (&NewtonSystem, f64),
         values: &[f64],
         rhs: &[f64],
+        forcing: Option<f64>,
     ) -> Option<Vec<f64>> {
         let (given, coupled) = self.slots(sys);
         let points = Points {
@@ -251,7 +253,7 @@ impl<'a> WholeSystem<'a> {
         let j = self.lu.matrix(values).ok()?;
         if let Some(x) = self
             .symmetric
-            .solve(self.k, &points, (&rot, &chat), &j, rhs)
+            .solve(self.k, &points, (&rot, &chat), (&j, rhs), forcing)
         {
             return Some(x);
         }
@@ -429,9 +431,15 @@ impl Solve<'_, '_> {
     /// The Newton direction (du, dλ) at `it`: on the secants of the
     /// slipping points when the tangent system is singular, and with the
     /// coupled rows' compliance shifted by [`REDUNDANT_ROWS_SHIFT`] / ρ when
-    /// that is singular too (redundant rows); `None` when no system can be
-    /// solved.
-    fn direction(&mut self, it: &Iterate, law: &AlartCurnier) -> Option<Vec<f64>> {
+    /// that is singular too (redundant rows); to the relative residual
+    /// `forcing` when given (an inexact Newton step); `None` when no system
+    /// can be solved.
+    fn direction(
+        &mut self,
+        it: &Iterate,
+        law: &AlartCurnier,
+        forcing: Option<f64>,
+    ) -> Option<Vec<f64>> {
         let mut sys = NewtonSystem::default();
         let mut f = vec![0.0; it.lambda.len()];
         for (secant, shift) in [(false, 0.0), (true, 0.0), (false, REDUNDANT_ROWS_SHIFT)] {
@@ -440,7 +448,7 @@ impl Solve<'_, '_> {
             let (values, contact_rhs) = self.system.jacobian(&sys, shift);
             let mut rhs: Vec<f64> = it.r.iter().map(|v| -v).collect();
             rhs.extend(contact_rhs);
-            let d = self.system.solve(&sys, shift, &values, &rhs);
+            let d = self.system.solve((&sys, shift), &values, &rhs, forcing);
             if let Some(d) = d.filter(|d| d.iter().all(|v| v.is_finite())) {
                 return Some(d);
             }
@@ -488,6 +496,7 @@ impl Solve<'_, '_> {
         let mut watch = StallWatch::new(STALL_DECREASE, STALLED_AFTER, self.opts.deadline);
         let mut history = Vec::new();
         let mut full_steps = 0;
+        let mut forcing = Forcing::default();
         for iteration in 0..self.opts.max_iterations {
             let residual = self.check(&it, &law);
             history.push(residual);
@@ -511,7 +520,8 @@ impl Solve<'_, '_> {
             if let Some(stall) = watch.stalled(residual, iteration) {
                 return (it, StopReason::newton_stalled(stall), iteration, history);
             }
-            let Some(d) = self.direction(&it, &law) else {
+            let eta = forcing.next(residual);
+            let Some(d) = self.direction(&it, &law, eta) else {
                 let reason = StopReason::NonFinite {
                     iteration: iteration + 1,
                 };
@@ -519,6 +529,13 @@ impl Solve<'_, '_> {
             };
             let psi = self.merit(&law, &it.lambda, &it.y, &it.r);
             if self.line_search(&mut it, &d, psi, &law) {
+                continue;
+            }
+            // An inexact direction the line search rejects is solved
+            // again exactly before the step counts as failed.
+            let exact = eta.and_then(|_| self.direction(&it, &law, None));
+            let d = exact.unwrap_or(d);
+            if eta.is_some() && self.line_search(&mut it, &d, psi, &law) {
                 continue;
             }
             full_steps += 1;

@@ -245,15 +245,18 @@ impl SymmetricPart {
 
     /// Solves J x = b (`j` the whole Jacobian, unknowns (u, λ), rows: the
     /// equilibrium, then the contact equations by slot) by GMRES
-    /// preconditioned by M⁻¹ (module doc); `None` when the LDLᵀ fails or
-    /// GMRES does not reach [`KRYLOV_TOLERANCE`] in [`MAX_KRYLOV_STEPS`].
+    /// preconditioned by M⁻¹ (module doc): with `forcing` η, to the
+    /// weighted relative residual η (an inexact Newton direction,
+    /// [`crate::direct_forcing`]), else (or when that is not reached) to
+    /// the LU's backward error; `None` when the LDLᵀ fails or GMRES reaches
+    /// neither.
     pub(crate) fn solve(
         &mut self,
         k: &SparseColMat<usize, f64>,
         points: &Points,
         (rot, chat): (&Rotation, &[f64]),
-        j: &SparseColMat<usize, f64>,
-        b: &[f64],
+        (j, b): (&SparseColMat<usize, f64>, &[f64]),
+        forcing: Option<f64>,
     ) -> Option<Vec<f64>> {
         let n = k.nrows();
         let values = self.values(k, points, rot, chat);
@@ -264,11 +267,6 @@ impl SymmetricPart {
         let weight: Vec<f64> = (0..b.len())
             .map(|i| if i >= n && !rot.given[i - n] { s } else { 1.0 })
             .collect();
-        let apply = |x: &[f64]| -> Vec<f64> {
-            let mut y = product(j, x);
-            y.iter_mut().zip(&weight).for_each(|(v, w)| *v *= w);
-            y
-        };
         let par = faer::get_global_parallelism();
         let symbolic = &self.ordered.symbolic;
         let mut mem = ldlt_scratch(symbolic, par);
@@ -283,24 +281,65 @@ impl SymmetricPart {
             dofs: &self.dofs,
             coefs: &self.coefs,
         };
-        let precondition = |v: &[f64]| -> Vec<f64> {
+        let mut precondition = |v: &[f64]| -> Vec<f64> {
             let r: Vec<f64> = v.iter().zip(&weight).map(|(x, w)| x / w).collect();
             block.solve(&r, |y| {
                 let ym = MatMut::from_column_major_slice_mut(y, r.len(), 1);
                 ldlt.solve_in_place_with_conj(Conj::No, ym, par, stack);
             })
         };
-        let mut precondition = precondition;
+        let weighted = Weighted { j, weight: &weight };
+        let (x, steps) = weighted.krylov(&mut precondition, b, forcing);
+        self.krylov_steps += steps;
+        x
+    }
+}
+
+/// J with its rows weighed (module doc).
+struct Weighted<'w> {
+    j: &'w SparseColMat<usize, f64>,
+    weight: &'w [f64],
+}
+
+impl Weighted<'_> {
+    /// w ⊙ J x.
+    fn apply(&self, x: &[f64]) -> Vec<f64> {
+        let mut y = product(self.j, x);
+        y.iter_mut().zip(self.weight).for_each(|(v, w)| *v *= w);
+        y
+    }
+
+    /// x solving J x = b by GMRES preconditioned by `precondition`: with
+    /// `forcing` η, one cycle to the weighted relative residual η; else,
+    /// or when that cycle fails, restarted cycles to the LU's backward
+    /// error. The x (`None` when neither is reached) and the Krylov steps.
+    fn krylov(
+        &self,
+        precondition: &mut impl FnMut(&[f64]) -> Vec<f64>,
+        b: &[f64],
+        forcing: Option<f64>,
+    ) -> (Option<Vec<f64>>, usize) {
+        let (j, weight) = (self.j, self.weight);
+        let apply = |x: &[f64]| self.apply(x);
         let mut x = vec![0.0; b.len()];
         let mut steps_taken = 0;
-        let (mut berr, mut r) = weighted_backward_error(j, &weight, &x, b);
+        let (mut berr, mut r) = weighted_backward_error(j, weight, &x, b);
+        if let Some(eta) = forcing {
+            let out = gmres(apply, &mut *precondition, &r, eta, MAX_KRYLOV_STEPS);
+            if let Some((d, steps)) = out {
+                if d.iter().all(|v| v.is_finite()) {
+                    return (Some(d), steps);
+                }
+            }
+            steps_taken += MAX_KRYLOV_STEPS;
+        }
         for _ in 0..RESTARTS {
             if berr <= TARGET_BACKWARD_ERROR {
                 break;
             }
             let out = gmres(
                 apply,
-                &mut precondition,
+                &mut *precondition,
                 &r,
                 KRYLOV_TOLERANCE,
                 MAX_KRYLOV_STEPS,
@@ -308,16 +347,15 @@ impl SymmetricPart {
             let Some((d, steps)) = out else { break };
             steps_taken += steps;
             let candidate: Vec<f64> = x.iter().zip(&d).map(|(a, b)| a + b).collect();
-            let (e, rr) = weighted_backward_error(j, &weight, &candidate, b);
+            let (e, rr) = weighted_backward_error(j, weight, &candidate, b);
             // Stop when a cycle does not help (also when e is NaN).
             if e.partial_cmp(&berr) != Some(std::cmp::Ordering::Less) {
                 break;
             }
             (x, berr, r) = (candidate, e, rr);
         }
-        self.krylov_steps += steps_taken;
         let accepted = berr <= ACCEPTED_BACKWARD_ERROR;
-        accepted.then_some(x)
+        (accepted.then_some(x), steps_taken)
     }
 }
 
