@@ -98,6 +98,8 @@ pub(crate) struct WholeSystem<'a> {
     rho: Vec<f64>,
     lu: SparseLu,
     symmetric: SymmetricPart,
+    /// The Jacobian's values in the pattern's order (reused).
+    values: Vec<f64>,
 }
 
 /// One load step's data: the load on the free DOFs and the rows' q.
@@ -186,6 +188,7 @@ impl<'a> WholeSystem<'a> {
             n_values: pairs.len(),
             lu,
             symmetric,
+            values: Vec::with_capacity(pairs.len()),
         })
     }
 
@@ -225,13 +228,13 @@ impl<'a> WholeSystem<'a> {
         (given, coupled)
     }
 
-    /// The Newton direction of `sys` (matrix `values`, right-hand side
-    /// `rhs`): by the symmetric part and GMRES (to the relative residual
-    /// `forcing` when given, [`crate::direct_forcing`]), else by the LU.
+    /// The Newton direction of `sys` (the matrix of the values last set by
+    /// [`WholeSystem::jacobian`], right-hand side `rhs`): by the symmetric
+    /// part and GMRES (to the relative residual `forcing` when given,
+    /// [`crate::direct_forcing`]), else by the LU.
     fn solve(
         &mut self,
         (sys, shift): (&NewtonSystem, f64),
-        values: &[f64],
         rhs: &[f64],
         forcing: Option<f64>,
     ) -> Option<Vec<f64>> {
@@ -250,14 +253,14 @@ impl<'a> WholeSystem<'a> {
         let chat: Vec<f64> = (self.compliance.iter().zip(&self.rho))
             .map(|(c, r)| c + shift / r)
             .collect();
-        let j = self.lu.matrix(values).ok()?;
+        let j = self.lu.set(&self.values);
         if let Some(x) = self
             .symmetric
-            .solve(self.k, &points, (&rot, &chat), (&j, rhs), forcing)
+            .solve(self.k, &points, (&rot, &chat), (j, rhs), forcing)
         {
             return Some(x);
         }
-        self.lu.solve(values, rhs)
+        self.lu.solve(rhs)
     }
 
     /// ρ of each row (module doc).
@@ -297,13 +300,15 @@ impl<'a> WholeSystem<'a> {
         (r, scale)
     }
 
-    /// The Jacobian's values (in the pattern's order) for the linearised
-    /// rows `sys`, and the right-hand side of the contact rows; `shift`
-    /// adds the compliance shift / ρ_r to each coupled row r (a
-    /// Levenberg–Marquardt step where the rows are redundant, module doc).
-    fn jacobian(&self, sys: &NewtonSystem, shift: f64) -> (Vec<f64>, Vec<f64>) {
+    /// The Jacobian's values (in the pattern's order, kept for
+    /// [`WholeSystem::solve`]) for the linearised rows `sys`, and the
+    /// right-hand side of the contact rows; `shift` adds the compliance
+    /// shift / ρ_r to each coupled row r (a Levenberg–Marquardt step where
+    /// the rows are redundant, module doc).
+    fn jacobian(&mut self, sys: &NewtonSystem, shift: f64) -> Vec<f64> {
         let n = self.n();
-        let mut v = Vec::with_capacity(self.n_values);
+        let mut v = std::mem::take(&mut self.values);
+        v.clear();
         v.extend_from_slice(self.k.val());
         for row in self.rows {
             v.extend(row.iter().map(|&(_, c)| -c));
@@ -342,7 +347,8 @@ impl<'a> WholeSystem<'a> {
             v[lam(coupled_slot[i], r)] += f;
         }
         debug_assert!(v.len() == self.n_values && n == self.k.nrows());
-        (v, rhs)
+        self.values = v;
+        rhs
     }
 }
 
@@ -445,10 +451,10 @@ impl Solve<'_, '_> {
         for (secant, shift) in [(false, 0.0), (true, 0.0), (false, REDUNDANT_ROWS_SHIFT)] {
             sys.secant = secant;
             law.residual(&it.lambda, &it.y, Scale::Newton, &mut f, Some(&mut sys));
-            let (values, contact_rhs) = self.system.jacobian(&sys, shift);
+            let contact_rhs = self.system.jacobian(&sys, shift);
             let mut rhs: Vec<f64> = it.r.iter().map(|v| -v).collect();
             rhs.extend(contact_rhs);
-            let d = self.system.solve((&sys, shift), &values, &rhs, forcing);
+            let d = self.system.solve((&sys, shift), &rhs, forcing);
             if let Some(d) = d.filter(|d| d.iter().all(|v| v.is_finite())) {
                 return Some(d);
             }

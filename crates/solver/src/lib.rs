@@ -29,6 +29,7 @@ mod direct_system;
 mod element_step;
 mod error;
 pub mod fill_model;
+mod fixed_pattern;
 mod friction_step;
 mod gmres;
 mod interface_problem;

@@ -29,10 +29,11 @@
 //! Krylov steps reach the exact Newton direction. The Krylov residual
 //! weighs the coupled rows by s, so that every row is a force.
 
-use faer::dyn_stack::MemStack;
-use faer::sparse::{Argsort, Pair, SparseColMat, SymbolicSparseColMat};
+use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::sparse::{Pair, SparseColMat};
 use faer::{Conj, MatMut};
 
+use crate::fixed_pattern::FixedPattern;
 use crate::gmres::gmres;
 use crate::kkt::{
     ldlt_scratch, numeric_ldlt, row_scale, ACCEPTED_BACKWARD_ERROR, TARGET_BACKWARD_ERROR,
@@ -98,7 +99,8 @@ impl Rotation {
 }
 
 /// The symmetric part's pattern, ordering and symbolic LDLᵀ (computed
-/// once per run), each point's rows on its DOFs, and the counts.
+/// once per run), each point's rows on its DOFs, the storage of its values,
+/// factor and scratch (allocated once), and the counts.
 pub(crate) struct SymmetricPart {
     row_scale: f64,
     delta: f64,
@@ -107,10 +109,12 @@ pub(crate) struct SymmetricPart {
     /// coefficients on them, row after row.
     dofs: Vec<Vec<usize>>,
     coefs: Vec<Vec<f64>>,
-    pattern: SymbolicSparseColMat<usize>,
-    argsort: Argsort<usize>,
+    matrix: FixedPattern,
+    /// The matrix's values in the order of its pairs.
+    values: Vec<f64>,
     ordered: OrderedSymbolic,
     l_values: Vec<f64>,
+    scratch: MemBuffer,
     /// Numerical LDLᵀ factorisations, and Krylov steps over all solves.
     pub(crate) factorisations: usize,
     pub(crate) krylov_steps: usize,
@@ -163,25 +167,25 @@ impl SymmetricPart {
         if floating {
             pairs.extend((0..n).map(|i| Pair::new(i, i)));
         }
-        let (pattern, argsort) = SymbolicSparseColMat::try_new_from_indices(n + m, n + m, &pairs)
-            .map_err(|e| format!("symmetric part pattern: {e:?}"))?;
-        let ones =
-            SparseColMat::new_from_argsort(pattern.clone(), &argsort, &vec![1.0; pairs.len()])
-                .map_err(|e| format!("symmetric part pattern: {e:?}"))?;
+        let mut matrix = FixedPattern::new(n + m, n + m, &pairs)
+            .map_err(|e| format!("symmetric part pattern: {e}"))?;
+        let ones = matrix.set(&vec![1.0; pairs.len()]);
         let ordered = order_and_analyse(ones.as_ref(), n + m, OrderingChoice::Auto)
             .map_err(|e| format!("symmetric part ordering: {e}"))?;
         let s = row_scale(k);
         let sqrt_eps = f64::EPSILON.sqrt();
+        let scratch = ldlt_scratch(&ordered.symbolic, faer::get_global_parallelism());
         Ok(Self {
             row_scale: s,
             delta: sqrt_eps * s,
             gamma: if floating { sqrt_eps * s } else { 0.0 },
             dofs,
             coefs,
-            pattern,
-            argsort,
+            matrix,
+            values: Vec::with_capacity(pairs.len()),
             l_values: vec![0.0; ordered.symbolic.len_val()],
             ordered,
+            scratch,
             factorisations: 0,
             krylov_steps: 0,
         })
@@ -193,16 +197,17 @@ impl SymmetricPart {
     }
 
     /// The values of the scaled, regularised M_kk (module doc) in the
-    /// order of the pattern's pairs; `chat` the rows' Ĉ.
+    /// order of the pattern's pairs, into `v`; `chat` the rows' Ĉ.
     fn values(
         &self,
         k: &SparseColMat<usize, f64>,
         points: &Points,
-        rot: &Rotation,
-        chat: &[f64],
-    ) -> Vec<f64> {
+        (rot, chat): (&Rotation, &[f64]),
+        v: &mut Vec<f64>,
+    ) {
         let s = self.row_scale;
-        let mut v = k.val().to_vec();
+        v.clear();
+        v.extend_from_slice(k.val());
         for (p, pr) in points.point_rows.iter().enumerate() {
             let nd = self.dofs[p].len();
             for &slot in pr {
@@ -240,7 +245,6 @@ impl SymmetricPart {
         if self.gamma > 0.0 {
             v.extend(std::iter::repeat_n(self.gamma, k.nrows()));
         }
-        v
     }
 
     /// Solves J x = b (`j` the whole Jacobian, unknowns (u, λ), rows: the
@@ -259,9 +263,10 @@ impl SymmetricPart {
         forcing: Option<f64>,
     ) -> Option<Vec<f64>> {
         let n = k.nrows();
-        let values = self.values(k, points, rot, chat);
-        let a =
-            SparseColMat::new_from_argsort(self.pattern.clone(), &self.argsort, &values).ok()?;
+        let mut values = std::mem::take(&mut self.values);
+        self.values(k, points, (rot, chat), &mut values);
+        let a = self.matrix.set(&values);
+        self.values = values;
         self.factorisations += 1;
         let s = self.row_scale;
         let weight: Vec<f64> = (0..b.len())
@@ -269,8 +274,7 @@ impl SymmetricPart {
             .collect();
         let par = faer::get_global_parallelism();
         let symbolic = &self.ordered.symbolic;
-        let mut mem = ldlt_scratch(symbolic, par);
-        let stack = MemStack::new(&mut mem);
+        let stack = MemStack::new(&mut self.scratch);
         let ldlt = numeric_ldlt(symbolic, &mut self.l_values, a.as_ref(), par, stack)?;
         let block = Block {
             n,
