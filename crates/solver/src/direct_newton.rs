@@ -48,7 +48,7 @@
 
 use faer::sparse::{Pair, SparseColMat};
 
-use crate::direct_forcing::Forcing;
+use crate::direct_forcing::{Forcing, POLISH_ABOVE};
 use crate::sparse_lu::SparseLu;
 use crate::symmetric_part::{Points, Rotation, SymmetricPart};
 use signorini_condense::spmv_with_magnitude;
@@ -380,6 +380,14 @@ fn row_rho(k: &SparseColMat<usize, f64>, rows: &[SparseRow]) -> Vec<f64> {
         .collect()
 }
 
+/// How a Newton step went: taken (by an inexact direction or not),
+/// rejected by the line search (its direction), or without a direction.
+enum Stepped {
+    Taken { inexact: bool },
+    Rejected(Vec<f64>),
+    NoDirection,
+}
+
 /// The current iterate: u, λ, their gaps and equilibrium residual.
 struct Iterate {
     u: Vec<f64>,
@@ -487,6 +495,29 @@ impl Solve<'_, '_> {
         false
     }
 
+    /// One Newton step from `it` with the forcing term `eta` (exact when
+    /// `None`): the direction and the line search along it; an inexact
+    /// direction the line search rejects is solved again exactly before
+    /// the step counts as rejected.
+    fn step(&mut self, it: &mut Iterate, law: &AlartCurnier, eta: Option<f64>) -> Stepped {
+        let Some(d) = self.direction(it, law, eta) else {
+            return Stepped::NoDirection;
+        };
+        let psi = self.merit(law, &it.lambda, &it.y, &it.r);
+        if self.line_search(it, &d, psi, law) {
+            return Stepped::Taken {
+                inexact: eta.is_some(),
+            };
+        }
+        let Some(exact) = eta.and_then(|_| self.direction(it, law, None)) else {
+            return Stepped::Rejected(d);
+        };
+        if self.line_search(it, &exact, psi, law) {
+            return Stepped::Taken { inexact: false };
+        }
+        Stepped::Rejected(exact)
+    }
+
     /// The Newton iterations from (u, λ): the last iterate, why it stopped,
     /// its iterations and residuals.
     fn run(&mut self, u: Vec<f64>, lambda: Vec<f64>) -> (Iterate, StopReason, usize, Vec<f64>) {
@@ -503,10 +534,20 @@ impl Solve<'_, '_> {
         let mut history = Vec::new();
         let mut full_steps = 0;
         let mut forcing = Forcing::default();
+        let mut inexact = false;
         for iteration in 0..self.opts.max_iterations {
             let residual = self.check(&it, &law);
             history.push(residual);
             if residual <= self.opts.tolerance {
+                // After inexact steps, one exact step more
+                // (crate::direct_forcing).
+                let polish = residual > POLISH_ABOVE * self.opts.tolerance;
+                if std::mem::take(&mut inexact)
+                    && polish
+                    && matches!(self.step(&mut it, &law, None), Stepped::Taken { .. })
+                {
+                    continue;
+                }
                 let reason = StopReason::NewtonConverged {
                     residual,
                     iterations: iteration,
@@ -526,24 +567,19 @@ impl Solve<'_, '_> {
             if let Some(stall) = watch.stalled(residual, iteration) {
                 return (it, StopReason::newton_stalled(stall), iteration, history);
             }
-            let eta = forcing.next(residual);
-            let Some(d) = self.direction(&it, &law, eta) else {
-                let reason = StopReason::NonFinite {
-                    iteration: iteration + 1,
-                };
-                return (it, reason, iteration + 1, history);
+            let d = match self.step(&mut it, &law, forcing.next(residual)) {
+                Stepped::Taken { inexact: i } => {
+                    inexact |= i;
+                    continue;
+                }
+                Stepped::Rejected(d) => d,
+                Stepped::NoDirection => {
+                    let reason = StopReason::NonFinite {
+                        iteration: iteration + 1,
+                    };
+                    return (it, reason, iteration + 1, history);
+                }
             };
-            let psi = self.merit(&law, &it.lambda, &it.y, &it.r);
-            if self.line_search(&mut it, &d, psi, &law) {
-                continue;
-            }
-            // An inexact direction the line search rejects is solved
-            // again exactly before the step counts as failed.
-            let exact = eta.and_then(|_| self.direction(&it, &law, None));
-            let d = exact.unwrap_or(d);
-            if eta.is_some() && self.line_search(&mut it, &d, psi, &law) {
-                continue;
-            }
             full_steps += 1;
             if full_steps > FULL_STEPS {
                 return (
