@@ -813,17 +813,19 @@ pub fn estimate(
         e.fields += 2.0 * 8.0 * (3.0 * n + 7.0 * s.cells);
     }
     let (g, m) = (e.interface_dofs, e.contact_rows);
-    // Friction on the direct path: the whole-system Newton's sparse LU (L
-    // and U in a column order of its own, COLAMD: five times the LDLᵀ in
-    // nested dissection, from measured peaks 1.4 to 2.8 times the estimate
-    // at twice on the pads and strips of
-    // docs/performance/condensed-vs-direct.md), nothing dense.
+    // Friction on the direct path: the Newton direction is the LDLᵀ of the
+    // Jacobian's symmetric part (the frictionless KKT factor's size) and
+    // GMRES, with the Jacobian, the symmetric part and the factor's scratch
+    // on a fixed pattern: twice the LDLᵀ, which puts the estimate at 1.1
+    // to 1.6 times the measured peaks of
+    // docs/performance/condensed-vs-direct.md; the sparse LU, five times the LDLᵀ in its COLAMD order, is
+    // a fallback built only when that direction fails, nothing dense.
     let direct_friction = direct
         && sc
             .contact
             .iter()
             .any(|c| c.friction != scene::Friction::None);
-    e.factor *= if direct_friction { 5.0 } else { 1.0 };
+    e.factor *= if direct_friction { 2.0 } else { 1.0 };
     e.dense = if direct {
         // the KKT matrix holds the contact rows sparse: no dense block
         0.0
