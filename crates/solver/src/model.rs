@@ -7,8 +7,8 @@ use signorini_contact::friction::{FrictionLaw, PointStatus};
 use signorini_fem::{Elasticity, Formulation as FemFormulation, Model as FemModel};
 use signorini_geometry::ContactPoint;
 use signorini_mesh::generators::{
-    box_mesh, half_disk, hemisphere_of_kind, quarter_disk, rectangle, BoxSide, HemisphereSector,
-    RectSide,
+    box_mesh, half_disk, hemisphere_of_kind, quarter_disk, rectangle, BoxSide, HalfBall,
+    HemisphereSector, RectSide,
 };
 use signorini_mesh::{CellKind, Mesh};
 use signorini_scene as scene;
@@ -206,6 +206,23 @@ fn grading_side<S>(
         .transpose()
 }
 
+/// The [`HalfBall`] of a `half_disk` or `hemisphere` generator's entries.
+fn half_ball<const D: usize>(
+    center: &[f64; D],
+    radius: &f64,
+    divisions: &usize,
+    pole: &[f64; D],
+    grading: &f64,
+) -> HalfBall<D> {
+    HalfBall {
+        center: *center,
+        radius: *radius,
+        divisions: *divisions,
+        pole: *pole,
+        grading: *grading,
+    }
+}
+
 /// The first `dim` coordinates of `x` as `(x, y[, z])` for a message, each
 /// a few characters whatever its size.
 fn point_text(x: &[f64; 3], dim: usize) -> String {
@@ -320,11 +337,7 @@ pub fn build_mesh(body: &scene::Body, entry: &str, dim: usize) -> Result<Mesh, S
             grading,
             element,
         }) => half_disk(
-            *center,
-            *radius,
-            *divisions,
-            *pole,
-            *grading,
+            &half_ball(center, radius, divisions, pole, grading),
             cell_kind(*element),
         ),
         scene::MeshSpec::Generator(G::Box {
@@ -351,12 +364,9 @@ pub fn build_mesh(body: &scene::Body, entry: &str, dim: usize) -> Result<Mesh, S
             element,
             sector,
         }) => hemisphere_of_kind(
-            *center,
-            *radius,
-            *divisions,
-            *pole,
-            *grading,
-            (cell_kind(*element), hemisphere_sector(*sector)),
+            &half_ball(center, radius, divisions, pole, grading),
+            cell_kind(*element),
+            hemisphere_sector(*sector),
         ),
         scene::MeshSpec::Generator(G::QuarterDisk {
             center,
