@@ -249,13 +249,7 @@ fn test_meshes() -> Vec<(&'static str, Mesh)> {
         (
             "q4 half disk",
             half_disk(
-                &HalfBall {
-                    center: [0.0, 1.0],
-                    radius: 1.0,
-                    divisions: 16,
-                    pole: [0.3, -1.0],
-                    grading: 4.0,
-                },
+                &HalfBall::new([0.0, 1.0], 1.0, 16, [0.3, -1.0], 4.0),
                 CellKind::Quad4,
             )
             .unwrap(),
@@ -263,13 +257,7 @@ fn test_meshes() -> Vec<(&'static str, Mesh)> {
         (
             "t3 half disk",
             half_disk(
-                &HalfBall {
-                    center: [0.0, 1.0],
-                    radius: 1.0,
-                    divisions: 16,
-                    pole: [0.3, -1.0],
-                    grading: 4.0,
-                },
+                &HalfBall::new([0.0, 1.0], 1.0, 16, [0.3, -1.0], 4.0),
                 CellKind::Tri3,
             )
             .unwrap(),
@@ -514,13 +502,7 @@ fn uniaxial_compression() {
 #[test]
 fn traction_and_tributary_measures() {
     let m = half_disk(
-        &HalfBall {
-            center: [0.0, 0.0],
-            radius: 2.0,
-            divisions: 32,
-            pole: [0.0, -1.0],
-            grading: 8.0,
-        },
+        &HalfBall::new([0.0, 0.0], 2.0, 32, [0.0, -1.0], 8.0),
         CellKind::Tri3,
     )
     .unwrap();

@@ -156,6 +156,24 @@ pub struct HalfBall<const D: usize> {
     pub grading: f64,
 }
 
+impl<const D: usize> HalfBall<D> {
+    pub fn new(
+        center: [f64; D],
+        radius: f64,
+        divisions: usize,
+        pole: [f64; D],
+        grading: f64,
+    ) -> HalfBall<D> {
+        HalfBall {
+            center,
+            radius,
+            divisions,
+            pole,
+            grading,
+        }
+    }
+}
+
 /// What the round generators (disks, hemisphere) check of their arguments:
 /// the generator's name, the least number of divisions and what they divide.
 pub(super) struct Round {

@@ -469,13 +469,7 @@ mod tests {
     #[test]
     fn half_disk_into_2_parts() {
         let mesh = half_disk(
-            &HalfBall {
-                center: [0., 1.],
-                radius: 1.0,
-                divisions: 64,
-                pole: [0., -1.],
-                grading: 8.0,
-            },
+            &HalfBall::new([0., 1.], 1.0, 64, [0., -1.], 8.0),
             CellKind::Quad4,
         )
         .unwrap();

@@ -71,17 +71,7 @@ fn tri3_half_disk_is_its_own_mirror_image_about_the_pole_radius() {
             ([0.0, 1.0], 1.0, [0.0, -1.0]),
             ([0.3, -1.2], 2.5, [1.0, 2.0]),
         ] {
-            let m = half_disk(
-                &HalfBall {
-                    center: c,
-                    radius: r,
-                    divisions: n,
-                    pole,
-                    grading: g,
-                },
-                CellKind::Tri3,
-            )
-            .unwrap();
+            let m = half_disk(&HalfBall::new(c, r, n, pole, g), CellKind::Tri3).unwrap();
             assert_mirror_symmetric(&m, c, pole, 1e-9 * r, &format!("n={n} g={g} pole={pole:?}"));
         }
     }
@@ -93,13 +83,7 @@ fn every_arc_node_of_the_tri3_disks_has_the_same_star() {
     // triangles where they were in 3)
     for (n, g) in [(16, 1.0), (80, 16.0), (160, 16.0)] {
         let m = half_disk(
-            &HalfBall {
-                center: [0.0, 1.0],
-                radius: 1.0,
-                divisions: n,
-                pole: [0.0, -1.0],
-                grading: g,
-            },
+            &HalfBall::new([0.0, 1.0], 1.0, n, [0.0, -1.0], g),
             CellKind::Tri3,
         )
         .unwrap();

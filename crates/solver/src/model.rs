@@ -206,23 +206,6 @@ fn grading_side<S>(
         .transpose()
 }
 
-/// The [`HalfBall`] of a `half_disk` or `hemisphere` generator's entries.
-fn half_ball<const D: usize>(
-    center: &[f64; D],
-    radius: &f64,
-    divisions: &usize,
-    pole: &[f64; D],
-    grading: &f64,
-) -> HalfBall<D> {
-    HalfBall {
-        center: *center,
-        radius: *radius,
-        divisions: *divisions,
-        pole: *pole,
-        grading: *grading,
-    }
-}
-
 /// The first `dim` coordinates of `x` as `(x, y[, z])` for a message, each
 /// a few characters whatever its size.
 fn point_text(x: &[f64; 3], dim: usize) -> String {
@@ -337,7 +320,7 @@ pub fn build_mesh(body: &scene::Body, entry: &str, dim: usize) -> Result<Mesh, S
             grading,
             element,
         }) => half_disk(
-            &half_ball(center, radius, divisions, pole, grading),
+            &HalfBall::new(*center, *radius, *divisions, *pole, *grading),
             cell_kind(*element),
         ),
         scene::MeshSpec::Generator(G::Box {
@@ -364,7 +347,7 @@ pub fn build_mesh(body: &scene::Body, entry: &str, dim: usize) -> Result<Mesh, S
             element,
             sector,
         }) => hemisphere_of_kind(
-            &half_ball(center, radius, divisions, pole, grading),
+            &HalfBall::new(*center, *radius, *divisions, *pole, *grading),
             cell_kind(*element),
             hemisphere_sector(*sector),
         ),

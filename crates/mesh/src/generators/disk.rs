@@ -365,13 +365,13 @@ pub fn quarter_disk(
     kind: CellKind,
 ) -> Result<Mesh, MeshError> {
     QUARTER_DISK.check(&center, radius, divisions, grading)?;
-    let half = half_disk_quads(&HalfBall {
+    let half = half_disk_quads(&HalfBall::new(
         center,
         radius,
-        divisions: 2 * divisions,
-        pole: [0.0, -1.0],
+        2 * divisions,
+        [0.0, -1.0],
         grading,
-    })?;
+    ))?;
     // the axis is the half disk's middle grid line: within rounding of x = c_x,
     // while every other node is at least a fraction of an element away
     let tol = 1e-9 * radius;

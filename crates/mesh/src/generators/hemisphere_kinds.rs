@@ -80,13 +80,7 @@ mod tests {
     #[test]
     fn every_kind_has_the_hexahedra_volume_and_its_dome_nodes_on_the_sphere() {
         let (c, r) = ([0.0, 0.0, 1.0], 1.0);
-        let ball = HalfBall {
-            center: c,
-            radius: r,
-            divisions: 4,
-            pole: [0.0, 0.0, -1.0],
-            grading: 2.0,
-        };
+        let ball = HalfBall::new(c, r, 4, [0.0, 0.0, -1.0], 2.0);
         let hexes = hemisphere(&ball).unwrap();
         for (kind, cells) in [
             (CellKind::Tet4, 12),

@@ -120,13 +120,7 @@ mod tests {
     #[test]
     fn a_quarter_hemisphere_has_a_quarter_of_the_cells_and_its_planes() {
         let (c, r, pole) = ([0.0, 0.0, 1.0], 1.0, [0.0, 0.0, -1.0]);
-        let ball = HalfBall {
-            center: c,
-            radius: r,
-            divisions: 6,
-            pole,
-            grading: 8.0,
-        };
+        let ball = HalfBall::new(c, r, 6, pole, 8.0);
         let whole = hemisphere(&ball).unwrap();
         let q = quarter_hemisphere(&whole, &ball).unwrap();
         assert_eq!(4 * q.cells.len(), whole.cells.len());

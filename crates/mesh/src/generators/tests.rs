@@ -164,17 +164,7 @@ fn rectangle_grading() {
 }
 
 fn check_half_disk(c: [f64; 2], r: f64, n: usize, pole: [f64; 2], g: f64, kind: CellKind) -> Mesh {
-    let m = half_disk(
-        &HalfBall {
-            center: c,
-            radius: r,
-            divisions: n,
-            pole,
-            grading: g,
-        },
-        kind,
-    )
-    .unwrap();
+    let m = half_disk(&HalfBall::new(c, r, n, pole, g), kind).unwrap();
     m.check().unwrap();
     check_surfaces(&m);
     let pn = pole[0].hypot(pole[1]);
@@ -240,51 +230,20 @@ fn half_disk_shapes() {
             }
         }
     }
-    assert!(half_disk(
-        &HalfBall {
-            center: [0.0, 0.0],
-            radius: 1.0,
-            divisions: 16,
-            pole: [0.0, 0.0],
-            grading: 1.0
-        },
-        CellKind::Quad4
-    )
-    .is_err());
-    assert!(half_disk(
-        &HalfBall {
-            center: [0.0, 0.0],
-            radius: 0.0,
-            divisions: 16,
-            pole: [0.0, 1.0],
-            grading: 1.0
-        },
-        CellKind::Quad4
-    )
-    .is_err());
-    assert!(half_disk(
-        &HalfBall {
-            center: [0.0, 0.0],
-            radius: 1.0,
-            divisions: 3,
-            pole: [0.0, 1.0],
-            grading: 1.0
-        },
-        CellKind::Quad4
-    )
-    .is_err());
+    // a zero pole, a zero radius, too few divisions
+    for bad in [
+        HalfBall::new([0.0, 0.0], 1.0, 16, [0.0, 0.0], 1.0),
+        HalfBall::new([0.0, 0.0], 0.0, 16, [0.0, 1.0], 1.0),
+        HalfBall::new([0.0, 0.0], 1.0, 3, [0.0, 1.0], 1.0),
+    ] {
+        assert!(half_disk(&bad, CellKind::Quad4).is_err(), "{bad:?}");
+    }
 }
 
 #[test]
 fn half_disk_counts() {
     let m = half_disk(
-        &HalfBall {
-            center: [0.0, 0.0],
-            radius: 1.0,
-            divisions: 16,
-            pole: [0.0, -1.0],
-            grading: 1.0,
-        },
+        &HalfBall::new([0.0, 0.0], 1.0, 16, [0.0, -1.0], 1.0),
         CellKind::Quad4,
     )
     .unwrap();
@@ -293,13 +252,7 @@ fn half_disk_counts() {
     assert_eq!(m.n_nodes(), 9 * 5 + 17 * 2);
     // Tri3: four triangles about a node added at each quad's centre
     let t = half_disk(
-        &HalfBall {
-            center: [0.0, 0.0],
-            radius: 1.0,
-            divisions: 16,
-            pole: [0.0, -1.0],
-            grading: 1.0,
-        },
+        &HalfBall::new([0.0, 0.0], 1.0, 16, [0.0, -1.0], 1.0),
         CellKind::Tri3,
     )
     .unwrap();
@@ -319,17 +272,7 @@ fn half_disk_contact_zone_resolution() {
     let r = 0.05;
     let c = [0.0, r];
     let pole = [0.0, -1.0];
-    let m = half_disk(
-        &HalfBall {
-            center: c,
-            radius: r,
-            divisions: 128,
-            pole,
-            grading: 16.0,
-        },
-        CellKind::Quad4,
-    )
-    .unwrap();
+    let m = half_disk(&HalfBall::new(c, r, 128, pole, 16.0), CellKind::Quad4).unwrap();
     let tip = [c[0] + r * pole[0], c[1] + r * pole[1]];
     let arc = m.surface("arc").unwrap();
     let near = arc
@@ -493,13 +436,7 @@ fn quarter_disk_grading_and_counts() {
     }
     // the right half of the half disk with twice the divisions, same nodes
     let half = half_disk(
-        &HalfBall {
-            center: [0.0, 0.0],
-            radius: 1.0,
-            divisions: 32,
-            pole: [0.0, -1.0],
-            grading: 4.0,
-        },
+        &HalfBall::new([0.0, 0.0], 1.0, 32, [0.0, -1.0], 4.0),
         CellKind::Quad4,
     )
     .unwrap();
@@ -525,17 +462,7 @@ fn quarter_disk_grading_and_counts() {
 fn build_2d_rejects_3d_kinds() {
     for kind in [CellKind::Hex8, CellKind::Tet4] {
         assert!(rectangle([0.0, 0.0], [1.0, 1.0], [2, 2], kind, None).is_err());
-        assert!(half_disk(
-            &HalfBall {
-                center: [0.0, 0.0],
-                radius: 1.0,
-                divisions: 8,
-                pole: [0.0, -1.0],
-                grading: 1.0
-            },
-            kind
-        )
-        .is_err());
+        assert!(half_disk(&HalfBall::new([0.0, 0.0], 1.0, 8, [0.0, -1.0], 1.0), kind).is_err());
     }
     for kind in [CellKind::Quad8, CellKind::Tri6] {
         let m = rectangle([0.0, 0.0], [1.0, 1.0], [2, 2], kind, None).unwrap();
