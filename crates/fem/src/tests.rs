@@ -243,25 +243,12 @@ fn norm(x: &[f64]) -> f64 {
 }
 
 fn test_meshes() -> Vec<(&'static str, Mesh)> {
+    let ball = HalfBall::new([0.0, 1.0], 1.0, 16, [0.3, -1.0], 4.0);
     vec![
         ("q4 distorted", distorted_rectangle(CellKind::Quad4, 0.3)),
         ("t3 distorted", distorted_rectangle(CellKind::Tri3, 0.3)),
-        (
-            "q4 half disk",
-            half_disk(
-                &HalfBall::new([0.0, 1.0], 1.0, 16, [0.3, -1.0], 4.0),
-                CellKind::Quad4,
-            )
-            .unwrap(),
-        ),
-        (
-            "t3 half disk",
-            half_disk(
-                &HalfBall::new([0.0, 1.0], 1.0, 16, [0.3, -1.0], 4.0),
-                CellKind::Tri3,
-            )
-            .unwrap(),
-        ),
+        ("q4 half disk", half_disk(&ball, CellKind::Quad4).unwrap()),
+        ("t3 half disk", half_disk(&ball, CellKind::Tri3).unwrap()),
     ]
 }
 
@@ -501,11 +488,8 @@ fn uniaxial_compression() {
 
 #[test]
 fn traction_and_tributary_measures() {
-    let m = half_disk(
-        &HalfBall::new([0.0, 0.0], 2.0, 32, [0.0, -1.0], 8.0),
-        CellKind::Tri3,
-    )
-    .unwrap();
+    let ball = HalfBall::new([0.0, 0.0], 2.0, 32, [0.0, -1.0], 8.0);
+    let m = half_disk(&ball, CellKind::Tri3).unwrap();
     for name in ["arc", "flat"] {
         let s = m.surface(name).unwrap();
         let len = surface_measure(&m, s, Model::PlaneStrain);

@@ -468,11 +468,8 @@ mod tests {
 
     #[test]
     fn half_disk_into_2_parts() {
-        let mesh = half_disk(
-            &HalfBall::new([0., 1.], 1.0, 64, [0., -1.], 8.0),
-            CellKind::Quad4,
-        )
-        .unwrap();
+        let ball = HalfBall::new([0., 1.], 1.0, 64, [0., -1.], 8.0);
+        let mesh = half_disk(&ball, CellKind::Quad4).unwrap();
         let parts = partition_cells(&mesh, 2).unwrap();
         check_partition(&mesh, &parts, 2);
         let shared = shared_nodes(&mesh, &parts);

@@ -82,11 +82,8 @@ fn every_arc_node_of_the_tri3_disks_has_the_same_star() {
     // half disk: the pole alike its neighbours (cut in two, it was in 2 or 4
     // triangles where they were in 3)
     for (n, g) in [(16, 1.0), (80, 16.0), (160, 16.0)] {
-        let m = half_disk(
-            &HalfBall::new([0.0, 1.0], 1.0, n, [0.0, -1.0], g),
-            CellKind::Tri3,
-        )
-        .unwrap();
+        let ball = HalfBall::new([0.0, 1.0], 1.0, n, [0.0, -1.0], g);
+        let m = half_disk(&ball, CellKind::Tri3).unwrap();
         let s = stars(&m, "arc");
         assert_eq!(s.len(), n + 1);
         // the two ends are corners of the flat side

@@ -242,20 +242,13 @@ fn half_disk_shapes() {
 
 #[test]
 fn half_disk_counts() {
-    let m = half_disk(
-        &HalfBall::new([0.0, 0.0], 1.0, 16, [0.0, -1.0], 1.0),
-        CellKind::Quad4,
-    )
-    .unwrap();
+    let ball = HalfBall::new([0.0, 0.0], 1.0, 16, [0.0, -1.0], 1.0);
+    let m = half_disk(&ball, CellKind::Quad4).unwrap();
     // uniform 16: corner at arc node 4 (45°), rectangle 8 x 4, ring 16 x 2
     assert_eq!(m.cells.len(), 8 * 4 + 16 * 2);
     assert_eq!(m.n_nodes(), 9 * 5 + 17 * 2);
     // Tri3: four triangles about a node added at each quad's centre
-    let t = half_disk(
-        &HalfBall::new([0.0, 0.0], 1.0, 16, [0.0, -1.0], 1.0),
-        CellKind::Tri3,
-    )
-    .unwrap();
+    let t = half_disk(&ball, CellKind::Tri3).unwrap();
     assert_eq!(t.cells.len(), 4 * m.cells.len());
     assert_eq!(t.n_nodes(), m.n_nodes() + m.cells.len());
     assert_eq!(
@@ -435,11 +428,8 @@ fn quarter_disk_grading_and_counts() {
         assert!((w[1] / w[0] - 4f64.powf(1.0 / 15.0)).abs() < 1e-9);
     }
     // the right half of the half disk with twice the divisions, same nodes
-    let half = half_disk(
-        &HalfBall::new([0.0, 0.0], 1.0, 32, [0.0, -1.0], 4.0),
-        CellKind::Quad4,
-    )
-    .unwrap();
+    let ball = HalfBall::new([0.0, 0.0], 1.0, 32, [0.0, -1.0], 4.0);
+    let half = half_disk(&ball, CellKind::Quad4).unwrap();
     assert_eq!(
         half.coords.iter().filter(|x| x[0] > 1e-12).count()
             + m.surface("axis").unwrap().nodes().len(),
