@@ -77,6 +77,37 @@ impl Default for Solver {
     }
 }
 
+/// `Display` (the spelling `as_str` gives) and `FromStr` (one of the
+/// spellings of `ALL`, `-` accepted for `_`: `projected-gradient`; else an
+/// error naming the valid ones) of a `[solver]` choice, the scene file's and
+/// the command line's.
+macro_rules! spelled_choice {
+    ($choice:ident, $what:literal) => {
+        impl fmt::Display for $choice {
+            fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+                f.write_str(self.as_str())
+            }
+        }
+
+        impl FromStr for $choice {
+            type Err = String;
+            fn from_str(s: &str) -> Result<Self, String> {
+                let key = s.trim().replace('-', "_");
+                $choice::ALL
+                    .into_iter()
+                    .find(|m| m.as_str() == key)
+                    .ok_or_else(|| {
+                        format!(
+                            concat!("unknown ", $what, " \"{}\"; valid ", $what, "s: {}"),
+                            s,
+                            $choice::ALL.map($choice::as_str).join(", ")
+                        )
+                    })
+            }
+        }
+    };
+}
+
 /// `solver.method`.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
@@ -121,28 +152,7 @@ impl Method {
     }
 }
 
-impl fmt::Display for Method {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(self.as_str())
-    }
-}
-
-impl FromStr for Method {
-    type Err = String;
-    /// Accepts the scene spelling; `-` may replace `_` (`projected-gradient`).
-    fn from_str(s: &str) -> Result<Self, String> {
-        let key = s.trim().replace('-', "_");
-        Method::ALL
-            .into_iter()
-            .find(|m| m.as_str() == key)
-            .ok_or_else(|| {
-                format!(
-                    "unknown method \"{s}\"; valid methods: {}",
-                    Method::ALL.map(Method::as_str).join(", ")
-                )
-            })
-    }
-}
+spelled_choice!(Method, "method");
 
 /// `solver.path`.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
@@ -171,22 +181,7 @@ impl SolvePath {
     }
 }
 
-impl fmt::Display for SolvePath {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(self.as_str())
-    }
-}
-
-impl FromStr for SolvePath {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Self, String> {
-        let key = s.trim();
-        SolvePath::ALL
-            .into_iter()
-            .find(|m| m.as_str() == key)
-            .ok_or_else(|| format!("unknown path \"{s}\"; valid paths: condensed, direct, auto"))
-    }
-}
+spelled_choice!(SolvePath, "path");
 
 /// `solver.friction`: the outer loop for friction.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
