@@ -161,43 +161,46 @@ impl Scene {
     /// the rule of `docs/reference/scene-format.md`: loads not named in a step keep their previous scale
     /// (first step: 1). With no `[[steps]]`, one step with every scale 1. Unnamed
     /// boundary entries are always at scale 1.
-    /// The friction law of every contact at every load step: the contact's
-    /// own until a step's `friction` changes it, which holds from that step
-    /// on. With no `[[steps]]`, one step with the contacts' own laws.
-    pub fn step_frictions(&self) -> Vec<Vec<Friction>> {
-        let mut current: Vec<Friction> = self.contact.iter().map(|c| c.friction.clone()).collect();
-        if self.steps.is_empty() {
-            return vec![current];
-        }
-        self.steps
-            .iter()
-            .map(|step| {
-                for (name, f) in &step.friction {
-                    if let Some(ci) = self.contact.iter().position(|c| &c.name == name) {
-                        current[ci] = f.clone();
-                    }
-                }
-                current.clone()
-            })
-            .collect()
-    }
-
     pub fn step_scales(&self) -> Vec<BTreeMap<String, f64>> {
-        let mut current: BTreeMap<String, f64> = self
+        let first: BTreeMap<String, f64> = self
             .boundary
             .iter()
             .filter_map(|b| b.name.clone())
             .map(|n| (n, 1.0))
             .collect();
+        self.per_step(first, |step, current| {
+            for (name, scale) in &step.scale {
+                current.insert(name.clone(), *scale);
+            }
+        })
+    }
+
+    /// The friction law of every contact at every load step: the contact's
+    /// own until a step's `friction` changes it, which holds from that step
+    /// on. With no `[[steps]]`, one step with the contacts' own laws.
+    pub fn step_frictions(&self) -> Vec<Vec<Friction>> {
+        let first: Vec<Friction> = self.contact.iter().map(|c| c.friction.clone()).collect();
+        self.per_step(first, |step, current| {
+            for (name, f) in &step.friction {
+                if let Some(ci) = self.contact.iter().position(|c| &c.name == name) {
+                    current[ci] = f.clone();
+                }
+            }
+        })
+    }
+
+    /// A value at every load step: `first` changed by each step in turn
+    /// (`change`), what a step does not change held from the step before.
+    /// With no `[[steps]]`, one step with `first`.
+    fn per_step<T: Clone>(&self, first: T, change: impl Fn(&Step, &mut T)) -> Vec<T> {
         if self.steps.is_empty() {
-            return vec![current];
+            return vec![first];
         }
+        let mut current = first;
         self.steps
             .iter()
             .map(|step| {
-                for (name, scale) in &step.scale {
-                    current.insert(name.clone(), *scale);
-                }
+                change(step, &mut current);
                 current.clone()
             })
             .collect()
