@@ -245,37 +245,38 @@ const TOL: f64 = 1e-4;
 /// dragged along x by the steps' scales of u (with a node at mid-height).
 fn drag(dim: usize, friction: &str, scales: &[f64]) -> String {
     let steps = common::drag_steps(scales);
-    let (model, mesh, top, bottom, traction, clamp, mid): (_, fn(f64) -> String, _, _, _, _, _) =
-        if dim == 2 {
-            (
-                "plane_strain",
-                |o: f64| {
-                    format!("{{ generator = \"rectangle\", origin = [0.0, {o:?}], size = [2.0, {H:?}], divisions = [10, 2] }}")
-                },
-                "top",
-                "bottom",
-                format!("[0.0, {:?}]", -P),
-                "{ x = 0.0, y = 0.0 }",
-                format!("[0.0, {:?}]", 1.5 * H),
-            )
-        } else {
-            (
-                "solid",
-                |o: f64| {
-                    format!("{{ generator = \"box\", origin = [0.0, 0.0, {o:?}], size = [2.0, 2.0, {H:?}], divisions = [4, 4, 2] }}")
-                },
-                "zmax",
-                "zmin",
-                format!("[0.0, 0.0, {:?}]", -P),
-                "{ x = 0.0, y = 0.0, z = 0.0 }",
-                format!("[0.0, 1.0, {:?}]", 1.5 * H),
-            )
-        };
-    let drag = if dim == 2 {
-        format!("{{ x = {U:?} }}")
-    } else {
-        format!("{{ x = {U:?}, y = 0.0 }}")
+    // A point or vector (x, y, up) of the scene: (x, up) in 2D.
+    let point = |x: f64, y: f64, up: f64| match dim {
+        2 => format!("[{x:?}, {up:?}]"),
+        _ => format!("[{x:?}, {y:?}, {up:?}]"),
     };
+    let (model, generator, divisions) = match dim {
+        2 => ("plane_strain", "rectangle", "[10, 2]"),
+        _ => ("solid", "box", "[4, 4, 2]"),
+    };
+    let (top, bottom) = if dim == 2 {
+        ("top", "bottom")
+    } else {
+        ("zmax", "zmin")
+    };
+    let fixed: Vec<String> = ["x", "y", "z"][..dim]
+        .iter()
+        .map(|a| format!("{a} = 0.0"))
+        .collect();
+    let clamp = format!("{{ {} }}", fixed.join(", "));
+    // Along x, held in y in 3D.
+    let drag = match dim {
+        2 => format!("{{ x = {U:?} }}"),
+        _ => format!("{{ x = {U:?}, y = 0.0 }}"),
+    };
+    let mesh = |o: f64| {
+        format!(
+            "{{ generator = \"{generator}\", origin = {}, size = {}, divisions = {divisions} }}",
+            point(0.0, 0.0, o),
+            point(2.0, 2.0, H)
+        )
+    };
+    let (traction, mid) = (point(0.0, 0.0, -P), point(0.0, 1.0, 1.5 * H));
     let boundaries = common::press_drag_hold("pad", top, &traction, &drag, &mid);
     let clamp = common::boundary(
         "clamp",
