@@ -731,3 +731,18 @@ fn mortar_on_quadratic_faces_under_mpirun_2_equals_the_in_process_run() {
         "quadratic_mortar",
     );
 }
+
+/// Mortar on curved quadratic faces (the rows with the normal inside the
+/// integral, tests/common/curved_patch.rs: Hex20 4 × 4 on Hex20 3 × 3 cut
+/// along a parabolic cylinder, non-matching), one block per rank: the
+/// in-process rows and forces.
+#[test]
+fn mortar_on_curved_quadratic_faces_under_mpirun_2_equals_the_in_process_run() {
+    require_mpirun!();
+    let text = common::curved_patch::parabolic("hex20_3", "hex20_4", "discretization = \"mortar\"");
+    compare(
+        &write_scene("curved_mortar_scene", "curved.toml", &text),
+        2,
+        "curved_mortar",
+    );
+}

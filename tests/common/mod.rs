@@ -3,6 +3,7 @@
 #![allow(dead_code)]
 
 pub mod bad_scene;
+pub mod curved_patch;
 mod reference;
 mod scene_text;
 pub mod twins;

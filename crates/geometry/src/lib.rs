@@ -23,4 +23,4 @@ pub mod redundancy;
 mod search;
 
 pub use error::GeometryError;
-pub use pairing::{ContactPoint, MasterGeometry, NormalRule, Term, TermSide};
+pub use pairing::{ContactPoint, MasterGeometry, NormalRule, Term, TermSide, VectorTerm};

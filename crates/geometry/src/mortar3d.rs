@@ -58,27 +58,30 @@
 //! polynomials of degree ≤ 4 (linear) or ≤ 6 (quadratic): exact, so
 //! Σ_l M_jl = D_jj to round-off (a rigid translation keeps every weighted
 //! gap) and a uniform pressure crosses non-matching meshes exactly (the
-//! patch test). A curved quadratic face is integrated over its flat cells:
-//! the geometry of the integrals is the piecewise flat surface through the
-//! face's nodes (the master geometry of node-to-face), O(h²) from the
-//! curved one.
+//! patch test). A curved quadratic slave face (a mid-side node off its
+//! side's chord) is integrated on the curved faces instead, in its reference
+//! coordinates ([`curved`]).
 //!
 //! Each slave node becomes one [`crate::ContactPoint`] exactly as in 2D
 //! (`mortar::mortar_points`): the row n_j·(ũ_j − Σ_l (M_jl/D_jj) u_l) with
 //! n_j the reversed averaged nodal normal, measure D_jj, and the tangential
 //! rows along the frame of `geometry::tangent_frame(n_j)` with the same
 //! weights: friction in 3D works on the weighted slips t·(D ũ_s − M u_m)/D_jj.
+//! The nodes of curved slave faces take the normal row with the normal inside
+//! the integral instead ([`vector_rows`], `ContactPoint::normal_row`).
 
 mod cells;
 mod clipping;
+mod curved;
 
 use signorini_mesh::vec3::{dot, norm, sub};
 use signorini_mesh::{Facet, Mesh, Surface};
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, BTreeSet};
 
 use crate::error::GeometryError;
 use crate::mortar::{mortar_master, mortar_points, MortarInput, MortarPairing};
 use crate::pairing::{meet_face, nodal_normals, search_distance, FacetSearch, MasterGeometry};
+use crate::TermSide;
 use cells::{Cell, FaceShape, MAX_FACE_NODES};
 use clipping::{
     clip, collapsed_rule, counter_clockwise, polygon_rule, signed_area, AuxPlane, Point2,
@@ -95,12 +98,13 @@ const CLIP_TOL: f64 = 1e-12;
 
 /// An integration point of a slave face: its weight (an area), the slave
 /// face's (recombined) shape functions there, the master face and its shape
-/// functions.
+/// functions, and the slave face's unit outward normal there.
 struct FacePoint {
     w: f64,
     ns: FaceShape,
     master: usize,
     nm: FaceShape,
+    normal: [f64; 3],
 }
 
 /// A slave integration cell (a linear face, or a piece of a quadratic one):
@@ -194,7 +198,22 @@ pub fn mortar3d_pairing(
         .collect();
     let mut d = BTreeMap::<usize, f64>::new();
     let mut m = BTreeMap::<usize, BTreeMap<usize, f64>>::new();
+    // The nodes of curved slave faces take rows with the normal inside the
+    // integral (`curved`), over every face they belong to.
+    let curved_nodes: BTreeSet<usize> = (slave_surface.facets.iter())
+        .filter(|f| curved::is_curved(slave_mesh, f))
+        .flat_map(|f| f.nodes.iter().copied())
+        .collect();
+    let mut vectors = VectorRows::new();
     for f in &slave_surface.facets {
+        let vector = f.nodes.iter().any(|k| curved_nodes.contains(k));
+        let vector = vector.then_some(&mut vectors);
+        if curved::is_curved(slave_mesh, f) {
+            let points = curved::face_points(slave_mesh, f, &masters, &rule);
+            let area = slave_mesh.facet_normal(f).1;
+            integrate_face(&f.nodes, area, &points, m_surf, (&mut d, &mut m), vector);
+            continue;
+        }
         let (mut points, mut area) = (Vec::new(), 0.0);
         for cell in cells::cells(f) {
             let Some(face) = SlaveFace::new(slave_mesh, &cell.nodes, f.cell) else {
@@ -207,10 +226,12 @@ pub fn mortar3d_pairing(
                 points.push(p);
             }
         }
-        integrate_face(&f.nodes, area, &points, m_surf, &mut d, &mut m);
+        integrate_face(&f.nodes, area, &points, m_surf, (&mut d, &mut m), vector);
     }
     let mut out = mortar_points(slave_mesh, &normals, &d, &m, m_mesh, masters.reach);
     transform_slave_rows(slave_mesh, slave_surface, &mut out);
+    let meshes = [slave_mesh, m_mesh];
+    vector_rows(meshes, slave_surface, &curved_nodes, &vectors, &mut out);
     Ok(out)
 }
 
@@ -272,6 +293,7 @@ fn face_points(
                         ns: own,
                         master: k,
                         nm: cell.face_shape(nm, mf.nodes.len()),
+                        normal: n0,
                     });
                 }
             }
@@ -357,15 +379,26 @@ fn dual_coefficients(points: &[FacePoint], n: usize, area: f64) -> Option<DualCo
     Some(a)
 }
 
+/// Per slave node j, the integrals ∫Φ_j Ñ_k n dA (slave node k) and
+/// ∫Φ_j N_l n dA (master node l), n the slave's outward normal.
+type VectorRows = BTreeMap<usize, BTreeMap<(TermSide, usize), [f64; 3]>>;
+
+/// D (diagonal, per slave node) and M (per slave node, per master node).
+type MortarSums<'a> = (
+    &'a mut BTreeMap<usize, f64>,
+    &'a mut BTreeMap<usize, BTreeMap<usize, f64>>,
+);
+
 /// Adds the contributions of a slave face (its `nodes`, the `area` of its
-/// cells) to D (diagonal) and M.
+/// cells) to D (diagonal) and M, and to the rows with the normal inside the
+/// integral when `vectors` is given.
 fn integrate_face(
     nodes: &[usize],
     area: f64,
     points: &[FacePoint],
     m_surf: &Surface,
-    d: &mut BTreeMap<usize, f64>,
-    m: &mut BTreeMap<usize, BTreeMap<usize, f64>>,
+    (d, m): MortarSums<'_>,
+    mut vectors: Option<&mut VectorRows>,
 ) {
     let n = nodes.len();
     let Some(a) = dual_coefficients(points, n, area) else {
@@ -381,7 +414,92 @@ fn integrate_face(
             for (&ml, nml) in master.iter().zip(p.nm) {
                 *row.entry(ml).or_insert(0.0) += p.w * phi * nml;
             }
+            if let Some(v) = vectors.as_deref_mut() {
+                let row = v.entry(sj).or_default();
+                let sides = (nodes
+                    .iter()
+                    .zip(p.ns)
+                    .map(|(&k, s)| (TermSide::Slave, k, s)))
+                .chain(
+                    master
+                        .iter()
+                        .zip(p.nm)
+                        .map(|(&l, s)| (TermSide::Master, l, s)),
+                );
+                for (side, node, shape) in sides {
+                    let e = row.entry((side, node)).or_insert([0.0; 3]);
+                    for (ek, nk) in e.iter_mut().zip(p.normal) {
+                        *ek += p.w * phi * shape * nk;
+                    }
+                }
+            }
         }
+    }
+}
+
+/// The rows of the nodes of curved slave faces with the normal inside the
+/// integral (`curved`): g_j = (Σ_k v_jk · ũ_k − Σ_l v_jl · u_l) / D_jj with
+/// v the integrals of [`VectorRows`] along the reversed (master-to-slave)
+/// normal, the recombined slave displacements ũ written as u as in
+/// [`transform_slave_rows`], and the initial gap the row applied to the
+/// coordinates. The tangential rows and the ties' weights stay.
+fn vector_rows(
+    [s_mesh, m_mesh]: [&Mesh; 2],
+    surface: &Surface,
+    curved_nodes: &BTreeSet<usize>,
+    vectors: &VectorRows,
+    out: &mut MortarPairing,
+) {
+    let edges: BTreeMap<usize, [usize; 2]> = crate::quadratic_slave::mid_side_edges(3, surface)
+        .into_iter()
+        .collect();
+    let alpha = crate::quadratic_slave::ALPHA;
+    let (own, corner) = (1.0 / (1.0 - 2.0 * alpha), -alpha / (1.0 - 2.0 * alpha));
+    for p in &mut out.pairing.points {
+        let (Some(v), Some(&djj)) = (vectors.get(&p.slave_node), out.measure.get(&p.slave_node))
+        else {
+            continue;
+        };
+        if !curved_nodes.contains(&p.slave_node) {
+            continue;
+        }
+        let mut row = BTreeMap::<(TermSide, usize), [f64; 3]>::new();
+        let mut add = |side, node, c: [f64; 3], s: f64| {
+            let e = row.entry((side, node)).or_insert([0.0; 3]);
+            for k in 0..3 {
+                e[k] += s * c[k];
+            }
+        };
+        for (&(side, node), c) in v {
+            match (side, edges.get(&node)) {
+                (TermSide::Slave, Some(&[c1, c2])) => {
+                    add(side, node, *c, -own / djj);
+                    add(side, c1, *c, -corner / djj);
+                    add(side, c2, *c, -corner / djj);
+                }
+                (TermSide::Slave, None) => add(side, node, *c, -1.0 / djj),
+                (TermSide::Master, _) => add(side, node, *c, 1.0 / djj),
+            }
+        }
+        p.gap0 = row
+            .iter()
+            .map(|(&(side, node), c)| {
+                let mesh = if side == TermSide::Slave {
+                    s_mesh
+                } else {
+                    m_mesh
+                };
+                dot(*c, mesh.coords[node])
+            })
+            .sum();
+        p.normal_row = row
+            .into_iter()
+            .map(|((side, node), coefficient)| crate::VectorTerm {
+                side,
+                node,
+                coefficient,
+            })
+            .collect();
     }
 }
 

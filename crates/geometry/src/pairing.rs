@@ -68,7 +68,7 @@ pub enum MasterGeometry<'a> {
     Sphere { center: [f64; 3], radius: f64 },
 }
 
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
 pub enum TermSide {
     Slave,
     Master,
@@ -80,6 +80,15 @@ pub struct Term {
     pub side: TermSide,
     pub node: usize,
     pub weight: f64,
+}
+
+/// One term of a normal row whose direction varies along the row (mortar on
+/// curved faces, the normal inside the integral): `coefficient` · u(node).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct VectorTerm {
+    pub side: TermSide,
+    pub node: usize,
+    pub coefficient: [f64; 3],
 }
 
 /// A contact point: a slave node and the row of B that gives its gap.
@@ -99,8 +108,12 @@ pub struct ContactPoint {
     pub tangent2: [f64; 3],
     /// Initial gap g0 (negative: initial overlap).
     pub gap0: f64,
-    /// g = g0 + Σ_terms weight · n · u(node).
+    /// g = g0 + Σ_terms weight · n · u(node); the tangential rows
+    /// Σ_terms weight · t · u(node).
     pub terms: Vec<Term>,
+    /// When not empty, the normal row instead: g = g0 + Σ coefficient ·
+    /// u(node) (3D mortar on curved quadratic faces, `crate::mortar3d`).
+    pub normal_row: Vec<VectorTerm>,
 }
 
 impl ContactPoint {
@@ -125,6 +138,7 @@ impl ContactPoint {
             tangent2,
             gap0: dot(normal, sub(x, x_master)),
             terms,
+            normal_row: Vec::new(),
         }
     }
 }

@@ -67,6 +67,7 @@ fn a_fully_covered_triangle_has_the_closed_form_dual_basis() {
             ns: [1.0 - p[0] - p[1], p[0], p[1], 0.0, 0.0, 0.0, 0.0, 0.0],
             master: 0,
             nm: [0.0; MAX_FACE_NODES],
+            normal: [0.0, 0.0, 1.0],
         })
         .collect();
     let a = dual_coefficients(&points, 3, 0.5).unwrap();

@@ -580,6 +580,7 @@ fn tangent_frames_are_orthonormal_and_right_handed() {
             tangent2: t2,
             gap0: 0.0,
             terms: vec![],
+            normal_row: vec![],
         };
         check_frame(&p);
         // Deterministic: the same normal gives the same frame.

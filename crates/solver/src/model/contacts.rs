@@ -55,13 +55,16 @@ pub fn build_contacts(
             match point_model(sc, bodies, &pair.sides, ci, &pair.tributary, p, corners) {
                 PairPoint::Unknown(point) if zone.includes(ci, point.gap0) => {
                     if restricted {
-                        for t in &point.point.terms {
-                            let b = match t.side {
+                        let p = &point.point;
+                        let terms = p.terms.iter().map(|t| (t.side, t.node));
+                        let vector = p.normal_row.iter().map(|t| (t.side, t.node));
+                        for (side, node) in terms.chain(vector) {
+                            let b = match side {
                                 TermSide::Slave => pair.sides.slave,
                                 TermSide::Master => pair.sides.master.unwrap_or(usize::MAX),
                             };
                             if let Some(nodes) = interface_nodes.get_mut(b) {
-                                nodes.push(t.node);
+                                nodes.push(node);
                             }
                         }
                     }
@@ -316,18 +319,38 @@ fn contact_pair(
 /// The row of a contact point along `direction` (its normal or a tangent):
 /// Σ weight × direction over the terms' DOFs, slave and master.
 fn row_along(p: &ContactPoint, sides: &PairSides, dim: usize, direction: [f64; 3]) -> Row {
+    let terms = (p.terms.iter()).map(|t| (t.side, t.node, direction.map(|dk| t.weight * dk)));
+    row_of(terms, sides, dim)
+}
+
+/// The normal row of a contact point: along its normal, or its own
+/// coefficients where the normal varies along the row (`normal_row`, mortar
+/// on curved faces).
+fn normal_row(p: &ContactPoint, sides: &PairSides, dim: usize) -> Row {
+    if p.normal_row.is_empty() {
+        return row_along(p, sides, dim, p.normal);
+    }
+    let terms = (p.normal_row.iter()).map(|t| (t.side, t.node, t.coefficient));
+    row_of(terms, sides, dim)
+}
+
+/// The row Σ coefficient · u(node) over the terms' DOFs, slave and master.
+fn row_of(
+    terms: impl Iterator<Item = (TermSide, usize, [f64; 3])>,
+    sides: &PairSides,
+    dim: usize,
+) -> Row {
     let mut row = Vec::new();
-    for term in &p.terms {
-        let b = match term.side {
+    for (side, node, coefficient) in terms {
+        let b = match side {
             TermSide::Slave => sides.slave,
             TermSide::Master => sides
                 .master
                 .expect("a master term needs a deformable master"),
         };
-        for (k, dk) in direction.iter().enumerate().take(dim) {
-            let coef = term.weight * dk;
+        for (k, &coef) in coefficient.iter().enumerate().take(dim) {
             if coef != 0.0 {
-                row.push((b, term.node * dim + k, coef));
+                row.push((b, node * dim + k, coef));
             }
         }
     }
@@ -386,7 +409,7 @@ fn point_model(
 ) -> PairPoint {
     let c = &sc.contact[ci];
     let dim = sc.dimension as usize;
-    let row = row_along(&p, sides, dim, p.normal);
+    let row = normal_row(&p, sides, dim);
     if row.iter().all(|&(b, d, _)| bodies[b].prescribed[d]) {
         return PairPoint::Fixed(FixedPoint {
             contact: ci,
