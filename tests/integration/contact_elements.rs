@@ -190,10 +190,7 @@ fn same_as_node_to_node(dim: usize) {
         if friction == "\"none\"" {
             // Frictionless, node-to-node with a penalty law is the
             // independent regularised solver of course notes §3.6.
-            nn = nn.replace(
-                "tolerance = 1e-12\n",
-                "tolerance = 1e-12\nmethod = \"penalty\"\n",
-            );
+            nn = with_solver_line(&nn, "method = \"penalty\"");
         }
         let nn = converged(&nn);
         let d = common::max_rel(&rows(&el), &rows(&nn));
@@ -224,6 +221,16 @@ fn contact_elements_equal_node_to_node_and_the_penalty_method_2d() {
 #[test]
 fn contact_elements_equal_node_to_node_and_the_penalty_method_3d() {
     same_as_node_to_node(3);
+}
+
+/// `text` (a scene of [`blocks`]) with `line` added to its `[solver]`.
+fn with_solver_line(text: &str, line: &str) -> String {
+    let added = text.replace(
+        "tolerance = 1e-12\n",
+        &format!("tolerance = 1e-12\n{line}\n"),
+    );
+    assert_ne!(added, text, "no [solver] tolerance to add {line:?} after");
+    added
 }
 
 // ---- the drag: a stiff pad pressed by p, its top dragged by u ----
@@ -405,10 +412,7 @@ fn non_coincident_nodes_are_refused_naming_the_contact_and_the_node() {
 #[test]
 fn the_direct_path_and_elliptic_or_norton_hoff_friction_are_refused() {
     let text = blocks(2, 8, 8, &elements(&penalty(), "{ coulomb = 0.3 }"));
-    let direct = text.replace(
-        "tolerance = 1e-12\n",
-        "tolerance = 1e-12\npath = \"direct\"\n",
-    );
+    let direct = with_solver_line(&text, "path = \"direct\"");
     assert!(input_error(&direct).contains("solver.path"));
     let nh = blocks(
         2,
@@ -426,10 +430,7 @@ fn the_direct_path_and_elliptic_or_norton_hoff_friction_are_refused() {
 #[test]
 fn a_method_other_than_the_default_is_refused() {
     let text = blocks(2, 8, 8, &elements(&penalty(), "{ coulomb = 0.3 }"));
-    let lemke = text.replace(
-        "tolerance = 1e-12\n",
-        "tolerance = 1e-12\nmethod = \"lemke\"\n",
-    );
+    let lemke = with_solver_line(&text, "method = \"lemke\"");
     assert_ne!(lemke, text);
     assert!(input_error(&lemke).contains("solver.method = \"lemke\""));
     let opts = RunOptions {
