@@ -77,7 +77,7 @@ fn skip_literal(s: &[u8], i: usize) -> Option<usize> {
                     return None;
                 }
                 let mut close = vec![b'"'];
-                close.extend(std::iter::repeat(b'#').take(hashes));
+                close.extend(std::iter::repeat_n(b'#', hashes));
                 return Some(find(start + hashes + 1, &close));
             }
             None
