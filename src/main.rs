@@ -104,9 +104,9 @@ enum Command {
         /// Coulomb's law) or `nsgs` (nonsmooth Gauss–Seidel).
         #[arg(long, default_value = "auto")]
         friction: String,
-        /// Stop a friction solve, or the status method on an LCP, after
-        /// SECONDS of wall-clock time, not converged (exit 2) (default:
-        /// 10 + 2e-9 × rows³).
+        /// Stop the solve, by any --method or --friction, after SECONDS of
+        /// wall-clock time (checked between iterations), not converged
+        /// (exit 2) (default: 10 + 2e-9 × rows³).
         #[arg(long, value_name = "SECONDS", allow_hyphen_values = true)]
         time_limit: Option<f64>,
         /// Solve N times and report the median time.

@@ -43,6 +43,7 @@ mod sparse_interface;
 mod stiff;
 mod streamed_steps;
 mod substructuring;
+mod time_limits;
 mod tri3_meshes;
 mod units;
 mod units_methods;

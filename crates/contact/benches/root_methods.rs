@@ -56,6 +56,7 @@ fn options() -> LcpOptions {
         force_scale: 1.0,
         gap_scale: 1.0,
         stiffness: None,
+        deadline: None,
     }
 }
 

@@ -39,6 +39,11 @@ pub struct LcpOptions {
     /// to the mean diagonal of W⁻¹, i.e. a multiple of the contact stiffness);
     /// `None` chooses a default.
     pub stiffness: Option<f64>,
+    /// The wall-clock time at which every method stops, converged or not,
+    /// after at least one iteration ([`LcpOptions::out_of_time`]): it then
+    /// answers its last iterate with [`StopReason::TimeLimit`] (`None`: no
+    /// time limit, the iteration limits alone).
+    pub deadline: Option<std::time::Instant>,
 }
 
 impl Default for LcpOptions {
@@ -49,7 +54,27 @@ impl Default for LcpOptions {
             force_scale: 1.0,
             gap_scale: 1.0,
             stiffness: None,
+            deadline: None,
         }
+    }
+}
+
+impl LcpOptions {
+    /// Whether a method that has made `iterations` iterations stops on its
+    /// time limit: the deadline has passed and it made at least one, so
+    /// that it answers an iterate of its own.
+    pub(crate) fn out_of_time(&self, iterations: usize) -> bool {
+        iterations > 0 && crate::options::deadline_passed(self.deadline)
+    }
+}
+
+/// The stop of a method at its time limit after the iterations of
+/// `report`, at the last residual of its history (`residual` if it has
+/// none).
+pub(crate) fn time_limit_stop(report: &SolverReport, residual: f64) -> StopReason {
+    StopReason::TimeLimit {
+        iterations: report.iterations,
+        residual: report.residual_history.last().copied().unwrap_or(residual),
     }
 }
 
@@ -161,15 +186,19 @@ pub(crate) fn dual_start(
 }
 
 /// How a dual method (Uzawa, the augmented Lagrangian) stopped: converged at
-/// its last residual, or at its iteration limit (the residual reached then,
-/// `r0` if it made no iteration).
+/// its last residual, at its time limit (`timed_out`), or at its iteration
+/// limit (the residual reached then, `r0` if it made no iteration).
 pub(crate) fn dual_stop(
     opts: &LcpOptions,
     report: &SolverReport,
     r0: f64,
     detail: DualDetail,
+    timed_out: bool,
 ) -> StopReason {
     let residual = report.residual_history.last().copied().unwrap_or(r0);
+    if timed_out && !report.converged {
+        return time_limit_stop(report, r0);
+    }
     if report.converged {
         StopReason::DualConverged {
             residual,

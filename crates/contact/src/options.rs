@@ -37,6 +37,12 @@ pub fn default_time_limit(rows: usize) -> f64 {
     10.0 + 2e-9 * (rows as f64).powi(3)
 }
 
+/// Whether the wall-clock `deadline` has passed (`None`: no time limit):
+/// the one test of every method's time limit.
+pub fn deadline_passed(deadline: Option<Instant>) -> bool {
+    deadline.is_some_and(|d| Instant::now() >= d)
+}
+
 /// The stall rule and the time limit of an iterative friction solver, one
 /// for every method that has them (the semi-smooth Newton method, condensed
 /// and on the whole system, NSGS and the fixed point on the threshold,
@@ -75,7 +81,7 @@ impl StallWatch {
 
     /// Whether the deadline has passed.
     pub fn time_up(&self) -> bool {
-        self.deadline.is_some_and(|d| Instant::now() >= d)
+        deadline_passed(self.deadline)
     }
 
     /// Records the `residual` of iteration `iteration`: the stall when the

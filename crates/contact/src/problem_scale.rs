@@ -58,6 +58,22 @@ fn largest_magnitude(v: &[f64]) -> f64 {
     lanes.iter().fold(tail, |a, &l| a.max(l))
 }
 
+/// max |W_ij|. For a positive semi-definite W (a compliance, what every
+/// method but Lemke's assumes) it is the largest diagonal entry, as
+/// |W_ij| ≤ √(W_ii W_jj): m loads instead of the m² of a scan of W, which
+/// took as long as the rest of the status method's iterations on the
+/// half-space at m = 2025 but one factorisation. A square W with a
+/// negative (or NaN) diagonal entry is not positive semi-definite: every
+/// entry is read, as for a W that is not square.
+fn largest_entry(w: &Mat<f64>) -> f64 {
+    let m = w.nrows();
+    let diagonal = (w.ncols() == m).then(|| (0..m).map(|i| w[(i, i)]).collect::<Vec<f64>>());
+    match diagonal {
+        Some(d) if d.iter().all(|&v| v >= 0.0) => d.iter().fold(0.0f64, |a, &v| a.max(v)),
+        _ => (0..w.ncols()).fold(0.0f64, |a, j| a.max(largest_magnitude(w.col_as_slice(j)))),
+    }
+}
+
 fn ordinary(magnitude: f64) -> bool {
     magnitude == 0.0 || (1.0 / ORDINARY..=ORDINARY).contains(&magnitude)
 }
@@ -65,7 +81,7 @@ fn ordinary(magnitude: f64) -> bool {
 impl ProblemScale {
     /// The scales of LCP(W, q): `None` when both magnitudes are ordinary.
     pub(crate) fn of(w: &Mat<f64>, q: &[f64]) -> Option<Self> {
-        let w_max = (0..w.ncols()).fold(0.0f64, |a, j| a.max(largest_magnitude(w.col_as_slice(j))));
+        let w_max = largest_entry(w);
         let q_max = q.iter().fold(0.0f64, |a, v| a.max(v.abs()));
         if ordinary(w_max) && ordinary(q_max) {
             return None;
@@ -208,6 +224,31 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// The largest entry of a positive semi-definite W is read off its
+    /// diagonal and equals that of every entry (random SPD W, and one of
+    /// rank one with a zero row); a W with a negative diagonal entry, or not
+    /// square, is read whole: its largest entry off the diagonal counts.
+    #[test]
+    fn the_largest_entry_of_a_compliance_is_on_its_diagonal() {
+        let whole = |w: &Mat<f64>| {
+            (0..w.ncols()).fold(0.0f64, |a, j| a.max(largest_magnitude(w.col_as_slice(j))))
+        };
+        let mut rng = crate::test_problems::XorShift(11);
+        for m in [1, 7, 40] {
+            let w = crate::test_problems::random_spd(m, &mut rng);
+            assert_eq!(largest_entry(&w), whole(&w), "m {m}");
+        }
+        let v = [3.0, -2.0, 0.0, 0.5];
+        let rank_one = Mat::from_fn(4, 4, |i, j| v[i] * v[j]);
+        assert_eq!(largest_entry(&rank_one), 9.0);
+        let mut indefinite = Mat::from_fn(3, 3, |i, j| if i == j { 1.0 } else { 0.0 });
+        indefinite[(2, 2)] = -1.0;
+        indefinite[(0, 1)] = 1e80;
+        assert_eq!(largest_entry(&indefinite), 1e80);
+        let wide = Mat::from_fn(2, 3, |i, j| (i + 2 * j) as f64);
+        assert_eq!(largest_entry(&wide), 5.0);
     }
 
     #[test]

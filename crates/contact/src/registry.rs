@@ -94,10 +94,6 @@ pub struct Lcp<'a> {
     /// Penalty methods: the stiffness of each point (force per unit gap);
     /// `None` takes `opts.stiffness` (default 1e8) / mean diag W.
     pub stiffness: Option<&'a [f64]>,
-    /// The wall-clock time at which the status method stops, not converged
-    /// (`None`: no time limit; the other methods stop on their iteration
-    /// limits).
-    pub deadline: Option<std::time::Instant>,
 }
 
 type Solve = fn(&Lcp) -> Result<ContactSolution, ContactError>;
@@ -220,10 +216,7 @@ fn status(p: &Lcp) -> Result<ContactSolution, ContactError> {
     let (w, q, opts) = (p.w, p.q, p.opts);
     let mut dense = DenseLcp::new(w, q);
     let initial = initial_contact(q, opts.tolerance * opts.gap_scale);
-    let status_opts = StatusOptions {
-        deadline: p.deadline,
-        ..StatusOptions::from_lcp(p.variant, opts, Some(initial))
-    };
+    let status_opts = StatusOptions::from_lcp(p.variant, opts, Some(initial));
     let mut out = status_method(&mut dense, &status_opts)?;
     out.report.operator_applications = dense.solves;
     match &dense.last_active {
@@ -347,9 +340,10 @@ impl Algorithm {
 
     /// Solves LCP(W, q). `stiffness` gives the penalty stiffness per point
     /// for the penalty methods (force per unit gap); `None` uses
-    /// `opts.stiffness` (default 1e8) / mean diag W. An exact iterative
-    /// method that converged is polished on its active set. A problem in
-    /// extreme units is solved in units where W and q are near 1
+    /// `opts.stiffness` (default 1e8) / mean diag W. Every method stops at
+    /// `opts.deadline`, not converged ([`StopReason::TimeLimit`]). An exact
+    /// iterative method that converged is polished on its active set. A
+    /// problem in extreme units is solved in units where W and q are near 1
     /// ([`ProblemScale`]) and answered in its own.
     pub fn solve(
         self,
@@ -358,24 +352,11 @@ impl Algorithm {
         stiffness: Option<&[f64]>,
         opts: &LcpOptions,
     ) -> Result<ContactSolution, ContactError> {
-        self.solve_until(w, q, stiffness, opts, None)
-    }
-
-    /// [`Self::solve`] within a wall-clock `deadline`: the status method
-    /// stops there, not converged ([`StopReason::TimeLimit`]).
-    pub fn solve_until(
-        self,
-        w: &Mat<f64>,
-        q: &[f64],
-        stiffness: Option<&[f64]>,
-        opts: &LcpOptions,
-        deadline: Option<std::time::Instant>,
-    ) -> Result<ContactSolution, ContactError> {
         match ProblemScale::of(w, q) {
-            None => self.solve_as_given(w, q, stiffness, opts, deadline),
+            None => self.solve_as_given(w, q, stiffness, opts),
             Some(scale) => {
                 let (w_s, q_s, k_s, opts_s) = scale.scaled(w, q, stiffness, opts);
-                let sol = self.solve_as_given(&w_s, &q_s, k_s.as_deref(), &opts_s, deadline)?;
+                let sol = self.solve_as_given(&w_s, &q_s, k_s.as_deref(), &opts_s)?;
                 Ok(scale.unscale(sol))
             }
         }
@@ -387,7 +368,6 @@ impl Algorithm {
         q: &[f64],
         stiffness: Option<&[f64]>,
         opts: &LcpOptions,
-        deadline: Option<std::time::Instant>,
     ) -> Result<ContactSolution, ContactError> {
         let problem = Lcp {
             w,
@@ -395,7 +375,6 @@ impl Algorithm {
             opts,
             variant: self.variant,
             stiffness,
-            deadline,
         };
         let mut sol = (self.method.solve)(&problem)?;
         if self.method.polished() && sol.report.converged {
@@ -434,7 +413,6 @@ impl Algorithm {
                 opts,
                 variant: self.variant,
                 stiffness,
-                deadline: None,
             };
             let mut wk = w.clone();
             for (i, ki) in penalty_stiffness(&p).into_iter().enumerate() {
@@ -629,6 +607,84 @@ mod tests {
             assert_eq!(history.len(), 1, "{}", case.name);
             assert!((history[0] - residual).abs() <= 1e-13, "{}", case.name);
             assert!(history[0] <= opts.tolerance, "{}", case.name);
+        }
+    }
+
+    /// A deadline already passed stops every method of the table after its
+    /// first iteration (pivot, status solve, outer iteration), not
+    /// converged, on the time limit, with a finite iterate and the natural
+    /// residual of it. On this problem every method needs more than one
+    /// iteration (the test checks that too).
+    #[test]
+    fn a_passed_deadline_stops_every_method_after_one_iteration() {
+        use crate::test_problems::{
+            assert_stopped_by_the_time_limit_after_one_iteration, q_from_solution, random_spd,
+            XorShift,
+        };
+        let (m, mut rng) = (30, XorShift(7));
+        let w = random_spd(m, &mut rng);
+        let half = |i: usize, on: usize, rng: &mut XorShift| match i % 2 == on {
+            true => rng.uniform(0.5, 1.5),
+            false => 0.0,
+        };
+        let lambda: Vec<f64> = (0..m).map(|i| half(i, 0, &mut rng)).collect();
+        let g: Vec<f64> = (0..m).map(|i| half(i, 1, &mut rng)).collect();
+        let q = q_from_solution(&w, &lambda, &g);
+        let unlimited = LcpOptions {
+            tolerance: 1e-10,
+            max_iterations: 10_000,
+            ..Default::default()
+        };
+        for method in METHODS {
+            let alg = Algorithm::by_name(method.name).unwrap();
+            let free = alg.solve(&w, &q, None, &unlimited).unwrap();
+            assert!(free.report.iterations > 1, "{}", method.name);
+            let opts = LcpOptions {
+                deadline: Some(std::time::Instant::now()),
+                ..unlimited.clone()
+            };
+            let sol = alg.solve(&w, &q, None, &opts).unwrap();
+            assert_stopped_by_the_time_limit_after_one_iteration(&sol.report);
+            let finite = sol.forces.iter().chain(&sol.gaps).all(|v| v.is_finite());
+            assert!(finite, "{}", method.name);
+            let StopReason::TimeLimit { residual, .. } = sol.report.stop else {
+                unreachable!()
+            };
+            let want = lcp_residual(&w, &q, &sol.forces, &opts);
+            assert!(
+                (residual - want).abs() <= 1e-9 * want,
+                "{}: {residual:e} vs {want:e}",
+                method.name
+            );
+            assert!(want > opts.tolerance, "{}", method.name);
+        }
+    }
+
+    /// SMALBE (a floating body held by the contacts) stops at a passed
+    /// deadline too, by its inner method's time limit or its own, with a
+    /// finite iterate.
+    #[test]
+    fn a_passed_deadline_stops_smalbe() {
+        let case = &cases()[1];
+        let m = case.q.len();
+        let g = Mat::<f64>::from_fn(m, 1, |i, _| 1.0 + 0.1 * i as f64);
+        let opts = LcpOptions {
+            tolerance: 1e-10,
+            deadline: Some(std::time::Instant::now()),
+            ..Default::default()
+        };
+        for name in ["status", "mprgp", "uzawa"] {
+            let alg = Algorithm::by_name(name).unwrap();
+            let sol = alg
+                .solve_constrained(&case.w, &case.q, (&g, &[-5.0]), None, &opts)
+                .unwrap();
+            assert!(!sol.report.converged, "{name}");
+            assert!(
+                matches!(sol.report.stop, StopReason::TimeLimit { .. }),
+                "{name}: {}",
+                sol.report.stop
+            );
+            assert!(sol.forces.iter().all(|v| v.is_finite()), "{name}");
         }
     }
 }

@@ -138,7 +138,7 @@ fn law_residual(p: &LocalProblem, forces: &[f64]) -> f64 {
                 max_iterations: 1,
                 force_scale,
                 gap_scale,
-                stiffness: None,
+                ..Default::default()
             };
             lcp_residual(&w, q, &forces[..m], &opts)
         }
@@ -438,7 +438,7 @@ pub fn solve(
     solve_within(name, p, algorithm, limits, with_lambda)
 }
 
-/// [`solve`] within `limits`: the status method stops at the time limit
+/// [`solve`] within `limits`: every method stops at the time limit
 /// (`None`: [`default_time_limit`] of the rows), not converged.
 pub fn solve_within(
     name: &str,
@@ -465,18 +465,18 @@ pub fn solve_within(
         &normal
     };
     let q = &p.q[..m];
+    let seconds = time_limit.unwrap_or_else(|| default_time_limit(m));
+    let t = Instant::now();
     let opts = LcpOptions {
         tolerance,
         max_iterations,
         force_scale,
         gap_scale,
         stiffness: None,
+        deadline: Some(t + Duration::from_secs_f64(seconds.clamp(0.0, 1e9))),
     };
-    let seconds = time_limit.unwrap_or_else(|| default_time_limit(m));
-    let t = Instant::now();
-    let deadline = t + Duration::from_secs_f64(seconds.clamp(0.0, 1e9));
     let sol = algorithm
-        .solve_until(w, q, None, &opts, Some(deadline))
+        .solve(w, q, None, &opts)
         .map_err(|e| e.to_string())?;
     let time_s = t.elapsed().as_secs_f64();
     let mut forces = sol.forces.clone();

@@ -48,6 +48,7 @@
 
 use faer::sparse::{Pair, SparseColMat};
 
+use crate::direct_forcing::{Forcing, POLISH_ABOVE};
 use crate::sparse_lu::SparseLu;
 use crate::symmetric_part::{Points, Rotation, SymmetricPart};
 use signorini_condense::spmv_with_magnitude;
@@ -97,6 +98,8 @@ pub(crate) struct WholeSystem<'a> {
     rho: Vec<f64>,
     lu: SparseLu,
     symmetric: SymmetricPart,
+    /// The Jacobian's values in the pattern's order (reused).
+    values: Vec<f64>,
 }
 
 /// One load step's data: the load on the free DOFs and the rows' q.
@@ -185,6 +188,7 @@ impl<'a> WholeSystem<'a> {
             n_values: pairs.len(),
             lu,
             symmetric,
+            values: Vec::with_capacity(pairs.len()),
         })
     }
 
@@ -224,14 +228,15 @@ impl<'a> WholeSystem<'a> {
         (given, coupled)
     }
 
-    /// The Newton direction of `sys` (matrix `values`, right-hand side
-    /// `rhs`): by the symmetric part and GMRES, else by the LU.
+    /// The Newton direction of `sys` (the matrix of the values last set by
+    /// [`WholeSystem::jacobian`], right-hand side `rhs`): by the symmetric
+    /// part and GMRES (to the relative residual `forcing` when given,
+    /// [`crate::direct_forcing`]), else by the LU.
     fn solve(
         &mut self,
-        sys: &NewtonSystem,
-        shift: f64,
-        values: &[f64],
+        (sys, shift): (&NewtonSystem, f64),
         rhs: &[f64],
+        forcing: Option<f64>,
     ) -> Option<Vec<f64>> {
         let (given, coupled) = self.slots(sys);
         let points = Points {
@@ -248,14 +253,14 @@ impl<'a> WholeSystem<'a> {
         let chat: Vec<f64> = (self.compliance.iter().zip(&self.rho))
             .map(|(c, r)| c + shift / r)
             .collect();
-        let j = self.lu.matrix(values).ok()?;
+        let j = self.lu.set(&self.values);
         if let Some(x) = self
             .symmetric
-            .solve(self.k, &points, (&rot, &chat), &j, rhs)
+            .solve(self.k, &points, (&rot, &chat), (j, rhs), forcing)
         {
             return Some(x);
         }
-        self.lu.solve(values, rhs)
+        self.lu.solve(rhs)
     }
 
     /// ρ of each row (module doc).
@@ -295,13 +300,15 @@ impl<'a> WholeSystem<'a> {
         (r, scale)
     }
 
-    /// The Jacobian's values (in the pattern's order) for the linearised
-    /// rows `sys`, and the right-hand side of the contact rows; `shift`
-    /// adds the compliance shift / ρ_r to each coupled row r (a
-    /// Levenberg–Marquardt step where the rows are redundant, module doc).
-    fn jacobian(&self, sys: &NewtonSystem, shift: f64) -> (Vec<f64>, Vec<f64>) {
+    /// The Jacobian's values (in the pattern's order, kept for
+    /// [`WholeSystem::solve`]) for the linearised rows `sys`, and the
+    /// right-hand side of the contact rows; `shift` adds the compliance
+    /// shift / ρ_r to each coupled row r (a Levenberg–Marquardt step where
+    /// the rows are redundant, module doc).
+    fn jacobian(&mut self, sys: &NewtonSystem, shift: f64) -> Vec<f64> {
         let n = self.n();
-        let mut v = Vec::with_capacity(self.n_values);
+        let mut v = std::mem::take(&mut self.values);
+        v.clear();
         v.extend_from_slice(self.k.val());
         for row in self.rows {
             v.extend(row.iter().map(|&(_, c)| -c));
@@ -340,7 +347,8 @@ impl<'a> WholeSystem<'a> {
             v[lam(coupled_slot[i], r)] += f;
         }
         debug_assert!(v.len() == self.n_values && n == self.k.nrows());
-        (v, rhs)
+        self.values = v;
+        rhs
     }
 }
 
@@ -370,6 +378,14 @@ fn row_rho(k: &SparseColMat<usize, f64>, rows: &[SparseRow]) -> Vec<f64> {
             }
         })
         .collect()
+}
+
+/// How a Newton step went: taken (by an inexact direction or not),
+/// rejected by the line search (its direction), or without a direction.
+enum Stepped {
+    Taken { inexact: bool },
+    Rejected(Vec<f64>),
+    NoDirection,
 }
 
 /// The current iterate: u, λ, their gaps and equilibrium residual.
@@ -429,18 +445,24 @@ impl Solve<'_, '_> {
     /// The Newton direction (du, dλ) at `it`: on the secants of the
     /// slipping points when the tangent system is singular, and with the
     /// coupled rows' compliance shifted by [`REDUNDANT_ROWS_SHIFT`] / ρ when
-    /// that is singular too (redundant rows); `None` when no system can be
-    /// solved.
-    fn direction(&mut self, it: &Iterate, law: &AlartCurnier) -> Option<Vec<f64>> {
+    /// that is singular too (redundant rows); to the relative residual
+    /// `forcing` when given (an inexact Newton step); `None` when no system
+    /// can be solved.
+    fn direction(
+        &mut self,
+        it: &Iterate,
+        law: &AlartCurnier,
+        forcing: Option<f64>,
+    ) -> Option<Vec<f64>> {
         let mut sys = NewtonSystem::default();
         let mut f = vec![0.0; it.lambda.len()];
         for (secant, shift) in [(false, 0.0), (true, 0.0), (false, REDUNDANT_ROWS_SHIFT)] {
             sys.secant = secant;
             law.residual(&it.lambda, &it.y, Scale::Newton, &mut f, Some(&mut sys));
-            let (values, contact_rhs) = self.system.jacobian(&sys, shift);
+            let contact_rhs = self.system.jacobian(&sys, shift);
             let mut rhs: Vec<f64> = it.r.iter().map(|v| -v).collect();
             rhs.extend(contact_rhs);
-            let d = self.system.solve(&sys, shift, &values, &rhs);
+            let d = self.system.solve((&sys, shift), &rhs, forcing);
             if let Some(d) = d.filter(|d| d.iter().all(|v| v.is_finite())) {
                 return Some(d);
             }
@@ -473,6 +495,29 @@ impl Solve<'_, '_> {
         false
     }
 
+    /// One Newton step from `it` with the forcing term `eta` (exact when
+    /// `None`): the direction and the line search along it; an inexact
+    /// direction the line search rejects is solved again exactly before
+    /// the step counts as rejected.
+    fn step(&mut self, it: &mut Iterate, law: &AlartCurnier, eta: Option<f64>) -> Stepped {
+        let Some(d) = self.direction(it, law, eta) else {
+            return Stepped::NoDirection;
+        };
+        let psi = self.merit(law, &it.lambda, &it.y, &it.r);
+        if self.line_search(it, &d, psi, law) {
+            return Stepped::Taken {
+                inexact: eta.is_some(),
+            };
+        }
+        let Some(exact) = eta.and_then(|_| self.direction(it, law, None)) else {
+            return Stepped::Rejected(d);
+        };
+        if self.line_search(it, &exact, psi, law) {
+            return Stepped::Taken { inexact: false };
+        }
+        Stepped::Rejected(exact)
+    }
+
     /// The Newton iterations from (u, λ): the last iterate, why it stopped,
     /// its iterations and residuals.
     fn run(&mut self, u: Vec<f64>, lambda: Vec<f64>) -> (Iterate, StopReason, usize, Vec<f64>) {
@@ -488,10 +533,21 @@ impl Solve<'_, '_> {
         let mut watch = StallWatch::new(STALL_DECREASE, STALLED_AFTER, self.opts.deadline);
         let mut history = Vec::new();
         let mut full_steps = 0;
+        let mut forcing = Forcing::default();
+        let mut inexact = false;
         for iteration in 0..self.opts.max_iterations {
             let residual = self.check(&it, &law);
             history.push(residual);
             if residual <= self.opts.tolerance {
+                // After inexact steps, one exact step more
+                // (crate::direct_forcing).
+                let polish = residual > POLISH_ABOVE * self.opts.tolerance;
+                if std::mem::take(&mut inexact)
+                    && polish
+                    && matches!(self.step(&mut it, &law, None), Stepped::Taken { .. })
+                {
+                    continue;
+                }
                 let reason = StopReason::NewtonConverged {
                     residual,
                     iterations: iteration,
@@ -511,16 +567,19 @@ impl Solve<'_, '_> {
             if let Some(stall) = watch.stalled(residual, iteration) {
                 return (it, StopReason::newton_stalled(stall), iteration, history);
             }
-            let Some(d) = self.direction(&it, &law) else {
-                let reason = StopReason::NonFinite {
-                    iteration: iteration + 1,
-                };
-                return (it, reason, iteration + 1, history);
+            let d = match self.step(&mut it, &law, forcing.next(residual)) {
+                Stepped::Taken { inexact: i } => {
+                    inexact |= i;
+                    continue;
+                }
+                Stepped::Rejected(d) => d,
+                Stepped::NoDirection => {
+                    let reason = StopReason::NonFinite {
+                        iteration: iteration + 1,
+                    };
+                    return (it, reason, iteration + 1, history);
+                }
             };
-            let psi = self.merit(&law, &it.lambda, &it.y, &it.r);
-            if self.line_search(&mut it, &d, psi, &law) {
-                continue;
-            }
             full_steps += 1;
             if full_steps > FULL_STEPS {
                 return (

@@ -6,7 +6,7 @@ use crate::checks::{check_floating_equilibrium, inf_norm, PENETRATION_WARNING_FR
 use crate::conditioning;
 use crate::element_step::{element_step, ElementHistory};
 use crate::error::{contact_error, SolveError};
-use crate::friction_step::{friction_rows, friction_step, FrictionHistory, FrictionRows};
+use crate::friction_step::{deadline, friction_rows, friction_step, FrictionHistory, FrictionRows};
 use crate::interface_problem::{Interface, RootInput, StepLoad};
 use crate::model::{BodyModel, FixedPoint, PointModel};
 use crate::progress::{Event, Progress};
@@ -67,6 +67,7 @@ pub(crate) fn solve_with_algorithm(
         force_scale: f_scale,
         gap_scale: length_scale,
         stiffness: Some(sc.solver.penalty),
+        deadline: Some(deadline(sc.solver.time_limit, problem.q.len())),
     };
     let uniform = signorini_contact::lcp::penalty::uniform_stiffness(&problem.w, sc.solver.penalty);
     let k: Vec<f64> = law_k
@@ -571,6 +572,7 @@ fn frictionless_step(
     } else {
         let mut opts = status_options(sc, f_scale, length_scale, &load.gap0);
         opts.variant = algorithm.variant();
+        opts.deadline = Some(deadline(sc.solver.time_limit, points.len()));
         if let Some(active) = warm.active.take() {
             opts.initial_active = Some(active);
         }

@@ -9,16 +9,16 @@
 
 use faer::prelude::Solve;
 use faer::sparse::linalg::solvers::{Lu, SymbolicLu};
-use faer::sparse::{Argsort, Pair, SparseColMat, SymbolicSparseColMat};
+use faer::sparse::{Pair, SparseColMat};
 use faer::Mat;
 
+use crate::fixed_pattern::FixedPattern;
 use crate::kkt::refine;
 
 /// The pattern of a square sparse matrix with its symbolic LU factor, and
 /// the counts of the numerical factorisations done on it.
 pub(crate) struct SparseLu {
-    pattern: SymbolicSparseColMat<usize>,
-    argsort: Argsort<usize>,
+    matrix: FixedPattern,
     symbolic: Option<SymbolicLu<usize>>,
     /// Numerical factorisations, and refinement steps over all solves.
     pub(crate) factorisations: usize,
@@ -27,34 +27,32 @@ pub(crate) struct SparseLu {
 
 impl SparseLu {
     /// The symbolic LU of the n × n pattern `pairs` (repeated pairs are
-    /// summed by [`SparseLu::matrix`]).
+    /// summed by [`SparseLu::set`]).
     pub(crate) fn new(n: usize, pairs: &[Pair<usize, usize>]) -> Result<Self, String> {
-        let (pattern, argsort) = SymbolicSparseColMat::try_new_from_indices(n, n, pairs)
-            .map_err(|e| format!("sparse LU pattern: {e:?}"))?;
+        let matrix =
+            FixedPattern::new(n, n, pairs).map_err(|e| format!("sparse LU pattern: {e}"))?;
         Ok(Self {
-            pattern,
-            argsort,
+            matrix,
             symbolic: None,
             factorisations: 0,
             refinement_steps: 0,
         })
     }
 
-    /// The matrix of `values`, one per pair in the order of the pattern's
-    /// pairs.
-    pub(crate) fn matrix(&self, values: &[f64]) -> Result<SparseColMat<usize, f64>, String> {
-        SparseColMat::new_from_argsort(self.pattern.clone(), &self.argsort, values)
-            .map_err(|e| format!("sparse LU values: {e:?}"))
+    /// The matrix A of `values`, one per pair in the order of the
+    /// pattern's pairs, set in place.
+    pub(crate) fn set(&mut self, values: &[f64]) -> &SparseColMat<usize, f64> {
+        self.matrix.set(values)
     }
 
-    /// Solves A x = b for the matrix of `values`: one numerical LU on the
-    /// symbolic factor, the solve refined against A; `None` when the
-    /// factorisation (or the symbolic one) fails (a zero pivot) or the refined solve does not
-    /// reach [`crate::kkt::ACCEPTED_BACKWARD_ERROR`].
-    pub(crate) fn solve(&mut self, values: &[f64], b: &[f64]) -> Option<Vec<f64>> {
-        let a = self.matrix(values).ok()?;
+    /// Solves A x = b for the matrix last [`SparseLu::set`]: one numerical
+    /// LU on the symbolic factor, the solve refined against A; `None` when
+    /// the factorisation (or the symbolic one) fails (a zero pivot) or the
+    /// refined solve does not reach [`crate::kkt::ACCEPTED_BACKWARD_ERROR`].
+    pub(crate) fn solve(&mut self, b: &[f64]) -> Option<Vec<f64>> {
+        let a = self.matrix.matrix();
         if self.symbolic.is_none() {
-            self.symbolic = Some(SymbolicLu::try_new(self.pattern.as_ref()).ok()?);
+            self.symbolic = Some(SymbolicLu::try_new(a.symbolic()).ok()?);
         }
         let symbolic = self.symbolic.clone()?;
         self.factorisations += 1;
@@ -64,7 +62,7 @@ impl SparseLu {
             let x = lu.solve(Mat::<f64>::from_fn(n, 1, |i, _| rhs[i]));
             (0..n).map(|i| x[(i, 0)]).collect::<Vec<f64>>()
         };
-        let (x, steps) = refine(&a, solve, b)?;
+        let (x, steps) = refine(a, solve, b)?;
         self.refinement_steps += steps;
         Some(x)
     }
@@ -88,7 +86,8 @@ mod tests {
             [0.0, 2.0, 5.0, 1.0, -2.0, 3.0, 0.5],
         ] {
             let b = [1.0, -2.0, 3.0];
-            let x = lu.solve(&values, &b).expect("nonsingular");
+            lu.set(&values);
+            let x = lu.solve(&b).expect("nonsingular");
             let mut ax = [0.0; 3];
             for (&(i, j), v) in entries.iter().zip(values) {
                 ax[i] += v * x[j];

@@ -29,10 +29,11 @@
 //! Krylov steps reach the exact Newton direction. The Krylov residual
 //! weighs the coupled rows by s, so that every row is a force.
 
-use faer::dyn_stack::MemStack;
-use faer::sparse::{Argsort, Pair, SparseColMat, SymbolicSparseColMat};
+use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::sparse::{Pair, SparseColMat};
 use faer::{Conj, MatMut};
 
+use crate::fixed_pattern::FixedPattern;
 use crate::gmres::gmres;
 use crate::kkt::{
     ldlt_scratch, numeric_ldlt, row_scale, ACCEPTED_BACKWARD_ERROR, TARGET_BACKWARD_ERROR,
@@ -98,7 +99,8 @@ impl Rotation {
 }
 
 /// The symmetric part's pattern, ordering and symbolic LDLᵀ (computed
-/// once per run), each point's rows on its DOFs, and the counts.
+/// once per run), each point's rows on its DOFs, the storage of its values,
+/// factor and scratch (allocated once), and the counts.
 pub(crate) struct SymmetricPart {
     row_scale: f64,
     delta: f64,
@@ -107,10 +109,12 @@ pub(crate) struct SymmetricPart {
     /// coefficients on them, row after row.
     dofs: Vec<Vec<usize>>,
     coefs: Vec<Vec<f64>>,
-    pattern: SymbolicSparseColMat<usize>,
-    argsort: Argsort<usize>,
+    matrix: FixedPattern,
+    /// The matrix's values in the order of its pairs.
+    values: Vec<f64>,
     ordered: OrderedSymbolic,
     l_values: Vec<f64>,
+    scratch: MemBuffer,
     /// Numerical LDLᵀ factorisations, and Krylov steps over all solves.
     pub(crate) factorisations: usize,
     pub(crate) krylov_steps: usize,
@@ -163,25 +167,25 @@ impl SymmetricPart {
         if floating {
             pairs.extend((0..n).map(|i| Pair::new(i, i)));
         }
-        let (pattern, argsort) = SymbolicSparseColMat::try_new_from_indices(n + m, n + m, &pairs)
-            .map_err(|e| format!("symmetric part pattern: {e:?}"))?;
-        let ones =
-            SparseColMat::new_from_argsort(pattern.clone(), &argsort, &vec![1.0; pairs.len()])
-                .map_err(|e| format!("symmetric part pattern: {e:?}"))?;
+        let mut matrix = FixedPattern::new(n + m, n + m, &pairs)
+            .map_err(|e| format!("symmetric part pattern: {e}"))?;
+        let ones = matrix.set(&vec![1.0; pairs.len()]);
         let ordered = order_and_analyse(ones.as_ref(), n + m, OrderingChoice::Auto)
             .map_err(|e| format!("symmetric part ordering: {e}"))?;
         let s = row_scale(k);
         let sqrt_eps = f64::EPSILON.sqrt();
+        let scratch = ldlt_scratch(&ordered.symbolic, faer::get_global_parallelism());
         Ok(Self {
             row_scale: s,
             delta: sqrt_eps * s,
             gamma: if floating { sqrt_eps * s } else { 0.0 },
             dofs,
             coefs,
-            pattern,
-            argsort,
+            matrix,
+            values: Vec::with_capacity(pairs.len()),
             l_values: vec![0.0; ordered.symbolic.len_val()],
             ordered,
+            scratch,
             factorisations: 0,
             krylov_steps: 0,
         })
@@ -193,16 +197,17 @@ impl SymmetricPart {
     }
 
     /// The values of the scaled, regularised M_kk (module doc) in the
-    /// order of the pattern's pairs; `chat` the rows' Ĉ.
+    /// order of the pattern's pairs, into `v`; `chat` the rows' Ĉ.
     fn values(
         &self,
         k: &SparseColMat<usize, f64>,
         points: &Points,
-        rot: &Rotation,
-        chat: &[f64],
-    ) -> Vec<f64> {
+        (rot, chat): (&Rotation, &[f64]),
+        v: &mut Vec<f64>,
+    ) {
         let s = self.row_scale;
-        let mut v = k.val().to_vec();
+        v.clear();
+        v.extend_from_slice(k.val());
         for (p, pr) in points.point_rows.iter().enumerate() {
             let nd = self.dofs[p].len();
             for &slot in pr {
@@ -240,39 +245,36 @@ impl SymmetricPart {
         if self.gamma > 0.0 {
             v.extend(std::iter::repeat_n(self.gamma, k.nrows()));
         }
-        v
     }
 
     /// Solves J x = b (`j` the whole Jacobian, unknowns (u, λ), rows: the
     /// equilibrium, then the contact equations by slot) by GMRES
-    /// preconditioned by M⁻¹ (module doc); `None` when the LDLᵀ fails or
-    /// GMRES does not reach [`KRYLOV_TOLERANCE`] in [`MAX_KRYLOV_STEPS`].
+    /// preconditioned by M⁻¹ (module doc): with `forcing` η, to the
+    /// weighted relative residual η (an inexact Newton direction,
+    /// [`crate::direct_forcing`]), else (or when that is not reached) to
+    /// the LU's backward error; `None` when the LDLᵀ fails or GMRES reaches
+    /// neither.
     pub(crate) fn solve(
         &mut self,
         k: &SparseColMat<usize, f64>,
         points: &Points,
         (rot, chat): (&Rotation, &[f64]),
-        j: &SparseColMat<usize, f64>,
-        b: &[f64],
+        (j, b): (&SparseColMat<usize, f64>, &[f64]),
+        forcing: Option<f64>,
     ) -> Option<Vec<f64>> {
         let n = k.nrows();
-        let values = self.values(k, points, rot, chat);
-        let a =
-            SparseColMat::new_from_argsort(self.pattern.clone(), &self.argsort, &values).ok()?;
+        let mut values = std::mem::take(&mut self.values);
+        self.values(k, points, (rot, chat), &mut values);
+        let a = self.matrix.set(&values);
+        self.values = values;
         self.factorisations += 1;
         let s = self.row_scale;
         let weight: Vec<f64> = (0..b.len())
             .map(|i| if i >= n && !rot.given[i - n] { s } else { 1.0 })
             .collect();
-        let apply = |x: &[f64]| -> Vec<f64> {
-            let mut y = product(j, x);
-            y.iter_mut().zip(&weight).for_each(|(v, w)| *v *= w);
-            y
-        };
         let par = faer::get_global_parallelism();
         let symbolic = &self.ordered.symbolic;
-        let mut mem = ldlt_scratch(symbolic, par);
-        let stack = MemStack::new(&mut mem);
+        let stack = MemStack::new(&mut self.scratch);
         let ldlt = numeric_ldlt(symbolic, &mut self.l_values, a.as_ref(), par, stack)?;
         let block = Block {
             n,
@@ -283,24 +285,65 @@ impl SymmetricPart {
             dofs: &self.dofs,
             coefs: &self.coefs,
         };
-        let precondition = |v: &[f64]| -> Vec<f64> {
+        let mut precondition = |v: &[f64]| -> Vec<f64> {
             let r: Vec<f64> = v.iter().zip(&weight).map(|(x, w)| x / w).collect();
             block.solve(&r, |y| {
                 let ym = MatMut::from_column_major_slice_mut(y, r.len(), 1);
                 ldlt.solve_in_place_with_conj(Conj::No, ym, par, stack);
             })
         };
-        let mut precondition = precondition;
+        let weighted = Weighted { j, weight: &weight };
+        let (x, steps) = weighted.krylov(&mut precondition, b, forcing);
+        self.krylov_steps += steps;
+        x
+    }
+}
+
+/// J with its rows weighed (module doc).
+struct Weighted<'w> {
+    j: &'w SparseColMat<usize, f64>,
+    weight: &'w [f64],
+}
+
+impl Weighted<'_> {
+    /// w ⊙ J x.
+    fn apply(&self, x: &[f64]) -> Vec<f64> {
+        let mut y = product(self.j, x);
+        y.iter_mut().zip(self.weight).for_each(|(v, w)| *v *= w);
+        y
+    }
+
+    /// x solving J x = b by GMRES preconditioned by `precondition`: with
+    /// `forcing` η, one cycle to the weighted relative residual η; else,
+    /// or when that cycle fails, restarted cycles to the LU's backward
+    /// error. The x (`None` when neither is reached) and the Krylov steps.
+    fn krylov(
+        &self,
+        precondition: &mut impl FnMut(&[f64]) -> Vec<f64>,
+        b: &[f64],
+        forcing: Option<f64>,
+    ) -> (Option<Vec<f64>>, usize) {
+        let (j, weight) = (self.j, self.weight);
+        let apply = |x: &[f64]| self.apply(x);
         let mut x = vec![0.0; b.len()];
         let mut steps_taken = 0;
-        let (mut berr, mut r) = weighted_backward_error(j, &weight, &x, b);
+        let (mut berr, mut r) = weighted_backward_error(j, weight, &x, b);
+        if let Some(eta) = forcing {
+            let out = gmres(apply, &mut *precondition, &r, eta, MAX_KRYLOV_STEPS);
+            if let Some((d, steps)) = out {
+                if d.iter().all(|v| v.is_finite()) {
+                    return (Some(d), steps);
+                }
+            }
+            steps_taken += MAX_KRYLOV_STEPS;
+        }
         for _ in 0..RESTARTS {
             if berr <= TARGET_BACKWARD_ERROR {
                 break;
             }
             let out = gmres(
                 apply,
-                &mut precondition,
+                &mut *precondition,
                 &r,
                 KRYLOV_TOLERANCE,
                 MAX_KRYLOV_STEPS,
@@ -308,16 +351,15 @@ impl SymmetricPart {
             let Some((d, steps)) = out else { break };
             steps_taken += steps;
             let candidate: Vec<f64> = x.iter().zip(&d).map(|(a, b)| a + b).collect();
-            let (e, rr) = weighted_backward_error(j, &weight, &candidate, b);
+            let (e, rr) = weighted_backward_error(j, weight, &candidate, b);
             // Stop when a cycle does not help (also when e is NaN).
             if e.partial_cmp(&berr) != Some(std::cmp::Ordering::Less) {
                 break;
             }
             (x, berr, r) = (candidate, e, rr);
         }
-        self.krylov_steps += steps_taken;
         let accepted = berr <= ACCEPTED_BACKWARD_ERROR;
-        accepted.then_some(x)
+        (accepted.then_some(x), steps_taken)
     }
 }
 

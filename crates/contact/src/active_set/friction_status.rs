@@ -253,6 +253,17 @@ impl StatusRule for FrictionRule<'_> {
     fn in_contact(&self, statuses: &[PointStatus]) -> usize {
         statuses.iter().filter(|&&s| s != PointStatus::Open).count()
     }
+
+    fn out_of_time(&self) -> bool {
+        crate::options::deadline_passed(self.opts.deadline)
+    }
+}
+
+/// The natural residual of the friction law at (r, g), forces relative to
+/// max(force scale, ‖r‖∞).
+fn law_residual(layout: &FrictionLayout, r: &[f64], g: &[f64], opts: &FrictionOptions) -> f64 {
+    let force = opts.force_scale.max(crate::norms::max_abs(r));
+    crate::law::natural_residual(layout, r, g, force, opts.gap_scale)
 }
 
 /// Status iterations with the thresholds `thr` (Tresca values, or μ λ_n of
@@ -276,6 +287,7 @@ pub(crate) fn status_loop(
     };
     let initial = std::mem::take(&mut run.statuses);
     let out = drive(&mut rule, initial, false, opts.max_iterations)?;
+    let out_of_time = out.stop == Stop::Limit && rule.out_of_time();
     run.statuses = out.statuses;
     run.iterations += out.iterations;
     run.cycle |= out.cycle_at.is_some();
@@ -284,11 +296,22 @@ pub(crate) fn status_loop(
             solves: run.iterations,
         },
         Stop::Cycling => StopReason::FrictionCycling,
+        Stop::Limit if out_of_time => StopReason::TimeLimit {
+            iterations: run.iterations,
+            residual: f64::NAN,
+        },
         Stop::Limit => StopReason::StatusLimit {
             limit: opts.max_iterations,
         },
     };
     let (forces, gaps) = out.solution.unwrap_or_default();
+    let reason = match reason {
+        StopReason::TimeLimit { iterations, .. } => StopReason::TimeLimit {
+            iterations,
+            residual: law_residual(layout, &forces, &gaps, opts),
+        },
+        other => other,
+    };
     Ok(InnerSolve {
         forces,
         gaps,

@@ -69,7 +69,7 @@ pub struct StatusOptions {
 
 impl StatusOptions {
     /// The status method with `variant` on an LCP solved with `opts`: the
-    /// same iteration limit, tolerance and scales, no time limit.
+    /// same iteration limit, tolerance, scales and deadline.
     pub(crate) fn from_lcp(
         variant: StatusVariant,
         opts: &crate::lcp::LcpOptions,
@@ -82,7 +82,7 @@ impl StatusOptions {
             force_scale: opts.force_scale,
             gap_scale: opts.gap_scale,
             initial_active,
-            deadline: None,
+            deadline: opts.deadline,
         }
     }
 }
@@ -174,6 +174,7 @@ impl StatusRule for Signorini<'_> {
             force_scale: o.force_scale,
             gap_scale: o.gap_scale,
             stiffness: None,
+            deadline: o.deadline,
         };
         let Some(set) = self.problem.pivoted_active_set(&lcp)? else {
             return Ok(None);
@@ -190,9 +191,7 @@ impl StatusRule for Signorini<'_> {
     }
 
     fn out_of_time(&self) -> bool {
-        self.opts
-            .deadline
-            .is_some_and(|d| std::time::Instant::now() >= d)
+        crate::options::deadline_passed(self.opts.deadline)
     }
 }
 

@@ -222,6 +222,7 @@ fn frictionless(
         force_scale: opts.force_scale,
         gap_scale: opts.gap_scale,
         stiffness: None,
+        deadline: opts.deadline,
     };
     let out = Algorithm::status(StatusVariant::All).solve(&w, &problem.q[..m], None, &lcp)?;
     let mut forces = vec![0.0; problem.q.len()];
@@ -296,6 +297,57 @@ mod tests {
                     assert!(diff <= 1e-7, "{method:?} dim {dim} seed {seed}: {diff:e}");
                 }
             }
+        }
+    }
+
+    /// A deadline already passed stops every friction method, 2D and 3D,
+    /// Coulomb, Tresca and Norton–Hoff, not converged, on the time limit,
+    /// with a finite iterate and its residual.
+    #[test]
+    fn a_passed_deadline_stops_every_friction_method() {
+        use crate::friction::FrictionLaw;
+        use FrictionMethod::*;
+        let tresca = Some(FrictionLaw::Tresca(0.1));
+        let norton_hoff = Some(FrictionLaw::NortonHoff { mu: 0.3, rho: 0.5 });
+        // The law of every point, `None`: the problem's Coulomb law.
+        let runs: [(usize, FrictionMethod, Option<FrictionLaw>); 10] = [
+            (2, CoulombFixedPoint, None),
+            (2, CoulombStatus, None),
+            (2, Newton, None),
+            (2, Nsgs2d, None),
+            (2, TrescaStatus, tresca),
+            (2, TrescaBox, tresca),
+            (2, NortonHoff, norton_hoff),
+            (3, Newton3d, None),
+            (3, FixedPoint3d, None),
+            (3, Nsgs3d, None),
+        ];
+        for (dim, method, law) in runs {
+            let (mut p, mut layout) = problem(30, dim, 5);
+            if let Some(law) = law {
+                layout.law.fill(law);
+            }
+            let start = FrictionStart {
+                statuses: vec![PointStatus::Stick; 30],
+                forces: None,
+                predict: false,
+                zone: false,
+            };
+            let o = crate::options::FrictionOptions {
+                deadline: Some(std::time::Instant::now()),
+                ..opts()
+            };
+            let out = solve_friction(&mut p, &layout, method, start, &o).unwrap();
+            let report = &out.solution.report;
+            assert!(!report.converged, "{method:?}");
+            let crate::solution::StopReason::TimeLimit { residual, .. } = report.stop else {
+                panic!("{method:?}: {}", report.stop);
+            };
+            assert!(!residual.is_nan(), "{method:?}");
+            assert!(
+                out.solution.forces.iter().all(|v| v.is_finite()),
+                "{method:?}"
+            );
         }
     }
 }

@@ -94,10 +94,7 @@ pub(crate) fn fixed_point<S: TrescaSolver>(
         reason,
     };
     for outer in 0..opts.max_fixed_point {
-        if opts
-            .deadline
-            .is_some_and(|d| std::time::Instant::now() >= d)
-        {
+        if crate::options::deadline_passed(opts.deadline) {
             let residual = residuals.last().copied().unwrap_or(f64::INFINITY);
             let reason = StopReason::TimeLimit {
                 iterations: outer,

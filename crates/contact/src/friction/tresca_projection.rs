@@ -61,6 +61,7 @@ pub(crate) fn tresca_box(
         force_scale: opts.force_scale,
         gap_scale: opts.gap_scale,
         stiffness: None,
+        deadline: opts.deadline,
     };
     let sol = crate::lcp::mprgp_box::mprgp_box(&problem.w, &problem.q, &lower, &upper, &lcp_opts)?;
     let tol = opts.tolerance

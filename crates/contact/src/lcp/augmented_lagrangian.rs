@@ -35,7 +35,9 @@
 use faer::Mat;
 
 use crate::lcp::regularised::regularised_newton;
-use crate::lcp::{dual_start, dual_stop, mean_diag, residual_from_gaps, DualStart, LcpOptions};
+use crate::lcp::{
+    dual_start, dual_stop, mean_diag, residual_from_gaps, time_limit_stop, DualStart, LcpOptions,
+};
 use crate::solution::{ContactSolution, DualDetail, StopReason};
 use crate::ContactError;
 
@@ -78,7 +80,12 @@ pub fn augmented_lagrangian(
     let mut active: Vec<bool> = q.iter().map(|&v| v < 0.0).collect();
     let mut newton_steps = 0usize;
     let mut cycles = 0usize;
+    let mut timed_out = false;
     while report.iterations < opts.max_iterations {
+        if opts.out_of_time(report.iterations) {
+            timed_out = true;
+            break;
+        }
         report.iterations += 1;
         // Inner problem: LCP(W + I/r, q − λ_k/r).
         let q_inner: Vec<f64> = (0..m).map(|p| q[p] - lambda[p] / r).collect();
@@ -95,6 +102,11 @@ pub fn augmented_lagrangian(
         report.operator_applications += inner.operator_applications;
         if inner.cycle_at.is_some() {
             cycles += 1;
+        }
+        if matches!(inner.stop, StopReason::TimeLimit { .. }) {
+            // The inner solve ran out of time: the last outer iterate.
+            report.stop = time_limit_stop(&report, r0);
+            return Ok(ContactSolution::from_forces(w, q, lambda, report));
         }
         if !inner.converged {
             report.stop = StopReason::InnerFailed {
@@ -125,7 +137,7 @@ pub fn augmented_lagrangian(
         factor: s,
         cycles,
     };
-    report.stop = dual_stop(opts, &report, r0, detail);
+    report.stop = dual_stop(opts, &report, r0, detail, timed_out);
     Ok(ContactSolution::from_forces(w, q, lambda, report))
 }
 

@@ -43,7 +43,7 @@
 use faer::Mat;
 
 use crate::lcp::clamp;
-use crate::lcp::{checked_or_empty, lcp_residual, LcpOptions};
+use crate::lcp::{checked_or_empty, lcp_residual, time_limit_stop, LcpOptions};
 use crate::solution::{ContactSolution, SolverReport, StopReason};
 use crate::ContactError;
 
@@ -89,7 +89,7 @@ pub fn lemke(w: &Mat<f64>, q: &[f64], opts: &LcpOptions) -> Result<ContactSoluti
     }
     let max_pivots = opts.max_iterations.max(10 * m);
     let scaling = Scaling::new(w, q);
-    let (scaled, solved, pivots) = pivot_path(&scaling.w, &scaling.q, max_pivots)?;
+    let (scaled, solved, pivots) = pivot_path(&scaling.w, &scaling.q, max_pivots, opts)?;
     report.iterations = pivots;
     report.operator_applications = pivots;
     let mut lambda = scaling.forces(&scaled);
@@ -110,7 +110,9 @@ pub fn lemke(w: &Mat<f64>, q: &[f64], opts: &LcpOptions) -> Result<ContactSoluti
     report.residual_history.push(res);
     let tolerance = opts.tolerance;
     report.converged = solved && res <= tolerance;
-    report.stop = if !solved {
+    report.stop = if !solved && pivots < max_pivots {
+        time_limit_stop(&report, res)
+    } else if !solved {
         StopReason::PivotLimit {
             limit: max_pivots,
             residual: res,
@@ -159,13 +161,14 @@ pub(crate) fn pivoted_active_set(
 }
 
 /// The complementary pivoting path on the scaled LCP(W, q) from z0 entering
-/// at the most negative q_i, at most `max_pivots` pivots: the forces of the
-/// final basis, whether z0 left it (a solution), and the pivots made. A ray
-/// is [`ContactError::Singular`].
+/// at the most negative q_i, at most `max_pivots` pivots and until the
+/// deadline of `opts`: the forces of the final basis, whether z0 left it (a
+/// solution), and the pivots made. A ray is [`ContactError::Singular`].
 fn pivot_path(
     w: &Mat<f64>,
     q: &[f64],
     max_pivots: usize,
+    opts: &LcpOptions,
 ) -> Result<(Vec<f64>, bool, usize), ContactError> {
     let m = q.len();
     let mut tab = Tableau::new(w, q);
@@ -180,7 +183,7 @@ fn pivot_path(
         .unwrap_or(0);
     let mut leaving = tab.pivot(r, z0);
     let mut pivots = 1;
-    while pivots < max_pivots && leaving != z0 {
+    while pivots < max_pivots && leaving != z0 && !opts.out_of_time(pivots) {
         // The complement of the variable that left enters.
         let entering = if leaving < m {
             leaving + m

@@ -64,7 +64,9 @@
 
 use faer::Mat;
 
-use crate::lcp::{check_finite, dot, gaps, gaps_into, matvec, spectral_norm_estimate, LcpOptions};
+use crate::lcp::{
+    check_finite, dot, gaps, gaps_into, matvec, spectral_norm_estimate, time_limit_stop, LcpOptions,
+};
 use crate::solution::{BoxPolish, ContactSolution, Measure, MprgpSteps, SolverReport, StopReason};
 use crate::ContactError;
 
@@ -392,6 +394,10 @@ impl<'a> Mprgp<'a> {
                     tolerance: self.opts.tolerance,
                     steps: Some(self.steps),
                 };
+                break;
+            }
+            if self.opts.out_of_time(self.report.iterations) {
+                self.report.stop = time_limit_stop(&self.report, res);
                 break;
             }
             self.report.iterations += 1;

@@ -108,7 +108,7 @@ pub fn penalty(
             penetration: max_penetration(&out.g),
         }
     } else {
-        out.stop
+        with_last_residual(out.stop, &report.residual_history)
     };
     Ok(ContactSolution::from_forces(w, q, out.lambda, report))
 }
@@ -174,9 +174,18 @@ pub fn status_with_penalty(
             penetration: max_penetration(&g),
         }
     } else {
-        out.report.stop
+        with_last_residual(out.report.stop, &report.residual_history)
     };
     Ok(ContactSolution::with_gaps(lambda, g, Vec::new(), report))
+}
+
+/// A time limit at the last residual of `history` (the iterations leave
+/// it to their caller); any other stop as it is.
+fn with_last_residual(mut stop: StopReason, history: &[f64]) -> StopReason {
+    if let (StopReason::TimeLimit { residual, .. }, Some(&last)) = (&mut stop, history.last()) {
+        *residual = last;
+    }
+    stop
 }
 
 /// A message naming the worst point when some penetration −g_p exceeds

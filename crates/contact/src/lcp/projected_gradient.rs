@@ -30,7 +30,7 @@ use faer::Mat;
 
 use crate::lcp::{
     checked_or_empty, clamp, dot, energy_of, gaps_into, lcp_residual, matvec, residual_from_gaps,
-    LcpOptions,
+    time_limit_stop, LcpOptions,
 };
 use crate::solution::{ContactSolution, Measure, SolverReport, StopReason};
 use crate::ContactError;
@@ -237,8 +237,13 @@ impl<'a> Projection<'a> {
         Next::Step(res)
     }
 
-    /// `true` (reported) when the iteration limit is reached.
+    /// `true` (reported) when the time limit or the iteration limit is
+    /// reached.
     fn out_of_iterations(&mut self, res: f64) -> bool {
+        if self.opts.out_of_time(self.report.iterations) {
+            self.report.stop = time_limit_stop(&self.report, res);
+            return true;
+        }
         if self.report.iterations < self.opts.max_iterations {
             return false;
         }

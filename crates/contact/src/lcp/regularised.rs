@@ -64,7 +64,9 @@ pub(crate) struct NewtonOutcome {
 /// A keeps the points with λ_p ≥ −tol_f and gains those with h_p < −tol_g;
 /// stop when A repeats. A repeated earlier set switches to Murty's
 /// least-index single change. `observe(λ, g)` is called after each
-/// iteration with λ clamped to ≥ 0 and g = Wλ + q.
+/// iteration with λ clamped to ≥ 0 and g = Wλ + q. At the deadline of
+/// `opts` it stops with the last iterate ([`StopReason::TimeLimit`], its
+/// residual left to the caller: NaN).
 pub(crate) fn regularised_newton(
     w: &Mat<f64>,
     q: &[f64],
@@ -88,6 +90,13 @@ pub(crate) fn regularised_newton(
         operator_applications: 0,
     };
     while out.iterations < max_iterations {
+        if opts.out_of_time(out.iterations) {
+            out.stop = StopReason::TimeLimit {
+                iterations: out.iterations,
+                residual: f64::NAN,
+            };
+            return Ok(out);
+        }
         out.iterations += 1;
         seen.insert(active.clone());
         let set: Vec<usize> = (0..m).filter(|&p| active[p]).collect();

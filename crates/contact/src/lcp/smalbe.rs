@@ -122,6 +122,9 @@ pub fn smalbe(
     let mut last_inner = StopReason::Pending;
     let mut previous_active: Option<Vec<bool>> = None;
     for outer in 0..MAX_OUTER {
+        if opts.out_of_time(outer) {
+            return Ok(pb.timed_out(lambda, mu, report));
+        }
         let (w_in, q_in) = inner_problem(w, q, g, e, &ggt, &mu, rho);
         let inner_opts = LcpOptions {
             tolerance: inner_tolerance(g, e, &lambda, opts, outer),
@@ -131,6 +134,10 @@ pub fn smalbe(
         inner_iterations += sol.report.iterations;
         report.operator_applications += sol.report.operator_applications;
         last_inner = sol.report.stop.clone();
+        if let StopReason::TimeLimit { .. } = sol.report.stop {
+            report.iterations = outer + 1;
+            return Ok(pb.timed_out(sol.forces, mu, report));
+        }
         if !sol.report.converged && inner_opts.tolerance <= opts.tolerance {
             return Ok(pb.inner_failed(sol, mu, report, outer));
         }
@@ -243,6 +250,23 @@ impl Constrained<'_> {
         // replaces the polish's own record).
         trial.report.stop = StopReason::Smalbe(settled);
         Some(trial)
+    }
+
+    /// The deadline of the options passed (between outer iterations or in
+    /// an inner solve): the iterate `lambda`, not converged, at its natural
+    /// residual ([`StopReason::TimeLimit`]).
+    fn timed_out(
+        &self,
+        lambda: Vec<f64>,
+        mu: Vec<f64>,
+        mut report: SolverReport,
+    ) -> ContactSolution {
+        let gap = constrained_gaps(self.w, self.q, self.g, &lambda, &mu);
+        report.stop = StopReason::TimeLimit {
+            iterations: report.iterations,
+            residual: residual_from_gaps(&lambda, &gap, self.opts),
+        };
+        ContactSolution::with_gaps(lambda, gap, mu, report)
     }
 
     /// [`MAX_OUTER`] outer iterations without meeting the tolerance: the

@@ -73,7 +73,12 @@ pub fn uzawa(w: &Mat<f64>, q: &[f64], opts: &LcpOptions) -> Result<ContactSoluti
     let mut energy = 0.0; // J(0)
     let mut halvings = 0usize;
     let mut next = vec![0.0; m];
+    let mut timed_out = false;
     while report.iterations < opts.max_iterations {
+        if opts.out_of_time(report.iterations) {
+            timed_out = true;
+            break;
+        }
         report.iterations += 1;
         for p in 0..m {
             next[p] = (lambda[p] - rho * g[p]).max(0.0);
@@ -110,7 +115,7 @@ pub fn uzawa(w: &Mat<f64>, q: &[f64], opts: &LcpOptions) -> Result<ContactSoluti
         step: rho_origin,
         halvings,
     };
-    report.stop = dual_stop(opts, &report, r0, detail);
+    report.stop = dual_stop(opts, &report, r0, detail, timed_out);
     Ok(ContactSolution::from_forces(w, q, lambda, report))
 }
 

@@ -21,7 +21,8 @@ pub struct Solver {
     pub max_iterations: usize,
     /// Friction outer loop: `fixed_point` (default), `status`, `newton` or `nsgs`.
     pub friction: FrictionSolver,
-    /// The wall-clock budget of each friction solve, in seconds (> 0);
+    /// The wall-clock budget of each contact solve, in seconds (> 0): every
+    /// method on the condensed path, friction solves on the direct path;
     /// default: 10 s + 2e-9 s × rows³ of the solve's problem. A solve that
     /// reaches it stops, not converged.
     #[serde(skip_serializing_if = "Option::is_none")]
