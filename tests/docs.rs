@@ -804,3 +804,52 @@ fn the_crate_graph_check_names_an_extra_dependency_a_stale_row_and_a_cycle() {
     );
     assert!(documented_graph("# no table\n").is_err());
 }
+
+// ---------------------------------------------------------------------------
+// The size rules of docs/architecture.md
+
+#[path = "docs/structure.rs"]
+mod structure;
+
+#[test]
+fn no_file_is_over_a_thousand_lines_and_no_function_over_a_hundred_and_fifty() {
+    use structure::{function_lengths, repository_files, MAX_FILE_LINES, MAX_FN_LINES};
+    let files = repository_files(&root());
+    assert!(files.len() > 100, "only {} Rust files found", files.len());
+    let mut over = Vec::new();
+    let (mut longest_file, mut longest_fn) = ((0, String::new()), (0, String::new()));
+    for file in &files {
+        let text = read(file);
+        let name = file.strip_prefix(root()).unwrap().display().to_string();
+        let lines = text.lines().count();
+        longest_file = longest_file.max((lines, name.clone()));
+        if lines > MAX_FILE_LINES {
+            over.push(format!("{name}: {lines} lines (at most {MAX_FILE_LINES})"));
+        }
+        for (f, line, length) in function_lengths(&text) {
+            longest_fn = longest_fn.max((length, format!("{name}:{line} {f}")));
+            if length > MAX_FN_LINES {
+                over.push(format!(
+                    "{name}:{line}: fn {f} has {length} lines (at most {MAX_FN_LINES})"
+                ));
+            }
+        }
+    }
+    eprintln!("longest file {longest_file:?}, longest function {longest_fn:?}");
+    assert!(over.is_empty(), "{}", over.join("\n"));
+}
+
+#[test]
+fn a_function_runs_to_its_closing_brace_past_braces_in_strings_and_comments() {
+    let text = "/// fn not_this() {\nfn outer(a: [u8; 2]) -> u8 {\n    let s = \"}\";\n    let r = r#\"{ \" }\"#;\n    // }\n    /* } /* } */ */\n    let c = '}';\n    fn inner<'a>(x: &'a str) -> &'a str {\n        x\n    }\n    a[0]\n}\ntrait T {\n    fn declared(&self);\n}\nfn two() {}\n";
+    let found = structure::function_lengths(text);
+    let names: Vec<(&str, usize, usize)> = found
+        .iter()
+        .map(|(n, first, len)| (n.as_str(), *first, *len))
+        .collect();
+    assert_eq!(
+        names,
+        [("outer", 2, 11), ("inner", 8, 3), ("two", 16, 1)],
+        "{found:?}"
+    );
+}

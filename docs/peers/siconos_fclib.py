@@ -12,6 +12,7 @@ Usage: OPENBLAS_NUM_THREADS=1 /usr/bin/python3 docs/peers/siconos_fclib.py FILE.
        [--tol 1e-10] [--solvers NSGS,NSN_AC,VI_EG] [--signorini target/release/signorini]
 """
 import json
+import os
 import subprocess
 import sys
 import time
@@ -20,21 +21,10 @@ import h5py
 import numpy as np
 import siconos.numerics as sn
 
-
-def dense(g):
-    m, n, nz = int(g["m"][0]), int(g["n"][0]), int(g["nz"][0])
-    p, i, x = g["p"][()], g["i"][()], g["x"][()]
-    a = np.zeros((m, n))
-    if nz >= 0:
-        np.add.at(a, (i[:nz], p[:nz]), x[:nz])
-    else:
-        for o in range(len(p) - 1):
-            for k in range(p[o], p[o + 1]):
-                if nz == -1:
-                    a[i[k], o] += x[k]
-                else:
-                    a[o, i[k]] += x[k]
-    return a
+# The FCLib matrix reader of the test data's generator (one reader of the
+# format for both).
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "../../tests/data/fclib"))
+from make_fclib import dense  # noqa: E402
 
 
 def symmetric_if_triangle(a):

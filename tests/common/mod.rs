@@ -125,21 +125,29 @@ pub fn max_rel(a: &[f64], b: &[f64]) -> f64 {
         / scale
 }
 
-/// hertz2d.toml (coarsened) with E in `young`, lengths scaled by `l`.
-pub fn hertz_in_units(young: &str, l: f64) -> String {
-    example("hertz2d.toml")
-        .replace("young = 1.0", &format!("young = {young}"))
-        .replace("divisions = 160", "divisions = 40")
+/// A Hertz example's scene (a unit disk centred at [0, 1], pressed by the
+/// displacement `press` of its top) with its lengths scaled by `l`: the
+/// disk, the press and the reference's radius.
+pub fn hertz_lengths_scaled(scene: &str, l: f64, press: f64) -> String {
+    scene
         .replace(
             "center = [0.0, 1.0], radius = 1.0",
             &format!("center = [0.0, {l:e}], radius = {l:e}"),
         )
         .replace(
-            "displacement = { y = -0.015 }",
-            &format!("displacement = {{ y = {:e} }}", -0.015 * l),
+            &format!("displacement = {{ y = {press} }}"),
+            &format!("displacement = {{ y = {:e} }}", press * l),
         )
-        .replace("point = [0.0, 1.0]", &format!("point = [0.0, {l:e}]"))
         .replace("radius = 1.0\n", &format!("radius = {l:e}\n"))
+}
+
+/// hertz2d.toml (coarsened) with E in `young`, lengths scaled by `l`.
+pub fn hertz_in_units(young: &str, l: f64) -> String {
+    let scene = example("hertz2d.toml")
+        .replace("young = 1.0", &format!("young = {young}"))
+        .replace("divisions = 160", "divisions = 40");
+    hertz_lengths_scaled(&scene, l, -0.015)
+        .replace("point = [0.0, 1.0]", &format!("point = [0.0, {l:e}]"))
         .replace(
             "[[0.0, 0.0], [0.0, 1.0]]",
             &format!("[[0.0, 0.0], [0.0, {l:e}]]"),

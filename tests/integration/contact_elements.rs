@@ -190,10 +190,7 @@ fn same_as_node_to_node(dim: usize) {
         if friction == "\"none\"" {
             // Frictionless, node-to-node with a penalty law is the
             // independent regularised solver of course notes §3.6.
-            nn = nn.replace(
-                "tolerance = 1e-12\n",
-                "tolerance = 1e-12\nmethod = \"penalty\"\n",
-            );
+            nn = with_solver_line(&nn, "method = \"penalty\"");
         }
         let nn = converged(&nn);
         let d = common::max_rel(&rows(&el), &rows(&nn));
@@ -226,6 +223,16 @@ fn contact_elements_equal_node_to_node_and_the_penalty_method_3d() {
     same_as_node_to_node(3);
 }
 
+/// `text` (a scene of [`blocks`]) with `line` added to its `[solver]`.
+fn with_solver_line(text: &str, line: &str) -> String {
+    let added = text.replace(
+        "tolerance = 1e-12\n",
+        &format!("tolerance = 1e-12\n{line}\n"),
+    );
+    assert_ne!(added, text, "no [solver] tolerance to add {line:?} after");
+    added
+}
+
 // ---- the drag: a stiff pad pressed by p, its top dragged by u ----
 
 const K_E: f64 = 100.0;
@@ -245,37 +252,38 @@ const TOL: f64 = 1e-4;
 /// dragged along x by the steps' scales of u (with a node at mid-height).
 fn drag(dim: usize, friction: &str, scales: &[f64]) -> String {
     let steps = common::drag_steps(scales);
-    let (model, mesh, top, bottom, traction, clamp, mid): (_, fn(f64) -> String, _, _, _, _, _) =
-        if dim == 2 {
-            (
-                "plane_strain",
-                |o: f64| {
-                    format!("{{ generator = \"rectangle\", origin = [0.0, {o:?}], size = [2.0, {H:?}], divisions = [10, 2] }}")
-                },
-                "top",
-                "bottom",
-                format!("[0.0, {:?}]", -P),
-                "{ x = 0.0, y = 0.0 }",
-                format!("[0.0, {:?}]", 1.5 * H),
-            )
-        } else {
-            (
-                "solid",
-                |o: f64| {
-                    format!("{{ generator = \"box\", origin = [0.0, 0.0, {o:?}], size = [2.0, 2.0, {H:?}], divisions = [4, 4, 2] }}")
-                },
-                "zmax",
-                "zmin",
-                format!("[0.0, 0.0, {:?}]", -P),
-                "{ x = 0.0, y = 0.0, z = 0.0 }",
-                format!("[0.0, 1.0, {:?}]", 1.5 * H),
-            )
-        };
-    let drag = if dim == 2 {
-        format!("{{ x = {U:?} }}")
-    } else {
-        format!("{{ x = {U:?}, y = 0.0 }}")
+    // A point or vector (x, y, up) of the scene: (x, up) in 2D.
+    let point = |x: f64, y: f64, up: f64| match dim {
+        2 => format!("[{x:?}, {up:?}]"),
+        _ => format!("[{x:?}, {y:?}, {up:?}]"),
     };
+    let (model, generator, divisions) = match dim {
+        2 => ("plane_strain", "rectangle", "[10, 2]"),
+        _ => ("solid", "box", "[4, 4, 2]"),
+    };
+    let (top, bottom) = if dim == 2 {
+        ("top", "bottom")
+    } else {
+        ("zmax", "zmin")
+    };
+    let fixed: Vec<String> = ["x", "y", "z"][..dim]
+        .iter()
+        .map(|a| format!("{a} = 0.0"))
+        .collect();
+    let clamp = format!("{{ {} }}", fixed.join(", "));
+    // Along x, held in y in 3D.
+    let drag = match dim {
+        2 => format!("{{ x = {U:?} }}"),
+        _ => format!("{{ x = {U:?}, y = 0.0 }}"),
+    };
+    let mesh = |o: f64| {
+        format!(
+            "{{ generator = \"{generator}\", origin = {}, size = {}, divisions = {divisions} }}",
+            point(0.0, 0.0, o),
+            point(2.0, 2.0, H)
+        )
+    };
+    let (traction, mid) = (point(0.0, 0.0, -P), point(0.0, 1.0, 1.5 * H));
     let boundaries = common::press_drag_hold("pad", top, &traction, &drag, &mid);
     let clamp = common::boundary(
         "clamp",
@@ -404,10 +412,7 @@ fn non_coincident_nodes_are_refused_naming_the_contact_and_the_node() {
 #[test]
 fn the_direct_path_and_elliptic_or_norton_hoff_friction_are_refused() {
     let text = blocks(2, 8, 8, &elements(&penalty(), "{ coulomb = 0.3 }"));
-    let direct = text.replace(
-        "tolerance = 1e-12\n",
-        "tolerance = 1e-12\npath = \"direct\"\n",
-    );
+    let direct = with_solver_line(&text, "path = \"direct\"");
     assert!(input_error(&direct).contains("solver.path"));
     let nh = blocks(
         2,
@@ -425,10 +430,7 @@ fn the_direct_path_and_elliptic_or_norton_hoff_friction_are_refused() {
 #[test]
 fn a_method_other_than_the_default_is_refused() {
     let text = blocks(2, 8, 8, &elements(&penalty(), "{ coulomb = 0.3 }"));
-    let lemke = text.replace(
-        "tolerance = 1e-12\n",
-        "tolerance = 1e-12\nmethod = \"lemke\"\n",
-    );
+    let lemke = with_solver_line(&text, "method = \"lemke\"");
     assert_ne!(lemke, text);
     assert!(input_error(&lemke).contains("solver.method = \"lemke\""));
     let opts = RunOptions {

@@ -186,43 +186,51 @@ fn jumps(problem: &DelassusProblem, r: &[f64], alpha: &[f64]) -> Vec<f64> {
         .collect()
 }
 
-/// Every element's return mapping at the jumps `h`.
-fn evaluate(elements: &[ContactElement], h: &[f64], slip_old: &[f64]) -> Vec<Local> {
-    elements
-        .iter()
-        .map(|e| {
-            let h_t: Vec<f64> = e.tangent_rows.iter().map(|&t| h[t]).collect();
-            let g_old: Vec<f64> = e.tangent_rows.iter().map(|&t| slip_old[t]).collect();
-            element_law(e, h[e.normal_row], &h_t, &g_old)
-        })
-        .collect()
+/// The elements of a step with the slip `slip_old` of every row at its
+/// start (zero on normal rows): what the return mapping maps from.
+struct StepElements<'a> {
+    elements: &'a [ContactElement],
+    slip_old: &'a [f64],
 }
 
-/// The residual (R, Gᵀ r − e) of (r, α) and its largest entry, with the
-/// elements' return mappings.
-fn residual(
-    problem: &DelassusProblem,
-    elements: &[ContactElement],
-    slip_old: &[f64],
-    r: &[f64],
-    alpha: &[f64],
-) -> (Vec<f64>, f64, Vec<Local>) {
-    let h = jumps(problem, r, alpha);
-    let local = evaluate(elements, &h, slip_old);
-    let mut res = r.to_vec();
-    for (e, l) in elements.iter().zip(&local) {
-        res[e.normal_row] -= l.forces[0];
-        for (i, &t) in e.tangent_rows.iter().enumerate() {
-            res[t] -= l.forces[1 + i];
+impl StepElements<'_> {
+    /// Every element's return mapping at the jumps `h`.
+    fn evaluate(&self, h: &[f64]) -> Vec<Local> {
+        self.elements
+            .iter()
+            .map(|e| {
+                let h_t: Vec<f64> = e.tangent_rows.iter().map(|&t| h[t]).collect();
+                let g_old: Vec<f64> = e.tangent_rows.iter().map(|&t| self.slip_old[t]).collect();
+                element_law(e, h[e.normal_row], &h_t, &g_old)
+            })
+            .collect()
+    }
+
+    /// The residual (R, Gᵀ r − e) of (r, α) and its largest entry, with the
+    /// elements' return mappings.
+    fn residual(
+        &self,
+        problem: &DelassusProblem,
+        r: &[f64],
+        alpha: &[f64],
+    ) -> (Vec<f64>, f64, Vec<Local>) {
+        let h = jumps(problem, r, alpha);
+        let local = self.evaluate(&h);
+        let mut res = r.to_vec();
+        for (e, l) in self.elements.iter().zip(&local) {
+            res[e.normal_row] -= l.forces[0];
+            for (i, &t) in e.tangent_rows.iter().enumerate() {
+                res[t] -= l.forces[1 + i];
+            }
         }
+        let g = &problem.g_mat;
+        for j in 0..alpha.len() {
+            let gr: f64 = (0..r.len()).map(|i| g[(i, j)] * r[i]).sum();
+            res.push(gr - problem.e[j]);
+        }
+        let norm = res.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+        (res, norm, local)
     }
-    let g = &problem.g_mat;
-    for j in 0..alpha.len() {
-        let gr: f64 = (0..r.len()).map(|i| g[(i, j)] * r[i]).sum();
-        res.push(gr - problem.e[j]);
-    }
-    let norm = res.iter().fold(0.0f64, |a, v| a.max(v.abs()));
-    (res, norm, local)
 }
 
 /// The Newton matrix [[I − C W, −C G], [Gᵀ, 0]] of the module doc; with
@@ -284,14 +292,15 @@ pub fn solve(
     start: Option<&[f64]>,
     opts: &ElementOptions,
 ) -> Result<ElementSolution, ContactError> {
+    let step = StepElements { elements, slip_old };
     if start.is_none() {
-        return solve_from(problem, elements, slip_old, None, opts);
+        return solve_from(problem, &step, None, opts);
     }
     let warm_opts = ElementOptions {
         max_iterations: opts.max_iterations.min(WARM_START_ITERATIONS),
         ..*opts
     };
-    let warm = solve_from(problem, elements, slip_old, start, &warm_opts)?;
+    let warm = solve_from(problem, &step, start, &warm_opts)?;
     if warm.solution.report.converged {
         return Ok(warm);
     }
@@ -299,7 +308,7 @@ pub fn solve(
     // smooth enough to converge (a block unloaded from 100 to 1 cycled to
     // the iteration limit): once more from the elastic predictor, as a
     // first step starts, the iterations of both counted.
-    let mut cold = solve_from(problem, elements, slip_old, None, opts)?;
+    let mut cold = solve_from(problem, &step, None, opts)?;
     cold.solution.report.iterations += warm.solution.report.iterations;
     Ok(cold)
 }
@@ -307,11 +316,11 @@ pub fn solve(
 /// [`solve`] from the forces `start` (or from the elastic predictor).
 fn solve_from(
     problem: &mut DelassusProblem,
-    elements: &[ContactElement],
-    slip_old: &[f64],
+    step_elements: &StepElements,
     start: Option<&[f64]>,
     opts: &ElementOptions,
 ) -> Result<ElementSolution, ContactError> {
+    let elements = step_elements.elements;
     let n = problem.q.len();
     let k = problem.g_mat.ncols();
     let mut r = start.map_or(vec![0.0; n], <[f64]>::to_vec);
@@ -320,7 +329,7 @@ fn solve_from(
         method: "contact_elements_return_mapping".into(),
         ..Default::default()
     };
-    let (mut res, mut norm, mut local) = residual(problem, elements, slip_old, &r, &alpha);
+    let (mut res, mut norm, mut local) = step_elements.residual(problem, &r, &alpha);
     let scale = |r: &[f64]| {
         opts.force_scale
             .max(r.iter().fold(0.0f64, |a, v| a.max(v.abs())))
@@ -358,7 +367,7 @@ fn solve_from(
         let mut t = 1.0;
         let next = loop {
             let (rt, at) = advance(&r, &alpha, &step, t);
-            let trial = residual(problem, elements, slip_old, &rt, &at);
+            let trial = step_elements.residual(problem, &rt, &at);
             if trial.1 < (1.0 - 1e-4 * t) * norm || t < 1.0 / 64.0 {
                 break (rt, at, trial, t);
             }
@@ -368,7 +377,7 @@ fn solve_from(
             next
         } else {
             let (rt, at) = advance(&r, &alpha, &step, 1.0);
-            let trial = residual(problem, elements, slip_old, &rt, &at);
+            let trial = step_elements.residual(problem, &rt, &at);
             (rt, at, trial, 1.0)
         };
         last_change = t * step[..r.len()].iter().fold(0.0f64, |a, v| a.max(v.abs()));

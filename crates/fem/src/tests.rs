@@ -13,7 +13,7 @@ use crate::*;
 use faer::linalg::solvers::Solve;
 use faer::sparse::{SparseColMat, Triplet};
 use faer::{Mat, Side};
-use signorini_mesh::generators::{half_disk, rectangle, RectSide};
+use signorini_mesh::generators::{half_disk, rectangle, HalfBall, RectSide};
 use signorini_mesh::{CellKind, Mesh};
 
 const E: f64 = 210e3;
@@ -243,17 +243,12 @@ fn norm(x: &[f64]) -> f64 {
 }
 
 fn test_meshes() -> Vec<(&'static str, Mesh)> {
+    let ball = HalfBall::new([0.0, 1.0], 1.0, 16, [0.3, -1.0], 4.0);
     vec![
         ("q4 distorted", distorted_rectangle(CellKind::Quad4, 0.3)),
         ("t3 distorted", distorted_rectangle(CellKind::Tri3, 0.3)),
-        (
-            "q4 half disk",
-            half_disk([0.0, 1.0], 1.0, 16, [0.3, -1.0], 4.0, CellKind::Quad4).unwrap(),
-        ),
-        (
-            "t3 half disk",
-            half_disk([0.0, 1.0], 1.0, 16, [0.3, -1.0], 4.0, CellKind::Tri3).unwrap(),
-        ),
+        ("q4 half disk", half_disk(&ball, CellKind::Quad4).unwrap()),
+        ("t3 half disk", half_disk(&ball, CellKind::Tri3).unwrap()),
     ]
 }
 
@@ -493,7 +488,8 @@ fn uniaxial_compression() {
 
 #[test]
 fn traction_and_tributary_measures() {
-    let m = half_disk([0.0, 0.0], 2.0, 32, [0.0, -1.0], 8.0, CellKind::Tri3).unwrap();
+    let ball = HalfBall::new([0.0, 0.0], 2.0, 32, [0.0, -1.0], 8.0);
+    let m = half_disk(&ball, CellKind::Tri3).unwrap();
     for name in ["arc", "flat"] {
         let s = m.surface(name).unwrap();
         let len = surface_measure(&m, s, Model::PlaneStrain);

@@ -141,6 +141,39 @@ fn check_ratio(what: &str, r: f64) -> Result<(), MeshError> {
     }
 }
 
+/// A half ball: the part of the ball (a disk in 2D) of `radius` about `center`
+/// on the side of `pole` (normalised by the generator; an error if zero),
+/// `{x : |x − c| ≤ R, (x − c) · pole ≥ 0}`, meshed with `divisions` elements
+/// along its curved boundary, graded towards the pole point `c + R pole`
+/// (`grading` = largest / smallest element, 1 = uniform): what [`half_disk`]
+/// (`D = 2`) and [`hemisphere`] (`D = 3`) mesh.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct HalfBall<const D: usize> {
+    pub center: [f64; D],
+    pub radius: f64,
+    pub divisions: usize,
+    pub pole: [f64; D],
+    pub grading: f64,
+}
+
+impl<const D: usize> HalfBall<D> {
+    pub fn new(
+        center: [f64; D],
+        radius: f64,
+        divisions: usize,
+        pole: [f64; D],
+        grading: f64,
+    ) -> HalfBall<D> {
+        HalfBall {
+            center,
+            radius,
+            divisions,
+            pole,
+            grading,
+        }
+    }
+}
+
 /// What the round generators (disks, hemisphere) check of their arguments:
 /// the generator's name, the least number of divisions and what they divide.
 pub(super) struct Round {

@@ -389,7 +389,7 @@ fn check_parts(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::generators::{half_disk, rectangle};
+    use crate::generators::{half_disk, rectangle, HalfBall};
     use crate::Cell;
 
     /// Checks non-empty, connected and balanced (within 30 % of n / nparts) parts.
@@ -468,7 +468,8 @@ mod tests {
 
     #[test]
     fn half_disk_into_2_parts() {
-        let mesh = half_disk([0., 1.], 1.0, 64, [0., -1.], 8.0, CellKind::Quad4).unwrap();
+        let ball = HalfBall::new([0., 1.], 1.0, 64, [0., -1.], 8.0);
+        let mesh = half_disk(&ball, CellKind::Quad4).unwrap();
         let parts = partition_cells(&mesh, 2).unwrap();
         check_partition(&mesh, &parts, 2);
         let shared = shared_nodes(&mesh, &parts);

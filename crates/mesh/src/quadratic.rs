@@ -125,7 +125,7 @@ pub fn to_second_order(mesh: &Mesh) -> Result<Mesh, MeshError> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::generators::{half_disk, rectangle};
+    use crate::generators::{half_disk, rectangle, HalfBall};
 
     fn mid_uses(mesh: &Mesh, first_mid: usize) -> HashMap<usize, usize> {
         let mut uses = HashMap::new();
@@ -242,9 +242,10 @@ mod tests {
     fn half_disk_quad8_arc_on_circle() {
         let (c, r) = ([0.5, 2.0], 1.5);
         for kind in [CellKind::Quad8, CellKind::Tri6] {
-            let m = half_disk(c, r, 16, [0.0, -1.0], 4.0, kind).unwrap();
+            let m = half_disk(&HalfBall::new(c, r, 16, [0.0, -1.0], 4.0), kind).unwrap();
             m.check().unwrap();
-            let first = half_disk(c, r, 16, [0.0, -1.0], 4.0, CellKind::Quad4).unwrap();
+            let first =
+                half_disk(&HalfBall::new(c, r, 16, [0.0, -1.0], 4.0), CellKind::Quad4).unwrap();
             assert!(m.n_nodes() > first.n_nodes());
             let arc = m.surface("arc").unwrap();
             assert_eq!(arc.facets.len(), 16);

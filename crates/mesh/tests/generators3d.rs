@@ -1,7 +1,7 @@
 //! The 3D generators: `box_mesh` (Hex8, Tet4) and `hemisphere`.
 
 use signorini_mesh::generators::{
-    box_mesh, hemisphere, hex_corner_jacobians, BoxSide, HEX_CORNER_AXES,
+    box_mesh, hemisphere, hex_corner_jacobians, BoxSide, HalfBall, HEX_CORNER_AXES,
 };
 use signorini_mesh::vec3::{dot, norm, sub};
 use signorini_mesh::{CellKind, Facet, Mesh, HEX8_REFERENCE_CORNERS};
@@ -229,7 +229,7 @@ fn box_errors() {
 
 /// Checks a hemisphere's geometry and returns (volume, flat area, dome area).
 fn check_hemisphere(c: [f64; 3], r: f64, d: usize, pole: [f64; 3], g: f64) -> (Mesh, [f64; 3]) {
-    let m = hemisphere(c, r, d, pole, g).unwrap();
+    let m = hemisphere(&HalfBall::new(c, r, d, pole, g)).unwrap();
     m.check().unwrap();
     assert!(m.cells.iter().all(|cell| cell.kind == CellKind::Hex8));
     min_scaled_jacobian(&m);
@@ -327,17 +327,17 @@ fn hemisphere_any_pole() {
         assert!((meas[0] / v - 1.0).abs() < 0.05);
         assert_eq!(m.surfaces.len(), 2);
     }
-    assert!(hemisphere([0.0; 3], 1.0, 8, [0.0; 3], 1.0).is_err());
-    assert!(hemisphere([0.0; 3], -1.0, 8, [0.0, 0.0, -1.0], 1.0).is_err());
-    assert!(hemisphere([0.0; 3], 1.0, 1, [0.0, 0.0, -1.0], 1.0).is_err());
-    assert!(hemisphere([0.0; 3], 1.0, 8, [0.0, 0.0, -1.0], -2.0).is_err());
+    assert!(hemisphere(&HalfBall::new([0.0; 3], 1.0, 8, [0.0; 3], 1.0)).is_err());
+    assert!(hemisphere(&HalfBall::new([0.0; 3], -1.0, 8, [0.0, 0.0, -1.0], 1.0)).is_err());
+    assert!(hemisphere(&HalfBall::new([0.0; 3], 1.0, 1, [0.0, 0.0, -1.0], 1.0)).is_err());
+    assert!(hemisphere(&HalfBall::new([0.0; 3], 1.0, 8, [0.0, 0.0, -1.0], -2.0)).is_err());
 }
 
 #[test]
 fn hemisphere_quality() {
     for d in [2usize, 3, 4, 5, 7, 8, 13, 16] {
         for g in [1.0, 2.0, 4.0, 8.0, 16.0, 32.0] {
-            let m = hemisphere([0.0; 3], 1.0, d, [0.0, 0.0, -1.0], g).unwrap();
+            let m = hemisphere(&HalfBall::new([0.0; 3], 1.0, d, [0.0, 0.0, -1.0], g)).unwrap();
             let sj = min_scaled_jacobian(&m);
             let ratio = max_edge_ratio(&m);
             // measured (divisions 3..20): scaled Jacobian >= 0.26 (>= 0.34 for
@@ -365,7 +365,7 @@ fn hemisphere_quality() {
 
 #[test]
 fn hemisphere_grading_and_counts() {
-    let m = hemisphere([0.0; 3], 1.0, 8, [0.0, 0.0, -1.0], 4.0).unwrap();
+    let m = hemisphere(&HalfBall::new([0.0; 3], 1.0, 8, [0.0, 0.0, -1.0], 4.0)).unwrap();
     // m = 3, ns = 10, n_r = 4: 11² 4 + (11² + 4 10 3) 4 nodes, 10² 3 + (10² + 120) 4 cells
     assert_eq!(m.n_nodes(), 1448);
     assert_eq!(m.cells.len(), 1180);
@@ -406,7 +406,7 @@ fn hemisphere_grading_and_counts() {
         }
     }
     // uniform: the same, all elements equal
-    let u = hemisphere([0.0; 3], 1.0, 8, [0.0, 0.0, -1.0], 1.0).unwrap();
+    let u = hemisphere(&HalfBall::new([0.0; 3], 1.0, 8, [0.0, 0.0, -1.0], 1.0)).unwrap();
     // m = 4, ns = 8, n_r = 4
     assert_eq!(u.n_nodes(), 81 * 5 + (81 + 4 * 8 * 4) * 4);
     assert_eq!(u.cells.len(), 64 * 4 + (64 + 4 * 8 * 4) * 4);

@@ -3,7 +3,9 @@
 //! (the pole included), so that no node of a contact zone at the pole is set
 //! apart from its neighbours (docs/theory/validation-cases.md §1-2).
 
-use signorini_mesh::generators::{box_mesh, half_disk, quarter_disk, rectangle, BoxSide, RectSide};
+use signorini_mesh::generators::{
+    box_mesh, half_disk, quarter_disk, rectangle, BoxSide, HalfBall, RectSide,
+};
 use signorini_mesh::{CellKind, Mesh};
 use std::collections::HashSet;
 
@@ -69,7 +71,7 @@ fn tri3_half_disk_is_its_own_mirror_image_about_the_pole_radius() {
             ([0.0, 1.0], 1.0, [0.0, -1.0]),
             ([0.3, -1.2], 2.5, [1.0, 2.0]),
         ] {
-            let m = half_disk(c, r, n, pole, g, CellKind::Tri3).unwrap();
+            let m = half_disk(&HalfBall::new(c, r, n, pole, g), CellKind::Tri3).unwrap();
             assert_mirror_symmetric(&m, c, pole, 1e-9 * r, &format!("n={n} g={g} pole={pole:?}"));
         }
     }
@@ -80,7 +82,8 @@ fn every_arc_node_of_the_tri3_disks_has_the_same_star() {
     // half disk: the pole alike its neighbours (cut in two, it was in 2 or 4
     // triangles where they were in 3)
     for (n, g) in [(16, 1.0), (80, 16.0), (160, 16.0)] {
-        let m = half_disk([0.0, 1.0], 1.0, n, [0.0, -1.0], g, CellKind::Tri3).unwrap();
+        let ball = HalfBall::new([0.0, 1.0], 1.0, n, [0.0, -1.0], g);
+        let m = half_disk(&ball, CellKind::Tri3).unwrap();
         let s = stars(&m, "arc");
         assert_eq!(s.len(), n + 1);
         // the two ends are corners of the flat side

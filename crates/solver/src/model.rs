@@ -7,8 +7,8 @@ use signorini_contact::friction::{FrictionLaw, PointStatus};
 use signorini_fem::{Elasticity, Formulation as FemFormulation, Model as FemModel};
 use signorini_geometry::ContactPoint;
 use signorini_mesh::generators::{
-    box_mesh, half_disk, hemisphere_of_kind, quarter_disk, rectangle, BoxSide, HemisphereSector,
-    RectSide,
+    box_mesh, half_disk, hemisphere_of_kind, quarter_disk, rectangle, BoxSide, HalfBall,
+    HemisphereSector, RectSide,
 };
 use signorini_mesh::{CellKind, Mesh};
 use signorini_scene as scene;
@@ -320,11 +320,7 @@ pub fn build_mesh(body: &scene::Body, entry: &str, dim: usize) -> Result<Mesh, S
             grading,
             element,
         }) => half_disk(
-            *center,
-            *radius,
-            *divisions,
-            *pole,
-            *grading,
+            &HalfBall::new(*center, *radius, *divisions, *pole, *grading),
             cell_kind(*element),
         ),
         scene::MeshSpec::Generator(G::Box {
@@ -351,12 +347,9 @@ pub fn build_mesh(body: &scene::Body, entry: &str, dim: usize) -> Result<Mesh, S
             element,
             sector,
         }) => hemisphere_of_kind(
-            *center,
-            *radius,
-            *divisions,
-            *pole,
-            *grading,
-            (cell_kind(*element), hemisphere_sector(*sector)),
+            &HalfBall::new(*center, *radius, *divisions, *pole, *grading),
+            cell_kind(*element),
+            hemisphere_sector(*sector),
         ),
         scene::MeshSpec::Generator(G::QuarterDisk {
             center,

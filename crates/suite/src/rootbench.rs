@@ -6,6 +6,7 @@
 //! the library the pipeline uses, and the numerics it times know nothing of
 //! it.
 
+pub mod compliance;
 pub mod halfspace;
 pub mod layer;
 pub mod problem;

@@ -2,7 +2,7 @@
 //! ([`quarter_disk`]) for axisymmetric models.
 
 use super::split::{build_2d, EdgeList, TriangleSplit};
-use super::{graded_spacing, symmetric_graded_spacing, HALF_DISK, QUARTER_DISK};
+use super::{graded_spacing, symmetric_graded_spacing, HalfBall, HALF_DISK, QUARTER_DISK};
 use crate::{CellKind, Mesh, MeshError};
 use std::f64::consts::PI;
 
@@ -45,15 +45,8 @@ const HALF_DISK_BLEND: f64 = 0.85;
 ///
 /// Surfaces: "flat" (the diameter through the centre, perpendicular to the pole)
 /// and "arc".
-pub fn half_disk(
-    center: [f64; 2],
-    radius: f64,
-    divisions: usize,
-    pole: [f64; 2],
-    grading: f64,
-    kind: CellKind,
-) -> Result<Mesh, MeshError> {
-    let parts = half_disk_quads(center, radius, divisions, pole, grading)?;
+pub fn half_disk(ball: &HalfBall<2>, kind: CellKind) -> Result<Mesh, MeshError> {
+    let parts = half_disk_quads(ball)?;
     let mut mesh = build_2d(
         parts.coords,
         &parts.quads,
@@ -61,7 +54,7 @@ pub fn half_disk(
         kind,
         TriangleSplit::Crossed,
     )?;
-    arc_midsides_on_circle(&mut mesh, "arc", center, radius);
+    arc_midsides_on_circle(&mut mesh, "arc", ball.center, ball.radius);
     Ok(mesh)
 }
 
@@ -93,37 +86,31 @@ struct HalfDiskQuads {
 }
 
 /// The construction of [`half_disk`], before the quadrilaterals become cells.
-fn half_disk_quads(
-    center: [f64; 2],
-    radius: f64,
-    divisions: usize,
-    pole: [f64; 2],
-    grading: f64,
-) -> Result<HalfDiskQuads, MeshError> {
-    HALF_DISK.check(&center, radius, divisions, grading)?;
-    let pn = (pole[0] * pole[0] + pole[1] * pole[1]).sqrt();
+fn half_disk_quads(ball: &HalfBall<2>) -> Result<HalfDiskQuads, MeshError> {
+    HALF_DISK.check(&ball.center, ball.radius, ball.divisions, ball.grading)?;
+    let pn = (ball.pole[0] * ball.pole[0] + ball.pole[1] * ball.pole[1]).sqrt();
     if !(pn.is_finite() && pn > 0.0) {
         return Err(MeshError::Invalid(format!(
             "half_disk: pole must be a non-zero vector, got [{}, {}]",
-            pole[0], pole[1]
+            ball.pole[0], ball.pole[1]
         )));
     }
-    let ep = [pole[0] / pn, pole[1] / pn];
+    let ep = [ball.pole[0] / pn, ball.pole[1] / pn];
     let et = [ep[1], -ep[0]];
-    let phi: Vec<f64> = symmetric_graded_spacing(divisions, grading)
+    let phi: Vec<f64> = symmetric_graded_spacing(ball.divisions, ball.grading)
         .iter()
         .map(|t| PI * t)
         .collect();
     let grid = HalfDiskGrid::new(&phi);
     let mut local = grid.rectangle_nodes(&phi);
-    grid.push_ring_nodes(&phi, grading, &mut local);
+    grid.push_ring_nodes(&phi, ball.grading, &mut local);
     let (flat, arc) = grid.boundary_edges();
     let coords = local
         .iter()
         .map(|p| {
             [
-                center[0] + radius * (p[0] * et[0] + p[1] * ep[0]),
-                center[1] + radius * (p[0] * et[1] + p[1] * ep[1]),
+                ball.center[0] + ball.radius * (p[0] * et[0] + p[1] * ep[0]),
+                ball.center[1] + ball.radius * (p[0] * et[1] + p[1] * ep[1]),
                 0.0,
             ]
         })
@@ -378,7 +365,13 @@ pub fn quarter_disk(
     kind: CellKind,
 ) -> Result<Mesh, MeshError> {
     QUARTER_DISK.check(&center, radius, divisions, grading)?;
-    let half = half_disk_quads(center, radius, 2 * divisions, [0.0, -1.0], grading)?;
+    let half = half_disk_quads(&HalfBall::new(
+        center,
+        radius,
+        2 * divisions,
+        [0.0, -1.0],
+        grading,
+    ))?;
     // the axis is the half disk's middle grid line: within rounding of x = c_x,
     // while every other node is at least a fraction of an element away
     let tol = 1e-9 * radius;

@@ -1,7 +1,8 @@
 //! The solid half ball of hexahedra ([`hemisphere`], a half cube-sphere O-grid).
 
 use super::{
-    graded_spacing, hex_corner_jacobians, name_boundary, symmetric_graded_spacing, HEMISPHERE,
+    graded_spacing, hex_corner_jacobians, name_boundary, symmetric_graded_spacing, HalfBall,
+    HEMISPHERE,
 };
 use crate::{Cell, CellKind, Mesh, MeshError};
 use std::collections::BTreeMap;
@@ -77,22 +78,16 @@ const HEMISPHERE_BLEND: f64 = 0.85;
 /// Surfaces: "flat" (the disk through the centre, perpendicular to the pole) and
 /// "dome", quadrilateral facets with their cells and the node order of
 /// [`CellKind::facets`].
-pub fn hemisphere(
-    center: [f64; 3],
-    radius: f64,
-    divisions: usize,
-    pole: [f64; 3],
-    grading: f64,
-) -> Result<Mesh, MeshError> {
-    HEMISPHERE.check(&center, radius, divisions, grading)?;
-    let frame = pole_frame(pole)?;
-    let lattice = Lattice::new(divisions, grading);
-    let nodes = HemisphereNodes::new(&lattice, grading);
+pub fn hemisphere(ball: &HalfBall<3>) -> Result<Mesh, MeshError> {
+    HEMISPHERE.check(&ball.center, ball.radius, ball.divisions, ball.grading)?;
+    let frame = pole_frame(ball.pole)?;
+    let lattice = Lattice::new(ball.divisions, ball.grading);
+    let nodes = HemisphereNodes::new(&lattice, ball.grading);
     let mut cells = lattice.block_cells();
     cells.extend(nodes.shell_cells(&lattice));
     let mut mesh = Mesh {
         dim: 3,
-        coords: nodes.global_coords(center, radius, frame),
+        coords: nodes.global_coords(ball.center, ball.radius, frame),
         cells,
         surfaces: BTreeMap::new(),
         regions: Default::default(),
@@ -110,7 +105,8 @@ pub fn hemisphere(
         let det = hex_corner_jacobians(&mesh, c);
         if let Some(d) = det.iter().find(|d| d.is_nan() || **d <= 0.0) {
             return Err(MeshError::Invalid(format!(
-                "hemisphere: cell {c} has a corner Jacobian {d:e} <= 0 (divisions {divisions}, grading {grading})"
+                "hemisphere: cell {c} has a corner Jacobian {d:e} <= 0 (divisions {}, grading {})",
+                ball.divisions, ball.grading
             )));
         }
     }

@@ -4,7 +4,7 @@
 //! [`to_second_order_3d`]), the mid-side nodes of the dome's faces then put
 //! on the sphere, so that the quadratic faces follow its curvature.
 
-use super::{hemisphere, quarter_hemisphere, HemisphereSector};
+use super::{hemisphere, quarter_hemisphere, HalfBall, HemisphereSector};
 use crate::quadratic3d::{hexes_to_tetrahedra, to_second_order_3d};
 use crate::{CellKind, Mesh, MeshError};
 
@@ -16,17 +16,14 @@ use crate::{CellKind, Mesh, MeshError};
 /// mid-side node is moved radially onto the sphere `c + R (x − c) / |x − c|`;
 /// the flat face's stay on its plane.
 pub fn hemisphere_of_kind(
-    center: [f64; 3],
-    radius: f64,
-    divisions: usize,
-    pole: [f64; 3],
-    grading: f64,
-    (kind, sector): (CellKind, HemisphereSector),
+    ball: &HalfBall<3>,
+    kind: CellKind,
+    sector: HemisphereSector,
 ) -> Result<Mesh, MeshError> {
-    let whole = hemisphere(center, radius, divisions, pole, grading)?;
+    let whole = hemisphere(ball)?;
     let hexes = match sector {
         HemisphereSector::Whole => whole,
-        HemisphereSector::Quarter => quarter_hemisphere(&whole, center, radius, pole)?,
+        HemisphereSector::Quarter => quarter_hemisphere(&whole, ball)?,
     };
     let split = |m: Mesh| match kind {
         CellKind::Tet4 | CellKind::Tet10 => hexes_to_tetrahedra(&m),
@@ -43,7 +40,7 @@ pub fn hemisphere_of_kind(
             )))
         }
     };
-    Ok(onto_sphere(mesh, center, radius))
+    Ok(onto_sphere(mesh, ball.center, ball.radius))
 }
 
 /// Moves the mid-side nodes of the "dome" facets onto the sphere.
@@ -83,14 +80,15 @@ mod tests {
     #[test]
     fn every_kind_has_the_hexahedra_volume_and_its_dome_nodes_on_the_sphere() {
         let (c, r) = ([0.0, 0.0, 1.0], 1.0);
-        let hexes = hemisphere(c, r, 4, [0.0, 0.0, -1.0], 2.0).unwrap();
+        let ball = HalfBall::new(c, r, 4, [0.0, 0.0, -1.0], 2.0);
+        let hexes = hemisphere(&ball).unwrap();
         for (kind, cells) in [
             (CellKind::Tet4, 12),
             (CellKind::Hex20, 1),
             (CellKind::Tet10, 12),
         ] {
             let sector = HemisphereSector::Whole;
-            let m = hemisphere_of_kind(c, r, 4, [0.0, 0.0, -1.0], 2.0, (kind, sector)).unwrap();
+            let m = hemisphere_of_kind(&ball, kind, sector).unwrap();
             m.check().unwrap();
             assert_eq!(m.cells.len(), cells * hexes.cells.len());
             assert!(m.cells.iter().all(|cell| cell.kind == kind));

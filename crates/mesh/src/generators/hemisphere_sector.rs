@@ -3,7 +3,7 @@
 //! through the pole, for a model that uses the symmetry of a load about the
 //! pole (a quarter of the unknowns).
 
-use super::{name_boundary, pole_frame};
+use super::{name_boundary, pole_frame, HalfBall};
 use crate::{Cell, Mesh, MeshError};
 use std::collections::{BTreeMap, BTreeSet};
 
@@ -30,12 +30,13 @@ pub const QUARTER_SURFACES: [&str; 4] = ["flat", "dome", "symmetry_1", "symmetry
 /// "dome" (what is left of them) and the cut planes "symmetry_1"
 /// (normal e1) and "symmetry_2" (normal e2); for the default pole
 /// `[0, 0, −1]`, e1 = x and e2 = −y: the quarter x ≥ c_x, y ≤ c_y.
-pub fn quarter_hemisphere(
-    hexes: &Mesh,
-    center: [f64; 3],
-    radius: f64,
-    pole: [f64; 3],
-) -> Result<Mesh, MeshError> {
+pub fn quarter_hemisphere(hexes: &Mesh, ball: &HalfBall<3>) -> Result<Mesh, MeshError> {
+    let HalfBall {
+        center,
+        radius,
+        pole,
+        ..
+    } = *ball;
     let [e1, e2, _] = pole_frame(pole)?;
     let local =
         |x: [f64; 3], e: [f64; 3]| -> f64 { (0..3).map(|k| (x[k] - center[k]) * e[k]).sum() };
@@ -119,8 +120,9 @@ mod tests {
     #[test]
     fn a_quarter_hemisphere_has_a_quarter_of_the_cells_and_its_planes() {
         let (c, r, pole) = ([0.0, 0.0, 1.0], 1.0, [0.0, 0.0, -1.0]);
-        let whole = hemisphere(c, r, 6, pole, 8.0).unwrap();
-        let q = quarter_hemisphere(&whole, c, r, pole).unwrap();
+        let ball = HalfBall::new(c, r, 6, pole, 8.0);
+        let whole = hemisphere(&ball).unwrap();
+        let q = quarter_hemisphere(&whole, &ball).unwrap();
         assert_eq!(4 * q.cells.len(), whole.cells.len());
         for (name, whole_facets) in [("flat", 4), ("dome", 4)] {
             let n = whole.surface(name).unwrap().facets.len();

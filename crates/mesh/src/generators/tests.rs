@@ -164,7 +164,7 @@ fn rectangle_grading() {
 }
 
 fn check_half_disk(c: [f64; 2], r: f64, n: usize, pole: [f64; 2], g: f64, kind: CellKind) -> Mesh {
-    let m = half_disk(c, r, n, pole, g, kind).unwrap();
+    let m = half_disk(&HalfBall::new(c, r, n, pole, g), kind).unwrap();
     m.check().unwrap();
     check_surfaces(&m);
     let pn = pole[0].hypot(pole[1]);
@@ -230,19 +230,25 @@ fn half_disk_shapes() {
             }
         }
     }
-    assert!(half_disk([0.0, 0.0], 1.0, 16, [0.0, 0.0], 1.0, CellKind::Quad4).is_err());
-    assert!(half_disk([0.0, 0.0], 0.0, 16, [0.0, 1.0], 1.0, CellKind::Quad4).is_err());
-    assert!(half_disk([0.0, 0.0], 1.0, 3, [0.0, 1.0], 1.0, CellKind::Quad4).is_err());
+    // a zero pole, a zero radius, too few divisions
+    for bad in [
+        HalfBall::new([0.0, 0.0], 1.0, 16, [0.0, 0.0], 1.0),
+        HalfBall::new([0.0, 0.0], 0.0, 16, [0.0, 1.0], 1.0),
+        HalfBall::new([0.0, 0.0], 1.0, 3, [0.0, 1.0], 1.0),
+    ] {
+        assert!(half_disk(&bad, CellKind::Quad4).is_err(), "{bad:?}");
+    }
 }
 
 #[test]
 fn half_disk_counts() {
-    let m = half_disk([0.0, 0.0], 1.0, 16, [0.0, -1.0], 1.0, CellKind::Quad4).unwrap();
+    let ball = HalfBall::new([0.0, 0.0], 1.0, 16, [0.0, -1.0], 1.0);
+    let m = half_disk(&ball, CellKind::Quad4).unwrap();
     // uniform 16: corner at arc node 4 (45°), rectangle 8 x 4, ring 16 x 2
     assert_eq!(m.cells.len(), 8 * 4 + 16 * 2);
     assert_eq!(m.n_nodes(), 9 * 5 + 17 * 2);
     // Tri3: four triangles about a node added at each quad's centre
-    let t = half_disk([0.0, 0.0], 1.0, 16, [0.0, -1.0], 1.0, CellKind::Tri3).unwrap();
+    let t = half_disk(&ball, CellKind::Tri3).unwrap();
     assert_eq!(t.cells.len(), 4 * m.cells.len());
     assert_eq!(t.n_nodes(), m.n_nodes() + m.cells.len());
     assert_eq!(
@@ -259,7 +265,7 @@ fn half_disk_contact_zone_resolution() {
     let r = 0.05;
     let c = [0.0, r];
     let pole = [0.0, -1.0];
-    let m = half_disk(c, r, 128, pole, 16.0, CellKind::Quad4).unwrap();
+    let m = half_disk(&HalfBall::new(c, r, 128, pole, 16.0), CellKind::Quad4).unwrap();
     let tip = [c[0] + r * pole[0], c[1] + r * pole[1]];
     let arc = m.surface("arc").unwrap();
     let near = arc
@@ -422,7 +428,8 @@ fn quarter_disk_grading_and_counts() {
         assert!((w[1] / w[0] - 4f64.powf(1.0 / 15.0)).abs() < 1e-9);
     }
     // the right half of the half disk with twice the divisions, same nodes
-    let half = half_disk([0.0, 0.0], 1.0, 32, [0.0, -1.0], 4.0, CellKind::Quad4).unwrap();
+    let ball = HalfBall::new([0.0, 0.0], 1.0, 32, [0.0, -1.0], 4.0);
+    let half = half_disk(&ball, CellKind::Quad4).unwrap();
     assert_eq!(
         half.coords.iter().filter(|x| x[0] > 1e-12).count()
             + m.surface("axis").unwrap().nodes().len(),
@@ -445,7 +452,7 @@ fn quarter_disk_grading_and_counts() {
 fn build_2d_rejects_3d_kinds() {
     for kind in [CellKind::Hex8, CellKind::Tet4] {
         assert!(rectangle([0.0, 0.0], [1.0, 1.0], [2, 2], kind, None).is_err());
-        assert!(half_disk([0.0, 0.0], 1.0, 8, [0.0, -1.0], 1.0, kind).is_err());
+        assert!(half_disk(&HalfBall::new([0.0, 0.0], 1.0, 8, [0.0, -1.0], 1.0), kind).is_err());
     }
     for kind in [CellKind::Quad8, CellKind::Tri6] {
         let m = rectangle([0.0, 0.0], [1.0, 1.0], [2, 2], kind, None).unwrap();

@@ -56,7 +56,11 @@ fn sizes_match_the_generators() {
         let bottom = m.surface("bottom").unwrap().nodes().len();
         assert_eq!(s.surface("bottom") as usize, bottom, "{el:?}");
         for (n, grading) in [(8, 1.0), (40, 1.0), (160, 16.0)] {
-            let m = g::half_disk([0.0, 1.0], 1.0, n, [0.0, -1.0], grading, kind).unwrap();
+            let m = g::half_disk(
+                &g::HalfBall::new([0.0, 1.0], 1.0, n, [0.0, -1.0], grading),
+                kind,
+            )
+            .unwrap();
             let body = scene::Body {
                 mesh: Some(scene::MeshSpec::Generator(scene::Generator::HalfDisk {
                     center: [0.0, 1.0],
@@ -117,7 +121,14 @@ fn sizes_match_the_generators() {
         assert_eq!(s.surface("zmin") as usize, zmin);
     }
     for (n, grading) in [(4, 1.0), (12, 8.0), (20, 1.0)] {
-        let m = g::hemisphere([0.0, 0.0, 1.0], 1.0, n, [0.0, 0.0, -1.0], grading).unwrap();
+        let m = g::hemisphere(&g::HalfBall::new(
+            [0.0, 0.0, 1.0],
+            1.0,
+            n,
+            [0.0, 0.0, -1.0],
+            grading,
+        ))
+        .unwrap();
         let sc = scene(
             &format!("{{ generator = \"hemisphere\", center = [0.0, 0.0, 1.0], radius = 1.0, divisions = {n}, grading = {grading:.1} }}"),
             3,

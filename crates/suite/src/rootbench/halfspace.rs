@@ -24,7 +24,7 @@
 //! The axes are those of the layer: the body below the surface (z < 0), the
 //! last axis vertical upward.
 
-use crate::rootbench::problem::Compliance;
+use crate::rootbench::compliance::Compliance;
 
 /// The half-space and the grid of contact points on its surface.
 #[derive(Debug, Clone, Copy)]
