@@ -107,4 +107,25 @@ mod tests {
         a[(BASE + 7, BASE + 7)] = -1.0;
         assert_eq!(cholesky(a.as_mut(), Par::Seq), Err(BASE + 7));
     }
+
+    /// From [`SHARED_FROM`] rows on two threads: the factor equals the one
+    /// thread's to rounding, and a failing row deep in the second half is
+    /// reported at its own index.
+    #[test]
+    fn two_threads_give_the_one_threads_factor_and_failing_row() {
+        let n = SHARED_FROM + 37;
+        let b = Mat::<f64>::from_fn(n, n, |i, j| ((i * 11 + j * 5) % 97) as f64 / 97.0 - 0.5);
+        let a = &b * b.transpose() + Mat::<f64>::identity(n, n);
+        let (mut one, mut two) = (a.clone(), a.clone());
+        cholesky(one.as_mut(), Par::Seq).unwrap();
+        cholesky(two.as_mut(), Par::rayon(2)).unwrap();
+        for j in 0..n {
+            for i in j..n {
+                assert!((one[(i, j)] - two[(i, j)]).abs() <= 1e-12 * one[(j, j)].abs().max(1.0));
+            }
+        }
+        let mut a = Mat::<f64>::identity(n, n);
+        a[(n - 5, n - 5)] = -1.0;
+        assert_eq!(cholesky(a.as_mut(), Par::rayon(2)), Err(n - 5));
+    }
 }
