@@ -13,8 +13,7 @@ use crate::direct_system::{
 };
 use crate::error::{contact_error, SolveError};
 use crate::friction_step::{
-    deadline, friction_state, layout_of, prescribed_slip_friction, row_gaps, FrictionHistory,
-    FrictionRows,
+    friction_state, layout_of, prescribed_slip_friction, row_gaps, FrictionHistory, FrictionRows,
 };
 use crate::interface_problem::initial_statuses;
 use crate::kkt::{ldlt_factorisation, KktCounts};
@@ -27,24 +26,11 @@ use crate::step_end::StepLoop;
 use crate::timing::timed;
 use signorini_contact::friction::{statuses, FrictionLaw, FrictionOptions, PointStatus};
 use signorini_contact::law::regularised;
-use signorini_contact::options::default_time_limit;
 use signorini_contact::{ContactSolution, SolverReport};
 use signorini_linalg::sparse::SparseRow;
 use signorini_report::Timings;
 use signorini_scene as scene;
 use std::time::Instant;
-
-/// Seconds a friction solve on the direct path may take by default for each
-/// unknown of its whole system (u and λ), beside the dense problem's
-/// [`default_time_limit`] (sized for a factorisation of W, not of the whole
-/// system): each Newton iteration here is one sparse LU of the whole
-/// Jacobian, about 2e-5 s an unknown on the idle 2-core machine of
-/// docs/performance (2.6 s for the 122 000 unknowns of the 100 × 100 pad),
-/// a solve may take a hundred iterations with its retry (the three-body
-/// assembly's first step: 78), and a loaded machine several times longer:
-/// the Cattaneo example's first step (42 281 DOFs) was cut at the dense
-/// default of 10 s while still converging.
-const SECONDS_PER_UNKNOWN: f64 = 2e-2;
 
 /// The contact rows of the direct path with friction on the global free
 /// DOFs: every point's normal row, then the tangential rows t1 (and t2)
@@ -206,7 +192,7 @@ impl Stepper<'_> {
             tolerance: self.sc.solver.tolerance,
             force_scale: f_scale,
             gap_scale: length,
-            deadline: Some(deadline(Some(self.time_limit(q.len())), q.len())),
+            deadline: Some(system.deadline(self.sc.solver.time_limit, q.len())),
         };
         let start = match self.start.take() {
             Some(start) => start,
@@ -255,15 +241,6 @@ impl Stepper<'_> {
             operator_s: 0.0,
         };
         Ok((sol, gaps, res, u_full))
-    }
-
-    /// The seconds a step's solve may take: `solver.time_limit`, by default
-    /// that of the dense problem of its `rows` rows plus
-    /// [`SECONDS_PER_UNKNOWN`] for each unknown of the whole system.
-    fn time_limit(&self, rows: usize) -> f64 {
-        let unknowns = (self.system.k_global.nrows() + rows) as f64;
-        (self.sc.solver.time_limit)
-            .unwrap_or_else(|| default_time_limit(rows) + SECONDS_PER_UNKNOWN * unknowns)
     }
 
     /// The first step's start: no displacement, no force, but on the points

@@ -132,11 +132,9 @@ fn direct_step(
         None => loads.f.clone(),
     };
     let mut problem = DirectProblem::new(kkt, &f, &gap0);
-    let mut outcome = status_method(
-        &mut problem,
-        &status_options(sc, f_scale, length_scale, &gap0),
-    )
-    .map_err(contact_error)?;
+    let mut opts = status_options(sc, f_scale, length_scale, &gap0);
+    opts.deadline = Some(system.deadline(sc.solver.time_limit, points.len()));
+    let mut outcome = status_method(&mut problem, &opts).map_err(contact_error)?;
     // `problem.u` is the displacement of the last solve, the one that
     // gave `outcome.forces` (as the condensed path recovers it).
     let u = match &system.ties {
