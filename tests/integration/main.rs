@@ -44,6 +44,7 @@ mod stiff;
 mod streamed_steps;
 mod substructuring;
 mod time_limits;
+mod tipping;
 mod tri3_meshes;
 mod units;
 mod units_methods;

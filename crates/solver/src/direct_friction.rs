@@ -7,6 +7,7 @@
 //! before (course notes §4.4), and each step starts from the previous step's
 //! displacements and forces.
 
+use crate::direct_balance::{contact_forces, rigid_motion_imbalance};
 use crate::direct_newton::{solve_whole, WholeLoad, WholeSolution, WholeSystem};
 use crate::direct_system::{
     check_floating, direct_loads, direct_residuals, full_displacements, DirectSystem,
@@ -21,12 +22,12 @@ use crate::model::{gaps_of, BodyModel, FixedPoint, PointModel};
 use crate::progress::Phase;
 use crate::root::{length_scale, step_gaps};
 use crate::run_context::RunContext;
-use crate::step::StepSolution;
+use crate::step::{FrictionStep, StepSolution};
 use crate::step_end::StepLoop;
 use crate::timing::timed;
 use signorini_contact::friction::{statuses, FrictionLaw, FrictionOptions, PointStatus};
 use signorini_contact::law::regularised;
-use signorini_contact::{ContactSolution, SolverReport};
+use signorini_contact::{ContactSolution, SolverReport, StopReason};
 use signorini_linalg::sparse::SparseRow;
 use signorini_report::Timings;
 use signorini_scene as scene;
@@ -219,6 +220,7 @@ impl Stepper<'_> {
         let mut outcome = out;
         outcome.forces.truncate(m);
         outcome.gaps.truncate(m);
+        self.check_balance(&mut outcome, &loads.f, &friction);
         let res = direct_residuals(
             bodies,
             &system.k_full,
@@ -241,6 +243,32 @@ impl Stepper<'_> {
             operator_s: 0.0,
         };
         Ok((sol, gaps, res, u_full))
+    }
+
+    /// Marks a converged `outcome` not converged when its forces leave a
+    /// rigid motion of a body held by contact alone unbalanced
+    /// ([`rigid_motion_imbalance`] above √tolerance: far above the
+    /// rounding and the regularisation of a balanced solve, far below the
+    /// imbalance of a load with no equilibrium, of the order of the load);
+    /// `f` the step's load on the free DOFs.
+    fn check_balance(&self, outcome: &mut ContactSolution, f: &[f64], friction: &FrictionStep) {
+        let bodies = self.bodies;
+        if !outcome.report.converged || bodies.iter().all(|b| b.kernel.is_empty()) {
+            return;
+        }
+        let contact = contact_forces(bodies, self.points, &outcome.forces, Some(friction));
+        let offset = &self.system.offset;
+        let f_of: Vec<&[f64]> = (bodies.iter().zip(offset))
+            .map(|(b, &o)| &f[o..o + b.free.len()])
+            .collect();
+        let imbalance = rigid_motion_imbalance(bodies, &f_of, &contact);
+        if imbalance > self.sc.solver.tolerance.sqrt() {
+            outcome.report.converged = false;
+            outcome.report.stop = StopReason::RigidMotionUnbalanced {
+                iterations: outcome.report.iterations,
+                imbalance,
+            };
+        }
     }
 
     /// The first step's start: no displacement, no force, but on the points

@@ -6,6 +6,7 @@
 //! direct paths share.
 
 use crate::checks::{check_floating_equilibrium, inf_norm};
+use crate::direct_balance::contact_forces;
 use crate::error::SolveError;
 use crate::friction_step::deadline;
 use crate::model::{BodyModel, PointModel, Ties};
@@ -220,20 +221,7 @@ pub(crate) fn direct_residuals(
     lambda: &[f64],
     friction: Option<&FrictionStep>,
 ) -> Residuals {
-    let mut contact_force: Vec<Vec<f64>> = bodies.iter().map(|b| vec![0.0; b.n_dof]).collect();
-    for (pi, (p, &l)) in points.iter().zip(lambda).enumerate() {
-        let (t1, t2) = friction.map_or((0.0, 0.0), |f| (f.tangential[pi], f.tangential2[pi]));
-        let rows = [
-            (Some(&p.row), l),
-            (p.trow.as_ref(), t1),
-            (p.trow2.as_ref(), t2),
-        ];
-        for (row, force) in rows.into_iter().filter_map(|(r, f)| r.map(|r| (r, f))) {
-            for &(b, d, c) in row {
-                contact_force[b][d] += c * force;
-            }
-        }
-    }
+    let contact_force = contact_forces(bodies, points, lambda, friction);
     let mut eq = 0.0f64;
     let mut scale = 0.0f64;
     let mut support = Vec::new();
