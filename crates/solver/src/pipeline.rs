@@ -7,7 +7,7 @@
 //! (gather, broadcast, deal).
 
 use crate::certify::{condensed_sizes, condensed_step, finish_report};
-use crate::checks::check_held_by_contacts;
+use crate::checks::{check_held_by_contacts, check_nsgs_held_by_contacts};
 use crate::direct_path::run_direct;
 use crate::error::{wire, SolveError};
 use crate::interface_problem::RootInput;
@@ -215,6 +215,9 @@ impl Attempt<'_> {
             let model = partition::model_stage(sc, ranks, self.zone, &mut log.messages)?;
             // Every rank built the same model: each refuses it alike.
             check_held_by_contacts(&model.bodies, &model.points)?;
+            if condensed_path {
+                check_nsgs_held_by_contacts(sc, &model.bodies, &model.points)?;
+            }
             // Again with the contact unknowns the candidate zones kept.
             let fits = comm.is_root().then(|| {
                 memory::check(
