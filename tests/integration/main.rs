@@ -40,6 +40,7 @@ mod redundant;
 mod search_distance;
 mod solids;
 mod sparse_interface;
+mod step_friction_kept;
 mod stiff;
 mod streamed_steps;
 mod substructuring;

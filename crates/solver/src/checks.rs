@@ -79,11 +79,11 @@ pub(crate) fn check_held_by_contacts(
     Ok(())
 }
 
-/// NSGS solves the points one by one and cannot hold the equilibrium of a
-/// body held by contact alone, which couples them all: on the condensed
-/// path, `solver.friction = "nsgs"` with such a body and friction is
-/// refused (exit 1, nothing written) naming the body and what solves it,
-/// instead of failing inside the solve.
+/// NSGS solves Coulomb's law point by point: on the condensed path,
+/// `solver.friction = "nsgs"` with a Tresca or Norton–Hoff contact, or with
+/// a body held by contact alone (whose equilibrium couples all its points),
+/// is refused (exit 1, nothing written) naming the contact or the body and
+/// what solves it, instead of failing inside the solve.
 pub(crate) fn check_nsgs_held_by_contacts(
     sc: &scene::Scene,
     bodies: &[BodyModel],
@@ -92,6 +92,18 @@ pub(crate) fn check_nsgs_held_by_contacts(
     let frictional = points.iter().any(|p| p.trow.is_some());
     if !frictional || sc.solver.friction != scene::FrictionSolver::Nsgs {
         return Ok(());
+    }
+    let other_law = sc.contact.iter().find(|c| {
+        matches!(
+            c.friction,
+            scene::Friction::Tresca(_) | scene::Friction::NortonHoff { .. }
+        )
+    });
+    if let Some(c) = other_law {
+        return Err(SolveError::Input(format!(
+            "solver.friction = \"nsgs\": contact \"{}\" has Tresca or Norton–Hoff friction, and NSGS solves Coulomb's law only; use friction = \"newton\" or \"fixed_point\" (the default)",
+            c.name
+        )));
     }
     match bodies.iter().find(|b| !b.kernel.is_empty()) {
         Some(b) => Err(SolveError::Input(format!(
