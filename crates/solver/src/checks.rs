@@ -84,7 +84,7 @@ pub(crate) fn check_held_by_contacts(
 /// a body held by contact alone (whose equilibrium couples all its points),
 /// is refused (exit 1, nothing written) naming the contact or the body and
 /// what solves it, instead of failing inside the solve.
-pub(crate) fn check_nsgs_held_by_contacts(
+pub(crate) fn check_nsgs(
     sc: &scene::Scene,
     bodies: &[BodyModel],
     points: &[PointModel],

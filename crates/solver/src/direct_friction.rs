@@ -220,7 +220,7 @@ impl Stepper<'_> {
         let mut outcome = out;
         outcome.forces.truncate(m);
         outcome.gaps.truncate(m);
-        self.check_balance(&mut outcome, &loads.f, &friction);
+        self.check_balance(&mut outcome, (&loads.f, f_scale), &friction);
         let res = direct_residuals(
             bodies,
             &system.k_full,
@@ -250,8 +250,13 @@ impl Stepper<'_> {
     /// ([`rigid_motion_imbalance`] above √tolerance: far above the
     /// rounding and the regularisation of a balanced solve, far below the
     /// imbalance of a load with no equilibrium, of the order of the load);
-    /// `f` the step's load on the free DOFs.
-    fn check_balance(&self, outcome: &mut ContactSolution, f: &[f64], friction: &FrictionStep) {
+    /// `f` the step's load on the free DOFs, `f_scale` its force scale.
+    fn check_balance(
+        &self,
+        outcome: &mut ContactSolution,
+        (f, f_scale): (&[f64], f64),
+        friction: &FrictionStep,
+    ) {
         let bodies = self.bodies;
         if !outcome.report.converged || bodies.iter().all(|b| b.kernel.is_empty()) {
             return;
@@ -261,7 +266,7 @@ impl Stepper<'_> {
         let f_of: Vec<&[f64]> = (bodies.iter().zip(offset))
             .map(|(b, &o)| &f[o..o + b.free.len()])
             .collect();
-        let imbalance = rigid_motion_imbalance(bodies, &f_of, &contact);
+        let imbalance = rigid_motion_imbalance(bodies, &f_of, &contact, f_scale);
         if imbalance > self.sc.solver.tolerance.sqrt() {
             outcome.report.converged = false;
             outcome.report.stop = StopReason::RigidMotionUnbalanced {

@@ -7,7 +7,7 @@
 //! (gather, broadcast, deal).
 
 use crate::certify::{condensed_sizes, condensed_step, finish_report};
-use crate::checks::{check_held_by_contacts, check_nsgs_held_by_contacts};
+use crate::checks::{check_held_by_contacts, check_nsgs};
 use crate::direct_path::run_direct;
 use crate::error::{wire, SolveError};
 use crate::interface_problem::RootInput;
@@ -216,7 +216,7 @@ impl Attempt<'_> {
             // Every rank built the same model: each refuses it alike.
             check_held_by_contacts(&model.bodies, &model.points)?;
             if condensed_path {
-                check_nsgs_held_by_contacts(sc, &model.bodies, &model.points)?;
+                check_nsgs(sc, &model.bodies, &model.points)?;
             }
             // Again with the contact unknowns the candidate zones kept.
             let fits = comm.is_root().then(|| {
