@@ -178,9 +178,9 @@ fn defaults() {
     assert_eq!(s.step_scales().len(), 1);
     assert_eq!(s.step_scales()[0]["press"], 1.0);
     match &s.bodies[0].mesh {
-        Some(MeshSpec::Generator(Generator::Rectangle {
+        Some(MeshSpec::Generator(Generator::Rectangle(Block {
             element, grading, ..
-        })) => {
+        }))) => {
             assert_eq!(*element, Element::Quad4);
             assert!(grading.is_none());
         }
@@ -216,9 +216,9 @@ mesh = { generator = "box", origin = [0, 0, 0], size = [1, 1, 1], divisions = [2
         other => panic!("{other:?}"),
     }
     match &s3.bodies[1].mesh {
-        Some(MeshSpec::Generator(Generator::Box {
+        Some(MeshSpec::Generator(Generator::Box(Block {
             element, grading, ..
-        })) => {
+        }))) => {
             assert_eq!(*element, Element::Hex8);
             assert_eq!(
                 grading,

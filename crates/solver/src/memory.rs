@@ -289,9 +289,7 @@ fn body_size(body: &scene::Body, dim: usize) -> Option<BodySize> {
         scene::MeshSpec::File { file, .. } => return file_size(file, dim),
     };
     Some(match g {
-        G::Rectangle {
-            divisions, element, ..
-        } => rectangle_size(*divisions, *element),
+        G::Rectangle(b) => rectangle_size(b.divisions, b.element),
         G::HalfDisk {
             divisions,
             element,
@@ -304,11 +302,9 @@ fn body_size(body: &scene::Body, dim: usize) -> Option<BodySize> {
             grading,
             ..
         } => quarter_disk_size(*divisions as f64, *grading, *element),
-        G::Box {
-            divisions, element, ..
-        } => solid_kind(
-            box_size(divisions.map(|d| d as f64), *element),
-            *element,
+        G::Box(b) => solid_kind(
+            box_size(b.divisions.map(|d| d as f64), b.element),
+            b.element,
             6.0,
         ),
         G::Hemisphere {

@@ -109,21 +109,9 @@ pub enum MeshSpec {
 #[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
 #[serde(tag = "generator", rename_all = "snake_case", deny_unknown_fields)]
 pub enum Generator {
-    /// 2D. Surfaces: left, right, bottom, top.
-    Rectangle {
-        /// Lower-left corner [x, y].
-        origin: [f64; 2],
-        /// [width, height] > 0.
-        size: [f64; 2],
-        /// [nx, ny] ≥ 1.
-        divisions: [usize; 2],
-        /// `quad4` (default) or `tri3`.
-        #[serde(default = "Element::quad4")]
-        element: Element,
-        /// Grading towards `bottom` | `top` | `left` | `right`.
-        #[serde(default, skip_serializing_if = "Option::is_none")]
-        grading: Option<Grading>,
-    },
+    /// 2D. Surfaces: left, right, bottom, top. Default element `quad4`;
+    /// grading towards `bottom` | `top` | `left` | `right`.
+    Rectangle(Block<2>),
     /// 2D. Surfaces: flat, arc.
     HalfDisk {
         /// Centre of the circle, on the flat side.
@@ -141,18 +129,9 @@ pub enum Generator {
         #[serde(default = "Element::quad4")]
         element: Element,
     },
-    /// 3D. Surfaces: xmin, xmax, ymin, ymax, zmin, zmax.
-    Box {
-        origin: [f64; 3],
-        size: [f64; 3],
-        divisions: [usize; 3],
-        /// `hex8` (default) or `tet4`.
-        #[serde(default = "Element::hex8")]
-        element: Element,
-        /// Grading towards `xmin` .. `zmax`.
-        #[serde(default, skip_serializing_if = "Option::is_none")]
-        grading: Option<Grading>,
-    },
+    /// 3D. Surfaces: xmin, xmax, ymin, ymax, zmin, zmax. Default element
+    /// `hex8`; grading towards `xmin` .. `zmax`.
+    Box(Block<3>),
     /// 3D. Surfaces: flat, dome.
     Hemisphere {
         center: [f64; 3],
@@ -185,13 +164,39 @@ pub enum Generator {
     },
 }
 
+/// The entries of the rectangle (`D` = 2) and box (`D` = 3) generators: an
+/// axis-aligned block of `divisions` cells a side.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[serde(
+    deny_unknown_fields,
+    bound(
+        serialize = "[f64; D]: Serialize, [usize; D]: Serialize",
+        deserialize = "[f64; D]: Deserialize<'de>, [usize; D]: Deserialize<'de>"
+    )
+)]
+pub struct Block<const D: usize> {
+    /// The corner of least coordinates ([x, y] lower left of a rectangle).
+    pub origin: [f64; D],
+    /// The side lengths, > 0 ([width, height] of a rectangle).
+    pub size: [f64; D],
+    /// The cells along each side, ≥ 1.
+    pub divisions: [usize; D],
+    /// `quad4` (default in 2D), `hex8` (default in 3D), or another element
+    /// of the dimension.
+    #[serde(default = "Element::block_default::<D>")]
+    pub element: Element,
+    /// Grading towards one of the block's surfaces.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub grading: Option<Grading>,
+}
+
 impl Generator {
     /// The scene-file spelling of the generator.
     pub fn name(&self) -> &'static str {
         match self {
-            Generator::Rectangle { .. } => "rectangle",
+            Generator::Rectangle(_) => "rectangle",
             Generator::HalfDisk { .. } => "half_disk",
-            Generator::Box { .. } => "box",
+            Generator::Box(_) => "box",
             Generator::Hemisphere { .. } => "hemisphere",
             Generator::QuarterDisk { .. } => "quarter_disk",
         }
@@ -200,9 +205,9 @@ impl Generator {
     /// The element type of the generated cells.
     pub fn element(&self) -> Element {
         match self {
-            Generator::Rectangle { element, .. }
+            Generator::Rectangle(Block { element, .. })
             | Generator::HalfDisk { element, .. }
-            | Generator::Box { element, .. }
+            | Generator::Box(Block { element, .. })
             | Generator::QuarterDisk { element, .. }
             | Generator::Hemisphere { element, .. } => *element,
         }
@@ -211,7 +216,7 @@ impl Generator {
     /// The space dimension of the generated mesh.
     pub fn dimension(&self) -> usize {
         match self {
-            Generator::Box { .. } | Generator::Hemisphere { .. } => 3,
+            Generator::Box(_) | Generator::Hemisphere { .. } => 3,
             _ => 2,
         }
     }
@@ -219,9 +224,9 @@ impl Generator {
     /// The names of the surfaces this generator creates.
     pub fn surfaces(&self) -> &'static [&'static str] {
         match self {
-            Generator::Rectangle { .. } => &["left", "right", "bottom", "top"],
+            Generator::Rectangle(_) => &["left", "right", "bottom", "top"],
             Generator::HalfDisk { .. } => &["flat", "arc"],
-            Generator::Box { .. } => &["xmin", "xmax", "ymin", "ymax", "zmin", "zmax"],
+            Generator::Box(_) => &["xmin", "xmax", "ymin", "ymax", "zmin", "zmax"],
             Generator::Hemisphere {
                 sector: Sector::Quarter,
                 ..
@@ -264,6 +269,14 @@ impl Element {
     }
     fn hex8() -> Self {
         Element::Hex8
+    }
+    /// The default element of a [`Block`] of dimension `D`.
+    fn block_default<const D: usize>() -> Self {
+        if D == 3 {
+            Element::Hex8
+        } else {
+            Element::Quad4
+        }
     }
 
     /// The scene-file spelling.

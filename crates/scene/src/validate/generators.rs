@@ -19,25 +19,16 @@ impl GeneratorCheck<'_> {
     pub(super) fn check(&self, model: Model) -> Result {
         let e = self.e;
         match self.g {
-            Generator::Rectangle {
-                origin,
-                size,
-                divisions,
-                element,
-                grading,
-            } => {
-                self.block(origin, size, divisions, *element, &PLANE_ELEMENTS)?;
-                self.grading(grading, &["bottom", "top", "left", "right"])
+            Generator::Rectangle(b) => {
+                self.block(b, &PLANE_ELEMENTS)?;
+                self.grading(&b.grading, &["bottom", "top", "left", "right"])
             }
-            Generator::Box {
-                origin,
-                size,
-                divisions,
-                element,
-                grading,
-            } => {
-                self.block(origin, size, divisions, *element, &SOLID_ELEMENTS)?;
-                self.grading(grading, &["xmin", "xmax", "ymin", "ymax", "zmin", "zmax"])
+            Generator::Box(b) => {
+                self.block(b, &SOLID_ELEMENTS)?;
+                self.grading(
+                    &b.grading,
+                    &["xmin", "xmax", "ymin", "ymax", "zmin", "zmax"],
+                )
             }
             Generator::HalfDisk {
                 center,
@@ -142,18 +133,11 @@ impl GeneratorCheck<'_> {
     }
 
     /// Origin, size, divisions and element of a rectangle or a box.
-    fn block(
-        &self,
-        origin: &[f64],
-        size: &[f64],
-        divisions: &[usize],
-        el: Element,
-        elements: &[Element],
-    ) -> Result {
-        finite_all(&format!("{}.origin", self.e), origin)?;
-        self.sizes(size)?;
-        self.divisions(divisions)?;
-        self.element(el, elements)
+    fn block<const D: usize>(&self, b: &Block<D>, elements: &[Element]) -> Result {
+        finite_all(&format!("{}.origin", self.e), &b.origin)?;
+        self.sizes(&b.size)?;
+        self.divisions(&b.divisions)?;
+        self.element(b.element, elements)
     }
 
     /// Center, radius and divisions of a hemisphere or a quarter disk.

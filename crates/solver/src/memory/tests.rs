@@ -40,13 +40,15 @@ fn sizes_match_the_generators() {
             name: "b".into(),
             material: None,
             subdomains: Default::default(),
-            mesh: Some(scene::MeshSpec::Generator(scene::Generator::Rectangle {
-                origin: [0.0, 0.0],
-                size: [1.0, 1.0],
-                divisions: [7, 3],
-                element: el,
-                grading: None,
-            })),
+            mesh: Some(scene::MeshSpec::Generator(scene::Generator::Rectangle(
+                scene::Block {
+                    origin: [0.0, 0.0],
+                    size: [1.0, 1.0],
+                    divisions: [7, 3],
+                    element: el,
+                    grading: None,
+                },
+            ))),
             rigid: None,
             formulation: Default::default(),
         };
