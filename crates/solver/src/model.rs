@@ -316,41 +316,25 @@ pub fn build_mesh(body: &scene::Body, entry: &str, dim: usize) -> Result<Mesh, S
             let sides = (RectSide::from_name, "bottom, top, left, right");
             block_mesh(block, sides, entry, rectangle)?
         }
-        scene::MeshSpec::Generator(G::HalfDisk {
-            center,
-            radius,
-            divisions,
-            pole,
-            grading,
-            element,
-        }) => half_disk(
-            &HalfBall::new(*center, *radius, *divisions, *pole, *grading),
-            cell_kind(*element),
-        ),
+        scene::MeshSpec::Generator(G::HalfDisk(d)) => {
+            let ball = HalfBall::new(d.center, d.radius, d.divisions, d.pole, d.grading);
+            half_disk(&ball, cell_kind(d.element))
+        }
         scene::MeshSpec::Generator(G::Box(block)) => {
             let sides = (BoxSide::from_name, "xmin, xmax, ymin, ymax, zmin, zmax");
             block_mesh(block, sides, entry, box_mesh)?
         }
-        scene::MeshSpec::Generator(G::Hemisphere {
-            center,
-            radius,
-            divisions,
-            pole,
-            grading,
-            element,
-            sector,
-        }) => hemisphere_of_kind(
-            &HalfBall::new(*center, *radius, *divisions, *pole, *grading),
-            cell_kind(*element),
-            hemisphere_sector(*sector),
+        scene::MeshSpec::Generator(G::Hemisphere(h)) => {
+            let ball = HalfBall::new(h.center, h.radius, h.divisions, h.pole, h.grading);
+            hemisphere_of_kind(&ball, cell_kind(h.element), hemisphere_sector(h.sector))
+        }
+        scene::MeshSpec::Generator(G::QuarterDisk(d)) => quarter_disk(
+            d.center,
+            d.radius,
+            d.divisions,
+            d.grading,
+            cell_kind(d.element),
         ),
-        scene::MeshSpec::Generator(G::QuarterDisk {
-            center,
-            radius,
-            divisions,
-            grading,
-            element,
-        }) => quarter_disk(*center, *radius, *divisions, *grading, cell_kind(*element)),
         scene::MeshSpec::File { file, volume } => {
             let key = if volume.is_some() { "volume" } else { "file" };
             return finish(

@@ -64,14 +64,16 @@ fn sizes_match_the_generators() {
             )
             .unwrap();
             let body = scene::Body {
-                mesh: Some(scene::MeshSpec::Generator(scene::Generator::HalfDisk {
-                    center: [0.0, 1.0],
-                    radius: 1.0,
-                    divisions: n,
-                    pole: [0.0, -1.0],
-                    grading,
-                    element: el,
-                })),
+                mesh: Some(scene::MeshSpec::Generator(scene::Generator::HalfDisk(
+                    scene::HalfDisk {
+                        center: [0.0, 1.0],
+                        radius: 1.0,
+                        divisions: n,
+                        pole: [0.0, -1.0],
+                        grading,
+                        element: el,
+                    },
+                ))),
                 ..body.clone()
             };
             let s = body_size(&body, 2).unwrap();
@@ -85,13 +87,15 @@ fn sizes_match_the_generators() {
             close(&format!("half_disk {n} {el:?} arc"), s.surface("arc"), arc);
             let m = g::quarter_disk([0.0, 1.0], 1.0, n, grading, kind).unwrap();
             let body = scene::Body {
-                mesh: Some(scene::MeshSpec::Generator(scene::Generator::QuarterDisk {
-                    center: [0.0, 1.0],
-                    radius: 1.0,
-                    divisions: n,
-                    grading,
-                    element: el,
-                })),
+                mesh: Some(scene::MeshSpec::Generator(scene::Generator::QuarterDisk(
+                    scene::QuarterDisk {
+                        center: [0.0, 1.0],
+                        radius: 1.0,
+                        divisions: n,
+                        grading,
+                        element: el,
+                    },
+                ))),
                 ..body.clone()
             };
             let s = body_size(&body, 2).unwrap();
