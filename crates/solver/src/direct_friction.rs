@@ -22,7 +22,7 @@ use crate::kkt::{ldlt_factorisation, KktCounts};
 use crate::model::{gaps_of, BodyModel, FixedPoint, PointModel};
 use crate::progress::Phase;
 use crate::root::{length_scale, step_gaps};
-use crate::run_context::RunContext;
+use crate::run_context::{RunContext, RunLog};
 use crate::step::StepSolution;
 use crate::step_end::StepLoop;
 use crate::timing::timed;
@@ -30,7 +30,6 @@ use signorini_contact::friction::{statuses, FrictionLaw, FrictionOptions, PointS
 use signorini_contact::law::regularised;
 use signorini_contact::options::default_time_limit;
 use signorini_contact::{ContactSolution, SolverReport};
-use signorini_report::Timings;
 use signorini_scene as scene;
 use std::time::Instant;
 
@@ -78,8 +77,7 @@ pub(crate) fn run_direct_friction(
     ctx: &RunContext,
     system: &DirectSystem,
     steps: &mut StepLoop,
-    timings: &mut Timings,
-    messages: &mut Vec<String>,
+    log: &mut RunLog,
 ) -> Result<(), SolveError> {
     let (sc, model) = (ctx.sc, ctx.model);
     let (bodies, points) = (&model.bodies[..], &model.points[..]);
@@ -89,7 +87,7 @@ pub(crate) fn run_direct_friction(
         .ok_or_else(|| SolveError::Internal("friction without a tangential row".into()))?;
     let compliance = compliance(points, &rows);
     ctx.progress.phase(Phase::Contact);
-    let mut whole = timed(&mut timings.contact, || {
+    let mut whole = timed(&mut log.timings.contact, || {
         let floating = bodies.iter().any(|b| !b.kernel.is_empty());
         WholeSystem::new(
             &system.k_global,
@@ -113,10 +111,11 @@ pub(crate) fn run_direct_friction(
     };
     for (si, st) in model.scales.iter().enumerate() {
         ctx.progress.step(si, model.scales.len());
-        let (sol, gaps, res, u_full) =
-            timed(&mut timings.contact, || stepper.step(&mut whole, st, si))?;
-        timed(&mut timings.output, || {
-            steps.end_step(si, &sol, &gaps, &res, u_full, messages)
+        let (sol, gaps, res, u_full) = timed(&mut log.timings.contact, || {
+            stepper.step(&mut whole, st, si)
+        })?;
+        timed(&mut log.timings.output, || {
+            steps.end_step(si, &sol, &gaps, &res, u_full, &mut log.messages)
         })?;
     }
     let (lu, _, ldlt, krylov_steps) = whole.counts();
