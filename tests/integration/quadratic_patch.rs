@@ -328,3 +328,153 @@ fn node_to_face_misses_the_curved_patch_test_the_tie_of_matching_meshes_passes()
         assert!(err <= 1e-10, "tied {m}: {err:e}");
     }
 }
+
+/// The parabolic blocks of [`parabolic`] with the upper block held along x
+/// and y by the contact alone (its rollers on x = 0 and y = 0 taken off):
+/// under the hydrostatic state (`uniaxial` false) those faces carry the
+/// pressure p = 1 instead; under the uniaxial σ_zz = −1 (`uniaxial`) every
+/// side is free of traction, the lower block keeping its rollers. The
+/// rollers of both blocks on a common plane would leave a curved node's
+/// tangential rows with fewer free DOFs of the relative motion than rows,
+/// the friction multipliers there undetermined (measured: the semismooth
+/// Newton stalls on some of the cases below, and nodes on those planes
+/// report a friction force up to 7e-3 of the total normal force).
+fn parabolic_held_by_friction(lower: &str, upper: &str, interface: &str, uniaxial: bool) -> String {
+    let mut text = parabolic(lower, upper, interface);
+    for (axis, load) in [("x", "[1.0, 0.0, 0.0]"), ("y", "[0.0, 1.0, 0.0]")] {
+        let roller = format!(
+            "[[boundary]]\nbody = \"upper\"\nsurface = \"{axis}min\"\ndisplacement = {{ {axis} = 0.0 }}\n"
+        );
+        assert!(text.contains(&roller), "{roller}");
+        let replacement = if uniaxial {
+            String::new()
+        } else {
+            format!("[[boundary]]\nbody = \"upper\"\nsurface = \"{axis}min\"\ntraction = {load}\n")
+        };
+        text = text.replace(&roller, &replacement);
+        if uniaxial {
+            for body in ["lower", "upper"] {
+                let side = format!(
+                    "[[boundary]]\nbody = \"{body}\"\nsurface = \"{axis}max\"\ntraction = {}\n",
+                    load.replace("1.0", "-1.0")
+                );
+                assert!(text.contains(&side), "{side}");
+                text = text.replace(&side, "");
+            }
+        }
+    }
+    text
+}
+
+/// The uniaxial strain of σ_zz = −1 (E = 100, ν = 0.3).
+const UNIAXIAL: [f64; 3] = [NU / E, NU / E, -1.0 / E];
+
+/// The largest friction force of a run (both tangents), relative to the
+/// total normal force p × area, and whether every point sticks.
+fn friction_force(o: &RunOutput) -> (f64, bool) {
+    let total: f64 = o.contact_rows.iter().map(|r| r.normal_force).sum();
+    let largest = (o.contact_rows.iter())
+        .map(|r| r.tangential_force.hypot(r.tangential_force_2))
+        .fold(0.0, f64::max);
+    let stick = o.contact_rows.iter().all(|r| r.status == "stick");
+    (largest / total, stick)
+}
+
+/// The largest difference of two runs' displacements, relative to the
+/// largest displacement.
+fn displacement_difference(a: &RunOutput, b: &RunOutput) -> f64 {
+    let (mut diff, mut scale) = (0.0f64, 0.0f64);
+    for (ba, bb) in a.bodies.iter().zip(&b.bodies) {
+        for (x, y) in ba.last().displacement.iter().zip(&bb.last().displacement) {
+            diff = diff.max((x - y).abs());
+            scale = scale.max(x.abs());
+        }
+    }
+    diff / scale
+}
+
+/// Coulomb friction (μ = 0.3) on mortar's curved quadratic faces, whose
+/// tangential rows carry the frame inside the integral
+/// (docs/theory/mortar.md "Curved quadratic faces"): the hydrostatic state
+/// needs no friction, and comes out on both paths, matching or not, Hex20
+/// and Tet10: every displacement the linear field, every pressure p, every
+/// friction force zero (measured ≤ 1.5e-12, ≤ 2.3e-14 of p × area).
+#[test]
+fn coulomb_on_curved_mortar_passes_the_hydrostatic_patch_test() {
+    let interface = "discretization = \"mortar\"\nfriction = { coulomb = 0.3 }";
+    for (lower, upper) in [
+        ("hex20_3", "hex20_3"),
+        ("hex20_3", "hex20_4"),
+        ("tet10_3", "tet10_3"),
+        ("tet10_3", "tet10_4"),
+    ] {
+        let text = parabolic_held_by_friction(lower, upper, interface, false);
+        for path in [SolvePath::Condensed, SolvePath::Direct] {
+            let o = converged_on(&text, path);
+            let what = format!("{upper} on {lower}, {path:?}");
+            let err = uniform_state_error(&o, HYDROSTATIC);
+            assert!(err <= 1e-10, "{what}: displacement off by {err:e}");
+            let (dev, _) = pressure_error(&o, 1.0);
+            assert!(dev <= 1e-10, "{what}: pressure off by {dev:e}");
+            let (friction, stick) = friction_force(&o);
+            assert!(friction <= 1e-10, "{what}: friction force {friction:e}");
+            assert!(stick, "{what}: a point slips");
+        }
+    }
+}
+
+/// Stick on the curved interface: the parabolic blocks under σ_zz = −1,
+/// whose traction on the interface has a tangential part up to 0.5 of the
+/// normal one, held by Coulomb μ = 1 or a Tresca threshold 10. On matching
+/// meshes stick ties the coincident nodes, so the answer is the tie's (the
+/// monolithic linear field) on both paths (measured 3e-14 to 5e-14). On
+/// non-matching ones σn is not in the multipliers' space along a curve: the
+/// measured error against the linear field (both paths equal to 1e-8) is
+/// asserted, with the tie's of the same meshes.
+#[test]
+fn stick_on_curved_mortar_equals_the_tie_on_matching_meshes() {
+    let laws = [
+        "discretization = \"mortar\"\nfriction = { coulomb = 1.0 }",
+        "discretization = \"mortar\"\nfriction = { tresca = 10.0 }",
+    ];
+    for (lower, upper, measured, tie_measured) in [
+        ("hex20_3", "hex20_3", 0.0, 0.0),
+        ("tet10_3", "tet10_3", 0.0, 0.0),
+        ("hex20_3", "hex20_4", 3.47e-4, 1.45e-4),
+        ("tet10_3", "tet10_4", 2.74e-4, 8.51e-5),
+    ] {
+        let tie_text = parabolic_held_by_friction(lower, upper, "law = \"tied\"", true);
+        let tie = converged_on(&tie_text, SolvePath::Condensed);
+        let tie_err = uniform_state_error(&tie, UNIAXIAL);
+        let close = |err: f64, want: f64| {
+            if want == 0.0 {
+                err <= 1e-10
+            } else {
+                (err - want).abs() <= 0.05 * want
+            }
+        };
+        assert!(
+            close(tie_err, tie_measured),
+            "tie {upper} on {lower}: {tie_err:e}"
+        );
+        for law in laws {
+            let text = parabolic_held_by_friction(lower, upper, law, true);
+            let runs = [SolvePath::Condensed, SolvePath::Direct].map(|p| converged_on(&text, p));
+            for (o, path) in runs.iter().zip(["condensed", "direct"]) {
+                let what = format!("{upper} on {lower}, {law}, {path}");
+                assert!(friction_force(o).1, "{what}: a point slips");
+                let err = uniform_state_error(o, UNIAXIAL);
+                assert!(
+                    close(err, measured),
+                    "{what}: off the linear field by {err:e}"
+                );
+                if measured == 0.0 {
+                    let diff = displacement_difference(o, &tie);
+                    assert!(diff <= 1e-10, "{what}: off the tie by {diff:e}");
+                }
+            }
+            let diff = displacement_difference(&runs[0], &runs[1]);
+            assert!(diff <= 1e-8, "{upper} on {lower}, {law}: paths {diff:e}");
+        }
+    }
+}
