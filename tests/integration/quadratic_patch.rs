@@ -11,7 +11,7 @@
 use crate::assembly_vocabulary::{patch_error, tied_blocks};
 use crate::common;
 
-use common::curved_patch::parabolic;
+use common::curved_patch::{held_by_friction, parabolic};
 use common::{converged_on, example, pressure_error};
 use signorini_scene::SolvePath;
 use signorini_solver::RunOutput;
@@ -329,43 +329,6 @@ fn node_to_face_misses_the_curved_patch_test_the_tie_of_matching_meshes_passes()
     }
 }
 
-/// The parabolic blocks of [`parabolic`] with the upper block held along x
-/// and y by the contact alone (its rollers on x = 0 and y = 0 taken off):
-/// under the hydrostatic state (`uniaxial` false) those faces carry the
-/// pressure p = 1 instead; under the uniaxial σ_zz = −1 (`uniaxial`) every
-/// side is free of traction, the lower block keeping its rollers. The
-/// rollers of both blocks on a common plane would leave a curved node's
-/// tangential rows with fewer free DOFs of the relative motion than rows,
-/// the friction multipliers there undetermined (measured: the semismooth
-/// Newton stalls on some of the cases below, and nodes on those planes
-/// report a friction force up to 7e-3 of the total normal force).
-fn parabolic_held_by_friction(lower: &str, upper: &str, interface: &str, uniaxial: bool) -> String {
-    let mut text = parabolic(lower, upper, interface);
-    for (axis, load) in [("x", "[1.0, 0.0, 0.0]"), ("y", "[0.0, 1.0, 0.0]")] {
-        let roller = format!(
-            "[[boundary]]\nbody = \"upper\"\nsurface = \"{axis}min\"\ndisplacement = {{ {axis} = 0.0 }}\n"
-        );
-        assert!(text.contains(&roller), "{roller}");
-        let replacement = if uniaxial {
-            String::new()
-        } else {
-            format!("[[boundary]]\nbody = \"upper\"\nsurface = \"{axis}min\"\ntraction = {load}\n")
-        };
-        text = text.replace(&roller, &replacement);
-        if uniaxial {
-            for body in ["lower", "upper"] {
-                let side = format!(
-                    "[[boundary]]\nbody = \"{body}\"\nsurface = \"{axis}max\"\ntraction = {}\n",
-                    load.replace("1.0", "-1.0")
-                );
-                assert!(text.contains(&side), "{side}");
-                text = text.replace(&side, "");
-            }
-        }
-    }
-    text
-}
-
 /// The uniaxial strain of σ_zz = −1 (E = 100, ν = 0.3).
 const UNIAXIAL: [f64; 3] = [NU / E, NU / E, -1.0 / E];
 
@@ -408,7 +371,7 @@ fn coulomb_on_curved_mortar_passes_the_hydrostatic_patch_test() {
         ("tet10_3", "tet10_3"),
         ("tet10_3", "tet10_4"),
     ] {
-        let text = parabolic_held_by_friction(lower, upper, interface, false);
+        let text = held_by_friction(lower, upper, interface, false);
         for path in [SolvePath::Condensed, SolvePath::Direct] {
             let o = converged_on(&text, path);
             let what = format!("{upper} on {lower}, {path:?}");
@@ -443,7 +406,7 @@ fn stick_on_curved_mortar_equals_the_tie_on_matching_meshes() {
         ("hex20_3", "hex20_4", 3.47e-4, 1.45e-4),
         ("tet10_3", "tet10_4", 2.74e-4, 8.51e-5),
     ] {
-        let tie_text = parabolic_held_by_friction(lower, upper, "law = \"tied\"", true);
+        let tie_text = held_by_friction(lower, upper, "law = \"tied\"", true);
         let tie = converged_on(&tie_text, SolvePath::Condensed);
         let tie_err = uniform_state_error(&tie, UNIAXIAL);
         let close = |err: f64, want: f64| {
@@ -458,7 +421,7 @@ fn stick_on_curved_mortar_equals_the_tie_on_matching_meshes() {
             "tie {upper} on {lower}: {tie_err:e}"
         );
         for law in laws {
-            let text = parabolic_held_by_friction(lower, upper, law, true);
+            let text = held_by_friction(lower, upper, law, true);
             let runs = [SolvePath::Condensed, SolvePath::Direct].map(|p| converged_on(&text, p));
             for (o, path) in runs.iter().zip(["condensed", "direct"]) {
                 let what = format!("{upper} on {lower}, {law}, {path}");
