@@ -68,7 +68,9 @@
 //! rows along the frame of `geometry::tangent_frame(n_j)` with the same
 //! weights: friction in 3D works on the weighted slips t·(D ũ_s − M u_m)/D_jj.
 //! The nodes of curved slave faces take the normal row with the normal inside
-//! the integral instead ([`vector_rows`], `ContactPoint::normal_row`).
+//! the integral instead, and the tangential rows with a frame turning with
+//! the surface inside it ([`curved_rows`], `ContactPoint::normal_row` and
+//! `ContactPoint::tangent_rows`).
 
 mod cells;
 mod clipping;
