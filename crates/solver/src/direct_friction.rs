@@ -7,6 +7,7 @@
 //! before (course notes §4.4), and each step starts from the previous step's
 //! displacements and forces.
 
+use crate::contact_rows::ContactRows;
 use crate::direct_balance::{contact_forces, rigid_motion_imbalance};
 use crate::direct_newton::{solve_whole, WholeLoad, WholeSolution, WholeSystem};
 use crate::direct_system::{
@@ -21,62 +22,34 @@ use crate::kkt::{ldlt_factorisation, KktCounts};
 use crate::model::{gaps_of, BodyModel, FixedPoint, PointModel};
 use crate::progress::Phase;
 use crate::root::{length_scale, step_gaps};
-use crate::run_context::RunContext;
+use crate::run_context::{RunContext, RunLog};
 use crate::step::{FrictionStep, StepSolution};
 use crate::step_end::StepLoop;
 use crate::timing::timed;
 use signorini_contact::friction::{statuses, FrictionLaw, FrictionOptions, PointStatus};
 use signorini_contact::law::regularised;
 use signorini_contact::{ContactSolution, SolverReport, StopReason};
-use signorini_linalg::sparse::SparseRow;
-use signorini_report::Timings;
 use signorini_scene as scene;
 use std::time::Instant;
 
 /// The contact rows of the direct path with friction on the global free
-/// DOFs: every point's normal row, then the tangential rows t1 (and t2)
-/// of each frictional point; with where each point's tangential rows are.
-pub(crate) struct DirectRows {
-    pub rows: Vec<SparseRow>,
-    pub tangent_row: Vec<Option<usize>>,
-    pub tangent_row2: Vec<Option<usize>>,
-}
-
-/// The rows of [`DirectRows`] (prescribed DOFs left out).
+/// DOFs (prescribed DOFs left out).
 pub(crate) fn direct_rows(
     bodies: &[BodyModel],
     points: &[PointModel],
     system: &DirectSystem,
-) -> DirectRows {
-    let on_free = |row: &[(usize, usize, f64)]| -> SparseRow {
+) -> ContactRows {
+    ContactRows::of(points, |row| {
         row.iter()
             .filter(|&&(b, d, _)| !bodies[b].prescribed[d])
             .map(|&(b, d, c)| (system.offset[b] + bodies[b].free_index[d], c))
             .collect()
-    };
-    let mut rows: Vec<SparseRow> = points.iter().map(|p| on_free(&p.row)).collect();
-    let m = points.len();
-    let (mut tangent_row, mut tangent_row2) = (vec![None; m], vec![None; m]);
-    for (pi, p) in points.iter().enumerate() {
-        if let Some(t) = &p.trow {
-            tangent_row[pi] = Some(rows.len());
-            rows.push(on_free(t));
-        }
-        if let Some(t) = &p.trow2 {
-            tangent_row2[pi] = Some(rows.len());
-            rows.push(on_free(t));
-        }
-    }
-    DirectRows {
-        rows,
-        tangent_row,
-        tangent_row2,
-    }
+    })
 }
 
 /// The elastic slip compliance 1/k_e of a regularised law on each
 /// tangential row (course notes §4.1.3), zero elsewhere.
-fn compliance(points: &[PointModel], rows: &DirectRows) -> Vec<f64> {
+fn compliance(points: &[PointModel], rows: &ContactRows) -> Vec<f64> {
     let tangential = |pi: usize| [rows.tangent_row[pi], rows.tangent_row2[pi]];
     let points = points.iter().enumerate();
     regularised::slip_compliance(
@@ -91,8 +64,7 @@ pub(crate) fn run_direct_friction(
     ctx: &RunContext,
     system: &DirectSystem,
     steps: &mut StepLoop,
-    timings: &mut Timings,
-    messages: &mut Vec<String>,
+    log: &mut RunLog,
 ) -> Result<(), SolveError> {
     let (sc, model) = (ctx.sc, ctx.model);
     let (bodies, points) = (&model.bodies[..], &model.points[..]);
@@ -102,7 +74,7 @@ pub(crate) fn run_direct_friction(
         .ok_or_else(|| SolveError::Internal("friction without a tangential row".into()))?;
     let compliance = compliance(points, &rows);
     ctx.progress.phase(Phase::Contact);
-    let mut whole = timed(&mut timings.contact, || {
+    let mut whole = timed(&mut log.timings.contact, || {
         let floating = bodies.iter().any(|b| !b.kernel.is_empty());
         WholeSystem::new(
             &system.k_global,
@@ -126,10 +98,11 @@ pub(crate) fn run_direct_friction(
     };
     for (si, st) in model.scales.iter().enumerate() {
         ctx.progress.step(si, model.scales.len());
-        let (sol, gaps, res, u_full) =
-            timed(&mut timings.contact, || stepper.step(&mut whole, st, si))?;
-        timed(&mut timings.output, || {
-            steps.end_step(si, &sol, &gaps, &res, u_full, messages)
+        let (sol, gaps, res, u_full) = timed(&mut log.timings.contact, || {
+            stepper.step(&mut whole, st, si)
+        })?;
+        timed(&mut log.timings.output, || {
+            steps.end_step(si, &sol, &gaps, &res, u_full, &mut log.messages)
         })?;
     }
     let (lu, _, ldlt, krylov_steps) = whole.counts();
@@ -152,7 +125,7 @@ struct Stepper<'a> {
     points: &'a [PointModel],
     fixed: &'a [FixedPoint],
     system: &'a DirectSystem,
-    rows: &'a DirectRows,
+    rows: &'a ContactRows,
     fr: &'a FrictionRows,
     history: FrictionHistory,
     start: Option<(Vec<f64>, Vec<f64>)>,

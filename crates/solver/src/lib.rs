@@ -21,6 +21,7 @@ mod checks;
 mod compare;
 mod conditioning;
 pub mod contact_frames;
+mod contact_rows;
 mod direct_balance;
 mod direct_forcing;
 mod direct_friction;

@@ -325,7 +325,7 @@ impl Attempt<'_> {
         let mut steps = StepLoop::new(ctx.sc, ctx.model, sink);
         steps.all_pieces = true;
         ctx.progress
-            .observed(|| run_direct(ctx, &mut steps, &mut log.timings, &mut log.messages))?;
+            .observed(|| run_direct(ctx, &mut steps, &mut log))?;
         let partial = steps.partial;
         if let Some(w) = self.check_zone(ctx.model, &partial) {
             return Ok(Outcome::Widen(w));
