@@ -666,9 +666,22 @@ pub fn node_to_segment_pairing(
     master: &MasterGeometry<'_>,
     rule: NormalRule,
 ) -> Result<Pairing, GeometryError> {
+    let slave_normals = nodal_normals(slave_mesh, slave_surface);
+    node_to_segment_pairing_with(slave_mesh, slave_normals, master, rule)
+}
+
+/// [`node_to_segment_pairing`] of the slave nodes with the given outward
+/// unit normals (the slave and average rules' n_s), in place of
+/// [`nodal_normals`]: a quadratic 3D slave surface's consistent normals
+/// (`crate::quadratic_slave::consistent_normals`).
+pub fn node_to_segment_pairing_with(
+    slave_mesh: &Mesh,
+    slave_normals: Vec<(usize, [f64; 3])>,
+    master: &MasterGeometry<'_>,
+    rule: NormalRule,
+) -> Result<Pairing, GeometryError> {
     check_dims(slave_mesh, master)?;
     let three_d = is_3d(slave_mesh);
-    let slave_normals = nodal_normals(slave_mesh, slave_surface);
     let scale = slave_mesh.size();
     let reach = search_distance(slave_mesh, master);
     let side = MasterSide::new(master)?;

@@ -7,10 +7,13 @@ use signorini_geometry::mortar::mortar_pairing;
 use signorini_geometry::mortar3d::mortar3d_pairing;
 use signorini_geometry::pairing::{
     contact_element_pairing, node_to_node_pairing, node_to_segment_pairing,
+    node_to_segment_pairing_with, Pairing,
 };
-use signorini_geometry::quadratic_slave::{mid_side_edges, recombine_rows, recombined_measures};
-use signorini_geometry::{ContactPoint, MasterGeometry, NormalRule, TermSide};
+use signorini_geometry::quadratic_slave::{consistent_normals, mid_side_edges, recombine_rows};
+use signorini_geometry::{ContactPoint, GeometryError, MasterGeometry, NormalRule, TermSide};
+use signorini_mesh::{Mesh, Surface};
 use signorini_scene as scene;
+use std::collections::BTreeMap;
 
 use super::{input, point3, BodyModel, PointModel, PrescribedSlip, Zone};
 use crate::error::SolveError;
@@ -248,6 +251,12 @@ fn contact_pair(
     let rule = normal_rule(c.normal);
     let mi = body_model(&c.master.body);
     let master = master_geometry(sc, bodies, c, mi, &entry)?;
+    // Node-to-face on a quadratic slave: the recombined rows, normals and
+    // measures (geometry's quadratic_slave).
+    let edges = match c.discretization {
+        scene::Discretization::NodeToSegment => mid_side_edges(sc.dimension as usize, s_surf),
+        _ => Vec::new(),
+    };
     // Mortar rows come with their own measure D_jj (contact::mortar, mortar3d).
     let (pairing, measure) = match c.discretization {
         scene::Discretization::NodeToNode => {
@@ -264,15 +273,9 @@ fn contact_pair(
             Ok(m) => (Ok(m.pairing), Some(m.measure)),
             Err(e) => (Err(e), None),
         },
-        _ => (node_to_segment_pairing(s_mesh, s_surf, &master, rule), None),
+        _ => node_to_face(s_mesh, s_surf, &master, rule, &edges),
     };
     let mut pairing = pairing.map_err(|e| input(format!("{entry}: {e}")))?;
-    // Node-to-face on a quadratic slave: the recombined rows and measures
-    // (geometry's quadratic_slave).
-    let edges = match c.discretization {
-        scene::Discretization::NodeToSegment => mid_side_edges(sc.dimension as usize, s_surf),
-        _ => Vec::new(),
-    };
     let corner_at: std::collections::HashMap<usize, [f64; 3]> =
         pairing.points.iter().map(|p| (p.slave_node, p.x)).collect();
     let recombined = recombine_rows(&mut pairing.points, &edges)
@@ -289,15 +292,9 @@ fn contact_pair(
     }
     notes.extend(dropped);
     let tributary = measure.unwrap_or_else(|| {
-        let consistent =
-            signorini_fem::tributary_measure(s_mesh, s_surf, bodies[si].material.model)
-                .into_iter()
-                .collect();
-        if edges.is_empty() {
-            consistent
-        } else {
-            recombined_measures(&consistent, &edges)
-        }
+        signorini_fem::tributary_measure(s_mesh, s_surf, bodies[si].material.model)
+            .into_iter()
+            .collect()
     });
     if let Some(interface_nodes) = interface_nodes {
         interface_nodes[si].extend(s_surf.nodes());
@@ -314,6 +311,29 @@ fn contact_pair(
             master: mi,
         },
     })
+}
+
+/// Node-to-face (node-to-segment in 2D) contact points. On a quadratic 3D
+/// slave surface (`edges`, its mid-sides, not empty) the slave normals are
+/// its consistent ones and come with their measures |∫ Ñ_a n dS| (geometry's
+/// `quadratic_slave::consistent_normals`); otherwise the nodal normals, and
+/// the measures are left to the caller.
+fn node_to_face(
+    s_mesh: &Mesh,
+    s_surf: &Surface,
+    master: &MasterGeometry<'_>,
+    rule: NormalRule,
+    edges: &[(usize, [usize; 2])],
+) -> (Result<Pairing, GeometryError>, Option<BTreeMap<usize, f64>>) {
+    if edges.is_empty() {
+        return (node_to_segment_pairing(s_mesh, s_surf, master, rule), None);
+    }
+    let area_vectors = signorini_fem::nodal_area_vectors(s_mesh, s_surf)
+        .into_iter()
+        .collect();
+    let (normals, measures) = consistent_normals(&area_vectors, edges);
+    let pairing = node_to_segment_pairing_with(s_mesh, normals, master, rule);
+    (pairing, Some(measures))
 }
 
 /// The row of a contact point along `direction` (its normal or a tangent):
