@@ -216,7 +216,10 @@ mod tests {
                 4..=7 => 1.0 / 5.0,
                 _ => 0.0,
             };
-            assert!((measures[&a] - share * area).abs() <= 1e-15 * area, "node {a}");
+            assert!(
+                (measures[&a] - share * area).abs() <= 1e-15 * area,
+                "node {a}"
+            );
         }
     }
 }

@@ -262,7 +262,12 @@ fn quadratic_faces_have_their_consistent_measures() {
 fn nodal_area_vectors_are_the_consistent_measures_along_the_normal() {
     use signorini_mesh::generators::box_mesh;
     use signorini_mesh::vec3::norm;
-    for kind in [CellKind::Tet4, CellKind::Hex8, CellKind::Tet10, CellKind::Hex20] {
+    for kind in [
+        CellKind::Tet4,
+        CellKind::Hex8,
+        CellKind::Tet10,
+        CellKind::Hex20,
+    ] {
         let mut m = box_mesh([0.0; 3], [2.0, 1.0, 1.0], [2, 1, 1], kind, None).unwrap();
         for (name, s) in &m.surfaces {
             let n = m.facet_normal(&s.facets[0]).0;
