@@ -6,8 +6,8 @@
 use signorini_geometry::mortar::mortar_pairing;
 use signorini_geometry::mortar3d::mortar3d_pairing;
 use signorini_geometry::pairing::{
-    contact_element_pairing, node_to_node_pairing, node_to_segment_pairing,
-    node_to_segment_pairing_with, Pairing,
+    contact_element_pairing, nodal_normals, node_to_node_pairing, node_to_segment_pairing,
+    node_to_segment_pairing_with, GivenNormals, Pairing,
 };
 use signorini_geometry::quadratic_slave::{consistent_normals, mid_side_edges, recombine_rows};
 use signorini_geometry::{ContactPoint, GeometryError, MasterGeometry, NormalRule, TermSide};
@@ -317,7 +317,8 @@ fn contact_pair(
 /// slave surface (`edges`, its mid-sides, not empty) the slave normals are
 /// its consistent ones and come with their measures |∫ Ñ_a n dS| (geometry's
 /// `quadratic_slave::consistent_normals`); otherwise the nodal normals, and
-/// the measures are left to the caller.
+/// the measures are left to the caller. On a quadratic 3D master surface the
+/// master's normal is interpolated from its own consistent nodal normals.
 fn node_to_face(
     s_mesh: &Mesh,
     s_surf: &Surface,
@@ -325,15 +326,34 @@ fn node_to_face(
     rule: NormalRule,
     edges: &[(usize, [usize; 2])],
 ) -> (Result<Pairing, GeometryError>, Option<BTreeMap<usize, f64>>) {
-    if edges.is_empty() {
+    let consistent = |mesh: &Mesh, surface: &Surface, edges: &[(usize, [usize; 2])]| {
+        let area_vectors = signorini_fem::nodal_area_vectors(mesh, surface)
+            .into_iter()
+            .collect();
+        consistent_normals(&area_vectors, edges)
+    };
+    let master_normals = match master {
+        MasterGeometry::Surface { mesh, surface } => {
+            let m_edges = mid_side_edges(mesh.dim, surface);
+            (!m_edges.is_empty()).then(|| consistent(mesh, surface, &m_edges).0)
+        }
+        _ => None,
+    };
+    if edges.is_empty() && master_normals.is_none() {
         return (node_to_segment_pairing(s_mesh, s_surf, master, rule), None);
     }
-    let area_vectors = signorini_fem::nodal_area_vectors(s_mesh, s_surf)
-        .into_iter()
-        .collect();
-    let (normals, measures) = consistent_normals(&area_vectors, edges);
+    let (slave, measures) = if edges.is_empty() {
+        (nodal_normals(s_mesh, s_surf), None)
+    } else {
+        let (normals, measures) = consistent(s_mesh, s_surf, edges);
+        (normals, Some(measures))
+    };
+    let normals = GivenNormals {
+        slave,
+        master: master_normals.map(|n| n.into_iter().collect()),
+    };
     let pairing = node_to_segment_pairing_with(s_mesh, normals, master, rule);
-    (pairing, Some(measures))
+    (pairing, measures)
 }
 
 /// The row of a contact point along `direction` (its normal or a tangent):
