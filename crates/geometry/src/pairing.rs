@@ -27,6 +27,12 @@
 //!   exact closest points on the four (straight) sides; the weights are the
 //!   bilinear shape functions at (ξ, η) (see `closest::quad`).
 //!
+//! - Quadratic 3D faces (Tri6, Quad8): cut through their mid-side nodes into
+//!   flat pieces (`search::quadratic_face_pieces`), the weights those of the
+//!   piece; the normal the piece's own, or, when the caller gives the
+//!   master's nodal normals ([`GivenNormals`]: its consistent ones), those
+//!   interpolated with the piece's weights.
+//!
 //! The closest facet is found with an R*-tree of the facets' bounding boxes
 //! (`search::MasterIndex`), exactly (same answer as a loop over all facets).
 //!
