@@ -98,14 +98,23 @@ fn recombined<const K: usize>(
 pub fn consistent_normals(
     area_vectors: &BTreeMap<usize, [f64; 3]>,
     edges: &[(usize, [usize; 2])],
-) -> (Vec<(usize, [f64; 3])>, BTreeMap<usize, f64>) {
+) -> ConsistentNormals {
     let v = recombined(area_vectors, edges);
     let normals = v
         .iter()
         .map(|(&a, &va)| (a, unit(va).unwrap_or([0.0; 3])))
         .collect();
     let measures = v.iter().map(|(&a, &va)| (a, norm(va))).collect();
-    (normals, measures)
+    ConsistentNormals { normals, measures }
+}
+
+/// The consistent nodal normals of a quadratic surface and their measures
+/// (see [`consistent_normals`]), by node.
+pub struct ConsistentNormals {
+    /// Each node with its outward unit normal `v_a / |v_a|`, sorted by node.
+    pub normals: Vec<(usize, [f64; 3])>,
+    /// Each node's `|v_a|`.
+    pub measures: BTreeMap<usize, f64>,
 }
 
 /// Rewrites the row of every mid-side point whose two corners have a point
@@ -205,7 +214,7 @@ mod tests {
         let mut v: BTreeMap<usize, [f64; 3]> = (0..4).map(|c| (c, along(-1.0 / 12.0))).collect();
         v.extend((4..8).map(|m| (m, along(1.0 / 3.0))));
         v.insert(8, [0.0; 3]);
-        let (normals, measures) = consistent_normals(&v, &edges);
+        let ConsistentNormals { normals, measures } = consistent_normals(&v, &edges);
         for (a, na) in normals {
             let want = if a == 8 { [0.0; 3] } else { n };
             for k in 0..3 {

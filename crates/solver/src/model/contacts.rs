@@ -335,7 +335,7 @@ fn node_to_face(
     let master_normals = match master {
         MasterGeometry::Surface { mesh, surface } => {
             let m_edges = mid_side_edges(mesh.dim, surface);
-            (!m_edges.is_empty()).then(|| consistent(mesh, surface, &m_edges).0)
+            (!m_edges.is_empty()).then(|| consistent(mesh, surface, &m_edges).normals)
         }
         _ => None,
     };
@@ -345,8 +345,8 @@ fn node_to_face(
     let (slave, measures) = if edges.is_empty() {
         (nodal_normals(s_mesh, s_surf), None)
     } else {
-        let (normals, measures) = consistent(s_mesh, s_surf, edges);
-        (normals, Some(measures))
+        let c = consistent(s_mesh, s_surf, edges);
+        (c.normals, Some(c.measures))
     };
     let normals = GivenNormals {
         slave,
