@@ -37,7 +37,7 @@
 //! whatever its direction, and the patch test passes on curved faces too.
 
 use crate::pairing::ContactPoint;
-use signorini_mesh::vec3::{norm, unit};
+use signorini_mesh::vec3::unit;
 use signorini_mesh::{facet_corners, Surface};
 use std::collections::{BTreeMap, HashMap};
 
@@ -86,15 +86,16 @@ fn recombined<const K: usize>(
 }
 
 /// The consistent nodal normals of a quadratic slave surface and their
-/// pressure measures, from its nodal area vectors `∫ N_a n dS` (n the
-/// outward normal, integrated on the curved faces): the recombined vector
-/// `v_a = ∫ Ñ_a n dS` gives the outward normal `v_a / |v_a|` and the measure
-/// `|v_a|`. With these, a uniform pressure p has the row forces
-/// `λ_a = p |v_a|` along `n_a` equal to its consistent nodal forces
-/// `p ∫ N_a n dS` after the recombination, on a curved face as on a flat one
-/// (docs/theory/elements.md "Node-to-face on quadratic faces"). On a flat
-/// face `v_a = n ∫ Ñ_a dS`: the face's normal and the measure `∫ Ñ_a dS`.
-/// A node with `v_a = 0` gets the zero normal.
+/// area vectors, from its nodal area vectors `∫ N_a n dS` (n the outward
+/// normal, integrated on the curved faces): the recombined vector
+/// `v_a = ∫ Ñ_a n dS` gives the outward normal `v_a / |v_a|`; a row along
+/// the contact normal `n_c` has the pressure measure `|n_c · v_a|` (`|v_a|`
+/// along the consistent normal). With these, a uniform pressure p has the
+/// row forces `λ_a = p |v_a|` along `n_a` equal to its consistent nodal
+/// forces `p ∫ N_a n dS` after the recombination, on a curved face as on a
+/// flat one (docs/theory/elements.md "Node-to-face on quadratic faces"). On
+/// a flat face `v_a = n ∫ Ñ_a dS`: the face's normal and the measure
+/// `∫ Ñ_a dS`. A node with `v_a = 0` gets the zero normal.
 pub fn consistent_normals(
     area_vectors: &BTreeMap<usize, [f64; 3]>,
     edges: &[(usize, [usize; 2])],
@@ -104,8 +105,10 @@ pub fn consistent_normals(
         .iter()
         .map(|(&a, &va)| (a, unit(va).unwrap_or([0.0; 3])))
         .collect();
-    let measures = v.iter().map(|(&a, &va)| (a, norm(va))).collect();
-    ConsistentNormals { normals, measures }
+    ConsistentNormals {
+        normals,
+        area_vectors: v,
+    }
 }
 
 /// The consistent nodal normals of a quadratic surface and their measures
@@ -113,8 +116,8 @@ pub fn consistent_normals(
 pub struct ConsistentNormals {
     /// Each node with its outward unit normal `v_a / |v_a|`, sorted by node.
     pub normals: Vec<(usize, [f64; 3])>,
-    /// Each node's `|v_a|`.
-    pub measures: BTreeMap<usize, f64>,
+    /// Each node's recombined area vector `v_a = ∫ Ñ_a n dS`.
+    pub area_vectors: BTreeMap<usize, [f64; 3]>,
 }
 
 /// Rewrites the row of every mid-side point whose two corners have a point
@@ -200,6 +203,7 @@ pub fn displacement_rows(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use signorini_mesh::vec3::norm;
 
     /// A flat Quad8 face of area A along n (its area vectors n ∫ N_a dS:
     /// −A/12 at a corner, A/3 at a mid-side) has the consistent normal n at
@@ -214,7 +218,10 @@ mod tests {
         let mut v: BTreeMap<usize, [f64; 3]> = (0..4).map(|c| (c, along(-1.0 / 12.0))).collect();
         v.extend((4..8).map(|m| (m, along(1.0 / 3.0))));
         v.insert(8, [0.0; 3]);
-        let ConsistentNormals { normals, measures } = consistent_normals(&v, &edges);
+        let ConsistentNormals {
+            normals,
+            area_vectors,
+        } = consistent_normals(&v, &edges);
         for (a, na) in normals {
             let want = if a == 8 { [0.0; 3] } else { n };
             for k in 0..3 {
@@ -226,7 +233,7 @@ mod tests {
                 _ => 0.0,
             };
             assert!(
-                (measures[&a] - share * area).abs() <= 1e-15 * area,
+                (norm(area_vectors[&a]) - share * area).abs() <= 1e-15 * area,
                 "node {a}"
             );
         }

@@ -11,6 +11,7 @@ use signorini_geometry::pairing::{
 };
 use signorini_geometry::quadratic_slave::{consistent_normals, mid_side_edges, recombine_rows};
 use signorini_geometry::{ContactPoint, GeometryError, MasterGeometry, NormalRule, TermSide};
+use signorini_mesh::vec3::dot;
 use signorini_mesh::{Mesh, Surface};
 use signorini_scene as scene;
 use std::collections::BTreeMap;
@@ -315,9 +316,10 @@ fn contact_pair(
 
 /// Node-to-face (node-to-segment in 2D) contact points. On a quadratic 3D
 /// slave surface (`edges`, its mid-sides, not empty) the slave normals are
-/// its consistent ones and come with their measures |∫ Ñ_a n dS| (geometry's
-/// `quadratic_slave::consistent_normals`); otherwise the nodal normals, and
-/// the measures are left to the caller. On a quadratic 3D master surface the
+/// its consistent ones (geometry's `quadratic_slave::consistent_normals`)
+/// and each point's measure is |n · v_a|, v_a = ∫ Ñ_a n dS, n the point's
+/// normal (|v_a| along the consistent normal; on a flat face ∫ Ñ_a dS);
+/// otherwise the nodal normals, and the measures are left to the caller. On a quadratic 3D master surface the
 /// master's normal is interpolated from its own consistent nodal normals.
 fn node_to_face(
     s_mesh: &Mesh,
@@ -346,13 +348,20 @@ fn node_to_face(
         (nodal_normals(s_mesh, s_surf), None)
     } else {
         let c = consistent(s_mesh, s_surf, edges);
-        (c.normals, Some(c.measures))
+        (c.normals, Some(c.area_vectors))
     };
     let normals = GivenNormals {
         slave,
         master: master_normals.map(|n| n.into_iter().collect()),
     };
     let pairing = node_to_segment_pairing_with(s_mesh, normals, master, rule);
+    // the measure of a row along n: |n · v_a|, the pressure whose consistent
+    // load along n is the row's force
+    let measures = measures.map(|v| {
+        (pairing.iter().flat_map(|p| &p.points))
+            .map(|p| (p.slave_node, dot(p.normal, v[&p.slave_node]).abs()))
+            .collect()
+    });
     (pairing, measures)
 }
 
