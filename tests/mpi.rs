@@ -746,3 +746,20 @@ fn mortar_on_curved_quadratic_faces_under_mpirun_2_equals_the_in_process_run() {
         "curved_mortar",
     );
 }
+
+/// Coulomb friction on mortar's curved quadratic faces (the tangential rows
+/// with the frame inside the integral): the non-matching Hex20 parabolic
+/// blocks under σ_zz = −1 held by μ = 1, the upper block held along x and y
+/// by friction (tests/common/curved_patch.rs `held_by_friction`), one block
+/// per rank: the in-process rows, forces and displacements.
+#[test]
+fn coulomb_on_curved_quadratic_mortar_under_mpirun_2_equals_the_in_process_run() {
+    require_mpirun!();
+    let interface = "discretization = \"mortar\"\nfriction = { coulomb = 1.0 }";
+    let text = common::curved_patch::held_by_friction("hex20_3", "hex20_4", interface, true);
+    compare(
+        &write_scene("curved_coulomb_scene", "curved.toml", &text),
+        2,
+        "curved_coulomb",
+    );
+}

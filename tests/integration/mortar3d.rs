@@ -120,7 +120,7 @@ fn mortar_3d_hertz_between_two_bodies_is_at_least_as_accurate_as_node_to_face() 
 /// non-matching meshes: the upper one (`hertz3d.toml`'s mesh, 12 divisions,
 /// dome slave) pressed by 0.02 on the lower one (10 divisions, dome master,
 /// flat face clamped), with `discretization`.
-fn two_spheres(discretization: &str) -> String {
+pub(crate) fn two_spheres(discretization: &str) -> String {
     example("hertz3d.toml")
         .replace("z = -0.01 }", "z = -0.02 }")
         .replace(

@@ -11,7 +11,7 @@
 use crate::assembly_vocabulary::{patch_error, tied_blocks};
 use crate::common;
 
-use common::curved_patch::parabolic;
+use common::curved_patch::{held_by_friction, parabolic};
 use common::{converged_on, example, pressure_error};
 use signorini_scene::SolvePath;
 use signorini_solver::RunOutput;
@@ -379,4 +379,169 @@ fn node_to_face_misses_the_non_matching_curved_patch_test_the_tie_passes() {
         let err = uniform_state_error(&o, HYDROSTATIC);
         assert!(err <= 1e-10, "tied {m}: {err:e}");
     }
+}
+
+/// The uniaxial strain of σ_zz = −1 (E = 100, ν = 0.3).
+const UNIAXIAL: [f64; 3] = [NU / E, NU / E, -1.0 / E];
+
+/// The largest friction force of a run (both tangents), relative to the
+/// total normal force p × area, and whether every point sticks.
+fn friction_force(o: &RunOutput) -> (f64, bool) {
+    let total: f64 = o.contact_rows.iter().map(|r| r.normal_force).sum();
+    let largest = (o.contact_rows.iter())
+        .map(|r| r.tangential_force.hypot(r.tangential_force_2))
+        .fold(0.0, f64::max);
+    let stick = o.contact_rows.iter().all(|r| r.status == "stick");
+    (largest / total, stick)
+}
+
+/// The largest difference of two runs' displacements, relative to the
+/// largest displacement.
+fn displacement_difference(a: &RunOutput, b: &RunOutput) -> f64 {
+    let (mut diff, mut scale) = (0.0f64, 0.0f64);
+    for (ba, bb) in a.bodies.iter().zip(&b.bodies) {
+        for (x, y) in ba.last().displacement.iter().zip(&bb.last().displacement) {
+            diff = diff.max((x - y).abs());
+            scale = scale.max(x.abs());
+        }
+    }
+    diff / scale
+}
+
+/// Coulomb friction (μ = 0.3) on mortar's curved quadratic faces, whose
+/// tangential rows carry the frame inside the integral
+/// (docs/theory/mortar.md "Curved quadratic faces"): the hydrostatic state
+/// needs no friction, and comes out on both paths, matching or not, Hex20
+/// and Tet10: every displacement the linear field, every pressure p, every
+/// friction force zero (measured ≤ 1.5e-12, ≤ 2.3e-14 of p × area).
+#[test]
+fn coulomb_on_curved_mortar_passes_the_hydrostatic_patch_test() {
+    let interface = "discretization = \"mortar\"\nfriction = { coulomb = 0.3 }";
+    for (lower, upper) in [
+        ("hex20_3", "hex20_3"),
+        ("hex20_3", "hex20_4"),
+        ("tet10_3", "tet10_3"),
+        ("tet10_3", "tet10_4"),
+    ] {
+        let text = held_by_friction(lower, upper, interface, false);
+        for path in [SolvePath::Condensed, SolvePath::Direct] {
+            let o = converged_on(&text, path);
+            let what = format!("{upper} on {lower}, {path:?}");
+            let err = uniform_state_error(&o, HYDROSTATIC);
+            assert!(err <= 1e-10, "{what}: displacement off by {err:e}");
+            let (dev, _) = pressure_error(&o, 1.0);
+            assert!(dev <= 1e-10, "{what}: pressure off by {dev:e}");
+            let (friction, stick) = friction_force(&o);
+            assert!(friction <= 1e-10, "{what}: friction force {friction:e}");
+            assert!(stick, "{what}: a point slips");
+        }
+    }
+}
+
+/// Stick on the curved interface: the parabolic blocks under σ_zz = −1,
+/// whose traction on the interface has a tangential part up to 0.5 of the
+/// normal one, held by Coulomb μ = 1 or a Tresca threshold 10. On matching
+/// meshes stick ties the coincident nodes, so the answer is the tie's (the
+/// monolithic linear field) on both paths (measured 3e-14 to 5e-14). On
+/// non-matching ones σn is not in the multipliers' space along a curve: the
+/// measured error against the linear field (both paths equal to 1e-8) is
+/// asserted, with the tie's of the same meshes.
+#[test]
+fn stick_on_curved_mortar_equals_the_tie_on_matching_meshes() {
+    let laws = [
+        "discretization = \"mortar\"\nfriction = { coulomb = 1.0 }",
+        "discretization = \"mortar\"\nfriction = { tresca = 10.0 }",
+    ];
+    for (lower, upper, measured, tie_measured) in [
+        ("hex20_3", "hex20_3", 0.0, 0.0),
+        ("tet10_3", "tet10_3", 0.0, 0.0),
+        ("hex20_3", "hex20_4", 3.47e-4, 1.45e-4),
+        ("tet10_3", "tet10_4", 2.74e-4, 8.51e-5),
+    ] {
+        let tie_text = held_by_friction(lower, upper, "law = \"tied\"", true);
+        let tie = converged_on(&tie_text, SolvePath::Condensed);
+        let tie_err = uniform_state_error(&tie, UNIAXIAL);
+        let close = |err: f64, want: f64| {
+            if want == 0.0 {
+                err <= 1e-10
+            } else {
+                (err - want).abs() <= 0.05 * want
+            }
+        };
+        assert!(
+            close(tie_err, tie_measured),
+            "tie {upper} on {lower}: {tie_err:e}"
+        );
+        for law in laws {
+            let text = held_by_friction(lower, upper, law, true);
+            let runs = [SolvePath::Condensed, SolvePath::Direct].map(|p| converged_on(&text, p));
+            for (o, path) in runs.iter().zip(["condensed", "direct"]) {
+                let what = format!("{upper} on {lower}, {law}, {path}");
+                assert!(friction_force(o).1, "{what}: a point slips");
+                let err = uniform_state_error(o, UNIAXIAL);
+                assert!(
+                    close(err, measured),
+                    "{what}: off the linear field by {err:e}"
+                );
+                if measured == 0.0 {
+                    let diff = displacement_difference(o, &tie);
+                    assert!(diff <= 1e-10, "{what}: off the tie by {diff:e}");
+                }
+            }
+            let diff = displacement_difference(&runs[0], &runs[1]);
+            assert!(diff <= 1e-8, "{upper} on {lower}, {law}: paths {diff:e}");
+        }
+    }
+}
+
+/// Coulomb friction (μ = 0.3) between two Hex20 hemispheres pressed pole to
+/// pole (`crate::mortar3d::two_spheres` with 6 and 5 divisions): every
+/// slave face is curved, so every contact point's rows carry the frame
+/// inside the integral. Both paths give the same answer (measured: forces
+/// 4.5e-9, displacements 7.4e-10 of their largest), with points in stick
+/// and in slip.
+#[test]
+fn coulomb_between_curved_quadratic_hemispheres_is_the_same_on_both_paths() {
+    let mut text = crate::mortar3d::two_spheres("mortar");
+    for (from, to) in [
+        (
+            "divisions = 12, pole = [0.0, 0.0, -1.0], grading = 8.0 }",
+            "divisions = 6, pole = [0.0, 0.0, -1.0], grading = 8.0, element = \"hex20\" }",
+        ),
+        (
+            "divisions = 10, pole = [0.0, 0.0, 1.0], grading = 8.0 }",
+            "divisions = 5, pole = [0.0, 0.0, 1.0], grading = 8.0, element = \"hex20\" }",
+        ),
+        (
+            "discretization = \"mortar\"",
+            "discretization = \"mortar\"\nfriction = { coulomb = 0.3 }",
+        ),
+    ] {
+        assert!(text.contains(from), "{from}");
+        text = text.replace(from, to);
+    }
+    let [a, b] = [SolvePath::Condensed, SolvePath::Direct].map(|p| converged_on(&text, p));
+    let force = |r: &signorini_report::ContactRow| {
+        [r.normal_force, r.tangential_force, r.tangential_force_2]
+    };
+    let largest = (a.contact_rows.iter())
+        .flat_map(|r| force(r).map(f64::abs))
+        .fold(0.0, f64::max);
+    let diff = (a.contact_rows.iter().zip(&b.contact_rows))
+        .flat_map(|(x, y)| (0..3).map(move |k| (force(x)[k] - force(y)[k]).abs()))
+        .fold(0.0, f64::max);
+    assert!(
+        diff <= 1e-8 * largest,
+        "forces differ by {:e}",
+        diff / largest
+    );
+    let u = displacement_difference(&a, &b);
+    assert!(u <= 1e-8, "displacements differ by {u:e}");
+    let count = |s: &str| a.contact_rows.iter().filter(|r| r.status == s).count();
+    assert!(
+        count("stick") > 0 && count("slip") > 0,
+        "{} stick, {} slip",
+        count("stick"),
+        count("slip")
+    );
 }

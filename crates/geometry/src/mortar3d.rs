@@ -68,11 +68,14 @@
 //! rows along the frame of `geometry::tangent_frame(n_j)` with the same
 //! weights: friction in 3D works on the weighted slips t·(D ũ_s − M u_m)/D_jj.
 //! The nodes of curved slave faces take the normal row with the normal inside
-//! the integral instead ([`vector_rows`], `ContactPoint::normal_row`).
+//! the integral instead, and the tangential rows with a frame turning with
+//! the surface inside it ([`curved_rows`], `ContactPoint::normal_row` and
+//! `ContactPoint::tangent_rows`).
 
 mod cells;
 mod clipping;
 mod curved;
+mod curved_rows;
 
 use signorini_mesh::vec3::{dot, norm, sub};
 use signorini_mesh::{Facet, Mesh, Surface};
@@ -87,6 +90,7 @@ use clipping::{
     clip, collapsed_rule, counter_clockwise, polygon_rule, signed_area, AuxPlane, Point2,
     TRIANGLE_RULE,
 };
+use curved_rows::CurvedRows;
 
 /// Relative area (of a slave face) below which a clipped overlap is ignored:
 /// a sliver from rounding along a shared edge.
@@ -204,10 +208,9 @@ pub fn mortar3d_pairing(
         .filter(|f| curved::is_curved(slave_mesh, f))
         .flat_map(|f| f.nodes.iter().copied())
         .collect();
-    let mut vectors = VectorRows::new();
+    let mut vectors = CurvedRows::new(curved_nodes, &normals);
     for f in &slave_surface.facets {
-        let vector = f.nodes.iter().any(|k| curved_nodes.contains(k));
-        let vector = vector.then_some(&mut vectors);
+        let vector = vectors.touches(&f.nodes).then_some(&mut vectors);
         if curved::is_curved(slave_mesh, f) {
             let points = curved::face_points(slave_mesh, f, &masters, &rule);
             let area = slave_mesh.facet_normal(f).1;
@@ -231,7 +234,7 @@ pub fn mortar3d_pairing(
     let mut out = mortar_points(slave_mesh, &normals, &d, &m, m_mesh, masters.reach);
     transform_slave_rows(slave_mesh, slave_surface, &mut out);
     let meshes = [slave_mesh, m_mesh];
-    vector_rows(meshes, slave_surface, &curved_nodes, &vectors, &mut out);
+    curved_rows::write_rows(meshes, slave_surface, &vectors, &mut out);
     Ok(out)
 }
 
@@ -379,10 +382,6 @@ fn dual_coefficients(points: &[FacePoint], n: usize, area: f64) -> Option<DualCo
     Some(a)
 }
 
-/// Per slave node j, the integrals ∫Φ_j Ñ_k n dA (slave node k) and
-/// ∫Φ_j N_l n dA (master node l), n the slave's outward normal.
-type VectorRows = BTreeMap<usize, BTreeMap<(TermSide, usize), [f64; 3]>>;
-
 /// D (diagonal, per slave node) and M (per slave node, per master node).
 type MortarSums<'a> = (
     &'a mut BTreeMap<usize, f64>,
@@ -398,7 +397,7 @@ fn integrate_face(
     points: &[FacePoint],
     m_surf: &Surface,
     (d, m): MortarSums<'_>,
-    mut vectors: Option<&mut VectorRows>,
+    mut vectors: Option<&mut CurvedRows>,
 ) {
     let n = nodes.len();
     let Some(a) = dual_coefficients(points, n, area) else {
@@ -415,91 +414,11 @@ fn integrate_face(
                 *row.entry(ml).or_insert(0.0) += p.w * phi * nml;
             }
             if let Some(v) = vectors.as_deref_mut() {
-                let row = v.entry(sj).or_default();
-                let sides = (nodes
-                    .iter()
-                    .zip(p.ns)
-                    .map(|(&k, s)| (TermSide::Slave, k, s)))
-                .chain(
-                    master
-                        .iter()
-                        .zip(p.nm)
-                        .map(|(&l, s)| (TermSide::Master, l, s)),
-                );
-                for (side, node, shape) in sides {
-                    let e = row.entry((side, node)).or_insert([0.0; 3]);
-                    for (ek, nk) in e.iter_mut().zip(p.normal) {
-                        *ek += p.w * phi * shape * nk;
-                    }
-                }
+                let slave = (nodes.iter().zip(p.ns)).map(|(&k, s)| (TermSide::Slave, k, s));
+                let master = (master.iter().zip(p.nm)).map(|(&l, s)| (TermSide::Master, l, s));
+                v.add(sj, p.w * phi, p.normal, slave.chain(master));
             }
         }
-    }
-}
-
-/// The rows of the nodes of curved slave faces with the normal inside the
-/// integral (`curved`): g_j = (Σ_k v_jk · ũ_k − Σ_l v_jl · u_l) / D_jj with
-/// v the integrals of [`VectorRows`] along the reversed (master-to-slave)
-/// normal, the recombined slave displacements ũ written as u as in
-/// [`transform_slave_rows`], and the initial gap the row applied to the
-/// coordinates. The tangential rows and the ties' weights stay.
-fn vector_rows(
-    [s_mesh, m_mesh]: [&Mesh; 2],
-    surface: &Surface,
-    curved_nodes: &BTreeSet<usize>,
-    vectors: &VectorRows,
-    out: &mut MortarPairing,
-) {
-    let edges: BTreeMap<usize, [usize; 2]> = crate::quadratic_slave::mid_side_edges(3, surface)
-        .into_iter()
-        .collect();
-    let alpha = crate::quadratic_slave::ALPHA;
-    let (own, corner) = (1.0 / (1.0 - 2.0 * alpha), -alpha / (1.0 - 2.0 * alpha));
-    for p in &mut out.pairing.points {
-        let (Some(v), Some(&djj)) = (vectors.get(&p.slave_node), out.measure.get(&p.slave_node))
-        else {
-            continue;
-        };
-        if !curved_nodes.contains(&p.slave_node) {
-            continue;
-        }
-        let mut row = BTreeMap::<(TermSide, usize), [f64; 3]>::new();
-        let mut add = |side, node, c: [f64; 3], s: f64| {
-            let e = row.entry((side, node)).or_insert([0.0; 3]);
-            for k in 0..3 {
-                e[k] += s * c[k];
-            }
-        };
-        for (&(side, node), c) in v {
-            match (side, edges.get(&node)) {
-                (TermSide::Slave, Some(&[c1, c2])) => {
-                    add(side, node, *c, -own / djj);
-                    add(side, c1, *c, -corner / djj);
-                    add(side, c2, *c, -corner / djj);
-                }
-                (TermSide::Slave, None) => add(side, node, *c, -1.0 / djj),
-                (TermSide::Master, _) => add(side, node, *c, 1.0 / djj),
-            }
-        }
-        p.gap0 = row
-            .iter()
-            .map(|(&(side, node), c)| {
-                let mesh = if side == TermSide::Slave {
-                    s_mesh
-                } else {
-                    m_mesh
-                };
-                dot(*c, mesh.coords[node])
-            })
-            .sum();
-        p.normal_row = row
-            .into_iter()
-            .map(|((side, node), coefficient)| crate::VectorTerm {
-                side,
-                node,
-                coefficient,
-            })
-            .collect();
     }
 }
 

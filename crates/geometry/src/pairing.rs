@@ -122,6 +122,10 @@ pub struct ContactPoint {
     /// When not empty, the normal row instead: g = g0 + Σ coefficient ·
     /// u(node) (3D mortar on curved quadratic faces, `crate::mortar3d`).
     pub normal_row: Vec<VectorTerm>,
+    /// When not empty, the tangential rows instead, along `tangent` and
+    /// `tangent2` at the node and a frame turning with the surface along
+    /// the row: Σ coefficient · u(node) (with `normal_row`).
+    pub tangent_rows: [Vec<VectorTerm>; 2],
 }
 
 impl ContactPoint {
@@ -147,6 +151,7 @@ impl ContactPoint {
             gap0: dot(normal, sub(x, x_master)),
             terms,
             normal_row: Vec::new(),
+            tangent_rows: [Vec::new(), Vec::new()],
         }
     }
 }

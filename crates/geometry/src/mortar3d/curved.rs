@@ -25,7 +25,7 @@
 //! ```
 //!
 //! instead of n_j · (D_jj ũ_j − Σ_l M_jl u_l) with the nodal normal n_j
-//! (`super::vector_rows`). When the two discretised surfaces coincide
+//! (`super::curved_rows`). When the two discretised surfaces coincide
 //! (π(x) = x), a field u = ε x makes every integrand vanish pointwise, and
 //! with λ_j = p the slave and master forces are p ∫Ñ_k n dA and p ∫N_l n dA
 //! (Σ_j Φ_j = 1): the consistent nodal forces of σ = −p I on the curved

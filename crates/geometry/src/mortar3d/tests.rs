@@ -194,3 +194,87 @@ fn non_matching_gmsh_tet10_faces_are_covered_whole() {
     let total: f64 = p.measure.values().sum();
     assert!((total - 1.0).abs() < 1e-11, "Σ D_jj = {total}");
 }
+
+/// The parabolic interface z = 0.5 + x²/4 that the quadratic meshes of
+/// tests/data/quadratic_patch/parabolic_*.msh represent exactly: the
+/// pairing of the upper block's bottom (`upper`) on the lower block's top.
+fn parabolic(lower: &str, upper: &str) -> (Mesh, Mesh, MortarPairing) {
+    let root = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../tests/data/quadratic_patch/"
+    );
+    let read = |f: String| {
+        signorini_mesh::gmsh::read_msh(std::path::Path::new(&format!("{root}{f}")), 3).unwrap()
+    };
+    let m = read(format!("parabolic_lower_{lower}.msh"));
+    let s = read(format!("parabolic_upper_{upper}.msh"));
+    let master = MasterGeometry::Surface {
+        mesh: &m,
+        surface: &m.surfaces["top"],
+    };
+    let p = mortar3d_pairing(&s, &s.surfaces["bottom"], &master).unwrap();
+    (m, s, p)
+}
+
+/// A row Σ coefficient · u(node) with the slave nodes moved by `us` and the
+/// master nodes by `um` (functions of the position).
+fn apply(
+    row: &[crate::VectorTerm],
+    (s, m): (&Mesh, &Mesh),
+    us: impl Fn([f64; 3]) -> [f64; 3],
+    um: impl Fn([f64; 3]) -> [f64; 3],
+) -> f64 {
+    row.iter()
+        .map(|t| match t.side {
+            TermSide::Slave => dot(t.coefficient, us(s.coords[t.node])),
+            TermSide::Master => dot(t.coefficient, um(m.coords[t.node])),
+        })
+        .sum()
+}
+
+/// On the curved interface the tangential rows carry the frame inside the
+/// integral, ∫Φ_j t_k(x)·(u_s − u_m) dA / D_jj: a relative motion along the
+/// surface's normal, v(x) = (−x/2, 0, 1) ∥ n(x) (linear, so the quadratic
+/// slave interpolates it exactly), is no slip at all (the rows of the
+/// nodal frame, t_kj·(ũ_j − Σ M_jl/D_jj u_l), measured up to 0.083 of |v|
+/// there); a linear field common to both bodies gives no slip, matching
+/// or not; and the tangents at the node are those of contact.csv's frame.
+#[test]
+fn curved_tangential_rows_see_no_normal_motion_and_no_common_linear_field() {
+    let normal = |x: [f64; 3]| [-0.5 * x[0], 0.0, 1.0];
+    let linear = |x: [f64; 3]| {
+        [
+            0.3 * x[0] - 0.2 * x[1] + 0.1 * x[2] + 0.05,
+            0.1 * x[0] + 0.4 * x[2] - 0.02,
+            -0.25 * x[0] + 0.15 * x[1] - 0.3 * x[2] + 0.01,
+        ]
+    };
+    let zero = |_: [f64; 3]| [0.0; 3];
+    for (lower, upper) in [
+        ("hex20_3", "hex20_3"),
+        ("hex20_3", "hex20_4"),
+        ("tet10_3", "tet10_4"),
+        ("hex20_3", "tet10_4"),
+    ] {
+        let (m, s, p) = parabolic(lower, upper);
+        let mut nodal = 0.0f64;
+        for pt in &p.pairing.points {
+            assert!(!pt.normal_row.is_empty(), "{upper}: a curved node's rows");
+            for (row, t_dir) in pt.tangent_rows.iter().zip([pt.tangent, pt.tangent2]) {
+                assert!(!row.is_empty(), "{upper}: a curved node's tangential rows");
+                let slip = apply(row, (&s, &m), normal, zero);
+                assert!(slip.abs() <= 1e-12, "{upper} on {lower}: slip {slip:e}");
+                let common = apply(row, (&s, &m), linear, linear);
+                assert!(common.abs() <= 1e-11, "{upper} on {lower}: {common:e}");
+                let along: f64 = (pt.terms.iter())
+                    .filter(|t| t.side == TermSide::Slave)
+                    .map(|t| t.weight * dot(t_dir, normal(s.coords[t.node])))
+                    .sum();
+                nodal = nodal.max(along.abs());
+            }
+            let g = apply(&pt.normal_row, (&s, &m), normal, zero);
+            assert!((0.95..=1.2).contains(&g), "{upper} on {lower}: normal {g}");
+        }
+        eprintln!("{upper} on {lower}: nodal-frame slip of a normal motion {nodal:e}");
+    }
+}

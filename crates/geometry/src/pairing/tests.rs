@@ -581,6 +581,7 @@ fn tangent_frames_are_orthonormal_and_right_handed() {
             gap0: 0.0,
             terms: vec![],
             normal_row: vec![],
+            tangent_rows: [vec![], vec![]],
         };
         check_frame(&p);
         // Deterministic: the same normal gives the same frame.

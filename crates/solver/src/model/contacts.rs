@@ -383,6 +383,17 @@ fn normal_row(p: &ContactPoint, sides: &PairSides, dim: usize) -> Row {
     row_of(terms, sides, dim)
 }
 
+/// Tangential row `k` (0: along `tangent`, 1: `tangent2`) of a contact
+/// point: along the tangent, or its own coefficients where the frame turns
+/// along the row (`tangent_rows`, mortar on curved faces).
+fn tangent_row(p: &ContactPoint, sides: &PairSides, dim: usize, k: usize) -> Row {
+    if p.tangent_rows[k].is_empty() {
+        return row_along(p, sides, dim, [p.tangent, p.tangent2][k]);
+    }
+    let terms = (p.tangent_rows[k].iter()).map(|t| (t.side, t.node, t.coefficient));
+    row_of(terms, sides, dim)
+}
+
 /// The row Σ coefficient · u(node) over the terms' DOFs, slave and master.
 fn row_of(
     terms: impl Iterator<Item = (TermSide, usize, [f64; 3])>,
@@ -473,9 +484,8 @@ fn point_model(
     };
     let tributary = tributaries.get(&p.slave_node).copied().unwrap_or(0.0);
     let (friction, slip_stiffness) = point_friction(&c.friction, tributary);
-    let trow = (friction != FrictionLaw::None).then(|| row_along(&p, sides, dim, p.tangent));
-    let trow2 =
-        (friction != FrictionLaw::None && dim == 3).then(|| row_along(&p, sides, dim, p.tangent2));
+    let trow = (friction != FrictionLaw::None).then(|| tangent_row(&p, sides, dim, 0));
+    let trow2 = (friction != FrictionLaw::None && dim == 3).then(|| tangent_row(&p, sides, dim, 1));
     let rows = free_tangential_rows(bodies, &mut p, trow, trow2, friction);
     PairPoint::Unknown(Box::new(PointModel {
         trow: rows.t1,
