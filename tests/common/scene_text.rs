@@ -80,6 +80,27 @@ pub fn rigid_plane<const D: usize>(name: &str, point: [f64; D], normal: [f64; D]
     format!("[[bodies]]\nname = \"{name}\"\nrigid = {{ shape = \"plane\", point = {point:?}, normal = {normal:?} }}\n")
 }
 
+/// A 3D scene's head: the material "m" (E = 1000, ν = 0.3), the Tet10 box
+/// `name` from the origin, of `size`, in `divisions` cells, the rigid floor
+/// z = 0 "floor", and the boundary condition `top` of the box's top face
+/// named `load` (such as `force = [1.0, 0.0, -1.0]`).
+pub fn tet10_box_on_floor(
+    name: &str,
+    size: [f64; 3],
+    divisions: [usize; 3],
+    (load, top): (&str, &str),
+) -> String {
+    let mesh = format!(
+        "{{ generator = \"box\", origin = [0.0, 0.0, 0.0], size = {size:?}, divisions = {divisions:?}, element = \"tet10\" }}"
+    );
+    format!(
+        "{}{}{}[[boundary]]\nname = \"{load}\"\nbody = \"{name}\"\nsurface = \"zmax\"\n{top}\n",
+        material_head(3, "solid", 1000.0, 0.3),
+        elastic_body(name, &mesh),
+        rigid_plane("floor", [0.0, 0.0, 0.0], [0.0, 0.0, 1.0])
+    )
+}
+
 /// An unnamed boundary condition of "block": where (`surface = "top"`,
 /// `point = [0.0, 0.0]`) and what (`displacement = { x = 0.0 }`, ...).
 pub fn block_boundary(place: &str, condition: &str) -> String {

@@ -73,6 +73,21 @@ fn assert_patch_passes(text: &str, what: &str) {
     }
 }
 
+/// Asserts the hydrostatic state of the curved patch tests on both paths:
+/// every displacement the linear field, every pressure p = 1.
+fn assert_hydrostatic_passes(text: &str, what: &str) {
+    for path in [SolvePath::Condensed, SolvePath::Direct] {
+        let o = converged_on(text, path);
+        let err = uniform_state_error(&o, HYDROSTATIC);
+        let (dev, _) = pressure_error(&o, 1.0);
+        assert!(
+            err <= 1e-10,
+            "{what}, {path:?}: displacement off by {err:e}"
+        );
+        assert!(dev <= 1e-10, "{what}, {path:?}: pressure off by {dev:e}");
+    }
+}
+
 /// Mortar on Tri6 and Quad8 faces passes the patch test on matching and
 /// non-matching generated meshes, whichever side is quadratic or linear.
 #[test]
@@ -210,14 +225,8 @@ fn a_curved_interface_carries_the_hydrostatic_state() {
     let (mortar, err) = run(3, "discretization = \"mortar\"");
     assert!(err <= 1e-8, "mortar: {err:e}");
     let scale = HYDROSTATIC[0].abs() * 1.5;
-    for (a, b) in tied.bodies.iter().zip(&mortar.bodies) {
-        let (ua, ub) = (&a.last().displacement, &b.last().displacement);
-        let diff = ua
-            .iter()
-            .zip(ub)
-            .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
-        assert!(diff <= 1e-8 * scale, "mortar against the tie: {diff:e}");
-    }
+    let diff = largest_displacement_gap(&tied, &mortar);
+    assert!(diff <= 1e-8 * scale, "mortar against the tie: {diff:e}");
     let (dev, _) = pressure_error(&mortar, 1.0);
     assert!(dev <= 1e-7, "mortar pressure off by {dev:e}");
     for (outer, interface, measured) in [
@@ -251,15 +260,7 @@ fn node_to_face_passes_the_curved_matching_patch_tests_with_every_normal_rule() 
     let rule = |n: &str| format!("discretization = \"node_to_face\"\nnormal = \"{n}\"");
     for m in ["hex20_3", "tet10_3"] {
         for n in ["master", "slave", "average", "points"] {
-            let text = parabolic(m, m, &rule(n));
-            for path in [SolvePath::Condensed, SolvePath::Direct] {
-                let o = converged_on(&text, path);
-                let err = uniform_state_error(&o, HYDROSTATIC);
-                let (dev, _) = pressure_error(&o, 1.0);
-                let what = format!("{m}, {n}, {path:?}");
-                assert!(err <= 1e-10, "{what}: displacement off by {err:e}");
-                assert!(dev <= 1e-10, "{what}: pressure off by {dev:e}");
-            }
+            assert_hydrostatic_passes(&parabolic(m, m, &rule(n)), &format!("{m}, {n}"));
         }
     }
     let mortar = converged_on(
@@ -275,14 +276,8 @@ fn node_to_face_passes_the_curved_matching_patch_tests_with_every_normal_rule() 
             let (dev, _) = pressure_error(&o, 1.0);
             assert!(err <= 1e-8, "{what}: displacement off by {err:e}");
             assert!(dev <= 1e-7, "{what}: pressure off by {dev:e}");
-            for (a, b) in o.bodies.iter().zip(&mortar.bodies) {
-                let (ua, ub) = (&a.last().displacement, &b.last().displacement);
-                let diff = ua
-                    .iter()
-                    .zip(ub)
-                    .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
-                assert!(diff <= 1e-8 * scale, "{what}, against mortar: {diff:e}");
-            }
+            let diff = largest_displacement_gap(&o, &mortar);
+            assert!(diff <= 1e-8 * scale, "{what}, against mortar: {diff:e}");
         }
     }
 }
@@ -346,14 +341,7 @@ fn mortar_passes_the_patch_test_on_an_exactly_represented_curved_interface() {
         ("tet10_3", "hex20_4"),
     ] {
         let text = parabolic(lower, upper, "discretization = \"mortar\"");
-        for path in [SolvePath::Condensed, SolvePath::Direct] {
-            let o = converged_on(&text, path);
-            let err = uniform_state_error(&o, HYDROSTATIC);
-            let (dev, _) = pressure_error(&o, 1.0);
-            let what = format!("{upper} on {lower}, {path:?}");
-            assert!(err <= 1e-10, "{what}: displacement off by {err:e}");
-            assert!(dev <= 1e-10, "{what}: pressure off by {dev:e}");
-        }
+        assert_hydrostatic_passes(&text, &format!("{upper} on {lower}"));
     }
 }
 
@@ -395,17 +383,23 @@ fn friction_force(o: &RunOutput) -> (f64, bool) {
     (largest / total, stick)
 }
 
+/// The largest difference of two runs' displacements.
+fn largest_displacement_gap(a: &RunOutput, b: &RunOutput) -> f64 {
+    let pairs = a.bodies.iter().zip(&b.bodies);
+    pairs
+        .flat_map(|(ba, bb)| ba.last().displacement.iter().zip(&bb.last().displacement))
+        .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()))
+}
+
 /// The largest difference of two runs' displacements, relative to the
 /// largest displacement.
 fn displacement_difference(a: &RunOutput, b: &RunOutput) -> f64 {
-    let (mut diff, mut scale) = (0.0f64, 0.0f64);
-    for (ba, bb) in a.bodies.iter().zip(&b.bodies) {
-        for (x, y) in ba.last().displacement.iter().zip(&bb.last().displacement) {
-            diff = diff.max((x - y).abs());
-            scale = scale.max(x.abs());
-        }
-    }
-    diff / scale
+    let scale = a
+        .bodies
+        .iter()
+        .flat_map(|b| b.last().displacement.iter())
+        .fold(0.0f64, |m, x| m.max(x.abs()));
+    largest_displacement_gap(a, b) / scale
 }
 
 /// Coulomb friction (μ = 0.3) on mortar's curved quadratic faces, whose

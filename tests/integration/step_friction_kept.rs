@@ -7,37 +7,17 @@
 use crate::common;
 
 use common::bad_scene::run_scene;
+use common::tet10_box_on_floor;
 use common::{converged, forces, with_method};
 use signorini_scene::Method;
 
 /// A Tet10 box pressed on a rigid floor, then dragged by its top; μ 0.5
 /// with slip stiffness 1e4, lowered to 0.1 at step 3 by `step3`.
 fn dragged(step3: &str) -> String {
+    let press = ("press", "displacement = { z = -0.01, y = 0.0 }");
+    let head = tet10_box_on_floor("box", [1.0, 1.0, 0.5], [3, 3, 1], press);
     format!(
-        r#"
-dimension = 3
-model = "solid"
-
-[[materials]]
-name = "m"
-young = 1000.0
-poisson = 0.3
-
-[[bodies]]
-name = "box"
-material = "m"
-mesh = {{ generator = "box", origin = [0.0, 0.0, 0.0], size = [1.0, 1.0, 0.5], divisions = [3, 3, 1], element = "tet10" }}
-
-[[bodies]]
-name = "floor"
-rigid = {{ shape = "plane", point = [0.0, 0.0, 0.0], normal = [0.0, 0.0, 1.0] }}
-
-[[boundary]]
-name = "press"
-body = "box"
-surface = "zmax"
-displacement = {{ z = -0.01, y = 0.0 }}
-
+        r#"{head}
 [[boundary]]
 name = "drag"
 body = "box"

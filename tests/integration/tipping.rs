@@ -9,36 +9,16 @@
 
 use crate::common;
 
+use common::tet10_box_on_floor;
 use common::{converged_on, try_run};
 use signorini_scene::SolvePath;
 use signorini_solver::RunOptions;
 
 fn block(q: f64) -> String {
+    let push = format!("force = [{q}, 0.0, -1.0]");
+    let head = tet10_box_on_floor("block", [0.2, 0.2, 2.0], [2, 2, 10], ("push", &push));
     format!(
-        r#"
-dimension = 3
-model = "solid"
-
-[[materials]]
-name = "m"
-young = 1000.0
-poisson = 0.3
-
-[[bodies]]
-name = "block"
-material = "m"
-mesh = {{ generator = "box", origin = [0.0, 0.0, 0.0], size = [0.2, 0.2, 2.0], divisions = [2, 2, 10], element = "tet10" }}
-
-[[bodies]]
-name = "floor"
-rigid = {{ shape = "plane", point = [0.0, 0.0, 0.0], normal = [0.0, 0.0, 1.0] }}
-
-[[boundary]]
-name = "push"
-body = "block"
-surface = "zmax"
-force = [{q}, 0.0, -1.0]
-
+        r#"{head}
 [[contact]]
 name = "c"
 slave = {{ body = "block", surface = "zmin" }}

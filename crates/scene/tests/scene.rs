@@ -319,13 +319,21 @@ fn material_constants() {
     let (e, m) = invalid_entry(&BASE.replace("young = 1.0", "young = -1.0"));
     assert_eq!(e, "materials[0].young");
     assert_eq!(m, "must be > 0, got -1");
-    let (e, _) = invalid_entry(&BASE.replace("young = 1.0", "young = 0.0"));
-    assert_eq!(e, "materials[0].young");
-    let (e, m) = invalid_entry(&BASE.replace("poisson = 0.3", "poisson = 0.5"));
-    assert_eq!(e, "materials[0].poisson");
-    assert!(m.contains("0.5"), "{m}");
-    let (e, _) = invalid_entry(&BASE.replace("poisson = 0.3", "poisson = -1.0"));
-    assert_eq!(e, "materials[0].poisson");
+    assert_invalid_edits(&[
+        ("young = 1.0", "young = 0.0", "materials[0].young", &[]),
+        (
+            "poisson = 0.3",
+            "poisson = 0.5",
+            "materials[0].poisson",
+            &["0.5"],
+        ),
+        (
+            "poisson = 0.3",
+            "poisson = -1.0",
+            "materials[0].poisson",
+            &[],
+        ),
+    ]);
     let text = with("[[materials]]\nname = \"steel\"\nyoung = 2.0\npoisson = 0.2\n");
     let (e, m) = invalid_entry(&text);
     assert_eq!(e, "materials[1].name");
@@ -365,13 +373,17 @@ fn empty_scene() {
 
 #[test]
 fn dimension_and_model() {
-    let (e, _) = invalid_entry(&BASE.replace("dimension = 2", "dimension = 4"));
-    assert_eq!(e, "dimension");
-    let (e, m) = invalid_entry(&BASE.replace("dimension = 2", "dimension = 2\nmodel = \"solid\""));
-    assert_eq!(e, "model");
-    assert!(m.contains("plane_strain"), "{m}");
-    let (e, _) = invalid_entry(&BASE.replace("dimension = 2", "dimension = 3"));
-    assert_eq!(e, "bodies[0].mesh.generator");
+    let dim = "dimension = 2";
+    assert_invalid_edits(&[
+        (dim, "dimension = 4", "dimension", &[]),
+        (
+            dim,
+            "dimension = 2\nmodel = \"solid\"",
+            "model",
+            &["plane_strain"],
+        ),
+        (dim, "dimension = 3", "bodies[0].mesh.generator", &[]),
+    ]);
     let m = parse_err(&BASE.replace("dimension = 2", "dimension = 2\nmodel = \"plain_strain\""));
     assert!(
         m.contains("plain_strain") && m.contains("plane_strain") && m.contains("line 3"),
@@ -393,15 +405,28 @@ fn generator_checks() {
         (e.as_str(), m.as_str()),
         ("bodies[0].mesh.radius", "must be > 0, got -1")
     );
-    let (e, _) = invalid_entry(&half("radius = 1.0, divisions = 3"));
-    assert_eq!(e, "bodies[0].mesh.divisions");
-    let (e, _) = invalid_entry(&half("radius = 1.0, divisions = 8, grading = 0.5"));
-    assert_eq!(e, "bodies[0].mesh.grading");
-    let (e, _) = invalid_entry(&half("radius = 1.0, divisions = 8, pole = [0, 0]"));
-    assert_eq!(e, "bodies[0].mesh.pole");
-    let (e, m) = invalid_entry(&half("radius = 1.0, divisions = 8, element = \"hex8\""));
-    assert_eq!(e, "bodies[0].mesh.element");
-    assert!(m.contains("quad4 or tri3"), "{m}");
+    assert_invalid_texts(&[
+        (
+            half("radius = 1.0, divisions = 3"),
+            "bodies[0].mesh.divisions",
+            &[],
+        ),
+        (
+            half("radius = 1.0, divisions = 8, grading = 0.5"),
+            "bodies[0].mesh.grading",
+            &[],
+        ),
+        (
+            half("radius = 1.0, divisions = 8, pole = [0, 0]"),
+            "bodies[0].mesh.pole",
+            &[],
+        ),
+        (
+            half("radius = 1.0, divisions = 8, element = \"hex8\""),
+            "bodies[0].mesh.element",
+            &["quad4 or tri3"],
+        ),
+    ]);
 
     let rect = |r: &str| BASE.replace("size = [1.0, 0.5], divisions = [4, 2]", r);
     let (e, _) = invalid_entry(&rect("size = [1.0, 0.0], divisions = [4, 2]"));
@@ -635,14 +660,12 @@ fn law_both_forms_and_bad_law() {
         "{m}"
     );
     assert!(m.contains("line"), "{m}");
-    let m = parse_err(&contact("law = \"penalty\""));
-    assert!(m.contains("penalty = <stiffness>"), "{m}");
-    let m = parse_err(&contact("law = { stiffness = 1e3 }"));
-    assert!(m.contains("stiffness") && m.contains("unilateral"), "{m}");
-    let m = parse_err(&contact("law = { penalty = \"big\" }"));
-    assert!(m.contains("law.penalty"), "{m}");
-    let m = parse_err(&contact("law = 3"));
-    assert!(m.contains("unilateral"), "{m}");
+    assert_contact_parse_errors(&[
+        ("law = \"penalty\"", &["penalty = <stiffness>"]),
+        ("law = { stiffness = 1e3 }", &["stiffness", "unilateral"]),
+        ("law = { penalty = \"big\" }", &["law.penalty"]),
+        ("law = 3", &["unilateral"]),
+    ]);
 }
 
 #[test]
@@ -685,18 +708,17 @@ fn friction_all_forms() {
             rho: 0.2
         }
     );
-    let m = parse_err(&contact("friction = \"coulomb\""));
-    assert!(m.contains("{ coulomb = <value> }"), "{m}");
-    let m = parse_err(&contact("friction = \"sticky\""));
-    assert!(m.contains("sticky") && m.contains("\"none\""), "{m}");
-    let m = parse_err(&contact("friction = { coulomb = 0.3, tresca = 0.1 }"));
-    assert!(m.contains("exactly one"), "{m}");
-    let m = parse_err(&contact("friction = { norton_hoff = 0.3 }"));
-    assert!(m.contains("rho"), "{m}");
-    let m = parse_err(&contact("friction = { coulomb = 0.3, rho = 0.2 }"));
-    assert!(m.contains("rho"), "{m}");
-    let m = parse_err(&contact("friction = { colomb = 0.3 }"));
-    assert!(m.contains("colomb") && m.contains("line"), "{m}");
+    assert_contact_parse_errors(&[
+        ("friction = \"coulomb\"", &["{ coulomb = <value> }"]),
+        ("friction = \"sticky\"", &["sticky", "\"none\""]),
+        (
+            "friction = { coulomb = 0.3, tresca = 0.1 }",
+            &["exactly one"],
+        ),
+        ("friction = { norton_hoff = 0.3 }", &["rho"]),
+        ("friction = { coulomb = 0.3, rho = 0.2 }", &["rho"]),
+        ("friction = { colomb = 0.3 }", &["colomb", "line"]),
+    ]);
 }
 
 #[test]
@@ -758,12 +780,15 @@ fn steps_must_name_boundary_entries() {
 
 #[test]
 fn solver_reference_output_checks() {
-    let (e, _) = invalid_entry(&with("[solver]\ntolerance = 0.0\n"));
-    assert_eq!(e, "solver.tolerance");
-    let (e, _) = invalid_entry(&with("[solver]\ntolerance = 1.5\n"));
-    assert_eq!(e, "solver.tolerance");
-    let (e, _) = invalid_entry(&with("[solver]\nmax_iterations = 0\n"));
-    assert_eq!(e, "solver.max_iterations");
+    assert_invalid_texts(&[
+        (with("[solver]\ntolerance = 0.0\n"), "solver.tolerance", &[]),
+        (with("[solver]\ntolerance = 1.5\n"), "solver.tolerance", &[]),
+        (
+            with("[solver]\nmax_iterations = 0\n"),
+            "solver.max_iterations",
+            &[],
+        ),
+    ]);
     let s = parse_toml(&with(
         "[solver]\nmethod = \"augmented_lagrangian\"\npath = \"direct\"\nfriction = \"status\"\n",
     ))

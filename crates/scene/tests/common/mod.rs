@@ -61,6 +61,18 @@ pub fn parse_err(text: &str) -> String {
     }
 }
 
+/// Each `(lines, needles)` of `cases`: the valid contact with `lines` added
+/// is a parse error whose message names each of `needles`.
+#[track_caller]
+pub fn assert_contact_parse_errors(cases: &[(&str, &[&str])]) {
+    for (lines, needles) in cases {
+        let m = parse_err(&contact(lines));
+        for n in *needles {
+            assert!(m.contains(n), "{lines}: {n:?} not in {m}");
+        }
+    }
+}
+
 /// Each `(from, to, entry, needles)` of `edits`: [`BASE`] with `from`
 /// replaced by `to` (it must be there) is invalid at `entry`, its message
 /// naming each of `needles`.
@@ -68,8 +80,17 @@ pub fn parse_err(text: &str) -> String {
 pub fn assert_invalid_edits(edits: &[(&str, &str, &str, &[&str])]) {
     for (from, to, entry, needles) in edits {
         assert!(BASE.contains(from), "test bug: no {from:?}");
-        let (e, m) = invalid_entry(&BASE.replace(from, to));
-        assert_eq!(e, *entry, "{from:?} -> {to:?}: {m}");
+        assert_invalid_texts(&[(BASE.replace(from, to), entry, needles)]);
+    }
+}
+
+/// Each `(text, entry, needles)` of `cases`: the scene `text` is invalid at
+/// `entry`, its message naming each of `needles`.
+#[track_caller]
+pub fn assert_invalid_texts(cases: &[(String, &str, &[&str])]) {
+    for (text, entry, needles) in cases {
+        let (e, m) = invalid_entry(text);
+        assert_eq!(e, *entry, "{text}: {m}");
         for n in *needles {
             assert!(m.contains(n), "{entry}: {n:?} not in {m}");
         }
