@@ -43,6 +43,7 @@ mod sparse_interface;
 mod stiff;
 mod streamed_steps;
 mod substructuring;
+mod symmetry_planes;
 mod time_limits;
 mod tri3_meshes;
 mod units;

@@ -83,21 +83,6 @@ pub fn build_contacts(
             bodies[b].contact_node[n] = true;
         }
     }
-    if let Ok(path) = std::env::var("SYM36_DUMP") {
-        use std::io::Write;
-        let mut f = std::fs::File::create(path).unwrap();
-        for (pi, p) in set.points.iter().enumerate() {
-            let x = p.point.x;
-            let rows = [Some(&p.row), p.trow.as_ref(), p.trow2.as_ref()];
-            for (k, r) in rows.iter().enumerate() {
-                if let Some(r) = r {
-                    for &(b, d, c) in r.iter() {
-                        writeln!(f, "{pi} {k} {} {} {} {b} {d} {c:e} {}", x[0], x[1], x[2], bodies[b].prescribed[d] as u8).unwrap();
-                    }
-                }
-            }
-        }
-    }
     Ok(set)
 }
 
@@ -524,7 +509,9 @@ fn free_tangential_rows(
             Some(r) if free(&r).is_empty() => {
                 rows(None, None, Some(PrescribedSlip { t1: r, t2: None }))
             }
-            Some(r) if held_at_both_bodies(bodies, slave_body, p, &r, None) == HeldTangents::All => {
+            Some(r)
+                if held_at_both_bodies(bodies, slave_body, p, &r, None) == HeldTangents::All =>
+            {
                 rows(None, None, None)
             }
             keep => rows(keep, None, None),

@@ -105,9 +105,13 @@ pub(super) fn held_at_both_bodies(
     let norm2 = |r: &Row| r.iter().map(|e| e.2 * e.2).sum::<f64>();
     let Some(t2) = t2 else {
         let h = held_master(t1);
-        let held = slave_gram(p.tangent, p.tangent) <= NEGLIGIBLE
-            && dot(&h, &h) > NEGLIGIBLE * norm2(t1);
-        return if held { HeldTangents::All } else { HeldTangents::None };
+        let held =
+            slave_gram(p.tangent, p.tangent) <= NEGLIGIBLE && dot(&h, &h) > NEGLIGIBLE * norm2(t1);
+        return if held {
+            HeldTangents::All
+        } else {
+            HeldTangents::None
+        };
     };
     let tol = NEGLIGIBLE * (norm2(t1) + norm2(t2));
     let (h1, h2) = (held_master(t1), held_master(t2));
