@@ -104,17 +104,8 @@ fn parabolic_hex20_blocks_with_rollers_on_both_bodies_converge_on_both_paths() {
     // Non-matching (3 × 3 under 4 × 4) curved mortar, Coulomb 1, σ_zz = −1
     // on the top: before, both paths stalled (the plane nodes' tangential
     // rows acted on a few shared free master DOFs: rank 29 of 30).
-    let mut text = common::curved_patch::parabolic("hex20_3", "hex20_4", "");
-    for body in ["lower", "upper"] {
-        for (axis, load) in [("x", "[-1.0, 0.0, 0.0]"), ("y", "[0.0, -1.0, 0.0]")] {
-            let side = format!(
-                "[[boundary]]\nbody = \"{body}\"\nsurface = \"{axis}max\"\ntraction = {load}\n"
-            );
-            assert!(text.contains(&side), "{side}");
-            text = text.replace(&side, "");
-        }
-    }
-    text += "discretization = \"mortar\"\nfriction = { coulomb = 1.0 }\n";
+    let interface = "discretization = \"mortar\"\nfriction = { coulomb = 1.0 }";
+    let text = common::curved_patch::rollers_on_both("hex20_3", "hex20_4", interface);
     for o in both_paths(&text, 1e-8) {
         // The supports carry the load: their reactions sum to −(0, 0, −1).
         let (sum, largest) = reactions(&o);
