@@ -76,9 +76,9 @@ fn reactions(o: &RunOutput) -> ([f64; 3], f64) {
     let step = o.report.steps.last().expect("a step");
     let (mut sum, mut largest) = ([0.0; 3], 0.0f64);
     for r in &step.reactions {
-        for k in 0..3 {
-            sum[k] += r.force[k];
-            largest = largest.max(r.force[k].abs());
+        for (s, f) in sum.iter_mut().zip(&r.force) {
+            *s += f;
+            largest = largest.max(f.abs());
         }
     }
     (sum, largest)
