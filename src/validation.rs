@@ -317,7 +317,10 @@ fn validation_markdown(runs: &[ExampleRun]) -> String {
          quantities compared and their measured relative error. The report of \
          `signorini run` holds the same numbers under `reference` (report.json), \
          with notes on what each reference assumes (e.g. a half-space for Hertz). \
-         The largest error of each example is in [examples.md](examples.md).",
+         The largest error of each example is in [examples.md](examples.md). \
+         Scenes a new user writes (Gmsh assemblies, ties, point loads, units, \
+         refusals), run on both paths and under `mpirun`, with their exit codes \
+         and checks, are in [sweep.md](sweep.md) (written by hand, not generated).",
     );
     let checked: Vec<&ExampleRun> = runs.iter().filter(|r| r.kind.is_some()).collect();
     text += "## Benchmarks\n\n";

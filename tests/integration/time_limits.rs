@@ -94,3 +94,35 @@ fn the_scenes_time_limit_stops_every_method_of_the_condensed_path() {
         assert!(failure.contains("time limit"), "{method:?}: {failure}");
     }
 }
+
+/// The direct path's frictionless status solve stops on `solver.time_limit`
+/// too: the Hertz cylinder on the direct path takes more than one status
+/// iteration; with a budget already spent it stops after its first, not
+/// converged, the report naming the time limit, and `signorini run` exits
+/// 2 (not 0, not 1).
+#[test]
+fn the_scenes_time_limit_stops_the_direct_paths_status_solve() {
+    let hertz = common::example("hertz2d.toml").replace(
+        "path = \"condensed\"",
+        "path = \"direct\"\nmax_iterations = 100000",
+    );
+    let free = common::try_run(&hertz, common::with_method(Method::Status)).unwrap();
+    assert!(free.report.converged, "{:?}", free.report.failure);
+    let iterations: usize = free.report.steps.iter().map(|s| s.iterations).sum();
+    assert!(iterations > 1, "{iterations}");
+    let spent = hertz.replace(
+        "max_iterations = 100000",
+        "max_iterations = 100000\ntime_limit = 1e-9",
+    );
+    let out = common::try_run(&spent, common::with_method(Method::Status)).unwrap();
+    assert!(!out.report.converged);
+    assert_eq!(out.report.steps[0].iterations, 1);
+    let failure = out.report.failure.as_deref().unwrap_or("");
+    assert!(failure.contains("time limit"), "{failure}");
+    let dir = fresh_dir("time_limits", "direct_status");
+    let scene = dir.join("hertz_direct.toml");
+    std::fs::write(&scene, &spent).unwrap();
+    let run = common::cli_run(&scene, dir.join("out"));
+    let err = common::stderr_of_exit(&run, 2);
+    assert!(err.contains("time limit"), "{err}");
+}

@@ -153,13 +153,13 @@ pub(crate) fn checked_or_empty(
 pub(crate) enum DualStart {
     /// Nothing to iterate: the empty problem, or λ = 0 already within tolerance.
     Done(Box<ContactSolution>),
-    /// Iterate from λ = 0 with this report; `r0` is the residual of λ = 0.
-    Iterate { report: SolverReport, r0: f64 },
+    /// Iterate from λ = 0.
+    Iterate(DualIteration),
 }
 
 /// The start shared by the dual methods of course notes §3.2: checks the input,
 /// answers the empty problem and a λ = 0 that already satisfies the
-/// tolerance, and otherwise gives the report to iterate with.
+/// tolerance, and otherwise gives the iteration to run.
 pub(crate) fn dual_start(
     w: &Mat<f64>,
     q: &[f64],
@@ -182,13 +182,69 @@ pub(crate) fn dual_start(
             w, q, lambda, report,
         ))));
     }
-    Ok(DualStart::Iterate { report, r0 })
+    Ok(DualStart::Iterate(DualIteration {
+        report,
+        r0,
+        timed_out: false,
+    }))
+}
+
+/// The iterations of a dual method (Uzawa, the augmented Lagrangian) from
+/// λ = 0: their report, the residual `r0` of λ = 0, and whether they
+/// stopped at the time limit.
+pub(crate) struct DualIteration {
+    pub(crate) report: SolverReport,
+    r0: f64,
+    timed_out: bool,
+}
+
+impl DualIteration {
+    /// Starts the next iteration (counted in the report), or false at the
+    /// iteration limit or, after the first iteration, at the time limit.
+    pub(crate) fn next(&mut self, opts: &LcpOptions) -> bool {
+        if self.report.iterations >= opts.max_iterations {
+            return false;
+        }
+        if opts.out_of_time(self.report.iterations) {
+            self.timed_out = true;
+            return false;
+        }
+        self.report.iterations += 1;
+        true
+    }
+
+    /// Records the natural residual after an iteration; true, and the
+    /// report converged, when it meets the tolerance.
+    pub(crate) fn converged_at(&mut self, residual: f64, opts: &LcpOptions) -> bool {
+        self.report.residual_history.push(residual);
+        if residual <= opts.tolerance {
+            self.report.converged = true;
+        }
+        self.report.converged
+    }
+
+    /// Stops at the time limit reached inside an iteration.
+    pub(crate) fn time_limit_reached(&mut self) {
+        self.timed_out = true;
+    }
+
+    /// The answer λ, stopped as [`dual_stop`] says.
+    pub(crate) fn finish(
+        mut self,
+        (w, q): (&Mat<f64>, &[f64]),
+        lambda: Vec<f64>,
+        detail: DualDetail,
+        opts: &LcpOptions,
+    ) -> ContactSolution {
+        self.report.stop = dual_stop(opts, &self.report, self.r0, detail, self.timed_out);
+        ContactSolution::from_forces(w, q, lambda, self.report)
+    }
 }
 
 /// How a dual method (Uzawa, the augmented Lagrangian) stopped: converged at
 /// its last residual, at its time limit (`timed_out`), or at its iteration
 /// limit (the residual reached then, `r0` if it made no iteration).
-pub(crate) fn dual_stop(
+fn dual_stop(
     opts: &LcpOptions,
     report: &SolverReport,
     r0: f64,

@@ -369,6 +369,12 @@ pub enum StopReason {
     /// The wall-clock budget of the solve (`time_limit`) ran out after
     /// `iterations` iterations, at the natural residual `residual`.
     TimeLimit { iterations: usize, residual: f64 },
+    /// A method met its tolerance but its forces leave a rigid motion of a
+    /// body held by contact alone unbalanced: the load along it (with the
+    /// contact forces) is `imbalance` times the magnitude of the forces
+    /// along it. The method converged to a body moved far away, held by
+    /// the regularisation alone: its loads have no static equilibrium.
+    RigidMotionUnbalanced { iterations: usize, imbalance: f64 },
     /// A rigid motion of a floating body (column `mode` of G) is loaded
     /// beyond what friction can hold: the load along it not carried by the
     /// normal forces, `load`, exceeds `capacity`, the most the tangential

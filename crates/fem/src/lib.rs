@@ -40,7 +40,9 @@ pub use bbar::{b_bar_matrix, d_matrix_bbar};
 pub use elasticity::{check_material, Elasticity, Formulation, Model};
 pub use element::{check_formulation, check_mesh, element_stiffness, try_element_stiffness};
 pub use isoparametric::b_matrix;
-pub use loads::{rigid_body_modes, surface_measure, traction_load, tributary_measure};
+pub use loads::{
+    nodal_area_vectors, rigid_body_modes, surface_measure, traction_load, tributary_measure,
+};
 pub use quadrature::{quadrature, QuadPoint};
 pub use stress::{cell_stress, von_mises};
 

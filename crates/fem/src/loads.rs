@@ -91,15 +91,33 @@ fn facet_measures(
                 add(&n, dx.hypot(dy), w);
             }
         }
-        (3, 3) => {
+        (3, 3 | 4 | 6 | 8) => face_points(mesh, facet, |n, a, w| add(n, norm(a), w)),
+        (d, n) => {
+            panic!(
+                "unsupported facet: {n} nodes in a {d}D mesh (2D: 2 or 3 nodes; 3D: 3, 4, 6 or 8)"
+            )
+        }
+    }
+    nn
+}
+
+/// Visits the quadrature points of a 3D face (3, 4, 6 or 8 nodes; the rules
+/// of the module docs) with its shape values there, the area vector
+/// `a = ∂x/∂ξ × ∂x/∂η` (`dS = |a| dξ dη`, `n dS = ±a dξ dη` as the face's
+/// node order turns) and the weight.
+fn face_points(mesh: &Mesh, facet: &Facet, mut visit: impl FnMut(&[f64], [f64; 3], f64)) {
+    let nn = facet.nodes.len();
+    let x = |a: usize| mesh.coords[facet.nodes[a]];
+    match nn {
+        3 => {
             let (p0, p1, p2) = (x(0), x(1), x(2));
-            let density = norm(cross(sub(p1, p0), sub(p2, p0)));
+            let a = cross(sub(p1, p0), sub(p2, p0));
             for q in &TRI_3 {
                 let [s, t, _] = q.xi;
-                add(&[1.0 - s - t, s, t], density, q.w);
+                visit(&[1.0 - s - t, s, t], a, q.w);
             }
         }
-        (3, 4) => {
+        4 => {
             const C: [[f64; 2]; 4] = [[-1.0, -1.0], [1.0, -1.0], [1.0, 1.0], [-1.0, 1.0]];
             for q in &GAUSS_2X2 {
                 let [s, t, _] = q.xi;
@@ -116,10 +134,10 @@ fn facet_measures(
                         dt[k] += db * x(a)[k];
                     }
                 }
-                add(&n, norm(cross(ds, dt)), q.w);
+                visit(&n, cross(ds, dt), q.w);
             }
         }
-        (3, 6) | (3, 8) => {
+        _ => {
             let (kind, rule): (CellKind, &[QuadPoint]) = if nn == 6 {
                 (CellKind::Tri6, &TRI_6)
             } else {
@@ -134,16 +152,51 @@ fn facet_measures(
                         dt[k] += s.dn[a][1] * x(a)[k];
                     }
                 }
-                add(&s.n[..nn], norm(cross(ds, dt)), q.w);
+                visit(&s.n[..nn], cross(ds, dt), q.w);
             }
         }
-        (d, n) => {
-            panic!(
-                "unsupported facet: {n} nodes in a {d}D mesh (2D: 2 or 3 nodes; 3D: 3, 4, 6 or 8)"
-            )
+    }
+}
+
+/// The consistent nodal area vectors `v_a = ∫_surface N_a n dS` of a 3D
+/// surface (`n` its outward unit normal, [`Mesh::facet_normal`]'s side),
+/// sorted by node index, with the rules of the module docs on each face's
+/// own (curved) map: the consistent nodal forces of a unit pressure are
+/// `−v_a`. On a flat face `v_a` is `n ∫ N_a dS` ([`tributary_measure`]).
+///
+/// # Panics
+/// On a mesh that is not 3D or a face that is not a 3-, 4-, 6- or 8-node
+/// face.
+pub fn nodal_area_vectors(mesh: &Mesh, surface: &Surface) -> Vec<(usize, [f64; 3])> {
+    assert_eq!(mesh.dim, 3, "nodal_area_vectors: the mesh must be 3D");
+    let mut acc = std::collections::BTreeMap::<usize, [f64; 3]>::new();
+    for f in &surface.facets {
+        let nn = f.nodes.len();
+        assert!(
+            matches!(nn, 3 | 4 | 6 | 8),
+            "unsupported facet: {nn} nodes in a 3D mesh (3, 4, 6 or 8)"
+        );
+        let mut v = [[0.0; 3]; MAX_FACET_NODES];
+        face_points(mesh, f, |n, a, w| {
+            for (va, na) in v.iter_mut().zip(n) {
+                for k in 0..3 {
+                    va[k] += na * a[k] * w;
+                }
+            }
+        });
+        let (outward, _) = mesh.facet_normal(f);
+        let total: f64 = (0..3)
+            .map(|k| v[..nn].iter().map(|va| va[k]).sum::<f64>() * outward[k])
+            .sum();
+        let sign = if total < 0.0 { -1.0 } else { 1.0 };
+        for (&node, va) in f.nodes.iter().zip(&v[..nn]) {
+            let e = acc.entry(node).or_insert([0.0; 3]);
+            for k in 0..3 {
+                e[k] += sign * va[k];
+            }
         }
     }
-    nn
+    acc.into_iter().collect()
 }
 
 /// Consistent nodal forces `F_a = t ∫_facet N_a dS` of a constant traction

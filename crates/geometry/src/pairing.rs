@@ -27,12 +27,20 @@
 //!   exact closest points on the four (straight) sides; the weights are the
 //!   bilinear shape functions at (ξ, η) (see `closest::quad`).
 //!
+//! - Quadratic 3D faces (Tri6, Quad8): cut through their mid-side nodes into
+//!   flat pieces (`search::quadratic_face_pieces`), the weights those of the
+//!   piece; the normal the piece's own, or, when the caller gives the
+//!   master's nodal normals ([`GivenNormals`]: its consistent ones), those
+//!   interpolated with the piece's weights.
+//!
 //! The closest facet is found with an R*-tree of the facets' bounding boxes
 //! (`search::MasterIndex`), exactly (same answer as a loop over all facets).
 //!
 //! Tangents: in 2D the tangent is the normal turned by −90° and `tangent2` is
 //! zero. In 3D (`tangent`, `tangent2`, `normal`) is a right-handed
 //! orthonormal frame built from n alone, see [`tangent_frame`].
+
+use std::collections::BTreeMap;
 
 use signorini_mesh::vec3::{cross, dot, norm, sub, unit};
 use signorini_mesh::{Mesh, Surface};
@@ -447,11 +455,14 @@ struct MasterPoint {
 enum MasterSide<'a> {
     Plane { point: [f64; 3], normal: [f64; 3] },
     Sphere { center: [f64; 3], radius: f64 },
-    Surface(MasterIndex<'a>),
+    Surface(MasterIndex<'a>, Option<BTreeMap<usize, [f64; 3]>>),
 }
 
 impl<'a> MasterSide<'a> {
-    fn new(master: &MasterGeometry<'a>) -> Result<Self, GeometryError> {
+    fn new(
+        master: &MasterGeometry<'a>,
+        normals: Option<BTreeMap<usize, [f64; 3]>>,
+    ) -> Result<Self, GeometryError> {
         Ok(match master {
             MasterGeometry::Plane { point, normal } => MasterSide::Plane {
                 point: *point,
@@ -466,7 +477,7 @@ impl<'a> MasterSide<'a> {
                 if index.pieces.is_empty() {
                     return Err(GeometryError("the master surface has no facet".into()));
                 }
-                MasterSide::Surface(index)
+                MasterSide::Surface(index, normals)
             }
         })
     }
@@ -505,7 +516,7 @@ impl<'a> MasterSide<'a> {
                 ];
                 (rigid_point(xm, n_m), norm(sub(x, xm)), false)
             }
-            MasterSide::Surface(index) => {
+            MasterSide::Surface(index, normals) => {
                 let hit = index.closest(x).expect("the surface has facets");
                 let c = &hit.closest;
                 let off = if index.is_linear_2d() {
@@ -513,7 +524,7 @@ impl<'a> MasterSide<'a> {
                 } else {
                     hit.off_surface
                 };
-                (surface_point(index, &hit), c.dist, off)
+                (surface_point(index, &hit, normals.as_ref()), c.dist, off)
             }
         })
     }
@@ -547,9 +558,9 @@ impl<'a> MasterSide<'a> {
                 let n_m = unit(sub(xm, c))?;
                 (g.abs() <= reach && dot(n_m, n) > 0.0).then(|| rigid_point(xm, n_m))
             }
-            MasterSide::Surface(index) => {
+            MasterSide::Surface(index, normals) => {
                 let (hit, _) = index.along(x, n, reach)?;
-                Some(surface_point(index, &hit))
+                Some(surface_point(index, &hit, normals.as_ref()))
             }
         }
     }
@@ -564,18 +575,32 @@ fn rigid_point(x: [f64; 3], normal: [f64; 3]) -> MasterPoint {
 }
 
 /// The master point of a hit on a surface: the master's shape functions
-/// there (zero weights left out) and its normal.
-fn surface_point(index: &MasterIndex<'_>, hit: &search::Hit) -> MasterPoint {
+/// there (zero weights left out) and its normal: the piece's own, or the
+/// given nodal `normals` interpolated with those weights and normalised.
+fn surface_point(
+    index: &MasterIndex<'_>,
+    hit: &search::Hit,
+    normals: Option<&BTreeMap<usize, [f64; 3]>>,
+) -> MasterPoint {
     let piece = &index.pieces[hit.piece];
-    let terms = piece.nodes[..piece.len()]
-        .iter()
-        .zip(&hit.closest.weights)
+    let at = || piece.nodes[..piece.len()].iter().zip(&hit.closest.weights);
+    let terms = at()
         .filter(|&(_, &w)| w != 0.0)
         .map(|(&node, &w)| Term::master(node, w))
         .collect();
+    let interpolated = normals.and_then(|normals| {
+        let mut n = [0.0; 3];
+        for (node, &w) in at() {
+            let nn = normals.get(node)?;
+            for k in 0..3 {
+                n[k] += w * nn[k];
+            }
+        }
+        unit(n)
+    });
     MasterPoint {
         x: hit.closest.x,
-        normal: index.normal(hit),
+        normal: interpolated.unwrap_or_else(|| index.normal(hit)),
         terms,
     }
 }
@@ -671,12 +696,39 @@ pub fn node_to_segment_pairing(
     master: &MasterGeometry<'_>,
     rule: NormalRule,
 ) -> Result<Pairing, GeometryError> {
+    let normals = GivenNormals {
+        slave: nodal_normals(slave_mesh, slave_surface),
+        master: None,
+    };
+    node_to_segment_pairing_with(slave_mesh, normals, master, rule)
+}
+
+/// Nodal normals that [`node_to_segment_pairing_with`] takes in place of its
+/// own: a quadratic 3D surface's consistent normals
+/// (`crate::quadratic_slave::consistent_normals`).
+pub struct GivenNormals {
+    /// Every slave node with its outward unit normal (the slave and average
+    /// rules' n_s), in place of [`nodal_normals`].
+    pub slave: Vec<(usize, [f64; 3])>,
+    /// The master surface's outward unit normal at each of its nodes; when
+    /// given, the master's normal at a point is these interpolated with the
+    /// piece's weights there (normalised) instead of the flat piece's own.
+    pub master: Option<BTreeMap<usize, [f64; 3]>>,
+}
+
+/// [`node_to_segment_pairing`] with the given nodal normals.
+pub fn node_to_segment_pairing_with(
+    slave_mesh: &Mesh,
+    normals: GivenNormals,
+    master: &MasterGeometry<'_>,
+    rule: NormalRule,
+) -> Result<Pairing, GeometryError> {
     check_dims(slave_mesh, master)?;
     let three_d = is_3d(slave_mesh);
-    let slave_normals = nodal_normals(slave_mesh, slave_surface);
     let scale = slave_mesh.size();
     let reach = search_distance(slave_mesh, master);
-    let side = MasterSide::new(master)?;
+    let side = MasterSide::new(master, normals.master)?;
+    let slave_normals = normals.slave;
     let mut out = Pairing {
         points: Vec::with_capacity(slave_normals.len()),
         dropped: Dropped::within(reach),

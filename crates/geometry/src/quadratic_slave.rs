@@ -26,8 +26,18 @@
 //! corners' gaps along its own normal (the same normal on a flat master);
 //! non-penetration is asked of the recombined gaps, as mortar asks it of
 //! weighted gaps.
+//!
+//! On a curved face the rows' directions matter: under σ = −p I the
+//! consistent slave forces are `p ∫ N_a n dS` (n varying along the face),
+//! and the row forces above equal them, after the recombination, iff each
+//! row's normal is the direction of `v_a = ∫ Ñ_a n dS` and `λ_a = p |v_a|`.
+//! [`consistent_normals`] gives these normals and measures `|v_a|` (on a flat
+//! face the face's normal and `∫ Ñ_a dS`); on matching meshes each slave node
+//! meets the coincident master node, so the linear field closes every gap
+//! whatever its direction, and the patch test passes on curved faces too.
 
 use crate::pairing::ContactPoint;
+use signorini_mesh::vec3::unit;
 use signorini_mesh::{facet_corners, Surface};
 use std::collections::{BTreeMap, HashMap};
 
@@ -54,21 +64,60 @@ pub fn mid_side_edges(dim: usize, surface: &Surface) -> Vec<(usize, [usize; 2])>
     out.into_iter().collect()
 }
 
-/// The measures `∫ Ñ_a dS` from the consistent ones `∫ N_a dS` (see the
-/// module docs).
-pub fn recombined_measures(
-    consistent: &BTreeMap<usize, f64>,
+/// The recombined integrals `∫ Ñ_a f dS` of a field from the consistent ones
+/// `∫ N_a f dS`: `Ñ_c = N_c + α Σ N_m`, `Ñ_m = (1 − 2α) N_m` (see the module
+/// docs).
+fn recombined<const K: usize>(
+    consistent: &BTreeMap<usize, [f64; K]>,
     edges: &[(usize, [usize; 2])],
-) -> BTreeMap<usize, f64> {
+) -> BTreeMap<usize, [f64; K]> {
     let mut out = consistent.clone();
     for &(m, [c1, c2]) in edges {
-        let t = consistent.get(&m).copied().unwrap_or(0.0);
+        let t = consistent.get(&m).copied().unwrap_or([0.0; K]);
         for c in [c1, c2] {
-            *out.entry(c).or_insert(0.0) += ALPHA * t;
+            let e = out.entry(c).or_insert([0.0; K]);
+            for k in 0..K {
+                e[k] += ALPHA * t[k];
+            }
         }
-        out.insert(m, (1.0 - 2.0 * ALPHA) * t);
+        out.insert(m, t.map(|tk| (1.0 - 2.0 * ALPHA) * tk));
     }
     out
+}
+
+/// The consistent nodal normals of a quadratic slave surface and their
+/// area vectors, from its nodal area vectors `∫ N_a n dS` (n the outward
+/// normal, integrated on the curved faces): the recombined vector
+/// `v_a = ∫ Ñ_a n dS` gives the outward normal `v_a / |v_a|`; a row along
+/// the contact normal `n_c` has the pressure measure `|n_c · v_a|` (`|v_a|`
+/// along the consistent normal). With these, a uniform pressure p has the
+/// row forces `λ_a = p |v_a|` along `n_a` equal to its consistent nodal
+/// forces `p ∫ N_a n dS` after the recombination, on a curved face as on a
+/// flat one (docs/theory/elements.md "Node-to-face on quadratic faces"). On
+/// a flat face `v_a = n ∫ Ñ_a dS`: the face's normal and the measure
+/// `∫ Ñ_a dS`. A node with `v_a = 0` gets the zero normal.
+pub fn consistent_normals(
+    area_vectors: &BTreeMap<usize, [f64; 3]>,
+    edges: &[(usize, [usize; 2])],
+) -> ConsistentNormals {
+    let v = recombined(area_vectors, edges);
+    let normals = v
+        .iter()
+        .map(|(&a, &va)| (a, unit(va).unwrap_or([0.0; 3])))
+        .collect();
+    ConsistentNormals {
+        normals,
+        area_vectors: v,
+    }
+}
+
+/// The consistent nodal normals of a quadratic surface and their measures
+/// (see [`consistent_normals`]), by node.
+pub struct ConsistentNormals {
+    /// Each node with its outward unit normal `v_a / |v_a|`, sorted by node.
+    pub normals: Vec<(usize, [f64; 3])>,
+    /// Each node's recombined area vector `v_a = ∫ Ñ_a n dS`.
+    pub area_vectors: BTreeMap<usize, [f64; 3]>,
 }
 
 /// Rewrites the row of every mid-side point whose two corners have a point
@@ -149,4 +198,44 @@ pub fn displacement_rows(
         out.insert(m, sum.into_iter().collect());
     }
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use signorini_mesh::vec3::norm;
+
+    /// A flat Quad8 face of area A along n (its area vectors n ∫ N_a dS:
+    /// −A/12 at a corner, A/3 at a mid-side) has the consistent normal n at
+    /// every node and the measures A/20 at the corners, A/5 at the
+    /// mid-sides; a node whose recombined vector vanishes gets the zero
+    /// normal.
+    #[test]
+    fn a_flat_face_has_its_normal_and_the_recombined_measures() {
+        let (area, n) = (2.0, [0.6, 0.0, 0.8]);
+        let edges: Vec<(usize, [usize; 2])> = (0..4).map(|k| (4 + k, [k, (k + 1) % 4])).collect();
+        let along = |m: f64| n.map(|nk| nk * m * area);
+        let mut v: BTreeMap<usize, [f64; 3]> = (0..4).map(|c| (c, along(-1.0 / 12.0))).collect();
+        v.extend((4..8).map(|m| (m, along(1.0 / 3.0))));
+        v.insert(8, [0.0; 3]);
+        let ConsistentNormals {
+            normals,
+            area_vectors,
+        } = consistent_normals(&v, &edges);
+        for (a, na) in normals {
+            let want = if a == 8 { [0.0; 3] } else { n };
+            for k in 0..3 {
+                assert!((na[k] - want[k]).abs() <= 1e-15, "node {a}: {na:?}");
+            }
+            let share = match a {
+                0..=3 => 1.0 / 20.0,
+                4..=7 => 1.0 / 5.0,
+                _ => 0.0,
+            };
+            assert!(
+                (norm(area_vectors[&a]) - share * area).abs() <= 1e-15 * area,
+                "node {a}"
+            );
+        }
+    }
 }

@@ -8,7 +8,8 @@ mod body;
 mod contact;
 mod solver;
 pub use body::{
-    Body, Element, Formulation, Generator, Grading, MeshSpec, RigidShape, Sector, Subdomains,
+    Block, Body, Element, Formulation, Generator, Grading, HalfDisk, Hemisphere, MeshSpec,
+    QuarterDisk, RigidShape, Sector, Subdomains,
 };
 pub use contact::{
     Contact, ContactSide, Discretization, Friction, Gap, Law, NormalRule, SlaveChoice,
@@ -109,15 +110,13 @@ impl Scene {
         for b in &mut sc.bodies {
             if let Some(MeshSpec::Generator(g)) = &mut b.mesh {
                 match g {
-                    Generator::Rectangle { divisions, .. } => *divisions = divisions.map(scale),
-                    Generator::Box { divisions, .. } => *divisions = divisions.map(scale),
-                    Generator::HalfDisk { divisions, .. }
-                    | Generator::QuarterDisk { divisions, .. } => {
+                    Generator::Rectangle(b) => b.divisions = b.divisions.map(scale),
+                    Generator::Box(b) => b.divisions = b.divisions.map(scale),
+                    Generator::HalfDisk(HalfDisk { divisions, .. })
+                    | Generator::QuarterDisk(QuarterDisk { divisions, .. }) => {
                         *divisions = (scale(*divisions) / 2 * 2).max(4)
                     }
-                    Generator::Hemisphere { divisions, .. } => {
-                        *divisions = scale(*divisions).max(4)
-                    }
+                    Generator::Hemisphere(h) => h.divisions = scale(h.divisions).max(4),
                 }
             }
         }

@@ -24,14 +24,14 @@ fn hertz_example_of_scene_md_parses() {
     assert_eq!(cyl.subdomains, Subdomains::Count(1));
     assert_eq!(
         cyl.mesh,
-        Some(MeshSpec::Generator(Generator::HalfDisk {
+        Some(MeshSpec::Generator(Generator::HalfDisk(HalfDisk {
             center: [0.0, 1.0],
             radius: 1.0,
             divisions: 32,
             pole: [0.0, -1.0],
             grading: 4.0,
             element: Element::Quad4,
-        }))
+        })))
     );
     let ground = s.body("ground").unwrap();
     assert!(ground.is_rigid());
@@ -178,9 +178,9 @@ fn defaults() {
     assert_eq!(s.step_scales().len(), 1);
     assert_eq!(s.step_scales()[0]["press"], 1.0);
     match &s.bodies[0].mesh {
-        Some(MeshSpec::Generator(Generator::Rectangle {
+        Some(MeshSpec::Generator(Generator::Rectangle(Block {
             element, grading, ..
-        })) => {
+        }))) => {
             assert_eq!(*element, Element::Quad4);
             assert!(grading.is_none());
         }
@@ -209,16 +209,16 @@ mesh = { generator = "box", origin = [0, 0, 0], size = [1, 1, 1], divisions = [2
     assert_eq!(s3.model, Model::Solid);
     assert_eq!(s3.bodies[1].subdomains, Subdomains::Count(4));
     match &s3.bodies[0].mesh {
-        Some(MeshSpec::Generator(Generator::Hemisphere { pole, grading, .. })) => {
+        Some(MeshSpec::Generator(Generator::Hemisphere(Hemisphere { pole, grading, .. }))) => {
             assert_eq!(*pole, [0.0, 0.0, -1.0]);
             assert_eq!(*grading, 1.0);
         }
         other => panic!("{other:?}"),
     }
     match &s3.bodies[1].mesh {
-        Some(MeshSpec::Generator(Generator::Box {
+        Some(MeshSpec::Generator(Generator::Box(Block {
             element, grading, ..
-        })) => {
+        }))) => {
             assert_eq!(*element, Element::Hex8);
             assert_eq!(
                 grading,

@@ -44,7 +44,7 @@ fn divisions_name_the_key_the_value_and_what_is_valid() {
     // a whole number written as a float is one
     let s = parse_toml(&half("1e3")).unwrap();
     match &s.bodies[0].mesh {
-        Some(MeshSpec::Generator(Generator::HalfDisk { divisions, .. })) => {
+        Some(MeshSpec::Generator(Generator::HalfDisk(HalfDisk { divisions, .. }))) => {
             assert_eq!(*divisions, 1000)
         }
         other => panic!("{other:?}"),

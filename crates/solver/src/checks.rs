@@ -79,6 +79,41 @@ pub(crate) fn check_held_by_contacts(
     Ok(())
 }
 
+/// NSGS solves Coulomb's law point by point: on the condensed path,
+/// `solver.friction = "nsgs"` with a Tresca or Norton–Hoff contact, or with
+/// a body held by contact alone (whose equilibrium couples all its points),
+/// is refused (exit 1, nothing written) naming the contact or the body and
+/// what solves it, instead of failing inside the solve.
+pub(crate) fn check_nsgs(
+    sc: &scene::Scene,
+    bodies: &[BodyModel],
+    points: &[PointModel],
+) -> Result<(), SolveError> {
+    let frictional = points.iter().any(|p| p.trow.is_some());
+    if !frictional || sc.solver.friction != scene::FrictionSolver::Nsgs {
+        return Ok(());
+    }
+    let other_law = sc.contact.iter().find(|c| {
+        matches!(
+            c.friction,
+            scene::Friction::Tresca(_) | scene::Friction::NortonHoff { .. }
+        )
+    });
+    if let Some(c) = other_law {
+        return Err(SolveError::Input(format!(
+            "solver.friction = \"nsgs\": contact \"{}\" has Tresca or Norton–Hoff friction, and NSGS solves Coulomb's law only; use friction = \"newton\" or \"fixed_point\" (the default)",
+            c.name
+        )));
+    }
+    match bodies.iter().find(|b| !b.kernel.is_empty()) {
+        Some(b) => Err(SolveError::Input(format!(
+            "solver.friction = \"nsgs\": body \"{}\" is held by its contacts alone, whose equilibrium couples all its contact points, which NSGS solves one by one; use friction = \"newton\" or \"fixed_point\" (the default), path = \"direct\", or a support that holds the body",
+            b.name
+        ))),
+        None => Ok(()),
+    }
+}
+
 /// Gᵀ of a body: the work of each contact force (normal columns 0..m, then
 /// the tangential ones when some point has friction) on each of its free
 /// rigid modes; and the matrix Gᵀ would be if every force pointed along

@@ -7,89 +7,49 @@
 //! before (course notes §4.4), and each step starts from the previous step's
 //! displacements and forces.
 
+use crate::contact_rows::ContactRows;
+use crate::direct_balance::{contact_forces, rigid_motion_imbalance};
 use crate::direct_newton::{solve_whole, WholeLoad, WholeSolution, WholeSystem};
 use crate::direct_system::{
     check_floating, direct_loads, direct_residuals, full_displacements, DirectSystem,
 };
 use crate::error::{contact_error, SolveError};
 use crate::friction_step::{
-    deadline, friction_state, layout_of, prescribed_slip_friction, row_gaps, FrictionHistory,
-    FrictionRows,
+    friction_state, layout_of, prescribed_slip_friction, row_gaps, FrictionHistory, FrictionRows,
 };
 use crate::interface_problem::initial_statuses;
 use crate::kkt::{ldlt_factorisation, KktCounts};
 use crate::model::{gaps_of, BodyModel, FixedPoint, PointModel};
 use crate::progress::Phase;
 use crate::root::{length_scale, step_gaps};
-use crate::run_context::RunContext;
-use crate::step::StepSolution;
+use crate::run_context::{RunContext, RunLog};
+use crate::step::{FrictionStep, StepSolution};
 use crate::step_end::StepLoop;
 use crate::timing::timed;
 use signorini_contact::friction::{statuses, FrictionLaw, FrictionOptions, PointStatus};
 use signorini_contact::law::regularised;
-use signorini_contact::options::default_time_limit;
-use signorini_contact::{ContactSolution, SolverReport};
-use signorini_linalg::sparse::SparseRow;
-use signorini_report::Timings;
+use signorini_contact::{ContactSolution, SolverReport, StopReason};
 use signorini_scene as scene;
 use std::time::Instant;
 
-/// Seconds a friction solve on the direct path may take by default for each
-/// unknown of its whole system (u and λ), beside the dense problem's
-/// [`default_time_limit`] (sized for a factorisation of W, not of the whole
-/// system): each Newton iteration here is one sparse LU of the whole
-/// Jacobian, about 2e-5 s an unknown on the idle 2-core machine of
-/// docs/performance (2.6 s for the 122 000 unknowns of the 100 × 100 pad),
-/// a solve may take a hundred iterations with its retry (the three-body
-/// assembly's first step: 78), and a loaded machine several times longer:
-/// the Cattaneo example's first step (42 281 DOFs) was cut at the dense
-/// default of 10 s while still converging.
-const SECONDS_PER_UNKNOWN: f64 = 2e-2;
-
 /// The contact rows of the direct path with friction on the global free
-/// DOFs: every point's normal row, then the tangential rows t1 (and t2)
-/// of each frictional point; with where each point's tangential rows are.
-pub(crate) struct DirectRows {
-    pub rows: Vec<SparseRow>,
-    pub tangent_row: Vec<Option<usize>>,
-    pub tangent_row2: Vec<Option<usize>>,
-}
-
-/// The rows of [`DirectRows`] (prescribed DOFs left out).
+/// DOFs (prescribed DOFs left out).
 pub(crate) fn direct_rows(
     bodies: &[BodyModel],
     points: &[PointModel],
     system: &DirectSystem,
-) -> DirectRows {
-    let on_free = |row: &[(usize, usize, f64)]| -> SparseRow {
+) -> ContactRows {
+    ContactRows::of(points, |row| {
         row.iter()
             .filter(|&&(b, d, _)| !bodies[b].prescribed[d])
             .map(|&(b, d, c)| (system.offset[b] + bodies[b].free_index[d], c))
             .collect()
-    };
-    let mut rows: Vec<SparseRow> = points.iter().map(|p| on_free(&p.row)).collect();
-    let m = points.len();
-    let (mut tangent_row, mut tangent_row2) = (vec![None; m], vec![None; m]);
-    for (pi, p) in points.iter().enumerate() {
-        if let Some(t) = &p.trow {
-            tangent_row[pi] = Some(rows.len());
-            rows.push(on_free(t));
-        }
-        if let Some(t) = &p.trow2 {
-            tangent_row2[pi] = Some(rows.len());
-            rows.push(on_free(t));
-        }
-    }
-    DirectRows {
-        rows,
-        tangent_row,
-        tangent_row2,
-    }
+    })
 }
 
 /// The elastic slip compliance 1/k_e of a regularised law on each
 /// tangential row (course notes §4.1.3), zero elsewhere.
-fn compliance(points: &[PointModel], rows: &DirectRows) -> Vec<f64> {
+fn compliance(points: &[PointModel], rows: &ContactRows) -> Vec<f64> {
     let tangential = |pi: usize| [rows.tangent_row[pi], rows.tangent_row2[pi]];
     let points = points.iter().enumerate();
     regularised::slip_compliance(
@@ -104,8 +64,7 @@ pub(crate) fn run_direct_friction(
     ctx: &RunContext,
     system: &DirectSystem,
     steps: &mut StepLoop,
-    timings: &mut Timings,
-    messages: &mut Vec<String>,
+    log: &mut RunLog,
 ) -> Result<(), SolveError> {
     let (sc, model) = (ctx.sc, ctx.model);
     let (bodies, points) = (&model.bodies[..], &model.points[..]);
@@ -115,7 +74,7 @@ pub(crate) fn run_direct_friction(
         .ok_or_else(|| SolveError::Internal("friction without a tangential row".into()))?;
     let compliance = compliance(points, &rows);
     ctx.progress.phase(Phase::Contact);
-    let mut whole = timed(&mut timings.contact, || {
+    let mut whole = timed(&mut log.timings.contact, || {
         let floating = bodies.iter().any(|b| !b.kernel.is_empty());
         WholeSystem::new(
             &system.k_global,
@@ -139,10 +98,11 @@ pub(crate) fn run_direct_friction(
     };
     for (si, st) in model.scales.iter().enumerate() {
         ctx.progress.step(si, model.scales.len());
-        let (sol, gaps, res, u_full) =
-            timed(&mut timings.contact, || stepper.step(&mut whole, st, si))?;
-        timed(&mut timings.output, || {
-            steps.end_step(si, &sol, &gaps, &res, u_full, messages)
+        let (sol, gaps, res, u_full) = timed(&mut log.timings.contact, || {
+            stepper.step(&mut whole, st, si)
+        })?;
+        timed(&mut log.timings.output, || {
+            steps.end_step(si, &sol, &gaps, &res, u_full, &mut log.messages)
         })?;
     }
     let (lu, _, ldlt, krylov_steps) = whole.counts();
@@ -165,7 +125,7 @@ struct Stepper<'a> {
     points: &'a [PointModel],
     fixed: &'a [FixedPoint],
     system: &'a DirectSystem,
-    rows: &'a DirectRows,
+    rows: &'a ContactRows,
     fr: &'a FrictionRows,
     history: FrictionHistory,
     start: Option<(Vec<f64>, Vec<f64>)>,
@@ -206,7 +166,7 @@ impl Stepper<'_> {
             tolerance: self.sc.solver.tolerance,
             force_scale: f_scale,
             gap_scale: length,
-            deadline: Some(deadline(Some(self.time_limit(q.len())), q.len())),
+            deadline: Some(system.deadline(self.sc.solver.time_limit, q.len())),
         };
         let start = match self.start.take() {
             Some(start) => start,
@@ -233,6 +193,7 @@ impl Stepper<'_> {
         let mut outcome = out;
         outcome.forces.truncate(m);
         outcome.gaps.truncate(m);
+        self.check_balance(&mut outcome, (&loads.f, f_scale), &friction);
         let res = direct_residuals(
             bodies,
             &system.k_full,
@@ -257,13 +218,35 @@ impl Stepper<'_> {
         Ok((sol, gaps, res, u_full))
     }
 
-    /// The seconds a step's solve may take: `solver.time_limit`, by default
-    /// that of the dense problem of its `rows` rows plus
-    /// [`SECONDS_PER_UNKNOWN`] for each unknown of the whole system.
-    fn time_limit(&self, rows: usize) -> f64 {
-        let unknowns = (self.system.k_global.nrows() + rows) as f64;
-        (self.sc.solver.time_limit)
-            .unwrap_or_else(|| default_time_limit(rows) + SECONDS_PER_UNKNOWN * unknowns)
+    /// Marks a converged `outcome` not converged when its forces leave a
+    /// rigid motion of a body held by contact alone unbalanced
+    /// ([`rigid_motion_imbalance`] above √tolerance: far above the
+    /// rounding and the regularisation of a balanced solve, far below the
+    /// imbalance of a load with no equilibrium, of the order of the load);
+    /// `f` the step's load on the free DOFs, `f_scale` its force scale.
+    fn check_balance(
+        &self,
+        outcome: &mut ContactSolution,
+        (f, f_scale): (&[f64], f64),
+        friction: &FrictionStep,
+    ) {
+        let bodies = self.bodies;
+        if !outcome.report.converged || bodies.iter().all(|b| b.kernel.is_empty()) {
+            return;
+        }
+        let contact = contact_forces(bodies, self.points, &outcome.forces, Some(friction));
+        let offset = &self.system.offset;
+        let f_of: Vec<&[f64]> = (bodies.iter().zip(offset))
+            .map(|(b, &o)| &f[o..o + b.free.len()])
+            .collect();
+        let imbalance = rigid_motion_imbalance(bodies, &f_of, &contact, f_scale);
+        if imbalance > self.sc.solver.tolerance.sqrt() {
+            outcome.report.converged = false;
+            outcome.report.stop = StopReason::RigidMotionUnbalanced {
+                iterations: outcome.report.iterations,
+                imbalance,
+            };
+        }
     }
 
     /// The first step's start: no displacement, no force, but on the points

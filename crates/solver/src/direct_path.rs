@@ -15,12 +15,11 @@ use crate::kkt::{ldlt_factorisation, DirectProblem, KktSystem};
 use crate::model::{gaps_of, BodyModel, FixedPoint, PointModel};
 use crate::progress::Phase;
 use crate::root::{length_scale, status_options, status_report, step_gaps};
-use crate::run_context::RunContext;
+use crate::run_context::{RunContext, RunLog};
 use crate::step::{Residuals, StepSolution};
 use crate::step_end::StepLoop;
 use crate::timing::timed;
 use signorini_contact::status_method;
-use signorini_report::Timings;
 use signorini_scene as scene;
 use std::time::Instant;
 
@@ -31,18 +30,17 @@ use std::time::Instant;
 pub(crate) fn run_direct(
     ctx: RunContext,
     steps: &mut StepLoop,
-    timings: &mut Timings,
-    messages: &mut Vec<String>,
+    log: &mut RunLog,
 ) -> Result<(), SolveError> {
     let (sc, model) = (ctx.sc, ctx.model);
     let (bodies, points) = (&model.bodies[..], &model.points[..]);
     ctx.progress.phase(Phase::Assembling);
-    let system = timed(&mut timings.assemble, || {
+    let system = timed(&mut log.timings.assemble, || {
         assemble_direct(bodies, &model.tied)
     })?;
     if has_friction(points) {
         // friction beside ties is refused by the plan (check_direct_friction)
-        return run_direct_friction(&ctx, &system, steps, timings, messages);
+        return run_direct_friction(&ctx, &system, steps, log);
     }
     let rows: Vec<Vec<(usize, f64)>> = points
         .iter()
@@ -61,7 +59,7 @@ pub(crate) fn run_direct(
         .collect();
     ctx.progress.phase(Phase::Contact);
     let floating = bodies.iter().any(|b| !b.kernel.is_empty());
-    let mut kkt = timed(&mut timings.contact, || {
+    let mut kkt = timed(&mut log.timings.contact, || {
         KktSystem::new(&system.k_global, &rows, floating).map_err(contact_error)
     })?;
     // One more factorisation, of K alone (the KKT's ordering), timed apart,
@@ -72,20 +70,20 @@ pub(crate) fn run_direct(
             &mut kkt,
             (floating, estimate),
             sc.solver.tolerance,
-            messages,
+            &mut log.messages,
         )
     };
     let conditioning = match estimate {
-        true => timed(&mut timings.conditioning, conditioning),
+        true => timed(&mut log.timings.conditioning, conditioning),
         false => conditioning(),
     };
     for (si, st) in model.scales.iter().enumerate() {
         ctx.progress.step(si, model.scales.len());
-        let ((sol, gaps, res), u_full) = timed(&mut timings.contact, || {
+        let ((sol, gaps, res), u_full) = timed(&mut log.timings.contact, || {
             direct_step(sc, bodies, points, &model.fixed, &system, &mut kkt, st, si)
         })?;
-        timed(&mut timings.output, || {
-            steps.end_step(si, &sol, &gaps, &res, u_full, messages)
+        timed(&mut log.timings.output, || {
+            steps.end_step(si, &sol, &gaps, &res, u_full, &mut log.messages)
         })?;
     }
     let partial = &mut steps.partial;
@@ -132,11 +130,9 @@ fn direct_step(
         None => loads.f.clone(),
     };
     let mut problem = DirectProblem::new(kkt, &f, &gap0);
-    let mut outcome = status_method(
-        &mut problem,
-        &status_options(sc, f_scale, length_scale, &gap0),
-    )
-    .map_err(contact_error)?;
+    let mut opts = status_options(sc, f_scale, length_scale, &gap0);
+    opts.deadline = Some(system.deadline(sc.solver.time_limit, points.len()));
+    let mut outcome = status_method(&mut problem, &opts).map_err(contact_error)?;
     // `problem.u` is the displacement of the last solve, the one that
     // gave `outcome.forces` (as the condensed path recovers it).
     let u = match &system.ties {

@@ -6,13 +6,30 @@
 //! direct paths share.
 
 use crate::checks::{check_floating_equilibrium, inf_norm};
+use crate::direct_balance::contact_forces;
 use crate::error::SolveError;
+use crate::friction_step::deadline;
 use crate::model::{BodyModel, PointModel, Ties};
 use crate::root::{body_step, resultant};
 use crate::step::{FrictionStep, Residuals};
 use crate::ties::TieReduction;
 use faer::sparse::SparseColMat;
 use signorini_condense::{spmv, spmv_with_magnitude, submatrix};
+use signorini_contact::options::default_time_limit;
+use std::time::Instant;
+
+/// Seconds a solve on the direct path (the status method without friction,
+/// the semi-smooth Newton method with it) may take by default for each
+/// unknown of its whole system (u and λ), beside the dense problem's
+/// [`default_time_limit`] (sized for a factorisation of W, not of the whole
+/// system): each Newton iteration here is one sparse LU of the whole
+/// Jacobian, about 2e-5 s an unknown on the idle 2-core machine of
+/// docs/performance (2.6 s for the 122 000 unknowns of the 100 × 100 pad),
+/// a solve may take a hundred iterations with its retry (the three-body
+/// assembly's first step: 78), and a loaded machine several times longer:
+/// the Cattaneo example's first step (42 281 DOFs) was cut at the dense
+/// default of 10 s while still converging.
+const SECONDS_PER_UNKNOWN: f64 = 2e-2;
 
 /// The stiffness of the direct path: each body's whole stiffness, and the
 /// global one over the free DOFs of all bodies, body after body.
@@ -27,6 +44,20 @@ pub(crate) struct DirectSystem {
     pub(crate) ties: Option<TieReduction>,
     /// The tied DOFs (for the ties' forces).
     pub(crate) tied: Ties,
+}
+
+impl DirectSystem {
+    /// The time at which a step's contact solve of `rows` contact rows
+    /// stops: `time_limit` (the scene's `solver.time_limit`) seconds from
+    /// now, by default that of the dense problem of `rows` rows
+    /// ([`default_time_limit`]) plus [`SECONDS_PER_UNKNOWN`] for each
+    /// unknown of the whole system.
+    pub(crate) fn deadline(&self, time_limit: Option<f64>, rows: usize) -> Instant {
+        let unknowns = (self.k_global.nrows() + rows) as f64;
+        let seconds =
+            time_limit.unwrap_or_else(|| default_time_limit(rows) + SECONDS_PER_UNKNOWN * unknowns);
+        deadline(Some(seconds), rows)
+    }
 }
 
 /// Assembles every body's stiffness and the global stiffness on the free
@@ -190,20 +221,7 @@ pub(crate) fn direct_residuals(
     lambda: &[f64],
     friction: Option<&FrictionStep>,
 ) -> Residuals {
-    let mut contact_force: Vec<Vec<f64>> = bodies.iter().map(|b| vec![0.0; b.n_dof]).collect();
-    for (pi, (p, &l)) in points.iter().zip(lambda).enumerate() {
-        let (t1, t2) = friction.map_or((0.0, 0.0), |f| (f.tangential[pi], f.tangential2[pi]));
-        let rows = [
-            (Some(&p.row), l),
-            (p.trow.as_ref(), t1),
-            (p.trow2.as_ref(), t2),
-        ];
-        for (row, force) in rows.into_iter().filter_map(|(r, f)| r.map(|r| (r, f))) {
-            for &(b, d, c) in row {
-                contact_force[b][d] += c * force;
-            }
-        }
-    }
+    let contact_force = contact_forces(bodies, points, lambda, friction);
     let mut eq = 0.0f64;
     let mut scale = 0.0f64;
     let mut support = Vec::new();

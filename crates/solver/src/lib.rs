@@ -21,6 +21,8 @@ mod checks;
 mod compare;
 mod conditioning;
 pub mod contact_frames;
+mod contact_rows;
+mod direct_balance;
 mod direct_forcing;
 mod direct_friction;
 mod direct_newton;

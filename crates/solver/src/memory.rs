@@ -289,41 +289,21 @@ fn body_size(body: &scene::Body, dim: usize) -> Option<BodySize> {
         scene::MeshSpec::File { file, .. } => return file_size(file, dim),
     };
     Some(match g {
-        G::Rectangle {
-            divisions, element, ..
-        } => rectangle_size(*divisions, *element),
-        G::HalfDisk {
-            divisions,
-            element,
-            grading,
-            ..
-        } => half_disk_size(*divisions as f64, *grading, *element),
-        G::QuarterDisk {
-            divisions,
-            element,
-            grading,
-            ..
-        } => quarter_disk_size(*divisions as f64, *grading, *element),
-        G::Box {
-            divisions, element, ..
-        } => solid_kind(
-            box_size(divisions.map(|d| d as f64), *element),
-            *element,
+        G::Rectangle(b) => rectangle_size(b.divisions, b.element),
+        G::HalfDisk(d) => half_disk_size(d.divisions as f64, d.grading, d.element),
+        G::QuarterDisk(d) => quarter_disk_size(d.divisions as f64, d.grading, d.element),
+        G::Box(b) => solid_kind(
+            box_size(b.divisions.map(|d| d as f64), b.element),
+            b.element,
             6.0,
         ),
-        G::Hemisphere {
-            divisions,
-            grading,
-            element,
-            sector,
-            ..
-        } => {
-            let whole = hemisphere_size(*divisions as f64, *grading);
-            let size = match sector {
+        G::Hemisphere(h) => {
+            let whole = hemisphere_size(h.divisions as f64, h.grading);
+            let size = match h.sector {
                 scene::Sector::Whole => whole,
                 scene::Sector::Quarter => quarter_of(whole),
             };
-            solid_kind(size, *element, 12.0)
+            solid_kind(size, h.element, 12.0)
         }
     })
 }

@@ -10,7 +10,7 @@ use signorini_mesh::generators::{
     box_mesh, half_disk, hemisphere_of_kind, quarter_disk, rectangle, BoxSide, HalfBall,
     HemisphereSector, RectSide,
 };
-use signorini_mesh::{CellKind, Mesh};
+use signorini_mesh::{CellKind, Mesh, MeshError};
 use signorini_scene as scene;
 
 use crate::error::SolveError;
@@ -184,15 +184,17 @@ fn cell_kind(e: scene::Element) -> CellKind {
     }
 }
 
+/// The mesh of a rectangle or a box generator: `mesher` on the block, with
 /// `grading = { towards, ratio }` as the generator's side (`from_name`) and
 /// ratio, or an error listing the valid `names`.
-fn grading_side<S>(
-    grading: &Option<scene::Grading>,
-    from_name: impl Fn(&str) -> Option<S>,
-    names: &str,
+fn block_mesh<const D: usize, S>(
+    block: &scene::Block<D>,
+    (from_name, names): (impl Fn(&str) -> Option<S>, &str),
     entry: &str,
-) -> Result<Option<(S, f64)>, SolveError> {
-    grading
+    mesher: BlockMesher<D, S>,
+) -> Result<Result<Mesh, MeshError>, SolveError> {
+    let grading = block
+        .grading
         .as_ref()
         .map(|g| {
             from_name(&g.towards)
@@ -204,8 +206,21 @@ fn grading_side<S>(
                     ))
                 })
         })
-        .transpose()
+        .transpose()?;
+    let kind = cell_kind(block.element);
+    Ok(mesher(
+        block.origin,
+        block.size,
+        block.divisions,
+        kind,
+        grading,
+    ))
 }
+
+/// [`rectangle`] or [`box_mesh`]: origin, size, divisions, cell kind and
+/// grading side and ratio.
+type BlockMesher<const D: usize, S> =
+    fn([f64; D], [f64; D], [usize; D], CellKind, Option<(S, f64)>) -> Result<Mesh, MeshError>;
 
 /// The first `dim` coordinates of `x` as `(x, y[, z])` for a message, each
 /// a few characters whatever its size.
@@ -298,67 +313,29 @@ pub fn build_mesh(body: &scene::Body, entry: &str, dim: usize) -> Result<Mesh, S
     };
     use scene::Generator as G;
     let mesh = match spec {
-        scene::MeshSpec::Generator(G::Rectangle {
-            origin,
-            size,
-            divisions,
-            element,
-            grading,
-        }) => {
-            let g = grading_side(
-                grading,
-                RectSide::from_name,
-                "bottom, top, left, right",
-                entry,
-            )?;
-            rectangle(*origin, *size, *divisions, cell_kind(*element), g)
+        scene::MeshSpec::Generator(G::Rectangle(block)) => {
+            let sides = (RectSide::from_name, "bottom, top, left, right");
+            block_mesh(block, sides, entry, rectangle)?
         }
-        scene::MeshSpec::Generator(G::HalfDisk {
-            center,
-            radius,
-            divisions,
-            pole,
-            grading,
-            element,
-        }) => half_disk(
-            &HalfBall::new(*center, *radius, *divisions, *pole, *grading),
-            cell_kind(*element),
-        ),
-        scene::MeshSpec::Generator(G::Box {
-            origin,
-            size,
-            divisions,
-            element,
-            grading,
-        }) => {
-            let g = grading_side(
-                grading,
-                BoxSide::from_name,
-                "xmin, xmax, ymin, ymax, zmin, zmax",
-                entry,
-            )?;
-            box_mesh(*origin, *size, *divisions, cell_kind(*element), g)
+        scene::MeshSpec::Generator(G::HalfDisk(d)) => {
+            let ball = HalfBall::new(d.center, d.radius, d.divisions, d.pole, d.grading);
+            half_disk(&ball, cell_kind(d.element))
         }
-        scene::MeshSpec::Generator(G::Hemisphere {
-            center,
-            radius,
-            divisions,
-            pole,
-            grading,
-            element,
-            sector,
-        }) => hemisphere_of_kind(
-            &HalfBall::new(*center, *radius, *divisions, *pole, *grading),
-            cell_kind(*element),
-            hemisphere_sector(*sector),
+        scene::MeshSpec::Generator(G::Box(block)) => {
+            let sides = (BoxSide::from_name, "xmin, xmax, ymin, ymax, zmin, zmax");
+            block_mesh(block, sides, entry, box_mesh)?
+        }
+        scene::MeshSpec::Generator(G::Hemisphere(h)) => {
+            let ball = HalfBall::new(h.center, h.radius, h.divisions, h.pole, h.grading);
+            hemisphere_of_kind(&ball, cell_kind(h.element), hemisphere_sector(h.sector))
+        }
+        scene::MeshSpec::Generator(G::QuarterDisk(d)) => quarter_disk(
+            d.center,
+            d.radius,
+            d.divisions,
+            d.grading,
+            cell_kind(d.element),
         ),
-        scene::MeshSpec::Generator(G::QuarterDisk {
-            center,
-            radius,
-            divisions,
-            grading,
-            element,
-        }) => quarter_disk(*center, *radius, *divisions, *grading, cell_kind(*element)),
         scene::MeshSpec::File { file, volume } => {
             let key = if volume.is_some() { "volume" } else { "file" };
             return finish(

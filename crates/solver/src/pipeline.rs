@@ -7,7 +7,7 @@
 //! (gather, broadcast, deal).
 
 use crate::certify::{condensed_sizes, condensed_step, finish_report};
-use crate::checks::check_held_by_contacts;
+use crate::checks::{check_held_by_contacts, check_nsgs};
 use crate::direct_path::run_direct;
 use crate::error::{wire, SolveError};
 use crate::interface_problem::RootInput;
@@ -215,6 +215,9 @@ impl Attempt<'_> {
             let model = partition::model_stage(sc, ranks, self.zone, &mut log.messages)?;
             // Every rank built the same model: each refuses it alike.
             check_held_by_contacts(&model.bodies, &model.points)?;
+            if condensed_path {
+                check_nsgs(sc, &model.bodies, &model.points)?;
+            }
             // Again with the contact unknowns the candidate zones kept.
             let fits = comm.is_root().then(|| {
                 memory::check(
@@ -322,7 +325,7 @@ impl Attempt<'_> {
         let mut steps = StepLoop::new(ctx.sc, ctx.model, sink);
         steps.all_pieces = true;
         ctx.progress
-            .observed(|| run_direct(ctx, &mut steps, &mut log.timings, &mut log.messages))?;
+            .observed(|| run_direct(ctx, &mut steps, &mut log))?;
         let partial = steps.partial;
         if let Some(w) = self.check_zone(ctx.model, &partial) {
             return Ok(Outcome::Widen(w));

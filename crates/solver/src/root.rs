@@ -4,6 +4,7 @@
 
 use crate::checks::{check_floating_equilibrium, inf_norm, PENETRATION_WARNING_FRACTION};
 use crate::conditioning;
+use crate::contact_rows::ContactRows;
 use crate::element_step::{element_step, ElementHistory};
 use crate::error::{contact_error, SolveError};
 use crate::friction_step::{deadline, friction_rows, friction_step, FrictionHistory, FrictionRows};
@@ -378,7 +379,11 @@ fn assemble_interface(input: &RootInput, s: InterfaceStiffness) -> Interface {
             col += 1;
         }
     }
-    let (rows, tangent_row, tangent_row2) = rows_on_gamma(input);
+    let ContactRows {
+        rows,
+        tangent_row,
+        tangent_row2,
+    } = rows_on_gamma(input);
     Interface {
         s: Some(s),
         fp_entries,
@@ -419,38 +424,16 @@ pub(crate) fn take_interface_stiffness(
     InterfaceStiffness::Dense(s)
 }
 
-type RowsOnGamma = (
-    Vec<Vec<(usize, f64)>>,
-    Vec<Option<usize>>,
-    Vec<Option<usize>>,
-);
-
-/// The rows of B on Γ (prescribed DOFs left out): one normal row per point,
-/// then the tangential rows t1 (and t2) of each frictional point.
-fn rows_on_gamma(input: &RootInput) -> RowsOnGamma {
+/// The rows of B on Γ (prescribed DOFs left out).
+fn rows_on_gamma(input: &RootInput) -> ContactRows {
     let (bodies, gamma_of) = (input.bodies, input.gamma_of);
-    let to_gamma = |row: &[(usize, usize, f64)]| {
+    ContactRows::of(input.points, |row| {
         let row = input.frames.gamma_row(bodies, gamma_of, row);
         match input.ties {
             Some(t) => t.row(&row),
             None => row,
         }
-    };
-    let mut rows: Vec<Vec<(usize, f64)>> = input.points.iter().map(|p| to_gamma(&p.row)).collect();
-    let m = input.points.len();
-    let mut tangent_row = vec![None; m];
-    let mut tangent_row2 = vec![None; m];
-    for (pi, p) in input.points.iter().enumerate() {
-        if let Some(t) = &p.trow {
-            tangent_row[pi] = Some(rows.len());
-            rows.push(to_gamma(t));
-        }
-        if let Some(t) = &p.trow2 {
-            tangent_row2[pi] = Some(rows.len());
-            rows.push(to_gamma(t));
-        }
-    }
-    (rows, tangent_row, tangent_row2)
+    })
 }
 
 /// The load of step `si` on Γ (Σ s_e F'_e), the prescribed displacements,

@@ -5,6 +5,7 @@
 //! and the inputs a hostile sweep found mishandled (problem files, options).
 
 mod hostile;
+mod nsgs_held_by_contacts;
 mod scene;
 mod sweep;
 

@@ -35,9 +35,7 @@
 use faer::Mat;
 
 use crate::lcp::regularised::regularised_newton;
-use crate::lcp::{
-    dual_start, dual_stop, mean_diag, residual_from_gaps, time_limit_stop, DualStart, LcpOptions,
-};
+use crate::lcp::{dual_start, mean_diag, residual_from_gaps, DualStart, LcpOptions};
 use crate::solution::{ContactSolution, DualDetail, StopReason};
 use crate::ContactError;
 
@@ -58,9 +56,9 @@ pub fn augmented_lagrangian(
     opts: &LcpOptions,
 ) -> Result<ContactSolution, ContactError> {
     let m = q.len();
-    let (mut report, r0) = match dual_start(w, q, opts, "augmented_lagrangian")? {
+    let mut run = match dual_start(w, q, opts, "augmented_lagrangian")? {
         DualStart::Done(solution) => return Ok(*solution),
-        DualStart::Iterate { report, r0 } => (report, r0),
+        DualStart::Iterate(run) => run,
     };
     let mut lambda = vec![0.0; m];
     let s = opts.stiffness.unwrap_or(DEFAULT_AUGMENTATION);
@@ -80,13 +78,7 @@ pub fn augmented_lagrangian(
     let mut active: Vec<bool> = q.iter().map(|&v| v < 0.0).collect();
     let mut newton_steps = 0usize;
     let mut cycles = 0usize;
-    let mut timed_out = false;
-    while report.iterations < opts.max_iterations {
-        if opts.out_of_time(report.iterations) {
-            timed_out = true;
-            break;
-        }
-        report.iterations += 1;
+    while run.next(opts) {
         // Inner problem: LCP(W + I/r, q − λ_k/r).
         let q_inner: Vec<f64> = (0..m).map(|p| q[p] - lambda[p] / r).collect();
         let inner = regularised_newton(
@@ -99,36 +91,34 @@ pub fn augmented_lagrangian(
             &mut |_, _| {},
         )?;
         newton_steps += inner.iterations;
-        report.operator_applications += inner.operator_applications;
+        run.report.operator_applications += inner.operator_applications;
         if inner.cycle_at.is_some() {
             cycles += 1;
         }
         if matches!(inner.stop, StopReason::TimeLimit { .. }) {
             // The inner solve ran out of time: the last outer iterate.
-            report.stop = time_limit_stop(&report, r0);
-            return Ok(ContactSolution::from_forces(w, q, lambda, report));
+            run.time_limit_reached();
+            break;
         }
         if !inner.converged {
-            report.stop = StopReason::InnerFailed {
-                outer: report.iterations,
+            run.report.stop = StopReason::InnerFailed {
+                outer: run.report.iterations,
                 inner: Box::new(inner.stop),
             };
-            return Ok(ContactSolution::from_forces(w, q, lambda, report));
+            return Ok(ContactSolution::from_forces(w, q, lambda, run.report));
         }
         // True gaps g = Wλ + q = (Wλ + q̃) + λ_k/r, no extra product.
         let g: Vec<f64> = (0..m).map(|p| inner.g[p] + lambda[p] / r).collect();
         lambda = inner.lambda;
         active = inner.active;
         let res = residual_from_gaps(&lambda, &g, opts);
-        report.residual_history.push(res);
         if !res.is_finite() {
             return Err(ContactError::Solve(format!(
                 "augmented Lagrangian: non-finite residual at outer iteration {}",
-                report.iterations
+                run.report.iterations
             )));
         }
-        if res <= opts.tolerance {
-            report.converged = true;
+        if run.converged_at(res, opts) {
             break;
         }
     }
@@ -137,8 +127,7 @@ pub fn augmented_lagrangian(
         factor: s,
         cycles,
     };
-    report.stop = dual_stop(opts, &report, r0, detail, timed_out);
-    Ok(ContactSolution::from_forces(w, q, lambda, report))
+    Ok(run.finish((w, q), lambda, detail, opts))
 }
 
 #[cfg(test)]

@@ -32,8 +32,8 @@
 use faer::Mat;
 
 use crate::lcp::{
-    dual_start, dual_stop, energy_of, gaps, mean_diag, power_iteration, residual_from_gaps,
-    DualStart, LcpOptions,
+    dual_start, energy_of, gaps, mean_diag, power_iteration, residual_from_gaps, DualStart,
+    LcpOptions,
 };
 use crate::solution::{ContactSolution, DualDetail, UzawaStep};
 use crate::ContactError;
@@ -46,9 +46,9 @@ use crate::ContactError;
 /// the natural residual ([`crate::lcp_residual`]) after each step.
 pub fn uzawa(w: &Mat<f64>, q: &[f64], opts: &LcpOptions) -> Result<ContactSolution, ContactError> {
     let m = q.len();
-    let (mut report, r0) = match dual_start(w, q, opts, "uzawa")? {
+    let mut run = match dual_start(w, q, opts, "uzawa")? {
         DualStart::Done(solution) => return Ok(*solution),
-        DualStart::Iterate { report, r0 } => (report, r0),
+        DualStart::Iterate(run) => run,
     };
     let mut lambda = vec![0.0; m];
     let mut g = q.to_vec();
@@ -62,7 +62,7 @@ pub fn uzawa(w: &Mat<f64>, q: &[f64], opts: &LcpOptions) -> Result<ContactSoluti
         }
         _ => {
             let (lmax, products) = power_iteration(w, 200, 1e-8);
-            report.operator_applications += products;
+            run.report.operator_applications += products;
             if lmax > 0.0 {
                 (1.9 / lmax, UzawaStep::PowerIteration { norm: lmax })
             } else {
@@ -73,22 +73,16 @@ pub fn uzawa(w: &Mat<f64>, q: &[f64], opts: &LcpOptions) -> Result<ContactSoluti
     let mut energy = 0.0; // J(0)
     let mut halvings = 0usize;
     let mut next = vec![0.0; m];
-    let mut timed_out = false;
-    while report.iterations < opts.max_iterations {
-        if opts.out_of_time(report.iterations) {
-            timed_out = true;
-            break;
-        }
-        report.iterations += 1;
+    while run.next(opts) {
         for p in 0..m {
             next[p] = (lambda[p] - rho * g[p]).max(0.0);
         }
         let g_next = gaps(w, q, &next);
-        report.operator_applications += 1;
+        run.report.operator_applications += 1;
         if next.iter().chain(&g_next).any(|v| !v.is_finite()) {
             return Err(ContactError::Solve(format!(
                 "Uzawa: non-finite iterate at step {} (ρ = {rho:.3e})",
-                report.iterations
+                run.report.iterations
             )));
         }
         let e_next = energy_of(&next, &g_next, q);
@@ -96,7 +90,7 @@ pub fn uzawa(w: &Mat<f64>, q: &[f64], opts: &LcpOptions) -> Result<ContactSoluti
             // J increased: ρ ≥ 2/λ_max(W). Halve and redo the step.
             rho *= 0.5;
             halvings += 1;
-            report
+            run.report
                 .residual_history
                 .push(residual_from_gaps(&lambda, &g, opts));
             continue;
@@ -104,10 +98,7 @@ pub fn uzawa(w: &Mat<f64>, q: &[f64], opts: &LcpOptions) -> Result<ContactSoluti
         std::mem::swap(&mut lambda, &mut next);
         g = g_next;
         energy = e_next;
-        let r = residual_from_gaps(&lambda, &g, opts);
-        report.residual_history.push(r);
-        if r <= opts.tolerance {
-            report.converged = true;
+        if run.converged_at(residual_from_gaps(&lambda, &g, opts), opts) {
             break;
         }
     }
@@ -115,8 +106,7 @@ pub fn uzawa(w: &Mat<f64>, q: &[f64], opts: &LcpOptions) -> Result<ContactSoluti
         step: rho_origin,
         halvings,
     };
-    report.stop = dual_stop(opts, &report, r0, detail, timed_out);
-    Ok(ContactSolution::from_forces(w, q, lambda, report))
+    Ok(run.finish((w, q), lambda, detail, opts))
 }
 
 #[cfg(test)]

@@ -228,6 +228,13 @@ impl fmt::Display for StopReason {
                 f,
                 "time limit reached after {iterations} iterations at the natural residual {residual:.2e} (a larger time_limit, --time-limit, or another method)"
             ),
+            RigidMotionUnbalanced {
+                iterations,
+                imbalance,
+            } => write!(
+                f,
+                "after {iterations} iterations the forces leave a rigid motion of a body held by its contacts alone unbalanced ({imbalance:.1e} of the forces along it): its loads have no static equilibrium on its contacts (it tips or slides away); impose that motion (a displacement) instead of a force, or add a support"
+            ),
             NonFinite { iteration } => write!(
                 f,
                 "the iterate became non-finite (NaN) at iteration {iteration}: the method's linear solves broke down (W singular or badly conditioned); try another method"

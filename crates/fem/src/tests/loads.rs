@@ -252,3 +252,50 @@ fn quadratic_faces_have_their_consistent_measures() {
         }
     }
 }
+
+/// The nodal area vectors ∫ N_a n dS: on the flat faces of a box, of every
+/// 3D kind, the outward normal times the consistent measure ∫ N_a dS; on the
+/// top of a Hex20 / Tet10 box bent into the parabolic cylinder
+/// z = 1 + x²/4 (which its quadratic faces represent exactly) they sum to
+/// ∫ n dS = (−(z(2) − z(0)), 0, 2) = (−1, 0, 2) over [0, 2] × [0, 1].
+#[test]
+fn nodal_area_vectors_are_the_consistent_measures_along_the_normal() {
+    use signorini_mesh::generators::box_mesh;
+    use signorini_mesh::vec3::norm;
+    for kind in [
+        CellKind::Tet4,
+        CellKind::Hex8,
+        CellKind::Tet10,
+        CellKind::Hex20,
+    ] {
+        let mut m = box_mesh([0.0; 3], [2.0, 1.0, 1.0], [2, 1, 1], kind, None).unwrap();
+        for (name, s) in &m.surfaces {
+            let n = m.facet_normal(&s.facets[0]).0;
+            let trib = tributary_measure(&m, s, Model::Solid);
+            let v = nodal_area_vectors(&m, s);
+            assert_eq!(trib.iter().map(|x| x.0).collect::<Vec<_>>(), s.nodes());
+            for ((a, w), (b, va)) in trib.iter().zip(&v) {
+                assert_eq!(a, b);
+                for k in 0..3 {
+                    assert!((va[k] - n[k] * w).abs() <= 1e-14 * 2.0, "{kind:?} {name}");
+                }
+            }
+        }
+        if !matches!(kind, CellKind::Tet10 | CellKind::Hex20) {
+            continue;
+        }
+        for x in &mut m.coords {
+            x[2] += x[2] * x[0] * x[0] / 4.0;
+        }
+        let v = nodal_area_vectors(&m, m.surface("zmax").unwrap());
+        let mut total = [0.0; 3];
+        for (_, va) in &v {
+            for k in 0..3 {
+                total[k] += va[k];
+            }
+        }
+        let want = [-1.0, 0.0, 2.0];
+        let err = norm([total[0] - want[0], total[1] - want[1], total[2] - want[2]]);
+        assert!(err <= 1e-14 * 2.0, "{kind:?}: ∫ n dS = {total:?}");
+    }
+}

@@ -109,109 +109,129 @@ pub enum MeshSpec {
 #[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
 #[serde(tag = "generator", rename_all = "snake_case", deny_unknown_fields)]
 pub enum Generator {
-    /// 2D. Surfaces: left, right, bottom, top.
-    Rectangle {
-        /// Lower-left corner [x, y].
-        origin: [f64; 2],
-        /// [width, height] > 0.
-        size: [f64; 2],
-        /// [nx, ny] ≥ 1.
-        divisions: [usize; 2],
-        /// `quad4` (default) or `tri3`.
-        #[serde(default = "Element::quad4")]
-        element: Element,
-        /// Grading towards `bottom` | `top` | `left` | `right`.
-        #[serde(default, skip_serializing_if = "Option::is_none")]
-        grading: Option<Grading>,
-    },
+    /// 2D. Surfaces: left, right, bottom, top. Default element `quad4`;
+    /// grading towards `bottom` | `top` | `left` | `right`.
+    Rectangle(Block<2>),
     /// 2D. Surfaces: flat, arc.
-    HalfDisk {
-        /// Centre of the circle, on the flat side.
-        center: [f64; 2],
-        radius: f64,
-        /// Elements along the arc (≥ 4).
-        divisions: usize,
-        /// Unit vector from the centre to the middle of the arc (default [0, -1]).
-        #[serde(default = "default_pole2")]
-        pole: [f64; 2],
-        /// Smallest elements at the pole (default 1 = uniform).
-        #[serde(default = "one")]
-        grading: f64,
-        /// `quad4` (default) or `tri3`.
-        #[serde(default = "Element::quad4")]
-        element: Element,
-    },
-    /// 3D. Surfaces: xmin, xmax, ymin, ymax, zmin, zmax.
-    Box {
-        origin: [f64; 3],
-        size: [f64; 3],
-        divisions: [usize; 3],
-        /// `hex8` (default) or `tet4`.
-        #[serde(default = "Element::hex8")]
-        element: Element,
-        /// Grading towards `xmin` .. `zmax`.
-        #[serde(default, skip_serializing_if = "Option::is_none")]
-        grading: Option<Grading>,
-    },
+    HalfDisk(HalfDisk),
+    /// 3D. Surfaces: xmin, xmax, ymin, ymax, zmin, zmax. Default element
+    /// `hex8`; grading towards `xmin` .. `zmax`.
+    Box(Block<3>),
     /// 3D. Surfaces: flat, dome.
-    Hemisphere {
-        center: [f64; 3],
-        radius: f64,
-        divisions: usize,
-        /// Default [0, 0, -1].
-        #[serde(default = "default_pole3")]
-        pole: [f64; 3],
-        #[serde(default = "one")]
-        grading: f64,
-        /// `hex8` (default) | `tet4` | `hex20` | `tet10`.
-        #[serde(default = "Element::hex8")]
-        element: Element,
-        /// `whole` (default) or `quarter`: the cells on one side of the two
-        /// planes through the pole and the local axes, with their surfaces
-        /// symmetry_1 and symmetry_2 (for symmetric loads).
-        #[serde(default, skip_serializing_if = "Sector::is_whole")]
-        sector: Sector,
-    },
+    Hemisphere(Hemisphere),
     /// Axisymmetric only. Surfaces: axis, flat, arc. Grading towards the pole on the
     /// axis.
-    QuarterDisk {
-        center: [f64; 2],
-        radius: f64,
-        divisions: usize,
-        #[serde(default = "one")]
-        grading: f64,
-        #[serde(default = "Element::quad4")]
-        element: Element,
-    },
+    QuarterDisk(QuarterDisk),
+}
+
+/// The entries of the rectangle (`D` = 2) and box (`D` = 3) generators: an
+/// axis-aligned block of `divisions` cells a side.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[serde(
+    deny_unknown_fields,
+    bound(
+        serialize = "[f64; D]: Serialize, [usize; D]: Serialize",
+        deserialize = "[f64; D]: Deserialize<'de>, [usize; D]: Deserialize<'de>"
+    )
+)]
+pub struct Block<const D: usize> {
+    /// The corner of least coordinates ([x, y] lower left of a rectangle).
+    pub origin: [f64; D],
+    /// The side lengths, > 0 ([width, height] of a rectangle).
+    pub size: [f64; D],
+    /// The cells along each side, ≥ 1.
+    pub divisions: [usize; D],
+    /// `quad4` (default in 2D), `hex8` (default in 3D), or another element
+    /// of the dimension.
+    #[serde(default = "Element::block_default::<D>")]
+    pub element: Element,
+    /// Grading towards one of the block's surfaces.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub grading: Option<Grading>,
+}
+
+/// The entries of the half-disk generator.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct HalfDisk {
+    /// Centre of the circle, on the flat side.
+    pub center: [f64; 2],
+    pub radius: f64,
+    /// Elements along the arc (≥ 4).
+    pub divisions: usize,
+    /// Unit vector from the centre to the middle of the arc (default [0, -1]).
+    #[serde(default = "default_pole2")]
+    pub pole: [f64; 2],
+    /// Smallest elements at the pole (default 1 = uniform).
+    #[serde(default = "one")]
+    pub grading: f64,
+    /// `quad4` (default) or `tri3`.
+    #[serde(default = "Element::quad4")]
+    pub element: Element,
+}
+
+/// The entries of the hemisphere generator.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct Hemisphere {
+    pub center: [f64; 3],
+    pub radius: f64,
+    pub divisions: usize,
+    /// Default [0, 0, -1].
+    #[serde(default = "default_pole3")]
+    pub pole: [f64; 3],
+    #[serde(default = "one")]
+    pub grading: f64,
+    /// `hex8` (default) | `tet4` | `hex20` | `tet10`.
+    #[serde(default = "Element::hex8")]
+    pub element: Element,
+    /// `whole` (default) or `quarter`: the cells on one side of the two
+    /// planes through the pole and the local axes, with their surfaces
+    /// symmetry_1 and symmetry_2 (for symmetric loads).
+    #[serde(default, skip_serializing_if = "Sector::is_whole")]
+    pub sector: Sector,
+}
+
+/// The entries of the quarter-disk generator.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct QuarterDisk {
+    pub center: [f64; 2],
+    pub radius: f64,
+    pub divisions: usize,
+    #[serde(default = "one")]
+    pub grading: f64,
+    #[serde(default = "Element::quad4")]
+    pub element: Element,
 }
 
 impl Generator {
     /// The scene-file spelling of the generator.
     pub fn name(&self) -> &'static str {
         match self {
-            Generator::Rectangle { .. } => "rectangle",
-            Generator::HalfDisk { .. } => "half_disk",
-            Generator::Box { .. } => "box",
-            Generator::Hemisphere { .. } => "hemisphere",
-            Generator::QuarterDisk { .. } => "quarter_disk",
+            Generator::Rectangle(_) => "rectangle",
+            Generator::HalfDisk(_) => "half_disk",
+            Generator::Box(_) => "box",
+            Generator::Hemisphere(_) => "hemisphere",
+            Generator::QuarterDisk(_) => "quarter_disk",
         }
     }
 
     /// The element type of the generated cells.
     pub fn element(&self) -> Element {
         match self {
-            Generator::Rectangle { element, .. }
-            | Generator::HalfDisk { element, .. }
-            | Generator::Box { element, .. }
-            | Generator::QuarterDisk { element, .. }
-            | Generator::Hemisphere { element, .. } => *element,
+            Generator::Rectangle(b) => b.element,
+            Generator::HalfDisk(d) => d.element,
+            Generator::Box(b) => b.element,
+            Generator::QuarterDisk(d) => d.element,
+            Generator::Hemisphere(h) => h.element,
         }
     }
 
     /// The space dimension of the generated mesh.
     pub fn dimension(&self) -> usize {
         match self {
-            Generator::Box { .. } | Generator::Hemisphere { .. } => 3,
+            Generator::Box(_) | Generator::Hemisphere(_) => 3,
             _ => 2,
         }
     }
@@ -219,15 +239,14 @@ impl Generator {
     /// The names of the surfaces this generator creates.
     pub fn surfaces(&self) -> &'static [&'static str] {
         match self {
-            Generator::Rectangle { .. } => &["left", "right", "bottom", "top"],
-            Generator::HalfDisk { .. } => &["flat", "arc"],
-            Generator::Box { .. } => &["xmin", "xmax", "ymin", "ymax", "zmin", "zmax"],
-            Generator::Hemisphere {
-                sector: Sector::Quarter,
-                ..
-            } => &["flat", "dome", "symmetry_1", "symmetry_2"],
-            Generator::Hemisphere { .. } => &["flat", "dome"],
-            Generator::QuarterDisk { .. } => &["axis", "flat", "arc"],
+            Generator::Rectangle(_) => &["left", "right", "bottom", "top"],
+            Generator::HalfDisk(_) => &["flat", "arc"],
+            Generator::Box(_) => &["xmin", "xmax", "ymin", "ymax", "zmin", "zmax"],
+            Generator::Hemisphere(h) if h.sector == Sector::Quarter => {
+                &["flat", "dome", "symmetry_1", "symmetry_2"]
+            }
+            Generator::Hemisphere(_) => &["flat", "dome"],
+            Generator::QuarterDisk(_) => &["axis", "flat", "arc"],
         }
     }
 }
@@ -264,6 +283,14 @@ impl Element {
     }
     fn hex8() -> Self {
         Element::Hex8
+    }
+    /// The default element of a [`Block`] of dimension `D`.
+    fn block_default<const D: usize>() -> Self {
+        if D == 3 {
+            Element::Hex8
+        } else {
+            Element::Quad4
+        }
     }
 
     /// The scene-file spelling.

@@ -66,8 +66,8 @@ pub(super) fn validate_tie(scene: &Scene, e: &str, c: &Contact) -> Result {
 
 /// `steps[i].friction`: each names a contact with friction, and gives a law
 /// of the same kind (Tresca for Tresca; isotropic Coulomb with one coefficient,
-/// the same slip stiffness and roughness; one coefficient: an elliptic cone
-/// keeps its own), valid like the contact's own.
+/// its slip stiffness and roughness left out (kept) or the contact's own; one
+/// coefficient: an elliptic cone keeps its own), valid like the contact's own.
 pub(super) fn validate_step_friction(scene: &Scene) -> Result {
     let dim = scene.dimension as usize;
     let names: Vec<&str> = scene.contact.iter().map(|c| c.name.as_str()).collect();
@@ -86,13 +86,19 @@ pub(super) fn validate_step_friction(scene: &Scene) -> Result {
             if !same_kind(&c.friction, f) {
                 return Err(invalid(
                     e,
-                    "a step changes the coefficient of the contact's friction law, not its kind: give { tresca = <threshold> } for a Tresca contact, { coulomb = <mu> } (one coefficient, the same slip_stiffness and roughness) for an isotropic Coulomb one; a contact without friction has none to change",
+                    "a step changes the coefficient of the contact's friction law, not its kind: give { tresca = <threshold> } for a Tresca contact, { coulomb = <mu> } for an isotropic Coulomb one (one coefficient; slip_stiffness and roughness left out, kept from the contact, or equal to the contact's); a contact without friction has none to change",
                 ));
             }
             validate_friction(&e, f, dim)?;
         }
     }
     Ok(())
+}
+
+/// Whether a step's `step` value of a key leaves the contact's `own`
+/// unchanged: left out (kept) or given the same.
+fn kept(own: &Option<f64>, step: &Option<f64>) -> bool {
+    step.is_none() || step == own
 }
 
 /// Whether `step` changes the coefficient of `own` alone.
@@ -110,7 +116,7 @@ fn same_kind(own: &Friction, step: &Friction) -> bool {
                 slip_stiffness: kb,
                 roughness: qb,
             },
-        ) => a.len() == 1 && b.len() == 1 && ka == kb && qa == qb,
+        ) => a.len() == 1 && b.len() == 1 && kept(ka, kb) && kept(qa, qb),
         _ => false,
     }
 }

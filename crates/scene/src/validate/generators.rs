@@ -19,55 +19,25 @@ impl GeneratorCheck<'_> {
     pub(super) fn check(&self, model: Model) -> Result {
         let e = self.e;
         match self.g {
-            Generator::Rectangle {
-                origin,
-                size,
-                divisions,
-                element,
-                grading,
-            } => {
-                self.block(origin, size, divisions, *element, &PLANE_ELEMENTS)?;
-                self.grading(grading, &["bottom", "top", "left", "right"])
+            Generator::Rectangle(b) => {
+                self.block(b, &PLANE_ELEMENTS)?;
+                self.grading(&b.grading, &["bottom", "top", "left", "right"])
             }
-            Generator::Box {
-                origin,
-                size,
-                divisions,
-                element,
-                grading,
-            } => {
-                self.block(origin, size, divisions, *element, &SOLID_ELEMENTS)?;
-                self.grading(grading, &["xmin", "xmax", "ymin", "ymax", "zmin", "zmax"])
+            Generator::Box(b) => {
+                self.block(b, &SOLID_ELEMENTS)?;
+                self.grading(
+                    &b.grading,
+                    &["xmin", "xmax", "ymin", "ymax", "zmin", "zmax"],
+                )
             }
-            Generator::HalfDisk {
-                center,
-                radius,
-                divisions,
-                pole,
-                grading,
-                element,
-            } => self.half_disk(center, *radius, *divisions, pole, *grading, *element),
-            Generator::Hemisphere {
-                center,
-                radius,
-                divisions,
-                pole,
-                grading,
-                element,
-                ..
-            } => {
-                self.element(*element, &SOLID_ELEMENTS)?;
-                self.disk(center, *radius, *divisions)?;
-                non_zero(&format!("{e}.pole"), pole)?;
-                grading_ratio(&format!("{e}.grading"), *grading)
+            Generator::HalfDisk(d) => self.half_disk(d),
+            Generator::Hemisphere(h) => {
+                self.element(h.element, &SOLID_ELEMENTS)?;
+                self.disk(&h.center, h.radius, h.divisions)?;
+                non_zero(&format!("{e}.pole"), &h.pole)?;
+                grading_ratio(&format!("{e}.grading"), h.grading)
             }
-            Generator::QuarterDisk {
-                center,
-                radius,
-                divisions,
-                grading,
-                element,
-            } => {
+            Generator::QuarterDisk(d) => {
                 if model != Model::Axisymmetric {
                     return Err(invalid(
                         format!("{e}.generator"),
@@ -77,9 +47,9 @@ impl GeneratorCheck<'_> {
                         ),
                     ));
                 }
-                self.disk(center, *radius, *divisions)?;
-                grading_ratio(&format!("{e}.grading"), *grading)?;
-                self.element(*element, &PLANE_ELEMENTS)
+                self.disk(&d.center, d.radius, d.divisions)?;
+                grading_ratio(&format!("{e}.grading"), d.grading)?;
+                self.element(d.element, &PLANE_ELEMENTS)
             }
         }
     }
@@ -142,18 +112,11 @@ impl GeneratorCheck<'_> {
     }
 
     /// Origin, size, divisions and element of a rectangle or a box.
-    fn block(
-        &self,
-        origin: &[f64],
-        size: &[f64],
-        divisions: &[usize],
-        el: Element,
-        elements: &[Element],
-    ) -> Result {
-        finite_all(&format!("{}.origin", self.e), origin)?;
-        self.sizes(size)?;
-        self.divisions(divisions)?;
-        self.element(el, elements)
+    fn block<const D: usize>(&self, b: &Block<D>, elements: &[Element]) -> Result {
+        finite_all(&format!("{}.origin", self.e), &b.origin)?;
+        self.sizes(&b.size)?;
+        self.divisions(&b.divisions)?;
+        self.element(b.element, elements)
     }
 
     /// Center, radius and divisions of a hemisphere or a quarter disk.
@@ -163,27 +126,19 @@ impl GeneratorCheck<'_> {
         self.divisions(&[divisions])
     }
 
-    fn half_disk(
-        &self,
-        center: &[f64],
-        radius: f64,
-        d: usize,
-        pole: &[f64],
-        grading: f64,
-        el: Element,
-    ) -> Result {
+    fn half_disk(&self, d: &HalfDisk) -> Result {
         let e = self.e;
-        finite_all(&format!("{e}.center"), center)?;
-        positive(&format!("{e}.radius"), radius)?;
-        if d < 4 {
+        finite_all(&format!("{e}.center"), &d.center)?;
+        positive(&format!("{e}.radius"), d.radius)?;
+        if d.divisions < 4 {
             return Err(invalid(
                 format!("{e}.divisions"),
-                format!("must be >= 4 (elements along the arc), got {d}"),
+                format!("must be >= 4 (elements along the arc), got {}", d.divisions),
             ));
         }
-        non_zero(&format!("{e}.pole"), pole)?;
-        grading_ratio(&format!("{e}.grading"), grading)?;
-        self.element(el, &PLANE_ELEMENTS)
+        non_zero(&format!("{e}.pole"), &d.pole)?;
+        grading_ratio(&format!("{e}.grading"), d.grading)?;
+        self.element(d.element, &PLANE_ELEMENTS)
     }
 }
 

@@ -18,6 +18,18 @@ fn scene(mesh: &str, dim: u8) -> scene::Scene {
     .unwrap()
 }
 
+/// A deformable body "b" meshed by `generator`.
+fn generated(generator: scene::Generator) -> scene::Body {
+    scene::Body {
+        name: "b".into(),
+        material: None,
+        subdomains: Default::default(),
+        mesh: Some(scene::MeshSpec::Generator(generator)),
+        rigid: None,
+        formulation: Default::default(),
+    }
+}
+
 #[test]
 fn sizes_match_the_generators() {
     use signorini_mesh::generators as g;
@@ -36,20 +48,13 @@ fn sizes_match_the_generators() {
         (scene::Element::Tri6, CellKind::Tri6),
     ] {
         let m = g::rectangle([0.0, 0.0], [1.0, 1.0], [7, 3], kind, None).unwrap();
-        let body = scene::Body {
-            name: "b".into(),
-            material: None,
-            subdomains: Default::default(),
-            mesh: Some(scene::MeshSpec::Generator(scene::Generator::Rectangle {
-                origin: [0.0, 0.0],
-                size: [1.0, 1.0],
-                divisions: [7, 3],
-                element: el,
-                grading: None,
-            })),
-            rigid: None,
-            formulation: Default::default(),
-        };
+        let body = generated(scene::Generator::Rectangle(scene::Block {
+            origin: [0.0, 0.0],
+            size: [1.0, 1.0],
+            divisions: [7, 3],
+            element: el,
+            grading: None,
+        }));
         let s = body_size(&body, 2).unwrap();
         assert_eq!(s.nodes as usize, m.n_nodes(), "{el:?}");
         assert_eq!(s.cells as usize, m.cells.len(), "{el:?}");
@@ -61,17 +66,14 @@ fn sizes_match_the_generators() {
                 kind,
             )
             .unwrap();
-            let body = scene::Body {
-                mesh: Some(scene::MeshSpec::Generator(scene::Generator::HalfDisk {
-                    center: [0.0, 1.0],
-                    radius: 1.0,
-                    divisions: n,
-                    pole: [0.0, -1.0],
-                    grading,
-                    element: el,
-                })),
-                ..body.clone()
-            };
+            let body = generated(scene::Generator::HalfDisk(scene::HalfDisk {
+                center: [0.0, 1.0],
+                radius: 1.0,
+                divisions: n,
+                pole: [0.0, -1.0],
+                grading,
+                element: el,
+            }));
             let s = body_size(&body, 2).unwrap();
             close(&format!("half_disk {n} {el:?} nodes"), s.nodes, m.n_nodes());
             close(
@@ -82,16 +84,13 @@ fn sizes_match_the_generators() {
             let arc = m.surface("arc").unwrap().nodes().len();
             close(&format!("half_disk {n} {el:?} arc"), s.surface("arc"), arc);
             let m = g::quarter_disk([0.0, 1.0], 1.0, n, grading, kind).unwrap();
-            let body = scene::Body {
-                mesh: Some(scene::MeshSpec::Generator(scene::Generator::QuarterDisk {
-                    center: [0.0, 1.0],
-                    radius: 1.0,
-                    divisions: n,
-                    grading,
-                    element: el,
-                })),
-                ..body.clone()
-            };
+            let body = generated(scene::Generator::QuarterDisk(scene::QuarterDisk {
+                center: [0.0, 1.0],
+                radius: 1.0,
+                divisions: n,
+                grading,
+                element: el,
+            }));
             let s = body_size(&body, 2).unwrap();
             close(
                 &format!("quarter_disk {n} {el:?} nodes"),

@@ -6,11 +6,15 @@
 use signorini_geometry::mortar::mortar_pairing;
 use signorini_geometry::mortar3d::mortar3d_pairing;
 use signorini_geometry::pairing::{
-    contact_element_pairing, node_to_node_pairing, node_to_segment_pairing,
+    contact_element_pairing, nodal_normals, node_to_node_pairing, node_to_segment_pairing,
+    node_to_segment_pairing_with, GivenNormals, Pairing,
 };
-use signorini_geometry::quadratic_slave::{mid_side_edges, recombine_rows, recombined_measures};
-use signorini_geometry::{ContactPoint, MasterGeometry, NormalRule, TermSide};
+use signorini_geometry::quadratic_slave::{consistent_normals, mid_side_edges, recombine_rows};
+use signorini_geometry::{ContactPoint, GeometryError, MasterGeometry, NormalRule, TermSide};
+use signorini_mesh::vec3::dot;
+use signorini_mesh::{Mesh, Surface};
 use signorini_scene as scene;
+use std::collections::BTreeMap;
 
 use super::held_tangents::{
     dot, held_at_both_bodies, least_eigenpair, part, HeldTangents, Row, NEGLIGIBLE,
@@ -251,6 +255,12 @@ fn contact_pair(
     let rule = normal_rule(c.normal);
     let mi = body_model(&c.master.body);
     let master = master_geometry(sc, bodies, c, mi, &entry)?;
+    // Node-to-face on a quadratic slave: the recombined rows, normals and
+    // measures (geometry's quadratic_slave).
+    let edges = match c.discretization {
+        scene::Discretization::NodeToSegment => mid_side_edges(sc.dimension as usize, s_surf),
+        _ => Vec::new(),
+    };
     // Mortar rows come with their own measure D_jj (contact::mortar, mortar3d).
     let (pairing, measure) = match c.discretization {
         scene::Discretization::NodeToNode => {
@@ -267,15 +277,9 @@ fn contact_pair(
             Ok(m) => (Ok(m.pairing), Some(m.measure)),
             Err(e) => (Err(e), None),
         },
-        _ => (node_to_segment_pairing(s_mesh, s_surf, &master, rule), None),
+        _ => node_to_face(s_mesh, s_surf, &master, rule, &edges),
     };
     let mut pairing = pairing.map_err(|e| input(format!("{entry}: {e}")))?;
-    // Node-to-face on a quadratic slave: the recombined rows and measures
-    // (geometry's quadratic_slave).
-    let edges = match c.discretization {
-        scene::Discretization::NodeToSegment => mid_side_edges(sc.dimension as usize, s_surf),
-        _ => Vec::new(),
-    };
     let corner_at: std::collections::HashMap<usize, [f64; 3]> =
         pairing.points.iter().map(|p| (p.slave_node, p.x)).collect();
     let recombined = recombine_rows(&mut pairing.points, &edges)
@@ -292,15 +296,9 @@ fn contact_pair(
     }
     notes.extend(dropped);
     let tributary = measure.unwrap_or_else(|| {
-        let consistent =
-            signorini_fem::tributary_measure(s_mesh, s_surf, bodies[si].material.model)
-                .into_iter()
-                .collect();
-        if edges.is_empty() {
-            consistent
-        } else {
-            recombined_measures(&consistent, &edges)
-        }
+        signorini_fem::tributary_measure(s_mesh, s_surf, bodies[si].material.model)
+            .into_iter()
+            .collect()
     });
     if let Some(interface_nodes) = interface_nodes {
         interface_nodes[si].extend(s_surf.nodes());
@@ -317,6 +315,57 @@ fn contact_pair(
             master: mi,
         },
     })
+}
+
+/// Node-to-face (node-to-segment in 2D) contact points. On a quadratic 3D
+/// slave surface (`edges`, its mid-sides, not empty) the slave normals are
+/// its consistent ones (geometry's `quadratic_slave::consistent_normals`)
+/// and each point's measure is |n · v_a|, v_a = ∫ Ñ_a n dS, n the point's
+/// normal (|v_a| along the consistent normal; on a flat face ∫ Ñ_a dS);
+/// otherwise the nodal normals, and the measures are left to the caller. On a quadratic 3D master surface the
+/// master's normal is interpolated from its own consistent nodal normals.
+fn node_to_face(
+    s_mesh: &Mesh,
+    s_surf: &Surface,
+    master: &MasterGeometry<'_>,
+    rule: NormalRule,
+    edges: &[(usize, [usize; 2])],
+) -> (Result<Pairing, GeometryError>, Option<BTreeMap<usize, f64>>) {
+    let consistent = |mesh: &Mesh, surface: &Surface, edges: &[(usize, [usize; 2])]| {
+        let area_vectors = signorini_fem::nodal_area_vectors(mesh, surface)
+            .into_iter()
+            .collect();
+        consistent_normals(&area_vectors, edges)
+    };
+    let master_normals = match master {
+        MasterGeometry::Surface { mesh, surface } => {
+            let m_edges = mid_side_edges(mesh.dim, surface);
+            (!m_edges.is_empty()).then(|| consistent(mesh, surface, &m_edges).normals)
+        }
+        _ => None,
+    };
+    if edges.is_empty() && master_normals.is_none() {
+        return (node_to_segment_pairing(s_mesh, s_surf, master, rule), None);
+    }
+    let (slave, measures) = if edges.is_empty() {
+        (nodal_normals(s_mesh, s_surf), None)
+    } else {
+        let c = consistent(s_mesh, s_surf, edges);
+        (c.normals, Some(c.area_vectors))
+    };
+    let normals = GivenNormals {
+        slave,
+        master: master_normals.map(|n| n.into_iter().collect()),
+    };
+    let pairing = node_to_segment_pairing_with(s_mesh, normals, master, rule);
+    // the measure of a row along n: |n · v_a|, the pressure whose consistent
+    // load along n is the row's force
+    let measures = measures.map(|v| {
+        (pairing.iter().flat_map(|p| &p.points))
+            .map(|p| (p.slave_node, dot(p.normal, v[&p.slave_node]).abs()))
+            .collect()
+    });
+    (pairing, measures)
 }
 
 /// The row of a contact point along `direction` (its normal or a tangent):
