@@ -17,7 +17,7 @@ use signorini_scene as scene;
 use std::collections::BTreeMap;
 
 use super::held_tangents::{
-    dot, held_at_both_bodies, least_eigenpair, part, HeldTangents, Row, NEGLIGIBLE,
+    dot_parts, held_at_both_bodies, least_eigenpair, part, HeldTangents, Row, NEGLIGIBLE,
 };
 use super::{input, point3, BodyModel, PointModel, PrescribedSlip, Zone};
 use crate::error::SolveError;
@@ -567,7 +567,11 @@ fn free_tangential_rows(
         };
     };
     let (f1, f2) = (free(r1), free(r2));
-    let (a, b, c) = (dot(&f1, &f1), dot(&f1, &f2), dot(&f2, &f2));
+    let (a, b, c) = (
+        dot_parts(&f1, &f1),
+        dot_parts(&f1, &f2),
+        dot_parts(&f2, &f2),
+    );
     let scale = norm2(r1) + norm2(r2);
     let (lmin, prescribed_direction) = least_eigenpair(a, b, c);
     if a + c <= 1e-24 * scale {

@@ -49,7 +49,7 @@ pub(super) fn part(r: &Row, keep: impl Fn(usize, usize) -> bool) -> Part {
 }
 
 /// The dot product of two parts.
-pub(super) fn dot(a: &Part, b: &Part) -> f64 {
+pub(super) fn dot_parts(a: &Part, b: &Part) -> f64 {
     a.iter()
         .map(|(k, v)| v * b.get(k).copied().unwrap_or(0.0))
         .sum()
@@ -105,8 +105,8 @@ pub(super) fn held_at_both_bodies(
     let norm2 = |r: &Row| r.iter().map(|e| e.2 * e.2).sum::<f64>();
     let Some(t2) = t2 else {
         let h = held_master(t1);
-        let held =
-            slave_gram(p.tangent, p.tangent) <= NEGLIGIBLE && dot(&h, &h) > NEGLIGIBLE * norm2(t1);
+        let held = slave_gram(p.tangent, p.tangent) <= NEGLIGIBLE
+            && dot_parts(&h, &h) > NEGLIGIBLE * norm2(t1);
         return if held {
             HeldTangents::All
         } else {
@@ -115,7 +115,11 @@ pub(super) fn held_at_both_bodies(
     };
     let tol = NEGLIGIBLE * (norm2(t1) + norm2(t2));
     let (h1, h2) = (held_master(t1), held_master(t2));
-    let (ha, hb, hc) = (dot(&h1, &h1), dot(&h1, &h2), dot(&h2, &h2));
+    let (ha, hb, hc) = (
+        dot_parts(&h1, &h1),
+        dot_parts(&h1, &h2),
+        dot_parts(&h2, &h2),
+    );
     let (sa, sb, sc) = (
         slave_gram(p.tangent, p.tangent),
         slave_gram(p.tangent, p.tangent2),
