@@ -763,3 +763,20 @@ fn coulomb_on_curved_quadratic_mortar_under_mpirun_2_equals_the_in_process_run()
         "curved_coulomb",
     );
 }
+
+/// Coulomb μ = 1 on curved quadratic mortar with the rollers of both
+/// blocks on the symmetry planes x = 0, y = 0 (tests/common/curved_patch.rs
+/// `rollers_on_both`: the tangential directions across the planes carry no
+/// friction unknown), one block per rank: the in-process rows, forces and
+/// displacements.
+#[test]
+fn coulomb_on_curved_mortar_with_rollers_on_both_bodies_under_mpirun_2_equals_the_in_process_run() {
+    require_mpirun!();
+    let interface = "discretization = \"mortar\"\nfriction = { coulomb = 1.0 }";
+    let text = common::curved_patch::rollers_on_both("hex20_3", "hex20_4", interface);
+    compare(
+        &write_scene("curved_rollers_scene", "curved.toml", &text),
+        2,
+        "curved_rollers",
+    );
+}

@@ -77,3 +77,22 @@ pub fn held_by_friction(lower: &str, upper: &str, interface: &str, uniaxial: boo
     }
     text
 }
+
+/// The parabolic blocks of [`parabolic`] under σ_zz = −1 (the top loaded,
+/// the sides x = 1, y = 1 free) with the rollers on x = 0 and y = 0 of both
+/// blocks: symmetry planes through the contact, which hold the tangential
+/// directions across them at both bodies (no friction unknown there,
+/// docs/theory/mortar.md "Symmetry planes on both bodies").
+pub fn rollers_on_both(lower: &str, upper: &str, interface: &str) -> String {
+    let mut text = parabolic(lower, upper, interface);
+    for body in ["lower", "upper"] {
+        for (axis, load) in [("x", "[-1.0, 0.0, 0.0]"), ("y", "[0.0, -1.0, 0.0]")] {
+            let side = format!(
+                "[[boundary]]\nbody = \"{body}\"\nsurface = \"{axis}max\"\ntraction = {load}\n"
+            );
+            assert!(text.contains(&side), "{side}");
+            text = text.replace(&side, "");
+        }
+    }
+    text
+}

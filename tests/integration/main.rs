@@ -44,6 +44,7 @@ mod step_friction_kept;
 mod stiff;
 mod streamed_steps;
 mod substructuring;
+mod symmetry_planes;
 mod time_limits;
 mod tipping;
 mod tri3_meshes;

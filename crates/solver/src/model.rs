@@ -16,6 +16,7 @@ use signorini_scene as scene;
 use crate::error::SolveError;
 
 mod contacts;
+mod held_tangents;
 mod slave_choice;
 mod ties;
 mod zone;

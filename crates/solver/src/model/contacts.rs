@@ -16,6 +16,9 @@ use signorini_mesh::{Mesh, Surface};
 use signorini_scene as scene;
 use std::collections::BTreeMap;
 
+use super::held_tangents::{
+    dot_parts, held_at_both_bodies, least_eigenpair, part, HeldTangents, Row, NEGLIGIBLE,
+};
 use super::{input, point3, BodyModel, PointModel, PrescribedSlip, Zone};
 use crate::error::SolveError;
 use signorini_contact::friction::FrictionLaw;
@@ -486,7 +489,7 @@ fn point_model(
     let (friction, slip_stiffness) = point_friction(&c.friction, tributary);
     let trow = (friction != FrictionLaw::None).then(|| tangent_row(&p, sides, dim, 0));
     let trow2 = (friction != FrictionLaw::None && dim == 3).then(|| tangent_row(&p, sides, dim, 1));
-    let rows = free_tangential_rows(bodies, &mut p, trow, trow2, friction);
+    let rows = free_tangential_rows(bodies, sides.slave, &mut p, trow, trow2, friction);
     PairPoint::Unknown(Box::new(PointModel {
         trow: rows.t1,
         trow2: rows.t2,
@@ -502,9 +505,6 @@ fn point_model(
         recombined_corners,
     }))
 }
-
-/// A row of B as (body, DOF, coefficient) entries.
-type Row = Vec<(usize, usize, f64)>;
 
 /// The tangential rows of a contact point: those that carry a friction
 /// unknown, its friction law (turned with the frame in 3D), and the rows
@@ -531,8 +531,14 @@ struct TangentialRows {
 /// cone's coefficient in that direction (course notes §4.1.2). The dropped rows of a
 /// point with no tangential unknown left are kept as its prescribed slip: a
 /// support that drags it makes it slide (course notes §4, Coulomb's law).
+///
+/// A row that keeps free master DOFs (mortar: master nodes off the plane)
+/// is dropped, or its direction turned out, in the same way when supports
+/// hold its direction at both bodies (`held_tangents`): its friction force
+/// is zero, with no prescribed slip.
 fn free_tangential_rows(
     bodies: &[BodyModel],
+    slave_body: usize,
     p: &mut ContactPoint,
     t1: Option<Row>,
     t2: Option<Row>,
@@ -544,19 +550,7 @@ fn free_tangential_rows(
         friction,
         prescribed,
     };
-    let free = |r: &Row| -> std::collections::BTreeMap<(usize, usize), f64> {
-        let mut m = std::collections::BTreeMap::new();
-        for &(b, d, c) in r.iter().filter(|&&(b, d, _)| !bodies[b].prescribed[d]) {
-            *m.entry((b, d)).or_insert(0.0) += c;
-        }
-        m
-    };
-    let dot = |a: &std::collections::BTreeMap<(usize, usize), f64>,
-               b: &std::collections::BTreeMap<(usize, usize), f64>| {
-        a.iter()
-            .map(|(k, v)| v * b.get(k).copied().unwrap_or(0.0))
-            .sum::<f64>()
-    };
+    let free = |r: &Row| part(r, |b, d| !bodies[b].prescribed[d]);
     let norm2 = |r: &Row| r.iter().map(|e| e.2 * e.2).sum::<f64>();
     let (Some(r1), Some(r2)) = (&t1, &t2) else {
         // 2D: one tangent.
@@ -564,13 +558,22 @@ fn free_tangential_rows(
             Some(r) if free(&r).is_empty() => {
                 rows(None, None, Some(PrescribedSlip { t1: r, t2: None }))
             }
+            Some(r)
+                if held_at_both_bodies(bodies, slave_body, p, &r, None) == HeldTangents::All =>
+            {
+                rows(None, None, None)
+            }
             keep => rows(keep, None, None),
         };
     };
     let (f1, f2) = (free(r1), free(r2));
-    let (a, b, c) = (dot(&f1, &f1), dot(&f1, &f2), dot(&f2, &f2));
+    let (a, b, c) = (
+        dot_parts(&f1, &f1),
+        dot_parts(&f1, &f2),
+        dot_parts(&f2, &f2),
+    );
     let scale = norm2(r1) + norm2(r2);
-    let lmin = 0.5 * (a + c - ((a - c).powi(2) + 4.0 * b * b).sqrt());
+    let (lmin, prescribed_direction) = least_eigenpair(a, b, c);
     if a + c <= 1e-24 * scale {
         let (r1, r2) = (r1.clone(), r2.clone());
         return rows(
@@ -582,18 +585,28 @@ fn free_tangential_rows(
             }),
         );
     }
-    if lmin > 1e-10 * scale {
-        return rows(t1, t2, None);
+    if lmin <= NEGLIGIBLE * scale {
+        return turned_frame(p, r1, r2, prescribed_direction, friction);
     }
-    // (cs, sn): the combination cs t1 + sn t2 with no free DOF.
-    let (v1, v2) = if (a - lmin).abs() >= (c - lmin).abs() {
-        (-b, a - lmin)
-    } else {
-        (c - lmin, -b)
-    };
-    let nv = v1.hypot(v2);
-    let (cs, sn) = (v1 / nv, v2 / nv);
-    // New frame: t1' = −sn t1 + cs t2 (free), t2' = −(cs t1 + sn t2).
+    match held_at_both_bodies(bodies, slave_body, p, r1, Some(r2)) {
+        HeldTangents::None => rows(t1, t2, None),
+        HeldTangents::Direction(held) => turned_frame(p, r1, r2, held, friction),
+        HeldTangents::All => rows(None, None, None),
+    }
+}
+
+/// Turns the tangential frame of a point about its normal so that t2 is the
+/// direction cs t1 + sn t2 (`held`, whose friction force is zero) and keeps
+/// the row along the new t1, with the elliptic cone's coefficient in that
+/// direction (course notes §4.1.2).
+fn turned_frame(
+    p: &mut ContactPoint,
+    r1: &Row,
+    r2: &Row,
+    [cs, sn]: [f64; 2],
+    friction: FrictionLaw,
+) -> TangentialRows {
+    // New frame: t1' = −sn t1 + cs t2 (kept), t2' = −(cs t1 + sn t2).
     let combine = |x: f64, y: f64, u: &Row, v: &Row| -> Row {
         u.iter()
             .map(|&(bb, d, k)| (bb, d, x * k))
