@@ -732,6 +732,16 @@ fn mortar_on_quadratic_faces_under_mpirun_2_equals_the_in_process_run() {
     );
 }
 
+/// The scene `text` of the curved patch blocks (tests/common/curved_patch.rs)
+/// on two ranks against the in-process run, under the label `name`.
+fn compare_curved(name: &str, text: &str) {
+    compare(
+        &write_scene(&format!("{name}_scene"), "curved.toml", text),
+        2,
+        name,
+    );
+}
+
 /// Mortar on curved quadratic faces (the rows with the normal inside the
 /// integral, tests/common/curved_patch.rs: Hex20 4 × 4 on Hex20 3 × 3 cut
 /// along a parabolic cylinder, non-matching), one block per rank: the
@@ -740,11 +750,7 @@ fn mortar_on_quadratic_faces_under_mpirun_2_equals_the_in_process_run() {
 fn mortar_on_curved_quadratic_faces_under_mpirun_2_equals_the_in_process_run() {
     require_mpirun!();
     let text = common::curved_patch::parabolic("hex20_3", "hex20_4", "discretization = \"mortar\"");
-    compare(
-        &write_scene("curved_mortar_scene", "curved.toml", &text),
-        2,
-        "curved_mortar",
-    );
+    compare_curved("curved_mortar", &text);
 }
 
 /// Coulomb friction on mortar's curved quadratic faces (the tangential rows
@@ -757,11 +763,7 @@ fn coulomb_on_curved_quadratic_mortar_under_mpirun_2_equals_the_in_process_run()
     require_mpirun!();
     let interface = "discretization = \"mortar\"\nfriction = { coulomb = 1.0 }";
     let text = common::curved_patch::held_by_friction("hex20_3", "hex20_4", interface, true);
-    compare(
-        &write_scene("curved_coulomb_scene", "curved.toml", &text),
-        2,
-        "curved_coulomb",
-    );
+    compare_curved("curved_coulomb", &text);
 }
 
 /// Coulomb μ = 1 on curved quadratic mortar with the rollers of both
@@ -774,9 +776,5 @@ fn coulomb_on_curved_mortar_with_rollers_on_both_bodies_under_mpirun_2_equals_th
     require_mpirun!();
     let interface = "discretization = \"mortar\"\nfriction = { coulomb = 1.0 }";
     let text = common::curved_patch::rollers_on_both("hex20_3", "hex20_4", interface);
-    compare(
-        &write_scene("curved_rollers_scene", "curved.toml", &text),
-        2,
-        "curved_rollers",
-    );
+    compare_curved("curved_rollers", &text);
 }
