@@ -462,14 +462,24 @@ impl Mesh {
             .min_by(|a, b| a.1.total_cmp(&b.1))
     }
 
-    /// Surface by name, or an error listing the names that exist.
+    /// Surface by name, or an error listing the names that exist (and
+    /// saying so when the name is a node set: a physical group of points or
+    /// curves, or a physical surface inside the body).
     pub fn surface(&self, name: &str) -> Result<&Surface, MeshError> {
-        self.surfaces
-            .get(name)
-            .ok_or_else(|| MeshError::UnknownSurface {
+        let known = || self.surfaces.keys().cloned().collect::<Vec<_>>().join(", ");
+        match self.surfaces.get(name) {
+            Some(s) => Ok(s),
+            None if self.node_sets.contains_key(name) => Err(MeshError::Invalid(format!(
+                "\"{name}\" is a set of nodes of this body (a physical group of points or \
+                 curves, or a physical surface inside the body, between its cells), not a \
+                 surface on its boundary; its surfaces: {}",
+                known()
+            ))),
+            None => Err(MeshError::UnknownSurface {
                 name: name.to_string(),
-                known: self.surfaces.keys().cloned().collect::<Vec<_>>().join(", "),
-            })
+                known: known(),
+            }),
+        }
     }
 
     /// Checks that every cell has a positive area (counter-clockwise nodes).

@@ -8,7 +8,7 @@ use super::{
 };
 use crate::vec3::{cross, dot, sub};
 use crate::{Cell, CellKind, Facet, Mesh, MeshError, Surface};
-use std::collections::{BTreeMap, HashMap, HashSet};
+use std::collections::{BTreeMap, BTreeSet, HashMap, HashSet};
 
 /// The physical groups of the cells that have some: (cell index, group tags).
 type CellGroups<'a> = Vec<(usize, &'a [i32])>;
@@ -63,8 +63,8 @@ pub(super) fn build(raw: Raw, dim: usize, volume: Option<&str>) -> Result<Mesh, 
     };
     add_regions(&mut mesh, cell_groups, &names);
     let facets = FacetIndex::new(&mesh, &tags, &new_index, volume.is_some());
-    add_surfaces(&mut mesh, &blocks, &names, &facets)?;
-    add_node_sets(&mut mesh, &blocks, &names, &tags, &new_index)?;
+    let interior = add_surfaces(&mut mesh, &blocks, &names, &facets)?;
+    add_node_sets(&mut mesh, &blocks, &names, &tags, &new_index, &interior)?;
     if mesh.surfaces.is_empty() {
         mesh.surfaces.insert(
             "boundary".to_string(),
@@ -366,16 +366,16 @@ impl<'a> FacetIndex<'a> {
     }
 
     /// The cell and its local facet whose corners are the first `m` nodes of
-    /// element `el` of block `b`; an error naming the block's group if it is
-    /// the facet of no cell, or of more than one (an interior facet). `None`
-    /// for a facet of no cell of one body of several (another body's).
+    /// element `el` of block `b` ([`FacetMatch`]); an error naming the
+    /// block's group if it is the facet of no cell (of a body alone in its
+    /// file).
     fn find(
         &self,
         b: &Block,
         el: &[u64],
         m: usize,
         names: &Names,
-    ) -> Result<Option<(usize, usize)>, MeshError> {
+    ) -> Result<FacetMatch, MeshError> {
         let dim = self.dim;
         let mut key = Vec::with_capacity(m);
         let mut orphan = false;
@@ -392,17 +392,15 @@ impl<'a> FacetIndex<'a> {
             self.facet_of.get(&key)
         };
         match found {
-            Some(&(1, c, f)) => Ok(Some((c, f))),
-            None if self.one_of_several => Ok(None),
-            other => {
+            Some(&(1, c, f)) => Ok(FacetMatch::Boundary(c, f)),
+            Some(_) => Ok(FacetMatch::Interior),
+            None if self.one_of_several => Ok(FacetMatch::Elsewhere),
+            None => {
                 let g = b.physical[0];
-                let why = match other {
-                    Some(&(n, _, _)) => format!("an interior facet shared by {n} cells"),
-                    _ => "not a facet of any cell".to_string(),
-                };
                 Err(invalid(format!(
                     "physical group \"{}\" (dimension {}, tag {g}): its element with nodes \
-                     {:?} is {why}; the facets of a surface must lie on the boundary",
+                     {:?} is not a facet of any cell; the facets of a surface must be faces \
+                     of the mesh's cells",
                     group_name(names, dim - 1, g),
                     dim - 1,
                     el
@@ -412,17 +410,30 @@ impl<'a> FacetIndex<'a> {
     }
 }
 
+/// Where a facet element of a physical group of dimension d − 1 lies.
+enum FacetMatch {
+    /// On the boundary: the facet `.1` of cell `.0`.
+    Boundary(usize, usize),
+    /// Between two cells: its group is a set of nodes, not a surface.
+    Interior,
+    /// On no cell of this body (another body of the same file).
+    Elsewhere,
+}
+
 /// Surfaces: every physical group of dimension `dim − 1` gets the cell facets
 /// its elements match by their corners ([`FacetIndex::find`]), in the cells'
-/// node order, each facet once.
+/// node order, each facet once. A group with a facet between two cells (a
+/// surface inside the body) is no surface: its name is returned, for its
+/// nodes to be a node set.
 fn add_surfaces(
     mesh: &mut Mesh,
     blocks: &[Block],
     names: &Names,
     index: &FacetIndex,
-) -> Result<(), MeshError> {
+) -> Result<BTreeSet<String>, MeshError> {
     let dim = mesh.dim;
     let mut seen: HashMap<String, HashSet<(usize, usize)>> = HashMap::new();
+    let mut interior = BTreeSet::new();
     for b in blocks
         .iter()
         .filter(|b| b.dim + 1 == dim && !b.physical.is_empty())
@@ -438,8 +449,13 @@ fn add_surfaces(
             )));
         }
         for el in b.nodes.chunks_exact(b.n_per) {
-            let Some((c, f)) = index.find(b, el, m, names)? else {
-                continue;
+            let (c, f) = match index.find(b, el, m, names)? {
+                FacetMatch::Boundary(c, f) => (c, f),
+                FacetMatch::Interior => {
+                    interior.extend(b.physical.iter().map(|&g| group_name(names, dim - 1, g)));
+                    continue;
+                }
+                FacetMatch::Elsewhere => continue,
             };
             let cell = &mesh.cells[c];
             let facet = Facet {
@@ -461,7 +477,10 @@ fn add_surfaces(
             }
         }
     }
-    Ok(())
+    for name in &interior {
+        mesh.surfaces.remove(name);
+    }
+    Ok(interior)
 }
 
 /// Node `i` of a cell of `kind` is node `order[i]` of the Gmsh element.

@@ -10,6 +10,7 @@
 
 use super::{group_name, invalid, Block, Names, NodeTags};
 use crate::{Mesh, MeshError};
+use std::collections::BTreeSet;
 
 /// Keeps of the blocks of dimension `dim` those of the physical group named
 /// `volume` (its name, or its tag when it has none); an error naming the
@@ -57,11 +58,20 @@ pub(super) fn add_node_sets(
     names: &Names,
     tags: &NodeTags,
     new_index: &[usize],
+    interior: &BTreeSet<String>,
 ) -> Result<(), MeshError> {
-    for b in blocks
-        .iter()
-        .filter(|b| b.dim + 1 < mesh.dim && !b.physical.is_empty())
-    {
+    let named = |b: &Block, g: i32| group_name(names, b.dim, g);
+    let is_set = |b: &Block, g: i32| b.dim + 1 < mesh.dim || interior.contains(&named(b, g));
+    for b in blocks.iter().filter(|b| b.dim < mesh.dim) {
+        let groups: Vec<i32> = b
+            .physical
+            .iter()
+            .copied()
+            .filter(|&g| is_set(b, g))
+            .collect();
+        if groups.is_empty() {
+            continue;
+        }
         let mut nodes = Vec::with_capacity(b.nodes.len());
         for &t in &b.nodes {
             match new_index.get(tags.lookup(t)?) {
@@ -72,9 +82,9 @@ pub(super) fn add_node_sets(
         if nodes.is_empty() {
             continue;
         }
-        for &g in &b.physical {
+        for g in groups {
             mesh.node_sets
-                .entry(group_name(names, b.dim, g))
+                .entry(named(b, g))
                 .or_default()
                 .extend(&nodes);
         }
