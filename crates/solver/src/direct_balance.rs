@@ -11,11 +11,11 @@
 //! at least the step's force scale.
 
 use crate::model::{BodyModel, PointModel};
-use crate::step::FrictionStep;
+use crate::step::{contact_row_forces, FrictionStep};
 
 /// Each body's contact force Bᵀλ on its DOFs: every point's normal row
 /// times its normal force `lambda`, and with `friction` its tangential rows
-/// times its tangential forces.
+/// times its tangential forces ([`contact_row_forces`]).
 pub(crate) fn contact_forces(
     bodies: &[BodyModel],
     points: &[PointModel],
@@ -23,18 +23,8 @@ pub(crate) fn contact_forces(
     friction: Option<&FrictionStep>,
 ) -> Vec<Vec<f64>> {
     let mut contact_force: Vec<Vec<f64>> = bodies.iter().map(|b| vec![0.0; b.n_dof]).collect();
-    for (pi, (p, &l)) in points.iter().zip(lambda).enumerate() {
-        let (t1, t2) = friction.map_or((0.0, 0.0), |f| (f.tangential[pi], f.tangential2[pi]));
-        let rows = [
-            (Some(&p.row), l),
-            (p.trow.as_ref(), t1),
-            (p.trow2.as_ref(), t2),
-        ];
-        for (row, force) in rows.into_iter().filter_map(|(r, f)| r.map(|r| (r, f))) {
-            for &(b, d, c) in row {
-                contact_force[b][d] += c * force;
-            }
-        }
+    for (b, d, f) in contact_row_forces(points, lambda, friction) {
+        contact_force[b][d] += f;
     }
     contact_force
 }

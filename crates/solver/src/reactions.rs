@@ -17,7 +17,7 @@ use signorini_scene as scene;
 
 use crate::model::{BodyModel, PointModel};
 use crate::root::{net_force, point_force};
-use crate::step::FrictionStep;
+use crate::step::{contact_row_forces, FrictionStep};
 
 /// The reaction of every prescribed-displacement entry of the scene at one
 /// step, from `support` (K u − f on prescribed DOFs, as (body, DOF, value),
@@ -93,25 +93,9 @@ fn contact_on_supports<'a>(
     lambda: &'a [f64],
     friction: Option<&'a FrictionStep>,
 ) -> impl Iterator<Item = (usize, usize, f64)> + 'a {
-    points.iter().enumerate().flat_map(move |(pi, p)| {
-        let (t1, t2) = friction.map_or((0.0, 0.0), |f| (f.tangential[pi], f.tangential2[pi]));
-        let dragged = p.prescribed_slip.as_ref();
-        let rows = [
-            (Some(&p.row), lambda[pi]),
-            (p.trow.as_ref(), t1),
-            (p.trow2.as_ref(), t2),
-            (dragged.map(|s| &s.t1), t1),
-            (dragged.and_then(|s| s.t2.as_ref()), t2),
-        ];
-        rows.into_iter()
-            .filter_map(|(row, force)| row.map(|r| (r, force)))
-            .filter(|&(_, force)| force != 0.0)
-            .flat_map(move |(row, force)| {
-                row.iter()
-                    .filter(|&&(b, d, _)| bodies[b].prescribed[d])
-                    .map(move |&(b, d, c)| (b, d, -c * force))
-            })
-    })
+    contact_row_forces(points, lambda, friction)
+        .filter(|&(b, d, _)| bodies[b].prescribed[d])
+        .map(|(b, d, f)| (b, d, -f))
 }
 
 /// Every contact pair's sums at one step: the normal and tangential forces

@@ -7,6 +7,8 @@ use signorini_contact::ContactSolution;
 use signorini_report::results::BodyResult;
 use signorini_report::{Certificate, ContactRow, Regularisation, StepReport};
 
+use crate::model::PointModel;
+
 /// One step solved on the root.
 pub(crate) struct StepSolution {
     /// The contact problem's answer, with the report of the method that ran.
@@ -110,4 +112,30 @@ pub(crate) struct Residuals {
     pub(crate) support: Vec<(usize, usize, f64)>,
     /// The force of each tie's master on its slave: (contact, resultant).
     pub(crate) ties: Vec<(usize, Vec<f64>)>,
+}
+
+/// Every contact row's force on its DOFs, as (body, DOF, coefficient ×
+/// force): each point's normal row times λ_n, and its tangential rows (those
+/// with a friction unknown, and those a support drags) times the tangential
+/// forces of `friction`; rows whose force is zero are left out.
+pub(crate) fn contact_row_forces<'a>(
+    points: &'a [PointModel],
+    lambda: &'a [f64],
+    friction: Option<&'a FrictionStep>,
+) -> impl Iterator<Item = (usize, usize, f64)> + 'a {
+    points.iter().enumerate().flat_map(move |(pi, p)| {
+        let (t1, t2) = friction.map_or((0.0, 0.0), |f| (f.tangential[pi], f.tangential2[pi]));
+        let dragged = p.prescribed_slip.as_ref();
+        let rows = [
+            (Some(&p.row), lambda[pi]),
+            (p.trow.as_ref(), t1),
+            (p.trow2.as_ref(), t2),
+            (dragged.map(|s| &s.t1), t1),
+            (dragged.and_then(|s| s.t2.as_ref()), t2),
+        ];
+        rows.into_iter()
+            .filter_map(|(row, force)| row.map(|r| (r, force)))
+            .filter(|&(_, force)| force != 0.0)
+            .flat_map(move |(row, force)| row.iter().map(move |&(b, d, c)| (b, d, c * force)))
+    })
 }
