@@ -322,8 +322,9 @@ fn contact_pair(
 /// its consistent ones (geometry's `quadratic_slave::consistent_normals`)
 /// and each point's measure is |n · v_a|, v_a = ∫ Ñ_a n dS, n the point's
 /// normal (|v_a| along the consistent normal; on a flat face ∫ Ñ_a dS);
-/// otherwise the nodal normals, and the measures are left to the caller. On a quadratic 3D master surface the
-/// master's normal is interpolated from its own consistent nodal normals.
+/// otherwise the nodal normals, and the measures are left to the caller.
+/// On a quadratic 3D master surface the master's normal is interpolated from
+/// its own consistent nodal normals.
 fn node_to_face(
     s_mesh: &Mesh,
     s_surf: &Surface,
